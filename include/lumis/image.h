@@ -1,0 +1,59 @@
+/* lumis/image.h - float RGB image buffers and their validation.
+ *
+ * A lumis_image is a plain struct: width x height pixels of 3 floats (linear RGB),
+ * interleaved, row-major, row 0 at the top.  lumis_image_create allocates it,
+ * lumis_image_destroy frees the struct and its pixels. */
+#ifndef LUMIS_IMAGE_H
+#define LUMIS_IMAGE_H
+
+#include "lumis/status.h"
+#include "lumis/types.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Default largest accepted image, in pixels (2^28: 16384 x 16384; 3 GiB as float RGB). */
+#define LUMIS_DEFAULT_MAX_PIXELS ((uint64_t)1 << 28)
+
+typedef struct lumis_image {
+    int width, height;
+    float *pixels; /* width * height * 3 floats, owned by the image */
+} lumis_image;
+
+/* Counts of channel values replaced by 0 because they were NaN, infinite or negative. */
+typedef struct lumis_replaced {
+    uint64_t nan, inf, negative;
+} lumis_replaced;
+
+/* Checks width and height (each >= 1) against max_pixels (0 == LUMIS_DEFAULT_MAX_PIXELS)
+ * without overflowing, before anything is allocated.  Returns LUMIS_ERR_BAD_DIMENSIONS for
+ * non-positive sizes and LUMIS_ERR_TOO_LARGE beyond the limit. */
+lumis_status lumis_image_check_size(int64_t width, int64_t height, uint64_t max_pixels);
+
+/* Allocates a zero-filled image.  Sizes are checked with the default pixel limit. */
+lumis_status lumis_image_create(int width, int height, lumis_image **out);
+
+/* Copies an image (pixels included). */
+lumis_status lumis_image_clone(const lumis_image *src, lumis_image **out);
+
+/* Frees the image and its pixels; NULL is accepted. */
+void lumis_image_destroy(lumis_image *image);
+
+/* Replaces every NaN, infinite or negative value among count floats by 0 and adds what it
+ * replaced to *replaced (which may be NULL).  Returns the number of values replaced. */
+uint64_t lumis_sanitize_floats(float *values, size_t count, lumis_replaced *replaced);
+
+/* Total of a lumis_replaced. */
+static inline uint64_t lumis_replaced_total(lumis_replaced r)
+{
+    return r.nan + r.inf + r.negative;
+}
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,102 @@
+/* lumis/io.h - reading and writing images (lumis-io library).
+ *
+ * Formats: OpenEXR (.exr: read RGB(A) or Y, half/float/uint, scanline or tiled, every
+ * compression OpenEXR 3.1 knows, DWA included; write float or half), Radiance RGBE
+ * (.hdr/.pic: read flat, old and new RLE; write new RLE), PFM (.pfm: read and write both
+ * byte orders, colour and grey), PNG (.png: write only, 8-bit sRGB with exposure and a
+ * tone map).
+ *
+ * Every reader checks sizes against a pixel limit before it allocates, detects truncated
+ * data, and reports each failure with its own status and a message naming the file and
+ * the reason.  Non-finite and negative values are replaced by 0 and counted.  Writers
+ * write a temporary file in the destination folder and rename it on success, so a failed
+ * or interrupted write never leaves a half-written output. */
+#ifndef LUMIS_IO_H
+#define LUMIS_IO_H
+
+#include "lumis/image.h"
+#include "lumis/status.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum lumis_file_format {
+    LUMIS_FORMAT_AUTO = 0, /* from the extension (writing) or the content (reading) */
+    LUMIS_FORMAT_EXR,
+    LUMIS_FORMAT_HDR,
+    LUMIS_FORMAT_PFM,
+    LUMIS_FORMAT_PNG,
+    LUMIS_FORMAT_COUNT
+} lumis_file_format;
+
+/* Format named by a path's extension (case-insensitive); LUMIS_FORMAT_AUTO if unknown. */
+lumis_file_format lumis_format_from_path(const char *path);
+
+/* Format recognised from the first bytes of a file; LUMIS_FORMAT_AUTO if none. */
+lumis_file_format lumis_format_from_magic(const void *data, size_t size);
+
+/* "exr", "hdr", "pfm", "png" ("auto" for LUMIS_FORMAT_AUTO). */
+const char *lumis_format_name(lumis_file_format format);
+
+typedef struct lumis_read_options {
+    uint64_t max_pixels; /* 0 == LUMIS_DEFAULT_MAX_PIXELS */
+    lumis_error_sink errors;
+} lumis_read_options;
+
+/* What a reader did besides producing pixels. */
+typedef struct lumis_read_info {
+    lumis_file_format format;
+    lumis_replaced replaced; /* channel values replaced by 0 */
+    int had_alpha;           /* the file had an alpha channel, which was dropped */
+    int grey;                /* the file had one channel, copied to R, G and B */
+} lumis_read_info;
+
+/* Reads an image file; the format comes from the content, not the extension.
+ * options and info may be NULL.  On failure *out is NULL. */
+lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
+                              lumis_image **out, lumis_read_info *info);
+
+/* Reads an image held in memory (borrowed for the call).  name is used in messages only
+ * (NULL == "<memory>").  format AUTO detects it from the content. */
+lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_format format,
+                                     const char *name, const lumis_read_options *options,
+                                     lumis_image **out, lumis_read_info *info);
+
+typedef enum lumis_tonemap {
+    LUMIS_TONEMAP_CLAMP = 0, /* default: linear, clipped at 1 */
+    LUMIS_TONEMAP_REINHARD,  /* x / (1 + x) per channel */
+    LUMIS_TONEMAP_ACES,      /* Narkowicz's fit of the ACES filmic curve */
+    LUMIS_TONEMAP_COUNT
+} lumis_tonemap;
+
+/* "clamp", "reinhard", "aces". */
+const char *lumis_tonemap_name(lumis_tonemap tonemap);
+
+/* Tone map by name; returns LUMIS_ERR_INVALID_ARGUMENT for an unknown name. */
+lumis_status lumis_tonemap_from_name(const char *name, lumis_tonemap *out);
+
+/* Display value in [0,1] (before the sRGB curve) of linear radiance x after exposure. */
+float lumis_tonemap_apply(lumis_tonemap tonemap, float x);
+
+typedef struct lumis_write_options {
+    lumis_file_format format; /* AUTO == from the extension */
+    int exr_half;             /* nonzero: EXR channels as half floats (default float) */
+    int pfm_big_endian;       /* nonzero: big-endian PFM (default little-endian) */
+    float exposure_ev;        /* PNG: radiance is multiplied by 2^exposure_ev first */
+    lumis_tonemap tonemap;    /* PNG: tone map before the sRGB curve */
+    lumis_error_sink errors;
+} lumis_write_options;
+
+/* Writes an image through a temporary file in the same folder, renamed on success.
+ * options may be NULL (format from the extension, defaults otherwise). */
+lumis_status lumis_image_write(const char *path, const lumis_image *image,
+                               const lumis_write_options *options);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,28 @@
+/* Internal helpers shared by the lumis libraries (lumis__ prefix: not public API). */
+#ifndef LUMIS_CORE_INTERNAL_H
+#define LUMIS_CORE_INTERNAL_H
+
+#include "lumis/status.h"
+
+#include <stddef.h>
+
+#define LUMIS_PI 3.14159265358979323846
+#define LUMIS_PI_F 3.14159265358979323846f
+
+#if defined(__GNUC__) || defined(__clang__)
+#define LUMIS_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define LUMIS_PRINTF(a, b)
+#endif
+
+/* Sends a formatted message to sink (if any) and returns status, so failures read
+ *     return lumis__fail(sink, LUMIS_ERR_TRUNCATED, "%s: ...", name); */
+lumis_status lumis__fail(const lumis_error_sink *sink, lumis_status status, const char *fmt, ...)
+    LUMIS_PRINTF(3, 4);
+
+static inline int lumis__clampi(int x, int lo, int hi)
+{
+    return x < lo ? lo : (x > hi ? hi : x);
+}
+
+#endif

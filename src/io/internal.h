@@ -1,0 +1,59 @@
+/* Shared internals of lumis-io: one reader and writer per format, atomic output files. */
+#ifndef LUMIS_IO_INTERNAL_H
+#define LUMIS_IO_INTERNAL_H
+
+#include "lumis/image.h"
+#include "lumis/io.h"
+#include "lumis/status.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What every reader needs besides its bytes. */
+typedef struct lumis__read_ctx {
+    const char *name;   /* file name for messages */
+    uint64_t max_pixels;
+    const lumis_error_sink *errors;
+    lumis_read_info *info; /* never NULL inside the readers */
+} lumis__read_ctx;
+
+lumis_status lumis__hdr_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
+                             lumis_image **out);
+lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
+                             lumis_image **out);
+/* EXR from memory, or from a file when data is NULL (then ctx->name is the path). */
+lumis_status lumis__exr_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
+                             lumis_image **out);
+
+lumis_status lumis__hdr_write(FILE *f, const lumis_image *image);
+lumis_status lumis__pfm_write(FILE *f, const lumis_image *image, int big_endian);
+lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_ev,
+                              lumis_tonemap tonemap);
+/* Writes an EXR file at path (half: channels as half, values clamped to 65504); messages
+ * name display_name. */
+lumis_status lumis__exr_write(const char *path, const char *display_name, const lumis_image *image,
+                              int half, const lumis_error_sink *errors);
+
+/* An output written under a temporary name in the destination's folder and renamed over
+ * the destination only when complete. */
+typedef struct lumis__atomic_file {
+    char *tmp_path;
+    const char *path;
+    FILE *f; /* open for writing (binary) */
+} lumis__atomic_file;
+
+lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
+                                 const lumis_error_sink *errors);
+/* Closes the stream if open, renames on success; removes the temporary file otherwise. */
+lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
+                               const lumis_error_sink *errors);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,79 @@
+/* lumis convert IN OUT [--exposure EV] [--tonemap T] [--resize WxH] [--half] [--big-endian] */
+#include "common.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage[] =
+    "usage: lumis convert IN OUT [options]\n\n"
+    "Converts an image; formats come from the extensions (.exr .hdr .pfm .png; PNG is\n"
+    "output only).  IN may also be sky[:WxH] or studio[:WxH].\n\n"
+    "options:\n"
+    "  --exposure EV   PNG: multiply radiance by 2^EV before tone mapping (default 0)\n"
+    "  --tonemap T     PNG: clamp (default), reinhard or aces\n"
+    "  --resize WxH    resample as an equirectangular map, preserving total power\n"
+    "                  (every output pixel is the solid-angle mean of what it covers)\n"
+    "  --half          EXR: write half floats (values above 65504 are clamped)\n"
+    "  --big-endian    PFM: write big-endian floats (default little-endian)\n";
+
+int cmd_convert(int argc, char **argv)
+{
+    const char *in = NULL, *out = NULL, *v;
+    lumis_write_options wo = {0};
+    int rw = 0, rh = 0;
+    for (int i = 1; i < argc; i++) {
+        if (tool_is_help(argv[i])) {
+            fputs(usage, stdout);
+            return EXIT_OK;
+        } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
+            double ev;
+            if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
+                return tool_usage_error("convert", "--exposure needs a number of stops in [-64, 64]");
+            wo.exposure_ev = (float)ev;
+        } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
+            if (!v || lumis_tonemap_from_name(v, &wo.tonemap) != LUMIS_OK)
+                return tool_usage_error("convert", "--tonemap must be clamp, reinhard or aces");
+        } else if (tool_option(argc, argv, &i, "--resize", &v)) {
+            if (!tool_parse_size(v, &rw, &rh))
+                return tool_usage_error("convert", "--resize needs WxH, e.g. 512x256");
+        } else if (strcmp(argv[i], "--half") == 0) {
+            wo.exr_half = 1;
+        } else if (strcmp(argv[i], "--big-endian") == 0) {
+            wo.pfm_big_endian = 1;
+        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+            return tool_usage_error("convert", "unknown option '%s'", argv[i]);
+        } else if (!in) {
+            in = argv[i];
+        } else if (!out) {
+            out = argv[i];
+        } else {
+            return tool_usage_error("convert", "too many arguments ('%s')", argv[i]);
+        }
+    }
+    if (!in || !out) return tool_usage_error("convert", "needs IN and OUT");
+    if (lumis_format_from_path(out) == LUMIS_FORMAT_AUTO)
+        return tool_usage_error("convert", "%s: unknown output extension (use .exr, .hdr, .pfm or .png)", out);
+
+    lumis_image *image = NULL;
+    lumis_read_info info;
+    if (tool_load_image(in, &image, &info) != LUMIS_OK) return EXIT_RUNTIME;
+    if (lumis_replaced_total(info.replaced))
+        fprintf(stderr, "lumis: %s: replaced %llu negative or non-finite values by 0\n", in,
+                (unsigned long long)lumis_replaced_total(info.replaced));
+    if (rw && (rw != image->width || rh != image->height)) {
+        lumis_image *resized = NULL;
+        lumis_status st = lumis_image_create(rw, rh, &resized);
+        if (st == LUMIS_OK)
+            st = lumis_equirect_resize(image->pixels, image->width, image->height, resized->pixels,
+                                       rw, rh);
+        lumis_image_destroy(image);
+        image = resized;
+        if (st != LUMIS_OK) {
+            lumis_image_destroy(image);
+            return tool_runtime_error("resize to %dx%d: %s", rw, rh, lumis_status_string(st));
+        }
+    }
+    lumis_status st = tool_write_image(out, image, &wo);
+    lumis_image_destroy(image);
+    return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+}

@@ -1,0 +1,142 @@
+#include "common.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void print_error(void *user, lumis_status status, const char *message)
+{
+    (void)user;
+    (void)status;
+    fprintf(stderr, "lumis: %s\n", message);
+}
+
+const lumis_error_sink tool_errors = {print_error, NULL};
+
+int tool_usage_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "lumis %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n(see 'lumis %s --help')\n", cmd);
+    va_end(ap);
+    return EXIT_USAGE;
+}
+
+int tool_runtime_error(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "lumis: ");
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\n");
+    va_end(ap);
+    return EXIT_RUNTIME;
+}
+
+int tool_is_help(const char *arg)
+{
+    return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;
+}
+
+int tool_option(int argc, char **argv, int *i, const char *name, const char **value)
+{
+    const char *a = argv[*i];
+    size_t n = strlen(name);
+    if (strncmp(a, name, n) != 0) return 0;
+    if (a[n] == '=') {
+        *value = a + n + 1;
+        return 1;
+    }
+    if (a[n] != '\0') return 0;
+    *value = *i + 1 < argc ? argv[++*i] : NULL;
+    return 1;
+}
+
+int tool_parse_double(const char *s, double *out)
+{
+    if (!s || !*s) return 0;
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
+    *out = v;
+    return 1;
+}
+
+int tool_parse_int(const char *s, long lo, long hi, long *out)
+{
+    if (!s || !*s) return 0;
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
+    *out = v;
+    return 1;
+}
+
+int tool_parse_size(const char *s, int *w, int *h)
+{
+    if (!s) return 0;
+    const char *x = strchr(s, 'x');
+    if (!x) return 0;
+    char buf[32];
+    size_t n = (size_t)(x - s);
+    if (n == 0 || n >= sizeof buf) return 0;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    long lw, lh;
+    if (!tool_parse_int(buf, 1, INT_MAX, &lw) || !tool_parse_int(x + 1, 1, INT_MAX, &lh)) return 0;
+    *w = (int)lw;
+    *h = (int)lh;
+    return 1;
+}
+
+lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
+{
+    lumis_read_info local;
+    if (!info) info = &local;
+    memset(info, 0, sizeof *info);
+    int w = 0, h = 0;
+    const char *colon = strchr(spec, ':');
+    size_t name_len = colon ? (size_t)(colon - spec) : strlen(spec);
+    int is_sky = name_len == 3 && strncmp(spec, "sky", 3) == 0;
+    int is_studio = name_len == 6 && strncmp(spec, "studio", 6) == 0;
+    if (is_sky || is_studio) {
+        if (colon && !tool_parse_size(colon + 1, &w, &h)) {
+            fprintf(stderr, "lumis: %s: expected %.*s:WxH, e.g. %.*s:1024x512\n", spec,
+                    (int)name_len, spec, (int)name_len, spec);
+            return LUMIS_ERR_INVALID_ARGUMENT;
+        }
+        if (is_sky) {
+            lumis_sky_desc d = {0};
+            d.width = w;
+            d.height = h;
+            d.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
+            d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
+            d.errors = tool_errors;
+            return lumis_sky_create(&d, out);
+        }
+        lumis_studio_desc d = {0};
+        d.width = w;
+        d.height = h;
+        d.errors = tool_errors;
+        return lumis_studio_create(&d, out);
+    }
+    lumis_read_options opt = {0};
+    opt.errors = tool_errors;
+    return lumis_image_read(spec, &opt, out, info);
+}
+
+lumis_status tool_write_image(const char *path, const lumis_image *image,
+                              const lumis_write_options *options)
+{
+    lumis_write_options opt = {0};
+    if (options) opt = *options;
+    opt.errors = tool_errors;
+    return lumis_image_write(path, image, &opt);
+}

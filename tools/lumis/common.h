@@ -1,0 +1,65 @@
+/* Shared pieces of the lumis subcommands: option parsing, map loading, error printing. */
+#ifndef LUMIS_TOOL_COMMON_H
+#define LUMIS_TOOL_COMMON_H
+
+#include "lumis/io.h"
+#include "lumis/lumis.h"
+
+#include <stdio.h>
+
+/* Sun of the default sky (`lumis sky`, the "sky" map spec, `lumis demo`). */
+#define TOOL_SKY_ELEVATION_DEG 35.0
+#define TOOL_SKY_AZIMUTH_DEG 60.0
+
+/* Exit codes of every subcommand. */
+enum { EXIT_OK = 0, EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
+
+/* A subcommand: name, one-line summary, entry point (argv[0] is the command name). */
+typedef struct tool_command {
+    const char *name;
+    const char *summary;
+    int (*run)(int argc, char **argv);
+} tool_command;
+
+/* Error sink that prints "lumis: message" on stderr. */
+extern const lumis_error_sink tool_errors;
+
+/* Prints "lumis CMD: message" on stderr; returns EXIT_USAGE. */
+int tool_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Prints "lumis: message" on stderr; returns EXIT_RUNTIME. */
+int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* True if argv[*i] is the option `name` ("--name VALUE" or "--name=VALUE"); then *value is
+ * its value and *i points at the last argv element used.  A missing value sets *value to
+ * NULL (report it with tool_usage_error). */
+int tool_option(int argc, char **argv, int *i, const char *name, const char **value);
+
+/* Parsers returning 0 on malformed input. */
+int tool_parse_double(const char *s, double *out);
+int tool_parse_int(const char *s, long lo, long hi, long *out);
+int tool_parse_size(const char *s, int *w, int *h); /* "WxH" */
+
+/* True for --help / -h. */
+int tool_is_help(const char *arg);
+
+/* Loads a map: an image file, or a procedural spec "sky", "sky:WxH", "studio",
+ * "studio:WxH".  Prints errors itself; returns a lumis_status. */
+lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
+
+/* Writes with the atomic writer; prints errors itself. */
+lumis_status tool_write_image(const char *path, const lumis_image *image,
+                              const lumis_write_options *options);
+
+/* The subcommands. */
+int cmd_info(int argc, char **argv);
+int cmd_convert(int argc, char **argv);
+int cmd_sky(int argc, char **argv);
+int cmd_studio(int argc, char **argv);
+int cmd_demo(int argc, char **argv);
+
+/* Writes the info report of a map (as `lumis info` prints it) to f. */
+int tool_print_info(FILE *f, const char *name, const lumis_image *image,
+                    const lumis_read_info *info, int json);
+
+#endif

@@ -1,0 +1,46 @@
+/* lumis: command-line front end.  Each subcommand lives in its own cmd_*.c file. */
+#include "common.h"
+
+#include <string.h>
+
+static const tool_command commands[] = {
+    {"info", "statistics of an environment map (resolution, luminance, power, top shares)",
+     cmd_info},
+    {"convert", "convert between EXR, HDR, PFM and PNG; expose, tone map, resize", cmd_convert},
+    {"sky", "write a procedural clear sky (Preetham et al. 1999) with a sun", cmd_sky},
+    {"studio", "write a procedural studio map (dark surround, soft boxes)", cmd_studio},
+    {"demo", "write the default sky as EXR and PNG into demo/ and print its info", cmd_demo},
+};
+enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
+
+static void print_help(FILE *f)
+{
+    fprintf(f,
+            "lumis %s - importance sampling of light sources for physically based rendering\n\n"
+            "usage: lumis COMMAND [OPTIONS]   (lumis COMMAND --help for its options)\n\n"
+            "commands:\n",
+            lumis_version());
+    for (int i = 0; i < NCOMMANDS; i++) fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
+    fprintf(f, "\nmaps: an image file (.exr, .hdr, .pfm) or a procedural spec sky[:WxH] or\n"
+               "studio[:WxH].  Exit status: 0 success, 1 runtime error, 2 usage error.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        print_help(stderr);
+        return EXIT_USAGE;
+    }
+    if (tool_is_help(argv[1]) || strcmp(argv[1], "help") == 0) {
+        print_help(stdout);
+        return EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+        printf("lumis %s\n", lumis_version());
+        return EXIT_OK;
+    }
+    for (int i = 0; i < NCOMMANDS; i++)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "lumis: unknown command '%s' (see 'lumis --help')\n", argv[1]);
+    return EXIT_USAGE;
+}
