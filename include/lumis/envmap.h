@@ -81,8 +81,8 @@ typedef struct lumis_envmap_stats {
     double dynamic_range;                /* max / min_positive; 0 if the map is black */
     double power;                        /* sum(Y * Omega), steradian-weighted luminance */
     double power_rgb[3];                 /* sum(L * Omega) per channel */
-    double top1_share;                   /* share of power in the 1 % of pixels with largest Y*Omega */
-    double top01_share;                  /* same for 0.1 % */
+    double top1_share;  /* share of power in the floor(n/100) (>= 1) pixels of largest Y*Omega */
+    double top01_share; /* same for floor(n/1000) (>= 1) pixels */
     uint64_t black_pixels;               /* pixels with Y == 0 */
 } lumis_envmap_stats;
 

@@ -82,9 +82,30 @@ lumis_status lumis_tonemap_from_name(const char *name, lumis_tonemap *out);
 /* Display value in [0,1] (before the sRGB curve) of linear radiance x after exposure. */
 float lumis_tonemap_apply(lumis_tonemap tonemap, float x);
 
+/* EXR compression; 0 == ZIP (lossless, 16 scanlines per block). */
+typedef enum lumis_exr_compression {
+    LUMIS_EXR_ZIP = 0,
+    LUMIS_EXR_NONE,
+    LUMIS_EXR_RLE,
+    LUMIS_EXR_ZIPS,
+    LUMIS_EXR_PIZ,
+    LUMIS_EXR_PXR24, /* lossy for float channels (24-bit) */
+    LUMIS_EXR_B44,   /* lossy, half channels only (float stays uncompressed) */
+    LUMIS_EXR_B44A,
+    LUMIS_EXR_DWAA, /* lossy */
+    LUMIS_EXR_DWAB, /* lossy */
+    LUMIS_EXR_COMPRESSION_COUNT
+} lumis_exr_compression;
+
+/* "zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab". */
+const char *lumis_exr_compression_name(lumis_exr_compression compression);
+lumis_status lumis_exr_compression_from_name(const char *name, lumis_exr_compression *out);
+
 typedef struct lumis_write_options {
     lumis_file_format format; /* AUTO == from the extension */
     int exr_half;             /* nonzero: EXR channels as half floats (default float) */
+    lumis_exr_compression exr_compression; /* 0 == ZIP */
+    int exr_tile_size;        /* 0 == scanline file; > 0: tiled, tiles of this size */
     int pfm_big_endian;       /* nonzero: big-endian PFM (default little-endian) */
     float exposure_ev;        /* PNG: radiance is multiplied by 2^exposure_ev first */
     lumis_tonemap tonemap;    /* PNG: tone map before the sRGB curve */

@@ -294,8 +294,9 @@ lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_st
     for (int c = 0; c < 3; c++) out->power_rgb[c] = prgb[c];
     out->black_pixels = black;
 
-    /* The top 1 % (0.1 %) is ceil(n / 100) (ceil(n / 1000)) pixels: never empty. */
-    size_t k1 = (n + 99) / 100, k01 = (n + 999) / 1000;
+    /* The top 1 % (0.1 %) is floor(n / 100) (floor(n / 1000)) pixels, at least one: the
+     * definition behind the table of ../shared/data/README.md, which lumis reproduces. */
+    size_t k1 = n / 100 ? n / 100 : 1, k01 = n / 1000 ? n / 1000 : 1;
     if (power > 0.0) {
         select_largest(yw, n, k1);
         double top1 = 0.0;

@@ -4,12 +4,14 @@
 // is told apart from corruption by the input streams below, which record hitting the end.
 #include "internal.h"
 
+#include <half.h>
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfTiledOutputFile.h>
 #include <ImfVersion.h>
 
 #include <cerrno>
@@ -21,6 +23,7 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace {
 
@@ -208,42 +211,70 @@ extern "C" lumis_status lumis__exr_read(const unsigned char *data, size_t size,
     return st;
 }
 
-extern "C" lumis_status lumis__exr_write(const char *path, const char *display_name,
-                                         const lumis_image *image, int half,
-                                         const lumis_error_sink *errors)
+namespace {
+
+// Our enum in the order of lumis_exr_compression.
+const Imf::Compression compressions[LUMIS_EXR_COMPRESSION_COUNT] = {
+    Imf::ZIP_COMPRESSION,   Imf::NO_COMPRESSION,  Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+    Imf::PIZ_COMPRESSION,   Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION,
+    Imf::DWAA_COMPRESSION,  Imf::DWAB_COMPRESSION};
+
+template <class File> void write_pixels(File &file, const Imf::FrameBuffer &fb, int height)
 {
-    float *clamped = nullptr;
+    file.setFrameBuffer(fb);
+    if constexpr (std::is_same_v<File, Imf::TiledOutputFile>)
+        file.writeTiles(0, file.numXTiles() - 1, 0, file.numYTiles() - 1);
+    else
+        file.writePixels(height);
+}
+
+} // namespace
+
+extern "C" lumis_status lumis__exr_write(const char *path, const char *display_name,
+                                         const lumis_image *image,
+                                         const lumis_write_options *options)
+{
+    const lumis_error_sink *errors = &options->errors;
+    const bool half = options->exr_half != 0;
+    Imath::half *halves = nullptr;
     try {
         Imf::Header hdr(image->width, image->height);
-        hdr.compression() = Imf::ZIP_COMPRESSION;
+        hdr.compression() = compressions[options->exr_compression];
         const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
         static const char *const names[3] = {"R", "G", "B"};
         for (const char *n : names) hdr.channels().insert(n, Imf::Channel(type));
-        Imf::OutputFile file(path, hdr, Imf::globalThreadCount());
+        if (options->exr_tile_size > 0)
+            hdr.setTileDescription(Imf::TileDescription(
+                static_cast<unsigned>(options->exr_tile_size),
+                static_cast<unsigned>(options->exr_tile_size), Imf::ONE_LEVEL));
         Imf::FrameBuffer fb;
-        const size_t xs = 3 * sizeof(float), ys = xs * static_cast<size_t>(image->width);
-        const float *src = image->pixels;
+        const size_t n = static_cast<size_t>(image->width) * static_cast<size_t>(image->height) * 3;
         if (half) {
             // Half overflows to infinity above 65504 (a sun disk easily does): clamp instead.
-            const size_t n = static_cast<size_t>(image->width) * static_cast<size_t>(image->height) * 3;
-            clamped = new float[n];
+            // Converting here also serves tiled files, which do not convert pixel types.
+            halves = new Imath::half[n];
             for (size_t k = 0; k < n; k++)
-                clamped[k] = src[k] < 65504.0f ? src[k] : 65504.0f;
-            src = clamped;
+                halves[k] = Imath::half(image->pixels[k] < 65504.0f ? image->pixels[k] : 65504.0f);
         }
+        const size_t elem = half ? sizeof(Imath::half) : sizeof(float);
+        const size_t xs = 3 * elem, ys = xs * static_cast<size_t>(image->width);
+        char *base = half ? reinterpret_cast<char *>(halves) : reinterpret_cast<char *>(image->pixels);
         for (int c = 0; c < 3; c++)
-            fb.insert(names[c], Imf::Slice(Imf::FLOAT,
-                                           const_cast<char *>(reinterpret_cast<const char *>(src + c)),
-                                           xs, ys));
-        file.setFrameBuffer(fb); // float slices are converted to half by the library
-        file.writePixels(image->height);
-        delete[] clamped;
+            fb.insert(names[c], Imf::Slice(type, base + static_cast<size_t>(c) * elem, xs, ys));
+        if (options->exr_tile_size > 0) {
+            Imf::TiledOutputFile file(path, hdr, Imf::globalThreadCount());
+            write_pixels(file, fb, image->height);
+        } else {
+            Imf::OutputFile file(path, hdr, Imf::globalThreadCount());
+            write_pixels(file, fb, image->height);
+        }
+        delete[] halves;
         return LUMIS_OK;
     } catch (const std::exception &e) {
-        delete[] clamped;
+        delete[] halves;
         return fail(errors, LUMIS_ERR_WRITE, "%s: %s", display_name, e.what());
     } catch (...) {
-        delete[] clamped;
+        delete[] halves;
         return fail(errors, LUMIS_ERR_WRITE, "%s: unknown OpenEXR error", display_name);
     }
 }

@@ -12,6 +12,25 @@
 #include <strings.h>
 #include <sys/stat.h>
 
+static const char *const compression_names[LUMIS_EXR_COMPRESSION_COUNT] = {
+    "zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+
+const char *lumis_exr_compression_name(lumis_exr_compression compression)
+{
+    return (unsigned)compression < LUMIS_EXR_COMPRESSION_COUNT ? compression_names[compression]
+                                                               : "unknown";
+}
+
+lumis_status lumis_exr_compression_from_name(const char *name, lumis_exr_compression *out)
+{
+    for (int c = 0; name && c < LUMIS_EXR_COMPRESSION_COUNT; c++)
+        if (strcmp(name, compression_names[c]) == 0) {
+            *out = (lumis_exr_compression)c;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
 static const char *const format_names[LUMIS_FORMAT_COUNT] = {"auto", "exr", "hdr", "pfm", "png"};
 
 const char *lumis_format_name(lumis_file_format format)
@@ -166,7 +185,9 @@ lumis_status lumis_image_write(const char *path, const lumis_image *image,
     if (format <= LUMIS_FORMAT_AUTO || format >= LUMIS_FORMAT_COUNT)
         return lumis__fail(err, LUMIS_ERR_UNKNOWN_FORMAT,
                            "%s: unknown output format (use .exr, .hdr, .pfm or .png)", path);
-    if (!isfinite(options->exposure_ev) || (unsigned)options->tonemap >= LUMIS_TONEMAP_COUNT)
+    if (!isfinite(options->exposure_ev) || (unsigned)options->tonemap >= LUMIS_TONEMAP_COUNT ||
+        (unsigned)options->exr_compression >= LUMIS_EXR_COMPRESSION_COUNT ||
+        options->exr_tile_size < 0)
         return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT, "%s: bad exposure or tone map", path);
 
     lumis__atomic_file af;
@@ -177,7 +198,7 @@ lumis_status lumis_image_write(const char *path, const lumis_image *image,
         /* OpenEXR writes by name: close our stream and let it overwrite the temp file. */
         fclose(af.f);
         af.f = NULL;
-        st = lumis__exr_write(af.tmp_path, path, image, options->exr_half, err);
+        st = lumis__exr_write(af.tmp_path, path, image, options);
         break;
     case LUMIS_FORMAT_HDR:
         st = lumis__hdr_write(af.f, image);

@@ -34,10 +34,10 @@ lumis_status lumis__hdr_write(FILE *f, const lumis_image *image);
 lumis_status lumis__pfm_write(FILE *f, const lumis_image *image, int big_endian);
 lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_ev,
                               lumis_tonemap tonemap);
-/* Writes an EXR file at path (half: channels as half, values clamped to 65504); messages
- * name display_name. */
+/* Writes an EXR file at path (half: channels as half, values clamped to 65504) with the
+ * options' compression and tiling; messages name display_name. */
 lumis_status lumis__exr_write(const char *path, const char *display_name, const lumis_image *image,
-                              int half, const lumis_error_sink *errors);
+                              const lumis_write_options *options);
 
 /* An output written under a temporary name in the destination's folder and renamed over
  * the destination only when complete. */

@@ -14,6 +14,8 @@ static const char usage[] =
     "  --resize WxH    resample as an equirectangular map, preserving total power\n"
     "                  (every output pixel is the solid-angle mean of what it covers)\n"
     "  --half          EXR: write half floats (values above 65504 are clamped)\n"
+    "  --compression C EXR: zip (default), none, rle, zips, piz, pxr24, b44, b44a, dwaa, dwab\n"
+    "  --tile N        EXR: write a tiled file with N x N tiles\n"
     "  --big-endian    PFM: write big-endian floats (default little-endian)\n";
 
 int cmd_convert(int argc, char **argv)
@@ -36,6 +38,15 @@ int cmd_convert(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--resize", &v)) {
             if (!tool_parse_size(v, &rw, &rh))
                 return tool_usage_error("convert", "--resize needs WxH, e.g. 512x256");
+        } else if (tool_option(argc, argv, &i, "--compression", &v)) {
+            if (!v || lumis_exr_compression_from_name(v, &wo.exr_compression) != LUMIS_OK)
+                return tool_usage_error("convert", "--compression must be one of zip, none, rle, "
+                                                   "zips, piz, pxr24, b44, b44a, dwaa, dwab");
+        } else if (tool_option(argc, argv, &i, "--tile", &v)) {
+            long t;
+            if (!tool_parse_int(v, 1, 65536, &t))
+                return tool_usage_error("convert", "--tile needs a tile size in [1, 65536]");
+            wo.exr_tile_size = (int)t;
         } else if (strcmp(argv[i], "--half") == 0) {
             wo.exr_half = 1;
         } else if (strcmp(argv[i], "--big-endian") == 0) {

@@ -13,7 +13,7 @@ static const char usage[] =
     "Definitions (as in the data README): Y = 0.2126 R + 0.7152 G + 0.0722 B; pixel (i, j)\n"
     "of a w x h map subtends Omega_j = (2 pi / w)(cos theta_j - cos theta_j+1), theta_j =\n"
     "pi j / h; power = sum Y Omega; avg = power / 4 pi; top shares rank pixels by Y Omega\n"
-    "(the top 1 %% is ceil(n / 100) pixels); dynamic range = max Y / smallest positive Y;\n"
+    "(the top 1 %% is floor(n / 100) pixels, at least one); dynamic range = max Y / smallest positive Y;\n"
     "negative and non-finite channel values are replaced by 0 and counted.\n\n"
     "options:\n"
     "  --json   print one JSON object (keys: file, format, width, height, min_luminance,\n"

@@ -1,0 +1,61 @@
+# Convenience wrapper around CMake.  `make help` lists the targets.
+PREFIX       ?= /usr/local
+FUZZ_SECONDS ?= 30
+JOBS         ?= $(shell nproc)
+FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm
+FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
+                  \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
+
+.PHONY: help deps build run test sanitize fuzz format format-check bench install clean
+
+help:
+	@echo "targets: deps build run test sanitize fuzz format format-check bench install clean"
+	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS)   make install PREFIX=$(PREFIX)"
+
+deps:
+	scripts/install-deps.sh
+
+build: deps
+	@test -f build/CMakeCache.txt || cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	cmake --build build -j$(JOBS)
+
+run: build
+	./build/lumis demo
+
+test: build
+	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
+	ctest --test-dir build --output-on-failure -j2
+
+sanitize: deps
+	cmake -S . -B build-asan -DLUMIS_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug -DLUMIS_BUILD_BENCH=OFF
+	cmake --build build-asan -j$(JOBS)
+	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --test-dir build-asan --output-on-failure -j2
+
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DLUMIS_FUZZ=ON \
+	  -DLUMIS_BUILD_TESTS=OFF -DLUMIS_BUILD_BENCH=OFF
+	cmake --build build-fuzz -j$(JOBS)
+	build-fuzz/fuzz/fuzz_make_corpus build-fuzz/corpus
+	@set -e; for f in $(FUZZERS); do \
+	  fmt=$${f#fuzz_}; mkdir -p build-fuzz/artifacts/$$fmt; \
+	  echo "== $$f: $(FUZZ_SECONDS) s"; \
+	  build-fuzz/fuzz/$$f -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=build-fuzz/artifacts/$$fmt/ build-fuzz/corpus/$$fmt; \
+	done
+
+format:
+	clang-format -i $(FORMAT_FILES)
+
+format-check:
+	clang-format --dry-run --Werror $(FORMAT_FILES)
+
+bench: build
+	./build/bench/bench_info
+
+install: build
+	cmake --install build --prefix $(PREFIX)
+
+clean:
+	rm -rf build build-asan build-fuzz

@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Install the Debian packages lumis needs to build and test (only those missing).
+set -euo pipefail
+
+BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
+      libcmocka-dev ca-certificates)
+DEV=(clang libclang-rt-14-dev clang-format)
+DATA_TOOLS=(nodejs npm)
+
+usage() {
+    cat <<EOF
+Usage: $(basename "$0") [--dev] [--data-tools] [--help]
+
+Install with apt-get the Debian packages that are missing:
+  ${BASE[*]}
+
+  --dev         also the CI tools: ${DEV[*]}
+                (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check')
+  --data-tools  also ${DATA_TOOLS[*]}, which scripts/fetch-data.sh needs only when no
+                local copy of the test data (../shared/data) exists
+  --help        show this help
+
+Runs as root, or through sudo otherwise. 'apt-get update' runs once, only if
+something is missing.
+EOF
+}
+
+WANT=("${BASE[@]}")
+for arg in "$@"; do
+    case "$arg" in
+        --dev) WANT+=("${DEV[@]}") ;;
+        --data-tools) WANT+=("${DATA_TOOLS[@]}") ;;
+        -h|--help) usage; exit 0 ;;
+        *) echo "install-deps: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
+    esac
+done
+
+installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q 'install ok installed'; }
+
+MISSING=()
+for pkg in "${WANT[@]}"; do
+    installed "$pkg" || MISSING+=("$pkg")
+done
+if [[ ${#MISSING[@]} -eq 0 ]]; then
+    echo "install-deps: all dependencies present"
+    exit 0
+fi
+
+if [[ $(id -u) -eq 0 ]]; then
+    SUDO=()
+elif command -v sudo >/dev/null; then
+    SUDO=(sudo)
+else
+    echo "install-deps: error: missing packages (${MISSING[*]}), and this is neither root" \
+         "nor has sudo; install them as root: apt-get install ${MISSING[*]}" >&2
+    exit 1
+fi
+
+export DEBIAN_FRONTEND=noninteractive
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
+"${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y -q --no-install-recommends "${MISSING[@]}"
+for pkg in "${MISSING[@]}"; do
+    installed "$pkg" || { echo "install-deps: error: $pkg did not install" >&2; exit 1; }
+    echo "install-deps: installed $pkg"
+done

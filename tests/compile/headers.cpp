@@ -1,0 +1,12 @@
+// Every public header, compiled as C++17 (see tests/CMakeLists.txt).
+#include "lumis/io.h"
+#include "lumis/lumis.h"
+
+int lumis_headers_compile_as_cxx();
+int lumis_headers_compile_as_cxx()
+{
+    lumis_envmap_desc d{};
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 1, 2);
+    return d.width + static_cast<int>(lumis_pcg32_next(&rng) & 1u);
+}

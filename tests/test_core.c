@@ -1,0 +1,178 @@
+/* Core building blocks: status table, image buffers, sanitizing, PCG32, Halton. */
+#include "testutil.h"
+
+#include "core/internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void status_names_are_unique_and_total(void **state)
+{
+    (void)state;
+    for (int a = 0; a < LUMIS_STATUS_COUNT; a++) {
+        const char *na = lumis_status_name((lumis_status)a);
+        assert_true(strlen(na) > 0);
+        assert_true(strlen(lumis_status_string((lumis_status)a)) > 0);
+        assert_string_not_equal(na, "unknown-status");
+        for (int b = a + 1; b < LUMIS_STATUS_COUNT; b++)
+            assert_string_not_equal(na, lumis_status_name((lumis_status)b));
+    }
+    assert_string_equal(lumis_status_name(LUMIS_OK), "ok");
+    assert_string_equal(lumis_status_name(LUMIS_ERR_TRUNCATED), "truncated");
+    assert_string_equal(lumis_status_name(LUMIS_STATUS_COUNT), "unknown-status");
+    assert_string_equal(lumis_status_name((lumis_status)-1), "unknown-status");
+    assert_string_equal(lumis_status_string(LUMIS_STATUS_COUNT), "unknown status");
+}
+
+static void fail_helper_formats_into_the_sink(void **state)
+{
+    (void)state;
+    tu_sink s;
+    tu_sink_init(&s);
+    assert_int_equal(lumis__fail(&s.sink, LUMIS_ERR_CORRUPT, "%s: %d", "x.exr", 7),
+                     LUMIS_ERR_CORRUPT);
+    assert_string_equal(s.last, "x.exr: 7");
+    assert_int_equal(s.status, LUMIS_ERR_CORRUPT);
+    /* A zeroed sink and a NULL sink discard quietly. */
+    lumis_error_sink none = {0};
+    assert_int_equal(lumis__fail(&none, LUMIS_ERR_READ, "x"), LUMIS_ERR_READ);
+    assert_int_equal(lumis__fail(NULL, LUMIS_ERR_READ, "x"), LUMIS_ERR_READ);
+}
+
+static void image_sizes_are_checked_before_allocation(void **state)
+{
+    (void)state;
+    assert_int_equal(lumis_image_check_size(1, 1, 0), LUMIS_OK);
+    assert_int_equal(lumis_image_check_size(0, 5, 0), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_int_equal(lumis_image_check_size(5, -1, 0), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_int_equal(lumis_image_check_size(INT64_MIN, 2, 0), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_int_equal(lumis_image_check_size(16384, 16384, 0), LUMIS_OK);
+    assert_int_equal(lumis_image_check_size(16384, 16385, 0), LUMIS_ERR_TOO_LARGE);
+    /* Products that overflow 64 bits must not wrap into something small. */
+    assert_int_equal(lumis_image_check_size(INT64_MAX, INT64_MAX, 0), LUMIS_ERR_TOO_LARGE);
+    assert_int_equal(lumis_image_check_size((int64_t)1 << 32, 1, UINT64_MAX), LUMIS_ERR_TOO_LARGE);
+    assert_int_equal(lumis_image_check_size(100, 100, 9999), LUMIS_ERR_TOO_LARGE);
+    assert_int_equal(lumis_image_check_size(100, 100, 10000), LUMIS_OK);
+
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(0, 3, &img), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_null(img);
+    assert_int_equal(lumis_image_create(3, 2, &img), LUMIS_OK);
+    for (int k = 0; k < 18; k++) assert_true(img->pixels[k] == 0.0f);
+    img->pixels[5] = 2.5f;
+    lumis_image *copy = NULL;
+    assert_int_equal(lumis_image_clone(img, &copy), LUMIS_OK);
+    assert_true(copy->pixels[5] == 2.5f && copy->pixels != img->pixels);
+    lumis_image_destroy(copy);
+    lumis_image_destroy(img);
+    lumis_image_destroy(NULL);
+    assert_int_equal(lumis_image_create(1, 1, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+static void sanitize_counts_each_kind(void **state)
+{
+    (void)state;
+    float v[] = {1.0f, NAN, -2.0f, INFINITY, -INFINITY, 0.0f, -0.0f, 3e38f, -1e-30f};
+    lumis_replaced r = {0, 0, 0};
+    assert_int_equal(lumis_sanitize_floats(v, 9, &r), 5);
+    assert_int_equal(r.nan, 1);
+    assert_int_equal(r.inf, 2);
+    assert_int_equal(r.negative, 2);
+    const float want[] = {1.0f, 0, 0, 0, 0, 0, -0.0f, 3e38f, 0};
+    for (int k = 0; k < 9; k++) assert_true(v[k] == want[k]);
+    assert_int_equal(lumis_replaced_total(r), 5);
+    /* Counts accumulate across calls. */
+    float w[] = {NAN};
+    lumis_sanitize_floats(w, 1, &r);
+    assert_int_equal(r.nan, 2);
+}
+
+static void pcg32_matches_the_reference_sequence(void **state)
+{
+    (void)state;
+    /* pcg32-demo of the reference implementation: seed 42, sequence 54. */
+    static const uint32_t want[] = {0xa15c02b7, 0x7b47f409, 0xba1d3330, 0x83d2f293,
+                                    0xbfa4784b, 0xcbed606e};
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 42u, 54u);
+    for (int k = 0; k < 6; k++) assert_int_equal(lumis_pcg32_next(&rng), want[k]);
+}
+
+static void pcg32_advance_jumps_both_ways(void **state)
+{
+    (void)state;
+    lumis_pcg32 a, b;
+    lumis_pcg32_seed(&a, 7, 3);
+    b = a;
+    for (int k = 0; k < 1000; k++) (void)lumis_pcg32_next(&a);
+    lumis_pcg32_advance(&b, 1000);
+    assert_int_equal(a.state, b.state);
+    lumis_pcg32_advance(&b, -1000);
+    lumis_pcg32 c;
+    lumis_pcg32_seed(&c, 7, 3);
+    assert_int_equal(b.state, c.state);
+}
+
+static void pcg32_floats_and_bounded_are_uniform(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 1, 1);
+    enum { N = 200000, B = 7 };
+    int hist[B] = {0};
+    double sum = 0.0;
+    for (int k = 0; k < N; k++) {
+        float f = lumis_pcg32_float(&rng);
+        double d = lumis_pcg32_double(&rng);
+        assert_true(f >= 0.0f && f < 1.0f);
+        assert_true(d >= 0.0 && d < 1.0);
+        sum += f;
+        uint32_t x = lumis_pcg32_bounded(&rng, B);
+        assert_true(x < B);
+        hist[x]++;
+    }
+    assert_true(fabs(sum / N - 0.5) < 4.0 * sqrt(1.0 / 12.0 / N));
+    /* Chi-square with 6 degrees of freedom; 22.46 is its 0.999 quantile. */
+    double chi2 = 0.0, e = (double)N / B;
+    for (int k = 0; k < B; k++) chi2 += (hist[k] - e) * (hist[k] - e) / e;
+    assert_true(chi2 < 22.46);
+}
+
+static void radical_inverse_reverses_digits(void **state)
+{
+    (void)state;
+    assert_true(lumis_radical_inverse(0, 0) == 0.0);
+    assert_true(lumis_radical_inverse(0, 1) == 0.5);
+    assert_true(lumis_radical_inverse(0, 2) == 0.25);
+    assert_true(lumis_radical_inverse(0, 3) == 0.75);
+    assert_true(lumis_radical_inverse(0, 6) == 0.375); /* 110b -> 0.011b */
+    assert_true(fabs(lumis_radical_inverse(1, 1) - 1.0 / 3.0) < 1e-15);
+    assert_true(fabs(lumis_radical_inverse(1, 5) - (2.0 / 3.0 + 1.0 / 9.0)) < 1e-15); /* 12_3 */
+    assert_true(fabs(lumis_halton(2, 7) - (2.0 / 5.0 + 1.0 / 25.0)) < 1e-15);        /* 12_5 */
+    assert_true(lumis_radical_inverse(LUMIS_HALTON_MAX_DIMENSION, 5) == 0.0);
+    /* Huge indices stay in [0, 1). */
+    for (unsigned d = 0; d < LUMIS_HALTON_MAX_DIMENSION; d++) {
+        double x = lumis_radical_inverse(d, UINT64_MAX);
+        assert_true(x >= 0.0 && x < 1.0);
+    }
+    /* The first b^k points of dimension 1 (base 3) fill the b^k strata once each. */
+    int seen[81] = {0};
+    for (uint64_t i = 0; i < 81; i++) seen[(int)(lumis_halton(1, i) * 81.0 + 1e-9)]++;
+    for (int k = 0; k < 81; k++) assert_int_equal(seen[k], 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(status_names_are_unique_and_total),
+        cmocka_unit_test(fail_helper_formats_into_the_sink),
+        cmocka_unit_test(image_sizes_are_checked_before_allocation),
+        cmocka_unit_test(sanitize_counts_each_kind),
+        cmocka_unit_test(pcg32_matches_the_reference_sequence),
+        cmocka_unit_test(pcg32_advance_jumps_both_ways),
+        cmocka_unit_test(pcg32_floats_and_bounded_are_uniform),
+        cmocka_unit_test(radical_inverse_reverses_digits),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,46 @@
+/* Helpers shared by the test programs (cmocka). */
+#ifndef LUMIS_TESTUTIL_H
+#define LUMIS_TESTUTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "lumis/io.h"
+#include "lumis/lumis.h"
+
+/* A fresh temporary folder for this test program (removed at exit). */
+const char *tu_tmpdir(void);
+
+/* tu_tmpdir()/name, in a static rotating buffer. */
+const char *tu_path(const char *name);
+
+/* Writes bytes to a file; asserts on failure. */
+void tu_write_file(const char *path, const void *data, size_t size);
+
+/* Reads a whole file (malloc'ed, caller frees); NULL if it cannot. */
+unsigned char *tu_read_file(const char *path, size_t *size);
+
+/* An error sink that keeps the last message and status. */
+typedef struct tu_sink {
+    lumis_error_sink sink;
+    char last[512];
+    lumis_status status;
+    int count;
+} tu_sink;
+void tu_sink_init(tu_sink *s);
+
+/* A w x h image whose pixels are f(i, j, c). */
+lumis_image *tu_image(int w, int h, float (*f)(int i, int j, int c));
+
+/* Runs a shell command, capturing stdout and stderr into malloc'ed strings (may be NULL
+ * pointers to skip); returns the exit status, or -1 if it could not run. */
+int tu_run(const char *cmd, char **out, char **err);
+
+/* Number of entries in a folder whose name starts with prefix. */
+int tu_count_entries(const char *dir, const char *prefix);
+
+#endif
