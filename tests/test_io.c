@@ -1,1 +1,609 @@
-int main(void){return 0;}
+/* Image files: round trips through every writer and reader, and every class of bad input
+ * getting its own status and a message that names the file. */
+#include "testutil.h"
+
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <stb_image.h>
+
+static float f_smooth(int i, int j, int c)
+{
+    return (float)(0.01 + (i * 7 + j * 13 + c * 5) % 97 * 0.37 + (i == 3 && j == 2 ? 5e4 : 0.0));
+}
+
+static lumis_image *sample_image(int w, int h) { return tu_image(w, h, f_smooth); }
+
+static lumis_status write_img(const char *path, const lumis_image *img, const lumis_write_options *o)
+{
+    return lumis_image_write(path, img, o);
+}
+
+static lumis_image *read_ok(const char *path, lumis_read_info *info)
+{
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    lumis_image *img = NULL;
+    lumis_status st = lumis_image_read(path, &ro, &img, info);
+    if (st != LUMIS_OK) fail_msg("%s: %s (%s)", path, lumis_status_name(st), sink.last);
+    return img;
+}
+
+/* Expects a status and a message naming the file from reading path. */
+static void expect_read_error(const char *path, lumis_status want)
+{
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    lumis_image *img = (lumis_image *)1;
+    lumis_status st = lumis_image_read(path, &ro, &img, NULL);
+    if (st != want)
+        fail_msg("%s: got %s, want %s (%s)", path, lumis_status_name(st), lumis_status_name(want),
+                 sink.last);
+    assert_null(img);
+    assert_true(sink.count >= 1);
+    assert_non_null(strstr(sink.last, path));
+}
+
+static void expect_memory_error(const char *text, size_t size, lumis_status want)
+{
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    lumis_image *img = NULL;
+    lumis_status st = lumis_image_read_memory(text, size, LUMIS_FORMAT_AUTO, "mem.x", &ro, &img, NULL);
+    if (st != want)
+        fail_msg("\"%.40s\": got %s, want %s (%s)", text, lumis_status_name(st),
+                 lumis_status_name(want), sink.last);
+    assert_null(img);
+    assert_non_null(strstr(sink.last, "mem.x"));
+}
+
+static void assert_close(const lumis_image *a, const lumis_image *b, double rel, double abs_tol)
+{
+    assert_int_equal(a->width, b->width);
+    assert_int_equal(a->height, b->height);
+    size_t n = (size_t)a->width * a->height * 3;
+    for (size_t k = 0; k < n; k++) {
+        double x = a->pixels[k], y = b->pixels[k];
+        if (!(fabs(x - y) <= rel * fabs(x) + abs_tol))
+            fail_msg("value %zu (pixel %zu): %.9g vs %.9g", k, k / 3, x, y);
+    }
+}
+
+/* ---- round trips ------------------------------------------------------------------- */
+
+static void exr_round_trips_every_compression_and_tiling(void **state)
+{
+    (void)state;
+    static const int sizes[][2] = {{1, 1}, {37, 19}, {64, 32}};
+    for (int s = 0; s < 3; s++) {
+        lumis_image *img = sample_image(sizes[s][0], sizes[s][1]);
+        for (int c = 0; c < LUMIS_EXR_COMPRESSION_COUNT; c++)
+            for (int half = 0; half < 2; half++)
+                for (int tile = 0; tile < 2; tile++) {
+                    lumis_write_options wo = {0};
+                    wo.exr_compression = (lumis_exr_compression)c;
+                    wo.exr_half = half;
+                    wo.exr_tile_size = tile ? 16 : 0;
+                    const char *path = tu_path("rt.exr");
+                    assert_int_equal(write_img(path, img, &wo), LUMIS_OK);
+                    lumis_read_info info;
+                    lumis_image *back = read_ok(path, &info);
+                    assert_int_equal(info.format, LUMIS_FORMAT_EXR);
+                    assert_int_equal(lumis_replaced_total(info.replaced), 0);
+                    int lossy = c == LUMIS_EXR_PXR24 || c == LUMIS_EXR_B44 ||
+                                c == LUMIS_EXR_B44A || c == LUMIS_EXR_DWAA || c == LUMIS_EXR_DWAB;
+                    double rel = half ? 1e-3 : 0.0;
+                    if (lossy) rel = c >= LUMIS_EXR_DWAA || c == LUMIS_EXR_B44 || c == LUMIS_EXR_B44A ? 0.2 : 1e-4;
+                    assert_close(img, back, rel, lossy ? 0.5 : 0.0);
+                    lumis_image_destroy(back);
+                }
+        lumis_image_destroy(img);
+    }
+}
+
+static void exr_half_clamps_instead_of_overflowing(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(4, 4);
+    img->pixels[0] = 1e6f; /* a sun */
+    lumis_write_options wo = {0};
+    wo.exr_half = 1;
+    assert_int_equal(write_img(tu_path("sun.exr"), img, &wo), LUMIS_OK);
+    lumis_read_info info;
+    lumis_image *back = read_ok(tu_path("sun.exr"), &info);
+    assert_true(back->pixels[0] == 65504.0f);
+    assert_int_equal(lumis_replaced_total(info.replaced), 0);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
+static void hdr_round_trip_within_rgbe_precision(void **state)
+{
+    (void)state;
+    /* Width 64 takes the RLE path of the writer, width 5 the flat one. */
+    for (int w = 5; w <= 64; w += 59) {
+        lumis_image *img = sample_image(w, 9);
+        assert_int_equal(write_img(tu_path("rt.hdr"), img, NULL), LUMIS_OK);
+        lumis_read_info info;
+        lumis_image *back = read_ok(tu_path("rt.hdr"), &info);
+        assert_int_equal(info.format, LUMIS_FORMAT_HDR);
+        /* An 8-bit mantissa shared by the pixel: error up to 1/128 of its largest channel. */
+        for (size_t k = 0; k < (size_t)w * 9; k++) {
+            const float *a = img->pixels + 3 * k, *b = back->pixels + 3 * k;
+            float m = fmaxf(a[0], fmaxf(a[1], a[2]));
+            for (int c = 0; c < 3; c++) assert_true(fabsf(a[c] - b[c]) <= m / 128.0f);
+        }
+        lumis_image_destroy(back);
+        lumis_image_destroy(img);
+    }
+}
+
+static void pfm_round_trips_exactly_in_both_byte_orders(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(13, 7);
+    for (int big = 0; big < 2; big++) {
+        lumis_write_options wo = {0};
+        wo.pfm_big_endian = big;
+        assert_int_equal(write_img(tu_path("rt.pfm"), img, &wo), LUMIS_OK);
+        size_t n;
+        unsigned char *raw = tu_read_file(tu_path("rt.pfm"), &n);
+        assert_non_null(strstr((char *)raw, big ? "\n1.0\n" : "\n-1.0\n"));
+        free(raw);
+        lumis_image *back = read_ok(tu_path("rt.pfm"), NULL);
+        assert_close(img, back, 0.0, 0.0);
+        lumis_image_destroy(back);
+    }
+    lumis_image_destroy(img);
+}
+
+static void put_le(unsigned char *b, float f) { memcpy(b, &f, 4); } /* x86: little-endian */
+
+static void pfm_grey_and_bottom_up_rows(void **state)
+{
+    (void)state;
+    /* 2 x 2 grey, little-endian: bottom row (1, 2), top row (3, 4). */
+    unsigned char buf[64];
+    int n = snprintf((char *)buf, sizeof buf, "Pf\n2 2\n-1.0\n");
+    const float v[4] = {1, 2, 3, 4};
+    for (int k = 0; k < 4; k++) put_le(buf + n + 4 * k, v[k]);
+    lumis_image *img = NULL;
+    lumis_read_info info;
+    assert_int_equal(lumis_image_read_memory(buf, (size_t)n + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, &info),
+                     LUMIS_OK);
+    assert_true(info.grey);
+    assert_true(img->pixels[0] == 3 && img->pixels[1] == 3 && img->pixels[3] == 4);
+    assert_true(img->pixels[6] == 1 && img->pixels[9] == 2 && img->pixels[11] == 2);
+    lumis_image_destroy(img);
+}
+
+static void bad_values_are_replaced_and_counted(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(3, 2);
+    img->pixels[0] = NAN;
+    img->pixels[4] = INFINITY;
+    img->pixels[5] = -INFINITY;
+    img->pixels[7] = -3.0f;
+    assert_int_equal(write_img(tu_path("bad.pfm"), img, NULL), LUMIS_OK);
+    lumis_read_info info;
+    lumis_image *back = read_ok(tu_path("bad.pfm"), &info);
+    assert_int_equal(info.replaced.nan, 1);
+    assert_int_equal(info.replaced.inf, 2);
+    assert_int_equal(info.replaced.negative, 1);
+    assert_true(back->pixels[0] == 0.0f && back->pixels[4] == 0.0f && back->pixels[7] == 0.0f);
+    assert_true(back->pixels[1] == img->pixels[1]);
+    lumis_image_destroy(back);
+    /* The same through EXR (float keeps NaN and Inf). */
+    assert_int_equal(write_img(tu_path("bad.exr"), img, NULL), LUMIS_OK);
+    back = read_ok(tu_path("bad.exr"), &info);
+    assert_int_equal(lumis_replaced_total(info.replaced), 4);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
+static float f_zero(int i, int j, int c) { (void)i, (void)j, (void)c; return 0.0f; }
+
+static void black_and_one_pixel_maps_read_back(void **state)
+{
+    (void)state;
+    lumis_image *black = tu_image(8, 4, f_zero);
+    const char *names[] = {"black.exr", "black.hdr", "black.pfm"};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(write_img(tu_path(names[k]), black, NULL), LUMIS_OK);
+        lumis_image *back = read_ok(tu_path(names[k]), NULL);
+        assert_close(black, back, 0.0, 0.0);
+        lumis_image_destroy(back);
+    }
+    lumis_image_destroy(black);
+    lumis_image *one = sample_image(1, 1);
+    const char *ones[] = {"one.exr", "one.pfm"};
+    for (int k = 0; k < 2; k++) {
+        assert_int_equal(write_img(tu_path(ones[k]), one, NULL), LUMIS_OK);
+        lumis_image *back = read_ok(tu_path(ones[k]), NULL);
+        assert_close(one, back, 0.0, 0.0);
+        lumis_image_destroy(back);
+    }
+    lumis_image_destroy(one);
+}
+
+static void png_applies_exposure_tonemap_and_srgb(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(4, 1, &img), LUMIS_OK);
+    const float v[12] = {0, 0, 0, 1, 1, 1, 0.5f, 0.5f, 0.5f, 8, NAN, -1};
+    memcpy(img->pixels, v, sizeof v);
+    lumis_write_options wo = {0};
+    assert_int_equal(write_img(tu_path("t.png"), img, &wo), LUMIS_OK);
+    int w, h, n;
+    unsigned char *px = stbi_load(tu_path("t.png"), &w, &h, &n, 3);
+    assert_non_null(px);
+    assert_true(w == 4 && h == 1);
+    assert_int_equal(px[0], 0);
+    assert_int_equal(px[3], 255);
+    assert_int_equal(px[6], 188); /* sRGB(0.5) = 0.7354 */
+    assert_int_equal(px[9], 255); /* clamped */
+    assert_int_equal(px[10], 0);  /* NaN is black */
+    assert_int_equal(px[11], 0);
+    stbi_image_free(px);
+    /* One stop down and Reinhard: 1 -> 0.5 / 1.5. */
+    wo.exposure_ev = -1.0f;
+    wo.tonemap = LUMIS_TONEMAP_REINHARD;
+    assert_int_equal(write_img(tu_path("t.png"), img, &wo), LUMIS_OK);
+    px = stbi_load(tu_path("t.png"), &w, &h, &n, 3);
+    assert_int_equal(px[3], 156); /* sRGB(1/3) = 0.6136 */
+    stbi_image_free(px);
+    /* Tone map names and curves. */
+    lumis_tonemap t;
+    assert_int_equal(lumis_tonemap_from_name("aces", &t), LUMIS_OK);
+    assert_int_equal(t, LUMIS_TONEMAP_ACES);
+    assert_int_equal(lumis_tonemap_from_name("filmic", &t), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_true(lumis_tonemap_apply(LUMIS_TONEMAP_ACES, 1e9f) == 1.0f);
+    assert_true(fabsf(lumis_tonemap_apply(LUMIS_TONEMAP_ACES, 0.18f) - 0.2669f) < 1e-3f);
+    lumis_image_destroy(img);
+}
+
+/* ---- bad input ---------------------------------------------------------------------- */
+
+static void missing_empty_and_unknown_files(void **state)
+{
+    (void)state;
+    expect_read_error(tu_path("does-not-exist.exr"), LUMIS_ERR_OPEN);
+    expect_read_error(tu_tmpdir(), LUMIS_ERR_OPEN); /* a folder */
+    tu_write_file(tu_path("empty.exr"), "", 0);
+    expect_read_error(tu_path("empty.exr"), LUMIS_ERR_EMPTY_FILE);
+    const char text[] = "this is a text file, renamed\n";
+    tu_write_file(tu_path("text.exr"), text, sizeof text - 1);
+    expect_read_error(tu_path("text.exr"), LUMIS_ERR_UNKNOWN_FORMAT);
+    tu_write_file(tu_path("x.png"), "\x89PNG\r\n\x1a\n0000", 12);
+    expect_read_error(tu_path("x.png"), LUMIS_ERR_UNSUPPORTED);
+    /* Forced formats check the content too. */
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_EXR, NULL, NULL, &img, NULL),
+                     LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_HDR, NULL, NULL, &img, NULL),
+                     LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_PFM, NULL, NULL, &img, NULL),
+                     LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(lumis_image_read(NULL, NULL, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_image_read_memory(NULL, 5, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+static unsigned char *exr_bytes(int w, int h, lumis_exr_compression c, int tile, size_t *n)
+{
+    lumis_image *img = sample_image(w, h);
+    lumis_write_options wo = {0};
+    wo.exr_compression = c;
+    wo.exr_tile_size = tile;
+    assert_int_equal(write_img(tu_path("src.exr"), img, &wo), LUMIS_OK);
+    lumis_image_destroy(img);
+    return tu_read_file(tu_path("src.exr"), n);
+}
+
+/* Offset just past the EXR header: the attribute list ends with an empty name (a NUL). */
+static size_t exr_header_end(const unsigned char *b, size_t n)
+{
+    size_t p = 8; /* magic and version */
+    while (p < n && b[p] != 0) {
+        p += strlen((const char *)b + p) + 1; /* name */
+        p += strlen((const char *)b + p) + 1; /* type */
+        uint32_t size;
+        memcpy(&size, b + p, 4);
+        p += 4 + size;
+    }
+    return p + 1;
+}
+
+static void truncated_and_header_only_exr(void **state)
+{
+    (void)state;
+    for (int tile = 0; tile <= 16; tile += 16) {
+        size_t n;
+        unsigned char *b = exr_bytes(40, 20, LUMIS_EXR_ZIP, tile, &n);
+        size_t hdr = exr_header_end(b, n);
+        assert_true(hdr > 8 && hdr < n);
+        /* Header only: no offset table, no pixels. */
+        tu_write_file(tu_path("header-only.exr"), b, hdr);
+        expect_read_error(tu_path("header-only.exr"), LUMIS_ERR_TRUNCATED);
+        /* Cut inside the header, inside the offsets, and inside the pixel data. */
+        const size_t cuts[] = {6, 20, hdr / 2, hdr + 4, hdr + 30, (hdr + n) / 2, n - 1};
+        for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; k++) {
+            tu_write_file(tu_path("cut.exr"), b, cuts[k]);
+            tu_sink sink;
+            tu_sink_init(&sink);
+            lumis_read_options ro = {0};
+            ro.errors = sink.sink;
+            lumis_image *img = NULL;
+            lumis_status st = lumis_image_read(tu_path("cut.exr"), &ro, &img, NULL);
+            if (st != LUMIS_ERR_TRUNCATED)
+                fail_msg("cut at %zu of %zu (tile %d): %s (%s)", cuts[k], n, tile,
+                         lumis_status_name(st), sink.last);
+            assert_null(img);
+            /* The same bytes from memory. */
+            st = lumis_image_read_memory(b, cuts[k], LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL);
+            assert_int_equal(st, LUMIS_ERR_TRUNCATED);
+        }
+        free(b);
+    }
+}
+
+static void corrupt_exr_data(void **state)
+{
+    (void)state;
+    size_t n;
+    unsigned char *b = exr_bytes(40, 20, LUMIS_EXR_ZIP, 0, &n);
+    size_t hdr = exr_header_end(b, n);
+    /* Scramble the compressed pixel data (past the offset table of 2 chunks x 8 bytes). */
+    for (size_t k = hdr + 2 * 8 + 12; k < n; k += 3) b[k] ^= 0x5a;
+    tu_write_file(tu_path("corrupt.exr"), b, n);
+    expect_read_error(tu_path("corrupt.exr"), LUMIS_ERR_CORRUPT);
+    free(b);
+}
+
+static void exr_size_is_checked_against_the_limit(void **state)
+{
+    (void)state;
+    size_t n;
+    unsigned char *b = exr_bytes(40, 20, LUMIS_EXR_NONE, 0, &n);
+    lumis_read_options ro = {0};
+    ro.max_pixels = 799;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &img, NULL),
+                     LUMIS_ERR_TOO_LARGE);
+    ro.max_pixels = 800;
+    assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    free(b);
+}
+
+static void hdr_headers(void **state)
+{
+    (void)state;
+    const lumis_status TR = LUMIS_ERR_TRUNCATED, BH = LUMIS_ERR_BAD_HEADER;
+    struct {
+        const char *text;
+        lumis_status want;
+    } cases[] = {
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", TR},                       /* header never ends */
+        {"#?RADIANCE\n\n", TR},                                             /* no resolution */
+        {"#?RADIANCE\n\n-Y 2 +X", TR},                                      /* no newline */
+        {"#?RADIANCE\n\nhello world\n", BH},                                /* garbage */
+        {"#?RADIANCE\n\n-Y two +X 4\n", BH},
+        {"#?RADIANCE\n\n+X 4 -Y 2\n", LUMIS_ERR_UNSUPPORTED},              /* column-major */
+        {"#?RADIANCE\nFORMAT=16-bit_funny\n\n-Y 1 +X 1\nABCD", LUMIS_ERR_UNSUPPORTED},
+        {"#?RADIANCE\nEXPOSURE=-2\n\n-Y 1 +X 1\nABCD", BH},
+        {"#?RADIANCE\n\n-Y -5 +X 10\n", LUMIS_ERR_BAD_DIMENSIONS},
+        {"#?RADIANCE\n\n-Y 0 +X 10\n", LUMIS_ERR_BAD_DIMENSIONS},
+        {"#?RADIANCE\n\n-Y 100000000 +X 100000000\n", LUMIS_ERR_TOO_LARGE},
+        {"#?RADIANCE\n\n-Y 99999999999999999999999 +X 1\n", LUMIS_ERR_TOO_LARGE},
+        {"#?RADIANCE\n\n-Y 4294967297 +X 4294967297\n", LUMIS_ERR_TOO_LARGE}, /* wraps to 1 x 1 in 32 bits */
+        {"#?RADIANCE\n\n-Y 1000 +X 1000\nABCDABCD", TR},                   /* far more pixels than data */
+        {"#?RADIANCE\n\n-Y 2 +X 2\nABCDABCDABCD", TR},                     /* one pixel short */
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
+        expect_memory_error(cases[k].text, strlen(cases[k].text), cases[k].want);
+}
+
+static void hdr_scanline_variants(void **state)
+{
+    (void)state;
+    /* Flat, bottom-up (+Y) and mirrored (-X) 2 x 2 images; EXPOSURE halves the values. */
+    const unsigned char px[16] = {128, 0, 0, 129, 0, 128, 0, 129, 0, 0, 128, 129, 128, 128, 128, 129};
+    const char *heads[] = {"#?RADIANCE\nEXPOSURE=2\n\n-Y 2 +X 2\n", "#?RGBE\n\n+Y 2 +X 2\n",
+                           "#?RADIANCE\n\n-Y 2 -X 2\n"};
+    for (int k = 0; k < 3; k++) {
+        unsigned char buf[128];
+        size_t hl = strlen(heads[k]);
+        memcpy(buf, heads[k], hl);
+        memcpy(buf + hl, px, 16);
+        lumis_image *img = NULL;
+        assert_int_equal(lumis_image_read_memory(buf, hl + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
+                         LUMIS_OK);
+        /* (128 + 0.5) / 256 * 2^(129 - 128) = 1.00390625; the empty channels read 0.5/256*2. */
+        float big = k == 0 ? 0.501953125f : 1.00390625f;
+        int first = k == 1 ? 2 : (k == 2 ? 1 : 0); /* where file pixel 0 lands */
+        assert_true(fabsf(img->pixels[3 * first] - big) < 1e-6f);
+        assert_true(img->pixels[3 * first + 1] < 0.01f);
+        lumis_image_destroy(img);
+    }
+    /* Old-style RLE: a pixel then (1,1,1,3) repeats it three times. */
+    const char *head = "#?RADIANCE\n\n-Y 1 +X 4\n";
+    unsigned char buf[64];
+    size_t hl = strlen(head);
+    memcpy(buf, head, hl);
+    const unsigned char rle[8] = {10, 20, 30, 128, 1, 1, 1, 3};
+    memcpy(buf + hl, rle, 8);
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_read_memory(buf, hl + 8, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL), LUMIS_OK);
+    for (int x = 1; x < 4; x++) assert_true(img->pixels[3 * x + 1] == img->pixels[1]);
+    lumis_image_destroy(img);
+    /* A run marker first, or a run past the end of the line, is corrupt. */
+    const unsigned char bad1[8] = {1, 1, 1, 3, 10, 20, 30, 128};
+    memcpy(buf + hl, bad1, 8);
+    expect_memory_error((const char *)buf, hl + 8, LUMIS_ERR_CORRUPT);
+    const unsigned char bad2[8] = {10, 20, 30, 128, 1, 1, 1, 9};
+    memcpy(buf + hl, bad2, 8);
+    expect_memory_error((const char *)buf, hl + 8, LUMIS_ERR_CORRUPT);
+    /* New-style RLE with a run overflowing the scanline, and with a wrong width. */
+    head = "#?RADIANCE\n\n-Y 1 +X 8\n";
+    hl = strlen(head);
+    memcpy(buf, head, hl);
+    const unsigned char bad3[8] = {2, 2, 0, 8, 128 + 9, 7, 0, 0};
+    memcpy(buf + hl, bad3, 8);
+    expect_memory_error((const char *)buf, hl + 8, LUMIS_ERR_CORRUPT);
+    const unsigned char bad4[8] = {2, 2, 0, 9, 128 + 8, 7, 0, 0};
+    memcpy(buf + hl, bad4, 8);
+    expect_memory_error((const char *)buf, hl + 8, LUMIS_ERR_CORRUPT);
+    const unsigned char short5[6] = {2, 2, 0, 8, 128 + 8, 7};
+    memcpy(buf + hl, short5, 6);
+    expect_memory_error((const char *)buf, hl + 6, LUMIS_ERR_TRUNCATED);
+}
+
+static void pfm_headers(void **state)
+{
+    (void)state;
+    struct {
+        const char *text;
+        lumis_status want;
+    } cases[] = {
+        {"PF\n", LUMIS_ERR_TRUNCATED},
+        {"PF\n4 4\n", LUMIS_ERR_TRUNCATED},
+        {"PF\nfour 4\n-1.0\n", LUMIS_ERR_BAD_HEADER},
+        {"PF\n4 4\nscale\n", LUMIS_ERR_BAD_HEADER},
+        {"PF\n4 4\n0.0\n", LUMIS_ERR_BAD_HEADER},
+        {"PF\n-4 4\n-1.0\n", LUMIS_ERR_BAD_DIMENSIONS},
+        {"PF\n4 0\n-1.0\n", LUMIS_ERR_BAD_DIMENSIONS},
+        {"PF\n100000 100000\n-1.0\n", LUMIS_ERR_TOO_LARGE},
+        {"PF\n99999999999999999999999 1\n-1.0\n", LUMIS_ERR_TOO_LARGE},
+        {"PF\n4294967297 4294967297\n-1.0\n", LUMIS_ERR_TOO_LARGE},
+        {"PF\n2 2\n-1.0\n0123456789", LUMIS_ERR_TRUNCATED}, /* 48 bytes needed */
+        {"PF\n1000 1000\n-1.0\n0123", LUMIS_ERR_TRUNCATED},
+        {"PFX\n", LUMIS_ERR_UNKNOWN_FORMAT},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
+        expect_memory_error(cases[k].text, strlen(cases[k].text), cases[k].want);
+}
+
+/* ---- writing ------------------------------------------------------------------------ */
+
+static void unwritable_outputs_fail_cleanly(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(8, 4);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_write_options wo = {0};
+    wo.errors = sink.sink;
+    const char *formats[] = {"exr", "hdr", "pfm", "png"};
+    for (int k = 0; k < 4; k++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/no/such/folder/out.%s", tu_tmpdir(), formats[k]);
+        assert_int_equal(lumis_image_write(path, img, &wo), LUMIS_ERR_WRITE);
+        assert_non_null(strstr(sink.last, path));
+    }
+    assert_int_equal(lumis_image_write(tu_path("out.jpg"), img, &wo), LUMIS_ERR_UNKNOWN_FORMAT);
+    assert_int_equal(lumis_image_write(tu_path("out"), img, &wo), LUMIS_ERR_UNKNOWN_FORMAT);
+    wo.exposure_ev = NAN;
+    assert_int_equal(lumis_image_write(tu_path("out.png"), img, &wo), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_image_write(NULL, img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* Writing into a folder path (EISDIR at rename) fails and leaves nothing behind. */
+    wo.exposure_ev = 0.0f;
+    assert_int_equal(lumis_image_write(tu_tmpdir(), img, &wo), LUMIS_ERR_UNKNOWN_FORMAT);
+    lumis_image_destroy(img);
+}
+
+/* A write that fails half-way (file size limit) leaves the old file and no temp file. */
+static void failed_writes_leave_the_old_file(void **state)
+{
+    (void)state;
+    const char *formats[] = {"exr", "hdr", "pfm", "png"};
+    for (int k = 0; k < 4; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "keep.%s", formats[k]);
+        const char *path = tu_path(name);
+        tu_write_file(path, "old contents", 12);
+        pid_t pid = fork();
+        assert_true(pid >= 0);
+        if (pid == 0) {
+            signal(SIGXFSZ, SIG_IGN);
+            struct rlimit rl = {4096, 4096};
+            setrlimit(RLIMIT_FSIZE, &rl);
+            /* Noise in [0, 1): far more than 4 KiB in any format, PNG included. */
+            lumis_image *img = sample_image(300, 200);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 5, 5);
+            for (size_t q = 0; q < (size_t)300 * 200 * 3; q++) img->pixels[q] = lumis_pcg32_float(&rng);
+            lumis_status st = lumis_image_write(path, img, NULL);
+            _exit(st == LUMIS_ERR_WRITE ? 0 : 10 + (int)st);
+        }
+        int status;
+        waitpid(pid, &status, 0);
+        assert_true(WIFEXITED(status));
+        if (WEXITSTATUS(status) != 0) fail_msg("%s: status %d", name, WEXITSTATUS(status) - 10);
+        size_t n;
+        unsigned char *d = tu_read_file(path, &n);
+        assert_int_equal(n, 12);
+        assert_memory_equal(d, "old contents", 12);
+        free(d);
+    }
+    assert_int_equal(tu_count_entries(tu_tmpdir(), ".keep."), 0);
+}
+
+static void format_names_and_detection(void **state)
+{
+    (void)state;
+    assert_int_equal(lumis_format_from_path("a/b.EXR"), LUMIS_FORMAT_EXR);
+    assert_int_equal(lumis_format_from_path("x.pic"), LUMIS_FORMAT_HDR);
+    assert_int_equal(lumis_format_from_path("x.pfm"), LUMIS_FORMAT_PFM);
+    assert_int_equal(lumis_format_from_path("x.png"), LUMIS_FORMAT_PNG);
+    assert_int_equal(lumis_format_from_path("dir.exr/file"), LUMIS_FORMAT_AUTO);
+    assert_int_equal(lumis_format_from_path(NULL), LUMIS_FORMAT_AUTO);
+    assert_string_equal(lumis_format_name(LUMIS_FORMAT_PFM), "pfm");
+    assert_int_equal(lumis_format_from_magic("#?RADIANCE", 10), LUMIS_FORMAT_HDR);
+    assert_int_equal(lumis_format_from_magic("Pf\n", 3), LUMIS_FORMAT_PFM);
+    assert_int_equal(lumis_format_from_magic("v/1\x01", 4), LUMIS_FORMAT_EXR);
+    lumis_exr_compression c;
+    assert_int_equal(lumis_exr_compression_from_name("dwab", &c), LUMIS_OK);
+    assert_int_equal(c, LUMIS_EXR_DWAB);
+    assert_string_equal(lumis_exr_compression_name(LUMIS_EXR_PIZ), "piz");
+    assert_int_equal(lumis_exr_compression_from_name("lzma", &c), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(exr_round_trips_every_compression_and_tiling),
+        cmocka_unit_test(exr_half_clamps_instead_of_overflowing),
+        cmocka_unit_test(hdr_round_trip_within_rgbe_precision),
+        cmocka_unit_test(pfm_round_trips_exactly_in_both_byte_orders),
+        cmocka_unit_test(pfm_grey_and_bottom_up_rows),
+        cmocka_unit_test(bad_values_are_replaced_and_counted),
+        cmocka_unit_test(black_and_one_pixel_maps_read_back),
+        cmocka_unit_test(png_applies_exposure_tonemap_and_srgb),
+        cmocka_unit_test(missing_empty_and_unknown_files),
+        cmocka_unit_test(truncated_and_header_only_exr),
+        cmocka_unit_test(corrupt_exr_data),
+        cmocka_unit_test(exr_size_is_checked_against_the_limit),
+        cmocka_unit_test(hdr_headers),
+        cmocka_unit_test(hdr_scanline_variants),
+        cmocka_unit_test(pfm_headers),
+        cmocka_unit_test(unwritable_outputs_fail_cleanly),
+        cmocka_unit_test(failed_writes_leave_the_old_file),
+        cmocka_unit_test(format_names_and_detection),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
