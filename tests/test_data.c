@@ -1,1 +1,133 @@
-int main(void){return 0;}
+/* Integration: `lumis info` on the 18 real CC0 maps in data/ (scripts/fetch-data.sh)
+ * reproduces the measured table of shared/data/README.md to the digits it prints.
+ * Skipped when data/ has not been fetched. */
+#include "testutil.h"
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* file, w, h, avgY, maxY, powerY, top1%, top0.1%, replaced - as printed in the README. */
+static const struct {
+    const char *file;
+    int w, h;
+    const char *avg, *max, *power, *top1, *top01;
+    int replaced;
+} table[] = {
+    {"blender-city.exr", 1024, 512, "0.9600", "31749.4", "12.0642", "0.310", "0.252", 506},
+    {"blender-courtyard.exr", 1024, 512, "0.7663", "52.9", "9.6300", "0.296", "0.041", 1818},
+    {"blender-forest.exr", 1024, 512, "0.5415", "953.9", "6.8053", "0.319", "0.145", 784},
+    {"blender-interior.exr", 1024, 512, "1.0503", "32216.1", "13.1985", "0.544", "0.431", 8980},
+    {"blender-night.exr", 1024, 512, "0.1959", "4219.6", "2.4621", "0.577", "0.517", 829},
+    {"blender-studio.exr", 1024, 512, "0.3367", "110.9", "4.2315", "0.878", "0.457", 3},
+    {"blender-sunrise.exr", 1024, 512, "0.6980", "32744.5", "8.7713", "0.691", "0.614", 596},
+    {"blender-sunset.exr", 1024, 512, "0.4975", "2090.3", "6.2519", "0.120", "0.036", 5},
+    {"pmndrs-apartment.exr", 512, 256, "0.7216", "14.1", "9.0682", "0.161", "0.024", 17},
+    {"pmndrs-city.exr", 512, 256, "0.5584", "10.2", "7.0165", "0.063", "0.009", 342},
+    {"pmndrs-dawn.exr", 512, 256, "0.8402", "45.9", "10.5577", "0.296", "0.065", 406},
+    {"pmndrs-forest.exr", 512, 256, "0.4900", "39.5", "6.1577", "0.226", "0.050", 5270},
+    {"pmndrs-lobby.exr", 512, 256, "0.8397", "740.7", "10.5523", "0.325", "0.170", 1566},
+    {"pmndrs-night.exr", 512, 256, "0.0844", "15.5", "1.0601", "0.198", "0.037", 587},
+    {"pmndrs-studio.exr", 512, 256, "2.2322", "3482.0", "28.0504", "0.886", "0.667", 2028},
+    {"pmndrs-sunrise.exr", 512, 256, "0.3041", "1083.6", "3.8220", "0.293", "0.121", 220},
+    {"pmndrs-sunset.exr", 512, 256, "0.4660", "244.7", "5.8556", "0.127", "0.025", 912},
+    {"pmndrs-venice.exr", 512, 256, "0.6459", "6.8", "8.1169", "0.091", "0.013", 446},
+};
+enum { NMAPS = sizeof table / sizeof table[0] };
+
+static const char *map_path(const char *file)
+{
+    static char p[1024];
+    snprintf(p, sizeof p, "%s/hdri/%s", LUMIS_DATA_DIR, file);
+    return p;
+}
+
+static int have_data(void)
+{
+    for (int k = 0; k < NMAPS; k++)
+        if (access(map_path(table[k].file), R_OK) != 0) return 0;
+    return 1;
+}
+
+static double num(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!cJSON_IsNumber(v)) fail_msg("key %s missing", key);
+    return v->valuedouble;
+}
+
+static void expect_printed(const char *file, const char *what, const char *fmt, double value,
+                           const char *want)
+{
+    char got[64];
+    snprintf(got, sizeof got, fmt, value);
+    if (strcmp(got, want) != 0) fail_msg("%s %s: %s, table says %s", file, what, got, want);
+}
+
+static void info_reproduces_the_data_table(void **state)
+{
+    (void)state;
+    if (!have_data()) {
+        print_message("data/ not fetched (scripts/fetch-data.sh): skipping\n");
+        skip();
+    }
+    for (int k = 0; k < NMAPS; k++) {
+        char cmd[2048], *out = NULL, *err = NULL;
+        snprintf(cmd, sizeof cmd, "'%s' info --json '%s'", LUMIS_CLI, map_path(table[k].file));
+        int rc = tu_run(cmd, &out, &err);
+        if (rc != 0) fail_msg("%s: exit %d: %s", table[k].file, rc, err);
+        cJSON *o = cJSON_Parse(out);
+        assert_non_null(o);
+        assert_int_equal((int)num(o, "width"), table[k].w);
+        assert_int_equal((int)num(o, "height"), table[k].h);
+        expect_printed(table[k].file, "avgY", "%.4f", num(o, "avg_luminance"), table[k].avg);
+        expect_printed(table[k].file, "maxY", "%.1f", num(o, "max_luminance"), table[k].max);
+        expect_printed(table[k].file, "powerY", "%.4f", num(o, "power"), table[k].power);
+        expect_printed(table[k].file, "top1%", "%.3f", num(o, "top1_share"), table[k].top1);
+        expect_printed(table[k].file, "top0.1%", "%.3f", num(o, "top01_share"), table[k].top01);
+        assert_int_equal((int)num(o, "replaced"), table[k].replaced);
+        cJSON_Delete(o);
+        free(out);
+        free(err);
+    }
+}
+
+static void dwa_maps_read_the_same_from_file_and_memory(void **state)
+{
+    (void)state;
+    if (!have_data()) skip();
+    for (int k = 0; k < NMAPS; k += 5) {
+        const char *path = map_path(table[k].file);
+        lumis_image *a = NULL, *b = NULL;
+        lumis_read_info ia, ib;
+        assert_int_equal(lumis_image_read(path, NULL, &a, &ia), LUMIS_OK);
+        size_t n;
+        unsigned char *bytes = tu_read_file(path, &n);
+        assert_int_equal(lumis_image_read_memory(bytes, n, LUMIS_FORMAT_AUTO, path, NULL, &b, &ib), LUMIS_OK);
+        assert_int_equal(a->width, table[k].w);
+        assert_memory_equal(a->pixels, b->pixels, (size_t)a->width * a->height * 3 * sizeof(float));
+        assert_int_equal(lumis_replaced_total(ia.replaced), (uint64_t)table[k].replaced);
+        assert_int_equal(lumis_replaced_total(ib.replaced), (uint64_t)table[k].replaced);
+        /* Every cut of a real DWA file is detected as truncated. */
+        for (size_t cut = n / 7; cut < n; cut += n / 7) {
+            lumis_image *c = NULL;
+            lumis_status st = lumis_image_read_memory(bytes, cut, LUMIS_FORMAT_AUTO, path, NULL, &c, NULL);
+            if (st != LUMIS_ERR_TRUNCATED) fail_msg("%s cut at %zu: %s", path, cut, lumis_status_name(st));
+        }
+        free(bytes);
+        lumis_image_destroy(a);
+        lumis_image_destroy(b);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(info_reproduces_the_data_table),
+        cmocka_unit_test(dwa_maps_read_the_same_from_file_and_memory),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
