@@ -71,6 +71,12 @@ static void pixel_direction_pixel_round_trip(void **state)
                         if (j == 0 && k == 1 && h == 1) continue;
                         assert_int_equal(jj, j);
                         if (fabs(d.y) < 0.9999) assert_int_equal(ii, i);
+                        float uu, vv;
+                        lumis_envmap_dir_to_uv(env, d, &uu, &vv);
+                        if (fabs(d.y) < 0.9999) {
+                            double du = fabs(uu - u);
+                            assert_true(fmin(du, 1.0 - du) < 2e-6 && fabsf(vv - v) < 2e-6f);
+                        }
                         lumis_rgb c = lumis_envmap_eval(env, d);
                         lumis_rgb t = lumis_envmap_texel(env, ii, jj);
                         assert_true(c.r == t.r && c.g == t.g && c.b == t.b);

@@ -59,14 +59,19 @@ lumis_vec3 lumis_equirect_to_dir(float u, float v)
     return r;
 }
 
+/* Rounding to float may reach 1.0: keep the half-open interval [0, 1). */
+static void store_uv(double uu, double vv, float *u, float *v)
+{
+    float fu = (float)uu, fv = (float)vv;
+    *u = fu < 1.0f ? fu : 0.0f;
+    *v = fv < 1.0f ? fv : 0x1.fffffep-1f;
+}
+
 void lumis_equirect_from_dir(lumis_vec3 dir, float *u, float *v)
 {
     double uu, vv;
     dir_to_uv_d(dir.x, dir.y, dir.z, &uu, &vv);
-    /* Rounding to float may reach 1.0; keep the half-open interval. */
-    float fu = (float)uu, fv = (float)vv;
-    *u = fu < 1.0f ? fu : 0.0f;
-    *v = fv < 1.0f ? fv : 0x1.fffffep-1f;
+    store_uv(uu, vv, u, v);
 }
 
 /* World direction -> map frame: rotate by -rotation about +y (phi_map = phi_world - rot). */
@@ -83,9 +88,7 @@ void lumis_envmap_dir_to_uv(const lumis_envmap *env, lumis_vec3 dir, float *u, f
     world_to_map(env, dir, m);
     double uu, vv;
     dir_to_uv_d(m[0], m[1], m[2], &uu, &vv);
-    float fu = (float)uu, fv = (float)vv;
-    *u = fu < 1.0f ? fu : 0.0f;
-    *v = fv < 1.0f ? fv : 0x1.fffffep-1f;
+    store_uv(uu, vv, u, v);
 }
 
 lumis_vec3 lumis_envmap_uv_to_dir(const lumis_envmap *env, float u, float v)
