@@ -1,4 +1,5 @@
-# Convenience wrapper around CMake.  `make help` lists the targets.
+# Convenience wrapper around CMake.  `make` builds; `make help` lists the targets.
+.DEFAULT_GOAL := build
 PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
 JOBS         ?= $(shell nproc)
@@ -38,23 +39,28 @@ fuzz: deps
 	  -DLUMIS_BUILD_TESTS=OFF -DLUMIS_BUILD_BENCH=OFF
 	cmake --build build-fuzz -j$(JOBS)
 	build-fuzz/fuzz/fuzz_make_corpus build-fuzz/corpus
-	@set -e; for f in $(FUZZERS); do \
-	  fmt=$${f#fuzz_}; mkdir -p build-fuzz/artifacts/$$fmt; \
-	  echo "== $$f: $(FUZZ_SECONDS) s"; \
-	  build-fuzz/fuzz/$$f -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 -print_final_stats=1 \
-	    -artifact_prefix=build-fuzz/artifacts/$$fmt/ build-fuzz/corpus/$$fmt; \
+	@for f in $(FUZZERS); do fmt=$${f#fuzz_}; log=build-fuzz/$$f.log; \
+	  mkdir -p build-fuzz/artifacts/$$fmt; echo "== $$f: $(FUZZ_SECONDS) s (log: $$log)"; \
+	  if build-fuzz/fuzz/$$f build-fuzz/corpus/$$fmt -max_total_time=$(FUZZ_SECONDS) \
+	       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$fmt/ \
+	       >$$log 2>&1; then grep -E '^(Done|stat::(average_exec|new_units|peak_rss))' $$log; \
+	  else tail -n 80 $$log; echo "$$f FAILED; reproducer: build-fuzz/artifacts/$$fmt/"; exit 1; fi; \
 	done
 
 format:
-	clang-format -i $(FORMAT_FILES)
+	@echo "clang-format -i: $(words $(FORMAT_FILES)) files"
+	@clang-format -i $(FORMAT_FILES)
 
 format-check:
-	clang-format --dry-run --Werror $(FORMAT_FILES)
+	@echo "clang-format --dry-run --Werror: $(words $(FORMAT_FILES)) files"
+	@clang-format --dry-run --Werror $(FORMAT_FILES)
 
 bench: build
 	./build/bench/bench_info
 
+# Reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
 install: build
+	cmake -S . -B build -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
 	cmake --install build --prefix $(PREFIX)
 
 clean:

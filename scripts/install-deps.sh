@@ -5,7 +5,6 @@ set -euo pipefail
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
       libcmocka-dev ca-certificates)
 DEV=(clang libclang-rt-14-dev clang-format)
-DATA_TOOLS=(nodejs npm)
 
 usage() {
     cat <<EOF
@@ -16,8 +15,9 @@ Install with apt-get the Debian packages that are missing:
 
   --dev         also the CI tools: ${DEV[*]}
                 (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check')
-  --data-tools  also ${DATA_TOOLS[*]}, which scripts/fetch-data.sh needs only when no
-                local copy of the test data (../shared/data) exists
+  --data-tools  also nodejs and npm (unless the node and npm commands already exist),
+                which scripts/fetch-data.sh needs only when no local copy of the
+                test data (../shared/data) exists
   --help        show this help
 
 Runs as root, or through sudo otherwise. 'apt-get update' runs once, only if
@@ -29,7 +29,11 @@ WANT=("${BASE[@]}")
 for arg in "$@"; do
     case "$arg" in
         --dev) WANT+=("${DEV[@]}") ;;
-        --data-tools) WANT+=("${DATA_TOOLS[@]}") ;;
+        # By command, not package: some node packages (e.g. NodeSource's nodejs) bundle npm
+        # and conflict with Debian's npm package.
+        --data-tools)
+            command -v node >/dev/null || WANT+=(nodejs)
+            command -v npm >/dev/null || WANT+=(npm) ;;
         -h|--help) usage; exit 0 ;;
         *) echo "install-deps: unknown argument '$arg' (try --help)" >&2; exit 2 ;;
     esac
@@ -56,6 +60,7 @@ else
     exit 1
 fi
 
+echo "install-deps: installing ${MISSING[*]}"
 export DEBIAN_FRONTEND=noninteractive
 "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -q
 "${SUDO[@]}" env DEBIAN_FRONTEND=noninteractive \

@@ -100,12 +100,13 @@ static void info_json_has_the_documented_keys(void **state)
     cJSON *o = info_json("sky:64x32");
     assert_int_equal((int)num(o, "width"), 64);
     assert_int_equal((int)num(o, "height"), 32);
-    const char *keys[] = {"avg_luminance", "max_luminance", "power", "top1_share", "top01_share",
-                          "replaced"};
+    const char *keys[] = {"avg_luminance", "max_luminance", "power",
+                          "top1_share",    "top01_share",   "replaced"};
     for (int k = 0; k < 6; k++) (void)num(o, keys[k]);
     const cJSON *rgb = cJSON_GetObjectItemCaseSensitive(o, "power_rgb");
     assert_true(cJSON_IsArray(rgb) && cJSON_GetArraySize(rgb) == 3);
-    assert_true(fabs(num(o, "avg_luminance") * 4 * 3.14159265358979 - num(o, "power")) < 1e-9 * num(o, "power"));
+    assert_true(fabs(num(o, "avg_luminance") * 4 * 3.14159265358979 - num(o, "power")) <
+                1e-9 * num(o, "power"));
     cJSON_Delete(o);
     /* Text output mentions the same quantities. */
     char *out = NULL;
@@ -126,21 +127,25 @@ static void convert_resize_preserves_power_and_writes_every_format(void **state)
     cJSON_Delete(o);
     const char *outs[] = {"r.exr", "r.pfm", "r.hdr"};
     for (int k = 0; k < 3; k++) {
-        snprintf(a, sizeof a, "convert '%s' '%s' --resize 100x37", tu_path("s.exr"), tu_path(outs[k]));
+        snprintf(a, sizeof a, "convert '%s' '%s' --resize 100x37", tu_path("s.exr"),
+                 tu_path(outs[k]));
         expect(a, 0, NULL);
         o = info_json(tu_path(outs[k]));
         assert_int_equal((int)num(o, "width"), 100);
         double tol = k == 2 ? 1e-2 : 1e-5; /* RGBE keeps 8 bits */
-        if (fabs(num(o, "power") - p0) > tol * p0) fail_msg("%s: %g vs %g", outs[k], num(o, "power"), p0);
+        if (fabs(num(o, "power") - p0) > tol * p0)
+            fail_msg("%s: %g vs %g", outs[k], num(o, "power"), p0);
         cJSON_Delete(o);
     }
-    snprintf(a, sizeof a, "convert '%s' '%s' --exposure -3 --tonemap aces", tu_path("s.exr"), tu_path("r.png"));
+    snprintf(a, sizeof a, "convert '%s' '%s' --exposure -3 --tonemap aces", tu_path("s.exr"),
+             tu_path("r.png"));
     expect(a, 0, NULL);
     size_t n;
     unsigned char *png = tu_read_file(tu_path("r.png"), &n);
     assert_true(n > 8 && memcmp(png, "\x89PNG", 4) == 0);
     free(png);
-    snprintf(a, sizeof a, "convert '%s' '%s' --half --compression piz --tile 32", tu_path("s.exr"), tu_path("h.exr"));
+    snprintf(a, sizeof a, "convert '%s' '%s' --half --compression piz --tile 32", tu_path("s.exr"),
+             tu_path("h.exr"));
     expect(a, 0, NULL);
 }
 

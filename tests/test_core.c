@@ -92,8 +92,8 @@ static void pcg32_matches_the_reference_sequence(void **state)
 {
     (void)state;
     /* pcg32-demo of the reference implementation: seed 42, sequence 54. */
-    static const uint32_t want[] = {0xa15c02b7, 0x7b47f409, 0xba1d3330, 0x83d2f293,
-                                    0xbfa4784b, 0xcbed606e};
+    static const uint32_t want[] = {0xa15c02b7, 0x7b47f409, 0xba1d3330,
+                                    0x83d2f293, 0xbfa4784b, 0xcbed606e};
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, 42u, 54u);
     for (int k = 0; k < 6; k++) assert_int_equal(lumis_pcg32_next(&rng), want[k]);
@@ -149,7 +149,7 @@ static void radical_inverse_reverses_digits(void **state)
     assert_true(lumis_radical_inverse(0, 6) == 0.375); /* 110b -> 0.011b */
     assert_true(fabs(lumis_radical_inverse(1, 1) - 1.0 / 3.0) < 1e-15);
     assert_true(fabs(lumis_radical_inverse(1, 5) - (2.0 / 3.0 + 1.0 / 9.0)) < 1e-15); /* 12_3 */
-    assert_true(fabs(lumis_halton(2, 7) - (2.0 / 5.0 + 1.0 / 25.0)) < 1e-15);        /* 12_5 */
+    assert_true(fabs(lumis_halton(2, 7) - (2.0 / 5.0 + 1.0 / 25.0)) < 1e-15);         /* 12_5 */
     assert_true(lumis_radical_inverse(LUMIS_HALTON_MAX_DIMENSION, 5) == 0.0);
     /* Huge indices stay in [0, 1). */
     for (unsigned d = 0; d < LUMIS_HALTON_MAX_DIMENSION; d++) {

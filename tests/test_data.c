@@ -106,7 +106,8 @@ static void dwa_maps_read_the_same_from_file_and_memory(void **state)
         assert_int_equal(lumis_image_read(path, NULL, &a, &ia), LUMIS_OK);
         size_t n;
         unsigned char *bytes = tu_read_file(path, &n);
-        assert_int_equal(lumis_image_read_memory(bytes, n, LUMIS_FORMAT_AUTO, path, NULL, &b, &ib), LUMIS_OK);
+        assert_int_equal(lumis_image_read_memory(bytes, n, LUMIS_FORMAT_AUTO, path, NULL, &b, &ib),
+                         LUMIS_OK);
         assert_int_equal(a->width, table[k].w);
         assert_memory_equal(a->pixels, b->pixels, (size_t)a->width * a->height * 3 * sizeof(float));
         assert_int_equal(lumis_replaced_total(ia.replaced), (uint64_t)table[k].replaced);
@@ -114,8 +115,10 @@ static void dwa_maps_read_the_same_from_file_and_memory(void **state)
         /* Every cut of a real DWA file is detected as truncated. */
         for (size_t cut = n / 7; cut < n; cut += n / 7) {
             lumis_image *c = NULL;
-            lumis_status st = lumis_image_read_memory(bytes, cut, LUMIS_FORMAT_AUTO, path, NULL, &c, NULL);
-            if (st != LUMIS_ERR_TRUNCATED) fail_msg("%s cut at %zu: %s", path, cut, lumis_status_name(st));
+            lumis_status st =
+                lumis_image_read_memory(bytes, cut, LUMIS_FORMAT_AUTO, path, NULL, &c, NULL);
+            if (st != LUMIS_ERR_TRUNCATED)
+                fail_msg("%s cut at %zu: %s", path, cut, lumis_status_name(st));
         }
         free(bytes);
         lumis_image_destroy(a);

@@ -21,8 +21,15 @@ static lumis_envmap *make_env(const lumis_image *img, float rotation, float scal
     return env;
 }
 
-static float f_const(int i, int j, int c) { (void)i, (void)j, (void)c; return 2.0f; }
-static float f_index(int i, int j, int c) { return (float)(1 + i + 1000 * j + c * 100000); }
+static float f_const(int i, int j, int c)
+{
+    (void)i, (void)j, (void)c;
+    return 2.0f;
+}
+static float f_index(int i, int j, int c)
+{
+    return (float)(1 + i + 1000 * j + c * 100000);
+}
 
 static void directions_are_pinned(void **state)
 {
@@ -190,8 +197,16 @@ static void invalid_descriptors_are_refused(void **state)
 }
 
 static int hot_i, hot_j;
-static float f_hot(int i, int j, int c) { (void)c; return (i == hot_i && j == hot_j) ? 1000.0f : 0.0f; }
-static float f_black(int i, int j, int c) { (void)i, (void)j, (void)c; return 0.0f; }
+static float f_hot(int i, int j, int c)
+{
+    (void)c;
+    return (i == hot_i && j == hot_j) ? 1000.0f : 0.0f;
+}
+static float f_black(int i, int j, int c)
+{
+    (void)i, (void)j, (void)c;
+    return 0.0f;
+}
 
 static void stats_of_special_maps(void **state)
 {
@@ -274,7 +289,8 @@ static double power_of(const float *px, int w, int h)
 {
     double p = 0.0;
     for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) p += px[3 * (j * w + i) + 1] * lumis_equirect_solid_angle(w, h, j);
+        for (int i = 0; i < w; i++)
+            p += px[3 * (j * w + i) + 1] * lumis_equirect_solid_angle(w, h, j);
     return p;
 }
 
@@ -294,14 +310,16 @@ static void resize_preserves_power(void **state)
     /* Same size is the identity; a constant map stays constant at any size. */
     float *same = malloc(sizeof(float) * 3 * 300 * 150);
     assert_int_equal(lumis_equirect_resize(img->pixels, 300, 150, same, 300, 150), LUMIS_OK);
-    for (int k = 0; k < 3 * 300 * 150; k++) assert_true(fabsf(same[k] - img->pixels[k]) < 1e-5f * img->pixels[k]);
+    for (int k = 0; k < 3 * 300 * 150; k++)
+        assert_true(fabsf(same[k] - img->pixels[k]) < 1e-5f * img->pixels[k]);
     free(same);
     lumis_image_destroy(img);
     img = tu_image(13, 9, f_const);
     float out[3 * 5 * 4];
     assert_int_equal(lumis_equirect_resize(img->pixels, 13, 9, out, 5, 4), LUMIS_OK);
     for (int k = 0; k < 60; k++) assert_true(fabsf(out[k] - 2.0f) < 1e-5f);
-    assert_int_equal(lumis_equirect_resize(img->pixels, 13, 9, out, 0, 4), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_int_equal(lumis_equirect_resize(img->pixels, 13, 9, out, 0, 4),
+                     LUMIS_ERR_BAD_DIMENSIONS);
     lumis_image_destroy(img);
 }
 

@@ -18,9 +18,13 @@ static float f_smooth(int i, int j, int c)
     return (float)(0.01 + (i * 7 + j * 13 + c * 5) % 97 * 0.37 + (i == 3 && j == 2 ? 5e4 : 0.0));
 }
 
-static lumis_image *sample_image(int w, int h) { return tu_image(w, h, f_smooth); }
+static lumis_image *sample_image(int w, int h)
+{
+    return tu_image(w, h, f_smooth);
+}
 
-static lumis_status write_img(const char *path, const lumis_image *img, const lumis_write_options *o)
+static lumis_status write_img(const char *path, const lumis_image *img,
+                              const lumis_write_options *o)
 {
     return lumis_image_write(path, img, o);
 }
@@ -61,7 +65,8 @@ static void expect_memory_error(const char *text, size_t size, lumis_status want
     lumis_read_options ro = {0};
     ro.errors = sink.sink;
     lumis_image *img = NULL;
-    lumis_status st = lumis_image_read_memory(text, size, LUMIS_FORMAT_AUTO, "mem.x", &ro, &img, NULL);
+    lumis_status st =
+        lumis_image_read_memory(text, size, LUMIS_FORMAT_AUTO, "mem.x", &ro, &img, NULL);
     if (st != want)
         fail_msg("\"%.40s\": got %s, want %s (%s)", text, lumis_status_name(st),
                  lumis_status_name(want), sink.last);
@@ -102,10 +107,13 @@ static void exr_round_trips_every_compression_and_tiling(void **state)
                     lumis_image *back = read_ok(path, &info);
                     assert_int_equal(info.format, LUMIS_FORMAT_EXR);
                     assert_int_equal(lumis_replaced_total(info.replaced), 0);
-                    int lossy = c == LUMIS_EXR_PXR24 || c == LUMIS_EXR_B44 ||
-                                c == LUMIS_EXR_B44A || c == LUMIS_EXR_DWAA || c == LUMIS_EXR_DWAB;
+                    int lossy = c == LUMIS_EXR_PXR24 || c == LUMIS_EXR_B44 || c == LUMIS_EXR_B44A ||
+                                c == LUMIS_EXR_DWAA || c == LUMIS_EXR_DWAB;
                     double rel = half ? 1e-3 : 0.0;
-                    if (lossy) rel = c >= LUMIS_EXR_DWAA || c == LUMIS_EXR_B44 || c == LUMIS_EXR_B44A ? 0.2 : 1e-4;
+                    if (lossy)
+                        rel = c >= LUMIS_EXR_DWAA || c == LUMIS_EXR_B44 || c == LUMIS_EXR_B44A
+                                  ? 0.2
+                                  : 1e-4;
                     assert_close(img, back, rel, lossy ? 0.5 : 0.0);
                     lumis_image_destroy(back);
                 }
@@ -169,7 +177,10 @@ static void pfm_round_trips_exactly_in_both_byte_orders(void **state)
     lumis_image_destroy(img);
 }
 
-static void put_le(unsigned char *b, float f) { memcpy(b, &f, 4); } /* x86: little-endian */
+static void put_le(unsigned char *b, float f)
+{
+    memcpy(b, &f, 4);
+} /* x86: little-endian */
 
 static void pfm_grey_and_bottom_up_rows(void **state)
 {
@@ -181,8 +192,9 @@ static void pfm_grey_and_bottom_up_rows(void **state)
     for (int k = 0; k < 4; k++) put_le(buf + n + 4 * k, v[k]);
     lumis_image *img = NULL;
     lumis_read_info info;
-    assert_int_equal(lumis_image_read_memory(buf, (size_t)n + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, &info),
-                     LUMIS_OK);
+    assert_int_equal(
+        lumis_image_read_memory(buf, (size_t)n + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, &info),
+        LUMIS_OK);
     assert_true(info.grey);
     assert_true(img->pixels[0] == 3 && img->pixels[1] == 3 && img->pixels[3] == 4);
     assert_true(img->pixels[6] == 1 && img->pixels[9] == 2 && img->pixels[11] == 2);
@@ -214,7 +226,11 @@ static void bad_values_are_replaced_and_counted(void **state)
     lumis_image_destroy(img);
 }
 
-static float f_zero(int i, int j, int c) { (void)i, (void)j, (void)c; return 0.0f; }
+static float f_zero(int i, int j, int c)
+{
+    (void)i, (void)j, (void)c;
+    return 0.0f;
+}
 
 static void black_and_one_pixel_maps_read_back(void **state)
 {
@@ -292,12 +308,15 @@ static void missing_empty_and_unknown_files(void **state)
     expect_read_error(tu_path("x.png"), LUMIS_ERR_UNSUPPORTED);
     /* Forced formats check the content too. */
     lumis_image *img = NULL;
-    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_EXR, NULL, NULL, &img, NULL),
-                     LUMIS_ERR_BAD_MAGIC);
-    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_HDR, NULL, NULL, &img, NULL),
-                     LUMIS_ERR_BAD_MAGIC);
-    assert_int_equal(lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_PFM, NULL, NULL, &img, NULL),
-                     LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(
+        lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_EXR, NULL, NULL, &img, NULL),
+        LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(
+        lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_HDR, NULL, NULL, &img, NULL),
+        LUMIS_ERR_BAD_MAGIC);
+    assert_int_equal(
+        lumis_image_read_memory(text, sizeof text, LUMIS_FORMAT_PFM, NULL, NULL, &img, NULL),
+        LUMIS_ERR_BAD_MAGIC);
     assert_int_equal(lumis_image_read(NULL, NULL, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_int_equal(lumis_image_read_memory(NULL, 5, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
                      LUMIS_ERR_INVALID_ARGUMENT);
@@ -385,7 +404,8 @@ static void exr_size_is_checked_against_the_limit(void **state)
     assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &img, NULL),
                      LUMIS_ERR_TOO_LARGE);
     ro.max_pixels = 800;
-    assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &img, NULL), LUMIS_OK);
+    assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &img, NULL),
+                     LUMIS_OK);
     lumis_image_destroy(img);
     free(b);
 }
@@ -398,21 +418,22 @@ static void hdr_headers(void **state)
         const char *text;
         lumis_status want;
     } cases[] = {
-        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", TR},                       /* header never ends */
-        {"#?RADIANCE\n\n", TR},                                             /* no resolution */
-        {"#?RADIANCE\n\n-Y 2 +X", TR},                                      /* no newline */
-        {"#?RADIANCE\n\nhello world\n", BH},                                /* garbage */
+        {"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n", TR}, /* header never ends */
+        {"#?RADIANCE\n\n", TR},                       /* no resolution */
+        {"#?RADIANCE\n\n-Y 2 +X", TR},                /* no newline */
+        {"#?RADIANCE\n\nhello world\n", BH},          /* garbage */
         {"#?RADIANCE\n\n-Y two +X 4\n", BH},
-        {"#?RADIANCE\n\n+X 4 -Y 2\n", LUMIS_ERR_UNSUPPORTED},              /* column-major */
+        {"#?RADIANCE\n\n+X 4 -Y 2\n", LUMIS_ERR_UNSUPPORTED}, /* column-major */
         {"#?RADIANCE\nFORMAT=16-bit_funny\n\n-Y 1 +X 1\nABCD", LUMIS_ERR_UNSUPPORTED},
         {"#?RADIANCE\nEXPOSURE=-2\n\n-Y 1 +X 1\nABCD", BH},
         {"#?RADIANCE\n\n-Y -5 +X 10\n", LUMIS_ERR_BAD_DIMENSIONS},
         {"#?RADIANCE\n\n-Y 0 +X 10\n", LUMIS_ERR_BAD_DIMENSIONS},
         {"#?RADIANCE\n\n-Y 100000000 +X 100000000\n", LUMIS_ERR_TOO_LARGE},
         {"#?RADIANCE\n\n-Y 99999999999999999999999 +X 1\n", LUMIS_ERR_TOO_LARGE},
-        {"#?RADIANCE\n\n-Y 4294967297 +X 4294967297\n", LUMIS_ERR_TOO_LARGE}, /* wraps to 1 x 1 in 32 bits */
-        {"#?RADIANCE\n\n-Y 1000 +X 1000\nABCDABCD", TR},                   /* far more pixels than data */
-        {"#?RADIANCE\n\n-Y 2 +X 2\nABCDABCDABCD", TR},                     /* one pixel short */
+        {"#?RADIANCE\n\n-Y 4294967297 +X 4294967297\n",
+         LUMIS_ERR_TOO_LARGE},                           /* wraps to 1 x 1 in 32 bits */
+        {"#?RADIANCE\n\n-Y 1000 +X 1000\nABCDABCD", TR}, /* far more pixels than data */
+        {"#?RADIANCE\n\n-Y 2 +X 2\nABCDABCDABCD", TR},   /* one pixel short */
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++)
         expect_memory_error(cases[k].text, strlen(cases[k].text), cases[k].want);
@@ -422,7 +443,8 @@ static void hdr_scanline_variants(void **state)
 {
     (void)state;
     /* Flat, bottom-up (+Y) and mirrored (-X) 2 x 2 images; EXPOSURE halves the values. */
-    const unsigned char px[16] = {128, 0, 0, 129, 0, 128, 0, 129, 0, 0, 128, 129, 128, 128, 128, 129};
+    const unsigned char px[16] = {128, 0, 0,   129, 0,   128, 0,   129,
+                                  0,   0, 128, 129, 128, 128, 128, 129};
     const char *heads[] = {"#?RADIANCE\nEXPOSURE=2\n\n-Y 2 +X 2\n", "#?RGBE\n\n+Y 2 +X 2\n",
                            "#?RADIANCE\n\n-Y 2 -X 2\n"};
     for (int k = 0; k < 3; k++) {
@@ -431,8 +453,9 @@ static void hdr_scanline_variants(void **state)
         memcpy(buf, heads[k], hl);
         memcpy(buf + hl, px, 16);
         lumis_image *img = NULL;
-        assert_int_equal(lumis_image_read_memory(buf, hl + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
-                         LUMIS_OK);
+        assert_int_equal(
+            lumis_image_read_memory(buf, hl + 16, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
+            LUMIS_OK);
         /* (128 + 0.5) / 256 * 2^(129 - 128) = 1.00390625; the empty channels read 0.5/256*2. */
         float big = k == 0 ? 0.501953125f : 1.00390625f;
         int first = k == 1 ? 2 : (k == 2 ? 1 : 0); /* where file pixel 0 lands */
@@ -448,7 +471,8 @@ static void hdr_scanline_variants(void **state)
     const unsigned char rle[8] = {10, 20, 30, 128, 1, 1, 1, 3};
     memcpy(buf + hl, rle, 8);
     lumis_image *img = NULL;
-    assert_int_equal(lumis_image_read_memory(buf, hl + 8, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL), LUMIS_OK);
+    assert_int_equal(
+        lumis_image_read_memory(buf, hl + 8, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL), LUMIS_OK);
     for (int x = 1; x < 4; x++) assert_true(img->pixels[3 * x + 1] == img->pixels[1]);
     lumis_image_destroy(img);
     /* A run marker first, or a run past the end of the line, is corrupt. */
@@ -546,7 +570,8 @@ static void failed_writes_leave_the_old_file(void **state)
             lumis_image *img = sample_image(300, 200);
             lumis_pcg32 rng;
             lumis_pcg32_seed(&rng, 5, 5);
-            for (size_t q = 0; q < (size_t)300 * 200 * 3; q++) img->pixels[q] = lumis_pcg32_float(&rng);
+            for (size_t q = 0; q < (size_t)300 * 200 * 3; q++)
+                img->pixels[q] = lumis_pcg32_float(&rng);
             lumis_status st = lumis_image_write(path, img, NULL);
             _exit(st == LUMIS_ERR_WRITE ? 0 : 10 + (int)st);
         }

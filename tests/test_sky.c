@@ -30,7 +30,8 @@ static void power_rgb(const lumis_image *img, double p[3])
     for (int j = 0; j < img->height; j++) {
         double om = lumis_equirect_solid_angle(img->width, img->height, j);
         for (int i = 0; i < img->width; i++)
-            for (int c = 0; c < 3; c++) p[c] += img->pixels[3 * ((size_t)j * img->width + i) + c] * om;
+            for (int c = 0; c < 3; c++)
+                p[c] += img->pixels[3 * ((size_t)j * img->width + i) + c] * om;
     }
 }
 
@@ -61,7 +62,8 @@ static void sun_power_is_exact_at_any_resolution(void **state)
             double pa[3], pb[3];
             power_rgb(a, pa);
             power_rgb(b, pb);
-            for (int c = 0; c < 3; c++) assert_true(fabs((pa[c] - pb[c]) - want[c]) < 2e-5 * want[c]);
+            for (int c = 0; c < 3; c++)
+                assert_true(fabs((pa[c] - pb[c]) - want[c]) < 2e-5 * want[c]);
             lumis_image_destroy(a);
             lumis_image_destroy(b);
         }
@@ -98,7 +100,10 @@ static void sun_is_where_it_was_asked_and_holds_most_power(void **state)
     lumis_image_destroy(img);
 }
 
-static double lum(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+static double lum(const float *p)
+{
+    return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
 
 static void zenith_matches_preetham_and_sky_is_symmetric(void **state)
 {

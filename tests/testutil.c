@@ -109,10 +109,14 @@ int tu_run(const char *cmd, char **out, char **err)
     snprintf(full, sizeof full, "%s >'%s' 2>'%s' </dev/null", cmd, o, e);
     int rc = system(full);
     char *so = slurp_and_remove(o), *se = slurp_and_remove(e);
-    if (out) *out = so;
-    else free(so);
-    if (err) *err = se;
-    else free(se);
+    if (out)
+        *out = so;
+    else
+        free(so);
+    if (err)
+        *err = se;
+    else
+        free(se);
     if (rc == -1 || !WIFEXITED(rc)) return -1;
     return WEXITSTATUS(rc);
 }

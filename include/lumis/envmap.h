@@ -26,11 +26,11 @@ extern "C" {
 typedef struct lumis_envmap lumis_envmap;
 
 typedef struct lumis_envmap_desc {
-    const float *pixels;  /* width * height RGB floats, row 0 = zenith; borrowed for the call */
-    int width, height;    /* each >= 1 */
-    float rotation_deg;   /* rotation of the map about +y; 0 == none */
-    float scale;          /* radiance multiplier; 0 == default 1 */
-    uint64_t max_pixels;  /* 0 == LUMIS_DEFAULT_MAX_PIXELS */
+    const float *pixels; /* width * height RGB floats, row 0 = zenith; borrowed for the call */
+    int width, height;   /* each >= 1 */
+    float rotation_deg;  /* rotation of the map about +y; 0 == none */
+    float scale;         /* radiance multiplier; 0 == default 1 */
+    uint64_t max_pixels; /* 0 == LUMIS_DEFAULT_MAX_PIXELS */
     lumis_error_sink errors;
 } lumis_envmap_desc;
 
@@ -81,9 +81,9 @@ typedef struct lumis_envmap_stats {
     double dynamic_range;                /* max / min_positive; 0 if the map is black */
     double power;                        /* sum(Y * Omega), steradian-weighted luminance */
     double power_rgb[3];                 /* sum(L * Omega) per channel */
-    double top1_share;  /* share of power in the floor(n/100) (>= 1) pixels of largest Y*Omega */
-    double top01_share; /* same for floor(n/1000) (>= 1) pixels */
-    uint64_t black_pixels;               /* pixels with Y == 0 */
+    double top1_share;     /* share of power in the floor(n/100) (>= 1) pixels of largest Y*Omega */
+    double top01_share;    /* same for floor(n/1000) (>= 1) pixels */
+    uint64_t black_pixels; /* pixels with Y == 0 */
 } lumis_envmap_stats;
 
 /* Computes the statistics (scale applied) in O(n) time and O(n) temporary memory. */

@@ -105,10 +105,10 @@ typedef struct lumis_write_options {
     lumis_file_format format; /* AUTO == from the extension */
     int exr_half;             /* nonzero: EXR channels as half floats (default float) */
     lumis_exr_compression exr_compression; /* 0 == ZIP */
-    int exr_tile_size;        /* 0 == scanline file; > 0: tiled, tiles of this size */
-    int pfm_big_endian;       /* nonzero: big-endian PFM (default little-endian) */
-    float exposure_ev;        /* PNG: radiance is multiplied by 2^exposure_ev first */
-    lumis_tonemap tonemap;    /* PNG: tone map before the sRGB curve */
+    int exr_tile_size;                     /* 0 == scanline file; > 0: tiled, tiles of this size */
+    int pfm_big_endian;                    /* nonzero: big-endian PFM (default little-endian) */
+    float exposure_ev;                     /* PNG: radiance is multiplied by 2^exposure_ev first */
+    lumis_tonemap tonemap;                 /* PNG: tone map before the sRGB curve */
     lumis_error_sink errors;
 } lumis_write_options;
 

@@ -46,7 +46,8 @@ lumis_status lumis_image_clone(const lumis_image *src, lumis_image **out)
     if (!src || !out) return LUMIS_ERR_INVALID_ARGUMENT;
     lumis_status st = lumis_image_create(src->width, src->height, out);
     if (st != LUMIS_OK) return st;
-    memcpy((*out)->pixels, src->pixels, (size_t)src->width * (size_t)src->height * 3 * sizeof(float));
+    memcpy((*out)->pixels, src->pixels,
+           (size_t)src->width * (size_t)src->height * 3 * sizeof(float));
     return LUMIS_OK;
 }
 
@@ -64,9 +65,12 @@ uint64_t lumis_sanitize_floats(float *values, size_t count, lumis_replaced *repl
         float x = values[k];
         /* One compare catches the common case: finite and non-negative. */
         if (x >= 0.0f && x <= 3.402823466e38f) continue;
-        if (isnan(x)) r.nan++;
-        else if (isinf(x)) r.inf++;
-        else r.negative++;
+        if (isnan(x))
+            r.nan++;
+        else if (isinf(x))
+            r.inf++;
+        else
+            r.negative++;
         values[k] = 0.0f;
     }
     if (replaced) {

@@ -6,7 +6,7 @@
 
 #include <stddef.h>
 
-#define LUMIS_PI 3.14159265358979323846
+#define LUMIS_PI   3.14159265358979323846
 #define LUMIS_PI_F 3.14159265358979323846f
 
 #if defined(__GNUC__) || defined(__clang__)

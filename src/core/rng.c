@@ -44,7 +44,7 @@ void lumis_pcg32_advance(lumis_pcg32 *rng, int64_t delta)
 }
 
 static const unsigned primes[LUMIS_HALTON_MAX_DIMENSION] = {
-    2,  3,  5,  7,  11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53,
+    2,  3,  5,  7,  11, 13, 17, 19, 23, 29,  31,  37,  41,  43,  47,  53,
     59, 61, 67, 71, 73, 79, 83, 89, 97, 101, 103, 107, 109, 113, 127, 131};
 
 double lumis_radical_inverse(unsigned dimension, uint64_t index)

@@ -169,12 +169,30 @@ void lumis_envmap_destroy(lumis_envmap *env)
     free(env);
 }
 
-int lumis_envmap_width(const lumis_envmap *env) { return env->width; }
-int lumis_envmap_height(const lumis_envmap *env) { return env->height; }
-float lumis_envmap_scale(const lumis_envmap *env) { return env->scale; }
-float lumis_envmap_rotation_deg(const lumis_envmap *env) { return env->rotation_deg; }
-const float *lumis_envmap_pixels(const lumis_envmap *env) { return env->pixels; }
-lumis_replaced lumis_envmap_replaced(const lumis_envmap *env) { return env->replaced; }
+int lumis_envmap_width(const lumis_envmap *env)
+{
+    return env->width;
+}
+int lumis_envmap_height(const lumis_envmap *env)
+{
+    return env->height;
+}
+float lumis_envmap_scale(const lumis_envmap *env)
+{
+    return env->scale;
+}
+float lumis_envmap_rotation_deg(const lumis_envmap *env)
+{
+    return env->rotation_deg;
+}
+const float *lumis_envmap_pixels(const lumis_envmap *env)
+{
+    return env->pixels;
+}
+lumis_replaced lumis_envmap_replaced(const lumis_envmap *env)
+{
+    return env->replaced;
+}
 
 double lumis_envmap_pixel_solid_angle(const lumis_envmap *env, int j)
 {
@@ -243,13 +261,19 @@ static void select_largest(float *a, size_t n, size_t k)
         /* [lo, gt) > pivot, [gt, i) == pivot, [lt, hi) < pivot */
         size_t gt = lo, i = lo, lt = hi;
         while (i < lt) {
-            if (a[i] > pivot) swapf(&a[i++], &a[gt++]);
-            else if (a[i] < pivot) swapf(&a[i], &a[--lt]);
-            else i++;
+            if (a[i] > pivot)
+                swapf(&a[i++], &a[gt++]);
+            else if (a[i] < pivot)
+                swapf(&a[i], &a[--lt]);
+            else
+                i++;
         }
-        if (k <= gt) hi = gt;
-        else if (k <= lt) return; /* the boundary falls among values equal to the pivot */
-        else lo = lt;
+        if (k <= gt)
+            hi = gt;
+        else if (k <= lt)
+            return; /* the boundary falls among values equal to the pivot */
+        else
+            lo = lt;
     }
 }
 

@@ -42,7 +42,7 @@ static void xyY_to_rgb(double x, double y, double Y, double rgb[3])
 }
 
 typedef struct sky_model {
-    perez py, px, pyy;           /* luminance Y, chromaticities x and y */
+    perez py, px, pyy; /* luminance Y, chromaticities x and y */
     double zenith_Y, zenith_x, zenith_y;
     double norm_Y, norm_x, norm_y; /* F(0, theta_s) of each */
     double sun_dir[3];
@@ -273,8 +273,7 @@ lumis_status lumis_sky_create(const lumis_sky_desc *desc, lumis_image **out)
         double ground_frac = (cos(t_lo) - cos(t1)) / (cos(t0) - cos(t1));
         for (int i = 0; i < w; i++) {
             float *p = px + ((size_t)j * (size_t)w + (size_t)i) * 3;
-            for (int c = 0; c < 3; c++)
-                p[c] += (float)(albedo * E[c] / LUMIS_PI * ground_frac);
+            for (int c = 0; c < 3; c++) p[c] += (float)(albedo * E[c] / LUMIS_PI * ground_frac);
         }
     }
     return LUMIS_OK;

@@ -17,8 +17,8 @@ typedef struct soft_box {
 
 /* A classic three-point setup plus an overhead light; radiance in the sky's units. */
 static const soft_box boxes[] = {
-    {20.0, 50.0, 15.0, 45.0, {40.0, 38.0, 35.0}},  /* key, warm */
-    {195.0, 235.0, 0.0, 25.0, {7.0, 7.5, 8.0}},    /* fill, cool and dim */
+    {20.0, 50.0, 15.0, 45.0, {40.0, 38.0, 35.0}},   /* key, warm */
+    {195.0, 235.0, 0.0, 25.0, {7.0, 7.5, 8.0}},     /* fill, cool and dim */
     {120.0, 128.0, 10.0, 60.0, {25.0, 25.0, 25.0}}, /* rim strip */
     {280.0, 320.0, 65.0, 80.0, {15.0, 15.0, 15.0}}, /* overhead */
 };
@@ -47,8 +47,7 @@ lumis_status lumis_studio_create(const lumis_studio_desc *desc, lumis_image **ou
                            "studio: intensity must be positive and finite");
     lumis_status st = lumis_image_create(w, h, out);
     if (st != LUMIS_OK)
-        return lumis__fail(&desc->errors, st, "studio: %d x %d: %s", w, h,
-                           lumis_status_string(st));
+        return lumis__fail(&desc->errors, st, "studio: %d x %d: %s", w, h, lumis_status_string(st));
     float *px = (*out)->pixels;
     const int nbox = (int)(sizeof boxes / sizeof boxes[0]);
 
@@ -60,8 +59,7 @@ lumis_status lumis_studio_create(const lumis_studio_desc *desc, lumis_image **ou
         for (int i = 0; i < w; i++) {
             double u0 = (double)i / w, u1 = (double)(i + 1) / w;
             double rgb[3];
-            for (int c = 0; c < 3; c++)
-                rgb[c] = wall_rgb[c] * above + floor_rgb[c] * (1.0 - above);
+            for (int c = 0; c < 3; c++) rgb[c] = wall_rgb[c] * above + floor_rgb[c] * (1.0 - above);
             for (int b = 0; b < nbox; b++) {
                 const soft_box *s = &boxes[b];
                 double fu = overlap(u0, u1, s->az0 / 360.0, s->az1 / 360.0) * w;

@@ -25,7 +25,8 @@
 #include <string>
 #include <type_traits>
 
-namespace {
+namespace
+{
 
 // Formats a message into the caller's sink (the C helper lumis__fail is variadic C).
 lumis_status fail(const lumis_error_sink *sink, lumis_status st, const char *fmt, ...)
@@ -44,13 +45,15 @@ lumis_status fail(const lumis_error_sink *sink, lumis_status st, const char *fmt
 }
 
 // Stream base recording whether a read ran past the end of the data.
-class CheckedIStream : public Imf::IStream {
+class CheckedIStream : public Imf::IStream
+{
   public:
     explicit CheckedIStream(const char *name) : Imf::IStream(name) {}
     bool hit_end = false;
 };
 
-class MemoryIStream final : public CheckedIStream {
+class MemoryIStream final : public CheckedIStream
+{
   public:
     MemoryIStream(const unsigned char *data, size_t size, const char *name)
         : CheckedIStream(name), data_(data), size_(size)
@@ -76,7 +79,8 @@ class MemoryIStream final : public CheckedIStream {
     size_t pos_ = 0;
 };
 
-class FileIStream final : public CheckedIStream {
+class FileIStream final : public CheckedIStream
+{
   public:
     FileIStream(std::FILE *f, const char *name) : CheckedIStream(name), f_(f) {}
     bool read(char c[], int n) override
@@ -97,7 +101,8 @@ class FileIStream final : public CheckedIStream {
     }
     void seekg(uint64_t pos) override
     {
-        if (pos > static_cast<uint64_t>(INT64_MAX) || fseeko(f_, static_cast<off_t>(pos), SEEK_SET) != 0)
+        if (pos > static_cast<uint64_t>(INT64_MAX) ||
+            fseeko(f_, static_cast<off_t>(pos), SEEK_SET) != 0)
             throw std::runtime_error("seek failed");
     }
     void clear() override { std::clearerr(f_); }
@@ -161,9 +166,9 @@ lumis_status read_stream(CheckedIStream &in, const lumis__read_ctx *ctx, lumis_i
         Imf::FrameBuffer fb;
         static const char *const names[3] = {"R", "G", "B"};
         for (int c = 0; c < 3; c++)
-            fb.insert(grey ? "Y" : names[c],
-                      Imf::Slice(Imf::FLOAT, reinterpret_cast<char *>(base + c * sizeof(float)),
-                                 xs, ys));
+            fb.insert(
+                grey ? "Y" : names[c],
+                Imf::Slice(Imf::FLOAT, reinterpret_cast<char *>(base + c * sizeof(float)), xs, ys));
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
         return LUMIS_OK;
@@ -172,8 +177,7 @@ lumis_status read_stream(CheckedIStream &in, const lumis__read_ctx *ctx, lumis_i
     } catch (const std::exception &e) {
         // OpenEXR reads missing scanline chunks as an exception with the line number.
         if (in.hit_end)
-            return fail(err, LUMIS_ERR_TRUNCATED, "%s: data ends early (%s)", ctx->name,
-                        e.what());
+            return fail(err, LUMIS_ERR_TRUNCATED, "%s: data ends early (%s)", ctx->name, e.what());
         return fail(err, constructed ? LUMIS_ERR_CORRUPT : LUMIS_ERR_BAD_HEADER, "%s: %s",
                     ctx->name, e.what());
     } catch (...) {
@@ -194,7 +198,8 @@ extern "C" lumis_status lumis__exr_read(const unsigned char *data, size_t size,
             st = read_stream(in, ctx, out);
         } else {
             std::FILE *f = std::fopen(ctx->name, "rb");
-            if (!f) return fail(ctx->errors, LUMIS_ERR_OPEN, "%s: %s", ctx->name, std::strerror(errno));
+            if (!f)
+                return fail(ctx->errors, LUMIS_ERR_OPEN, "%s: %s", ctx->name, std::strerror(errno));
             {
                 FileIStream in(f, ctx->name);
                 st = read_stream(in, ctx, out);
@@ -211,13 +216,14 @@ extern "C" lumis_status lumis__exr_read(const unsigned char *data, size_t size,
     return st;
 }
 
-namespace {
+namespace
+{
 
 // Our enum in the order of lumis_exr_compression.
 const Imf::Compression compressions[LUMIS_EXR_COMPRESSION_COUNT] = {
-    Imf::ZIP_COMPRESSION,   Imf::NO_COMPRESSION,  Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
-    Imf::PIZ_COMPRESSION,   Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION,
-    Imf::DWAA_COMPRESSION,  Imf::DWAB_COMPRESSION};
+    Imf::ZIP_COMPRESSION,  Imf::NO_COMPRESSION,    Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+    Imf::PIZ_COMPRESSION,  Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION,
+    Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
 
 template <class File> void write_pixels(File &file, const Imf::FrameBuffer &fb, int height)
 {
@@ -258,7 +264,8 @@ extern "C" lumis_status lumis__exr_write(const char *path, const char *display_n
         }
         const size_t elem = half ? sizeof(Imath::half) : sizeof(float);
         const size_t xs = 3 * elem, ys = xs * static_cast<size_t>(image->width);
-        char *base = half ? reinterpret_cast<char *>(halves) : reinterpret_cast<char *>(image->pixels);
+        char *base =
+            half ? reinterpret_cast<char *>(halves) : reinterpret_cast<char *>(image->pixels);
         for (int c = 0; c < 3; c++)
             fb.insert(names[c], Imf::Slice(type, base + static_cast<size_t>(c) * elem, xs, ys));
         if (options->exr_tile_size > 0) {

@@ -23,8 +23,10 @@ static int read_line(cursor *c, char *buf, size_t cap, int *too_long)
     size_t n = 0;
     *too_long = 0;
     while (c->p < c->end && *c->p != '\n') {
-        if (n + 1 < cap) buf[n++] = (char)*c->p;
-        else *too_long = 1;
+        if (n + 1 < cap)
+            buf[n++] = (char)*c->p;
+        else
+            *too_long = 1;
         c->p++;
     }
     if (c->p >= c->end) return 0; /* no newline: the header never ended */
@@ -68,8 +70,8 @@ static lumis_status read_scanline(cursor *c, unsigned char *line, int w, const l
                 if (count > 128) {
                     count -= 128;
                     if (count > w - x)
-                        return lumis__fail(err, LUMIS_ERR_CORRUPT,
-                                           "%s: run overflows scanline %d", ctx->name, row);
+                        return lumis__fail(err, LUMIS_ERR_CORRUPT, "%s: run overflows scanline %d",
+                                           ctx->name, row);
                     if (c->p >= c->end) goto truncated;
                     unsigned char v = *c->p++;
                     for (int k = 0; k < count; k++) line[4 * (x++) + comp] = v;
@@ -170,7 +172,8 @@ lumis_status lumis__hdr_read(const unsigned char *data, size_t size, const lumis
                                ctx->name, sizeof line);
         if (strncmp(line, "FORMAT=", 7) == 0) {
             have_format = 1;
-            if (strcmp(line + 7, "32-bit_rle_xyze") == 0) xyze = 1;
+            if (strcmp(line + 7, "32-bit_rle_xyze") == 0)
+                xyze = 1;
             else if (strcmp(line + 7, "32-bit_rle_rgbe") != 0)
                 return lumis__fail(err, LUMIS_ERR_UNSUPPORTED, "%s: unsupported %.60s", ctx->name,
                                    line);

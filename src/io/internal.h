@@ -16,7 +16,7 @@ extern "C" {
 
 /* What every reader needs besides its bytes. */
 typedef struct lumis__read_ctx {
-    const char *name;   /* file name for messages */
+    const char *name; /* file name for messages */
     uint64_t max_pixels;
     const lumis_error_sink *errors;
     lumis_read_info *info; /* never NULL inside the readers */

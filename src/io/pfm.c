@@ -44,10 +44,10 @@ static lumis_status parse_dim(const char *tok, const lumis__read_ctx *ctx, const
 
 static float load_float(const unsigned char *b, int big_endian)
 {
-    uint32_t u = big_endian ? ((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 |
-                               (uint32_t)b[2] << 8 | (uint32_t)b[3])
-                            : ((uint32_t)b[3] << 24 | (uint32_t)b[2] << 16 |
-                               (uint32_t)b[1] << 8 | (uint32_t)b[0]);
+    uint32_t u =
+        big_endian
+            ? ((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | (uint32_t)b[3])
+            : ((uint32_t)b[3] << 24 | (uint32_t)b[2] << 16 | (uint32_t)b[1] << 8 | (uint32_t)b[0]);
     float f;
     memcpy(&f, &u, sizeof f);
     return f;
@@ -67,9 +67,8 @@ lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis
     char tw[32], th[32], ts[64];
     if (!next_token(&p, end, tw, sizeof tw) || !next_token(&p, end, th, sizeof th) ||
         !next_token(&p, end, ts, sizeof ts))
-        return lumis__fail(err, p >= end ? LUMIS_ERR_TRUNCATED : LUMIS_ERR_BAD_HEADER,
-                           "%s: %s", ctx->name,
-                           p >= end ? "header ends early" : "header field too long");
+        return lumis__fail(err, p >= end ? LUMIS_ERR_TRUNCATED : LUMIS_ERR_BAD_HEADER, "%s: %s",
+                           ctx->name, p >= end ? "header ends early" : "header field too long");
     int64_t w64, h64;
     lumis_status st = parse_dim(tw, ctx, "width", &w64);
     if (st == LUMIS_OK) st = parse_dim(th, ctx, "height", &h64);
@@ -77,8 +76,8 @@ lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis
     char *endp;
     double scale = strtod(ts, &endp);
     if (*endp != '\0' || scale == 0.0 || !isfinite(scale))
-        return lumis__fail(err, LUMIS_ERR_BAD_HEADER,
-                           "%s: scale \"%s\" must be a non-zero number", ctx->name, ts);
+        return lumis__fail(err, LUMIS_ERR_BAD_HEADER, "%s: scale \"%s\" must be a non-zero number",
+                           ctx->name, ts);
     p++; /* exactly one whitespace character separates the header from the data */
 
     st = lumis_image_check_size(w64, h64, ctx->max_pixels);
@@ -93,15 +92,15 @@ lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis
                            "%s: %zu x %zu pixels need %zu bytes of data, the file has %zu",
                            ctx->name, w, h, need, have);
     st = lumis_image_create((int)w, (int)h, out);
-    if (st != LUMIS_OK)
-        return lumis__fail(err, st, "%s: %s", ctx->name, lumis_status_string(st));
+    if (st != LUMIS_OK) return lumis__fail(err, st, "%s: %s", ctx->name, lumis_status_string(st));
     int big = scale > 0.0;
     for (size_t r = 0; r < h; r++) {
         const unsigned char *src = p + r * w * (size_t)channels * 4;
         float *dst = (*out)->pixels + (h - 1 - r) * w * 3; /* bottom row first */
         for (size_t x = 0; x < w; x++) {
             if (channels == 3) {
-                for (int c = 0; c < 3; c++) dst[3 * x + (size_t)c] = load_float(src + 12 * x + 4 * (size_t)c, big);
+                for (int c = 0; c < 3; c++)
+                    dst[3 * x + (size_t)c] = load_float(src + 12 * x + 4 * (size_t)c, big);
             } else {
                 float v = load_float(src + 4 * x, big);
                 dst[3 * x] = dst[3 * x + 1] = dst[3 * x + 2] = v;

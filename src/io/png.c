@@ -62,7 +62,8 @@ lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_
     unsigned char *rgb = malloc(n);
     if (!rgb) return LUMIS_ERR_OUT_OF_MEMORY;
     float k = exp2f(exposure_ev);
-    for (size_t i = 0; i < n; i++) rgb[i] = srgb8(lumis_tonemap_apply(tonemap, image->pixels[i] * k));
+    for (size_t i = 0; i < n; i++)
+        rgb[i] = srgb8(lumis_tonemap_apply(tonemap, image->pixels[i] * k));
     int ok = stbi_write_png_to_func(write_to_file, f, image->width, image->height, 3, rgb,
                                     image->width * 3);
     free(rgb);

@@ -30,7 +30,8 @@ int cmd_convert(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
             double ev;
             if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
-                return tool_usage_error("convert", "--exposure needs a number of stops in [-64, 64]");
+                return tool_usage_error("convert",
+                                        "--exposure needs a number of stops in [-64, 64]");
             wo.exposure_ev = (float)ev;
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
             if (!v || lumis_tonemap_from_name(v, &wo.tonemap) != LUMIS_OK)
@@ -63,7 +64,8 @@ int cmd_convert(int argc, char **argv)
     }
     if (!in || !out) return tool_usage_error("convert", "needs IN and OUT");
     if (lumis_format_from_path(out) == LUMIS_FORMAT_AUTO)
-        return tool_usage_error("convert", "%s: unknown output extension (use .exr, .hdr, .pfm or .png)", out);
+        return tool_usage_error("convert",
+                                "%s: unknown output extension (use .exr, .hdr, .pfm or .png)", out);
 
     lumis_image *image = NULL;
     lumis_read_info info;

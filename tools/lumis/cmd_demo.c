@@ -39,7 +39,8 @@ int cmd_demo(int argc, char **argv)
     wo.exposure_ev = -3.0f; /* the sky is a few kcd/m^2: bring it near display white */
     wo.tonemap = LUMIS_TONEMAP_ACES;
     int rc = EXIT_RUNTIME;
-    if (tool_write_image(exr, sky, NULL) == LUMIS_OK && tool_write_image(png, sky, &wo) == LUMIS_OK) {
+    if (tool_write_image(exr, sky, NULL) == LUMIS_OK &&
+        tool_write_image(png, sky, &wo) == LUMIS_OK) {
         printf("wrote %s and %s\n\n", exr, png);
         rc = tool_print_info(stdout, "sky (procedural default)", sky, &info, 0);
     }

@@ -13,7 +13,8 @@ static const char usage[] =
     "Definitions (as in the data README): Y = 0.2126 R + 0.7152 G + 0.0722 B; pixel (i, j)\n"
     "of a w x h map subtends Omega_j = (2 pi / w)(cos theta_j - cos theta_j+1), theta_j =\n"
     "pi j / h; power = sum Y Omega; avg = power / 4 pi; top shares rank pixels by Y Omega\n"
-    "(the top 1 %% is floor(n / 100) pixels, at least one); dynamic range = max Y / smallest positive Y;\n"
+    "(the top 1 %% is floor(n / 100) pixels, at least one); dynamic range = max Y / smallest "
+    "positive Y;\n"
     "negative and non-finite channel values are replaced by 0 and counted.\n\n"
     "options:\n"
     "  --json   print one JSON object (keys: file, format, width, height, min_luminance,\n"
@@ -26,7 +27,8 @@ static int print_json(FILE *f, const char *name, const lumis_envmap_stats *s,
     cJSON *o = cJSON_CreateObject();
     if (!o) return EXIT_RUNTIME;
     cJSON_AddStringToObject(o, "file", name);
-    cJSON_AddStringToObject(o, "format", info->format ? lumis_format_name(info->format) : "procedural");
+    cJSON_AddStringToObject(o, "format",
+                            info->format ? lumis_format_name(info->format) : "procedural");
     cJSON_AddNumberToObject(o, "width", s->width);
     cJSON_AddNumberToObject(o, "height", s->height);
     cJSON_AddNumberToObject(o, "min_luminance", s->min_luminance);
@@ -64,8 +66,8 @@ int tool_print_info(FILE *f, const char *name, const lumis_image *image,
     fprintf(f, "file           %s (%s)\n", name,
             info->format ? lumis_format_name(info->format) : "procedural");
     fprintf(f, "resolution     %d x %d\n", s.width, s.height);
-    fprintf(f, "luminance      min %.6g  avg %.6g  max %.6g\n", s.min_luminance,
-            s.avg_luminance, s.max_luminance);
+    fprintf(f, "luminance      min %.6g  avg %.6g  max %.6g\n", s.min_luminance, s.avg_luminance,
+            s.max_luminance);
     if (s.dynamic_range > 0.0)
         fprintf(f, "dynamic range  %.4g : 1 (max / smallest positive)\n", s.dynamic_range);
     else

@@ -34,7 +34,8 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
 {
     const char *v;
     if (tool_option(argc, argv, i, "--size", &v)) {
-        if (!tool_parse_size(v, w, h)) return tool_usage_error(cmd, "--size needs WxH, e.g. 1024x512");
+        if (!tool_parse_size(v, w, h))
+            return tool_usage_error(cmd, "--size needs WxH, e.g. 1024x512");
     } else if (tool_option(argc, argv, i, "--output", &v) || tool_option(argc, argv, i, "-o", &v)) {
         if (!v) return tool_usage_error(cmd, "-o needs a file name");
         *out = v;

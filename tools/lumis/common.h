@@ -9,7 +9,7 @@
 
 /* Sun of the default sky (`lumis sky`, the "sky" map spec, `lumis demo`). */
 #define TOOL_SKY_ELEVATION_DEG 35.0
-#define TOOL_SKY_AZIMUTH_DEG 60.0
+#define TOOL_SKY_AZIMUTH_DEG   60.0
 
 /* Exit codes of every subcommand. */
 enum { EXIT_OK = 0, EXIT_RUNTIME = 1, EXIT_USAGE = 2 };

@@ -20,7 +20,8 @@ static void print_help(FILE *f)
             "usage: lumis COMMAND [OPTIONS]   (lumis COMMAND --help for its options)\n\n"
             "commands:\n",
             lumis_version());
-    for (int i = 0; i < NCOMMANDS; i++) fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
+    for (int i = 0; i < NCOMMANDS; i++)
+        fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
     fprintf(f, "\nmaps: an image file (.exr, .hdr, .pfm) or a procedural spec sky[:WxH] or\n"
                "studio[:WxH].  Exit status: 0 success, 1 runtime error, 2 usage error.\n");
 }
