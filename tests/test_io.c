@@ -393,6 +393,45 @@ static void corrupt_exr_data(void **state)
     free(b);
 }
 
+/* Found by fuzz_exr: 29 bytes whose attribute claims 2 GiB made OpenEXR allocate it. */
+static void exr_attribute_sizes_are_checked_before_openexr(void **state)
+{
+    (void)state;
+    static const unsigned char b[29] = {0x76, 0x2f, 0x31, 0x01, 0x02, 0x00, 0x00, 0x00, 0x78, 0x00,
+                                        0x6f, 0x70, 0x61, 0x71, 0x75, 0x65, 0x00, 0xf0, 0xff, 0xff,
+                                        0x7f, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00};
+    expect_memory_error((const char *)b, sizeof b, LUMIS_ERR_TRUNCATED);
+    tu_write_file(tu_path("bigattr.exr"), b, sizeof b);
+    expect_read_error(tu_path("bigattr.exr"), LUMIS_ERR_TRUNCATED);
+    /* A negative size is a malformed header. */
+    unsigned char c[29];
+    memcpy(c, b, sizeof c);
+    c[20] = 0xff;
+    expect_memory_error((const char *)c, sizeof c, LUMIS_ERR_BAD_HEADER);
+}
+
+static void exr_decodes_the_same_with_any_thread_count(void **state)
+{
+    (void)state;
+    size_t n;
+    lumis_image *img = sample_image(200, 100);
+    lumis_write_options wo = {0};
+    wo.exr_compression = LUMIS_EXR_PIZ;
+    assert_int_equal(write_img(tu_path("mt.exr"), img, &wo), LUMIS_OK);
+    unsigned char *b = tu_read_file(tu_path("mt.exr"), &n);
+    for (int t = 0; t <= 4; t++) {
+        lumis_read_options ro = {0};
+        ro.threads = t;
+        lumis_image *back = NULL;
+        assert_int_equal(lumis_image_read_memory(b, n, LUMIS_FORMAT_AUTO, NULL, &ro, &back, NULL),
+                         LUMIS_OK);
+        assert_close(img, back, 0.0, 0.0);
+        lumis_image_destroy(back);
+    }
+    free(b);
+    lumis_image_destroy(img);
+}
+
 static void exr_size_is_checked_against_the_limit(void **state)
 {
     (void)state;
@@ -622,6 +661,8 @@ int main(void)
         cmocka_unit_test(missing_empty_and_unknown_files),
         cmocka_unit_test(truncated_and_header_only_exr),
         cmocka_unit_test(corrupt_exr_data),
+        cmocka_unit_test(exr_attribute_sizes_are_checked_before_openexr),
+        cmocka_unit_test(exr_decodes_the_same_with_any_thread_count),
         cmocka_unit_test(exr_size_is_checked_against_the_limit),
         cmocka_unit_test(hdr_headers),
         cmocka_unit_test(hdr_scanline_variants),

@@ -89,6 +89,12 @@ typedef struct lumis_envmap_stats {
 /* Computes the statistics (scale applied) in O(n) time and O(n) temporary memory. */
 lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_stats *out);
 
+/* The same statistics straight from an equirectangular pixel buffer (width * height RGB
+ * floats, row 0 the zenith) times scale, without building an envmap.  The pixels must
+ * already be finite and non-negative (as lumis-io's readers return them). */
+lumis_status lumis_equirect_stats(const float *pixels, int width, int height, float scale,
+                                  lumis_envmap_stats *out);
+
 /* Total power per channel, sum(L * Omega) over pixels, scale applied. */
 lumis_rgb lumis_envmap_power(const lumis_envmap *env);
 

@@ -44,6 +44,7 @@ const char *lumis_format_name(lumis_file_format format);
 
 typedef struct lumis_read_options {
     uint64_t max_pixels; /* 0 == LUMIS_DEFAULT_MAX_PIXELS */
+    int threads;         /* EXR decoding threads; 0 == one per core, 1 == the caller's only */
     lumis_error_sink errors;
 } lumis_read_options;
 

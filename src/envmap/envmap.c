@@ -280,20 +280,29 @@ static void select_largest(float *a, size_t n, size_t k)
 lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_stats *out)
 {
     if (!env || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    return lumis_equirect_stats(env->pixels, env->width, env->height, env->scale, out);
+}
+
+lumis_status lumis_equirect_stats(const float *pixels, int width, int height, float scale,
+                                  lumis_envmap_stats *out)
+{
+    if (!pixels || !out) return LUMIS_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
-    size_t n = (size_t)env->width * (size_t)env->height;
+    lumis_status st = lumis_image_check_size(width, height, UINT64_MAX);
+    if (st != LUMIS_OK) return st;
+    size_t n = (size_t)width * (size_t)height;
     float *yw = malloc(n * sizeof(float)); /* Y * Omega per pixel, for the top shares */
     if (!yw) return LUMIS_ERR_OUT_OF_MEMORY;
 
-    const double s = env->scale;
+    const double s = scale;
     double min_y = INFINITY, max_y = 0.0, min_pos = INFINITY, power = 0.0;
     double prgb[3] = {0, 0, 0};
     uint64_t black = 0;
-    for (int j = 0; j < env->height; j++) {
-        const double omega = env->row_solid_angle[j];
-        const float *p = env->pixels + (size_t)j * (size_t)env->width * 3;
+    for (int j = 0; j < height; j++) {
+        const double omega = lumis_equirect_solid_angle(width, height, j);
+        const float *p = pixels + (size_t)j * (size_t)width * 3;
         double row_y = 0.0, row[3] = {0, 0, 0};
-        for (int i = 0; i < env->width; i++, p += 3) {
+        for (int i = 0; i < width; i++, p += 3) {
             double y = s * (LUMIS_LUMA_R * (double)p[0] + LUMIS_LUMA_G * (double)p[1] +
                             LUMIS_LUMA_B * (double)p[2]);
             if (y < min_y) min_y = y;
@@ -304,14 +313,14 @@ lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_st
             row[0] += p[0];
             row[1] += p[1];
             row[2] += p[2];
-            yw[(size_t)j * (size_t)env->width + (size_t)i] = (float)(y * omega);
+            yw[(size_t)j * (size_t)width + (size_t)i] = (float)(y * omega);
         }
         power += row_y * omega;
         for (int c = 0; c < 3; c++) prgb[c] += s * row[c] * omega;
     }
 
-    out->width = env->width;
-    out->height = env->height;
+    out->width = width;
+    out->height = height;
     out->min_luminance = min_y;
     out->max_luminance = max_y;
     out->min_positive_luminance = isinf(min_pos) ? 0.0 : min_pos;

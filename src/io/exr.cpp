@@ -20,6 +20,8 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <mutex>
+#include <thread>
 #include <new>
 #include <stdexcept>
 #include <string>
@@ -48,15 +50,16 @@ lumis_status fail(const lumis_error_sink *sink, lumis_status st, const char *fmt
 class CheckedIStream : public Imf::IStream
 {
   public:
-    explicit CheckedIStream(const char *name) : Imf::IStream(name) {}
+    CheckedIStream(const char *name, uint64_t size) : Imf::IStream(name), size(size) {}
     bool hit_end = false;
+    const uint64_t size; // bytes in the whole file
 };
 
 class MemoryIStream final : public CheckedIStream
 {
   public:
     MemoryIStream(const unsigned char *data, size_t size, const char *name)
-        : CheckedIStream(name), data_(data), size_(size)
+        : CheckedIStream(name, size), data_(data), size_(size)
     {
     }
     bool read(char c[], int n) override
@@ -82,7 +85,9 @@ class MemoryIStream final : public CheckedIStream
 class FileIStream final : public CheckedIStream
 {
   public:
-    FileIStream(std::FILE *f, const char *name) : CheckedIStream(name), f_(f) {}
+    FileIStream(std::FILE *f, const char *name, uint64_t size) : CheckedIStream(name, size), f_(f)
+    {
+    }
     bool read(char c[], int n) override
     {
         if (n < 0) throw std::runtime_error("negative read size");
@@ -111,6 +116,93 @@ class FileIStream final : public CheckedIStream
     std::FILE *f_;
 };
 
+// Reads a NUL-terminated attribute or type name of at most max bytes.
+bool read_name(CheckedIStream &in, char *buf, size_t max)
+{
+    for (size_t n = 0; n < max; n++) {
+        in.read(buf + n, 1);
+        if (buf[n] == '\0') return true;
+    }
+    return false;
+}
+
+// Walks the attribute lists of the header(s) and checks every attribute's declared size
+// against the bytes the file has.  OpenEXR 3.1 allocates an attribute's declared size
+// before it reads it, so 29 bytes claiming 2 GiB would cost 2 GiB; here they are simply
+// a truncated file.
+lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ctx)
+{
+    unsigned char head[8];
+    in.read(reinterpret_cast<char *>(head), 8); // magic and version
+    const uint32_t flags =
+        head[4] | head[5] << 8 | head[6] << 16 | static_cast<uint32_t>(head[7]) << 24;
+    const bool multipart = flags & 0x1000, long_names = flags & 0x400;
+    const size_t max_name = long_names ? 256 : 32;
+    for (;;) {
+        char name[256], type[256];
+        for (;;) {
+            if (!read_name(in, name, max_name) || (name[0] && !read_name(in, type, max_name)))
+                return fail(ctx->errors, LUMIS_ERR_BAD_HEADER,
+                            "%s: header attribute name longer than %zu bytes", ctx->name, max_name);
+            if (!name[0]) break; // end of this header
+            unsigned char sz[4];
+            in.read(reinterpret_cast<char *>(sz), 4);
+            const int32_t size = static_cast<int32_t>(sz[0] | sz[1] << 8 | sz[2] << 16 |
+                                                      static_cast<uint32_t>(sz[3]) << 24);
+            const uint64_t left = in.size - in.tellg();
+            if (size < 0)
+                return fail(ctx->errors, LUMIS_ERR_BAD_HEADER,
+                            "%s: attribute '%s' has a negative size", ctx->name, name);
+            if (static_cast<uint64_t>(size) > left)
+                return fail(ctx->errors, LUMIS_ERR_TRUNCATED,
+                            "%s: attribute '%s' claims %d bytes, the file has %llu left", ctx->name,
+                            name, size, static_cast<unsigned long long>(left));
+            in.seekg(in.tellg() + static_cast<uint64_t>(size));
+        }
+        if (!multipart) return LUMIS_OK;
+        // Multi-part: the list of headers ends with an empty header (a lone NUL).
+        char next;
+        in.read(&next, 1);
+        if (next == '\0') return LUMIS_OK;
+        in.seekg(in.tellg() - 1);
+    }
+}
+
+// OpenEXR decodes blocks on its global thread pool.  A reader borrows the pool for the
+// duration of one read: the first of concurrent readers grows it to the requested size
+// (0 == one per core) and the last one restores what it was.  lumis thus leaves no threads
+// behind, and a process may fork() between reads and writes (pool threads would not
+// survive the fork, and OpenEXR's writer waits on them).
+class DecodePool
+{
+  public:
+    explicit DecodePool(int requested)
+    {
+        int n = requested > 0 ? requested : static_cast<int>(std::thread::hardware_concurrency());
+        if (n <= 1) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (users_++ == 0) saved_ = Imf::globalThreadCount();
+        if (Imf::globalThreadCount() < n) Imf::setGlobalThreadCount(n);
+        threads_ = n;
+    }
+    ~DecodePool()
+    {
+        if (!threads_) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (--users_ == 0) Imf::setGlobalThreadCount(saved_);
+    }
+    DecodePool(const DecodePool &) = delete;
+    DecodePool &operator=(const DecodePool &) = delete;
+    int threads() const { return threads_; }
+
+  private:
+    int threads_ = 0; // 0: decode in the caller's thread
+    static std::mutex mutex_;
+    static int users_, saved_;
+};
+std::mutex DecodePool::mutex_;
+int DecodePool::users_ = 0, DecodePool::saved_ = 0;
+
 lumis_status read_stream(CheckedIStream &in, const lumis__read_ctx *ctx, lumis_image **out)
 {
     const lumis_error_sink *err = ctx->errors;
@@ -127,8 +219,12 @@ lumis_status read_stream(CheckedIStream &in, const lumis__read_ctx *ctx, lumis_i
                         ctx->name);
         in.seekg(0);
         in.hit_end = false;
+        lumis_status checked = check_attribute_sizes(in, ctx);
+        if (checked != LUMIS_OK) return checked;
+        in.seekg(0);
 
-        Imf::InputFile file(in, Imf::globalThreadCount());
+        DecodePool pool(ctx->threads);
+        Imf::InputFile file(in, pool.threads());
         constructed = true;
         const Imf::Header &hdr = file.header();
         const Imath::Box2i dw = hdr.dataWindow();
@@ -201,7 +297,7 @@ extern "C" lumis_status lumis__exr_read(const unsigned char *data, size_t size,
             if (!f)
                 return fail(ctx->errors, LUMIS_ERR_OPEN, "%s: %s", ctx->name, std::strerror(errno));
             {
-                FileIStream in(f, ctx->name);
+                FileIStream in(f, ctx->name, size);
                 st = read_stream(in, ctx, out);
             }
             std::fclose(f);
@@ -268,11 +364,12 @@ extern "C" lumis_status lumis__exr_write(const char *path, const char *display_n
             half ? reinterpret_cast<char *>(halves) : reinterpret_cast<char *>(image->pixels);
         for (int c = 0; c < 3; c++)
             fb.insert(names[c], Imf::Slice(type, base + static_cast<size_t>(c) * elem, xs, ys));
+        // Written in the caller's thread (0): writing is rare and needs no pool.
         if (options->exr_tile_size > 0) {
-            Imf::TiledOutputFile file(path, hdr, Imf::globalThreadCount());
+            Imf::TiledOutputFile file(path, hdr, 0);
             write_pixels(file, fb, image->height);
         } else {
-            Imf::OutputFile file(path, hdr, Imf::globalThreadCount());
+            Imf::OutputFile file(path, hdr, 0);
             write_pixels(file, fb, image->height);
         }
         delete[] halves;

@@ -115,7 +115,8 @@ lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_f
     memset(info, 0, sizeof *info);
     if (!data && size)
         return lumis__fail(&options->errors, LUMIS_ERR_INVALID_ARGUMENT, "no data given");
-    lumis__read_ctx ctx = {name ? name : "<memory>", options->max_pixels, &options->errors, info};
+    lumis__read_ctx ctx = {name ? name : "<memory>", options->max_pixels, options->threads,
+                           &options->errors, info};
     return finish_read(read_dispatch(data, size, format, &ctx, out), out, info);
 }
 
@@ -131,7 +132,7 @@ lumis_status lumis_image_read(const char *path, const lumis_read_options *option
     memset(info, 0, sizeof *info);
     const lumis_error_sink *err = &options->errors;
     if (!path) return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT, "no input path given");
-    lumis__read_ctx ctx = {path, options->max_pixels, err, info};
+    lumis__read_ctx ctx = {path, options->max_pixels, options->threads, err, info};
 
     FILE *f = fopen(path, "rb");
     if (!f) return lumis__fail(err, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));

@@ -18,6 +18,7 @@ extern "C" {
 typedef struct lumis__read_ctx {
     const char *name; /* file name for messages */
     uint64_t max_pixels;
+    int threads; /* as lumis_read_options.threads */
     const lumis_error_sink *errors;
     lumis_read_info *info; /* never NULL inside the readers */
 } lumis__read_ctx;

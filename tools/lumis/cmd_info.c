@@ -55,11 +55,8 @@ static int print_json(FILE *f, const char *name, const lumis_envmap_stats *s,
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,
                     const lumis_read_info *info, int json)
 {
-    lumis_envmap *env = NULL;
     lumis_envmap_stats s;
-    lumis_status st = lumis_envmap_from_image(image, &env);
-    if (st == LUMIS_OK) st = lumis_envmap_stats_compute(env, &s);
-    lumis_envmap_destroy(env);
+    lumis_status st = lumis_equirect_stats(image->pixels, image->width, image->height, 1.0f, &s);
     if (st != LUMIS_OK) return tool_runtime_error("%s: %s", name, lumis_status_string(st));
     if (json) return print_json(f, name, &s, info);
 
