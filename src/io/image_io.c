@@ -102,37 +102,39 @@ static lumis_status read_dispatch(const unsigned char *data, size_t size, lumis_
     }
 }
 
+/* The reading context of one call: defaults for NULL options and info, info cleared. */
+static lumis__read_ctx begin_read(const char *name, const lumis_read_options *options,
+                                  lumis_read_info *info)
+{
+    static const lumis_read_options zero_options;
+    if (!options) options = &zero_options;
+    memset(info, 0, sizeof *info);
+    lumis__read_ctx ctx = {name, options->max_pixels, options->threads, &options->errors, info};
+    return ctx;
+}
+
 lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_format format,
                                      const char *name, const lumis_read_options *options,
                                      lumis_image **out, lumis_read_info *info)
 {
-    static const lumis_read_options zero_options;
     lumis_read_info local_info;
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    if (!options) options = &zero_options;
-    if (!info) info = &local_info;
-    memset(info, 0, sizeof *info);
-    if (!data && size)
-        return lumis__fail(&options->errors, LUMIS_ERR_INVALID_ARGUMENT, "no data given");
-    lumis__read_ctx ctx = {name ? name : "<memory>", options->max_pixels, options->threads,
-                           &options->errors, info};
-    return finish_read(read_dispatch(data, size, format, &ctx, out), out, info);
+    lumis__read_ctx ctx = begin_read(name ? name : "<memory>", options, info ? info : &local_info);
+    if (!data && size) return lumis__fail(ctx.errors, LUMIS_ERR_INVALID_ARGUMENT, "no data given");
+    return finish_read(read_dispatch(data, size, format, &ctx, out), out, ctx.info);
 }
 
 lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
                               lumis_image **out, lumis_read_info *info)
 {
-    static const lumis_read_options zero_options;
     lumis_read_info local_info;
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    if (!options) options = &zero_options;
-    if (!info) info = &local_info;
-    memset(info, 0, sizeof *info);
-    const lumis_error_sink *err = &options->errors;
+    lumis__read_ctx ctx = begin_read(path, options, info ? info : &local_info);
+    info = ctx.info;
+    const lumis_error_sink *err = ctx.errors;
     if (!path) return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT, "no input path given");
-    lumis__read_ctx ctx = {path, options->max_pixels, options->threads, err, info};
 
     FILE *f = fopen(path, "rb");
     if (!f) return lumis__fail(err, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
