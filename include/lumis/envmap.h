@@ -40,6 +40,8 @@ lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **o
 /* Convenience: builds from a lumis_image with no rotation and unit scale. */
 lumis_status lumis_envmap_from_image(const lumis_image *image, lumis_envmap **out);
 
+/* Releases the caller's reference; the map is freed when no sampler built from it is
+ * alive any more (samplers keep a reference).  NULL is accepted. */
 void lumis_envmap_destroy(lumis_envmap *env);
 
 int lumis_envmap_width(const lumis_envmap *env);

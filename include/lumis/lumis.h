@@ -6,6 +6,7 @@
 #include "lumis/envmap.h"
 #include "lumis/image.h"
 #include "lumis/rng.h"
+#include "lumis/sampler.h"
 #include "lumis/sky.h"
 #include "lumis/status.h"
 #include "lumis/types.h"

@@ -3,20 +3,11 @@
 #include "lumis/envmap.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-struct lumis_envmap {
-    int width, height;
-    float *pixels; /* sanitized, unscaled */
-    float scale;
-    float rotation_deg;
-    double cos_rot, sin_rot;
-    double *row_solid_angle; /* height entries */
-    lumis_replaced replaced;
-};
 
 /* ---- coordinates ------------------------------------------------------------------- */
 
@@ -132,7 +123,8 @@ lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **o
     size_t n = (size_t)desc->width * (size_t)desc->height * 3;
     env->pixels = malloc(n * sizeof(float));
     env->row_solid_angle = malloc((size_t)desc->height * sizeof(double));
-    if (!env->pixels || !env->row_solid_angle) {
+    env->cos_row = malloc(((size_t)desc->height + 1) * sizeof(double));
+    if (!env->pixels || !env->row_solid_angle || !env->cos_row) {
         lumis_envmap_destroy(env);
         return lumis__fail(&desc->errors, LUMIS_ERR_OUT_OF_MEMORY, "envmap: out of memory");
     }
@@ -147,6 +139,10 @@ lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **o
     env->sin_rot = sin(r);
     for (int j = 0; j < env->height; j++)
         env->row_solid_angle[j] = lumis_equirect_solid_angle(env->width, env->height, j);
+    for (int j = 0; j <= env->height; j++) env->cos_row[j] = cos(LUMIS_PI * j / env->height);
+    env->cos_row[0] = 1.0;
+    env->cos_row[env->height] = -1.0;
+    atomic_init(&env->refs, 1);
     *out = env;
     return LUMIS_OK;
 }
@@ -161,9 +157,18 @@ lumis_status lumis_envmap_from_image(const lumis_image *image, lumis_envmap **ou
     return lumis_envmap_create(&d, out);
 }
 
+const lumis_envmap *lumis__envmap_retain(const lumis_envmap *env)
+{
+    atomic_fetch_add_explicit(&((lumis_envmap *)env)->refs, 1, memory_order_relaxed);
+    return env;
+}
+
 void lumis_envmap_destroy(lumis_envmap *env)
 {
     if (!env) return;
+    /* Samplers hold references: the last holder frees. */
+    if (atomic_fetch_sub_explicit(&env->refs, 1, memory_order_acq_rel) != 1) return;
+    free(env->cos_row);
     free(env->pixels);
     free(env->row_solid_angle);
     free(env);

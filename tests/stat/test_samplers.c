@@ -1,0 +1,663 @@
+/* Statistical tests of every environment-map sampler (fixed seeds: deterministic).
+ *
+ * For every method and every synthetic map: the pdf integrates to one, pdf(sample) equals
+ * the pdf returned while sampling, a chi-square goodness-of-fit test of the samples
+ * against the method's own pdf (Bonferroni-corrected p > 0.01), and unbiasedness of the
+ * power estimate.  Exact methods also give a constant weight on a grey map and a pdf that
+ * lines up with eval() pixel for pixel.  Then: the alias table's exactness at 2048 x 1024,
+ * the kd-tree's invariants, the uniform fallback on black maps, and per-pixel chi-square
+ * on the real maps in data/ when they are there. */
+#include "../testutil.h"
+
+#include "core/distrib.h"
+#include "envmap/sampler_internal.h"
+#include "stat.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define PI 3.14159265358979323846
+
+/* ---- maps ---------------------------------------------------------------------------- */
+
+static float f_const(int i, int j, int c)
+{
+    (void)i, (void)j, (void)c;
+    return 0.7f;
+}
+static float f_grad(int i, int j, int c)
+{
+    return 0.1f + 0.05f * (float)i + 0.02f * (float)j * (float)(c + 1);
+}
+static float f_hot(int i, int j, int c)
+{
+    (void)c;
+    return (i == 7 && j == 5) ? 500.0f : 0.0f;
+}
+static float f_checker(int i, int j, int c)
+{
+    (void)c;
+    return ((i / 4 + j / 4) & 1) ? 3.0f : 0.05f;
+}
+static float f_pole(int i, int j, int c)
+{
+    (void)i, (void)c;
+    return j == 0 ? 2.0f : 0.0f;
+}
+static float f_colour(int i, int j, int c)
+{
+    return (float)(1 + (i * 3 + j * 5 + c * 7) % 11);
+}
+
+typedef struct map_case {
+    const char *name;
+    int w, h;
+    float (*f)(int, int, int);
+    float rotation;
+    int sky; /* procedural sky with a sun instead of f */
+} map_case;
+
+static const map_case maps[] = {
+    {"constant", 32, 16, f_const, 0, 0},  {"gradient", 48, 24, f_grad, 0, 0},
+    {"hot pixel", 20, 10, f_hot, 0, 0},   {"sun sky", 64, 32, NULL, 0, 1},
+    {"checker", 32, 16, f_checker, 0, 0}, {"1x1", 1, 1, f_const, 0, 0},
+    {"3x1", 3, 1, f_grad, 0, 0},          {"3x2", 3, 2, f_colour, 0, 0},
+    {"pole", 16, 8, f_pole, 0, 0},        {"rotated colour", 24, 12, f_colour, 33.0f, 0},
+};
+enum { NMAPS = sizeof maps / sizeof maps[0] };
+
+static lumis_envmap *make_map(const map_case *mc)
+{
+    lumis_image *img = NULL;
+    if (mc->sky) {
+        lumis_sky_desc d = {0};
+        d.width = mc->w;
+        d.height = mc->h;
+        d.sun_elevation_deg = 30.0f;
+        d.sun_azimuth_deg = 100.0f;
+        assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
+    } else {
+        img = tu_image(mc->w, mc->h, mc->f);
+    }
+    lumis_envmap_desc d = {0};
+    d.pixels = img->pixels;
+    d.width = img->width;
+    d.height = img->height;
+    d.rotation_deg = mc->rotation;
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
+    lumis_image_destroy(img);
+    return env;
+}
+
+/* ---- configurations ------------------------------------------------------------------ */
+
+typedef struct config {
+    const char *name;
+    lumis_sampler_method method;
+    int uniform_angles, compensate, blocks;
+    int exact; /* realises the importance exactly (constant weight on a grey map) */
+} config;
+
+static const config configs[] = {
+    {"inversion", LUMIS_METHOD_INVERSION, 0, 0, 0, 1},
+    {"inversion-guided", LUMIS_METHOD_INVERSION_GUIDED, 0, 0, 0, 1},
+    {"alias", LUMIS_METHOD_ALIAS, 0, 0, 0, 1},
+    {"kdtree", LUMIS_METHOD_KDTREE, 0, 0, 64, 0},
+    {"kdtree-uniform-angles", LUMIS_METHOD_KDTREE, 1, 0, 64, 0},
+    {"kdtree-exact", LUMIS_METHOD_KDTREE_EXACT, 0, 0, 64, 0},
+    {"hierarchical", LUMIS_METHOD_HIERARCHICAL, 0, 0, 0, 1},
+    {"uniform", LUMIS_METHOD_UNIFORM, 0, 0, 0, 0},
+    {"alias-compensated", LUMIS_METHOD_ALIAS, 0, 1, 0, 0},
+};
+enum { NCONFIGS = sizeof configs / sizeof configs[0] };
+
+static lumis_sampler *make_sampler(const lumis_envmap *env, const config *c)
+{
+    lumis_sampler_desc d = {0};
+    d.method = c->method;
+    d.kdtree_uniform_angles = c->uniform_angles;
+    d.compensate = c->compensate;
+    d.kdtree_blocks = c->blocks;
+    lumis_sampler *s = NULL;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+    return s;
+}
+
+static double exact_power_y(const lumis_envmap *env)
+{
+    lumis_envmap_stats st;
+    assert_int_equal(lumis_envmap_stats_compute(env, &st), LUMIS_OK);
+    return st.power;
+}
+
+/* Direction at the centre (in u and cos theta) of sub-cell (a, b) of r x r in pixel (i, j). */
+static lumis_vec3 cell_dir(const lumis_envmap *env, int i, int j, int r, int a, int b)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    double c0 = cos(PI * j / h), c1 = cos(PI * (j + 1) / h);
+    double c = c0 + (b + 0.5) / r * (c1 - c0);
+    float v = (float)(acos(c) / PI);
+    return lumis_envmap_uv_to_dir(env, (float)((i + (a + 0.5) / r) / w), v);
+}
+
+static double sin_theta(lumis_vec3 d)
+{
+    double xz = sqrt((double)d.x * d.x + (double)d.z * d.z);
+    return xz / sqrt(xz * xz + (double)d.y * d.y);
+}
+
+/* Probability of sub-cell (a, b) of pixel (i, j) under the sampler's pdf, exactly:
+ * the density is constant per pixel in solid angle, or (literal variant) constant per
+ * unit of (phi, theta). */
+static double cell_prob(const lumis_sampler *s, const lumis_envmap *env, int uniform_angles, int i,
+                        int j, int r, int a, int b)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    lumis_vec3 d = cell_dir(env, i, j, r, a, b);
+    double pdf = lumis_sampler_pdf(s, d);
+    double c0 = cos(PI * j / h), c1 = cos(PI * (j + 1) / h);
+    double ca = c0 + (double)b / r * (c1 - c0), cb = c0 + (double)(b + 1) / r * (c1 - c0);
+    double dphi = 2 * PI / w / r;
+    if (uniform_angles) return pdf * sin_theta(d) * dphi * (acos(cb) - acos(ca));
+    return pdf * dphi * (ca - cb);
+}
+
+static int subdivision(int w, int h)
+{
+    return w * h >= 512 ? 1 : (int)ceil(sqrt(512.0 / (w * h)));
+}
+
+/* ---- the per-method, per-map tests -------------------------------------------------- */
+
+static void pdf_integrates_to_one(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        int w = maps[m].w, h = maps[m].h, r = subdivision(w, h);
+        for (int c = 0; c < NCONFIGS; c++) {
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            double total = 0.0;
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++)
+                    for (int b = 0; b < r; b++)
+                        for (int a = 0; a < r; a++)
+                            total += cell_prob(s, env, configs[c].uniform_angles, i, j, r, a, b);
+            if (fabs(total - 1.0) > 1e-4)
+                fail_msg("%s on %s: integral %.9f", configs[c].name, maps[m].name, total);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void pdf_of_sample_matches(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 11, 0);
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        for (int c = 0; c < NCONFIGS; c++) {
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            for (int k = 0; k < 20000; k++) {
+                double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+                if (k == 0) u1 = u2 = 0.0; /* the corners of the unit square */
+                if (k == 1) u1 = u2 = 0x1.fffffffffffffp-1;
+                lumis_env_sample e = lumis_sampler_sample(s, u1, u2);
+                float p = lumis_sampler_pdf(s, e.dir);
+                double len = sqrt((double)e.dir.x * e.dir.x + (double)e.dir.y * e.dir.y +
+                                  (double)e.dir.z * e.dir.z);
+                if (!(e.pdf > 0.0f) || fabs(p - e.pdf) > 1e-6 * e.pdf || fabs(len - 1.0) > 1e-6)
+                    fail_msg("%s on %s, sample %d: pdf %g, pdf(dir) %g, |dir| %g", configs[c].name,
+                             maps[m].name, k, e.pdf, p, len);
+                lumis_rgb L = lumis_envmap_eval(env, e.dir);
+                assert_true(L.r == e.radiance.r && L.g == e.radiance.g && L.b == e.radiance.b);
+            }
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* Chi-square of n samples against the sampler's own pdf; returns the p-value. */
+static double chi2_against_pdf(const lumis_sampler *s, const lumis_envmap *env, int uniform_angles,
+                               int r, int n, uint64_t seed)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    size_t cells = (size_t)w * h * r * r;
+    double *obs = calloc(cells, sizeof(double)), *expct = calloc(cells, sizeof(double));
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, seed, 7);
+    for (int k = 0; k < n; k++) {
+        double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+        lumis_env_sample e = lumis_sampler_sample(s, u1, u2);
+        int i, j;
+        lumis_envmap_dir_to_pixel(env, e.dir, &i, &j);
+        float u, v;
+        lumis_envmap_dir_to_uv(env, e.dir, &u, &v);
+        int a = (int)((u * w - i) * r), b;
+        double y = e.dir.y / sqrt((double)e.dir.x * e.dir.x + (double)e.dir.y * e.dir.y +
+                                  (double)e.dir.z * e.dir.z);
+        double c0 = cos(PI * j / h), c1 = cos(PI * (j + 1) / h);
+        b = (int)((c0 - y) / (c0 - c1) * r);
+        a = a < 0 ? 0 : (a >= r ? r - 1 : a);
+        b = b < 0 ? 0 : (b >= r ? r - 1 : b);
+        obs[(((size_t)j * w + i) * r + b) * r + a] += 1.0;
+    }
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            for (int b = 0; b < r; b++)
+                for (int a = 0; a < r; a++)
+                    expct[(((size_t)j * w + i) * r + b) * r + a] =
+                        n * cell_prob(s, env, uniform_angles, i, j, r, a, b);
+    int dof;
+    double p = stat_chi2_test(obs, expct, cells, &dof);
+    free(obs);
+    free(expct);
+    return p;
+}
+
+static void chi_square_goodness_of_fit(void **state)
+{
+    (void)state;
+    const double alpha = 0.01 / (NMAPS * NCONFIGS); /* Bonferroni */
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        for (int c = 0; c < NCONFIGS; c++) {
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            double p = chi2_against_pdf(s, env, configs[c].uniform_angles,
+                                        subdivision(maps[m].w, maps[m].h), 200000,
+                                        1000u + (uint64_t)(m * NCONFIGS + c));
+            if (!(p > alpha))
+                fail_msg("%s on %s: chi-square p = %g (< %g)", configs[c].name, maps[m].name, p,
+                         alpha);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void power_estimates_are_unbiased(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        double exact_y = exact_power_y(env);
+        lumis_rgb pw = lumis_envmap_power(env);
+        for (int c = 0; c < NCONFIGS; c++) {
+            if (configs[c].compensate) continue; /* compensation is for MIS: biased alone */
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 99, (uint64_t)c);
+            const int n = 50000;
+            double sy = 0, syy = 0, sr = 0, srr = 0;
+            for (int k = 0; k < n; k++) {
+                lumis_env_sample e =
+                    lumis_sampler_sample(s, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                double wy = lumis_luminance(e.radiance) / e.pdf, wr = e.radiance.r / e.pdf;
+                sy += wy;
+                syy += wy * wy;
+                sr += wr;
+                srr += wr * wr;
+            }
+            double my = sy / n, mr = sr / n;
+            double sey = sqrt(fmax(syy / n - my * my, 0.0) / n),
+                   ser = sqrt(fmax(srr / n - mr * mr, 0.0) / n);
+            if (fabs(my - exact_y) > 4 * sey + 1e-5 * exact_y ||
+                fabs(mr - pw.r) > 4 * ser + 1e-5 * pw.r)
+                fail_msg("%s on %s: Y %.6g +- %.2g vs %.6g; R %.6g +- %.2g vs %.6g",
+                         configs[c].name, maps[m].name, my, sey, exact_y, mr, ser, pw.r);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* Exact samplers: radiance / pdf is the same for every sample of a grey map, and on any
+ * map pdf * power == Y of the pixel eval() returns - no half-texel offset anywhere. */
+static void exact_samplers_line_up_with_eval(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        double power = exact_power_y(env);
+        for (int c = 0; c < NCONFIGS; c++) {
+            if (!configs[c].exact) continue;
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 5, 5);
+            for (int k = 0; k < 5000; k++) {
+                lumis_env_sample e =
+                    lumis_sampler_sample(s, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                double y = lumis_luminance(e.radiance);
+                if (fabs(y / e.pdf - power) > 2e-5 * power)
+                    fail_msg("%s on %s: Y/pdf = %.9g, power %.9g", configs[c].name, maps[m].name,
+                             y / e.pdf, power);
+            }
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void weights_are_bounded(void **state)
+{
+    (void)state;
+    /* One lit pixel and a 3x2 map: every exact sampler's weight equals the power; the
+     * others' weights stay finite and positive. */
+    const map_case *cases[] = {&maps[2], &maps[7]};
+    for (int m = 0; m < 2; m++) {
+        lumis_envmap *env = make_map(cases[m]);
+        double power = exact_power_y(env);
+        for (int c = 0; c < NCONFIGS; c++) {
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 3, 3);
+            double wmax = 0.0;
+            for (int k = 0; k < 20000; k++) {
+                lumis_env_sample e =
+                    lumis_sampler_sample(s, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                double wy = lumis_luminance(e.radiance) / e.pdf;
+                assert_true(isfinite(wy) && wy >= 0.0);
+                if (wy > wmax) wmax = wy;
+            }
+            if (configs[c].exact && wmax > power * (1 + 2e-5))
+                fail_msg("%s on %s: max weight %g > power %g", configs[c].name, cases[m]->name,
+                         wmax, power);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* ---- specific properties ------------------------------------------------------------- */
+
+static float f_black(int i, int j, int c)
+{
+    (void)i, (void)j, (void)c;
+    return 0.0f;
+}
+
+static void black_map_falls_back_to_uniform_and_says_so(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(16, 8, f_black);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    for (int m = 1; m < LUMIS_METHOD_UNIFORM; m++) {
+        tu_sink sink;
+        tu_sink_init(&sink);
+        lumis_sampler_desc d = {0};
+        d.method = (lumis_sampler_method)m;
+        d.compensate = m == LUMIS_METHOD_ALIAS;
+        d.errors = sink.sink;
+        lumis_sampler *s = NULL;
+        assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+        assert_true(lumis_sampler_is_uniform_fallback(s));
+        assert_int_equal(sink.count, 1);
+        assert_int_equal(sink.status, LUMIS_OK);
+        assert_non_null(strstr(sink.last, "uniformly"));
+        lumis_env_sample e = lumis_sampler_sample(s, 0.3, 0.6);
+        assert_true(fabsf(e.pdf - (float)(1 / (4 * PI))) < 1e-7f);
+        lumis_sampler_destroy(s);
+    }
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
+static void sampler_keeps_its_map_alive(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(8, 4, f_grad);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    lumis_image_destroy(img);
+    lumis_sampler *s = NULL;
+    assert_int_equal(lumis_sampler_create(env, NULL, &s), LUMIS_OK);
+    assert_int_equal(lumis_sampler_get_method(s), LUMIS_METHOD_INVERSION_GUIDED);
+    lumis_envmap_destroy(env); /* the sampler still holds it (ASan would catch a use) */
+    lumis_env_sample e = lumis_sampler_sample(s, 0.5, 0.5);
+    assert_true(e.pdf > 0.0f && e.radiance.r > 0.0f);
+    lumis_sampler_destroy(s);
+}
+
+static void invalid_descriptors(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(8, 4, f_grad);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    lumis_sampler *s = NULL;
+    lumis_sampler_desc d = {0};
+    d.method = LUMIS_METHOD_COUNT;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_ERR_INVALID_ARGUMENT);
+    d.method = LUMIS_METHOD_KDTREE;
+    d.kdtree_blocks = -1;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sampler_create(NULL, NULL, &s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sampler_create(env, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_sampler_method m;
+    assert_int_equal(lumis_sampler_method_from_name("kdtree-exact", &m), LUMIS_OK);
+    assert_int_equal(m, LUMIS_METHOD_KDTREE_EXACT);
+    assert_int_equal(lumis_sampler_method_from_name("cdf", &m), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_sampler_destroy(NULL);
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
+/* The alias table realises exactly the pmf it stores, at 2^21 entries: every column's
+ * threshold and alias are summed back into probabilities. */
+static void alias_is_exact_at_2048x1024(void **state)
+{
+    (void)state;
+    lumis_sky_desc sd = {0};
+    sd.width = 2048;
+    sd.sun_elevation_deg = 20.0f;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_sky_create(&sd, &img), LUMIS_OK);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    lumis_image_destroy(img);
+    lumis_sampler_desc d = {0};
+    d.method = LUMIS_METHOD_ALIAS;
+    lumis_sampler *s = NULL;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+    const lumis__alias *a = s->data;
+    size_t n = a->n;
+    double *real = calloc(n, sizeof(double)), *imp = NULL, total = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        double keep =
+            a->thresh[k] == 0xffffffffu && a->alias[k] == k ? 4294967296.0 : (double)a->thresh[k];
+        real[k] += keep;
+        real[a->alias[k]] += 4294967296.0 - keep;
+    }
+    assert_int_equal(lumis__importance(env, &d, &imp, &total), LUMIS_OK);
+    double tv = 0.0, worst = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        double p = real[k] / (4294967296.0 * (double)n);
+        double rel = fabs(p - a->pmf[k]) / a->pmf[k];
+        if (rel > worst) worst = rel;
+        tv += 0.5 * fabs(p - imp[k] / total);
+        assert_true(imp[k] == 0.0 || a->pmf[k] > 0.0); /* nothing that shines is lost */
+    }
+    /* Realised == stored to float rounding; stored == importance to 2^-32 quantisation. */
+    if (worst > 1e-7) fail_msg("realised pmf differs from stored by %g (relative)", worst);
+    if (tv > 1e-6) fail_msg("total variation from the importance %g", tv);
+    free(real);
+    free(imp);
+    lumis_sampler_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+/* ---- kd-tree invariants ------------------------------------------------------------- */
+
+static void kdtree_blocks_partition_the_map(void **state)
+{
+    (void)state;
+    static const int counts[] = {1, 2, 7, 64, 300};
+    lumis_envmap *env = make_map(&maps[3]); /* sun sky, 64 x 32 */
+    for (int k = 0; k < 5; k++) {
+        lumis_sampler_desc d = {0};
+        d.method = LUMIS_METHOD_KDTREE;
+        d.kdtree_blocks = counts[k];
+        lumis_sampler *s = NULL;
+        assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+        int n;
+        const uint16_t *b = lumis__kdtree_blocks(s, &n);
+        assert_int_equal(n, counts[k]);
+        assert_int_equal(lumis_sampler_kdtree_blocks(s), n);
+        int cover[64 * 32] = {0};
+        for (int q = 0; q < n; q++)
+            for (int y = b[4 * q + 1]; y < b[4 * q + 3]; y++)
+                for (int x = b[4 * q]; x < b[4 * q + 2]; x++) cover[y * 64 + x]++;
+        for (int p = 0; p < 64 * 32; p++) assert_int_equal(cover[p], 1);
+        lumis_sampler_destroy(s);
+    }
+    lumis_envmap_destroy(env);
+    /* A constant map needs one block, whatever was asked. */
+    env = make_map(&maps[0]);
+    lumis_sampler_desc d = {0};
+    d.method = LUMIS_METHOD_KDTREE;
+    lumis_sampler *s = NULL;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+    assert_int_equal(lumis_sampler_kdtree_blocks(s), 1);
+    lumis_sampler_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+static void kdtree_split_is_the_brute_force_optimum(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 17, 1);
+    for (int trial = 0; trial < 50; trial++) {
+        int w = 2 + (int)lumis_pcg32_bounded(&rng, 12), h = 2 + (int)lumis_pcg32_bounded(&rng, 9);
+        double v[14 * 11], rows[12], om[11];
+        double *sat = calloc((size_t)(w + 1) * (h + 1), sizeof(double));
+        rows[0] = 0;
+        for (int j = 0; j < h; j++) {
+            om[j] = lumis_equirect_solid_angle(w, h, j);
+            rows[j + 1] = rows[j] + om[j];
+        }
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                double y = lumis_pcg32_double(&rng);
+                v[j * w + i] = y * y * y * om[j];
+            }
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++)
+                sat[(j + 1) * (w + 1) + i + 1] = v[j * w + i] + sat[j * (w + 1) + i + 1] +
+                                                 sat[(j + 1) * (w + 1) + i] - sat[j * (w + 1) + i];
+        /* Brute force: every split, sums recomputed pixel by pixel. */
+        double best = -1;
+        int bax = -1, bpos = -1;
+        for (int axis = 0; axis < 2; axis++)
+            for (int pos = 1; pos < (axis ? h : w); pos++) {
+                double ls = 0, rs = 0, lz = 0, rz = 0;
+                for (int j = 0; j < h; j++)
+                    for (int i = 0; i < w; i++) {
+                        int left = axis ? j < pos : i < pos;
+                        if (left) {
+                            ls += v[j * w + i];
+                            lz += om[j];
+                        } else {
+                            rs += v[j * w + i];
+                            rz += om[j];
+                        }
+                    }
+                double g = ls * ls / lz + rs * rs / rz;
+                if (g > best * (1 + 1e-12)) {
+                    best = g;
+                    bax = axis;
+                    bpos = pos;
+                }
+            }
+        int axis, pos;
+        assert_true(lumis__kdtree_best_split(sat, rows, w, 0, 0, w, h, &axis, &pos));
+        if (axis != bax || pos != bpos)
+            fail_msg("trial %d (%dx%d): split %d@%d, brute force %d@%d", trial, w, h, axis, pos,
+                     bax, bpos);
+        free(sat);
+    }
+}
+
+static void kdtree_alpha_minimises_the_objective(void **state)
+{
+    (void)state;
+    /* Sorted probabilities shaped like a real map's: a few bright blocks, a long tail. */
+    enum { N = 500 };
+    double p[N], sum = 0;
+    for (int i = 0; i < N; i++) sum += p[i] = 1.0 / (3.0 + i) + 1e-4 * exp(-i / 50.0);
+    for (int i = 0; i < N; i++) p[i] /= sum;
+    double a = lumis__kdtree_fit_alpha(p, N), e = lumis__kdtree_objective(p, N, a);
+    for (int k = 0; k <= 4000; k++) {
+        double b = exp(log(1e-4) + (log(1e5) - log(1e-4)) * k / 4000.0);
+        if (lumis__kdtree_objective(p, N, b) < e * (1 - 1e-9))
+            fail_msg("objective(%g) = %.12g < objective(fitted %g) = %.12g", b,
+                     lumis__kdtree_objective(p, N, b), a, e);
+    }
+    /* Data drawn from the model itself: the fit finds its alpha. */
+    double q[N], span = log1p(N / 7.5);
+    for (int i = 0; i < N; i++) q[i] = log1p(1.0 / (7.5 + i)) / span;
+    double fit = lumis__kdtree_fit_alpha(q, N);
+    if (fabs(fit - 7.5) > 1e-4 * 7.5) fail_msg("model data alpha 7.5, fitted %g", fit);
+}
+
+/* ---- real maps ---------------------------------------------------------------------- */
+
+static void real_maps_per_pixel_chi_square(void **state)
+{
+    (void)state;
+    const char *files[] = {"pmndrs-studio.exr", "pmndrs-sunrise.exr", "pmndrs-venice.exr"};
+    char path[1024];
+    snprintf(path, sizeof path, "%s/hdri/%s", LUMIS_DATA_DIR, files[0]);
+    if (access(path, R_OK) != 0) {
+        print_message("data/ not fetched: skipping the real maps\n");
+        skip();
+    }
+    const double alpha = 0.01 / (3 * NCONFIGS);
+    for (int f = 0; f < 3; f++) {
+        snprintf(path, sizeof path, "%s/hdri/%s", LUMIS_DATA_DIR, files[f]);
+        lumis_image *img = NULL;
+        assert_int_equal(lumis_image_read(path, NULL, &img, NULL), LUMIS_OK);
+        lumis_envmap *env = NULL;
+        assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+        lumis_image_destroy(img);
+        for (int c = 0; c < NCONFIGS; c++) {
+            config cfg = configs[c];
+            cfg.blocks = 0; /* the default 6144 blocks */
+            lumis_sampler *s = make_sampler(env, &cfg);
+            double p = chi2_against_pdf(s, env, cfg.uniform_angles, 1, 1000000, 77u + (uint64_t)c);
+            if (!(p > alpha))
+                fail_msg("%s on %s: per-pixel chi-square p = %g", cfg.name, files[f], p);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(pdf_integrates_to_one),
+        cmocka_unit_test(pdf_of_sample_matches),
+        cmocka_unit_test(chi_square_goodness_of_fit),
+        cmocka_unit_test(power_estimates_are_unbiased),
+        cmocka_unit_test(exact_samplers_line_up_with_eval),
+        cmocka_unit_test(weights_are_bounded),
+        cmocka_unit_test(black_map_falls_back_to_uniform_and_says_so),
+        cmocka_unit_test(sampler_keeps_its_map_alive),
+        cmocka_unit_test(invalid_descriptors),
+        cmocka_unit_test(alias_is_exact_at_2048x1024),
+        cmocka_unit_test(kdtree_blocks_partition_the_map),
+        cmocka_unit_test(kdtree_split_is_the_brute_force_optimum),
+        cmocka_unit_test(kdtree_alpha_minimises_the_objective),
+        cmocka_unit_test(real_maps_per_pixel_chi_square),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
