@@ -170,8 +170,9 @@ void lumis_sampler_destroy(lumis_sampler *s)
 /* ---- sampling ------------------------------------------------------------------------ */
 
 /* Point (s, t) of the rectangle -> map-frame direction, uniform in solid angle (or in
- * angles), in double precision. */
-static void warp(const lumis_sampler *smp, const lumis__pick *p, double s, double t, double d[3])
+ * angles), in double precision; *cos_theta and *theta_or_nan report where it went. */
+static void warp(const lumis_sampler *smp, const lumis__pick *p, double s, double t, double d[3],
+                 double *cos_theta)
 {
     const lumis_envmap *env = smp->env;
     double phi = 2.0 * LUMIS_PI * (p->x0 + s * (p->x1 - p->x0)) / env->width;
@@ -187,6 +188,7 @@ static void warp(const lumis_sampler *smp, const lumis__pick *p, double s, doubl
     d[0] = st * cos(phi);
     d[1] = c;
     d[2] = st * sin(phi);
+    *cos_theta = c;
 }
 
 /* sin(theta) of a world direction, as both sample() and pdf() compute it. */
@@ -202,6 +204,34 @@ static float final_pdf(const lumis_sampler *s, double density, lumis_vec3 dir)
     return (float)density;
 }
 
+/* Rounding a direction to float moves it by about 1e-7 radians; a point at least this
+ * far (in radians, or in cos theta, which changes no faster) from every edge of its pixel
+ * is certain to look up that pixel again. */
+#define EDGE_MARGIN 1e-6
+
+/* The pixel holding the warped point, and whether it is clear of that pixel's edges. */
+static int locate(const lumis_sampler *smp, const lumis__pick *p, double s, double c, int *pi,
+                  int *pj)
+{
+    const lumis_envmap *env = smp->env;
+    double x = s * (p->x1 - p->x0);
+    int i = (int)x;
+    if (i >= p->x1 - p->x0) i = p->x1 - p->x0 - 1;
+    double fx = x - i;
+    *pi = p->x0 + i;
+    /* The row: cos theta decreases down the rows; binary search within the rectangle. */
+    int lo = p->y0, hi = p->y1 - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (env->cos_row[mid] >= c) lo = mid;
+        else hi = mid - 1;
+    }
+    *pj = lo;
+    double dphi = 2.0 * LUMIS_PI / env->width * fmin(fx, 1.0 - fx);
+    double dcos = fmin(env->cos_row[lo] - c, c - env->cos_row[lo + 1]);
+    return dphi >= EDGE_MARGIN && dcos >= EDGE_MARGIN;
+}
+
 lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)
 {
     const lumis_envmap *env = s->env;
@@ -209,16 +239,18 @@ lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double 
     s->m->pick(s, u1, u2, &p);
     lumis_env_sample r;
     int pi = 0, pj = 0;
-    /* The rounded direction may fall a hair outside the rectangle (about one sample in
-     * 10^4 lands within float precision of an edge); then pull the point inwards, so that
-     * the direction, its pdf and its radiance always belong to the same pixel. */
     double s0 = p.s, t0 = p.t;
     for (int attempt = 0;; attempt++) {
-        double m[3];
-        warp(s, &p, s0, t0, m);
+        double m[3], c;
+        warp(s, &p, s0, t0, m, &c);
+        int clear = locate(s, &p, s0, c, &pi, &pj);
         r.dir.x = (float)(env->cos_rot * m[0] - env->sin_rot * m[2]);
         r.dir.y = (float)m[1];
         r.dir.z = (float)(env->sin_rot * m[0] + env->cos_rot * m[2]);
+        if (clear) break;
+        /* Within rounding distance of an edge (about one sample in 10^3): look the
+         * rounded direction up as pdf() will, and if it left the rectangle pull the point
+         * inwards, so that direction, pdf and radiance always belong together. */
         lumis_envmap_dir_to_pixel(env, r.dir, &pi, &pj);
         if ((pi >= p.x0 && pi < p.x1 && pj >= p.y0 && pj < p.y1) || attempt == 3) break;
         s0 = attempt < 2 ? 0.5 + (s0 - 0.5) * 0.999 : 0.5;

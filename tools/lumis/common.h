@@ -57,6 +57,20 @@ int cmd_convert(int argc, char **argv);
 int cmd_sky(int argc, char **argv);
 int cmd_studio(int argc, char **argv);
 int cmd_demo(int argc, char **argv);
+int cmd_sample(int argc, char **argv);
+int cmd_pdf(int argc, char **argv);
+int cmd_bench_samplers(int argc, char **argv);
+
+/* Parses one sampler option (--method, --blocks, --kdtree-uniform-angles, --compensate,
+ * --importance, --rotate) into d; returns -1 if argv[*i] is none of them, else an exit
+ * code (0 == parsed). */
+int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sampler_desc *d,
+                        float *rotation);
+
+/* Loads a map (file or procedural spec), builds its envmap (rotated) and a sampler;
+ * prints errors itself. */
+lumis_status tool_make_sampler(const char *spec, float rotation, const lumis_sampler_desc *desc,
+                               lumis_envmap **env, lumis_sampler **sampler);
 
 /* Writes the info report of a map (as `lumis info` prints it) to f. */
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,

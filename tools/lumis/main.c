@@ -9,6 +9,9 @@ static const tool_command commands[] = {
     {"convert", "convert between EXR, HDR, PFM and PNG; expose, tone map, resize", cmd_convert},
     {"sky", "write a procedural clear sky (Preetham et al. 1999) with a sun", cmd_sky},
     {"studio", "write a procedural studio map (dark surround, soft boxes)", cmd_studio},
+    {"sample", "draw directions from a map with a sampler: 'x y z pdf r g b' lines", cmd_sample},
+    {"pdf", "densities of directions read from stdin: 'pdf r g b' lines", cmd_pdf},
+    {"bench-samplers", "build time, memory, speed and quality of every sampler", cmd_bench_samplers},
     {"demo", "write the default sky as EXR and PNG into demo/ and print its info", cmd_demo},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
@@ -21,7 +24,7 @@ static void print_help(FILE *f)
             "commands:\n",
             lumis_version());
     for (int i = 0; i < NCOMMANDS; i++)
-        fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
+        fprintf(f, "  %-15s %s\n", commands[i].name, commands[i].summary);
     fprintf(f, "\nmaps: an image file (.exr, .hdr, .pfm) or a procedural spec sky[:WxH] or\n"
                "studio[:WxH].  Exit status: 0 success, 1 runtime error, 2 usage error.\n");
 }

@@ -1,0 +1,295 @@
+/* lumis bench-samplers MAP... [--json]: for each map and method, build time, table bytes,
+ * compression against inversion, samples per second on one core (scalar and batched,
+ * medians of several runs), and the relative standard error at 64 samples of the
+ * irradiance E(n) = integral of Y(w) max(0, n.w) dw averaged over 16 fixed normals,
+ * computed by quadrature over the pixels (Var = int f^2/p - E^2), not by sampling. */
+#include "common.h"
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char usage[] =
+    "usage: lumis bench-samplers MAP... [options]\n\n"
+    "MAP: an image file or sky:WxH / studio:WxH (any size, e.g. sky:8192x4096).\n"
+    "For every map and method: build time (median of --runs builds), table bytes and\n"
+    "compression against inversion's tables, samples per second on one core for the\n"
+    "scalar sample() loop and for sample_n() (medians of --runs runs of --samples), and\n"
+    "rel_stderr_64: the standard deviation of a 64-sample estimate of the irradiance\n"
+    "E(n) = int Y(w) max(0, n.w) dw over its value, averaged over 16 normals, computed\n"
+    "exactly by summing f^2/p and f over every pixel (at its centre), not by sampling.\n\n"
+    "options:\n"
+    "  --json          print a JSON array of objects (map, method, build_ms, bytes,\n"
+    "                  total_bytes, compression_vs_inversion, samples_per_second,\n"
+    "                  batch_samples_per_second, rel_stderr_64, blocks, alpha)\n"
+    "  --methods LIST  comma-separated (default: all seven)\n"
+    "  --samples N     samples per timing run (default 1000000)\n"
+    "  --runs R        timing runs and builds; medians are reported (default 5)\n"
+    "  --blocks K      kd-tree blocks (default 6144)\n";
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof(double), cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+enum { NNORMALS = 16, SPP = 64 };
+
+/* The quadrature both the reference and the variance use: every pixel at its centre
+ * (the pdfs are constant per pixel, so only the cosine is approximated). */
+typedef struct quad {
+    int n;
+    lumis_vec3 *dir;
+    double *yw; /* Y * Omega */
+    double *om; /* Omega */
+} quad;
+
+static void quad_free(quad *q)
+{
+    free(q->dir);
+    free(q->yw);
+    free(q->om);
+}
+
+static int quad_build(const lumis_envmap *env, quad *q)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    q->n = 0;
+    q->dir = malloc(sizeof(lumis_vec3) * (size_t)w * (size_t)h);
+    q->yw = malloc(sizeof(double) * (size_t)w * (size_t)h);
+    q->om = malloc(sizeof(double) * (size_t)w * (size_t)h);
+    if (!q->dir || !q->yw || !q->om) return 0;
+    for (int j = 0; j < h; j++) {
+        double c0 = cos(3.14159265358979 * j / h), c1 = cos(3.14159265358979 * (j + 1) / h);
+        float v = (float)(acos(0.5 * (c0 + c1)) / 3.14159265358979);
+        double om = lumis_envmap_pixel_solid_angle(env, j);
+        for (int i = 0; i < w; i++) {
+            double y = lumis_luminance(lumis_envmap_texel(env, i, j));
+            if (y == 0.0) continue;
+            q->dir[q->n] = lumis_envmap_uv_to_dir(env, (float)((i + 0.5) / w), v);
+            q->om[q->n] = om;
+            q->yw[q->n++] = y * om;
+        }
+    }
+    return 1;
+}
+
+static void fibonacci_normals(lumis_vec3 *normals)
+{
+    for (int k = 0; k < NNORMALS; k++) {
+        double z = 1.0 - (2.0 * k + 1.0) / NNORMALS, r = sqrt(1.0 - z * z), phi = k * 2.399963229728653;
+        normals[k] = (lumis_vec3){(float)(r * cos(phi)), (float)z, (float)(r * sin(phi))};
+    }
+}
+
+/* Relative standard error of the 64-sample estimator of E(n), exactly (no sampling):
+ * Var = int f^2 / p dw - E^2 with f = Y max(0, n.w), by the quadrature above.  Rare
+ * events (a uniform sampler hitting a sun) count with their true weight. */
+static double rel_stderr_64(const lumis_sampler *s, const quad *q, const lumis_vec3 *normals)
+{
+    double E[NNORMALS] = {0}, M2[NNORMALS] = {0};
+    for (int p = 0; p < q->n; p++) {
+        double pdf = lumis_sampler_pdf(s, q->dir[p]);
+        for (int k = 0; k < NNORMALS; k++) {
+            double c = q->dir[p].x * normals[k].x + q->dir[p].y * normals[k].y + q->dir[p].z * normals[k].z;
+            if (c <= 0.0) continue;
+            double fw = q->yw[p] * c; /* f Omega */
+            E[k] += fw;
+            if (pdf > 0.0) M2[k] += fw * fw / (pdf * q->om[p]);
+            else M2[k] = INFINITY; /* light the sampler can never reach: biased */
+        }
+    }
+    double acc = 0.0;
+    int used = 0;
+    for (int k = 0; k < NNORMALS; k++) {
+        if (!(E[k] > 0.0)) continue;
+        acc += sqrt(fmax(M2[k] - E[k] * E[k], 0.0) / SPP) / E[k];
+        used++;
+    }
+    return used ? acc / used : 0.0;
+}
+
+typedef struct result {
+    double build_ms, sps, batch_sps, rse;
+    size_t bytes, total_bytes;
+    int blocks;
+    double alpha;
+} result;
+
+static int bench_one(const lumis_envmap *env, lumis_sampler_desc d, int runs, long nsamples,
+                     const double *u, lumis_env_sample *out, const quad *q,
+                     const lumis_vec3 *normals, result *r)
+{
+    double *t = malloc(sizeof(double) * (size_t)runs);
+    lumis_sampler *s = NULL;
+    for (int k = 0; k < runs; k++) {
+        lumis_sampler_destroy(s);
+        s = NULL;
+        d.errors = tool_errors;
+        if (lumis_sampler_create(env, &d, &s) != LUMIS_OK) {
+            free(t);
+            return EXIT_RUNTIME;
+        }
+        t[k] = lumis_sampler_build_ms(s);
+    }
+    r->build_ms = median(t, runs);
+    r->bytes = lumis_sampler_table_bytes(s);
+    r->total_bytes = lumis_sampler_total_bytes(s);
+    r->blocks = lumis_sampler_kdtree_blocks(s);
+    r->alpha = lumis_sampler_kdtree_alpha(s);
+    volatile float sink = 0.0f;
+    for (int k = 0; k < runs; k++) {
+        double t0 = now_s();
+        float acc = 0.0f;
+        for (long q = 0; q < nsamples; q++) acc += lumis_sampler_sample(s, u[2 * q], u[2 * q + 1]).pdf;
+        t[k] = (double)nsamples / (now_s() - t0);
+        sink += acc;
+    }
+    r->sps = median(t, runs);
+    for (int k = 0; k < runs; k++) {
+        double t0 = now_s();
+        lumis_sampler_sample_n(s, u, (size_t)nsamples, out);
+        t[k] = (double)nsamples / (now_s() - t0);
+        sink += out[nsamples - 1].pdf;
+    }
+    (void)sink;
+    r->batch_sps = median(t, runs);
+    r->rse = rel_stderr_64(s, q, normals);
+    lumis_sampler_destroy(s);
+    free(t);
+    return EXIT_OK;
+}
+
+int cmd_bench_samplers(int argc, char **argv)
+{
+    const char *maps[64], *v;
+    int nmaps = 0, json = 0, runs = 5, blocks = 0;
+    long nsamples = 1000000;
+    lumis_sampler_method methods[LUMIS_METHOD_COUNT];
+    int nmethods = 0;
+    for (int i = 1; i < argc; i++) {
+        long x;
+        if (tool_is_help(argv[i])) {
+            fputs(usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = 1;
+        } else if (tool_option(argc, argv, &i, "--samples", &v)) {
+            if (!tool_parse_int(v, 1, 100000000L, &nsamples))
+                return tool_usage_error("bench-samplers", "--samples needs a count in [1, 10^8]");
+        } else if (tool_option(argc, argv, &i, "--runs", &v)) {
+            if (!tool_parse_int(v, 1, 101, &x)) return tool_usage_error("bench-samplers", "--runs needs 1..101");
+            runs = (int)x;
+        } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
+            if (!tool_parse_int(v, 1, 1 << 24, &x)) return tool_usage_error("bench-samplers", "--blocks needs a count");
+            blocks = (int)x;
+        } else if (tool_option(argc, argv, &i, "--methods", &v)) {
+            char buf[256];
+            snprintf(buf, sizeof buf, "%s", v ? v : "");
+            for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+                if (nmethods == LUMIS_METHOD_COUNT ||
+                    lumis_sampler_method_from_name(tok, &methods[nmethods]) != LUMIS_OK)
+                    return tool_usage_error("bench-samplers", "unknown method '%s' in --methods", tok);
+                nmethods++;
+            }
+            if (!nmethods) return tool_usage_error("bench-samplers", "--methods needs a list");
+        } else if (argv[i][0] == '-' && argv[i][1]) {
+            return tool_usage_error("bench-samplers", "unknown option '%s'", argv[i]);
+        } else if (nmaps < 64) {
+            maps[nmaps++] = argv[i];
+        }
+    }
+    if (!nmaps) return tool_usage_error("bench-samplers", "no map given");
+    if (!nmethods)
+        for (int m = LUMIS_METHOD_INVERSION; m < LUMIS_METHOD_COUNT; m++) methods[nmethods++] = (lumis_sampler_method)m;
+
+    double *u = malloc(sizeof(double) * 2 * (size_t)nsamples);
+    lumis_env_sample *out = malloc(sizeof(lumis_env_sample) * (size_t)nsamples);
+    if (!u || !out) return tool_runtime_error("out of memory for %ld samples", nsamples);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 7, 7);
+    for (long q = 0; q < 2 * nsamples; q++) u[q] = lumis_pcg32_double(&rng);
+
+    cJSON *arr = json ? cJSON_CreateArray() : NULL;
+    if (!json)
+        printf("%-22s %-17s %9s %11s %8s %12s %12s %9s\n", "map", "method", "build_ms", "bytes",
+               "compress", "samples/s", "batch/s", "rse@64");
+    int rc = EXIT_OK;
+    for (int mi = 0; mi < nmaps && rc == EXIT_OK; mi++) {
+        lumis_image *img = NULL;
+        if (tool_load_image(maps[mi], &img, NULL) != LUMIS_OK) {
+            rc = EXIT_RUNTIME;
+            break;
+        }
+        lumis_envmap *env = NULL;
+        lumis_envmap_from_image(img, &env);
+        lumis_image_destroy(img);
+        lumis_vec3 normals[NNORMALS];
+        fibonacci_normals(normals);
+        quad q;
+        if (!quad_build(env, &q)) {
+            quad_free(&q);
+            lumis_envmap_destroy(env);
+            rc = tool_runtime_error("out of memory");
+            break;
+        }
+        /* Inversion's tables: the yardstick of the paper's compression ratio. */
+        size_t inv_bytes = 4 * ((size_t)lumis_envmap_width(env) * (size_t)lumis_envmap_height(env) +
+                                (size_t)lumis_envmap_height(env));
+        for (int k = 0; k < nmethods && rc == EXIT_OK; k++) {
+            lumis_sampler_desc d = {0};
+            d.method = methods[k];
+            d.kdtree_blocks = blocks;
+            result r;
+            rc = bench_one(env, d, runs, nsamples, u, out, &q, normals, &r);
+            if (rc != EXIT_OK) break;
+            double comp = (double)inv_bytes / (double)(r.bytes ? r.bytes : 1);
+            const char *name = lumis_sampler_method_name(methods[k]);
+            if (json) {
+                cJSON *o = cJSON_CreateObject();
+                cJSON_AddStringToObject(o, "map", maps[mi]);
+                cJSON_AddStringToObject(o, "method", name);
+                cJSON_AddNumberToObject(o, "build_ms", r.build_ms);
+                cJSON_AddNumberToObject(o, "bytes", (double)r.bytes);
+                cJSON_AddNumberToObject(o, "total_bytes", (double)r.total_bytes);
+                cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
+                cJSON_AddNumberToObject(o, "samples_per_second", r.sps);
+                cJSON_AddNumberToObject(o, "batch_samples_per_second", r.batch_sps);
+                cJSON_AddNumberToObject(o, "rel_stderr_64", r.rse);
+                cJSON_AddNumberToObject(o, "blocks", r.blocks);
+                cJSON_AddNumberToObject(o, "alpha", r.alpha);
+                cJSON_AddItemToArray(arr, o);
+            } else {
+                printf("%-22s %-17s %9.2f %11zu %8.1f %12.4g %12.4g %9.4f\n", maps[mi], name,
+                       r.build_ms, r.bytes, comp, r.sps, r.batch_sps, r.rse);
+                fflush(stdout);
+            }
+        }
+        quad_free(&q);
+        lumis_envmap_destroy(env);
+    }
+    if (json && rc == EXIT_OK) {
+        char *text = cJSON_Print(arr);
+        if (text) printf("%s\n", text);
+        cJSON_free(text);
+    }
+    cJSON_Delete(arr);
+    free(u);
+    free(out);
+    return rc;
+}
