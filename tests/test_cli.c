@@ -15,6 +15,14 @@ static int run(const char *args, char **out, char **err)
     return tu_run(cmd, out, err);
 }
 
+/* lumis ARGS with stdin from a file (tu_run itself gives commands /dev/null). */
+static int run_stdin(const char *args, const char *input, char **out, char **err)
+{
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "(cat '%s' | '%s' %s)", input, LUMIS_CLI, args);
+    return tu_run(cmd, out, err);
+}
+
 static void expect(const char *args, int code, const char *in_stderr)
 {
     char *out = NULL, *err = NULL;
@@ -36,8 +44,9 @@ static void help_version_and_usage_errors(void **state)
     assert_int_equal(run("--help", &out, NULL), 0);
     assert_non_null(strstr(out, "info"));
     free(out);
-    const char *cmds[] = {"info", "convert", "sky", "studio", "demo"};
-    for (int k = 0; k < 5; k++) {
+    const char *cmds[] = {"info", "convert", "sky", "studio",
+                          "demo", "sample",  "pdf", "bench-samplers"};
+    for (int k = 0; k < 8; k++) {
         char a[64];
         snprintf(a, sizeof a, "%s --help", cmds[k]);
         assert_int_equal(run(a, &out, NULL), 0);
@@ -165,6 +174,79 @@ static void demo_writes_the_sky_and_its_info(void **state)
     cJSON_Delete(o);
 }
 
+static void sample_and_pdf_agree_and_are_reproducible(void **state)
+{
+    (void)state;
+    const char *methods[] = {"inversion",    "inversion-guided", "alias",  "kdtree",
+                             "kdtree-exact", "hierarchical",     "uniform"};
+    for (int m = 0; m < 7; m++) {
+        char a[1024], *out = NULL, *out2 = NULL;
+        snprintf(a, sizeof a, "sample sky:64x32 --method %s -n 200 --seed 3 --blocks 50",
+                 methods[m]);
+        assert_int_equal(run(a, &out, NULL), 0);
+        assert_int_equal(run(a, &out2, NULL), 0);
+        assert_string_equal(out, out2); /* same seed, same samples */
+        free(out2);
+        /* Feed the directions back through 'lumis pdf'. */
+        FILE *f = fopen(tu_path("dirs.txt"), "w");
+        double pdfs[200];
+        int lines = 0;
+        for (char *line = strtok(out, "\n"); line; line = strtok(NULL, "\n")) {
+            double x, y, z, p, r, g, b;
+            assert_int_equal(
+                sscanf(line, "%lf %lf %lf %lf %lf %lf %lf", &x, &y, &z, &p, &r, &g, &b), 7);
+            assert_true(fabs(x * x + y * y + z * z - 1.0) < 1e-5 && p > 0.0);
+            fprintf(f, "%.9g %.9g %.9g\n", x, y, z);
+            pdfs[lines++] = p;
+        }
+        fclose(f);
+        free(out);
+        assert_int_equal(lines, 200);
+        snprintf(a, sizeof a, "pdf sky:64x32 --method %s --blocks 50", methods[m]);
+        assert_int_equal(run_stdin(a, tu_path("dirs.txt"), &out, NULL), 0);
+        int k = 0;
+        for (char *line = strtok(out, "\n"); line; line = strtok(NULL, "\n"), k++) {
+            double p, r, g, b;
+            assert_int_equal(sscanf(line, "%lf %lf %lf %lf", &p, &r, &g, &b), 4);
+            if (fabs(p - pdfs[k]) > 1e-6 * pdfs[k])
+                fail_msg("%s line %d: pdf %g vs sampled %g", methods[m], k, p, pdfs[k]);
+        }
+        assert_int_equal(k, 200);
+        free(out);
+    }
+    expect("sample sky:8x4 --method kdtree", 2, "-n N is required");
+    expect("sample sky:8x4 --method cdf -n 3", 2, "--method must be one of");
+    expect("pdf", 2, "no map given");
+    tu_write_file(tu_path("bad.txt"), "1 2\n", 4);
+    char *err = NULL;
+    assert_int_equal(run_stdin("pdf sky:8x4", tu_path("bad.txt"), NULL, &err), 1);
+    assert_non_null(strstr(err, "stdin line 1: expected 'x y z'"));
+    free(err);
+}
+
+static void bench_samplers_reports_every_method(void **state)
+{
+    (void)state;
+    char *out = NULL;
+    assert_int_equal(
+        run("bench-samplers studio:64x32 --json --samples 2000 --runs 1 --blocks 40", &out, NULL),
+        0);
+    cJSON *arr = cJSON_Parse(out);
+    free(out);
+    assert_true(cJSON_IsArray(arr));
+    assert_int_equal(cJSON_GetArraySize(arr), 7);
+    const cJSON *o;
+    cJSON_ArrayForEach(o, arr)
+    {
+        const char *keys[] = {"build_ms", "bytes", "compression_vs_inversion", "samples_per_second",
+                              "rel_stderr_64"};
+        for (int k = 0; k < 5; k++) (void)num(o, keys[k]);
+        assert_true(cJSON_IsString(cJSON_GetObjectItemCaseSensitive(o, "method")));
+        assert_true(num(o, "samples_per_second") > 0.0);
+    }
+    cJSON_Delete(arr);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -173,6 +255,8 @@ int main(void)
         cmocka_unit_test(info_json_has_the_documented_keys),
         cmocka_unit_test(convert_resize_preserves_power_and_writes_every_format),
         cmocka_unit_test(demo_writes_the_sky_and_its_info),
+        cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),
+        cmocka_unit_test(bench_samplers_reports_every_method),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -223,8 +223,10 @@ static int locate(const lumis_sampler *smp, const lumis__pick *p, double s, doub
     int lo = p->y0, hi = p->y1 - 1;
     while (lo < hi) {
         int mid = (lo + hi + 1) / 2;
-        if (env->cos_row[mid] >= c) lo = mid;
-        else hi = mid - 1;
+        if (env->cos_row[mid] >= c)
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     *pj = lo;
     double dphi = 2.0 * LUMIS_PI / env->width * fmin(fx, 1.0 - fx);
@@ -232,39 +234,73 @@ static int locate(const lumis_sampler *smp, const lumis__pick *p, double s, doub
     return dphi >= EDGE_MARGIN && dcos >= EDGE_MARGIN;
 }
 
-lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)
+/* Direction of a picked point and the pixel it lies in (pixel index into *pixel). */
+static void place(const lumis_sampler *s, const lumis__pick *p, lumis_vec3 *dir, size_t *pixel)
 {
     const lumis_envmap *env = s->env;
-    lumis__pick p;
-    s->m->pick(s, u1, u2, &p);
-    lumis_env_sample r;
     int pi = 0, pj = 0;
-    double s0 = p.s, t0 = p.t;
+    double s0 = p->s, t0 = p->t;
     for (int attempt = 0;; attempt++) {
         double m[3], c;
-        warp(s, &p, s0, t0, m, &c);
-        int clear = locate(s, &p, s0, c, &pi, &pj);
-        r.dir.x = (float)(env->cos_rot * m[0] - env->sin_rot * m[2]);
-        r.dir.y = (float)m[1];
-        r.dir.z = (float)(env->sin_rot * m[0] + env->cos_rot * m[2]);
+        warp(s, p, s0, t0, m, &c);
+        int clear = locate(s, p, s0, c, &pi, &pj);
+        dir->x = (float)(env->cos_rot * m[0] - env->sin_rot * m[2]);
+        dir->y = (float)m[1];
+        dir->z = (float)(env->sin_rot * m[0] + env->cos_rot * m[2]);
         if (clear) break;
         /* Within rounding distance of an edge (about one sample in 10^3): look the
          * rounded direction up as pdf() will, and if it left the rectangle pull the point
          * inwards, so that direction, pdf and radiance always belong together. */
-        lumis_envmap_dir_to_pixel(env, r.dir, &pi, &pj);
-        if ((pi >= p.x0 && pi < p.x1 && pj >= p.y0 && pj < p.y1) || attempt == 3) break;
+        lumis_envmap_dir_to_pixel(env, *dir, &pi, &pj);
+        if ((pi >= p->x0 && pi < p->x1 && pj >= p->y0 && pj < p->y1) || attempt == 3) break;
         s0 = attempt < 2 ? 0.5 + (s0 - 0.5) * 0.999 : 0.5;
         t0 = attempt < 2 ? 0.5 + (t0 - 0.5) * 0.999 : 0.5;
     }
+    *pixel = (size_t)pj * (size_t)env->width + (size_t)pi;
+}
+
+static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
+{
+    const float *q = env->pixels + 3 * pixel;
+    lumis_rgb c = {q[0] * env->scale, q[1] * env->scale, q[2] * env->scale};
+    return c;
+}
+
+lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)
+{
+    lumis__pick p;
+    s->m->pick(s, u1, u2, &p);
+    lumis_env_sample r;
+    size_t pixel;
+    place(s, &p, &r.dir, &pixel);
     r.pdf = final_pdf(s, p.density, r.dir);
-    r.radiance = lumis_envmap_texel(env, pi, pj);
+    r.radiance = radiance(s->env, pixel);
     return r;
 }
 
+/* In batches: all picks first (their table lookups overlap), then all directions, with
+ * each radiance prefetched, then the radiance - so the cache misses of a batch overlap
+ * instead of following one another.  The results are identical to sample()'s. */
 void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
                             lumis_env_sample *out)
 {
-    for (size_t k = 0; k < n; k++) out[k] = lumis_sampler_sample(s, u[2 * k], u[2 * k + 1]);
+    enum { BATCH = 32 };
+    lumis__pick p[BATCH];
+    size_t pixel[BATCH];
+    for (size_t k0 = 0; k0 < n; k0 += BATCH) {
+        size_t m = n - k0 < BATCH ? n - k0 : BATCH;
+        for (size_t k = 0; k < m; k++) s->m->pick(s, u[2 * (k0 + k)], u[2 * (k0 + k) + 1], &p[k]);
+        for (size_t k = 0; k < m; k++) {
+            place(s, &p[k], &out[k0 + k].dir, &pixel[k]);
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(s->env->pixels + 3 * pixel[k]);
+#endif
+        }
+        for (size_t k = 0; k < m; k++) {
+            out[k0 + k].pdf = final_pdf(s, p[k].density, out[k0 + k].dir);
+            out[k0 + k].radiance = radiance(s->env, pixel[k]);
+        }
+    }
 }
 
 float lumis_sampler_pdf(const lumis_sampler *s, lumis_vec3 dir)

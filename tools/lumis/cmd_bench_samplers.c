@@ -92,7 +92,8 @@ static int quad_build(const lumis_envmap *env, quad *q)
 static void fibonacci_normals(lumis_vec3 *normals)
 {
     for (int k = 0; k < NNORMALS; k++) {
-        double z = 1.0 - (2.0 * k + 1.0) / NNORMALS, r = sqrt(1.0 - z * z), phi = k * 2.399963229728653;
+        double z = 1.0 - (2.0 * k + 1.0) / NNORMALS, r = sqrt(1.0 - z * z),
+               phi = k * 2.399963229728653;
         normals[k] = (lumis_vec3){(float)(r * cos(phi)), (float)z, (float)(r * sin(phi))};
     }
 }
@@ -106,12 +107,15 @@ static double rel_stderr_64(const lumis_sampler *s, const quad *q, const lumis_v
     for (int p = 0; p < q->n; p++) {
         double pdf = lumis_sampler_pdf(s, q->dir[p]);
         for (int k = 0; k < NNORMALS; k++) {
-            double c = q->dir[p].x * normals[k].x + q->dir[p].y * normals[k].y + q->dir[p].z * normals[k].z;
+            double c = q->dir[p].x * normals[k].x + q->dir[p].y * normals[k].y +
+                       q->dir[p].z * normals[k].z;
             if (c <= 0.0) continue;
             double fw = q->yw[p] * c; /* f Omega */
             E[k] += fw;
-            if (pdf > 0.0) M2[k] += fw * fw / (pdf * q->om[p]);
-            else M2[k] = INFINITY; /* light the sampler can never reach: biased */
+            if (pdf > 0.0)
+                M2[k] += fw * fw / (pdf * q->om[p]);
+            else
+                M2[k] = INFINITY; /* light the sampler can never reach: biased */
         }
     }
     double acc = 0.0;
@@ -156,7 +160,8 @@ static int bench_one(const lumis_envmap *env, lumis_sampler_desc d, int runs, lo
     for (int k = 0; k < runs; k++) {
         double t0 = now_s();
         float acc = 0.0f;
-        for (long q = 0; q < nsamples; q++) acc += lumis_sampler_sample(s, u[2 * q], u[2 * q + 1]).pdf;
+        for (long q = 0; q < nsamples; q++)
+            acc += lumis_sampler_sample(s, u[2 * q], u[2 * q + 1]).pdf;
         t[k] = (double)nsamples / (now_s() - t0);
         sink += acc;
     }
@@ -193,10 +198,12 @@ int cmd_bench_samplers(int argc, char **argv)
             if (!tool_parse_int(v, 1, 100000000L, &nsamples))
                 return tool_usage_error("bench-samplers", "--samples needs a count in [1, 10^8]");
         } else if (tool_option(argc, argv, &i, "--runs", &v)) {
-            if (!tool_parse_int(v, 1, 101, &x)) return tool_usage_error("bench-samplers", "--runs needs 1..101");
+            if (!tool_parse_int(v, 1, 101, &x))
+                return tool_usage_error("bench-samplers", "--runs needs 1..101");
             runs = (int)x;
         } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
-            if (!tool_parse_int(v, 1, 1 << 24, &x)) return tool_usage_error("bench-samplers", "--blocks needs a count");
+            if (!tool_parse_int(v, 1, 1 << 24, &x))
+                return tool_usage_error("bench-samplers", "--blocks needs a count");
             blocks = (int)x;
         } else if (tool_option(argc, argv, &i, "--methods", &v)) {
             char buf[256];
@@ -204,7 +211,8 @@ int cmd_bench_samplers(int argc, char **argv)
             for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
                 if (nmethods == LUMIS_METHOD_COUNT ||
                     lumis_sampler_method_from_name(tok, &methods[nmethods]) != LUMIS_OK)
-                    return tool_usage_error("bench-samplers", "unknown method '%s' in --methods", tok);
+                    return tool_usage_error("bench-samplers", "unknown method '%s' in --methods",
+                                            tok);
                 nmethods++;
             }
             if (!nmethods) return tool_usage_error("bench-samplers", "--methods needs a list");
@@ -216,7 +224,8 @@ int cmd_bench_samplers(int argc, char **argv)
     }
     if (!nmaps) return tool_usage_error("bench-samplers", "no map given");
     if (!nmethods)
-        for (int m = LUMIS_METHOD_INVERSION; m < LUMIS_METHOD_COUNT; m++) methods[nmethods++] = (lumis_sampler_method)m;
+        for (int m = LUMIS_METHOD_INVERSION; m < LUMIS_METHOD_COUNT; m++)
+            methods[nmethods++] = (lumis_sampler_method)m;
 
     double *u = malloc(sizeof(double) * 2 * (size_t)nsamples);
     lumis_env_sample *out = malloc(sizeof(lumis_env_sample) * (size_t)nsamples);

@@ -44,10 +44,14 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
     } else if (strcmp(argv[*i], "--compensate") == 0) {
         d->compensate = 1;
     } else if (tool_option(argc, argv, i, "--importance", &v)) {
-        if (v && strcmp(v, "luminance") == 0) d->importance = LUMIS_IMPORTANCE_LUMINANCE;
-        else if (v && strcmp(v, "average") == 0) d->importance = LUMIS_IMPORTANCE_AVERAGE;
-        else if (v && strcmp(v, "max-channel") == 0) d->importance = LUMIS_IMPORTANCE_MAX_CHANNEL;
-        else return tool_usage_error(cmd, "--importance must be luminance, average or max-channel");
+        if (v && strcmp(v, "luminance") == 0)
+            d->importance = LUMIS_IMPORTANCE_LUMINANCE;
+        else if (v && strcmp(v, "average") == 0)
+            d->importance = LUMIS_IMPORTANCE_AVERAGE;
+        else if (v && strcmp(v, "max-channel") == 0)
+            d->importance = LUMIS_IMPORTANCE_MAX_CHANNEL;
+        else
+            return tool_usage_error(cmd, "--importance must be luminance, average or max-channel");
     } else if (tool_option(argc, argv, i, "--rotate", &v)) {
         double deg;
         if (!tool_parse_double(v, &deg)) return tool_usage_error(cmd, "--rotate needs degrees");
@@ -140,7 +144,8 @@ int cmd_sample(int argc, char **argv)
     }
     lumis_sampler_destroy(s);
     lumis_envmap_destroy(env);
-    return fflush(stdout) == 0 && !ferror(stdout) ? EXIT_OK : tool_runtime_error("write error on stdout");
+    return fflush(stdout) == 0 && !ferror(stdout) ? EXIT_OK
+                                                  : tool_runtime_error("write error on stdout");
 }
 
 int cmd_pdf(int argc, char **argv)

@@ -11,7 +11,8 @@ static const tool_command commands[] = {
     {"studio", "write a procedural studio map (dark surround, soft boxes)", cmd_studio},
     {"sample", "draw directions from a map with a sampler: 'x y z pdf r g b' lines", cmd_sample},
     {"pdf", "densities of directions read from stdin: 'pdf r g b' lines", cmd_pdf},
-    {"bench-samplers", "build time, memory, speed and quality of every sampler", cmd_bench_samplers},
+    {"bench-samplers", "build time, memory, speed and quality of every sampler",
+     cmd_bench_samplers},
     {"demo", "write the default sky as EXR and PNG into demo/ and print its info", cmd_demo},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
