@@ -57,6 +57,7 @@ format-check:
 
 bench: build
 	./build/bench/bench_info
+	./build/bench/bench_pick
 
 # Reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
 install: build

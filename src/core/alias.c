@@ -14,12 +14,11 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
 {
     const uint64_t one = (uint64_t)1 << 32;
     a->n = n;
-    a->thresh = malloc((size_t)n * sizeof(uint32_t));
-    a->alias = malloc((size_t)n * sizeof(uint32_t));
+    a->col = malloc((size_t)n * sizeof(lumis__alias_column));
     a->pmf = malloc((size_t)n * sizeof(float));
     uint64_t *units = malloc((size_t)n * sizeof(uint64_t));
     uint32_t *work = malloc((size_t)n * sizeof(uint32_t));
-    if (!a->thresh || !a->alias || !a->pmf || !units || !work) {
+    if (!a->col || !a->pmf || !units || !work) {
         free(units);
         free(work);
         lumis__alias_free(a);
@@ -41,8 +40,7 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
     while (ns > 0 && nl > 0) {
         uint32_t s = work[--ns];
         uint32_t l = work[n - nl]; /* top of the large stack */
-        a->thresh[s] = (uint32_t)units[s];
-        a->alias[s] = l;
+        a->col[s] = (lumis__alias_column){(uint32_t)units[s], l};
         units[l] -= one - units[s];
         if (units[l] < one) {
             nl--;
@@ -52,13 +50,11 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
     /* What remains holds exactly one column each (the arithmetic is exact). */
     while (nl > 0) {
         uint32_t l = work[n - nl--];
-        a->thresh[l] = 0xffffffffu;
-        a->alias[l] = l;
+        a->col[l] = (lumis__alias_column){0xffffffffu, l};
     }
     while (ns > 0) {
         uint32_t s = work[--ns];
-        a->thresh[s] = 0xffffffffu;
-        a->alias[s] = s;
+        a->col[s] = (lumis__alias_column){0xffffffffu, s};
     }
     free(units);
     free(work);
@@ -67,9 +63,8 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
 
 void lumis__alias_free(lumis__alias *a)
 {
-    free(a->thresh);
-    free(a->alias);
+    free(a->col);
     free(a->pmf);
-    a->thresh = a->alias = NULL;
+    a->col = NULL;
     a->pmf = NULL;
 }

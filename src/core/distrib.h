@@ -50,10 +50,16 @@ uint32_t lumis__cdf_sample(const lumis__cdf *c, double u, double *frac);
 
 /* ---- Walker / Vose alias table with 32-bit integer thresholds ----------------------- */
 
+/* One column: both fields share a cache line, so a draw costs one memory access (plus the
+ * pmf of the result). */
+typedef struct lumis__alias_column {
+    uint32_t thresh; /* keep this column's entry when 32 random bits r < thresh */
+    uint32_t alias;  /* ... else take this one */
+} lumis__alias_column;
+
 typedef struct lumis__alias {
-    uint32_t *thresh; /* keep entry i when 32 random bits r < thresh[i] */
-    uint32_t *alias;  /* ... else take alias[i] */
-    float *pmf;       /* the realised probability of each entry, rounded to float */
+    lumis__alias_column *col;
+    float *pmf; /* the realised probability of each entry, rounded to float */
     uint32_t n;
 } lumis__alias;
 
@@ -62,7 +68,7 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n);
 void lumis__alias_free(lumis__alias *a);
 
 /* Draws an entry: u1 picks the column (and *frac1 is what is left of it), u2's top 32
- * bits the accept test (*frac2 what is left).  Two lookups (thresh and alias). */
+ * bits the accept test (*frac2 what is left).  One lookup (the column). */
 static inline uint32_t lumis__alias_sample(const lumis__alias *a, double u1, double u2,
                                            double *frac1, double *frac2)
 {
@@ -73,7 +79,8 @@ static inline uint32_t lumis__alias_sample(const lumis__alias *a, double u1, dou
     double y = u2 * LUMIS__ONE32;
     uint32_t r = (uint32_t)y;
     *frac2 = y - r;
-    return r < a->thresh[i] ? i : a->alias[i];
+    const lumis__alias_column c = a->col[i];
+    return r < c.thresh ? i : c.alias;
 }
 
 #endif

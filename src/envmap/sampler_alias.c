@@ -1,8 +1,8 @@
 /* Alias method (Walker 1977, Vose 1991) over all pixels, with integer thresholds so the
  * realised distribution is exactly the stored one at any size (see src/core/alias.c).
  *
- * Cost per sample: O(1), two lookups (threshold, then alias) and the pmf of the result.
- * Tables: 12 bytes per pixel (threshold, alias, pmf for pdf()). */
+ * Cost per sample: O(1), one lookup (a column: threshold and alias side by side) and the
+ * pmf of the result.  Tables: 12 bytes per pixel (threshold, alias, pmf for pdf()). */
 #include "sampler_internal.h"
 
 #include "../core/distrib.h"

@@ -471,10 +471,11 @@ static void alias_is_exact_at_2048x1024(void **state)
     size_t n = a->n;
     double *real = calloc(n, sizeof(double)), *imp = NULL, total = 0.0;
     for (size_t k = 0; k < n; k++) {
-        double keep =
-            a->thresh[k] == 0xffffffffu && a->alias[k] == k ? 4294967296.0 : (double)a->thresh[k];
+        double keep = a->col[k].thresh == 0xffffffffu && a->col[k].alias == k
+                          ? 4294967296.0
+                          : (double)a->col[k].thresh;
         real[k] += keep;
-        real[a->alias[k]] += 4294967296.0 - keep;
+        real[a->col[k].alias] += 4294967296.0 - keep;
     }
     assert_int_equal(lumis__importance(env, &d, &imp, &total), LUMIS_OK);
     double tv = 0.0, worst = 0.0;
