@@ -7,9 +7,10 @@
  * one over the sphere, and within a pixel (or block) directions are uniform in solid
  * angle.  Derivations of every pdf and Jacobian: docs/samplers.md.
  *
- * Random numbers: sample() takes two uniform doubles in [0, 1).  Give them full 53-bit
- * precision (lumis_pcg32_double): the alias method spends up to log2(pixels) bits on the
- * index and 32 on its accept test.  Results depend only on these inputs.
+ * Random numbers: sample() takes two uniform doubles in [0, 1) (others are clamped in).
+ * Give them full 53-bit precision (lumis_pcg32_double): the alias method spends up to
+ * log2(pixels) bits on the index and 32 on its accept test.  Results depend only on these
+ * inputs.
  *
  * Threads: a built sampler is immutable; any number of threads may sample from it.
  * The sampler keeps a reference to its envmap (see lumis_envmap_destroy). */

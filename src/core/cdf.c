@@ -1,6 +1,7 @@
 /* 1D inversion sampling over an integer CDF (see distrib.h). */
 #include "distrib.h"
 
+#include <math.h>
 #include <stdlib.h>
 
 void lumis__quantize(const double *w, size_t n, uint64_t total, uint64_t *units)
@@ -8,36 +9,37 @@ void lumis__quantize(const double *w, size_t n, uint64_t total, uint64_t *units)
     double sum = 0.0;
     for (size_t i = 0; i < n; i++) sum += w[i];
     const double scale = (double)total / sum;
+    /* Cumulative rounding: entry i gets round(total * prefix_{i+1} / sum) minus what came
+     * before, so each entry is within one unit of its share and the sum telescopes to
+     * total; an entry of nonzero weight gets at least one unit. */
+    double prefix = 0.0;
     uint64_t given = 0;
     size_t largest = 0;
     for (size_t i = 0; i < n; i++) {
-        uint64_t q = 0;
-        if (w[i] > 0.0) {
-            double x = w[i] * scale;
-            q = x < 1.0 ? 1 : (x >= (double)total ? total : (uint64_t)x);
-        }
+        prefix += w[i];
+        double target = fmin(prefix * scale, (double)total);
+        uint64_t upto = (uint64_t)llround(target);
+        uint64_t q = upto > given ? upto - given : 0;
+        if (w[i] > 0.0 && q == 0) q = 1;
+        if (w[i] <= 0.0) q = 0;
         units[i] = q;
         given += q;
         if (w[i] > w[largest]) largest = i;
     }
-    /* Rounding down leaves units over (and the minimum of one may take a few): settle the
-     * difference on the largest weights, which it changes least in relative terms. */
-    while (given != total) {
-        if (given < total) {
-            units[largest] += total - given;
-            given = total;
-        } else {
-            uint64_t excess = given - total;
-            /* Take from the largest entries, never below one unit. */
-            size_t big = largest;
-            for (size_t i = 0; i < n; i++)
-                if (units[i] > units[big]) big = i;
-            uint64_t room = units[big] > 1 ? units[big] - 1 : 0;
-            uint64_t take = excess < room ? excess : room;
-            units[big] -= take;
-            given -= take;
-            if (take == 0) break; /* cannot happen while total >= nonzero count */
-        }
+    /* What the forced minimum units (or the last rounding) left over or took too much
+     * settles on the largest entry: a few units against at least total / n. */
+    if (given < total) units[largest] += total - given;
+    uint64_t excess = given > total ? given - total : 0;
+    while (excess > 0) {
+        /* Very many tiny entries in a short table (say 2^28 pixels in one row): take
+         * the excess from the entries holding most, never below one unit. */
+        size_t big = largest;
+        for (size_t i = 0; i < n; i++)
+            if (units[i] > units[big]) big = i;
+        uint64_t take = units[big] - 1 < excess ? units[big] - 1 : excess;
+        if (take == 0) break; /* total < nonzero entries: cannot happen for our tables */
+        units[big] -= take;
+        excess -= take;
     }
 }
 

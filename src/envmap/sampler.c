@@ -5,6 +5,7 @@
 
 #include "../core/internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -200,8 +201,16 @@ static double sin_theta(lumis_vec3 d)
 
 static float final_pdf(const lumis_sampler *s, double density, lumis_vec3 dir)
 {
-    if (s->m->uniform_angles) density /= fmax(sin_theta(dir), 1e-300);
-    return (float)density;
+    /* Uniform in angles, the density grows as 1 / sin(theta) towards a pole; at the pole
+     * itself (a set of measure zero) it is capped so it stays finite. */
+    if (s->m->uniform_angles) density /= fmax(sin_theta(dir), 1e-12);
+    return density < FLT_MAX ? (float)density : FLT_MAX;
+}
+
+/* Inputs outside [0, 1) (a float generator rounding up to 1, NaN) are clamped in. */
+static double clamp_u(double u)
+{
+    return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
 }
 
 /* Rounding a direction to float moves it by about 1e-7 radians; a point at least this
@@ -269,7 +278,7 @@ static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
 lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)
 {
     lumis__pick p;
-    s->m->pick(s, u1, u2, &p);
+    s->m->pick(s, clamp_u(u1), clamp_u(u2), &p);
     lumis_env_sample r;
     size_t pixel;
     place(s, &p, &r.dir, &pixel);
@@ -289,7 +298,8 @@ void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
     size_t pixel[BATCH];
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         size_t m = n - k0 < BATCH ? n - k0 : BATCH;
-        for (size_t k = 0; k < m; k++) s->m->pick(s, u[2 * (k0 + k)], u[2 * (k0 + k) + 1], &p[k]);
+        for (size_t k = 0; k < m; k++)
+            s->m->pick(s, clamp_u(u[2 * (k0 + k)]), clamp_u(u[2 * (k0 + k) + 1]), &p[k]);
         for (size_t k = 0; k < m; k++) {
             place(s, &p[k], &out[k0 + k].dir, &pixel[k]);
 #if defined(__GNUC__) || defined(__clang__)

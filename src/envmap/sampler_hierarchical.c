@@ -7,14 +7,16 @@
  * ratios chosen on the way, which pdf() recomputes with the same arithmetic.
  *
  * Cost per sample: O(log max(w, h)) levels, four lookups each (one cache line or two).
- * Tables: 4 bytes per pixel and about a third more for the coarser levels. */
+ * Tables: 8 bytes per pixel and about a third more for the coarser levels.
+ * Precision: the ratios are doubles, so a pixel with less than 2^-53 of its 2 x 2 block's
+ * weight is drawn with probability 0 - and pdf() reports 0 for it too. */
 #include "sampler_internal.h"
 
 #include <stdlib.h>
 
 typedef struct level {
     int w, h;
-    float *v; /* w * h sums, row-major */
+    double *v; /* w * h sums, row-major (double: a float loses faint pixels beside a sun) */
 } level;
 
 typedef struct pyramid {
@@ -24,7 +26,7 @@ typedef struct pyramid {
 
 static double at(const level *l, int x, int y)
 {
-    return (x < l->w && y < l->h) ? (double)l->v[(size_t)y * (size_t)l->w + (size_t)x] : 0.0;
+    return (x < l->w && y < l->h) ? l->v[(size_t)y * (size_t)l->w + (size_t)x] : 0.0;
 }
 
 /* Probabilities of the left column and, within each column, of the upper pixel of the
@@ -129,9 +131,9 @@ lumis_status lumis__hierarchical_init(lumis_sampler *s, const double *imp)
         level *l = &py->levels[k];
         l->w = w;
         l->h = h;
-        l->v = malloc((size_t)w * (size_t)h * sizeof(float));
+        l->v = malloc((size_t)w * (size_t)h * sizeof(double));
         if (!l->v) return LUMIS_ERR_OUT_OF_MEMORY;
-        bytes += (size_t)w * (size_t)h * sizeof(float);
+        bytes += (size_t)w * (size_t)h * sizeof(double);
         for (int y = 0; y < h; y++)
             for (int x = 0; x < w; x++) {
                 double v;
@@ -142,7 +144,7 @@ lumis_status lumis__hierarchical_init(lumis_sampler *s, const double *imp)
                     v = at(f, 2 * x, 2 * y) + at(f, 2 * x + 1, 2 * y) + at(f, 2 * x, 2 * y + 1) +
                         at(f, 2 * x + 1, 2 * y + 1);
                 }
-                l->v[(size_t)y * (size_t)w + (size_t)x] = (float)v;
+                l->v[(size_t)y * (size_t)w + (size_t)x] = v;
             }
         w = (w + 1) / 2;
         h = (h + 1) / 2;

@@ -5,7 +5,8 @@
  * Cost per sample: two binary searches, ceil(log2 h) + ceil(log2 w) lookups (21 on a
  * 2048 x 1024 map), or with the guide tables ("inversion-guided") two guide lookups and
  * about two CDF lookups per search - the same samples for the same u.
- * Tables: 4 bytes per pixel and per row (integer CDFs), plus as much again for guides. */
+ * Tables: 4 bytes per pixel and per row (integer CDFs; rows without light have none),
+ * plus as much again for guides. */
 #include "sampler_internal.h"
 
 #include "../core/distrib.h"
@@ -73,8 +74,12 @@ lumis_status lumis__inversion_init(lumis_sampler *s, const double *imp, int guid
     if (st == LUMIS_OK) st = lumis__cdf_build(&t->marginal, row_sum, (uint32_t)s->h, guided);
     free(row_sum);
     if (st != LUMIS_OK) return st;
-    size_t per_entry = guided ? 8 : 4; /* CDF, plus the guide */
-    s->table_bytes = per_entry * ((size_t)s->w * (size_t)s->h + (size_t)s->h);
+    /* What was allocated: a CDF (and a guide of n + 1) per row with light, and the
+     * marginal. */
+    size_t entries = (size_t)s->h + (guided ? (size_t)s->h + 1 : 0);
+    for (int j = 0; j < s->h; j++)
+        if (t->rows[j].cdf) entries += (size_t)s->w + (guided ? (size_t)s->w + 1 : 0);
+    s->table_bytes = 4 * entries;
     s->total_bytes = s->table_bytes + (size_t)s->h * sizeof(lumis__cdf);
     return LUMIS_OK;
 }

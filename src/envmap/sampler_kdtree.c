@@ -7,7 +7,10 @@
  * costs O(w_b + h_b), and blocks wait in a max-heap keyed by SSE: n blocks cost
  * O(n log n + sum of (w_b + h_b)).  "Size" is solid angle and "Sum" importance (Y Omega),
  * so the SSE measures how far the block's radiance is from constant - the solid-angle-
- * weighted form of the paper's equations, which reduces to them for equal pixels.
+ * weighted form of the paper's equations, which reduces to them for equal pixels.  (The
+ * tables hold absolute prefix sums in double: beside a very bright sun the SSE of a faint
+ * block can drown in their rounding, which may change where it is split, never what is
+ * sampled: block probabilities are summed pixel by pixel.)
  * Blocks are sorted by probability, descending, and the analytic pdf of Eq. 4,
  *     p(x) = 1 / (log(1 + n/alpha) (alpha + x)),  x in [0, n),
  * is fitted to them by minimising the L1 distance between the blocks' probabilities and
@@ -21,7 +24,8 @@
  * kdtree-exact draws blocks with their true probabilities through an alias table.
  * pdf() finds a direction's block by descending the kd-tree.
  *
- * Tables: 8 bytes per block (16-bit bounds) plus alpha for sampling; the tree for pdf()
+ * Tables: 8 bytes per block (16-bit bounds) plus alpha and log(1 + n/alpha) (16 bytes)
+ * for sampling; the tree for pdf()
  * adds 8 bytes per node (2n - 1 nodes).  Derivation: docs/samplers.md. */
 #include "sampler_internal.h"
 
@@ -399,13 +403,20 @@ lumis_status lumis__kdtree_init(lumis_sampler *s, const double *imp, const lumis
     }
     t->n = n;
 
-    /* Sort by probability, descending; leaves learn their block's rank. */
-    const double total = rect_sum(bd.sat, w, 0, 0, w, h);
+    /* The blocks' true probabilities, summed pixel by pixel (the blocks partition the
+     * map, so this is one pass): differences of summed-area entries can cancel to zero
+     * or below for a faint block beside a sun, and kdtree-exact would then never draw
+     * light it holds.  Then sort by probability, descending; leaves learn their rank. */
+    double total = 0.0;
     for (int k = 0; k < n; k++) {
         const block *b = &t->blocks[k];
-        rank[k] = (ranked){rect_sum(bd.sat, w, b->x0, b->y0, b->x1, b->y1) / total, k};
-        if (rank[k].prob < 0.0) rank[k].prob = 0.0; /* rounding in the table */
+        double sum = 0.0;
+        for (int y = b->y0; y < b->y1; y++)
+            for (int x = b->x0; x < b->x1; x++) sum += imp[(size_t)y * (size_t)w + (size_t)x];
+        rank[k] = (ranked){sum, k};
+        total += sum;
     }
+    for (int k = 0; k < n; k++) rank[k].prob /= total;
     qsort(rank, (size_t)n, sizeof(ranked), by_prob_desc);
     block *sorted = malloc((size_t)n * sizeof(block));
     if (!sorted) {

@@ -208,6 +208,8 @@ static void pdf_of_sample_matches(void **state)
                 double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
                 if (k == 0) u1 = u2 = 0.0; /* the corners of the unit square */
                 if (k == 1) u1 = u2 = 0x1.fffffffffffffp-1;
+                if (k == 2) u1 = 1.0, u2 = -0.25; /* outside [0, 1): clamped in */
+                if (k == 3) u1 = NAN, u2 = 2.0;
                 lumis_env_sample e = lumis_sampler_sample(s, u1, u2);
                 float p = lumis_sampler_pdf(s, e.dir);
                 double len = sqrt((double)e.dir.x * e.dir.x + (double)e.dir.y * e.dir.y +
@@ -218,6 +220,9 @@ static void pdf_of_sample_matches(void **state)
                 lumis_rgb L = lumis_envmap_eval(env, e.dir);
                 assert_true(L.r == e.radiance.r && L.g == e.radiance.g && L.b == e.radiance.b);
             }
+            /* The poles themselves: finite densities (uniform-in-angles grows as 1/sin). */
+            assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, 1, 0})));
+            assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, -1, 0})));
             lumis_sampler_destroy(s);
         }
         lumis_envmap_destroy(env);
