@@ -1,0 +1,152 @@
+/* Statistical tests of the BSDFs (fixed seeds): for several materials and outgoing
+ * directions, pdf(sample) equals the sampled pdf, the pdf integrates to at most one (one
+ * for Lambert), a chi-square test of the samples against the pdf on a (cos theta, phi)
+ * grid, the sample weight equals f cos / pdf, and white furnaces (albedo at most one). */
+#include "../testutil.h"
+
+#include "lumis/bsdf.h"
+#include "stat.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#define PI 3.14159265358979323846
+
+typedef struct material {
+    const char *name;
+    lumis_bsdf b;
+} material;
+
+static const material materials[] = {
+    {"lambert", {LUMIS_BSDF_LAMBERT, {0.8f, 0.5f, 0.2f}, {0, 0, 0}, 0, 0}},
+    {"ward iso 0.15", {LUMIS_BSDF_WARD, {0.1f, 0.1f, 0.1f}, {0.3f, 0.3f, 0.3f}, 0.15f, 0.15f}},
+    {"ward aniso 0.5/0.08", {LUMIS_BSDF_WARD, {0, 0, 0}, {0.6f, 0.6f, 0.6f}, 0.5f, 0.08f}},
+    {"ggx conductor 0.2", {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.95f, 0.64f, 0.54f}, 0.2f, 0.2f}},
+    {"ggx aniso 0.1/0.4", {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.9f, 0.9f, 0.9f}, 0.1f, 0.4f}},
+    {"ggx plastic 0.3", {LUMIS_BSDF_GGX_PLASTIC, {0.5f, 0.2f, 0.1f}, {0, 0, 0}, 0.3f, 0.3f}},
+};
+enum { NMAT = sizeof materials / sizeof materials[0] };
+static const double thetas_deg[] = {5.0, 40.0, 75.0};
+
+static lumis_vec3 dir_of(double theta, double phi)
+{
+    lumis_vec3 v = {(float)(sin(theta) * cos(phi)), (float)(sin(theta) * sin(phi)), (float)cos(theta)};
+    return v;
+}
+
+enum { NC = 32, NP = 64, SUB = 6 }; /* grid in cos theta and phi, sub-cells per axis */
+
+/* Integral of the pdf over grid cell (a, b) by the midpoint rule on SUB x SUB sub-cells
+ * (the grid is uniform in cos theta and phi, so every sub-cell has the same solid angle). */
+static double cell_integral(const lumis_bsdf *b, lumis_vec3 wo, int a, int c)
+{
+    double acc = 0.0, dom = (1.0 / NC) * (2.0 * PI / NP) / (SUB * SUB);
+    for (int i = 0; i < SUB; i++)
+        for (int j = 0; j < SUB; j++) {
+            double ct = (a + (i + 0.5) / SUB) / NC, phi = 2.0 * PI * (c + (j + 0.5) / SUB) / NP;
+            acc += lumis_bsdf_pdf(b, wo, dir_of(acos(ct), phi)) * dom;
+        }
+    return acc;
+}
+
+static void bsdf_statistics(void **state)
+{
+    (void)state;
+    const double alpha = 0.01 / (NMAT * 3);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 31, 4);
+    for (int m = 0; m < NMAT; m++)
+        for (int t = 0; t < 3; t++) {
+            const lumis_bsdf *b = &materials[m].b;
+            lumis_vec3 wo = dir_of(thetas_deg[t] * PI / 180.0, 0.7);
+            double *obs = calloc(NC * NP, sizeof(double)), *exp_ = calloc(NC * NP, sizeof(double));
+            const int n = 200000;
+            for (int k = 0; k < n; k++) {
+                lumis_bsdf_sample s = lumis_bsdf_sample_wi(b, wo, lumis_pcg32_double(&rng),
+                                                           lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                if (s.pdf == 0.0f) continue; /* rejected: mass the pdf does not count */
+                float p = lumis_bsdf_pdf(b, wo, s.wi);
+                if (fabsf(p - s.pdf) > 1e-5f * s.pdf)
+                    fail_msg("%s: pdf %g vs sampled %g", materials[m].name, p, s.pdf);
+                lumis_rgb f = lumis_bsdf_eval(b, wo, s.wi);
+                if (fabs(s.weight.r - f.r * s.wi.z / s.pdf) > 1e-4 * (fabs(s.weight.r) + 1e-6))
+                    fail_msg("%s: weight %g vs f cos / pdf %g", materials[m].name, s.weight.r, f.r * s.wi.z / s.pdf);
+                double len = sqrt((double)s.wi.x * s.wi.x + (double)s.wi.y * s.wi.y + (double)s.wi.z * s.wi.z);
+                assert_true(fabs(len - 1.0) < 1e-5);
+                int a = (int)(s.wi.z * NC), c = (int)(fmod(atan2(s.wi.y, s.wi.x) + 2 * PI, 2 * PI) / (2 * PI) * NP);
+                a = a < 0 ? 0 : (a >= NC ? NC - 1 : a);
+                c = c < 0 ? 0 : (c >= NP ? NP - 1 : c);
+                obs[a * NP + c] += 1.0;
+            }
+            double integral = 0.0;
+            for (int a = 0; a < NC; a++)
+                for (int c = 0; c < NP; c++) {
+                    double e = cell_integral(b, wo, a, c);
+                    integral += e;
+                    exp_[a * NP + c] = n * e;
+                }
+            if (integral > 1.0 + 2e-3) fail_msg("%s at %g deg: pdf integrates to %g", materials[m].name, thetas_deg[t], integral);
+            if (b->type == LUMIS_BSDF_LAMBERT && fabs(integral - 1.0) > 1e-3) fail_msg("lambert integral %g", integral);
+            int dof;
+            double p = stat_chi2_test(obs, exp_, NC * NP, &dof);
+            if (!(p > alpha)) fail_msg("%s at %g deg: chi-square p = %g (dof %d)", materials[m].name, thetas_deg[t], p, dof);
+            free(obs);
+            free(exp_);
+        }
+}
+
+/* White furnace: with white parameters the albedo (mean sample weight) is at most one;
+ * Lambert of albedo one reflects exactly everything, every sample weighing 1. */
+static void white_furnace(void **state)
+{
+    (void)state;
+    const lumis_bsdf white[] = {
+        {LUMIS_BSDF_LAMBERT, {1, 1, 1}, {0, 0, 0}, 0, 0},
+        {LUMIS_BSDF_WARD, {0, 0, 0}, {1, 1, 1}, 0.3f, 0.3f},
+        {LUMIS_BSDF_WARD, {0, 0, 0}, {1, 1, 1}, 0.5f, 0.001f},
+        {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {1, 1, 1}, 0.05f, 0.05f},
+        {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {1, 1, 1}, 0.8f, 0.8f},
+        {LUMIS_BSDF_GGX_PLASTIC, {1, 1, 1}, {0, 0, 0}, 0.3f, 0.3f},
+    };
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 8, 8);
+    for (int m = 0; m < 6; m++)
+        for (int t = 0; t < 3; t++) {
+            lumis_vec3 wo = dir_of(thetas_deg[t] * PI / 180.0, 2.0);
+            double sum = 0.0, sum2 = 0.0;
+            const int n = 100000;
+            for (int k = 0; k < n; k++) {
+                lumis_bsdf_sample s = lumis_bsdf_sample_wi(&white[m], wo, lumis_pcg32_double(&rng),
+                                                           lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                sum += s.weight.g;
+                sum2 += (double)s.weight.g * s.weight.g;
+                if (m == 0) assert_true(fabsf(s.weight.g - 1.0f) < 1e-5f);
+            }
+            double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / n);
+            if (mean > 1.0 + 4 * se + 1e-4) fail_msg("white material %d at %g deg: albedo %g +- %g", m, thetas_deg[t], mean, se);
+        }
+}
+
+static void below_the_surface_is_black(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAT; m++) {
+        const lumis_bsdf *b = &materials[m].b;
+        lumis_vec3 up = {0, 0, 1}, down = {0.6f, 0, -0.8f};
+        lumis_rgb f = lumis_bsdf_eval(b, up, down);
+        assert_true(f.r == 0.0f && lumis_bsdf_pdf(b, up, down) == 0.0f);
+        lumis_bsdf_sample s = lumis_bsdf_sample_wi(b, down, 0.5, 0.5, 0.5);
+        assert_true(s.pdf == 0.0f && s.weight.r == 0.0f);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(bsdf_statistics),
+        cmocka_unit_test(white_furnace),
+        cmocka_unit_test(below_the_surface_is_black),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
