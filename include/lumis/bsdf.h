@@ -17,9 +17,9 @@ extern "C" {
 #endif
 
 typedef enum lumis_bsdf_type {
-    LUMIS_BSDF_LAMBERT = 0, /* albedo / pi; cosine-weighted sampling */
-    LUMIS_BSDF_WARD,        /* diffuse + anisotropic Ward lobe (bounded-albedo normalisation),
-                               sampled as in Walter's 2005 notes */
+    LUMIS_BSDF_LAMBERT = 0,   /* albedo / pi; cosine-weighted sampling */
+    LUMIS_BSDF_WARD,          /* diffuse + anisotropic Ward lobe (bounded-albedo normalisation),
+                                 sampled as in Walter's 2005 notes */
     LUMIS_BSDF_GGX_CONDUCTOR, /* GGX microfacets, Schlick Fresnel from `specular` as F0,
                                  height-correlated Smith masking, visible-normal sampling */
     LUMIS_BSDF_GGX_PLASTIC,   /* a dielectric GGX coat (F0 0.04) over a Lambertian base */

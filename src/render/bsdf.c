@@ -41,7 +41,10 @@ static lumis_vec3 normalize3(double x, double y, double z)
 
 /* ---- Lambert ------------------------------------------------------------------------ */
 
-static double cosine_pdf(lumis_vec3 wi) { return wi.z > 0.0f ? wi.z / PI : 0.0; }
+static double cosine_pdf(lumis_vec3 wi)
+{
+    return wi.z > 0.0f ? wi.z / PI : 0.0;
+}
 
 static lumis_vec3 cosine_sample(double u1, double u2)
 {
@@ -60,7 +63,8 @@ static double ward_spec_pdf(lumis_vec3 wo, lumis_vec3 wi, double ax, double ay)
     double len = sqrt(hx * hx + hy * hy + hz * hz);
     if (!(hz > 0.0) || len == 0.0) return 0.0;
     double e = (hx * hx / (ax * ax) + hy * hy / (ay * ay)) / (hz * hz);
-    double cos_h = hz / len, odoth = ((double)wo.x * hx + (double)wo.y * hy + (double)wo.z * hz) / len;
+    double cos_h = hz / len,
+           odoth = ((double)wo.x * hx + (double)wo.y * hy + (double)wo.z * hz) / len;
     if (!(odoth > 0.0)) return 0.0;
     double ph = exp(-e) / (PI * ax * ay * cos_h * cos_h * cos_h);
     return ph / (4.0 * odoth);
@@ -245,7 +249,7 @@ lumis_bsdf_sample lumis_bsdf_sample_wi(const lumis_bsdf *b, lumis_vec3 wo, doubl
     double ps = spec_choice(b, wo);
     if (u0 < ps) {
         lumis_vec3 h = b->type == LUMIS_BSDF_WARD ? ward_sample_h(u1, u2, ax, ay)
-                                                   : ggx_sample_h(wo, u1, u2, ax, ay);
+                                                  : ggx_sample_h(wo, u1, u2, ax, ay);
         r.wi = reflect(wo, h);
     } else {
         r.wi = cosine_sample(u1, u2);

@@ -31,7 +31,8 @@ static const double thetas_deg[] = {5.0, 40.0, 75.0};
 
 static lumis_vec3 dir_of(double theta, double phi)
 {
-    lumis_vec3 v = {(float)(sin(theta) * cos(phi)), (float)(sin(theta) * sin(phi)), (float)cos(theta)};
+    lumis_vec3 v = {(float)(sin(theta) * cos(phi)), (float)(sin(theta) * sin(phi)),
+                    (float)cos(theta)};
     return v;
 }
 
@@ -63,18 +64,22 @@ static void bsdf_statistics(void **state)
             double *obs = calloc(NC * NP, sizeof(double)), *exp_ = calloc(NC * NP, sizeof(double));
             const int n = 200000;
             for (int k = 0; k < n; k++) {
-                lumis_bsdf_sample s = lumis_bsdf_sample_wi(b, wo, lumis_pcg32_double(&rng),
-                                                           lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                lumis_bsdf_sample s =
+                    lumis_bsdf_sample_wi(b, wo, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng),
+                                         lumis_pcg32_double(&rng));
                 if (s.pdf == 0.0f) continue; /* rejected: mass the pdf does not count */
                 float p = lumis_bsdf_pdf(b, wo, s.wi);
                 if (fabsf(p - s.pdf) > 1e-5f * s.pdf)
                     fail_msg("%s: pdf %g vs sampled %g", materials[m].name, p, s.pdf);
                 lumis_rgb f = lumis_bsdf_eval(b, wo, s.wi);
                 if (fabs(s.weight.r - f.r * s.wi.z / s.pdf) > 1e-4 * (fabs(s.weight.r) + 1e-6))
-                    fail_msg("%s: weight %g vs f cos / pdf %g", materials[m].name, s.weight.r, f.r * s.wi.z / s.pdf);
-                double len = sqrt((double)s.wi.x * s.wi.x + (double)s.wi.y * s.wi.y + (double)s.wi.z * s.wi.z);
+                    fail_msg("%s: weight %g vs f cos / pdf %g", materials[m].name, s.weight.r,
+                             f.r * s.wi.z / s.pdf);
+                double len = sqrt((double)s.wi.x * s.wi.x + (double)s.wi.y * s.wi.y +
+                                  (double)s.wi.z * s.wi.z);
                 assert_true(fabs(len - 1.0) < 1e-5);
-                int a = (int)(s.wi.z * NC), c = (int)(fmod(atan2(s.wi.y, s.wi.x) + 2 * PI, 2 * PI) / (2 * PI) * NP);
+                int a = (int)(s.wi.z * NC),
+                    c = (int)(fmod(atan2(s.wi.y, s.wi.x) + 2 * PI, 2 * PI) / (2 * PI) * NP);
                 a = a < 0 ? 0 : (a >= NC ? NC - 1 : a);
                 c = c < 0 ? 0 : (c >= NP ? NP - 1 : c);
                 obs[a * NP + c] += 1.0;
@@ -86,11 +91,16 @@ static void bsdf_statistics(void **state)
                     integral += e;
                     exp_[a * NP + c] = n * e;
                 }
-            if (integral > 1.0 + 2e-3) fail_msg("%s at %g deg: pdf integrates to %g", materials[m].name, thetas_deg[t], integral);
-            if (b->type == LUMIS_BSDF_LAMBERT && fabs(integral - 1.0) > 1e-3) fail_msg("lambert integral %g", integral);
+            if (integral > 1.0 + 2e-3)
+                fail_msg("%s at %g deg: pdf integrates to %g", materials[m].name, thetas_deg[t],
+                         integral);
+            if (b->type == LUMIS_BSDF_LAMBERT && fabs(integral - 1.0) > 1e-3)
+                fail_msg("lambert integral %g", integral);
             int dof;
             double p = stat_chi2_test(obs, exp_, NC * NP, &dof);
-            if (!(p > alpha)) fail_msg("%s at %g deg: chi-square p = %g (dof %d)", materials[m].name, thetas_deg[t], p, dof);
+            if (!(p > alpha))
+                fail_msg("%s at %g deg: chi-square p = %g (dof %d)", materials[m].name,
+                         thetas_deg[t], p, dof);
             free(obs);
             free(exp_);
         }
@@ -117,14 +127,17 @@ static void white_furnace(void **state)
             double sum = 0.0, sum2 = 0.0;
             const int n = 100000;
             for (int k = 0; k < n; k++) {
-                lumis_bsdf_sample s = lumis_bsdf_sample_wi(&white[m], wo, lumis_pcg32_double(&rng),
-                                                           lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                lumis_bsdf_sample s =
+                    lumis_bsdf_sample_wi(&white[m], wo, lumis_pcg32_double(&rng),
+                                         lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
                 sum += s.weight.g;
                 sum2 += (double)s.weight.g * s.weight.g;
                 if (m == 0) assert_true(fabsf(s.weight.g - 1.0f) < 1e-5f);
             }
             double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0.0) / n);
-            if (mean > 1.0 + 4 * se + 1e-4) fail_msg("white material %d at %g deg: albedo %g +- %g", m, thetas_deg[t], mean, se);
+            if (mean > 1.0 + 4 * se + 1e-4)
+                fail_msg("white material %d at %g deg: albedo %g +- %g", m, thetas_deg[t], mean,
+                         se);
         }
 }
 

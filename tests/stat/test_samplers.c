@@ -220,6 +220,15 @@ static void pdf_of_sample_matches(void **state)
                 lumis_rgb L = lumis_envmap_eval(env, e.dir);
                 assert_true(L.r == e.radiance.r && L.g == e.radiance.g && L.b == e.radiance.b);
             }
+            /* The batch gives the very same samples as the scalar calls. */
+            double ub[2 * 100];
+            lumis_env_sample batch[100];
+            for (int k = 0; k < 200; k++) ub[k] = lumis_pcg32_double(&rng);
+            lumis_sampler_sample_n(s, ub, 100, batch);
+            for (int k = 0; k < 100; k++) {
+                lumis_env_sample e = lumis_sampler_sample(s, ub[2 * k], ub[2 * k + 1]);
+                assert_memory_equal(&e, &batch[k], sizeof e);
+            }
             /* The poles themselves: finite densities (uniform-in-angles grows as 1/sin). */
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, 1, 0})));
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, -1, 0})));
