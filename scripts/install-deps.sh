@@ -3,8 +3,8 @@
 set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
-      libcmocka-dev ca-certificates)
-DEV=(clang libclang-rt-14-dev clang-format)
+      libcmocka-dev libembree-dev ca-certificates)
+DEV=(clang libclang-rt-14-dev libomp-dev clang-format)
 
 usage() {
     cat <<EOF

@@ -247,6 +247,30 @@ static void bench_samplers_reports_every_method(void **state)
     cJSON_Delete(arr);
 }
 
+static void render_writes_the_same_image_on_any_thread_count(void **state)
+{
+    (void)state;
+    char a[1024];
+    for (int t = 1; t <= 2; t++) {
+        char name[32];
+        snprintf(name, sizeof name, "r%d.pfm", t);
+        snprintf(a, sizeof a,
+                 "render --scene spheres --env sky:64x32 --spp 2 --size 60x24 --threads %d -o '%s'",
+                 t, tu_path(name));
+        expect(a, 0, "rendered 60x24");
+    }
+    size_t n1, n2;
+    unsigned char *a1 = tu_read_file(tu_path("r1.pfm"), &n1),
+                  *a2 = tu_read_file(tu_path("r2.pfm"), &n2);
+    assert_true(n1 == n2 && n1 > 60 * 24 * 12);
+    assert_memory_equal(a1, a2, n1);
+    free(a1);
+    free(a2);
+    expect("render -o x.exr", 2, "--scene NAME is required");
+    expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
+    expect("render --scene spheres --mis sometimes -o x.exr", 2, "--mis must be");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -257,6 +281,7 @@ int main(void)
         cmocka_unit_test(demo_writes_the_sky_and_its_info),
         cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),
         cmocka_unit_test(bench_samplers_reports_every_method),
+        cmocka_unit_test(render_writes_the_same_image_on_any_thread_count),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

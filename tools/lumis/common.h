@@ -60,6 +60,7 @@ int cmd_demo(int argc, char **argv);
 int cmd_sample(int argc, char **argv);
 int cmd_pdf(int argc, char **argv);
 int cmd_bench_samplers(int argc, char **argv);
+int cmd_render(int argc, char **argv);
 
 /* Parses one sampler option (--method, --blocks, --kdtree-uniform-angles, --compensate,
  * --importance, --rotate) into d; returns -1 if argv[*i] is none of them, else an exit

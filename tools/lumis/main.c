@@ -13,6 +13,7 @@ static const tool_command commands[] = {
     {"pdf", "densities of directions read from stdin: 'pdf r g b' lines", cmd_pdf},
     {"bench-samplers", "build time, memory, speed and quality of every sampler",
      cmd_bench_samplers},
+    {"render", "render a built-in scene lit by a map (light, BSDF or MIS sampling)", cmd_render},
     {"demo", "write the default sky as EXR and PNG into demo/ and print its info", cmd_demo},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
