@@ -266,7 +266,59 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     assert_memory_equal(a1, a2, n1);
     free(a1);
     free(a2);
-    expect("render -o x.exr", 2, "--scene NAME is required");
+    expect("render -o x.exr", 2, "give one scene");
+    /* A scene file: a sphere, a plane and an OBJ mesh, resolved next to the file. */
+    const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+    tu_write_file(tu_path("quad.obj"), obj, sizeof obj - 1);
+    const char scene[] =
+        "{\"camera\": {\"eye\": [0,1,5], \"look_at\": [0,0.5,0], \"up\": [0,1,0], "
+        "\"fov_deg\": 40, \"width\": 32, \"height\": 24},\n"
+        " \"environment\": {\"map\": \"sky:32x16\", \"rotation_deg\": 30, \"scale\": 0.5},\n"
+        " \"objects\": [{\"type\": \"sphere\", \"center\": [0,1,0], \"radius\": 1,\n"
+        "   \"material\": {\"type\": \"lambert\", \"albedo\": [0.8,0.8,0.8]}},\n"
+        "  {\"type\": \"mesh\", \"file\": \"quad.obj\", \"transform\": {\"translate\": [1,0,0], "
+        "\"rotate_deg\": [0,30,0], \"scale\": 0.5},\n"
+        "   \"material\": {\"type\": \"ward\", \"diffuse\": [0.1,0.1,0.1], \"specular\": "
+        "[0.3,0.3,0.3], "
+        "\"alpha_x\": 0.1, \"alpha_y\": 0.1}},\n"
+        "  {\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,1,0], \"size\": 20,\n"
+        "   \"material\": {\"type\": \"lambert\", \"albedo\": [0.5,0.5,0.5]}}]}\n";
+    tu_write_file(tu_path("scene.json"), scene, sizeof scene - 1);
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("scene.json"), tu_path("s.exr"));
+    expect(a, 0, "rendered 32x24");
+    /* Malformed scene files: each error names the file, the JSON path and what was expected. */
+    static const struct {
+        const char *text, *msg;
+    } bad[] = {
+        {"{\"objects\": [", "malformed JSON"},
+        {"{}", "objects: expected an array of objects"},
+        {"{\"objects\": [{\"type\": \"cube\", \"material\": {}}]}",
+         "objects[0].type: expected sphere, plane or mesh"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0], \"radius\": 1}]}",
+         "objects[0].center: expected an array of 3 numbers"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": \"big\"}]}",
+         "objects[0].radius: expected a number"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1}]}",
+         "objects[0].material: expected a material object (missing)"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": "
+         "{\"type\": \"ward\", \"alpha_x\": 7}}]}",
+         "objects[0].material.alpha_x: expected a number in"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"missing.obj\", \"material\": {\"type\": "
+         "\"lambert\"}}]}",
+         "objects[0].file: cannot load mesh"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"broken.obj\", \"material\": {\"type\": "
+         "\"lambert\"}}]}",
+         "objects[0].file"},
+        {"{\"camera\": {\"fov_deg\": 500}, \"objects\": []}",
+         "camera.fov_deg: expected a number in"},
+    };
+    tu_write_file(tu_path("broken.obj"), "v 1 2\nf 9 9 9\nthis is not obj\n", 30);
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        tu_write_file(tu_path("bad.json"), bad[k].text, strlen(bad[k].text));
+        snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("bad.json"), tu_path("x.exr"));
+        expect(a, 1, bad[k].msg);
+        expect(a, 1, "bad.json");
+    }
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
     expect("render --scene spheres --mis sometimes -o x.exr", 2, "--mis must be");
 }

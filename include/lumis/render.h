@@ -79,6 +79,35 @@ typedef struct lumis_render_stats {
 lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
                           lumis_image **out, lumis_render_stats *stats);
 
+/* ---- scene files (JSON) ---------------------------------------------------------------
+ *
+ * {"camera": {"eye": [0,1,5], "look_at": [0,0.5,0], "up": [0,1,0], "fov_deg": 40,
+ *             "width": 640, "height": 480},
+ *  "environment": {"map": "forest.exr", "rotation_deg": 0, "scale": 1},
+ *  "objects": [{"type": "sphere", "center": [0,1,0], "radius": 1, "material": {...}},
+ *              {"type": "mesh", "file": "bunny.obj", "transform": {"translate": [1,0,0],
+ *               "rotate_deg": [0,30,0], "scale": 0.5}, "material": {...}},
+ *              {"type": "plane", "point": [0,0,0], "normal": [0,1,0], "size": 20,
+ *               "material": {...}}]}
+ * Materials: {"type": "lambert", "albedo": [r,g,b]}, {"type": "ward", "diffuse": ...,
+ * "specular": ..., "alpha_x": a, "alpha_y": a}, {"type": "conductor", "f0": [r,g,b],
+ * "alpha" (or alpha_x/alpha_y)}, {"type": "plastic", "diffuse": ..., "alpha": a}.
+ * Meshes (OBJ, PLY, glTF/GLB, anything assimp reads) and maps resolve against the scene
+ * file's folder; "map" may also be a procedural spec (sky, sky:WxH, studio...).  Every
+ * error names the file, the JSON path (objects[1].material.alpha_x) and what was
+ * expected. */
+typedef struct lumis_scene_file {
+    lumis_camera camera;
+    char env_map[4096]; /* resolved path or procedural spec; "" if the file names none */
+    float env_rotation_deg, env_scale;
+    lumis_object *objects; /* meshes' vertex and index arrays are owned by the file */
+    int object_count;
+} lumis_scene_file;
+
+lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
+                                   lumis_scene_file **out);
+void lumis_scene_file_destroy(lumis_scene_file *file);
+
 #ifdef __cplusplus
 }
 #endif

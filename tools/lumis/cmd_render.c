@@ -6,11 +6,12 @@
 #include <string.h>
 
 static const char usage[] =
-    "usage: lumis render --scene spheres [options] -o OUT.exr\n\n"
-    "Renders direct illumination from an environment map (no file needed: the default\n"
-    "map is the procedural sky).  Built-in scenes: spheres (Lambert, Ward and GGX\n"
-    "spheres, as in Ergun et al.'s Figure 6).  JSON scene files, --time, the PNG's\n"
-    "sidecar and the other built-in scenes are not implemented yet.\n\n"
+    "usage: lumis render [SCENE.json | --scene spheres] [options] -o OUT.exr\n\n"
+    "Renders direct illumination from an environment map.  SCENE.json follows the schema\n"
+    "in lumis/render.h (camera, environment, objects: sphere, plane, mesh); built-in\n"
+    "scenes: spheres (Lambert, Ward and GGX spheres, as in Ergun et al.'s Figure 6).\n"
+    "Without a map in the scene or --env, the procedural sky lights it.  --time, the\n"
+    "JSON sidecar and the other built-in scenes are not implemented yet.\n\n"
     "options:\n"
     "  --env MAP          .exr/.hdr/.pfm file or sky[:WxH] / studio[:WxH] (default sky)\n"
     "  --method M         light sampler (see lumis sample --help; default inversion-guided)\n"
@@ -46,7 +47,8 @@ static int scene_spheres(lumis_object o[3], lumis_camera *cam)
 
 int cmd_render(int argc, char **argv)
 {
-    const char *scene_name = NULL, *envspec = "sky", *out = NULL, *png = NULL, *v;
+    const char *scene_name = NULL, *scene_path = NULL, *envspec = NULL, *out = NULL, *png = NULL,
+               *v;
     lumis_sampler_desc sd = {0};
     lumis_render_desc rd = {0};
     lumis_write_options pw = {0};
@@ -108,25 +110,44 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
             if (!v || lumis_tonemap_from_name(v, &pw.tonemap) != LUMIS_OK)
                 return tool_usage_error("render", "--tonemap must be clamp, reinhard or aces");
+        } else if (argv[i][0] != '-' && !scene_path) {
+            scene_path = argv[i];
         } else {
             return tool_usage_error("render", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!scene_name)
-        return tool_usage_error("render",
-                                "--scene NAME is required (scene files are not supported yet)");
-    if (strcmp(scene_name, "spheres") != 0)
+    if (!scene_name == !scene_path)
+        return tool_usage_error("render", "give one scene: SCENE.json or --scene NAME");
+    if (scene_name && strcmp(scene_name, "spheres") != 0)
         return tool_usage_error("render", "unknown scene '%s' (built in: spheres)", scene_name);
     if (!out) return tool_usage_error("render", "no output file (-o OUT.exr)");
     if (bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
 
-    lumis_object objs[3];
+    lumis_object builtin[3];
+    const lumis_object *objs = builtin;
     lumis_camera cam;
-    int n = scene_spheres(objs, &cam);
+    lumis_scene_file *file = NULL;
+    float rotation = 0.0f, scale = 1.0f;
+    int n;
+    if (scene_path) {
+        if (lumis_scene_file_read(scene_path, &tool_errors, &file) != LUMIS_OK) return EXIT_RUNTIME;
+        objs = file->objects;
+        n = file->object_count;
+        cam = file->camera;
+        if (!envspec && file->env_map[0]) envspec = file->env_map;
+        rotation = file->env_rotation_deg;
+        scale = file->env_scale;
+    } else {
+        n = scene_spheres(builtin, &cam);
+    }
+    if (!envspec) envspec = "sky";
     if (w) cam.width = w, cam.height = h;
     lumis_envmap *env = NULL;
     lumis_sampler *smp = NULL;
-    if (tool_make_sampler(envspec, 0.0f, &sd, &env, &smp) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_make_sampler(envspec, rotation, scale, &sd, &env, &smp) != LUMIS_OK) {
+        lumis_scene_file_destroy(file);
+        return EXIT_RUNTIME;
+    }
     lumis_scene *scene = NULL;
     int rc = EXIT_RUNTIME;
     if (lumis_scene_create(objs, n, &tool_errors, &scene) == LUMIS_OK) {
@@ -151,6 +172,7 @@ int cmd_render(int argc, char **argv)
         lumis_image_destroy(img);
     }
     lumis_scene_destroy(scene);
+    lumis_scene_file_destroy(file);
     lumis_sampler_destroy(smp);
     lumis_envmap_destroy(env);
     return rc;

@@ -62,8 +62,9 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
     return EXIT_OK;
 }
 
-lumis_status tool_make_sampler(const char *spec, float rotation, const lumis_sampler_desc *desc,
-                               lumis_envmap **env, lumis_sampler **sampler)
+lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
+                               const lumis_sampler_desc *desc, lumis_envmap **env,
+                               lumis_sampler **sampler)
 {
     lumis_image *img = NULL;
     *env = NULL;
@@ -75,6 +76,7 @@ lumis_status tool_make_sampler(const char *spec, float rotation, const lumis_sam
     ed.width = img->width;
     ed.height = img->height;
     ed.rotation_deg = rotation;
+    ed.scale = scale;
     ed.errors = tool_errors;
     st = lumis_envmap_create(&ed, env);
     lumis_image_destroy(img);
@@ -133,7 +135,7 @@ int cmd_sample(int argc, char **argv)
     if (rc) return rc < 0 ? EXIT_OK : rc;
     lumis_envmap *env;
     lumis_sampler *s;
-    if (tool_make_sampler(map, rot, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_make_sampler(map, rot, 1.0f, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, seed, 0);
     for (long k = 0; k < n; k++) {
@@ -159,7 +161,7 @@ int cmd_pdf(int argc, char **argv)
     if (rc) return rc < 0 ? EXIT_OK : rc;
     lumis_envmap *env;
     lumis_sampler *s;
-    if (tool_make_sampler(map, rot, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_make_sampler(map, rot, 1.0f, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;
     char line[512];
     long lineno = 0;
     rc = EXIT_OK;

@@ -68,10 +68,11 @@ int cmd_render(int argc, char **argv);
 int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sampler_desc *d,
                         float *rotation);
 
-/* Loads a map (file or procedural spec), builds its envmap (rotated) and a sampler;
- * prints errors itself. */
-lumis_status tool_make_sampler(const char *spec, float rotation, const lumis_sampler_desc *desc,
-                               lumis_envmap **env, lumis_sampler **sampler);
+/* Loads a map (file or procedural spec), builds its envmap (rotated, scaled) and a
+ * sampler; prints errors itself. */
+lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
+                               const lumis_sampler_desc *desc, lumis_envmap **env,
+                               lumis_sampler **sampler);
 
 /* Writes the info report of a map (as `lumis info` prints it) to f. */
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,

@@ -1,0 +1,384 @@
+/* JSON scene files (cJSON) and their meshes (assimp's C API).  See lumis/render.h for the
+ * schema.  Every failure names the file, the JSON path and what was expected. */
+#include "lumis/render.h"
+
+#include "../core/internal.h"
+
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct parser {
+    const char *file;
+    char dir[4096]; /* the scene file's folder, with a trailing slash, or "" */
+    const lumis_error_sink *errors;
+} parser;
+
+static lumis_status bad(const parser *p, const char *path, const char *what)
+{
+    return lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER, "%s: %s: expected %s", p->file, path, what);
+}
+
+/* "a.b" (JSON paths are short; a longer one is cut, which only shortens a message). */
+static void join(char *out, size_t cap, const char *a, const char *b)
+{
+    if (snprintf(out, cap, "%s.%s", a, b) >= (int)cap) out[cap - 1] = '\0';
+}
+
+/* Optional number (absent: keeps *out). */
+static lumis_status get_number(const parser *p, const cJSON *o, const char *key, const char *path,
+                               double lo, double hi, double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    char at[256];
+    join(at, sizeof at, path, key);
+    if (!v) return LUMIS_OK;
+    if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble)) return bad(p, at, "a number");
+    if (v->valuedouble < lo || v->valuedouble > hi) {
+        char what[96];
+        snprintf(what, sizeof what, "a number in [%g, %g]", lo, hi);
+        return bad(p, at, what);
+    }
+    *out = v->valuedouble;
+    return LUMIS_OK;
+}
+
+static lumis_status get_vec3(const parser *p, const cJSON *o, const char *key, const char *path,
+                             int required, float out[3])
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    char at[256];
+    join(at, sizeof at, path, key);
+    if (!v) return required ? bad(p, at, "an array of 3 numbers (missing)") : LUMIS_OK;
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3) return bad(p, at, "an array of 3 numbers");
+    for (int k = 0; k < 3; k++) {
+        const cJSON *e = cJSON_GetArrayItem(v, k);
+        if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
+            return bad(p, at, "an array of 3 numbers");
+        out[k] = (float)e->valuedouble;
+    }
+    return LUMIS_OK;
+}
+
+static lumis_status get_rgb(const parser *p, const cJSON *o, const char *key, const char *path,
+                            lumis_rgb *out)
+{
+    float v[3] = {out->r, out->g, out->b};
+    lumis_status st = get_vec3(p, o, key, path, 0, v);
+    if (st != LUMIS_OK) return st;
+    for (int k = 0; k < 3; k++)
+        if (v[k] < 0.0f || v[k] > 1.0f) {
+            char at[256];
+            join(at, sizeof at, path, key);
+            return bad(p, at, "reflectances in [0, 1]");
+        }
+    *out = (lumis_rgb){v[0], v[1], v[2]};
+    return LUMIS_OK;
+}
+
+static lumis_status parse_material(const parser *p, const cJSON *m, const char *path, lumis_bsdf *b)
+{
+    if (!cJSON_IsObject(m)) return bad(p, path, "a material object");
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(m, "type");
+    char at[256];
+    join(at, sizeof at, path, "type");
+    if (!cJSON_IsString(t)) return bad(p, at, "a string: lambert, ward, conductor or plastic");
+    memset(b, 0, sizeof *b);
+    double ax = 0.1, ay = -1.0, a = -1.0;
+    lumis_status st = LUMIS_OK;
+    if (strcmp(t->valuestring, "lambert") == 0) {
+        b->type = LUMIS_BSDF_LAMBERT;
+        b->diffuse = (lumis_rgb){0.8f, 0.8f, 0.8f};
+        st = get_rgb(p, m, "albedo", path, &b->diffuse);
+    } else if (strcmp(t->valuestring, "ward") == 0 || strcmp(t->valuestring, "conductor") == 0 ||
+               strcmp(t->valuestring, "ggx") == 0 || strcmp(t->valuestring, "plastic") == 0) {
+        int ward = t->valuestring[0] == 'w', plastic = t->valuestring[0] == 'p';
+        b->type =
+            ward ? LUMIS_BSDF_WARD : (plastic ? LUMIS_BSDF_GGX_PLASTIC : LUMIS_BSDF_GGX_CONDUCTOR);
+        b->diffuse = (lumis_rgb){ward ? 0.1f : (plastic ? 0.5f : 0.0f),
+                                 ward ? 0.1f : (plastic ? 0.5f : 0.0f),
+                                 ward ? 0.1f : (plastic ? 0.5f : 0.0f)};
+        b->specular = (lumis_rgb){ward ? 0.3f : 0.9f, ward ? 0.3f : 0.9f, ward ? 0.3f : 0.9f};
+        if (st == LUMIS_OK) st = get_rgb(p, m, "diffuse", path, &b->diffuse);
+        if (st == LUMIS_OK) st = get_rgb(p, m, ward ? "specular" : "f0", path, &b->specular);
+        if (st == LUMIS_OK) st = get_number(p, m, "alpha", path, 1e-3, 1.0, &a);
+        if (a > 0.0) ax = a;
+        if (st == LUMIS_OK) st = get_number(p, m, "alpha_x", path, 1e-3, 1.0, &ax);
+        if (st == LUMIS_OK) st = get_number(p, m, "alpha_y", path, 1e-3, 1.0, &ay);
+        b->alpha_x = (float)ax;
+        b->alpha_y = (float)(ay > 0.0 ? ay : (a > 0.0 ? a : ax));
+    } else {
+        return bad(p, at, "lambert, ward, conductor or plastic");
+    }
+    return st;
+}
+
+/* Rotation R = Rz Ry Rx (degrees), scale, then translation. */
+static void transform_points(float *v, int n, const float t[3], const float r[3], const float s[3])
+{
+    double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
+    double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
+    double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
+    for (int k = 0; k < n; k++) {
+        double x = v[3 * k] * s[0], y = v[3 * k + 1] * s[1], z = v[3 * k + 2] * s[2];
+        double y1 = cx * y - sx * z, z1 = sx * y + cx * z;     /* about x */
+        double x2 = cy * x + sy * z1, z2 = -sy * x + cy * z1;  /* about y */
+        double x3 = cz * x2 - sz * y1, y3 = sz * x2 + cz * y1; /* about z */
+        v[3 * k] = (float)(x3 + t[0]);
+        v[3 * k + 1] = (float)(y3 + t[1]);
+        v[3 * k + 2] = (float)(z2 + t[2]);
+    }
+}
+
+static lumis_status load_mesh(const parser *p, const char *file, const char *path, lumis_object *o)
+{
+    char full[4096];
+    if (file[0] == '/')
+        snprintf(full, sizeof full, "%s", file);
+    else
+        snprintf(full, sizeof full, "%s%s", p->dir, file);
+    const struct aiScene *sc =
+        aiImportFile(full, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                               aiProcess_PreTransformVertices);
+    if (!sc)
+        return lumis__fail(p->errors, LUMIS_ERR_OPEN, "%s: %s.file: cannot load mesh %s: %s",
+                           p->file, path, full, aiGetErrorString());
+    size_t nv = 0, nt = 0;
+    for (unsigned m = 0; m < sc->mNumMeshes; m++) {
+        nv += sc->mMeshes[m]->mNumVertices;
+        for (unsigned f = 0; f < sc->mMeshes[m]->mNumFaces; f++)
+            nt += sc->mMeshes[m]->mFaces[f].mNumIndices == 3;
+    }
+    if (nt == 0 || nv > 0x7fffffff || nt > 0x7fffffff) {
+        aiReleaseImport(sc);
+        return lumis__fail(p->errors, LUMIS_ERR_CORRUPT, "%s: %s.file: %s has no triangles",
+                           p->file, path, full);
+    }
+    float *v = malloc(nv * 3 * sizeof(float));
+    unsigned *idx = malloc(nt * 3 * sizeof(unsigned));
+    if (!v || !idx) {
+        free(v);
+        free(idx);
+        aiReleaseImport(sc);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    size_t vbase = 0, t = 0;
+    for (unsigned m = 0; m < sc->mNumMeshes; m++) {
+        const struct aiMesh *mesh = sc->mMeshes[m];
+        for (unsigned k = 0; k < mesh->mNumVertices; k++) {
+            v[3 * (vbase + k)] = mesh->mVertices[k].x;
+            v[3 * (vbase + k) + 1] = mesh->mVertices[k].y;
+            v[3 * (vbase + k) + 2] = mesh->mVertices[k].z;
+        }
+        for (unsigned f = 0; f < mesh->mNumFaces; f++) {
+            const struct aiFace *fc = &mesh->mFaces[f];
+            if (fc->mNumIndices != 3) continue; /* points and lines left by triangulation */
+            for (int c = 0; c < 3; c++)
+                idx[3 * t + (size_t)c] = (unsigned)(vbase + fc->mIndices[c]);
+            t++;
+        }
+        vbase += mesh->mNumVertices;
+    }
+    aiReleaseImport(sc);
+    o->vertices = v;
+    o->indices = idx;
+    o->vertex_count = (int)nv;
+    o->triangle_count = (int)nt;
+    return LUMIS_OK;
+}
+
+static lumis_status parse_object(const parser *p, const cJSON *j, int k, lumis_object *o)
+{
+    char path[64];
+    snprintf(path, sizeof path, "objects[%d]", k);
+    if (!cJSON_IsObject(j)) return bad(p, path, "an object");
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(j, "type");
+    char at[256];
+    join(at, sizeof at, path, "type");
+    if (!cJSON_IsString(t)) return bad(p, at, "a string: sphere, plane or mesh");
+    memset(o, 0, sizeof *o);
+    float c[3] = {0, 0, 0};
+    lumis_status st;
+    if (strcmp(t->valuestring, "sphere") == 0) {
+        double r = -1.0;
+        o->type = LUMIS_OBJECT_SPHERE;
+        if ((st = get_vec3(p, j, "center", path, 1, c)) != LUMIS_OK) return st;
+        if ((st = get_number(p, j, "radius", path, 1e-6, 1e9, &r)) != LUMIS_OK) return st;
+        if (r < 0.0) {
+            join(at, sizeof at, path, "radius");
+            return bad(p, at, "a positive number (missing)");
+        }
+        o->radius = (float)r;
+    } else if (strcmp(t->valuestring, "plane") == 0) {
+        float n[3] = {0, 1, 0};
+        double size = 20.0;
+        o->type = LUMIS_OBJECT_PLANE;
+        if ((st = get_vec3(p, j, "point", path, 1, c)) != LUMIS_OK) return st;
+        if ((st = get_vec3(p, j, "normal", path, 1, n)) != LUMIS_OK) return st;
+        if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) {
+            join(at, sizeof at, path, "normal");
+            return bad(p, at, "a non-zero vector");
+        }
+        if ((st = get_number(p, j, "size", path, 1e-6, 1e9, &size)) != LUMIS_OK) return st;
+        o->normal = (lumis_vec3){n[0], n[1], n[2]};
+        o->size = (float)size;
+    } else if (strcmp(t->valuestring, "mesh") == 0) {
+        o->type = LUMIS_OBJECT_MESH;
+        const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "file");
+        join(at, sizeof at, path, "file");
+        if (!cJSON_IsString(f) || !f->valuestring[0]) return bad(p, at, "a mesh file name");
+        float tr[3] = {0, 0, 0}, rot[3] = {0, 0, 0}, sc[3] = {1, 1, 1};
+        const cJSON *x = cJSON_GetObjectItemCaseSensitive(j, "transform");
+        if (x) {
+            char xp[128];
+            join(xp, sizeof xp, path, "transform");
+            if (!cJSON_IsObject(x))
+                return bad(p, xp, "an object with translate, rotate_deg, scale");
+            if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
+            if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
+            const cJSON *s = cJSON_GetObjectItemCaseSensitive(x, "scale");
+            if (cJSON_IsNumber(s))
+                sc[0] = sc[1] = sc[2] = (float)s->valuedouble;
+            else if ((st = get_vec3(p, x, "scale", xp, 0, sc)) != LUMIS_OK)
+                return st;
+        }
+        if ((st = load_mesh(p, f->valuestring, path, o)) != LUMIS_OK) return st;
+        transform_points((float *)o->vertices, o->vertex_count, tr, rot, sc);
+    } else {
+        return bad(p, at, "sphere, plane or mesh");
+    }
+    o->center = (lumis_vec3){c[0], c[1], c[2]};
+    join(at, sizeof at, path, "material");
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(j, "material");
+    if (!m) return bad(p, at, "a material object (missing)");
+    return parse_material(p, m, at, &o->material);
+}
+
+void lumis_scene_file_destroy(lumis_scene_file *f)
+{
+    if (!f) return;
+    for (int k = 0; k < f->object_count; k++) {
+        free((void *)f->objects[k].vertices);
+        free((void *)f->objects[k].indices);
+    }
+    free(f->objects);
+    free(f);
+}
+
+lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
+                                   lumis_scene_file **out)
+{
+    if (!out || !path) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    parser p = {path, "", errors};
+    const char *slash = strrchr(path, '/');
+    if (slash) snprintf(p.dir, sizeof p.dir, "%.*s/", (int)(slash - path), path);
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
+    fseek(fp, 0, SEEK_END);
+    long n = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    if (n < 0 || n > (1L << 26)) {
+        fclose(fp);
+        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE, "%s: not a scene file (size)", path);
+    }
+    char *text = malloc((size_t)n + 1);
+    if (!text || fread(text, 1, (size_t)n, fp) != (size_t)n) {
+        free(text);
+        fclose(fp);
+        return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", path);
+    }
+    fclose(fp);
+    text[n] = '\0';
+    cJSON *root = cJSON_ParseWithLength(text, (size_t)n);
+    if (!root) {
+        const char *e = cJSON_GetErrorPtr();
+        long at = e && e >= text && e <= text + n ? (long)(e - text) : -1;
+        int line = 1;
+        for (long k = 0; k < at; k++) line += text[k] == '\n';
+        free(text);
+        return lumis__fail(errors, LUMIS_ERR_BAD_HEADER, "%s:%d: malformed JSON", path, line);
+    }
+    free(text);
+    lumis_scene_file *f = calloc(1, sizeof *f);
+    lumis_status st = f ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK && !cJSON_IsObject(root)) st = bad(&p, "(top level)", "an object");
+    /* Camera: the renderer's defaults for what is absent. */
+    if (st == LUMIS_OK) {
+        f->camera = (lumis_camera){{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
+        f->env_scale = 1.0f;
+        const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "camera");
+        if (c && !cJSON_IsObject(c))
+            st = bad(&p, "camera", "an object");
+        else if (c) {
+            float v[3];
+            double fov = 40, w = 640, h = 480;
+            memcpy(v, &f->camera.eye, sizeof v);
+            if (st == LUMIS_OK && (st = get_vec3(&p, c, "eye", "camera", 0, v)) == LUMIS_OK)
+                f->camera.eye = (lumis_vec3){v[0], v[1], v[2]};
+            memcpy(v, &f->camera.look_at, sizeof v);
+            if (st == LUMIS_OK && (st = get_vec3(&p, c, "look_at", "camera", 0, v)) == LUMIS_OK)
+                f->camera.look_at = (lumis_vec3){v[0], v[1], v[2]};
+            memcpy(v, &f->camera.up, sizeof v);
+            if (st == LUMIS_OK && (st = get_vec3(&p, c, "up", "camera", 0, v)) == LUMIS_OK)
+                f->camera.up = (lumis_vec3){v[0], v[1], v[2]};
+            if (st == LUMIS_OK) st = get_number(&p, c, "fov_deg", "camera", 1e-3, 179.0, &fov);
+            if (st == LUMIS_OK) st = get_number(&p, c, "width", "camera", 1, 16384, &w);
+            if (st == LUMIS_OK) st = get_number(&p, c, "height", "camera", 1, 16384, &h);
+            f->camera.fov_deg = (float)fov;
+            f->camera.width = (int)w;
+            f->camera.height = (int)h;
+        }
+    }
+    if (st == LUMIS_OK) {
+        const cJSON *e = cJSON_GetObjectItemCaseSensitive(root, "environment");
+        if (e && !cJSON_IsObject(e))
+            st = bad(&p, "environment", "an object");
+        else if (e) {
+            const cJSON *m = cJSON_GetObjectItemCaseSensitive(e, "map");
+            double rot = 0, scale = 1;
+            if (m && !cJSON_IsString(m))
+                st = bad(&p, "environment.map", "a file name or sky/studio spec");
+            else if (m) {
+                int procedural = strncmp(m->valuestring, "sky", 3) == 0 ||
+                                 strncmp(m->valuestring, "studio", 6) == 0;
+                if (procedural || m->valuestring[0] == '/')
+                    snprintf(f->env_map, sizeof f->env_map, "%s", m->valuestring);
+                else
+                    snprintf(f->env_map, sizeof f->env_map, "%s%s", p.dir, m->valuestring);
+            }
+            if (st == LUMIS_OK)
+                st = get_number(&p, e, "rotation_deg", "environment", -1e6, 1e6, &rot);
+            if (st == LUMIS_OK) st = get_number(&p, e, "scale", "environment", 0, 1e30, &scale);
+            f->env_rotation_deg = (float)rot;
+            f->env_scale = (float)scale;
+        }
+    }
+    if (st == LUMIS_OK) {
+        const cJSON *objs = cJSON_GetObjectItemCaseSensitive(root, "objects");
+        if (!cJSON_IsArray(objs))
+            st = bad(&p, "objects", "an array of objects");
+        else {
+            int n_obj = cJSON_GetArraySize(objs);
+            f->objects = calloc((size_t)(n_obj > 0 ? n_obj : 1), sizeof(lumis_object));
+            if (!f->objects) st = LUMIS_ERR_OUT_OF_MEMORY;
+            for (int k = 0; k < n_obj && st == LUMIS_OK; k++) {
+                st = parse_object(&p, cJSON_GetArrayItem(objs, k), k, &f->objects[k]);
+                f->object_count = k + 1; /* so destroy frees what this one loaded */
+            }
+        }
+    }
+    cJSON_Delete(root);
+    if (st != LUMIS_OK) {
+        lumis_scene_file_destroy(f);
+        return st;
+    }
+    *out = f;
+    return LUMIS_OK;
+}
