@@ -320,6 +320,9 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
         expect(a, 1, "bad.json");
     }
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
+    snprintf(a, sizeof a, "render --scene ward-aniso --env sky:32x16 --spp 1 --size 16x16 -o '%s'",
+             tu_path("w.exr"));
+    expect(a, 0, "rendered 16x16");
     expect("render --scene spheres --mis sometimes -o x.exr", 2, "--mis must be");
 }
 

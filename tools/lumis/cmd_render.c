@@ -9,7 +9,8 @@ static const char usage[] =
     "usage: lumis render [SCENE.json | --scene spheres] [options] -o OUT.exr\n\n"
     "Renders direct illumination from an environment map.  SCENE.json follows the schema\n"
     "in lumis/render.h (camera, environment, objects: sphere, plane, mesh); built-in\n"
-    "scenes: spheres (Lambert, Ward and GGX spheres, as in Ergun et al.'s Figure 6).\n"
+    "scenes: spheres (Lambert, Ward and GGX spheres, as in Ergun et al.'s Figure 6) and\n"
+    "ward-aniso (a sphere with Ward alpha_x = 0.5, alpha_y = 0.001: their Figure 7).\n"
     "Without a map in the scene or --env, the procedural sky lights it.  --time, the\n"
     "JSON sidecar and the other built-in scenes are not implemented yet.\n\n"
     "options:\n"
@@ -24,6 +25,18 @@ static const char usage[] =
     "  --blocks K         kd-tree blocks\n"
     "  -o, --output OUT   linear EXR (required)\n"
     "  --png OUT          also a tone-mapped PNG preview (--exposure EV, --tonemap T)\n";
+
+/* One sphere with the anisotropic Ward BRDF of Ergun et al.'s Figure 7. */
+static int scene_ward_aniso(lumis_object o[3], lumis_camera *cam)
+{
+    memset(&o[0], 0, sizeof o[0]);
+    o[0].type = LUMIS_OBJECT_SPHERE;
+    o[0].radius = 1.0f;
+    o[0].material =
+        (lumis_bsdf){LUMIS_BSDF_WARD, {0.05f, 0.05f, 0.05f}, {0.5f, 0.5f, 0.5f}, 0.5f, 0.001f};
+    *cam = (lumis_camera){{0, 0.5f, 4.0f}, {0, 0, 0}, {0, 1, 0}, 35.0f, 400, 400};
+    return 1;
+}
 
 /* Three spheres of different materials side by side. */
 static int scene_spheres(lumis_object o[3], lumis_camera *cam)
@@ -118,8 +131,9 @@ int cmd_render(int argc, char **argv)
     }
     if (!scene_name == !scene_path)
         return tool_usage_error("render", "give one scene: SCENE.json or --scene NAME");
-    if (scene_name && strcmp(scene_name, "spheres") != 0)
-        return tool_usage_error("render", "unknown scene '%s' (built in: spheres)", scene_name);
+    if (scene_name && strcmp(scene_name, "spheres") != 0 && strcmp(scene_name, "ward-aniso") != 0)
+        return tool_usage_error("render", "unknown scene '%s' (built in: spheres, ward-aniso)",
+                                scene_name);
     if (!out) return tool_usage_error("render", "no output file (-o OUT.exr)");
     if (bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
 
@@ -137,6 +151,8 @@ int cmd_render(int argc, char **argv)
         if (!envspec && file->env_map[0]) envspec = file->env_map;
         rotation = file->env_rotation_deg;
         scale = file->env_scale;
+    } else if (strcmp(scene_name, "ward-aniso") == 0) {
+        n = scene_ward_aniso(builtin, &cam);
     } else {
         n = scene_spheres(builtin, &cam);
     }
