@@ -350,6 +350,12 @@ lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *d, 
     v3 eye = fromf(cam.eye), fwd = norm(sub(fromf(cam.look_at), eye));
     v3 right = norm(cross(fwd, fromf(cam.up)));
     v3 up = cross(right, fwd);
+    if (!(dot(right, right) > 0.5)) {
+        lumis_image_destroy(*out);
+        *out = NULL;
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: camera eye equals look_at, or up is parallel to the view");
+    }
     double th = tan(0.5 * cam.fov_deg * LUMIS_PI / 180.0), aspect = (double)cam.width / cam.height;
     ctx c = {scene, d, d->light_samples ? d->light_samples : 1,
              d->bsdf_samples ? d->bsdf_samples : 1};

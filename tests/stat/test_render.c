@@ -226,6 +226,21 @@ static void bad_scenes(void **state)
     assert_int_equal(lumis_scene_create(&o, 1, &sink.sink, &s), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "out of range"));
     assert_null(s);
+    /* A camera looking straight along its up vector has no frame. */
+    lumis_scene *ok = one_sphere(0.5f);
+    lumis_envmap *env = env_of(tu_image(8, 4, f_const));
+    lumis_camera bad_cam = {{0, 5, 0}, {0, 0, 0}, {0, 1, 0}, 40.0f, 8, 8};
+    lumis_render_desc d = {0};
+    d.camera = &bad_cam;
+    d.env = env;
+    d.estimator = LUMIS_ESTIMATOR_BSDF;
+    d.errors = sink.sink;
+    lumis_image *img = (lumis_image *)1;
+    assert_int_equal(lumis_render(ok, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    assert_non_null(strstr(sink.last, "parallel"));
+    lumis_scene_destroy(ok);
+    lumis_envmap_destroy(env);
 }
 
 int main(void)
