@@ -171,7 +171,7 @@ void lumis_sampler_destroy(lumis_sampler *s)
 /* ---- sampling ------------------------------------------------------------------------ */
 
 /* Point (s, t) of the rectangle -> map-frame direction, uniform in solid angle (or in
- * angles), in double precision; *cos_theta and *theta_or_nan report where it went. */
+ * angles), in double precision; *cos_theta reports where it went. */
 static void warp(const lumis_sampler *smp, const lumis__pick *p, double s, double t, double d[3],
                  double *cos_theta)
 {
