@@ -118,6 +118,10 @@ typedef struct lumis_write_options {
 lumis_status lumis_image_write(const char *path, const lumis_image *image,
                                const lumis_write_options *options);
 
+/* Writes len bytes of text (a JSON sidecar, a report) the same crash-safe way. */
+lumis_status lumis_write_text(const char *path, const char *text, size_t len,
+                              const lumis_error_sink *errors);
+
 #ifdef __cplusplus
 }
 #endif

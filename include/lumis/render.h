@@ -1,9 +1,12 @@
 /* lumis/render.h - the evaluation renderer (library lumis-render): a scene of spheres,
- * planes and triangle meshes with BSDFs, traced with Embree, lit by an environment map
- * through any lumis_sampler, with light, BSDF or multiple importance sampling.
+ * planes and (instanced) triangle meshes with BSDFs, traced with Embree, lit by an
+ * environment map through any lumis_sampler, with light, BSDF or multiple importance
+ * sampling.
  *
- * It exists to measure samplers: direct illumination from the environment only, exact
- * estimators, and images that depend on the seed but never on the thread count. */
+ * It exists to measure samplers: direct illumination from the environment (or, clearly
+ * labelled, path-traced global illumination for references), exact estimators, and images
+ * that depend on the seed and the sample count but never on the thread count or on how the
+ * samples were split into passes. */
 #ifndef LUMIS_RENDER_H
 #define LUMIS_RENDER_H
 
@@ -39,12 +42,17 @@ typedef struct lumis_object {
     const float *vertices;   /* mesh: 3 floats each, borrowed for lumis_scene_create */
     const unsigned *indices; /* mesh: 3 per triangle */
     int vertex_count, triangle_count;
+    /* mesh: object to world, a row-major 3x4 matrix [R | t]; all zeros == identity.
+     * Mesh objects that share the same vertex and index arrays are built once and
+     * instanced, each with its own transform and material. */
+    float transform[12];
     lumis_bsdf material;
 } lumis_object;
 
 typedef struct lumis_scene lumis_scene;
 
-/* Builds the Embree scene (objects copied).  errors: an optional sink. */
+/* Builds the Embree scene (objects copied; mesh arrays need not outlive the call).
+ * errors: an optional sink. */
 lumis_status lumis_scene_create(const lumis_object *objects, int count,
                                 const lumis_error_sink *errors, lumis_scene **out);
 void lumis_scene_destroy(lumis_scene *scene);
@@ -66,20 +74,47 @@ typedef struct lumis_render_desc {
     int bsdf_samples;        /* BSDF samples per camera sample; 0 == 1 */
     unsigned long long seed; /* the image depends on it, never on threads */
     int threads;             /* 0 == all cores */
+    /* 0: direct illumination from the environment (the evaluation mode).  N > 0: path
+     * tracing with up to N indirect bounces; every vertex gets the direct estimator above
+     * and the path continues by BSDF sampling (global illumination, for references). */
+    int max_bounces;
+    /* Optional progress report: called with tiles done and total of the current pass,
+     * from one rendering thread at a time (never concurrently). */
+    void (*progress)(void *user, int done, int total);
+    void *progress_user;
     lumis_error_sink errors;
 } lumis_render_desc;
 
 typedef struct lumis_render_stats {
-    double seconds;
-    double shadow_rays;
-    double camera_rays;
+    int spp;            /* camera samples per pixel so far */
+    int passes;         /* lumis_render_job_run calls so far */
+    int threads;        /* worker threads of the last pass */
+    double seconds;     /* wall time spent rendering (all passes) */
+    double camera_rays; /* primary rays */
+    double shadow_rays; /* occlusion rays of the direct estimators */
+    double bounce_rays; /* continuation rays of path tracing */
 } lumis_render_stats;
 
-/* Renders into a new image (linear radiance).  stats may be NULL. */
+/* Renders desc->spp samples per pixel into a new image (linear radiance).  stats may be
+ * NULL.  The same as a job run once with desc->spp samples. */
 lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
                           lumis_image **out, lumis_render_stats *stats);
 
-/* ---- scene files (JSON) ---------------------------------------------------------------
+/* Progressive rendering: a job accumulates passes; lumis_render_job_run(job, n) adds n
+ * samples per pixel.  Sample k of a pixel is the same whichever pass draws it, so 16
+ * passes of 1 sample give the image of one pass of 16, bit for bit.  The scene and the
+ * camera, envmap and sampler of desc must outlive the job (desc itself is copied;
+ * desc->spp is ignored). */
+typedef struct lumis_render_job lumis_render_job;
+lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_render_desc *desc,
+                                     lumis_render_job **out);
+lumis_status lumis_render_job_run(lumis_render_job *job, int samples);
+/* The mean so far, as a new image (black before the first pass). */
+lumis_status lumis_render_job_image(const lumis_render_job *job, lumis_image **out);
+void lumis_render_job_stats(const lumis_render_job *job, lumis_render_stats *stats);
+void lumis_render_job_destroy(lumis_render_job *job);
+
+/* ---- scene files (JSON) and built-in scenes -------------------------------------------
  *
  * {"camera": {"eye": [0,1,5], "look_at": [0,0.5,0], "up": [0,1,0], "fov_deg": 40,
  *             "width": 640, "height": 480},
@@ -92,10 +127,13 @@ lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *des
  * Materials: {"type": "lambert", "albedo": [r,g,b]}, {"type": "ward", "diffuse": ...,
  * "specular": ..., "alpha_x": a, "alpha_y": a}, {"type": "conductor", "f0": [r,g,b],
  * "alpha" (or alpha_x/alpha_y)}, {"type": "plastic", "diffuse": ..., "alpha": a}.
+ * A mesh may give "instances": [{"translate": ..., "rotate_deg": ..., "scale": ...}, ...]
+ * instead of one "transform": one object per entry, sharing the mesh (Embree instances).
+ * Rotation is Rz Ry Rx in degrees, applied after the scale and before the translation.
  * Meshes (OBJ, PLY, glTF/GLB, anything assimp reads) and maps resolve against the scene
- * file's folder; "map" may also be a procedural spec (sky, sky:WxH, studio...).  Every
- * error names the file, the JSON path (objects[1].material.alpha_x) and what was
- * expected. */
+ * file's folder; the same file named twice is loaded once and instanced; "map" may also be a
+ * procedural spec (sky, sky:WxH, studio...).  Every error names the file, the JSON path
+ * (objects[1].material.alpha_x) and what was expected. */
 typedef struct lumis_scene_file {
     lumis_camera camera;
     char env_map[4096]; /* resolved path or procedural spec; "" if the file names none */
@@ -106,6 +144,17 @@ typedef struct lumis_scene_file {
 
 lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
                                    lumis_scene_file **out);
+
+/* Built-in scenes, with no files:
+ *   spheres     Lambert, Ward and GGX spheres side by side (Ergun et al., Figure 6)
+ *   bunny-plane the Stanford bunny and a glossy sphere on a diffuse ground plane, so
+ *               shadows matter (as in Wu's scenes); the bunny is compiled into the library
+ *   ward-aniso  a sphere with Ward alpha_x = 0.5, alpha_y = 0.001 (Ergun et al., Figure 7)
+ * They name no map (env_map is ""). */
+lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
+                                 lumis_scene_file **out);
+/* The built-in names, NULL-terminated. */
+const char *const *lumis_scene_builtin_names(void);
 void lumis_scene_file_destroy(lumis_scene_file *file);
 
 #ifdef __cplusplus

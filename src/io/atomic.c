@@ -72,3 +72,15 @@ lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
     af->tmp_path = NULL;
     return status;
 }
+
+lumis_status lumis_write_text(const char *path, const char *text, size_t len,
+                              const lumis_error_sink *errors)
+{
+    if (!text && len) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no text to write");
+    lumis__atomic_file af;
+    lumis_status st = lumis__atomic_begin(&af, path, errors);
+    if (st != LUMIS_OK) return st;
+    if (len && fwrite(text, 1, len, af.f) != len)
+        st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: write failed: %s", path, strerror(errno));
+    return lumis__atomic_end(&af, st, errors);
+}

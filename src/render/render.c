@@ -1,7 +1,9 @@
-/* The evaluation renderer: an Embree scene, a pinhole camera, and direct illumination
- * from the environment map with light, BSDF or multiple importance sampling.
- * Determinism: every pixel draws from its own PCG32 stream (the pixel's index), so the
- * image depends on the seed and never on how rows are spread over threads. */
+/* The evaluation renderer: an Embree scene (meshes used more than once are instanced), a
+ * pinhole camera, and direct illumination from the environment map with light, BSDF or
+ * multiple importance sampling; optionally path tracing on top of it.
+ * Determinism: sample k of pixel p draws from PCG32 stream p started at a hash of (seed, k),
+ * so the image depends on the seed and the sample count, never on how tiles are spread
+ * over threads or samples over passes. */
 #include "lumis/render.h"
 #include "lumis/rng.h"
 
@@ -10,19 +12,25 @@
 #include <embree3/rtcore.h>
 #include <math.h>
 #include <omp.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct prim {
     lumis_object_type type;
     lumis_vec3 center, normal; /* sphere centre; plane normal */
+    int instanced;             /* a mesh shared with other objects: an Embree instance */
+    double cof[9];             /* instanced: maps object-space normals to world space */
+    RTCScene child;            /* instanced: the shared mesh (owned by lumis_scene.shared) */
     lumis_bsdf material;
 } prim;
 
 struct lumis_scene {
     RTCDevice device;
     RTCScene rtc;
-    prim *prims; /* indexed by Embree geometry id */
+    RTCScene *shared; /* one per mesh used by several objects */
+    int shared_count;
+    prim *prims; /* indexed by Embree geometry id (top level) */
     int count;
 };
 
@@ -85,14 +93,21 @@ void lumis_scene_destroy(lumis_scene *s)
 {
     if (!s) return;
     if (s->rtc) rtcReleaseScene(s->rtc);
+    for (int k = 0; k < s->shared_count; k++)
+        if (s->shared[k]) rtcReleaseScene(s->shared[k]);
     if (s->device) rtcReleaseDevice(s->device);
+    free(s->shared);
     free(s->prims);
     free(s);
 }
 
-static int add_triangles(lumis_scene *s, const float *v, int nv, const unsigned *idx, int nt)
+/* Attaches a triangle geometry to `into`, its vertices mapped by m (NULL: as given).
+ * Returns the geometry id, or -1. */
+static int add_triangles(RTCDevice dev, RTCScene into, const float *v, int nv, const unsigned *idx,
+                         int nt, const double *m)
 {
-    RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    if (!g) return -1;
     float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                         3 * sizeof(float), (size_t)nv);
     unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
@@ -101,12 +116,56 @@ static int add_triangles(lumis_scene *s, const float *v, int nv, const unsigned 
         rtcReleaseGeometry(g);
         return -1;
     }
-    memcpy(vb, v, 3 * sizeof(float) * (size_t)nv);
+    if (!m)
+        memcpy(vb, v, 3 * sizeof(float) * (size_t)nv);
+    else
+        for (size_t k = 0; k < (size_t)nv; k++) {
+            const float *p = v + 3 * k;
+            for (int r = 0; r < 3; r++)
+                vb[3 * k + (size_t)r] = (float)(m[4 * r] * p[0] + m[4 * r + 1] * p[1] +
+                                                m[4 * r + 2] * p[2] + m[4 * r + 3]);
+        }
     memcpy(ib, idx, 3 * sizeof(unsigned) * (size_t)nt);
     rtcCommitGeometry(g);
-    unsigned id = rtcAttachGeometry(s->rtc, g);
+    unsigned id = rtcAttachGeometry(into, g);
     rtcReleaseGeometry(g);
     return (int)id;
+}
+
+static int same_mesh(const lumis_object *a, const lumis_object *b)
+{
+    return a->type == LUMIS_OBJECT_MESH && b->type == LUMIS_OBJECT_MESH &&
+           a->vertices == b->vertices && a->indices == b->indices &&
+           a->vertex_count == b->vertex_count && a->triangle_count == b->triangle_count;
+}
+
+/* The object's transform (identity when all zeros) and the cofactor matrix that maps its
+ * normals (the inverse transpose times the determinant: normals are renormalised).
+ * Returns 0 for a singular or non-finite transform. */
+static int object_transform(const lumis_object *o, double m[12], double cof[9], int *identity)
+{
+    int zero = 1;
+    for (int k = 0; k < 12; k++) zero &= o->transform[k] == 0.0f;
+    for (int k = 0; k < 12; k++) m[k] = zero ? (k % 5 == 0 ? 1.0 : 0.0) : o->transform[k];
+    *identity = zero;
+    for (int k = 0; k < 12; k++)
+        if (!isfinite(m[k])) return 0;
+    const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9],
+                 i = m[10];
+    const double cm[9] = {e * i - f * h, f * g - d * i, d * h - e * g, c * h - b * i, a * i - c * g,
+                          b * g - a * h, b * f - c * e, c * d - a * f, a * e - b * d};
+    memcpy(cof, cm, sizeof cm);
+    double det = a * cm[0] + b * cm[1] + c * cm[2];
+    double scale = 0.0;
+    for (int k = 0; k < 9; k++) scale = fmax(scale, fabs(m[k / 3 * 4 + k % 3]));
+    return isfinite(det) && fabs(det) > 1e-12 * scale * scale * scale;
+}
+
+static lumis_status scene_fail(lumis_scene *s, const lumis_error_sink *errors, lumis_status st,
+                               int k, const char *what)
+{
+    lumis_scene_destroy(s);
+    return lumis__fail(errors, st, "scene: object %d: %s", k, what);
 }
 
 lumis_status lumis_scene_create(const lumis_object *objects, int count,
@@ -119,25 +178,22 @@ lumis_status lumis_scene_create(const lumis_object *objects, int count,
     if (!s) return LUMIS_ERR_OUT_OF_MEMORY;
     s->device = rtcNewDevice(NULL);
     s->prims = calloc((size_t)(count > 0 ? count : 1), sizeof(prim));
-    if (!s->device || !s->prims) {
+    s->shared = calloc((size_t)(count > 0 ? count : 1), sizeof(RTCScene));
+    if (!s->device || !s->prims || !s->shared) {
         lumis_scene_destroy(s);
         return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "scene: cannot start Embree");
     }
     s->rtc = rtcNewScene(s->device);
     for (int k = 0; k < count; k++) {
         const lumis_object *o = &objects[k];
+        prim *pr = &s->prims[k];
         int id = -1;
-        if (o->material.type >= LUMIS_BSDF_TYPE_COUNT) {
-            lumis_scene_destroy(s);
-            return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "scene: object %d: bad material",
-                               k);
-        }
+        if (o->material.type >= LUMIS_BSDF_TYPE_COUNT)
+            return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k, "bad material");
         if (o->type == LUMIS_OBJECT_SPHERE) {
-            if (!(o->radius > 0.0f)) {
-                lumis_scene_destroy(s);
-                return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                                   "scene: object %d: sphere radius must be positive", k);
-            }
+            if (!(o->radius > 0.0f) || !isfinite(o->radius))
+                return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k,
+                                  "sphere radius must be positive");
             RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
             float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4,
                                                 4 * sizeof(float), 1);
@@ -150,11 +206,8 @@ lumis_status lumis_scene_create(const lumis_object *objects, int count,
             rtcReleaseGeometry(g);
         } else if (o->type == LUMIS_OBJECT_PLANE) {
             v3 n = norm(fromf(o->normal));
-            if (dot(n, n) == 0.0) {
-                lumis_scene_destroy(s);
-                return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                                   "scene: object %d: plane normal is zero", k);
-            }
+            if (!(dot(n, n) > 0.5))
+                return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k, "plane normal is zero");
             v3 t, b, c = fromf(o->center);
             basis(n, &t, &b);
             double h = 0.5 * (o->size > 0.0f ? o->size : 20.0);
@@ -167,32 +220,69 @@ lumis_status lumis_scene_create(const lumis_object *objects, int count,
                 v[3 * q + 2] = (float)p.z;
             }
             const unsigned idx[6] = {0, 1, 2, 0, 2, 3};
-            id = add_triangles(s, v, 4, idx, 2);
-            s->prims[k].normal = tof(n);
+            id = add_triangles(s->device, s->rtc, v, 4, idx, 2, NULL);
+            pr->normal = tof(n);
         } else if (o->type == LUMIS_OBJECT_MESH) {
-            if (!o->vertices || !o->indices || o->vertex_count <= 0 || o->triangle_count <= 0) {
-                lumis_scene_destroy(s);
-                return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                                   "scene: object %d: empty mesh", k);
-            }
-            for (long q = 0; q < 3L * o->triangle_count; q++)
-                if (o->indices[q] >= (unsigned)o->vertex_count) {
-                    lumis_scene_destroy(s);
-                    return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                                       "scene: object %d: index %u out of range", k, o->indices[q]);
+            if (!o->vertices || !o->indices || o->vertex_count <= 0 || o->triangle_count <= 0)
+                return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k, "empty mesh");
+            double m[12];
+            int identity;
+            if (!object_transform(o, m, pr->cof, &identity))
+                return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k,
+                                  "mesh transform is singular or not finite");
+            int first = k, users = 0;
+            for (int j = 0; j < count; j++)
+                if (same_mesh(o, &objects[j])) {
+                    if (j < first) first = j;
+                    users++;
                 }
-            id = add_triangles(s, o->vertices, o->vertex_count, o->indices, o->triangle_count);
+            if (first == k)
+                for (long q = 0; q < 3L * o->triangle_count; q++)
+                    if (o->indices[q] >= (unsigned)o->vertex_count)
+                        return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k,
+                                          "triangle index out of range");
+            if (users == 1) { /* alone: its triangles go straight into the world */
+                id = add_triangles(s->device, s->rtc, o->vertices, o->vertex_count, o->indices,
+                                   o->triangle_count, identity ? NULL : m);
+            } else { /* shared: one Embree scene, instanced with each object's transform */
+                if (first == k) {
+                    RTCScene child = rtcNewScene(s->device);
+                    if (!child || add_triangles(s->device, child, o->vertices, o->vertex_count,
+                                                o->indices, o->triangle_count, NULL) < 0) {
+                        if (child) rtcReleaseScene(child);
+                        return scene_fail(s, errors, LUMIS_ERR_OUT_OF_MEMORY, k,
+                                          "cannot build the mesh");
+                    }
+                    rtcCommitScene(child);
+                    s->shared[s->shared_count++] = child;
+                    s->prims[k].child = child;
+                } else {
+                    s->prims[k].child = s->prims[first].child;
+                }
+                float mf[12];
+                for (int q = 0; q < 12; q++) mf[q] = (float)m[q];
+                RTCGeometry g = rtcNewGeometry(s->device, RTC_GEOMETRY_TYPE_INSTANCE);
+                rtcSetGeometryInstancedScene(g, s->prims[k].child);
+                rtcSetGeometryTimeStepCount(g, 1);
+                rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, mf);
+                rtcCommitGeometry(g);
+                id = (int)rtcAttachGeometry(s->rtc, g);
+                rtcReleaseGeometry(g);
+                pr->instanced = 1;
+            }
         }
-        if (id != k) { /* Embree numbers geometries in attach order */
-            lumis_scene_destroy(s);
-            return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "scene: object %d rejected", k);
-        }
-        s->prims[k].type = o->type;
-        s->prims[k].center = o->center;
-        s->prims[k].material = o->material;
+        if (id != k) /* Embree numbers geometries in attach order */
+            return scene_fail(s, errors, LUMIS_ERR_INVALID_ARGUMENT, k, "rejected by Embree");
+        pr->type = o->type;
+        pr->center = o->center;
+        pr->material = o->material;
     }
     s->count = count;
     rtcCommitScene(s->rtc);
+    if (rtcGetDeviceError(s->device) != RTC_ERROR_NONE) {
+        lumis_scene_destroy(s);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "scene: Embree failed to build it");
+    }
     *out = s;
     return LUMIS_OK;
 }
@@ -224,14 +314,23 @@ static int intersect(const lumis_scene *s, v3 o, v3 d, hit *h)
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(s->rtc, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0;
-    h->prim = &s->prims[rh.hit.geomID];
+    unsigned top = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID ? rh.hit.instID[0] : rh.hit.geomID;
+    h->prim = &s->prims[top];
     h->p = add(o, mul(d, rh.ray.tfar));
-    if (h->prim->type == LUMIS_OBJECT_SPHERE)
+    if (h->prim->type == LUMIS_OBJECT_SPHERE) {
         h->n = norm(sub(h->p, fromf(h->prim->center)));
-    else if (h->prim->type == LUMIS_OBJECT_PLANE)
+    } else if (h->prim->type == LUMIS_OBJECT_PLANE) {
         h->n = fromf(h->prim->normal);
-    else
-        h->n = norm(mk(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    } else {
+        v3 ng = mk(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z); /* object space if instanced */
+        if (h->prim->instanced) {
+            const double *c = h->prim->cof;
+            ng =
+                mk(c[0] * ng.x + c[1] * ng.y + c[2] * ng.z, c[3] * ng.x + c[4] * ng.y + c[5] * ng.z,
+                   c[6] * ng.x + c[7] * ng.y + c[8] * ng.z);
+        }
+        h->n = norm(ng);
+    }
     if (dot(h->n, d) > 0.0) h->n = mul(h->n, -1.0);
     return 1;
 }
@@ -323,17 +422,46 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *sh
     return L;
 }
 
-lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *d, lumis_image **out,
-                          lumis_render_stats *stats)
+/* ---- jobs: progressive accumulation ------------------------------------------------- */
+
+enum { TILE = 16 };
+
+struct lumis_render_job {
+    const lumis_scene *scene;
+    lumis_render_desc d;
+    lumis_camera cam;
+    v3 eye, fwd, right, up;
+    double th, aspect;
+    double *sum; /* 3 per pixel: the sum of every sample so far, in sample order */
+    lumis_render_stats stats;
+};
+
+/* splitmix64's finaliser: decorrelates (seed, sample) pairs into PCG start states. */
+static uint64_t mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+void lumis_render_job_destroy(lumis_render_job *job)
+{
+    if (!job) return;
+    free(job->sum);
+    free(job);
+}
+
+lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_render_desc *d,
+                                     lumis_render_job **out)
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
     if (!scene || !d || !d->env || (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
         (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
-        d->bsdf_samples < 0)
+        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: needs a scene, an envmap, a sampler (unless BSDF-only) "
-                           "and non-negative sample counts");
+                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
+                           "non-negative sample counts and 0 to 1024 bounces");
     lumis_camera cam = {{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
     if (d->camera) cam = *d->camera;
     if (cam.fov_deg == 0.0f) cam.fov_deg = 40.0f;
@@ -342,57 +470,155 @@ lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *d, 
     if (!(cam.fov_deg > 0.0f && cam.fov_deg < 180.0f))
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: fov must be in (0, 180)");
-    lumis_status st = lumis_image_create(cam.width, cam.height, out);
-    if (st != LUMIS_OK)
-        return lumis__fail(&d->errors, st, "render: %d x %d: %s", cam.width, cam.height,
-                           lumis_status_string(st));
-
+    if (cam.width < 1 || cam.height < 1 || cam.width > 65536 || cam.height > 65536 ||
+        (size_t)cam.width * (size_t)cam.height > ((size_t)1 << 28))
+        return lumis__fail(&d->errors, LUMIS_ERR_TOO_LARGE, "render: %d x %d: bad image size",
+                           cam.width, cam.height);
     v3 eye = fromf(cam.eye), fwd = norm(sub(fromf(cam.look_at), eye));
     v3 right = norm(cross(fwd, fromf(cam.up)));
-    v3 up = cross(right, fwd);
-    if (!(dot(right, right) > 0.5)) {
-        lumis_image_destroy(*out);
-        *out = NULL;
+    if (!(dot(right, right) > 0.5))
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: camera eye equals look_at, or up is parallel to the view");
+    lumis_render_job *job = calloc(1, sizeof *job);
+    if (job) job->sum = calloc(3 * (size_t)cam.width * (size_t)cam.height, sizeof(double));
+    if (!job || !job->sum) {
+        lumis_render_job_destroy(job);
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
+                           cam.width, cam.height);
     }
-    double th = tan(0.5 * cam.fov_deg * LUMIS_PI / 180.0), aspect = (double)cam.width / cam.height;
-    ctx c = {scene, d, d->light_samples ? d->light_samples : 1,
-             d->bsdf_samples ? d->bsdf_samples : 1};
-    const int spp = d->spp ? d->spp : 16;
-    const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
-    double shadow = 0.0, t0 = omp_get_wtime();
-    float *px = (*out)->pixels;
-    const int w = cam.width, h = cam.height;
-
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : shadow)
-    for (int y = 0; y < h; y++) {
-        for (int x = 0; x < w; x++) {
-            lumis_pcg32 rng;
-            lumis_pcg32_seed(&rng, d->seed, (uint64_t)y * (uint64_t)w + (uint64_t)x);
-            v3 acc = mk(0, 0, 0);
-            for (int sidx = 0; sidx < spp; sidx++) {
-                double sx = (x + lumis_pcg32_double(&rng)) / w * 2.0 - 1.0;
-                double sy = 1.0 - (y + lumis_pcg32_double(&rng)) / h * 2.0; /* row 0 on top */
-                v3 dir = norm(add(fwd, add(mul(right, sx * th * aspect), mul(up, sy * th))));
-                hit hh;
-                if (intersect(scene, eye, dir, &hh)) {
-                    acc = add(acc, shade(&c, &hh, dir, &rng, &shadow));
-                } else {
-                    lumis_rgb e = lumis_envmap_eval(d->env, tof(dir));
-                    acc = add(acc, mk(e.r, e.g, e.b));
-                }
-            }
-            float *p = px + 3 * ((size_t)y * (size_t)w + (size_t)x);
-            p[0] = (float)(acc.x / spp);
-            p[1] = (float)(acc.y / spp);
-            p[2] = (float)(acc.z / spp);
-        }
-    }
-    if (stats) {
-        stats->seconds = omp_get_wtime() - t0;
-        stats->shadow_rays = shadow;
-        stats->camera_rays = (double)w * h * spp;
-    }
+    job->scene = scene;
+    job->d = *d;
+    job->d.camera = NULL; /* job->cam is the camera */
+    job->cam = cam;
+    job->eye = eye;
+    job->fwd = fwd;
+    job->right = right;
+    job->up = cross(right, fwd);
+    job->th = tan(0.5 * cam.fov_deg * LUMIS_PI / 180.0);
+    job->aspect = (double)cam.width / cam.height;
+    *out = job;
     return LUMIS_OK;
+}
+
+/* One camera sample: direct illumination at the first hit, and with max_bounces > 0 the
+ * direct illumination at every further vertex of a BSDF-sampled path.  The environment
+ * seen by a continuation ray is not added: the direct estimator at the vertex it left
+ * already accounts for it, so each light path is counted once. */
+static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, lumis_pcg32 *rng,
+                       double *shadow, double *bounce)
+{
+    hit hh;
+    if (!intersect(c->scene, job->eye, dir, &hh)) {
+        lumis_rgb e = lumis_envmap_eval(job->d.env, tof(dir));
+        return mk(e.r, e.g, e.b);
+    }
+    v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
+    for (int depth = 0;; depth++) {
+        v3 Ld = shade(c, &hh, dir, rng, shadow);
+        L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
+        if (depth >= job->d.max_bounces) break;
+        v3 t, b, n = hh.n;
+        basis(n, &t, &b);
+        v3 wow = mul(dir, -1.0);
+        lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+        double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
+               u2 = lumis_pcg32_double(rng);
+        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u0, u1, u2);
+        if (!(bs.pdf > 0.0f)) break;
+        beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);
+        if (beta.x == 0.0 && beta.y == 0.0 && beta.z == 0.0) break;
+        dir = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+        v3 org = add(hh.p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(hh.p, hh.p)))));
+        *bounce += 1.0;
+        if (!intersect(c->scene, org, dir, &hh)) break;
+    }
+    return L;
+}
+
+lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
+{
+    if (!job) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (samples < 1 || samples > (1 << 30) - job->stats.spp)
+        return lumis__fail(&job->d.errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: %d more samples per pixel is out of range", samples);
+    const lumis_render_desc *d = &job->d;
+    ctx c = {job->scene, d, d->light_samples ? d->light_samples : 1,
+             d->bsdf_samples ? d->bsdf_samples : 1};
+    const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
+    const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
+    const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
+    double shadow = 0.0, bounce = 0.0, t0 = omp_get_wtime();
+    int done = 0;
+
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : shadow, bounce)
+    for (int tile = 0; tile < tiles; tile++) {
+        const int x0 = tile % tx * TILE, y0 = tile / tx * TILE;
+        const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
+        for (int y = y0; y < y1; y++)
+            for (int x = x0; x < x1; x++) {
+                const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
+                double *acc = job->sum + 3 * pixel;
+                v3 a = mk(acc[0], acc[1], acc[2]);
+                for (int k = first; k < first + samples; k++) {
+                    /* Sample k of this pixel has its own stream: passes cannot change it. */
+                    lumis_pcg32 rng;
+                    lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
+                    double sx = (x + lumis_pcg32_double(&rng)) / w * 2.0 - 1.0;
+                    double sy = 1.0 - (y + lumis_pcg32_double(&rng)) / h * 2.0; /* row 0 on top */
+                    v3 dir = norm(add(job->fwd, add(mul(job->right, sx * job->th * job->aspect),
+                                                    mul(job->up, sy * job->th))));
+                    a = add(a, trace_sample(&c, job, dir, &rng, &shadow, &bounce));
+                }
+                acc[0] = a.x;
+                acc[1] = a.y;
+                acc[2] = a.z;
+            }
+        int now;
+#pragma omp atomic capture
+        now = ++done;
+        if (d->progress && omp_get_thread_num() == 0) d->progress(d->progress_user, now, tiles);
+    }
+    if (d->progress) d->progress(d->progress_user, tiles, tiles);
+    job->stats.spp += samples;
+    job->stats.passes++;
+    job->stats.threads = threads;
+    job->stats.seconds += omp_get_wtime() - t0;
+    job->stats.camera_rays += (double)w * h * samples;
+    job->stats.shadow_rays += shadow;
+    job->stats.bounce_rays += bounce;
+    return LUMIS_OK;
+}
+
+lumis_status lumis_render_job_image(const lumis_render_job *job, lumis_image **out)
+{
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!job) return LUMIS_ERR_INVALID_ARGUMENT;
+    lumis_status st = lumis_image_create(job->cam.width, job->cam.height, out);
+    if (st != LUMIS_OK)
+        return lumis__fail(&job->d.errors, st, "render: %d x %d: %s", job->cam.width,
+                           job->cam.height, lumis_status_string(st));
+    const size_t n = 3 * (size_t)job->cam.width * (size_t)job->cam.height;
+    const double inv = job->stats.spp > 0 ? 1.0 / job->stats.spp : 0.0;
+    for (size_t k = 0; k < n; k++) (*out)->pixels[k] = (float)(job->sum[k] * inv);
+    return LUMIS_OK;
+}
+
+void lumis_render_job_stats(const lumis_render_job *job, lumis_render_stats *stats)
+{
+    if (job && stats) *stats = job->stats;
+}
+
+lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *d, lumis_image **out,
+                          lumis_render_stats *stats)
+{
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    lumis_render_job *job = NULL;
+    lumis_status st = lumis_render_job_create(scene, d, &job);
+    if (st == LUMIS_OK) st = lumis_render_job_run(job, d->spp ? d->spp : 16);
+    if (st == LUMIS_OK) st = lumis_render_job_image(job, out);
+    if (st == LUMIS_OK && stats) lumis_render_job_stats(job, stats);
+    lumis_render_job_destroy(job);
+    return st;
 }

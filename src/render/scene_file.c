@@ -3,6 +3,7 @@
 #include "lumis/render.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
@@ -14,10 +15,94 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* A scene file owns its meshes through this registry (objects only borrow the arrays, so
+ * several can share one mesh). */
+typedef struct mesh_entry {
+    char path[4096]; /* resolved file name, or a built-in name */
+    float *vertices;
+    unsigned *indices;
+    int vertex_count, triangle_count;
+} mesh_entry;
+
+typedef struct file_private {
+    lumis_scene_file pub; /* first: a lumis_scene_file * is a file_private * */
+    mesh_entry *meshes;
+    int mesh_count, object_cap;
+} file_private;
+
+lumis_scene_file *lumis__scene_file_new(void)
+{
+    file_private *fp = calloc(1, sizeof *fp);
+    if (!fp) return NULL;
+    fp->pub.camera = (lumis_camera){{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
+    fp->pub.env_scale = 1.0f;
+    return &fp->pub;
+}
+
+void lumis_scene_file_destroy(lumis_scene_file *f)
+{
+    if (!f) return;
+    file_private *fp = (file_private *)f;
+    for (int k = 0; k < fp->mesh_count; k++) {
+        free(fp->meshes[k].vertices);
+        free(fp->meshes[k].indices);
+    }
+    free(fp->meshes);
+    free(f->objects);
+    free(f);
+}
+
+/* Appends a copy of o; its mesh arrays must be registered with the file. */
+lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o)
+{
+    file_private *fp = (file_private *)f;
+    if (f->object_count == fp->object_cap) {
+        if (fp->object_cap > (1 << 24)) return LUMIS_ERR_TOO_LARGE;
+        int cap = fp->object_cap ? 2 * fp->object_cap : 8;
+        lumis_object *grown = realloc(f->objects, (size_t)cap * sizeof *grown);
+        if (!grown) return LUMIS_ERR_OUT_OF_MEMORY;
+        f->objects = grown;
+        fp->object_cap = cap;
+    }
+    f->objects[f->object_count++] = *o;
+    return LUMIS_OK;
+}
+
+/* The mesh registered under name, or NULL. */
+static const mesh_entry *find_mesh(const lumis_scene_file *f, const char *name)
+{
+    const file_private *fp = (const file_private *)f;
+    for (int k = 0; k < fp->mesh_count; k++)
+        if (strcmp(fp->meshes[k].path, name) == 0) return &fp->meshes[k];
+    return NULL;
+}
+
+static lumis_status mesh_from_assimp(const struct aiScene *sc, lumis_object *o);
+
+/* Converts an assimp scene into a mesh the file owns, and points o at it. */
+lumis_status lumis__scene_file_add_mesh(lumis_scene_file *f, const char *name,
+                                        const struct aiScene *sc, lumis_object *o)
+{
+    file_private *fp = (file_private *)f;
+    mesh_entry *grown = realloc(fp->meshes, (size_t)(fp->mesh_count + 1) * sizeof *grown);
+    if (!grown) return LUMIS_ERR_OUT_OF_MEMORY;
+    fp->meshes = grown;
+    lumis_status st = mesh_from_assimp(sc, o);
+    if (st != LUMIS_OK) return st;
+    mesh_entry *e = &grown[fp->mesh_count++];
+    snprintf(e->path, sizeof e->path, "%s", name);
+    e->vertices = (float *)o->vertices;
+    e->indices = (unsigned *)o->indices;
+    e->vertex_count = o->vertex_count;
+    e->triangle_count = o->triangle_count;
+    return LUMIS_OK;
+}
+
 typedef struct parser {
     const char *file;
     char dir[4096]; /* the scene file's folder, with a trailing slash, or "" */
     const lumis_error_sink *errors;
+    lumis_scene_file *f;
 } parser;
 
 static lumis_status bad(const parser *p, const char *path, const char *what)
@@ -119,53 +204,41 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
     return st;
 }
 
-/* Rotation R = Rz Ry Rx (degrees), scale, then translation. */
-static void transform_points(float *v, int n, const float t[3], const float r[3], const float s[3])
+/* Scale, then rotation R = Rz Ry Rx (degrees), then translation, as a row-major 3x4
+ * matrix. */
+void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12])
 {
     double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
     double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
     double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
-    for (int k = 0; k < n; k++) {
-        double x = v[3 * k] * s[0], y = v[3 * k + 1] * s[1], z = v[3 * k + 2] * s[2];
+    for (int j = 0; j < 3; j++) { /* column j: the image of s_j e_j */
+        double x = j == 0 ? s[0] : 0.0, y = j == 1 ? s[1] : 0.0, z = j == 2 ? s[2] : 0.0;
         double y1 = cx * y - sx * z, z1 = sx * y + cx * z;     /* about x */
         double x2 = cy * x + sy * z1, z2 = -sy * x + cy * z1;  /* about y */
         double x3 = cz * x2 - sz * y1, y3 = sz * x2 + cz * y1; /* about z */
-        v[3 * k] = (float)(x3 + t[0]);
-        v[3 * k + 1] = (float)(y3 + t[1]);
-        v[3 * k + 2] = (float)(z2 + t[2]);
+        m[j] = (float)x3;
+        m[4 + j] = (float)y3;
+        m[8 + j] = (float)z2;
     }
+    m[3] = t[0];
+    m[7] = t[1];
+    m[11] = t[2];
 }
 
-static lumis_status load_mesh(const parser *p, const char *file, const char *path, lumis_object *o)
+static lumis_status mesh_from_assimp(const struct aiScene *sc, lumis_object *o)
 {
-    char full[4096];
-    if (file[0] == '/')
-        snprintf(full, sizeof full, "%s", file);
-    else
-        snprintf(full, sizeof full, "%s%s", p->dir, file);
-    const struct aiScene *sc =
-        aiImportFile(full, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_PreTransformVertices);
-    if (!sc)
-        return lumis__fail(p->errors, LUMIS_ERR_OPEN, "%s: %s.file: cannot load mesh %s: %s",
-                           p->file, path, full, aiGetErrorString());
     size_t nv = 0, nt = 0;
     for (unsigned m = 0; m < sc->mNumMeshes; m++) {
         nv += sc->mMeshes[m]->mNumVertices;
         for (unsigned f = 0; f < sc->mMeshes[m]->mNumFaces; f++)
             nt += sc->mMeshes[m]->mFaces[f].mNumIndices == 3;
     }
-    if (nt == 0 || nv > 0x7fffffff || nt > 0x7fffffff) {
-        aiReleaseImport(sc);
-        return lumis__fail(p->errors, LUMIS_ERR_CORRUPT, "%s: %s.file: %s has no triangles",
-                           p->file, path, full);
-    }
+    if (nt == 0 || nv > 0x7fffffff || nt > 0x7fffffff) return LUMIS_ERR_CORRUPT;
     float *v = malloc(nv * 3 * sizeof(float));
     unsigned *idx = malloc(nt * 3 * sizeof(unsigned));
     if (!v || !idx) {
         free(v);
         free(idx);
-        aiReleaseImport(sc);
         return LUMIS_ERR_OUT_OF_MEMORY;
     }
     size_t vbase = 0, t = 0;
@@ -185,7 +258,6 @@ static lumis_status load_mesh(const parser *p, const char *file, const char *pat
         }
         vbase += mesh->mNumVertices;
     }
-    aiReleaseImport(sc);
     o->vertices = v;
     o->indices = idx;
     o->vertex_count = (int)nv;
@@ -193,7 +265,60 @@ static lumis_status load_mesh(const parser *p, const char *file, const char *pat
     return LUMIS_OK;
 }
 
-static lumis_status parse_object(const parser *p, const cJSON *j, int k, lumis_object *o)
+/* Loads a mesh file into o, or shares the arrays of the same file loaded before. */
+static lumis_status load_mesh(const parser *p, const char *file, const char *path, lumis_object *o)
+{
+    char full[4096];
+    if (file[0] == '/')
+        snprintf(full, sizeof full, "%s", file);
+    else
+        snprintf(full, sizeof full, "%s%s", p->dir, file);
+    const mesh_entry *e = find_mesh(p->f, full);
+    if (e) {
+        o->vertices = e->vertices;
+        o->indices = e->indices;
+        o->vertex_count = e->vertex_count;
+        o->triangle_count = e->triangle_count;
+        return LUMIS_OK;
+    }
+    const struct aiScene *sc =
+        aiImportFile(full, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                               aiProcess_PreTransformVertices);
+    if (!sc)
+        return lumis__fail(p->errors, LUMIS_ERR_OPEN, "%s: %s.file: cannot load mesh %s: %s",
+                           p->file, path, full, aiGetErrorString());
+    lumis_status st = lumis__scene_file_add_mesh(p->f, full, sc, o);
+    aiReleaseImport(sc);
+    if (st == LUMIS_ERR_CORRUPT)
+        return lumis__fail(p->errors, st, "%s: %s.file: %s has no triangles", p->file, path, full);
+    return st;
+}
+
+/* {"translate", "rotate_deg", "scale" (a number or 3)} as a row-major 3x4 matrix. */
+static lumis_status parse_transform(const parser *p, const cJSON *x, const char *xp, float m[12])
+{
+    float tr[3] = {0, 0, 0}, rot[3] = {0, 0, 0}, sc[3] = {1, 1, 1};
+    lumis_status st;
+    if (!cJSON_IsObject(x)) return bad(p, xp, "an object with translate, rotate_deg, scale");
+    if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
+    if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
+    const cJSON *s = cJSON_GetObjectItemCaseSensitive(x, "scale");
+    if (cJSON_IsNumber(s))
+        sc[0] = sc[1] = sc[2] = (float)s->valuedouble;
+    else if ((st = get_vec3(p, x, "scale", xp, 0, sc)) != LUMIS_OK)
+        return st;
+    if (!(sc[0] != 0.0f && sc[1] != 0.0f && sc[2] != 0.0f && isfinite(sc[0] * sc[1] * sc[2]))) {
+        char at[256];
+        join(at, sizeof at, xp, "scale");
+        return bad(p, at, "a non-zero finite scale");
+    }
+    lumis__transform_matrix(tr, rot, sc, m);
+    return LUMIS_OK;
+}
+
+/* Parses objects[k] and appends it to the file: one object, or one per entry of a mesh's
+ * "instances". */
+static lumis_status parse_object(const parser *p, const cJSON *j, int k)
 {
     char path[64];
     snprintf(path, sizeof path, "objects[%d]", k);
@@ -202,23 +327,25 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k, lumis_o
     char at[256];
     join(at, sizeof at, path, "type");
     if (!cJSON_IsString(t)) return bad(p, at, "a string: sphere, plane or mesh");
-    memset(o, 0, sizeof *o);
+    lumis_object o;
+    memset(&o, 0, sizeof o);
     float c[3] = {0, 0, 0};
+    const cJSON *instances = NULL;
     lumis_status st;
     if (strcmp(t->valuestring, "sphere") == 0) {
         double r = -1.0;
-        o->type = LUMIS_OBJECT_SPHERE;
+        o.type = LUMIS_OBJECT_SPHERE;
         if ((st = get_vec3(p, j, "center", path, 1, c)) != LUMIS_OK) return st;
         if ((st = get_number(p, j, "radius", path, 1e-6, 1e9, &r)) != LUMIS_OK) return st;
         if (r < 0.0) {
             join(at, sizeof at, path, "radius");
             return bad(p, at, "a positive number (missing)");
         }
-        o->radius = (float)r;
+        o.radius = (float)r;
     } else if (strcmp(t->valuestring, "plane") == 0) {
         float n[3] = {0, 1, 0};
         double size = 20.0;
-        o->type = LUMIS_OBJECT_PLANE;
+        o.type = LUMIS_OBJECT_PLANE;
         if ((st = get_vec3(p, j, "point", path, 1, c)) != LUMIS_OK) return st;
         if ((st = get_vec3(p, j, "normal", path, 1, n)) != LUMIS_OK) return st;
         if (n[0] == 0.0f && n[1] == 0.0f && n[2] == 0.0f) {
@@ -226,49 +353,45 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k, lumis_o
             return bad(p, at, "a non-zero vector");
         }
         if ((st = get_number(p, j, "size", path, 1e-6, 1e9, &size)) != LUMIS_OK) return st;
-        o->normal = (lumis_vec3){n[0], n[1], n[2]};
-        o->size = (float)size;
+        o.normal = (lumis_vec3){n[0], n[1], n[2]};
+        o.size = (float)size;
     } else if (strcmp(t->valuestring, "mesh") == 0) {
-        o->type = LUMIS_OBJECT_MESH;
+        o.type = LUMIS_OBJECT_MESH;
         const cJSON *f = cJSON_GetObjectItemCaseSensitive(j, "file");
         join(at, sizeof at, path, "file");
         if (!cJSON_IsString(f) || !f->valuestring[0]) return bad(p, at, "a mesh file name");
-        float tr[3] = {0, 0, 0}, rot[3] = {0, 0, 0}, sc[3] = {1, 1, 1};
         const cJSON *x = cJSON_GetObjectItemCaseSensitive(j, "transform");
+        instances = cJSON_GetObjectItemCaseSensitive(j, "instances");
+        if (x && instances) return bad(p, path, "either \"transform\" or \"instances\", not both");
+        char xp[128];
         if (x) {
-            char xp[128];
             join(xp, sizeof xp, path, "transform");
-            if (!cJSON_IsObject(x))
-                return bad(p, xp, "an object with translate, rotate_deg, scale");
-            if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
-            if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
-            const cJSON *s = cJSON_GetObjectItemCaseSensitive(x, "scale");
-            if (cJSON_IsNumber(s))
-                sc[0] = sc[1] = sc[2] = (float)s->valuedouble;
-            else if ((st = get_vec3(p, x, "scale", xp, 0, sc)) != LUMIS_OK)
-                return st;
+            if ((st = parse_transform(p, x, xp, o.transform)) != LUMIS_OK) return st;
         }
-        if ((st = load_mesh(p, f->valuestring, path, o)) != LUMIS_OK) return st;
-        transform_points((float *)o->vertices, o->vertex_count, tr, rot, sc);
+        if (instances) {
+            join(xp, sizeof xp, path, "instances");
+            if (!cJSON_IsArray(instances) || cJSON_GetArraySize(instances) < 1)
+                return bad(p, xp, "a non-empty array of transforms");
+        }
+        if ((st = load_mesh(p, f->valuestring, path, &o)) != LUMIS_OK) return st;
     } else {
         return bad(p, at, "sphere, plane or mesh");
     }
-    o->center = (lumis_vec3){c[0], c[1], c[2]};
+    o.center = (lumis_vec3){c[0], c[1], c[2]};
     join(at, sizeof at, path, "material");
     const cJSON *m = cJSON_GetObjectItemCaseSensitive(j, "material");
     if (!m) return bad(p, at, "a material object (missing)");
-    return parse_material(p, m, at, &o->material);
-}
-
-void lumis_scene_file_destroy(lumis_scene_file *f)
-{
-    if (!f) return;
-    for (int k = 0; k < f->object_count; k++) {
-        free((void *)f->objects[k].vertices);
-        free((void *)f->objects[k].indices);
+    if ((st = parse_material(p, m, at, &o.material)) != LUMIS_OK) return st;
+    if (!instances) return lumis__scene_file_push(p->f, &o);
+    for (int q = 0; q < cJSON_GetArraySize(instances); q++) {
+        char xp[128];
+        snprintf(xp, sizeof xp, "%s.instances[%d]", path, q);
+        if ((st = parse_transform(p, cJSON_GetArrayItem(instances, q), xp, o.transform)) !=
+            LUMIS_OK)
+            return st;
+        if ((st = lumis__scene_file_push(p->f, &o)) != LUMIS_OK) return st;
     }
-    free(f->objects);
-    free(f);
+    return LUMIS_OK;
 }
 
 lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
@@ -276,7 +399,7 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
 {
     if (!out || !path) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    parser p = {path, "", errors};
+    parser p = {path, "", errors, NULL};
     const char *slash = strrchr(path, '/');
     if (slash) snprintf(p.dir, sizeof p.dir, "%.*s/", (int)(slash - path), path);
     FILE *fp = fopen(path, "rb");
@@ -306,13 +429,12 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
         return lumis__fail(errors, LUMIS_ERR_BAD_HEADER, "%s:%d: malformed JSON", path, line);
     }
     free(text);
-    lumis_scene_file *f = calloc(1, sizeof *f);
+    lumis_scene_file *f = lumis__scene_file_new();
+    p.f = f;
     lumis_status st = f ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK && !cJSON_IsObject(root)) st = bad(&p, "(top level)", "an object");
     /* Camera: the renderer's defaults for what is absent. */
     if (st == LUMIS_OK) {
-        f->camera = (lumis_camera){{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
-        f->env_scale = 1.0f;
         const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "camera");
         if (c && !cJSON_IsObject(c))
             st = bad(&p, "camera", "an object");
@@ -366,12 +488,8 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
             st = bad(&p, "objects", "an array of objects");
         else {
             int n_obj = cJSON_GetArraySize(objs);
-            f->objects = calloc((size_t)(n_obj > 0 ? n_obj : 1), sizeof(lumis_object));
-            if (!f->objects) st = LUMIS_ERR_OUT_OF_MEMORY;
-            for (int k = 0; k < n_obj && st == LUMIS_OK; k++) {
-                st = parse_object(&p, cJSON_GetArrayItem(objs, k), k, &f->objects[k]);
-                f->object_count = k + 1; /* so destroy frees what this one loaded */
-            }
+            for (int k = 0; k < n_obj && st == LUMIS_OK; k++)
+                st = parse_object(&p, cJSON_GetArrayItem(objs, k), k);
         }
     }
     cJSON_Delete(root);

@@ -4,6 +4,7 @@
 
 #include "lumis/io.h"
 #include "lumis/lumis.h"
+#include "lumis/render.h"
 
 #include <stdio.h>
 
@@ -73,6 +74,34 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
 lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
                                const lumis_sampler_desc *desc, lumis_envmap **env,
                                lumis_sampler **sampler);
+
+/* One render, as `lumis render` does it (also used by `lumis demo`). */
+typedef struct tool_render_opts {
+    const char *scene_name, *scene_path; /* one of them */
+    const char *envspec;                 /* NULL: the scene's map, else "sky" */
+    float rotation_deg, scale;           /* of envspec when given */
+    lumis_sampler_desc sampler;
+    int bsdf_only;
+    lumis_render_desc rd;  /* estimator, heuristic, counts, seed, threads, bounces */
+    double time_budget;    /* > 0: progressive passes until this much render time */
+    int width, height;     /* 0: the scene's camera */
+    const char *out, *png; /* out NULL: nothing written */
+    const char *sidecar;   /* NULL: OUT.json; "": none */
+    lumis_write_options png_options;
+    int quiet;
+    int argc; /* the command line, for the sidecar */
+    char **argv;
+} tool_render_opts;
+
+typedef struct tool_render_result {
+    lumis_image *image; /* the caller destroys it */
+    lumis_render_stats stats;
+    double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
+} tool_render_result;
+
+/* Returns an exit code; prints errors, a progress bar (stderr is a terminal) and, unless
+ * quiet, a summary line. */
+int tool_render(const tool_render_opts *o, tool_render_result *r);
 
 /* Writes the info report of a map (as `lumis info` prints it) to f. */
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,

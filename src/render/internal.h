@@ -1,0 +1,21 @@
+/* Internal to lumis-render: scene-file construction shared by the JSON reader and the
+ * built-in scenes. */
+#ifndef LUMIS_RENDER_INTERNAL_H
+#define LUMIS_RENDER_INTERNAL_H
+
+#include "lumis/render.h"
+
+struct aiScene;
+
+/* An empty scene file (default camera, no map, no objects), or NULL. */
+lumis_scene_file *lumis__scene_file_new(void);
+/* Appends a copy of o (its mesh arrays must belong to f). */
+lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o);
+/* Copies an assimp scene's triangles into a mesh f owns, registered under name, and points
+ * o's mesh fields at it.  LUMIS_ERR_CORRUPT: no triangles. */
+lumis_status lumis__scene_file_add_mesh(lumis_scene_file *f, const char *name,
+                                        const struct aiScene *sc, lumis_object *o);
+/* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
+void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
+
+#endif
