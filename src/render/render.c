@@ -8,6 +8,7 @@
 #include "lumis/rng.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -335,6 +336,20 @@ static int intersect(const lumis_scene *s, v3 o, v3 d, hit *h)
     return 1;
 }
 
+static lumis__shadow_ray_fn shadow_hook;
+static void *shadow_hook_user;
+
+void lumis__render_set_shadow_hook(lumis__shadow_ray_fn fn, void *user)
+{
+    shadow_hook = fn;
+    shadow_hook_user = user;
+}
+
+void *lumis__scene_rtc(const lumis_scene *scene)
+{
+    return scene ? scene->rtc : NULL;
+}
+
 static int occluded(const lumis_scene *s, v3 o, v3 d)
 {
     struct RTCIntersectContext ctx;
@@ -351,6 +366,10 @@ static int occluded(const lumis_scene *s, v3 o, v3 d)
     r.mask = 0xffffffffu;
     r.flags = 0;
     r.time = 0.0f;
+    if (shadow_hook) {
+        const float of[3] = {r.org_x, r.org_y, r.org_z}, df[3] = {r.dir_x, r.dir_y, r.dir_z};
+        shadow_hook(shadow_hook_user, of, df);
+    }
     rtcOccluded1(s->rtc, &ctx, &r);
     return r.tfar < 0.0f;
 }
