@@ -162,16 +162,38 @@ static void demo_writes_the_sky_and_its_info(void **state)
 {
     (void)state;
     char a[1024], *out = NULL;
-    snprintf(a, sizeof a, "demo --out '%s'", tu_path("demo"));
+    snprintf(a, sizeof a, "demo --out '%s' --time 0.3", tu_path("demo"));
     assert_int_equal(run(a, &out, NULL), 0);
     assert_non_null(strstr(out, "top 1% share"));
+    assert_non_null(strstr(out, "inversion left, kd-tree right"));
     free(out);
-    assert_int_equal(tu_count_entries(tu_path("demo"), "sky.exr"), 1);
-    assert_int_equal(tu_count_entries(tu_path("demo"), "sky.png"), 1);
-    assert_int_equal(tu_count_entries(tu_path("demo"), "."), 2); /* "." and "..", no temp files */
+    const char *files[] = {"sky.exr",
+                           "sky.png",
+                           "spheres-inversion.exr",
+                           "spheres-kdtree.exr",
+                           "spheres-inversion.json",
+                           "spheres-kdtree.json",
+                           "spheres-equal-time.png"};
+    for (int k = 0; k < 7; k++) assert_int_equal(tu_count_entries(tu_path("demo"), files[k]), 1);
+    assert_int_equal(tu_count_entries(tu_path("demo"), "."), 2); /* "." and "..": no temp files */
     cJSON *o = info_json(tu_path("demo/sky.exr"));
     assert_true(num(o, "top01_share") > 0.5);
     cJSON_Delete(o);
+    /* Equal time: both sidecars name the same budget and the method they used. */
+    const char *methods[2] = {"inversion", "kdtree"};
+    for (int k = 0; k < 2; k++) {
+        char name[64];
+        snprintf(name, sizeof name, "demo/spheres-%s.json", methods[k]);
+        size_t n;
+        char *text = (char *)tu_read_file(tu_path(name), &n);
+        cJSON *j = cJSON_ParseWithLength(text, n);
+        assert_non_null(j);
+        assert_true(num(j, "time_budget_seconds") == 0.3);
+        assert_true(num(j, "spp") >= 1);
+        assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "method")->valuestring, methods[k]);
+        cJSON_Delete(j);
+        free(text);
+    }
 }
 
 static void sample_and_pdf_agree_and_are_reproducible(void **state)
@@ -324,6 +346,122 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
              tu_path("w.exr"));
     expect(a, 0, "rendered 16x16");
     expect("render --scene spheres --mis sometimes -o x.exr", 2, "--mis must be");
+    expect("render --scene spheres --spp 4 --time 1 -o x.exr", 2, "not both");
+    expect("render --scene spheres --time 0 -o x.exr", 2, "--time needs seconds");
+    expect("render --scene spheres --bounces -1 -o x.exr", 2, "--bounces needs");
+}
+
+static cJSON *read_json(const char *name)
+{
+    size_t n;
+    char *text = (char *)tu_read_file(tu_path(name), &n);
+    assert_non_null(text);
+    cJSON *j = cJSON_ParseWithLength(text, n);
+    free(text);
+    assert_non_null(j);
+    return j;
+}
+
+static const cJSON *item(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    if (!v) fail_msg("missing key %s", key);
+    return v;
+}
+
+/* The sidecar describes the run; --time renders progressive passes; the built-in
+ * bunny-plane needs no files; path tracing is labelled; instances in scene files. */
+static void render_sidecar_time_budget_and_scenes(void **state)
+{
+    (void)state;
+    char a[1024];
+    snprintf(a, sizeof a,
+             "render --scene bunny-plane --env sky:64x32 --spp 2 --size 40x30 --method kdtree "
+             "--mis power --light-samples 2 -o '%s'",
+             tu_path("bp.exr"));
+    expect(a, 0, "rendered 40x30 at 2 spp");
+    cJSON *j = read_json("bp.json");
+    assert_string_equal(item(j, "scene")->valuestring, "bunny-plane");
+    assert_string_equal(item(j, "mode")->valuestring, "direct");
+    assert_string_equal(item(j, "method")->valuestring, "kdtree");
+    assert_string_equal(item(j, "heuristic")->valuestring, "power");
+    assert_true(num(j, "objects") == 3 && num(j, "spp") == 2 && num(j, "spp_requested") == 2);
+    assert_true(num(j, "light_samples") == 2 && num(j, "width") == 40 && num(j, "height") == 30);
+    const cJSON *rays = item(j, "rays"), *tm = item(j, "timings"), *sm = item(j, "sampler");
+    assert_true(num(rays, "camera") == 40 * 30 * 2);
+    assert_true(num(rays, "shadow") > 0 && num(rays, "per_second") > 0);
+    assert_true(num(rays, "bounce") == 0);
+    assert_true(num(tm, "render_seconds") > 0 &&
+                num(tm, "total_seconds") >= num(tm, "render_seconds"));
+    assert_true(num(sm, "table_bytes") > 0 && num(sm, "build_ms") >= 0 &&
+                num(sm, "kdtree_blocks") > 0);
+    assert_string_equal(item(item(j, "outputs"), "exr")->valuestring, tu_path("bp.exr"));
+    cJSON_Delete(j);
+    /* A time budget: passes until it is spent, the samples reached reported. */
+    snprintf(a, sizeof a,
+             "render --scene spheres --env sky:64x32 --time 0.4 --size 60x24 --bounces 2 -o '%s' "
+             "--sidecar '%s'",
+             tu_path("t.exr"), tu_path("t-side.json"));
+    expect(a, 0, "path traced");
+    j = read_json("t-side.json");
+    assert_true(num(j, "time_budget_seconds") == 0.4);
+    assert_true(cJSON_IsNull(item(j, "spp_requested")));
+    assert_true(num(j, "spp") >= 1 && num(j, "passes") >= 1);
+    assert_true(num(item(j, "timings"), "render_seconds") > 0.2);
+    assert_string_equal(item(j, "mode")->valuestring, "path");
+    assert_non_null(strstr(item(j, "label")->valuestring, "global illumination"));
+    assert_true(num(item(j, "rays"), "bounce") > 0);
+    cJSON_Delete(j);
+    /* --no-sidecar; an unwritable sidecar is an error. */
+    snprintf(a, sizeof a,
+             "render --scene ward-aniso --env sky:32x16 --spp 1 --size 8x8 -o '%s' --no-sidecar",
+             tu_path("ns.exr"));
+    expect(a, 0, NULL);
+    assert_int_equal(tu_count_entries(tu_path("."), "ns.json"), 0);
+    snprintf(a, sizeof a,
+             "render --scene ward-aniso --env sky:32x16 --spp 1 --size 8x8 -o '%s' --sidecar "
+             "/nonexistent/dir/s.json",
+             tu_path("ns.exr"));
+    expect(a, 1, "/nonexistent/dir/s.json");
+    /* Instances: one mesh file, three placements (one object each), loaded once. */
+    const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+    tu_write_file(tu_path("quad2.obj"), obj, sizeof obj - 1);
+    const char scene[] =
+        "{\"camera\": {\"width\": 16, \"height\": 12},\n"
+        " \"environment\": {\"map\": \"sky:32x16\"},\n"
+        " \"objects\": [{\"type\": \"mesh\", \"file\": \"quad2.obj\", \"instances\": [\n"
+        "   {\"translate\": [-1,0,0]}, {\"translate\": [1,0,0], \"rotate_deg\": [0,45,0]},\n"
+        "   {\"scale\": [1,2,1]}],\n"
+        "   \"material\": {\"type\": \"lambert\"}},\n"
+        "  {\"type\": \"mesh\", \"file\": \"quad2.obj\", \"material\": {\"type\": "
+        "\"plastic\"}}]}\n";
+    tu_write_file(tu_path("inst.json"), scene, sizeof scene - 1);
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("inst.json"), tu_path("i.exr"));
+    expect(a, 0, "rendered 16x12");
+    j = read_json("i.json");
+    assert_true(num(j, "objects") == 4);
+    cJSON_Delete(j);
+    static const struct {
+        const char *text, *msg;
+    } bad[] = {
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"quad2.obj\", \"transform\": {}, "
+         "\"instances\": [{}], \"material\": {\"type\": \"lambert\"}}]}",
+         "objects[0]: expected either \"transform\" or \"instances\""},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"quad2.obj\", \"instances\": [], "
+         "\"material\": {\"type\": \"lambert\"}}]}",
+         "objects[0].instances: expected a non-empty array"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"quad2.obj\", \"instances\": [{}, "
+         "{\"scale\": 0}], \"material\": {\"type\": \"lambert\"}}]}",
+         "objects[0].instances[1].scale: expected a non-zero finite scale"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"quad2.obj\", \"instances\": [7], "
+         "\"material\": {\"type\": \"lambert\"}}]}",
+         "objects[0].instances[0]: expected an object"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        tu_write_file(tu_path("bad2.json"), bad[k].text, strlen(bad[k].text));
+        snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("bad2.json"), tu_path("x.exr"));
+        expect(a, 1, bad[k].msg);
+    }
 }
 
 int main(void)
@@ -337,6 +475,7 @@ int main(void)
         cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),
         cmocka_unit_test(bench_samplers_reports_every_method),
         cmocka_unit_test(render_writes_the_same_image_on_any_thread_count),
+        cmocka_unit_test(render_sidecar_time_budget_and_scenes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -270,6 +270,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (o->png && tool_write_image(o->png, r->image, &o->png_options) != LUMIS_OK) goto done;
     r->total_seconds = now_seconds() - t0;
     r->sampler_build_ms = lumis_sampler_build_ms(smp);
+    r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
     const char *method =
         o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {

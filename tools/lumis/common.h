@@ -97,6 +97,7 @@ typedef struct tool_render_result {
     lumis_image *image; /* the caller destroys it */
     lumis_render_stats stats;
     double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
+    size_t sampler_table_bytes;
 } tool_render_result;
 
 /* Returns an exit code; prints errors, a progress bar (stderr is a terminal) and, unless
