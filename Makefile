@@ -3,7 +3,7 @@
 PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
 JOBS         ?= $(shell nproc)
-FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm
+FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_scene
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
@@ -58,6 +58,7 @@ format-check:
 bench: build
 	./build/bench/bench_info
 	./build/bench/bench_pick
+	./build/bench/bench_render
 
 # Reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
 install: build

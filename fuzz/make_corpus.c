@@ -1,6 +1,7 @@
 /* fuzz_make_corpus DIR: writes the fuzzers' seed files into DIR/exr, DIR/hdr and DIR/pfm,
  * all made from a small procedural sky (16 x 8): EXR in several compressions, half and
- * float, scanline and tiled; Radiance HDR; PFM in both byte orders. */
+ * float, scanline and tiled; Radiance HDR; PFM in both byte orders; and DIR/scene, JSON
+ * scene files. */
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 
@@ -40,7 +41,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *dir = argv[1];
-    static const char *const subs[] = {"exr", "hdr", "pfm"};
+    static const char *const subs[] = {"exr", "hdr", "pfm", "scene"};
     char path[4096];
     if (make_dir(dir)) return 1;
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++) {
@@ -89,7 +90,38 @@ int main(int argc, char **argv)
     pfm.pfm_big_endian = 1;
     failed |= write_seed(dir, "pfm", "big.pfm", sky, &pfm);
 
+    /* Scene files: the documented schema, every material, transforms and instances (mesh
+     * objects are refused by the fuzz target, which must not open files, but their fields
+     * are parsed before that). */
+    static const char *const scenes[] = {
+        "{\"camera\": {\"eye\": [0,1,5], \"look_at\": [0,0.5,0], \"up\": [0,1,0],\n"
+        " \"fov_deg\": 40, \"width\": 640, \"height\": 480},\n"
+        " \"environment\": {\"map\": \"forest.exr\", \"rotation_deg\": 0, \"scale\": 1},\n"
+        " \"objects\": [{\"type\": \"sphere\", \"center\": [0,1,0], \"radius\": 1,\n"
+        "   \"material\": {\"type\": \"lambert\", \"albedo\": [0.8,0.8,0.8]}},\n"
+        "  {\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,1,0], \"size\": 20,\n"
+        "   \"material\": {\"type\": \"ward\", \"diffuse\": [0.1,0.1,0.1], \"specular\": "
+        "[0.3,0.3,0.3], \"alpha_x\": 0.1, \"alpha_y\": 0.2}}]}\n",
+        "{\"environment\": {\"map\": \"sky:64x32\"}, \"objects\": [{\"type\": \"sphere\", "
+        "\"center\": [1,2,3], \"radius\": 0.5, \"material\": {\"type\": \"conductor\", \"f0\": "
+        "[0.9,0.6,0.5], \"alpha\": 0.2}}, {\"type\": \"sphere\", \"center\": [0,0,0], "
+        "\"radius\": 2, \"material\": {\"type\": \"plastic\", \"diffuse\": [0.5,0.1,0.1], "
+        "\"alpha\": 0.3}}]}\n",
+        "{\"objects\": [{\"type\": \"mesh\", \"file\": \"bunny.obj\", \"instances\": "
+        "[{\"translate\": [1,0,0], \"rotate_deg\": [0,30,0], \"scale\": 0.5}, {\"scale\": "
+        "[1,2,3]}], \"material\": {\"type\": \"lambert\"}}]}\n",
+        "{\"objects\": []}\n",
+    };
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        snprintf(path, sizeof path, "%s/scene/seed%zu.json", dir, i);
+        FILE *f = fopen(path, "wb");
+        if (!f || fputs(scenes[i], f) < 0 || fclose(f) != 0) {
+            fprintf(stderr, "fuzz_make_corpus: cannot write %s\n", path);
+            failed = 1;
+        }
+    }
+
     lumis_image_destroy(sky);
-    if (!failed) printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm}\n", dir);
+    if (!failed) printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,scene}\n", dir);
     return failed ? 1 : 0;
 }

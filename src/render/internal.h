@@ -5,6 +5,8 @@
 
 #include "lumis/render.h"
 
+#include <stddef.h>
+
 struct aiScene;
 
 /* An empty scene file (default camera, no map, no objects), or NULL. */
@@ -15,6 +17,12 @@ lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o);
  * o's mesh fields at it.  LUMIS_ERR_CORRUPT: no triangles. */
 lumis_status lumis__scene_file_add_mesh(lumis_scene_file *f, const char *name,
                                         const struct aiScene *sc, lumis_object *o);
+/* Parses a scene file's text (lumis_scene_file_read after reading it).  name: for
+ * messages; dir: prefix for relative paths ("" or ending in '/'); allow_files = 0 refuses
+ * mesh files (for the fuzzer, which must not open arbitrary paths). */
+lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *name, const char *dir,
+                                     int allow_files, const lumis_error_sink *errors,
+                                     lumis_scene_file **out);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 

@@ -103,6 +103,7 @@ typedef struct parser {
     char dir[4096]; /* the scene file's folder, with a trailing slash, or "" */
     const lumis_error_sink *errors;
     lumis_scene_file *f;
+    int allow_files; /* 0: mesh files are refused (the fuzzer must not open paths) */
 } parser;
 
 static lumis_status bad(const parser *p, const char *path, const char *what)
@@ -273,6 +274,9 @@ static lumis_status load_mesh(const parser *p, const char *file, const char *pat
         snprintf(full, sizeof full, "%s", file);
     else
         snprintf(full, sizeof full, "%s%s", p->dir, file);
+    if (!p->allow_files)
+        return lumis__fail(p->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: %s.file: mesh files are not loaded here", p->file, path);
     const mesh_entry *e = find_mesh(p->f, full);
     if (e) {
         o->vertices = e->vertices;
@@ -399,15 +403,14 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
 {
     if (!out || !path) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    parser p = {path, "", errors, NULL};
+    char dir[4096] = "";
     const char *slash = strrchr(path, '/');
-    if (slash) snprintf(p.dir, sizeof p.dir, "%.*s/", (int)(slash - path), path);
+    if (slash) snprintf(dir, sizeof dir, "%.*s/", (int)(slash - path), path);
     FILE *fp = fopen(path, "rb");
     if (!fp) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    if (n < 0 || n > (1L << 26)) {
+    long n = -1;
+    if (fseek(fp, 0, SEEK_END) == 0) n = ftell(fp);
+    if (n < 0 || n > (1L << 26) || fseek(fp, 0, SEEK_SET) != 0) {
         fclose(fp);
         return lumis__fail(errors, LUMIS_ERR_TOO_LARGE, "%s: not a scene file (size)", path);
     }
@@ -418,17 +421,27 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
         return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", path);
     }
     fclose(fp);
-    text[n] = '\0';
-    cJSON *root = cJSON_ParseWithLength(text, (size_t)n);
+    lumis_status st = lumis__scene_file_parse(text, (size_t)n, path, dir, 1, errors, out);
+    free(text);
+    return st;
+}
+
+lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *name, const char *dir,
+                                     int allow_files, const lumis_error_sink *errors,
+                                     lumis_scene_file **out)
+{
+    if (!out || (!text && n) || !name || !dir) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    parser p = {name, "", errors, NULL, allow_files};
+    snprintf(p.dir, sizeof p.dir, "%s", dir);
+    cJSON *root = cJSON_ParseWithLength(text, n);
     if (!root) {
         const char *e = cJSON_GetErrorPtr();
-        long at = e && e >= text && e <= text + n ? (long)(e - text) : -1;
+        size_t at = e && e >= text && e <= text + n ? (size_t)(e - text) : 0;
         int line = 1;
-        for (long k = 0; k < at; k++) line += text[k] == '\n';
-        free(text);
-        return lumis__fail(errors, LUMIS_ERR_BAD_HEADER, "%s:%d: malformed JSON", path, line);
+        for (size_t k = 0; k < at; k++) line += text[k] == '\n';
+        return lumis__fail(errors, LUMIS_ERR_BAD_HEADER, "%s:%d: malformed JSON", name, line);
     }
-    free(text);
     lumis_scene_file *f = lumis__scene_file_new();
     p.f = f;
     lumis_status st = f ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
