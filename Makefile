@@ -3,7 +3,7 @@
 PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
 JOBS         ?= $(shell nproc)
-FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_scene
+FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 

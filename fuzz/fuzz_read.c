@@ -1,5 +1,5 @@
 /* libFuzzer target: one image reader on arbitrary bytes.  Built once per format, with
- * LUMIS_FUZZ_FORMAT set to LUMIS_FORMAT_EXR, LUMIS_FORMAT_HDR or LUMIS_FORMAT_PFM.  A reader
+ * LUMIS_FUZZ_FORMAT set to LUMIS_FORMAT_EXR, _HDR, _PFM or _PNG.  A reader
  * may reject the input with any status; what must never happen is a crash, a sanitizer
  * report, a leak or an allocation past the pixel limit. */
 #include "lumis/io.h"
@@ -8,7 +8,8 @@
 #include <stdint.h>
 
 #ifndef LUMIS_FUZZ_FORMAT
-#error "define LUMIS_FUZZ_FORMAT (LUMIS_FORMAT_EXR, LUMIS_FORMAT_HDR or LUMIS_FORMAT_PFM)"
+#error                                                                                             \
+    "define LUMIS_FUZZ_FORMAT (LUMIS_FORMAT_EXR, LUMIS_FORMAT_HDR, LUMIS_FORMAT_PFM or LUMIS_FORMAT_PNG)"
 #endif
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

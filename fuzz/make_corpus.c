@@ -1,6 +1,6 @@
 /* fuzz_make_corpus DIR: writes the fuzzers' seed files into DIR/exr, DIR/hdr and DIR/pfm,
  * all made from a small procedural sky (16 x 8): EXR in several compressions, half and
- * float, scanline and tiled; Radiance HDR; PFM in both byte orders; and DIR/scene, JSON
+ * float, scanline and tiled; Radiance HDR; PFM in both byte orders; PNG; and DIR/scene, JSON
  * scene files. */
 #include "lumis/io.h"
 #include "lumis/lumis.h"
@@ -41,7 +41,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *dir = argv[1];
-    static const char *const subs[] = {"exr", "hdr", "pfm", "scene"};
+    static const char *const subs[] = {"exr", "hdr", "pfm", "png", "scene"};
     char path[4096];
     if (make_dir(dir)) return 1;
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++) {
@@ -90,6 +90,11 @@ int main(int argc, char **argv)
     pfm.pfm_big_endian = 1;
     failed |= write_seed(dir, "pfm", "big.pfm", sky, &pfm);
 
+    lumis_write_options png = {0};
+    png.format = LUMIS_FORMAT_PNG;
+    png.exposure_ev = -10.0f;
+    failed |= write_seed(dir, "png", "sky.png", sky, &png);
+
     /* Scene files: the documented schema, every material, transforms and instances (mesh
      * objects are refused by the fuzz target, which must not open files, but their fields
      * are parsed before that). */
@@ -122,6 +127,6 @@ int main(int argc, char **argv)
     }
 
     lumis_image_destroy(sky);
-    if (!failed) printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,scene}\n", dir);
+    if (!failed) printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,png,scene}\n", dir);
     return failed ? 1 : 0;
 }

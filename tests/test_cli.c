@@ -76,7 +76,7 @@ static void runtime_errors_name_file_and_reason(void **state)
     expect(a, 1, "missing.exr: No such file or directory");
     tu_write_file(tu_path("text.exr"), "hello\n", 6);
     snprintf(a, sizeof a, "info '%s'", tu_path("text.exr"));
-    expect(a, 1, "text.exr: not an EXR, Radiance HDR or PFM image");
+    expect(a, 1, "text.exr: not an EXR, Radiance HDR, PFM or PNG image");
     tu_write_file(tu_path("trunc.hdr"), "#?RADIANCE\n\n-Y 9 +X 9\nAB", 24);
     snprintf(a, sizeof a, "info '%s'", tu_path("trunc.hdr"));
     expect(a, 1, "trunc.hdr");

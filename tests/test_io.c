@@ -282,6 +282,21 @@ static void png_applies_exposure_tonemap_and_srgb(void **state)
     px = stbi_load(tu_path("t.png"), &w, &h, &n, 3);
     assert_int_equal(px[3], 156); /* sRGB(1/3) = 0.6136 */
     stbi_image_free(px);
+    /* Read back: decoded from sRGB to linear (156 / 255 -> 0.3325). */
+    lumis_image *back = NULL;
+    assert_int_equal(lumis_image_read(tu_path("t.png"), NULL, &back, NULL), LUMIS_OK);
+    assert_true(back->width == 4 && back->height == 1);
+    assert_true(back->pixels[0] == 0.0f);
+    assert_true(fabsf(back->pixels[3] - 0.33245f) < 1e-4f);
+    assert_true(fabsf(back->pixels[9] - 0.8f) < 3e-3f); /* Reinhard(4) = 0.8, 8 bits */
+    lumis_image_destroy(back);
+    /* A PNG cut short is refused with a message. */
+    size_t n_png;
+    unsigned char *png = tu_read_file(tu_path("t.png"), &n_png);
+    tu_write_file(tu_path("cut.png"), png, n_png / 2);
+    free(png);
+    assert_int_equal(lumis_image_read(tu_path("cut.png"), NULL, &back, NULL), LUMIS_ERR_CORRUPT);
+    assert_null(back);
     /* Tone map names and curves. */
     lumis_tonemap t;
     assert_int_equal(lumis_tonemap_from_name("aces", &t), LUMIS_OK);
@@ -305,7 +320,7 @@ static void missing_empty_and_unknown_files(void **state)
     tu_write_file(tu_path("text.exr"), text, sizeof text - 1);
     expect_read_error(tu_path("text.exr"), LUMIS_ERR_UNKNOWN_FORMAT);
     tu_write_file(tu_path("x.png"), "\x89PNG\r\n\x1a\n0000", 12);
-    expect_read_error(tu_path("x.png"), LUMIS_ERR_UNSUPPORTED);
+    expect_read_error(tu_path("x.png"), LUMIS_ERR_CORRUPT);
     /* Forced formats check the content too. */
     lumis_image *img = NULL;
     assert_int_equal(

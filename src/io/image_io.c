@@ -91,13 +91,10 @@ static lumis_status read_dispatch(const unsigned char *data, size_t size, lumis_
     case LUMIS_FORMAT_PFM:
         return lumis__pfm_read(data, size, ctx, out);
     case LUMIS_FORMAT_PNG:
-        return lumis__fail(ctx->errors, LUMIS_ERR_UNSUPPORTED,
-                           "%s: PNG is an 8-bit display format; lumis reads only HDR images "
-                           "(EXR, HDR, PFM)",
-                           ctx->name);
+        return lumis__png_read(data, size, ctx, out);
     default:
         return lumis__fail(ctx->errors, LUMIS_ERR_UNKNOWN_FORMAT,
-                           "%s: not an EXR, Radiance HDR or PFM image (unrecognised content)",
+                           "%s: not an EXR, Radiance HDR, PFM or PNG image (unrecognised content)",
                            ctx->name);
     }
 }

@@ -27,6 +27,9 @@ lumis_status lumis__hdr_read(const unsigned char *data, size_t size, const lumis
                              lumis_image **out);
 lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
                              lumis_image **out);
+/* PNG (8 or 16 bits, grey or colour, alpha ignored), decoded from sRGB to linear. */
+lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
+                             lumis_image **out);
 /* EXR from memory, or from a file when data is NULL (then ctx->name is the path). */
 lumis_status lumis__exr_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
                              lumis_image **out);

@@ -70,3 +70,46 @@ lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_
     if (!ok) return LUMIS_ERR_WRITE;
     return ferror(f) ? LUMIS_ERR_WRITE : LUMIS_OK;
 }
+
+/* ---- reading ------------------------------------------------------------------------- */
+
+#include <stb_image.h>
+
+/* The sRGB transfer curve, inverted (IEC 61966-2-1). */
+static float srgb_to_linear(double v)
+{
+    return (float)(v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4));
+}
+
+lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
+                             lumis_image **out)
+{
+    int w = 0, h = 0, comp = 0;
+    if (size > 0x7fffffff || !stbi_info_from_memory(data, (int)size, &w, &h, &comp))
+        return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: not a readable PNG: %s", ctx->name,
+                           stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+    lumis_status st = lumis_image_check_size(w, h, ctx->max_pixels);
+    if (st != LUMIS_OK)
+        return lumis__fail(ctx->errors, st, "%s: %d x %d: %s", ctx->name, w, h,
+                           lumis_status_string(st));
+    /* 16 bits per channel whatever the file has (8-bit values are scaled exactly). */
+    stbi_us *px = stbi_load_16_from_memory(data, (int)size, &w, &h, &comp, 3);
+    if (!px)
+        return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: PNG decoding failed: %s", ctx->name,
+                           stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+    st = lumis_image_create(w, h, out);
+    if (st == LUMIS_OK) {
+        static float lut[65536];
+        static int lut_ready; /* benign: every thread writes the same values */
+        if (!lut_ready) {
+            for (int k = 0; k < 65536; k++) lut[k] = srgb_to_linear(k / 65535.0);
+            lut_ready = 1;
+        }
+        const size_t n = 3 * (size_t)w * (size_t)h;
+        for (size_t k = 0; k < n; k++) (*out)->pixels[k] = lut[px[k]];
+    } else {
+        lumis__fail(ctx->errors, st, "%s: %s", ctx->name, lumis_status_string(st));
+    }
+    stbi_image_free(px);
+    return st;
+}
