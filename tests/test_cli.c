@@ -10,7 +10,7 @@
 
 static int run(const char *args, char **out, char **err)
 {
-    char cmd[2048];
+    char cmd[8192];
     snprintf(cmd, sizeof cmd, "'%s' %s", LUMIS_CLI, args);
     return tu_run(cmd, out, err);
 }
@@ -18,7 +18,7 @@ static int run(const char *args, char **out, char **err)
 /* lumis ARGS with stdin from a file (tu_run itself gives commands /dev/null). */
 static int run_stdin(const char *args, const char *input, char **out, char **err)
 {
-    char cmd[2048];
+    char cmd[8192];
     snprintf(cmd, sizeof cmd, "(cat '%s' | '%s' %s)", input, LUMIS_CLI, args);
     return tu_run(cmd, out, err);
 }
@@ -464,6 +464,192 @@ static void render_sidecar_time_budget_and_scenes(void **state)
     }
 }
 
+static double num_or_nan(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* lumis compare: every documented key, identical images, a PNG input, the error map and
+ * the difference image, and mismatched sizes. */
+static void compare_prints_every_metric(void **state)
+{
+    (void)state;
+    char a[2048], *out = NULL;
+    const char *base = "render --scene spheres --env sky:64x32 --size 48x20 --quiet --no-sidecar";
+    snprintf(a, sizeof a, "%s --spp 1 -o '%s'", base, tu_path("c1.exr"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "%s --spp 16 -o '%s' --png '%s' --exposure -4", base, tu_path("c16.exr"),
+             tu_path("c16.png"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --exposure -4 --map '%s' --diff '%s'",
+             tu_path("c16.exr"), tu_path("c1.exr"), tu_path("map.png"), tu_path("diff.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    cJSON *j = cJSON_Parse(out);
+    free(out);
+    assert_non_null(j);
+    const char *keys[] = {"rmse",     "relmse",    "psnr",        "lab_delta_e",      "flip_ldr",
+                          "flip_hdr", "psnr_peak", "exposure_ev", "pixels_per_degree"};
+    for (int k = 0; k < 9; k++)
+        if (!(num_or_nan(j, keys[k]) == num_or_nan(j, keys[k]))) fail_msg("no number %s", keys[k]);
+    assert_true(num(j, "rmse") > 0 && num(j, "flip_ldr") > 0 && num(j, "flip_ldr") < 1);
+    assert_true(num(j, "flip_hdr") > 0 && num(j, "flip_hdr") < 1 && num(j, "exposure_ev") == -4);
+    assert_true(fabs(num(j, "pixels_per_degree") - 67.02) < 0.01);
+    assert_non_null(
+        strstr(cJSON_GetObjectItemCaseSensitive(j, "psnr_domain")->valuestring, "peak"));
+    cJSON_Delete(j);
+    assert_int_equal(tu_count_entries(tu_path("."), "map.png"), 1);
+    assert_int_equal(tu_count_entries(tu_path("."), "diff.exr"), 1);
+    /* Identical images: zero error, PSNR null (infinite), FLIP 0. */
+    snprintf(a, sizeof a, "compare '%s' '%s' --json", tu_path("c1.exr"), tu_path("c1.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    j = cJSON_Parse(out);
+    free(out);
+    assert_true(num(j, "rmse") == 0 && num(j, "flip_ldr") == 0 && num(j, "flip_hdr") == 0);
+    assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(j, "psnr")));
+    cJSON_Delete(j);
+    /* A PNG is read as sRGB: against its own source at the same exposure the error is the
+     * 8-bit quantisation and the tone map, small but not zero. */
+    snprintf(a, sizeof a, "compare '%s' '%s' --no-hdr-flip", tu_path("c16.png"),
+             tu_path("c16.png"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "compare '%s' '%s'", tu_path("c16.exr"), tu_path("w.exr"));
+    expect("compare a.exr", 2, "needs REF and TEST");
+    snprintf(a, sizeof a,
+             "render --scene spheres --env sky:32x16 --size 10x10 --spp 1 --quiet -o '%s'",
+             tu_path("small.exr"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "compare '%s' '%s'", tu_path("c1.exr"), tu_path("small.exr"));
+    expect(a, 1, "is 48 x 20 but");
+}
+
+/* Counts the lines of a file. */
+static int count_lines(const char *path)
+{
+    size_t n;
+    char *t = (char *)tu_read_file(path, &n);
+    if (!t) return -1;
+    int lines = 0;
+    for (size_t k = 0; k < n; k++) lines += t[k] == '\n';
+    free(t);
+    return lines;
+}
+
+/* Every src="..." and href="..." of an HTML file names a file that exists beside it. */
+static void check_links(const char *dir, const char *html)
+{
+    size_t n;
+    char *t = (char *)tu_read_file(html, &n);
+    assert_non_null(t);
+    int links = 0;
+    for (const char *p = t; (p = strstr(p, "src=\"")) || 0;) {
+        p += 5;
+        const char *e = strchr(p, '"');
+        assert_non_null(e);
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%.*s", dir, (int)(e - p), p);
+        FILE *f = fopen(path, "rb");
+        if (!f) fail_msg("index.html names %s, which is missing", path);
+        fclose(f);
+        links++;
+        p = e;
+    }
+    assert_true(links > 10);
+    free(t);
+}
+
+/* lumis bench on the CI suite: every output, resuming, shards and their merge, malformed
+ * suites, and (when Chromium is installed) a screenshot of the HTML page. */
+static void bench_runs_resumes_shards_and_reports(void **state)
+{
+    (void)state;
+    char a[4096], *err = NULL;
+    const char *suite = LUMIS_SOURCE_DIR "/bench/suites/smoke.json";
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", suite, tu_path("b"));
+    assert_int_equal(run(a, NULL, &err), 0);
+    assert_non_null(strstr(err, "18 items (18 in this shard, 18 to render)"));
+    free(err);
+    char p[4096];
+    snprintf(p, sizeof p, "%s/results.csv", tu_path("b"));
+    assert_int_equal(count_lines(p), 19); /* header + 18 items */
+    const char *files[] = {"results.json", "results.md", "index.html", "convergence-spheres.svg"};
+    for (int k = 0; k < 4; k++) assert_int_equal(tu_count_entries(tu_path("b"), files[k]), 1);
+    snprintf(p, sizeof p, "%s/results.md", tu_path("b"));
+    size_t n;
+    char *md = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(md, "## kdtree against inversion"));
+    assert_non_null(strstr(md, "18 of 18 items"));
+    free(md);
+    snprintf(p, sizeof p, "%s/index.html", tu_path("b"));
+    check_links(tu_path("b"), p);
+    /* Resume: nothing left to render. */
+    assert_int_equal(run(a, NULL, &err), 0);
+    assert_non_null(strstr(err, "18 to render") == NULL ? strstr(err, "0 to render") : NULL);
+    free(err);
+    /* Two shards into two folders, then a merge into a third. */
+    for (int s = 0; s < 2; s++) {
+        char dir[32];
+        snprintf(dir, sizeof dir, "shard%d", s);
+        snprintf(a, sizeof a, "bench '%s' --out '%s' --shard %d/2", suite, tu_path(dir), s);
+        assert_int_equal(run(a, NULL, &err), 0);
+        assert_non_null(strstr(err, "9 in this shard"));
+        free(err);
+    }
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --merge '%s' '%s'", suite, tu_path("merged"),
+             tu_path("shard0"), tu_path("shard1"));
+    expect(a, 0, "18 of 18 items");
+    snprintf(p, sizeof p, "%s/results.csv", tu_path("merged"));
+    assert_int_equal(count_lines(p), 19);
+    /* One shard alone reports itself incomplete. */
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", suite, tu_path("shard0"));
+    expect(a, 0, "9 of 18 items");
+    /* Malformed suites name the file and the key. */
+    static const struct {
+        const char *text, *msg;
+    } bad[] = {
+        {"{\"scenes\": [\"spheres\"]}", "maps: expected a non-empty array"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"magic\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0]: unknown method 'magic'"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": [{\"spp\": 0}]}",
+         "budgets[0]: expected"},
+        {"{\"maps\": [\"nowhere/\"], \"scenes\": [\"spheres\"]}", "nowhere/"},
+        {"[1, 2", "not a JSON object"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        tu_write_file(tu_path("bad-suite.json"), bad[k].text, strlen(bad[k].text));
+        snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("bad-suite.json"), tu_path("bx"));
+        expect(a, 1, bad[k].msg);
+        expect(a, 1, "bad-suite.json");
+    }
+    expect("bench", 2, "needs a SUITE.json");
+    snprintf(a, sizeof a, "bench '%s' --shard 3/2", suite);
+    expect(a, 2, "--shard needs I/N");
+    /* The page opens in headless Chromium and renders to a screenshot. */
+    FILE *chromium = fopen("/usr/bin/chromium", "rb");
+    if (!chromium) {
+        printf("chromium not installed (scripts/install-deps.sh --dev installs it): screenshot "
+               "skipped\n");
+        return;
+    }
+    fclose(chromium);
+    snprintf(a, sizeof a,
+             "timeout 120 /usr/bin/chromium --headless --no-sandbox --disable-gpu "
+             "--hide-scrollbars --window-size=1200,1600 --screenshot='%s' 'file://%s/index.html'",
+             tu_path("shot.png"), tu_path("b"));
+    char *out = NULL;
+    int rc = tu_run(a, &out, &err);
+    if (rc != 0) fail_msg("chromium: exit %d: %s", rc, err);
+    free(out);
+    free(err);
+    size_t shot = 0;
+    unsigned char *png = tu_read_file(tu_path("shot.png"), &shot);
+    assert_non_null(png);
+    assert_true(shot > 20000 && memcmp(png, "\x89PNG", 4) == 0); /* a page, not a blank */
+    free(png);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -476,6 +662,8 @@ int main(void)
         cmocka_unit_test(bench_samplers_reports_every_method),
         cmocka_unit_test(render_writes_the_same_image_on_any_thread_count),
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
+        cmocka_unit_test(compare_prints_every_metric),
+        cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

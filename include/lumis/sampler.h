@@ -92,6 +92,14 @@ void lumis_sampler_sample_n(const lumis_sampler *sampler, const double *u, size_
 /* Density per steradian of drawing world direction dir (need not be normalized). */
 float lumis_sampler_pdf(const lumis_sampler *sampler, lumis_vec3 dir);
 
+/* The same density and, from the same pixel lookup, the map's radiance in that direction
+ * (lumis_envmap_eval): what an MIS weight for a BSDF sample needs, for one direction to
+ * pixel conversion instead of two. */
+float lumis_sampler_pdf_radiance(const lumis_sampler *sampler, lumis_vec3 dir, lumis_rgb *radiance);
+
+/* The envmap the sampler draws from (it holds a reference to it). */
+const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *sampler);
+
 /* Bytes of the sampling tables (what sample() reads), and all bytes the sampler owns
  * (pdf() lookup structures included). */
 size_t lumis_sampler_table_bytes(const lumis_sampler *sampler);

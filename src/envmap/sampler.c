@@ -321,6 +321,23 @@ float lumis_sampler_pdf(const lumis_sampler *s, lumis_vec3 dir)
     return final_pdf(s, s->m->density(s, i, j), dir);
 }
 
+float lumis_sampler_pdf_radiance(const lumis_sampler *s, lumis_vec3 dir, lumis_rgb *radiance)
+{
+    if (dir.x == 0.0f && dir.y == 0.0f && dir.z == 0.0f) {
+        *radiance = (lumis_rgb){0.0f, 0.0f, 0.0f};
+        return 0.0f;
+    }
+    int i, j;
+    lumis_envmap_dir_to_pixel(s->env, dir, &i, &j);
+    *radiance = lumis_envmap_texel(s->env, i, j);
+    return final_pdf(s, s->m->density(s, i, j), dir);
+}
+
+const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *s)
+{
+    return s->env;
+}
+
 /* ---- queries ------------------------------------------------------------------------- */
 
 size_t lumis_sampler_table_bytes(const lumis_sampler *s)

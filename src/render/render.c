@@ -390,6 +390,7 @@ typedef struct ctx {
     const lumis_scene *scene;
     const lumis_render_desc *d;
     int nl, nb;
+    int fused; /* the sampler draws from d->env: radiance and pdf from one lookup */
 } ctx;
 
 /* Direct light from the environment reflected at h towards -dir. */
@@ -431,10 +432,17 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *sh
         v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
         *shadow_rays += 1.0;
         if (occluded(c->scene, org, wi)) continue;
-        lumis_rgb Le = lumis_envmap_eval(d->env, tof(wi));
-        double w = mis ? mis_weight(c->nb, bs.pdf, c->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
-                                    d->power_heuristic)
-                       : 1.0;
+        lumis_rgb Le;
+        double w = 1.0;
+        if (mis && c->fused) { /* one pixel lookup for the radiance and the light pdf */
+            float pl = lumis_sampler_pdf_radiance(d->sampler, tof(wi), &Le);
+            w = mis_weight(c->nb, bs.pdf, c->nl, pl, d->power_heuristic);
+        } else {
+            Le = lumis_envmap_eval(d->env, tof(wi));
+            if (mis)
+                w = mis_weight(c->nb, bs.pdf, c->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
+                               d->power_heuristic);
+        }
         double k2 = w / c->nb;
         L = add(L, mk(bs.weight.r * Le.r * k2, bs.weight.g * Le.g * k2, bs.weight.b * Le.b * k2));
     }
@@ -562,7 +570,8 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                            "render: %d more samples per pixel is out of range", samples);
     const lumis_render_desc *d = &job->d;
     ctx c = {job->scene, d, d->light_samples ? d->light_samples : 1,
-             d->bsdf_samples ? d->bsdf_samples : 1};
+             d->bsdf_samples ? d->bsdf_samples : 1,
+             d->sampler && lumis_sampler_envmap(d->sampler) == d->env};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;

@@ -1,6 +1,7 @@
 // Every public header, compiled as C++17 (see tests/CMakeLists.txt).
 #include "lumis/io.h"
 #include "lumis/lumis.h"
+#include "lumis/render.h"
 
 int lumis_headers_compile_as_cxx();
 int lumis_headers_compile_as_cxx()

@@ -219,7 +219,19 @@ static void pdf_of_sample_matches(void **state)
                              maps[m].name, k, e.pdf, p, len);
                 lumis_rgb L = lumis_envmap_eval(env, e.dir);
                 assert_true(L.r == e.radiance.r && L.g == e.radiance.g && L.b == e.radiance.b);
+                /* The fused lookup gives the same density and radiance, also for any
+                 * direction (not only sampled ones). */
+                lumis_rgb L2;
+                assert_true(lumis_sampler_pdf_radiance(s, e.dir, &L2) == p);
+                assert_memory_equal(&L2, &L, sizeof L);
+                lumis_vec3 any = {(float)(lumis_pcg32_double(&rng) - 0.5),
+                                  (float)(lumis_pcg32_double(&rng) - 0.5),
+                                  (float)(lumis_pcg32_double(&rng) - 0.5)};
+                lumis_rgb L3 = lumis_envmap_eval(env, any), L4;
+                assert_true(lumis_sampler_pdf_radiance(s, any, &L4) == lumis_sampler_pdf(s, any));
+                assert_memory_equal(&L3, &L4, sizeof L3);
             }
+            assert_true(lumis_sampler_envmap(s) == env);
             /* The batch gives the very same samples as the scalar calls. */
             double ub[2 * 100];
             lumis_env_sample batch[100];

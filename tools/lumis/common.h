@@ -4,6 +4,7 @@
 
 #include "lumis/io.h"
 #include "lumis/lumis.h"
+#include "lumis/metrics.h"
 #include "lumis/render.h"
 
 #include <stdio.h>
@@ -62,6 +63,8 @@ int cmd_sample(int argc, char **argv);
 int cmd_pdf(int argc, char **argv);
 int cmd_bench_samplers(int argc, char **argv);
 int cmd_render(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 
 /* Parses one sampler option (--method, --blocks, --kdtree-uniform-angles, --compensate,
  * --importance, --rotate) into d; returns -1 if argv[*i] is none of them, else an exit
@@ -103,6 +106,24 @@ typedef struct tool_render_result {
 /* Returns an exit code; prints errors, a progress bar (stderr is a terminal) and, unless
  * quiet, a summary line. */
 int tool_render(const tool_render_opts *o, tool_render_result *r);
+
+/* Every metric of `lumis compare` (tools/lumis/cmd_compare.c). */
+typedef struct tool_metrics {
+    lumis_image_error_stats err;
+    double lab_delta_e, flip_ldr, flip_hdr, flip_start, flip_stop, ppd;
+    int has_flip_hdr;
+    float exposure_ev;
+} tool_metrics;
+
+/* Computes every metric (HDR-FLIP unless hdr_flip == 0); flip_map (optional, width *
+ * height) receives the HDR-FLIP map, or the LDR one without HDR-FLIP.  Exit code. */
+int tool_compare_images(const lumis_image *ref, const lumis_image *test, float exposure_ev,
+                        double ppd, int hdr_flip, tool_metrics *m, float *flip_map);
+/* Adds the metrics and their parameters to a JSON object (struct cJSON). */
+struct cJSON;
+void tool_metrics_json(const tool_metrics *m, struct cJSON *o);
+/* Writes a FLIP error map as a magma-coloured PNG.  Exit code. */
+int tool_write_flip_map(const char *path, const float *map, int width, int height);
 
 /* Writes the info report of a map (as `lumis info` prints it) to f. */
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,

@@ -13,8 +13,14 @@ static const tool_command commands[] = {
     {"pdf", "densities of directions read from stdin: 'pdf r g b' lines", cmd_pdf},
     {"bench-samplers", "build time, memory, speed and quality of every sampler",
      cmd_bench_samplers},
-    {"render", "render a built-in scene lit by a map (light, BSDF or MIS sampling)", cmd_render},
-    {"demo", "write the default sky as EXR and PNG into demo/ and print its info", cmd_demo},
+    {"render", "render a scene lit by a map (light, BSDF or MIS sampling; path tracing)",
+     cmd_render},
+    {"compare", "image metrics: RMSE, relMSE, PSNR, CIELAB, LDR- and HDR-FLIP; error maps",
+     cmd_compare},
+    {"bench", "run a benchmark suite: renders, references, metrics, tables, plots, HTML",
+     cmd_bench},
+    {"demo", "the default sky, its info, and spheres by inversion and kd-tree at equal time",
+     cmd_demo},
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 

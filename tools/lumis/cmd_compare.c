@@ -1,0 +1,227 @@
+/* lumis compare REF TEST: every image metric (RMSE, relative MSE, PSNR, CIELAB Delta E,
+ * LDR-FLIP, HDR-FLIP), an error map and a difference image. */
+#include "common.h"
+
+#include "lumis/metrics.h"
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage[] =
+    "usage: lumis compare REF TEST [--json] [--map OUT.png] [--diff OUT] [options]\n\n"
+    "Compares a test image with a reference.  EXR, HDR and PFM inputs are linear; PNG\n"
+    "inputs are decoded from sRGB.  Metrics (docs/metrics.md has every definition):\n"
+    "  rmse, relmse    on the linear HDR values, all channels; relmse = mean (t-r)^2/(r^2+0.01)\n"
+    "  psnr            10 log10(peak^2 / mse) dB on the linear HDR values, peak = the\n"
+    "                  reference's largest channel value (printed with it)\n"
+    "  lab_delta_e     mean CIE76 Delta E (D65) of the values x 2^EV clamped to [0, 1]\n"
+    "  flip_ldr        LDR-FLIP of the values x 2^EV clamped to [0, 1] (EV 0: as NVIDIA's\n"
+    "                  reference tool treats linear input)\n"
+    "  flip_hdr        HDR-FLIP with the reference's default exposure range and ACES\n\n"
+    "options:\n"
+    "  --json          print one JSON object (rmse, relmse, psnr, lab_delta_e, flip_ldr,\n"
+    "                  flip_hdr, and the parameters: psnr_peak, exposure_ev, ...)\n"
+    "  --exposure EV   exposure of the display-referred metrics (CIELAB, LDR-FLIP); default 0\n"
+    "  --ppd N         FLIP's pixels per degree (default 67.02: 0.7 m from a 0.7 m wide\n"
+    "                  4K display, as the reference)\n"
+    "  --map OUT.png   FLIP error map (HDR-FLIP; with --no-hdr-flip, LDR-FLIP), magma colours\n"
+    "  --diff OUT      per-pixel |test - ref| (linear; .exr/.pfm/.hdr, or .png)\n"
+    "  --no-hdr-flip   skip HDR-FLIP (it runs LDR-FLIP once per exposure)\n";
+
+void tool_metrics_json(const tool_metrics *m, cJSON *o)
+{
+    cJSON_AddNumberToObject(o, "rmse", m->err.rmse);
+    cJSON_AddNumberToObject(o, "mse", m->err.mse);
+    cJSON_AddNumberToObject(o, "relmse", m->err.relmse);
+    cJSON_AddNumberToObject(o, "relmse_epsilon", m->err.relmse_epsilon);
+    if (isfinite(m->err.psnr))
+        cJSON_AddNumberToObject(o, "psnr", m->err.psnr);
+    else
+        cJSON_AddNullToObject(o, "psnr"); /* identical images */
+    cJSON_AddNumberToObject(o, "psnr_peak", m->err.psnr_peak);
+    cJSON_AddStringToObject(o, "psnr_domain",
+                            "linear HDR values, all channels; peak = the reference's largest "
+                            "channel value");
+    cJSON_AddNumberToObject(o, "lab_delta_e", m->lab_delta_e);
+    cJSON_AddStringToObject(o, "lab_domain",
+                            "CIE76, D65; linear values x 2^exposure_ev clamped to [0, 1]");
+    cJSON_AddNumberToObject(o, "flip_ldr", m->flip_ldr);
+    if (m->has_flip_hdr) {
+        cJSON_AddNumberToObject(o, "flip_hdr", m->flip_hdr);
+        cJSON_AddNumberToObject(o, "flip_hdr_start_exposure", m->flip_start);
+        cJSON_AddNumberToObject(o, "flip_hdr_stop_exposure", m->flip_stop);
+    } else {
+        cJSON_AddNullToObject(o, "flip_hdr");
+    }
+    cJSON_AddNumberToObject(o, "pixels_per_degree", m->ppd);
+    cJSON_AddNumberToObject(o, "exposure_ev", m->exposure_ev);
+}
+
+int tool_compare_images(const lumis_image *ref, const lumis_image *test, float exposure_ev,
+                        double ppd, int hdr_flip, tool_metrics *m, float *flip_map)
+{
+    memset(m, 0, sizeof *m);
+    m->exposure_ev = exposure_ev;
+    m->ppd = ppd > 0.0 ? ppd : LUMIS_FLIP_DEFAULT_PPD;
+    lumis_metric_options mo = {0};
+    mo.exposure_ev = exposure_ev;
+    mo.errors = tool_errors;
+    if (lumis_image_errors(ref, test, &mo, &m->err) != LUMIS_OK ||
+        lumis_lab_delta_e(ref, test, &mo, NULL, &m->lab_delta_e) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    lumis_flip_options fo = {0};
+    fo.pixels_per_degree = m->ppd;
+    fo.errors = tool_errors;
+    /* LDR-FLIP on the exposed values (the library clamps to [0, 1]). */
+    lumis_image *a = NULL, *b = NULL;
+    const lumis_image *ra = ref, *tb = test;
+    if (exposure_ev != 0.0f) {
+        const size_t n = 3 * (size_t)ref->width * (size_t)ref->height;
+        const float k = exp2f(exposure_ev);
+        if (lumis_image_create(ref->width, ref->height, &a) != LUMIS_OK ||
+            lumis_image_create(test->width, test->height, &b) != LUMIS_OK) {
+            lumis_image_destroy(a);
+            return tool_runtime_error("compare: out of memory");
+        }
+        for (size_t i = 0; i < n; i++) {
+            a->pixels[i] = ref->pixels[i] * k;
+            b->pixels[i] = test->pixels[i] * k;
+        }
+        ra = a;
+        tb = b;
+    }
+    lumis_status st = lumis_flip_ldr(ra, tb, &fo, hdr_flip ? NULL : flip_map, &m->flip_ldr);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    if (st != LUMIS_OK) return EXIT_RUNTIME;
+    if (hdr_flip) {
+        lumis_flip_hdr_result hr;
+        lumis_flip_options quiet = fo;
+        memset(&quiet.errors, 0, sizeof quiet.errors);
+        st = lumis_flip_hdr(ref, test, &quiet, flip_map, NULL, &hr);
+        if (st == LUMIS_ERR_INVALID_ARGUMENT) {
+            /* A reference mostly black (median luminance 0) has no default exposure range:
+             * the other metrics still stand. */
+            fprintf(stderr, "lumis: warning: HDR-FLIP skipped: the reference's median "
+                            "luminance is 0, so it has no default exposure range\n");
+            return EXIT_OK;
+        }
+        if (st != LUMIS_OK) return tool_runtime_error("HDR-FLIP: %s", lumis_status_string(st));
+        m->flip_hdr = hr.mean;
+        m->flip_start = hr.start_exposure;
+        m->flip_stop = hr.stop_exposure;
+        m->has_flip_hdr = 1;
+    }
+    return EXIT_OK;
+}
+
+int tool_write_flip_map(const char *path, const float *map, int width, int height)
+{
+    lumis_image *rgb = NULL;
+    if (lumis_flip_colormap(map, width, height, &rgb) != LUMIS_OK)
+        return tool_runtime_error("%s: cannot colour the error map", path);
+    /* The colour map is display-referred already: written without a tone map. */
+    int rc = tool_write_image(path, rgb, NULL) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+    lumis_image_destroy(rgb);
+    return rc;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+    const char *ref_path = NULL, *test_path = NULL, *map_path = NULL, *diff_path = NULL, *v;
+    int json = 0, hdr_flip = 1;
+    double ev = 0.0, ppd = 0.0;
+    for (int i = 1; i < argc; i++) {
+        if (tool_is_help(argv[i])) {
+            fputs(usage, stdout);
+            return EXIT_OK;
+        } else if (strcmp(argv[i], "--json") == 0) {
+            json = 1;
+        } else if (strcmp(argv[i], "--no-hdr-flip") == 0) {
+            hdr_flip = 0;
+        } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
+            if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
+                return tool_usage_error("compare", "--exposure needs stops in [-64, 64]");
+        } else if (tool_option(argc, argv, &i, "--ppd", &v)) {
+            if (!tool_parse_double(v, &ppd) || !(ppd > 0.0) || ppd > 10000)
+                return tool_usage_error("compare", "--ppd needs pixels per degree");
+        } else if (tool_option(argc, argv, &i, "--map", &v)) {
+            if (!v || !*v) return tool_usage_error("compare", "--map needs a file");
+            map_path = v;
+        } else if (tool_option(argc, argv, &i, "--diff", &v)) {
+            if (!v || !*v) return tool_usage_error("compare", "--diff needs a file");
+            diff_path = v;
+        } else if (argv[i][0] != '-' && !ref_path) {
+            ref_path = argv[i];
+        } else if (argv[i][0] != '-' && !test_path) {
+            test_path = argv[i];
+        } else {
+            return tool_usage_error("compare", "unknown argument '%s'", argv[i]);
+        }
+    }
+    if (!ref_path || !test_path) return tool_usage_error("compare", "needs REF and TEST images");
+    lumis_image *ref = NULL, *test = NULL;
+    float *map = NULL;
+    int rc = EXIT_RUNTIME;
+    if (tool_load_image(ref_path, &ref, NULL) != LUMIS_OK ||
+        tool_load_image(test_path, &test, NULL) != LUMIS_OK)
+        goto done;
+    if (ref->width != test->width || ref->height != test->height) {
+        rc = tool_runtime_error("%s is %d x %d but %s is %d x %d", ref_path, ref->width,
+                                ref->height, test_path, test->width, test->height);
+        goto done;
+    }
+    if (map_path) map = malloc(sizeof(float) * (size_t)ref->width * (size_t)ref->height);
+    tool_metrics m;
+    if ((map_path && !map) ||
+        tool_compare_images(ref, test, (float)ev, ppd, hdr_flip, &m, map) != EXIT_OK)
+        goto done;
+    if (json) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "reference", ref_path);
+        cJSON_AddStringToObject(o, "test", test_path);
+        cJSON_AddNumberToObject(o, "width", ref->width);
+        cJSON_AddNumberToObject(o, "height", ref->height);
+        tool_metrics_json(&m, o);
+        char *text = cJSON_PrintUnformatted(o);
+        cJSON_Delete(o);
+        if (text) printf("%s\n", text);
+        cJSON_free(text);
+    } else {
+        printf("reference    %s (%d x %d)\n", ref_path, ref->width, ref->height);
+        printf("test         %s\n", test_path);
+        printf("rmse         %.6g   (linear HDR values, all channels)\n", m.err.rmse);
+        printf("relmse       %.6g   (mean (t-r)^2 / (r^2 + %g))\n", m.err.relmse,
+               m.err.relmse_epsilon);
+        printf("psnr         %.4f dB   (linear HDR; peak = reference maximum %.6g)\n", m.err.psnr,
+               m.err.psnr_peak);
+        printf("lab_delta_e  %.6g   (CIE76, D65; values x 2^%g clamped to [0, 1])\n", m.lab_delta_e,
+               ev);
+        printf("flip_ldr     %.6g   (LDR-FLIP, %.4g ppd; values x 2^%g clamped to [0, 1])\n",
+               m.flip_ldr, m.ppd, ev);
+        if (m.has_flip_hdr)
+            printf("flip_hdr     %.6g   (HDR-FLIP, %.4g ppd, ACES; exposures %.4g to %.4g)\n",
+                   m.flip_hdr, m.ppd, m.flip_start, m.flip_stop);
+    }
+    rc = EXIT_OK;
+    if (map_path && tool_write_flip_map(map_path, map, ref->width, ref->height) != EXIT_OK)
+        rc = EXIT_RUNTIME;
+    if (diff_path && rc == EXIT_OK) {
+        lumis_image *d = NULL;
+        if (lumis_image_create(ref->width, ref->height, &d) != LUMIS_OK) {
+            rc = tool_runtime_error("compare: out of memory");
+        } else {
+            const size_t n = 3 * (size_t)ref->width * (size_t)ref->height;
+            for (size_t i = 0; i < n; i++) d->pixels[i] = fabsf(test->pixels[i] - ref->pixels[i]);
+            if (tool_write_image(diff_path, d, NULL) != LUMIS_OK) rc = EXIT_RUNTIME;
+            lumis_image_destroy(d);
+        }
+    }
+done:
+    free(map);
+    lumis_image_destroy(ref);
+    lumis_image_destroy(test);
+    return rc;
+}
