@@ -603,6 +603,26 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     /* One shard alone reports itself incomplete. */
     snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", suite, tu_path("shard0"));
     expect(a, 0, "9 of 18 items");
+    /* Parallel jobs (forked after nothing threaded ran in the parent), each with two
+     * threads: the run finishes and matches the serial one's item count. */
+    snprintf(a, sizeof a, "timeout 300 '%s' bench '%s' --out '%s' --jobs 2 --threads 2", LUMIS_CLI,
+             suite, tu_path("jobs"));
+    char *out = NULL;
+    int rc = tu_run(a, &out, &err);
+    if (rc != 0) fail_msg("bench --jobs 2: exit %d: %s", rc, err);
+    free(out);
+    assert_non_null(strstr(err, "18 of 18 items"));
+    free(err);
+    /* A suite changed under the same labels: its results are stale and redone. */
+    size_t slen;
+    char *text = (char *)tu_read_file(suite, &slen);
+    char *seed = strstr(text, "\"seed\": 1");
+    assert_non_null(seed);
+    seed[8] = '2';
+    tu_write_file(tu_path("smoke2.json"), text, slen);
+    free(text);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("smoke2.json"), tu_path("b"));
+    expect(a, 0, "18 to render");
     /* Malformed suites name the file and the key. */
     static const struct {
         const char *text, *msg;
@@ -616,6 +636,9 @@ static void bench_runs_resumes_shards_and_reports(void **state)
          "budgets[0]: expected"},
         {"{\"maps\": [\"nowhere/\"], \"scenes\": [\"spheres\"]}", "nowhere/"},
         {"[1, 2", "not a JSON object"},
+        {"{\"maps\": [\"sky:8x4\", \"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": "
+         "[{\"method\": \"alias\"}], \"budgets\": [{\"spp\": 1}]}",
+         "two maps are labelled 'sky-8x4'"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         tu_write_file(tu_path("bad-suite.json"), bad[k].text, strlen(bad[k].text));
@@ -634,12 +657,13 @@ static void bench_runs_resumes_shards_and_reports(void **state)
         return;
     }
     fclose(chromium);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", suite, tu_path("b")); /* back to smoke */
+    expect(a, 0, NULL);
     snprintf(a, sizeof a,
              "timeout 120 /usr/bin/chromium --headless --no-sandbox --disable-gpu "
              "--hide-scrollbars --window-size=1200,1600 --screenshot='%s' 'file://%s/index.html'",
              tu_path("shot.png"), tu_path("b"));
-    char *out = NULL;
-    int rc = tu_run(a, &out, &err);
+    rc = tu_run(a, &out, &err);
     if (rc != 0) fail_msg("chromium: exit %d: %s", rc, err);
     free(out);
     free(err);

@@ -117,9 +117,12 @@ static int is_map_file(const char *name)
                    strcasecmp(dot, ".pfm") == 0);
 }
 
+/* "sky", "studio", optionally followed by ":WxH" (as tool_load_image reads them); a file
+ * named sky_garage.hdr is a file. */
 static int is_procedural(const char *spec)
 {
-    return strncmp(spec, "sky", 3) == 0 || strncmp(spec, "studio", 6) == 0;
+    size_t n = strcspn(spec, ":");
+    return (n == 3 && strncmp(spec, "sky", 3) == 0) || (n == 6 && strncmp(spec, "studio", 6) == 0);
 }
 
 /* A suite's relative paths resolve against its folder (a path too long is cut, and then
@@ -141,7 +144,8 @@ static int cmp_str(const void *a, const void *b)
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-static int add_map(suite *s, const char *spec, const char *label, float rot, float scale)
+static int add_map(suite *s, const char *spec, const char *label, int user_label, float rot,
+                   float scale)
 {
     suite_map *grown = realloc(s->maps, (size_t)(s->nmaps + 1) * sizeof *grown);
     if (!grown) return tool_runtime_error("bench: out of memory");
@@ -154,9 +158,9 @@ static int add_map(suite *s, const char *spec, const char *label, float rot, flo
     base = base ? base + 1 : label;
     char tmp[128];
     copy_cut(tmp, sizeof tmp, base);
-    char *dot = m->is_file ? strrchr(tmp, '.') : NULL;
+    char *dot = m->is_file && !user_label ? strrchr(tmp, '.') : NULL;
     if (dot) *dot = '\0';
-    make_label(m->label, sizeof m->label, tmp);
+    make_label(m->label, sizeof m->label, user_label ? label : tmp);
     m->rotation_deg = rot;
     m->scale = scale;
     return EXIT_OK;
@@ -185,13 +189,15 @@ static int parse_map(suite *s, const cJSON *e, const char *file)
         return tool_runtime_error("%s: maps: expected file names, folders or specs", file);
     }
     if (!*spec) return tool_runtime_error("%s: maps: an empty name", file);
-    if (is_procedural(spec)) return add_map(s, spec, label ? label : spec, rot, scale);
+    if (is_procedural(spec))
+        return add_map(s, spec, label ? label : spec, label != NULL, rot, scale);
     char path[4096];
     resolve(s, spec, path, sizeof path);
     struct stat sb;
     if (stat(path, &sb) != 0)
         return tool_runtime_error("%s: maps: %s: %s", file, path, strerror(errno));
-    if (!S_ISDIR(sb.st_mode)) return add_map(s, path, label ? label : path, rot, scale);
+    if (!S_ISDIR(sb.st_mode))
+        return add_map(s, path, label ? label : path, label != NULL, rot, scale);
     DIR *d = opendir(path);
     if (!d) return tool_runtime_error("%s: maps: %s: %s", file, path, strerror(errno));
     char **names = NULL;
@@ -214,7 +220,7 @@ static int parse_map(suite *s, const cJSON *e, const char *file)
     for (int k = 0; k < n; k++) {
         char full[4096 + 256];
         snprintf(full, sizeof full, "%s/%s", path, names[k]);
-        if (rc == EXIT_OK) rc = add_map(s, full, names[k], rot, scale);
+        if (rc == EXIT_OK) rc = add_map(s, full, names[k], 0, rot, scale);
         free(names[k]);
     }
     free(names);
@@ -381,6 +387,7 @@ static int parse_suite(const char *path, suite *s)
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
     s->ref_spp = 1024;
     memset(&s->reference, 0, sizeof s->reference);
+    s->reference.sampler.method = LUMIS_METHOD_INVERSION;
     snprintf(s->reference.label, sizeof s->reference.label, "reference");
     if (rc == EXIT_OK && ref) {
         const cJSON *spp = cJSON_GetObjectItemCaseSensitive(ref, "spp");
@@ -417,6 +424,8 @@ static int parse_suite(const char *path, suite *s)
     s->preview_ev = cJSON_IsNumber(v) ? (float)v->valuedouble : s->exposure_ev;
     s->preview_auto =
         v ? cJSON_IsString(v) && strcmp(v->valuestring, "auto") == 0 : s->exposure_auto;
+    if (rc == EXIT_OK && v && !cJSON_IsNumber(v) && !s->preview_auto)
+        rc = tool_runtime_error("%s: preview_exposure_ev: expected stops or \"auto\"", path);
     v = cJSON_GetObjectItemCaseSensitive(root, "flip_hdr");
     s->flip_hdr = v ? cJSON_IsTrue(v) : 1;
     const cJSON *cmp = cJSON_GetObjectItemCaseSensitive(root, "compare");
@@ -438,6 +447,23 @@ static int parse_suite(const char *path, suite *s)
         }
         s->ncompare++;
     }
+    /* Labels name files: two items must never share one. */
+    for (int a = 0; rc == EXIT_OK && a < s->nmaps; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->maps[a].label, s->maps[b].label) == 0)
+                rc = tool_runtime_error("%s: maps: two maps are labelled '%s' (%s and %s): list "
+                                        "each once, or give {\"map\": ..., \"label\": ...}",
+                                        path, s->maps[a].label, s->maps[b].spec, s->maps[a].spec);
+    for (int a = 0; rc == EXIT_OK && a < s->nscenes; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->scenes[a].label, s->scenes[b].label) == 0)
+                rc = tool_runtime_error("%s: scenes[%d]: another scene is also labelled '%s'", path,
+                                        a, s->scenes[a].label);
+    for (int a = 0; rc == EXIT_OK && a < s->nbudgets; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->budgets[a].label, s->budgets[b].label) == 0)
+                rc = tool_runtime_error("%s: budgets[%d]: the same budget as budgets[%d]", path, a,
+                                        b);
     cJSON_Delete(root);
     if (rc != EXIT_OK) suite_free(s);
     return rc;
@@ -503,15 +529,71 @@ static void reference_key(const suite *s, int m, int sc, char *out, size_t cap)
     const suite_map *map = &s->maps[m];
     h = map->is_file ? fnv_file(h, map->spec) : fnv_str(h, map->spec);
     char buf[512];
-    snprintf(buf, sizeof buf, "%.9g %.9g %d %d %d %d %d %d %d %d %d %llu", map->rotation_deg,
+    snprintf(buf, sizeof buf, "%.9g %.9g %d %d %d %d %d %d %d %d %d %d %llu", map->rotation_deg,
              map->scale, s->width, s->height, s->ref_spp, (int)s->reference.sampler.method,
              s->reference.sampler.kdtree_blocks, s->reference.bsdf_only,
              (int)s->reference.estimator * 2 + s->reference.power, s->reference.light_samples,
-             s->bounces, s->seed);
+             s->reference.bsdf_samples, s->bounces, s->seed);
     h = fnv_str(h, buf);
     const suite_scene *scene = &s->scenes[sc];
     h = scene->is_file ? fnv_file(h, scene->spec) : fnv_str(h, scene->spec);
     snprintf(out, cap, "%016llx", (unsigned long long)h);
+}
+
+/* Everything an item's result depends on besides its reference: the method, the budget,
+ * the seed, the metrics' settings.  Stored in the result; a result whose key differs
+ * (the suite changed under the same labels) is stale and redone. */
+static void item_key(const suite *s, const item *it, char *out, size_t cap)
+{
+    char ref[32], buf[1024];
+    reference_key(s, it->map, it->scene, ref, sizeof ref);
+    const suite_method *m = &s->methods[it->method];
+    const suite_budget *b = &s->budgets[it->budget];
+    snprintf(buf, sizeof buf,
+             "lumis-item-v1 %s %s %d %d %d %d %d %d %d %d %.9g %llu %d %d %d %.9g %d %d %.9g",
+             LUMIS_VERSION_STRING, ref, (int)m->sampler.method, m->sampler.kdtree_blocks,
+             m->sampler.compensate, m->bsdf_only, (int)m->estimator, m->power, m->light_samples,
+             m->bsdf_samples, b->seconds, s->seed, b->spp, s->width, s->height, s->exposure_ev,
+             s->exposure_auto, s->flip_hdr, s->preview_ev);
+    uint64_t h = fnv_str(0xcbf29ce484222325ull, buf);
+    snprintf(out, cap, "%016llx", (unsigned long long)h);
+}
+
+/* The item's result file, parsed, if it exists and belongs to the suite as it is now. */
+static cJSON *load_item(const suite *s, const char *out, const item *it)
+{
+    char path[8800];
+    snprintf(path, sizeof path, "%s/results/%s.json", out, it->id);
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    char buf[16384];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    cJSON *j = cJSON_ParseWithLength(buf, n);
+    char key[32];
+    item_key(s, it, key, sizeof key);
+    const cJSON *k = cJSON_GetObjectItemCaseSensitive(j, "item_key");
+    if (!cJSON_IsString(k) || strcmp(k->valuestring, key) != 0) {
+        cJSON_Delete(j);
+        return NULL;
+    }
+    return j;
+}
+
+static int item_done(const suite *s, const char *out, const item *it)
+{
+    cJSON *j = load_item(s, out, it);
+    cJSON_Delete(j);
+    return j != NULL;
+}
+
+/* Shards split the (map, scene) pairs when there are enough of them, so that each
+ * reference is rendered by one shard only; otherwise the items. */
+static int in_shard(const suite *s, int k, long shard_i, long shard_n)
+{
+    const int pairs = s->nmaps * s->nscenes;
+    if (pairs >= shard_n) return (k / (s->nmethods * s->nbudgets)) % shard_n == shard_i;
+    return k % shard_n == shard_i;
 }
 
 /* ---- running ------------------------------------------------------------------------------- */
@@ -530,9 +612,19 @@ static int file_exists(const char *path)
     return stat(path, &sb) == 0;
 }
 
+/* mkdir -p */
 static int make_dir(const char *path)
 {
-    if (mkdir(path, 0755) == 0 || errno == EEXIST) return EXIT_OK;
+    char buf[8800];
+    copy_cut(buf, sizeof buf, path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+                return tool_runtime_error("%s: cannot create folder: %s", buf, strerror(errno));
+            *p = '/';
+        }
+    if (mkdir(buf, 0755) == 0 || errno == EEXIST) return EXIT_OK;
     return tool_runtime_error("%s: cannot create folder: %s", path, strerror(errno));
 }
 
@@ -587,7 +679,16 @@ static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t c
     reference_key(s, m, sc, key, sizeof key);
     snprintf(exr, cap, "%s/refs/%s.exr", c->out, key);
     snprintf(png, sizeof png, "%s/refs/%s.png", c->out, key);
-    if (file_exists(exr) && file_exists(png)) return EXIT_OK;
+    if (file_exists(exr)) { /* cached; its preview follows the suite's current settings */
+        lumis_image *img = NULL;
+        if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+        lumis_write_options wo = {0};
+        wo.tonemap = LUMIS_TONEMAP_ACES;
+        wo.exposure_ev = s->preview_auto ? auto_exposure(img) : s->preview_ev;
+        int rc = tool_write_image(png, img, &wo) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+        lumis_image_destroy(img);
+        return rc;
+    }
     item it = {m, sc, 0, 0, ""};
     tool_render_opts o;
     fill_render_opts(c, &it, &s->reference, &o);
@@ -623,7 +724,7 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     const suite *s = c->s;
     char result[8800], exr[8800], png[8800], flip_png[8800], ref_exr[8800];
     snprintf(result, sizeof result, "%s/results/%s.json", c->out, it->id);
-    if (file_exists(result)) return EXIT_OK; /* resumed: done before */
+    if (item_done(s, c->out, it)) return EXIT_OK; /* resumed: done before */
     char key[32];
     reference_key(s, it->map, it->scene, key, sizeof key);
     snprintf(ref_exr, sizeof ref_exr, "%s/refs/%s.exr", c->out, key);
@@ -659,6 +760,9 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         cJSON_AddStringToObject(j, "method", s->methods[it->method].label);
         cJSON_AddStringToObject(j, "budget", b->label);
         cJSON_AddStringToObject(j, "reference", key);
+        char ikey[32];
+        item_key(s, it, ikey, sizeof ikey);
+        cJSON_AddStringToObject(j, "item_key", ikey);
         cJSON_AddNumberToObject(j, "spp", r.stats.spp);
         cJSON_AddNumberToObject(j, "render_seconds", r.stats.seconds);
         /* BSDF sampling builds no light sampler worth counting (the CLI makes one anyway). */
@@ -707,16 +811,8 @@ static int load_results(const suite *s, const char *out, result *res)
     int found = 0;
     for (int k = 0; k < nitems(s); k++) {
         item it = item_at(s, k);
-        char path[8800];
-        snprintf(path, sizeof path, "%s/results/%s.json", out, it.id);
-        size_t n = 0;
-        FILE *f = fopen(path, "rb");
         res[k].present = 0;
-        if (!f) continue;
-        char buf[16384];
-        n = fread(buf, 1, sizeof buf - 1, f);
-        fclose(f);
-        cJSON *j = cJSON_ParseWithLength(buf, n);
+        cJSON *j = load_item(s, out, &it); /* stale results (other settings) are left out */
         if (!j) continue;
         for (int m = 0; m < NMETRICS; m++) res[k].v[m] = jnum(j, metric_key[m]);
         if (isnan(res[k].v[M_PSNR]) && res[k].v[M_RMSE] == 0.0) res[k].v[M_PSNR] = INFINITY;
@@ -948,8 +1044,9 @@ static int write_svg(const char *path, const suite *s, const result *res, int sc
                 ymax = fmax(ymax, p[1]);
             }
         }
-    if (!isfinite(xmin)) {
+    if (!isfinite(xmin)) { /* nothing to plot: no stale plot either */
         free(px);
+        unlink(path);
         return EXIT_OK;
     }
     xmin = floor(xmin - 0.05), xmax = ceil(xmax + 0.05);
@@ -1177,7 +1274,12 @@ static int write_report(const suite *s, const char *out, int argc, char **argv)
                     fprintf(md, " %s |", buf);
                 }
                 for (int m = 0; m < NMETRICS; m++)
-                    if (m != M_RMSE && m != M_PSNR) fprintf(md, " %.2f |", u->rank[m]);
+                    if (m != M_RMSE && m != M_PSNR) {
+                        if (isnan(u->rank[m]))
+                            fprintf(md, " – |");
+                        else
+                            fprintf(md, " %.2f |", u->rank[m]);
+                    }
                 fprintf(md, "\n");
             }
         }
@@ -1253,15 +1355,25 @@ static int write_report(const suite *s, const char *out, int argc, char **argv)
                     fmt_metric(buf, sizeof buf, u->n ? u->mean[m] : NAN, m);
                     fprintf(h, "<td>%s</td>", buf);
                 }
-                fprintf(h, "<td>%.2f</td><td>%.2f</td></tr>\n", u->rank[M_RELMSE],
-                        u->rank[M_FLIP_LDR]);
+                for (int m = M_RELMSE; m <= M_FLIP_LDR; m += M_FLIP_LDR - M_RELMSE) {
+                    if (isnan(u->rank[m]))
+                        fprintf(h, "<td>–</td>");
+                    else
+                        fprintf(h, "<td>%.2f</td>", u->rank[m]);
+                }
+                fprintf(h, "</tr>\n");
             }
             fprintf(h, "</table>\n");
         }
         fprintf(h, "<h2>Convergence</h2>\n");
-        for (int sc = 0; sc < s->nscenes; sc++)
-            fprintf(h, "<img src=\"convergence-%s.svg\" alt=\"convergence, %s\" width=\"640\">\n",
-                    s->scenes[sc].label, s->scenes[sc].label);
+        for (int sc = 0; sc < s->nscenes; sc++) {
+            snprintf(path, sizeof path, "%s/convergence-%s.svg", out, s->scenes[sc].label);
+            if (file_exists(path))
+                fprintf(h,
+                        "<img src=\"convergence-%s.svg\" alt=\"convergence, %s\" "
+                        "width=\"640\">\n",
+                        s->scenes[sc].label, s->scenes[sc].label);
+        }
         int lb = s->nbudgets - 1;
         fprintf(h, "<h2>Images (budget %s): render, then its FLIP error map</h2>\n",
                 s->budgets[lb].label);
@@ -1378,9 +1490,10 @@ int cmd_bench(int argc, char **argv)
             sharded = 1;
         } else if (strcmp(argv[i], "--merge") == 0) {
             merging = 1;
-            if (i + 1 >= argc || argv[i + 1][0] == '-')
-                return tool_usage_error("bench", "--merge needs folders");
-            while (i + 1 < argc && argv[i + 1][0] != '-') i++;
+            struct stat sb;
+            if (i + 1 >= argc || stat(argv[i + 1], &sb) != 0 || !S_ISDIR(sb.st_mode))
+                return tool_usage_error("bench", "--merge needs folders of earlier runs");
+            while (i + 1 < argc && stat(argv[i + 1], &sb) == 0 && S_ISDIR(sb.st_mode)) i++;
         } else if (strcmp(argv[i], "--report-only") == 0) {
             report_only = 1;
         } else if (argv[i][0] != '-' && !suite_path) {
@@ -1397,10 +1510,6 @@ int cmd_bench(int argc, char **argv)
     char outbuf[4096];
     if (!out) {
         snprintf(outbuf, sizeof outbuf, "bench-out/%s", s.name);
-        if (make_dir("bench-out") != EXIT_OK) {
-            suite_free(&s);
-            return EXIT_RUNTIME;
-        }
         out = outbuf;
     }
     static const char *const subs[] = {"", "/refs", "/renders", "/results", "/previews"};
@@ -1416,8 +1525,11 @@ int cmd_bench(int argc, char **argv)
     if (merging)
         for (int i = 1; i < argc && rc == EXIT_OK; i++)
             if (strcmp(argv[i], "--merge") == 0)
-                for (int k = i + 1; k < argc && argv[k][0] != '-' && rc == EXIT_OK; k++)
+                for (int k = i + 1; k < argc && rc == EXIT_OK; k++) {
+                    struct stat sb;
+                    if (stat(argv[k], &sb) != 0 || !S_ISDIR(sb.st_mode)) break;
                     rc = merge_dir(argv[k], out);
+                }
     if (!merging && !report_only && rc == EXIT_OK) {
         long cores = sysconf(_SC_NPROCESSORS_ONLN);
         run_ctx c = {&s, out, (int)(threads ? threads : (cores > jobs ? cores / jobs : 1)), argc,
@@ -1425,35 +1537,46 @@ int cmd_bench(int argc, char **argv)
         const int total = nitems(&s);
         int mine = 0, todo = 0;
         for (int k = 0; k < total; k++)
-            if (k % shard_n == shard_i) {
+            if (in_shard(&s, k, shard_i, shard_n)) {
                 mine++;
                 item it = item_at(&s, k);
-                char p[8800];
-                snprintf(p, sizeof p, "%s/results/%s.json", out, it.id);
-                todo += !file_exists(p);
+                todo += !item_done(&s, out, &it);
             }
         fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n",
                 s.name, total, mine, todo);
-        /* References first, with every thread, for the pairs this shard needs. */
+        /* References first, with every thread, for the pairs this shard needs.  With
+         * --jobs the parent forks workers afterwards, so it must never start OpenMP's or
+         * Embree's threads itself (they do not survive a fork): references are rendered
+         * in a child process then. */
         run_ctx rc_all = c;
         rc_all.threads = (int)threads;
-        for (int m = 0; m < s.nmaps && rc == EXIT_OK; m++)
-            for (int sc = 0; sc < s.nscenes && rc == EXIT_OK; sc++) {
-                int need = 0;
-                for (int k = 0; k < total; k++) {
-                    item it = item_at(&s, k);
-                    char p[8800];
-                    snprintf(p, sizeof p, "%s/results/%s.json", out, it.id);
-                    need |=
-                        it.map == m && it.scene == sc && k % shard_n == shard_i && !file_exists(p);
+        pid_t refs_pid = jobs > 1 ? (fflush(NULL), fork()) : 0;
+        if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+        if (refs_pid == 0) {
+            for (int m = 0; m < s.nmaps && rc == EXIT_OK; m++)
+                for (int sc = 0; sc < s.nscenes && rc == EXIT_OK; sc++) {
+                    int need = 0;
+                    for (int k = 0; k < total && !need; k++) {
+                        item it = item_at(&s, k);
+                        need = it.map == m && it.scene == sc && in_shard(&s, k, shard_i, shard_n) &&
+                               !item_done(&s, out, &it);
+                    }
+                    char ref[8800];
+                    if (need) rc = ensure_reference(&rc_all, m, sc, ref, sizeof ref);
                 }
-                char ref[8800];
-                if (need) rc = ensure_reference(&rc_all, m, sc, ref, sizeof ref);
+            if (jobs > 1) {
+                fflush(NULL);
+                _exit(rc);
             }
+        } else if (refs_pid > 0) {
+            int status = 0;
+            if (waitpid(refs_pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+                rc = EXIT_RUNTIME;
+        }
         /* Items, in --jobs processes. */
         if (rc == EXIT_OK && jobs <= 1) {
             for (int k = 0; k < total && rc == EXIT_OK; k++)
-                if (k % shard_n == shard_i) {
+                if (in_shard(&s, k, shard_i, shard_n)) {
                     item it = item_at(&s, k);
                     rc = run_item(&c, &it, k, total);
                 }
@@ -1465,7 +1588,7 @@ int cmd_bench(int argc, char **argv)
                 if (pid == 0) {
                     int crc = EXIT_OK;
                     for (int k = 0, mi = 0; k < total && crc == EXIT_OK; k++)
-                        if (k % shard_n == shard_i && mi++ % jobs == j) {
+                        if (in_shard(&s, k, shard_i, shard_n) && mi++ % jobs == j) {
                             item it = item_at(&s, k);
                             crc = run_item(&c, &it, k, total);
                         }

@@ -92,7 +92,8 @@ int tool_compare_images(const lumis_image *ref, const lumis_image *test, float e
         ra = a;
         tb = b;
     }
-    lumis_status st = lumis_flip_ldr(ra, tb, &fo, hdr_flip ? NULL : flip_map, &m->flip_ldr);
+    /* The map gets LDR-FLIP's errors; HDR-FLIP overwrites them when it runs. */
+    lumis_status st = lumis_flip_ldr(ra, tb, &fo, flip_map, &m->flip_ldr);
     lumis_image_destroy(a);
     lumis_image_destroy(b);
     if (st != LUMIS_OK) return EXIT_RUNTIME;

@@ -101,9 +101,10 @@ static void sidecar_path(const char *out, char *buf, size_t cap)
     snprintf(buf, cap, "%.*s.json", (int)n, out);
 }
 
-static int write_sidecar(const tool_render_opts *o, const char *path, const char *scene_label,
-                         const char *envspec, const lumis_envmap *env, const lumis_sampler *smp,
-                         int objects, const lumis_camera *cam, const tool_render_result *r)
+static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
+                         const char *scene_label, const char *envspec, const lumis_envmap *env,
+                         const lumis_sampler *smp, int objects, const lumis_camera *cam,
+                         const tool_render_result *r)
 {
     const lumis_render_stats *s = &r->stats;
     cJSON *j = cJSON_CreateObject(), *x;
@@ -133,9 +134,9 @@ static int write_sidecar(const tool_render_opts *o, const char *path, const char
     cJSON_AddStringToObject(
         j, "method",
         o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
-    cJSON_AddStringToObject(j, "estimator", estimator_name(&o->rd));
-    if (o->rd.estimator == LUMIS_ESTIMATOR_MIS)
-        cJSON_AddStringToObject(j, "heuristic", o->rd.power_heuristic ? "power" : "balance");
+    cJSON_AddStringToObject(j, "estimator", estimator_name(rd));
+    if (rd->estimator == LUMIS_ESTIMATOR_MIS)
+        cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
     else
         cJSON_AddNullToObject(j, "heuristic");
     cJSON_AddNumberToObject(j, "light_samples", o->rd.light_samples ? o->rd.light_samples : 1);
@@ -239,7 +240,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_render_job *job = NULL;
     int rc = EXIT_RUNTIME;
     if (tool_make_sampler(envspec, rotation, scale, &o->sampler, &env, &smp) != LUMIS_OK) goto done;
-    r->load_seconds = now_seconds() - t0;
+    /* The map's loading alone: the sampler's build is reported on its own. */
+    r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
     double t1 = now_seconds();
     if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
         goto done;
@@ -290,8 +292,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
             snprintf(path, sizeof path, "%s", o->sidecar);
         else
             sidecar_path(o->out, path, sizeof path);
-        rc = write_sidecar(o, path, o->scene_path ? o->scene_path : o->scene_name, envspec, env,
-                           smp, file->object_count, &cam, r);
+        rc = write_sidecar(o, &rd, path, o->scene_path ? o->scene_path : o->scene_name, envspec,
+                           env, smp, file->object_count, &cam, r);
     }
 done:
     if (rc != EXIT_OK) {
