@@ -297,6 +297,13 @@ static void png_applies_exposure_tonemap_and_srgb(void **state)
     free(png);
     assert_int_equal(lumis_image_read(tu_path("cut.png"), NULL, &back, NULL), LUMIS_ERR_CORRUPT);
     assert_null(back);
+    /* Found by fuzz_png: a 16-bit PGM handed to the PNG reader made stb_image return fewer
+     * bytes than it announced.  Only PNG signatures pass now. */
+    static const unsigned char pgm[] = "P53\v01\v5555v#Pf55555555555555555556\v6.,";
+    assert_int_equal(
+        lumis_image_read_memory(pgm, sizeof pgm - 1, LUMIS_FORMAT_PNG, "pgm", NULL, &back, NULL),
+        LUMIS_ERR_BAD_MAGIC);
+    assert_null(back);
     /* Tone map names and curves. */
     lumis_tonemap t;
     assert_int_equal(lumis_tonemap_from_name("aces", &t), LUMIS_OK);

@@ -85,6 +85,11 @@ lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis
                              lumis_image **out)
 {
     int w = 0, h = 0, comp = 0;
+    /* stb_image reads many formats; only a PNG may pass (its PNM reader, for one, has been
+     * seen to return fewer bytes than it announced for a 16-bit PGM). */
+    if (size < 8 || memcmp(data, "\x89PNG\r\n\x1a\n", 8) != 0)
+        return lumis__fail(ctx->errors, LUMIS_ERR_BAD_MAGIC, "%s: not a PNG (no PNG signature)",
+                           ctx->name);
     if (size > 0x7fffffff || !stbi_info_from_memory(data, (int)size, &w, &h, &comp))
         return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: not a readable PNG: %s", ctx->name,
                            stbi_failure_reason() ? stbi_failure_reason() : "unknown");
@@ -93,7 +98,12 @@ lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis
         return lumis__fail(ctx->errors, st, "%s: %d x %d: %s", ctx->name, w, h,
                            lumis_status_string(st));
     /* 16 bits per channel whatever the file has (8-bit values are scaled exactly). */
-    stbi_us *px = stbi_load_16_from_memory(data, (int)size, &w, &h, &comp, 3);
+    int lw = 0, lh = 0;
+    stbi_us *px = stbi_load_16_from_memory(data, (int)size, &lw, &lh, &comp, 3);
+    if (px && (lw != w || lh != h)) {
+        stbi_image_free(px);
+        px = NULL;
+    }
     if (!px)
         return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: PNG decoding failed: %s", ctx->name,
                            stbi_failure_reason() ? stbi_failure_reason() : "unknown");
