@@ -6,17 +6,18 @@
  * fresh temporary folder, runs `PATH info FILE --json > /dev/null` N times (default 5) and
  * prints the min, median and max seconds with the machine it ran on.  The time covers the
  * whole command: process start, EXR decoding and the statistics. */
+#include "bench_common.h"
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 
 #include <errno.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
+
+const char bench_name[] = "bench_info";
 
 #ifndef LUMIS_CLI
 #define LUMIS_CLI "lumis"
@@ -29,45 +30,6 @@ static const char usage[] =
     "  --runs N      number of timed runs (default 5)\n"
     "  --json        print one JSON object instead of text\n"
     "  --lumis PATH  the lumis executable (default " LUMIS_CLI ")\n";
-
-static int fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int fail(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("bench_info: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-    return 1;
-}
-
-static int parse_int(const char *s, long lo, long hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi) return 0;
-    *out = (int)v;
-    return 1;
-}
-
-static int parse_size(const char *s, int *w, int *h)
-{
-    char buf[64];
-    const char *x = strchr(s, 'x');
-    if (!x || (size_t)(x - s) >= sizeof buf) return 0;
-    memcpy(buf, s, (size_t)(x - s));
-    buf[x - s] = '\0';
-    return parse_int(buf, 1, 65536, w) && parse_int(x + 1, 1, 65536, h);
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
 
 /* Appends s to the shell command cmd (capacity cap), single-quoted if quote is nonzero;
  * returns 0 if it does not fit. */
@@ -89,26 +51,6 @@ static int append(char *cmd, size_t cap, const char *s, int quote)
     return 1;
 }
 
-/* The "model name" of the first CPU in /proc/cpuinfo, or "unknown". */
-static void cpu_model(char *out, size_t cap)
-{
-    snprintf(out, cap, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f) return;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) != 0) continue;
-        const char *v = strchr(line, ':');
-        if (!v) continue;
-        v++;
-        while (*v == ' ' || *v == '\t') v++;
-        snprintf(out, cap, "%s", v);
-        out[strcspn(out, "\r\n")] = '\0';
-        break;
-    }
-    fclose(f);
-}
-
 /* Prints s as a JSON string literal. */
 static void print_json_string(const char *s)
 {
@@ -125,12 +67,6 @@ static void print_json_string(const char *s)
     putchar('"');
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 int main(int argc, char **argv)
 {
     int width = 8192, height = 4096, runs = 5, json = 0;
@@ -143,11 +79,11 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--json") == 0) {
             json = 1;
         } else if (strcmp(a, "--size") == 0 && i + 1 < argc) {
-            if (!parse_size(argv[++i], &width, &height))
-                return fail("--size wants WxH (each 1..65536), got '%s'", argv[i]);
+            if (!bench_parse_size(argv[++i], &width, &height))
+                return bench_fail("--size wants WxH (each 1..65536), got '%s'", argv[i]);
         } else if (strcmp(a, "--runs") == 0 && i + 1 < argc) {
-            if (!parse_int(argv[++i], 1, 1000, &runs))
-                return fail("--runs wants a count in 1..1000, got '%s'", argv[i]);
+            if (!bench_parse_int(argv[++i], 1, 1000, &runs))
+                return bench_fail("--runs wants a count in 1..1000, got '%s'", argv[i]);
         } else if (strcmp(a, "--lumis") == 0 && i + 1 < argc) {
             lumis = argv[++i];
         } else {
@@ -155,7 +91,7 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (access(lumis, X_OK) != 0) return fail("cannot run the lumis executable '%s'", lumis);
+    if (access(lumis, X_OK) != 0) return bench_fail("cannot run the lumis executable '%s'", lumis);
 
     char size[64];
     snprintf(size, sizeof size, "%dx%d", width, height);
@@ -166,14 +102,14 @@ int main(int argc, char **argv)
     desc.sun_azimuth_deg = 60.0f;
     lumis_image *sky = NULL;
     lumis_status st = lumis_sky_create(&desc, &sky);
-    if (st != LUMIS_OK) return fail("lumis_sky_create: %s", lumis_status_string(st));
+    if (st != LUMIS_OK) return bench_fail("lumis_sky_create: %s", lumis_status_string(st));
 
     const char *tmp_root = getenv("TMPDIR");
     char dir[4096], file[4200];
     snprintf(dir, sizeof dir, "%s/bench_info.XXXXXX", tmp_root && *tmp_root ? tmp_root : "/tmp");
     if (!mkdtemp(dir)) {
         lumis_image_destroy(sky);
-        return fail("cannot create a temporary folder: %s", strerror(errno));
+        return bench_fail("cannot create a temporary folder: %s", strerror(errno));
     }
     snprintf(file, sizeof file, "%s/sky.exr", dir);
 
@@ -186,22 +122,22 @@ int main(int argc, char **argv)
     lumis_image_destroy(sky);
     char cmd[16384] = "";
     if (!times) {
-        rc = fail("out of memory");
+        rc = bench_fail("out of memory");
     } else if (st != LUMIS_OK) {
-        rc = fail("cannot write the EXR: %s", lumis_status_string(st));
+        rc = bench_fail("cannot write the EXR: %s", lumis_status_string(st));
     } else if (!append(cmd, sizeof cmd, lumis, 1) || !append(cmd, sizeof cmd, " info ", 0) ||
                !append(cmd, sizeof cmd, file, 1) ||
                !append(cmd, sizeof cmd, " --json > /dev/null", 0)) {
-        rc = fail("command line too long");
+        rc = bench_fail("command line too long");
     } else {
         if (!json) fprintf(stderr, "bench_info: %s, %d runs of: %s\n", size, runs, cmd);
         for (int r = 0; r < runs && rc == 0; r++) {
             fflush(NULL);
-            double t0 = now_s();
+            double t0 = bench_now();
             int status = system(cmd);
-            times[r] = now_s() - t0;
+            times[r] = bench_now() - t0;
             if (status == -1 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-                rc = fail("'%s' failed", cmd);
+                rc = bench_fail("'%s' failed", cmd);
         }
     }
     remove(file);
@@ -212,12 +148,12 @@ int main(int argc, char **argv)
         return rc;
     }
 
-    qsort(times, (size_t)runs, sizeof *times, cmp_double);
+    qsort(times, (size_t)runs, sizeof *times, bench_cmp_double);
     double median = runs % 2 ? times[runs / 2] : 0.5 * (times[runs / 2 - 1] + times[runs / 2]);
     double min = times[0], max = times[runs - 1];
     free(times);
     char cpu[256];
-    cpu_model(cpu, sizeof cpu);
+    bench_cpu_model(cpu, sizeof cpu);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
 
     if (json) {

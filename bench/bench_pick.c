@@ -2,26 +2,15 @@
  * own choice - the pixel or block and its probability, what Ergun et al. time - without
  * the warp to a direction and the radiance fetch that every method shares.  Together with
  * `lumis bench-samplers` (whole samples) it shows where a sample's time goes. */
+#include "bench_common.h"
 #include "envmap/sampler_internal.h"
 #include "lumis/lumis.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+const char bench_name[] = "bench_pick";
 
 int main(int argc, char **argv)
 {
@@ -65,17 +54,17 @@ int main(int argc, char **argv)
         if (lumis_sampler_create(env, &d, &s) != LUMIS_OK) return 1;
         volatile double sink = 0.0;
         for (int r = 0; r < runs; r++) {
-            double acc = 0.0, t0 = now_s();
+            double acc = 0.0, t0 = bench_now();
             lumis__pick p;
             for (long k = 0; k < n; k++) {
                 s->m->pick(s, u[2 * k], u[2 * k + 1], &p);
                 acc += p.density + p.x0;
             }
-            t[r] = (double)n / (now_s() - t0);
+            t[r] = (double)n / (bench_now() - t0);
             sink += acc;
         }
         (void)sink;
-        qsort(t, (size_t)runs, sizeof(double), cmp);
+        qsort(t, (size_t)runs, sizeof(double), bench_cmp_double);
         double med = t[runs / 2];
         if (m == LUMIS_METHOD_INVERSION) base = med;
         if (json)

@@ -19,20 +19,21 @@
  * Every measurement is repeated (--runs; default 5 for the throughput, 3 for the full
  * renders) and reported as median, min and max; the runs of the three throughput
  * measurements are interleaved so that a noisy neighbour slows them alike. */
+#include "bench_common.h"
 #include "lumis/lumis.h"
 #include "lumis/render.h"
 #include "render/internal.h"
 
 #include <cJSON.h>
 #include <embree3/rtcore.h>
-#include <errno.h>
 #include <math.h>
 #include <omp.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+
+const char bench_name[] = "bench_render";
 
 #define SKY_W           1024
 #define SKY_H           512
@@ -67,30 +68,6 @@ static const char usage[] =
 
 /* ---- errors and options -------------------------------------------------------------- */
 
-static int fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int fail(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("bench_render: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-    return 1;
-}
-
-static int usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("bench_render: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputs("\n(bench_render --help lists the options)\n", stderr);
-    va_end(ap);
-    return 2;
-}
-
 static void print_error(void *user, lumis_status status, const char *message)
 {
     (void)user;
@@ -99,42 +76,6 @@ static void print_error(void *user, lumis_status status, const char *message)
 }
 
 static const lumis_error_sink errors = {print_error, NULL};
-
-static int parse_int(const char *s, long lo, long hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (errno || end == s || *end || v < lo || v > hi) return 0;
-    *out = (int)v;
-    return 1;
-}
-
-static int parse_size(const char *s, int *w, int *h)
-{
-    char buf[64];
-    const char *x = strchr(s, 'x');
-    if (!x || (size_t)(x - s) >= sizeof buf) return 0;
-    memcpy(buf, s, (size_t)(x - s));
-    buf[x - s] = '\0';
-    return parse_int(buf, 1, 65536, w) && parse_int(x + 1, 1, 65536, h);
-}
-
-/* True if argv[*i] is option `name`, as "--name VALUE" or "--name=VALUE"; *value is then
- * its value (NULL if missing) and *i the last argv element used. */
-static int option(int argc, char **argv, int *i, const char *name, const char **value)
-{
-    const char *a = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(a, name, n) != 0) return 0;
-    if (a[n] == '=') {
-        *value = a + n + 1;
-        return 1;
-    }
-    if (a[n] != '\0') return 0;
-    *value = *i + 1 < argc ? argv[++*i] : NULL;
-    return 1;
-}
 
 /* Parses a comma-separated list of method names; returns the count, or 0 on error. */
 static int parse_methods(const char *s, lumis_sampler_method *out)
@@ -156,26 +97,6 @@ static int parse_methods(const char *s, lumis_sampler_method *out)
 
 /* ---- machine facts and statistics ----------------------------------------------------- */
 
-/* The "model name" of the first CPU in /proc/cpuinfo, or "unknown". */
-static void cpu_model(char *out, size_t cap)
-{
-    snprintf(out, cap, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f) return;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) != 0) continue;
-        const char *v = strchr(line, ':');
-        if (!v) continue;
-        v++;
-        while (*v == ' ' || *v == '\t') v++;
-        snprintf(out, cap, "%s", v);
-        out[strcspn(out, "\r\n")] = '\0';
-        break;
-    }
-    fclose(f);
-}
-
 static const char *embree_version(void)
 {
 #ifdef RTC_VERSION_STRING
@@ -185,12 +106,6 @@ static const char *embree_version(void)
 #endif
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 typedef struct stat3 {
     double median, min, max;
 } stat3;
@@ -198,7 +113,7 @@ typedef struct stat3 {
 /* Sorts v[0..n) and returns its median, min and max. */
 static stat3 summarize(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    qsort(v, (size_t)n, sizeof *v, bench_cmp_double);
     stat3 s;
     s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
     s.min = v[0];
@@ -378,8 +293,8 @@ static int render_once(const lumis_scene *scene, const lumis_render_desc *d,
     lumis_image *img = NULL;
     lumis_status st = lumis_render(scene, d, &img, stats);
     lumis_image_destroy(img);
-    if (st != LUMIS_OK) return fail("render failed: %s", lumis_status_string(st));
-    if (!(stats->seconds > 0.0)) return fail("render took no measurable time");
+    if (st != LUMIS_OK) return bench_fail("render failed: %s", lumis_status_string(st));
+    if (!(stats->seconds > 0.0)) return bench_fail("render took no measurable time");
     return 0;
 }
 
@@ -392,7 +307,8 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     sd.method = o->method;
     sd.errors = errors;
     lumis_sampler *smp = NULL;
-    if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) return fail("cannot build the sampler");
+    if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK)
+        return bench_fail("cannot build the sampler");
     res->sampler_build_ms = lumis_sampler_build_ms(smp);
     lumis_camera cam = *base;
     cam.width = o->shadow_width;
@@ -402,7 +318,7 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     double *v = calloc(4 * (size_t)o->runs_shadow, sizeof *v);
     int rc = 0;
     if (!v) {
-        rc = fail("out of memory");
+        rc = bench_fail("out of memory");
         goto done;
     }
 
@@ -414,16 +330,16 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     lumis__render_set_shadow_hook(NULL, NULL);
     if (rc) goto done;
     if (list.oom) {
-        rc = fail("out of memory recording %.0f shadow rays", stats.shadow_rays);
+        rc = bench_fail("out of memory recording %.0f shadow rays", stats.shadow_rays);
         goto done;
     }
     if (list.n == 0) {
-        rc = fail("the integrator traced no shadow rays");
+        rc = bench_fail("the integrator traced no shadow rays");
         goto done;
     }
     if ((double)list.n != stats.shadow_rays) {
-        rc = fail("recorded %zu shadow rays but the integrator counted %.0f", list.n,
-                  stats.shadow_rays);
+        rc = bench_fail("recorded %zu shadow rays but the integrator counted %.0f", list.n,
+                        stats.shadow_rays);
         goto done;
     }
     res->rays = list.n;
@@ -435,8 +351,8 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     for (int r = 0; r < o->runs_shadow; r++) {
         if ((rc = render_once(scene, &d, &stats))) goto done;
         if (stats.shadow_rays != (double)list.n) {
-            rc = fail("with %d threads the integrator traced %.0f shadow rays, not %zu", o->threads,
-                      stats.shadow_rays, list.n);
+            rc = bench_fail("with %d threads the integrator traced %.0f shadow rays, not %zu",
+                            o->threads, stats.shadow_rays, list.n);
             goto done;
         }
         integ_shadow[r] = stats.shadow_rays / stats.seconds;
@@ -452,21 +368,22 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
         enum RTCError err = rtcGetDeviceError(dev);
         rtcReleaseDevice(dev);
         if (err != RTC_ERROR_NONE) {
-            rc = fail("Embree reported error %d during the raw occlusion runs", (int)err);
+            rc = bench_fail("Embree reported error %d during the raw occlusion runs", (int)err);
             goto done;
         }
         if (occ1 != occ16) {
-            rc = fail("rtcOccluded1 found %zu occluded rays but rtcOccluded16 %zu", occ1, occ16);
+            rc = bench_fail("rtcOccluded1 found %zu occluded rays but rtcOccluded16 %zu", occ1,
+                            occ16);
             goto done;
         }
         if (r > 0 && occ1 != res->occluded) {
-            rc = fail("rtcOccluded1 found %zu occluded rays, %zu in an earlier run", occ1,
-                      res->occluded);
+            rc = bench_fail("rtcOccluded1 found %zu occluded rays, %zu in an earlier run", occ1,
+                            res->occluded);
             goto done;
         }
         res->occluded = occ1;
         if (!(t1 > 0.0) || !(t16 > 0.0)) {
-            rc = fail("a raw occlusion run took no measurable time");
+            rc = bench_fail("a raw occlusion run took no measurable time");
             goto done;
         }
         raw1[r] = (double)list.n / t1;
@@ -495,7 +412,7 @@ static int bench_full(const options *o, const lumis_scene *scene, const lumis_ca
     sd.errors = errors;
     lumis_sampler *smp = NULL;
     if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK)
-        return fail("cannot build the %s sampler", lumis_sampler_method_name(method));
+        return bench_fail("cannot build the %s sampler", lumis_sampler_method_name(method));
     res->build_ms = lumis_sampler_build_ms(smp);
     res->table_bytes = lumis_sampler_table_bytes(smp);
     lumis_camera cam = *base;
@@ -503,7 +420,7 @@ static int bench_full(const options *o, const lumis_scene *scene, const lumis_ca
     cam.height = o->height;
     lumis_render_desc d = make_desc(&cam, env, smp, o->spp, o->threads);
     double *t = calloc((size_t)o->runs_full, sizeof *t);
-    int rc = t ? 0 : fail("out of memory");
+    int rc = t ? 0 : bench_fail("out of memory");
     for (int r = 0; r < o->runs_full && rc == 0; r++) {
         lumis_render_stats stats;
         rc = render_once(scene, &d, &stats);
@@ -592,7 +509,7 @@ static int print_json(const options *o, const machine *m, const shadow_result *s
                       const full_result *f, int nf)
 {
     cJSON *j = cJSON_CreateObject();
-    if (!j) return fail("out of memory");
+    if (!j) return bench_fail("out of memory");
     cJSON_AddStringToObject(j, "bench", "render");
     cJSON_AddStringToObject(j, "scene", "bunny-plane");
     cJSON *x = cJSON_AddObjectToObject(j, "environment");
@@ -658,7 +575,7 @@ static int print_json(const options *o, const machine *m, const shadow_result *s
     }
     char *text = cJSON_Print(j);
     cJSON_Delete(j);
-    if (!text) return fail("out of memory");
+    if (!text) return bench_fail("out of memory");
     puts(text);
     free(text);
     return 0;
@@ -680,36 +597,37 @@ int main(int argc, char **argv)
             o.json = 1;
         } else if (strcmp(a, "--quick") == 0) {
             quick = 1;
-        } else if (option(argc, argv, &i, "--threads", &v)) {
-            if (!v || !parse_int(v, 1, 1024, &o.threads))
-                return usage_error("--threads wants a count in 1..1024");
-        } else if (option(argc, argv, &i, "--method", &v)) {
+        } else if (bench_option(argc, argv, &i, "--threads", &v)) {
+            if (!v || !bench_parse_int(v, 1, 1024, &o.threads))
+                return bench_usage_error("--threads wants a count in 1..1024");
+        } else if (bench_option(argc, argv, &i, "--method", &v)) {
             if (!v || lumis_sampler_method_from_name(v, &o.method) != LUMIS_OK)
-                return usage_error("--method wants a method name (e.g. alias), got '%s'",
-                                   v ? v : "");
+                return bench_usage_error("--method wants a method name (e.g. alias), got '%s'",
+                                         v ? v : "");
             method_set = 1;
-        } else if (option(argc, argv, &i, "--methods", &v)) {
+        } else if (bench_option(argc, argv, &i, "--methods", &v)) {
             if (!v || !(o.method_count = parse_methods(v, o.methods)))
-                return usage_error("--methods wants up to %d comma-separated method names, "
-                                   "got '%s'",
-                                   MAX_METHODS, v ? v : "");
-        } else if (option(argc, argv, &i, "--size", &v)) {
-            if (!v || !parse_size(v, &width, &height))
-                return usage_error("--size wants WxH (each 1..65536), got '%s'", v ? v : "");
-        } else if (option(argc, argv, &i, "--shadow-size", &v)) {
-            if (!v || !parse_size(v, &sw, &sh))
-                return usage_error("--shadow-size wants WxH (each 1..65536), got '%s'", v ? v : "");
-        } else if (option(argc, argv, &i, "--spp", &v)) {
-            if (!v || !parse_int(v, 1, 65536, &spp))
-                return usage_error("--spp wants a count in 1..65536");
-        } else if (option(argc, argv, &i, "--shadow-spp", &v)) {
-            if (!v || !parse_int(v, 1, 65536, &sspp))
-                return usage_error("--shadow-spp wants a count in 1..65536");
-        } else if (option(argc, argv, &i, "--runs", &v)) {
-            if (!v || !parse_int(v, 1, MAX_RUNS, &runs))
-                return usage_error("--runs wants a count in 1..%d", MAX_RUNS);
+                return bench_usage_error("--methods wants up to %d comma-separated method names, "
+                                         "got '%s'",
+                                         MAX_METHODS, v ? v : "");
+        } else if (bench_option(argc, argv, &i, "--size", &v)) {
+            if (!v || !bench_parse_size(v, &width, &height))
+                return bench_usage_error("--size wants WxH (each 1..65536), got '%s'", v ? v : "");
+        } else if (bench_option(argc, argv, &i, "--shadow-size", &v)) {
+            if (!v || !bench_parse_size(v, &sw, &sh))
+                return bench_usage_error("--shadow-size wants WxH (each 1..65536), got '%s'",
+                                         v ? v : "");
+        } else if (bench_option(argc, argv, &i, "--spp", &v)) {
+            if (!v || !bench_parse_int(v, 1, 65536, &spp))
+                return bench_usage_error("--spp wants a count in 1..65536");
+        } else if (bench_option(argc, argv, &i, "--shadow-spp", &v)) {
+            if (!v || !bench_parse_int(v, 1, 65536, &sspp))
+                return bench_usage_error("--shadow-spp wants a count in 1..65536");
+        } else if (bench_option(argc, argv, &i, "--runs", &v)) {
+            if (!v || !bench_parse_int(v, 1, MAX_RUNS, &runs))
+                return bench_usage_error("--runs wants a count in 1..%d", MAX_RUNS);
         } else {
-            return usage_error("unknown option '%s'", a);
+            return bench_usage_error("unknown option '%s'", a);
         }
     }
     o.width = width ? width : quick ? 320 : 1024;
@@ -732,12 +650,12 @@ int main(int argc, char **argv)
     /* The renderer's limit: refuse early rather than after the first measurement. */
     if ((size_t)o.width * (size_t)o.height > ((size_t)1 << 28) ||
         (size_t)o.shadow_width * (size_t)o.shadow_height > ((size_t)1 << 28))
-        return usage_error("image sizes are limited to 2^28 pixels");
+        return bench_usage_error("image sizes are limited to 2^28 pixels");
 
     machine m;
     m.threads = o.threads;
     m.nproc = sysconf(_SC_NPROCESSORS_ONLN);
-    cpu_model(m.cpu, sizeof m.cpu);
+    bench_cpu_model(m.cpu, sizeof m.cpu);
 
     /* The scene and the environment. */
     lumis_scene_file *file = NULL;
@@ -748,11 +666,11 @@ int main(int argc, char **argv)
     shadow_result shadow;
     int rc = 0;
     if (lumis_scene_builtin("bunny-plane", &errors, &file) != LUMIS_OK) {
-        rc = fail("cannot build the bunny-plane scene");
+        rc = bench_fail("cannot build the bunny-plane scene");
         goto done;
     }
     if (lumis_scene_create(file->objects, file->object_count, &errors, &scene) != LUMIS_OK) {
-        rc = fail("cannot build the Embree scene");
+        rc = bench_fail("cannot build the Embree scene");
         goto done;
     }
     lumis_sky_desc skyd;
@@ -764,7 +682,7 @@ int main(int argc, char **argv)
     skyd.errors = errors;
     if (lumis_sky_create(&skyd, &sky) != LUMIS_OK ||
         lumis_envmap_from_image(sky, &env) != LUMIS_OK) {
-        rc = fail("cannot build the sky");
+        rc = bench_fail("cannot build the sky");
         goto done;
     }
 
