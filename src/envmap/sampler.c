@@ -313,24 +313,26 @@ void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
     }
 }
 
-float lumis_sampler_pdf(const lumis_sampler *s, lumis_vec3 dir)
+/* The density of dir and its pixel; 0 (pixel untouched) for the zero vector. */
+static float pdf_and_pixel(const lumis_sampler *s, lumis_vec3 dir, int *i, int *j)
 {
     if (dir.x == 0.0f && dir.y == 0.0f && dir.z == 0.0f) return 0.0f;
+    lumis_envmap_dir_to_pixel(s->env, dir, i, j);
+    return final_pdf(s, s->m->density(s, *i, *j), dir);
+}
+
+float lumis_sampler_pdf(const lumis_sampler *s, lumis_vec3 dir)
+{
     int i, j;
-    lumis_envmap_dir_to_pixel(s->env, dir, &i, &j);
-    return final_pdf(s, s->m->density(s, i, j), dir);
+    return pdf_and_pixel(s, dir, &i, &j);
 }
 
 float lumis_sampler_pdf_radiance(const lumis_sampler *s, lumis_vec3 dir, lumis_rgb *radiance)
 {
-    if (dir.x == 0.0f && dir.y == 0.0f && dir.z == 0.0f) {
-        *radiance = (lumis_rgb){0.0f, 0.0f, 0.0f};
-        return 0.0f;
-    }
-    int i, j;
-    lumis_envmap_dir_to_pixel(s->env, dir, &i, &j);
-    *radiance = lumis_envmap_texel(s->env, i, j);
-    return final_pdf(s, s->m->density(s, i, j), dir);
+    int i = -1, j = -1;
+    float pdf = pdf_and_pixel(s, dir, &i, &j);
+    *radiance = i >= 0 ? lumis_envmap_texel(s->env, i, j) : (lumis_rgb){0.0f, 0.0f, 0.0f};
+    return pdf;
 }
 
 const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *s)
