@@ -710,15 +710,6 @@ static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t c
     return rc;
 }
 
-static int write_json_file(const char *path, cJSON *j)
-{
-    char *text = cJSON_Print(j);
-    if (!text) return tool_runtime_error("%s: out of memory", path);
-    lumis_status st = lumis_write_text(path, text, strlen(text), &tool_errors);
-    cJSON_free(text);
-    return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
-}
-
 static int run_item(const run_ctx *c, const item *it, int index, int total)
 {
     const suite *s = c->s;
@@ -773,7 +764,7 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         cJSON_AddNumberToObject(j, "shadow_rays", r.stats.shadow_rays);
         cJSON_AddNumberToObject(j, "threads", r.stats.threads);
         tool_metrics_json(&m, j);
-        rc = write_json_file(result, j); /* last: its existence marks the item done */
+        rc = tool_write_json(result, j); /* last: its existence marks the item done */
         cJSON_Delete(j);
         fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f\n", index + 1,
                 total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr);
@@ -1222,7 +1213,7 @@ static int write_report(const suite *s, const char *out, int argc, char **argv)
             cJSON_AddItemToArray(jsum, o);
         }
     snprintf(path, sizeof path, "%s/results.json", out);
-    if (write_json_file(path, j) != EXIT_OK) rc = EXIT_RUNTIME;
+    if (tool_write_json(path, j) != EXIT_OK) rc = EXIT_RUNTIME;
     cJSON_Delete(j);
 
     /* results.md */

@@ -185,21 +185,9 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         cJSON_AddStringToObject(x, "png", o->png);
     else
         cJSON_AddNullToObject(x, "png");
-    char *text = cJSON_Print(j);
+    int rc = tool_write_json(path, j);
     cJSON_Delete(j);
-    if (!text) return tool_runtime_error("%s: out of memory", path);
-    size_t n = strlen(text);
-    text[n] = '\0';
-    char *withnl = realloc(text, n + 2);
-    if (withnl) {
-        withnl[n] = '\n';
-        withnl[n + 1] = '\0';
-        text = withnl;
-        n++;
-    }
-    lumis_status st = lumis_write_text(path, text, n, &tool_errors);
-    free(text);
-    return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+    return rc;
 }
 
 /* Runs passes until the budget: each pass is sized from the time per sample so far, so

@@ -1,5 +1,6 @@
 #include "common.h"
 
+#include <cJSON.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -139,4 +140,22 @@ lumis_status tool_write_image(const char *path, const lumis_image *image,
     if (options) opt = *options;
     opt.errors = tool_errors;
     return lumis_image_write(path, image, &opt);
+}
+
+int tool_write_json(const char *path, const struct cJSON *json)
+{
+    char *text = cJSON_Print(json);
+    if (!text) return tool_runtime_error("%s: out of memory", path);
+    size_t n = strlen(text);
+    char *line = malloc(n + 2);
+    if (line) {
+        memcpy(line, text, n);
+        line[n++] = '\n';
+        line[n] = '\0';
+    }
+    cJSON_free(text);
+    if (!line) return tool_runtime_error("%s: out of memory", path);
+    lumis_status st = lumis_write_text(path, line, n, &tool_errors);
+    free(line);
+    return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }

@@ -107,6 +107,8 @@ typedef struct tool_render_result {
  * quiet, a summary line. */
 int tool_render(const tool_render_opts *o, tool_render_result *r);
 
+struct cJSON;
+
 /* Every metric of `lumis compare` (tools/lumis/cmd_compare.c). */
 typedef struct tool_metrics {
     lumis_image_error_stats err;
@@ -120,10 +122,13 @@ typedef struct tool_metrics {
 int tool_compare_images(const lumis_image *ref, const lumis_image *test, float exposure_ev,
                         double ppd, int hdr_flip, tool_metrics *m, float *flip_map);
 /* Adds the metrics and their parameters to a JSON object (struct cJSON). */
-struct cJSON;
 void tool_metrics_json(const tool_metrics *m, struct cJSON *o);
 /* Writes a FLIP error map as a magma-coloured PNG.  Exit code. */
 int tool_write_flip_map(const char *path, const float *map, int width, int height);
+
+/* Writes a JSON object (struct cJSON), indented and ending in a newline, with the atomic
+ * writer; prints errors itself.  Exit code. */
+int tool_write_json(const char *path, const struct cJSON *json);
 
 /* Writes the info report of a map (as `lumis info` prints it) to f. */
 int tool_print_info(FILE *f, const char *name, const lumis_image *image,
