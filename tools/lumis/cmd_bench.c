@@ -725,14 +725,14 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     const suite_budget *b = &s->budgets[it->budget];
     lumis_image *ref = NULL;
     if (tool_load_image(ref_exr, &ref, NULL) != LUMIS_OK) return EXIT_RUNTIME;
-    const float ev = s->exposure_auto ? auto_exposure(ref) : s->exposure_ev;
+    const float ref_ev = auto_exposure(ref), ev = s->exposure_auto ? ref_ev : s->exposure_ev;
     tool_render_opts o;
     fill_render_opts(c, it, &s->methods[it->method], &o);
     o.rd.spp = b->spp;
     o.time_budget = b->seconds;
     o.out = exr;
     o.png = png;
-    if (s->preview_auto) o.png_options.exposure_ev = auto_exposure(ref);
+    if (s->preview_auto) o.png_options.exposure_ev = ref_ev;
     tool_render_result r;
     if (tool_render(&o, &r) != EXIT_OK) {
         lumis_image_destroy(ref);
