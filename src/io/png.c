@@ -73,53 +73,48 @@ lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_
 
 /* ---- reading ------------------------------------------------------------------------- */
 
-#include <stb_image.h>
+#include "png_decode.h"
 
-/* The sRGB transfer curve, inverted (IEC 61966-2-1). */
-static float srgb_to_linear(double v)
+#include <pthread.h>
+
+/* The sRGB transfer curve, inverted (IEC 61966-2-1), for every 16-bit code. */
+static float srgb_lut[65536];
+static pthread_once_t srgb_lut_once = PTHREAD_ONCE_INIT;
+
+static void srgb_lut_init(void)
 {
-    return (float)(v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4));
+    for (int k = 0; k < 65536; k++) {
+        double v = k / 65535.0;
+        srgb_lut[k] = (float)(v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4));
+    }
 }
 
 lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
                              lumis_image **out)
 {
-    int w = 0, h = 0, comp = 0;
-    /* stb_image reads many formats; only a PNG may pass (its PNM reader, for one, has been
-     * seen to return fewer bytes than it announced for a 16-bit PGM). */
+    int w = 0, h = 0;
     if (size < 8 || memcmp(data, "\x89PNG\r\n\x1a\n", 8) != 0)
         return lumis__fail(ctx->errors, LUMIS_ERR_BAD_MAGIC, "%s: not a PNG (no PNG signature)",
                            ctx->name);
-    if (size > 0x7fffffff || !stbi_info_from_memory(data, (int)size, &w, &h, &comp))
+    if (size > 0x7fffffff || !lumis__png_decode_info(data, (int)size, &w, &h))
         return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: not a readable PNG: %s", ctx->name,
-                           stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+                           lumis__png_decode_error());
     lumis_status st = lumis_image_check_size(w, h, ctx->max_pixels);
     if (st != LUMIS_OK)
         return lumis__fail(ctx->errors, st, "%s: %d x %d: %s", ctx->name, w, h,
                            lumis_status_string(st));
-    /* 16 bits per channel whatever the file has (8-bit values are scaled exactly). */
-    int lw = 0, lh = 0;
-    stbi_us *px = stbi_load_16_from_memory(data, (int)size, &lw, &lh, &comp, 3);
-    if (px && (lw != w || lh != h)) {
-        stbi_image_free(px);
-        px = NULL;
-    }
+    unsigned short *px = lumis__png_decode_rgb16(data, (int)size, &w, &h);
     if (!px)
         return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: PNG decoding failed: %s", ctx->name,
-                           stbi_failure_reason() ? stbi_failure_reason() : "unknown");
+                           lumis__png_decode_error());
     st = lumis_image_create(w, h, out);
     if (st == LUMIS_OK) {
-        static float lut[65536];
-        static int lut_ready; /* benign: every thread writes the same values */
-        if (!lut_ready) {
-            for (int k = 0; k < 65536; k++) lut[k] = srgb_to_linear(k / 65535.0);
-            lut_ready = 1;
-        }
+        pthread_once(&srgb_lut_once, srgb_lut_init);
         const size_t n = 3 * (size_t)w * (size_t)h;
-        for (size_t k = 0; k < n; k++) (*out)->pixels[k] = lut[px[k]];
+        for (size_t k = 0; k < n; k++) (*out)->pixels[k] = srgb_lut[px[k]];
     } else {
         lumis__fail(ctx->errors, st, "%s: %s", ctx->name, lumis_status_string(st));
     }
-    stbi_image_free(px);
+    lumis__png_decode_free(px);
     return st;
 }
