@@ -42,7 +42,7 @@ fuzz: deps
 	@for f in $(FUZZERS); do fmt=$${f#fuzz_}; log=build-fuzz/$$f.log; \
 	  mkdir -p build-fuzz/artifacts/$$fmt; echo "== $$f: $(FUZZ_SECONDS) s (log: $$log)"; \
 	  if build-fuzz/fuzz/$$f build-fuzz/corpus/$$fmt -max_total_time=$(FUZZ_SECONDS) \
-	       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$fmt/ \
+	       -rss_limit_mb=2048 -malloc_limit_mb=512 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$fmt/ \
 	       >$$log 2>&1; then grep -E '^(Done|stat::(average_exec|new_units|peak_rss))' $$log; \
 	  else tail -n 80 $$log; echo "$$f FAILED; reproducer: build-fuzz/artifacts/$$fmt/"; exit 1; fi; \
 	done

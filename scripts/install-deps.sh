@@ -3,7 +3,7 @@
 set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
-      libcmocka-dev libembree-dev libassimp-dev ca-certificates)
+      libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates)
 DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium)
 
 usage() {

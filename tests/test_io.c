@@ -297,9 +297,9 @@ static void png_applies_exposure_tonemap_and_srgb(void **state)
     free(png);
     assert_int_equal(lumis_image_read(tu_path("cut.png"), NULL, &back, NULL), LUMIS_ERR_CORRUPT);
     assert_null(back);
-    /* Found by fuzz_png: a 16 x 8 PNG whose IDAT chunks inflate past the declared size;
-     * the shared libstb then doubled its buffer up to a 2 GB request. The decode must fail
-     * by refusing that memory, and say so. */
+    /* Found by fuzz_png: a 16 x 8 PNG whose IDAT data is corrupt and inflates past the
+     * declared size; stb_image's inflater (the reader before libpng) doubled its buffer up
+     * to a 2 GB request. libpng inflates row by row and finds the bad stream. */
     static const unsigned char inflating[] = {
         0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44,
         0x52, 0x00, 0x00, 0x00, 0x10, 0x00, 0x00, 0x00, 0x08, 0x08, 0x02, 0x00, 0x00, 0x00, 0x7f,
@@ -325,7 +325,8 @@ static void png_applies_exposure_tonemap_and_srgb(void **state)
     ro.errors = sink.sink;
     assert_int_equal(lumis_image_read(tu_path("inflating.png"), &ro, &back, NULL),
                      LUMIS_ERR_CORRUPT);
-    assert_non_null(strstr(sink.last, "inflates to more than its declared size"));
+    assert_non_null(strstr(sink.last, "inflating.png: not a readable PNG: IDAT"));
+    assert_null(back);
 
     /* Found by fuzz_png: a 16-bit PGM handed to the PNG reader made stb_image return fewer
      * bytes than it announced.  Only PNG signatures pass now. */
@@ -345,6 +346,63 @@ static void png_applies_exposure_tonemap_and_srgb(void **state)
 }
 
 /* ---- bad input ---------------------------------------------------------------------- */
+
+/* The sRGB decoding curve (IEC 61966-2-1) in double precision. */
+static double srgb_decode(double v)
+{
+    return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+
+/* PNG layouts stb_image_write never produces, written by tests/data/png/make.py (zlib and
+ * the chunk format) from the formulas below: every value must decode exactly. */
+static void png_bit_depths_palettes_and_interlacing(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file;
+        int kind;
+    } cases[] = {{"rgba16-adam7.png", 0},  /* 16-bit RGBA, Adam7; alpha dropped */
+                 {"palette-adam7.png", 1}, /* 8-bit palette, Adam7 */
+                 {"grey16.png", 2},        /* 16-bit grey */
+                 {"greyalpha8.png", 3}};   /* 8-bit grey + alpha */
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/tests/data/png/%s", LUMIS_SOURCE_DIR, cases[c].file);
+        lumis_image *img = read_ok(path, NULL);
+        assert_int_equal(img->width, 13);
+        assert_int_equal(img->height, 11);
+        for (int y = 0; y < 11; y++)
+            for (int x = 0; x < 13; x++) {
+                double want[3];
+                switch (cases[c].kind) {
+                case 0:
+                    want[0] = ((x * 5003) & 65535) / 65535.0;
+                    want[1] = ((y * 5807) & 65535) / 65535.0;
+                    want[2] = ((x * y * 401) & 65535) / 65535.0;
+                    break;
+                case 1: {
+                    int i = (x * 11 + y * 17) & 255; /* PLTE entry i = (i, 255 - i, 7i) */
+                    want[0] = i / 255.0;
+                    want[1] = (255 - i) / 255.0;
+                    want[2] = ((i * 7) & 255) / 255.0;
+                    break;
+                }
+                case 2:
+                    want[0] = want[1] = want[2] = ((x * 5003 + y * 71) & 65535) / 65535.0;
+                    break;
+                default:
+                    want[0] = want[1] = want[2] = ((x * 19 + y) & 255) / 255.0;
+                    break;
+                }
+                const float *px = img->pixels + 3 * ((size_t)y * 13 + (size_t)x);
+                for (int k = 0; k < 3; k++)
+                    if (fabs(px[k] - srgb_decode(want[k])) > 1e-6)
+                        fail_msg("%s (%d, %d)[%d]: %.8g, want %.8g", cases[c].file, x, y, k,
+                                 (double)px[k], srgb_decode(want[k]));
+            }
+        lumis_image_destroy(img);
+    }
+}
 
 static void missing_empty_and_unknown_files(void **state)
 {
@@ -710,6 +768,7 @@ int main(void)
         cmocka_unit_test(bad_values_are_replaced_and_counted),
         cmocka_unit_test(black_and_one_pixel_maps_read_back),
         cmocka_unit_test(png_applies_exposure_tonemap_and_srgb),
+        cmocka_unit_test(png_bit_depths_palettes_and_interlacing),
         cmocka_unit_test(missing_empty_and_unknown_files),
         cmocka_unit_test(truncated_and_header_only_exr),
         cmocka_unit_test(corrupt_exr_data),

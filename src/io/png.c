@@ -1,4 +1,5 @@
-/* PNG output: exposure, a tone map, the sRGB transfer curve, 8 bits, via stb_image_write. */
+/* PNG output (exposure, a tone map, the sRGB transfer curve, 8 bits) via stb_image_write;
+ * PNG input, decoded from sRGB to linear, via libpng. */
 #include "internal.h"
 
 #include "../core/internal.h"
@@ -71,11 +72,11 @@ lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_
     return ferror(f) ? LUMIS_ERR_WRITE : LUMIS_OK;
 }
 
-/* ---- reading ------------------------------------------------------------------------- */
+/* ---- reading: libpng ---------------------------------------------------------------- */
 
-#include "png_decode.h"
-
+#include <png.h>
 #include <pthread.h>
+#include <setjmp.h>
 
 /* The sRGB transfer curve, inverted (IEC 61966-2-1), for every 16-bit code. */
 static float srgb_lut[65536];
@@ -89,32 +90,113 @@ static void srgb_lut_init(void)
     }
 }
 
+typedef struct png_source {
+    const unsigned char *data;
+    size_t size, pos;
+    char error[160]; /* libpng's message when it fails */
+} png_source;
+
+static void png_source_read(png_structp png, png_bytep out, size_t n)
+{
+    png_source *src = (png_source *)png_get_io_ptr(png);
+    if (n > src->size - src->pos) png_error(png, "file ends inside a chunk");
+    memcpy(out, src->data + src->pos, n);
+    src->pos += n;
+}
+
+static void png_on_error(png_structp png, png_const_charp message)
+{
+    png_source *src = (png_source *)png_get_error_ptr(png);
+    snprintf(src->error, sizeof src->error, "%s", message);
+    png_longjmp(png, 1);
+}
+
+static void png_on_warning(png_structp png, png_const_charp message)
+{
+    (void)png; /* the library never prints; a warning leaves a readable image */
+    (void)message;
+}
+
 lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
                              lumis_image **out)
 {
-    int w = 0, h = 0;
-    if (size < 8 || memcmp(data, "\x89PNG\r\n\x1a\n", 8) != 0)
+    if (size < 8 || png_sig_cmp(data, 0, 8) != 0)
         return lumis__fail(ctx->errors, LUMIS_ERR_BAD_MAGIC, "%s: not a PNG (no PNG signature)",
                            ctx->name);
-    if (size > 0x7fffffff || !lumis__png_decode_info(data, (int)size, &w, &h))
-        return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: not a readable PNG: %s", ctx->name,
-                           lumis__png_decode_error());
-    lumis_status st = lumis_image_check_size(w, h, ctx->max_pixels);
-    if (st != LUMIS_OK)
-        return lumis__fail(ctx->errors, st, "%s: %d x %d: %s", ctx->name, w, h,
-                           lumis_status_string(st));
-    unsigned short *px = lumis__png_decode_rgb16(data, (int)size, &w, &h);
-    if (!px)
-        return lumis__fail(ctx->errors, LUMIS_ERR_CORRUPT, "%s: PNG decoding failed: %s", ctx->name,
-                           lumis__png_decode_error());
-    st = lumis_image_create(w, h, out);
-    if (st == LUMIS_OK) {
-        pthread_once(&srgb_lut_once, srgb_lut_init);
-        const size_t n = 3 * (size_t)w * (size_t)h;
-        for (size_t k = 0; k < n; k++) (*out)->pixels[k] = srgb_lut[px[k]];
-    } else {
-        lumis__fail(ctx->errors, st, "%s: %s", ctx->name, lumis_status_string(st));
+    png_source src = {data, size, 0, ""};
+    png_structp png =
+        png_create_read_struct(PNG_LIBPNG_VER_STRING, &src, png_on_error, png_on_warning);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    if (!info) {
+        png_destroy_read_struct(&png, NULL, NULL);
+        return lumis__fail(ctx->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: %s", ctx->name,
+                           lumis_status_string(LUMIS_ERR_OUT_OF_MEMORY));
     }
-    lumis__png_decode_free(px);
+    /* Changed after setjmp and used after a longjmp: volatile. */
+    unsigned short *volatile px = NULL;
+    png_bytep *volatile rows = NULL;
+    lumis_image *volatile img = NULL;
+    volatile lumis_status st = LUMIS_ERR_CORRUPT;
+    if (setjmp(png_jmpbuf(png))) goto done;
+
+    png_set_read_fn(png, &src, png_source_read);
+    /* Ancillary chunks (text, ICC profiles) are skipped or read; none may claim more than
+     * this, whatever the build's default. */
+    png_set_chunk_malloc_max(png, 8u << 20);
+    png_read_info(png, info);
+    const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    st = lumis_image_check_size(w, h, ctx->max_pixels);
+    if (st != LUMIS_OK) {
+        lumis__fail(ctx->errors, st, "%s: %u x %u: %s", ctx->name, (unsigned)w, (unsigned)h,
+                    lumis_status_string(st));
+        goto done;
+    }
+    st = LUMIS_ERR_CORRUPT;
+    /* Every file to 16-bit RGB in host order: palettes and low bit depths expanded, grey
+     * replicated, alpha dropped (8-bit values are scaled exactly, by 257). */
+    png_set_expand(png);
+    png_set_expand_16(png);
+    png_set_gray_to_rgb(png);
+    png_set_strip_alpha(png);
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    png_set_swap(png);
+#endif
+    png_set_interlace_handling(png);
+    png_read_update_info(png, info);
+    if (png_get_channels(png, info) != 3 || png_get_bit_depth(png, info) != 16 ||
+        png_get_rowbytes(png, info) != (size_t)w * 6)
+        png_error(png, "unexpected pixel layout after conversion");
+    px = malloc((size_t)w * (size_t)h * 6);
+    rows = malloc((size_t)h * sizeof *rows);
+    if (!px || !rows) {
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+        snprintf(src.error, sizeof src.error, "%s", lumis_status_string(st));
+        goto done;
+    }
+    for (png_uint_32 y = 0; y < h; y++) rows[y] = (png_bytep)(px + (size_t)y * w * 3);
+    png_read_image(png, rows);
+    png_read_end(png, NULL);
+
+    lumis_image *made = NULL;
+    st = lumis_image_create((int)w, (int)h, &made);
+    if (st != LUMIS_OK) {
+        snprintf(src.error, sizeof src.error, "%s", lumis_status_string(st));
+        goto done;
+    }
+    pthread_once(&srgb_lut_once, srgb_lut_init);
+    const size_t n = 3 * (size_t)w * (size_t)h;
+    for (size_t k = 0; k < n; k++) made->pixels[k] = srgb_lut[px[k]];
+    img = made;
+
+done:
+    png_destroy_read_struct(&png, &info, NULL);
+    free(rows);
+    free(px);
+    if (img) {
+        *out = img;
+        return LUMIS_OK;
+    }
+    if (src.error[0])
+        lumis__fail(ctx->errors, st, "%s: not a readable PNG: %s", ctx->name, src.error);
     return st;
 }
