@@ -518,6 +518,24 @@ static void exr_attribute_sizes_are_checked_before_openexr(void **state)
     memcpy(c, b, sizeof c);
     c[20] = 0xff;
     expect_memory_error((const char *)c, sizeof c, LUMIS_ERR_BAD_HEADER);
+
+    /* Found by fuzz_exr: a channel list declared one byte shorter than its entries. OpenEXR
+     * reads a channel list to its terminator whatever its size says, so it and a walk by
+     * the sizes part ways; OpenEXR then met an opaque attribute claiming 1.6 GB. */
+    static const char chlist_short[] =
+        "v/1\001\002\000\000\000channels\000chlist\0007\000\000\000"
+        "B\000\001\000\000\000\000\000\000\000\001\000\000\000\001\000\000\000"
+        "G\000\001\000\000\000\000\000\000\000\001\000\000\000\001\000\000\000"
+        "R\377\000\001\000\000\000\000\000\000\000\001\000\000\000\001\000\000\000\000"
+        "compression\000compression\000\001\000\000\000\006"
+        "dataWindow\000box2i\000\020\000\000\000\000\000\000\000\000\000\000\000"
+        "\017\000\000\000\007\000\000\000"
+        "dispwWid\000h\000floa\031\364y\307\037}\347\340}";
+    expect_memory_error(chlist_short, sizeof chlist_short - 1, LUMIS_ERR_BAD_HEADER);
+    /* A fixed-size type with another size: a box2i of 12 bytes. */
+    unsigned char box[] = "v/1\001\002\000\000\000dataWindow\000box2i\000\014\000\000\000"
+                          "\000\000\000\000\000\000\000\000\017\000\000\000\000";
+    expect_memory_error((const char *)box, sizeof box - 1, LUMIS_ERR_BAD_HEADER);
 }
 
 static void exr_decodes_the_same_with_any_thread_count(void **state)

@@ -126,10 +126,66 @@ bool read_name(CheckedIStream &in, char *buf, size_t max)
     return false;
 }
 
+// The bytes OpenEXR 3.1's reader of a standard attribute type consumes whatever the
+// declared size says; 0 for the types it reads by their declared size (string,
+// stringvector, idmanifest, chlist and preview: the last two are checked apart, unknown
+// types are opaque).
+size_t fixed_attribute_size(const char *type)
+{
+    static const struct {
+        const char *type;
+        size_t size;
+    } fixed[] = {{"box2i", 16},
+                 {"box2f", 16},
+                 {"chromaticities", 32},
+                 {"compression", 1},
+                 {"deepImageState", 1},
+                 {"double", 8},
+                 {"envmap", 1},
+                 {"float", 4},
+                 {"int", 4},
+                 {"keycode", 28},
+                 {"lineOrder", 1},
+                 {"m33f", 36},
+                 {"m33d", 72},
+                 {"m44f", 64},
+                 {"m44d", 128},
+                 {"rational", 8},
+                 {"tiledesc", 9},
+                 {"timecode", 8},
+                 {"v2i", 8},
+                 {"v2f", 8},
+                 {"v2d", 16},
+                 {"v3i", 12},
+                 {"v3f", 12},
+                 {"v3d", 24}};
+    for (const auto &f : fixed)
+        if (std::strcmp(type, f.type) == 0) return f.size;
+    return 0;
+}
+
+// Whether a channel list of `size` bytes is exactly what OpenEXR's reader consumes:
+// entries of a name (at most 255 characters and its NUL) and 16 bytes, then a NUL.
+bool channel_list_fits(CheckedIStream &in, int32_t size)
+{
+    std::string bytes(static_cast<size_t>(size), '\0');
+    if (size > 0) in.read(&bytes[0], size);
+    size_t at = 0;
+    for (;;) {
+        const size_t nul = bytes.find('\0', at);
+        if (nul == std::string::npos || nul - at > 255) return false;
+        if (nul == at) return nul + 1 == bytes.size(); // the list's terminator
+        at = nul + 1 + 16;
+        if (at > bytes.size()) return false;
+    }
+}
+
 // Walks the attribute lists of the header(s) and checks every attribute's declared size
-// against the bytes the file has.  OpenEXR 3.1 allocates an attribute's declared size
-// before it reads it, so 29 bytes claiming 2 GiB would cost 2 GiB; here they are simply
-// a truncated file.
+// against the bytes the file has and against what OpenEXR will read.  OpenEXR 3.1
+// allocates an attribute's declared size before it reads it, so 29 bytes claiming 2 GiB
+// would cost 2 GiB; here they are simply a truncated file.  And its readers of fixed-size
+// types and of channel lists ignore the declared size: a size that disagrees would make
+// this walk and OpenEXR's part ways, and OpenEXR then meet an unchecked size.
 lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ctx)
 {
     unsigned char head[8];
@@ -157,7 +213,29 @@ lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ct
                 return fail(ctx->errors, LUMIS_ERR_TRUNCATED,
                             "%s: attribute '%s' claims %d bytes, the file has %llu left", ctx->name,
                             name, size, static_cast<unsigned long long>(left));
-            in.seekg(in.tellg() + static_cast<uint64_t>(size));
+            const uint64_t value_at = in.tellg();
+            const size_t fixed = fixed_attribute_size(type);
+            bool fits = true;
+            if (fixed) {
+                fits = static_cast<size_t>(size) == fixed;
+            } else if (std::strcmp(type, "chlist") == 0) {
+                fits = channel_list_fits(in, size);
+            } else if (std::strcmp(type, "preview") == 0) { // width, height, then RGBA8
+                unsigned char wh[8] = {0};
+                if (size >= 8) in.read(reinterpret_cast<char *>(wh), 8);
+                const uint64_t pw = wh[0] | wh[1] << 8 | wh[2] << 16 | uint64_t{wh[3]} << 24;
+                const uint64_t ph = wh[4] | wh[5] << 8 | wh[6] << 16 | uint64_t{wh[7]} << 24;
+                const uint64_t pixels = static_cast<uint64_t>(size - 8) / 4;
+                fits = size >= 8 && size % 4 == 0 && pw < (1u << 31) && ph < (1u << 31) &&
+                       pw * ph == pixels;
+            } else if (std::strcmp(type, "floatvector") == 0) {
+                fits = size % 4 == 0;
+            }
+            if (!fits)
+                return fail(ctx->errors, LUMIS_ERR_BAD_HEADER,
+                            "%s: attribute '%s' of type '%s' cannot have %d bytes", ctx->name, name,
+                            type, size);
+            in.seekg(value_at + static_cast<uint64_t>(size));
         }
         if (!multipart) return LUMIS_OK;
         // Multi-part: the list of headers ends with an empty header (a lone NUL).
