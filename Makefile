@@ -2,6 +2,7 @@
 .DEFAULT_GOAL := build
 PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
+FUZZ_SEED    ?= 0
 JOBS         ?= $(shell nproc)
 FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
@@ -11,7 +12,8 @@ FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
 
 help:
 	@echo "targets: deps build run test sanitize fuzz format format-check bench install clean"
-	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS)   make install PREFIX=$(PREFIX)"
+	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
+	@echo "  make install PREFIX=$(PREFIX)"
 
 deps:
 	scripts/install-deps.sh
@@ -42,7 +44,7 @@ fuzz: deps
 	@for f in $(FUZZERS); do fmt=$${f#fuzz_}; log=build-fuzz/$$f.log; \
 	  mkdir -p build-fuzz/artifacts/$$fmt; echo "== $$f: $(FUZZ_SECONDS) s (log: $$log)"; \
 	  if build-fuzz/fuzz/$$f build-fuzz/corpus/$$fmt -max_total_time=$(FUZZ_SECONDS) \
-	       -rss_limit_mb=2048 -malloc_limit_mb=512 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$fmt/ \
+	       -rss_limit_mb=2048 -malloc_limit_mb=512 -seed=$(FUZZ_SEED) -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$fmt/ \
 	       >$$log 2>&1; then grep -E '^(Done|stat::(average_exec|new_units|peak_rss))' $$log; \
 	  else tail -n 80 $$log; echo "$$f FAILED; reproducer: build-fuzz/artifacts/$$fmt/"; exit 1; fi; \
 	done

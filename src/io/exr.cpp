@@ -235,6 +235,26 @@ lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ct
                 return fail(ctx->errors, LUMIS_ERR_BAD_HEADER,
                             "%s: attribute '%s' of type '%s' cannot have %d bytes", ctx->name, name,
                             type, size);
+            // OpenEXR sizes its line or tile buffers from these when the file is opened,
+            // before lumis sees the header: the pixel limit applies to them here.
+            const bool window = !std::strcmp(name, "dataWindow") && !std::strcmp(type, "box2i");
+            const bool tiles = !std::strcmp(name, "tiles") && !std::strcmp(type, "tiledesc");
+            if (window || tiles) {
+                unsigned char v[16];
+                in.seekg(value_at);
+                in.read(reinterpret_cast<char *>(v), window ? 16 : 8);
+                int64_t x[4] = {0, 0, 0, 0};
+                for (int k = 0; k < (window ? 4 : 2); k++)
+                    x[k] = static_cast<int32_t>(v[4 * k] | v[4 * k + 1] << 8 | v[4 * k + 2] << 16 |
+                                                static_cast<uint32_t>(v[4 * k + 3]) << 24);
+                const int64_t w = window ? x[2] - x[0] + 1 : x[0];
+                const int64_t h = window ? x[3] - x[1] + 1 : x[1];
+                const lumis_status st = lumis_image_check_size(w, h, ctx->max_pixels);
+                if (st != LUMIS_OK)
+                    return fail(ctx->errors, st, "%s: %s %lld x %lld: %s", ctx->name,
+                                window ? "data window" : "tile size", static_cast<long long>(w),
+                                static_cast<long long>(h), lumis_status_string(st));
+            }
             in.seekg(value_at + static_cast<uint64_t>(size));
         }
         if (!multipart) return LUMIS_OK;
