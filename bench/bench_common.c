@@ -1,7 +1,6 @@
 /* Shared pieces of the benchmark programs (bench_common.h). */
 #include "bench_common.h"
 
-#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,35 +35,18 @@ int bench_usage_error(const char *fmt, ...)
 
 int bench_parse_int(const char *s, long lo, long hi, int *out)
 {
-    char *end;
-    errno = 0;
-    long v = s ? strtol(s, &end, 10) : 0;
-    if (!s || errno || end == s || *end || v < lo || v > hi) return 0;
+    long v;
+    if (!tool_parse_int(s, lo, hi, &v)) return 0;
     *out = (int)v;
     return 1;
 }
 
 int bench_parse_size(const char *s, int *w, int *h)
 {
-    char buf[64];
-    const char *x = s ? strchr(s, 'x') : NULL;
-    if (!x || (size_t)(x - s) >= sizeof buf) return 0;
-    memcpy(buf, s, (size_t)(x - s));
-    buf[x - s] = '\0';
-    return bench_parse_int(buf, 1, 65536, w) && bench_parse_int(x + 1, 1, 65536, h);
-}
-
-int bench_option(int argc, char **argv, int *i, const char *name, const char **value)
-{
-    const char *a = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(a, name, n) != 0) return 0;
-    if (a[n] == '=') {
-        *value = a + n + 1;
-        return 1;
-    }
-    if (a[n] != '\0') return 0;
-    *value = *i + 1 < argc ? argv[++*i] : NULL;
+    int bw, bh;
+    if (!tool_parse_size(s, &bw, &bh) || bw > 65536 || bh > 65536) return 0;
+    *w = bw;
+    *h = bh;
     return 1;
 }
 

@@ -4,6 +4,8 @@
 #ifndef LUMIS_BENCH_COMMON_H
 #define LUMIS_BENCH_COMMON_H
 
+#include "../tools/args.h"
+
 #include <stddef.h>
 
 extern const char bench_name[];
@@ -13,13 +15,10 @@ int bench_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* "NAME: message" and a pointer to --help on stderr; returns 2 (usage error). */
 int bench_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* Parsers returning 0 on malformed or out-of-range input. */
+/* tool_parse_int and tool_parse_size (tools/args.h, for options) into ints, sizes up to
+ * 65536 x 65536. */
 int bench_parse_int(const char *s, long lo, long hi, int *out);
-int bench_parse_size(const char *s, int *w, int *h); /* "WxH", each 1..65536 */
-
-/* True if argv[*i] is option `name`, as "--name VALUE" or "--name=VALUE"; *value is then
- * its value (NULL if missing) and *i the last argv element used. */
-int bench_option(int argc, char **argv, int *i, const char *name, const char **value);
+int bench_parse_size(const char *s, int *w, int *h);
 
 /* Monotonic seconds. */
 double bench_now(void);

@@ -32,7 +32,7 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if (bench_option(argc, argv, &i, "--runs", &v)) {
+        } else if (tool_option(argc, argv, &i, "--runs", &v)) {
             if (!bench_parse_int(v, 1, 1000, &runs))
                 return bench_usage_error("--runs wants a count in 1..1000");
         } else if (argv[i][0] != '-' && !paths[1]) {

@@ -597,33 +597,33 @@ int main(int argc, char **argv)
             o.json = 1;
         } else if (strcmp(a, "--quick") == 0) {
             quick = 1;
-        } else if (bench_option(argc, argv, &i, "--threads", &v)) {
+        } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!v || !bench_parse_int(v, 1, 1024, &o.threads))
                 return bench_usage_error("--threads wants a count in 1..1024");
-        } else if (bench_option(argc, argv, &i, "--method", &v)) {
+        } else if (tool_option(argc, argv, &i, "--method", &v)) {
             if (!v || lumis_sampler_method_from_name(v, &o.method) != LUMIS_OK)
                 return bench_usage_error("--method wants a method name (e.g. alias), got '%s'",
                                          v ? v : "");
             method_set = 1;
-        } else if (bench_option(argc, argv, &i, "--methods", &v)) {
+        } else if (tool_option(argc, argv, &i, "--methods", &v)) {
             if (!v || !(o.method_count = parse_methods(v, o.methods)))
                 return bench_usage_error("--methods wants up to %d comma-separated method names, "
                                          "got '%s'",
                                          MAX_METHODS, v ? v : "");
-        } else if (bench_option(argc, argv, &i, "--size", &v)) {
+        } else if (tool_option(argc, argv, &i, "--size", &v)) {
             if (!v || !bench_parse_size(v, &width, &height))
                 return bench_usage_error("--size wants WxH (each 1..65536), got '%s'", v ? v : "");
-        } else if (bench_option(argc, argv, &i, "--shadow-size", &v)) {
+        } else if (tool_option(argc, argv, &i, "--shadow-size", &v)) {
             if (!v || !bench_parse_size(v, &sw, &sh))
                 return bench_usage_error("--shadow-size wants WxH (each 1..65536), got '%s'",
                                          v ? v : "");
-        } else if (bench_option(argc, argv, &i, "--spp", &v)) {
+        } else if (tool_option(argc, argv, &i, "--spp", &v)) {
             if (!v || !bench_parse_int(v, 1, 65536, &spp))
                 return bench_usage_error("--spp wants a count in 1..65536");
-        } else if (bench_option(argc, argv, &i, "--shadow-spp", &v)) {
+        } else if (tool_option(argc, argv, &i, "--shadow-spp", &v)) {
             if (!v || !bench_parse_int(v, 1, 65536, &sspp))
                 return bench_usage_error("--shadow-spp wants a count in 1..65536");
-        } else if (bench_option(argc, argv, &i, "--runs", &v)) {
+        } else if (tool_option(argc, argv, &i, "--runs", &v)) {
             if (!v || !bench_parse_int(v, 1, MAX_RUNS, &runs))
                 return bench_usage_error("--runs wants a count in 1..%d", MAX_RUNS);
         } else {

@@ -1,9 +1,6 @@
 #include "common.h"
 
 #include <cJSON.h>
-#include <errno.h>
-#include <limits.h>
-#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,64 +34,6 @@ int tool_runtime_error(const char *fmt, ...)
     fprintf(stderr, "\n");
     va_end(ap);
     return EXIT_RUNTIME;
-}
-
-int tool_is_help(const char *arg)
-{
-    return strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0;
-}
-
-int tool_option(int argc, char **argv, int *i, const char *name, const char **value)
-{
-    const char *a = argv[*i];
-    size_t n = strlen(name);
-    if (strncmp(a, name, n) != 0) return 0;
-    if (a[n] == '=') {
-        *value = a + n + 1;
-        return 1;
-    }
-    if (a[n] != '\0') return 0;
-    *value = *i + 1 < argc ? argv[++*i] : NULL;
-    return 1;
-}
-
-int tool_parse_double(const char *s, double *out)
-{
-    if (!s || !*s) return 0;
-    char *end;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (*end != '\0' || errno == ERANGE || !isfinite(v)) return 0;
-    *out = v;
-    return 1;
-}
-
-int tool_parse_int(const char *s, long lo, long hi, long *out)
-{
-    if (!s || !*s) return 0;
-    char *end;
-    errno = 0;
-    long v = strtol(s, &end, 10);
-    if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
-    *out = v;
-    return 1;
-}
-
-int tool_parse_size(const char *s, int *w, int *h)
-{
-    if (!s) return 0;
-    const char *x = strchr(s, 'x');
-    if (!x) return 0;
-    char buf[32];
-    size_t n = (size_t)(x - s);
-    if (n == 0 || n >= sizeof buf) return 0;
-    memcpy(buf, s, n);
-    buf[n] = '\0';
-    long lw, lh;
-    if (!tool_parse_int(buf, 1, INT_MAX, &lw) || !tool_parse_int(x + 1, 1, INT_MAX, &lh)) return 0;
-    *w = (int)lw;
-    *h = (int)lh;
-    return 1;
 }
 
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)

@@ -2,6 +2,7 @@
 #ifndef LUMIS_TOOL_COMMON_H
 #define LUMIS_TOOL_COMMON_H
 
+#include "../args.h"
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 #include "lumis/metrics.h"
@@ -31,19 +32,6 @@ int tool_usage_error(const char *cmd, const char *fmt, ...) __attribute__((forma
 
 /* Prints "lumis: message" on stderr; returns EXIT_RUNTIME. */
 int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-
-/* True if argv[*i] is the option `name` ("--name VALUE" or "--name=VALUE"); then *value is
- * its value and *i points at the last argv element used.  A missing value sets *value to
- * NULL (report it with tool_usage_error). */
-int tool_option(int argc, char **argv, int *i, const char *name, const char **value);
-
-/* Parsers returning 0 on malformed input. */
-int tool_parse_double(const char *s, double *out);
-int tool_parse_int(const char *s, long lo, long hi, long *out);
-int tool_parse_size(const char *s, int *w, int *h); /* "WxH" */
-
-/* True for --help / -h. */
-int tool_is_help(const char *arg);
 
 /* Loads a map: an image file, or a procedural spec "sky", "sky:WxH", "studio",
  * "studio:WxH".  Prints errors itself; returns a lumis_status. */

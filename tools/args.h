@@ -1,0 +1,18 @@
+/* Command-line parsing shared by the lumis tool and the benchmark programs. */
+#ifndef LUMIS_TOOLS_ARGS_H
+#define LUMIS_TOOLS_ARGS_H
+
+/* True if argv[*i] is the option `name` ("--name VALUE" or "--name=VALUE"); then *value is
+ * its value and *i points at the last argv element used.  A missing value sets *value to
+ * NULL (the caller reports it). */
+int tool_option(int argc, char **argv, int *i, const char *name, const char **value);
+
+/* Parsers returning 0 on malformed or out-of-range input. */
+int tool_parse_double(const char *s, double *out);
+int tool_parse_int(const char *s, long lo, long hi, long *out);
+int tool_parse_size(const char *s, int *w, int *h); /* "WxH", each 1..INT_MAX */
+
+/* True for --help / -h. */
+int tool_is_help(const char *arg);
+
+#endif
