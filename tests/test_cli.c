@@ -641,6 +641,12 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     /* Malformed suites name the file and the key. */
     static const bad_file bad[] = {
         {"{\"scenes\": [\"spheres\"]}", "maps: expected a non-empty array"},
+        {"{\"maps\": [\"sky:8x4\"]}", "scenes: expected a non-empty array"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": []}",
+         "methods: expected a non-empty array"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": {\"spp\": 1}}",
+         "budgets: expected a non-empty array"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"magic\"}], \"budgets\": [{\"spp\": 1}]}",
          "methods[0]: unknown method 'magic'"},

@@ -266,6 +266,23 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     return EXIT_OK;
 }
 
+/* The non-empty array root[key] and zeroed storage for its *count elements; NULL, with
+ * *rc set, if it is missing or empty or memory is short (nothing happens if *rc is set). */
+static void *suite_array(const cJSON *root, const char *key, const char *path, size_t elem,
+                         const cJSON **array, int *count, int *rc)
+{
+    if (*rc != EXIT_OK) return NULL;
+    *array = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (!cJSON_IsArray(*array) || cJSON_GetArraySize(*array) == 0) {
+        *rc = tool_runtime_error("%s: %s: expected a non-empty array", path, key);
+        return NULL;
+    }
+    *count = cJSON_GetArraySize(*array);
+    void *p = calloc((size_t)*count, elem);
+    if (!p) *rc = tool_runtime_error("bench: out of memory");
+    return p;
+}
+
 static int parse_suite(const char *path, suite *s)
 {
     memset(s, 0, sizeof *s);
@@ -307,14 +324,8 @@ static int parse_suite(const char *path, suite *s)
     for (const cJSON *e = maps ? maps->child : NULL; e && rc == EXIT_OK; e = e->next)
         rc = parse_map(s, e, path);
 
-    const cJSON *scenes = cJSON_GetObjectItemCaseSensitive(root, "scenes");
-    if (rc == EXIT_OK && (!cJSON_IsArray(scenes) || cJSON_GetArraySize(scenes) == 0))
-        rc = tool_runtime_error("%s: scenes: expected a non-empty array", path);
-    if (rc == EXIT_OK) {
-        s->nscenes = cJSON_GetArraySize(scenes);
-        s->scenes = calloc((size_t)s->nscenes, sizeof *s->scenes);
-        if (!s->scenes) rc = tool_runtime_error("bench: out of memory");
-    }
+    const cJSON *scenes = NULL;
+    s->scenes = suite_array(root, "scenes", path, sizeof *s->scenes, &scenes, &s->nscenes, &rc);
     for (int k = 0; rc == EXIT_OK && k < s->nscenes; k++) {
         const cJSON *e = cJSON_GetArrayItem(scenes, k);
         suite_scene *sc = &s->scenes[k];
@@ -338,14 +349,9 @@ static int parse_suite(const char *path, suite *s)
         make_label(sc->label, sizeof sc->label, tmp);
     }
 
-    const cJSON *methods = cJSON_GetObjectItemCaseSensitive(root, "methods");
-    if (rc == EXIT_OK && (!cJSON_IsArray(methods) || cJSON_GetArraySize(methods) == 0))
-        rc = tool_runtime_error("%s: methods: expected a non-empty array", path);
-    if (rc == EXIT_OK) {
-        s->nmethods = cJSON_GetArraySize(methods);
-        s->methods = calloc((size_t)s->nmethods, sizeof *s->methods);
-        if (!s->methods) rc = tool_runtime_error("bench: out of memory");
-    }
+    const cJSON *methods = NULL;
+    s->methods =
+        suite_array(root, "methods", path, sizeof *s->methods, &methods, &s->nmethods, &rc);
     for (int k = 0; rc == EXIT_OK && k < s->nmethods; k++) {
         char where[32];
         snprintf(where, sizeof where, "methods[%d]", k);
@@ -357,14 +363,9 @@ static int parse_suite(const char *path, suite *s)
                                         path, k, s->methods[k].label);
     }
 
-    const cJSON *budgets = cJSON_GetObjectItemCaseSensitive(root, "budgets");
-    if (rc == EXIT_OK && (!cJSON_IsArray(budgets) || cJSON_GetArraySize(budgets) == 0))
-        rc = tool_runtime_error("%s: budgets: expected a non-empty array", path);
-    if (rc == EXIT_OK) {
-        s->nbudgets = cJSON_GetArraySize(budgets);
-        s->budgets = calloc((size_t)s->nbudgets, sizeof *s->budgets);
-        if (!s->budgets) rc = tool_runtime_error("bench: out of memory");
-    }
+    const cJSON *budgets = NULL;
+    s->budgets =
+        suite_array(root, "budgets", path, sizeof *s->budgets, &budgets, &s->nbudgets, &rc);
     for (int k = 0; rc == EXIT_OK && k < s->nbudgets; k++) {
         const cJSON *e = cJSON_GetArrayItem(budgets, k);
         const cJSON *spp = cJSON_GetObjectItemCaseSensitive(e, "spp"),
