@@ -572,6 +572,11 @@ static void exr_attribute_sizes_are_checked_before_openexr(void **state)
                                  "\000\000\200\077\000\000\000";
     expect_memory_message(floats, sizeof floats - 1, LUMIS_ERR_BAD_HEADER,
                           "'f' of type 'floatvector' cannot have 6 bytes");
+    /* Tiles of 100000 x 100000 pixels are over the pixel limit before any are read. */
+    static const char tiles[] = "v/1\001\002\002\000\000tiles\000tiledesc\000\011\000\000\000"
+                                "\240\206\001\000\240\206\001\000\000\000";
+    expect_memory_message(tiles, sizeof tiles - 1, LUMIS_ERR_TOO_LARGE,
+                          "tile size 100000 x 100000");
 }
 
 static void exr_decodes_the_same_with_any_thread_count(void **state)
