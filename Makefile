@@ -4,14 +4,18 @@ PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
 FUZZ_SEED    ?= 0
 JOBS         ?= $(shell nproc)
+# -Werror for developers and CI (CI=true), not for users: a newer compiler's new warning
+# must not break their build.  `make WERROR=ON` turns it on anywhere.
+WERROR       ?= $(if $(CI),ON,OFF)
+BUILD_TYPE   ?= RelWithDebInfo
 FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
-.PHONY: help deps build run test sanitize fuzz format format-check bench install clean
+.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean
 
 help:
-	@echo "targets: deps build run test sanitize fuzz format format-check bench install clean"
+	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean"
 	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
 	@echo "  make install PREFIX=$(PREFIX)"
 
@@ -19,8 +23,14 @@ deps:
 	scripts/install-deps.sh
 
 build: deps
-	@test -f build/CMakeCache.txt || cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
 	cmake --build build -j$(JOBS)
+
+# The optimised build a user makes (-O3), with the CI's warnings as errors: gcc warns
+# about more at -O3 (e.g. -Wmaybe-uninitialized) than at -O2.
+release: deps
+	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) >/dev/null
+	cmake --build build-release -j$(JOBS)
 
 run: build
 	./build/lumis demo
@@ -30,14 +40,15 @@ test: build
 	ctest --test-dir build --output-on-failure -j2
 
 sanitize: deps
-	cmake -S . -B build-asan -DLUMIS_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug -DLUMIS_BUILD_BENCH=OFF
+	cmake -S . -B build-asan -DLUMIS_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug -DLUMIS_BUILD_BENCH=OFF \
+	  -DLUMIS_WERROR=$(WERROR)
 	cmake --build build-asan -j$(JOBS)
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir build-asan --output-on-failure -j2
 
 fuzz: deps
-	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DLUMIS_FUZZ=ON \
+	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DLUMIS_FUZZ=ON -DLUMIS_WERROR=$(WERROR) \
 	  -DLUMIS_BUILD_TESTS=OFF -DLUMIS_BUILD_BENCH=OFF
 	cmake --build build-fuzz -j$(JOBS)
 	build-fuzz/fuzz/fuzz_make_corpus build-fuzz/corpus
@@ -68,4 +79,4 @@ install: build
 	cmake --install build --prefix $(PREFIX)
 
 clean:
-	rm -rf build build-asan build-fuzz
+	rm -rf build build-release build-asan build-fuzz

@@ -31,6 +31,7 @@ static int next_token(const unsigned char **p, const unsigned char *end, char *b
 static lumis_status parse_dim(const char *tok, const lumis__read_ctx *ctx, const char *what,
                               int64_t *out)
 {
+    *out = 0; /* written on every path: callers read it only on success, but say so */
     char *endp;
     errno = 0;
     long long v = strtoll(tok, &endp, 10);

@@ -507,6 +507,7 @@ static lumis_status check_args(const lumis_image *ref, const lumis_image *test,
                                const lumis_flip_options *o, const char *what, float *ppd)
 {
     const lumis_error_sink *errors = o ? &o->errors : NULL;
+    *ppd = 0.0f; /* written on every path, the failures included */
     if (!ref || !test)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "%s: needs two images", what);
     if (!ref->pixels || !test->pixels || ref->width < 1 || ref->height < 1 || test->width < 1 ||
