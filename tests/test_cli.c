@@ -76,7 +76,7 @@ static void help_version_and_usage_errors(void **state)
     expect("info", 2, "no map given");
     expect("info --bogus x.exr", 2, "unknown option '--bogus'");
     expect("convert only-one.exr", 2, "needs IN and OUT");
-    expect("convert sky:8x4 out.jpg", 2, "unknown output extension");
+    expect("convert sky:8x4 out.jpg", 2, "out.jpg: unknown extension");
     expect("convert sky:8x4 o.png --tonemap filmic", 2, "--tonemap");
     expect("convert sky:8x4 o.png --exposure lots", 2, "--exposure");
     expect("sky --sun-elevation 100 -o x.exr", 2, "--sun-elevation");
@@ -99,7 +99,7 @@ static void runtime_errors_name_file_and_reason(void **state)
     snprintf(a, sizeof a, "info '%s'", tu_path("trunc.hdr"));
     expect(a, 1, "trunc.hdr");
     snprintf(a, sizeof a, "sky --size 16x8 -o '%s/nope/sky.exr'", tu_tmpdir());
-    expect(a, 1, "nope/sky.exr: cannot create a file there");
+    expect(a, 2, "nope/sky.exr: the directory");
     expect("info sky:12", 1, "expected sky:WxH");
 }
 
@@ -434,7 +434,7 @@ static void render_sidecar_time_budget_and_scenes(void **state)
              "render --scene ward-aniso --env sky:32x16 --spp 1 --size 8x8 -o '%s' --sidecar "
              "/nonexistent/dir/s.json",
              tu_path("ns.exr"));
-    expect(a, 1, "/nonexistent/dir/s.json");
+    expect(a, 2, "/nonexistent/dir/s.json: the directory /nonexistent/dir does not exist");
     /* Instances: one mesh file, three placements (one object each), loaded once. */
     const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
     tu_write_file(tu_path("quad2.obj"), obj, sizeof obj - 1);
@@ -479,6 +479,73 @@ static double num_or_nan(const cJSON *o, const char *key)
 
 /* lumis compare: every documented key, identical images, a PNG input, the error map and
  * the difference image, and mismatched sizes. */
+static int exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+/* No output ever replaces an input, and every output is checked before the work: a bad
+ * extension or a missing directory is a usage error (exit 2) within milliseconds, and
+ * nothing is written.  `render scene.json -o scene.exr` used to write its sidecar over
+ * scene.json. */
+static void outputs_never_replace_inputs_and_are_checked_first(void **state)
+{
+    (void)state;
+    static const char scene[] =
+        "{\"camera\": {\"width\": 8, \"height\": 6},\n"
+        " \"objects\": [{\"type\": \"sphere\", \"center\": [0, 0.5, 0], \"radius\": 1,\n"
+        "   \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}]}\n";
+    tu_write_file(tu_path("io-scene.json"), scene, sizeof scene - 1);
+    char a[2048];
+    /* The default sidecar of io-scene.exr is io-scene.json: the scene file. */
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("io-scene.json"),
+             tu_path("io-scene.exr"));
+    expect(a, 2, "would replace the scene file");
+    size_t n = 0;
+    unsigned char *text = tu_read_file(tu_path("io-scene.json"), &n);
+    assert_true(n == sizeof scene - 1 && memcmp(text, scene, n) == 0);
+    free(text);
+    assert_false(exists(tu_path("io-scene.exr"))); /* refused before rendering */
+    /* Through a symbolic link, and as an explicit --sidecar. */
+    snprintf(a, sizeof a, "ln -sf '%s' '%s'", tu_path("io-scene.json"), tu_path("io-link.json"));
+    assert_int_equal(system(a), 0);
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("io-scene.json"),
+             tu_path("io-r.exr"), tu_path("io-link.json"));
+    expect(a, 2, "io-link.json would replace the scene file");
+    /* The map, and the outputs among themselves. */
+    snprintf(a, sizeof a, "sky --size 16x8 -o '%s'", tu_path("io-sky.exr"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "render --scene spheres --env '%s' --spp 1 -o '%s'",
+             tu_path("io-sky.exr"), tu_path("io-sky.exr"));
+    expect(a, 2, "would replace the environment map");
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --spp 1 -o '%s' --sidecar '%s'",
+             tu_path("io-r.exr"), tu_path("io-r.exr"));
+    expect(a, 2, "are the same file");
+    snprintf(a, sizeof a, "convert '%s' '%s'", tu_path("io-sky.exr"), tu_path("io-sky.exr"));
+    expect(a, 2, "would replace the input");
+    snprintf(a, sizeof a, "compare '%s' '%s' --diff '%s'", tu_path("io-sky.exr"),
+             tu_path("io-sky.exr"), tu_path("io-sky.exr"));
+    expect(a, 2, "would replace the reference");
+    /* Formats and folders, before the work. */
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --spp 1 -o '%s'",
+             tu_path("io-r.jpg"));
+    expect(a, 2, "unknown extension (use .exr, .hdr or .pfm)");
+    expect("render --scene spheres --env sky:16x8 --spp 1 -o /nonexistent/r.exr", 2,
+           "the directory /nonexistent does not exist");
+    snprintf(a, sizeof a,
+             "render --scene spheres --env sky:16x8 --spp 1 -o '%s' --png /nonexistent/x.png",
+             tu_path("io-r.exr"));
+    expect(a, 2, "--png /nonexistent/x.png");
+    assert_false(exists(tu_path("io-r.exr")));
+    snprintf(a, sizeof a, "compare '%s' '%s' --map '%s'", tu_path("io-sky.exr"),
+             tu_path("io-sky.exr"), tu_path("out.jpg"));
+    expect(a, 2, "unknown extension (use .png)");
+    expect("sky -o /nonexistent/sky.png", 2, "/nonexistent does not exist");
+    expect("studio -o studio.txt", 2, "unknown extension");
+}
+
 static void compare_prints_every_metric(void **state)
 {
     (void)state;
@@ -701,6 +768,7 @@ int main(void)
         cmocka_unit_test(bench_samplers_reports_every_method),
         cmocka_unit_test(render_writes_the_same_image_on_any_thread_count),
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
+        cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };

@@ -153,6 +153,9 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
  * They name no map (env_map is ""). */
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out);
+/* The mesh files a scene file read (resolved paths; built-in meshes by name), index 0 up;
+ * NULL past the last.  A tool checks its outputs against them and the map. */
+const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
 /* The built-in names, NULL-terminated. */
 const char *const *lumis_scene_builtin_names(void);
 void lumis_scene_file_destroy(lumis_scene_file *file);

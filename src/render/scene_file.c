@@ -52,6 +52,12 @@ void lumis_scene_file_destroy(lumis_scene_file *f)
     free(f);
 }
 
+const char *lumis_scene_file_mesh_path(const lumis_scene_file *f, int index)
+{
+    const file_private *fp = (const file_private *)f;
+    return f && index >= 0 && index < fp->mesh_count ? fp->meshes[index].path : NULL;
+}
+
 /* Appends a copy of o; its mesh arrays must be registered with the file. */
 lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o)
 {

@@ -46,7 +46,7 @@ static int sphere_normal(double px, double py, double n[3])
     double sx = (px / 24 * 2 - 1) * th, sy = (1 - py / 24 * 2) * th;
     double l = sqrt(sx * sx + sy * sy + 1), dx = sx / l, dy = sy / l, dz = -1 / l;
     double b = 4 * dz, c = 16 - 1, disc = b * b - c; /* |o + t d|^2 = 1, o = (0,0,4) */
-    n[0] = n[1] = n[2] = 0.0; /* written on every path, a miss included */
+    n[0] = n[1] = n[2] = 0.0;                        /* written on every path, a miss included */
     if (disc < 1e-3) return 0;
     double t = -b - sqrt(disc);
     n[0] = t * dx;

@@ -660,19 +660,6 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->png_options.tonemap = LUMIS_TONEMAP_ACES;
 }
 
-/* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
-static float auto_exposure(const lumis_image *ref)
-{
-    double sum = 0.0;
-    const size_t n = (size_t)ref->width * (size_t)ref->height;
-    for (size_t p = 0; p < n; p++) {
-        const float *q = ref->pixels + 3 * p;
-        sum += 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
-    }
-    double mean = sum / (double)n;
-    return mean > 0.0 ? (float)log2(0.18 / mean) : 0.0f;
-}
-
 static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t cap)
 {
     const suite *s = c->s;
@@ -685,7 +672,7 @@ static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t c
         if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
         lumis_write_options wo = {0};
         wo.tonemap = LUMIS_TONEMAP_ACES;
-        wo.exposure_ev = s->preview_auto ? auto_exposure(img) : s->preview_ev;
+        wo.exposure_ev = s->preview_auto ? tool_auto_exposure(img) : s->preview_ev;
         int rc = tool_write_image(png, img, &wo) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
         lumis_image_destroy(img);
         return rc;
@@ -704,7 +691,7 @@ static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t c
     int rc = tool_render(&o, &r);
     if (rc == EXIT_OK && s->preview_auto) {
         lumis_write_options wo = o.png_options;
-        wo.exposure_ev = auto_exposure(r.image);
+        wo.exposure_ev = tool_auto_exposure(r.image);
         if (tool_write_image(png, r.image, &wo) != LUMIS_OK) rc = EXIT_RUNTIME;
     }
     lumis_image_destroy(r.image);
@@ -726,7 +713,7 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     const suite_budget *b = &s->budgets[it->budget];
     lumis_image *ref = NULL;
     if (tool_load_image(ref_exr, &ref, NULL) != LUMIS_OK) return EXIT_RUNTIME;
-    const float ref_ev = auto_exposure(ref), ev = s->exposure_auto ? ref_ev : s->exposure_ev;
+    const float ref_ev = tool_auto_exposure(ref), ev = s->exposure_auto ? ref_ev : s->exposure_ev;
     tool_render_opts o;
     fill_render_opts(c, it, &s->methods[it->method], &o);
     o.rd.spp = b->spp;

@@ -63,9 +63,11 @@ int cmd_convert(int argc, char **argv)
         }
     }
     if (!in || !out) return tool_usage_error("convert", "needs IN and OUT");
-    if (lumis_format_from_path(out) == LUMIS_FORMAT_AUTO)
-        return tool_usage_error("convert",
-                                "%s: unknown output extension (use .exr, .hdr, .pfm or .png)", out);
+    tool_files files = {0};
+    tool_files_input(&files, "input", in);
+    tool_files_output(&files, "output", out, TOOL_OUT_IMAGE);
+    int rc = tool_files_check("convert", &files);
+    if (rc != EXIT_OK) return rc;
 
     lumis_image *image = NULL;
     lumis_read_info info;

@@ -53,6 +53,15 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
     return EXIT_OK;
 }
 
+/* Checked before the map is made. */
+static int check_output(const char *cmd, const char *out)
+{
+    if (!out) return tool_usage_error(cmd, "no output file (-o OUT)");
+    tool_files files = {0};
+    tool_files_output(&files, "output", out, TOOL_OUT_IMAGE);
+    return tool_files_check(cmd, &files);
+}
+
 static int finish(lumis_status st, lumis_image *image, const char *out,
                   const lumis_write_options *wo)
 {
@@ -100,7 +109,8 @@ int cmd_sky(int argc, char **argv)
             return tool_usage_error("sky", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!out) return tool_usage_error("sky", "no output file (-o OUT)");
+    int rc = check_output("sky", out);
+    if (rc != EXIT_OK) return rc;
     lumis_image *image = NULL;
     lumis_status st = lumis_sky_create(&d, &image);
     return finish(st, image, out, &wo);
@@ -128,7 +138,8 @@ int cmd_studio(int argc, char **argv)
             return tool_usage_error("studio", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!out) return tool_usage_error("studio", "no output file (-o OUT)");
+    int rc = check_output("studio", out);
+    if (rc != EXIT_OK) return rc;
     lumis_image *image = NULL;
     lumis_status st = lumis_studio_create(&d, &image);
     return finish(st, image, out, &wo);

@@ -36,42 +36,6 @@ int tool_runtime_error(const char *fmt, ...)
     return EXIT_RUNTIME;
 }
 
-lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
-{
-    lumis_read_info local;
-    if (!info) info = &local;
-    memset(info, 0, sizeof *info);
-    int w = 0, h = 0;
-    const char *colon = strchr(spec, ':');
-    size_t name_len = colon ? (size_t)(colon - spec) : strlen(spec);
-    int is_sky = name_len == 3 && strncmp(spec, "sky", 3) == 0;
-    int is_studio = name_len == 6 && strncmp(spec, "studio", 6) == 0;
-    if (is_sky || is_studio) {
-        if (colon && !tool_parse_size(colon + 1, &w, &h)) {
-            fprintf(stderr, "lumis: %s: expected %.*s:WxH, e.g. %.*s:1024x512\n", spec,
-                    (int)name_len, spec, (int)name_len, spec);
-            return LUMIS_ERR_INVALID_ARGUMENT;
-        }
-        if (is_sky) {
-            lumis_sky_desc d = {0};
-            d.width = w;
-            d.height = h;
-            d.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
-            d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
-            d.errors = tool_errors;
-            return lumis_sky_create(&d, out);
-        }
-        lumis_studio_desc d = {0};
-        d.width = w;
-        d.height = h;
-        d.errors = tool_errors;
-        return lumis_studio_create(&d, out);
-    }
-    lumis_read_options opt = {0};
-    opt.errors = tool_errors;
-    return lumis_image_read(spec, &opt, out, info);
-}
-
 lumis_status tool_write_image(const char *path, const lumis_image *image,
                               const lumis_write_options *options)
 {
@@ -97,4 +61,40 @@ int tool_write_json(const char *path, const struct cJSON *json)
     lumis_status st = lumis_write_text(path, line, n, &tool_errors);
     free(line);
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+}
+
+int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sampler_desc *d,
+                        float *rotation)
+{
+    const char *v;
+    if (tool_option(argc, argv, i, "--method", &v)) {
+        if (!v || lumis_sampler_method_from_name(v, &d->method) != LUMIS_OK)
+            return tool_usage_error(cmd, "--method must be one of inversion, inversion-guided, "
+                                         "alias, kdtree, kdtree-exact, hierarchical, uniform");
+    } else if (tool_option(argc, argv, i, "--blocks", &v)) {
+        long k;
+        if (!tool_parse_int(v, 1, 1 << 24, &k))
+            return tool_usage_error(cmd, "--blocks needs a count in [1, 16777216]");
+        d->kdtree_blocks = (int)k;
+    } else if (strcmp(argv[*i], "--kdtree-uniform-angles") == 0) {
+        d->kdtree_uniform_angles = 1;
+    } else if (strcmp(argv[*i], "--compensate") == 0) {
+        d->compensate = 1;
+    } else if (tool_option(argc, argv, i, "--importance", &v)) {
+        if (v && strcmp(v, "luminance") == 0)
+            d->importance = LUMIS_IMPORTANCE_LUMINANCE;
+        else if (v && strcmp(v, "average") == 0)
+            d->importance = LUMIS_IMPORTANCE_AVERAGE;
+        else if (v && strcmp(v, "max-channel") == 0)
+            d->importance = LUMIS_IMPORTANCE_MAX_CHANNEL;
+        else
+            return tool_usage_error(cmd, "--importance must be luminance, average or max-channel");
+    } else if (tool_option(argc, argv, i, "--rotate", &v)) {
+        double deg;
+        if (!tool_parse_double(v, &deg)) return tool_usage_error(cmd, "--rotate needs degrees");
+        *rotation = (float)deg;
+    } else {
+        return -1;
+    }
+    return EXIT_OK;
 }

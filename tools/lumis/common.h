@@ -33,13 +33,50 @@ int tool_usage_error(const char *cmd, const char *fmt, ...) __attribute__((forma
 /* Prints "lumis: message" on stderr; returns EXIT_RUNTIME. */
 int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* Loads a map: an image file, or a procedural spec "sky", "sky:WxH", "studio",
- * "studio:WxH".  Prints errors itself; returns a lumis_status. */
+/* Loads a map (tools/lumis/pipeline.c, as everything down to tool_print_info): an image file, or a
+ * procedural spec "sky", "sky:WxH", "studio", "studio:WxH".  Prints errors itself; returns a
+ * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
+
+/* "auto" exposure: the stops that bring an image's mean luminance to 0.18 (0 for a black
+ * image).  The default of every PNG preview. */
+float tool_auto_exposure(const lumis_image *image);
 
 /* Writes with the atomic writer; prints errors itself. */
 lumis_status tool_write_image(const char *path, const lumis_image *image,
                               const lumis_write_options *options);
+
+/* ---- outputs, checked before any work (tools/lumis/outputs.c) ------------------------------ */
+
+typedef enum tool_output_kind {
+    TOOL_OUT_FILE,   /* any name (JSON, CSV, text) */
+    TOOL_OUT_IMAGE,  /* .exr .hdr .pfm .png */
+    TOOL_OUT_LINEAR, /* .exr .hdr .pfm: linear values */
+    TOOL_OUT_PNG,    /* .png */
+    TOOL_OUT_DIR     /* a directory, made if missing (its parent must exist) */
+} tool_output_kind;
+
+enum { TOOL_FILES_MAX = 32 };
+
+/* The files a command reads and writes. */
+typedef struct tool_files {
+    int n_in, n_out;
+    struct {
+        const char *what, *path;
+        tool_output_kind kind;
+    } in[TOOL_FILES_MAX], out[TOOL_FILES_MAX];
+} tool_files;
+
+/* Records an input or an output; what names it in messages ("scene file", "--png").  NULL
+ * or empty paths are ignored. */
+void tool_files_input(tool_files *f, const char *what, const char *path);
+void tool_files_output(tool_files *f, const char *what, const char *path, tool_output_kind kind);
+
+/* Usage error (exit 2, naming both paths) unless every output has an extension of its kind,
+ * a directory that exists and can be written, and is neither an input nor another output.
+ * Same file: by device and inode when both exist, else by resolved directory and name. */
+int tool_files_check(const char *cmd, const tool_files *f);
+int tool_same_file(const char *a, const char *b);
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);
@@ -78,6 +115,7 @@ typedef struct tool_render_opts {
     int width, height;     /* 0: the scene's camera */
     const char *out, *png; /* out NULL: nothing written */
     const char *sidecar;   /* NULL: OUT.json; "": none */
+    const char *cmd;       /* names the command in usage errors (NULL: "render") */
     lumis_write_options png_options;
     int quiet;
     int argc; /* the command line, for the sidecar */
@@ -91,8 +129,12 @@ typedef struct tool_render_result {
     size_t sampler_table_bytes;
 } tool_render_result;
 
-/* Returns an exit code; prints errors, a progress bar (stderr is a terminal) and, unless
- * quiet, a summary line. */
+/* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */
+void tool_sidecar_path(const char *out, char *buf, size_t cap);
+
+/* Checks every output against every input (the scene file, the map, the meshes) before any
+ * work (exit 2), then renders.  Returns an exit code; prints errors, a progress bar (stderr is a
+ * terminal) and, unless quiet, a summary line. */
 int tool_render(const tool_render_opts *o, tool_render_result *r);
 
 struct cJSON;

@@ -1,0 +1,525 @@
+/* The pipeline every command shares: a map (file or procedural spec) -> an envmap -> a
+ * sampler -> a render, its sidecar and its metrics.  The cmd_*.c files parse their options
+ * and call these; none of them calls another command. */
+#include "common.h"
+
+#include "lumis/metrics.h"
+#include "lumis/render.h"
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* ---- maps and samplers ------------------------------------------------------------------- */
+
+lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
+{
+    lumis_read_info local;
+    if (!info) info = &local;
+    memset(info, 0, sizeof *info);
+    int w = 0, h = 0;
+    const char *colon = strchr(spec, ':');
+    size_t name_len = colon ? (size_t)(colon - spec) : strlen(spec);
+    int is_sky = name_len == 3 && strncmp(spec, "sky", 3) == 0;
+    int is_studio = name_len == 6 && strncmp(spec, "studio", 6) == 0;
+    if (is_sky || is_studio) {
+        if (colon && !tool_parse_size(colon + 1, &w, &h)) {
+            fprintf(stderr, "lumis: %s: expected %.*s:WxH, e.g. %.*s:1024x512\n", spec,
+                    (int)name_len, spec, (int)name_len, spec);
+            return LUMIS_ERR_INVALID_ARGUMENT;
+        }
+        if (is_sky) {
+            lumis_sky_desc d = {0};
+            d.width = w;
+            d.height = h;
+            d.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
+            d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
+            d.errors = tool_errors;
+            return lumis_sky_create(&d, out);
+        }
+        lumis_studio_desc d = {0};
+        d.width = w;
+        d.height = h;
+        d.errors = tool_errors;
+        return lumis_studio_create(&d, out);
+    }
+    lumis_read_options opt = {0};
+    opt.errors = tool_errors;
+    return lumis_image_read(spec, &opt, out, info);
+}
+
+lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
+                               const lumis_sampler_desc *desc, lumis_envmap **env,
+                               lumis_sampler **sampler)
+{
+    lumis_image *img = NULL;
+    *env = NULL;
+    *sampler = NULL;
+    lumis_status st = tool_load_image(spec, &img, NULL);
+    if (st != LUMIS_OK) return st;
+    lumis_envmap_desc ed = {0};
+    ed.pixels = img->pixels;
+    ed.width = img->width;
+    ed.height = img->height;
+    ed.rotation_deg = rotation;
+    ed.scale = scale;
+    ed.errors = tool_errors;
+    st = lumis_envmap_create(&ed, env);
+    lumis_image_destroy(img);
+    if (st != LUMIS_OK) return st;
+    lumis_sampler_desc d = *desc;
+    d.errors = tool_errors;
+    st = lumis_sampler_create(*env, &d, sampler);
+    if (st != LUMIS_OK) {
+        lumis_envmap_destroy(*env);
+        *env = NULL;
+    }
+    return st;
+}
+
+/* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
+float tool_auto_exposure(const lumis_image *ref)
+{
+    double sum = 0.0;
+    const size_t n = (size_t)ref->width * (size_t)ref->height;
+    for (size_t p = 0; p < n; p++) {
+        const float *q = ref->pixels + 3 * p;
+        sum += 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+    }
+    double mean = sum / (double)n;
+    return mean > 0.0 ? (float)log2(0.18 / mean) : 0.0f;
+}
+
+/* ---- map statistics (lumis info, lumis demo) ---------------------------------------- */
+
+static int print_json(FILE *f, const char *name, const lumis_envmap_stats *s,
+                      const lumis_read_info *info)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (!o) return EXIT_RUNTIME;
+    cJSON_AddStringToObject(o, "file", name);
+    cJSON_AddStringToObject(o, "format",
+                            info->format ? lumis_format_name(info->format) : "procedural");
+    cJSON_AddNumberToObject(o, "width", s->width);
+    cJSON_AddNumberToObject(o, "height", s->height);
+    cJSON_AddNumberToObject(o, "min_luminance", s->min_luminance);
+    cJSON_AddNumberToObject(o, "avg_luminance", s->avg_luminance);
+    cJSON_AddNumberToObject(o, "max_luminance", s->max_luminance);
+    cJSON_AddNumberToObject(o, "dynamic_range", s->dynamic_range);
+    cJSON_AddNumberToObject(o, "power", s->power);
+    cJSON *rgb = cJSON_CreateDoubleArray(s->power_rgb, 3);
+    cJSON_AddItemToObject(o, "power_rgb", rgb);
+    cJSON_AddNumberToObject(o, "top1_share", s->top1_share);
+    cJSON_AddNumberToObject(o, "top01_share", s->top01_share);
+    cJSON_AddNumberToObject(o, "replaced", (double)lumis_replaced_total(info->replaced));
+    cJSON_AddNumberToObject(o, "replaced_nan", (double)info->replaced.nan);
+    cJSON_AddNumberToObject(o, "replaced_inf", (double)info->replaced.inf);
+    cJSON_AddNumberToObject(o, "replaced_negative", (double)info->replaced.negative);
+    char *text = cJSON_PrintUnformatted(o);
+    cJSON_Delete(o);
+    if (!text) return EXIT_RUNTIME;
+    fprintf(f, "%s\n", text);
+    cJSON_free(text);
+    return EXIT_OK;
+}
+
+int tool_print_info(FILE *f, const char *name, const lumis_image *image,
+                    const lumis_read_info *info, int json)
+{
+    lumis_envmap_stats s;
+    lumis_status st = lumis_equirect_stats(image->pixels, image->width, image->height, 1.0f, &s);
+    if (st != LUMIS_OK) return tool_runtime_error("%s: %s", name, lumis_status_string(st));
+    if (json) return print_json(f, name, &s, info);
+
+    fprintf(f, "file           %s (%s)\n", name,
+            info->format ? lumis_format_name(info->format) : "procedural");
+    fprintf(f, "resolution     %d x %d\n", s.width, s.height);
+    fprintf(f, "luminance      min %.6g  avg %.6g  max %.6g\n", s.min_luminance, s.avg_luminance,
+            s.max_luminance);
+    if (s.dynamic_range > 0.0)
+        fprintf(f, "dynamic range  %.4g : 1 (max / smallest positive)\n", s.dynamic_range);
+    else
+        fprintf(f, "dynamic range  - (the map is black)\n");
+    fprintf(f, "power (Y)      %.6g  (sum Y Omega)\n", s.power);
+    fprintf(f, "power (RGB)    %.6g %.6g %.6g\n", s.power_rgb[0], s.power_rgb[1], s.power_rgb[2]);
+    fprintf(f, "top 1%% share   %.4f\n", s.top1_share);
+    fprintf(f, "top 0.1%% share %.4f\n", s.top01_share);
+    fprintf(f, "black pixels   %llu\n", (unsigned long long)s.black_pixels);
+    fprintf(f, "replaced       %llu channel values (NaN %llu, Inf %llu, negative %llu)\n",
+            (unsigned long long)lumis_replaced_total(info->replaced),
+            (unsigned long long)info->replaced.nan, (unsigned long long)info->replaced.inf,
+            (unsigned long long)info->replaced.negative);
+    if (s.power == 0.0) fprintf(f, "note           the map is black: it emits no light\n");
+    return EXIT_OK;
+}
+
+/* ---- metrics (lumis compare, lumis bench) ---------------------------------------------- */
+
+void tool_metrics_json(const tool_metrics *m, cJSON *o)
+{
+    cJSON_AddNumberToObject(o, "rmse", m->err.rmse);
+    cJSON_AddNumberToObject(o, "mse", m->err.mse);
+    cJSON_AddNumberToObject(o, "relmse", m->err.relmse);
+    cJSON_AddNumberToObject(o, "relmse_epsilon", m->err.relmse_epsilon);
+    if (isfinite(m->err.psnr))
+        cJSON_AddNumberToObject(o, "psnr", m->err.psnr);
+    else
+        cJSON_AddNullToObject(o, "psnr"); /* identical images */
+    cJSON_AddNumberToObject(o, "psnr_peak", m->err.psnr_peak);
+    cJSON_AddStringToObject(o, "psnr_domain",
+                            "linear HDR values, all channels; peak = the reference's largest "
+                            "channel value");
+    cJSON_AddNumberToObject(o, "lab_delta_e", m->lab_delta_e);
+    cJSON_AddStringToObject(o, "lab_domain",
+                            "CIE76, D65; linear values x 2^exposure_ev clamped to [0, 1]");
+    cJSON_AddNumberToObject(o, "flip_ldr", m->flip_ldr);
+    if (m->has_flip_hdr) {
+        cJSON_AddNumberToObject(o, "flip_hdr", m->flip_hdr);
+        cJSON_AddNumberToObject(o, "flip_hdr_start_exposure", m->flip_start);
+        cJSON_AddNumberToObject(o, "flip_hdr_stop_exposure", m->flip_stop);
+    } else {
+        cJSON_AddNullToObject(o, "flip_hdr");
+    }
+    cJSON_AddNumberToObject(o, "pixels_per_degree", m->ppd);
+    cJSON_AddNumberToObject(o, "exposure_ev", m->exposure_ev);
+}
+
+int tool_compare_images(const lumis_image *ref, const lumis_image *test, float exposure_ev,
+                        double ppd, int hdr_flip, tool_metrics *m, float *flip_map)
+{
+    memset(m, 0, sizeof *m);
+    m->exposure_ev = exposure_ev;
+    m->ppd = ppd > 0.0 ? ppd : LUMIS_FLIP_DEFAULT_PPD;
+    lumis_metric_options mo = {0};
+    mo.exposure_ev = exposure_ev;
+    mo.errors = tool_errors;
+    if (lumis_image_errors(ref, test, &mo, &m->err) != LUMIS_OK ||
+        lumis_lab_delta_e(ref, test, &mo, NULL, &m->lab_delta_e) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    lumis_flip_options fo = {0};
+    fo.pixels_per_degree = m->ppd;
+    fo.errors = tool_errors;
+    /* LDR-FLIP on the exposed values (the library clamps to [0, 1]). */
+    lumis_image *a = NULL, *b = NULL;
+    const lumis_image *ra = ref, *tb = test;
+    if (exposure_ev != 0.0f) {
+        const size_t n = 3 * (size_t)ref->width * (size_t)ref->height;
+        const float k = exp2f(exposure_ev);
+        if (lumis_image_create(ref->width, ref->height, &a) != LUMIS_OK ||
+            lumis_image_create(test->width, test->height, &b) != LUMIS_OK) {
+            lumis_image_destroy(a);
+            return tool_runtime_error("compare: out of memory");
+        }
+        for (size_t i = 0; i < n; i++) {
+            a->pixels[i] = ref->pixels[i] * k;
+            b->pixels[i] = test->pixels[i] * k;
+        }
+        ra = a;
+        tb = b;
+    }
+    /* The map gets LDR-FLIP's errors; HDR-FLIP overwrites them when it runs. */
+    lumis_status st = lumis_flip_ldr(ra, tb, &fo, flip_map, &m->flip_ldr);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    if (st != LUMIS_OK) return EXIT_RUNTIME;
+    if (hdr_flip) {
+        lumis_flip_hdr_result hr;
+        lumis_flip_options quiet = fo;
+        memset(&quiet.errors, 0, sizeof quiet.errors);
+        st = lumis_flip_hdr(ref, test, &quiet, flip_map, NULL, &hr);
+        if (st == LUMIS_ERR_INVALID_ARGUMENT) {
+            /* A reference mostly black (median luminance 0) has no default exposure range:
+             * the other metrics still stand. */
+            fprintf(stderr, "lumis: warning: HDR-FLIP skipped: the reference's median "
+                            "luminance is 0, so it has no default exposure range\n");
+            return EXIT_OK;
+        }
+        if (st != LUMIS_OK) return tool_runtime_error("HDR-FLIP: %s", lumis_status_string(st));
+        m->flip_hdr = hr.mean;
+        m->flip_start = hr.start_exposure;
+        m->flip_stop = hr.stop_exposure;
+        m->has_flip_hdr = 1;
+    }
+    return EXIT_OK;
+}
+
+int tool_write_flip_map(const char *path, const float *map, int width, int height)
+{
+    lumis_image *rgb = NULL;
+    if (lumis_flip_colormap(map, width, height, &rgb) != LUMIS_OK)
+        return tool_runtime_error("%s: cannot colour the error map", path);
+    /* The colour map is display-referred already: written without a tone map. */
+    int rc = tool_write_image(path, rgb, NULL) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+    lumis_image_destroy(rgb);
+    return rc;
+}
+
+/* ---- progress bar (stderr, only when it is a terminal) -------------------------------- */
+
+typedef struct progress {
+    int enabled;
+    double start, budget, last; /* budget > 0: time-based bar */
+    int spp_done;
+} progress;
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void progress_draw(progress *p, double fraction, int final)
+{
+    double t = now_seconds();
+    if (!final && t - p->last < 0.1) return;
+    p->last = t;
+    if (fraction > 1.0) fraction = 1.0;
+    char bar[41];
+    int full = (int)(fraction * 40.0);
+    for (int k = 0; k < 40; k++) bar[k] = k < full ? '#' : '.';
+    bar[40] = '\0';
+    fprintf(stderr, "\r  render [%s] %3d%%  %6.1f s  %d spp", bar, (int)(fraction * 100.0),
+            t - p->start, p->spp_done);
+    if (final) fputs("\r\033[K", stderr);
+    fflush(stderr);
+}
+
+static void on_progress(void *user, int done, int total)
+{
+    progress *p = user;
+    double f = p->budget > 0.0 ? (now_seconds() - p->start) / p->budget
+                               : (total > 0 ? (double)done / total : 1.0);
+    progress_draw(p, f, 0);
+}
+
+/* ---- the run --------------------------------------------------------------------------- */
+
+static const char *estimator_name(const lumis_render_desc *d)
+{
+    return d->estimator == LUMIS_ESTIMATOR_BSDF    ? "bsdf"
+           : d->estimator == LUMIS_ESTIMATOR_LIGHT ? "light"
+                                                   : "mis";
+}
+
+void tool_sidecar_path(const char *out, char *buf, size_t cap)
+{
+    size_t n = strlen(out);
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (dot && (!slash || dot > slash) && dot != out && dot[-1] != '/') n = (size_t)(dot - out);
+    snprintf(buf, cap, "%.*s.json", (int)n, out);
+}
+
+static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
+                         const char *scene_label, const char *envspec, const lumis_envmap *env,
+                         const lumis_sampler *smp, int objects, const lumis_camera *cam,
+                         const tool_render_result *r)
+{
+    const lumis_render_stats *s = &r->stats;
+    cJSON *j = cJSON_CreateObject(), *x;
+    char cmd[8192] = "lumis";
+    for (int k = 0; k < o->argc; k++) {
+        size_t n = strlen(cmd);
+        snprintf(cmd + n, sizeof cmd - n, " %s", o->argv[k]);
+    }
+    cJSON_AddStringToObject(j, "lumis_version", LUMIS_VERSION_STRING);
+    cJSON_AddStringToObject(j, "command", o->argc ? cmd : "(library call)");
+    cJSON_AddStringToObject(j, "mode", o->rd.max_bounces > 0 ? "path" : "direct");
+    char label[128];
+    if (o->rd.max_bounces > 0)
+        snprintf(label, sizeof label, "path traced, global illumination, up to %d bounces",
+                 o->rd.max_bounces);
+    else
+        snprintf(label, sizeof label, "direct illumination from the environment");
+    cJSON_AddStringToObject(j, "label", label);
+    cJSON_AddStringToObject(j, "scene", scene_label);
+    cJSON_AddNumberToObject(j, "objects", objects);
+    x = cJSON_AddObjectToObject(j, "environment");
+    cJSON_AddStringToObject(x, "map", envspec);
+    cJSON_AddNumberToObject(x, "width", lumis_envmap_width(env));
+    cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
+    cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
+    cJSON_AddNumberToObject(x, "scale", o->scale);
+    cJSON_AddStringToObject(
+        j, "method",
+        o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+    cJSON_AddStringToObject(j, "estimator", estimator_name(rd));
+    if (rd->estimator == LUMIS_ESTIMATOR_MIS)
+        cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
+    else
+        cJSON_AddNullToObject(j, "heuristic");
+    cJSON_AddNumberToObject(j, "light_samples", o->rd.light_samples ? o->rd.light_samples : 1);
+    cJSON_AddNumberToObject(j, "bsdf_samples", o->rd.bsdf_samples ? o->rd.bsdf_samples : 1);
+    cJSON_AddNumberToObject(j, "max_bounces", o->rd.max_bounces);
+    if (o->time_budget > 0.0) {
+        cJSON_AddNumberToObject(j, "time_budget_seconds", o->time_budget);
+        cJSON_AddNullToObject(j, "spp_requested");
+    } else {
+        cJSON_AddNullToObject(j, "time_budget_seconds");
+        cJSON_AddNumberToObject(j, "spp_requested", o->rd.spp ? o->rd.spp : 16);
+    }
+    cJSON_AddNumberToObject(j, "spp", s->spp);
+    cJSON_AddNumberToObject(j, "passes", s->passes);
+    cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
+    cJSON_AddNumberToObject(j, "threads", s->threads);
+    cJSON_AddNumberToObject(j, "width", cam->width);
+    cJSON_AddNumberToObject(j, "height", cam->height);
+    x = cJSON_AddObjectToObject(j, "timings");
+    cJSON_AddNumberToObject(x, "load_seconds", r->load_seconds);
+    cJSON_AddNumberToObject(x, "sampler_build_seconds", lumis_sampler_build_ms(smp) / 1000.0);
+    cJSON_AddNumberToObject(x, "scene_build_seconds", r->scene_seconds);
+    cJSON_AddNumberToObject(x, "render_seconds", s->seconds);
+    cJSON_AddNumberToObject(x, "total_seconds", r->total_seconds);
+    x = cJSON_AddObjectToObject(j, "rays");
+    double total = s->camera_rays + s->shadow_rays + s->bounce_rays;
+    cJSON_AddNumberToObject(x, "camera", s->camera_rays);
+    cJSON_AddNumberToObject(x, "shadow", s->shadow_rays);
+    cJSON_AddNumberToObject(x, "bounce", s->bounce_rays);
+    cJSON_AddNumberToObject(x, "total", total);
+    cJSON_AddNumberToObject(x, "per_second", s->seconds > 0 ? total / s->seconds : 0);
+    cJSON_AddNumberToObject(x, "shadow_per_second",
+                            s->seconds > 0 ? s->shadow_rays / s->seconds : 0);
+    x = cJSON_AddObjectToObject(j, "sampler");
+    cJSON_AddStringToObject(x, "method", lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+    cJSON_AddNumberToObject(x, "build_ms", lumis_sampler_build_ms(smp));
+    cJSON_AddNumberToObject(x, "table_bytes", (double)lumis_sampler_table_bytes(smp));
+    cJSON_AddNumberToObject(x, "total_bytes", (double)lumis_sampler_total_bytes(smp));
+    if (lumis_sampler_kdtree_blocks(smp) > 0) {
+        cJSON_AddNumberToObject(x, "kdtree_blocks", lumis_sampler_kdtree_blocks(smp));
+        cJSON_AddNumberToObject(x, "kdtree_alpha", lumis_sampler_kdtree_alpha(smp));
+    }
+    x = cJSON_AddObjectToObject(j, "outputs");
+    cJSON_AddStringToObject(x, "exr", o->out);
+    if (o->png)
+        cJSON_AddStringToObject(x, "png", o->png);
+    else
+        cJSON_AddNullToObject(x, "png");
+    int rc = tool_write_json(path, j);
+    cJSON_Delete(j);
+    return rc;
+}
+
+/* Runs passes until the budget: each pass is sized from the time per sample so far, so
+ * the last one ends as close to the budget as the estimate allows. */
+static lumis_status run_timed(lumis_render_job *job, double budget, progress *pg)
+{
+    lumis_render_stats s;
+    int n = 1;
+    for (;;) {
+        lumis_status st = lumis_render_job_run(job, n);
+        if (st != LUMIS_OK) return st;
+        lumis_render_job_stats(job, &s);
+        pg->spp_done = s.spp;
+        double per = s.seconds / s.spp, left = budget - s.seconds;
+        double next = left / per;
+        if (next < 0.5 || s.spp >= (1 << 24)) return LUMIS_OK;
+        n = next > s.spp ? s.spp : (int)(next + 0.5); /* at most double: estimates settle */
+        if (n < 1) n = 1;
+    }
+}
+
+int tool_render(const tool_render_opts *o, tool_render_result *r)
+{
+    memset(r, 0, sizeof *r);
+    double t0 = now_seconds();
+    lumis_scene_file *file = NULL;
+    lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &tool_errors, &file)
+                                    : lumis_scene_builtin(o->scene_name, &tool_errors, &file);
+    if (st != LUMIS_OK) return EXIT_RUNTIME;
+    const char *envspec = o->envspec ? o->envspec : (file->env_map[0] ? file->env_map : "sky");
+    char sidecar[4096] = "";
+    if (o->out && (!o->sidecar || o->sidecar[0])) {
+        if (o->sidecar)
+            snprintf(sidecar, sizeof sidecar, "%s", o->sidecar);
+        else
+            tool_sidecar_path(o->out, sidecar, sizeof sidecar);
+    }
+    /* Every output is checked against every input before the work: a sidecar named after
+     * OUT.exr must never replace the scene file (render scene.json -o scene.exr). */
+    tool_files files = {0};
+    tool_files_input(&files, "scene file", o->scene_path);
+    tool_files_input(&files, "environment map", envspec);
+    for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
+        tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
+    tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
+    tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
+    tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
+    int rc = tool_files_check(o->cmd ? o->cmd : "render", &files);
+    if (rc != EXIT_OK) {
+        lumis_scene_file_destroy(file);
+        return rc;
+    }
+    float rotation = o->envspec ? o->rotation_deg : file->env_rotation_deg,
+          scale = o->envspec ? o->scale : file->env_scale;
+    lumis_camera cam = file->camera;
+    if (o->width) cam.width = o->width, cam.height = o->height;
+    lumis_envmap *env = NULL;
+    lumis_sampler *smp = NULL;
+    lumis_scene *scene = NULL;
+    lumis_render_job *job = NULL;
+    rc = EXIT_RUNTIME;
+    if (tool_make_sampler(envspec, rotation, scale, &o->sampler, &env, &smp) != LUMIS_OK) goto done;
+    /* The map's loading alone: the sampler's build is reported on its own. */
+    r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
+    double t1 = now_seconds();
+    if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
+        goto done;
+    r->scene_seconds = now_seconds() - t1;
+
+    progress pg = {0};
+    pg.enabled = !o->quiet && isatty(STDERR_FILENO);
+    pg.start = now_seconds();
+    pg.budget = o->time_budget;
+    lumis_render_desc rd = o->rd;
+    rd.camera = &cam;
+    rd.env = env;
+    rd.sampler = smp;
+    rd.errors = tool_errors;
+    if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
+    if (pg.enabled) {
+        rd.progress = on_progress;
+        rd.progress_user = &pg;
+    }
+    if (lumis_render_job_create(scene, &rd, &job) != LUMIS_OK) goto done;
+    st = o->time_budget > 0.0 ? run_timed(job, o->time_budget, &pg)
+                              : lumis_render_job_run(job, rd.spp ? rd.spp : 16);
+    lumis_render_job_stats(job, &r->stats);
+    pg.spp_done = r->stats.spp;
+    if (pg.enabled) progress_draw(&pg, 1.0, 1);
+    if (st != LUMIS_OK || lumis_render_job_image(job, &r->image) != LUMIS_OK) goto done;
+    if (o->out && tool_write_image(o->out, r->image, NULL) != LUMIS_OK) goto done;
+    if (o->png && tool_write_image(o->png, r->image, &o->png_options) != LUMIS_OK) goto done;
+    r->total_seconds = now_seconds() - t0;
+    r->sampler_build_ms = lumis_sampler_build_ms(smp);
+    r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
+    const char *method =
+        o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp));
+    if (!o->quiet) {
+        double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
+        fprintf(stderr,
+                "lumis: rendered %dx%d at %d spp (%s%s) in %.3f s, %.3g rays/s (%.3g shadow "
+                "rays/s), sampler %s built in %.2f ms\n",
+                cam.width, cam.height, r->stats.spp,
+                o->rd.max_bounces > 0 ? "path traced, " : "direct, ", estimator_name(&rd),
+                r->stats.seconds, rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds,
+                method, r->sampler_build_ms);
+    }
+    rc = EXIT_OK;
+    if (sidecar[0])
+        rc = write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name, envspec,
+                           env, smp, file->object_count, &cam, r);
+done:
+    if (rc != EXIT_OK) {
+        lumis_image_destroy(r->image);
+        r->image = NULL;
+    }
+    lumis_render_job_destroy(job);
+    lumis_scene_destroy(scene);
+    lumis_scene_file_destroy(file);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+    return rc;
+}
