@@ -97,6 +97,11 @@ int cmd_bench(int argc, char **argv);
 int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sampler_desc *d,
                         float *rotation);
 
+/* The envmap of a map (file or procedural spec), rotated and scaled; from preloaded (borrowed)
+ * when given, spec then only names it.  Prints errors itself. */
+lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,
+                              float scale, lumis_envmap **env);
+
 /* Loads a map (file or procedural spec), builds its envmap (rotated, scaled) and a
  * sampler; prints errors itself. */
 lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
@@ -107,6 +112,8 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
 typedef struct tool_render_opts {
     const char *scene_name, *scene_path; /* one of them */
     const char *envspec;                 /* NULL: the scene's map, else "sky" */
+    const lumis_image *env_image;        /* envspec's pixels, loaded by the caller (borrowed);
+                                            NULL: loaded from envspec */
     float rotation_deg, scale;           /* of envspec when given */
     lumis_sampler_desc sampler;
     int bsdf_only;

@@ -51,24 +51,34 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
     return lumis_image_read(spec, &opt, out, info);
 }
 
+lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,
+                              float scale, lumis_envmap **env)
+{
+    lumis_image *img = NULL;
+    *env = NULL;
+    if (!preloaded) {
+        lumis_status st = tool_load_image(spec, &img, NULL);
+        if (st != LUMIS_OK) return st;
+        preloaded = img;
+    }
+    lumis_envmap_desc ed = {0};
+    ed.pixels = preloaded->pixels;
+    ed.width = preloaded->width;
+    ed.height = preloaded->height;
+    ed.rotation_deg = rotation;
+    ed.scale = scale;
+    ed.errors = tool_errors;
+    lumis_status st = lumis_envmap_create(&ed, env);
+    lumis_image_destroy(img);
+    return st;
+}
+
 lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
                                const lumis_sampler_desc *desc, lumis_envmap **env,
                                lumis_sampler **sampler)
 {
-    lumis_image *img = NULL;
-    *env = NULL;
     *sampler = NULL;
-    lumis_status st = tool_load_image(spec, &img, NULL);
-    if (st != LUMIS_OK) return st;
-    lumis_envmap_desc ed = {0};
-    ed.pixels = img->pixels;
-    ed.width = img->width;
-    ed.height = img->height;
-    ed.rotation_deg = rotation;
-    ed.scale = scale;
-    ed.errors = tool_errors;
-    st = lumis_envmap_create(&ed, env);
-    lumis_image_destroy(img);
+    lumis_status st = tool_make_envmap(spec, NULL, rotation, scale, env);
     if (st != LUMIS_OK) return st;
     lumis_sampler_desc d = *desc;
     d.errors = tool_errors;
@@ -461,7 +471,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene *scene = NULL;
     lumis_render_job *job = NULL;
     rc = EXIT_RUNTIME;
-    if (tool_make_sampler(envspec, rotation, scale, &o->sampler, &env, &smp) != LUMIS_OK) goto done;
+    if (tool_make_envmap(envspec, o->env_image, rotation, scale, &env) != LUMIS_OK) goto done;
+    lumis_sampler_desc sd = o->sampler;
+    sd.errors = tool_errors;
+    if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
     double t1 = now_seconds();
