@@ -9,7 +9,8 @@ static const char usage[] =
     "Converts an image; formats come from the extensions (.exr .hdr .pfm .png; PNG is\n"
     "output only).  IN may also be sky[:WxH] or studio[:WxH].\n\n"
     "options:\n"
-    "  --exposure EV   PNG: multiply radiance by 2^EV before tone mapping (default 0)\n"
+    "  --exposure EV   PNG: multiply radiance by 2^EV before tone mapping; 'auto' (default)\n"
+    "                  brings the mean luminance to 0.18\n"
     "  --tonemap T     PNG: clamp (default), reinhard or aces\n"
     "  --resize WxH    resample as an equirectangular map, preserving total power\n"
     "                  (every output pixel is the solid-angle mean of what it covers)\n"
@@ -21,6 +22,8 @@ static const char usage[] =
 int cmd_convert(int argc, char **argv)
 {
     const char *in = NULL, *out = NULL, *v;
+    const char *png_only = NULL, *exr_only = NULL, *pfm_only = NULL; /* given, for OUT's format */
+    int auto_ev = 1;
     lumis_write_options wo = {0};
     int rw = 0, rh = 0;
     for (int i = 1; i < argc; i++) {
@@ -28,18 +31,18 @@ int cmd_convert(int argc, char **argv)
             fputs(usage, stdout);
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
-            double ev;
-            if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
-                return tool_usage_error("convert",
-                                        "--exposure needs a number of stops in [-64, 64]");
-            wo.exposure_ev = (float)ev;
+            png_only = "--exposure";
+            int rc = tool_exposure_option("convert", v, &wo.exposure_ev, &auto_ev);
+            if (rc != EXIT_OK) return rc;
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
+            png_only = "--tonemap";
             if (!v || lumis_tonemap_from_name(v, &wo.tonemap) != LUMIS_OK)
                 return tool_usage_error("convert", "--tonemap must be clamp, reinhard or aces");
         } else if (tool_option(argc, argv, &i, "--resize", &v)) {
             if (!tool_parse_size(v, &rw, &rh))
                 return tool_usage_error("convert", "--resize needs WxH, e.g. 512x256");
         } else if (tool_option(argc, argv, &i, "--compression", &v)) {
+            exr_only = "--compression";
             if (!v || lumis_exr_compression_from_name(v, &wo.exr_compression) != LUMIS_OK)
                 return tool_usage_error("convert", "--compression must be one of zip, none, rle, "
                                                    "zips, piz, pxr24, b44, b44a, dwaa, dwab");
@@ -48,10 +51,13 @@ int cmd_convert(int argc, char **argv)
             if (!tool_parse_int(v, 1, 65536, &t))
                 return tool_usage_error("convert", "--tile needs a tile size in [1, 65536]");
             wo.exr_tile_size = (int)t;
+            exr_only = "--tile";
         } else if (strcmp(argv[i], "--half") == 0) {
             wo.exr_half = 1;
+            exr_only = "--half";
         } else if (strcmp(argv[i], "--big-endian") == 0) {
             wo.pfm_big_endian = 1;
+            pfm_only = "--big-endian";
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return tool_usage_error("convert", "unknown option '%s'", argv[i]);
         } else if (!in) {
@@ -67,7 +73,15 @@ int cmd_convert(int argc, char **argv)
     tool_files_input(&files, "input", in);
     tool_files_output(&files, "output", out, TOOL_OUT_IMAGE);
     int rc = tool_files_check("convert", &files);
+    if (rc == EXIT_OK) rc = tool_png_only_option("convert", png_only, out);
     if (rc != EXIT_OK) return rc;
+    const lumis_file_format fmt = lumis_format_from_path(out);
+    if (exr_only && fmt != LUMIS_FORMAT_EXR)
+        return tool_usage_error("convert", "%s applies to EXR output only, and %s is not an EXR",
+                                exr_only, out);
+    if (pfm_only && fmt != LUMIS_FORMAT_PFM)
+        return tool_usage_error("convert", "%s applies to PFM output only, and %s is not a PFM",
+                                pfm_only, out);
 
     lumis_image *image = NULL;
     lumis_read_info info;
@@ -88,6 +102,7 @@ int cmd_convert(int argc, char **argv)
             return tool_runtime_error("resize to %dx%d: %s", rw, rh, lumis_status_string(st));
         }
     }
+    if (auto_ev) wo.exposure_ev = tool_auto_exposure(image);
     lumis_status st = tool_write_image(out, image, &wo);
     lumis_image_destroy(image);
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;

@@ -3,6 +3,7 @@
 #include "common.h"
 
 #include <errno.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -14,8 +15,9 @@ static const char usage[] =
     "2. Renders the built-in 'spheres' scene (Lambert, Ward, GGX) under that sky with the\n"
     "   inversion (CDF) sampler and with the kd-tree sampler, each for S seconds of\n"
     "   rendering (default 3), and writes DIR/spheres-inversion.exr, DIR/spheres-kdtree.exr\n"
-    "   (with JSON sidecars) and DIR/spheres-equal-time.png: inversion left, kd-tree right.\n"
-    "   Compare their noise at equal time; 'lumis render --help' has every option.\n";
+    "   (with JSON sidecars), a reference with four times the time (DIR/spheres-reference.exr),\n"
+    "   and DIR/spheres-equal-time.png: inversion left, kd-tree right, each labelled with its\n"
+    "   samples and its relMSE against the reference.  'lumis render --help' has every option.\n";
 
 /* a | gap | b, black between. */
 static lumis_image *side_by_side(const lumis_image *a, const lumis_image *b, int gap)
@@ -33,6 +35,47 @@ static lumis_image *side_by_side(const lumis_image *a, const lumis_image *b, int
                3 * sizeof(float) * (size_t)b->width);
     }
     return out;
+}
+
+/* The two renders side by side over a banner that names each (method, samples, relMSE
+ * against the reference) and says which has the lower error. */
+static int write_labelled(const char *path, const tool_render_result *res, const double *relmse,
+                          double budget)
+{
+    lumis_image *both = side_by_side(res[0].image, res[1].image, 8);
+    if (!both) return tool_runtime_error("%s: out of memory", path);
+    const int half = res[0].image->width, scale = half >= 420 ? 2 : 1, line = 9 * scale;
+    lumis_image *out = NULL;
+    if (lumis_image_create(both->width, both->height + 4 * line + 4 * scale, &out) != LUMIS_OK) {
+        lumis_image_destroy(both);
+        return tool_runtime_error("%s: out of memory", path);
+    }
+    memcpy(out->pixels, both->pixels,
+           3 * sizeof(float) * (size_t)both->width * (size_t)both->height);
+    lumis_write_options pw = {0};
+    pw.exposure_ev = tool_auto_exposure(both);
+    pw.tonemap = LUMIS_TONEMAP_ACES;
+    lumis_image_destroy(both);
+    /* White after the exposure and the tone map. */
+    const float w = 16.0f * exp2f(-pw.exposure_ev);
+    const lumis_rgb white = {w, w, w}, grey = {0.45f * w / 16, 0.45f * w / 16, 0.45f * w / 16};
+    const char *label[2] = {"inversion + MIS", "kd-tree + MIS"};
+    const int win = relmse[1] < relmse[0];
+    char text[160];
+    for (int k = 0; k < 2; k++) {
+        int x = k * (half + 8) + 4 * scale, y = res[0].image->height + 3 * scale;
+        snprintf(text, sizeof text, "%s: %d spp in %.3g s", label[k], res[k].stats.spp, budget);
+        tool_draw_text(out, x, y, scale, text, white);
+        snprintf(text, sizeof text, "relMSE %.4g%s", relmse[k], k == win ? "  < lower" : "");
+        tool_draw_text(out, x, y + line, scale, text, k == win ? white : grey);
+    }
+    snprintf(text, sizeof text, "equal time. reference: inversion + MIS, %d spp (%.3g s)",
+             res[2].stats.spp, 4.0 * budget);
+    tool_draw_text(out, 4 * scale, res[0].image->height + 3 * scale + 2 * line + scale, scale, text,
+                   grey);
+    lumis_status st = tool_write_image(path, out, &pw);
+    lumis_image_destroy(out);
+    return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }
 
 int cmd_demo(int argc, char **argv)
@@ -68,7 +111,7 @@ int cmd_demo(int argc, char **argv)
     snprintf(exr, sizeof exr, "%s/sky.exr", dir);
     snprintf(png, sizeof png, "%s/sky.png", dir);
     lumis_write_options wo = {0};
-    wo.exposure_ev = -3.0f; /* the sky is a few kcd/m^2: bring it near display white */
+    wo.exposure_ev = tool_auto_exposure(sky);
     wo.tonemap = LUMIS_TONEMAP_ACES;
     int rc = EXIT_RUNTIME;
     if (tool_write_image(exr, sky, NULL) == LUMIS_OK &&
@@ -79,54 +122,71 @@ int cmd_demo(int argc, char **argv)
     lumis_image_destroy(sky);
     if (rc != EXIT_OK) return rc;
 
-    /* 2. Equal-time renders. */
-    printf("\nspheres under the sky, %.3g s of rendering each (direct illumination, MIS):\n",
-           budget);
+    /* 2. Equal-time renders, and a reference with four times their time to judge them. */
+    printf("\nspheres under the sky, %.3g s of rendering each (direct illumination, MIS), and "
+           "a reference of %.3g s:\n",
+           budget, 4.0 * budget);
     fflush(stdout);
-    const lumis_sampler_method methods[2] = {LUMIS_METHOD_INVERSION, LUMIS_METHOD_KDTREE};
-    const char *names[2] = {"inversion", "kdtree"};
-    tool_render_result res[2];
+    const lumis_sampler_method methods[3] = {LUMIS_METHOD_INVERSION, LUMIS_METHOD_KDTREE,
+                                             LUMIS_METHOD_INVERSION};
+    const char *names[3] = {"inversion", "kdtree", "reference"};
+    tool_render_result res[3];
     memset(res, 0, sizeof res);
-    char outs[2][4096];
-    for (int k = 0; k < 2 && rc == EXIT_OK; k++) {
+    char outs[3][4096];
+    for (int k = 0; k < 3 && rc == EXIT_OK; k++) {
         tool_render_opts o;
         memset(&o, 0, sizeof o);
         o.scene_name = "spheres";
         o.envspec = "sky";
         o.scale = 1.0f;
         o.sampler.method = methods[k];
-        o.rd.seed = 1;
+        o.rd.seed = k == 2 ? 1000 : 1; /* the reference's noise is independent of both */
         o.rd.threads = (int)threads;
-        o.time_budget = budget;
+        o.time_budget = k == 2 ? 4.0 * budget : budget;
         o.quiet = 1;
+        o.progress = 1; /* a bar on a terminal */
         snprintf(outs[k], sizeof outs[k], "%s/spheres-%s.exr", dir, names[k]);
         o.out = outs[k];
         o.argc = argc;
         o.argv = argv;
+        printf("  rendering %-9s (%.3g s)...\n", names[k], o.time_budget);
+        fflush(stdout);
         rc = tool_render(&o, &res[k]);
     }
     if (rc == EXIT_OK) {
-        printf("  %-10s %6s %9s %12s %14s %12s\n", "method", "spp", "render s", "rays/s",
-               "sampler build", "table bytes");
-        for (int k = 0; k < 2; k++) {
+        double relmse[2];
+        for (int k = 0; k < 2 && rc == EXIT_OK; k++) {
+            lumis_image_error_stats e;
+            lumis_metric_options mo = {0};
+            mo.errors = tool_errors;
+            if (lumis_image_errors(res[2].image, res[k].image, &mo, &e) != LUMIS_OK)
+                rc = EXIT_RUNTIME;
+            relmse[k] = e.relmse;
+        }
+        printf("  %-10s %6s %9s %12s %14s %12s %10s\n", "method", "spp", "render s", "rays/s",
+               "sampler build", "table bytes", "relMSE");
+        for (int k = 0; k < 3 && rc == EXIT_OK; k++) {
             const lumis_render_stats *s = &res[k].stats;
             double rays = s->camera_rays + s->shadow_rays + s->bounce_rays;
-            printf("  %-10s %6d %9.3f %12.3g %11.2f ms %12zu\n", names[k], s->spp, s->seconds,
+            printf("  %-10s %6d %9.3f %12.3g %11.2f ms %12zu", names[k], s->spp, s->seconds,
                    rays / s->seconds, res[k].sampler_build_ms, res[k].sampler_table_bytes);
+            if (k < 2)
+                printf(" %10.4g\n", relmse[k]);
+            else
+                printf(" %10s\n", "-");
         }
-        lumis_image *both = side_by_side(res[0].image, res[1].image, 8);
         snprintf(png, sizeof png, "%s/spheres-equal-time.png", dir);
-        lumis_write_options pw = {0};
-        pw.exposure_ev = -4.0f;
-        pw.tonemap = LUMIS_TONEMAP_ACES;
-        if (!both || tool_write_image(png, both, &pw) != LUMIS_OK)
-            rc = EXIT_RUNTIME;
-        else
-            printf("wrote %s, %s (JSON sidecars beside them) and %s: inversion left, kd-tree "
-                   "right\n",
-                   outs[0], outs[1], png);
-        lumis_image_destroy(both);
+        if (rc == EXIT_OK) rc = write_labelled(png, res, relmse, budget);
+        if (rc == EXIT_OK) {
+            int win = relmse[1] < relmse[0];
+            printf("lower relMSE at equal time: %s (%.3gx the other's)\n", names[win],
+                   relmse[win] / relmse[!win]);
+            printf("wrote %s, %s, %s (JSON sidecars beside them) and %s: inversion left, "
+                   "kd-tree right, labelled\n",
+                   outs[0], outs[1], outs[2], png);
+        }
     }
+    lumis_image_destroy(res[2].image);
     lumis_image_destroy(res[0].image);
     lumis_image_destroy(res[1].image);
     return rc;

@@ -35,7 +35,10 @@ static const char usage[] =
     "  --size WxH         image size (default: the scene's camera)\n"
     "  --blocks K         kd-tree blocks\n"
     "  -o, --output OUT   linear EXR (required)\n"
-    "  --png OUT          also a tone-mapped PNG preview (--exposure EV, --tonemap T)\n"
+    "  --png OUT.png      also a tone-mapped PNG preview\n"
+    "  --exposure EV      the preview's exposure in stops, or 'auto' (default: the mean\n"
+    "                     luminance to 0.18)\n"
+    "  --tonemap T        the preview's tone map: clamp (default), reinhard or aces\n"
     "  --sidecar PATH     where the JSON sidecar goes (default: OUT with .json);\n"
     "                     --no-sidecar writes none\n"
     "  --quiet            no progress bar and no summary line\n";
@@ -46,9 +49,10 @@ int cmd_render(int argc, char **argv)
     memset(&o, 0, sizeof o);
     o.scale = 1.0f;
     o.rd.seed = 1;
+    o.png_auto_exposure = 1;
     o.argc = argc;
     o.argv = argv;
-    const char *v;
+    const char *v, *png_only = NULL, *mis = NULL;
     int spp_given = 0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -68,6 +72,7 @@ int cmd_render(int argc, char **argv)
             else if (!v || lumis_sampler_method_from_name(v, &o.sampler.method) != LUMIS_OK)
                 return tool_usage_error("render", "--method must be a sampler name or 'bsdf'");
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
+            mis = v;
             if (v && strcmp(v, "balance") == 0)
                 o.rd.power_heuristic = 0;
             else if (v && strcmp(v, "power") == 0)
@@ -125,10 +130,12 @@ int cmd_render(int argc, char **argv)
         } else if (strcmp(argv[i], "--quiet") == 0) {
             o.quiet = 1;
         } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
-            if (!tool_parse_double(v, &d) || d < -64 || d > 64)
-                return tool_usage_error("render", "--exposure needs stops");
-            o.png_options.exposure_ev = (float)d;
+            png_only = "--exposure";
+            int rc =
+                tool_exposure_option("render", v, &o.png_options.exposure_ev, &o.png_auto_exposure);
+            if (rc != EXIT_OK) return rc;
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
+            png_only = "--tonemap";
             if (!v || lumis_tonemap_from_name(v, &o.png_options.tonemap) != LUMIS_OK)
                 return tool_usage_error("render", "--tonemap must be clamp, reinhard or aces");
         } else if (argv[i][0] != '-' && !o.scene_path) {
@@ -152,6 +159,14 @@ int cmd_render(int argc, char **argv)
     if (spp_given && o.time_budget > 0.0)
         return tool_usage_error("render", "give --spp or --time, not both");
     if (!o.out) return tool_usage_error("render", "no output file (-o OUT.exr)");
+    if (png_only && !o.png)
+        return tool_usage_error("render", "%s applies to the PNG preview: give --png OUT.png",
+                                png_only);
+    if (mis && o.bsdf_only)
+        return tool_usage_error("render",
+                                "--mis %s: --method bsdf samples the BSDF only and "
+                                "combines nothing",
+                                mis);
     tool_render_result r;
     int rc = tool_render(&o, &r);
     lumis_image_destroy(r.image);

@@ -15,7 +15,7 @@ static const char sky_usage[] =
     "  --ground-albedo A    0..1 (default 0.1)\n"
     "  --no-sun             the sky without the sun disk\n"
     "  --size WxH           resolution (default 1024x512)\n"
-    "  --exposure EV, --tonemap T   for PNG output (as in lumis convert)\n"
+    "  --exposure EV|auto, --tonemap T   for PNG output (as in lumis convert; default auto)\n"
     "  -o, --output OUT     output file (.exr .hdr .pfm .png)\n";
 
 static const char studio_usage[] =
@@ -25,12 +25,13 @@ static const char studio_usage[] =
     "options:\n"
     "  --intensity K        multiplier of the soft boxes (default 1)\n"
     "  --size WxH           resolution (default 1024x512)\n"
-    "  --exposure EV, --tonemap T   for PNG output (as in lumis convert)\n"
+    "  --exposure EV|auto, --tonemap T   for PNG output (as in lumis convert; default auto)\n"
     "  -o, --output OUT     output file (.exr .hdr .pfm .png)\n";
 
 /* Options both commands share; returns -1 if argv[*i] is not one of them. */
 static int common_option(const char *cmd, int argc, char **argv, int *i, int *w, int *h,
-                         const char **out, lumis_write_options *wo)
+                         const char **out, lumis_write_options *wo, int *auto_ev,
+                         const char **png_only)
 {
     const char *v;
     if (tool_option(argc, argv, i, "--size", &v)) {
@@ -40,11 +41,10 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
         if (!v) return tool_usage_error(cmd, "-o needs a file name");
         *out = v;
     } else if (tool_option(argc, argv, i, "--exposure", &v)) {
-        double ev;
-        if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
-            return tool_usage_error(cmd, "--exposure needs a number of stops in [-64, 64]");
-        wo->exposure_ev = (float)ev;
+        *png_only = "--exposure";
+        return tool_exposure_option(cmd, v, &wo->exposure_ev, auto_ev);
     } else if (tool_option(argc, argv, i, "--tonemap", &v)) {
+        *png_only = "--tonemap";
         if (!v || lumis_tonemap_from_name(v, &wo->tonemap) != LUMIS_OK)
             return tool_usage_error(cmd, "--tonemap must be clamp, reinhard or aces");
     } else {
@@ -54,19 +54,22 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
 }
 
 /* Checked before the map is made. */
-static int check_output(const char *cmd, const char *out)
+static int check_output(const char *cmd, const char *out, const char *png_only)
 {
     if (!out) return tool_usage_error(cmd, "no output file (-o OUT)");
+    int rc = tool_png_only_option(cmd, png_only, out);
+    if (rc != EXIT_OK) return rc;
     tool_files files = {0};
     tool_files_output(&files, "output", out, TOOL_OUT_IMAGE);
     return tool_files_check(cmd, &files);
 }
 
-static int finish(lumis_status st, lumis_image *image, const char *out,
-                  const lumis_write_options *wo)
+static int finish(lumis_status st, lumis_image *image, const char *out, lumis_write_options wo,
+                  int auto_ev)
 {
     if (st != LUMIS_OK) return EXIT_RUNTIME; /* the library's sink has printed why */
-    st = tool_write_image(out, image, wo);
+    if (auto_ev) wo.exposure_ev = tool_auto_exposure(image);
+    st = tool_write_image(out, image, &wo);
     lumis_image_destroy(image);
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }
@@ -78,10 +81,12 @@ int cmd_sky(int argc, char **argv)
     d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
     d.errors = tool_errors;
     lumis_write_options wo = {0};
-    const char *out = NULL, *v;
+    int auto_ev = 1;
+    const char *out = NULL, *v, *png_only = NULL;
     for (int i = 1; i < argc; i++) {
         double x;
-        int rc = common_option("sky", argc, argv, &i, &d.width, &d.height, &out, &wo);
+        int rc = common_option("sky", argc, argv, &i, &d.width, &d.height, &out, &wo, &auto_ev,
+                               &png_only);
         if (rc > 0) return rc;
         if (rc == 0) continue;
         if (tool_is_help(argv[i])) {
@@ -109,11 +114,11 @@ int cmd_sky(int argc, char **argv)
             return tool_usage_error("sky", "unknown argument '%s'", argv[i]);
         }
     }
-    int rc = check_output("sky", out);
+    int rc = check_output("sky", out, png_only);
     if (rc != EXIT_OK) return rc;
     lumis_image *image = NULL;
     lumis_status st = lumis_sky_create(&d, &image);
-    return finish(st, image, out, &wo);
+    return finish(st, image, out, wo, auto_ev);
 }
 
 int cmd_studio(int argc, char **argv)
@@ -121,10 +126,12 @@ int cmd_studio(int argc, char **argv)
     lumis_studio_desc d = {0};
     d.errors = tool_errors;
     lumis_write_options wo = {0};
-    const char *out = NULL, *v;
+    int auto_ev = 1;
+    const char *out = NULL, *v, *png_only = NULL;
     for (int i = 1; i < argc; i++) {
         double x;
-        int rc = common_option("studio", argc, argv, &i, &d.width, &d.height, &out, &wo);
+        int rc = common_option("studio", argc, argv, &i, &d.width, &d.height, &out, &wo, &auto_ev,
+                               &png_only);
         if (rc > 0) return rc;
         if (rc == 0) continue;
         if (tool_is_help(argv[i])) {
@@ -138,9 +145,9 @@ int cmd_studio(int argc, char **argv)
             return tool_usage_error("studio", "unknown argument '%s'", argv[i]);
         }
     }
-    int rc = check_output("studio", out);
+    int rc = check_output("studio", out, png_only);
     if (rc != EXIT_OK) return rc;
     lumis_image *image = NULL;
     lumis_status st = lumis_studio_create(&d, &image);
-    return finish(st, image, out, &wo);
+    return finish(st, image, out, wo, auto_ev);
 }

@@ -98,3 +98,25 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
     }
     return EXIT_OK;
 }
+
+int tool_exposure_option(const char *cmd, const char *v, float *ev, int *is_auto)
+{
+    double x;
+    if (v && strcmp(v, "auto") == 0) {
+        *is_auto = 1;
+        *ev = 0.0f;
+        return EXIT_OK;
+    }
+    if (!tool_parse_double(v, &x) || x < -64 || x > 64)
+        return tool_usage_error(cmd, "--exposure needs 'auto' or stops in [-64, 64], not '%s'",
+                                v ? v : "");
+    *is_auto = 0;
+    *ev = (float)x;
+    return EXIT_OK;
+}
+
+int tool_png_only_option(const char *cmd, const char *option, const char *out)
+{
+    if (!option || !out || lumis_format_from_path(out) == LUMIS_FORMAT_PNG) return EXIT_OK;
+    return tool_usage_error(cmd, "%s applies to PNG output only, and %s is not a PNG", option, out);
+}

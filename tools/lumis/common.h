@@ -42,6 +42,13 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
  * image).  The default of every PNG preview. */
 float tool_auto_exposure(const lumis_image *image);
 
+/* Parses --exposure's value: "auto" (is_auto = 1) or stops in [-64, 64].  Exit code. */
+int tool_exposure_option(const char *cmd, const char *v, float *ev, int *is_auto);
+
+/* Usage error when option (NULL: none given) is a PNG-only option (--exposure, --tonemap)
+ * and out is not a PNG.  Exit code. */
+int tool_png_only_option(const char *cmd, const char *option, const char *out);
+
 /* Writes with the atomic writer; prints errors itself. */
 lumis_status tool_write_image(const char *path, const lumis_image *image,
                               const lumis_write_options *options);
@@ -77,6 +84,15 @@ void tool_files_output(tool_files *f, const char *what, const char *path, tool_o
  * Same file: by device and inode when both exist, else by resolved directory and name. */
 int tool_files_check(const char *cmd, const tool_files *f);
 int tool_same_file(const char *a, const char *b);
+
+/* ---- text in images (tools/lumis/label.c): a 5x7 font, upper case -------------------------- */
+
+/* Width in pixels of text drawn at scale (each glyph 5 x 7 pixels times scale, one column
+ * of space between). */
+int tool_text_width(const char *text, int scale);
+/* Draws text with its top-left corner at (x, y), clipped to the image, in colour c
+ * (linear values).  Lower case is drawn as upper case; unknown characters as '?'. */
+void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text, lumis_rgb c);
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);
@@ -124,8 +140,10 @@ typedef struct tool_render_opts {
     const char *sidecar;   /* NULL: OUT.json; "": none */
     const char *cmd;       /* names the command in usage errors (NULL: "render") */
     lumis_write_options png_options;
-    int quiet;
-    int argc; /* the command line, for the sidecar */
+    int png_auto_exposure; /* nonzero: png_options.exposure_ev from the image (auto) */
+    int quiet;             /* no progress bar, no summary line */
+    int progress;          /* the progress bar (on a terminal) even when quiet */
+    int argc;              /* the command line, for the sidecar */
     char **argv;
 } tool_render_opts;
 

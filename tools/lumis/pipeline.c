@@ -483,7 +483,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     r->scene_seconds = now_seconds() - t1;
 
     progress pg = {0};
-    pg.enabled = !o->quiet && isatty(STDERR_FILENO);
+    pg.enabled = (!o->quiet || o->progress) && isatty(STDERR_FILENO);
     pg.start = now_seconds();
     pg.budget = o->time_budget;
     lumis_render_desc rd = o->rd;
@@ -504,7 +504,11 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (pg.enabled) progress_draw(&pg, 1.0, 1);
     if (st != LUMIS_OK || lumis_render_job_image(job, &r->image) != LUMIS_OK) goto done;
     if (o->out && tool_write_image(o->out, r->image, NULL) != LUMIS_OK) goto done;
-    if (o->png && tool_write_image(o->png, r->image, &o->png_options) != LUMIS_OK) goto done;
+    if (o->png) {
+        lumis_write_options po = o->png_options;
+        if (o->png_auto_exposure) po.exposure_ev = tool_auto_exposure(r->image);
+        if (tool_write_image(o->png, r->image, &po) != LUMIS_OK) goto done;
+    }
     r->total_seconds = now_seconds() - t0;
     r->sampler_build_ms = lumis_sampler_build_ms(smp);
     r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
