@@ -325,9 +325,10 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     /* Record the rays, in order, on one thread. */
     lumis_render_desc d = make_desc(&cam, env, smp, o->spp_shadow, 1);
     lumis_render_stats stats;
-    lumis__render_set_shadow_hook(collect, &list);
+    d.shadow_ray = collect;
+    d.shadow_ray_user = &list;
     rc = render_once(scene, &d, &stats);
-    lumis__render_set_shadow_hook(NULL, NULL);
+    d.shadow_ray = NULL;
     if (rc) goto done;
     if (list.oom) {
         rc = bench_fail("out of memory recording %.0f shadow rays", stats.shadow_rays);
@@ -394,7 +395,6 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     res->raw1 = summarize(raw1, o->runs_shadow);
     res->raw16 = summarize(raw16, o->runs_shadow);
 done:
-    lumis__render_set_shadow_hook(NULL, NULL);
     free(list.v);
     free(v);
     lumis_sampler_destroy(smp);

@@ -82,6 +82,11 @@ typedef struct lumis_render_desc {
      * from one rendering thread at a time (never concurrently). */
     void (*progress)(void *user, int done, int total);
     void *progress_user;
+    /* Optional: every shadow ray the integrator traces (origin, unit direction, unbounded)
+     * is also handed to it before it is traced, from the rendering threads concurrently
+     * (render with threads = 1 to record them in order).  For benchmarks and debugging. */
+    void (*shadow_ray)(void *user, const float org[3], const float dir[3]);
+    void *shadow_ray_user;
     lumis_error_sink errors;
 } lumis_render_desc;
 

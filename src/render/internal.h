@@ -27,10 +27,6 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 
 /* Benchmark hooks (bench/bench_render.c), not part of the public API. */
-/* When fn is set, every shadow ray the integrator traces is also handed to it, from the
- * rendering threads (render with one thread to collect them in order). */
-typedef void (*lumis__shadow_ray_fn)(void *user, const float org[3], const float dir[3]);
-void lumis__render_set_shadow_hook(lumis__shadow_ray_fn fn, void *user);
 /* The top-level Embree scene (an RTCScene), for raw throughput on the same rays. */
 void *lumis__scene_rtc(const lumis_scene *scene);
 

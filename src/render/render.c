@@ -386,21 +386,12 @@ static int intersect(const lumis_scene *s, v3 o, v3 d, hit *h)
     return 1;
 }
 
-static lumis__shadow_ray_fn shadow_hook;
-static void *shadow_hook_user;
-
-void lumis__render_set_shadow_hook(lumis__shadow_ray_fn fn, void *user)
-{
-    shadow_hook = fn;
-    shadow_hook_user = user;
-}
-
 void *lumis__scene_rtc(const lumis_scene *scene)
 {
     return scene ? scene->rtc : NULL;
 }
 
-static int occluded(const lumis_scene *s, v3 o, v3 d)
+static int occluded(const lumis_scene *s, const lumis_render_desc *desc, v3 o, v3 d)
 {
     struct RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -416,9 +407,9 @@ static int occluded(const lumis_scene *s, v3 o, v3 d)
     r.mask = 0xffffffffu;
     r.flags = 0;
     r.time = 0.0f;
-    if (shadow_hook) {
+    if (desc->shadow_ray) {
         const float of[3] = {r.org_x, r.org_y, r.org_z}, df[3] = {r.dir_x, r.dir_y, r.dir_z};
-        shadow_hook(shadow_hook_user, of, df);
+        desc->shadow_ray(desc->shadow_ray_user, of, df);
     }
     rtcOccluded1(s->rtc, &ctx, &r);
     return r.tfar < 0.0f;
@@ -467,7 +458,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *sh
         lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
         if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
         *shadow_rays += 1.0;
-        if (occluded(c->scene, org, wi)) continue;
+        if (occluded(c->scene, d, org, wi)) continue;
         double w =
             mis ? mis_weight(c->nl, e.pdf, c->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
                 : 1.0;
@@ -481,7 +472,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *sh
         if (!(bs.pdf > 0.0f)) continue;
         v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
         *shadow_rays += 1.0;
-        if (occluded(c->scene, org, wi)) continue;
+        if (occluded(c->scene, d, org, wi)) continue;
         lumis_rgb Le;
         double w = 1.0;
         if (mis && c->fused) { /* one pixel lookup for the radiance and the light pdf */

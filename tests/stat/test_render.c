@@ -87,6 +87,53 @@ static lumis_image *render(const lumis_scene *s, const lumis_envmap *env, lumis_
     return img;
 }
 
+typedef struct ray_count {
+    long n, bad;
+} ray_count;
+
+static void count_ray(void *user, const float org[3], const float dir[3])
+{
+    ray_count *c = user;
+    (void)org;
+    c->n++;
+    float len2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
+    c->bad += !(fabsf(len2 - 1.0f) < 1e-4f);
+}
+
+/* The descriptor's shadow-ray callback sees every shadow ray the statistics count, each
+ * with a unit direction, and two renders with their own callbacks do not mix (it used to
+ * be a static hook shared by every render). */
+static void shadow_ray_callback(void **state)
+{
+    (void)state;
+    lumis_envmap *env = env_of(tu_image(32, 16, f_const));
+    lumis_scene *s = one_sphere(0.5f);
+    lumis_sampler_desc sd = {0};
+    lumis_sampler *smp = NULL;
+    assert_int_equal(lumis_sampler_create(env, &sd, &smp), LUMIS_OK);
+    ray_count c[2] = {{0, 0}, {0, 0}};
+    for (int k = 0; k < 2; k++) {
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.env = env;
+        d.sampler = smp;
+        d.spp = 1 + k;
+        d.threads = 1;
+        d.shadow_ray = count_ray;
+        d.shadow_ray_user = &c[k];
+        lumis_image *img = NULL;
+        lumis_render_stats st;
+        assert_int_equal(lumis_render(s, &d, &img, &st), LUMIS_OK);
+        assert_true(st.shadow_rays > 0 && (double)c[k].n == st.shadow_rays);
+        assert_int_equal(c[k].bad, 0);
+        lumis_image_destroy(img);
+    }
+    assert_true(c[1].n > c[0].n);
+    lumis_sampler_destroy(smp);
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
 static void furnace(void **state)
 {
     (void)state;
@@ -484,6 +531,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
+        cmocka_unit_test(shadow_ray_callback),
         cmocka_unit_test(exact_irradiance),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
         cmocka_unit_test(bad_scenes),
