@@ -61,6 +61,19 @@ typedef struct lumis_read_info {
 lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
                               lumis_image **out, lumis_read_info *info);
 
+/* The default sky of the "sky" spec: the sun's elevation and azimuth in degrees. */
+#define LUMIS_MAP_SKY_ELEVATION_DEG 35.0
+#define LUMIS_MAP_SKY_AZIMUTH_DEG   60.0
+
+/* Reads a map named by a spec: an image file (as lumis_image_read), or a procedural map
+ * made by the core library: "sky" (lumis_sky_create with the sun at
+ * LUMIS_MAP_SKY_ELEVATION_DEG / _AZIMUTH_DEG, the other parameters default), "studio"
+ * (lumis_studio_create), either with ":WxH" (sizes in [1, 65536]; default 1024x512).
+ * A procedural map reports format LUMIS_FORMAT_AUTO in info.  The tool's MAP arguments and
+ * scene files' "map" go through it.  options and info may be NULL. */
+lumis_status lumis_map_read(const char *spec, const lumis_read_options *options, lumis_image **out,
+                            lumis_read_info *info);
+
 /* Reads an image held in memory (borrowed for the call).  name is used in messages only
  * (NULL == "<memory>").  format AUTO detects it from the content. */
 lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_format format,

@@ -13,6 +13,7 @@
 #include "lumis/bsdf.h"
 #include "lumis/envmap.h"
 #include "lumis/image.h"
+#include "lumis/io.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -141,13 +142,25 @@ void lumis_render_job_destroy(lumis_render_job *job);
  * (objects[1].material.alpha_x) and what was expected. */
 typedef struct lumis_scene_file {
     lumis_camera camera;
-    char env_map[4096]; /* resolved path or procedural spec; "" if the file names none */
+    char env_map[4096];       /* resolved path or procedural spec; "" if the file names none */
+    lumis_image *env_image;   /* that map, read through lumis-io (owned by the file); NULL
+                                 when the file names none or it was skipped */
+    lumis_read_info env_info; /* what reading it did (replaced values, format) */
     float env_rotation_deg, env_scale;
     lumis_object *objects; /* meshes' vertex and index arrays are owned by the file */
     int object_count;
 } lumis_scene_file;
 
-lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
+typedef struct lumis_scene_read_options {
+    int skip_env_map;       /* nonzero: leave env_image NULL (the caller lights the scene with
+                               another map) */
+    lumis_read_options map; /* how the map is read (pixel limit, threads) */
+    lumis_error_sink errors;
+} lumis_scene_read_options;
+
+/* Reads a scene file, its meshes and its map (lumis_map_read: a file beside the scene or a
+ * procedural spec).  options may be NULL (everything read, no messages). */
+lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
                                    lumis_scene_file **out);
 
 /* Built-in scenes, with no files:

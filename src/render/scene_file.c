@@ -5,6 +5,8 @@
 #include "../core/internal.h"
 #include "internal.h"
 
+#include "lumis/io.h"
+
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -49,6 +51,7 @@ void lumis_scene_file_destroy(lumis_scene_file *f)
     }
     free(fp->meshes);
     free(f->objects);
+    lumis_image_destroy(f->env_image);
     free(f);
 }
 
@@ -404,9 +407,10 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k)
     return LUMIS_OK;
 }
 
-lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *errors,
+lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
                                    lumis_scene_file **out)
 {
+    const lumis_error_sink *errors = options ? &options->errors : NULL;
     if (!out || !path) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
     char dir[4096] = "";
@@ -429,6 +433,16 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_error_sink *err
     fclose(fp);
     lumis_status st = lumis__scene_file_parse(text, (size_t)n, path, dir, 1, errors, out);
     free(text);
+    if (st != LUMIS_OK || !(*out)->env_map[0] || (options && options->skip_env_map)) return st;
+    /* The map, through lumis-io (a file beside the scene, or a procedural spec). */
+    lumis_read_options ro = {0};
+    if (options) ro = options->map;
+    if (errors) ro.errors = *errors;
+    st = lumis_map_read((*out)->env_map, &ro, &(*out)->env_image, &(*out)->env_info);
+    if (st != LUMIS_OK) {
+        lumis_scene_file_destroy(*out);
+        *out = NULL;
+    }
     return st;
 }
 

@@ -489,6 +489,46 @@ static void integrating_sphere(void **state)
     lumis_scene_destroy(s);
 }
 
+/* A scene file's map is read by the reader, through lumis-io: a procedural spec or a file
+ * beside the scene; skipped on request; a missing map fails the read and names the file. */
+static void scene_file_reads_its_map(void **state)
+{
+    (void)state;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    static const char with_sky[] =
+        "{\"environment\": {\"map\": \"sky:16x8\"}, \"objects\": [{\"type\": \"sphere\", "
+        "\"center\": [0, 0, 0], \"radius\": 1, \"material\": {\"type\": \"lambert\"}}]}";
+    tu_write_file(tu_path("sky-scene.json"), with_sky, sizeof with_sky - 1);
+    lumis_scene_read_options so = {0};
+    so.errors = sink.sink;
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis_scene_file_read(tu_path("sky-scene.json"), &so, &f), LUMIS_OK);
+    assert_non_null(f->env_image);
+    assert_true(f->env_image->width == 16 && f->env_image->height == 8);
+    lumis_scene_file_destroy(f);
+    so.skip_env_map = 1;
+    assert_int_equal(lumis_scene_file_read(tu_path("sky-scene.json"), &so, &f), LUMIS_OK);
+    assert_null(f->env_image);
+    assert_string_equal(f->env_map, "sky:16x8");
+    lumis_scene_file_destroy(f);
+    /* A file beside the scene, named relative to it. */
+    lumis_image *img = tu_image(8, 4, f_const);
+    assert_int_equal(lumis_image_write(tu_path("beside.pfm"), img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    static const char beside[] = "{\"environment\": {\"map\": \"beside.pfm\"}, \"objects\": []}";
+    tu_write_file(tu_path("beside-scene.json"), beside, sizeof beside - 1);
+    so.skip_env_map = 0;
+    assert_int_equal(lumis_scene_file_read(tu_path("beside-scene.json"), &so, &f), LUMIS_OK);
+    assert_true(f->env_image && f->env_image->width == 8 && f->env_info.format == LUMIS_FORMAT_PFM);
+    lumis_scene_file_destroy(f);
+    static const char missing[] = "{\"environment\": {\"map\": \"missing.exr\"}, \"objects\": []}";
+    tu_write_file(tu_path("missing-scene.json"), missing, sizeof missing - 1);
+    assert_int_equal(lumis_scene_file_read(tu_path("missing-scene.json"), &so, &f), LUMIS_ERR_OPEN);
+    assert_null(f);
+    assert_non_null(strstr(sink.last, "missing.exr"));
+}
+
 static void bad_scenes(void **state)
 {
     (void)state;
@@ -531,6 +571,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
+        cmocka_unit_test(scene_file_reads_its_map),
         cmocka_unit_test(shadow_ray_callback),
         cmocka_unit_test(exact_irradiance),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),

@@ -11,8 +11,8 @@
 #include <stdio.h>
 
 /* Sun of the default sky (`lumis sky`, the "sky" map spec, `lumis demo`). */
-#define TOOL_SKY_ELEVATION_DEG 35.0
-#define TOOL_SKY_AZIMUTH_DEG   60.0
+#define TOOL_SKY_ELEVATION_DEG LUMIS_MAP_SKY_ELEVATION_DEG
+#define TOOL_SKY_AZIMUTH_DEG   LUMIS_MAP_SKY_AZIMUTH_DEG
 
 /* Exit codes of every subcommand. */
 enum { EXIT_OK = 0, EXIT_RUNTIME = 1, EXIT_USAGE = 2 };

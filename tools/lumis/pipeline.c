@@ -17,38 +17,9 @@
 
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
 {
-    lumis_read_info local;
-    if (!info) info = &local;
-    memset(info, 0, sizeof *info);
-    int w = 0, h = 0;
-    const char *colon = strchr(spec, ':');
-    size_t name_len = colon ? (size_t)(colon - spec) : strlen(spec);
-    int is_sky = name_len == 3 && strncmp(spec, "sky", 3) == 0;
-    int is_studio = name_len == 6 && strncmp(spec, "studio", 6) == 0;
-    if (is_sky || is_studio) {
-        if (colon && !tool_parse_size(colon + 1, &w, &h)) {
-            fprintf(stderr, "lumis: %s: expected %.*s:WxH, e.g. %.*s:1024x512\n", spec,
-                    (int)name_len, spec, (int)name_len, spec);
-            return LUMIS_ERR_INVALID_ARGUMENT;
-        }
-        if (is_sky) {
-            lumis_sky_desc d = {0};
-            d.width = w;
-            d.height = h;
-            d.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
-            d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
-            d.errors = tool_errors;
-            return lumis_sky_create(&d, out);
-        }
-        lumis_studio_desc d = {0};
-        d.width = w;
-        d.height = h;
-        d.errors = tool_errors;
-        return lumis_studio_create(&d, out);
-    }
     lumis_read_options opt = {0};
     opt.errors = tool_errors;
-    return lumis_image_read(spec, &opt, out, info);
+    return lumis_map_read(spec, &opt, out, info);
 }
 
 lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,
@@ -436,7 +407,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     memset(r, 0, sizeof *r);
     double t0 = now_seconds();
     lumis_scene_file *file = NULL;
-    lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &tool_errors, &file)
+    lumis_scene_read_options so = {0};
+    so.skip_env_map = o->envspec != NULL; /* --env replaces the scene's map: not read */
+    so.errors = tool_errors;
+    lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &so, &file)
                                     : lumis_scene_builtin(o->scene_name, &tool_errors, &file);
     if (st != LUMIS_OK) return EXIT_RUNTIME;
     const char *envspec = o->envspec ? o->envspec : (file->env_map[0] ? file->env_map : "sky");
@@ -471,7 +445,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene *scene = NULL;
     lumis_render_job *job = NULL;
     rc = EXIT_RUNTIME;
-    if (tool_make_envmap(envspec, o->env_image, rotation, scale, &env) != LUMIS_OK) goto done;
+    const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
+    if (tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
     if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
