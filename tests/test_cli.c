@@ -77,6 +77,18 @@ static void help_version_and_usage_errors(void **state)
     expect("info --bogus x.exr", 2, "unknown option '--bogus'");
     expect("convert only-one.exr", 2, "needs IN and OUT");
     expect("convert sky:8x4 out.jpg", 2, "out.jpg: unknown extension");
+    /* Bad values are named, with what was expected. */
+    expect("render --scene spheres --seed -1 -o x.exr", 2,
+           "--seed needs an integer in [0, 2147483647], not '-1'");
+    expect("render --scene spheres --method bsdf --mis power -o x.exr", 2, "--mis power");
+    expect("render --scene spheres --exposure 2 -o x.exr", 2, "give --png OUT.png");
+    expect("convert sky:8x4 x.hdr --half", 2, "--half applies to EXR output only");
+    expect("sky --size 8x4 -o x.exr --tonemap aces", 2, "--tonemap applies to PNG output only");
+    char *help = NULL;
+    assert_int_equal(run("info --help", &help, NULL), 0);
+    assert_null(strstr(help, "%%")); /* printed with fputs: no printf escapes */
+    assert_non_null(strstr(help, "top 1 % is"));
+    free(help);
     expect("convert sky:8x4 o.png --tonemap filmic", 2, "--tonemap");
     expect("convert sky:8x4 o.png --exposure lots", 2, "--exposure");
     expect("sky --sun-elevation 100 -o x.exr", 2, "--sun-elevation");
@@ -261,6 +273,11 @@ static void sample_and_pdf_agree_and_are_reproducible(void **state)
     char *err = NULL;
     assert_int_equal(run_stdin("pdf sky:8x4", tu_path("bad.txt"), NULL, &err), 1);
     assert_non_null(strstr(err, "stdin line 1: expected 'x y z'"));
+    free(err);
+    err = NULL;
+    tu_write_file(tu_path("zero.txt"), "0 1 0\n0 0 0\n", 12);
+    assert_int_equal(run_stdin("pdf sky:8x4", tu_path("zero.txt"), NULL, &err), 1);
+    assert_non_null(strstr(err, "stdin line 2: the direction (0 0 0) has no finite"));
     free(err);
 }
 

@@ -45,15 +45,15 @@ int cmd_compare(int argc, char **argv)
             hdr_flip = 0;
         } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
             if (!tool_parse_double(v, &ev) || ev < -64 || ev > 64)
-                return tool_usage_error("compare", "--exposure needs stops in [-64, 64]");
+                return tool_bad_value("compare", "--exposure", v, "needs stops in [-64, 64]");
         } else if (tool_option(argc, argv, &i, "--ppd", &v)) {
             if (!tool_parse_double(v, &ppd) || !(ppd > 0.0) || ppd > 10000)
-                return tool_usage_error("compare", "--ppd needs pixels per degree");
+                return tool_bad_value("compare", "--ppd", v, "needs pixels per degree");
         } else if (tool_option(argc, argv, &i, "--map", &v)) {
-            if (!v || !*v) return tool_usage_error("compare", "--map needs a file");
+            if (!v || !*v) return tool_bad_value("compare", "--map", v, "needs a file");
             map_path = v;
         } else if (tool_option(argc, argv, &i, "--diff", &v)) {
-            if (!v || !*v) return tool_usage_error("compare", "--diff needs a file");
+            if (!v || !*v) return tool_bad_value("compare", "--diff", v, "needs a file");
             diff_path = v;
         } else if (argv[i][0] != '-' && !ref_path) {
             ref_path = argv[i];

@@ -6,8 +6,9 @@
 
 static const char usage[] =
     "usage: lumis convert IN OUT [options]\n\n"
-    "Converts an image; formats come from the extensions (.exr .hdr .pfm .png; PNG is\n"
-    "output only).  IN may also be sky[:WxH] or studio[:WxH].\n\n"
+    "Converts an image.  IN is read by its content (.exr .hdr .pfm, and .png decoded from\n"
+    "sRGB to linear) and may also be sky[:WxH] or studio[:WxH]; OUT's format comes from its\n"
+    "extension (.exr .hdr .pfm .png).\n\n"
     "options:\n"
     "  --exposure EV   PNG: multiply radiance by 2^EV before tone mapping; 'auto' (default)\n"
     "                  brings the mean luminance to 0.18\n"
@@ -37,10 +38,10 @@ int cmd_convert(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
             png_only = "--tonemap";
             if (!v || lumis_tonemap_from_name(v, &wo.tonemap) != LUMIS_OK)
-                return tool_usage_error("convert", "--tonemap must be clamp, reinhard or aces");
+                return tool_bad_value("convert", "--tonemap", v, "must be clamp, reinhard or aces");
         } else if (tool_option(argc, argv, &i, "--resize", &v)) {
             if (!tool_parse_size(v, &rw, &rh))
-                return tool_usage_error("convert", "--resize needs WxH, e.g. 512x256");
+                return tool_bad_value("convert", "--resize", v, "needs WxH, e.g. 512x256");
         } else if (tool_option(argc, argv, &i, "--compression", &v)) {
             exr_only = "--compression";
             if (!v || lumis_exr_compression_from_name(v, &wo.exr_compression) != LUMIS_OK)
@@ -49,7 +50,7 @@ int cmd_convert(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--tile", &v)) {
             long t;
             if (!tool_parse_int(v, 1, 65536, &t))
-                return tool_usage_error("convert", "--tile needs a tile size in [1, 65536]");
+                return tool_bad_value("convert", "--tile", v, "needs a tile size in [1, 65536]");
             wo.exr_tile_size = (int)t;
             exr_only = "--tile";
         } else if (strcmp(argv[i], "--half") == 0) {

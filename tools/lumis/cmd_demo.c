@@ -88,14 +88,14 @@ int cmd_demo(int argc, char **argv)
             fputs(usage, stdout);
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--out", &v)) {
-            if (!v || !*v) return tool_usage_error("demo", "--out needs a folder");
+            if (!v || !*v) return tool_bad_value("demo", "--out", v, "needs a folder");
             dir = v;
         } else if (tool_option(argc, argv, &i, "--time", &v)) {
             if (!tool_parse_double(v, &budget) || !(budget > 0.0) || budget > 3600.0)
-                return tool_usage_error("demo", "--time needs seconds in (0, 3600]");
+                return tool_bad_value("demo", "--time", v, "needs seconds in (0, 3600]");
         } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!tool_parse_int(v, 1, 4096, &threads))
-                return tool_usage_error("demo", "--threads needs a count");
+                return tool_bad_value("demo", "--threads", v, "needs a count in [1, 4096]");
         } else {
             return tool_usage_error("demo", "unknown argument '%s'", argv[i]);
         }

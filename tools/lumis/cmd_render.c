@@ -61,16 +61,16 @@ int cmd_render(int argc, char **argv)
             fputs(usage, stdout);
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--scene", &v)) {
-            if (!v) return tool_usage_error("render", "--scene needs a name");
+            if (!v) return tool_bad_value("render", "--scene", v, "needs a name");
             o.scene_name = v;
         } else if (tool_option(argc, argv, &i, "--env", &v)) {
-            if (!v) return tool_usage_error("render", "--env needs a map");
+            if (!v) return tool_bad_value("render", "--env", v, "needs a map");
             o.envspec = v;
         } else if (tool_option(argc, argv, &i, "--method", &v)) {
             if (v && strcmp(v, "bsdf") == 0)
                 o.bsdf_only = 1;
             else if (!v || lumis_sampler_method_from_name(v, &o.sampler.method) != LUMIS_OK)
-                return tool_usage_error("render", "--method must be a sampler name or 'bsdf'");
+                return tool_bad_value("render", "--method", v, "must be a sampler name or 'bsdf'");
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)
@@ -80,50 +80,50 @@ int cmd_render(int argc, char **argv)
             else if (v && strcmp(v, "none") == 0)
                 o.rd.estimator = LUMIS_ESTIMATOR_LIGHT;
             else
-                return tool_usage_error("render", "--mis must be balance, power or none");
+                return tool_bad_value("render", "--mis", v, "must be balance, power or none");
         } else if (tool_option(argc, argv, &i, "--light-samples", &v)) {
             if (!tool_parse_int(v, 1, 4096, &x))
-                return tool_usage_error("render", "--light-samples needs a count in [1, 4096]");
+                return tool_bad_value("render", "--light-samples", v, "needs a count in [1, 4096]");
             o.rd.light_samples = (int)x;
         } else if (tool_option(argc, argv, &i, "--bsdf-samples", &v)) {
             if (!tool_parse_int(v, 1, 4096, &x))
-                return tool_usage_error("render", "--bsdf-samples needs a count in [1, 4096]");
+                return tool_bad_value("render", "--bsdf-samples", v, "needs a count in [1, 4096]");
             o.rd.bsdf_samples = (int)x;
         } else if (tool_option(argc, argv, &i, "--spp", &v)) {
             if (!tool_parse_int(v, 1, 1 << 20, &x))
-                return tool_usage_error("render", "--spp needs a count in [1, 2^20]");
+                return tool_bad_value("render", "--spp", v, "needs a count in [1, 2^20]");
             o.rd.spp = (int)x;
             spp_given = 1;
         } else if (tool_option(argc, argv, &i, "--time", &v)) {
             if (!tool_parse_double(v, &d) || !(d > 0.0) || d > 1e6)
-                return tool_usage_error("render", "--time needs seconds, more than 0");
+                return tool_bad_value("render", "--time", v, "needs seconds, more than 0");
             o.time_budget = d;
         } else if (tool_option(argc, argv, &i, "--bounces", &v)) {
             if (!tool_parse_int(v, 0, 1024, &x))
-                return tool_usage_error("render", "--bounces needs a count in [0, 1024]");
+                return tool_bad_value("render", "--bounces", v, "needs a count in [0, 1024]");
             o.rd.max_bounces = (int)x;
         } else if (tool_option(argc, argv, &i, "--seed", &v)) {
             if (!tool_parse_int(v, 0, 2147483647L, &x))
-                return tool_usage_error("render", "--seed needs an integer");
+                return tool_bad_value("render", "--seed", v, "needs an integer in [0, 2147483647]");
             o.rd.seed = (unsigned long long)x;
         } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!tool_parse_int(v, 1, 4096, &x))
-                return tool_usage_error("render", "--threads needs a count");
+                return tool_bad_value("render", "--threads", v, "needs a count in [1, 4096]");
             o.rd.threads = (int)x;
         } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
             if (!tool_parse_int(v, 1, 1 << 24, &x))
-                return tool_usage_error("render", "--blocks needs a count");
+                return tool_bad_value("render", "--blocks", v, "needs a count in [1, 16777216]");
             o.sampler.kdtree_blocks = (int)x;
         } else if (tool_option(argc, argv, &i, "--size", &v)) {
             if (!tool_parse_size(v, &o.width, &o.height) || o.width > 16384 || o.height > 16384)
-                return tool_usage_error("render", "--size needs WxH up to 16384x16384");
+                return tool_bad_value("render", "--size", v, "needs WxH up to 16384x16384");
         } else if (tool_option(argc, argv, &i, "--output", &v) ||
                    tool_option(argc, argv, &i, "-o", &v)) {
             o.out = v;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
             o.png = v;
         } else if (tool_option(argc, argv, &i, "--sidecar", &v)) {
-            if (!v || !*v) return tool_usage_error("render", "--sidecar needs a path");
+            if (!v || !*v) return tool_bad_value("render", "--sidecar", v, "needs a path");
             o.sidecar = v;
         } else if (strcmp(argv[i], "--no-sidecar") == 0) {
             o.sidecar = "";
@@ -137,7 +137,7 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
             png_only = "--tonemap";
             if (!v || lumis_tonemap_from_name(v, &o.png_options.tonemap) != LUMIS_OK)
-                return tool_usage_error("render", "--tonemap must be clamp, reinhard or aces");
+                return tool_bad_value("render", "--tonemap", v, "must be clamp, reinhard or aces");
         } else if (argv[i][0] != '-' && !o.scene_path) {
             o.scene_path = argv[i];
         } else {

@@ -2,6 +2,7 @@
  * the command line, in the exact text forms other tools read. */
 #include "common.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,11 +42,11 @@ static int parse_common(const char *cmd, int argc, char **argv, const char *usag
             return -1;
         } else if (is_sample && tool_option(argc, argv, &i, "-n", &v)) {
             if (!tool_parse_int(v, 0, 1000000000L, n))
-                return tool_usage_error(cmd, "-n needs a sample count in [0, 10^9]");
+                return tool_bad_value(cmd, "-n", v, "needs a sample count in [0, 10^9]");
         } else if (is_sample && tool_option(argc, argv, &i, "--seed", &v)) {
             char *end;
             if (!v || !*v || (*seed = strtoull(v, &end, 10), *end))
-                return tool_usage_error(cmd, "--seed needs a non-negative integer");
+                return tool_bad_value(cmd, "--seed", v, "needs a non-negative integer");
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return tool_usage_error(cmd, "unknown option '%s'", argv[i]);
         } else if (!*map) {
@@ -107,6 +108,13 @@ int cmd_pdf(int argc, char **argv)
         if (line[0] == '\n' || line[0] == '#') continue;
         if (sscanf(line, "%lf %lf %lf %c", &x, &y, &z, &extra) != 3) {
             rc = tool_runtime_error("stdin line %ld: expected 'x y z'", lineno);
+            break;
+        }
+        const double len2 = x * x + y * y + z * z;
+        if (!(len2 > 1e-30) || !isfinite(len2)) {
+            rc = tool_runtime_error("stdin line %ld: the direction (%g %g %g) has no finite, "
+                                    "nonzero length",
+                                    lineno, x, y, z);
             break;
         }
         lumis_vec3 dir = {(float)x, (float)y, (float)z};

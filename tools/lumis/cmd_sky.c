@@ -36,7 +36,7 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
     const char *v;
     if (tool_option(argc, argv, i, "--size", &v)) {
         if (!tool_parse_size(v, w, h))
-            return tool_usage_error(cmd, "--size needs WxH, e.g. 1024x512");
+            return tool_bad_value(cmd, "--size", v, "needs WxH, e.g. 1024x512");
     } else if (tool_option(argc, argv, i, "--output", &v) || tool_option(argc, argv, i, "-o", &v)) {
         if (!v) return tool_usage_error(cmd, "-o needs a file name");
         *out = v;
@@ -46,7 +46,7 @@ static int common_option(const char *cmd, int argc, char **argv, int *i, int *w,
     } else if (tool_option(argc, argv, i, "--tonemap", &v)) {
         *png_only = "--tonemap";
         if (!v || lumis_tonemap_from_name(v, &wo->tonemap) != LUMIS_OK)
-            return tool_usage_error(cmd, "--tonemap must be clamp, reinhard or aces");
+            return tool_bad_value(cmd, "--tonemap", v, "must be clamp, reinhard or aces");
     } else {
         return -1;
     }
@@ -94,19 +94,19 @@ int cmd_sky(int argc, char **argv)
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--sun-elevation", &v)) {
             if (!tool_parse_double(v, &x) || x < 0 || x > 90)
-                return tool_usage_error("sky", "--sun-elevation needs degrees in [0, 90]");
+                return tool_bad_value("sky", "--sun-elevation", v, "needs degrees in [0, 90]");
             d.sun_elevation_deg = (float)x;
         } else if (tool_option(argc, argv, &i, "--sun-azimuth", &v)) {
             if (!tool_parse_double(v, &x))
-                return tool_usage_error("sky", "--sun-azimuth needs degrees");
+                return tool_bad_value("sky", "--sun-azimuth", v, "needs degrees");
             d.sun_azimuth_deg = (float)x;
         } else if (tool_option(argc, argv, &i, "--turbidity", &v)) {
             if (!tool_parse_double(v, &x) || x < 1.7 || x > 10)
-                return tool_usage_error("sky", "--turbidity needs a value in [1.7, 10]");
+                return tool_bad_value("sky", "--turbidity", v, "needs a value in [1.7, 10]");
             d.turbidity = (float)x;
         } else if (tool_option(argc, argv, &i, "--ground-albedo", &v)) {
             if (!tool_parse_double(v, &x) || x < 0 || x > 1)
-                return tool_usage_error("sky", "--ground-albedo needs a value in [0, 1]");
+                return tool_bad_value("sky", "--ground-albedo", v, "needs a value in [0, 1]");
             d.ground_albedo = x == 0.0 ? -1.0f : (float)x; /* 0 in the descriptor means default */
         } else if (strcmp(argv[i], "--no-sun") == 0) {
             d.no_sun = 1;
@@ -139,7 +139,7 @@ int cmd_studio(int argc, char **argv)
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--intensity", &v)) {
             if (!tool_parse_double(v, &x) || !(x > 0))
-                return tool_usage_error("studio", "--intensity needs a positive number");
+                return tool_bad_value("studio", "--intensity", v, "needs a positive number");
             d.intensity = (float)x;
         } else {
             return tool_usage_error("studio", "unknown argument '%s'", argv[i]);

@@ -25,6 +25,12 @@ int tool_usage_error(const char *cmd, const char *fmt, ...)
     return EXIT_USAGE;
 }
 
+int tool_bad_value(const char *cmd, const char *option, const char *value, const char *expected)
+{
+    if (!value) return tool_usage_error(cmd, "%s %s (no value given)", option, expected);
+    return tool_usage_error(cmd, "%s %s, not '%s'", option, expected, value);
+}
+
 int tool_runtime_error(const char *fmt, ...)
 {
     va_list ap;
@@ -74,7 +80,7 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
     } else if (tool_option(argc, argv, i, "--blocks", &v)) {
         long k;
         if (!tool_parse_int(v, 1, 1 << 24, &k))
-            return tool_usage_error(cmd, "--blocks needs a count in [1, 16777216]");
+            return tool_bad_value(cmd, "--blocks", v, "needs a count in [1, 16777216]");
         d->kdtree_blocks = (int)k;
     } else if (strcmp(argv[*i], "--kdtree-uniform-angles") == 0) {
         d->kdtree_uniform_angles = 1;
@@ -88,10 +94,11 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
         else if (v && strcmp(v, "max-channel") == 0)
             d->importance = LUMIS_IMPORTANCE_MAX_CHANNEL;
         else
-            return tool_usage_error(cmd, "--importance must be luminance, average or max-channel");
+            return tool_bad_value(cmd, "--importance", v,
+                                  "must be luminance, average or max-channel");
     } else if (tool_option(argc, argv, i, "--rotate", &v)) {
         double deg;
-        if (!tool_parse_double(v, &deg)) return tool_usage_error(cmd, "--rotate needs degrees");
+        if (!tool_parse_double(v, &deg)) return tool_bad_value(cmd, "--rotate", v, "needs degrees");
         *rotation = (float)deg;
     } else {
         return -1;
