@@ -1,0 +1,218 @@
+/* lumis/lights.h - representative light sets: an environment map as K directional lights.
+ *
+ * Each method partitions the map's pixels into K regions and puts one directional light at
+ * the energy centroid of each.  A light's power is the sum over its region of radiance
+ * times pixel solid angle (RGB, units of radiance x sr), so the powers of a set add up to
+ * the map's integrated radiance sum(L * Omega): every method conserves the total exactly
+ * (to double rounding).  A renderer lights a shading point x with normal n by
+ *     sum over lights k of  f(x, w_o, dir_k) * max(0, n . dir_k) * V(x, dir_k) * power_k.
+ * Definitions, formulas and every choice the papers leave open: docs/lights.md.
+ *
+ * Methods (one descriptor each, valid when zeroed; 0 == the paper's default):
+ *   - median cut (Debevec 2005)                  lumis_lights_median_cut
+ *   - variance minimisation (Viriyothai & Debevec 2009)   lumis_lights_variance_min
+ *   - Wu's decomposition (Wu 2024, "Efficient Environment Map Rendering based on
+ *     Decomposition"): EnvDirects on the emissive pixels, EnvIndirects from an
+ *     illumination cut of the rest                 lumis_lights_decompose
+ *
+ * Interleaved sampling: a lumis_light_set holds `sets` light sets, the original (index 0)
+ * and sets - 1 copies whose directions are jittered inside each light's directional
+ * extent; a renderer gives neighbouring pixels different sets
+ * (lumis_light_set_interleave_index).
+ *
+ * Randomness (the decomposition's importance sampling, the jitter) comes from PCG32
+ * streams seeded from the descriptor's seed: results depend only on the inputs. */
+#ifndef LUMIS_LIGHTS_H
+#define LUMIS_LIGHTS_H
+
+#include "lumis/envmap.h"
+#include "lumis/status.h"
+#include "lumis/types.h"
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* What a light stands for. */
+typedef enum lumis_light_kind {
+    LUMIS_LIGHT_REGION = 0,       /* a region of a partition (median cut, variance min.) */
+    LUMIS_LIGHT_ENV_DIRECT = 1,   /* Wu: a cluster of emissive pixels */
+    LUMIS_LIGHT_ENV_INDIRECT = 2, /* Wu: a node of the cut over the non-emissive pixels */
+} lumis_light_kind;
+
+/* One directional light. */
+typedef struct lumis_light {
+    lumis_vec3 dir;     /* unit world direction towards the light: its region's energy centroid */
+    float extent;       /* radians: half-angle of a cone about the original set's dir that
+                           contains the whole region (the directional extent) */
+    double power[3];    /* RGB sum over the region of L * Omega (radiance x steradian) */
+    double solid_angle; /* steradians covered by the region */
+    int pixels;         /* number of pixels in the region */
+    lumis_light_kind kind;
+} lumis_light;
+
+typedef struct lumis_light_set lumis_light_set;
+
+/* Which algorithm built a set. */
+typedef enum lumis_lights_method {
+    LUMIS_LIGHTS_MEDIAN_CUT = 1,
+    LUMIS_LIGHTS_VARIANCE_MIN = 2,
+    LUMIS_LIGHTS_DECOMPOSITION = 3,
+} lumis_lights_method;
+
+/* ---- median cut and variance minimisation ----------------------------------------- */
+
+typedef struct lumis_median_cut_desc {
+    int count;     /* K, the number of lights (1 .. pixels); 0 == 64 */
+    int sets;      /* light sets for interleaving (1 .. 64); 0 == 8 */
+    float jitter;  /* jitter of the extra sets, a fraction of each light's extent
+                      (0 .. 1]; 0 == 0.1 */
+    uint64_t seed; /* seed of the jitter */
+    lumis_error_sink errors;
+} lumis_median_cut_desc;
+
+/* Median cut (Debevec 2005): recursively splits rectangles of the equirectangular map in
+ * two of equal energy (luminance x solid angle), across the longer side measured in
+ * radians on the sphere (the width weighted by the sine of the polar angle at the
+ * rectangle's middle row), level by level; K that is not a power of two splits only the
+ * most energetic regions of the last level.  Summed-area table in double precision.
+ * Cost: O(pixels + K log pixels) time, (w + 1)(h + 1) doubles of temporary memory. */
+lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
+                                     lumis_light_set **out);
+
+typedef lumis_median_cut_desc lumis_variance_min_desc;
+
+/* Variance minimisation (Viriyothai & Debevec 2009): the same recursive scheme, but each
+ * rectangle is cut at the position, along either axis, that minimises the summed
+ * energy-weighted directional variance of the two halves (docs/lights.md); the last
+ * partial level splits the regions of largest variance.  Four summed-area tables.
+ * Cost: O(pixels + K (w + h)) time, 4 (w + 1)(h + 1) doubles of temporary memory. */
+lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
+                                       lumis_light_set **out);
+
+/* ---- Wu's decomposition ------------------------------------------------------------- */
+
+/* Which parts of the EnvDirect construction run (Table 2 of the paper). */
+typedef enum lumis_decomp_variant {
+    LUMIS_DECOMP_DEFAULT = 0, /* == LUMIS_DECOMP_FULL */
+    LUMIS_DECOMP_IS_ONLY,     /* importance sampling only (seeds drawn with replacement) */
+    LUMIS_DECOMP_IS_MASK,     /* sampling with masking, no k-means */
+    LUMIS_DECOMP_IS_KMEANS,   /* sampling without masking, then k-means */
+    LUMIS_DECOMP_FULL,        /* sampling with masking, then k-means */
+    LUMIS_DECOMP_VARIANT_COUNT
+} lumis_decomp_variant;
+
+/* How the cut over the non-emissive pixels chooses the node to refine. */
+typedef enum lumis_cut_objective {
+    LUMIS_CUT_DEFAULT = 0, /* == LUMIS_CUT_MODIFIED */
+    LUMIS_CUT_MODIFIED,    /* Eq. 3: w_V V + w_D D + w_E E, each over its current maximum */
+    LUMIS_CUT_ORIGINAL,    /* the original illumination cut: variance V only */
+    LUMIS_CUT_COUNT
+} lumis_cut_objective;
+
+/* How "angular radius s * 4 pi / K" of the mask is read (docs/lights.md). */
+typedef enum lumis_mask_radius {
+    LUMIS_MASK_DEFAULT = 0,     /* == LUMIS_MASK_CAP_SOLID_ANGLE */
+    LUMIS_MASK_CAP_SOLID_ANGLE, /* the cap whose solid angle is s * 4 pi / K */
+    LUMIS_MASK_RADIANS,         /* an angular radius of s * 4 pi / K radians */
+    LUMIS_MASK_COUNT
+} lumis_mask_radius;
+
+typedef struct lumis_decomp_desc {
+    int count;                    /* K (1 .. pixels); 0 == 64 */
+    int sets;                     /* light sets for interleaving (1 .. 64); 0 == 8 */
+    float jitter;                 /* as in lumis_median_cut_desc; 0 == 0.1 */
+    uint64_t seed;                /* seed of the importance sampling and the jitter */
+    lumis_decomp_variant variant; /* 0 == full */
+
+    /* Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max); pixels with Y > L_T are emissive. */
+    float percentile; /* L_b's percentile of pixel luminance, (0, 100]; 0 == 98 */
+    float lambda;     /* >= 0; 0 == 3 */
+    float gamma;      /* >= 0; 0 == 0.001 */
+    float threshold;  /* > 0: use this L_T instead of Eq. 1; 0 == Eq. 1 */
+
+    /* Eq. 2: N = K G_em / (G_em + G_nem), G = L^a dw^b (L mean luminance, dw solid angle). */
+    float budget_a; /* > 0; 0 == 1 */
+    float budget_b; /* > 0; 0 == 0.25 */
+
+    /* EnvDirects. */
+    float mask_scale;              /* s of the mask radius s * 4 pi / K; 0 == 0.15 */
+    lumis_mask_radius mask_radius; /* 0 == the cap of solid angle s * 4 pi / K */
+    float return_factor;           /* pixels farther than this times the mask radius from
+                                      their cluster's centre become non-emissive; 0 == 2 */
+    int kmeans_max_iterations;     /* 0 == until no pixel changes cluster */
+
+    /* EnvIndirects. */
+    lumis_cut_objective cut; /* 0 == Eq. 3 */
+    float w_v, w_d, w_e;     /* Eq. 3 weights, >= 0; 0 == 1, 5, 1 */
+
+    lumis_error_sink errors; /* errors, and warnings (reported with status LUMIS_OK) */
+} lumis_decomp_desc;
+
+/* Wu's decomposition: classifies pixels by Eq. 1, splits K by Eq. 2, builds EnvDirects by
+ * importance sampling the emissive pixels (a sum tree: O(log n) per draw and per masked
+ * pixel), masking a cap after each draw and refining with spherical k-means, then covers
+ * the non-emissive pixels with K - N EnvIndirects from a cut of a binary light tree.  A
+ * map without emissive pixels gets K EnvIndirects; one with only emissive pixels K
+ * EnvDirects (fewer only if K exceeds what the pixels can give; a warning says so). */
+lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
+                                    lumis_light_set **out);
+
+/* ---- the light set ------------------------------------------------------------------ */
+
+void lumis_light_set_destroy(lumis_light_set *set);
+
+/* Number of light sets held: 1 + the jittered copies. */
+int lumis_light_set_sets(const lumis_light_set *set);
+
+/* The lights of set `index` (0 == the original) and their number; the array lives as long
+ * as the set.  Every set has the same lights in the same order and with the same power and
+ * region; only directions differ. */
+lumis_status lumis_light_set_get(const lumis_light_set *set, int index, const lumis_light **lights,
+                                 int *count);
+
+/* Region of every pixel: width * height light indices (row-major, row 0 the zenith),
+ * -1 for a pixel of no light (none of the methods leaves one). */
+const int32_t *lumis_light_set_labels(const lumis_light_set *set, int *width, int *height);
+
+/* The set for image pixel (x, y) when `sets` sets are interleaved: an a x b tile with
+ * a * b == sets (b the largest divisor <= sqrt(sets)), repeated over the image. */
+int lumis_light_set_interleave_index(int sets, int x, int y);
+
+/* What a build did, for reports and tests. */
+typedef struct lumis_light_set_info {
+    lumis_lights_method method;
+    int requested;   /* K */
+    int count;       /* lights per set */
+    int direct;      /* EnvDirects (decomposition) */
+    int indirect;    /* EnvIndirects (decomposition) */
+    double build_ms; /* wall-clock time of the build */
+    double power[3]; /* the map's sum(L * Omega) per channel, accumulated independently */
+
+    /* Decomposition only. */
+    double threshold;               /* L_T of Eq. 1 (or the descriptor's) */
+    double percentile_luminance;    /* L_b */
+    double avg_luminance;           /* L_avg = sum(Y Omega) / 4 pi */
+    double max_luminance;           /* L_max */
+    int emissive_pixels;            /* Y > L_T */
+    int returned_pixels;            /* emissive pixels given back to the non-emissive set */
+    double gamma_em, gamma_nem;     /* Eq. 2 */
+    int budget;                     /* N of Eq. 2 after clamping */
+    double mask_radius;             /* radians */
+    int seeds;                      /* seeds drawn */
+    int kmeans_iterations;          /* assignment steps */
+    int kmeans_converged;           /* nonzero if the last assignment changed no pixel */
+    const double *kmeans_objective; /* objective after the seeds' assignment, then after each
+                                       update and each assignment step */
+    int kmeans_objective_count;
+} lumis_light_set_info;
+
+/* The build's report (valid while the set lives). */
+const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,144 @@
+/* Machinery shared by the light-set methods (not public API).  Formulas: docs/lights.md. */
+#ifndef LUMIS_LIGHTS_INTERNAL_H
+#define LUMIS_LIGHTS_INTERNAL_H
+
+#include "lumis/lights.h"
+
+#include "../core/internal.h"
+#include "../envmap/internal.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Exact per-row and per-column factors of the map (map frame, no rotation).  Pixel (i, j)
+ * has solid angle omega[j] and first moment (the integral of the direction over it)
+ *     m = (a[j] cs[i], b[j], a[j] cc[i]),
+ * with a = integral of sin^2 theta d theta over the row, b = dphi times the integral of
+ * sin theta cos theta, cs = sin phi_{i+1} - sin phi_i, cc = cos phi_i - cos phi_{i+1}. */
+typedef struct lumis__geom {
+    int w, h;
+    double *omega, *a, *b;   /* h each */
+    double *cos_t, *sin_t;   /* h + 1 row edges: cos / sin of theta_j = pi j / h */
+    double *cs, *cc;         /* w each */
+    double *cos_p, *sin_p;   /* w + 1 column edges: cos / sin of phi_i = 2 pi i / w */
+    double scale;            /* the envmap's radiance scale */
+    double cos_rot, sin_rot; /* map -> world rotation about +y */
+} lumis__geom;
+
+lumis_status lumis__geom_init(lumis__geom *g, const lumis_envmap *env);
+void lumis__geom_free(lumis__geom *g);
+
+/* Luminance of pixel p as every method weighs it: Y = scale (0.2126 R + 0.7152 G +
+ * 0.0722 B), evaluated in double and rounded to float. */
+static inline float lumis__pixel_y(const float *px, double scale)
+{
+    return (float)(scale *
+                   (0.2126 * (double)px[0] + 0.7152 * (double)px[1] + 0.0722 * (double)px[2]));
+}
+
+/* Smallest d . p over the patch theta in [theta_r0, theta_r1], phi in [phi_c0, phi_c1]
+ * (edge indices into g's tables); d a unit vector in the map frame. */
+double lumis__rect_min_dot(const lumis__geom *g, const double d[3], int r0, int r1, int c0, int c1);
+
+/* A pixel rectangle [x0, x1) x [y0, y1). */
+typedef struct lumis__rect {
+    int x0, y0, x1, y1;
+} lumis__rect;
+
+/* Sums over a region while its labels are written. */
+typedef struct lumis__acc {
+    double rgb[3]; /* sum of L * Omega (unscaled) */
+    double m[3];   /* sum of Y m (luminance-weighted first moment) */
+    double g[3];   /* sum of m (geometric first moment) */
+    double omega;
+    int pixels;
+} lumis__acc;
+
+/* Adds pixel (i, j) to acc. */
+void lumis__acc_pixel(const lumis__geom *g, const lumis_envmap *env, lumis__acc *acc, int i, int j);
+
+/* Labels the pixels of r whose label equals `only` (any pixel if only == INT32_MIN) with
+ * `label` and adds them to acc. */
+void lumis__acc_rect(const lumis__geom *g, const lumis_envmap *env, int32_t *labels, lumis__rect r,
+                     int32_t only, int32_t label, lumis__acc *acc);
+
+/* A set under construction. */
+struct lumis_light_set {
+    int w, h;
+    int sets, count;
+    lumis_light *lights; /* sets * count */
+    int32_t *labels;     /* w * h */
+    double *kmeans_objective;
+    lumis_light_set_info info;
+};
+
+/* The common descriptor fields, defaults applied and checked. */
+typedef struct lumis__common {
+    int count, sets;
+    double jitter;
+    uint64_t seed;
+    const lumis_error_sink *errors;
+} lumis__common;
+
+lumis_status lumis__common_check(const lumis_envmap *env, const char *what, int count, int sets,
+                                 float jitter, uint64_t seed, const lumis_error_sink *errors,
+                                 lumis__common *out);
+
+/* Allocates a set of `count` lights per set with a label array set to -1. */
+lumis_status lumis__set_create(const lumis_envmap *env, const lumis__common *c, int count,
+                               lumis_lights_method method, lumis_light_set **out);
+
+/* Turns light k's sums into the light (direction in world space, power with the scale,
+ * solid angle); the extent is set by the caller (lumis__extent_*). */
+void lumis__light_from_acc(const lumis__geom *g, const lumis__acc *acc, lumis_light_kind kind,
+                           lumis_light *light);
+
+/* Map-frame unit direction of a light (inverse of the rotation applied on output). */
+void lumis__light_map_dir(const lumis__geom *g, const lumis_light *light, double d[3]);
+
+/* The map's sum(L * Omega) into info.power; the jittered copies; the build time. */
+void lumis__set_finish(lumis_light_set *set, const lumis__geom *g, const lumis_envmap *env,
+                       const lumis__common *c, double t0_ms);
+
+double lumis__now_ms(void);
+
+/* Recursive rectangle splitting shared by median cut and variance minimisation: the
+ * method's split() cuts r in two (returns 0 if r cannot be split) and priority() orders
+ * the regions of the last, partial level. */
+typedef struct lumis__splitter {
+    int (*split)(void *ctx, lumis__rect r, lumis__rect *a, lumis__rect *b);
+    double (*priority)(void *ctx, lumis__rect r);
+    void *ctx;
+} lumis__splitter;
+
+/* Splits the whole map into exactly k rectangles (k <= pixels); rects holds k entries.
+ * Siblings stay adjacent, so for k a power of two, rects 2i and 2i + 1 come from one
+ * split. */
+lumis_status lumis__split_rects(const lumis__splitter *s, int w, int h, int k, lumis__rect *rects);
+
+/* Finishes a rectangle partition: labels, sums, lights with exact rectangle extents. */
+void lumis__lights_from_rects(lumis_light_set *set, const lumis__geom *g, const lumis_envmap *env,
+                              const lumis__rect *rects, int k);
+
+/* Inclusive-exclusive summed-area table of a per-pixel quantity: (w + 1) x (h + 1)
+ * doubles, sat[(y) (w + 1) + x] = sum over [0, x) x [0, y). */
+static inline double lumis__sat_rect(const double *sat, int w, lumis__rect r)
+{
+    size_t W = (size_t)w + 1;
+    return sat[(size_t)r.y1 * W + (size_t)r.x1] - sat[(size_t)r.y0 * W + (size_t)r.x1] -
+           sat[(size_t)r.y1 * W + (size_t)r.x0] + sat[(size_t)r.y0 * W + (size_t)r.x0];
+}
+
+/* Builds the summed-area tables of Y Omega (e) and of Y m (mx, my, mz; all three or none)
+ * in one pass; each (w + 1)(h + 1) doubles. */
+lumis_status lumis__sat_build(const lumis__geom *g, const lumis_envmap *env, double *e, double *mx,
+                              double *my, double *mz);
+
+/* Half-angle of a cone from the smallest dot product, rounded up to float. */
+float lumis__extent_from_min_dot(double min_dot);
+
+/* Rectangle sides in radians: height pi rows / h, width 2 pi cols / w times sin of the
+ * polar angle at the middle of the rectangle. */
+void lumis__rect_sides(const lumis__geom *g, lumis__rect r, double *width, double *height);
+
+#endif

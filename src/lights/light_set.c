@@ -1,0 +1,519 @@
+/* The light-set object and the machinery its methods share: exact pixel moments, region
+ * sums, rectangle extents, recursive splitting, jittered copies.  Formulas:
+ * docs/lights.md. */
+#include "internal.h"
+
+#include "lumis/rng.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+double lumis__now_ms(void)
+{
+    struct timespec ts;
+    timespec_get(&ts, TIME_UTC);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+/* ---- geometry ------------------------------------------------------------------------ */
+
+/* x - sin x without cancellation for small x. */
+static double x_minus_sin(double x)
+{
+    if (fabs(x) > 0.1) return x - sin(x);
+    double x2 = x * x;
+    return x * x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0 - x2 / 362880.0)));
+}
+
+lumis_status lumis__geom_init(lumis__geom *g, const lumis_envmap *env)
+{
+    memset(g, 0, sizeof *g);
+    int w = env->width, h = env->height;
+    g->w = w;
+    g->h = h;
+    size_t H = (size_t)h, W = (size_t)w;
+    double *mem = malloc((3 * H + 2 * (H + 1) + 2 * W + 2 * (W + 1)) * sizeof(double));
+    if (!mem) return LUMIS_ERR_OUT_OF_MEMORY;
+    g->omega = mem;
+    g->a = g->omega + H;
+    g->b = g->a + H;
+    g->cos_t = g->b + H;
+    g->sin_t = g->cos_t + H + 1;
+    g->cs = g->sin_t + H + 1;
+    g->cc = g->cs + W;
+    g->cos_p = g->cc + W;
+    g->sin_p = g->cos_p + W + 1;
+    const double dphi = 2.0 * LUMIS_PI / w, dth = LUMIS_PI / h;
+    for (int j = 0; j < h; j++) {
+        double t0 = LUMIS_PI * j / h, t1 = LUMIS_PI * (j + 1) / h, s = 0.5 * (t0 + t1);
+        g->omega[j] = lumis_envmap_pixel_solid_angle(env, j);
+        /* a = int sin^2 = (dth - cos(t0 + t1) sin dth) / 2, written without cancellation */
+        double sh = sin(s);
+        g->a[j] = 0.5 * (x_minus_sin(dth) + 2.0 * sh * sh * sin(dth));
+        /* b = dphi int sin cos = dphi (sin^2 t1 - sin^2 t0) / 2 = dphi sin(2s) sin(dth) / 2 */
+        g->b[j] = dphi * 0.5 * sin(2.0 * s) * sin(dth);
+    }
+    for (int j = 0; j <= h; j++) {
+        g->cos_t[j] = env->cos_row[j];
+        g->sin_t[j] = (j == 0 || j == h) ? 0.0 : sin(LUMIS_PI * j / h);
+    }
+    for (int i = 0; i < w; i++) {
+        double mid = dphi * (i + 0.5), s2 = 2.0 * sin(0.5 * dphi);
+        g->cs[i] = cos(mid) * s2;
+        g->cc[i] = sin(mid) * s2;
+    }
+    for (int i = 0; i <= w; i++) {
+        g->cos_p[i] = i == w ? 1.0 : cos(dphi * i);
+        g->sin_p[i] = i == w ? 0.0 : sin(dphi * i);
+    }
+    g->scale = env->scale;
+    g->cos_rot = env->cos_rot;
+    g->sin_rot = env->sin_rot;
+    return LUMIS_OK;
+}
+
+void lumis__geom_free(lumis__geom *g)
+{
+    free(g->omega);
+    g->omega = NULL;
+}
+
+double lumis__rect_min_dot(const lumis__geom *g, const double d[3], int r0, int r1, int c0, int c1)
+{
+    /* d . p = d_y cos(theta) + rho sin(theta) cos(phi - phi_d): minimise over phi (the same
+     * phi for every theta, as sin(theta) >= 0), then over theta. */
+    double rho = sqrt(d[0] * d[0] + d[2] * d[2]), gmin = 0.0;
+    if (rho > 0.0) {
+        double cd = d[0] / rho, sd = d[2] / rho;
+        double span = 2.0 * LUMIS_PI * (c1 - c0) / g->w;
+        double anti = atan2(-d[2], -d[0]);
+        double t = anti - 2.0 * LUMIS_PI * c0 / g->w;
+        t = fmod(t, 2.0 * LUMIS_PI);
+        if (t < 0.0) t += 2.0 * LUMIS_PI;
+        if (c1 - c0 >= g->w || t <= span)
+            gmin = -1.0;
+        else {
+            double e0 = g->cos_p[c0] * cd + g->sin_p[c0] * sd;
+            double e1 = g->cos_p[c1] * cd + g->sin_p[c1] * sd;
+            gmin = e0 < e1 ? e0 : e1;
+        }
+    }
+    double q = rho * gmin; /* h(theta) = d_y cos theta + q sin theta */
+    double h0 = d[1] * g->cos_t[r0] + q * g->sin_t[r0];
+    double h1 = d[1] * g->cos_t[r1] + q * g->sin_t[r1];
+    double m = h0 < h1 ? h0 : h1;
+    double R = sqrt(d[1] * d[1] + q * q);
+    if (R > 0.0) {
+        double psi = atan2(q, d[1]), th0 = LUMIS_PI * r0 / g->h, th1 = LUMIS_PI * r1 / g->h;
+        double lo1 = psi + LUMIS_PI, lo2 = psi - LUMIS_PI;
+        if ((lo1 >= th0 && lo1 <= th1) || (lo2 >= th0 && lo2 <= th1)) m = -R;
+    }
+    return m < -1.0 ? -1.0 : (m > 1.0 ? 1.0 : m);
+}
+
+void lumis__rect_sides(const lumis__geom *g, lumis__rect r, double *width, double *height)
+{
+    double mid = 0.5 * LUMIS_PI * (r.y0 + r.y1) / g->h;
+    *height = LUMIS_PI * (r.y1 - r.y0) / g->h;
+    *width = 2.0 * LUMIS_PI * (r.x1 - r.x0) / g->w * sin(mid);
+}
+
+/* ---- region sums ----------------------------------------------------------------------- */
+
+void lumis__acc_pixel(const lumis__geom *g, const lumis_envmap *env, lumis__acc *acc, int i, int j)
+{
+    const float *px = env->pixels + ((size_t)j * (size_t)g->w + (size_t)i) * 3;
+    double om = g->omega[j], y = lumis__pixel_y(px, g->scale);
+    acc->rgb[0] += (double)px[0] * om;
+    acc->rgb[1] += (double)px[1] * om;
+    acc->rgb[2] += (double)px[2] * om;
+    double mx = g->a[j] * g->cs[i], my = g->b[j], mz = g->a[j] * g->cc[i];
+    acc->m[0] += y * mx;
+    acc->m[1] += y * my;
+    acc->m[2] += y * mz;
+    acc->g[0] += mx;
+    acc->g[1] += my;
+    acc->g[2] += mz;
+    acc->omega += om;
+    acc->pixels++;
+}
+
+void lumis__acc_rect(const lumis__geom *g, const lumis_envmap *env, int32_t *labels, lumis__rect r,
+                     int32_t only, int32_t label, lumis__acc *acc)
+{
+    const int w = g->w;
+    for (int j = r.y0; j < r.y1; j++) {
+        const float *px = env->pixels + ((size_t)j * (size_t)w + (size_t)r.x0) * 3;
+        int32_t *lab = labels + (size_t)j * (size_t)w;
+        double s[3] = {0, 0, 0}, ys = 0.0, ycs = 0.0, ycc = 0.0, gcs = 0.0, gcc = 0.0;
+        int n = 0;
+        if (only == INT32_MIN) {
+            for (int i = r.x0; i < r.x1; i++, px += 3) {
+                double y = lumis__pixel_y(px, g->scale);
+                s[0] += px[0];
+                s[1] += px[1];
+                s[2] += px[2];
+                ys += y;
+                ycs += y * g->cs[i];
+                ycc += y * g->cc[i];
+                gcs += g->cs[i];
+                gcc += g->cc[i];
+                lab[i] = label;
+            }
+            n = r.x1 - r.x0;
+        } else {
+            for (int i = r.x0; i < r.x1; i++, px += 3) {
+                if (lab[i] != only) continue;
+                double y = lumis__pixel_y(px, g->scale);
+                s[0] += px[0];
+                s[1] += px[1];
+                s[2] += px[2];
+                ys += y;
+                ycs += y * g->cs[i];
+                ycc += y * g->cc[i];
+                gcs += g->cs[i];
+                gcc += g->cc[i];
+                lab[i] = label;
+                n++;
+            }
+        }
+        double om = g->omega[j];
+        acc->rgb[0] += s[0] * om;
+        acc->rgb[1] += s[1] * om;
+        acc->rgb[2] += s[2] * om;
+        acc->m[0] += g->a[j] * ycs;
+        acc->m[1] += g->b[j] * ys;
+        acc->m[2] += g->a[j] * ycc;
+        acc->g[0] += g->a[j] * gcs;
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * gcc;
+        acc->omega += om * n;
+        acc->pixels += n;
+    }
+}
+
+static void normalize3(double v[3])
+{
+    double l = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0.0) {
+        v[0] /= l;
+        v[1] /= l;
+        v[2] /= l;
+    } else {
+        v[0] = 0.0;
+        v[1] = 1.0;
+        v[2] = 0.0;
+    }
+}
+
+void lumis__light_from_acc(const lumis__geom *g, const lumis__acc *acc, lumis_light_kind kind,
+                           lumis_light *light)
+{
+    double d[3];
+    /* The energy centroid; a region without luminance gets its geometric centroid. */
+    const double *src =
+        (acc->m[0] != 0.0 || acc->m[1] != 0.0 || acc->m[2] != 0.0) ? acc->m : acc->g;
+    d[0] = src[0];
+    d[1] = src[1];
+    d[2] = src[2];
+    normalize3(d);
+    light->dir.x = (float)(g->cos_rot * d[0] - g->sin_rot * d[2]);
+    light->dir.y = (float)d[1];
+    light->dir.z = (float)(g->sin_rot * d[0] + g->cos_rot * d[2]);
+    for (int c = 0; c < 3; c++) light->power[c] = acc->rgb[c] * g->scale;
+    light->solid_angle = acc->omega;
+    light->pixels = acc->pixels;
+    light->kind = kind;
+    light->extent = 0.0f;
+}
+
+void lumis__light_map_dir(const lumis__geom *g, const lumis_light *light, double d[3])
+{
+    double x = light->dir.x, y = light->dir.y, z = light->dir.z;
+    d[0] = g->cos_rot * x + g->sin_rot * z;
+    d[1] = y;
+    d[2] = -g->sin_rot * x + g->cos_rot * z;
+    normalize3(d);
+}
+
+/* ---- the set ------------------------------------------------------------------------- */
+
+lumis_status lumis__common_check(const lumis_envmap *env, const char *what, int count, int sets,
+                                 float jitter, uint64_t seed, const lumis_error_sink *errors,
+                                 lumis__common *out)
+{
+    if (!env) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "%s: no envmap given", what);
+    long long pixels = (long long)env->width * env->height;
+    if (count < 0 || (long long)count > pixels)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: count %d is not in 1 .. %lld (the map's pixels; 0 == 64)", what,
+                           count, pixels);
+    if (sets < 0 || sets > 64)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: sets %d is not in 1 .. 64 (0 == 8)", what, sets);
+    if (!(jitter >= 0.0f && jitter <= 1.0f))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: jitter must be in (0, 1] (0 == 0.1)", what);
+    out->count = count ? count : 64;
+    if ((long long)out->count > pixels)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: the default count 64 exceeds the map's %lld pixels", what, pixels);
+    out->sets = sets ? sets : 8;
+    out->jitter = jitter > 0.0f ? jitter : 0.1;
+    out->seed = seed;
+    out->errors = errors;
+    return LUMIS_OK;
+}
+
+lumis_status lumis__set_create(const lumis_envmap *env, const lumis__common *c, int count,
+                               lumis_lights_method method, lumis_light_set **out)
+{
+    lumis_light_set *s = calloc(1, sizeof *s);
+    if (!s) return LUMIS_ERR_OUT_OF_MEMORY;
+    s->w = env->width;
+    s->h = env->height;
+    s->sets = c->sets;
+    s->count = count;
+    s->lights = calloc((size_t)c->sets * (size_t)(count > 0 ? count : 1), sizeof(lumis_light));
+    s->labels = malloc((size_t)s->w * (size_t)s->h * sizeof(int32_t));
+    if (!s->lights || !s->labels) {
+        lumis_light_set_destroy(s);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    memset(s->labels, 0xff, (size_t)s->w * (size_t)s->h * sizeof(int32_t)); /* -1 */
+    s->info.method = method;
+    s->info.requested = c->count;
+    *out = s;
+    return LUMIS_OK;
+}
+
+/* Uniform direction in the cap of half-angle beta about unit d. */
+static void jitter_dir(const lumis_vec3 d0, double beta, double u1, double u2, lumis_vec3 *out)
+{
+    double d[3] = {d0.x, d0.y, d0.z};
+    normalize3(d);
+    /* Orthonormal basis (Duff et al. 2017). */
+    double sign = d[2] >= 0.0 ? 1.0 : -1.0;
+    double a = -1.0 / (sign + d[2]), b = d[0] * d[1] * a;
+    double t[3] = {1.0 + sign * d[0] * d[0] * a, sign * b, -sign * d[0]};
+    double bt[3] = {b, sign + d[1] * d[1] * a, -d[1]};
+    double cosa = 1.0 - u1 * (1.0 - cos(beta));
+    double sina = sqrt(fmax(0.0, 1.0 - cosa * cosa)), phi = 2.0 * LUMIS_PI * u2;
+    double cp = cos(phi), sp = sin(phi), r[3];
+    for (int k = 0; k < 3; k++) r[k] = cosa * d[k] + sina * (cp * t[k] + sp * bt[k]);
+    normalize3(r);
+    out->x = (float)r[0];
+    out->y = (float)r[1];
+    out->z = (float)r[2];
+}
+
+void lumis__set_finish(lumis_light_set *set, const lumis__geom *g, const lumis_envmap *env,
+                       const lumis__common *c, double t0_ms)
+{
+    /* The map's own total, row by row, for the conservation check. */
+    double tot[3] = {0, 0, 0};
+    for (int j = 0; j < g->h; j++) {
+        const float *px = env->pixels + (size_t)j * (size_t)g->w * 3;
+        double row[3] = {0, 0, 0};
+        for (int i = 0; i < g->w; i++, px += 3)
+            for (int k = 0; k < 3; k++) row[k] += px[k];
+        for (int k = 0; k < 3; k++) tot[k] += row[k] * g->omega[j];
+    }
+    for (int k = 0; k < 3; k++) set->info.power[k] = tot[k] * g->scale;
+    set->info.count = set->count;
+    for (int s = 1; s < set->sets; s++) {
+        lumis_pcg32 rng;
+        lumis_pcg32_seed(&rng, c->seed, (uint64_t)0x6c6967687473 + (uint64_t)s); /* "lights" + s */
+        lumis_light *dst = set->lights + (size_t)s * (size_t)set->count;
+        for (int k = 0; k < set->count; k++) {
+            dst[k] = set->lights[k];
+            double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+            jitter_dir(set->lights[k].dir, c->jitter * set->lights[k].extent, u1, u2, &dst[k].dir);
+        }
+    }
+    set->info.build_ms = lumis__now_ms() - t0_ms;
+}
+
+void lumis_light_set_destroy(lumis_light_set *set)
+{
+    if (!set) return;
+    free(set->lights);
+    free(set->labels);
+    free(set->kmeans_objective);
+    free(set);
+}
+
+int lumis_light_set_sets(const lumis_light_set *set)
+{
+    return set ? set->sets : 0;
+}
+
+lumis_status lumis_light_set_get(const lumis_light_set *set, int index, const lumis_light **lights,
+                                 int *count)
+{
+    if (!set || !lights || !count || index < 0 || index >= set->sets)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    *lights = set->lights + (size_t)index * (size_t)set->count;
+    *count = set->count;
+    return LUMIS_OK;
+}
+
+const int32_t *lumis_light_set_labels(const lumis_light_set *set, int *width, int *height)
+{
+    if (!set) return NULL;
+    if (width) *width = set->w;
+    if (height) *height = set->h;
+    return set->labels;
+}
+
+const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set)
+{
+    return set ? &set->info : NULL;
+}
+
+int lumis_light_set_interleave_index(int sets, int x, int y)
+{
+    if (sets <= 1) return 0;
+    int b = 1;
+    for (int d = 1; d * d <= sets; d++)
+        if (sets % d == 0) b = d;
+    int a = sets / b;
+    int xm = x % a, ym = y % b;
+    if (xm < 0) xm += a;
+    if (ym < 0) ym += b;
+    return ym * a + xm;
+}
+
+/* ---- recursive rectangle splitting ------------------------------------------------------ */
+
+typedef struct prio_item {
+    double p;
+    int index;
+} prio_item;
+
+static int cmp_prio(const void *pa, const void *pb)
+{
+    const prio_item *a = pa, *b = pb;
+    if (a->p > b->p) return -1;
+    if (a->p < b->p) return 1;
+    return (a->index > b->index) - (a->index < b->index);
+}
+
+lumis_status lumis__split_rects(const lumis__splitter *s, int w, int h, int k, lumis__rect *rects)
+{
+    lumis__rect *next = malloc((size_t)k * sizeof *next);
+    unsigned char *chosen = malloc((size_t)k);
+    prio_item *items = malloc((size_t)k * sizeof *items);
+    if (!next || !chosen || !items) {
+        free(next);
+        free(chosen);
+        free(items);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    lumis__rect whole = {0, 0, w, h};
+    rects[0] = whole;
+    int n = 1;
+    lumis_status st = LUMIS_OK;
+    while (n < k) {
+        int need = k - n, cand = 0;
+        for (int r = 0; r < n; r++) {
+            long long area = (long long)(rects[r].x1 - rects[r].x0) * (rects[r].y1 - rects[r].y0);
+            chosen[r] = 0;
+            if (area > 1) items[cand++] = (prio_item){0.0, r};
+        }
+        if (cand == 0) {
+            st = LUMIS_ERR_INVALID_ARGUMENT; /* k > pixels: checked by the callers */
+            break;
+        }
+        if (need >= cand) {
+            for (int c = 0; c < cand; c++) chosen[items[c].index] = 1;
+        } else {
+            for (int c = 0; c < cand; c++) items[c].p = s->priority(s->ctx, rects[items[c].index]);
+            qsort(items, (size_t)cand, sizeof *items, cmp_prio);
+            for (int c = 0; c < need; c++) chosen[items[c].index] = 1;
+        }
+        int m = 0;
+        for (int r = 0; r < n; r++) {
+            lumis__rect a, b;
+            if (chosen[r] && s->split(s->ctx, rects[r], &a, &b)) {
+                next[m++] = a;
+                next[m++] = b;
+            } else {
+                next[m++] = rects[r];
+            }
+        }
+        memcpy(rects, next, (size_t)m * sizeof *rects);
+        n = m;
+    }
+    free(next);
+    free(chosen);
+    free(items);
+    return st;
+}
+
+void lumis__lights_from_rects(lumis_light_set *set, const lumis__geom *g, const lumis_envmap *env,
+                              const lumis__rect *rects, int k)
+{
+    for (int r = 0; r < k; r++) {
+        lumis__acc acc;
+        memset(&acc, 0, sizeof acc);
+        lumis__acc_rect(g, env, set->labels, rects[r], INT32_MIN, r, &acc);
+        lumis_light *l = &set->lights[r];
+        lumis__light_from_acc(g, &acc, LUMIS_LIGHT_REGION, l);
+        double d[3];
+        lumis__light_map_dir(g, l, d);
+        double md = lumis__rect_min_dot(g, d, rects[r].y0, rects[r].y1, rects[r].x0, rects[r].x1);
+        l->extent = lumis__extent_from_min_dot(md);
+    }
+}
+
+float lumis__extent_from_min_dot(double min_dot)
+{
+    double e = acos(min_dot < -1.0 ? -1.0 : (min_dot > 1.0 ? 1.0 : min_dot));
+    float f = (float)e;
+    return (double)f < e ? nextafterf(f, INFINITY) : f; /* a bound: round up */
+}
+
+lumis_status lumis__sat_build(const lumis__geom *g, const lumis_envmap *env, double *e, double *mx,
+                              double *my, double *mz)
+{
+    const int w = g->w, h = g->h;
+    const size_t W = (size_t)w + 1;
+    if (e) memset(e, 0, W * sizeof(double));
+    if (mx) {
+        memset(mx, 0, W * sizeof(double));
+        memset(my, 0, W * sizeof(double));
+        memset(mz, 0, W * sizeof(double));
+    }
+    for (int j = 0; j < h; j++) {
+        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
+        const size_t o = (size_t)(j + 1) * W, p = (size_t)j * W;
+        const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
+        if (e) e[o] = 0.0;
+        if (!mx) {
+            double re = 0.0;
+            for (int i = 0; i < w; i++, px += 3) {
+                re += (double)lumis__pixel_y(px, g->scale) * om;
+                e[o + (size_t)i + 1] = e[p + (size_t)i + 1] + re;
+            }
+            continue;
+        }
+        mx[o] = my[o] = mz[o] = 0.0;
+        double re = 0.0, rx = 0.0, ry = 0.0, rz = 0.0;
+        for (int i = 0; i < w; i++, px += 3) {
+            double y = lumis__pixel_y(px, g->scale);
+            re += y * om;
+            rx += y * aj * g->cs[i];
+            ry += y * bj;
+            rz += y * aj * g->cc[i];
+            size_t q = (size_t)i + 1;
+            if (e) e[o + q] = e[p + q] + re;
+            mx[o + q] = mx[p + q] + rx;
+            my[o + q] = my[p + q] + ry;
+            mz[o + q] = mz[p + q] + rz;
+        }
+    }
+    return LUMIS_OK;
+}
