@@ -14,6 +14,7 @@
 #include "lumis/envmap.h"
 #include "lumis/image.h"
 #include "lumis/io.h"
+#include "lumis/lights.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -66,8 +67,19 @@ typedef enum lumis_estimator {
 
 typedef struct lumis_render_desc {
     const lumis_camera *camera;
-    const lumis_envmap *env;
+    const lumis_envmap *env;      /* seen by camera rays that escape, and sampled below */
     const lumis_sampler *sampler; /* light sampler; NULL for LUMIS_ESTIMATOR_BSDF */
+    /* The renderer's light interface: how a shading point is lit.
+     *  - NULL (default): the environment, sampled per pixel through `sampler` with
+     *    `estimator` (light, BSDF or MIS sampling).
+     *  - a light set (lumis/lights.h): every light of the pixel's interleaved set
+     *    (lumis_light_set_interleave_index), one shadow ray each, traced 16 at a time;
+     *    deterministic apart from the camera's jitter.  `sampler` and `estimator` are
+     *    then unused, and path tracing (max_bounces > 0) is refused.
+     * The set must outlive the render. */
+    const lumis_light_set *light_set;
+    unsigned light_kinds; /* lights of the set used: 0 == all, else a mask of bits
+                             1u << lumis_light_kind (e.g. EnvDirects only) */
     lumis_estimator estimator;
     int power_heuristic;     /* nonzero: power heuristic (beta = 2), else balance */
     int spp;                 /* camera samples per pixel; 0 == 16 */

@@ -432,7 +432,87 @@ typedef struct ctx {
     const lumis_render_desc *d;
     int nl, nb;
     int fused; /* the sampler draws from d->env: radiance and pdf from one lookup */
+    int sets;  /* light sets interleaved (light_set only) */
+    unsigned kinds;
 } ctx;
+
+/* ---- the light interface: a light set ---------------------------------------------------- */
+
+enum { PACKET = 16 };
+
+/* Shadow rays of one shading point, traced PACKET at a time; a lane's contribution is added
+ * when its ray is unoccluded. */
+typedef struct packet {
+    struct RTCRay16 r; /* 64-byte aligned, as Embree requires */
+    _Alignas(64) int valid[PACKET];
+    v3 contrib[PACKET];
+    int n;
+} packet;
+
+static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packet *p, v3 *L)
+{
+    if (p->n == 0) return;
+    for (int k = p->n; k < PACKET; k++) p->valid[k] = 0;
+    if (d->shadow_ray)
+        for (int k = 0; k < p->n; k++) {
+            const float o[3] = {p->r.org_x[k], p->r.org_y[k], p->r.org_z[k]},
+                        dd[3] = {p->r.dir_x[k], p->r.dir_y[k], p->r.dir_z[k]};
+            d->shadow_ray(d->shadow_ray_user, o, dd);
+        }
+    struct RTCIntersectContext ictx;
+    rtcInitIntersectContext(&ictx);
+    rtcOccluded16(p->valid, s->rtc, &ictx, &p->r);
+    for (int k = 0; k < p->n; k++)
+        if (p->r.tfar[k] >= 0.0f) *L = add(*L, p->contrib[k]);
+    p->n = 0;
+}
+
+/* Every light of the pixel's set: f cos V power, one shadow ray each. */
+static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, double *shadow_rays)
+{
+    const lumis_render_desc *d = c->d;
+    const lumis_light *lights = NULL;
+    int count = 0;
+    lumis_light_set_get(d->light_set, lumis_light_set_interleave_index(c->sets, px, py), &lights,
+                        &count);
+    v3 t, b, n = h->n, L = mk(0, 0, 0);
+    basis(n, &t, &b);
+    v3 wow = mul(dir, -1.0);
+    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const lumis_bsdf *m = &h->prim->material;
+    v3 org = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    packet p;
+    p.n = 0;
+    for (int k = 0; k < count; k++) {
+        const lumis_light *l = &lights[k];
+        if (!(c->kinds & (1u << l->kind))) continue;
+        v3 wi = fromf(l->dir);
+        double cosn = dot(wi, n);
+        if (!(cosn > 0.0)) continue;
+        lumis_rgb f = lumis_bsdf_eval(m, wo, tof(mk(dot(wi, t), dot(wi, b), cosn)));
+        if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+        const int q = p.n++;
+        p.valid[q] = -1;
+        p.r.org_x[q] = (float)org.x;
+        p.r.org_y[q] = (float)org.y;
+        p.r.org_z[q] = (float)org.z;
+        p.r.dir_x[q] = (float)wi.x;
+        p.r.dir_y[q] = (float)wi.y;
+        p.r.dir_z[q] = (float)wi.z;
+        p.r.tnear[q] = 0.0f;
+        p.r.tfar[q] = INFINITY;
+        p.r.mask[q] = 0xffffffffu;
+        p.r.flags[q] = 0;
+        p.r.time[q] = 0.0f;
+        p.r.id[q] = (unsigned)q;
+        p.contrib[q] =
+            mk(f.r * l->power[0] * cosn, f.g * l->power[1] * cosn, f.b * l->power[2] * cosn);
+        *shadow_rays += 1.0;
+        if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
+    }
+    packet_flush(c->scene, d, &p, &L);
+    return L;
+}
 
 /* Direct light from the environment reflected at h towards -dir. */
 static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *shadow_rays)
@@ -524,7 +604,12 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    if (!scene || !d || !d->env || (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
+    if (d && d->light_set && d->max_bounces > 0)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: a light set lights direct illumination only (max_bounces "
+                           "must be 0)");
+    if (!scene || !d || !d->env ||
+        (!d->light_set && d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
         (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
         d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
@@ -572,8 +657,8 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
  * direct illumination at every further vertex of a BSDF-sampled path.  The environment
  * seen by a continuation ray is not added: the direct estimator at the vertex it left
  * already accounts for it, so each light path is counted once. */
-static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, lumis_pcg32 *rng,
-                       double *shadow, double *bounce)
+static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px, int py,
+                       lumis_pcg32 *rng, double *shadow, double *bounce)
 {
     hit hh;
     if (!intersect(c->scene, job->eye, dir, &hh)) {
@@ -582,7 +667,9 @@ static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, lumis_
     }
     v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
     for (int depth = 0;; depth++) {
-        v3 Ld = shade(c, &hh, dir, rng, shadow);
+        /* The light interface: the kind of lights decides how the point is lit. */
+        v3 Ld = job->d.light_set ? shade_light_set(c, &hh, dir, px, py, shadow)
+                                 : shade(c, &hh, dir, rng, shadow);
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
         if (depth >= job->d.max_bounces) break;
         v3 t, b, n = hh.n;
@@ -610,9 +697,13 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
         return lumis__fail(&job->d.errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: %d more samples per pixel is out of range", samples);
     const lumis_render_desc *d = &job->d;
-    ctx c = {job->scene, d, d->light_samples ? d->light_samples : 1,
+    ctx c = {job->scene,
+             d,
+             d->light_samples ? d->light_samples : 1,
              d->bsdf_samples ? d->bsdf_samples : 1,
-             d->sampler && lumis_sampler_envmap(d->sampler) == d->env};
+             d->sampler && lumis_sampler_envmap(d->sampler) == d->env,
+             d->light_set ? lumis_light_set_sets(d->light_set) : 1,
+             d->light_kinds ? d->light_kinds : ~0u};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
@@ -636,7 +727,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     double sy = 1.0 - (y + lumis_pcg32_double(&rng)) / h * 2.0; /* row 0 on top */
                     v3 dir = norm(add(job->fwd, add(mul(job->right, sx * job->th * job->aspect),
                                                     mul(job->up, sy * job->th))));
-                    a = add(a, trace_sample(&c, job, dir, &rng, &shadow, &bounce));
+                    a = add(a, trace_sample(&c, job, dir, x, y, &rng, &shadow, &bounce));
                 }
                 acc[0] = a.x;
                 acc[1] = a.y;

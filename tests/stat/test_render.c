@@ -489,6 +489,81 @@ static void integrating_sphere(void **state)
     lumis_scene_destroy(s);
 }
 
+static float f_bands(int i, int j, int c)
+{
+    return (float)(0.2 + 0.1 * ((i * 7 + j * 3) % 5) + 0.3 * c + (j == 1 && i == 5 ? 20.0 : 0.0));
+}
+
+/* The light-set kind of the light interface: a Lambertian floor seen from above has the
+ * same normal and BSDF at every shading point and nothing occludes it, so each pixel must
+ * equal rho/pi sum_k max(0, n . dir_k) power_k over the lights of the set its position
+ * selects (lumis_light_set_interleave_index): this checks the interleaving, the cosine,
+ * the units of power, every lane of the 16-ray packets and the kind mask. */
+static void light_set_lights_each_pixel_with_its_set(void **state)
+{
+    (void)state;
+    lumis_envmap *env = env_of(tu_image(16, 8, f_bands));
+    lumis_object o = {0};
+    o.type = LUMIS_OBJECT_PLANE;
+    o.normal = (lumis_vec3){0, 1, 0};
+    o.size = 1000.0f;
+    o.material.type = LUMIS_BSDF_LAMBERT;
+    o.material.diffuse = (lumis_rgb){0.5f, 0.5f, 0.5f};
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(&o, 1, NULL, &s), LUMIS_OK);
+    lumis_median_cut_desc md = {0};
+    md.count = 37; /* two full packets and a partial one */
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_median_cut(env, &md, &set), LUMIS_OK);
+    const int sets = lumis_light_set_sets(set);
+    assert_true(sets == 8);
+    const lumis_camera down = {{0, 5, 0}, {0, 0, 0}, {0, 0, -1}, 30.0f, 12, 10};
+    for (unsigned kinds = 0; kinds < 2; kinds++) {
+        lumis_render_desc d = {0};
+        d.camera = &down;
+        d.env = env;
+        d.light_set = set;
+        d.light_kinds = kinds ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0; /* median cut has none */
+        d.spp = 2;
+        lumis_image *img = NULL;
+        lumis_render_stats st;
+        assert_int_equal(lumis_render(s, &d, &img, &st), LUMIS_OK);
+        double rays = 0.0;
+        for (int y = 0; y < down.height; y++)
+            for (int x = 0; x < down.width; x++) {
+                const lumis_light *l = NULL;
+                int count = 0;
+                assert_int_equal(lumis_light_set_get(
+                                     set, lumis_light_set_interleave_index(sets, x, y), &l, &count),
+                                 LUMIS_OK);
+                double want[3] = {0, 0, 0};
+                for (int k = 0; k < count && !kinds; k++)
+                    if (l[k].dir.y > 0.0f) {
+                        rays += 2;
+                        for (int ch = 0; ch < 3; ch++)
+                            want[ch] += 0.5 / PI * l[k].dir.y * l[k].power[ch];
+                    }
+                const float *px = img->pixels + 3 * (y * down.width + x);
+                for (int ch = 0; ch < 3; ch++)
+                    if (fabs(px[ch] - want[ch]) > 2e-5 * want[ch] + 1e-9)
+                        fail_msg("pixel (%d, %d) channel %d: %.9g, want %.9g", x, y, ch, px[ch],
+                                 want[ch]);
+            }
+        assert_true(st.shadow_rays == rays);
+        lumis_image_destroy(img);
+    }
+    /* Path tracing is not a light set's: refused. */
+    lumis_render_desc d = {0};
+    d.env = env;
+    d.light_set = set;
+    d.max_bounces = 1;
+    lumis_render_job *job = NULL;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_light_set_destroy(set);
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
 /* A scene file's map is read by the reader, through lumis-io: a procedural spec or a file
  * beside the scene; skipped on request; a missing map fails the read and names the file. */
 static void scene_file_reads_its_map(void **state)
@@ -571,6 +646,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
+        cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
         cmocka_unit_test(scene_file_reads_its_map),
         cmocka_unit_test(shadow_ray_callback),
         cmocka_unit_test(exact_irradiance),
