@@ -563,6 +563,33 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
     expect("studio -o studio.txt", 2, "unknown extension");
 }
 
+/* --lights renders with a light set: the sidecar names it, its K and its sets; options that
+ * do not apply to a light set are refused. */
+static void render_with_light_sets(void **state)
+{
+    (void)state;
+    char a[1024];
+    static const char *const methods[] = {"median-cut", "variance-min"};
+    for (int m = 0; m < 2; m++) {
+        snprintf(a, sizeof a,
+                 "render --scene bunny-plane --env sky:64x32 --lights %s --lights-k 20 "
+                 "--interleave 4 --spp 1 --size 32x24 -o '%s'",
+                 methods[m], tu_path("ls.exr"));
+        expect(a, 0, "light set");
+        cJSON *j = read_json("ls.json");
+        const cJSON *l = item(j, "lights");
+        assert_string_equal(item(l, "method")->valuestring, methods[m]);
+        assert_true(num(l, "requested") == 20 && num(l, "count") == 20 && num(l, "sets") == 4);
+        assert_string_equal(item(j, "estimator")->valuestring, "light set");
+        cJSON_Delete(j);
+    }
+    expect("render --scene spheres --lights cut -o x.exr", 2, "--lights must be one of");
+    expect("render --scene spheres --lights-k 8 -o x.exr", 2, "need --lights METHOD");
+    expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2, "do not apply");
+    expect("render --scene spheres --lights median-cut --bounces 2 -o x.exr", 2,
+           "direct illumination only");
+}
+
 static void compare_prints_every_metric(void **state)
 {
     (void)state;
@@ -786,6 +813,7 @@ int main(void)
         cmocka_unit_test(render_writes_the_same_image_on_any_thread_count),
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
+        cmocka_unit_test(render_with_light_sets),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };

@@ -23,6 +23,11 @@ static const char usage[] =
     "  --method M         light sampler (see lumis sample --help; default inversion-guided)\n"
     "                     or 'bsdf' for BSDF sampling only\n"
     "  --mis H            balance (default), power, or none (light sampling only)\n"
+    "  --lights M         light the scene with a light set instead of sampling the map:\n"
+    "                     median-cut or variance-min (every light of the pixel's set, one\n"
+    "                     shadow ray each; docs/lights.md)\n"
+    "  --lights-k K       lights per set (default 64)\n"
+    "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
@@ -71,6 +76,21 @@ int cmd_render(int argc, char **argv)
                 o.bsdf_only = 1;
             else if (!v || lumis_sampler_method_from_name(v, &o.sampler.method) != LUMIS_OK)
                 return tool_bad_value("render", "--method", v, "must be a sampler name or 'bsdf'");
+        } else if (tool_option(argc, argv, &i, "--lights", &v)) {
+            if (!v || !tool_lights_method_known(v)) {
+                char want[256];
+                snprintf(want, sizeof want, "must be one of %s", tool_lights_method_names());
+                return tool_bad_value("render", "--lights", v, want);
+            }
+            o.lights = v;
+        } else if (tool_option(argc, argv, &i, "--lights-k", &v)) {
+            if (!tool_parse_int(v, 1, 1 << 20, &x))
+                return tool_bad_value("render", "--lights-k", v, "needs a count in [1, 2^20]");
+            o.lights_k = (int)x;
+        } else if (tool_option(argc, argv, &i, "--interleave", &v)) {
+            if (!tool_parse_int(v, 1, 64, &x))
+                return tool_bad_value("render", "--interleave", v, "needs a count in [1, 64]");
+            o.interleave = (int)x;
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)
@@ -162,6 +182,14 @@ int cmd_render(int argc, char **argv)
     if (png_only && !o.png)
         return tool_usage_error("render", "%s applies to the PNG preview: give --png OUT.png",
                                 png_only);
+    if ((o.lights_k || o.interleave) && !o.lights)
+        return tool_usage_error("render", "--lights-k and --interleave need --lights METHOD");
+    if (o.lights && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
+        return tool_usage_error("render", "--lights sums every light of a set: --method bsdf, "
+                                          "--mis, --light-samples and --bsdf-samples do not apply");
+    if (o.lights && o.rd.max_bounces > 0)
+        return tool_usage_error("render",
+                                "--lights lights direct illumination only (no --bounces)");
     if (mis && o.bsdf_only)
         return tool_usage_error("render",
                                 "--mis %s: --method bsdf samples the BSDF only and "

@@ -42,6 +42,13 @@ int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)
  * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
 
+/* Light sets by name (median-cut, variance-min, ...): K lights (0: the method's default)
+ * in `sets` interleaved sets (0: its default).  Prints errors itself. */
+int tool_lights_method_known(const char *name);
+const char *tool_lights_method_names(void);
+lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
+                                 lumis_light_set **out);
+
 /* "auto" exposure: the stops that bring an image's mean luminance to 0.18 (0 for a black
  * image).  The default of every PNG preview. */
 float tool_auto_exposure(const lumis_image *image);
@@ -137,12 +144,14 @@ typedef struct tool_render_opts {
     float rotation_deg, scale;           /* of envspec when given */
     lumis_sampler_desc sampler;
     int bsdf_only;
-    lumis_render_desc rd;  /* estimator, heuristic, counts, seed, threads, bounces */
-    double time_budget;    /* > 0: progressive passes until this much render time */
-    int width, height;     /* 0: the scene's camera */
-    const char *out, *png; /* out NULL: nothing written */
-    const char *sidecar;   /* NULL: OUT.json; "": none */
-    const char *cmd;       /* names the command in usage errors (NULL: "render") */
+    const char *lights;       /* a light-set method (tool_lights_method_known), or NULL */
+    int lights_k, interleave; /* its K and number of interleaved sets (0: defaults) */
+    lumis_render_desc rd;     /* estimator, heuristic, counts, seed, threads, bounces */
+    double time_budget;       /* > 0: progressive passes until this much render time */
+    int width, height;        /* 0: the scene's camera */
+    const char *out, *png;    /* out NULL: nothing written */
+    const char *sidecar;      /* NULL: OUT.json; "": none */
+    const char *cmd;          /* names the command in usage errors (NULL: "render") */
     lumis_write_options png_options;
     int png_auto_exposure; /* nonzero: png_options.exposure_ev from the image (auto) */
     int quiet;             /* no progress bar, no summary line */

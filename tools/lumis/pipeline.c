@@ -61,6 +61,44 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
     return st;
 }
 
+static const struct {
+    const char *name;
+    int decomposition; /* 0: median cut, 1: variance minimisation, 2: Wu */
+    lumis_decomp_variant variant;
+    lumis_cut_objective cut;
+} light_methods[] = {
+    {"median-cut", 0, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
+    {"variance-min", 1, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
+};
+
+int tool_lights_method_known(const char *name)
+{
+    for (size_t k = 0; k < sizeof light_methods / sizeof light_methods[0]; k++)
+        if (strcmp(light_methods[k].name, name) == 0) return 1;
+    return 0;
+}
+
+const char *tool_lights_method_names(void)
+{
+    return "median-cut, variance-min";
+}
+
+lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
+                                 lumis_light_set **out)
+{
+    *out = NULL;
+    for (size_t m = 0; m < sizeof light_methods / sizeof light_methods[0]; m++) {
+        if (strcmp(light_methods[m].name, method) != 0) continue;
+        lumis_median_cut_desc md = {0};
+        md.count = k;
+        md.sets = sets;
+        md.errors = tool_errors;
+        if (light_methods[m].decomposition == 0) return lumis_lights_median_cut(env, &md, out);
+        return lumis_lights_variance_min(env, &md, out);
+    }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
 /* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
 float tool_auto_exposure(const lumis_image *ref)
 {
@@ -296,8 +334,8 @@ void tool_sidecar_path(const char *out, char *buf, size_t cap)
 
 static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
                          const char *scene_label, const char *envspec, const lumis_envmap *env,
-                         const lumis_sampler *smp, int objects, const lumis_camera *cam,
-                         const tool_render_result *r)
+                         const lumis_sampler *smp, const lumis_light_set *lights, int objects,
+                         const lumis_camera *cam, const tool_render_result *r)
 {
     const lumis_render_stats *s = &r->stats;
     cJSON *j = cJSON_CreateObject(), *x;
@@ -324,10 +362,25 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
     cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
     cJSON_AddNumberToObject(x, "scale", o->scale);
-    cJSON_AddStringToObject(
-        j, "method",
-        o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
-    cJSON_AddStringToObject(j, "estimator", estimator_name(rd));
+    cJSON_AddStringToObject(j, "method",
+                            o->lights ? o->lights
+                            : o->bsdf_only
+                                ? "bsdf"
+                                : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+    cJSON_AddStringToObject(j, "estimator", lights ? "light set" : estimator_name(rd));
+    if (lights) {
+        const lumis_light_set_info *li = lumis_light_set_get_info(lights);
+        x = cJSON_AddObjectToObject(j, "lights");
+        cJSON_AddStringToObject(x, "method", o->lights);
+        cJSON_AddNumberToObject(x, "requested", li->requested);
+        cJSON_AddNumberToObject(x, "count", li->count);
+        cJSON_AddNumberToObject(x, "env_directs", li->direct);
+        cJSON_AddNumberToObject(x, "env_indirects", li->indirect);
+        cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
+        cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
+    } else {
+        cJSON_AddNullToObject(j, "lights");
+    }
     if (rd->estimator == LUMIS_ESTIMATOR_MIS)
         cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
     else
@@ -442,6 +495,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (o->width) cam.width = o->width, cam.height = o->height;
     lumis_envmap *env = NULL;
     lumis_sampler *smp = NULL;
+    lumis_light_set *lights = NULL;
     lumis_scene *scene = NULL;
     lumis_render_job *job = NULL;
     rc = EXIT_RUNTIME;
@@ -452,6 +506,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
+    if (o->lights &&
+        tool_make_light_set(env, o->lights, o->lights_k, o->interleave, &lights) != LUMIS_OK)
+        goto done;
     double t1 = now_seconds();
     if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
         goto done;
@@ -465,6 +522,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     rd.camera = &cam;
     rd.env = env;
     rd.sampler = smp;
+    rd.light_set = lights;
     rd.errors = tool_errors;
     if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
     if (pg.enabled) {
@@ -487,22 +545,30 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     r->total_seconds = now_seconds() - t0;
     r->sampler_build_ms = lumis_sampler_build_ms(smp);
     r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
-    const char *method =
-        o->bsdf_only ? "bsdf" : lumis_sampler_method_name(lumis_sampler_get_method(smp));
+    const char *method = o->lights      ? o->lights
+                         : o->bsdf_only ? "bsdf"
+                                        : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {
         double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
+        char how[160];
+        if (lights)
+            snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms",
+                     o->lights, lumis_light_set_get_info(lights)->count,
+                     lumis_light_set_sets(lights), lumis_light_set_get_info(lights)->build_ms);
+        else
+            snprintf(how, sizeof how, "%s, sampler %s built in %.2f ms", estimator_name(&rd),
+                     method, r->sampler_build_ms);
         fprintf(stderr,
                 "lumis: rendered %dx%d at %d spp (%s%s) in %.3f s, %.3g rays/s (%.3g shadow "
-                "rays/s), sampler %s built in %.2f ms\n",
+                "rays/s)\n",
                 cam.width, cam.height, r->stats.spp,
-                o->rd.max_bounces > 0 ? "path traced, " : "direct, ", estimator_name(&rd),
-                r->stats.seconds, rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds,
-                method, r->sampler_build_ms);
+                o->rd.max_bounces > 0 ? "path traced, " : "direct, ", how, r->stats.seconds,
+                rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds);
     }
     rc = EXIT_OK;
     if (sidecar[0])
         rc = write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name, envspec,
-                           env, smp, file->object_count, &cam, r);
+                           env, smp, lights, file->object_count, &cam, r);
 done:
     if (rc != EXIT_OK) {
         lumis_image_destroy(r->image);
@@ -512,6 +578,7 @@ done:
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
     lumis_sampler_destroy(smp);
+    lumis_light_set_destroy(lights);
     lumis_envmap_destroy(env);
     return rc;
 }
