@@ -47,7 +47,7 @@ const char bench_name[] = "bench_render";
 static const char usage[] =
     "usage: bench_render [--quick] [--threads N] [--method NAME] [--methods A,B,...]\n"
     "                    [--size WxH] [--spp N] [--shadow-size WxH] [--shadow-spp N]\n"
-    "                    [--runs R] [--json]\n\n"
+    "                    [--runs R] [--lights median-cut|variance-min] [--lights-k K] [--json]\n\n"
     "Times the evaluation renderer on the built-in bunny-plane scene under the default sky\n"
     "(1024x512, sun at 35 deg, azimuth 60): its shadow rays per second against Embree's raw\n"
     "rtcOccluded1 / rtcOccluded16 on the very same rays, and full renders per method.\n\n"
@@ -63,6 +63,10 @@ static const char usage[] =
     "  --shadow-spp N     throughput samples per pixel (default 16; --quick 4)\n"
     "  --runs R           runs of every measurement (default 5 for the throughput, 3 for\n"
     "                     the full renders; --quick 1)\n"
+    "  --lights M         light the throughput measurement with a light set (median-cut or\n"
+    "                     variance-min; its shadow rays go to Embree in 16-ray packets)\n"
+    "                     instead of the sampler; no full renders unless --methods is given\n"
+    "  --lights-k K       lights per set (default 64)\n"
     "  --json             print one JSON object instead of text\n\n"
     "Exit status: 0 success, 1 runtime error, 2 usage error.\n";
 
@@ -250,6 +254,8 @@ typedef struct options {
     int width, height, spp; /* full renders */
     int shadow_width, shadow_height, spp_shadow;
     lumis_sampler_method method; /* throughput sampler */
+    int lights;                  /* 0: the sampler; 1: median cut, 2: variance minimisation */
+    int lights_k;
     lumis_sampler_method methods[MAX_METHODS];
     int method_count;
 } options;
@@ -315,6 +321,7 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
     cam.height = o->shadow_height;
     RTCScene rtc = (RTCScene)lumis__scene_rtc(scene);
     ray_list list = {NULL, 0, 0, 0};
+    lumis_light_set *set = NULL;
     double *v = calloc(4 * (size_t)o->runs_shadow, sizeof *v);
     int rc = 0;
     if (!v) {
@@ -324,6 +331,19 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
 
     /* Record the rays, in order, on one thread. */
     lumis_render_desc d = make_desc(&cam, env, smp, o->spp_shadow, 1);
+    if (o->lights) {
+        lumis_median_cut_desc md;
+        memset(&md, 0, sizeof md);
+        md.count = o->lights_k;
+        md.errors = errors;
+        lumis_status st = o->lights == 1 ? lumis_lights_median_cut(env, &md, &set)
+                                         : lumis_lights_variance_min(env, &md, &set);
+        if (st != LUMIS_OK) {
+            rc = bench_fail("cannot build the light set");
+            goto done;
+        }
+        d.light_set = set;
+    }
     lumis_render_stats stats;
     d.shadow_ray = collect;
     d.shadow_ray_user = &list;
@@ -397,6 +417,7 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
 done:
     free(list.v);
     free(v);
+    lumis_light_set_destroy(set);
     lumis_sampler_destroy(smp);
     return rc;
 }
@@ -452,10 +473,21 @@ static void print_text_header(const options *o, const machine *m)
     fflush(stdout);
 }
 
+static const char *light_source(const options *o, char *buf, size_t cap)
+{
+    if (o->lights)
+        snprintf(buf, cap, "light set %s, K = %d, 8 interleaved sets (16-ray packets)",
+                 o->lights == 1 ? "median-cut" : "variance-min", o->lights_k ? o->lights_k : 64);
+    else
+        snprintf(buf, cap, "sampler %s", lumis_sampler_method_name(o->method));
+    return buf;
+}
+
 static void print_text_shadow(const options *o, const shadow_result *s)
 {
-    printf("Shadow-ray throughput: %dx%d at %d spp, sampler %s (built in %.1f ms), %d run%s\n",
-           o->shadow_width, o->shadow_height, o->spp_shadow, lumis_sampler_method_name(o->method),
+    char src[128];
+    printf("Shadow-ray throughput: %dx%d at %d spp, %s (sampler built in %.1f ms), %d run%s\n",
+           o->shadow_width, o->shadow_height, o->spp_shadow, light_source(o, src, sizeof src),
            s->sampler_build_ms, o->runs_shadow, o->runs_shadow == 1 ? "" : "s");
     printf("  %zu shadow rays recorded on 1 thread (the integrator traces the same %zu on %d);\n"
            "  %zu occluded (%.1f %%), rtcOccluded1 and rtcOccluded16 agree; per render also "
@@ -536,6 +568,8 @@ static int print_json(const options *o, const machine *m, const shadow_result *s
         cJSON_AddStringToObject(x, "size", size);
         cJSON_AddNumberToObject(x, "spp", o->spp_shadow);
         cJSON_AddStringToObject(x, "method", lumis_sampler_method_name(o->method));
+        char src[128];
+        cJSON_AddStringToObject(x, "lights", light_source(o, src, sizeof src));
         cJSON_AddNumberToObject(x, "runs", o->runs_shadow);
         cJSON_AddNumberToObject(x, "shadow_rays", (double)s->rays);
         cJSON_AddNumberToObject(x, "camera_rays", s->camera_rays);
@@ -605,6 +639,17 @@ int main(int argc, char **argv)
                 return bench_usage_error("--method wants a method name (e.g. alias), got '%s'",
                                          v ? v : "");
             method_set = 1;
+        } else if (tool_option(argc, argv, &i, "--lights", &v)) {
+            if (v && strcmp(v, "median-cut") == 0)
+                o.lights = 1;
+            else if (v && strcmp(v, "variance-min") == 0)
+                o.lights = 2;
+            else
+                return bench_usage_error("--lights wants median-cut or variance-min, got '%s'",
+                                         v ? v : "");
+        } else if (tool_option(argc, argv, &i, "--lights-k", &v)) {
+            if (!v || !bench_parse_int(v, 1, 65536, &o.lights_k))
+                return bench_usage_error("--lights-k wants a count in 1..65536");
         } else if (tool_option(argc, argv, &i, "--methods", &v)) {
             if (!v || !(o.method_count = parse_methods(v, o.methods)))
                 return bench_usage_error("--methods wants up to %d comma-separated method names, "
@@ -639,7 +684,9 @@ int main(int argc, char **argv)
     o.runs_shadow = runs ? runs : quick ? 1 : 5;
     o.runs_full = runs ? runs : quick ? 1 : 3;
     if (!o.threads) o.threads = omp_get_max_threads();
-    if (!o.method_count) {
+    if (!o.method_count && o.lights) {
+        /* --lights measures the light set's shadow rays; full renders only on request. */
+    } else if (!o.method_count) {
         if (method_set) {
             o.methods[0] = o.method;
             o.method_count = 1;
@@ -693,7 +740,7 @@ int main(int argc, char **argv)
     if ((rc = bench_shadow(&o, scene, &file->camera, env, &shadow))) goto done;
     if (!o.json) {
         print_text_shadow(&o, &shadow);
-        print_text_full_header(&o);
+        if (o.method_count) print_text_full_header(&o);
     }
     for (int k = 0; k < o.method_count; k++) {
         if (!o.json)

@@ -433,8 +433,15 @@ typedef struct ctx {
     int nl, nb;
     int fused; /* the sampler draws from d->env: radiance and pdf from one lookup */
     int sets;  /* light sets interleaved (light_set only) */
-    unsigned kinds;
+    const struct light_soa *soa; /* their lights, as the shading loop reads them */
 } ctx;
+
+/* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
+ * six floats a light and nothing else. */
+typedef struct light_soa {
+    int count;
+    float *x, *y, *z, *r, *g, *b;
+} light_soa;
 
 /* ---- the light interface: a light set ---------------------------------------------------- */
 
@@ -446,7 +453,7 @@ typedef struct packet {
     struct RTCRay16 r; /* 64-byte aligned, as Embree requires */
     _Alignas(64) int valid[PACKET];
     v3 contrib[PACKET];
-    int n;
+    int n, flushed; /* lanes filled; lanes traced in earlier packets */
 } packet;
 
 static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packet *p, v3 *L)
@@ -464,52 +471,62 @@ static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packe
     rtcOccluded16(p->valid, s->rtc, &ictx, &p->r);
     for (int k = 0; k < p->n; k++)
         if (p->r.tfar[k] >= 0.0f) *L = add(*L, p->contrib[k]);
+    p->flushed += p->n;
     p->n = 0;
 }
 
-/* Every light of the pixel's set: f cos V power, one shadow ray each. */
+/* Every light of the pixel's set: f cos V power, one shadow ray each.  A Lambertian surface
+ * needs no BSDF evaluation per light (f = albedo / pi). */
 static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, double *shadow_rays)
 {
     const lumis_render_desc *d = c->d;
-    const lumis_light *lights = NULL;
-    int count = 0;
-    lumis_light_set_get(d->light_set, lumis_light_set_interleave_index(c->sets, px, py), &lights,
-                        &count);
-    v3 t, b, n = h->n, L = mk(0, 0, 0);
+    const light_soa *ls = &c->soa[lumis_light_set_interleave_index(c->sets, px, py)];
+    v3 t, b, n = h->n;
     basis(n, &t, &b);
     v3 wow = mul(dir, -1.0);
     lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
     const lumis_bsdf *m = &h->prim->material;
-    v3 org = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    const int lambert = m->type == LUMIS_BSDF_LAMBERT;
+    const float kr = m->diffuse.r * (float)(1.0 / LUMIS_PI),
+                kg = m->diffuse.g * (float)(1.0 / LUMIS_PI),
+                kb = m->diffuse.b * (float)(1.0 / LUMIS_PI);
+    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    const float ox = (float)o.x, oy = (float)o.y, oz = (float)o.z;
+    const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
+    v3 L = mk(0, 0, 0);
     packet p;
-    p.n = 0;
-    for (int k = 0; k < count; k++) {
-        const lumis_light *l = &lights[k];
-        if (!(c->kinds & (1u << l->kind))) continue;
-        v3 wi = fromf(l->dir);
-        double cosn = dot(wi, n);
-        if (!(cosn > 0.0)) continue;
-        lumis_rgb f = lumis_bsdf_eval(m, wo, tof(mk(dot(wi, t), dot(wi, b), cosn)));
-        if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+    p.n = p.flushed = 0;
+    for (int k = 0; k < ls->count; k++) {
+        const float wx = ls->x[k], wy = ls->y[k], wz = ls->z[k];
+        const float cosn = wx * nx + wy * ny + wz * nz;
+        if (!(cosn > 0.0f)) continue;
+        float fr = kr, fg = kg, fb = kb;
+        if (!lambert) {
+            const v3 wi = mk(wx, wy, wz);
+            lumis_rgb f = lumis_bsdf_eval(m, wo, tof(mk(dot(wi, t), dot(wi, b), cosn)));
+            if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+            fr = f.r;
+            fg = f.g;
+            fb = f.b;
+        }
         const int q = p.n++;
         p.valid[q] = -1;
-        p.r.org_x[q] = (float)org.x;
-        p.r.org_y[q] = (float)org.y;
-        p.r.org_z[q] = (float)org.z;
-        p.r.dir_x[q] = (float)wi.x;
-        p.r.dir_y[q] = (float)wi.y;
-        p.r.dir_z[q] = (float)wi.z;
+        p.r.org_x[q] = ox;
+        p.r.org_y[q] = oy;
+        p.r.org_z[q] = oz;
+        p.r.dir_x[q] = wx;
+        p.r.dir_y[q] = wy;
+        p.r.dir_z[q] = wz;
         p.r.tnear[q] = 0.0f;
         p.r.tfar[q] = INFINITY;
         p.r.mask[q] = 0xffffffffu;
         p.r.flags[q] = 0;
         p.r.time[q] = 0.0f;
         p.r.id[q] = (unsigned)q;
-        p.contrib[q] =
-            mk(f.r * l->power[0] * cosn, f.g * l->power[1] * cosn, f.b * l->power[2] * cosn);
-        *shadow_rays += 1.0;
+        p.contrib[q] = mk(fr * ls->r[k] * cosn, fg * ls->g[k] * cosn, fb * ls->b[k] * cosn);
         if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
     }
+    *shadow_rays += (double)(p.n + p.flushed);
     packet_flush(c->scene, d, &p, &L);
     return L;
 }
@@ -580,9 +597,54 @@ struct lumis_render_job {
     lumis_camera cam;
     v3 eye, fwd, right, up;
     double th, aspect;
-    double *sum; /* 3 per pixel: the sum of every sample so far, in sample order */
+    double *sum;    /* 3 per pixel: the sum of every sample so far, in sample order */
+    light_soa *soa; /* one per light set (light_set only) */
+    int sets;
     lumis_render_stats stats;
 };
+
+static void soa_free(light_soa *soa, int sets)
+{
+    for (int k = 0; soa && k < sets; k++) free(soa[k].x);
+    free(soa);
+}
+
+/* The lights of every set that `kinds` selects, as float arrays (one allocation a set). */
+static light_soa *soa_make(const lumis_light_set *set, unsigned kinds, int *sets_out)
+{
+    const int sets = lumis_light_set_sets(set);
+    light_soa *soa = calloc((size_t)sets, sizeof *soa);
+    if (!soa) return NULL;
+    for (int s = 0; s < sets; s++) {
+        const lumis_light *l = NULL;
+        int count = 0;
+        float *mem = NULL;
+        if (lumis_light_set_get(set, s, &l, &count) != LUMIS_OK ||
+            !(mem = malloc(6 * sizeof(float) * (size_t)(count > 0 ? count : 1)))) {
+            soa_free(soa, sets);
+            return NULL;
+        }
+        light_soa *a = &soa[s];
+        a->x = mem;
+        a->y = mem + count;
+        a->z = mem + 2 * count;
+        a->r = mem + 3 * count;
+        a->g = mem + 4 * count;
+        a->b = mem + 5 * count;
+        for (int k = 0; k < count; k++) {
+            if (!(kinds & (1u << l[k].kind))) continue;
+            const int q = a->count++;
+            a->x[q] = l[k].dir.x;
+            a->y[q] = l[k].dir.y;
+            a->z[q] = l[k].dir.z;
+            a->r[q] = (float)l[k].power[0];
+            a->g[q] = (float)l[k].power[1];
+            a->b[q] = (float)l[k].power[2];
+        }
+    }
+    *sets_out = sets;
+    return soa;
+}
 
 /* splitmix64's finaliser: decorrelates (seed, sample) pairs into PCG start states. */
 static uint64_t mix64(uint64_t z)
@@ -596,6 +658,7 @@ void lumis_render_job_destroy(lumis_render_job *job)
 {
     if (!job) return;
     free(job->sum);
+    soa_free(job->soa, job->sets);
     free(job);
 }
 
@@ -638,6 +701,11 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         lumis_render_job_destroy(job);
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
                            cam.width, cam.height);
+    }
+    if (d->light_set &&
+        !(job->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &job->sets))) {
+        lumis_render_job_destroy(job);
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
     }
     job->scene = scene;
     job->d = *d;
@@ -702,8 +770,8 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
              d->light_samples ? d->light_samples : 1,
              d->bsdf_samples ? d->bsdf_samples : 1,
              d->sampler && lumis_sampler_envmap(d->sampler) == d->env,
-             d->light_set ? lumis_light_set_sets(d->light_set) : 1,
-             d->light_kinds ? d->light_kinds : ~0u};
+             job->sets,
+             job->soa};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
