@@ -650,6 +650,7 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     snprintf(a, sizeof a, "bench '%s' --out '%s'", suite, tu_path("b"));
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "18 items (18 in this shard, 18 to render)"));
+    assert_non_null(strstr(err, "loaded 2 maps ("));
     free(err);
     char p[4096];
     snprintf(p, sizeof p, "%s/results.csv", tu_path("b"));
@@ -667,7 +668,20 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     /* Resume: nothing left to render. */
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "(18 in this shard, 0 to render)"));
+    assert_non_null(strstr(err, "loaded 0 maps ("));
     free(err);
+    /* A map file serving two maps (rotated, relabelled) is read once for every item. */
+    snprintf(a, sizeof a, "sky --size 16x8 -o '%s'", tu_path("m.exr"));
+    expect(a, 0, NULL);
+    static const char twice[] =
+        "{\"maps\": [\"m.exr\", {\"map\": \"m.exr\", \"rotation_deg\": 90, \"label\": "
+        "\"m-rot\"}], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": \"alias\"}], "
+        "\"budgets\": [{\"spp\": 1}, {\"spp\": 2}], \"reference\": {\"spp\": 4}, "
+        "\"size\": [8, 4]}";
+    tu_write_file(tu_path("twice.json"), twice, strlen(twice));
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("tw"));
+    expect(a, 0, "loaded 1 map (");
+    expect(a, 0, "(4 in this shard, 0 to render)");
     /* Two shards into two folders, then a merge into a third. */
     for (int s = 0; s < 2; s++) {
         char dir[32];

@@ -17,11 +17,18 @@ typedef struct suite_map {
     char label[128], spec[4096];
     float rotation_deg, scale;
     int is_file;
+    /* Set by bench_read_inputs: */
+    int first;               /* the first map of the same spec: they share what follows */
+    unsigned long long hash; /* of the content, as the reference key starts it */
+    unsigned char *bytes;    /* the file's bytes, kept for decoding (first only) */
+    size_t nbytes;
 } suite_map;
 
 typedef struct suite_scene {
     char label[128], spec[4096]; /* a built-in name or a resolved file path */
     int is_file;
+    unsigned char *bytes; /* a file's bytes, for its hash (bench_read_inputs); NULL: missing */
+    size_t nbytes;
 } suite_scene;
 
 typedef struct suite_method {
@@ -57,6 +64,11 @@ typedef struct suite {
  * frees s with bench_suite_free. */
 int bench_parse_suite(const char *path, suite *s);
 void bench_suite_free(suite *s);
+
+/* Reads every map and scene file of the suite once, for the keys (each file's content is
+ * hashed, not its name); with keep_maps, each map file's bytes stay in s for bench_run to
+ * decode.  Call it after bench_parse_suite, before any key is asked for.  Exit code. */
+int bench_read_inputs(suite *s, int keep_maps);
 
 /* Copies at most cap - 1 bytes (a cut label is still a label). */
 void bench_copy_cut(char *out, size_t cap, const char *in);
@@ -94,9 +106,10 @@ typedef struct bench_run_opts {
     char **argv;
 } bench_run_opts;
 
-/* Renders the references this shard needs, then its items, in o->jobs processes.  Exit
- * code. */
-int bench_run(const suite *s, const bench_run_opts *o);
+/* Loads the maps this shard renders with (each once, from the bytes bench_read_inputs kept,
+ * which it frees), renders the references this shard needs, then its items, in o->jobs
+ * processes.  Exit code. */
+int bench_run(suite *s, const bench_run_opts *o);
 
 int bench_file_exists(const char *path);
 /* mkdir -p */

@@ -6,6 +6,7 @@
 #include <cJSON.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int bench_nitems(const suite *s)
@@ -44,15 +45,70 @@ static uint64_t fnv_str(uint64_t h, const char *s)
     return fnv(h, s, strlen(s) + 1);
 }
 
-/* A file's bytes into the hash (a missing file hashes its name, and fails later). */
-static uint64_t fnv_file(uint64_t h, const char *path)
+/* Where every reference key starts (the map's content comes next). */
+static uint64_t reference_basis(void)
 {
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv_str(h, "lumis-reference-v1");
+    return fnv_str(h, LUMIS_VERSION_STRING);
+}
+
+/* The whole of a file; NULL if it cannot be opened (*oom = 0: it then hashes by name and
+ * fails later, with its name, where it is loaded) or memory is short (*oom = 1). */
+static unsigned char *read_all(const char *path, size_t *n, int *oom)
+{
+    *n = 0;
+    *oom = 0;
     FILE *f = fopen(path, "rb");
-    if (!f) return fnv_str(h, path);
-    unsigned char buf[65536];
-    for (size_t n; (n = fread(buf, 1, sizeof buf, f)) > 0;) h = fnv(h, buf, n);
+    if (!f) return NULL;
+    size_t cap = 1 << 16;
+    unsigned char *buf = malloc(cap);
+    for (size_t got; buf && (got = fread(buf + *n, 1, cap - *n, f)) > 0;) {
+        *n += got;
+        if (*n == cap) {
+            unsigned char *grown = realloc(buf, cap *= 2);
+            if (!grown) free(buf);
+            buf = grown;
+        }
+    }
     fclose(f);
-    return h;
+    *oom = buf == NULL;
+    return buf;
+}
+
+int bench_read_inputs(suite *s, int keep_maps)
+{
+    const uint64_t basis = reference_basis();
+    for (int m = 0; m < s->nmaps; m++) {
+        suite_map *map = &s->maps[m];
+        map->first = m;
+        for (int j = 0; j < m && map->first == m; j++)
+            if (strcmp(s->maps[j].spec, map->spec) == 0) map->first = j;
+        if (map->first != m) {
+            map->hash = s->maps[map->first].hash;
+            continue;
+        }
+        if (!map->is_file) {
+            map->hash = fnv_str(basis, map->spec);
+            continue;
+        }
+        int oom;
+        unsigned char *b = read_all(map->spec, &map->nbytes, &oom);
+        if (oom) return tool_runtime_error("bench: out of memory reading %s", map->spec);
+        map->hash = b ? fnv(basis, b, map->nbytes) : fnv_str(basis, map->spec);
+        if (keep_maps)
+            map->bytes = b;
+        else
+            free(b);
+    }
+    for (int k = 0; k < s->nscenes; k++) {
+        suite_scene *sc = &s->scenes[k];
+        int oom;
+        if (sc->is_file) sc->bytes = read_all(sc->spec, &sc->nbytes, &oom);
+        if (sc->is_file && oom)
+            return tool_runtime_error("bench: out of memory reading %s", sc->spec);
+    }
+    return EXIT_OK;
 }
 
 /* Everything that makes a reference image: the map's content, its rotation and scale,
@@ -60,11 +116,8 @@ static uint64_t fnv_file(uint64_t h, const char *path)
  * reference's method, samples, bounces and seed. */
 void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
 {
-    uint64_t h = 0xcbf29ce484222325ull;
-    h = fnv_str(h, "lumis-reference-v1");
-    h = fnv_str(h, LUMIS_VERSION_STRING);
     const suite_map *map = &s->maps[m];
-    h = map->is_file ? fnv_file(h, map->spec) : fnv_str(h, map->spec);
+    uint64_t h = map->hash; /* reference_basis() and the map's content, hashed once */
     char buf[512];
     snprintf(buf, sizeof buf, "%.9g %.9g %d %d %d %d %d %d %d %d %d %d %llu", map->rotation_deg,
              map->scale, s->width, s->height, s->ref_spp, (int)s->reference.sampler.method,
@@ -73,7 +126,7 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
              s->reference.bsdf_samples, s->bounces, s->seed);
     h = fnv_str(h, buf);
     const suite_scene *scene = &s->scenes[sc];
-    h = scene->is_file ? fnv_file(h, scene->spec) : fnv_str(h, scene->spec);
+    h = scene->bytes ? fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
     snprintf(out, cap, "%016llx", (unsigned long long)h);
 }
 

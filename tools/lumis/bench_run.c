@@ -14,6 +14,7 @@
 typedef struct run_ctx {
     const suite *s;
     const char *out;
+    lumis_image *const *images; /* per map, loaded once per run (shared by its spec) */
     int threads;
     int argc;
     char **argv;
@@ -52,6 +53,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     else
         o->scene_name = sc->spec;
     o->envspec = s->maps[it->map].spec;
+    o->env_image = c->images[it->map];
     o->rotation_deg = s->maps[it->map].rotation_deg;
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
@@ -175,33 +177,86 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     return rc;
 }
 
-int bench_run(const suite *s, const bench_run_opts *o)
+/* Decodes every map flagged in need (by its first spec) from the bytes bench_read_inputs
+ * kept, once, into images (shared by every map of the same spec), and frees the bytes.
+ * The parent does this before it forks: the workers share the pixels copy-on-write rather
+ * than each reading the map for every item.  (Decoding leaves no thread behind: the EXR
+ * reader's pool lives for one read.)  Exit code. */
+static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
+{
+    int rc = EXIT_OK, loaded = 0;
+    double bytes = 0;
+    for (int m = 0; m < s->nmaps; m++) {
+        suite_map *map = &s->maps[m];
+        if (map->first == m && need[m] && rc == EXIT_OK) {
+            lumis_status st;
+            if (map->bytes) {
+                lumis_read_options ro = {0};
+                ro.errors = tool_errors;
+                st = lumis_image_read_memory(map->bytes, map->nbytes, LUMIS_FORMAT_AUTO, map->spec,
+                                             &ro, &images[m], NULL);
+            } else { /* a procedural spec, or a file that would not open (named by the error) */
+                st = tool_load_image(map->spec, &images[m], NULL);
+            }
+            if (st != LUMIS_OK) rc = EXIT_RUNTIME;
+            if (images[m]) {
+                loaded++;
+                bytes += 12.0 * images[m]->width * images[m]->height;
+            }
+        }
+        images[m] = images[map->first];
+        free(map->bytes);
+        map->bytes = NULL;
+    }
+    if (rc == EXIT_OK)
+        fprintf(stderr, "lumis bench: loaded %d map%s (%.1f MB), one read each for the whole run\n",
+                loaded, loaded == 1 ? "" : "s", bytes / 1e6);
+    return rc;
+}
+
+int bench_run(suite *s, const bench_run_opts *o)
 {
     const long jobs = o->jobs, shard_i = o->shard_i, shard_n = o->shard_n;
     const char *out = o->out;
-    int rc = EXIT_OK;
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    run_ctx c = {s, o->out, (int)(o->threads ? o->threads : (cores > jobs ? cores / jobs : 1)),
-                 o->argc, o->argv};
     const int total = bench_nitems(s);
+    lumis_image **images = calloc((size_t)s->nmaps, sizeof *images);
+    unsigned char *need = calloc((size_t)s->nmaps, 1);
+    if (!images || !need) {
+        free(images);
+        free(need);
+        return tool_runtime_error("bench: out of memory");
+    }
     int mine = 0, todo = 0;
     for (int k = 0; k < total; k++)
         if (bench_in_shard(s, k, shard_i, shard_n)) {
             mine++;
             item it = bench_item_at(s, k);
-            todo += !bench_item_done(s, out, &it);
+            if (!bench_item_done(s, out, &it)) {
+                todo++;
+                need[s->maps[it.map].first] = 1;
+            }
         }
     fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n", s->name,
             total, mine, todo);
+    int rc = load_maps(s, need, images);
+    free(need);
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    run_ctx c = {s,       out,
+                 images,  (int)(o->threads ? o->threads : (cores > jobs ? cores / jobs : 1)),
+                 o->argc, o->argv};
     /* References first, with every thread, for the pairs this shard needs.  With
      * --jobs the parent forks workers afterwards, so it must never start OpenMP's or
      * Embree's threads itself (they do not survive a fork): references are rendered
      * in a child process then. */
     run_ctx rc_all = c;
     rc_all.threads = o->threads;
-    pid_t refs_pid = jobs > 1 ? (fflush(NULL), fork()) : 0;
-    if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
-    if (refs_pid == 0) {
+    pid_t refs_pid = 0;
+    if (rc == EXIT_OK && jobs > 1) {
+        fflush(NULL);
+        refs_pid = fork();
+        if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+    }
+    if (rc == EXIT_OK && refs_pid == 0) {
         for (int m = 0; m < s->nmaps && rc == EXIT_OK; m++)
             for (int sc = 0; sc < s->nscenes && rc == EXIT_OK; sc++) {
                 int need = 0;
@@ -258,5 +313,8 @@ int bench_run(const suite *s, const bench_run_opts *o)
     }
     if (rc != EXIT_OK)
         fprintf(stderr, "lumis bench: stopped; run the same command again to resume\n");
+    for (int m = 0; m < s->nmaps; m++)
+        if (s->maps[m].first == m) lumis_image_destroy(images[m]);
+    free(images);
     return rc;
 }

@@ -13,6 +13,8 @@
 
 void bench_suite_free(suite *s)
 {
+    for (int m = 0; m < s->nmaps; m++) free(s->maps[m].bytes);
+    for (int k = 0; k < s->nscenes; k++) free(s->scenes[k].bytes);
     free(s->maps);
     free(s->scenes);
     free(s->methods);

@@ -107,6 +107,11 @@ int cmd_bench(int argc, char **argv)
         return tool_usage_error("bench", "--shard renders; --merge and --report-only report");
     suite s;
     if (bench_parse_suite(suite_path, &s) != EXIT_OK) return EXIT_RUNTIME;
+    const int renders = !merging && !report_only;
+    if (bench_read_inputs(&s, renders) != EXIT_OK) {
+        bench_suite_free(&s);
+        return EXIT_RUNTIME;
+    }
     char outbuf[4096];
     if (!out) {
         snprintf(outbuf, sizeof outbuf, "bench-out/%s", s.name);
@@ -130,7 +135,7 @@ int cmd_bench(int argc, char **argv)
                     if (stat(argv[k], &sb) != 0 || !S_ISDIR(sb.st_mode)) break;
                     rc = bench_merge_dir(argv[k], out);
                 }
-    if (!merging && !report_only && rc == EXIT_OK) {
+    if (renders && rc == EXIT_OK) {
         bench_run_opts ro = {out, (int)threads, jobs, shard_i, shard_n, argc, argv};
         rc = bench_run(&s, &ro);
     }
