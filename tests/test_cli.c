@@ -745,6 +745,11 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     expect("bench", 2, "needs a SUITE.json");
     snprintf(a, sizeof a, "bench '%s' --shard 3/2", suite);
     expect(a, 2, "--shard needs I/N");
+    /* --out is a folder: never an existing file, least of all the suite. */
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("twice.json"));
+    expect(a, 2, "is the suite file");
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("m.exr"));
+    expect(a, 2, "is not a directory");
     /* The page opens in headless Chromium and renders to a screenshot. */
     FILE *chromium = fopen("/usr/bin/chromium", "rb");
     if (!chromium) {

@@ -32,6 +32,20 @@ static const char usage[] =
     "  --threads N      render threads (default: all cores, divided by --jobs)\n\n"
     "An interrupted run resumes where it stopped: finished items are kept.\n";
 
+/* --out names a folder, made with its parents when missing: never an existing file, least
+ * of all the suite itself (exit 2, before any work). */
+static int check_out(const char *out, const char *suite_path)
+{
+    if (tool_same_file(out, suite_path))
+        return tool_usage_error("bench", "--out %s is the suite file; name a folder", out);
+    struct stat sb;
+    if (stat(out, &sb) != 0) return EXIT_OK; /* made below, parents too */
+    tool_files files = {0};
+    tool_files_input(&files, "suite", suite_path);
+    tool_files_output(&files, "--out", out, TOOL_OUT_DIR);
+    return tool_files_check("bench", &files);
+}
+
 /* Every file of the report, from the results out holds. */
 static int write_report(const suite *s, const char *out, int argc, char **argv)
 {
@@ -107,15 +121,17 @@ int cmd_bench(int argc, char **argv)
         return tool_usage_error("bench", "--shard renders; --merge and --report-only report");
     suite s;
     if (bench_parse_suite(suite_path, &s) != EXIT_OK) return EXIT_RUNTIME;
-    const int renders = !merging && !report_only;
-    if (bench_read_inputs(&s, renders) != EXIT_OK) {
-        bench_suite_free(&s);
-        return EXIT_RUNTIME;
-    }
     char outbuf[4096];
     if (!out) {
         snprintf(outbuf, sizeof outbuf, "bench-out/%s", s.name);
         out = outbuf;
+    }
+    int rc = check_out(out, suite_path);
+    const int renders = !merging && !report_only;
+    if (rc == EXIT_OK && bench_read_inputs(&s, renders) != EXIT_OK) rc = EXIT_RUNTIME;
+    if (rc != EXIT_OK) {
+        bench_suite_free(&s);
+        return rc;
     }
     static const char *const subs[] = {"", "/refs", "/renders", "/results", "/previews"};
     for (int k = 0; k < 5; k++) {
@@ -126,7 +142,6 @@ int cmd_bench(int argc, char **argv)
             return EXIT_RUNTIME;
         }
     }
-    int rc = EXIT_OK;
     if (merging)
         for (int i = 1; i < argc && rc == EXIT_OK; i++)
             if (strcmp(argv[i], "--merge") == 0)
