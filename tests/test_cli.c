@@ -730,12 +730,32 @@ static void bench_runs_resumes_shards_and_reports(void **state)
          "budgets: expected a non-empty array"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"magic\"}], \"budgets\": [{\"spp\": 1}]}",
-         "methods[0]: unknown method 'magic'"},
+         "methods[0].method: unknown method 'magic'"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"alias\"}], \"budgets\": [{\"spp\": 0}]}",
-         "budgets[0]: expected"},
+         "budgets[0].spp: expected an integer from 1"},
         {"{\"maps\": [\"nowhere/\"], \"scenes\": [\"spheres\"]}", "nowhere/"},
-        {"[1, 2", "not a JSON object"},
+        /* Malformed JSON: where cJSON gave up, as line:column. */
+        {"[1, 2", "bad-suite.json:1:5: malformed JSON"},
+        {"{\n  \"maps\": [\"sky:8x4\"],\n  \"scenes\": [\"spheres\" \"x\"]\n}",
+         "bad-suite.json:3:24: malformed JSON near '\"x\"]'"},
+        {"[1, 2]", "expected a JSON object"},
+        /* Well-formed: the JSON path of the culprit. */
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}, {\"method\": \"kdtree\", \"budget\": 2}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[1].budget: unknown key"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"kdtree\", \"blocks\": \"64\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].blocks: expected a number"},
+        {"{\"maps\": [\"sky:8x4\", {\"map\": \"sky:8x4\", \"rotation\": 9}], \"scenes\": "
+         "[\"spheres\"]}",
+         "maps[1].rotation: unknown key"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"spp\": 0}}",
+         "reference.spp: expected"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": [{\"spp\": 1}], \"compare\": [[\"alias\", \"x\"]]}",
+         "compare[0][1]: no method labelled 'x'"},
         {"{\"maps\": [\"sky:8x4\", \"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": "
          "[{\"method\": \"alias\"}], \"budgets\": [{\"spp\": 1}]}",
          "two maps are labelled 'sky-8x4'"},

@@ -6,6 +6,7 @@
 #include <cJSON.h>
 #include <dirent.h>
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -99,40 +100,91 @@ static int add_map(suite *s, const char *spec, const char *label, int user_label
     return EXIT_OK;
 }
 
+/* Every key of obj is one of keys (NULL-terminated): a misspelt or misplaced key would
+ * otherwise be ignored, and the suite would measure something else than it says. */
+static int check_keys(const cJSON *obj, const char *const *keys, const char *file,
+                      const char *where)
+{
+    for (const cJSON *c = obj->child; c; c = c->next) {
+        int known = 0;
+        for (const char *const *k = keys; *k && !known; k++) known = strcmp(*k, c->string) == 0;
+        if (known) continue;
+        char list[512] = "";
+        for (const char *const *k = keys; *k; k++) {
+            size_t len = strlen(list);
+            snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", *k);
+        }
+        return tool_runtime_error("%s: %s%s%s: unknown key (expected %s)", file, where,
+                                  *where ? "." : "", c->string, list);
+    }
+    return EXIT_OK;
+}
+
+/* obj[key] as a number into *out, which stays as it is when the key is absent; another
+ * type is an error that names where.key. */
+static int opt_number(const cJSON *obj, const char *key, const char *file, const char *where,
+                      double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return EXIT_OK;
+    if (!cJSON_IsNumber(v))
+        return tool_runtime_error("%s: %s%s%s: expected a number", file, where, *where ? "." : "",
+                                  key);
+    *out = v->valuedouble;
+    return EXIT_OK;
+}
+
+/* The same for a string (*out: NULL when absent). */
+static int opt_string(const cJSON *obj, const char *key, const char *file, const char *where,
+                      const char **out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    *out = NULL;
+    if (!v) return EXIT_OK;
+    if (!cJSON_IsString(v))
+        return tool_runtime_error("%s: %s%s%s: expected a string", file, where, *where ? "." : "",
+                                  key);
+    *out = v->valuestring;
+    return EXIT_OK;
+}
+
 /* A map entry: a file, a folder (every .exr/.hdr/.pfm in it, sorted), a procedural spec,
  * or {"map": ..., "rotation_deg": ..., "scale": ..., "label": ...}. */
-static int parse_map(suite *s, const cJSON *e, const char *file)
+static int parse_map(suite *s, const cJSON *e, const char *file, const char *where)
 {
+    static const char *const keys[] = {"map", "rotation_deg", "scale", "label", NULL};
     const char *spec = NULL, *label = NULL;
     float rot = 0.0f, scale = 1.0f;
     if (cJSON_IsString(e)) {
         spec = e->valuestring;
     } else if (cJSON_IsObject(e)) {
-        const cJSON *m = cJSON_GetObjectItemCaseSensitive(e, "map"),
-                    *r = cJSON_GetObjectItemCaseSensitive(e, "rotation_deg"),
-                    *k = cJSON_GetObjectItemCaseSensitive(e, "scale"),
-                    *l = cJSON_GetObjectItemCaseSensitive(e, "label");
-        if (!cJSON_IsString(m))
-            return tool_runtime_error("%s: maps: an object needs \"map\": a file or spec", file);
-        spec = m->valuestring;
-        if (cJSON_IsNumber(r)) rot = (float)r->valuedouble;
-        if (cJSON_IsNumber(k)) scale = (float)k->valuedouble;
-        if (cJSON_IsString(l)) label = l->valuestring;
+        double r = 0.0, k = 1.0;
+        int rc = check_keys(e, keys, file, where);
+        if (rc == EXIT_OK) rc = opt_string(e, "map", file, where, &spec);
+        if (rc == EXIT_OK) rc = opt_number(e, "rotation_deg", file, where, &r);
+        if (rc == EXIT_OK) rc = opt_number(e, "scale", file, where, &k);
+        if (rc == EXIT_OK) rc = opt_string(e, "label", file, where, &label);
+        if (rc != EXIT_OK) return rc;
+        if (!spec)
+            return tool_runtime_error("%s: %s: an object needs \"map\": a file or spec", file,
+                                      where);
+        rot = (float)r;
+        scale = (float)k;
     } else {
-        return tool_runtime_error("%s: maps: expected file names, folders or specs", file);
+        return tool_runtime_error("%s: %s: expected a file name, folder or spec", file, where);
     }
-    if (!*spec) return tool_runtime_error("%s: maps: an empty name", file);
+    if (!*spec) return tool_runtime_error("%s: %s: an empty name", file, where);
     if (is_procedural(spec))
         return add_map(s, spec, label ? label : spec, label != NULL, rot, scale);
     char path[4096];
     resolve(s, spec, path, sizeof path);
     struct stat sb;
     if (stat(path, &sb) != 0)
-        return tool_runtime_error("%s: maps: %s: %s", file, path, strerror(errno));
+        return tool_runtime_error("%s: %s: %s: %s", file, where, path, strerror(errno));
     if (!S_ISDIR(sb.st_mode))
         return add_map(s, path, label ? label : path, label != NULL, rot, scale);
     DIR *d = opendir(path);
-    if (!d) return tool_runtime_error("%s: maps: %s: %s", file, path, strerror(errno));
+    if (!d) return tool_runtime_error("%s: %s: %s: %s", file, where, path, strerror(errno));
     char **names = NULL;
     int n = 0, rc = EXIT_OK;
     for (struct dirent *de; (de = readdir(d));) {
@@ -148,7 +200,7 @@ static int parse_map(suite *s, const cJSON *e, const char *file)
     }
     closedir(d);
     if (rc == EXIT_OK && n == 0)
-        rc = tool_runtime_error("%s: maps: %s holds no .exr, .hdr or .pfm file", file, path);
+        rc = tool_runtime_error("%s: %s: %s holds no .exr, .hdr or .pfm file", file, where, path);
     if (n) qsort(names, (size_t)n, sizeof *names, cmp_str);
     for (int k = 0; k < n; k++) {
         char full[4096 + 256];
@@ -160,41 +212,60 @@ static int parse_map(suite *s, const cJSON *e, const char *file)
     return rc;
 }
 
+/* obj[key], when present, as an integer in [lo, hi] into *out (where names obj). */
+static int opt_count(const cJSON *obj, const char *key, const char *file, const char *where,
+                     double lo, double hi, int *out)
+{
+    double v = *out;
+    int rc = opt_number(obj, key, file, where, &v);
+    if (rc != EXIT_OK) return rc;
+    if (v < lo || v > hi || v != floor(v))
+        return tool_runtime_error("%s: %s%s%s: expected an integer from %.0f to %.0f", file, where,
+                                  *where ? "." : "", key, lo, hi);
+    *out = (int)v;
+    return EXIT_OK;
+}
+
+static const char *const method_keys[] = {"method",        "label",        "mis", "blocks",
+                                          "light_samples", "bsdf_samples", NULL},
+                         *reference_keys[] = {"method",        "label",        "mis", "blocks",
+                                              "light_samples", "bsdf_samples", "spp", NULL};
+
+/* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
 {
     memset(m, 0, sizeof *m);
-    const cJSON *name = cJSON_GetObjectItemCaseSensitive(e, "method"),
-                *label = cJSON_GetObjectItemCaseSensitive(e, "label"),
-                *mis = cJSON_GetObjectItemCaseSensitive(e, "mis"),
-                *blocks = cJSON_GetObjectItemCaseSensitive(e, "blocks"),
-                *nl = cJSON_GetObjectItemCaseSensitive(e, "light_samples"),
-                *nb = cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples");
-    if (!cJSON_IsString(name))
+    if (!cJSON_IsObject(e)) return tool_runtime_error("%s: %s: expected an object", file, where);
+    const char *name = NULL, *label = NULL, *mis = NULL;
+    int rc =
+        check_keys(e, strcmp(where, "reference") == 0 ? reference_keys : method_keys, file, where);
+    if (rc == EXIT_OK) rc = opt_string(e, "method", file, where, &name);
+    if (rc == EXIT_OK) rc = opt_string(e, "label", file, where, &label);
+    if (rc == EXIT_OK) rc = opt_string(e, "mis", file, where, &mis);
+    if (rc != EXIT_OK) return rc;
+    if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,
                                   where);
-    if (strcmp(name->valuestring, "bsdf") == 0) {
+    if (strcmp(name, "bsdf") == 0) {
         m->bsdf_only = 1;
         m->estimator = LUMIS_ESTIMATOR_BSDF;
-    } else if (lumis_sampler_method_from_name(name->valuestring, &m->sampler.method) != LUMIS_OK) {
-        return tool_runtime_error("%s: %s: unknown method '%s'", file, where, name->valuestring);
+    } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
+        return tool_runtime_error("%s: %s.method: unknown method '%s'", file, where, name);
     }
-    if (cJSON_IsString(mis)) {
-        if (strcmp(mis->valuestring, "power") == 0)
+    if (mis) {
+        if (strcmp(mis, "power") == 0)
             m->power = 1;
-        else if (strcmp(mis->valuestring, "none") == 0)
+        else if (strcmp(mis, "none") == 0)
             m->estimator = m->bsdf_only ? LUMIS_ESTIMATOR_BSDF : LUMIS_ESTIMATOR_LIGHT;
-        else if (strcmp(mis->valuestring, "balance") != 0)
+        else if (strcmp(mis, "balance") != 0)
             return tool_runtime_error("%s: %s.mis: expected balance, power or none", file, where);
     }
-    if (cJSON_IsNumber(blocks)) m->sampler.kdtree_blocks = blocks->valueint;
-    if (cJSON_IsNumber(nl)) m->light_samples = nl->valueint;
-    if (cJSON_IsNumber(nb)) m->bsdf_samples = nb->valueint;
-    if (m->sampler.kdtree_blocks < 0 || m->light_samples < 0 || m->bsdf_samples < 0 ||
-        m->light_samples > 4096 || m->bsdf_samples > 4096)
-        return tool_runtime_error("%s: %s: counts must be small non-negative integers", file,
-                                  where);
+    rc = opt_count(e, "blocks", file, where, 0, 1 << 30, &m->sampler.kdtree_blocks);
+    if (rc == EXIT_OK) rc = opt_count(e, "light_samples", file, where, 0, 4096, &m->light_samples);
+    if (rc == EXIT_OK) rc = opt_count(e, "bsdf_samples", file, where, 0, 4096, &m->bsdf_samples);
+    if (rc != EXIT_OK) return rc;
     char tmp[128];
-    bench_copy_cut(tmp, sizeof tmp, cJSON_IsString(label) ? label->valuestring : name->valuestring);
+    bench_copy_cut(tmp, sizeof tmp, label ? label : name);
     make_label(m->label, sizeof m->label, tmp);
     return EXIT_OK;
 }
@@ -232,30 +303,57 @@ int bench_parse_suite(const char *path, suite *s)
     }
     fclose(f);
     if (!text) return tool_runtime_error("%s: cannot read it", path);
-    cJSON *root = cJSON_ParseWithLength(text, n);
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, n, &end, 0);
+    if (!root) { /* cJSON points at where it gave up: name its line and column */
+        size_t at = end && end >= text && end <= text + n ? (size_t)(end - text) : 0;
+        int line = 1, col = 1;
+        for (size_t k = 0; k < at; k++) {
+            col = text[k] == '\n' ? 1 : col + 1;
+            line += text[k] == '\n';
+        }
+        int near = 0;
+        while (at + (size_t)near < n && near < 24 && text[at + near] != '\n' &&
+               text[at + near] != '\r')
+            near++;
+        int rc = tool_runtime_error("%s:%d:%d: malformed JSON%s%.*s%s", path, line, col,
+                                    near ? " near '" : " (it ends too soon)", near, text + at,
+                                    near ? "'" : "");
+        free(text);
+        return rc;
+    }
     free(text);
     if (!cJSON_IsObject(root)) {
         cJSON_Delete(root);
-        return tool_runtime_error("%s: not a JSON object (malformed JSON?)", path);
+        return tool_runtime_error("%s: expected a JSON object {...} at the top", path);
     }
     const char *slash = strrchr(path, '/');
     if (slash) snprintf(s->dir, sizeof s->dir, "%.*s", (int)(slash - path), path);
-    int rc = EXIT_OK;
+    static const char *const keys[] = {
+        "name",        "description",         "maps",     "scenes",  "methods",
+        "budgets",     "reference",           "size",     "seed",    "bounces",
+        "exposure_ev", "preview_exposure_ev", "flip_hdr", "compare", NULL};
+    int rc = check_keys(root, keys, path, "");
     const cJSON *v;
     char base[128];
     bench_copy_cut(base, sizeof base, slash ? slash + 1 : path);
     char *dot = strrchr(base, '.');
     if (dot) *dot = '\0';
-    v = cJSON_GetObjectItemCaseSensitive(root, "name");
-    make_label(s->name, sizeof s->name, cJSON_IsString(v) ? v->valuestring : base);
-    v = cJSON_GetObjectItemCaseSensitive(root, "description");
-    if (cJSON_IsString(v)) snprintf(s->description, sizeof s->description, "%s", v->valuestring);
+    const char *name = NULL, *description = NULL;
+    if (rc == EXIT_OK) rc = opt_string(root, "name", path, "", &name);
+    if (rc == EXIT_OK) rc = opt_string(root, "description", path, "", &description);
+    make_label(s->name, sizeof s->name, name ? name : base);
+    if (description) snprintf(s->description, sizeof s->description, "%s", description);
 
     const cJSON *maps = cJSON_GetObjectItemCaseSensitive(root, "maps");
-    if (!cJSON_IsArray(maps) || cJSON_GetArraySize(maps) == 0)
+    if (rc == EXIT_OK && (!cJSON_IsArray(maps) || cJSON_GetArraySize(maps) == 0))
         rc = tool_runtime_error("%s: maps: expected a non-empty array", path);
-    for (const cJSON *e = maps ? maps->child : NULL; e && rc == EXIT_OK; e = e->next)
-        rc = parse_map(s, e, path);
+    int mk = 0;
+    for (const cJSON *e = maps ? maps->child : NULL; e && rc == EXIT_OK; e = e->next, mk++) {
+        char where[32];
+        snprintf(where, sizeof where, "maps[%d]", mk);
+        rc = parse_map(s, e, path, where);
+    }
 
     const cJSON *scenes = NULL;
     s->scenes = suite_array(root, "scenes", path, sizeof *s->scenes, &scenes, &s->nscenes, &rc);
@@ -300,20 +398,27 @@ int bench_parse_suite(const char *path, suite *s)
     s->budgets =
         suite_array(root, "budgets", path, sizeof *s->budgets, &budgets, &s->nbudgets, &rc);
     for (int k = 0; rc == EXIT_OK && k < s->nbudgets; k++) {
+        static const char *const budget_keys[] = {"spp", "time", NULL};
         const cJSON *e = cJSON_GetArrayItem(budgets, k);
-        const cJSON *spp = cJSON_GetObjectItemCaseSensitive(e, "spp"),
-                    *t = cJSON_GetObjectItemCaseSensitive(e, "time");
+        char where[32];
+        snprintf(where, sizeof where, "budgets[%d]", k);
         suite_budget *b = &s->budgets[k];
-        if (cJSON_IsNumber(spp) && !t && spp->valuedouble >= 1 && spp->valuedouble <= 1 << 20) {
-            b->spp = spp->valueint;
+        const int has_spp = cJSON_HasObjectItem(e, "spp"), has_t = cJSON_HasObjectItem(e, "time");
+        if (!cJSON_IsObject(e) || has_spp == has_t) {
+            rc = tool_runtime_error("%s: %s: expected {\"spp\": N} or {\"time\": SECONDS}", path,
+                                    where);
+            break;
+        }
+        rc = check_keys(e, budget_keys, path, where);
+        if (rc == EXIT_OK && has_spp) {
+            rc = opt_count(e, "spp", path, where, 1, 1 << 20, &b->spp);
             snprintf(b->label, sizeof b->label, "spp%d", b->spp);
-        } else if (cJSON_IsNumber(t) && !spp && t->valuedouble > 0 && t->valuedouble <= 86400) {
-            b->seconds = t->valuedouble;
+        } else if (rc == EXIT_OK) {
+            rc = opt_number(e, "time", path, where, &b->seconds);
+            if (rc == EXIT_OK && !(b->seconds > 0 && b->seconds <= 86400))
+                rc = tool_runtime_error("%s: %s.time: expected seconds, over 0 and at most 86400",
+                                        path, where);
             snprintf(b->label, sizeof b->label, "t%gs", b->seconds);
-        } else {
-            rc = tool_runtime_error("%s: budgets[%d]: expected {\"spp\": N} or {\"time\": "
-                                    "SECONDS}",
-                                    path, k);
         }
     }
 
@@ -324,12 +429,13 @@ int bench_parse_suite(const char *path, suite *s)
     s->reference.sampler.method = LUMIS_METHOD_INVERSION;
     snprintf(s->reference.label, sizeof s->reference.label, "reference");
     if (rc == EXIT_OK && ref) {
-        const cJSON *spp = cJSON_GetObjectItemCaseSensitive(ref, "spp");
-        if (cJSON_IsNumber(spp)) s->ref_spp = spp->valueint;
-        if (cJSON_GetObjectItemCaseSensitive(ref, "method"))
-            rc = parse_method(ref, &s->reference, path, "reference");
-        if (s->ref_spp < 1 || s->ref_spp > 1 << 20)
-            rc = tool_runtime_error("%s: reference.spp: expected 1 to 2^20", path);
+        if (!cJSON_IsObject(ref))
+            rc = tool_runtime_error("%s: reference: expected {\"spp\": N, \"method\": ...}", path);
+        if (rc == EXIT_OK) rc = opt_count(ref, "spp", path, "reference", 1, 1 << 20, &s->ref_spp);
+        if (rc == EXIT_OK)
+            rc = cJSON_HasObjectItem(ref, "method")
+                     ? parse_method(ref, &s->reference, path, "reference")
+                     : check_keys(ref, reference_keys, path, "reference");
     }
     v = cJSON_GetObjectItemCaseSensitive(root, "size");
     if (rc == EXIT_OK && v) {
@@ -343,12 +449,12 @@ int bench_parse_suite(const char *path, suite *s)
                 rc = tool_runtime_error("%s: size: 1 to 16384 pixels each way", path);
         }
     }
-    v = cJSON_GetObjectItemCaseSensitive(root, "seed");
-    s->seed = cJSON_IsNumber(v) && v->valuedouble >= 0 ? (unsigned long long)v->valuedouble : 1;
-    v = cJSON_GetObjectItemCaseSensitive(root, "bounces");
-    s->bounces = cJSON_IsNumber(v) ? v->valueint : 0;
-    if (rc == EXIT_OK && (s->bounces < 0 || s->bounces > 64))
-        rc = tool_runtime_error("%s: bounces: expected 0 to 64", path);
+    double seed = 1;
+    if (rc == EXIT_OK) rc = opt_number(root, "seed", path, "", &seed);
+    if (rc == EXIT_OK && !(seed >= 0 && seed <= 9007199254740992.0 && seed == floor(seed)))
+        rc = tool_runtime_error("%s: seed: expected an integer from 0 to 2^53", path);
+    s->seed = rc == EXIT_OK ? (unsigned long long)seed : 1;
+    if (rc == EXIT_OK) rc = opt_count(root, "bounces", path, "", 0, 64, &s->bounces);
     v = cJSON_GetObjectItemCaseSensitive(root, "exposure_ev");
     s->exposure_ev = cJSON_IsNumber(v) ? (float)v->valuedouble : 0.0f;
     s->exposure_auto = cJSON_IsString(v) && strcmp(v->valuestring, "auto") == 0;
@@ -362,21 +468,27 @@ int bench_parse_suite(const char *path, suite *s)
         rc = tool_runtime_error("%s: preview_exposure_ev: expected stops or \"auto\"", path);
     v = cJSON_GetObjectItemCaseSensitive(root, "flip_hdr");
     s->flip_hdr = v ? cJSON_IsTrue(v) : 1;
+    if (rc == EXIT_OK && v && !cJSON_IsBool(v))
+        rc = tool_runtime_error("%s: flip_hdr: expected true or false", path);
     const cJSON *cmp = cJSON_GetObjectItemCaseSensitive(root, "compare");
+    if (rc == EXIT_OK && cmp && !cJSON_IsArray(cmp))
+        rc = tool_runtime_error("%s: compare: expected an array of pairs [\"A\", \"B\"]", path);
     for (const cJSON *e = cmp ? cmp->child : NULL; e && rc == EXIT_OK; e = e->next) {
         if (s->ncompare == 8 || !cJSON_IsArray(e) || cJSON_GetArraySize(e) != 2 ||
             !cJSON_IsString(cJSON_GetArrayItem(e, 0)) ||
             !cJSON_IsString(cJSON_GetArrayItem(e, 1))) {
-            rc = tool_runtime_error("%s: compare: expected up to 8 pairs [\"A\", \"B\"] of method "
-                                    "labels",
-                                    path);
+            rc = tool_runtime_error("%s: compare[%d]: expected up to 8 pairs [\"A\", \"B\"] of "
+                                    "method labels",
+                                    path, s->ncompare);
             break;
         }
         for (int j = 0; j < 2; j++) {
             const char *lab = cJSON_GetArrayItem(e, j)->valuestring;
             int found = 0;
             for (int k = 0; k < s->nmethods; k++) found |= strcmp(s->methods[k].label, lab) == 0;
-            if (!found) rc = tool_runtime_error("%s: compare: no method labelled '%s'", path, lab);
+            if (!found && rc == EXIT_OK)
+                rc = tool_runtime_error("%s: compare[%d][%d]: no method labelled '%s'", path,
+                                        s->ncompare, j, lab);
             snprintf(s->compare[s->ncompare][j], sizeof s->compare[0][0], "%s", lab);
         }
         s->ncompare++;
