@@ -624,19 +624,21 @@ static void check_links(const char *dir, const char *html)
     char *t = (char *)tu_read_file(html, &n);
     assert_non_null(t);
     int links = 0;
-    for (const char *p = t; (p = strstr(p, "src=\"")) || 0;) {
-        p += 5;
-        const char *e = strchr(p, '"');
-        assert_non_null(e);
-        char path[4096];
-        snprintf(path, sizeof path, "%s/%.*s", dir, (int)(e - p), p);
-        FILE *f = fopen(path, "rb");
-        if (!f) fail_msg("index.html names %s, which is missing", path);
-        fclose(f);
-        links++;
-        p = e;
-    }
-    assert_true(links > 10);
+    static const char *const attrs[] = {"src=\"", "href=\""};
+    for (int a = 0; a < 2; a++)
+        for (const char *p = t; (p = strstr(p, attrs[a])) || 0;) {
+            p += strlen(attrs[a]);
+            const char *e = strchr(p, '"');
+            assert_non_null(e);
+            char path[4096];
+            snprintf(path, sizeof path, "%s/%.*s", dir, (int)(e - p), p);
+            FILE *f = fopen(path, "rb");
+            if (!f) fail_msg("index.html names %s, which is missing", path);
+            fclose(f);
+            links++;
+            p = e;
+        }
+    assert_true(links > 20);
     free(t);
 }
 
@@ -665,6 +667,14 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     free(md);
     snprintf(p, sizeof p, "%s/index.html", tu_path("b"));
     check_links(tu_path("b"), p);
+    /* The page has the tables results.md has, thumbnails that link to their full size,
+     * and the FLIP maps' colour scale. */
+    char *html = (char *)tu_read_file(p, &n);
+    const char *parts[] = {"kdtree against inversion</h2>", "relMSE per map and scene",
+                           "<a href=\"previews/", "flip-legend.png"};
+    for (int k = 0; k < 4; k++)
+        if (!strstr(html, parts[k])) fail_msg("index.html lacks %s", parts[k]);
+    free(html);
     /* Resume: nothing left to render. */
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "(18 in this shard, 0 to render)"));

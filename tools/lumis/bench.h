@@ -152,6 +152,15 @@ int bench_write_csv(const bench_report *r, const char *path);
 int bench_write_json(const bench_report *r, const char *path);
 int bench_write_md(const bench_report *r, const char *path);
 
+typedef enum bench_markup { BENCH_MD, BENCH_HTML } bench_markup;
+
+/* For each compare pair, per budget: in how many (map, scene) pairs the first beats the
+ * second on relMSE and FLIP, the geometric mean of their relMSE ratio, and where the
+ * first loses; then their sampling tables' sizes.  Headings, tables and text. */
+void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const result *res);
+/* relMSE per (map, scene) and method at the last budget: a heading and a table. */
+void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
+
 /* A metric as the tables show it ("–" for none, "∞"). */
 void bench_fmt_metric(char *buf, size_t cap, double v, int metric);
 /* Writes a text built in a FILE* (tmpfile) atomically to path, and closes f. */

@@ -141,20 +141,62 @@ static void machine_facts(char *out, size_t cap)
     snprintf(out, cap, "%s, %ld cores", model, sysconf(_SC_NPROCESSORS_ONLN));
 }
 
-/* Pairwise verdicts: for each budget, in how many (map, scene) pairs A beats B on relMSE
- * and FLIP, the geometric mean of the relMSE ratio, and the pairs where A loses. */
-static void write_comparisons(FILE *md, const suite *s, const result *res)
+/* One row of a table, in Markdown ("| a | b |", a rule under the header) or HTML.  The
+ * cells are labels and numbers: nothing in them needs escaping. */
+static void table_row(FILE *f, bench_markup mk, int header, int n, char cells[][4200])
 {
+    if (mk == BENCH_HTML) {
+        fputs("<tr>", f);
+        for (int k = 0; k < n; k++) fprintf(f, header ? "<th>%s</th>" : "<td>%s</td>", cells[k]);
+        fputs("</tr>\n", f);
+        return;
+    }
+    fputs("|", f);
+    for (int k = 0; k < n; k++) fprintf(f, " %s |", cells[k]);
+    fputs("\n", f);
+    if (!header) return;
+    fputs("|", f);
+    for (int k = 0; k < n; k++) fputs("---|", f);
+    fputs("\n", f);
+}
+
+static void heading(FILE *f, bench_markup mk, const char *text)
+{
+    fprintf(f, mk == BENCH_HTML ? "<h2>%s</h2>\n" : "\n## %s\n\n", text);
+}
+
+static void table_end(FILE *f, bench_markup mk)
+{
+    if (mk == BENCH_HTML) fputs("</table>\n", f);
+}
+
+static void table_begin(FILE *f, bench_markup mk)
+{
+    if (mk == BENCH_HTML) fputs("<table>\n", f);
+}
+
+static void paragraph(FILE *f, bench_markup mk, const char *text)
+{
+    fprintf(f, mk == BENCH_HTML ? "<p>%s</p>\n" : "\n%s\n", text);
+}
+
+void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const result *res)
+{
+    char cells[6][4200], text[1024];
     for (int c = 0; c < s->ncompare; c++) {
         int a = method_index(s, s->compare[c][0]), bm = method_index(s, s->compare[c][1]);
         if (a < 0 || bm < 0) continue;
-        fprintf(md, "\n## %s against %s\n\n", s->methods[a].label, s->methods[bm].label);
-        fprintf(
-            md,
-            "| budget | pairs | %s better (relMSE) | relMSE ratio %s/%s (geometric mean) "
-            "| %s better (FLIP-LDR) | %s loses on (relMSE ratio) |\n|---|---|---|---|---|---|\n",
-            s->methods[a].label, s->methods[a].label, s->methods[bm].label, s->methods[a].label,
-            s->methods[a].label);
+        const char *la = s->methods[a].label, *lb = s->methods[bm].label;
+        snprintf(text, sizeof text, "%s against %s", la, lb);
+        heading(f, mk, text);
+        table_begin(f, mk);
+        snprintf(cells[0], sizeof cells[0], "budget");
+        snprintf(cells[1], sizeof cells[1], "pairs");
+        snprintf(cells[2], sizeof cells[2], "%s better (relMSE)", la);
+        snprintf(cells[3], sizeof cells[3], "relMSE ratio %s/%s (geometric mean)", la, lb);
+        snprintf(cells[4], sizeof cells[4], "%s better (FLIP-LDR)", la);
+        snprintf(cells[5], sizeof cells[5], "%s loses on (relMSE ratio)", la);
+        table_row(f, mk, 1, 6, cells);
         for (int b = 0; b < s->nbudgets; b++) {
             int pairs = 0, wins = 0, flip_wins = 0, flip_pairs = 0;
             double logsum = 0;
@@ -181,11 +223,17 @@ static void write_comparisons(FILE *md, const suite *s, const result *res)
                     }
                 }
             if (!pairs) continue;
-            fprintf(md, "| %s | %d | %d of %d | %.3f | %d of %d | %s |\n", s->budgets[b].label,
-                    pairs, wins, pairs, exp(logsum / pairs), flip_wins, flip_pairs,
-                    losses[0] ? losses : "none");
+            snprintf(cells[0], sizeof cells[0], "%s", s->budgets[b].label);
+            snprintf(cells[1], sizeof cells[1], "%d", pairs);
+            snprintf(cells[2], sizeof cells[2], "%d of %d", wins, pairs);
+            snprintf(cells[3], sizeof cells[3], "%.3f", exp(logsum / pairs));
+            snprintf(cells[4], sizeof cells[4], "%d of %d", flip_wins, flip_pairs);
+            snprintf(cells[5], sizeof cells[5], "%s", losses[0] ? losses : "none");
+            table_row(f, mk, 0, 6, cells);
         }
-        fprintf(md, "\nA ratio below 1 means %s has the smaller error.\n", s->methods[a].label);
+        table_end(f, mk);
+        snprintf(text, sizeof text, "A ratio below 1 means %s has the smaller error.", la);
+        paragraph(f, mk, text);
         /* Memory: the sampling tables, averaged over every item of the two methods. */
         double ta = 0, tb = 0;
         int na = 0, nb = 0;
@@ -195,14 +243,45 @@ static void write_comparisons(FILE *md, const suite *s, const result *res)
             if (it.method == a) ta += res[k].table_bytes, na++;
             if (it.method == bm) tb += res[k].table_bytes, nb++;
         }
-        if (na && nb)
-            fprintf(md,
-                    "\nSampling tables: %s %.0f bytes, %s %.0f bytes on average: %s's are %.1f "
-                    "times %s.\n",
-                    s->methods[a].label, ta / na, s->methods[bm].label, tb / nb,
-                    s->methods[a].label, ta / na <= tb / nb ? tb / ta * na / nb : ta / tb * nb / na,
-                    ta / na <= tb / nb ? "smaller" : "larger");
+        if (na && nb) {
+            snprintf(text, sizeof text,
+                     "Sampling tables: %s %.0f bytes, %s %.0f bytes on average: %s's are %.1f "
+                     "times %s.",
+                     la, ta / na, lb, tb / nb, la,
+                     ta / na <= tb / nb ? tb / ta * na / nb : ta / tb * nb / na,
+                     ta / na <= tb / nb ? "smaller" : "larger");
+            paragraph(f, mk, text);
+        }
     }
+}
+
+void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res)
+{
+    int lb = s->nbudgets - 1;
+    char text[256];
+    snprintf(text, sizeof text, "relMSE per map and scene (budget %s)", s->budgets[lb].label);
+    heading(f, mk, text);
+    char(*cells)[4200] = calloc((size_t)s->nmethods + 2, sizeof *cells);
+    if (!cells) return;
+    table_begin(f, mk);
+    snprintf(cells[0], sizeof cells[0], "map");
+    snprintf(cells[1], sizeof cells[1], "scene");
+    for (int me = 0; me < s->nmethods; me++)
+        snprintf(cells[2 + me], sizeof cells[0], "%s", s->methods[me].label);
+    table_row(f, mk, 1, s->nmethods + 2, cells);
+    for (int m = 0; m < s->nmaps; m++)
+        for (int sc = 0; sc < s->nscenes; sc++) {
+            snprintf(cells[0], sizeof cells[0], "%s", s->maps[m].label);
+            snprintf(cells[1], sizeof cells[1], "%s", s->scenes[sc].label);
+            for (int me = 0; me < s->nmethods; me++) {
+                const result *cell = &res[bench_idx(s, m, sc, me, lb)];
+                bench_fmt_metric(cells[2 + me], sizeof cells[0],
+                                 cell->present ? cell->v[M_RELMSE] : NAN, M_RELMSE);
+            }
+            table_row(f, mk, 0, s->nmethods + 2, cells);
+        }
+    table_end(f, mk);
+    free(cells);
 }
 
 /* Writes a text built in a FILE* (tmpfile) atomically to path. */
@@ -398,26 +477,7 @@ int bench_write_md(const bench_report *r, const char *path)
             fprintf(md, "\n");
         }
     }
-    write_comparisons(md, s, res);
-    /* Per map, relMSE at the last budget. */
-    int lb = s->nbudgets - 1;
-    fprintf(md, "\n## relMSE per map and scene (budget %s)\n\n| map | scene |",
-            s->budgets[lb].label);
-    for (int me = 0; me < s->nmethods; me++) fprintf(md, " %s |", s->methods[me].label);
-    fprintf(md, "\n|---|---|");
-    for (int me = 0; me < s->nmethods; me++) fprintf(md, "---|");
-    fprintf(md, "\n");
-    for (int m = 0; m < s->nmaps; m++)
-        for (int sc = 0; sc < s->nscenes; sc++) {
-            fprintf(md, "| %s | %s |", s->maps[m].label, s->scenes[sc].label);
-            for (int me = 0; me < s->nmethods; me++) {
-                const result *cell = &res[bench_idx(s, m, sc, me, lb)];
-                char buf[64];
-                bench_fmt_metric(buf, sizeof buf, cell->present ? cell->v[M_RELMSE] : NAN,
-                                 M_RELMSE);
-                fprintf(md, " %s |", buf);
-            }
-            fprintf(md, "\n");
-        }
+    bench_write_comparisons(md, BENCH_MD, s, res);
+    bench_write_per_map(md, BENCH_MD, s, res);
     return bench_commit_tmp(md, path);
 }
