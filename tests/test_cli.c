@@ -653,6 +653,7 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "18 items (18 in this shard, 18 to render)"));
     assert_non_null(strstr(err, "loaded 2 maps ("));
+    assert_non_null(strstr(err, "warning: the reference has 128 spp"));
     free(err);
     char p[4096];
     snprintf(p, sizeof p, "%s/results.csv", tu_path("b"));
@@ -664,6 +665,8 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     char *md = (char *)tu_read_file(p, &n);
     assert_non_null(strstr(md, "## kdtree against inversion"));
     assert_non_null(strstr(md, "18 of 18 items"));
+    /* smoke's reference (128 spp) is noisy next to its equal-time items (200+ spp). */
+    assert_non_null(strstr(md, "Warning: a noisy reference"));
     free(md);
     snprintf(p, sizeof p, "%s/index.html", tu_path("b"));
     check_links(tu_path("b"), p);
@@ -671,8 +674,8 @@ static void bench_runs_resumes_shards_and_reports(void **state)
      * and the FLIP maps' colour scale. */
     char *html = (char *)tu_read_file(p, &n);
     const char *parts[] = {"kdtree against inversion</h2>", "relMSE per map and scene",
-                           "<a href=\"previews/", "flip-legend.png"};
-    for (int k = 0; k < 4; k++)
+                           "<a href=\"previews/", "flip-legend.png", "noisy reference"};
+    for (int k = 0; k < 5; k++)
         if (!strstr(html, parts[k])) fail_msg("index.html lacks %s", parts[k]);
     free(html);
     /* Resume: nothing left to render. */

@@ -158,6 +158,16 @@ typedef enum bench_markup { BENCH_MD, BENCH_HTML } bench_markup;
  * second on relMSE and FLIP, the geometric mean of their relMSE ratio, and where the
  * first loses; then their sampling tables' sizes.  Headings, tables and text. */
 void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const result *res);
+/* A reference should have this many times the samples of the items it judges, at least. */
+#define BENCH_REF_FACTOR 4
+
+/* The items (of one budget and method; -1: any) whose reference has fewer than
+ * BENCH_REF_FACTOR times the samples they reached (at equal time too): its noise then
+ * weighs in their errors.  Returns how many; *max_spp: the most samples among them. */
+int bench_noisy_reference(const bench_report *r, int budget, int method, int *max_spp);
+/* The warning, with a table of those items per budget and method (nothing if none). */
+void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r);
+
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
 

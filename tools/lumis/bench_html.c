@@ -72,7 +72,8 @@ int bench_write_html(const bench_report *r, const char *path)
                "th:first-child{text-align:left}figure{display:inline-block;margin:4px;"
                "text-align:center;font-size:12px;vertical-align:top}figure img{display:block;"
                "max-width:260px;image-rendering:pixelated}figure a{display:block}"
-               ".grid{margin-bottom:16px}"
+               ".grid{margin-bottom:16px}.warn{background:#fff4e0;border-left:4px solid #e69500;"
+               "padding:6px 10px}"
                "</style></head><body>\n<h1>lumis bench: ");
     html_escape(h, s->name);
     fprintf(h, "</h1>\n<p>");
@@ -85,6 +86,12 @@ int bench_write_html(const bench_report *r, const char *path)
             "<a href=\"results.md\">results.md</a>, <a href=\"results.csv\">results.csv</a>, "
             "<a href=\"results.json\">results.json</a>.</p>\n",
             LUMIS_VERSION_STRING, r->date, r->machine, r->found, r->n, s->ref_spp);
+    int most;
+    if (bench_noisy_reference(r, -1, -1, &most)) {
+        fputs("<div class=\"warn\">", h);
+        bench_write_reference_warning(h, BENCH_HTML, r);
+        fputs("</div>\n", h);
+    }
     for (int b = 0; b < s->nbudgets; b++) {
         fprintf(h,
                 "<h2>Budget %s</h2>\n<table><tr><th>method</th><th>n</th><th>spp</th>"

@@ -255,6 +255,59 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
     }
 }
 
+int bench_noisy_reference(const bench_report *r, int budget, int method, int *max_spp)
+{
+    int n = 0;
+    *max_spp = 0;
+    for (int k = 0; k < r->n; k++) {
+        item it = bench_item_at(r->s, k);
+        if (!r->res[k].present || (budget >= 0 && it.budget != budget) ||
+            (method >= 0 && it.method != method))
+            continue;
+        const double spp = r->res[k].spp;
+        if ((double)r->s->ref_spp < BENCH_REF_FACTOR * spp) {
+            n++;
+            if (r->res[k].spp > *max_spp) *max_spp = r->res[k].spp;
+        }
+    }
+    return n;
+}
+
+void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r)
+{
+    const suite *s = r->s;
+    int most = 0, n = bench_noisy_reference(r, -1, -1, &most);
+    if (!n) return;
+    char text[1024], cells[4][4200];
+    snprintf(
+        text, sizeof text,
+        "%sWarning: a noisy reference.%s The reference has %d spp, fewer than %d times the "
+        "samples that %d of the %d items reached (up to %d spp): its own noise weighs in their "
+        "errors and may reorder the methods. Raise %sreference.spp%s to %d or more.",
+        mk == BENCH_HTML ? "<strong>" : "**", mk == BENCH_HTML ? "</strong>" : "**", s->ref_spp,
+        BENCH_REF_FACTOR, n, r->found, most, mk == BENCH_HTML ? "<code>" : "`",
+        mk == BENCH_HTML ? "</code>" : "`", BENCH_REF_FACTOR * most);
+    paragraph(f, mk, text);
+    if (mk == BENCH_MD) fputs("\n", f);
+    table_begin(f, mk);
+    snprintf(cells[0], sizeof cells[0], "budget");
+    snprintf(cells[1], sizeof cells[1], "method");
+    snprintf(cells[2], sizeof cells[2], "items");
+    snprintf(cells[3], sizeof cells[3], "most spp");
+    table_row(f, mk, 1, 4, cells);
+    for (int b = 0; b < s->nbudgets; b++)
+        for (int me = 0; me < s->nmethods; me++) {
+            int bm = bench_noisy_reference(r, b, me, &most);
+            if (!bm) continue;
+            snprintf(cells[0], sizeof cells[0], "%s", s->budgets[b].label);
+            snprintf(cells[1], sizeof cells[1], "%s", s->methods[me].label);
+            snprintf(cells[2], sizeof cells[2], "%d", bm);
+            snprintf(cells[3], sizeof cells[3], "%d", most);
+            table_row(f, mk, 0, 4, cells);
+        }
+    table_end(f, mk);
+}
+
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res)
 {
     int lb = s->nbudgets - 1;
@@ -444,6 +497,7 @@ int bench_write_md(const bench_report *r, const char *path)
             s->reference.bsdf_only ? "BSDF sampling"
                                    : lumis_sampler_method_name(s->reference.sampler.method),
             expo);
+    bench_write_reference_warning(md, BENCH_MD, r);
     for (int b = 0; b < s->nbudgets; b++) {
         const suite_budget *bu = &s->budgets[b];
         if (bu->spp)

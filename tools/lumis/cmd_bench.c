@@ -66,6 +66,14 @@ static int write_report(const suite *s, const char *out, int argc, char **argv)
     }
     snprintf(path, sizeof path, "%s/index.html", out);
     if (bench_write_html(&r, path) != EXIT_OK) rc = EXIT_RUNTIME;
+    int most = 0, noisy = bench_noisy_reference(&r, -1, -1, &most);
+    if (noisy)
+        fprintf(
+            stderr,
+            "lumis bench: warning: the reference has %d spp, fewer than %d times the samples "
+            "that %d items reached (up to %d spp): a noisy reference biases their errors; raise "
+            "reference.spp to %d or more (results.md lists them)\n",
+            s->ref_spp, BENCH_REF_FACTOR, noisy, most, BENCH_REF_FACTOR * most);
     if (rc == EXIT_OK)
         fprintf(stderr,
                 "lumis bench: %d of %d items; wrote %s/results.{csv,json,md}, "
