@@ -668,19 +668,21 @@ static void check_links(const char *dir, const char *html)
     char *t = (char *)tu_read_file(html, &n);
     assert_non_null(t);
     int links = 0;
-    for (const char *p = t; (p = strstr(p, "src=\"")) || 0;) {
-        p += 5;
-        const char *e = strchr(p, '"');
-        assert_non_null(e);
-        char path[4096];
-        snprintf(path, sizeof path, "%s/%.*s", dir, (int)(e - p), p);
-        FILE *f = fopen(path, "rb");
-        if (!f) fail_msg("index.html names %s, which is missing", path);
-        fclose(f);
-        links++;
-        p = e;
-    }
-    assert_true(links > 10);
+    static const char *const attrs[] = {"src=\"", "href=\""};
+    for (int a = 0; a < 2; a++)
+        for (const char *p = t; (p = strstr(p, attrs[a])) || 0;) {
+            p += strlen(attrs[a]);
+            const char *e = strchr(p, '"');
+            assert_non_null(e);
+            char path[4096];
+            snprintf(path, sizeof path, "%s/%.*s", dir, (int)(e - p), p);
+            FILE *f = fopen(path, "rb");
+            if (!f) fail_msg("index.html names %s, which is missing", path);
+            fclose(f);
+            links++;
+            p = e;
+        }
+    assert_true(links > 20);
     free(t);
 }
 
@@ -694,6 +696,8 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     snprintf(a, sizeof a, "bench '%s' --out '%s'", suite, tu_path("b"));
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "18 items (18 in this shard, 18 to render)"));
+    assert_non_null(strstr(err, "loaded 2 maps ("));
+    assert_non_null(strstr(err, "warning: the reference has 128 spp"));
     free(err);
     char p[4096];
     snprintf(p, sizeof p, "%s/results.csv", tu_path("b"));
@@ -705,13 +709,36 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     char *md = (char *)tu_read_file(p, &n);
     assert_non_null(strstr(md, "## kdtree against inversion"));
     assert_non_null(strstr(md, "18 of 18 items"));
+    /* smoke's reference (128 spp) is noisy next to its equal-time items (200+ spp). */
+    assert_non_null(strstr(md, "Warning: a noisy reference"));
     free(md);
     snprintf(p, sizeof p, "%s/index.html", tu_path("b"));
     check_links(tu_path("b"), p);
+    /* The page has the tables results.md has, thumbnails that link to their full size,
+     * and the FLIP maps' colour scale. */
+    char *html = (char *)tu_read_file(p, &n);
+    const char *parts[] = {"kdtree against inversion</h2>", "relMSE per map and scene",
+                           "<a href=\"previews/", "flip-legend.png", "noisy reference"};
+    for (int k = 0; k < 5; k++)
+        if (!strstr(html, parts[k])) fail_msg("index.html lacks %s", parts[k]);
+    free(html);
     /* Resume: nothing left to render. */
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "(18 in this shard, 0 to render)"));
+    assert_non_null(strstr(err, "loaded 0 maps ("));
     free(err);
+    /* A map file serving two maps (rotated, relabelled) is read once for every item. */
+    snprintf(a, sizeof a, "sky --size 16x8 -o '%s'", tu_path("m.exr"));
+    expect(a, 0, NULL);
+    static const char twice[] =
+        "{\"maps\": [\"m.exr\", {\"map\": \"m.exr\", \"rotation_deg\": 90, \"label\": "
+        "\"m-rot\"}], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": \"alias\"}], "
+        "\"budgets\": [{\"spp\": 1}, {\"spp\": 2}], \"reference\": {\"spp\": 4}, "
+        "\"size\": [8, 4]}";
+    tu_write_file(tu_path("twice.json"), twice, strlen(twice));
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("tw"));
+    expect(a, 0, "loaded 1 map (");
+    expect(a, 0, "(4 in this shard, 0 to render)");
     /* Two shards into two folders, then a merge into a third. */
     for (int s = 0; s < 2; s++) {
         char dir[32];
@@ -760,12 +787,32 @@ static void bench_runs_resumes_shards_and_reports(void **state)
          "budgets: expected a non-empty array"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"magic\"}], \"budgets\": [{\"spp\": 1}]}",
-         "methods[0]: unknown method 'magic'"},
+         "methods[0].method: unknown method 'magic'"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"alias\"}], \"budgets\": [{\"spp\": 0}]}",
-         "budgets[0]: expected"},
+         "budgets[0].spp: expected an integer from 1"},
         {"{\"maps\": [\"nowhere/\"], \"scenes\": [\"spheres\"]}", "nowhere/"},
-        {"[1, 2", "not a JSON object"},
+        /* Malformed JSON: where cJSON gave up, as line:column. */
+        {"[1, 2", "bad-suite.json:1:5: malformed JSON"},
+        {"{\n  \"maps\": [\"sky:8x4\"],\n  \"scenes\": [\"spheres\" \"x\"]\n}",
+         "bad-suite.json:3:24: malformed JSON near '\"x\"]'"},
+        {"[1, 2]", "expected a JSON object"},
+        /* Well-formed: the JSON path of the culprit. */
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}, {\"method\": \"kdtree\", \"budget\": 2}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[1].budget: unknown key"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"kdtree\", \"blocks\": \"64\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].blocks: expected a number"},
+        {"{\"maps\": [\"sky:8x4\", {\"map\": \"sky:8x4\", \"rotation\": 9}], \"scenes\": "
+         "[\"spheres\"]}",
+         "maps[1].rotation: unknown key"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"spp\": 0}}",
+         "reference.spp: expected"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\"}], \"budgets\": [{\"spp\": 1}], \"compare\": [[\"alias\", \"x\"]]}",
+         "compare[0][1]: no method labelled 'x'"},
         {"{\"maps\": [\"sky:8x4\", \"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": "
          "[{\"method\": \"alias\"}], \"budgets\": [{\"spp\": 1}]}",
          "two maps are labelled 'sky-8x4'"},
@@ -775,6 +822,11 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     expect("bench", 2, "needs a SUITE.json");
     snprintf(a, sizeof a, "bench '%s' --shard 3/2", suite);
     expect(a, 2, "--shard needs I/N");
+    /* --out is a folder: never an existing file, least of all the suite. */
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("twice.json"));
+    expect(a, 2, "is the suite file");
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("m.exr"));
+    expect(a, 2, "is not a directory");
     /* The page opens in headless Chromium and renders to a screenshot. */
     FILE *chromium = fopen("/usr/bin/chromium", "rb");
     if (!chromium) {

@@ -1,0 +1,190 @@
+/* Internal to `lumis bench` (tools/lumis/cmd_bench.c and bench_*.c): the parsed suite, its
+ * items and their keys, the runner, and the report's results and writers.  Shared names
+ * carry a bench_ prefix; nothing here is part of any library. */
+#ifndef LUMIS_TOOL_BENCH_H
+#define LUMIS_TOOL_BENCH_H
+
+#include "common.h"
+
+#include <stddef.h>
+#include <stdio.h>
+
+struct cJSON;
+
+/* ---- the suite (bench_suite.c) ------------------------------------------------------------ */
+
+typedef struct suite_map {
+    char label[128], spec[4096];
+    float rotation_deg, scale;
+    int is_file;
+    /* Set by bench_read_inputs: */
+    int first;               /* the first map of the same spec: they share what follows */
+    unsigned long long hash; /* of the content, as the reference key starts it */
+    unsigned char *bytes;    /* the file's bytes, kept for decoding (first only) */
+    size_t nbytes;
+} suite_map;
+
+typedef struct suite_scene {
+    char label[128], spec[4096]; /* a built-in name or a resolved file path */
+    int is_file;
+    unsigned char *bytes; /* a file's bytes, for its hash (bench_read_inputs); NULL: missing */
+    size_t nbytes;
+} suite_scene;
+
+typedef struct suite_method {
+    char label[128];
+    lumis_sampler_desc sampler;
+    int bsdf_only;
+    lumis_estimator estimator;
+    int power, light_samples, bsdf_samples;
+} suite_method;
+
+typedef struct suite_budget {
+    char label[64];
+    int spp;
+    double seconds;
+} suite_budget;
+
+typedef struct suite {
+    char name[128], description[1024], dir[4096];
+    suite_map *maps;
+    suite_scene *scenes;
+    suite_method *methods, reference;
+    suite_budget *budgets;
+    int nmaps, nscenes, nmethods, nbudgets;
+    int ref_spp, width, height, bounces, flip_hdr;
+    unsigned long long seed;
+    float exposure_ev, preview_ev;
+    int exposure_auto, preview_auto; /* "auto": per reference, its mean luminance to 0.18 */
+    char compare[8][2][128];         /* pairs of method labels to compare in the report */
+    int ncompare;
+} suite;
+
+/* Reads and checks a suite file; prints errors itself.  Exit code; on success the caller
+ * frees s with bench_suite_free. */
+int bench_parse_suite(const char *path, suite *s);
+void bench_suite_free(suite *s);
+
+/* Reads every map and scene file of the suite once, for the keys (each file's content is
+ * hashed, not its name); with keep_maps, each map file's bytes stay in s for bench_run to
+ * decode.  Call it after bench_parse_suite, before any key is asked for.  Exit code. */
+int bench_read_inputs(suite *s, int keep_maps);
+
+/* Copies at most cap - 1 bytes (a cut label is still a label). */
+void bench_copy_cut(char *out, size_t cap, const char *in);
+
+/* ---- items and their keys (bench_keys.c) ------------------------------------------------- */
+
+typedef struct item {
+    int map, scene, method, budget;
+    char id[600];
+} item;
+
+int bench_nitems(const suite *s);
+/* Items are ordered map, scene, method, budget (the budget varies fastest). */
+item bench_item_at(const suite *s, int index);
+/* The index of an item. */
+int bench_idx(const suite *s, int m, int sc, int me, int b);
+
+/* The hash that names a reference (16 hex digits in out). */
+void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap);
+/* The hash of everything an item's result depends on besides its reference. */
+void bench_item_key(const suite *s, const item *it, char *out, size_t cap);
+/* The item's result file, parsed, if it exists and belongs to the suite as it is now. */
+struct cJSON *bench_load_item(const suite *s, const char *out, const item *it);
+int bench_item_done(const suite *s, const char *out, const item *it);
+/* Whether item k belongs to shard shard_i of shard_n. */
+int bench_in_shard(const suite *s, int k, long shard_i, long shard_n);
+
+/* ---- running (bench_run.c) ---------------------------------------------------------------- */
+
+typedef struct bench_run_opts {
+    const char *out;
+    int threads; /* --threads: per render; 0: every core for references, cores / jobs for items */
+    long jobs, shard_i, shard_n;
+    int argc; /* the command line, for the sidecars */
+    char **argv;
+} bench_run_opts;
+
+/* Loads the maps this shard renders with (each once, from the bytes bench_read_inputs kept,
+ * which it frees), renders the references this shard needs, then its items, in o->jobs
+ * processes.  Exit code. */
+int bench_run(suite *s, const bench_run_opts *o);
+
+int bench_file_exists(const char *path);
+/* mkdir -p */
+int bench_make_dir(const char *path);
+
+/* ---- the report: results and tables (bench_tables.c) ------------------------------------- */
+
+enum { M_RMSE, M_RELMSE, M_PSNR, M_LAB, M_FLIP_LDR, M_FLIP_HDR, NMETRICS };
+extern const char *const bench_metric_key[NMETRICS];
+extern const char *const bench_metric_title[NMETRICS];
+
+typedef struct result {
+    int present;
+    double v[NMETRICS];
+    double seconds, build_ms, table_bytes;
+    int spp;
+} result;
+
+typedef struct summary {
+    double mean[NMETRICS], rank[NMETRICS], seconds, spp, build_ms, table_bytes;
+    int n;
+} summary;
+
+/* Everything the report's writers share. */
+typedef struct bench_report {
+    const suite *s;
+    const char *out;
+    result *res;  /* per item */
+    summary *sum; /* per budget, then method */
+    int n, found; /* items, items with a current result */
+    char machine[400], cmd[4096], date[64];
+} bench_report;
+
+/* Loads the results DIR holds and summarises them; prints errors itself.  Exit code; on
+ * success the caller frees r with bench_report_free. */
+int bench_report_load(bench_report *r, const suite *s, const char *out, int argc, char **argv);
+void bench_report_free(bench_report *r);
+
+int bench_write_csv(const bench_report *r, const char *path);
+int bench_write_json(const bench_report *r, const char *path);
+int bench_write_md(const bench_report *r, const char *path);
+
+typedef enum bench_markup { BENCH_MD, BENCH_HTML } bench_markup;
+
+/* For each compare pair, per budget: in how many (map, scene) pairs the first beats the
+ * second on relMSE and FLIP, the geometric mean of their relMSE ratio, and where the
+ * first loses; then their sampling tables' sizes.  Headings, tables and text. */
+void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const result *res);
+/* A reference should have this many times the samples of the items it judges, at least. */
+#define BENCH_REF_FACTOR 4
+
+/* The items (of one budget and method; -1: any) whose reference has fewer than
+ * BENCH_REF_FACTOR times the samples they reached (at equal time too): its noise then
+ * weighs in their errors.  Returns how many; *max_spp: the most samples among them. */
+int bench_noisy_reference(const bench_report *r, int budget, int method, int *max_spp);
+/* The warning, with a table of those items per budget and method (nothing if none). */
+void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r);
+
+/* relMSE per (map, scene) and method at the last budget: a heading and a table. */
+void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
+
+/* A metric as the tables show it ("–" for none, "∞"). */
+void bench_fmt_metric(char *buf, size_t cap, double v, int metric);
+/* Writes a text built in a FILE* (tmpfile) atomically to path, and closes f. */
+int bench_commit_tmp(FILE *f, const char *path);
+
+/* ---- the report: plots and page (bench_svg.c, bench_html.c) ------------------------------ */
+
+/* The convergence plot of scene sc (no file, and no stale one, when nothing is plotted). */
+int bench_write_svg(const char *path, const suite *s, const result *res, int sc);
+int bench_write_html(const bench_report *r, const char *path);
+
+/* ---- merging (bench_merge.c) --------------------------------------------------------------- */
+
+/* Copies every results/ and previews/ file (and refs/ PNGs) of src into dst. */
+int bench_merge_dir(const char *src, const char *dst);
+
+#endif

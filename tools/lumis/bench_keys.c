@@ -1,0 +1,187 @@
+/* lumis bench: items and the keys that cache their work.  A reference is named by a hash
+ * of everything that makes it; an item's result carries a hash of everything else it
+ * depends on, so that a result left by other settings is stale and redone. */
+#include "bench.h"
+
+#include <cJSON.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int bench_nitems(const suite *s)
+{
+    return s->nmaps * s->nscenes * s->nmethods * s->nbudgets;
+}
+
+item bench_item_at(const suite *s, int index)
+{
+    item it;
+    it.budget = index % s->nbudgets;
+    index /= s->nbudgets;
+    it.method = index % s->nmethods;
+    index /= s->nmethods;
+    it.scene = index % s->nscenes;
+    it.map = index / s->nscenes;
+    snprintf(it.id, sizeof it.id, "%s__%s__%s__%s", s->maps[it.map].label,
+             s->scenes[it.scene].label, s->methods[it.method].label, s->budgets[it.budget].label);
+    return it;
+}
+
+int bench_idx(const suite *s, int m, int sc, int me, int b)
+{
+    return ((m * s->nscenes + sc) * s->nmethods + me) * s->nbudgets + b;
+}
+
+static uint64_t fnv(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t k = 0; k < n; k++) h = (h ^ p[k]) * 0x100000001b3ull;
+    return h;
+}
+
+static uint64_t fnv_str(uint64_t h, const char *s)
+{
+    return fnv(h, s, strlen(s) + 1);
+}
+
+/* Where every reference key starts (the map's content comes next). */
+static uint64_t reference_basis(void)
+{
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv_str(h, "lumis-reference-v1");
+    return fnv_str(h, LUMIS_VERSION_STRING);
+}
+
+/* The whole of a file; NULL if it cannot be opened (*oom = 0: it then hashes by name and
+ * fails later, with its name, where it is loaded) or memory is short (*oom = 1). */
+static unsigned char *read_all(const char *path, size_t *n, int *oom)
+{
+    *n = 0;
+    *oom = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 1 << 16;
+    unsigned char *buf = malloc(cap);
+    for (size_t got; buf && (got = fread(buf + *n, 1, cap - *n, f)) > 0;) {
+        *n += got;
+        if (*n == cap) {
+            unsigned char *grown = realloc(buf, cap *= 2);
+            if (!grown) free(buf);
+            buf = grown;
+        }
+    }
+    fclose(f);
+    *oom = buf == NULL;
+    return buf;
+}
+
+int bench_read_inputs(suite *s, int keep_maps)
+{
+    const uint64_t basis = reference_basis();
+    for (int m = 0; m < s->nmaps; m++) {
+        suite_map *map = &s->maps[m];
+        map->first = m;
+        for (int j = 0; j < m && map->first == m; j++)
+            if (strcmp(s->maps[j].spec, map->spec) == 0) map->first = j;
+        if (map->first != m) {
+            map->hash = s->maps[map->first].hash;
+            continue;
+        }
+        if (!map->is_file) {
+            map->hash = fnv_str(basis, map->spec);
+            continue;
+        }
+        int oom;
+        unsigned char *b = read_all(map->spec, &map->nbytes, &oom);
+        if (oom) return tool_runtime_error("bench: out of memory reading %s", map->spec);
+        map->hash = b ? fnv(basis, b, map->nbytes) : fnv_str(basis, map->spec);
+        if (keep_maps)
+            map->bytes = b;
+        else
+            free(b);
+    }
+    for (int k = 0; k < s->nscenes; k++) {
+        suite_scene *sc = &s->scenes[k];
+        int oom;
+        if (sc->is_file) sc->bytes = read_all(sc->spec, &sc->nbytes, &oom);
+        if (sc->is_file && oom)
+            return tool_runtime_error("bench: out of memory reading %s", sc->spec);
+    }
+    return EXIT_OK;
+}
+
+/* Everything that makes a reference image: the map's content, its rotation and scale,
+ * the scene (a file's content; a built-in's name and lumis' version), the size, the
+ * reference's method, samples, bounces and seed. */
+void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
+{
+    const suite_map *map = &s->maps[m];
+    uint64_t h = map->hash; /* reference_basis() and the map's content, hashed once */
+    char buf[512];
+    snprintf(buf, sizeof buf, "%.9g %.9g %d %d %d %d %d %d %d %d %d %d %llu", map->rotation_deg,
+             map->scale, s->width, s->height, s->ref_spp, (int)s->reference.sampler.method,
+             s->reference.sampler.kdtree_blocks, s->reference.bsdf_only,
+             (int)s->reference.estimator * 2 + s->reference.power, s->reference.light_samples,
+             s->reference.bsdf_samples, s->bounces, s->seed);
+    h = fnv_str(h, buf);
+    const suite_scene *scene = &s->scenes[sc];
+    h = scene->bytes ? fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
+    snprintf(out, cap, "%016llx", (unsigned long long)h);
+}
+
+/* Everything an item's result depends on besides its reference: the method, the budget,
+ * the seed, the metrics' settings.  Stored in the result; a result whose key differs
+ * (the suite changed under the same labels) is stale and redone. */
+void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
+{
+    char ref[32], buf[1024];
+    bench_reference_key(s, it->map, it->scene, ref, sizeof ref);
+    const suite_method *m = &s->methods[it->method];
+    const suite_budget *b = &s->budgets[it->budget];
+    snprintf(buf, sizeof buf,
+             "lumis-item-v1 %s %s %d %d %d %d %d %d %d %d %.9g %llu %d %d %d %.9g %d %d %.9g",
+             LUMIS_VERSION_STRING, ref, (int)m->sampler.method, m->sampler.kdtree_blocks,
+             m->sampler.compensate, m->bsdf_only, (int)m->estimator, m->power, m->light_samples,
+             m->bsdf_samples, b->seconds, s->seed, b->spp, s->width, s->height, s->exposure_ev,
+             s->exposure_auto, s->flip_hdr, s->preview_ev);
+    uint64_t h = fnv_str(0xcbf29ce484222325ull, buf);
+    snprintf(out, cap, "%016llx", (unsigned long long)h);
+}
+
+/* The item's result file, parsed, if it exists and belongs to the suite as it is now. */
+cJSON *bench_load_item(const suite *s, const char *out, const item *it)
+{
+    char path[8800];
+    snprintf(path, sizeof path, "%s/results/%s.json", out, it->id);
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    char buf[16384];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    cJSON *j = cJSON_ParseWithLength(buf, n);
+    char key[32];
+    bench_item_key(s, it, key, sizeof key);
+    const cJSON *k = cJSON_GetObjectItemCaseSensitive(j, "item_key");
+    if (!cJSON_IsString(k) || strcmp(k->valuestring, key) != 0) {
+        cJSON_Delete(j);
+        return NULL;
+    }
+    return j;
+}
+
+int bench_item_done(const suite *s, const char *out, const item *it)
+{
+    cJSON *j = bench_load_item(s, out, it);
+    cJSON_Delete(j);
+    return j != NULL;
+}
+
+/* Shards split the (map, scene) pairs when there are enough of them, so that each
+ * reference is rendered by one shard only; otherwise the items. */
+int bench_in_shard(const suite *s, int k, long shard_i, long shard_n)
+{
+    const int pairs = s->nmaps * s->nscenes;
+    if (pairs >= shard_n) return (k / (s->nmethods * s->nbudgets)) % shard_n == shard_i;
+    return k % shard_n == shard_i;
+}

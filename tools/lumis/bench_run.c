@@ -1,0 +1,320 @@
+/* lumis bench: running the items.  References first (cached by their hash), then each
+ * item: a render, its metrics against the reference, its previews and its result file
+ * (written last: it marks the item done).  With --jobs, in forked worker processes. */
+#include "bench.h"
+
+#include <cJSON.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+typedef struct run_ctx {
+    const suite *s;
+    const char *out;
+    lumis_image *const *images; /* per map, loaded once per run (shared by its spec) */
+    int threads;
+    int argc;
+    char **argv;
+} run_ctx;
+
+int bench_file_exists(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0;
+}
+
+/* mkdir -p */
+int bench_make_dir(const char *path)
+{
+    char buf[8800];
+    bench_copy_cut(buf, sizeof buf, path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+                return tool_runtime_error("%s: cannot create folder: %s", buf, strerror(errno));
+            *p = '/';
+        }
+    if (mkdir(buf, 0755) == 0 || errno == EEXIST) return EXIT_OK;
+    return tool_runtime_error("%s: cannot create folder: %s", path, strerror(errno));
+}
+
+static void fill_render_opts(const run_ctx *c, const item *it, const suite_method *m,
+                             tool_render_opts *o)
+{
+    const suite *s = c->s;
+    memset(o, 0, sizeof *o);
+    const suite_scene *sc = &s->scenes[it->scene];
+    if (sc->is_file)
+        o->scene_path = sc->spec;
+    else
+        o->scene_name = sc->spec;
+    o->envspec = s->maps[it->map].spec;
+    o->env_image = c->images[it->map];
+    o->rotation_deg = s->maps[it->map].rotation_deg;
+    o->scale = s->maps[it->map].scale;
+    o->sampler = m->sampler;
+    o->bsdf_only = m->bsdf_only;
+    o->rd.estimator = m->estimator;
+    o->rd.power_heuristic = m->power;
+    o->rd.light_samples = m->light_samples;
+    o->rd.bsdf_samples = m->bsdf_samples;
+    o->rd.seed = s->seed;
+    o->rd.threads = c->threads;
+    o->rd.max_bounces = s->bounces;
+    o->width = s->width;
+    o->height = s->height;
+    o->quiet = 1;
+    o->argc = c->argc;
+    o->argv = c->argv;
+    o->png_options.exposure_ev = s->preview_ev;
+    o->png_options.tonemap = LUMIS_TONEMAP_ACES;
+}
+
+static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t cap)
+{
+    const suite *s = c->s;
+    char key[32], png[8800];
+    bench_reference_key(s, m, sc, key, sizeof key);
+    snprintf(exr, cap, "%s/refs/%s.exr", c->out, key);
+    snprintf(png, sizeof png, "%s/refs/%s.png", c->out, key);
+    if (bench_file_exists(exr)) { /* cached; its preview follows the suite's current settings */
+        lumis_image *img = NULL;
+        if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+        lumis_write_options wo = {0};
+        wo.tonemap = LUMIS_TONEMAP_ACES;
+        wo.exposure_ev = s->preview_auto ? tool_auto_exposure(img) : s->preview_ev;
+        int rc = tool_write_image(png, img, &wo) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+        lumis_image_destroy(img);
+        return rc;
+    }
+    item it = {m, sc, 0, 0, ""};
+    tool_render_opts o;
+    fill_render_opts(c, &it, &s->reference, &o);
+    o.rd.spp = s->ref_spp;
+    o.rd.seed = s->seed + 0x5eedull; /* independent of every test image */
+    o.out = exr;
+    o.png = png;
+    fprintf(stderr, "lumis bench: reference %s / %s: %d spp ...\n", s->maps[m].label,
+            s->scenes[sc].label, s->ref_spp);
+    if (s->preview_auto) o.png = NULL; /* written below, once the exposure is known */
+    tool_render_result r;
+    int rc = tool_render(&o, &r);
+    if (rc == EXIT_OK && s->preview_auto) {
+        lumis_write_options wo = o.png_options;
+        wo.exposure_ev = tool_auto_exposure(r.image);
+        if (tool_write_image(png, r.image, &wo) != LUMIS_OK) rc = EXIT_RUNTIME;
+    }
+    lumis_image_destroy(r.image);
+    return rc;
+}
+
+static int run_item(const run_ctx *c, const item *it, int index, int total)
+{
+    const suite *s = c->s;
+    char result[8800], exr[8800], png[8800], flip_png[8800], ref_exr[8800];
+    snprintf(result, sizeof result, "%s/results/%s.json", c->out, it->id);
+    if (bench_item_done(s, c->out, it)) return EXIT_OK; /* resumed: done before */
+    char key[32];
+    bench_reference_key(s, it->map, it->scene, key, sizeof key);
+    snprintf(ref_exr, sizeof ref_exr, "%s/refs/%s.exr", c->out, key);
+    snprintf(exr, sizeof exr, "%s/renders/%s.exr", c->out, it->id);
+    snprintf(png, sizeof png, "%s/previews/%s.png", c->out, it->id);
+    snprintf(flip_png, sizeof flip_png, "%s/previews/%s-flip.png", c->out, it->id);
+    const suite_budget *b = &s->budgets[it->budget];
+    lumis_image *ref = NULL;
+    if (tool_load_image(ref_exr, &ref, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+    const float ref_ev = tool_auto_exposure(ref), ev = s->exposure_auto ? ref_ev : s->exposure_ev;
+    tool_render_opts o;
+    fill_render_opts(c, it, &s->methods[it->method], &o);
+    o.rd.spp = b->spp;
+    o.time_budget = b->seconds;
+    o.out = exr;
+    o.png = png;
+    if (s->preview_auto) o.png_options.exposure_ev = ref_ev;
+    tool_render_result r;
+    if (tool_render(&o, &r) != EXIT_OK) {
+        lumis_image_destroy(ref);
+        return EXIT_RUNTIME;
+    }
+    int rc = EXIT_RUNTIME;
+    float *map = malloc(sizeof(float) * (size_t)r.image->width * (size_t)r.image->height);
+    tool_metrics m;
+    if (map && tool_compare_images(ref, r.image, ev, 0.0, s->flip_hdr, &m, map) == EXIT_OK &&
+        tool_write_flip_map(flip_png, map, r.image->width, r.image->height) == EXIT_OK) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "id", it->id);
+        cJSON_AddStringToObject(j, "suite", s->name);
+        cJSON_AddStringToObject(j, "map", s->maps[it->map].label);
+        cJSON_AddStringToObject(j, "scene", s->scenes[it->scene].label);
+        cJSON_AddStringToObject(j, "method", s->methods[it->method].label);
+        cJSON_AddStringToObject(j, "budget", b->label);
+        cJSON_AddStringToObject(j, "reference", key);
+        char ikey[32];
+        bench_item_key(s, it, ikey, sizeof ikey);
+        cJSON_AddStringToObject(j, "item_key", ikey);
+        cJSON_AddNumberToObject(j, "spp", r.stats.spp);
+        cJSON_AddNumberToObject(j, "render_seconds", r.stats.seconds);
+        /* BSDF sampling builds no light sampler worth counting (the CLI makes one anyway). */
+        const int bsdf = s->methods[it->method].bsdf_only;
+        cJSON_AddNumberToObject(j, "sampler_build_ms", bsdf ? 0.0 : r.sampler_build_ms);
+        cJSON_AddNumberToObject(j, "sampler_table_bytes",
+                                bsdf ? 0.0 : (double)r.sampler_table_bytes);
+        cJSON_AddNumberToObject(j, "shadow_rays", r.stats.shadow_rays);
+        cJSON_AddNumberToObject(j, "threads", r.stats.threads);
+        tool_metrics_json(&m, j);
+        rc = tool_write_json(result, j); /* last: its existence marks the item done */
+        cJSON_Delete(j);
+        fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f\n", index + 1,
+                total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr);
+    }
+    free(map);
+    lumis_image_destroy(ref);
+    lumis_image_destroy(r.image);
+    return rc;
+}
+
+/* Decodes every map flagged in need (by its first spec) from the bytes bench_read_inputs
+ * kept, once, into images (shared by every map of the same spec), and frees the bytes.
+ * The parent does this before it forks: the workers share the pixels copy-on-write rather
+ * than each reading the map for every item.  (Decoding leaves no thread behind: the EXR
+ * reader's pool lives for one read.)  Exit code. */
+static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
+{
+    int rc = EXIT_OK, loaded = 0;
+    double bytes = 0;
+    for (int m = 0; m < s->nmaps; m++) {
+        suite_map *map = &s->maps[m];
+        if (map->first == m && need[m] && rc == EXIT_OK) {
+            lumis_status st;
+            if (map->bytes) {
+                lumis_read_options ro = {0};
+                ro.errors = tool_errors;
+                st = lumis_image_read_memory(map->bytes, map->nbytes, LUMIS_FORMAT_AUTO, map->spec,
+                                             &ro, &images[m], NULL);
+            } else { /* a procedural spec, or a file that would not open (named by the error) */
+                st = tool_load_image(map->spec, &images[m], NULL);
+            }
+            if (st != LUMIS_OK) rc = EXIT_RUNTIME;
+            if (images[m]) {
+                loaded++;
+                bytes += 12.0 * images[m]->width * images[m]->height;
+            }
+        }
+        images[m] = images[map->first];
+        free(map->bytes);
+        map->bytes = NULL;
+    }
+    if (rc == EXIT_OK)
+        fprintf(stderr, "lumis bench: loaded %d map%s (%.1f MB), one read each for the whole run\n",
+                loaded, loaded == 1 ? "" : "s", bytes / 1e6);
+    return rc;
+}
+
+int bench_run(suite *s, const bench_run_opts *o)
+{
+    const long jobs = o->jobs, shard_i = o->shard_i, shard_n = o->shard_n;
+    const char *out = o->out;
+    const int total = bench_nitems(s);
+    lumis_image **images = calloc((size_t)s->nmaps, sizeof *images);
+    unsigned char *need = calloc((size_t)s->nmaps, 1);
+    if (!images || !need) {
+        free(images);
+        free(need);
+        return tool_runtime_error("bench: out of memory");
+    }
+    int mine = 0, todo = 0;
+    for (int k = 0; k < total; k++)
+        if (bench_in_shard(s, k, shard_i, shard_n)) {
+            mine++;
+            item it = bench_item_at(s, k);
+            if (!bench_item_done(s, out, &it)) {
+                todo++;
+                need[s->maps[it.map].first] = 1;
+            }
+        }
+    fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n", s->name,
+            total, mine, todo);
+    int rc = load_maps(s, need, images);
+    free(need);
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    run_ctx c = {s,       out,
+                 images,  (int)(o->threads ? o->threads : (cores > jobs ? cores / jobs : 1)),
+                 o->argc, o->argv};
+    /* References first, with every thread, for the pairs this shard needs.  With
+     * --jobs the parent forks workers afterwards, so it must never start OpenMP's or
+     * Embree's threads itself (they do not survive a fork): references are rendered
+     * in a child process then. */
+    run_ctx rc_all = c;
+    rc_all.threads = o->threads;
+    pid_t refs_pid = 0;
+    if (rc == EXIT_OK && jobs > 1) {
+        fflush(NULL);
+        refs_pid = fork();
+        if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+    }
+    if (rc == EXIT_OK && refs_pid == 0) {
+        for (int m = 0; m < s->nmaps && rc == EXIT_OK; m++)
+            for (int sc = 0; sc < s->nscenes && rc == EXIT_OK; sc++) {
+                int need = 0;
+                for (int k = 0; k < total && !need; k++) {
+                    item it = bench_item_at(s, k);
+                    need = it.map == m && it.scene == sc &&
+                           bench_in_shard(s, k, shard_i, shard_n) && !bench_item_done(s, out, &it);
+                }
+                char ref[8800];
+                if (need) rc = ensure_reference(&rc_all, m, sc, ref, sizeof ref);
+            }
+        if (jobs > 1) {
+            fflush(NULL);
+            _exit(rc);
+        }
+    } else if (refs_pid > 0) {
+        int status = 0;
+        if (waitpid(refs_pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+            rc = EXIT_RUNTIME;
+    }
+    /* Items, in --jobs processes. */
+    if (rc == EXIT_OK && jobs <= 1) {
+        for (int k = 0; k < total && rc == EXIT_OK; k++)
+            if (bench_in_shard(s, k, shard_i, shard_n)) {
+                item it = bench_item_at(s, k);
+                rc = run_item(&c, &it, k, total);
+            }
+    } else if (rc == EXIT_OK) {
+        fflush(NULL);
+        pid_t *pids = calloc((size_t)jobs, sizeof *pids);
+        for (long j = 0; pids && j < jobs; j++) {
+            pid_t pid = fork();
+            if (pid == 0) {
+                int crc = EXIT_OK;
+                for (int k = 0, mi = 0; k < total && crc == EXIT_OK; k++)
+                    if (bench_in_shard(s, k, shard_i, shard_n) && mi++ % jobs == j) {
+                        item it = bench_item_at(s, k);
+                        crc = run_item(&c, &it, k, total);
+                    }
+                fflush(NULL);
+                _exit(crc);
+            }
+            if (pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+            pids[j] = pid;
+        }
+        for (long j = 0; pids && j < jobs; j++) {
+            int status = 0;
+            if (pids[j] > 0 && (waitpid(pids[j], &status, 0) < 0 || !WIFEXITED(status) ||
+                                WEXITSTATUS(status) != 0))
+                rc = EXIT_RUNTIME;
+        }
+        if (!pids) rc = tool_runtime_error("bench: out of memory");
+        free(pids);
+    }
+    if (rc != EXIT_OK)
+        fprintf(stderr, "lumis bench: stopped; run the same command again to resume\n");
+    for (int m = 0; m < s->nmaps; m++)
+        if (s->maps[m].first == m) lumis_image_destroy(images[m]);
+    free(images);
+    return rc;
+}
