@@ -53,11 +53,26 @@ typedef struct lumis__direct_result {
 lumis_status lumis__env_direct(lumis__decomp *dc, const lumis__direct_params *p,
                                lumis__direct_result *out);
 
+/* Per-tile sums of the non-emissive pixels (E = sum Y Omega, M = sum Y m, N = pixels),
+ * stored at [(ty + 1)(tw + 1) + tx + 1] and turned into summed-area tables by
+ * lumis__tiles_prefix.  T = 4 on maps of 2^16 pixels or more, else 1. */
+enum { LUMIS__Q_E, LUMIS__Q_MX, LUMIS__Q_MY, LUMIS__Q_MZ, LUMIS__Q_N, LUMIS__Q_COUNT };
+typedef struct lumis__tiles {
+    int T, tw, th;
+    double *q[LUMIS__Q_COUNT];
+} lumis__tiles;
+
+lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h);
+void lumis__tiles_free(lumis__tiles *t);
+/* Adds one pixel of luminance y (before the prefix sums). */
+void lumis__tiles_add(lumis__tiles *t, const lumis__geom *g, int i, int j, double y);
+void lumis__tiles_prefix(lumis__tiles *t);
+
 /* The cut: up to `budget` rectangles covering every pixel labelled -1 (the non-emissive
  * set), each holding at least one of them.  *count receives how many (fewer than budget
  * only if there are fewer such pixels).  rects holds budget entries. */
-lumis_status lumis__illumination_cut(const lumis__decomp *dc, int budget, lumis_cut_objective obj,
-                                     double w_v, double w_d, double w_e, lumis__rect *rects,
-                                     int *count);
+lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles *tiles, int budget,
+                                     lumis_cut_objective obj, double w_v, double w_d, double w_e,
+                                     lumis__rect *rects, int *count);
 
 #endif

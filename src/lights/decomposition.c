@@ -15,13 +15,11 @@ static uint32_t float_bits(float f)
     return (u & 0x80000000u) ? 0u : u; /* luminance is >= 0; -0 counts as 0 */
 }
 
-/* The rank-th smallest (1-based) of n non-negative floats: histograms of the high and then
- * the low 16 bits of their IEEE patterns, which order like the values. */
-static lumis_status select_rank(const float *y, size_t n, size_t rank, float *out)
+/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries) holds the
+ * histogram of the high 16 bits of their IEEE patterns, which order like the values; a
+ * second histogram of the low 16 bits inside the bucket found settles it.  Clobbers hist. */
+static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
 {
-    uint32_t *hist = calloc(65536, sizeof(uint32_t));
-    if (!hist) return LUMIS_ERR_OUT_OF_MEMORY;
-    for (size_t p = 0; p < n; p++) hist[float_bits(y[p]) >> 16]++;
     size_t below = 0;
     uint32_t hi = 0;
     while (below + hist[hi] < rank) below += hist[hi++];
@@ -32,10 +30,10 @@ static lumis_status select_rank(const float *y, size_t n, size_t rank, float *ou
     }
     uint32_t lo = 0;
     while (below + hist[lo] < rank) below += hist[lo++];
-    free(hist);
     uint32_t bits = (hi << 16) | lo;
-    memcpy(out, &bits, sizeof *out);
-    return LUMIS_OK;
+    float out;
+    memcpy(&out, &bits, sizeof out);
+    return out;
 }
 
 static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sink *err)
@@ -103,8 +101,13 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     memset(&dc, 0, sizeof dc);
     lumis__direct_result dr;
     memset(&dr, 0, sizeof dr);
-    st = (y && rects && acc) ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, &set)
-                             : LUMIS_ERR_OUT_OF_MEMORY;
+    lumis__tiles tiles;
+    memset(&tiles, 0, sizeof tiles);
+    uint32_t *hist = calloc(65536, sizeof(uint32_t));
+    st = (y && rects && acc && hist)
+             ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
+             : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
     if (st != LUMIS_OK) goto done;
     lumis_light_set_info *info = &set->info;
     dc.env = env;
@@ -127,14 +130,14 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
             yr[i] = v;
             row += v;
             if (v > ymax) ymax = v;
+            hist[float_bits(v) >> 16]++;
         }
         power_y += row * g.omega[j];
     }
     const double pct = def(desc->percentile, 98.0);
     size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
     rank = rank < 1 ? 1 : (rank > n ? n : rank);
-    float lb;
-    if ((st = select_rank(y, n, rank, &lb)) != LUMIS_OK) goto done;
+    float lb = select_rank(y, n, rank, hist);
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
     info->max_luminance = ymax;
@@ -148,29 +151,48 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dc.em_pix = malloc(cap * sizeof(int32_t));
     if (!dc.em_pix) st = LUMIS_ERR_OUT_OF_MEMORY;
     double e_em = 0.0, o_em = 0.0, e_ne = 0.0, o_ne = 0.0;
+    const int T = tiles.T;
+    const size_t TW = (size_t)tiles.tw + 1;
     for (int j = 0; st == LUMIS_OK && j < h; j++) {
         const float *yr = y + (size_t)j * (size_t)w;
         int32_t *lab = set->labels + (size_t)j * (size_t)w;
         double rem = 0.0, rne = 0.0;
         int cem = 0;
-        for (int i = 0; i < w; i++) {
-            if (!((double)yr[i] > lt)) {
-                rne += yr[i];
-                continue;
-            }
-            if ((size_t)dc.m == cap) {
-                int32_t *p = realloc(dc.em_pix, 2 * cap * sizeof(int32_t));
-                if (!p) {
-                    st = LUMIS_ERR_OUT_OF_MEMORY;
-                    break;
+        const size_t trow = (size_t)(j / T + 1) * TW + 1;
+        for (int tx = 0; st == LUMIS_OK && tx < tiles.tw; tx++) {
+            /* the non-emissive pixels of this row's stretch of tile tx, into the tile sums */
+            int i1 = (tx + 1) * T < w ? (tx + 1) * T : w, cnt = 0;
+            double ys = 0.0, ycs = 0.0, ycc = 0.0;
+            for (int i = tx * T; i < i1; i++) {
+                if (!((double)yr[i] > lt)) {
+                    lab[i] = -1;
+                    ys += yr[i];
+                    ycs += (double)yr[i] * g.cs[i];
+                    ycc += (double)yr[i] * g.cc[i];
+                    cnt++;
+                    continue;
                 }
-                dc.em_pix = p;
-                cap *= 2;
+                if ((size_t)dc.m == cap) {
+                    int32_t *p = realloc(dc.em_pix, 2 * cap * sizeof(int32_t));
+                    if (!p) {
+                        st = LUMIS_ERR_OUT_OF_MEMORY;
+                        break;
+                    }
+                    dc.em_pix = p;
+                    cap *= 2;
+                }
+                lab[i] = dc.m;
+                dc.em_pix[dc.m++] = (int32_t)((size_t)j * (size_t)w + (size_t)i);
+                rem += yr[i];
+                cem++;
             }
-            lab[i] = dc.m;
-            dc.em_pix[dc.m++] = (int32_t)((size_t)j * (size_t)w + (size_t)i);
-            rem += yr[i];
-            cem++;
+            size_t q = trow + (size_t)tx;
+            tiles.q[LUMIS__Q_E][q] += ys * g.omega[j];
+            tiles.q[LUMIS__Q_MX][q] += ycs * g.a[j];
+            tiles.q[LUMIS__Q_MY][q] += ys * g.b[j];
+            tiles.q[LUMIS__Q_MZ][q] += ycc * g.a[j];
+            tiles.q[LUMIS__Q_N][q] += cnt;
+            rne += ys;
         }
         e_em += rem * g.omega[j];
         e_ne += rne * g.omega[j];
@@ -270,11 +292,16 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
         nd--;
     }
     info->returned_pixels = dr.returned;
+    for (int e = 0; e < m; e++)
+        if (dc.em_cluster[e] < 0)
+            lumis__tiles_add(&tiles, &g, (int)(dc.em_pix[e] % w), (int)(dc.em_pix[e] / w),
+                             (double)y[dc.em_pix[e]]);
+    lumis__tiles_prefix(&tiles);
 
     /* ---- EnvIndirects ---- */
     int ni = 0;
     lumis_cut_objective cut = desc->cut ? desc->cut : LUMIS_CUT_MODIFIED;
-    st = lumis__illumination_cut(&dc, K - nd, cut, def(desc->w_v, 1.0), def(desc->w_d, 5.0),
+    st = lumis__illumination_cut(&dc, &tiles, K - nd, cut, def(desc->w_v, 1.0), def(desc->w_d, 5.0),
                                  def(desc->w_e, 1.0), rects, &ni);
     if (st != LUMIS_OK) goto done;
 
@@ -325,6 +352,8 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     lumis__set_finish(set, &g, env, &c, t0);
 
 done:
+    free(hist);
+    lumis__tiles_free(&tiles);
     free(y);
     free(rects);
     free(acc);

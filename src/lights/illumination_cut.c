@@ -15,7 +15,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { Q_E, Q_MX, Q_MY, Q_MZ, Q_N, Q_COUNT };
+#define Q_E     LUMIS__Q_E
+#define Q_MX    LUMIS__Q_MX
+#define Q_MY    LUMIS__Q_MY
+#define Q_MZ    LUMIS__Q_MZ
+#define Q_N     LUMIS__Q_N
+#define Q_COUNT LUMIS__Q_COUNT
 
 typedef struct node {
     lumis__rect r;
@@ -27,54 +32,57 @@ typedef struct cut_ctx {
     const lumis__decomp *dc;
     const lumis__geom *g;
     int T, tw, th;
-    double *sat[Q_COUNT]; /* (tw + 1) (th + 1) each */
+    double *const *sat; /* the tiles' summed-area tables */
 } cut_ctx;
 
-static lumis_status tiles_build(cut_ctx *c)
+lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
 {
-    const lumis__decomp *dc = c->dc;
-    const lumis__geom *g = c->g;
-    const int w = dc->w, h = dc->h, T = c->T, tw = c->tw, th = c->th;
-    const size_t W = (size_t)tw + 1, n = W * ((size_t)th + 1);
+    memset(t, 0, sizeof *t);
+    t->T = (long long)w * h >= 65536 ? 4 : 1;
+    t->tw = (w + t->T - 1) / t->T;
+    t->th = (h + t->T - 1) / t->T;
+    size_t n = ((size_t)t->tw + 1) * ((size_t)t->th + 1);
     for (int k = 0; k < Q_COUNT; k++) {
-        c->sat[k] = calloc(n, sizeof(double));
-        if (!c->sat[k]) return LUMIS_ERR_OUT_OF_MEMORY;
-    }
-    /* Tile sums into sat[.][(ty + 1) W + tx + 1], then prefix sums in place. */
-    for (int j = 0; j < h; j++) {
-        const size_t o = (size_t)(j / T + 1) * W + 1;
-        const float *y = dc->y + (size_t)j * (size_t)w;
-        const int32_t *lab = dc->labels + (size_t)j * (size_t)w;
-        for (int tx = 0; tx < tw; tx++) {
-            int i1 = (tx + 1) * T < w ? (tx + 1) * T : w;
-            double ys = 0.0, ycs = 0.0, ycc = 0.0, cnt = 0.0;
-            for (int i = tx * T; i < i1; i++) {
-                if (lab[i] != -1) continue;
-                double v = y[i];
-                ys += v;
-                ycs += v * g->cs[i];
-                ycc += v * g->cc[i];
-                cnt += 1.0;
-            }
-            size_t q = o + (size_t)tx;
-            c->sat[Q_E][q] += ys * g->omega[j];
-            c->sat[Q_MX][q] += ycs * g->a[j];
-            c->sat[Q_MY][q] += ys * g->b[j];
-            c->sat[Q_MZ][q] += ycc * g->a[j];
-            c->sat[Q_N][q] += cnt;
+        t->q[k] = calloc(n, sizeof(double));
+        if (!t->q[k]) {
+            lumis__tiles_free(t);
+            return LUMIS_ERR_OUT_OF_MEMORY;
         }
     }
+    return LUMIS_OK;
+}
+
+void lumis__tiles_free(lumis__tiles *t)
+{
     for (int k = 0; k < Q_COUNT; k++) {
-        double *s = c->sat[k];
-        for (size_t ty = 1; ty <= (size_t)th; ty++) {
+        free(t->q[k]);
+        t->q[k] = NULL;
+    }
+}
+
+void lumis__tiles_add(lumis__tiles *t, const lumis__geom *g, int i, int j, double y)
+{
+    size_t q = (size_t)(j / t->T + 1) * ((size_t)t->tw + 1) + (size_t)(i / t->T) + 1;
+    t->q[Q_E][q] += y * g->omega[j];
+    t->q[Q_MX][q] += y * g->a[j] * g->cs[i];
+    t->q[Q_MY][q] += y * g->b[j];
+    t->q[Q_MZ][q] += y * g->a[j] * g->cc[i];
+    t->q[Q_N][q] += 1.0;
+}
+
+void lumis__tiles_prefix(lumis__tiles *t)
+{
+    const size_t W = (size_t)t->tw + 1;
+    for (int k = 0; k < Q_COUNT; k++) {
+        double *s = t->q[k];
+        for (size_t ty = 1; ty <= (size_t)t->th; ty++) {
             double run = 0.0;
-            for (size_t tx = 1; tx <= (size_t)tw; tx++) {
+            for (size_t tx = 1; tx <= (size_t)t->tw; tx++) {
                 run += s[ty * W + tx];
                 s[ty * W + tx] = s[(ty - 1) * W + tx] + run;
             }
         }
     }
-    return LUMIS_OK;
 }
 
 static int aligned(const cut_ctx *c, lumis__rect r)
@@ -154,9 +162,9 @@ static void node_split(const cut_ctx *c, const node *parent, node *a, node *b)
     }
 }
 
-lumis_status lumis__illumination_cut(const lumis__decomp *dc, int budget, lumis_cut_objective obj,
-                                     double w_v, double w_d, double w_e, lumis__rect *rects,
-                                     int *count)
+lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles *tiles, int budget,
+                                     lumis_cut_objective obj, double w_v, double w_d, double w_e,
+                                     lumis__rect *rects, int *count)
 {
     *count = 0;
     if (budget <= 0) return LUMIS_OK;
@@ -164,11 +172,12 @@ lumis_status lumis__illumination_cut(const lumis__decomp *dc, int budget, lumis_
     memset(&c, 0, sizeof c);
     c.dc = dc;
     c.g = dc->g;
-    c.T = (long long)dc->w * dc->h >= 65536 ? 4 : 1;
-    c.tw = (dc->w + c.T - 1) / c.T;
-    c.th = (dc->h + c.T - 1) / c.T;
+    c.T = tiles->T;
+    c.tw = tiles->tw;
+    c.th = tiles->th;
+    c.sat = tiles->q;
     node *cut = malloc((size_t)budget * sizeof *cut);
-    lumis_status st = cut ? tiles_build(&c) : LUMIS_ERR_OUT_OF_MEMORY;
+    lumis_status st = cut ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     int n = 0;
     if (st == LUMIS_OK) {
         lumis__rect whole = {0, 0, dc->w, dc->h};
@@ -210,6 +219,5 @@ lumis_status lumis__illumination_cut(const lumis__decomp *dc, int budget, lumis_
     for (int k = 0; k < n; k++) rects[k] = cut[k].r;
     *count = n;
     free(cut);
-    for (int k = 0; k < Q_COUNT; k++) free(c.sat[k]);
     return st;
 }
