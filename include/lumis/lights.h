@@ -189,7 +189,7 @@ typedef struct lumis_light_set_info {
     int direct;      /* EnvDirects (decomposition) */
     int indirect;    /* EnvIndirects (decomposition) */
     double build_ms; /* wall-clock time of the build */
-    double power[3]; /* the map's sum(L * Omega) per channel, accumulated independently */
+    double power[3]; /* the lights' total power per channel (set 0) */
 
     /* Decomposition only. */
     double threshold;               /* L_T of Eq. 1 (or the descriptor's) */

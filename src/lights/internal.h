@@ -84,9 +84,9 @@ lumis_status lumis__common_check(const lumis_envmap *env, const char *what, int 
                                  float jitter, uint64_t seed, const lumis_error_sink *errors,
                                  lumis__common *out);
 
-/* Allocates a set of `count` lights per set with a label array set to -1. */
+/* Allocates a set of `count` lights per set and a label array (set to -1 if fill). */
 lumis_status lumis__set_create(const lumis_envmap *env, const lumis__common *c, int count,
-                               lumis_lights_method method, lumis_light_set **out);
+                               lumis_lights_method method, int fill, lumis_light_set **out);
 
 /* Turns light k's sums into the light (direction in world space, power with the scale,
  * solid angle); the extent is set by the caller (lumis__extent_*). */
@@ -96,7 +96,7 @@ void lumis__light_from_acc(const lumis__geom *g, const lumis__acc *acc, lumis_li
 /* Map-frame unit direction of a light (inverse of the rotation applied on output). */
 void lumis__light_map_dir(const lumis__geom *g, const lumis_light *light, double d[3]);
 
-/* The map's sum(L * Omega) into info.power; the jittered copies; the build time. */
+/* The lights' total power into info.power; the jittered copies; the build time. */
 void lumis__set_finish(lumis_light_set *set, const lumis__geom *g, const lumis_envmap *env,
                        const lumis__common *c, double t0_ms);
 

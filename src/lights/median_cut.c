@@ -89,7 +89,7 @@ lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median
     double *sat = malloc(satn * sizeof(double));
     lumis__rect *rects = malloc((size_t)c.count * sizeof *rects);
     lumis_light_set *set = NULL;
-    st = (sat && rects) ? lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_MEDIAN_CUT, &set)
+    st = (sat && rects) ? lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_MEDIAN_CUT, 0, &set)
                         : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         lumis__sat_build(&g, env, sat, NULL, NULL, NULL);

@@ -106,7 +106,7 @@ lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_vari
     lumis__rect *rects = malloc((size_t)c.count * sizeof *rects);
     lumis_light_set *set = NULL;
     st = (sat[0] && sat[1] && sat[2] && sat[3] && rects)
-             ? lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_VARIANCE_MIN, &set)
+             ? lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_VARIANCE_MIN, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         lumis__sat_build(&g, env, sat[0], sat[1], sat[2], sat[3]);

@@ -1,5 +1,6 @@
 /* Every public header, compiled as strict C11 (see tests/CMakeLists.txt). */
 #include "lumis/io.h"
+#include "lumis/lights.h"
 #include "lumis/lumis.h"
 #include "lumis/render.h"
 
@@ -7,5 +8,6 @@ int lumis_headers_compile_as_c(void);
 int lumis_headers_compile_as_c(void)
 {
     lumis_envmap_desc d = {0};
-    return d.width + (int)LUMIS_OK;
+    lumis_decomp_desc l = {0};
+    return d.width + l.count + lumis_light_set_interleave_index(8, 1, 1) + (int)LUMIS_OK;
 }

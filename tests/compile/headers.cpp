@@ -1,5 +1,6 @@
 // Every public header, compiled as C++17 (see tests/CMakeLists.txt).
 #include "lumis/io.h"
+#include "lumis/lights.h"
 #include "lumis/lumis.h"
 #include "lumis/render.h"
 
@@ -7,6 +8,8 @@ int lumis_headers_compile_as_cxx();
 int lumis_headers_compile_as_cxx()
 {
     lumis_envmap_desc d{};
+    lumis_median_cut_desc m{};
+    d.width += m.count + lumis_light_set_interleave_index(8, 1, 1);
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, 1, 2);
     return d.width + static_cast<int>(lumis_pcg32_next(&rng) & 1u);

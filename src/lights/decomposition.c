@@ -1,0 +1,373 @@
+/* Wu's decomposition ("Efficient Environment Map Rendering based on Decomposition", Wu
+ * 2024): the emissive threshold (Eq. 1, an exact percentile by two-level radix
+ * selection), the light budget (Eq. 2), and the assembly of EnvDirects (env_direct.c) and
+ * EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
+#include "decomp.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static uint32_t float_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return (u & 0x80000000u) ? 0u : u; /* luminance is >= 0; -0 counts as 0 */
+}
+
+/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries) holds the
+ * histogram of the high 16 bits of their IEEE patterns, which order like the values; a
+ * second histogram of the low 16 bits inside the bucket found settles it.  Clobbers hist. */
+static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
+{
+    size_t below = 0;
+    uint32_t hi = 0;
+    while (below + hist[hi] < rank) below += hist[hi++];
+    memset(hist, 0, 65536 * sizeof(uint32_t));
+    for (size_t p = 0; p < n; p++) {
+        uint32_t b = float_bits(y[p]);
+        if ((b >> 16) == hi) hist[b & 0xffffu]++;
+    }
+    uint32_t lo = 0;
+    while (below + hist[lo] < rank) below += hist[lo++];
+    uint32_t bits = (hi << 16) | lo;
+    float out;
+    memcpy(&out, &bits, sizeof out);
+    return out;
+}
+
+static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sink *err)
+{
+    const char *bad = NULL;
+    if ((unsigned)d->variant >= LUMIS_DECOMP_VARIANT_COUNT)
+        bad = "variant is unknown";
+    else if ((unsigned)d->cut >= LUMIS_CUT_COUNT)
+        bad = "cut objective is unknown";
+    else if ((unsigned)d->mask_radius >= LUMIS_MASK_COUNT)
+        bad = "mask radius reading is unknown";
+    else if (!(d->percentile >= 0.0f && d->percentile <= 100.0f))
+        bad = "percentile must be in (0, 100] (0 == 98)";
+    else if (!(d->lambda >= 0.0f) || !isfinite(d->lambda))
+        bad = "lambda must be finite and >= 0";
+    else if (!(d->gamma >= 0.0f) || !isfinite(d->gamma))
+        bad = "gamma must be finite and >= 0";
+    else if (!(d->threshold >= 0.0f) || !isfinite(d->threshold))
+        bad = "threshold must be finite and >= 0 (0 == Eq. 1)";
+    else if (!(d->budget_a >= 0.0f) || !isfinite(d->budget_a) || !(d->budget_b >= 0.0f) ||
+             !isfinite(d->budget_b))
+        bad = "budget exponents a and b must be finite and >= 0 (0 == 1 and 1/4)";
+    else if (!(d->mask_scale >= 0.0f) || !isfinite(d->mask_scale))
+        bad = "mask scale s must be finite and >= 0 (0 == 0.15)";
+    else if (!(d->return_factor >= 0.0f) || !isfinite(d->return_factor))
+        bad = "return factor must be finite and >= 0 (0 == 2)";
+    else if (d->kmeans_max_iterations < 0)
+        bad = "kmeans_max_iterations must be >= 0";
+    else if (!(d->w_v >= 0.0f && d->w_d >= 0.0f && d->w_e >= 0.0f) || !isfinite(d->w_v) ||
+             !isfinite(d->w_d) || !isfinite(d->w_e))
+        bad = "cut weights must be finite and >= 0 (0 == 1, 5, 1)";
+    if (bad) return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT, "decomposition: %s", bad);
+    return LUMIS_OK;
+}
+
+static double def(float v, double d)
+{
+    return v > 0.0f ? (double)v : d;
+}
+
+lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
+                                    lumis_light_set **out)
+{
+    static const lumis_decomp_desc zero_desc;
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!desc) desc = &zero_desc;
+    const double t0 = lumis__now_ms();
+    lumis__common c;
+    lumis_status st = lumis__common_check(env, "decomposition", desc->count, desc->sets,
+                                          desc->jitter, desc->seed, &desc->errors, &c);
+    if (st != LUMIS_OK) return st;
+    if ((st = check_desc(desc, c.errors)) != LUMIS_OK) return st;
+    const lumis_error_sink *err = c.errors;
+    lumis__geom g;
+    if (lumis__geom_init(&g, env) != LUMIS_OK)
+        return lumis__fail(err, LUMIS_ERR_OUT_OF_MEMORY, "decomposition: out of memory");
+    const int K = c.count, w = g.w, h = g.h;
+    const size_t n = (size_t)w * (size_t)h;
+    lumis_light_set *set = NULL;
+    float *y = malloc(n * sizeof(float));
+    lumis__rect *rects = malloc((size_t)K * sizeof *rects);
+    lumis__acc *acc = calloc((size_t)K, sizeof *acc);
+    lumis__decomp dc;
+    memset(&dc, 0, sizeof dc);
+    lumis__direct_result dr;
+    memset(&dr, 0, sizeof dr);
+    lumis__tiles tiles;
+    memset(&tiles, 0, sizeof tiles);
+    uint32_t *hist = calloc(65536, sizeof(uint32_t));
+    st = (y && rects && acc && hist)
+             ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
+             : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
+    if (st != LUMIS_OK) goto done;
+    lumis_light_set_info *info = &set->info;
+    dc.env = env;
+    dc.g = &g;
+    dc.desc = desc;
+    dc.w = w;
+    dc.h = h;
+    dc.y = y;
+    dc.labels = set->labels;
+
+    /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
+    double power_y = 0.0;
+    float ymax = 0.0f;
+    for (int j = 0; j < h; j++) {
+        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
+        float *yr = y + (size_t)j * (size_t)w;
+        double row = 0.0;
+        for (int i = 0; i < w; i++, px += 3) {
+            float v = lumis__pixel_y(px, g.scale);
+            yr[i] = v;
+            row += v;
+            if (v > ymax) ymax = v;
+            hist[float_bits(v) >> 16]++;
+        }
+        power_y += row * g.omega[j];
+    }
+    const double pct = def(desc->percentile, 98.0);
+    size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
+    rank = rank < 1 ? 1 : (rank > n ? n : rank);
+    float lb = select_rank(y, n, rank, hist);
+    info->percentile_luminance = lb;
+    info->avg_luminance = power_y / (4.0 * LUMIS_PI);
+    info->max_luminance = ymax;
+    double lt = fmax((double)lb, fmax(def(desc->lambda, 3.0) * info->avg_luminance,
+                                      def(desc->gamma, 0.001) * (double)ymax));
+    if (desc->threshold > 0.0f) lt = desc->threshold;
+    info->threshold = lt;
+
+    /* ---- classification: labels[p] = emissive index or -1 ---- */
+    size_t cap = n / 64 + 16;
+    dc.em_pix = malloc(cap * sizeof(int32_t));
+    if (!dc.em_pix) st = LUMIS_ERR_OUT_OF_MEMORY;
+    double e_em = 0.0, o_em = 0.0, e_ne = 0.0, o_ne = 0.0;
+    const int T = tiles.T;
+    const size_t TW = (size_t)tiles.tw + 1;
+    for (int j = 0; st == LUMIS_OK && j < h; j++) {
+        const float *yr = y + (size_t)j * (size_t)w;
+        int32_t *lab = set->labels + (size_t)j * (size_t)w;
+        double rem = 0.0, rne = 0.0;
+        int cem = 0;
+        const size_t trow = (size_t)(j / T + 1) * TW + 1;
+        for (int tx = 0; st == LUMIS_OK && tx < tiles.tw; tx++) {
+            /* the non-emissive pixels of this row's stretch of tile tx, into the tile sums */
+            int i1 = (tx + 1) * T < w ? (tx + 1) * T : w, cnt = 0;
+            double ys = 0.0, ycs = 0.0, ycc = 0.0;
+            for (int i = tx * T; i < i1; i++) {
+                if (!((double)yr[i] > lt)) {
+                    lab[i] = -1;
+                    ys += yr[i];
+                    ycs += (double)yr[i] * g.cs[i];
+                    ycc += (double)yr[i] * g.cc[i];
+                    cnt++;
+                    continue;
+                }
+                if ((size_t)dc.m == cap) {
+                    int32_t *p = realloc(dc.em_pix, 2 * cap * sizeof(int32_t));
+                    if (!p) {
+                        st = LUMIS_ERR_OUT_OF_MEMORY;
+                        break;
+                    }
+                    dc.em_pix = p;
+                    cap *= 2;
+                }
+                lab[i] = dc.m;
+                dc.em_pix[dc.m++] = (int32_t)((size_t)j * (size_t)w + (size_t)i);
+                rem += yr[i];
+                cem++;
+            }
+            size_t q = trow + (size_t)tx;
+            tiles.q[LUMIS__Q_E][q] += ys * g.omega[j];
+            tiles.q[LUMIS__Q_MX][q] += ycs * g.a[j];
+            tiles.q[LUMIS__Q_MY][q] += ys * g.b[j];
+            tiles.q[LUMIS__Q_MZ][q] += ycc * g.a[j];
+            tiles.q[LUMIS__Q_N][q] += cnt;
+            rne += ys;
+        }
+        e_em += rem * g.omega[j];
+        e_ne += rne * g.omega[j];
+        o_em += cem * g.omega[j];
+        o_ne += (w - cem) * g.omega[j];
+    }
+    if (st != LUMIS_OK) goto done;
+    const int m = dc.m;
+    const long long n_ne = (long long)n - m;
+    info->emissive_pixels = m;
+
+    /* ---- Eq. 2: N = K G_em / (G_em + G_nem), G = L^a dw^b, L the mean luminance ---- */
+    const double ea = def(desc->budget_a, 1.0), eb = def(desc->budget_b, 0.25);
+    double g_em = o_em > 0.0 ? pow(e_em / o_em, ea) * pow(o_em, eb) : 0.0;
+    double g_ne = o_ne > 0.0 ? pow(e_ne / o_ne, ea) * pow(o_ne, eb) : 0.0;
+    info->gamma_em = g_em;
+    info->gamma_nem = g_ne;
+    long long N = g_em + g_ne > 0.0 ? llround(K * g_em / (g_em + g_ne)) : 0;
+    if (m > 0 && N < 1) N = 1;            /* emissive pixels get at least one EnvDirect */
+    if (n_ne > 0 && N > K - 1) N = K - 1; /* ... and the rest at least one EnvIndirect */
+    if (n_ne == 0) N = K;
+    if (N > m) N = m;
+    info->budget = (int)N;
+
+    /* ---- EnvDirects ---- */
+    dc.em_d = malloc(3 * (size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc.em_w = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc.em_e = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc.em_cluster = malloc((size_t)(m > 0 ? m : 1) * sizeof(int32_t));
+    if (!dc.em_d || !dc.em_w || !dc.em_e || !dc.em_cluster) {
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    for (int e = 0; e < m; e++) {
+        int j = (int)(dc.em_pix[e] / w), i = (int)(dc.em_pix[e] % w);
+        double mx = g.a[j] * g.cs[i], my = g.b[j], mz = g.a[j] * g.cc[i];
+        double len = sqrt(mx * mx + my * my + mz * mz);
+        dc.em_d[3 * e] = mx / len;
+        dc.em_d[3 * e + 1] = my / len;
+        dc.em_d[3 * e + 2] = mz / len;
+        dc.em_w[e] = (double)y[dc.em_pix[e]] * len;
+        dc.em_e[e] = (double)y[dc.em_pix[e]] * g.omega[j];
+    }
+    lumis_decomp_variant var = desc->variant ? desc->variant : LUMIS_DECOMP_FULL;
+    lumis__direct_params dp;
+    memset(&dp, 0, sizeof dp);
+    dp.budget = (int)N;
+    dp.mask = var == LUMIS_DECOMP_IS_MASK || var == LUMIS_DECOMP_FULL;
+    dp.kmeans = var == LUMIS_DECOMP_IS_KMEANS || var == LUMIS_DECOMP_FULL;
+    const double s = def(desc->mask_scale, 0.15);
+    if (desc->mask_radius == LUMIS_MASK_RADIANS) {
+        dp.mask_radius = s * 4.0 * LUMIS_PI / K;
+    } else { /* the cap of solid angle s 4 pi / K: 2 pi (1 - cos r) = s 4 pi / K */
+        double q = s / K;
+        dp.mask_radius = q >= 1.0 ? LUMIS_PI : 2.0 * asin(sqrt(q));
+    }
+    dp.return_radius = def(desc->return_factor, 2.0) * dp.mask_radius;
+    dp.max_iterations = desc->kmeans_max_iterations;
+    dp.seed = desc->seed;
+    info->mask_radius = dp.mask_radius;
+    if ((st = lumis__env_direct(&dc, &dp, &dr)) != LUMIS_OK) goto done;
+    int nd = dr.clusters;
+    info->seeds = dr.seeds;
+    info->kmeans_iterations = dr.iterations;
+    info->kmeans_converged = dr.converged;
+    set->kmeans_objective = dr.objective;
+    dr.objective = NULL;
+    info->kmeans_objective = set->kmeans_objective;
+    info->kmeans_objective_count = dr.objective_count;
+
+    /* Direct sums; a cut needs a light when pixels came back and the budget is spent. */
+    for (int e = 0; e < m; e++) {
+        int cl = dc.em_cluster[e];
+        if (cl >= 0)
+            lumis__acc_pixel(&g, env, &acc[cl], (int)(dc.em_pix[e] % w), (int)(dc.em_pix[e] / w));
+    }
+    long long ne_final = n_ne + dr.returned;
+    if (ne_final > 0 && nd >= K) {
+        /* Give the weakest cluster back to the non-emissive set. */
+        int weakest = 0;
+        for (int k = 1; k < nd; k++)
+            if (acc[k].rgb[0] + acc[k].rgb[1] + acc[k].rgb[2] <
+                acc[weakest].rgb[0] + acc[weakest].rgb[1] + acc[weakest].rgb[2])
+                weakest = k;
+        for (int e = 0; e < m; e++) {
+            int cl = dc.em_cluster[e];
+            if (cl == weakest) {
+                dc.em_cluster[e] = -1;
+                set->labels[dc.em_pix[e]] = -1;
+                dr.returned++;
+            } else if (cl > weakest) {
+                dc.em_cluster[e] = cl - 1;
+                set->labels[dc.em_pix[e]] = cl - 1;
+            }
+        }
+        memmove(&acc[weakest], &acc[weakest + 1], (size_t)(nd - weakest - 1) * sizeof *acc);
+        nd--;
+    }
+    info->returned_pixels = dr.returned;
+    for (int e = 0; e < m; e++)
+        if (dc.em_cluster[e] < 0)
+            lumis__tiles_add(&tiles, &g, (int)(dc.em_pix[e] % w), (int)(dc.em_pix[e] / w),
+                             (double)y[dc.em_pix[e]]);
+    lumis__tiles_prefix(&tiles);
+
+    /* ---- EnvIndirects ---- */
+    int ni = 0;
+    lumis_cut_objective cut = desc->cut ? desc->cut : LUMIS_CUT_MODIFIED;
+    st = lumis__illumination_cut(&dc, &tiles, K - nd, cut, def(desc->w_v, 1.0), def(desc->w_d, 5.0),
+                                 def(desc->w_e, 1.0), rects, &ni);
+    if (st != LUMIS_OK) goto done;
+
+    /* ---- the lights ---- */
+    for (int k = 0; k < nd; k++)
+        lumis__light_from_acc(&g, &acc[k], LUMIS_LIGHT_ENV_DIRECT, &set->lights[k]);
+    double *mind = malloc((size_t)(nd > 0 ? nd : 1) * sizeof(double)), (*dirs)[3] = NULL;
+    dirs = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *dirs);
+    if (!mind || !dirs) {
+        free(mind);
+        free(dirs);
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    for (int k = 0; k < nd; k++) {
+        mind[k] = 1.0;
+        lumis__light_map_dir(&g, &set->lights[k], dirs[k]);
+    }
+    for (int e = 0; e < m; e++) {
+        int cl = dc.em_cluster[e];
+        if (cl < 0) continue;
+        int j = (int)(dc.em_pix[e] / w), i = (int)(dc.em_pix[e] % w);
+        double md = lumis__rect_min_dot(&g, dirs[cl], j, j + 1, i, i + 1);
+        if (md < mind[cl]) mind[cl] = md;
+    }
+    for (int k = 0; k < nd; k++) set->lights[k].extent = lumis__extent_from_min_dot(mind[k]);
+    free(mind);
+    free(dirs);
+    for (int k = 0; k < ni; k++) {
+        lumis__acc a;
+        memset(&a, 0, sizeof a);
+        lumis__acc_rect(&g, env, set->labels, rects[k], -1, nd + k, &a);
+        lumis_light *l = &set->lights[nd + k];
+        lumis__light_from_acc(&g, &a, LUMIS_LIGHT_ENV_INDIRECT, l);
+        double d[3];
+        lumis__light_map_dir(&g, l, d);
+        l->extent = lumis__extent_from_min_dot(
+            lumis__rect_min_dot(&g, d, rects[k].y0, rects[k].y1, rects[k].x0, rects[k].x1));
+    }
+    set->count = nd + ni;
+    info->direct = nd;
+    info->indirect = ni;
+    if (set->count < K)
+        lumis__fail(err, LUMIS_OK,
+                    "decomposition: %d lights instead of %d: the masked emissive pixels gave %d "
+                    "clusters and the %lld non-emissive pixels cannot hold more",
+                    set->count, K, nd, ne_final);
+    lumis__set_finish(set, &g, env, &c, t0);
+
+done:
+    free(hist);
+    lumis__tiles_free(&tiles);
+    free(y);
+    free(rects);
+    free(acc);
+    free(dc.em_pix);
+    free(dc.em_d);
+    free(dc.em_w);
+    free(dc.em_e);
+    free(dc.em_cluster);
+    free(dr.objective);
+    lumis__geom_free(&g);
+    if (st != LUMIS_OK) {
+        lumis_light_set_destroy(set);
+        return lumis__fail(err, st, "decomposition: %s", lumis_status_string(st));
+    }
+    *out = set;
+    return LUMIS_OK;
+}

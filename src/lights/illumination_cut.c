@@ -1,0 +1,223 @@
+/* EnvIndirects of Wu's decomposition: a cut through a binary light tree over the
+ * non-emissive pixels, refined node by node by the objective of Eq. 3 (the modified
+ * illumination cut) or by variance alone (the original cut).
+ *
+ * The tree is implicit: a node is a pixel rectangle of the map, split across its longer
+ * side (in radians) at the middle, and only the nodes the cut reaches are ever built.
+ * Node sums come in O(1) from summed-area tables over T x T tiles (T = 4 on large maps,
+ * so the tables stay small), splits fall on tile boundaries while a node spans more than
+ * one tile, and inside a tile they are summed from the pixels.  Children without a
+ * non-emissive pixel are skipped (the other child takes the node's place).
+ * docs/lights.md. */
+#include "decomp.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define Q_E     LUMIS__Q_E
+#define Q_MX    LUMIS__Q_MX
+#define Q_MY    LUMIS__Q_MY
+#define Q_MZ    LUMIS__Q_MZ
+#define Q_N     LUMIS__Q_N
+#define Q_COUNT LUMIS__Q_COUNT
+
+typedef struct node {
+    lumis__rect r;
+    double q[Q_COUNT]; /* E = sum Y Omega, M = sum Y m, N = pixels (non-emissive only) */
+    double v, d;       /* variance and directional extent */
+} node;
+
+typedef struct cut_ctx {
+    const lumis__decomp *dc;
+    const lumis__geom *g;
+    int T, tw, th;
+    double *const *sat; /* the tiles' summed-area tables */
+} cut_ctx;
+
+lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
+{
+    memset(t, 0, sizeof *t);
+    t->T = (long long)w * h >= 65536 ? 4 : 1;
+    t->tw = (w + t->T - 1) / t->T;
+    t->th = (h + t->T - 1) / t->T;
+    size_t n = ((size_t)t->tw + 1) * ((size_t)t->th + 1);
+    for (int k = 0; k < Q_COUNT; k++) {
+        t->q[k] = calloc(n, sizeof(double));
+        if (!t->q[k]) {
+            lumis__tiles_free(t);
+            return LUMIS_ERR_OUT_OF_MEMORY;
+        }
+    }
+    return LUMIS_OK;
+}
+
+void lumis__tiles_free(lumis__tiles *t)
+{
+    for (int k = 0; k < Q_COUNT; k++) {
+        free(t->q[k]);
+        t->q[k] = NULL;
+    }
+}
+
+void lumis__tiles_add(lumis__tiles *t, const lumis__geom *g, int i, int j, double y)
+{
+    size_t q = (size_t)(j / t->T + 1) * ((size_t)t->tw + 1) + (size_t)(i / t->T) + 1;
+    t->q[Q_E][q] += y * g->omega[j];
+    t->q[Q_MX][q] += y * g->a[j] * g->cs[i];
+    t->q[Q_MY][q] += y * g->b[j];
+    t->q[Q_MZ][q] += y * g->a[j] * g->cc[i];
+    t->q[Q_N][q] += 1.0;
+}
+
+void lumis__tiles_prefix(lumis__tiles *t)
+{
+    const size_t W = (size_t)t->tw + 1;
+    for (int k = 0; k < Q_COUNT; k++) {
+        double *s = t->q[k];
+        for (size_t ty = 1; ty <= (size_t)t->th; ty++) {
+            double run = 0.0;
+            for (size_t tx = 1; tx <= (size_t)t->tw; tx++) {
+                run += s[ty * W + tx];
+                s[ty * W + tx] = s[(ty - 1) * W + tx] + run;
+            }
+        }
+    }
+}
+
+static int aligned(const cut_ctx *c, lumis__rect r)
+{
+    const int T = c->T;
+    return r.x0 % T == 0 && (r.x1 % T == 0 || r.x1 == c->dc->w) && r.y0 % T == 0 &&
+           (r.y1 % T == 0 || r.y1 == c->dc->h);
+}
+
+static void node_sums(const cut_ctx *c, node *nd)
+{
+    const lumis__rect r = nd->r;
+    if (aligned(c, r)) {
+        lumis__rect t = {r.x0 / c->T, r.y0 / c->T, (r.x1 + c->T - 1) / c->T,
+                         (r.y1 + c->T - 1) / c->T};
+        for (int k = 0; k < Q_COUNT; k++) nd->q[k] = lumis__sat_rect(c->sat[k], c->tw, t);
+        nd->q[Q_N] = round(nd->q[Q_N]); /* integers, exact unless rounding intrudes */
+    } else {
+        const lumis__decomp *dc = c->dc;
+        const lumis__geom *g = c->g;
+        memset(nd->q, 0, sizeof nd->q);
+        for (int j = r.y0; j < r.y1; j++)
+            for (int i = r.x0; i < r.x1; i++) {
+                size_t p = (size_t)j * (size_t)dc->w + (size_t)i;
+                if (dc->labels[p] != -1) continue;
+                double v = dc->y[p];
+                nd->q[Q_E] += v * g->omega[j];
+                nd->q[Q_MX] += v * g->a[j] * g->cs[i];
+                nd->q[Q_MY] += v * g->b[j];
+                nd->q[Q_MZ] += v * g->a[j] * g->cc[i];
+                nd->q[Q_N] += 1.0;
+            }
+    }
+    double e = nd->q[Q_E], mx = nd->q[Q_MX], my = nd->q[Q_MY], mz = nd->q[Q_MZ];
+    double mm = mx * mx + my * my + mz * mz;
+    nd->v = e > 0.0 ? fmax(0.0, e - mm / e) : 0.0;
+    double d[3];
+    if (mm > 0.0) {
+        double l = sqrt(mm);
+        d[0] = mx / l;
+        d[1] = my / l;
+        d[2] = mz / l;
+    } else { /* no luminance: the rectangle's middle direction */
+        double th = 0.5 * LUMIS_PI * (r.y0 + r.y1) / c->g->h;
+        double ph = LUMIS_PI * (r.x0 + r.x1) / c->g->w;
+        d[0] = sin(th) * cos(ph);
+        d[1] = cos(th);
+        d[2] = sin(th) * sin(ph);
+    }
+    nd->d = acos(lumis__rect_min_dot(c->g, d, r.y0, r.y1, r.x0, r.x1));
+}
+
+/* Splits a node with at least two non-emissive pixels into two that each hold some. */
+static void node_split(const cut_ctx *c, const node *parent, node *a, node *b)
+{
+    lumis__rect r = parent->r;
+    const int T = c->T;
+    for (;;) {
+        int tx0 = r.x0 / T, tx1 = (r.x1 + T - 1) / T, ty0 = r.y0 / T, ty1 = (r.y1 + T - 1) / T;
+        int tiles = aligned(c, r) && (tx1 - tx0 > 1 || ty1 - ty0 > 1);
+        int nx = tiles ? tx1 - tx0 : r.x1 - r.x0, ny = tiles ? ty1 - ty0 : r.y1 - r.y0;
+        double wd, ht;
+        lumis__rect_sides(c->g, r, &wd, &ht);
+        int axis = (nx >= 2 && (wd >= ht || ny < 2)) ? 0 : 1;
+        a->r = b->r = r;
+        if (axis == 0) {
+            int pos = tiles ? (tx0 + nx / 2) * T : r.x0 + nx / 2;
+            a->r.x1 = b->r.x0 = pos;
+        } else {
+            int pos = tiles ? (ty0 + ny / 2) * T : r.y0 + ny / 2;
+            a->r.y1 = b->r.y0 = pos;
+        }
+        node_sums(c, a);
+        node_sums(c, b);
+        if (a->q[Q_N] > 0.0 && b->q[Q_N] > 0.0) return;
+        r = a->q[Q_N] > 0.0 ? a->r : b->r; /* a child without pixels: descend into the other */
+    }
+}
+
+lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles *tiles, int budget,
+                                     lumis_cut_objective obj, double w_v, double w_d, double w_e,
+                                     lumis__rect *rects, int *count)
+{
+    *count = 0;
+    if (budget <= 0) return LUMIS_OK;
+    cut_ctx c;
+    memset(&c, 0, sizeof c);
+    c.dc = dc;
+    c.g = dc->g;
+    c.T = tiles->T;
+    c.tw = tiles->tw;
+    c.th = tiles->th;
+    c.sat = tiles->q;
+    node *cut = malloc((size_t)budget * sizeof *cut);
+    lumis_status st = cut ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+    int n = 0;
+    if (st == LUMIS_OK) {
+        lumis__rect whole = {0, 0, dc->w, dc->h};
+        cut[0].r = whole;
+        node_sums(&c, &cut[0]);
+        if (cut[0].q[Q_N] > 0.0) n = 1;
+    }
+    while (st == LUMIS_OK && n > 0 && n < budget) {
+        /* Eq. 3 normalises each term by its maximum over the nodes that can still split. */
+        double mv = 0.0, md = 0.0, me = 0.0;
+        int any = 0;
+        for (int k = 0; k < n; k++) {
+            if (cut[k].q[Q_N] < 2.0) continue;
+            any = 1;
+            mv = fmax(mv, cut[k].v);
+            md = fmax(md, cut[k].d);
+            me = fmax(me, cut[k].q[Q_E]);
+        }
+        if (!any) break; /* every node is a single pixel */
+        double sv = mv > 0.0 ? w_v / mv : 0.0, sd = md > 0.0 ? w_d / md : 0.0,
+               se = me > 0.0 ? w_e / me : 0.0;
+        int best = -1;
+        double bo = -INFINITY;
+        for (int k = 0; k < n; k++) {
+            if (cut[k].q[Q_N] < 2.0) continue;
+            double o = obj == LUMIS_CUT_ORIGINAL
+                           ? cut[k].v
+                           : sv * cut[k].v + sd * cut[k].d + se * cut[k].q[Q_E];
+            if (o > bo) {
+                bo = o;
+                best = k;
+            }
+        }
+        node a, b;
+        node_split(&c, &cut[best], &a, &b);
+        cut[best] = a;
+        cut[n++] = b;
+    }
+    for (int k = 0; k < n; k++) rects[k] = cut[k].r;
+    *count = n;
+    free(cut);
+    return st;
+}

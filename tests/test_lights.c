@@ -1,0 +1,746 @@
+/* Representative light sets: median cut, variance minimisation, Wu's decomposition.
+ * Conservation, regions, exact per-pixel lights, the threshold, k-means, the cut, bad
+ * input (docs/lights.md). */
+#include "testutil.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+typedef lumis_status (*build_fn)(const lumis_envmap *, int count, lumis_light_set **);
+
+/* ---- maps ------------------------------------------------------------------------------- */
+
+static uint32_t hash(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+/* A sky: a gradient, texture, a sun of a few pixels and two smaller bright spots. */
+static float sky_pixel(int w, int h, int i, int j, int c)
+{
+    double u = (i + 0.5) / w, v = (j + 0.5) / h;
+    double base = (v < 0.5 ? 1.0 + 2.0 * (0.5 - v) : 0.3) * (c == 2 ? 1.3 : 1.0);
+    base *= 0.8 + 0.4 * (double)(hash((uint32_t)(j * w + i) * 3u + (uint32_t)c) & 1023) / 1023.0;
+    double du = u - 0.3, dv = v - 0.25;
+    if (du * du + dv * dv < 0.0009) base += 5000.0;
+    du = u - 0.8, dv = v - 0.4;
+    if (du * du + dv * dv < 0.0004) base += 300.0 * (c + 1);
+    du = u - 0.55, dv = v - 0.7;
+    if (du * du + dv * dv < 0.0002) base += 150.0;
+    return (float)base;
+}
+
+static lumis_envmap *make_env(int w, int h, float (*f)(int, int, int, int, int), float rot,
+                              float scale)
+{
+    float *px = malloc((size_t)w * (size_t)h * 3 * sizeof(float));
+    assert_non_null(px);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            for (int c = 0; c < 3; c++)
+                px[((size_t)j * (size_t)w + (size_t)i) * 3 + (size_t)c] = f(w, h, i, j, c);
+    lumis_envmap_desc d = {0};
+    d.pixels = px;
+    d.width = w;
+    d.height = h;
+    d.rotation_deg = rot;
+    d.scale = scale;
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
+    free(px);
+    return env;
+}
+
+static float const_pixel(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)i, (void)j, (void)c;
+    return 0.5f;
+}
+static float black_pixel(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)i, (void)j, (void)c;
+    return 0.0f;
+}
+/* Many scattered bright pixels: a hard case for k-means. */
+static float speckle_pixel(int w, int h, int i, int j, int c)
+{
+    (void)h;
+    uint32_t r = hash((uint32_t)(j * w + i));
+    return (r % 37 == 0) ? (float)(50 + (r >> 20) % 400) : 0.2f + 0.1f * (float)c;
+}
+
+/* The luminance every method weighs pixels by (docs/lights.md). */
+static float pixel_y(const lumis_envmap *env, int i, int j)
+{
+    const float *p =
+        lumis_envmap_pixels(env) + ((size_t)j * (size_t)lumis_envmap_width(env) + (size_t)i) * 3;
+    return (float)((double)lumis_envmap_scale(env) *
+                   (0.2126 * (double)p[0] + 0.7152 * (double)p[1] + 0.0722 * (double)p[2]));
+}
+
+/* The map's sum(L Omega) per channel, in long double, pixel by pixel. */
+static void map_power(const lumis_envmap *env, long double out[3])
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    const float *p = lumis_envmap_pixels(env);
+    out[0] = out[1] = out[2] = 0.0L;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            for (int c = 0; c < 3; c++)
+                out[c] += (long double)p[((size_t)j * (size_t)w + (size_t)i) * 3 + (size_t)c] *
+                          (long double)lumis_envmap_pixel_solid_angle(env, j) *
+                          (long double)lumis_envmap_scale(env);
+}
+
+/* ---- builders ----------------------------------------------------------------------- */
+
+static lumis_status build_mc(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_median_cut_desc d = {0};
+    d.count = k;
+    return lumis_lights_median_cut(env, &d, out);
+}
+static lumis_status build_vm(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_variance_min_desc d = {0};
+    d.count = k;
+    return lumis_lights_variance_min(env, &d, out);
+}
+static lumis_status build_wu(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_decomp_desc d = {0};
+    d.count = k;
+    d.seed = 7;
+    return lumis_lights_decompose(env, &d, out);
+}
+static lumis_status build_wu_cut_only(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_decomp_desc d = {0};
+    d.count = k;
+    d.threshold = 1e30f; /* no emissive pixel: the whole set is the cut */
+    return lumis_lights_decompose(env, &d, out);
+}
+
+/* ---- the invariants every set must satisfy ------------------------------------------ */
+
+static double angle(lumis_vec3 a, double b[3])
+{
+    double la = sqrt((double)a.x * a.x + (double)a.y * a.y + (double)a.z * a.z);
+    double d = ((double)a.x * b[0] + (double)a.y * b[1] + (double)a.z * b[2]) / la;
+    return acos(d > 1.0 ? 1.0 : (d < -1.0 ? -1.0 : d));
+}
+
+static void check_set(const lumis_light_set *set, const lumis_envmap *env)
+{
+    int w, h;
+    const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+    assert_int_equal(w, lumis_envmap_width(env));
+    assert_int_equal(h, lumis_envmap_height(env));
+    const lumis_light *L;
+    int n;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    assert_true(n >= 1);
+    long double want[3];
+    map_power(env, want);
+    const lumis_light_set_info *info = lumis_light_set_get_info(set);
+    assert_int_equal(info->count, n);
+    /* Per-light sums recomputed from the labels. */
+    long double *pw = calloc((size_t)n * 3, sizeof(long double));
+    double *om = calloc((size_t)n, sizeof(double));
+    int *cnt = calloc((size_t)n, sizeof(int));
+    const float *px = lumis_envmap_pixels(env);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            int32_t k = lab[(size_t)j * (size_t)w + (size_t)i];
+            assert_true(k >= 0 && k < n);
+            cnt[k]++;
+            om[k] += lumis_envmap_pixel_solid_angle(env, j);
+            for (int c = 0; c < 3; c++)
+                pw[3 * k + c] +=
+                    (long double)px[((size_t)j * (size_t)w + (size_t)i) * 3 + (size_t)c] *
+                    (long double)lumis_envmap_pixel_solid_angle(env, j) *
+                    (long double)lumis_envmap_scale(env);
+            /* The region lies inside the light's cone (pixel centre, float slack). */
+            lumis_vec3 cd =
+                lumis_envmap_uv_to_dir(env, (float)((i + 0.5) / w), (float)((j + 0.5) / h));
+            double d[3] = {cd.x, cd.y, cd.z};
+            assert_true(angle(L[k].dir, d) <= (double)L[k].extent + 1e-5);
+        }
+    double omega_sum = 0.0;
+    for (int s = 0; s < lumis_light_set_sets(set); s++) {
+        const lumis_light *Ls;
+        int ns;
+        assert_int_equal(lumis_light_set_get(set, s, &Ls, &ns), LUMIS_OK);
+        assert_int_equal(ns, n);
+        double tot[3] = {0, 0, 0};
+        for (int k = 0; k < n; k++) {
+            for (int c = 0; c < 3; c++) tot[c] += Ls[k].power[c];
+            double len =
+                sqrt((double)Ls[k].dir.x * Ls[k].dir.x + (double)Ls[k].dir.y * Ls[k].dir.y +
+                     (double)Ls[k].dir.z * Ls[k].dir.z);
+            assert_true(fabs(len - 1.0) < 1e-6);
+            assert_int_equal(Ls[k].pixels, L[k].pixels);
+            assert_true(Ls[k].power[0] == L[k].power[0] && Ls[k].solid_angle == L[k].solid_angle);
+            /* Jittered copies stay within jitter (0.1) of the extent about the original. */
+            double od[3] = {L[k].dir.x, L[k].dir.y, L[k].dir.z};
+            assert_true(angle(Ls[k].dir, od) <= 0.1 * (double)L[k].extent + 1e-5);
+        }
+        for (int c = 0; c < 3; c++) {
+            long double ref = want[c] > 0 ? want[c] : 1.0L;
+            assert_true(fabsl((long double)tot[c] - want[c]) <= 1e-12L * ref);
+            assert_true(fabs(info->power[c] - (double)want[c]) <= 1e-12 * (double)ref);
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        assert_int_equal(cnt[k], L[k].pixels);
+        assert_true(cnt[k] >= 1);
+        omega_sum += L[k].solid_angle;
+        assert_true(fabs(L[k].solid_angle - om[k]) <= 1e-12 * 4 * PI);
+        for (int c = 0; c < 3; c++) {
+            long double ref = pw[3 * k + c] > 0 ? pw[3 * k + c] : 1e-300L;
+            assert_true(fabsl((long double)L[k].power[c] - pw[3 * k + c]) <= 1e-12L * ref);
+        }
+    }
+    assert_true(fabs(omega_sum - 4 * PI) < 1e-12);
+    free(pw);
+    free(om);
+    free(cnt);
+}
+
+/* ---- tests ---------------------------------------------------------------------------- */
+
+static void every_method_conserves_power(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_mc, build_vm, build_wu, build_wu_cut_only};
+    static const int sizes[][2] = {{64, 32}, {200, 100}, {17, 9}};
+    static const float rots[] = {0.0f, 73.0f};
+    static const int ks[] = {1, 2, 3, 7, 16, 64, 100};
+    for (size_t s = 0; s < 3; s++)
+        for (size_t r = 0; r < 2; r++) {
+            lumis_envmap *env =
+                make_env(sizes[s][0], sizes[s][1], sky_pixel, rots[r], r ? 2.5f : 0.0f);
+            for (size_t f = 0; f < 4; f++)
+                for (size_t k = 0; k < sizeof ks / sizeof ks[0]; k++) {
+                    lumis_light_set *set = NULL;
+                    assert_int_equal(fns[f](env, ks[k], &set), LUMIS_OK);
+                    check_set(set, env);
+                    assert_int_equal(lumis_light_set_get_info(set)->count, ks[k]);
+                    lumis_light_set_destroy(set);
+                }
+            lumis_envmap_destroy(env);
+        }
+}
+
+typedef struct box {
+    int x0, y0, x1, y1;
+} box;
+
+static box label_box(const int32_t *lab, int w, int h, int k)
+{
+    box b = {w, h, 0, 0};
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            if (lab[(size_t)j * (size_t)w + (size_t)i] == k) {
+                if (i < b.x0) b.x0 = i;
+                if (j < b.y0) b.y0 = j;
+                if (i + 1 > b.x1) b.x1 = i + 1;
+                if (j + 1 > b.y1) b.y1 = j + 1;
+            }
+    return b;
+}
+
+static double box_energy(const lumis_envmap *env, box b)
+{
+    double e = 0.0;
+    for (int j = b.y0; j < b.y1; j++)
+        for (int i = b.x0; i < b.x1; i++)
+            e += (double)pixel_y(env, i, j) * lumis_envmap_pixel_solid_angle(env, j);
+    return e;
+}
+
+static void median_cut_regions_have_equal_energy(void **state)
+{
+    (void)state;
+    /* Large enough that no region of 64 is a single pixel, which could not split and
+     * would shift its neighbours out of pairs. */
+    lumis_envmap *env = make_env(256, 128, sky_pixel, 0.0f, 0.0f);
+    int checked = 0;
+    for (int k = 2; k <= 64; k *= 2) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(build_mc(env, k, &set), LUMIS_OK);
+        int w, h;
+        const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+        /* Power of two: lights 2i and 2i + 1 are the halves of one split. */
+        for (int p = 0; p < k; p += 2) {
+            box a = label_box(lab, w, h, p), b = label_box(lab, w, h, p + 1);
+            box sa = a, sb = b; /* the columns (rows) on either side of the cut */
+            if (a.x1 == b.x0 && a.y0 == b.y0 && a.y1 == b.y1) {
+                sa.x0 = a.x1 - 1;
+                sb.x1 = b.x0 + 1;
+            } else {
+                assert_true(a.y1 == b.y0 && a.x0 == b.x0 && a.x1 == b.x1);
+                sa.y0 = a.y1 - 1;
+                sb.y1 = b.y0 + 1;
+            }
+            double ea = box_energy(env, a), eb = box_energy(env, b);
+            double bound = fmax(box_energy(env, sa), box_energy(env, sb));
+            assert_true(fabs(ea - eb) <= bound + 1e-9 * (ea + eb));
+            checked++;
+        }
+        lumis_light_set_destroy(set);
+    }
+    assert_int_equal(checked, 1 + 2 + 4 + 8 + 16 + 32);
+    lumis_envmap_destroy(env);
+}
+
+/* The first moment of pixel (i, j) of a w x h map by 16 x 16 Gauss-Legendre quadrature in
+ * (theta, phi): independent of the library's closed form. */
+static void pixel_moment_quadrature(int w, int h, int i, int j, double m[3])
+{
+    static const double x8[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                 -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                 0.7966664774136267,  0.9602898564975363};
+    static const double w8[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                 0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                 0.2223810344533745, 0.1012285362903763};
+    double t0 = PI * j / h, t1 = PI * (j + 1) / h, p0 = 2 * PI * i / w, p1 = 2 * PI * (i + 1) / w;
+    m[0] = m[1] = m[2] = 0.0;
+    for (int a = 0; a < 16; a++)
+        for (int b = 0; b < 16; b++) {
+            /* two 8-point rules on the halves of each interval */
+            double ta = 0.5 * (t0 + t1) + 0.25 * (t1 - t0) * ((a < 8 ? -1 : 1) + x8[a % 8]);
+            double pb = 0.5 * (p0 + p1) + 0.25 * (p1 - p0) * ((b < 8 ? -1 : 1) + x8[b % 8]);
+            double wt = w8[a % 8] * w8[b % 8] * 0.25 * (t1 - t0) * 0.25 * (p1 - p0) * sin(ta);
+            m[0] += wt * sin(ta) * cos(pb);
+            m[1] += wt * cos(ta);
+            m[2] += wt * sin(ta) * sin(pb);
+        }
+}
+
+static void one_light_per_pixel_is_exact(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_mc, build_vm, build_wu_cut_only};
+    const int w = 8, h = 4;
+    for (int rot = 0; rot < 2; rot++) {
+        lumis_envmap *env = make_env(w, h, sky_pixel, rot ? 100.0f : 0.0f, rot ? 3.0f : 0.0f);
+        float rr = (float)(rot ? 100.0 * PI / 180.0 : 0.0);
+        for (size_t f = 0; f < 3; f++) {
+            lumis_light_set *set = NULL;
+            assert_int_equal(fns[f](env, w * h, &set), LUMIS_OK);
+            check_set(set, env);
+            const lumis_light *L;
+            int n;
+            assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+            assert_int_equal(n, w * h);
+            const int32_t *lab = lumis_light_set_labels(set, NULL, NULL);
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++) {
+                    const lumis_light *l = &L[lab[j * w + i]];
+                    assert_int_equal(l->pixels, 1);
+                    double om = lumis_envmap_pixel_solid_angle(env, j);
+                    assert_true(l->solid_angle == om);
+                    const float *p = lumis_envmap_pixels(env) + (j * w + i) * 3;
+                    for (int c = 0; c < 3; c++) {
+                        double want = (double)p[c] * om * (double)lumis_envmap_scale(env);
+                        assert_true(fabs(l->power[c] - want) <= 1e-15 * want);
+                    }
+                    double m[3];
+                    pixel_moment_quadrature(w, h, i, j, m);
+                    double len = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                    /* rotate the map-frame centroid into the world */
+                    double cr = cos(rr), sr = sin(rr);
+                    double want[3] = {(cr * m[0] - sr * m[2]) / len, m[1] / len,
+                                      (sr * m[0] + cr * m[2]) / len};
+                    assert_true(fabs(l->dir.x - want[0]) < 2e-7);
+                    assert_true(fabs(l->dir.y - want[1]) < 2e-7);
+                    assert_true(fabs(l->dir.z - want[2]) < 2e-7);
+                }
+            lumis_light_set_destroy(set);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+static void emissive_threshold_is_a_brute_force_percentile(void **state)
+{
+    (void)state;
+    static const float pcts[] = {0.0f, 50.0f, 90.0f, 99.9f, 100.0f, 0.01f};
+    lumis_envmap *maps[3] = {make_env(97, 51, sky_pixel, 0.0f, 0.0f),
+                             make_env(64, 32, speckle_pixel, 20.0f, 0.25f),
+                             make_env(16, 8, const_pixel, 0.0f, 0.0f)};
+    for (int e = 0; e < 3; e++) {
+        lumis_envmap *env = maps[e];
+        int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+        size_t n = (size_t)w * (size_t)h;
+        float *y = malloc(n * sizeof(float));
+        double pow_y = 0.0, ymax = 0.0;
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                y[(size_t)j * (size_t)w + (size_t)i] = pixel_y(env, i, j);
+                pow_y += (double)pixel_y(env, i, j) * lumis_envmap_pixel_solid_angle(env, j);
+                ymax = fmax(ymax, pixel_y(env, i, j));
+            }
+        float *sorted = malloc(n * sizeof(float));
+        memcpy(sorted, y, n * sizeof(float));
+        qsort(sorted, n, sizeof(float), cmp_float);
+        for (size_t p = 0; p < sizeof pcts / sizeof pcts[0]; p++) {
+            lumis_decomp_desc d = {0};
+            d.count = 8;
+            d.percentile = pcts[p];
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            double pct = pcts[p] > 0.0f ? (double)pcts[p] : 98.0;
+            size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
+            rank = rank < 1 ? 1 : rank;
+            assert_true(info->percentile_luminance == (double)sorted[rank - 1]);
+            double avg = pow_y / (4 * PI);
+            assert_true(fabs(info->avg_luminance - avg) <= 1e-12 * avg);
+            assert_true(info->max_luminance == ymax);
+            double lt = fmax(info->percentile_luminance, fmax(3.0 * avg, 0.001 * ymax));
+            assert_true(fabs(info->threshold - lt) <= 1e-12 * lt);
+            int em = 0;
+            for (size_t q = 0; q < n; q++) em += (double)y[q] > info->threshold;
+            assert_int_equal(info->emissive_pixels, em);
+            check_set(set, env);
+            lumis_light_set_destroy(set);
+        }
+        free(y);
+        free(sorted);
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void kmeans_terminates_and_never_increases_its_objective(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, speckle_pixel, 0.0f, 0.0f);
+    static const lumis_decomp_variant vars[] = {LUMIS_DECOMP_IS_KMEANS, LUMIS_DECOMP_FULL};
+    int iterated = 0;
+    for (int v = 0; v < 2; v++)
+        for (uint64_t seed = 0; seed < 6; seed++) {
+            lumis_decomp_desc d = {0};
+            d.count = 64;
+            d.seed = seed;
+            d.variant = vars[v];
+            d.threshold = 10.0f; /* every speckle is emissive: about 900 pixels */
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            assert_true(info->emissive_pixels > 500);
+            assert_true(info->kmeans_converged);
+            assert_true(info->kmeans_objective_count >= 2);
+            for (int k = 1; k < info->kmeans_objective_count; k++)
+                assert_true(info->kmeans_objective[k] <=
+                            info->kmeans_objective[k - 1] * (1.0 + 1e-12));
+            if (info->kmeans_iterations > 2) iterated++;
+            /* After convergence the last assignment step changed nothing. */
+            int c = info->kmeans_objective_count;
+            assert_true(info->kmeans_objective[c - 1] == info->kmeans_objective[c - 2]);
+            check_set(set, env);
+            lumis_light_set_destroy(set);
+        }
+    assert_true(iterated > 0); /* the test exercised real iterations */
+    lumis_envmap_destroy(env);
+}
+
+static void the_cut_yields_exactly_k_lights(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(64, 32, sky_pixel, 0.0f, 0.0f);
+    for (int cut = LUMIS_CUT_MODIFIED; cut <= LUMIS_CUT_ORIGINAL; cut++)
+        for (int k = 1; k <= 1024; k++) {
+            lumis_decomp_desc d = {0};
+            d.count = k;
+            d.sets = 1;
+            d.cut = (lumis_cut_objective)cut;
+            d.threshold = 1e30f;
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            assert_int_equal(info->count, k);
+            assert_int_equal(info->indirect, k);
+            if (k % 97 == 1) check_set(set, env);
+            lumis_light_set_destroy(set);
+            /* With emissive pixels the direct and indirect lights still add up to K. */
+            d.threshold = 0.0f;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            info = lumis_light_set_get_info(set);
+            assert_int_equal(info->count, k);
+            assert_int_equal(info->direct + info->indirect, k);
+            if (k % 97 == 1) check_set(set, env);
+            lumis_light_set_destroy(set);
+        }
+    lumis_envmap_destroy(env);
+}
+
+static void wu_parts_and_ablations(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, sky_pixel, 30.0f, 0.0f);
+    for (int v = LUMIS_DECOMP_DEFAULT; v < LUMIS_DECOMP_VARIANT_COUNT; v++)
+        for (int mr = 0; mr < LUMIS_MASK_COUNT; mr++) {
+            lumis_decomp_desc d = {0};
+            d.count = 32;
+            d.seed = 3;
+            d.variant = (lumis_decomp_variant)v;
+            d.mask_radius = (lumis_mask_radius)mr;
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            assert_true(info->emissive_pixels > 0);
+            assert_true(info->direct >= 1 && info->indirect >= 1);
+            assert_int_equal(info->count, 32);
+            double want_r =
+                mr == LUMIS_MASK_RADIANS ? 0.15 * 4 * PI / 32 : acos(1.0 - 2.0 * 0.15 / 32);
+            assert_true(fabs(info->mask_radius - want_r) < 1e-12);
+            const lumis_light *L;
+            int n;
+            lumis_light_set_get(set, 0, &L, &n);
+            for (int k = 0; k < n; k++)
+                assert_int_equal(L[k].kind, k < info->direct ? LUMIS_LIGHT_ENV_DIRECT
+                                                             : LUMIS_LIGHT_ENV_INDIRECT);
+            /* Every EnvDirect pixel is emissive and within the return radius. */
+            const int32_t *lab = lumis_light_set_labels(set, NULL, NULL);
+            for (int j = 0; j < 128; j++)
+                for (int i = 0; i < 256; i++) {
+                    int32_t k = lab[j * 256 + i];
+                    if (k < info->direct) assert_true((double)pixel_y(env, i, j) > info->threshold);
+                }
+            check_set(set, env);
+            lumis_light_set_destroy(set);
+        }
+    lumis_envmap_destroy(env);
+}
+
+static void deterministic_with_fixed_seeds(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(128, 64, speckle_pixel, 0.0f, 0.0f);
+    lumis_decomp_desc d = {0};
+    d.count = 40;
+    d.seed = 11;
+    d.threshold = 10.0f;
+    lumis_light_set *a = NULL, *b = NULL, *c = NULL;
+    assert_int_equal(lumis_lights_decompose(env, &d, &a), LUMIS_OK);
+    assert_int_equal(lumis_lights_decompose(env, &d, &b), LUMIS_OK);
+    d.seed = 12;
+    assert_int_equal(lumis_lights_decompose(env, &d, &c), LUMIS_OK);
+    int differs = 0;
+    for (int s = 0; s < 8; s++) {
+        const lumis_light *la, *lb, *lc;
+        int na, nb, nc;
+        lumis_light_set_get(a, s, &la, &na);
+        lumis_light_set_get(b, s, &lb, &nb);
+        lumis_light_set_get(c, s, &lc, &nc);
+        assert_int_equal(na, nb);
+        assert_memory_equal(la, lb, (size_t)na * sizeof *la);
+        differs |= na != nc || memcmp(la, lc, (size_t)na * sizeof *la) != 0;
+    }
+    assert_true(differs);
+    assert_memory_equal(lumis_light_set_labels(a, NULL, NULL),
+                        lumis_light_set_labels(b, NULL, NULL), 128 * 64 * sizeof(int32_t));
+    lumis_light_set_destroy(a);
+    lumis_light_set_destroy(b);
+    lumis_light_set_destroy(c);
+    lumis_envmap_destroy(env);
+}
+
+static void special_maps_get_a_clear_answer(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_mc, build_vm, build_wu, build_wu_cut_only};
+    /* Black and constant maps: K lights, no emissive pixel, nothing lost. */
+    lumis_envmap *black = make_env(32, 16, black_pixel, 0.0f, 0.0f);
+    lumis_envmap *flat = make_env(32, 16, const_pixel, 0.0f, 0.0f);
+    for (size_t f = 0; f < 4; f++)
+        for (int k = 1; k <= 20; k += 19) {
+            lumis_light_set *set = NULL;
+            assert_int_equal(fns[f](black, k, &set), LUMIS_OK);
+            check_set(set, black);
+            assert_int_equal(lumis_light_set_get_info(set)->count, k);
+            lumis_light_set_destroy(set);
+            assert_int_equal(fns[f](flat, k, &set), LUMIS_OK);
+            check_set(set, flat);
+            assert_int_equal(lumis_light_set_get_info(set)->count, k);
+            assert_int_equal(lumis_light_set_get_info(set)->direct, 0);
+            lumis_light_set_destroy(set);
+        }
+    /* Only emissive pixels: every light is an EnvDirect. */
+    for (int k = 1; k <= 64; k *= 4) {
+        lumis_decomp_desc d = {0};
+        d.count = k;
+        d.threshold = 1e-6f;
+        tu_sink sink;
+        tu_sink_init(&sink);
+        d.errors = sink.sink;
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_decompose(flat, &d, &set), LUMIS_OK);
+        const lumis_light_set_info *info = lumis_light_set_get_info(set);
+        assert_int_equal(info->emissive_pixels, 32 * 16);
+        assert_true(info->count >= 1);
+        if (info->count < k) assert_true(sink.count > 0 && strstr(sink.last, "lights instead of"));
+        check_set(set, flat);
+        lumis_light_set_destroy(set);
+        /* Without masking and k-means' drop of duplicates the budget is spent in full. */
+    }
+    lumis_envmap_destroy(black);
+    lumis_envmap_destroy(flat);
+}
+
+static void malformed_options_are_refused(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(16, 8, sky_pixel, 0.0f, 0.0f);
+    lumis_light_set *set = (lumis_light_set *)&set; /* must be reset to NULL */
+    tu_sink sink;
+    lumis_median_cut_desc m = {0};
+    assert_int_equal(lumis_lights_median_cut(NULL, &m, &set), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(set);
+    assert_int_equal(lumis_lights_median_cut(env, &m, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_lights_variance_min(env, NULL, &set), LUMIS_OK); /* NULL == defaults */
+    lumis_light_set_destroy(set);
+    struct {
+        int count, sets;
+        float jitter;
+    } bad_common[] = {{-1, 0, 0.0f}, {129, 0, 0.0f}, {0, -2, 0.0f}, {0, 65, 0.0f},
+                      {4, 0, 1.5f},  {4, 0, -0.1f},  {4, 0, NAN}};
+    for (size_t b = 0; b < sizeof bad_common / sizeof bad_common[0]; b++) {
+        tu_sink_init(&sink);
+        m.count = bad_common[b].count;
+        m.sets = bad_common[b].sets;
+        m.jitter = bad_common[b].jitter;
+        m.errors = sink.sink;
+        assert_int_equal(lumis_lights_median_cut(env, &m, &set), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(set);
+        assert_true(sink.count == 1 && strlen(sink.last) > 10);
+        assert_int_equal(lumis_lights_variance_min(env, &m, &set), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_decomp_desc d = {0};
+        d.count = m.count;
+        d.sets = m.sets;
+        d.jitter = m.jitter;
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_ERR_INVALID_ARGUMENT);
+    }
+    /* The default K = 64 on a map of fewer pixels is refused, not silently reduced. */
+    lumis_envmap *tiny = make_env(4, 2, sky_pixel, 0.0f, 0.0f);
+    assert_int_equal(lumis_lights_median_cut(tiny, NULL, &set), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_envmap_destroy(tiny);
+    for (int b = 0; b < 14; b++) {
+        lumis_decomp_desc d = {0};
+        tu_sink_init(&sink);
+        d.errors = sink.sink;
+        d.count = 4;
+        switch (b) {
+        case 0:
+            d.variant = (lumis_decomp_variant)99;
+            break;
+        case 1:
+            d.cut = (lumis_cut_objective)-1;
+            break;
+        case 2:
+            d.mask_radius = LUMIS_MASK_COUNT;
+            break;
+        case 3:
+            d.percentile = 100.5f;
+            break;
+        case 4:
+            d.percentile = -1.0f;
+            break;
+        case 5:
+            d.lambda = -3.0f;
+            break;
+        case 6:
+            d.gamma = INFINITY;
+            break;
+        case 7:
+            d.threshold = NAN;
+            break;
+        case 8:
+            d.budget_a = -1.0f;
+            break;
+        case 9:
+            d.budget_b = NAN;
+            break;
+        case 10:
+            d.mask_scale = -0.15f;
+            break;
+        case 11:
+            d.return_factor = -2.0f;
+            break;
+        case 12:
+            d.kmeans_max_iterations = -1;
+            break;
+        default:
+            d.w_d = -5.0f;
+            break;
+        }
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(set);
+        assert_true(sink.count == 1 && strstr(sink.last, "decomposition"));
+    }
+    const lumis_light *L = NULL;
+    int n = 0;
+    assert_int_equal(lumis_light_set_get(NULL, 0, &L, &n), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(build_mc(env, 4, &set), LUMIS_OK);
+    assert_int_equal(lumis_light_set_get(set, 8, &L, &n), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_light_set_get(set, -1, &L, &n), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_light_set_destroy(set);
+    lumis_light_set_destroy(NULL);
+    lumis_envmap_destroy(env);
+}
+
+static void interleave_pattern_covers_every_set(void **state)
+{
+    (void)state;
+    for (int sets = 1; sets <= 64; sets++) {
+        int seen[64] = {0};
+        /* one tile: every set exactly once, and the pattern repeats */
+        int b = 1;
+        for (int d = 1; d * d <= sets; d++)
+            if (sets % d == 0) b = d;
+        int a = sets / b;
+        for (int y = 0; y < b; y++)
+            for (int x = 0; x < a; x++) {
+                int s = lumis_light_set_interleave_index(sets, x, y);
+                assert_true(s >= 0 && s < sets);
+                seen[s]++;
+                assert_int_equal(lumis_light_set_interleave_index(sets, x + 5 * a, y + 3 * b), s);
+            }
+        for (int s = 0; s < sets; s++) assert_int_equal(seen[s], 1);
+    }
+    assert_int_equal(lumis_light_set_interleave_index(8, 3, 1), 7); /* a 4 x 2 tile */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(every_method_conserves_power),
+        cmocka_unit_test(median_cut_regions_have_equal_energy),
+        cmocka_unit_test(one_light_per_pixel_is_exact),
+        cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
+        cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),
+        cmocka_unit_test(the_cut_yields_exactly_k_lights),
+        cmocka_unit_test(wu_parts_and_ablations),
+        cmocka_unit_test(deterministic_with_fixed_seeds),
+        cmocka_unit_test(special_maps_get_a_clear_answer),
+        cmocka_unit_test(malformed_options_are_refused),
+        cmocka_unit_test(interleave_pattern_covers_every_set),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
