@@ -46,6 +46,7 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
  * in `sets` interleaved sets (0: its default).  Prints errors itself. */
 int tool_lights_method_known(const char *name);
 const char *tool_lights_method_names(void);
+int tool_lights_method_is_wu(const char *name);
 lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
                                  lumis_light_set **out);
 

@@ -61,39 +61,63 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
     return st;
 }
 
+/* The light-set methods of --lights: median cut, variance minimisation, and Wu's
+ * decomposition with its Table 2 ablations and the original (variance-only) cut. */
 static const struct {
     const char *name;
-    int decomposition; /* 0: median cut, 1: variance minimisation, 2: Wu */
+    int kind; /* 0: median cut, 1: variance minimisation, 2: Wu */
     lumis_decomp_variant variant;
     lumis_cut_objective cut;
 } light_methods[] = {
     {"median-cut", 0, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
     {"variance-min", 1, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
+    {"wu", 2, LUMIS_DECOMP_FULL, LUMIS_CUT_MODIFIED},
+    {"wu-is", 2, LUMIS_DECOMP_IS_ONLY, LUMIS_CUT_MODIFIED},
+    {"wu-is-mask", 2, LUMIS_DECOMP_IS_MASK, LUMIS_CUT_MODIFIED},
+    {"wu-is-kmeans", 2, LUMIS_DECOMP_IS_KMEANS, LUMIS_CUT_MODIFIED},
+    {"wu-original-cut", 2, LUMIS_DECOMP_FULL, LUMIS_CUT_ORIGINAL},
 };
+enum { LIGHT_METHODS = sizeof light_methods / sizeof light_methods[0] };
 
 int tool_lights_method_known(const char *name)
 {
-    for (size_t k = 0; k < sizeof light_methods / sizeof light_methods[0]; k++)
+    for (int k = 0; k < LIGHT_METHODS; k++)
         if (strcmp(light_methods[k].name, name) == 0) return 1;
     return 0;
 }
 
 const char *tool_lights_method_names(void)
 {
-    return "median-cut, variance-min";
+    return "median-cut, variance-min, wu, wu-is, wu-is-mask, wu-is-kmeans, wu-original-cut";
+}
+
+int tool_lights_method_is_wu(const char *name)
+{
+    for (int k = 0; k < LIGHT_METHODS; k++)
+        if (strcmp(light_methods[k].name, name) == 0) return light_methods[k].kind == 2;
+    return 0;
 }
 
 lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
                                  lumis_light_set **out)
 {
     *out = NULL;
-    for (size_t m = 0; m < sizeof light_methods / sizeof light_methods[0]; m++) {
+    for (int m = 0; m < LIGHT_METHODS; m++) {
         if (strcmp(light_methods[m].name, method) != 0) continue;
+        if (light_methods[m].kind == 2) {
+            lumis_decomp_desc dd = {0};
+            dd.count = k;
+            dd.sets = sets;
+            dd.variant = light_methods[m].variant;
+            dd.cut = light_methods[m].cut;
+            dd.errors = tool_errors;
+            return lumis_lights_decompose(env, &dd, out);
+        }
         lumis_median_cut_desc md = {0};
         md.count = k;
         md.sets = sets;
         md.errors = tool_errors;
-        if (light_methods[m].decomposition == 0) return lumis_lights_median_cut(env, &md, out);
+        if (light_methods[m].kind == 0) return lumis_lights_median_cut(env, &md, out);
         return lumis_lights_variance_min(env, &md, out);
     }
     return LUMIS_ERR_INVALID_ARGUMENT;
