@@ -80,6 +80,8 @@ typedef struct lumis_render_desc {
     const lumis_light_set *light_set;
     unsigned light_kinds; /* lights of the set used: 0 == all, else a mask of bits
                              1u << lumis_light_kind (e.g. EnvDirects only) */
+    int hide_environment; /* nonzero: camera rays that escape see black (a layer that is
+                             added to another which shows the map) */
     lumis_estimator estimator;
     int power_heuristic;     /* nonzero: power heuristic (beta = 2), else balance */
     int spp;                 /* camera samples per pixel; 0 == 16 */
@@ -131,6 +133,44 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples);
 lumis_status lumis_render_job_image(const lumis_render_job *job, lumis_image **out);
 void lumis_render_job_stats(const lumis_render_job *job, lumis_render_stats *stats);
 void lumis_render_job_destroy(lumis_render_job *job);
+
+/* ---- G-buffer and joint-bilateral upsampling (Wu's reduced-resolution EnvIndirects) ------
+ *
+ * A G-buffer holds, per pixel of a camera, what the primary ray through the pixel's centre
+ * hits: the normal (facing the camera), the distance from the eye, and an albedo (the
+ * material's diffuse colour; a conductor's F0).  A pixel that sees no object has depth
+ * +inf, normal and albedo 0. */
+typedef struct lumis_gbuffer {
+    int width, height;
+    float *normal; /* 3 per pixel, row-major, row 0 on top */
+    float *albedo; /* 3 per pixel */
+    float *depth;  /* 1 per pixel */
+} lumis_gbuffer;
+
+lumis_status lumis_render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
+                                  const lumis_error_sink *errors, lumis_gbuffer **out);
+void lumis_gbuffer_destroy(lumis_gbuffer *gbuffer);
+
+typedef struct lumis_upsample_desc {
+    float sigma_normal;  /* range sigma on |n_p - n_q|; 0 == 0.005 (Wu) */
+    float sigma_depth;   /* on the depth difference over the high-resolution buffer's depth
+                            range (max - min over the pixels that see an object); 0 == 0.005 */
+    float sigma_albedo;  /* on |a_p - a_q|; 0 == 0.005 */
+    float sigma_spatial; /* on the distance in low-resolution pixels; 0 == 1.0 */
+    int radius;          /* window radius in low-resolution pixels; 0 == 2 (5 x 5) */
+    lumis_error_sink errors;
+} lumis_upsample_desc;
+
+/* Joint-bilateral upsampling (Kopf et al. 2007, as Wu uses it): each high-resolution pixel
+ * p is the weighted mean of the low-resolution pixels q of a window around it, weights
+ * G(spatial) G(normal) G(depth) G(albedo) from the two G-buffers (low's for q, high's for
+ * p).  Pixels seeing no object take only others that see none (and the reverse); when
+ * every weight underflows, the nearest low-resolution pixel of the same kind stands in.
+ * low and low_g must have the same size, high_g gives the output's.  Details and the
+ * tests: docs/render.md. */
+lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_gbuffer *low_g,
+                                            const lumis_gbuffer *high_g,
+                                            const lumis_upsample_desc *desc, lumis_image **out);
 
 /* ---- scene files (JSON) and built-in scenes -------------------------------------------
  *

@@ -587,6 +587,50 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *sh
     return L;
 }
 
+/* ---- the camera ------------------------------------------------------------------------ */
+
+typedef struct cam_frame {
+    lumis_camera cam; /* with defaults filled in */
+    v3 eye, fwd, right, up;
+    double th, aspect; /* tan(fov / 2), width / height */
+} cam_frame;
+
+/* Checks a camera (NULL: the default) and derives its frame. */
+static lumis_status camera_frame(const lumis_camera *in, const lumis_error_sink *errors,
+                                 cam_frame *f)
+{
+    lumis_camera cam = {{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
+    if (in) cam = *in;
+    if (cam.fov_deg == 0.0f) cam.fov_deg = 40.0f;
+    if (cam.width == 0) cam.width = 640;
+    if (cam.height == 0) cam.height = 480;
+    if (!(cam.fov_deg > 0.0f && cam.fov_deg < 180.0f))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "render: fov must be in (0, 180)");
+    if (cam.width < 1 || cam.height < 1 || cam.width > 65536 || cam.height > 65536 ||
+        (size_t)cam.width * (size_t)cam.height > ((size_t)1 << 28))
+        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE, "render: %d x %d: bad image size",
+                           cam.width, cam.height);
+    v3 eye = fromf(cam.eye), fwd = norm(sub(fromf(cam.look_at), eye));
+    v3 right = norm(cross(fwd, fromf(cam.up)));
+    if (!(dot(right, right) > 0.5))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: camera eye equals look_at, or up is parallel to the view");
+    f->cam = cam;
+    f->eye = eye;
+    f->fwd = fwd;
+    f->right = right;
+    f->up = cross(right, fwd);
+    f->th = tan(0.5 * cam.fov_deg * LUMIS_PI / 180.0);
+    f->aspect = (double)cam.width / cam.height;
+    return LUMIS_OK;
+}
+
+/* The direction through image position (sx, sy) in [-1, 1]^2 (sy up). */
+static v3 camera_dir(const cam_frame *f, double sx, double sy)
+{
+    return norm(add(f->fwd, add(mul(f->right, sx * f->th * f->aspect), mul(f->up, sy * f->th))));
+}
+
 /* ---- jobs: progressive accumulation ------------------------------------------------- */
 
 enum { TILE = 16 };
@@ -595,8 +639,7 @@ struct lumis_render_job {
     const lumis_scene *scene;
     lumis_render_desc d;
     lumis_camera cam;
-    v3 eye, fwd, right, up;
-    double th, aspect;
+    cam_frame cf;
     double *sum;    /* 3 per pixel: the sum of every sample so far, in sample order */
     light_soa *soa; /* one per light set (light_set only) */
     int sets;
@@ -678,23 +721,10 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
                            "non-negative sample counts and 0 to 1024 bounces");
-    lumis_camera cam = {{0, 1, 5}, {0, 0.5f, 0}, {0, 1, 0}, 40.0f, 640, 480};
-    if (d->camera) cam = *d->camera;
-    if (cam.fov_deg == 0.0f) cam.fov_deg = 40.0f;
-    if (cam.width == 0) cam.width = 640;
-    if (cam.height == 0) cam.height = 480;
-    if (!(cam.fov_deg > 0.0f && cam.fov_deg < 180.0f))
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: fov must be in (0, 180)");
-    if (cam.width < 1 || cam.height < 1 || cam.width > 65536 || cam.height > 65536 ||
-        (size_t)cam.width * (size_t)cam.height > ((size_t)1 << 28))
-        return lumis__fail(&d->errors, LUMIS_ERR_TOO_LARGE, "render: %d x %d: bad image size",
-                           cam.width, cam.height);
-    v3 eye = fromf(cam.eye), fwd = norm(sub(fromf(cam.look_at), eye));
-    v3 right = norm(cross(fwd, fromf(cam.up)));
-    if (!(dot(right, right) > 0.5))
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: camera eye equals look_at, or up is parallel to the view");
+    cam_frame cf;
+    lumis_status cst = camera_frame(d->camera, &d->errors, &cf);
+    if (cst != LUMIS_OK) return cst;
+    const lumis_camera cam = cf.cam;
     lumis_render_job *job = calloc(1, sizeof *job);
     if (job) job->sum = calloc(3 * (size_t)cam.width * (size_t)cam.height, sizeof(double));
     if (!job || !job->sum) {
@@ -711,12 +741,7 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
     job->d = *d;
     job->d.camera = NULL; /* job->cam is the camera */
     job->cam = cam;
-    job->eye = eye;
-    job->fwd = fwd;
-    job->right = right;
-    job->up = cross(right, fwd);
-    job->th = tan(0.5 * cam.fov_deg * LUMIS_PI / 180.0);
-    job->aspect = (double)cam.width / cam.height;
+    job->cf = cf;
     *out = job;
     return LUMIS_OK;
 }
@@ -729,7 +754,8 @@ static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px
                        lumis_pcg32 *rng, double *shadow, double *bounce)
 {
     hit hh;
-    if (!intersect(c->scene, job->eye, dir, &hh)) {
+    if (!intersect(c->scene, job->cf.eye, dir, &hh)) {
+        if (job->d.hide_environment) return mk(0, 0, 0);
         lumis_rgb e = lumis_envmap_eval(job->d.env, tof(dir));
         return mk(e.r, e.g, e.b);
     }
@@ -793,8 +819,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
                     double sx = (x + lumis_pcg32_double(&rng)) / w * 2.0 - 1.0;
                     double sy = 1.0 - (y + lumis_pcg32_double(&rng)) / h * 2.0; /* row 0 on top */
-                    v3 dir = norm(add(job->fwd, add(mul(job->right, sx * job->th * job->aspect),
-                                                    mul(job->up, sy * job->th))));
+                    v3 dir = camera_dir(&job->cf, sx, sy);
                     a = add(a, trace_sample(&c, job, dir, x, y, &rng, &shadow, &bounce));
                 }
                 acc[0] = a.x;
@@ -849,4 +874,64 @@ lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *d, 
     if (st == LUMIS_OK && stats) lumis_render_job_stats(job, stats);
     lumis_render_job_destroy(job);
     return st;
+}
+
+/* ---- G-buffer ------------------------------------------------------------------------------ */
+
+void lumis_gbuffer_destroy(lumis_gbuffer *g)
+{
+    if (!g) return;
+    free(g->normal);
+    free(g);
+}
+
+lumis_status lumis_render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
+                                  const lumis_error_sink *errors, lumis_gbuffer **out)
+{
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!scene) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "gbuffer: needs a scene");
+    cam_frame cf;
+    lumis_status st = camera_frame(camera, errors, &cf);
+    if (st != LUMIS_OK) return st;
+    const int w = cf.cam.width, h = cf.cam.height;
+    const size_t n = (size_t)w * (size_t)h;
+    lumis_gbuffer *g = calloc(1, sizeof *g);
+    float *mem = g ? malloc(7 * sizeof(float) * n) : NULL;
+    if (!mem) {
+        free(g);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "gbuffer: %d x %d: out of memory", w,
+                           h);
+    }
+    g->width = w;
+    g->height = h;
+    g->normal = mem;
+    g->albedo = mem + 3 * n;
+    g->depth = mem + 6 * n;
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const size_t p = (size_t)y * (size_t)w + (size_t)x;
+            v3 dir = camera_dir(&cf, (x + 0.5) / w * 2.0 - 1.0, 1.0 - (y + 0.5) / h * 2.0);
+            hit hh;
+            float *nn = g->normal + 3 * p, *a = g->albedo + 3 * p;
+            if (!intersect(scene, cf.eye, dir, &hh)) {
+                nn[0] = nn[1] = nn[2] = 0.0f;
+                a[0] = a[1] = a[2] = 0.0f;
+                g->depth[p] = INFINITY;
+                continue;
+            }
+            nn[0] = (float)hh.n.x;
+            nn[1] = (float)hh.n.y;
+            nn[2] = (float)hh.n.z;
+            const lumis_bsdf *m = &hh.prim->material;
+            const lumis_rgb c = m->type == LUMIS_BSDF_GGX_CONDUCTOR ? m->specular : m->diffuse;
+            a[0] = c.r;
+            a[1] = c.g;
+            a[2] = c.b;
+            v3 dp = sub(hh.p, cf.eye);
+            g->depth[p] = (float)sqrt(dot(dp, dp));
+        }
+    *out = g;
+    return LUMIS_OK;
 }
