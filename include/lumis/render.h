@@ -82,6 +82,8 @@ typedef struct lumis_render_desc {
                              1u << lumis_light_kind (e.g. EnvDirects only) */
     int hide_environment; /* nonzero: camera rays that escape see black (a layer that is
                              added to another which shows the map) */
+    int pixel_centers;    /* nonzero: every camera ray through its pixel's centre (a layer
+                             upsampled with a G-buffer, which samples the centres) */
     lumis_estimator estimator;
     int power_heuristic;     /* nonzero: power heuristic (beta = 2), else balance */
     int spp;                 /* camera samples per pixel; 0 == 16 */

@@ -817,8 +817,10 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     /* Sample k of this pixel has its own stream: passes cannot change it. */
                     lumis_pcg32 rng;
                     lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
-                    double sx = (x + lumis_pcg32_double(&rng)) / w * 2.0 - 1.0;
-                    double sy = 1.0 - (y + lumis_pcg32_double(&rng)) / h * 2.0; /* row 0 on top */
+                    double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
+                    if (d->pixel_centers) jx = jy = 0.5;
+                    double sx = (x + jx) / w * 2.0 - 1.0;
+                    double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
                     v3 dir = camera_dir(&job->cf, sx, sy);
                     a = add(a, trace_sample(&c, job, dir, x, y, &rng, &shadow, &bounce));
                 }

@@ -30,6 +30,8 @@ static const char usage[] =
     "                     each (docs/lights.md)\n"
     "  --lights-k K       lights per set (default 64)\n"
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
+    "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
+    "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U')\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
@@ -93,6 +95,10 @@ int cmd_render(int argc, char **argv)
             if (!tool_parse_int(v, 1, 64, &x))
                 return tool_bad_value("render", "--interleave", v, "needs a count in [1, 64]");
             o.interleave = (int)x;
+        } else if (tool_option(argc, argv, &i, "--upsample", &v)) {
+            if (!tool_parse_int(v, 1, 16, &x))
+                return tool_bad_value("render", "--upsample", v, "needs a factor in [1, 16]");
+            o.upsample = (int)x;
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)
@@ -184,6 +190,9 @@ int cmd_render(int argc, char **argv)
     if (png_only && !o.png)
         return tool_usage_error("render", "%s applies to the PNG preview: give --png OUT.png",
                                 png_only);
+    if (o.upsample && !(o.lights && tool_lights_method_is_wu(o.lights)))
+        return tool_usage_error("render",
+                                "--upsample applies to Wu's decomposition (--lights wu...)");
     if ((o.lights_k || o.interleave) && !o.lights)
         return tool_usage_error("render", "--lights-k and --interleave need --lights METHOD");
     if (o.lights && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))

@@ -147,6 +147,7 @@ typedef struct tool_render_opts {
     int bsdf_only;
     const char *lights;       /* a light-set method (tool_lights_method_known), or NULL */
     int lights_k, interleave; /* its K and number of interleaved sets (0: defaults) */
+    int upsample;             /* Wu: EnvIndirects at 1/F resolution per axis (0: 2; 1: none) */
     lumis_render_desc rd;     /* estimator, heuristic, counts, seed, threads, bounces */
     double time_budget;       /* > 0: progressive passes until this much render time */
     int width, height;        /* 0: the scene's camera */
@@ -166,6 +167,7 @@ typedef struct tool_render_result {
     lumis_render_stats stats;
     double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
     size_t sampler_table_bytes;
+    int upsample; /* the factor used (1: none) */
 } tool_render_result;
 
 /* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */

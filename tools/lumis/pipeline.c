@@ -402,6 +402,7 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         cJSON_AddNumberToObject(x, "env_indirects", li->indirect);
         cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
         cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
+        cJSON_AddNumberToObject(x, "upsample", r->upsample);
     } else {
         cJSON_AddNullToObject(j, "lights");
     }
@@ -460,16 +461,109 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     return rc;
 }
 
+/* What one render runs: a job, or for Wu's split rendering two (EnvDirects at full
+ * resolution with the map behind them, EnvIndirects at 1/F of it on black) and the
+ * G-buffers that join them by joint-bilateral upsampling. */
+typedef struct render_unit {
+    lumis_render_job *full, *low;
+    lumis_gbuffer *g_full, *g_low;
+    double join_seconds; /* the G-buffers and the upsampling: render time too */
+} render_unit;
+
+static void unit_destroy(render_unit *u)
+{
+    lumis_render_job_destroy(u->full);
+    lumis_render_job_destroy(u->low);
+    lumis_gbuffer_destroy(u->g_full);
+    lumis_gbuffer_destroy(u->g_low);
+}
+
+/* factor > 1: the split (rd must light with a light set). */
+static lumis_status unit_create(const lumis_scene *scene, const lumis_render_desc *rd, int factor,
+                                render_unit *u)
+{
+    memset(u, 0, sizeof *u);
+    if (factor <= 1) return lumis_render_job_create(scene, rd, &u->full);
+    lumis_render_desc direct = *rd, indirect = *rd;
+    direct.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
+    indirect.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+    indirect.hide_environment = 1;
+    /* The low layer is lit where its G-buffer looked: at the pixels' centres, so a pixel
+     * on a silhouette is not darkened by the background it half covers.  A light set is
+     * deterministic, so one sample per pixel is the whole layer. */
+    indirect.pixel_centers = 1;
+    indirect.progress = NULL;
+    lumis_camera low = *rd->camera;
+    low.width = (rd->camera->width + factor / 2) / factor;
+    low.height = (rd->camera->height + factor / 2) / factor;
+    if (low.width < 1) low.width = 1;
+    if (low.height < 1) low.height = 1;
+    indirect.camera = &low;
+    double t0 = now_seconds();
+    lumis_status st = lumis_render_job_create(scene, &direct, &u->full);
+    if (st == LUMIS_OK) st = lumis_render_job_create(scene, &indirect, &u->low);
+    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, rd->camera, &tool_errors, &u->g_full);
+    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, &low, &tool_errors, &u->g_low);
+    u->join_seconds = now_seconds() - t0;
+    if (st != LUMIS_OK) unit_destroy(u);
+    return st;
+}
+
+static lumis_status unit_run(render_unit *u, int n)
+{
+    lumis_status st = lumis_render_job_run(u->full, n);
+    lumis_render_stats s;
+    if (u->low) lumis_render_job_stats(u->low, &s);
+    if (st == LUMIS_OK && u->low && s.spp == 0) st = lumis_render_job_run(u->low, 1);
+    return st;
+}
+
+static void unit_stats(const render_unit *u, lumis_render_stats *s)
+{
+    lumis_render_job_stats(u->full, s);
+    if (!u->low) return;
+    lumis_render_stats l;
+    lumis_render_job_stats(u->low, &l);
+    s->seconds += l.seconds + u->join_seconds;
+    s->camera_rays += l.camera_rays;
+    s->shadow_rays += l.shadow_rays;
+    s->bounce_rays += l.bounce_rays;
+}
+
+/* The image: the full job's, plus the low one's upsampled (timed as render time). */
+static lumis_status unit_image(render_unit *u, lumis_image **out)
+{
+    lumis_status st = lumis_render_job_image(u->full, out);
+    if (st != LUMIS_OK || !u->low) return st;
+    double t0 = now_seconds();
+    lumis_image *low = NULL, *up = NULL;
+    lumis_upsample_desc ud = {0};
+    ud.errors = tool_errors;
+    st = lumis_render_job_image(u->low, &low);
+    if (st == LUMIS_OK) st = lumis_joint_bilateral_upsample(low, u->g_low, u->g_full, &ud, &up);
+    if (st == LUMIS_OK) {
+        const size_t n = 3 * (size_t)up->width * (size_t)up->height;
+        for (size_t k = 0; k < n; k++) (*out)->pixels[k] += up->pixels[k];
+    } else {
+        lumis_image_destroy(*out);
+        *out = NULL;
+    }
+    lumis_image_destroy(low);
+    lumis_image_destroy(up);
+    u->join_seconds += now_seconds() - t0;
+    return st;
+}
+
 /* Runs passes until the budget: each pass is sized from the time per sample so far, so
  * the last one ends as close to the budget as the estimate allows. */
-static lumis_status run_timed(lumis_render_job *job, double budget, progress *pg)
+static lumis_status run_timed(render_unit *u, double budget, progress *pg)
 {
     lumis_render_stats s;
     int n = 1;
     for (;;) {
-        lumis_status st = lumis_render_job_run(job, n);
+        lumis_status st = unit_run(u, n);
         if (st != LUMIS_OK) return st;
-        lumis_render_job_stats(job, &s);
+        unit_stats(u, &s);
         pg->spp_done = s.spp;
         double per = s.seconds / s.spp, left = budget - s.seconds;
         double next = left / per;
@@ -521,7 +615,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_sampler *smp = NULL;
     lumis_light_set *lights = NULL;
     lumis_scene *scene = NULL;
-    lumis_render_job *job = NULL;
+    render_unit unit;
+    memset(&unit, 0, sizeof unit);
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
     if (tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
@@ -553,13 +648,17 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         rd.progress = on_progress;
         rd.progress_user = &pg;
     }
-    if (lumis_render_job_create(scene, &rd, &job) != LUMIS_OK) goto done;
-    st = o->time_budget > 0.0 ? run_timed(job, o->time_budget, &pg)
-                              : lumis_render_job_run(job, rd.spp ? rd.spp : 16);
-    lumis_render_job_stats(job, &r->stats);
+    const int factor =
+        lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
+    if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
+    st = o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
+                              : unit_run(&unit, rd.spp ? rd.spp : 16);
+    if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
+    unit_stats(&unit, &r->stats);
+    r->upsample = factor;
     pg.spp_done = r->stats.spp;
     if (pg.enabled) progress_draw(&pg, 1.0, 1);
-    if (st != LUMIS_OK || lumis_render_job_image(job, &r->image) != LUMIS_OK) goto done;
+    if (st != LUMIS_OK) goto done;
     if (o->out && tool_write_image(o->out, r->image, NULL) != LUMIS_OK) goto done;
     if (o->png) {
         lumis_write_options po = o->png_options;
@@ -598,7 +697,7 @@ done:
         lumis_image_destroy(r->image);
         r->image = NULL;
     }
-    lumis_render_job_destroy(job);
+    unit_destroy(&unit);
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
     lumis_sampler_destroy(smp);
