@@ -628,6 +628,85 @@ static void render_with_light_sets(void **state)
            "direct illumination only");
 }
 
+/* Rotates v by the unit quaternion q = (x, y, z, w). */
+static void quat_rotate(const double q[4], const double v[3], double out[3])
+{
+    const double x = q[0], y = q[1], z = q[2], w = q[3];
+    const double tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]),
+                 tz = 2 * (x * v[1] - y * v[0]);
+    out[0] = v[0] + w * tx + (y * tz - z * ty);
+    out[1] = v[1] + w * ty + (z * tx - x * tz);
+    out[2] = v[2] + w * tz + (x * ty - y * tx);
+}
+
+/* lumis lights: the JSON and the glTF hold every light; in the glTF each node turns -Z into
+ * the light's direction of travel (-dir) and colour x intensity is its power; the regions of
+ * --masks cover every pixel once; the powers add up to the map's. */
+static void lights_export_parses_back(void **state)
+{
+    (void)state;
+    char a[2048];
+    static const char *const methods[] = {"wu", "median-cut", "variance-min"};
+    for (int m = 0; m < 3; m++) {
+        snprintf(a, sizeof a,
+                 "lights sky:64x32 --method %s -k 12 --json '%s' --masks --gltf '%s' "
+                 "--png '%s'",
+                 methods[m], tu_path("l.json"), tu_path("l.gltf"), tu_path("l.png"));
+        expect(a, 0, NULL);
+        cJSON *j = read_json("l.json"), *g = read_json("l.gltf");
+        const cJSON *lights = item(j, "lights");
+        assert_int_equal(cJSON_GetArraySize(lights), 12);
+        const cJSON *gl = item(item(item(g, "extensions"), "KHR_lights_punctual"), "lights");
+        const cJSON *nodes = item(g, "nodes");
+        assert_int_equal(cJSON_GetArraySize(gl), 12);
+        assert_int_equal(cJSON_GetArraySize(nodes), 12);
+        assert_string_equal(item(item(g, "asset"), "version")->valuestring, "2.0");
+        static char covered[64 * 32];
+        memset(covered, 0, sizeof covered);
+        for (int k = 0; k < 12; k++) {
+            const cJSON *l = cJSON_GetArrayItem(lights, k), *gk = cJSON_GetArrayItem(gl, k),
+                        *node = cJSON_GetArrayItem(nodes, k);
+            assert_string_equal(item(gk, "type")->valuestring, "directional");
+            assert_true(num(item(item(node, "extensions"), "KHR_lights_punctual"), "light") == k);
+            double q[4], dir[3], travel[3];
+            for (int c = 0; c < 4; c++)
+                q[c] = cJSON_GetArrayItem(item(node, "rotation"), c)->valuedouble;
+            for (int c = 0; c < 3; c++) dir[c] = cJSON_GetArrayItem(item(l, "dir"), c)->valuedouble;
+            const double minus_z[3] = {0, 0, -1};
+            quat_rotate(q, minus_z, travel);
+            for (int c = 0; c < 3; c++) assert_true(fabs(travel[c] + dir[c]) < 1e-6);
+            for (int c = 0; c < 3; c++) {
+                double power = cJSON_GetArrayItem(item(l, "power"), c)->valuedouble;
+                double col = cJSON_GetArrayItem(item(gk, "color"), c)->valuedouble;
+                assert_true(col >= 0.0 && col <= 1.0);
+                assert_true(fabs(col * num(gk, "intensity") - power) <= 1e-9 * (power + 1e-30));
+            }
+            const cJSON *runs = item(l, "region_runs");
+            int pixels = 0;
+            for (int r = 0; r < cJSON_GetArraySize(runs); r++) {
+                const cJSON *run = cJSON_GetArrayItem(runs, r);
+                int row = cJSON_GetArrayItem(run, 0)->valueint,
+                    col0 = cJSON_GetArrayItem(run, 1)->valueint,
+                    len = cJSON_GetArrayItem(run, 2)->valueint;
+                for (int i = col0; i < col0 + len; i++) covered[row * 64 + i]++;
+                pixels += len;
+            }
+            assert_true(pixels == (int)num(l, "pixels"));
+        }
+        for (int p = 0; p < 64 * 32; p++) assert_int_equal(covered[p], 1);
+        cJSON_Delete(j);
+        cJSON_Delete(g);
+    }
+    expect("lights sky:16x8", 2, "--method M is required");
+    expect("lights sky:16x8 --method kmeans", 2, "--method must be one of");
+    expect("lights sky:16x8 --method wu -k 0", 2, "-k needs a count");
+    expect("lights sky:16x8 --method wu --masks", 2, "--masks goes with --json");
+    expect("lights sky:16x8 --method wu --png x.jpg", 2, "unknown extension");
+    snprintf(a, sizeof a, "lights '%s' --method wu --json '%s'", tu_path("l.gltf"),
+             tu_path("l.gltf"));
+    expect(a, 2, "would replace the map");
+}
+
 static void compare_prints_every_metric(void **state)
 {
     (void)state;
@@ -904,6 +983,7 @@ int main(void)
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(render_with_light_sets),
+        cmocka_unit_test(lights_export_parses_back),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };

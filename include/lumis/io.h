@@ -135,6 +135,32 @@ lumis_status lumis_image_write(const char *path, const lumis_image *image,
 lumis_status lumis_write_text(const char *path, const char *text, size_t len,
                               const lumis_error_sink *errors);
 
+/* ---- light sets (lumis/lights.h) as files ------------------------------------------------- */
+
+struct lumis_light_set;
+
+typedef struct lumis_light_export_options {
+    int set_index;      /* which interleaved set; 0 == the original */
+    int masks;          /* JSON: nonzero adds each light's region as pixel runs */
+    const char *source; /* JSON: the map's name, recorded (may be NULL) */
+    const char *method; /* the method's name, recorded (may be NULL) */
+    lumis_error_sink errors;
+} lumis_light_export_options;
+
+/* JSON: per light its direction, power (RGB, sum of L x solid angle), colour and intensity
+ * (colour x intensity == power, colour's largest channel 1), solid angle, directional
+ * extent, pixel count and kind; the regions as runs [row, first column, length] on
+ * request.  Crash-safe write.  options may be NULL. */
+lumis_status lumis_light_set_write_json(const char *path, const struct lumis_light_set *set,
+                                        const lumis_light_export_options *options);
+
+/* glTF 2.0 (.gltf, JSON): one KHR_lights_punctual directional light per light, each on a
+ * node whose rotation turns -Z (a glTF light's direction of travel) into -dir.  Colour and
+ * intensity as in the JSON: intensity is the power's largest channel, which for a map
+ * calibrated in cd/m^2 is illuminance in lux (docs/lights.md, "Export"). */
+lumis_status lumis_light_set_write_gltf(const char *path, const struct lumis_light_set *set,
+                                        const lumis_light_export_options *options);
+
 #ifdef __cplusplus
 }
 #endif

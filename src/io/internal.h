@@ -57,6 +57,9 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
 lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
                                const lumis_error_sink *errors);
 
+/* The rotation of a glTF light node for a light shining from dir (lights_export.c). */
+void lumis__light_quaternion(lumis_vec3 dir, double q[4]);
+
 #ifdef __cplusplus
 }
 #endif

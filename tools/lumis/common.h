@@ -117,6 +117,7 @@ int cmd_pdf(int argc, char **argv);
 int cmd_bench_samplers(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_lights(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 
 /* Parses one sampler option (--method, --blocks, --kdtree-uniform-angles, --compensate,

@@ -15,6 +15,7 @@ static const tool_command commands[] = {
      cmd_bench_samplers},
     {"render", "render a scene lit by a map (light, BSDF or MIS sampling; path tracing)",
      cmd_render},
+    {"lights", "an environment map as K directional lights: JSON, glTF, a picture", cmd_lights},
     {"compare", "image metrics: RMSE, relMSE, PSNR, CIELAB, LDR- and HDR-FLIP; error maps",
      cmd_compare},
     {"bench", "run a benchmark suite: renders, references, metrics, tables, plots, HTML",
