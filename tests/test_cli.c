@@ -619,6 +619,23 @@ static void render_with_light_sets(void **state)
     if (!(relmse[1] < 0.1 && relmse[2] < 1.5 * relmse[1]))
         fail_msg("relMSE against the reference: %g at full resolution, %g upsampled", relmse[1],
                  relmse[2]);
+    /* --time with a light set: K fills the time, from two pilot renders. */
+    snprintf(a, sizeof a,
+             "render --scene bunny-plane --env sky:256x128 --lights wu --time 0.3 --size 48x36 "
+             "-o '%s'",
+             tu_path("wut.exr"));
+    expect(a, 0, "light set wu");
+    cJSON *jt = read_json("wut.json");
+    const cJSON *kt = item(item(jt, "lights"), "k_from_time");
+    assert_true(num(jt, "spp") == 4 && num(item(jt, "lights"), "count") >= 1);
+    for (int p = 0; p < 2; p++)
+        assert_true(cJSON_GetArrayItem(item(kt, "pilot_seconds_per_spp"), p)->valuedouble > 0.0);
+    assert_true(cJSON_GetArrayItem(item(kt, "pilot_k"), 1)->valueint == 64);
+    const double rs = num(item(jt, "timings"), "render_seconds");
+    if (!(rs > 0.3 / 5 && rs < 0.3 * 5)) fail_msg("a 0.3 s budget took %g s", rs);
+    cJSON_Delete(jt);
+    expect("render --scene spheres --lights wu --time 1 --lights-k 8 -o x.exr", 2,
+           "give --lights-k or --time");
     expect("render --scene spheres --lights median-cut --upsample 2 -o x.exr", 2,
            "--upsample applies to Wu's decomposition");
     expect("render --scene spheres --lights cut -o x.exr", 2, "--lights must be one of");

@@ -169,7 +169,14 @@ typedef struct tool_render_result {
     double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
     size_t sampler_table_bytes;
     int upsample; /* the factor used (1: none) */
+    /* --lights with --time: the pilot renders that chose K (0 seconds: none ran). */
+    double lights_pilot_seconds, lights_pilot_per_spp[2];
+    int lights_pilot_k[2];
 } tool_render_result;
+
+/* Samples per pixel of a light set rendered to a time budget (--lights with --time): the
+ * budget goes to the number of lights. */
+#define TOOL_LIGHTS_TIMED_SPP 4
 
 /* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */
 void tool_sidecar_path(const char *out, char *buf, size_t cap);

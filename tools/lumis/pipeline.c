@@ -403,6 +403,15 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
         cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
         cJSON_AddNumberToObject(x, "upsample", r->upsample);
+        if (r->lights_pilot_seconds > 0.0) {
+            /* --time: K chosen from two pilot renders (seconds per sample at K = 16, 64). */
+            cJSON *pl = cJSON_AddObjectToObject(x, "k_from_time");
+            cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, 2));
+            cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
+                                  cJSON_CreateDoubleArray(r->lights_pilot_per_spp, 2));
+            cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
+            cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
+        }
     } else {
         cJSON_AddNullToObject(j, "lights");
     }
@@ -554,6 +563,67 @@ static lumis_status unit_image(render_unit *u, lumis_image **out)
     return st;
 }
 
+/* Wu's equal-time rule: a light set spends the time on lights, not samples.  Two pilot
+ * renders at one sample per pixel with K = 16 and 64 lights fit the time as linear in K;
+ * K is then what fills the budget at TOOL_LIGHTS_TIMED_SPP samples (or --spp). */
+static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render_desc *rd,
+                                    const lumis_envmap *env, const tool_render_opts *o, int factor,
+                                    tool_render_result *r, int *k_out)
+{
+    static const int ks[2] = {16, 64};
+    double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
+    const double t0 = now_seconds();
+    for (int p = 0; p < 2; p++) {
+        lumis_light_set *set = NULL;
+        render_unit u;
+        memset(&u, 0, sizeof u);
+        lumis_render_desc pd = *rd;
+        pd.progress = NULL;
+        lumis_status st = tool_make_light_set(env, o->lights, ks[p], o->interleave, &set);
+        pd.light_set = set;
+        if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
+        if (st == LUMIS_OK) st = unit_run(&u, 1);
+        lumis_image *img = NULL;
+        if (st == LUMIS_OK) st = unit_image(&u, &img); /* the upsampling is render time too */
+        lumis_render_stats s, f;
+        if (st == LUMIS_OK) {
+            unit_stats(&u, &s);
+            lumis_render_job_stats(u.full, &f);
+            t[p] = f.seconds;
+            once[p] = s.seconds - f.seconds; /* the low layer, the G-buffers, the upsampling */
+        }
+        lumis_image_destroy(img);
+        unit_destroy(&u);
+        lumis_light_set_destroy(set);
+        if (st != LUMIS_OK) return st;
+    }
+    /* total(K) = spp (a + b K) + c + d K: the full layer runs every sample, the low layer
+     * of Wu's split, its G-buffers and the upsampling once. */
+    const int spp = rd->spp ? rd->spp : TOOL_LIGHTS_TIMED_SPP;
+    double b = (t[1] - t[0]) / (ks[1] - ks[0]), a = t[0] - b * ks[0];
+    double d = (once[1] - once[0]) / (ks[1] - ks[0]), c = once[0] - d * ks[0];
+    if (!(b > 0.0) || !(a >= 0.0)) { /* too noisy to separate: proportional */
+        a = 0.0;
+        b = t[1] / ks[1];
+    }
+    if (!(d >= 0.0) || !(c >= 0.0)) {
+        c = 0.0;
+        d = once[1] / ks[1];
+    }
+    double k = (o->time_budget - spp * a - c) / (spp * b + d);
+    const double pixels = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
+    if (!(k >= 1.0)) k = 1.0;
+    if (k > 65536.0) k = 65536.0;
+    if (k > pixels) k = pixels;
+    *k_out = (int)k;
+    r->lights_pilot_seconds = now_seconds() - t0;
+    r->lights_pilot_k[0] = ks[0];
+    r->lights_pilot_k[1] = ks[1];
+    r->lights_pilot_per_spp[0] = t[0] + once[0];
+    r->lights_pilot_per_spp[1] = t[1] + once[1];
+    return LUMIS_OK;
+}
+
 /* Runs passes until the budget: each pass is sized from the time per sample so far, so
  * the last one ends as close to the budget as the estimate allows. */
 static lumis_status run_timed(render_unit *u, double budget, progress *pg)
@@ -625,9 +695,6 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
-    if (o->lights &&
-        tool_make_light_set(env, o->lights, o->lights_k, o->interleave, &lights) != LUMIS_OK)
-        goto done;
     double t1 = now_seconds();
     if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
         goto done;
@@ -649,10 +716,21 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         rd.progress_user = &pg;
     }
     const int factor =
-        lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
+        o->lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
+    int lights_k = o->lights_k;
+    if (o->lights && o->time_budget > 0.0 &&
+        choose_lights_k(scene, &rd, env, o, factor, r, &lights_k) != LUMIS_OK)
+        goto done;
+    if (o->lights &&
+        tool_make_light_set(env, o->lights, lights_k, o->interleave, &lights) != LUMIS_OK)
+        goto done;
+    rd.light_set = lights;
     if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
-    st = o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
-                              : unit_run(&unit, rd.spp ? rd.spp : 16);
+    /* A light set under --time: K fills the time at a fixed sample count; else passes. */
+    st = o->time_budget > 0.0 && !o->lights ? run_timed(&unit, o->time_budget, &pg)
+         : o->lights && o->time_budget > 0.0
+             ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
+             : unit_run(&unit, rd.spp ? rd.spp : 16);
     if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
     unit_stats(&unit, &r->stats);
     r->upsample = factor;
