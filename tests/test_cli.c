@@ -634,8 +634,8 @@ static void render_with_light_sets(void **state)
     const double rs = num(item(jt, "timings"), "render_seconds");
     if (!(rs > 0.3 / 5 && rs < 0.3 * 5)) fail_msg("a 0.3 s budget took %g s", rs);
     cJSON_Delete(jt);
-    expect("render --scene spheres --lights wu --time 1 --lights-k 8 -o x.exr", 2,
-           "give --lights-k or --time");
+    expect("render --scene spheres --lights wu --time 1 --lights-k 8 --spp 2 -o x.exr", 2,
+           "--spp does not apply");
     expect("render --scene spheres --lights median-cut --upsample 2 -o x.exr", 2,
            "--upsample applies to Wu's decomposition");
     expect("render --scene spheres --lights cut -o x.exr", 2, "--lights must be one of");
@@ -822,6 +822,47 @@ static void check_links(const char *dir, const char *html)
 
 /* lumis bench on the CI suite: every output, resuming, shards and their merge, malformed
  * suites, and (when Chromium is installed) a screenshot of the HTML page. */
+/* A suite may list light sets beside samplers: at equal samples with their K, at equal time
+ * with K chosen to fill it; results and tables carry them like any method. */
+static void bench_runs_light_sets(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"lights\", \"maps\": [\"sky:64x32\"], \"scenes\": [\"bunny-plane\"],\n"
+        " \"methods\": [{\"method\": \"inversion\"}, {\"method\": \"wu\", \"k\": 16},\n"
+        "             {\"method\": \"median-cut\", \"label\": \"mc\", \"interleave\": 2}],\n"
+        " \"budgets\": [{\"spp\": 2}, {\"time\": 0.15}],\n"
+        " \"reference\": {\"spp\": 64, \"method\": \"inversion\"}, \"size\": [48, 36]}\n";
+    tu_write_file(tu_path("lights-suite.json"), suite, sizeof suite - 1);
+    char a[4096], *err = NULL;
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("lights-suite.json"), tu_path("bl"));
+    assert_int_equal(run(a, NULL, &err), 0);
+    assert_non_null(strstr(err, "6 items"));
+    free(err);
+    char p[4096];
+    snprintf(p, sizeof p, "%s/results.csv", tu_path("bl"));
+    assert_int_equal(count_lines(p), 7);
+    size_t n;
+    char *csv = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(csv, ",wu,"));
+    assert_non_null(strstr(csv, ",mc,"));
+    free(csv);
+    /* Malformed light-set methods. */
+    static const bad_file bad[] = {
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"median-cut\", \"upsample\": 2}], \"budgets\": [{\"spp\": 1}]}",
+         "only Wu's decomposition"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"wu\", \"mis\": \"power\"}], \"budgets\": [{\"spp\": 1}]}",
+         "not mis, blocks or sample counts"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\", \"k\": 8}], \"budgets\": [{\"spp\": 1}]}",
+         "belong to light sets"},
+    };
+    snprintf(a, sizeof a, "--out '%s'", tu_path("bl-bad"));
+    expect_bad_files("bench", "bad-lights.json", a, bad, sizeof bad / sizeof bad[0]);
+}
+
 static void bench_runs_resumes_shards_and_reports(void **state)
 {
     (void)state;
@@ -1002,6 +1043,7 @@ int main(void)
         cmocka_unit_test(render_with_light_sets),
         cmocka_unit_test(lights_export_parses_back),
         cmocka_unit_test(compare_prints_every_metric),
+        cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

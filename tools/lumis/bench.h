@@ -37,6 +37,8 @@ typedef struct suite_method {
     int bsdf_only;
     lumis_estimator estimator;
     int power, light_samples, bsdf_samples;
+    char lights[32];                    /* a light-set method, or "" */
+    int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
 } suite_method;
 
 typedef struct suite_budget {

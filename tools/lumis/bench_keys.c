@@ -146,6 +146,11 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
              m->bsdf_samples, b->seconds, s->seed, b->spp, s->width, s->height, s->exposure_ev,
              s->exposure_auto, s->flip_hdr, s->preview_ev);
     uint64_t h = fnv_str(0xcbf29ce484222325ull, buf);
+    if (m->lights[0]) { /* only light sets extend the key: samplers' keys stay as they were */
+        snprintf(buf, sizeof buf, " lights %s %d %d %d", m->lights, m->lights_k, m->interleave,
+                 m->upsample);
+        h = fnv_str(h, buf);
+    }
     snprintf(out, cap, "%016llx", (unsigned long long)h);
 }
 

@@ -58,6 +58,10 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
     o->bsdf_only = m->bsdf_only;
+    o->lights = m->lights[0] ? m->lights : NULL;
+    o->lights_k = m->lights_k;
+    o->interleave = m->interleave;
+    o->upsample = m->upsample;
     o->rd.estimator = m->estimator;
     o->rd.power_heuristic = m->power;
     o->rd.light_samples = m->light_samples;

@@ -219,6 +219,7 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     double v = *out;
     int rc = opt_number(obj, key, file, where, &v);
     if (rc != EXIT_OK) return rc;
+    if (!cJSON_GetObjectItemCaseSensitive(obj, key)) return EXIT_OK; /* absent: the default */
     if (v < lo || v > hi || v != floor(v))
         return tool_runtime_error("%s: %s%s%s: expected an integer from %.0f to %.0f", file, where,
                                   *where ? "." : "", key, lo, hi);
@@ -226,8 +227,10 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method",        "label",        "mis", "blocks",
-                                          "light_samples", "bsdf_samples", NULL},
+static const char *const method_keys[] = {"method", "label",         "mis",
+                                          "blocks", "light_samples", "bsdf_samples",
+                                          "k",      "interleave",    "upsample",
+                                          NULL},
                          *reference_keys[] = {"method",        "label",        "mis", "blocks",
                                               "light_samples", "bsdf_samples", "spp", NULL};
 
@@ -249,9 +252,32 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (strcmp(name, "bsdf") == 0) {
         m->bsdf_only = 1;
         m->estimator = LUMIS_ESTIMATOR_BSDF;
+    } else if (tool_lights_method_known(name) && strcmp(where, "reference") != 0) {
+        /* A light set (median-cut, variance-min, wu...): every light, one shadow ray each. */
+        bench_copy_cut(m->lights, sizeof m->lights, name);
+        rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
+        if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
+        if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
+        if (rc != EXIT_OK) return rc;
+        if (m->upsample && !tool_lights_method_is_wu(name))
+            return tool_runtime_error("%s: %s.upsample: only Wu's decomposition (wu...) has it",
+                                      file, where);
+        if (mis || cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
+            cJSON_GetObjectItemCaseSensitive(e, "light_samples") ||
+            cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples"))
+            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave and upsample, "
+                                      "not mis, blocks or sample counts",
+                                      file, where, name);
     } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
-        return tool_runtime_error("%s: %s.method: unknown method '%s'", file, where, name);
+        return tool_runtime_error("%s: %s.method: unknown method '%s' (a sampler, bsdf, or a "
+                                  "light set: %s)",
+                                  file, where, name, tool_lights_method_names());
     }
+    if (!m->lights[0] && (cJSON_GetObjectItemCaseSensitive(e, "k") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "upsample")))
+        return tool_runtime_error("%s: %s: k, interleave and upsample belong to light sets", file,
+                                  where);
     if (mis) {
         if (strcmp(mis, "power") == 0)
             m->power = 1;

@@ -28,9 +28,10 @@ static const char usage[] =
     "                     EnvIndirects), or its ablations wu-is, wu-is-mask, wu-is-kmeans,\n"
     "                     wu-original-cut; every light of the pixel's set, one shadow ray\n"
     "                     each (docs/lights.md)\n"
-    "  --lights-k K       lights per set (default 64).  With --time instead, K is chosen to\n"
-    "                     fill the time at 4 samples per pixel (or --spp): two pilot renders\n"
-    "                     at K = 16 and 64 fit the time per sample (Wu's equal-time rule)\n"
+    "  --lights-k K       lights per set (default 64).  With --time and no --lights-k, K is\n"
+    "                     chosen to fill the time at 4 samples per pixel (or --spp): two\n"
+    "                     pilot renders at K = 16 and 64 fit the time (Wu's equal-time rule);\n"
+    "                     with both, passes of samples fill it\n"
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
     "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
     "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U')\n"
@@ -189,9 +190,9 @@ int cmd_render(int argc, char **argv)
     if (spp_given && o.time_budget > 0.0 && !o.lights)
         return tool_usage_error("render", "give --spp or --time, not both (both go together "
                                           "only with --lights)");
-    if (o.lights && o.time_budget > 0.0 && o.lights_k)
-        return tool_usage_error("render", "with --lights, --time chooses K to fill the time: "
-                                          "give --lights-k or --time, not both");
+    if (o.lights && o.time_budget > 0.0 && o.lights_k && spp_given)
+        return tool_usage_error("render", "--lights-k K with --time fills the time with "
+                                          "samples: --spp does not apply");
     if (!o.out) return tool_usage_error("render", "no output file (-o OUT.exr)");
     if (png_only && !o.png)
         return tool_usage_error("render", "%s applies to the PNG preview: give --png OUT.png",

@@ -582,14 +582,19 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         lumis_status st = tool_make_light_set(env, o->lights, ks[p], o->interleave, &set);
         pd.light_set = set;
         if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
-        if (st == LUMIS_OK) st = unit_run(&u, 1);
+        /* Samples until the full layer has run long enough to time (small images). */
+        lumis_render_stats s, f;
+        memset(&f, 0, sizeof f);
+        for (int n = 1; st == LUMIS_OK; n *= 2) {
+            st = unit_run(&u, n);
+            lumis_render_job_stats(u.full, &f);
+            if (f.seconds >= 0.02 || f.seconds >= o->time_budget / 50 || f.spp >= 1024) break;
+        }
         lumis_image *img = NULL;
         if (st == LUMIS_OK) st = unit_image(&u, &img); /* the upsampling is render time too */
-        lumis_render_stats s, f;
         if (st == LUMIS_OK) {
             unit_stats(&u, &s);
-            lumis_render_job_stats(u.full, &f);
-            t[p] = f.seconds;
+            t[p] = f.seconds / f.spp;
             once[p] = s.seconds - f.seconds; /* the low layer, the G-buffers, the upsampling */
         }
         lumis_image_destroy(img);
@@ -718,8 +723,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const int factor =
         o->lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
     int lights_k = o->lights_k;
-    if (o->lights && o->time_budget > 0.0 &&
-        choose_lights_k(scene, &rd, env, o, factor, r, &lights_k) != LUMIS_OK)
+    const int k_fills_time = o->lights && o->time_budget > 0.0 && !o->lights_k;
+    if (k_fills_time && choose_lights_k(scene, &rd, env, o, factor, r, &lights_k) != LUMIS_OK)
         goto done;
     if (o->lights &&
         tool_make_light_set(env, o->lights, lights_k, o->interleave, &lights) != LUMIS_OK)
@@ -727,10 +732,11 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     rd.light_set = lights;
     if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
     /* A light set under --time: K fills the time at a fixed sample count; else passes. */
-    st = o->time_budget > 0.0 && !o->lights ? run_timed(&unit, o->time_budget, &pg)
-         : o->lights && o->time_budget > 0.0
-             ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
-             : unit_run(&unit, rd.spp ? rd.spp : 16);
+    /* A light set under --time without a K: K fills the time at a fixed sample count.
+     * Otherwise --time adds passes (samples per pixel) until the time is spent. */
+    st = k_fills_time           ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
+         : o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
+                                : unit_run(&unit, rd.spp ? rd.spp : 16);
     if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
     unit_stats(&unit, &r->stats);
     r->upsample = factor;
