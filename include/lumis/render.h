@@ -222,6 +222,9 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
  *   bunny-plane the Stanford bunny and a glossy sphere on a diffuse ground plane, so
  *               shadows matter (as in Wu's scenes); the bunny is compiled into the library
  *   ward-aniso  a sphere with Ward alpha_x = 0.5, alpha_y = 0.001 (Ergun et al., Figure 7)
+ *   wu-diffuse, wu-satin, wu-glossy, wu-mixed
+ *               the bunny, Suzanne and one or two spheres on a ground plane, from all
+ *               Lambertian to semi-glossy (Wu's scenes); Suzanne is compiled in too
  * They name no map (env_map is ""). */
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out);

@@ -8,12 +8,16 @@
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <math.h>
 #include <string.h>
 
 extern const unsigned char lumis__bunny_glb[];
 extern const unsigned long lumis__bunny_glb_size;
+extern const unsigned char lumis__suzi_glb[];
+extern const unsigned long lumis__suzi_glb_size;
 
-static const char *const names[] = {"spheres", "bunny-plane", "ward-aniso", NULL};
+static const char *const names[] = {"spheres",  "bunny-plane", "ward-aniso", "wu-diffuse",
+                                    "wu-satin", "wu-glossy",   "wu-mixed",   NULL};
 
 const char *const *lumis_scene_builtin_names(void)
 {
@@ -58,46 +62,153 @@ static lumis_status ward_aniso(lumis_scene_file *f)
     return lumis__scene_file_push(f, &o);
 }
 
+/* An embedded glTF mesh stood on the plane y = 0: lowest vertex on it, `height` tall,
+ * turned by yaw degrees about y, then moved by (x, z); with centre, its foot's centre (the
+ * middle of its bounds in x and z) lands on (x, z). */
+static lumis_status embedded_mesh(lumis_scene_file *f, const char *name, const unsigned char *glb,
+                                  unsigned long size, float height, float x, float z, float yaw,
+                                  int centre, lumis_bsdf material, lumis_object *o)
+{
+    const struct aiScene *sc = aiImportFileFromMemory(
+        (const char *)glb, (unsigned)size,
+        aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices,
+        "glb");
+    if (!sc) return LUMIS_ERR_CORRUPT;
+    memset(o, 0, sizeof *o);
+    o->type = LUMIS_OBJECT_MESH;
+    lumis_status st = lumis__scene_file_add_mesh(f, name, sc, o);
+    aiReleaseImport(sc);
+    if (st != LUMIS_OK) return st;
+    float lo = o->vertices[1], hi = lo, xl = o->vertices[0], xh = xl, zl = o->vertices[2], zh = zl;
+    for (int k = 1; k < o->vertex_count; k++) {
+        const float *v = o->vertices + 3 * k;
+        lo = v[1] < lo ? v[1] : lo;
+        hi = v[1] > hi ? v[1] : hi;
+        xl = v[0] < xl ? v[0] : xl;
+        xh = v[0] > xh ? v[0] : xh;
+        zl = v[2] < zl ? v[2] : zl;
+        zh = v[2] > zh ? v[2] : zh;
+    }
+    const float s = height / (hi - lo), cx = centre ? 0.5f * (xl + xh) * s : 0.0f,
+                cz = centre ? 0.5f * (zl + zh) * s : 0.0f;
+    const float c = cosf(yaw * (float)(LUMIS_PI / 180.0)),
+                sn = sinf(yaw * (float)(LUMIS_PI / 180.0));
+    /* Ry applied after the scale: the foot's centre (cx, cz) turns to (c cx + s cz, -s cx + c cz).
+     */
+    const float t[3] = {x - (c * cx + sn * cz), -lo * s, z - (-sn * cx + c * cz)},
+                r[3] = {0, yaw, 0}, sc3[3] = {s, s, s};
+    lumis__transform_matrix(t, r, sc3, o->transform);
+    o->material = material;
+    return LUMIS_OK;
+}
+
+static lumis_object ground_plane(float albedo)
+{
+    lumis_object g;
+    memset(&g, 0, sizeof g);
+    g.type = LUMIS_OBJECT_PLANE;
+    g.normal = (lumis_vec3){0, 1, 0};
+    g.size = 200.0f; /* its edge stays below the horizon of the camera */
+    g.material = (lumis_bsdf){LUMIS_BSDF_LAMBERT, {albedo, albedo, albedo}, {0, 0, 0}, 0, 0};
+    return g;
+}
+
 /* The bunny and a glossy sphere on a diffuse ground plane: contact shadows and a shadowed
  * ground, where visibility decides what a light sample is worth (as in Wu's scenes). */
 static lumis_status bunny_plane(lumis_scene_file *f)
 {
-    const struct aiScene *sc = aiImportFileFromMemory(
-        (const char *)lumis__bunny_glb, (unsigned)lumis__bunny_glb_size,
-        aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_PreTransformVertices,
-        "glb");
-    if (!sc) return LUMIS_ERR_CORRUPT;
     lumis_object bunny;
-    memset(&bunny, 0, sizeof bunny);
-    bunny.type = LUMIS_OBJECT_MESH;
-    lumis_status st = lumis__scene_file_add_mesh(f, "builtin:bunny", sc, &bunny);
-    aiReleaseImport(sc);
+    lumis_status st = embedded_mesh(
+        f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size, 1.1f, -0.55f, 0.0f, 20.0f, 0,
+        (lumis_bsdf){LUMIS_BSDF_LAMBERT, {0.75f, 0.75f, 0.75f}, {0, 0, 0}, 0, 0}, &bunny);
     if (st != LUMIS_OK) return st;
-    /* Stand it on the plane: its lowest vertex at y = 0, 1.1 units tall. */
-    float lo = bunny.vertices[1], hi = lo;
-    for (int k = 1; k < bunny.vertex_count; k++) {
-        float y = bunny.vertices[3 * k + 1];
-        lo = y < lo ? y : lo;
-        hi = y > hi ? y : hi;
-    }
-    float s = 1.1f / (hi - lo);
-    const float t[3] = {-0.55f, -lo * s, 0.0f}, r[3] = {0, 20, 0}, sc3[3] = {s, s, s};
-    lumis__transform_matrix(t, r, sc3, bunny.transform);
-    bunny.material = (lumis_bsdf){LUMIS_BSDF_LAMBERT, {0.75f, 0.75f, 0.75f}, {0, 0, 0}, 0, 0};
     lumis_object ball = sphere(
         0.85f, 0.45f, 0.35f, 0.45f,
         (lumis_bsdf){
             LUMIS_BSDF_GGX_PLASTIC, {0.6f, 0.12f, 0.08f}, {0.04f, 0.04f, 0.04f}, 0.2f, 0.2f});
-    lumis_object ground;
-    memset(&ground, 0, sizeof ground);
-    ground.type = LUMIS_OBJECT_PLANE;
-    ground.normal = (lumis_vec3){0, 1, 0};
-    ground.size = 200.0f; /* its edge stays below the horizon of the camera */
-    ground.material = (lumis_bsdf){LUMIS_BSDF_LAMBERT, {0.5f, 0.5f, 0.5f}, {0, 0, 0}, 0, 0};
+    lumis_object ground = ground_plane(0.5f);
     f->camera = (lumis_camera){{0, 1.3f, 4.0f}, {0.1f, 0.45f, 0}, {0, 1, 0}, 35.0f, 640, 480};
     if ((st = lumis__scene_file_push(f, &bunny)) != LUMIS_OK) return st;
     if ((st = lumis__scene_file_push(f, &ball)) != LUMIS_OK) return st;
     return lumis__scene_file_push(f, &ground);
+}
+
+/* Wu's test scenes, as described: three or four objects on a ground plane, from diffuse to
+ * semi-glossy, lit by the map alone, so that shadows matter.  The bunny, Suzanne and a
+ * sphere (and in wu-mixed a second, small sphere), the same layout in each; only the
+ * materials change. */
+typedef struct wu_materials {
+    lumis_bsdf bunny, suzi, ball, extra;
+    int has_extra;
+} wu_materials;
+
+static lumis_status wu_scene(lumis_scene_file *f, const wu_materials *m)
+{
+    lumis_object bunny, suzi;
+    lumis_status st = embedded_mesh(f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size,
+                                    1.0f, -1.15f, -0.1f, 25.0f, 1, m->bunny, &bunny);
+    if (st == LUMIS_OK)
+        st = embedded_mesh(f, "builtin:suzi", lumis__suzi_glb, lumis__suzi_glb_size, 0.95f, 0.1f,
+                           -0.35f, -15.0f, 1, m->suzi, &suzi);
+    if (st != LUMIS_OK) return st;
+    lumis_object ball = sphere(1.25f, 0.5f, 0.15f, 0.5f, m->ball);
+    lumis_object extra = sphere(0.35f, 0.22f, 0.75f, 0.22f, m->extra);
+    lumis_object ground = ground_plane(0.5f);
+    f->camera = (lumis_camera){{0, 1.6f, 4.2f}, {0.05f, 0.35f, 0}, {0, 1, 0}, 38.0f, 640, 480};
+    if ((st = lumis__scene_file_push(f, &bunny)) != LUMIS_OK) return st;
+    if ((st = lumis__scene_file_push(f, &suzi)) != LUMIS_OK) return st;
+    if ((st = lumis__scene_file_push(f, &ball)) != LUMIS_OK) return st;
+    if (m->has_extra && (st = lumis__scene_file_push(f, &extra)) != LUMIS_OK) return st;
+    return lumis__scene_file_push(f, &ground);
+}
+
+static lumis_bsdf lambert(float r, float g, float b)
+{
+    return (lumis_bsdf){LUMIS_BSDF_LAMBERT, {r, g, b}, {0, 0, 0}, 0, 0};
+}
+
+static lumis_bsdf ward(float d, float sp, float alpha)
+{
+    return (lumis_bsdf){LUMIS_BSDF_WARD, {d, d, d}, {sp, sp, sp}, alpha, alpha};
+}
+
+static lumis_bsdf plastic(float r, float g, float b, float alpha)
+{
+    return (lumis_bsdf){LUMIS_BSDF_GGX_PLASTIC, {r, g, b}, {0.04f, 0.04f, 0.04f}, alpha, alpha};
+}
+
+/* Every object Lambertian. */
+static lumis_status wu_diffuse(lumis_scene_file *f)
+{
+    const wu_materials m = {lambert(0.75f, 0.75f, 0.75f), lambert(0.7f, 0.55f, 0.35f),
+                            lambert(0.35f, 0.45f, 0.7f), lambert(0, 0, 0), 0};
+    return wu_scene(f, &m);
+}
+
+/* Broad glossy lobes (Ward, alpha 0.3): diffuse-looking, light direction still matters. */
+static lumis_status wu_satin(lumis_scene_file *f)
+{
+    const wu_materials m = {ward(0.6f, 0.15f, 0.3f), ward(0.5f, 0.2f, 0.3f),
+                            ward(0.45f, 0.25f, 0.25f), lambert(0, 0, 0), 0};
+    return wu_scene(f, &m);
+}
+
+/* Semi-glossy plastics (GGX, alpha 0.15 to 0.25). */
+static lumis_status wu_glossy(lumis_scene_file *f)
+{
+    const wu_materials m = {plastic(0.7f, 0.7f, 0.7f, 0.25f), plastic(0.6f, 0.35f, 0.15f, 0.2f),
+                            plastic(0.15f, 0.3f, 0.65f, 0.15f), lambert(0, 0, 0), 0};
+    return wu_scene(f, &m);
+}
+
+/* Four objects, diffuse to semi-glossy: a Lambertian bunny, a satin Suzanne, a plastic
+ * sphere and a small rough copper sphere. */
+static lumis_status wu_mixed(lumis_scene_file *f)
+{
+    const wu_materials m = {
+        lambert(0.75f, 0.75f, 0.75f), ward(0.5f, 0.2f, 0.3f), plastic(0.6f, 0.12f, 0.08f, 0.2f),
+        (lumis_bsdf){LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.95f, 0.64f, 0.54f}, 0.3f, 0.3f}, 1};
+    return wu_scene(f, &m);
 }
 
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
@@ -109,9 +220,14 @@ lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *error
     if (name && strcmp(name, "spheres") == 0) make = spheres;
     if (name && strcmp(name, "bunny-plane") == 0) make = bunny_plane;
     if (name && strcmp(name, "ward-aniso") == 0) make = ward_aniso;
+    if (name && strcmp(name, "wu-diffuse") == 0) make = wu_diffuse;
+    if (name && strcmp(name, "wu-satin") == 0) make = wu_satin;
+    if (name && strcmp(name, "wu-glossy") == 0) make = wu_glossy;
+    if (name && strcmp(name, "wu-mixed") == 0) make = wu_mixed;
     if (!make)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "unknown scene '%s' (built in: spheres, bunny-plane, ward-aniso)",
+                           "unknown scene '%s' (built in: spheres, bunny-plane, ward-aniso, "
+                           "wu-diffuse, wu-satin, wu-glossy, wu-mixed)",
                            name ? name : "(null)");
     lumis_scene_file *f = lumis__scene_file_new();
     if (!f) return LUMIS_ERR_OUT_OF_MEMORY;

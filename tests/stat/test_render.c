@@ -639,6 +639,38 @@ static void upsampling_keeps_constants_and_depth_edges(void **state)
     lumis_scene_destroy(s);
 }
 
+/* Every built-in scene builds, with its objects standing on (not sinking into or floating
+ * above) the ground: the lowest vertex of each mesh is at y = 0 to float rounding. */
+static void builtin_scenes_build(void **state)
+{
+    (void)state;
+    int n = 0;
+    for (const char *const *name = lumis_scene_builtin_names(); *name; name++, n++) {
+        lumis_scene_file *f = NULL;
+        assert_int_equal(lumis_scene_builtin(*name, NULL, &f), LUMIS_OK);
+        lumis_scene *s = NULL;
+        assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
+        for (int k = 0; k < f->object_count; k++) {
+            const lumis_object *o = &f->objects[k];
+            if (o->type != LUMIS_OBJECT_MESH) continue;
+            const float *m = o->transform;
+            float lo = INFINITY;
+            for (int v = 0; v < o->vertex_count; v++) {
+                const float *p = o->vertices + 3 * v;
+                lo = fminf(lo, m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7]);
+            }
+            if (fabsf(lo) > 1e-4f) fail_msg("%s: object %d's lowest point at y = %g", *name, k, lo);
+        }
+        lumis_scene_destroy(s);
+        lumis_scene_file_destroy(f);
+    }
+    assert_int_equal(n, 7);
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis_scene_builtin("wu-mixed", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->object_count, 5); /* bunny, Suzanne, two spheres, the ground */
+    lumis_scene_file_destroy(f);
+}
+
 /* A scene file's map is read by the reader, through lumis-io: a procedural spec or a file
  * beside the scene; skipped on request; a missing map fails the read and names the file. */
 static void scene_file_reads_its_map(void **state)
@@ -721,6 +753,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
+        cmocka_unit_test(builtin_scenes_build),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
         cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
         cmocka_unit_test(scene_file_reads_its_map),

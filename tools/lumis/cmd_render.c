@@ -13,7 +13,9 @@ static const char usage[] =
     "environment, objects: sphere, plane, mesh with transform or instances).  Built-in\n"
     "scenes: spheres (Lambert, Ward and GGX spheres, Ergun et al.'s Figure 6), bunny-plane\n"
     "(the Stanford bunny and a sphere on a ground plane) and ward-aniso (Ward alpha_x = 0.5,\n"
-    "alpha_y = 0.001: their Figure 7).  Without a map in the scene or --env, the procedural\n"
+    "alpha_y = 0.001: their Figure 7), and wu-diffuse, wu-satin, wu-glossy, wu-mixed (the\n"
+    "bunny, Suzanne and spheres on a ground plane, diffuse to semi-glossy: Wu's scenes).  Without "
+    "a map in the scene or --env, the procedural\n"
     "sky lights it.  Writes OUT.exr (linear float), an optional PNG preview, and OUT.json:\n"
     "the settings, timings, rays per second and the sampler's build time and bytes.\n\n"
     "options:\n"
@@ -184,7 +186,7 @@ int cmd_render(int argc, char **argv)
         if (!known)
             return tool_usage_error("render",
                                     "unknown scene '%s' (built in: spheres, bunny-plane, "
-                                    "ward-aniso)",
+                                    "ward-aniso, wu-diffuse, wu-satin, wu-glossy, wu-mixed)",
                                     o.scene_name);
     }
     if (spp_given && o.time_budget > 0.0 && !o.lights)
