@@ -752,6 +752,15 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     r->total_seconds = now_seconds() - t0;
     r->sampler_build_ms = lumis_sampler_build_ms(smp);
     r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
+    if (lights) { /* what lights the image: the light set's build and memory */
+        int lw = 0, lh = 0;
+        lumis_light_set_labels(lights, &lw, &lh);
+        r->sampler_build_ms = lumis_light_set_get_info(lights)->build_ms;
+        r->sampler_table_bytes = (size_t)lw * (size_t)lh * sizeof(int32_t) +
+                                 (size_t)lumis_light_set_sets(lights) *
+                                     (size_t)lumis_light_set_get_info(lights)->count *
+                                     sizeof(lumis_light);
+    }
     const char *method = o->lights      ? o->lights
                          : o->bsdf_only ? "bsdf"
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
