@@ -70,15 +70,26 @@ static lumis_status write_json(const char *path, cJSON *root, const lumis_error_
     return st;
 }
 
-static lumis_status check(const char *path, const lumis_light_set *set, int index,
-                          const lumis_light **lights, int *count, const lumis_error_sink *errors)
+/* What both writers start from: the options' sink and the chosen set's lights. */
+typedef struct export_args {
+    const lumis_error_sink *errors;
+    int index, count;
+    const lumis_light *lights;
+} export_args;
+
+static lumis_status begin(const char *path, const lumis_light_set *set,
+                          const lumis_light_export_options *options, export_args *a)
 {
+    a->errors = options ? &options->errors : NULL;
+    a->index = options ? options->set_index : 0;
+    a->lights = NULL;
+    a->count = 0;
     if (!path || !set)
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+        return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "light export: needs a path and a set");
-    if (lumis_light_set_get(set, index, lights, count) != LUMIS_OK)
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "%s: the set has no light set %d (it holds %d)", path, index,
+    if (lumis_light_set_get(set, a->index, &a->lights, &a->count) != LUMIS_OK)
+        return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: the set has no light set %d (it holds %d)", path, a->index,
                            lumis_light_set_sets(set));
     return LUMIS_OK;
 }
@@ -86,12 +97,12 @@ static lumis_status check(const char *path, const lumis_light_set *set, int inde
 lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set *set,
                                         const lumis_light_export_options *options)
 {
-    const lumis_error_sink *errors = options ? &options->errors : NULL;
-    const int index = options ? options->set_index : 0;
-    const lumis_light *l = NULL;
-    int count = 0;
-    lumis_status st = check(path, set, index, &l, &count, errors);
+    export_args a;
+    lumis_status st = begin(path, set, options, &a);
     if (st != LUMIS_OK) return st;
+    const lumis_error_sink *errors = a.errors;
+    const lumis_light *l = a.lights;
+    const int count = a.count, index = a.index;
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "generator", "lumis " LUMIS_VERSION_STRING);
     cJSON_AddStringToObject(root, "coordinates",
@@ -144,12 +155,12 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
 lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set *set,
                                         const lumis_light_export_options *options)
 {
-    const lumis_error_sink *errors = options ? &options->errors : NULL;
-    const int index = options ? options->set_index : 0;
-    const lumis_light *l = NULL;
-    int count = 0;
-    lumis_status st = check(path, set, index, &l, &count, errors);
+    export_args a;
+    lumis_status st = begin(path, set, options, &a);
     if (st != LUMIS_OK) return st;
+    const lumis_error_sink *errors = a.errors;
+    const lumis_light *l = a.lights;
+    const int count = a.count;
     cJSON *root = cJSON_CreateObject();
     cJSON *asset = cJSON_AddObjectToObject(root, "asset");
     cJSON_AddStringToObject(asset, "version", "2.0");

@@ -409,8 +409,12 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
             cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, 2));
             cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
                                   cJSON_CreateDoubleArray(r->lights_pilot_per_spp, 2));
+            cJSON_AddItemToObject(pl, "pilot_seconds_once",
+                                  cJSON_CreateDoubleArray(r->lights_pilot_once, 2));
+            cJSON_AddNumberToObject(pl, "k_from_pilots", r->lights_pilot_chosen);
             cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
             cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
+            cJSON_AddBoolToObject(pl, "rerendered", r->lights_retried);
         }
     } else {
         cJSON_AddNullToObject(j, "lights");
@@ -624,8 +628,11 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
     r->lights_pilot_seconds = now_seconds() - t0;
     r->lights_pilot_k[0] = ks[0];
     r->lights_pilot_k[1] = ks[1];
-    r->lights_pilot_per_spp[0] = t[0] + once[0];
-    r->lights_pilot_per_spp[1] = t[1] + once[1];
+    r->lights_pilot_per_spp[0] = t[0];
+    r->lights_pilot_per_spp[1] = t[1];
+    r->lights_pilot_once[0] = once[0];
+    r->lights_pilot_once[1] = once[1];
+    r->lights_pilot_chosen = k;
     return LUMIS_OK;
 }
 
@@ -726,19 +733,36 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const int k_fills_time = o->lights && o->time_budget > 0.0 && !o->lights_k;
     if (k_fills_time && choose_lights_k(scene, &rd, env, o, factor, r, &lights_k) != LUMIS_OK)
         goto done;
-    if (o->lights &&
-        tool_make_light_set(env, o->lights, lights_k, o->interleave, &lights) != LUMIS_OK)
-        goto done;
-    rd.light_set = lights;
-    if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
-    /* A light set under --time: K fills the time at a fixed sample count; else passes. */
-    /* A light set under --time without a K: K fills the time at a fixed sample count.
-     * Otherwise --time adds passes (samples per pixel) until the time is spent. */
-    st = k_fills_time           ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
-         : o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
-                                : unit_run(&unit, rd.spp ? rd.spp : 16);
-    if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
-    unit_stats(&unit, &r->stats);
+    for (int attempt = 0;; attempt++) {
+        if (o->lights &&
+            tool_make_light_set(env, o->lights, lights_k, o->interleave, &lights) != LUMIS_OK)
+            goto done;
+        rd.light_set = lights;
+        if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
+        /* A light set under --time without a K: K fills the time at a fixed sample count.
+         * Otherwise --time adds passes (samples per pixel) until the time is spent. */
+        st = k_fills_time           ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
+             : o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
+                                    : unit_run(&unit, rd.spp ? rd.spp : 16);
+        if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
+        unit_stats(&unit, &r->stats);
+        const double T = r->stats.seconds, B = o->time_budget;
+        if (st != LUMIS_OK || !k_fills_time || attempt > 0 || (T > 0.6 * B && T < 1.5 * B)) break;
+        /* The pilots misjudged the time (a loaded machine, a tiny image): K is scaled by
+         * the budget over the time taken, and the render is made again, once. */
+        double k2 = lights_k * B / (T > 1e-9 ? T : 1e-9);
+        if (k2 > 65536.0) k2 = 65536.0;
+        if (k2 < 1.0) k2 = 1.0;
+        if ((int)k2 == lights_k) break;
+        lights_k = (int)k2;
+        r->lights_retried = 1;
+        lumis_image_destroy(r->image);
+        r->image = NULL;
+        unit_destroy(&unit);
+        memset(&unit, 0, sizeof unit);
+        lumis_light_set_destroy(lights);
+        lights = NULL;
+    }
     r->upsample = factor;
     pg.spp_done = r->stats.spp;
     if (pg.enabled) progress_draw(&pg, 1.0, 1);
