@@ -3,9 +3,9 @@
  * usage: bench_lights [--size WxH] [--count K] [--runs N] [--sets S] [--map FILE]
  *                     [--methods A,B,...] [--json]
  *
- * Builds median cut, variance minimisation and Wu's decomposition (and its three
- * ablations) N times each (default 11) on a WxH map (default 2048x1024: the procedural
- * sky, or FILE resized with lumis_equirect_resize) with K lights (default 64) and S sets
+ * Builds median cut, variance minimisation, Wu's decomposition (and its three
+ * ablations), FHIS and TMMS N times each (default 11) on a WxH map (default 2048x1024: the
+ * procedural sky, or FILE resized with lumis_equirect_resize) with K lights (default 64) and S sets
  * (default 8, the interleaved sets included), and prints the min and median milliseconds
  * of each.  The library is single-threaded, so one build runs on one core.  The first
  * run of each method is a warm-up and not counted (page faults of fresh tables). */
@@ -30,12 +30,12 @@ static const char usage[] =
     "  --sets S     light sets, interleaved copies included (default 8)\n"
     "  --map FILE   an equirectangular map, resized to WxH (default: the procedural sky)\n"
     "  --methods L  comma-separated subset of: median-cut, variance-min, wu, wu-is-only,\n"
-    "               wu-is-mask, wu-is-kmeans (default: all)\n"
+    "               wu-is-mask, wu-is-kmeans, fhis, tmms (default: all)\n"
     "  --json       print one JSON object instead of text\n";
 
 typedef struct method {
     const char *name;
-    int kind; /* 0 median cut, 1 variance min, 2 decomposition */
+    int kind; /* 0 median cut, 1 variance min, 2 decomposition, 3 FHIS, 4 TMMS */
     lumis_decomp_variant variant;
 } method;
 
@@ -48,6 +48,19 @@ static lumis_status build(const method *m, const lumis_envmap *env, int k, int s
         d.sets = sets;
         return m->kind == 0 ? lumis_lights_median_cut(env, &d, out)
                             : lumis_lights_variance_min(env, &d, out);
+    }
+    if (m->kind == 3) {
+        lumis_fhis_desc d = {0};
+        d.count = k;
+        d.sets = sets;
+        d.seed = 1;
+        return lumis_lights_fhis(env, &d, out);
+    }
+    if (m->kind == 4) {
+        lumis_tmms_desc d = {0};
+        d.count = k;
+        d.sets = sets;
+        return lumis_lights_tmms(env, &d, out);
     }
     lumis_decomp_desc d = {0};
     d.count = k;
@@ -147,6 +160,8 @@ int main(int argc, char **argv)
         {"wu-is-only", 2, LUMIS_DECOMP_IS_ONLY},
         {"wu-is-mask", 2, LUMIS_DECOMP_IS_MASK},
         {"wu-is-kmeans", 2, LUMIS_DECOMP_IS_KMEANS},
+        {"fhis", 3, LUMIS_DECOMP_DEFAULT},
+        {"tmms", 4, LUMIS_DECOMP_DEFAULT},
     };
     const int nm = (int)(sizeof methods / sizeof methods[0]);
     if (only) { /* every listed name must be a method */

@@ -171,6 +171,12 @@ void lumis__strips_rect(const lumis__strips *s, lumis__rect r, lumis__acc *acc);
 void lumis__lights_from_strips(lumis_light_set *set, const lumis__strips *s,
                                const lumis__rect *rects, int k);
 
+/* Lights from a complete labelling (set->labels, every pixel in 0 .. count - 1, every label
+ * used): one pass of sums, directions at the energy centroids unless dirs (map frame,
+ * unit) is given, extents bounding every pixel of each region. */
+lumis_status lumis__lights_from_labels(lumis_light_set *set, const lumis__geom *g,
+                                       const lumis_envmap *env, const double (*dirs)[3]);
+
 /* Half-angle of a cone from the smallest dot product, rounded up to float. */
 float lumis__extent_from_min_dot(double min_dot);
 
