@@ -79,8 +79,10 @@ typedef struct lumis_median_cut_desc {
  * two of equal energy (luminance x solid angle), across the longer side measured in
  * radians on the sphere (the width weighted by the sine of the polar angle at the
  * rectangle's middle row), level by level; K that is not a power of two splits only the
- * most energetic regions of the last level.  Summed-area table in double precision.
- * Cost: O(pixels + K log pixels) time, (w + 1)(h + 1) doubles of temporary memory. */
+ * most energetic regions of the last level.  Exact pixel-resolution marginals from band
+ * sums of 16 rows / columns made in one pass (docs/lights.md).
+ * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
+ * w h (4 + 3.4) bytes of temporary memory (a float luminance array and the band sums). */
 lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
                                      lumis_light_set **out);
 
@@ -89,8 +91,10 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
 /* Variance minimisation (Viriyothai & Debevec 2009): the same recursive scheme, but each
  * rectangle is cut at the position, along either axis, that minimises the summed
  * energy-weighted directional variance of the two halves (docs/lights.md); the last
- * partial level splits the regions of largest variance.  Four summed-area tables.
- * Cost: O(pixels + K (w + h)) time, 4 (w + 1)(h + 1) doubles of temporary memory. */
+ * partial level splits the regions of largest variance.  Marginals of energy and moment
+ * along both axes from the same band sums as median cut.
+ * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
+ * w h (4 + 4.1) bytes of temporary memory. */
 lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
                                        lumis_light_set **out);
 
