@@ -129,6 +129,20 @@ static lumis_status build_wu_cut_only(const lumis_envmap *env, int k, lumis_ligh
     return lumis_lights_decompose(env, &d, out);
 }
 
+static lumis_status build_fhis(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_fhis_desc d = {0};
+    d.count = k;
+    d.seed = 3;
+    return lumis_lights_fhis(env, &d, out);
+}
+static lumis_status build_tmms(const lumis_envmap *env, int k, lumis_light_set **out)
+{
+    lumis_tmms_desc d = {0};
+    d.count = k;
+    return lumis_lights_tmms(env, &d, out);
+}
+
 /* ---- the invariants every set must satisfy ------------------------------------------ */
 
 static double angle(lumis_vec3 a, double b[3])
@@ -529,6 +543,130 @@ static void wu_parts_and_ablations(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Table 1's other baselines: every invariant of the others, on every map kind. */
+static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_fhis, build_tmms};
+    static const int sizes[][2] = {{64, 32}, {200, 100}, {17, 9}};
+    static const int ks[] = {1, 2, 3, 7, 16, 64, 100};
+    float (*maps[])(int, int, int, int, int) = {sky_pixel, speckle_pixel, black_pixel, const_pixel};
+    for (size_t s = 0; s < 3; s++)
+        for (size_t mp = 0; mp < 4; mp++) {
+            lumis_envmap *env =
+                make_env(sizes[s][0], sizes[s][1], maps[mp], mp ? 0.0f : 73.0f, mp ? 0.0f : 2.5f);
+            for (size_t f = 0; f < 2; f++)
+                for (size_t k = 0; k < sizeof ks / sizeof ks[0]; k++) {
+                    lumis_light_set *set = NULL;
+                    assert_int_equal(fns[f](env, ks[k], &set), LUMIS_OK);
+                    check_set(set, env);
+                    const lumis_light_set_info *info = lumis_light_set_get_info(set);
+                    assert_int_equal(info->count, ks[k]);
+                    assert_int_equal(info->method, f ? LUMIS_LIGHTS_TMMS : LUMIS_LIGHTS_FHIS);
+                    lumis_light_set_destroy(set);
+                }
+            lumis_envmap_destroy(env);
+        }
+    /* One light per pixel. */
+    lumis_envmap *env = make_env(8, 4, sky_pixel, 0.0f, 0.0f);
+    for (size_t f = 0; f < 2; f++) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(fns[f](env, 32, &set), LUMIS_OK);
+        check_set(set, env);
+        const lumis_light *L;
+        int n;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        for (int k = 0; k < n; k++) assert_int_equal(L[k].pixels, 1);
+        lumis_light_set_destroy(set);
+    }
+    lumis_envmap_destroy(env);
+}
+
+static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(128, 64, speckle_pixel, 0.0f, 0.0f);
+    for (int f = 0; f < 2; f++) {
+        lumis_light_set *a = NULL, *b = NULL, *c = NULL;
+        lumis_fhis_desc fd = {0};
+        lumis_tmms_desc td = {0};
+        fd.count = td.count = 40;
+        fd.seed = td.seed = 11;
+        if (f == 0) {
+            assert_int_equal(lumis_lights_fhis(env, &fd, &a), LUMIS_OK);
+            assert_int_equal(lumis_lights_fhis(env, &fd, &b), LUMIS_OK);
+            fd.seed = 12;
+            assert_int_equal(lumis_lights_fhis(env, &fd, &c), LUMIS_OK);
+        } else {
+            assert_int_equal(lumis_lights_tmms(env, &td, &a), LUMIS_OK);
+            assert_int_equal(lumis_lights_tmms(env, &td, &b), LUMIS_OK);
+            td.seed = 12;
+            assert_int_equal(lumis_lights_tmms(env, &td, &c), LUMIS_OK);
+        }
+        int differs = 0;
+        for (int s = 0; s < 8; s++) {
+            const lumis_light *la, *lb, *lc;
+            int na, nb, nc;
+            lumis_light_set_get(a, s, &la, &na);
+            lumis_light_set_get(b, s, &lb, &nb);
+            lumis_light_set_get(c, s, &lc, &nc);
+            assert_int_equal(na, 40);
+            assert_int_equal(na, nb);
+            assert_memory_equal(la, lb, (size_t)na * sizeof *la);
+            differs |= memcmp(la, lc, (size_t)na * sizeof *la) != 0;
+        }
+        assert_true(differs); /* the seed moves FHIS's points, and every set's jitter */
+        assert_memory_equal(lumis_light_set_labels(a, NULL, NULL),
+                            lumis_light_set_labels(b, NULL, NULL), 128 * 64 * sizeof(int32_t));
+        lumis_light_set_destroy(a);
+        lumis_light_set_destroy(b);
+        lumis_light_set_destroy(c);
+    }
+    lumis_envmap_destroy(env);
+
+    env = make_env(16, 8, sky_pixel, 0.0f, 0.0f);
+    lumis_light_set *set = (lumis_light_set *)&set;
+    assert_int_equal(lumis_lights_fhis(NULL, NULL, &set), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(set);
+    assert_int_equal(lumis_lights_tmms(env, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_lights_fhis(env, NULL, &set), LUMIS_OK); /* NULL == defaults */
+    lumis_light_set_destroy(set);
+    struct {
+        int count, sets;
+        float jitter, key, bw;
+    } bad[] = {{-1, 0, 0.0f, 0.0f, 0.0f}, {129, 0, 0.0f, 0.0f, 0.0f},  {0, -2, 0.0f, 0.0f, 0.0f},
+               {0, 65, 0.0f, 0.0f, 0.0f}, {4, 0, 1.5f, 0.0f, 0.0f},    {4, 0, NAN, 0.0f, 0.0f},
+               {4, 0, 0.0f, -1.0f, 0.0f}, {4, 0, 0.0f, NAN, 0.0f},     {4, 0, 0.0f, 0.0f, 1.5f},
+               {4, 0, 0.0f, 0.0f, -0.1f}, {4, 0, 0.0f, INFINITY, 0.0f}};
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+        tu_sink sink;
+        tu_sink_init(&sink);
+        lumis_tmms_desc td = {0};
+        td.count = bad[b].count;
+        td.sets = bad[b].sets;
+        td.jitter = bad[b].jitter;
+        td.key = bad[b].key;
+        td.range_bandwidth = bad[b].bw;
+        td.errors = sink.sink;
+        set = (lumis_light_set *)&set;
+        assert_int_equal(lumis_lights_tmms(env, &td, &set), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(set);
+        assert_true(sink.count == 1 && strstr(sink.last, "tmms"));
+        if (b < 6) {
+            lumis_fhis_desc fd = {0};
+            tu_sink_init(&sink);
+            fd.count = td.count;
+            fd.sets = td.sets;
+            fd.jitter = td.jitter;
+            fd.errors = sink.sink;
+            assert_int_equal(lumis_lights_fhis(env, &fd, &set), LUMIS_ERR_INVALID_ARGUMENT);
+            assert_null(set);
+            assert_true(sink.count == 1 && strstr(sink.last, "fhis"));
+        }
+    }
+    lumis_envmap_destroy(env);
+}
+
 static void deterministic_with_fixed_seeds(void **state)
 {
     (void)state;
@@ -732,6 +870,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_method_conserves_power),
         cmocka_unit_test(median_cut_regions_have_equal_energy),
+        cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
+        cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(one_light_per_pixel_is_exact),
         cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
         cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),

@@ -60,6 +60,8 @@ typedef enum lumis_lights_method {
     LUMIS_LIGHTS_MEDIAN_CUT = 1,
     LUMIS_LIGHTS_VARIANCE_MIN = 2,
     LUMIS_LIGHTS_DECOMPOSITION = 3,
+    LUMIS_LIGHTS_FHIS = 4,
+    LUMIS_LIGHTS_TMMS = 5,
 } lumis_lights_method;
 
 /* ---- median cut and variance minimisation ----------------------------------------- */
@@ -77,8 +79,10 @@ typedef struct lumis_median_cut_desc {
  * two of equal energy (luminance x solid angle), across the longer side measured in
  * radians on the sphere (the width weighted by the sine of the polar angle at the
  * rectangle's middle row), level by level; K that is not a power of two splits only the
- * most energetic regions of the last level.  Summed-area table in double precision.
- * Cost: O(pixels + K log pixels) time, (w + 1)(h + 1) doubles of temporary memory. */
+ * most energetic regions of the last level.  Exact pixel-resolution marginals from band
+ * sums of 16 rows / columns made in one pass (docs/lights.md).
+ * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
+ * w h (4 + 3.4) bytes of temporary memory (a float luminance array and the band sums). */
 lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
                                      lumis_light_set **out);
 
@@ -87,8 +91,10 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
 /* Variance minimisation (Viriyothai & Debevec 2009): the same recursive scheme, but each
  * rectangle is cut at the position, along either axis, that minimises the summed
  * energy-weighted directional variance of the two halves (docs/lights.md); the last
- * partial level splits the regions of largest variance.  Four summed-area tables.
- * Cost: O(pixels + K (w + h)) time, 4 (w + 1)(h + 1) doubles of temporary memory. */
+ * partial level splits the regions of largest variance.  Marginals of energy and moment
+ * along both axes from the same band sums as median cut.
+ * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
+ * w h (4 + 4.1) bytes of temporary memory. */
 lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
                                        lumis_light_set **out);
 
@@ -159,6 +165,39 @@ typedef struct lumis_decomp_desc {
  * EnvDirects (fewer only if K exceeds what the pixels can give; a warning says so). */
 lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
                                     lumis_light_set **out);
+
+/* ---- Table 1's other baselines (simplified variants; docs/lights.md says how) ---------- */
+
+typedef lumis_median_cut_desc lumis_fhis_desc;
+
+/* FHIS-style hierarchical importance sampling (after Ostromoukhov, Donohue & Jodoin 2004),
+ * a simplified variant without the Penrose tiling: K points by systematic sampling of the
+ * energy (Y Omega) along a Hilbert curve over the map (a hierarchical, stratified point
+ * process; the seed moves the one random offset), one light at each point, whose region
+ * is the pixels nearer to it than to any other point (a Voronoi cell on the sphere, so
+ * power is conserved).  Lights sit at the sample points, not at their cells' centroids.
+ * Cost: O(pixels log pixels) for the curve order, O(pixels x candidates) for the cells. */
+lumis_status lumis_lights_fhis(const lumis_envmap *env, const lumis_fhis_desc *desc,
+                               lumis_light_set **out);
+
+typedef struct lumis_tmms_desc {
+    int count;             /* K (1 .. pixels); 0 == 64 */
+    int sets;              /* light sets for interleaving (1 .. 64); 0 == 8 */
+    float jitter;          /* as in lumis_median_cut_desc; 0 == 0.1 */
+    uint64_t seed;         /* seed of the jitter */
+    float key;             /* tone-mapping key a of Y a / Y_logavg, > 0; 0 == 0.18 */
+    float range_bandwidth; /* mean-shift bandwidth on tone-mapped values in [0, 1), (0, 1];
+                              0 == 0.1 */
+    lumis_error_sink errors;
+} lumis_tmms_desc;
+
+/* TMMS-style strata (after Feng et al. 2016, "Tone-Mapped Mean-Shift Based Environment Map
+ * Sampling"), a simplified variant: cells of the map are tone mapped (Reinhard's global
+ * operator), their values clustered by mean shift into levels, connected cells of a level
+ * form strata, and an adaptive split-and-merge on energy yields exactly K strata, one light
+ * at the energy centroid of each.  Cost: O(pixels + cells x strata). */
+lumis_status lumis_lights_tmms(const lumis_envmap *env, const lumis_tmms_desc *desc,
+                               lumis_light_set **out);
 
 /* ---- the light set ------------------------------------------------------------------ */
 

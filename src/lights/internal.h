@@ -134,6 +134,49 @@ static inline double lumis__sat_rect(const double *sat, int w, lumis__rect r)
 lumis_status lumis__sat_build(const lumis__geom *g, const lumis_envmap *env, double *e, double *mx,
                               double *my, double *mz);
 
+/* Band sums of a map (strips.c): for every band of T rows and every column the column's
+ * sums over the band, for every row and every band of T columns the row's sums.  Built in
+ * one pass over the pixels; then a rectangle's marginals and totals cost
+ * O(extent x (bands + 2 T)), each a direct double sum (no differences of running totals). */
+typedef struct lumis__strips {
+    int w, h, T;
+    int nb, nc; /* row bands ceil(h / T), column bands ceil(w / T) */
+    const lumis__geom *g;
+    const lumis_envmap *env;
+    double *ce, *ca, *cb; /* nb x w: sum over the band's rows of Omega_j Y, a_j Y, b_j Y */
+    double *crgb;         /* nb x 3w: sum of Omega_j RGB (unscaled) */
+    double *ry;           /* h x nc: sum over the band's columns of Y */
+    double *rcs, *rcc;    /* h x nc: sum of Y cs_i, Y cc_i (only with row_moments) */
+    float *y;             /* w x h: every pixel's luminance (lumis__pixel_y) */
+    double *scratch;      /* 6 max(w, h) doubles, used by lumis__strips_rect */
+    size_t scratch_n;
+} lumis__strips;
+
+lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lumis_envmap *env,
+                                int row_moments);
+void lumis__strips_free(lumis__strips *s);
+
+/* Column marginals of r: for i in [x0, x1), e[i - x0] = sum over the rows of Omega Y,
+ * a[] of a_j Y and b[] of b_j Y (a and b may be NULL). */
+void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double *a, double *b);
+
+/* Row marginals of r: for j in [y0, y1), y[j - y0] = sum over the columns of Y, ycs[] of
+ * Y cs_i and ycc[] of Y cc_i (ycs and ycc NULL, or both given with row_moments). */
+void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc);
+
+/* Totals of r as lumis__acc_rect gives them (without writing labels). */
+void lumis__strips_rect(const lumis__strips *s, lumis__rect r, lumis__acc *acc);
+
+/* lumis__lights_from_rects from the strips: labels, sums, lights, extents. */
+void lumis__lights_from_strips(lumis_light_set *set, const lumis__strips *s,
+                               const lumis__rect *rects, int k);
+
+/* Lights from a complete labelling (set->labels, every pixel in 0 .. count - 1, every label
+ * used): one pass of sums, directions at the energy centroids unless dirs (map frame,
+ * unit) is given, extents bounding every pixel of each region. */
+lumis_status lumis__lights_from_labels(lumis_light_set *set, const lumis__geom *g,
+                                       const lumis_envmap *env, const double (*dirs)[3]);
+
 /* Half-angle of a cone from the smallest dot product, rounded up to float. */
 float lumis__extent_from_min_dot(double min_dot);
 

@@ -530,3 +530,79 @@ lumis_status lumis__sat_build(const lumis__geom *g, const lumis_envmap *env, dou
     }
     return LUMIS_OK;
 }
+
+/* ---- lights from a labelling ---------------------------------------------------------- */
+
+lumis_status lumis__lights_from_labels(lumis_light_set *set, const lumis__geom *g,
+                                       const lumis_envmap *env, const double (*dirs)[3])
+{
+    const int w = g->w, h = g->h, k = set->count;
+    lumis__acc *acc = calloc((size_t)k, sizeof *acc);
+    double *rowmin = malloc((size_t)k * sizeof(double)), *ext = calloc((size_t)k, sizeof(double));
+    int32_t *touched = malloc((size_t)k * sizeof(int32_t));
+    double *cph = malloc(2 * (size_t)w * sizeof(double)), *sph = cph ? cph + w : NULL;
+    double(*d)[3] = malloc((size_t)k * sizeof *d);
+    if (!acc || !rowmin || !ext || !touched || !cph || !d) {
+        free(acc);
+        free(rowmin);
+        free(ext);
+        free(touched);
+        free(cph);
+        free(d);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    for (int j = 0; j < h; j++) {
+        const int32_t *lab = set->labels + (size_t)j * (size_t)w;
+        for (int i = 0; i < w; i++) lumis__acc_pixel(g, env, &acc[lab[i]], i, j);
+    }
+    for (int q = 0; q < k; q++) {
+        lumis__light_from_acc(g, &acc[q], LUMIS_LIGHT_REGION, &set->lights[q]);
+        if (dirs) { /* the given direction, in world space */
+            const double *v = dirs[q];
+            set->lights[q].dir.x = (float)(g->cos_rot * v[0] - g->sin_rot * v[2]);
+            set->lights[q].dir.y = (float)v[1];
+            set->lights[q].dir.z = (float)(g->sin_rot * v[0] + g->cos_rot * v[2]);
+        }
+        lumis__light_map_dir(g, &set->lights[q], d[q]);
+        rowmin[q] = 2.0;
+    }
+    /* Extent: per row, the smallest dot of each region's pixel centres with its direction;
+     * the angle to it plus the pixel's angular radius bound (half its height plus half its
+     * width at the widest latitude of the row, a path along a meridian and a parallel)
+     * bounds every point of those pixels. */
+    const double dph = 2.0 * LUMIS_PI / w, dth = LUMIS_PI / h;
+    for (int i = 0; i < w; i++) {
+        cph[i] = cos(dph * (i + 0.5));
+        sph[i] = sin(dph * (i + 0.5));
+    }
+    for (int j = 0; j < h; j++) {
+        const int32_t *lab = set->labels + (size_t)j * (size_t)w;
+        const double th = dth * (j + 0.5), st = sin(th), ct = cos(th);
+        double smax = fmax(g->sin_t[j], g->sin_t[j + 1]);
+        if (dth * j <= 0.5 * LUMIS_PI && dth * (j + 1) >= 0.5 * LUMIS_PI) smax = 1.0;
+        const double rad = 0.5 * dth + 0.5 * dph * smax;
+        int nt = 0;
+        for (int i = 0; i < w; i++) {
+            int q = lab[i];
+            double dot = d[q][0] * st * cph[i] + d[q][1] * ct + d[q][2] * st * sph[i];
+            if (rowmin[q] > 1.5) touched[nt++] = q;
+            if (dot < rowmin[q]) rowmin[q] = dot;
+        }
+        for (int t = 0; t < nt; t++) {
+            int q = touched[t];
+            double m = rowmin[q] > 1.0 ? 1.0 : (rowmin[q] < -1.0 ? -1.0 : rowmin[q]);
+            double e = acos(m) + rad;
+            if (e > ext[q]) ext[q] = e;
+            rowmin[q] = 2.0;
+        }
+    }
+    for (int q = 0; q < k; q++)
+        set->lights[q].extent = lumis__extent_from_min_dot(cos(fmin(ext[q], LUMIS_PI)));
+    free(acc);
+    free(rowmin);
+    free(ext);
+    free(touched);
+    free(cph);
+    free(d);
+    return LUMIS_OK;
+}

@@ -8,39 +8,40 @@
 #include <string.h>
 
 typedef struct mc_ctx {
-    const lumis__geom *g;
-    const double *sat; /* summed-area table of Y Omega */
+    const lumis__strips *s;
+    double *marg; /* max(w, h) doubles: the marginal being cut */
 } mc_ctx;
 
-/* Energy of r's first (c - x0) columns (axis 0) or first (c - y0) rows (axis 1). */
-static double prefix(const mc_ctx *m, lumis__rect r, int axis, int c)
+/* Energy marginal of r along axis 0 (per column) or 1 (per row) into m->marg; returns
+ * the number of entries. */
+static int marginal(const mc_ctx *m, lumis__rect r, int axis)
 {
-    if (axis == 0)
-        r.x1 = c;
-    else
-        r.y1 = c;
-    return lumis__sat_rect(m->sat, m->g->w, r);
+    if (axis == 0) {
+        lumis__strips_cols(m->s, r, m->marg, NULL, NULL);
+        return r.x1 - r.x0;
+    }
+    lumis__strips_rows(m->s, r, m->marg, NULL, NULL);
+    for (int j = r.y0; j < r.y1; j++) m->marg[j - r.y0] *= m->s->g->omega[j];
+    return r.y1 - r.y0;
 }
 
-/* The boundary position in (lo, hi) whose two sides' energies are closest: the first
+/* The boundary position in (0, n) whose two sides' energies are closest: the first
  * position where the prefix reaches half the energy, or the one before it. */
-static int equal_energy_cut(const mc_ctx *m, lumis__rect r, int axis, int lo, int hi, double e)
+static int equal_energy_cut(const double *marg, int n)
 {
-    int a = lo + 1, b = hi - 1; /* candidates [a, b] */
-    if (!(e > 0.0)) return lo + (hi - lo) / 2;
-    while (a < b) { /* smallest c in [a, b] with 2 F(c) >= e, or b */
-        int mid = a + (b - a) / 2;
-        if (2.0 * prefix(m, r, axis, mid) >= e)
-            b = mid;
-        else
-            a = mid + 1;
+    double e = 0.0;
+    for (int k = 0; k < n; k++) e += marg[k];
+    if (!(e > 0.0)) return n / 2;
+    /* the smallest c in [1, n - 1] with 2 F(c) >= e (F(c) the energy of the first c
+     * entries), or n - 1; then c - 1 if that is at least as close */
+    double prev = 0.0, f = 0.0;
+    int c = 0;
+    while (c < n - 1) {
+        prev = f;
+        f += marg[c++];
+        if (2.0 * f >= e) break;
     }
-    int c = a;
-    if (c > lo + 1) {
-        double dc = fabs(2.0 * prefix(m, r, axis, c) - e);
-        double dp = fabs(2.0 * prefix(m, r, axis, c - 1) - e);
-        if (dp <= dc) c = c - 1;
-    }
+    if (c > 1 && fabs(2.0 * prev - e) <= fabs(2.0 * f - e)) c--;
     return c;
 }
 
@@ -50,24 +51,24 @@ static int mc_split(void *ctx, lumis__rect r, lumis__rect *ra, lumis__rect *rb)
     int nx = r.x1 - r.x0, ny = r.y1 - r.y0;
     if (nx < 2 && ny < 2) return 0;
     double wd, ht;
-    lumis__rect_sides(m->g, r, &wd, &ht);
+    lumis__rect_sides(m->s->g, r, &wd, &ht);
     int axis = (nx >= 2 && (wd >= ht || ny < 2)) ? 0 : 1;
-    double e = lumis__sat_rect(m->sat, m->g->w, r);
+    int n = marginal(m, r, axis), c = equal_energy_cut(m->marg, n);
     *ra = *rb = r;
-    if (axis == 0) {
-        int c = equal_energy_cut(m, r, 0, r.x0, r.x1, e);
-        ra->x1 = rb->x0 = c;
-    } else {
-        int c = equal_energy_cut(m, r, 1, r.y0, r.y1, e);
-        ra->y1 = rb->y0 = c;
-    }
+    if (axis == 0)
+        ra->x1 = rb->x0 = r.x0 + c;
+    else
+        ra->y1 = rb->y0 = r.y0 + c;
     return 1;
 }
 
 static double mc_priority(void *ctx, lumis__rect r)
 {
     const mc_ctx *m = ctx;
-    return lumis__sat_rect(m->sat, m->g->w, r);
+    int n = marginal(m, r, 0);
+    double e = 0.0;
+    for (int k = 0; k < n; k++) e += m->marg[k];
+    return e;
 }
 
 lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
@@ -85,25 +86,25 @@ lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median
     lumis__geom g;
     if (lumis__geom_init(&g, env) != LUMIS_OK)
         return lumis__fail(c.errors, LUMIS_ERR_OUT_OF_MEMORY, "median cut: out of memory");
-    size_t satn = ((size_t)g.w + 1) * ((size_t)g.h + 1);
-    double *sat = malloc(satn * sizeof(double));
+    lumis__strips strips;
+    memset(&strips, 0, sizeof strips);
+    const size_t len = (size_t)(g.w > g.h ? g.w : g.h);
+    double *marg = malloc(len * sizeof(double));
     lumis__rect *rects = malloc((size_t)c.count * sizeof *rects);
     lumis_light_set *set = NULL;
-    st = (sat && rects) ? lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_MEDIAN_CUT, 0, &set)
-                        : LUMIS_ERR_OUT_OF_MEMORY;
+    st = (marg && rects) ? lumis__strips_init(&strips, &g, env, 0) : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) st = lumis__set_create(env, &c, c.count, LUMIS_LIGHTS_MEDIAN_CUT, 0, &set);
     if (st == LUMIS_OK) {
-        lumis__sat_build(&g, env, sat, NULL, NULL, NULL);
-        mc_ctx m = {&g, sat};
+        mc_ctx m = {&strips, marg};
         lumis__splitter sp = {mc_split, mc_priority, &m};
         st = lumis__split_rects(&sp, g.w, g.h, c.count, rects);
     }
     if (st == LUMIS_OK) {
-        free(sat);
-        sat = NULL;
-        lumis__lights_from_rects(set, &g, env, rects, c.count);
+        lumis__lights_from_strips(set, &strips, rects, c.count);
         lumis__set_finish(set, &g, env, &c, t0);
     }
-    free(sat);
+    lumis__strips_free(&strips);
+    free(marg);
     free(rects);
     lumis__geom_free(&g);
     if (st != LUMIS_OK) {

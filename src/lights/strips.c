@@ -1,0 +1,288 @@
+/* Band sums of a map: what the rectangle methods (median cut, variance minimisation) read
+ * instead of the pixels.  One pass over the pixels accumulates, for every band of T rows
+ * and every column, the column's sums over the band (Omega Y, a Y, b Y and Omega RGB), and
+ * for every row and every band of T columns the row's sums (Y, Y cs, Y cc).  Any
+ * rectangle's column or row marginals then cost O(extent x (bands + 2 T)) and its totals
+ * the same, every sum a direct double sum of pixel values (no differences of running
+ * totals, so a region's power is exact to its own rounding).  The accumulations are
+ * element-wise along rows, so the compiler may vectorise them without reassociating a
+ * sum.  docs/lights.md. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+enum { STRIP_T = 16 };
+
+lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lumis_envmap *env,
+                                int row_moments)
+{
+    memset(s, 0, sizeof *s);
+    const int w = g->w, h = g->h, T = STRIP_T;
+    s->w = w;
+    s->h = h;
+    s->T = T;
+    s->nb = (h + T - 1) / T;
+    s->nc = (w + T - 1) / T;
+    s->g = g;
+    s->env = env;
+    const size_t W = (size_t)w, nb = (size_t)s->nb, rows = (size_t)h * (size_t)s->nc;
+    size_t total = 6 * nb * W + (row_moments ? 3 : 1) * rows + 6 * (W > (size_t)h ? W : (size_t)h);
+    double *mem = malloc(total * sizeof(double));
+    float *yf = malloc((size_t)w * (size_t)h * sizeof(float));
+    if (!mem || !yf) {
+        free(mem);
+        free(yf);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    s->y = yf;
+    s->ce = mem;
+    s->ca = s->ce + nb * W;
+    s->cb = s->ca + nb * W;
+    s->crgb = s->cb + nb * W;
+    s->ry = s->crgb + 3 * nb * W;
+    s->rcs = row_moments ? s->ry + rows : NULL;
+    s->rcc = row_moments ? s->rcs + rows : NULL;
+    s->scratch = (row_moments ? s->rcc : s->ry) + rows;
+    s->scratch_n = 6 * (W > (size_t)h ? W : (size_t)h);
+
+    double *yd = s->scratch; /* one row of luminance, as double */
+    for (int b = 0; b < s->nb; b++) {
+        double *ce = s->ce + (size_t)b * W, *ca = s->ca + (size_t)b * W,
+               *cb = s->cb + (size_t)b * W;
+        double *cr = s->crgb + (size_t)b * 3 * W;
+        const int j0 = b * T, j1 = j0 + T < h ? j0 + T : h;
+        for (int j = j0; j < j1; j++) {
+            const float *px = env->pixels + (size_t)j * W * 3;
+            const double om = g->omega[j], aj = g->a[j], bj = g->b[j], sc = g->scale;
+            float *yr = yf + (size_t)j * W;
+            for (int i = 0; i < w; i++)
+                yr[i] = (float)(sc * (0.2126 * (double)px[3 * i] + 0.7152 * (double)px[3 * i + 1] +
+                                      0.0722 * (double)px[3 * i + 2]));
+            for (int i = 0; i < w; i++) yd[i] = yr[i];
+            if (j == j0) {
+                for (int i = 0; i < w; i++) {
+                    ce[i] = om * yd[i];
+                    ca[i] = aj * yd[i];
+                    cb[i] = bj * yd[i];
+                }
+                for (size_t k = 0; k < 3 * W; k++) cr[k] = om * (double)px[k];
+            } else {
+                for (int i = 0; i < w; i++) {
+                    ce[i] += om * yd[i];
+                    ca[i] += aj * yd[i];
+                    cb[i] += bj * yd[i];
+                }
+                for (size_t k = 0; k < 3 * W; k++) cr[k] += om * (double)px[k];
+            }
+            double *ry = s->ry + (size_t)j * (size_t)s->nc;
+            for (int c = 0; c < s->nc; c++) {
+                const int i0 = c * T, i1 = i0 + T < w ? i0 + T : w;
+                double sy = 0.0, sy2 = 0.0;
+                int i = i0;
+                for (; i + 1 < i1; i += 2) {
+                    sy += yd[i];
+                    sy2 += yd[i + 1];
+                }
+                if (i < i1) sy += yd[i];
+                ry[c] = sy + sy2;
+            }
+            if (!row_moments) continue;
+            double *rcs = s->rcs + (size_t)j * (size_t)s->nc,
+                   *rcc = s->rcc + (size_t)j * (size_t)s->nc;
+            for (int c = 0; c < s->nc; c++) {
+                const int i0 = c * T, i1 = i0 + T < w ? i0 + T : w;
+                double xs = 0.0, xc = 0.0;
+                for (int i = i0; i < i1; i++) {
+                    xs += yd[i] * g->cs[i];
+                    xc += yd[i] * g->cc[i];
+                }
+                rcs[c] = xs;
+                rcc[c] = xc;
+            }
+        }
+    }
+    return LUMIS_OK;
+}
+
+void lumis__strips_free(lumis__strips *s)
+{
+    free(s->ce);
+    free(s->y);
+    s->ce = NULL;
+    s->y = NULL;
+}
+
+/* Adds rows [j0, j1) of columns [x0, x1) to the per-column sums, from the pixels. */
+static void direct_rows(const lumis__strips *s, int j0, int j1, int x0, int x1, double *e,
+                        double *a, double *b, double *rgb)
+{
+    const lumis__geom *g = s->g;
+    for (int j = j0; j < j1; j++) {
+        const size_t o = (size_t)j * (size_t)s->w + (size_t)x0;
+        const float *yr = s->y + o;
+        const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
+        const int n = x1 - x0;
+        if (rgb) {
+            const float *px = s->env->pixels + o * 3;
+            double r = 0.0, gg = 0.0, bl = 0.0;
+            for (int i = 0; i < n; i++, px += 3) {
+                r += (double)px[0];
+                gg += (double)px[1];
+                bl += (double)px[2];
+            }
+            rgb[0] += om * r;
+            rgb[1] += om * gg;
+            rgb[2] += om * bl;
+            continue;
+        }
+        for (int i = 0; i < n; i++) e[i] += om * (double)yr[i];
+        if (a)
+            for (int i = 0; i < n; i++) a[i] += aj * (double)yr[i];
+        if (b)
+            for (int i = 0; i < n; i++) b[i] += bj * (double)yr[i];
+    }
+}
+
+void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double *a, double *b)
+{
+    const int n = r.x1 - r.x0, T = s->T;
+    const size_t W = (size_t)s->w;
+    for (int i = 0; i < n; i++) {
+        e[i] = 0.0;
+        if (a) a[i] = 0.0;
+        if (b) b[i] = 0.0;
+    }
+    int b0 = (r.y0 + T - 1) / T, b1 = r.y1 / T;
+    if (b0 >= b1) {
+        direct_rows(s, r.y0, r.y1, r.x0, r.x1, e, a, b, NULL);
+        return;
+    }
+    for (int k = b0; k < b1; k++) {
+        const double *ce = s->ce + (size_t)k * W + (size_t)r.x0;
+        for (int i = 0; i < n; i++) e[i] += ce[i];
+        if (a) {
+            const double *ca = s->ca + (size_t)k * W + (size_t)r.x0;
+            for (int i = 0; i < n; i++) a[i] += ca[i];
+        }
+        if (b) {
+            const double *cb = s->cb + (size_t)k * W + (size_t)r.x0;
+            for (int i = 0; i < n; i++) b[i] += cb[i];
+        }
+    }
+    direct_rows(s, r.y0, b0 * T, r.x0, r.x1, e, a, b, NULL);
+    direct_rows(s, b1 * T, r.y1, r.x0, r.x1, e, a, b, NULL);
+}
+
+/* Sums over columns [x0, x1) of row j: Y, Y cs, Y cc (the last two if ycs). */
+static void row_sums(const lumis__strips *s, int j, int x0, int x1, double *y, double *ycs,
+                     double *ycc)
+{
+    const int T = s->T;
+    const lumis__geom *g = s->g;
+    int c0 = (x0 + T - 1) / T, c1 = x1 / T;
+    double sy = 0.0, sx = 0.0, sz = 0.0;
+    int d0 = x1, d1 = x1; /* the direct stretches: [x0, d0) and [d1, x1) */
+    if (c0 < c1) {
+        const size_t o = (size_t)j * (size_t)s->nc;
+        for (int c = c0; c < c1; c++) {
+            sy += s->ry[o + (size_t)c];
+            if (ycs) {
+                sx += s->rcs[o + (size_t)c];
+                sz += s->rcc[o + (size_t)c];
+            }
+        }
+        d0 = c0 * T;
+        d1 = c1 * T;
+    }
+    const float *row = s->y + (size_t)j * (size_t)s->w;
+    for (int pass = 0; pass < 2; pass++) {
+        int i0 = pass ? d1 : x0, i1 = pass ? x1 : d0;
+        for (int i = i0; i < i1; i++) {
+            double v = row[i];
+            sy += v;
+            if (ycs) {
+                sx += v * g->cs[i];
+                sz += v * g->cc[i];
+            }
+        }
+    }
+    *y = sy;
+    if (ycs) {
+        *ycs = sx;
+        *ycc = sz;
+    }
+}
+
+void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
+{
+    for (int j = r.y0; j < r.y1; j++) {
+        int k = j - r.y0;
+        row_sums(s, j, r.x0, r.x1, &y[k], ycs ? &ycs[k] : NULL, ycc ? &ycc[k] : NULL);
+    }
+}
+
+void lumis__strips_rect(const lumis__strips *s, lumis__rect r, lumis__acc *acc)
+{
+    const lumis__geom *g = s->g;
+    const int n = r.x1 - r.x0, T = s->T;
+    const size_t W = (size_t)s->w;
+    double *e = s->scratch, *a = e + W, *b = a + W;
+    lumis__strips_cols(s, r, e, a, b);
+    memset(acc, 0, sizeof *acc);
+    double mx = 0.0, my = 0.0, mz = 0.0;
+    for (int i = 0; i < n; i++) {
+        mx += a[i] * g->cs[r.x0 + i];
+        my += b[i];
+        mz += a[i] * g->cc[r.x0 + i];
+    }
+    acc->m[0] = mx;
+    acc->m[1] = my;
+    acc->m[2] = mz;
+    double rgb[3] = {0.0, 0.0, 0.0};
+    int b0 = (r.y0 + T - 1) / T, b1 = r.y1 / T;
+    if (b0 >= b1) {
+        direct_rows(s, r.y0, r.y1, r.x0, r.x1, NULL, NULL, NULL, rgb);
+    } else {
+        for (int k = b0; k < b1; k++) {
+            const double *cr = s->crgb + ((size_t)k * W + (size_t)r.x0) * 3;
+            for (int i = 0; i < n; i++) {
+                rgb[0] += cr[3 * i];
+                rgb[1] += cr[3 * i + 1];
+                rgb[2] += cr[3 * i + 2];
+            }
+        }
+        direct_rows(s, r.y0, b0 * T, r.x0, r.x1, NULL, NULL, NULL, rgb);
+        direct_rows(s, b1 * T, r.y1, r.x0, r.x1, NULL, NULL, NULL, rgb);
+    }
+    for (int c = 0; c < 3; c++) acc->rgb[c] = rgb[c];
+    /* Geometric moment and solid angle in closed form per row. */
+    const double gcs = g->sin_p[r.x1] - g->sin_p[r.x0], gcc = g->cos_p[r.x0] - g->cos_p[r.x1];
+    for (int j = r.y0; j < r.y1; j++) {
+        acc->g[0] += g->a[j] * gcs;
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * gcc;
+        acc->omega += g->omega[j] * n;
+    }
+    acc->pixels = n * (r.y1 - r.y0);
+}
+
+void lumis__lights_from_strips(lumis_light_set *set, const lumis__strips *s,
+                               const lumis__rect *rects, int k)
+{
+    const lumis__geom *g = s->g;
+    for (int q = 0; q < k; q++) {
+        const lumis__rect r = rects[q];
+        for (int j = r.y0; j < r.y1; j++) {
+            int32_t *lab = set->labels + (size_t)j * (size_t)s->w;
+            for (int i = r.x0; i < r.x1; i++) lab[i] = q;
+        }
+        lumis__acc acc;
+        lumis__strips_rect(s, r, &acc);
+        lumis_light *l = &set->lights[q];
+        lumis__light_from_acc(g, &acc, LUMIS_LIGHT_REGION, l);
+        double d[3];
+        lumis__light_map_dir(g, l, d);
+        l->extent = lumis__extent_from_min_dot(lumis__rect_min_dot(g, d, r.y0, r.y1, r.x0, r.x1));
+    }
+}
