@@ -667,8 +667,8 @@ static void lights_export_parses_back(void **state)
 {
     (void)state;
     char a[2048];
-    static const char *const methods[] = {"wu", "median-cut", "variance-min"};
-    for (int m = 0; m < 3; m++) {
+    static const char *const methods[] = {"wu", "median-cut", "variance-min", "fhis", "tmms"};
+    for (int m = 0; m < 5; m++) {
         snprintf(a, sizeof a,
                  "lights sky:64x32 --method %s -k 12 --json '%s' --masks --gltf '%s' "
                  "--png '%s'",

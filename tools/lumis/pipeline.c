@@ -65,12 +65,14 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
  * decomposition with its Table 2 ablations and the original (variance-only) cut. */
 static const struct {
     const char *name;
-    int kind; /* 0: median cut, 1: variance minimisation, 2: Wu */
+    int kind; /* 0: median cut, 1: variance minimisation, 2: Wu, 3: FHIS, 4: TMMS */
     lumis_decomp_variant variant;
     lumis_cut_objective cut;
 } light_methods[] = {
     {"median-cut", 0, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
     {"variance-min", 1, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
+    {"fhis", 3, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
+    {"tmms", 4, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
     {"wu", 2, LUMIS_DECOMP_FULL, LUMIS_CUT_MODIFIED},
     {"wu-is", 2, LUMIS_DECOMP_IS_ONLY, LUMIS_CUT_MODIFIED},
     {"wu-is-mask", 2, LUMIS_DECOMP_IS_MASK, LUMIS_CUT_MODIFIED},
@@ -88,7 +90,8 @@ int tool_lights_method_known(const char *name)
 
 const char *tool_lights_method_names(void)
 {
-    return "median-cut, variance-min, wu, wu-is, wu-is-mask, wu-is-kmeans, wu-original-cut";
+    return "median-cut, variance-min, fhis, tmms, wu, wu-is, wu-is-mask, wu-is-kmeans, "
+           "wu-original-cut";
 }
 
 int tool_lights_method_is_wu(const char *name)
@@ -113,11 +116,19 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
             dd.errors = tool_errors;
             return lumis_lights_decompose(env, &dd, out);
         }
+        if (light_methods[m].kind == 4) {
+            lumis_tmms_desc td = {0};
+            td.count = k;
+            td.sets = sets;
+            td.errors = tool_errors;
+            return lumis_lights_tmms(env, &td, out);
+        }
         lumis_median_cut_desc md = {0};
         md.count = k;
         md.sets = sets;
         md.errors = tool_errors;
         if (light_methods[m].kind == 0) return lumis_lights_median_cut(env, &md, out);
+        if (light_methods[m].kind == 3) return lumis_lights_fhis(env, &md, out);
         return lumis_lights_variance_min(env, &md, out);
     }
     return LUMIS_ERR_INVALID_ARGUMENT;
