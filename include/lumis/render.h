@@ -159,15 +159,16 @@ typedef struct lumis_upsample_desc {
                             range (max - min over the pixels that see an object); 0 == 0.005 */
     float sigma_albedo;  /* on |a_p - a_q|; 0 == 0.005 */
     float sigma_spatial; /* on the distance in low-resolution pixels; 0 == 1.0 */
-    int radius;          /* window radius in low-resolution pixels; 0 == 2 (5 x 5) */
+    int radius;          /* window radius in low-resolution pixels, at most 8; 0 == 2 (5 x 5) */
     lumis_error_sink errors;
 } lumis_upsample_desc;
 
 /* Joint-bilateral upsampling (Kopf et al. 2007, as Wu uses it): each high-resolution pixel
  * p is the weighted mean of the low-resolution pixels q of a window around it, weights
  * G(spatial) G(normal) G(depth) G(albedo) from the two G-buffers (low's for q, high's for
- * p).  Pixels seeing no object take only others that see none (and the reverse); when
- * every weight underflows, the nearest low-resolution pixel of the same kind stands in.
+ * p).  Pixels seeing no object take only others that see none (and the reverse).  Weights
+ * are normalised by the largest, so a window with no similar pixel gives the most similar
+ * (a soft nearest match), never an underflow.
  * low and low_g must have the same size, high_g gives the output's.  Details and the
  * tests: docs/render.md. */
 lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_gbuffer *low_g,

@@ -9,14 +9,17 @@
 #include <math.h>
 #include <stdlib.h>
 
+enum { MAX_RADIUS = 8, MAX_WINDOW = (2 * MAX_RADIUS + 1) * (2 * MAX_RADIUS + 1) };
+
 static float sq(float x)
 {
     return x * x;
 }
 
-static float dist3(const float *a, const float *b)
+/* |a - b|^2 of two RGB or xyz triples. */
+static float dist3_sq(const float *a, const float *b)
 {
-    return sqrtf(sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2]));
+    return sq(a[0] - b[0]) + sq(a[1] - b[1]) + sq(a[2] - b[2]);
 }
 
 lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_gbuffer *low_g,
@@ -39,9 +42,10 @@ lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_
     const float sa = desc && desc->sigma_albedo > 0.0f ? desc->sigma_albedo : 0.005f;
     const float ss = desc && desc->sigma_spatial > 0.0f ? desc->sigma_spatial : 1.0f;
     const int rad = desc && desc->radius > 0 ? desc->radius : 2;
-    if (!(isfinite(sn) && isfinite(sd) && isfinite(sa) && isfinite(ss)) || rad > 64)
+    if (!(isfinite(sn) && isfinite(sd) && isfinite(sa) && isfinite(ss)) || rad > MAX_RADIUS)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "upsample: sigmas must be finite and the radius at most 64");
+                           "upsample: sigmas must be finite and the radius at most %d, not %d",
+                           MAX_RADIUS, rad);
     const int W = high_g->width, H = high_g->height, w = low->width, h = low->height;
     lumis_status st = lumis_image_create(W, H, out);
     if (st != LUMIS_OK) return lumis__fail(errors, st, "upsample: %d x %d: out of memory", W, H);
@@ -65,44 +69,45 @@ lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_
             /* Position of P's centre in low-resolution pixel units (centres at k + 0.5). */
             const double u = (X + 0.5) * sxr - 0.5, v = (Y + 0.5) * syr - 0.5;
             const int cx = (int)floor(u + 0.5), cy = (int)floor(v + 0.5);
-            double acc[3] = {0, 0, 0}, wsum = 0.0;
-            int nearest = -1;
-            double nearest_d2 = INFINITY;
+            /* The exponents first; the weights are exp(e - e_max), so the most similar
+             * neighbour always counts (a window of strangers is a soft nearest match,
+             * never an underflow). */
+            float e[MAX_WINDOW];
+            int qs[MAX_WINDOW], n = 0;
+            float emax = -INFINITY;
             for (int dy = -rad; dy <= rad; dy++)
                 for (int dx = -rad; dx <= rad; dx++) {
                     const int qx = cx + dx, qy = cy + dy;
                     if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
                     const size_t q = (size_t)qy * (size_t)w + (size_t)qx;
                     if (isfinite(low_g->depth[q]) != hit) continue; /* object vs background */
-                    const float d2 = (float)(sq((float)(qx - u)) + sq((float)(qy - v)));
-                    if (d2 < nearest_d2) {
-                        nearest_d2 = d2;
-                        nearest = (int)q;
-                    }
-                    float e = ks * d2;
+                    float eq = ks * (sq((float)(qx - u)) + sq((float)(qy - v)));
                     if (hit) {
-                        e += kn * sq(dist3(high_g->normal + 3 * P, low_g->normal + 3 * q));
-                        e += kd * sq(high_g->depth[P] - low_g->depth[q]);
-                        e += ka * sq(dist3(high_g->albedo + 3 * P, low_g->albedo + 3 * q));
+                        eq += kn * dist3_sq(high_g->normal + 3 * P, low_g->normal + 3 * q);
+                        eq += kd * sq(high_g->depth[P] - low_g->depth[q]);
+                        eq += ka * dist3_sq(high_g->albedo + 3 * P, low_g->albedo + 3 * q);
                     }
-                    const double wq = exp((double)e);
-                    const float *L = low->pixels + 3 * q;
-                    acc[0] += wq * L[0];
-                    acc[1] += wq * L[1];
-                    acc[2] += wq * L[2];
-                    wsum += wq;
+                    e[n] = eq;
+                    qs[n++] = (int)q;
+                    emax = eq > emax ? eq : emax;
                 }
-            if (wsum > 1e-300) {
-                o[0] = (float)(acc[0] / wsum);
-                o[1] = (float)(acc[1] / wsum);
-                o[2] = (float)(acc[2] / wsum);
-            } else if (nearest >= 0) {
-                const float *L = low->pixels + 3 * (size_t)nearest;
-                o[0] = L[0];
-                o[1] = L[1];
-                o[2] = L[2];
-            } else {
+            float acc[3] = {0, 0, 0}, wsum = 0.0f;
+            for (int k = 0; k < n; k++) {
+                const float d = e[k] - emax;
+                if (d < -87.0f) continue; /* 0 in float */
+                const float wq = expf(d);
+                const float *L = low->pixels + 3 * (size_t)qs[k];
+                acc[0] += wq * L[0];
+                acc[1] += wq * L[1];
+                acc[2] += wq * L[2];
+                wsum += wq;
+            }
+            if (n == 0) {
                 o[0] = o[1] = o[2] = 0.0f; /* no pixel of its kind in the window */
+            } else {
+                o[0] = acc[0] / wsum;
+                o[1] = acc[1] / wsum;
+                o[2] = acc[2] / wsum;
             }
         }
     return LUMIS_OK;
