@@ -41,7 +41,8 @@ struct lumis_sampler {
     size_t table_bytes, total_bytes;
     double kd_alpha;
     int kd_blocks;
-    void *data; /* the method's own tables */
+    double inv_w; /* 1 / w: a column to an azimuth without a division */
+    void *data;   /* the method's own tables */
 };
 
 /* Per-pixel importance (w * h doubles, row-major) as the descriptor asks, with MIS
