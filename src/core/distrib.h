@@ -49,6 +49,58 @@ static inline double lumis__cdf_prob(const lumis__cdf *c, uint32_t i)
  * Binary search: ceil(log2 n) lookups, or about two with the guide table. */
 uint32_t lumis__cdf_sample(const lumis__cdf *c, double u, double *frac);
 
+/* The same search in steps, so a batch can interleave many (src/envmap/sampler.c): the
+ * answer is the largest i in [lo, lo + len) with cdf[i] <= t.  Each step halves len
+ * without a branch on the data (a mispredicted branch would discard the work after it). */
+typedef struct lumis__cdf_search {
+    double x;         /* u 2^32 */
+    uint32_t t;       /* floor(x) */
+    uint32_t lo, len; /* the range left */
+} lumis__cdf_search;
+
+/* Starts a search (reads the guide entry, if any). */
+static inline lumis__cdf_search lumis__cdf_search_start(const lumis__cdf *c, double u)
+{
+    lumis__cdf_search q;
+    q.x = u * LUMIS__ONE32; /* exact: a power-of-two scaling */
+    uint64_t t = (uint64_t)q.x;
+    q.t = t > 0xffffffffu ? 0xffffffffu : (uint32_t)t;
+    if (c->guide) {
+        uint32_t k = (uint32_t)(((uint64_t)q.t * c->n) >> 32);
+        q.lo = c->guide[k];
+        q.len = c->guide[k + 1] - q.lo + 1;
+    } else {
+        q.lo = 0;
+        q.len = c->m;
+    }
+    return q;
+}
+
+/* The next lookup a step will make (to prefetch). */
+static inline const uint32_t *lumis__cdf_search_next(const lumis__cdf *c,
+                                                     const lumis__cdf_search *q)
+{
+    return c->cdf + q->lo + q->len / 2;
+}
+
+static inline void lumis__cdf_search_step(const lumis__cdf *c, lumis__cdf_search *q)
+{
+    uint32_t half = q->len / 2;
+    q->lo += c->cdf[q->lo + half] <= q->t ? half : 0;
+    q->len -= half;
+}
+
+/* The entry found (q->len == 1) and where inside it. */
+static inline uint32_t lumis__cdf_search_end(const lumis__cdf *c, const lumis__cdf_search *q,
+                                             double *frac)
+{
+    uint32_t lo = q->lo;
+    uint64_t next = lo + 1 < c->m ? c->cdf[lo + 1] : (uint64_t)1 << 32;
+    *frac = (q->x - (double)c->cdf[lo]) / (double)(next - c->cdf[lo]);
+    if (*frac >= 1.0) *frac = 0x1.fffffffffffffp-1;
+    return lo;
+}
+
 /* ---- Walker / Vose alias table with 32-bit integer thresholds ----------------------- */
 
 /* One column, 16 bytes and 16-byte aligned, so a draw reads one cache line: the accept

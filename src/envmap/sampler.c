@@ -365,13 +365,17 @@ lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double 
 void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
                             lumis_env_sample *out)
 {
-    enum { BATCH = 32 };
+    enum { BATCH = LUMIS__BATCH };
     lumis__pick p[BATCH];
     size_t pixel[BATCH];
+    double uc[2 * BATCH];
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         size_t m = n - k0 < BATCH ? n - k0 : BATCH;
-        for (size_t k = 0; k < m; k++)
-            s->m->pick(s, clamp_u(u[2 * (k0 + k)]), clamp_u(u[2 * (k0 + k) + 1]), &p[k]);
+        for (size_t k = 0; k < 2 * m; k++) uc[k] = clamp_u(u[2 * k0 + k]);
+        if (s->m->pick_n)
+            s->m->pick_n(s, uc, (int)m, p);
+        else
+            for (size_t k = 0; k < m; k++) s->m->pick(s, uc[2 * k], uc[2 * k + 1], &p[k]);
         for (size_t k = 0; k < m; k++) {
             pixel[k] = place(s, &p[k], &out[k0 + k].dir);
 #if defined(__GNUC__) || defined(__clang__)
@@ -462,7 +466,7 @@ static double uniform_density(const lumis_sampler *s, int i, int j)
 }
 
 /* Cost: no table lookups. */
-static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0};
+static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0, NULL};
 
 lumis_status lumis__uniform_init(lumis_sampler *s)
 {

@@ -42,6 +42,19 @@ static void alias_pick(const lumis_sampler *s, double u1, double u2, lumis__pick
     p->density = density;
 }
 
+/* A batch: every bin is requested before the first is read. */
+static void alias_pick_n(const lumis_sampler *s, const double *u, int n, lumis__pick *out)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    const alias_sampler *a = s->data;
+    for (int k = 0; k < n; k++) {
+        uint32_t i = (uint32_t)(u[2 * k] * a->table.n);
+        __builtin_prefetch(&a->table.bin[i < a->table.n ? i : a->table.n - 1]);
+    }
+#endif
+    for (int k = 0; k < n; k++) alias_pick(s, u[2 * k], u[2 * k + 1], &out[k]);
+}
+
 static double alias_density(const lumis_sampler *s, int i, int j)
 {
     const alias_sampler *a = s->data;
@@ -56,7 +69,8 @@ static void alias_destroy(lumis_sampler *s)
     free(a);
 }
 
-static const lumis__method alias_method = {alias_pick, alias_density, alias_destroy, 0};
+static const lumis__method alias_method = {alias_pick, alias_density, alias_destroy, 0,
+                                           alias_pick_n};
 
 lumis_status lumis__alias_init(lumis_sampler *s, const double *imp)
 {

@@ -29,7 +29,12 @@ typedef struct lumis__method {
     /* 0: density is per steradian (uniform in solid angle inside the rectangle).
      * 1: density is per unit of (phi, theta): the sampler divides by sin(theta). */
     int uniform_angles;
+    /* Optional: pick() for n <= LUMIS__BATCH pairs u[0..2n) (already clamped to [0, 1)),
+     * with the same results, its lookups interleaved so their cache misses overlap. */
+    void (*pick_n)(const lumis_sampler *s, const double *u, int n, lumis__pick *out);
 } lumis__method;
+
+enum { LUMIS__BATCH = 32 }; /* samples in flight in sample_n() */
 
 struct lumis_sampler {
     const lumis__method *m;
