@@ -411,6 +411,31 @@ float lumis_sampler_pdf_radiance(const lumis_sampler *s, lumis_vec3 dir, lumis_r
     return pdf;
 }
 
+lumis_status lumis_sampler_invert(const lumis_sampler *s, lumis_vec3 dir, double u[2])
+{
+    if (!s || !u) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!s->m->invert) return LUMIS_ERR_UNSUPPORTED;
+    double len = sqrt((double)dir.x * dir.x + (double)dir.y * dir.y + (double)dir.z * dir.z);
+    if (!(len > 0.0) || !(len < INFINITY)) return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_envmap *env = s->env;
+    /* The pixel from the lookup pdf() and eval() use; the point inside it from the same
+     * coordinates the warp produced: azimuth in turns and cos theta. */
+    int i, j;
+    lumis_envmap_dir_to_pixel(env, dir, &i, &j);
+    double mx = env->cos_rot * dir.x + env->sin_rot * dir.z;
+    double mz = -env->sin_rot * dir.x + env->cos_rot * dir.z;
+    double a = atan2(mz, mx) * (0.5 / LUMIS_PI);
+    if (a < 0.0) a += 1.0;
+    if (!(a < 1.0)) a = 0.0; /* as lumis_envmap_dir_to_pixel: 2 pi wraps to column 0 */
+    double ps = a * s->w - i;
+    double c = dir.y / len;
+    double pt = (env->cos_row[j] - c) / (env->cos_row[j] - env->cos_row[j + 1]);
+    ps = ps > 0.0 ? (ps < 1.0 ? ps : 0x1.fffffffffffffp-1) : 0.0;
+    pt = pt > 0.0 ? (pt < 1.0 ? pt : 0x1.fffffffffffffp-1) : 0.0;
+    s->m->invert(s, i, j, ps, pt, u);
+    return LUMIS_OK;
+}
+
 const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *s)
 {
     return s->env;
@@ -465,8 +490,20 @@ static double uniform_density(const lumis_sampler *s, int i, int j)
     return 1.0 / (4.0 * LUMIS_PI);
 }
 
+/* The whole map is one rectangle: u1 is the azimuth in turns, u2 (1 - cos theta) / 2. */
+static void uniform_invert(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2])
+{
+    const double *cr = s->env->cos_row;
+    double c = cr[j] + pt * (cr[j + 1] - cr[j]);
+    u[0] = (i + ps) * s->inv_w;
+    u[1] = 0.5 * (1.0 - c);
+    if (u[0] >= 1.0) u[0] = 0x1.fffffffffffffp-1;
+    if (u[1] >= 1.0) u[1] = 0x1.fffffffffffffp-1;
+}
+
 /* Cost: no table lookups. */
-static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0, NULL};
+static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0,
+                                             NULL,         uniform_invert};
 
 lumis_status lumis__uniform_init(lumis_sampler *s)
 {

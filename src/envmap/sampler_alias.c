@@ -69,8 +69,8 @@ static void alias_destroy(lumis_sampler *s)
     free(a);
 }
 
-static const lumis__method alias_method = {alias_pick, alias_density, alias_destroy, 0,
-                                           alias_pick_n};
+static const lumis__method alias_method = {alias_pick, alias_density, alias_destroy,
+                                           0,          alias_pick_n,  NULL};
 
 lumis_status lumis__alias_init(lumis_sampler *s, const double *imp)
 {

@@ -118,6 +118,29 @@ static void hier_pick_n(const lumis_sampler *s, const double *u, int n, lumis__p
     for (int k = 0; k < n; k++) fill(s, x[k], y[k], u1[k], u2[k], prob[k], &out[k]);
 }
 
+/* Up the pyramid, undoing hier_step level by level: a child chosen with probability p
+ * from the part [a, a + p) of [0, 1) maps u' back to a + u' p.  The same split()
+ * arithmetic as sampling.  A pixel of probability 0 gets the point where its empty
+ * part of [0, 1) sits (u' p = 0 there). */
+static void hier_invert(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2])
+{
+    const pyramid *py = s->data;
+    double u1 = ps, u2 = pt;
+    for (int k = py->count - 1; k >= 1; k--) {
+        int shift = py->count - 1 - k;
+        int cx = i >> shift, cy = j >> shift;
+        double pl, ptl, ptr;
+        split(&py->levels[k], cx & ~1, cy & ~1, &pl, &ptl, &ptr);
+        double ptop = (cx & 1) ? ptr : ptl;
+        u2 = (cy & 1) ? ptop + u2 * (1.0 - ptop) : u2 * ptop;
+        u1 = (cx & 1) ? pl + u1 * (1.0 - pl) : u1 * pl;
+        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
+        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
+    }
+    u[0] = u1;
+    u[1] = u2;
+}
+
 static double hier_density(const lumis_sampler *s, int i, int j)
 {
     const pyramid *py = s->data;
@@ -143,7 +166,8 @@ static void hier_destroy(lumis_sampler *s)
     free(py);
 }
 
-static const lumis__method hier_method = {hier_pick, hier_density, hier_destroy, 0, hier_pick_n};
+static const lumis__method hier_method = {hier_pick, hier_density, hier_destroy,
+                                          0,         hier_pick_n,  hier_invert};
 
 lumis_status lumis__hierarchical_init(lumis_sampler *s, const double *imp)
 {

@@ -32,6 +32,9 @@ typedef struct lumis__method {
     /* Optional: pick() for n <= LUMIS__BATCH pairs u[0..2n) (already clamped to [0, 1)),
      * with the same results, its lookups interleaved so their cache misses overlap. */
     void (*pick_n)(const lumis_sampler *s, const double *u, int n, lumis__pick *out);
+    /* Optional (continuous, one-to-one warps): the u that pick() maps to pixel (i, j) and
+     * point (s, t) in it.  NULL: lumis_sampler_invert() reports LUMIS_ERR_UNSUPPORTED. */
+    void (*invert)(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2]);
 } lumis__method;
 
 enum { LUMIS__BATCH = 32 }; /* samples in flight in sample_n() */

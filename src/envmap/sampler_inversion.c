@@ -88,6 +88,31 @@ static void inversion_pick_n(const lumis_sampler *s, const double *u, int n, lum
     }
 }
 
+/* cdf[i] with the implicit cdf[m] = 2^32 (and entries past m, of probability 0, there). */
+static uint64_t cdf_at(const lumis__cdf *c, uint32_t i)
+{
+    return i < c->m ? c->cdf[i] : (uint64_t)1 << 32;
+}
+
+/* The u that lumis__cdf_sample maps to entry i at fraction f: the CDF at i plus f of the
+ * entry's width.  An entry of probability 0 has width 0: u is where it would start. */
+static double cdf_invert(const lumis__cdf *c, uint32_t i, double f)
+{
+    uint64_t a = cdf_at(c, i), b = cdf_at(c, i + 1);
+    double u = ((double)a + f * (double)(b - a)) * (1.0 / LUMIS__ONE32);
+    return u < 1.0 ? u : 0x1.fffffffffffffp-1;
+}
+
+static void inversion_invert(const lumis_sampler *s, int i, int j, double ps, double pt,
+                             double u[2])
+{
+    const inversion *t = s->data;
+    u[1] = cdf_invert(&t->marginal, (uint32_t)j, pt);
+    /* A row without light has no conditional table: any u1 lands in another row, and the
+     * fraction along the row is as good as any. */
+    u[0] = t->rows[j].cdf ? cdf_invert(&t->rows[j], (uint32_t)i, ps) : (i + ps) / s->w;
+}
+
 static double inversion_density(const lumis_sampler *s, int i, int j)
 {
     const inversion *t = s->data;
@@ -107,8 +132,8 @@ static void inversion_destroy(lumis_sampler *s)
     free(t);
 }
 
-static const lumis__method inversion_method = {inversion_pick, inversion_density, inversion_destroy,
-                                               0, inversion_pick_n};
+static const lumis__method inversion_method = {
+    inversion_pick, inversion_density, inversion_destroy, 0, inversion_pick_n, inversion_invert};
 
 lumis_status lumis__inversion_init(lumis_sampler *s, const double *imp, int guided)
 {

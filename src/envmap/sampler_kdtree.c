@@ -225,9 +225,10 @@ static void kd_destroy(lumis_sampler *s)
     free(t);
 }
 
-static const lumis__method kd_method = {kd_pick, kd_density, kd_destroy, 0, NULL};
-static const lumis__method kd_angles_method = {kd_pick, kd_density, kd_destroy, 1, NULL};
-static const lumis__method kd_exact_method = {kd_exact_pick, kd_exact_density, kd_destroy, 0, NULL};
+static const lumis__method kd_method = {kd_pick, kd_density, kd_destroy, 0, NULL, NULL};
+static const lumis__method kd_angles_method = {kd_pick, kd_density, kd_destroy, 1, NULL, NULL};
+static const lumis__method kd_exact_method = {kd_exact_pick, kd_exact_density, kd_destroy, 0, NULL,
+                                              NULL};
 
 /* ---- building ----------------------------------------------------------------------- */
 

@@ -47,6 +47,11 @@ static float f_pole(int i, int j, int c)
     (void)i, (void)c;
     return j == 0 ? 2.0f : 0.0f;
 }
+static float f_holes(int i, int j, int c)
+{
+    /* Rows without light in the middle and dark pixels in lit rows. */
+    return (j >= 5 && j <= 7) || i % 5 == 2 ? 0.0f : (float)(1 + (i * 7 + j * 3 + c) % 5);
+}
 static float f_colour(int i, int j, int c)
 {
     return (float)(1 + (i * 3 + j * 5 + c * 7) % 11);
@@ -61,11 +66,12 @@ typedef struct map_case {
 } map_case;
 
 static const map_case maps[] = {
-    {"constant", 32, 16, f_const, 0, 0},  {"gradient", 48, 24, f_grad, 0, 0},
-    {"hot pixel", 20, 10, f_hot, 0, 0},   {"sun sky", 64, 32, NULL, 0, 1},
-    {"checker", 32, 16, f_checker, 0, 0}, {"1x1", 1, 1, f_const, 0, 0},
-    {"3x1", 3, 1, f_grad, 0, 0},          {"3x2", 3, 2, f_colour, 0, 0},
-    {"pole", 16, 8, f_pole, 0, 0},        {"rotated colour", 24, 12, f_colour, 33.0f, 0},
+    {"constant", 32, 16, f_const, 0, 0},   {"gradient", 48, 24, f_grad, 0, 0},
+    {"hot pixel", 20, 10, f_hot, 0, 0},    {"sun sky", 64, 32, NULL, 0, 1},
+    {"checker", 32, 16, f_checker, 0, 0},  {"1x1", 1, 1, f_const, 0, 0},
+    {"3x1", 3, 1, f_grad, 0, 0},           {"3x2", 3, 2, f_colour, 0, 0},
+    {"pole", 16, 8, f_pole, 0, 0},         {"rotated colour", 24, 12, f_colour, 33.0f, 0},
+    {"holes", 20, 16, f_holes, -71.0f, 0},
 };
 enum { NMAPS = sizeof maps / sizeof maps[0] };
 
@@ -439,6 +445,100 @@ static void exact_on_small_pixels(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* ---- inverse warps ------------------------------------------------------------------ */
+
+static double angle_between(lumis_vec3 a, lumis_vec3 b)
+{
+    double cx = (double)a.y * b.z - (double)a.z * b.y, cy = (double)a.z * b.x - (double)a.x * b.z,
+           cz = (double)a.x * b.y - (double)a.y * b.x;
+    double d = (double)a.x * b.x + (double)a.y * b.y + (double)a.z * b.z;
+    return atan2(sqrt(cx * cx + cy * cy + cz * cz), d);
+}
+
+/* invert(sample(u)) == u and sample(invert(dir)) == dir, to the float rounding of the
+ * direction, on every map (zero rows and pixels included); directions in pixels of
+ * probability 0 invert to a u whose sample is a lit pixel; alias and the kd-tree methods
+ * refuse. */
+static void invert_round_trips(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 31, 4);
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        for (int c = 0; c < NCONFIGS; c++) {
+            lumis_sampler *s = make_sampler(env, &configs[c]);
+            lumis_sampler_method method = configs[c].method;
+            double v[2];
+            lumis_vec3 up = {0.0f, 1.0f, 0.0f};
+            if (method == LUMIS_METHOD_ALIAS || method == LUMIS_METHOD_KDTREE ||
+                method == LUMIS_METHOD_KDTREE_EXACT) {
+                assert_int_equal(lumis_sampler_invert(s, up, v), LUMIS_ERR_UNSUPPORTED);
+                lumis_sampler_destroy(s);
+                continue;
+            }
+            assert_int_equal(lumis_sampler_invert(s, (lumis_vec3){0, 0, 0}, v),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            assert_int_equal(lumis_sampler_invert(s, up, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+            double worst_u = 0.0, worst_dir = 0.0;
+            for (int k = 0; k < 5000; k++) {
+                double u[2] = {lumis_pcg32_double(&rng), lumis_pcg32_double(&rng)};
+                lumis_env_sample e = lumis_sampler_sample(s, u[0], u[1]);
+                assert_int_equal(lumis_sampler_invert(s, e.dir, v), LUMIS_OK);
+                double du = fmax(fabs(v[0] - u[0]), fabs(v[1] - u[1]));
+                if (du > worst_u) worst_u = du;
+                /* Any direction: through u and back. */
+                lumis_vec3 d = {(float)(lumis_pcg32_double(&rng) - 0.5),
+                                (float)(lumis_pcg32_double(&rng) - 0.5),
+                                (float)(lumis_pcg32_double(&rng) - 0.5)};
+                assert_int_equal(lumis_sampler_invert(s, d, v), LUMIS_OK);
+                assert_true(v[0] >= 0.0 && v[0] < 1.0 && v[1] >= 0.0 && v[1] < 1.0);
+                lumis_env_sample b = lumis_sampler_sample(s, v[0], v[1]);
+                assert_true(b.pdf > 0.0f); /* even from a pixel never drawn */
+                if (lumis_sampler_pdf(s, d) > 0.0f) {
+                    double a = angle_between(b.dir, d);
+                    if (a > worst_dir) worst_dir = a;
+                }
+            }
+            /* Float directions carry about 1e-7 rad; a pixel of these maps is >= 0.1 rad
+             * wide in azimuth and the polar rows >= 0.005 in cos theta. */
+            if (worst_u > 2e-5 || worst_dir > 2e-6)
+                fail_msg("%s on %s: |invert(sample(u)) - u| up to %g, angle(sample(invert(d)), "
+                         "d) up to %g rad",
+                         configs[c].name, maps[m].name, worst_u, worst_dir);
+            lumis_sampler_destroy(s);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* A pixel of probability 0 inverts to where its share of [0, 1)^2 would start. */
+static void invert_of_a_dark_pixel(void **state)
+{
+    (void)state;
+    const map_case holes = {"holes", 20, 16, f_holes, 0.0f, 0};
+    lumis_envmap *env = make_map(&holes);
+    lumis_sampler_desc d = {0};
+    d.method = LUMIS_METHOD_INVERSION;
+    lumis_sampler *s = NULL;
+    assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+    /* Pixel (2, 3) is dark in a lit row: u1 lies where pixel 3 of that row begins, u2
+     * inside the row. */
+    double u[2], left[2];
+    lumis_vec3 dark = cell_dir(env, 2, 3, 1, 0, 0), next = cell_dir(env, 3, 3, 4, 0, 0);
+    assert_true(lumis_sampler_pdf(s, dark) == 0.0f);
+    assert_int_equal(lumis_sampler_invert(s, dark, u), LUMIS_OK);
+    assert_int_equal(lumis_sampler_invert(s, next, left), LUMIS_OK);
+    assert_true(u[0] <= left[0] && left[0] - u[0] < 0.01);
+    int i, j;
+    lumis_env_sample e = lumis_sampler_sample(s, u[0], u[1]);
+    lumis_envmap_dir_to_pixel(env, e.dir, &i, &j);
+    assert_int_equal(j, 3);
+    assert_int_equal(i, 3);
+    lumis_sampler_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
 /* ---- specific properties ------------------------------------------------------------- */
 
 static float f_black(int i, int j, int c)
@@ -773,6 +873,8 @@ int main(void)
         cmocka_unit_test(power_estimates_are_unbiased),
         cmocka_unit_test(exact_samplers_line_up_with_eval),
         cmocka_unit_test(exact_on_small_pixels),
+        cmocka_unit_test(invert_round_trips),
+        cmocka_unit_test(invert_of_a_dark_pixel),
         cmocka_unit_test(weights_are_bounded),
         cmocka_unit_test(black_map_falls_back_to_uniform_and_says_so),
         cmocka_unit_test(sampler_keeps_its_map_alive),
