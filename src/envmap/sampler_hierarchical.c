@@ -82,7 +82,19 @@ static void hier_pick(const lumis_sampler *s, double u1, double u2, lumis__pick 
     const pyramid *py = s->data;
     int x = 0, y = 0;
     double prob = 1.0;
-    for (int k = 1; k < py->count; k++) hier_step(&py->levels[k], &x, &y, &u1, &u2, &prob);
+    for (int k = 1; k < py->count; k++) {
+#if defined(__GNUC__) || defined(__clang__)
+        /* Whichever child this level picks, the next level reads within columns
+         * 4x..4x+3 of rows 4y..4y+3: fetch those rows now, not after the choice. */
+        if (k + 1 < py->count) {
+            const level *n = &py->levels[k + 1];
+            int cx = 4 * x < n->w ? 4 * x : n->w - 1;
+            for (int r = 4 * y; r < 4 * y + 4 && r < n->h; r++)
+                __builtin_prefetch(n->v + (size_t)r * (size_t)n->w + (size_t)cx);
+        }
+#endif
+        hier_step(&py->levels[k], &x, &y, &u1, &u2, &prob);
+    }
     fill(s, x, y, u1, u2, prob, p);
 }
 
