@@ -97,6 +97,21 @@ float lumis_sampler_pdf(const lumis_sampler *sampler, lumis_vec3 dir);
  * pixel conversion instead of two. */
 float lumis_sampler_pdf_radiance(const lumis_sampler *sampler, lumis_vec3 dir, lumis_rgb *radiance);
 
+/* The inverse of sample(): the (u1, u2) in [0, 1)^2 that sample() maps to world direction
+ * dir (need not be normalized), in u[0] and u[1].  Defined for the continuous, one-to-one
+ * warps: inversion, inversion-guided, hierarchical and uniform (and the uniform fallback);
+ * alias and the kd-tree methods shuffle [0, 1)^2 (a column's two outcomes share it, blocks
+ * are reordered), so they have no inverse and return LUMIS_ERR_UNSUPPORTED.  Zero vector,
+ * non-finite dir or NULL arguments: LUMIS_ERR_INVALID_ARGUMENT.
+ * Round trips: sample(invert(dir)).dir == dir to float rounding, and invert(sample(u).dir)
+ * == u to float rounding of the direction, when dir's pixel has probability > 0.  A pixel
+ * of probability 0 (pdf(dir) == 0) is never drawn: invert returns the point of [0, 1)^2
+ * where its empty share would be (the CDF, or split, at its edge), which sample() maps into
+ * a neighbouring pixel that has light; within a row without light u1 is the azimuth in
+ * turns.  Cost: one pixel lookup (an atan2) plus, for hierarchical, one split per level.
+ * Derivation: docs/samplers.md. */
+lumis_status lumis_sampler_invert(const lumis_sampler *sampler, lumis_vec3 dir, double u[2]);
+
 /* The envmap the sampler draws from (it holds a reference to it). */
 const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *sampler);
 

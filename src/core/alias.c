@@ -10,15 +10,24 @@
 
 #include <stdlib.h>
 
-lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
+/* Values are all set before the first call, so the alias's value can be copied. */
+static void set_bin(lumis__alias *a, uint32_t k, uint32_t thresh, uint32_t alias)
+{
+    a->bin[k].thresh = thresh;
+    a->bin[k].alias = alias;
+    a->bin[k].alias_value = a->bin[alias].value;
+}
+
+lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
+                                lumis__alias_value_fn value, const void *ctx)
 {
     const uint64_t one = (uint64_t)1 << 32;
     a->n = n;
-    a->col = malloc((size_t)n * sizeof(lumis__alias_column));
-    a->pmf = malloc((size_t)n * sizeof(float));
+    /* 16-byte bins, 16-byte aligned: no bin straddles two cache lines. */
+    a->bin = aligned_alloc(16, (size_t)n * sizeof(lumis__alias_bin));
     uint64_t *units = malloc((size_t)n * sizeof(uint64_t));
     uint32_t *work = malloc((size_t)n * sizeof(uint32_t));
-    if (!a->col || !a->pmf || !units || !work) {
+    if (!a->bin || !units || !work) {
         free(units);
         free(work);
         lumis__alias_free(a);
@@ -26,7 +35,10 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
     }
     lumis__quantize(w, n, (uint64_t)n << 32, units);
     const double inv_total = 1.0 / ((double)n * LUMIS__ONE32);
-    for (uint32_t i = 0; i < n; i++) a->pmf[i] = (float)((double)units[i] * inv_total);
+    for (uint32_t i = 0; i < n; i++) {
+        double prob = (double)units[i] * inv_total;
+        a->bin[i].value = value ? value(ctx, i, prob) : (float)prob;
+    }
 
     /* Vose: small entries (under one column) fill up from large ones.  `work` holds the
      * small stack growing up from 0 and the large stack growing down from n. */
@@ -40,7 +52,7 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
     while (ns > 0 && nl > 0) {
         uint32_t s = work[--ns];
         uint32_t l = work[n - nl]; /* top of the large stack */
-        a->col[s] = (lumis__alias_column){(uint32_t)units[s], l};
+        set_bin(a, s, (uint32_t)units[s], l);
         units[l] -= one - units[s];
         if (units[l] < one) {
             nl--;
@@ -50,11 +62,11 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
     /* What remains holds exactly one column each (the arithmetic is exact). */
     while (nl > 0) {
         uint32_t l = work[n - nl--];
-        a->col[l] = (lumis__alias_column){0xffffffffu, l};
+        set_bin(a, l, 0xffffffffu, l);
     }
     while (ns > 0) {
         uint32_t s = work[--ns];
-        a->col[s] = (lumis__alias_column){0xffffffffu, s};
+        set_bin(a, s, 0xffffffffu, s);
     }
     free(units);
     free(work);
@@ -63,8 +75,6 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n)
 
 void lumis__alias_free(lumis__alias *a)
 {
-    free(a->col);
-    free(a->pmf);
-    a->col = NULL;
-    a->pmf = NULL;
+    free(a->bin);
+    a->bin = NULL;
 }

@@ -85,25 +85,16 @@ void lumis__cdf_free(lumis__cdf *c)
 
 uint32_t lumis__cdf_sample(const lumis__cdf *c, double u, double *frac)
 {
-    double x = u * LUMIS__ONE32; /* exact: a power-of-two scaling */
-    uint64_t t = (uint64_t)x;
-    if (t > 0xffffffffu) t = 0xffffffffu;
-    /* Largest i < m with cdf[i] <= t, in [lo, hi]. */
-    uint32_t lo = 0, hi = c->m - 1;
-    if (c->guide) {
-        uint32_t k = (uint32_t)((t * c->n) >> 32);
-        lo = c->guide[k];
-        hi = c->guide[k + 1];
+    lumis__cdf_search q = lumis__cdf_search_start(c, u);
+    while (q.len > 1) {
+#if defined(__GNUC__) || defined(__clang__)
+        /* Both lookups the next step may make: what a predicted branch used to fetch
+         * early, without the misprediction. */
+        uint32_t half = q.len / 2, next = (q.len - half) / 2;
+        __builtin_prefetch(c->cdf + q.lo + next);
+        __builtin_prefetch(c->cdf + q.lo + half + next);
+#endif
+        lumis__cdf_search_step(c, &q);
     }
-    while (lo < hi) {
-        uint32_t mid = lo + (hi - lo + 1) / 2;
-        if (c->cdf[mid] <= t)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    uint64_t next = lo + 1 < c->m ? c->cdf[lo + 1] : (uint64_t)1 << 32;
-    *frac = (x - (double)c->cdf[lo]) / (double)(next - c->cdf[lo]);
-    if (*frac >= 1.0) *frac = 0x1.fffffffffffffp-1;
-    return lo;
+    return lumis__cdf_search_end(c, &q, frac);
 }

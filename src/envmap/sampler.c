@@ -147,6 +147,7 @@ lumis_status lumis_sampler_create(const lumis_envmap *env, const lumis_sampler_d
             st = lumis__kdtree_init(s, imp, desc);
     }
     free(imp);
+    s->inv_w = 1.0 / s->w;
     if (st != LUMIS_OK) {
         if (s->m && s->m->destroy) s->m->destroy(s);
         free(s);
@@ -170,26 +171,60 @@ void lumis_sampler_destroy(lumis_sampler *s)
 
 /* ---- sampling ------------------------------------------------------------------------ */
 
-/* Point (s, t) of the rectangle -> map-frame direction, uniform in solid angle (or in
- * angles), in double precision; *cos_theta reports where it went. */
-static void warp(const lumis_sampler *smp, const lumis__pick *p, double s, double t, double d[3],
-                 double *cos_theta)
+/* The per-sample path is inlined into sample() and sample_n(); rare paths are not. */
+#if defined(__GNUC__) || defined(__clang__)
+#define LUMIS__INLINE   static inline __attribute__((always_inline))
+#define LUMIS__NOINLINE static __attribute__((noinline))
+#else
+#define LUMIS__INLINE   static inline
+#define LUMIS__NOINLINE static
+#endif
+
+/* sin and cos of 2 pi a for a >= 0 (a in turns), to about 2e-9: far below the float
+ * rounding of the direction, and a fraction of libm's cost.  The argument is reduced to
+ * the nearest quarter turn in double (exact to 1e-16), then truncated Taylor series on
+ * |r| <= pi/4 (remainders r^11/11! < 1.8e-9 and r^12/12! < 1.2e-10). */
+static inline void sincos_turns(double a, double *sn, double *cs)
 {
-    const lumis_envmap *env = smp->env;
-    double phi = 2.0 * LUMIS_PI * (p->x0 + s * (p->x1 - p->x0)) / env->width;
-    double c, st;
-    if (smp->m->uniform_angles) {
-        double theta = LUMIS_PI * (p->y0 + t * (p->y1 - p->y0)) / env->height;
-        c = cos(theta);
-        st = sin(theta);
-    } else {
-        c = env->cos_row[p->y0] + t * (env->cos_row[p->y1] - env->cos_row[p->y0]);
-        st = sqrt(fmax(0.0, (1.0 - c) * (1.0 + c)));
-    }
-    d[0] = st * cos(phi);
-    d[1] = c;
-    d[2] = st * sin(phi);
-    *cos_theta = c;
+    int q = (int)(a * 4.0 + 0.5);
+    double r = (a - 0.25 * q) * (2.0 * LUMIS_PI), r2 = r * r;
+    double s =
+        r + r * r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880))));
+    double c =
+        1.0 + r2 * (-0.5 + r2 * (1.0 / 24 +
+                                 r2 * (-1.0 / 720 + r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800)))));
+    /* Quadrant q: swap for odd q and flip signs, on the bits: the quadrant is random, and
+     * a mispredicted branch here would discard the work of the samples after it. */
+    uint64_t sb, cb, swap = 0 - (uint64_t)(q & 1);
+    memcpy(&sb, &s, sizeof s);
+    memcpy(&cb, &c, sizeof c);
+    uint64_t a1 = ((cb & swap) | (sb & ~swap)) ^ ((uint64_t)(q & 2) << 62);
+    uint64_t a2 = ((sb & swap) | (cb & ~swap)) ^ ((uint64_t)((q + 1) & 2) << 62);
+    memcpy(sn, &a1, sizeof a1);
+    memcpy(cs, &a2, sizeof a2);
+}
+
+/* The row holding cos theta = c within rows [y0, y1): the largest j with cos_row[j] >= c.
+ * theta from Abramowitz and Stegun's 4.4.46 (error below 2e-8 rad, a row is pi / h)
+ * names the row or a neighbour; two comparisons settle it.  No table, no search. */
+static int find_row(const lumis_envmap *env, double c, int y0, int y1)
+{
+    const double *cr = env->cos_row;
+    double x = c < 0.0 ? -c : c;
+    double a = sqrt(1.0 - x) *
+               (1.5707963050 +
+                x * (-0.2145988016 +
+                     x * (0.0889789874 +
+                          x * (-0.0501743046 +
+                               x * (0.0308918810 + x * (-0.0170881256 +
+                                                        x * (0.0066700901 - 0.0012624911 * x)))))));
+    double theta = c < 0.0 ? LUMIS_PI - a : a;
+    int j = (int)(theta * (env->height / LUMIS_PI));
+    if (j < y0) j = y0;
+    if (j > y1 - 1) j = y1 - 1;
+    while (j > y0 && cr[j] < c) j--;
+    while (j < y1 - 1 && cr[j + 1] >= c) j++;
+    return j;
 }
 
 /* sin(theta) of a world direction, as both sample() and pdf() compute it. */
@@ -199,11 +234,14 @@ static double sin_theta(lumis_vec3 d)
     return xz / sqrt(xz * xz + (double)d.y * d.y);
 }
 
-static float final_pdf(const lumis_sampler *s, double density, lumis_vec3 dir)
+LUMIS__INLINE float final_pdf(const lumis_sampler *s, double density, lumis_vec3 dir)
 {
     /* Uniform in angles, the density grows as 1 / sin(theta) towards a pole; at the pole
      * itself (a set of measure zero) it is capped so it stays finite. */
-    if (s->m->uniform_angles) density /= fmax(sin_theta(dir), 1e-12);
+    if (s->m->uniform_angles) {
+        double st = sin_theta(dir);
+        density /= st > 1e-12 ? st : 1e-12;
+    }
     return density < FLT_MAX ? (float)density : FLT_MAX;
 }
 
@@ -213,59 +251,94 @@ static double clamp_u(double u)
     return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
 }
 
-/* Rounding a direction to float moves it by about 1e-7 radians; a point at least this
- * far (in radians, or in cos theta, which changes no faster) from every edge of its pixel
- * is certain to look up that pixel again. */
+/* Rounding a direction to float moves it by about 1e-7 radians (the warp's own error is
+ * 2e-9); a point at least this far (in radians, or in cos theta, which changes no faster)
+ * from every edge of its pixel is certain to look up that pixel again. */
 #define EDGE_MARGIN 1e-6
 
-/* The pixel holding the warped point, and whether it is clear of that pixel's edges. */
-static int locate(const lumis_sampler *smp, const lumis__pick *p, double s, double c, int *pi,
-                  int *pj)
+/* Point (s, t) of the rectangle -> map-frame direction m, uniform in solid angle (or in
+ * angles), and the pixel holding it; returns whether the point is clear of that pixel's
+ * edges.  A one-pixel rectangle (inversion, alias, hierarchical) is its own pixel. */
+LUMIS__INLINE int warp(const lumis_sampler *smp, const lumis__pick *p, double s, double t,
+                       double m[3], int *pi, int *pj)
 {
     const lumis_envmap *env = smp->env;
-    double x = s * (p->x1 - p->x0);
+    const int nx = p->x1 - p->x0;
+    double x = s * nx;
     int i = (int)x;
-    if (i >= p->x1 - p->x0) i = p->x1 - p->x0 - 1;
+    if (i >= nx) i = nx - 1;
     double fx = x - i;
-    *pi = p->x0 + i;
-    /* The row: cos theta decreases down the rows; binary search within the rectangle. */
-    int lo = p->y0, hi = p->y1 - 1;
-    while (lo < hi) {
-        int mid = (lo + hi + 1) / 2;
-        if (env->cos_row[mid] >= c)
-            lo = mid;
-        else
-            hi = mid - 1;
+    double c, st;
+    if (smp->m->uniform_angles) {
+        /* theta / 2 pi = v / 2 */
+        sincos_turns((p->y0 + t * (p->y1 - p->y0)) * (0.5 / env->height), &st, &c);
+    } else {
+        double c0 = env->cos_row[p->y0], c1 = env->cos_row[p->y1];
+        c = c0 + t * (c1 - c0);
+        double s2 = (1.0 - c) * (1.0 + c);
+        st = sqrt(s2 > 0.0 ? s2 : 0.0);
     }
-    *pj = lo;
-    double dphi = 2.0 * LUMIS_PI / env->width * fmin(fx, 1.0 - fx);
-    double dcos = fmin(env->cos_row[lo] - c, c - env->cos_row[lo + 1]);
-    return dphi >= EDGE_MARGIN && dcos >= EDGE_MARGIN;
+    int j = p->y1 - p->y0 == 1 ? p->y0 : find_row(env, c, p->y0, p->y1);
+    *pi = p->x0 + i;
+    *pj = j;
+#if defined(__GNUC__) || defined(__clang__)
+    /* The radiance is read last; start bringing it in while the direction is computed. */
+    __builtin_prefetch(env->pixels + 3 * ((size_t)j * (size_t)env->width + (size_t)*pi));
+#endif
+    double sp, cp;
+    sincos_turns((p->x0 + x) * smp->inv_w, &sp, &cp);
+    m[0] = st * cp;
+    m[1] = c;
+    m[2] = st * sp;
+    /* Distances to the four edges, in radians (azimuth) and in cos theta; minima written
+     * so that they compile to minsd, not to branches on random data. */
+    double gx = 1.0 - fx, ex = fx < gx ? fx : gx;
+    double dphi = (2.0 * LUMIS_PI) * smp->inv_w * ex;
+    double up = env->cos_row[j] - c, down = c - env->cos_row[j + 1];
+    double d = up < down ? up : down;
+    d = dphi < d ? dphi : d;
+    return d >= EDGE_MARGIN;
 }
 
-/* Direction of a picked point and the pixel it lies in (pixel index into *pixel). */
-static void place(const lumis_sampler *s, const lumis__pick *p, lumis_vec3 *dir, size_t *pixel)
+static void to_world(const lumis_envmap *env, const double m[3], lumis_vec3 *dir)
+{
+    dir->x = (float)(env->cos_rot * m[0] - env->sin_rot * m[2]);
+    dir->y = (float)m[1];
+    dir->z = (float)(env->sin_rot * m[0] + env->cos_rot * m[2]);
+}
+
+/* A point within rounding distance of an edge (about one sample in 10^3): look the
+ * rounded direction up as pdf() will, and if it left the rectangle pull the point
+ * inwards, so that direction, pdf and radiance always belong together.  Out of line: it
+ * keeps the common path short. */
+LUMIS__NOINLINE size_t place_near_edge(const lumis_sampler *s, const lumis__pick *p,
+                                       lumis_vec3 *dir)
 {
     const lumis_envmap *env = s->env;
     int pi = 0, pj = 0;
     double s0 = p->s, t0 = p->t;
     for (int attempt = 0;; attempt++) {
-        double m[3], c;
-        warp(s, p, s0, t0, m, &c);
-        int clear = locate(s, p, s0, c, &pi, &pj);
-        dir->x = (float)(env->cos_rot * m[0] - env->sin_rot * m[2]);
-        dir->y = (float)m[1];
-        dir->z = (float)(env->sin_rot * m[0] + env->cos_rot * m[2]);
-        if (clear) break;
-        /* Within rounding distance of an edge (about one sample in 10^3): look the
-         * rounded direction up as pdf() will, and if it left the rectangle pull the point
-         * inwards, so that direction, pdf and radiance always belong together. */
         lumis_envmap_dir_to_pixel(env, *dir, &pi, &pj);
         if ((pi >= p->x0 && pi < p->x1 && pj >= p->y0 && pj < p->y1) || attempt == 3) break;
         s0 = attempt < 2 ? 0.5 + (s0 - 0.5) * 0.999 : 0.5;
         t0 = attempt < 2 ? 0.5 + (t0 - 0.5) * 0.999 : 0.5;
+        double m[3];
+        int clear = warp(s, p, s0, t0, m, &pi, &pj);
+        to_world(env, m, dir);
+        if (clear) break;
     }
-    *pixel = (size_t)pj * (size_t)env->width + (size_t)pi;
+    return (size_t)pj * (size_t)env->width + (size_t)pi;
+}
+
+/* Direction of a picked point; returns the pixel it lies in. */
+LUMIS__INLINE size_t place(const lumis_sampler *s, const lumis__pick *p, lumis_vec3 *dir)
+{
+    double m[3];
+    int pi, pj;
+    int clear = warp(s, p, p->s, p->t, m, &pi, &pj);
+    to_world(s->env, m, dir);
+    if (!clear) return place_near_edge(s, p, dir);
+    return (size_t)pj * (size_t)s->env->width + (size_t)pi;
 }
 
 static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
@@ -280,8 +353,7 @@ lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double 
     lumis__pick p;
     s->m->pick(s, clamp_u(u1), clamp_u(u2), &p);
     lumis_env_sample r;
-    size_t pixel;
-    place(s, &p, &r.dir, &pixel);
+    size_t pixel = place(s, &p, &r.dir);
     r.pdf = final_pdf(s, p.density, r.dir);
     r.radiance = radiance(s->env, pixel);
     return r;
@@ -293,15 +365,19 @@ lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double 
 void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
                             lumis_env_sample *out)
 {
-    enum { BATCH = 32 };
+    enum { BATCH = LUMIS__BATCH };
     lumis__pick p[BATCH];
     size_t pixel[BATCH];
+    double uc[2 * BATCH];
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         size_t m = n - k0 < BATCH ? n - k0 : BATCH;
-        for (size_t k = 0; k < m; k++)
-            s->m->pick(s, clamp_u(u[2 * (k0 + k)]), clamp_u(u[2 * (k0 + k) + 1]), &p[k]);
+        for (size_t k = 0; k < 2 * m; k++) uc[k] = clamp_u(u[2 * k0 + k]);
+        if (s->m->pick_n)
+            s->m->pick_n(s, uc, (int)m, p);
+        else
+            for (size_t k = 0; k < m; k++) s->m->pick(s, uc[2 * k], uc[2 * k + 1], &p[k]);
         for (size_t k = 0; k < m; k++) {
-            place(s, &p[k], &out[k0 + k].dir, &pixel[k]);
+            pixel[k] = place(s, &p[k], &out[k0 + k].dir);
 #if defined(__GNUC__) || defined(__clang__)
             __builtin_prefetch(s->env->pixels + 3 * pixel[k]);
 #endif
@@ -333,6 +409,31 @@ float lumis_sampler_pdf_radiance(const lumis_sampler *s, lumis_vec3 dir, lumis_r
     float pdf = pdf_and_pixel(s, dir, &i, &j);
     *radiance = i >= 0 ? lumis_envmap_texel(s->env, i, j) : (lumis_rgb){0.0f, 0.0f, 0.0f};
     return pdf;
+}
+
+lumis_status lumis_sampler_invert(const lumis_sampler *s, lumis_vec3 dir, double u[2])
+{
+    if (!s || !u) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!s->m->invert) return LUMIS_ERR_UNSUPPORTED;
+    double len = sqrt((double)dir.x * dir.x + (double)dir.y * dir.y + (double)dir.z * dir.z);
+    if (!(len > 0.0) || !(len < INFINITY)) return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_envmap *env = s->env;
+    /* The pixel from the lookup pdf() and eval() use; the point inside it from the same
+     * coordinates the warp produced: azimuth in turns and cos theta. */
+    int i, j;
+    lumis_envmap_dir_to_pixel(env, dir, &i, &j);
+    double mx = env->cos_rot * dir.x + env->sin_rot * dir.z;
+    double mz = -env->sin_rot * dir.x + env->cos_rot * dir.z;
+    double a = atan2(mz, mx) * (0.5 / LUMIS_PI);
+    if (a < 0.0) a += 1.0;
+    if (!(a < 1.0)) a = 0.0; /* as lumis_envmap_dir_to_pixel: 2 pi wraps to column 0 */
+    double ps = a * s->w - i;
+    double c = dir.y / len;
+    double pt = (env->cos_row[j] - c) / (env->cos_row[j] - env->cos_row[j + 1]);
+    ps = ps > 0.0 ? (ps < 1.0 ? ps : 0x1.fffffffffffffp-1) : 0.0;
+    pt = pt > 0.0 ? (pt < 1.0 ? pt : 0x1.fffffffffffffp-1) : 0.0;
+    s->m->invert(s, i, j, ps, pt, u);
+    return LUMIS_OK;
 }
 
 const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *s)
@@ -389,8 +490,20 @@ static double uniform_density(const lumis_sampler *s, int i, int j)
     return 1.0 / (4.0 * LUMIS_PI);
 }
 
+/* The whole map is one rectangle: u1 is the azimuth in turns, u2 (1 - cos theta) / 2. */
+static void uniform_invert(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2])
+{
+    const double *cr = s->env->cos_row;
+    double c = cr[j] + pt * (cr[j + 1] - cr[j]);
+    u[0] = (i + ps) * s->inv_w;
+    u[1] = 0.5 * (1.0 - c);
+    if (u[0] >= 1.0) u[0] = 0x1.fffffffffffffp-1;
+    if (u[1] >= 1.0) u[1] = 0x1.fffffffffffffp-1;
+}
+
 /* Cost: no table lookups. */
-static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0};
+static const lumis__method uniform_method = {uniform_pick, uniform_density, NULL, 0,
+                                             NULL,         uniform_invert};
 
 lumis_status lumis__uniform_init(lumis_sampler *s)
 {

@@ -43,37 +43,31 @@ static void split(const level *l, int x, int y, double *p_left, double *p_top_le
     *p_top_right = right > 0.0 ? b / right : 0.0;
 }
 
-static void hier_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p)
+/* One level down: (x, y) becomes a child of the 2 x 2 block under it.  The choices are
+ * coin flips on the data, so they are selects, not branches (a mispredicted branch would
+ * discard the work queued behind it); the arithmetic is what pdf() repeats. */
+static inline void hier_step(const level *l, int *x, int *y, double *u1, double *u2, double *prob)
 {
-    const pyramid *py = s->data;
-    int x = 0, y = 0;
-    double prob = 1.0;
-    for (int k = 1; k < py->count; k++) {
-        const level *l = &py->levels[k];
-        x *= 2;
-        y *= 2;
-        double pl, ptl, ptr;
-        split(l, x, y, &pl, &ptl, &ptr);
-        if (u1 < pl) {
-            u1 /= pl;
-            prob *= pl;
-        } else {
-            u1 = (u1 - pl) / (1.0 - pl);
-            prob *= 1.0 - pl;
-            x++;
-            ptl = ptr;
-        }
-        if (u2 < ptl) {
-            u2 /= ptl;
-            prob *= ptl;
-        } else {
-            u2 = (u2 - ptl) / (1.0 - ptl);
-            prob *= 1.0 - ptl;
-            y++;
-        }
-        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
-        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
-    }
+    double pl, ptl, ptr;
+    split(l, 2 * *x, 2 * *y, &pl, &ptl, &ptr);
+    int right = !(*u1 < pl);
+    double pc = right ? 1.0 - pl : pl;
+    *u1 = (right ? *u1 - pl : *u1) / pc;
+    double pt = right ? ptr : ptl;
+    int down = !(*u2 < pt);
+    double pr = down ? 1.0 - pt : pt;
+    *u2 = (down ? *u2 - pt : *u2) / pr;
+    *prob *= pc;
+    *prob *= pr;
+    *x = 2 * *x + right;
+    *y = 2 * *y + down;
+    if (*u1 >= 1.0) *u1 = 0x1.fffffffffffffp-1;
+    if (*u2 >= 1.0) *u2 = 0x1.fffffffffffffp-1;
+}
+
+static void fill(const lumis_sampler *s, int x, int y, double u1, double u2, double prob,
+                 lumis__pick *p)
+{
     p->x0 = x;
     p->x1 = x + 1;
     p->y0 = y;
@@ -81,6 +75,101 @@ static void hier_pick(const lumis_sampler *s, double u1, double u2, lumis__pick 
     p->s = u1;
     p->t = u2;
     p->density = prob / s->env->row_solid_angle[y];
+}
+
+/* One sample alone: branches, whose prediction starts the next level's reads before the
+ * comparison resolves; measured faster here than selects, even prefetched (for a batch,
+ * hier_step interleaves instead).  The same arithmetic as hier_step. */
+static void hier_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p)
+{
+    const pyramid *py = s->data;
+    int x = 0, y = 0;
+    double prob = 1.0;
+    for (int k = 1; k < py->count; k++) {
+        double pl, ptl, ptr;
+        split(&py->levels[k], 2 * x, 2 * y, &pl, &ptl, &ptr);
+        x *= 2;
+        y *= 2;
+        double pc, pt, pr;
+        if (u1 < pl) {
+            pc = pl;
+            u1 = u1 / pc;
+            pt = ptl;
+        } else {
+            pc = 1.0 - pl;
+            u1 = (u1 - pl) / pc;
+            pt = ptr;
+            x++;
+        }
+        if (u2 < pt) {
+            pr = pt;
+            u2 = u2 / pr;
+        } else {
+            pr = 1.0 - pt;
+            u2 = (u2 - pt) / pr;
+            y++;
+        }
+        prob *= pc;
+        prob *= pr;
+        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
+        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
+    }
+    fill(s, x, y, u1, u2, prob, p);
+}
+
+/* A batch descends level by level, all samples at once, each prefetching the block it
+ * reads on the next level: a batch of lookups in flight instead of one chain. */
+static void hier_pick_n(const lumis_sampler *s, const double *u, int n, lumis__pick *out)
+{
+    const pyramid *py = s->data;
+    int x[LUMIS__BATCH], y[LUMIS__BATCH];
+    double u1[LUMIS__BATCH], u2[LUMIS__BATCH], prob[LUMIS__BATCH];
+    for (int k = 0; k < n; k++) {
+        x[k] = y[k] = 0;
+        u1[k] = u[2 * k];
+        u2[k] = u[2 * k + 1];
+        prob[k] = 1.0;
+    }
+    for (int lv = 1; lv < py->count; lv++) {
+        const level *l = &py->levels[lv], *next = lv + 1 < py->count ? l + 1 : NULL;
+        for (int k = 0; k < n; k++) {
+            hier_step(l, &x[k], &y[k], &u1[k], &u2[k], &prob[k]);
+#if defined(__GNUC__) || defined(__clang__)
+            if (next) {
+                /* The next block's two rows (at() keeps reads inside the level). */
+                int nx = 2 * x[k] < next->w ? 2 * x[k] : next->w - 1;
+                int ny = 2 * y[k] < next->h ? 2 * y[k] : next->h - 1;
+                const double *r0 = next->v + (size_t)ny * (size_t)next->w + (size_t)nx;
+                __builtin_prefetch(r0);
+                if (ny + 1 < next->h) __builtin_prefetch(r0 + next->w);
+            }
+#endif
+        }
+    }
+    for (int k = 0; k < n; k++) fill(s, x[k], y[k], u1[k], u2[k], prob[k], &out[k]);
+}
+
+/* Up the pyramid, undoing hier_step level by level: a child chosen with probability p
+ * from the part [a, a + p) of [0, 1) maps u' back to a + u' p.  The same split()
+ * arithmetic as sampling.  A pixel of probability 0 gets the point where its empty
+ * part of [0, 1) sits (u' p = 0 there). */
+static void hier_invert(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2])
+{
+    const pyramid *py = s->data;
+    double u1 = ps, u2 = pt;
+    for (int k = py->count - 1; k >= 1; k--) {
+        int shift = py->count - 1 - k;
+        int cx = i >> shift, cy = j >> shift;
+        double pl, ptl, ptr;
+        split(&py->levels[k], cx & ~1, cy & ~1, &pl, &ptl, &ptr);
+        double ptop = (cx & 1) ? ptr : ptl;
+        u2 = (cy & 1) ? ptop + u2 * (1.0 - ptop) : u2 * ptop;
+        u1 = (cx & 1) ? pl + u1 * (1.0 - pl) : u1 * pl;
+        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
+        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
+    }
+    u[0] = u1;
+    u[1] = u2;
 }
 
 static double hier_density(const lumis_sampler *s, int i, int j)
@@ -108,7 +197,8 @@ static void hier_destroy(lumis_sampler *s)
     free(py);
 }
 
-static const lumis__method hier_method = {hier_pick, hier_density, hier_destroy, 0};
+static const lumis__method hier_method = {hier_pick, hier_density, hier_destroy,
+                                          0,         hier_pick_n,  hier_invert};
 
 lumis_status lumis__hierarchical_init(lumis_sampler *s, const double *imp)
 {

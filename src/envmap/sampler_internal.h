@@ -29,7 +29,15 @@ typedef struct lumis__method {
     /* 0: density is per steradian (uniform in solid angle inside the rectangle).
      * 1: density is per unit of (phi, theta): the sampler divides by sin(theta). */
     int uniform_angles;
+    /* Optional: pick() for n <= LUMIS__BATCH pairs u[0..2n) (already clamped to [0, 1)),
+     * with the same results, its lookups interleaved so their cache misses overlap. */
+    void (*pick_n)(const lumis_sampler *s, const double *u, int n, lumis__pick *out);
+    /* Optional (continuous, one-to-one warps): the u that pick() maps to pixel (i, j) and
+     * point (s, t) in it.  NULL: lumis_sampler_invert() reports LUMIS_ERR_UNSUPPORTED. */
+    void (*invert)(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2]);
 } lumis__method;
+
+enum { LUMIS__BATCH = 32 }; /* samples in flight in sample_n() */
 
 struct lumis_sampler {
     const lumis__method *m;
@@ -41,7 +49,8 @@ struct lumis_sampler {
     size_t table_bytes, total_bytes;
     double kd_alpha;
     int kd_blocks;
-    void *data; /* the method's own tables */
+    double inv_w; /* 1 / w: a column to an azimuth without a division */
+    void *data;   /* the method's own tables */
 };
 
 /* Per-pixel importance (w * h doubles, row-major) as the descriptor asks, with MIS

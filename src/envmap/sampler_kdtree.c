@@ -167,13 +167,28 @@ static void kd_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p
     fill_pick(s, i, prob, (u1 - P0) / prob, u2, p);
 }
 
-/* Cost: O(1): two alias lookups, then the block's bounds. */
+/* The alias bins of kdtree-exact store each block's density (its probability over its
+ * solid angle), rounded once to float: what sample() and pdf() both return. */
+static float exact_block_density(const void *ctx, uint32_t i, double prob)
+{
+    return (float)block_density(ctx, (int)i, prob);
+}
+
+/* Cost: O(1): one alias bin (density included), then the block's bounds. */
 static void kd_exact_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p)
 {
     const kdtree *t = s->data;
     double fs, ft;
-    uint32_t i = lumis__alias_sample(&t->exact, u1, u2, &fs, &ft);
-    fill_pick(s, (int)i, t->exact.pmf[i], fs, ft, p);
+    float density;
+    uint32_t i = lumis__alias_sample(&t->exact, u1, u2, &fs, &ft, &density);
+    const block *b = &t->blocks[i];
+    p->x0 = b->x0;
+    p->y0 = b->y0;
+    p->x1 = b->x1;
+    p->y1 = b->y1;
+    p->s = fs;
+    p->t = ft;
+    p->density = density;
 }
 
 /* The rank of the block holding pixel (i, j): down the tree, O(depth). */
@@ -197,8 +212,7 @@ static double kd_density(const lumis_sampler *s, int i, int j)
 static double kd_exact_density(const lumis_sampler *s, int i, int j)
 {
     const kdtree *t = s->data;
-    int b = find_block(t, i, j);
-    return block_density(s, b, t->exact.pmf[b]);
+    return lumis__alias_value(&t->exact, (uint32_t)find_block(t, i, j));
 }
 
 static void kd_destroy(lumis_sampler *s)
@@ -211,9 +225,10 @@ static void kd_destroy(lumis_sampler *s)
     free(t);
 }
 
-static const lumis__method kd_method = {kd_pick, kd_density, kd_destroy, 0};
-static const lumis__method kd_angles_method = {kd_pick, kd_density, kd_destroy, 1};
-static const lumis__method kd_exact_method = {kd_exact_pick, kd_exact_density, kd_destroy, 0};
+static const lumis__method kd_method = {kd_pick, kd_density, kd_destroy, 0, NULL, NULL};
+static const lumis__method kd_angles_method = {kd_pick, kd_density, kd_destroy, 1, NULL, NULL};
+static const lumis__method kd_exact_method = {kd_exact_pick, kd_exact_density, kd_destroy, 0, NULL,
+                                              NULL};
 
 /* ---- building ----------------------------------------------------------------------- */
 
@@ -435,8 +450,9 @@ lumis_status lumis__kdtree_init(lumis_sampler *s, const double *imp, const lumis
     t->log_span = log1p(n / t->alpha);
     s->kd_alpha = t->alpha;
     s->kd_blocks = n;
-    if (exact) st = lumis__alias_build(&t->exact, probs, (uint32_t)n);
-    s->table_bytes = (size_t)n * sizeof(block) + 2 * sizeof(double) + (exact ? (size_t)n * 12 : 0);
+    if (exact) st = lumis__alias_build(&t->exact, probs, (uint32_t)n, exact_block_density, s);
+    s->table_bytes = (size_t)n * sizeof(block) + 2 * sizeof(double) +
+                     (exact ? (size_t)n * sizeof(lumis__alias_bin) : 0);
     s->total_bytes = s->table_bytes + (size_t)t->node_count * sizeof(node);
 
 done:

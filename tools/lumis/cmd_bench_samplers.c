@@ -24,7 +24,8 @@ static const char usage[] =
     "block), reported as method kdtree with variant \"uniform-angles\".\n\n"
     "options:\n"
     "  --json          print a JSON array of objects (map, method, variant, build_ms, bytes,\n"
-    "                  total_bytes, compression_vs_inversion, samples_per_second,\n"
+    "                  total_bytes, compression_vs_inversion (null without tables),\n"
+    "                  samples_per_second,\n"
     "                  batch_samples_per_second, rel_stderr_64, blocks, alpha)\n"
     "  --methods LIST  comma-separated (default: all seven)\n"
     "  --samples N     samples per timing run (default 1000000)\n"
@@ -271,7 +272,8 @@ int cmd_bench_samplers(int argc, char **argv)
             result r;
             rc = bench_one(env, d, runs, nsamples, u, out, &q, normals, &r);
             if (rc != EXIT_OK) break;
-            double comp = (double)inv_bytes / (double)(r.bytes ? r.bytes : 1);
+            /* A method without tables (uniform) has no compression to speak of. */
+            double comp = r.bytes ? (double)inv_bytes / (double)r.bytes : 0.0;
             const char *name = lumis_sampler_method_name(methods[k]);
             if (json) {
                 cJSON *o = cJSON_CreateObject();
@@ -281,7 +283,10 @@ int cmd_bench_samplers(int argc, char **argv)
                 cJSON_AddNumberToObject(o, "build_ms", r.build_ms);
                 cJSON_AddNumberToObject(o, "bytes", (double)r.bytes);
                 cJSON_AddNumberToObject(o, "total_bytes", (double)r.total_bytes);
-                cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
+                if (r.bytes)
+                    cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
+                else
+                    cJSON_AddNullToObject(o, "compression_vs_inversion");
                 cJSON_AddNumberToObject(o, "samples_per_second", r.sps);
                 cJSON_AddNumberToObject(o, "batch_samples_per_second", r.batch_sps);
                 cJSON_AddNumberToObject(o, "rel_stderr_64", r.rse);
@@ -291,8 +296,10 @@ int cmd_bench_samplers(int argc, char **argv)
             } else {
                 char label[64];
                 snprintf(label, sizeof label, "%s%s", name, variant ? " (angles)" : "");
-                printf("%-22s %-17s %9.2f %11zu %8.1f %12.4g %12.4g %9.4f\n", maps[mi], label,
-                       r.build_ms, r.bytes, comp, r.sps, r.batch_sps, r.rse);
+                char comp_text[32];
+                snprintf(comp_text, sizeof comp_text, r.bytes ? "%.1f" : "-", comp);
+                printf("%-22s %-17s %9.2f %11zu %8s %12.4g %12.4g %9.4f\n", maps[mi], label,
+                       r.build_ms, r.bytes, comp_text, r.sps, r.batch_sps, r.rse);
                 fflush(stdout);
             }
             variant = methods[k] == LUMIS_METHOD_KDTREE && !variant;
