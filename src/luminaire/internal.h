@@ -1,0 +1,107 @@
+/* Light-field luminaires: the shared model (not public API).  Formulas: docs/luminaire.md. */
+#ifndef LUMIS_LUMINAIRE_INTERNAL_H
+#define LUMIS_LUMINAIRE_INTERNAL_H
+
+#include "lumis/luminaire.h"
+
+#include "../core/internal.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define LUMIS__LUM_MAX_IMAGES 1024
+#define LUMIS__LUM_MAX_SIDE   16384
+/* Quantisation units per image: every summed-area table entry fits in 32 bits. */
+#define LUMIS__LUM_UNITS 4294967295.0
+
+struct lumis_luminaire {
+    double delta;
+    lumis_luminaire_basis basis;
+    double radius; /* support half-width in cells */
+    int gw, gh, m; /* grid W, H and M = W H */
+    double gx0, gy0, hx, hy;
+    int w, h;
+    double sx0, sy0, sw, sh; /* image rectangle on S */
+    double dx, dy;           /* pixel size */
+    float *rgb;              /* M w h 3 */
+    uint32_t *sat;           /* M (w + 1)(h + 1), column-major: sat[i (h + 1) + j] */
+    double *unit;            /* M: luminance x area (world units) of one quantisation unit
+                                of a whole pixel */
+    double *power;           /* M: integral of Y_m over S */
+    double total_power;
+    size_t replaced, bytes;
+    lumis_error_sink errors;
+    const float **ptrs; /* M pointers into rgb, for lumis_luminaire_get_desc */
+};
+
+/* A box on S in pixel coordinates (x in [0, w], y in [0, h]); empty if !(x0 < x1 && y0 <
+ * y1). */
+typedef struct lumis__box {
+    double x0, x1, y0, y1;
+} lumis__box;
+
+/* Where the ray geometry of point p stands (docs/luminaire.md, "Projection"). */
+typedef enum lumis__where {
+    LUMIS__BEHIND = 0, /* z <= 0 (or on U): no light reaches p */
+    LUMIS__FRONT = 1,  /* z > 0 and not on S: sample S in projected boxes */
+    LUMIS__ON_S = 2,   /* |z - delta| <= 1e-7 delta: sample U (Eq. 9) */
+} lumis__where;
+
+/* Checks a descriptor's geometry (everything but the pixels), reporting to d->errors. */
+lumis_status lumis__lum_check(const lumis_luminaire_desc *d);
+
+/* Builds from sanitised RGB; takes ownership of rgb (freed on failure). */
+lumis_status lumis__lum_build(const lumis_luminaire_desc *d, float *rgb, size_t replaced,
+                              lumis_luminaire **out);
+
+lumis__where lumis__lum_where(const lumis_luminaire *l, double pz);
+
+/* Centre of basis function m on U. */
+static inline void lumis__lum_center(const lumis_luminaire *l, int m, double *cx, double *cy)
+{
+    *cx = l->gx0 + (m % l->gw) * l->hx;
+    *cy = l->gy0 + (m / l->gw) * l->hy;
+}
+
+/* Phi_m(u). */
+double lumis__lum_phi(const lumis_luminaire *l, int m, double ux, double uy);
+
+/* The box on S that the support of Phi_m projects to from p (FRONT), clipped to the
+ * images, in pixel coordinates.  Returns nonzero if it is not empty. */
+int lumis__lum_box(const lumis_luminaire *l, int m, double px, double py, double pz, lumis__box *b);
+
+/* The integral of image m's quantised luminance over a box, in units x pixels: exactly
+ * 0 when every pixel the box touches is 0.  16 lookups. */
+double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b);
+
+/* Pixel (i, j) of image m holding S point (sx, sy); 0 if outside the images. */
+int lumis__lum_pixel(const lumis_luminaire *l, double sx, double sy, int *i, int *j);
+
+/* Luminance of an RGB pixel as sampling weighs it. */
+static inline double lumis__lum_y(const float *px)
+{
+    return 0.2126 * (double)px[0] + 0.7152 * (double)px[1] + 0.0722 * (double)px[2];
+}
+
+/* Quantised luminance of pixel (i, j) of image m (from its table: 4 lookups). */
+static inline uint32_t lumis__lum_q(const lumis_luminaire *l, int m, int i, int j)
+{
+    const size_t stride = (size_t)l->h + 1;
+    const uint32_t *t = l->sat + (size_t)m * ((size_t)l->w + 1) * stride;
+    return t[(size_t)(i + 1) * stride + (size_t)j + 1] - t[(size_t)(i + 1) * stride + (size_t)j] -
+           t[(size_t)i * stride + (size_t)j + 1] + t[(size_t)i * stride + (size_t)j];
+}
+
+/* One restricted (or uniform) draw of image m inside box b: (x, y) in pixel coordinates
+ * and the density per pixel area of the landed point.  units: lumis__lum_box_units(b). */
+void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                     lumis_luminaire_strategy strategy, lumis_luminaire_search search, int depth,
+                     double u1, double u2, double *x, double *y, double *pdf_pixels);
+
+/* Fills a sample's geometry and radiance from p and its point (s on S, or u on U for
+ * measure AREA_U), with the pdf per unit area given and K_m = count. */
+void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
+                       double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
+                       int count, lumis_luminaire_sample *out);
+
+#endif
