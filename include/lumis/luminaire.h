@@ -198,8 +198,8 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
                                           int capacity, lumis_luminaire_sample *out, int *count);
 
 /* The estimator (Eq. 13/14) from the samples of one point: sum of radiance *
- * max(0, n . dir) * weight.  Unbiased for I(p) with an unlimited search (no visibility:
- * multiply each term by it to light a scene). */
+ * max(0, n . dir) * weight, n normalised here.  Unbiased for I(p) with an unlimited search (no
+ * visibility: multiply each term by it to light a scene). */
 lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *samples, int count, lumis_vec3 n);
 
 /* A_m(p) for every image (out: M doubles): the luminance integral of C_m over the box its

@@ -106,76 +106,78 @@ void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz
 
 /* ---- balancing --------------------------------------------------------------------- */
 
-/* Shares r among the entries with state[i] == 1 in proportion to mass, by cumulative
- * rounding (each within one of its share, the sum exactly r). */
-static void share(const double *mass, const signed char *state, int n, long long r, int *counts)
-{
-    double total = 0.0;
-    int last = -1;
-    for (int i = 0; i < n; i++)
-        if (state[i] == 1) {
-            total += mass[i];
-            last = i;
-        }
-    double prefix = 0.0;
-    long long given = 0;
-    for (int i = 0; i < n; i++) {
-        if (state[i] != 1) continue;
-        prefix += mass[i];
-        long long upto = i == last ? r : llround((double)r * (prefix / total));
-        if (upto > r) upto = r;
-        if (upto < given) upto = given;
-        counts[i] = (int)(upto - given);
-        given = upto;
-    }
-}
-
 int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, int *counts)
 {
     if (n <= 0 || n > LUMIS__LUM_MAX_IMAGES || !mass || !counts) return 0;
-    /* state: 0 no mass, 1 proportional, 2 held at the minimum 1, 3 held at the cap. */
-    signed char state[LUMIS__LUM_MAX_IMAGES];
     int npos = 0;
+    double mmin = INFINITY, msum = 0.0;
     for (int i = 0; i < n; i++) {
-        state[i] = mass[i] > 0.0 ? 1 : 0;
         counts[i] = 0;
-        npos += state[i];
+        if (mass[i] > 0.0) {
+            npos++;
+            msum += mass[i];
+            if (mass[i] < mmin) mmin = mass[i];
+        }
     }
     if (npos == 0) return 0;
-    const long long cap = k_max > 0 ? k_max : INT_MAX;
+    const double cap = k_max > 0 ? (double)k_max : INFINITY;
     long long total = budget > 0 ? budget : 0;
     if (total < npos) total = npos;
-    if (total > cap * npos) total = cap * npos;
-    /* Caps first (they only raise the others' shares), then minimums (they only lower
-     * them, so never create a cap).  Each pass settles at least one entry: <= n passes. */
-    long long r = total;
-    for (;;) {
-        share(mass, state, n, r, counts);
-        int changed = 0;
-        for (int i = 0; i < n; i++)
-            if (state[i] == 1 && counts[i] > cap) {
-                state[i] = 3;
-                counts[i] = (int)cap;
-                r -= cap;
-                changed = 1;
-            }
-        if (!changed) break;
+    if (k_max > 0 && total > (long long)k_max * npos) total = (long long)k_max * npos;
+    const double N = (double)total;
+    /* Continuous shares x_i = clamp(lambda m_i, 1, K_max) with sum N: f(lambda) = sum x_i - N
+     * is increasing and piecewise linear, so Newton's step (exact on the right piece) with
+     * a bisection safeguard ends in a few passes; without clamping in one. */
+    double lo = 0.0, hi = N / mmin, lambda = N / msum;
+    for (int it = 0; it < 200; it++) {
+        double fixed = 0.0, slope = 0.0;
+        for (int i = 0; i < n; i++) {
+            if (!(mass[i] > 0.0)) continue;
+            const double x = lambda * mass[i];
+            if (x <= 1.0)
+                fixed += 1.0;
+            else if (x >= cap)
+                fixed += cap;
+            else
+                slope += mass[i];
+        }
+        const double f = fixed + lambda * slope - N;
+        if (fabs(f) <= 1e-9 * N) break;
+        if (f < 0.0)
+            lo = lambda;
+        else
+            hi = lambda;
+        double next = slope > 0.0 ? (N - fixed) / slope : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (next == lambda) break;
+        lambda = next;
     }
-    for (;;) {
-        share(mass, state, n, r, counts);
-        int changed = 0;
-        for (int i = 0; i < n; i++)
-            if (state[i] == 1 && counts[i] == 0) {
-                state[i] = 2;
-                counts[i] = 1;
-                r -= 1;
-                changed = 1;
-            }
-        if (!changed) break;
+    /* Integers by cumulative rounding of the shares: each within one of its share (so in
+     * [1, K_max]), the sum exactly N. */
+    double prefix = 0.0;
+    long long given = 0;
+    int last = 0;
+    for (int i = 0; i < n; i++) {
+        if (!(mass[i] > 0.0)) continue;
+        double x = lambda * mass[i];
+        x = x < 1.0 ? 1.0 : (x > cap ? cap : x);
+        prefix += x;
+        long long upto = llround(prefix);
+        if (upto > total) upto = total;
+        long long k = upto - given;
+        if (k < 1) k = 1;
+        if (k > total) k = total;
+        counts[i] = (int)k;
+        given += k;
+        last = i;
     }
-    long long sum = 0;
-    for (int i = 0; i < n; i++) sum += counts[i];
-    return (int)sum;
+    /* Rounding drift (a unit at most, in practice): settle it on entries that can take it. */
+    for (int i = last; given != total && i >= 0; i--) {
+        if (!(mass[i] > 0.0)) continue;
+        while (given < total && counts[i] < cap) counts[i]++, given++;
+        while (given > total && counts[i] > 1) counts[i]--, given--;
+    }
+    return (int)given;
 }
 
 /* ---- masses and the per-point entry ------------------------------------------------- */
@@ -277,6 +279,8 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
 lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *s, int count, lumis_vec3 n)
 {
     double acc[3] = {0.0, 0.0, 0.0};
+    const double nl = sqrt((double)n.x * n.x + (double)n.y * n.y + (double)n.z * n.z);
+    if (nl > 0.0) n.x = (float)(n.x / nl), n.y = (float)(n.y / nl), n.z = (float)(n.z / nl);
     for (int k = 0; k < count; k++) {
         const double c =
             (double)n.x * s[k].dir.x + (double)n.y * s[k].dir.y + (double)n.z * s[k].dir.z;
