@@ -461,34 +461,40 @@ static void generated_luminaire_reproduces_its_emitter(void **state)
                              {20.0f, -10.0f, 300.0f},
                              {5.0f, 5.0f, 150.0f},
                              {-30.0f, 10.0f, 600.0f}};
-    const int grids[][2] = {{5, 4}, {9, 7}};
+    /* The error is the basis' (filters of h / delta radians against lobes of cos^40..80)
+     * and the pixels' (boxes a few pixels wide): both shrink together, the coarse grid with
+     * coarse images, the fine grid with images fine enough for its smaller boxes. */
+    const int grids[][4] = {{5, 4, 48, 40}, {17, 13, 160, 128}};
     double worst[2] = {0.0, 0.0};
     for (int g = 0; g < 2; g++) {
-        /* A finer basis: the same emitter through smaller filters. */
         lumis_luminaire_desc d = layout;
         d.grid[0] = grids[g][0];
         d.grid[1] = grids[g][1];
         d.grid_spacing[0] = d.grid_spacing[1] = 40.0 / (d.grid[0] - 1);
         d.grid_origin[0] = -0.5 * (d.grid[0] - 1) * d.grid_spacing[0];
         d.grid_origin[1] = -0.5 * (d.grid[1] - 1) * d.grid_spacing[1];
-        d.width = 48;
-        d.height = 40;
+        d.width = grids[g][2];
+        d.height = grids[g][3];
         lumis_luminaire *lum = NULL;
         lumis_acquire_desc acq = {0};
+        acq.samples_s = 1;
         assert_int_equal(lumis_luminaire_acquire(&d, &em, &acq, &lum), LUMIS_OK);
         for (size_t k = 0; k < sizeof ps / sizeof ps[0]; k++) {
             lumis_rgb a, b;
             assert_int_equal(lumis_luminaire_irradiance(lum, ps[k], n, 4, &a), LUMIS_OK);
             assert_int_equal(lumis_emitter_irradiance(&em, ps[k], n, 0, 0, &b), LUMIS_OK);
             const double rel = fabs(lum3(a) - lum3(b)) / lum3(b);
-            printf("grid %dx%d  p (%g, %g, %g): luminaire %.6g  emitter %.6g  rel %.3g\n",
-                   d.grid[0], d.grid[1], ps[k].x, ps[k].y, ps[k].z, lum3(a), lum3(b), rel);
+            printf("grid %2dx%-2d images %3dx%-3d  p (%g, %g, %g): luminaire %.6g  emitter %.6g  "
+                   "rel %.3g\n",
+                   d.grid[0], d.grid[1], d.width, d.height, ps[k].x, ps[k].y, ps[k].z, lum3(a),
+                   lum3(b), rel);
             if (rel > worst[g]) worst[g] = rel;
         }
         lumis_luminaire_destroy(lum);
     }
-    assert_true(worst[0] < 0.05);
-    assert_true(worst[1] < 0.05);
+    assert_true(worst[0] < 0.10);
+    assert_true(worst[1] < 0.03);
+    assert_true(worst[1] < worst[0]);
 }
 
 /* ---- descriptors -------------------------------------------------------------------------- */
