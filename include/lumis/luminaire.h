@@ -60,7 +60,7 @@ double lumis_luminaire_basis_radius(lumis_luminaire_basis basis);
 typedef struct lumis_luminaire_desc {
     double delta;                /* distance from U (z = 0) to S (z = delta), > 0; required */
     lumis_luminaire_basis basis; /* 0 == Goesele's piecewise quadratic */
-    int grid[2];                 /* W, H: basis functions along x and y (M = W H <= 1024) */
+    int grid[2];                 /* W, H <= 256: functions along x and y (M = W H <= 1024) */
     double grid_origin[2];       /* centre of basis function (0, 0) on U */
     double grid_spacing[2];      /* h_x, h_y > 0: distance between neighbouring centres */
     int width, height;           /* pixels of every image (each <= 16384); required */

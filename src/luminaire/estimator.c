@@ -47,7 +47,7 @@ lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_
 
 void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
                        double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
-                       int count, lumis_luminaire_sample *o)
+                       int count, int i, int j, lumis_luminaire_sample *o)
 {
     const double d = l->delta;
     if (measure == LUMIS_LUM_AREA_S) {
@@ -77,8 +77,7 @@ void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz
     o->dir.x = (float)(vx / dist);
     o->dir.y = (float)(vy / dist);
     o->dir.z = (float)(vz / dist);
-    int i, j;
-    if (!lumis__lum_pixel(l, sx, sy, &i, &j)) return;
+    if (i < 0 && !lumis__lum_pixel(l, sx, sy, &i, &j)) return;
     const double phi = lumis__lum_phi(l, m, ux, uy);
     if (!(phi > 0.0)) return;
     /* Psi_m(u -> s) = Phi_m(u) delta^2 / (h_x h_y cos^4 theta), cos theta = delta / |s - u|. */
@@ -124,6 +123,11 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
     long long total = budget > 0 ? budget : 0;
     if (total < npos) total = npos;
     if (k_max > 0 && total > (long long)k_max * npos) total = (long long)k_max * npos;
+    if (total == npos || (k_max > 0 && total == (long long)k_max * npos)) {
+        const int k = (int)(total / npos);
+        for (int i = 0; i < n; i++) counts[i] = mass[i] > 0.0 ? k : 0;
+        return (int)total;
+    }
     const double N = (double)total;
     /* Continuous shares x_i = clamp(lambda m_i, 1, K_max) with sum N: f(lambda) = sum x_i - N
      * is increasing and piecewise linear, so Newton's step (exact on the right piece) with
@@ -162,7 +166,7 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
         double x = lambda * mass[i];
         x = x < 1.0 ? 1.0 : (x > cap ? cap : x);
         prefix += x;
-        long long upto = llround(prefix);
+        long long upto = (long long)(prefix + 0.5); /* prefix >= 0: round half up */
         if (upto > total) upto = total;
         long long k = upto - given;
         if (k < 1) k = 1;
@@ -182,24 +186,47 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
 
 /* ---- masses and the per-point entry ------------------------------------------------- */
 
-/* A_m(p) for every image, and the units of its box (0 for p on S). */
+/* A_m(p) for every image, and the units of its box (0 for p on S).  The boxes are
+ * separable, so the spans are computed once per grid column and row, and images whose box
+ * misses the images cost nothing. */
 static void masses(const lumis_luminaire *l, lumis__where where, double px, double py, double pz,
                    lumis_luminaire_strategy strategy, double *mass, double *units)
 {
-    for (int m = 0; m < l->m; m++) {
-        mass[m] = units[m] = 0.0;
-        if (l->unit[m] <= 0.0) continue;
-        if (strategy == LUMIS_LUM_GLOBAL) {
-            mass[m] = l->power[m];
-            units[m] = LUMIS__LUM_UNITS;
-        } else if (where == LUMIS__FRONT) {
-            lumis__box b;
-            if (!lumis__lum_box(l, m, px, py, pz, &b)) continue;
-            units[m] = lumis__lum_box_units(l, m, &b);
-            mass[m] = units[m] * l->unit[m];
-        } else if (where == LUMIS__ON_S) {
-            int i, j;
-            if (!lumis__lum_pixel(l, px, py, &i, &j)) continue;
+    for (int m = 0; m < l->m; m++) mass[m] = units[m] = 0.0;
+    if (strategy == LUMIS_LUM_GLOBAL) {
+        for (int m = 0; m < l->m; m++)
+            if (l->unit[m] > 0.0) {
+                mass[m] = l->power[m];
+                units[m] = LUMIS__LUM_UNITS;
+            }
+        return;
+    }
+    if (where == LUMIS__FRONT) {
+        lumis__span xs[LUMIS__LUM_MAX_GRID], ys[LUMIS__LUM_MAX_GRID];
+        unsigned char xok[LUMIS__LUM_MAX_GRID], yok[LUMIS__LUM_MAX_GRID];
+        for (int a = 0; a < l->gw; a++) {
+            double lo, hi;
+            xok[a] = (unsigned char)lumis__lum_box_axis(l, 0, a, px, pz, &lo, &hi);
+            if (xok[a]) lumis__lum_span(lo, hi, l->w, &xs[a]);
+        }
+        for (int b = 0; b < l->gh; b++) {
+            double lo, hi;
+            yok[b] = (unsigned char)lumis__lum_box_axis(l, 1, b, py, pz, &lo, &hi);
+            if (yok[b]) lumis__lum_span(lo, hi, l->h, &ys[b]);
+        }
+        for (int b = 0; b < l->gh; b++) {
+            if (!yok[b]) continue;
+            for (int a = 0; a < l->gw; a++) {
+                const int m = a + l->gw * b;
+                if (!xok[a] || !(l->unit[m] > 0.0)) continue;
+                units[m] = lumis__lum_span_units(l, m, &xs[a], &ys[b]);
+                mass[m] = units[m] * l->unit[m];
+            }
+        }
+    } else if (where == LUMIS__ON_S) {
+        int i, j;
+        if (!lumis__lum_pixel(l, px, py, &i, &j)) return;
+        for (int m = 0; m < l->m; m++) {
             const double y = lumis__lum_y(l->rgb + ((size_t)m * (size_t)l->w * (size_t)l->h +
                                                     (size_t)j * (size_t)l->w + (size_t)i) *
                                                        3);
@@ -253,7 +280,7 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
             for (int k = 0; k < counts[m]; k++, n++)
                 lumis__lum_finish(l, px, py, pz, m, px, py, cx - rx + 2.0 * rx * u[2 * n],
                                   cy - ry + 2.0 * ry * u[2 * n + 1], LUMIS_LUM_AREA_U, pdf,
-                                  counts[m], out + n);
+                                  counts[m], -1, 0, out + n);
             continue;
         }
         lumis__box b;
@@ -264,12 +291,15 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
         } else {
             lumis__lum_box(l, m, px, py, pz, &b);
         }
+        lumis__prep pr;
+        lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, &pr);
+        const double area = l->dx * l->dy;
         for (int k = 0; k < counts[m]; k++, n++) {
             double x, y, pdf;
-            lumis__lum_draw(l, m, &b, units[m], strategy, q->search, q->depth, u[2 * n],
-                            u[2 * n + 1], &x, &y, &pdf);
+            int i, j;
+            lumis__lum_draw_prepared(l, &pr, u[2 * n], u[2 * n + 1], &x, &y, &i, &j, &pdf);
             lumis__lum_finish(l, px, py, pz, m, l->sx0 + x * l->dx, l->sy0 + y * l->dy, 0.0, 0.0,
-                              LUMIS_LUM_AREA_S, pdf / (l->dx * l->dy), counts[m], out + n);
+                              LUMIS_LUM_AREA_S, pdf / area, counts[m], i, j, out + n);
         }
     }
     *count = n;

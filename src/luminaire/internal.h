@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #define LUMIS__LUM_MAX_IMAGES 1024
+#define LUMIS__LUM_MAX_GRID   256 /* functions along one axis */
 #define LUMIS__LUM_MAX_SIDE   16384
 /* Quantisation units per image: every summed-area table entry fits in 32 bits. */
 #define LUMIS__LUM_UNITS 4294967295.0
@@ -70,8 +71,35 @@ double lumis__lum_phi(const lumis_luminaire *l, int m, double ux, double uy);
  * images, in pixel coordinates.  Returns nonzero if it is not empty. */
 int lumis__lum_box(const lumis_luminaire *l, int m, double px, double py, double pz, lumis__box *b);
 
-/* The integral of image m's quantised luminance over a box, in units x pixels: exactly
- * 0 when every pixel the box touches is 0.  16 lookups. */
+/* One axis of that box: for grid column (axis 0) or row (axis 1) `index`, p's coordinate
+ * pc on that axis: [lo, hi] in pixels, nonzero if not empty.  Boxes are separable: image
+ * (a, b)'s box is column a's x-range times row b's y-range. */
+int lumis__lum_box_axis(const lumis_luminaire *l, int axis, int index, double pc, double pz,
+                        double *lo, double *hi);
+
+/* A coordinate range [x0, x1] in [0, n] as cells and fractions (x == n -> n - 1, 1). */
+typedef struct lumis__span {
+    int i0, i1;
+    double f0, f1;
+} lumis__span;
+
+static inline void lumis__lum_span(double x0, double x1, int n, lumis__span *s)
+{
+    int k0 = (int)x0, k1 = (int)x1; /* x >= 0: truncation is floor */
+    if (k0 > n - 1) k0 = n - 1;
+    if (k1 > n - 1) k1 = n - 1;
+    s->i0 = k0;
+    s->i1 = k1;
+    s->f0 = x0 - k0;
+    s->f1 = x1 - k1;
+}
+
+/* The integral of image m's quantised luminance over the box of spans x and y, in units x
+ * pixels: exactly 0 when every pixel the box touches is 0.  16 lookups. */
+double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                             const lumis__span *y);
+
+/* The same for a box. */
 double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b);
 
 /* Pixel (i, j) of image m holding S point (sx, sy); 0 if outside the images. */
@@ -92,6 +120,24 @@ static inline uint32_t lumis__lum_q(const lumis_luminaire *l, int m, int i, int 
            t[(size_t)i * stride + (size_t)j + 1] + t[(size_t)i * stride + (size_t)j];
 }
 
+/* Image m's sampler at one point: what every draw in box b shares (6 lookups). */
+typedef struct lumis__prep {
+    lumis__box b;
+    double units;
+    int m, uniform, secant, depth;
+    int i0, ilast, j0, j1, jlast;
+    double g0, g1, d_i0, d_hi, d_x0, d_x1;
+} lumis__prep;
+
+void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                        lumis_luminaire_strategy strategy, lumis_luminaire_search search, int depth,
+                        lumis__prep *pr);
+
+/* One draw: (x, y) in pixel coordinates, its pixel (i, j) and the density per pixel area
+ * of the landed point.  Lookups: the two searches' probes (2 each) and 6. */
+void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, double u1, double u2,
+                              double *x, double *y, int *i, int *j, double *pdf_pixels);
+
 /* One restricted (or uniform) draw of image m inside box b: (x, y) in pixel coordinates
  * and the density per pixel area of the landed point.  units: lumis__lum_box_units(b). */
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
@@ -99,9 +145,10 @@ void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, doubl
                      double u1, double u2, double *x, double *y, double *pdf_pixels);
 
 /* Fills a sample's geometry and radiance from p and its point (s on S, or u on U for
- * measure AREA_U), with the pdf per unit area given and K_m = count. */
+ * measure AREA_U), with the pdf per unit area given and K_m = count; (i, j) the pixel
+ * holding s, or i < 0 to find it. */
 void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
                        double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
-                       int count, lumis_luminaire_sample *out);
+                       int count, int i, int j, lumis_luminaire_sample *out);
 
 #endif

@@ -306,28 +306,33 @@ int lumis__lum_pixel(const lumis_luminaire *l, double sx, double sy, int *i, int
     return 1;
 }
 
-int lumis__lum_box(const lumis_luminaire *l, int m, double px, double py, double pz, lumis__box *b)
+int lumis__lum_box_axis(const lumis_luminaire *l, int axis, int index, double pc, double pz,
+                        double *lo, double *hi)
 {
-    double cx, cy;
-    lumis__lum_center(l, m, &cx, &cy);
     /* s = k u + (delta / z) p, k = (z - delta) / z: the line from u through p meets S. */
     const double k = (pz - l->delta) / pz, c = l->delta / pz;
-    const double rx = l->radius * l->hx, ry = l->radius * l->hy;
-    double a0 = k * (cx - rx) + c * px, a1 = k * (cx + rx) + c * px;
-    double b0 = k * (cy - ry) + c * py, b1 = k * (cy + ry) + c * py;
+    const double h = axis ? l->hy : l->hx, o = axis ? l->gy0 : l->gx0;
+    const double s0 = axis ? l->sy0 : l->sx0, ps = axis ? l->dy : l->dx;
+    const double n = axis ? l->h : l->w;
+    const double center = o + index * h, r = l->radius * h;
+    double a0 = k * (center - r) + c * pc, a1 = k * (center + r) + c * pc;
     if (k < 0.0) { /* p between U and S: the projection flips */
-        double t = a0;
+        const double t = a0;
         a0 = a1;
         a1 = t;
-        t = b0;
-        b0 = b1;
-        b1 = t;
     }
-    b->x0 = fmax((a0 - l->sx0) / l->dx, 0.0);
-    b->x1 = fmin((a1 - l->sx0) / l->dx, (double)l->w);
-    b->y0 = fmax((b0 - l->sy0) / l->dy, 0.0);
-    b->y1 = fmin((b1 - l->sy0) / l->dy, (double)l->h);
-    return b->x0 < b->x1 && b->y0 < b->y1;
+    a0 = (a0 - s0) / ps;
+    a1 = (a1 - s0) / ps;
+    *lo = a0 > 0.0 ? a0 : 0.0;
+    *hi = a1 < n ? a1 : n;
+    return *lo < *hi;
+}
+
+int lumis__lum_box(const lumis_luminaire *l, int m, double px, double py, double pz, lumis__box *b)
+{
+    const int ax = lumis__lum_box_axis(l, 0, m % l->gw, px, pz, &b->x0, &b->x1);
+    const int ay = lumis__lum_box_axis(l, 1, m / l->gw, py, pz, &b->y0, &b->y1);
+    return ax && ay;
 }
 
 /* ---- radiance ---------------------------------------------------------------------- */

@@ -23,14 +23,19 @@ static inline const uint32_t *table(const lumis_luminaire *l, int m)
 
 double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b)
 {
+    lumis__span x, y;
+    lumis__lum_span(b->x0, b->x1, l->w, &x);
+    lumis__lum_span(b->y0, b->y1, l->h, &y);
+    return lumis__lum_span_units(l, m, &x, &y);
+}
+
+double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                             const lumis__span *y)
+{
     const uint32_t *t = table(l, m);
     const size_t st = (size_t)l->h + 1;
-    int i0, i1, j0, j1;
-    double f0, f1, g0, g1;
-    split(b->x0, l->w, &i0, &f0);
-    split(b->x1, l->w, &i1, &f1);
-    split(b->y0, l->h, &j0, &g0);
-    split(b->y1, l->h, &j1, &g1);
+    const int i0 = x->i0, i1 = x->i1, j0 = y->i0, j1 = y->i1;
+    const double f0 = x->f0, f1 = x->f1, g0 = y->f0, g1 = y->f1;
 #define S(i, j) ((int64_t)t[(size_t)(i)*st + (size_t)(j)])
     /* F(i + f, j + g) = S + f R + g Q + f g C (exact for piecewise-constant pixels); the
      * integer differences are grouped first, so a box over zero pixels gives exactly 0. */
@@ -83,14 +88,36 @@ static inline double probe(const line *L, int k)
  * followed by a bisection step, so the worst case stays within twice bisection's probes.
  * Binary: bisection.  depth > 0 limits the probes; the result is then the chord's
  * crossing within the bracket reached (approximate). */
+/* Where the chord from (lo, flo) to (hi + 1, fhi) reaches g. */
+static inline double chord(int lo, int hi, double flo, double fhi, double g)
+{
+    double t = fhi > flo ? (g - flo) / (fhi - flo) : 0.5;
+    if (!(t >= 0.0)) t = 0.0;
+    if (t > 0x1.fffffffffffffp-1) t = 0x1.fffffffffffffp-1;
+    return lo + t * (hi + 1 - lo);
+}
+
 static inline double search(const line *L, int lo, int hi, double flo, double fhi, double g,
                             int secant, int depth)
 {
+    if (!secant) {
+        /* Bisection without branches on the data (the comparisons become conditional
+         * moves): the bracket [lo, lo + n) halves each probe, and its ends are read once at
+         * the end. */
+        int n = hi + 1 - lo, probes = 0;
+        while (n > 1 && (depth <= 0 || probes < depth)) {
+            const int half = n / 2;
+            lo = probe(L, lo + half) <= g ? lo + half : lo;
+            n -= half;
+            probes++;
+        }
+        return chord(lo, lo + n - 1, probe(L, lo), probe(L, lo + n), g);
+    }
     int probes = 0, bisect = 0;
     while (lo < hi && (depth <= 0 || probes < depth)) {
         const int n = hi + 1 - lo;
         int mid;
-        if (secant && !bisect && fhi > flo) {
+        if (!bisect && fhi > flo) {
             mid = lo + (int)((g - flo) / (fhi - flo) * n);
             if (mid <= lo) mid = lo + 1;
             if (mid > hi) mid = hi;
@@ -106,31 +133,29 @@ static inline double search(const line *L, int lo, int hi, double flo, double fh
             hi = mid - 1;
             fhi = fm;
         }
-        bisect = secant && !bisect && 2 * (hi + 1 - lo) > n;
+        bisect = !bisect && 2 * (hi + 1 - lo) > n;
     }
-    double t = fhi > flo ? (g - flo) / (fhi - flo) : 0.5;
-    if (!(t >= 0.0)) t = 0.0;
-    if (t > 0x1.fffffffffffffp-1) t = 0x1.fffffffffffffp-1;
-    return lo + t * (hi + 1 - lo);
+    return chord(lo, hi, flo, fhi, g);
 }
 
-void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
-                     lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
-                     int depth, double u1, double u2, double *x, double *y, double *pdf_pixels)
+void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                        lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
+                        int depth, lumis__prep *pr)
 {
-    if (strategy == LUMIS_LUM_UNIFORM) {
-        *x = b->x0 + u1 * (b->x1 - b->x0);
-        *y = b->y0 + u2 * (b->y1 - b->y0);
-        *pdf_pixels = 1.0 / ((b->x1 - b->x0) * (b->y1 - b->y0));
-        return;
-    }
-    const int secant = search_kind != LUMIS_LUM_BINARY;
+    pr->m = m;
+    pr->b = *b;
+    pr->units = units;
+    pr->uniform = strategy == LUMIS_LUM_UNIFORM;
+    pr->secant = search_kind != LUMIS_LUM_BINARY;
+    pr->depth = depth;
+    if (pr->uniform) return;
     line L;
     L.t = table(l, m);
     L.st = (size_t)l->h + 1;
     L.kind = 0;
     split(b->y0, l->h, &L.j0, &L.g0);
     split(b->y1, l->h, &L.j1, &L.g1);
+    pr->j0 = L.j0, pr->g0 = L.g0, pr->j1 = L.j1, pr->g1 = L.g1;
     int i0, ia;
     double f0, fa;
     split(b->x0, l->w, &i0, &f0);
@@ -138,38 +163,76 @@ void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, doubl
     int ilast = (int)ceil(b->x1) - 1; /* last column the box covers */
     if (ilast < i0) ilast = i0;
     if (ilast > l->w - 1) ilast = l->w - 1;
+    int jlast = (int)ceil(b->y1) - 1;
+    if (jlast < L.j0) jlast = L.j0;
+    if (jlast > l->h - 1) jlast = l->h - 1;
     /* Marginal: g between D(x0) and D(x1), D linear inside a column. */
     const double d_i0 = probe(&L, i0), d_i0n = probe(&L, i0 + 1);
-    const double d_x0 = d_i0 + f0 * (d_i0n - d_i0);
     const double d_ia = probe(&L, ia), d_ian = probe(&L, ia + 1);
-    const double d_x1 = d_ia + fa * (d_ian - d_ia);
-    const double fhi = ilast == ia ? d_ian : probe(&L, ilast + 1);
-    double g = d_x0 + u1 * (d_x1 - d_x0);
-    double xs = search(&L, i0, ilast, d_i0, fhi, g, secant, depth);
+    pr->i0 = i0;
+    pr->ilast = ilast;
+    pr->jlast = jlast;
+    pr->d_i0 = d_i0;
+    pr->d_hi = ilast == ia ? d_ian : probe(&L, ilast + 1);
+    pr->d_x0 = d_i0 + f0 * (d_i0n - d_i0);
+    pr->d_x1 = d_ia + fa * (d_ian - d_ia);
+}
+
+void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, double u1, double u2,
+                              double *x, double *y, int *pi, int *pj, double *pdf_pixels)
+{
+    const lumis__box *b = &pr->b;
+    if (pr->uniform) {
+        *x = b->x0 + u1 * (b->x1 - b->x0);
+        *y = b->y0 + u2 * (b->y1 - b->y0);
+        *pi = lumis__clampi((int)*x, 0, l->w - 1);
+        *pj = lumis__clampi((int)*y, 0, l->h - 1);
+        *pdf_pixels = 1.0 / ((b->x1 - b->x0) * (b->y1 - b->y0));
+        return;
+    }
+    line L;
+    L.t = table(l, pr->m);
+    L.st = (size_t)l->h + 1;
+    L.kind = 0;
+    L.j0 = pr->j0, L.g0 = pr->g0, L.j1 = pr->j1, L.g1 = pr->g1;
+    double g = pr->d_x0 + u1 * (pr->d_x1 - pr->d_x0);
+    double xs = search(&L, pr->i0, pr->ilast, pr->d_i0, pr->d_hi, g, pr->secant, pr->depth);
     if (xs < b->x0) xs = b->x0;
     if (!(xs < b->x1)) xs = nextafter(b->x1, b->x0);
-    int col = lumis__clampi((int)xs, 0, l->w - 1);
+    const int col = lumis__clampi((int)xs, 0, l->w - 1);
 
     /* Conditional in column col, restricted to [y0, y1] by the affine map of its CDF. */
     L.kind = 1;
     L.c0 = L.t + (size_t)col * L.st;
     L.c1 = L.c0 + L.st;
-    int jlast = (int)ceil(b->y1) - 1;
-    if (jlast < L.j0) jlast = L.j0;
-    if (jlast > l->h - 1) jlast = l->h - 1;
     const double p_j0 = probe(&L, L.j0), p_j0n = probe(&L, L.j0 + 1);
     const double p_y0 = p_j0 + L.g0 * (p_j0n - p_j0);
     const double p_j1 = probe(&L, L.j1), p_j1n = probe(&L, L.j1 + 1);
     const double p_y1 = p_j1 + L.g1 * (p_j1n - p_j1);
-    const double phi = jlast == L.j1 ? p_j1n : probe(&L, jlast + 1);
+    const double phi = pr->jlast == L.j1 ? p_j1n : probe(&L, pr->jlast + 1);
     g = p_y0 + u2 * (p_y1 - p_y0);
-    double ys = search(&L, L.j0, jlast, p_j0, phi, g, secant, depth);
+    double ys = search(&L, L.j0, pr->jlast, p_j0, phi, g, pr->secant, pr->depth);
     if (ys < b->y0) ys = b->y0;
     if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
-    int row = lumis__clampi((int)ys, 0, l->h - 1);
+    const int row = lumis__clampi((int)ys, 0, l->h - 1);
     *x = xs;
     *y = ys;
-    *pdf_pixels = units > 0.0 ? (double)lumis__lum_q(l, m, col, row) / units : 0.0;
+    *pi = col;
+    *pj = row;
+    /* The pixel's units: column col's prefix at row + 1 less at row (2 more lookups in the
+     * lines the search just read). */
+    const double q = (double)(L.c1[row + 1] - L.c0[row + 1]) - (double)(L.c1[row] - L.c0[row]);
+    *pdf_pixels = pr->units > 0.0 ? q / pr->units : 0.0;
+}
+
+void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                     lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
+                     int depth, double u1, double u2, double *x, double *y, double *pdf_pixels)
+{
+    lumis__prep pr;
+    int i, j;
+    lumis__lum_prepare(l, m, b, units, strategy, search_kind, depth, &pr);
+    lumis__lum_draw_prepared(l, &pr, u1, u2, x, y, &i, &j, pdf_pixels);
 }
 
 /* ---- the per-image triplet --------------------------------------------------------- */
@@ -224,17 +287,20 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
         if (!on_s_support(l, q, m, ua, ub, &area, &px)) return LUMIS_ERR_INVALID_ARGUMENT;
         lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, q->p.x, q->p.y,
                           ua[0] + u1 * (ua[1] - ua[0]), ub[0] + u2 * (ub[1] - ub[0]),
-                          LUMIS_LUM_AREA_U, 1.0 / area, 1, out);
+                          LUMIS_LUM_AREA_U, 1.0 / area, 1, -1, 0, out);
         return LUMIS_OK;
     }
     lumis__box b;
     double units;
     if (!image_box(l, q, m, &b, &units)) return LUMIS_ERR_INVALID_ARGUMENT;
     double x, y, pdf;
-    lumis__lum_draw(l, m, &b, units, q->strategy, q->search, q->depth, u1, u2, &x, &y, &pdf);
+    int i, j;
+    lumis__prep pr;
+    lumis__lum_prepare(l, m, &b, units, q->strategy, q->search, q->depth, &pr);
+    lumis__lum_draw_prepared(l, &pr, u1, u2, &x, &y, &i, &j, &pdf);
     const double sx = l->sx0 + x * l->dx, sy = l->sy0 + y * l->dy;
     lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, sx, sy, 0.0, 0.0, LUMIS_LUM_AREA_S,
-                      pdf / (l->dx * l->dy), 1, out);
+                      pdf / (l->dx * l->dy), 1, i, j, out);
     return LUMIS_OK;
 }
 
