@@ -83,7 +83,7 @@ void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz
     /* Psi_m(u -> s) = Phi_m(u) delta^2 / (h_x h_y cos^4 theta), cos theta = delta / |s - u|. */
     const double ex = sx - ux, ey = sy - uy;
     const double e2 = ex * ex + ey * ey + d * d;
-    const double psi = phi * e2 * e2 / (d * d * l->hx * l->hy);
+    const double psi = phi * e2 * e2 * l->psi_scale;
     const float *c =
         l->rgb +
         ((size_t)m * (size_t)l->w * (size_t)l->h + (size_t)j * (size_t)l->w + (size_t)i) * 3;
@@ -294,12 +294,17 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
         lumis__prep pr;
         lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, &pr);
         const double area = l->dx * l->dy;
-        for (int k = 0; k < counts[m]; k++, n++) {
-            double x, y, pdf;
-            int i, j;
-            lumis__lum_draw_prepared(l, &pr, u[2 * n], u[2 * n + 1], &x, &y, &i, &j, &pdf);
-            lumis__lum_finish(l, px, py, pz, m, l->sx0 + x * l->dx, l->sy0 + y * l->dy, 0.0, 0.0,
-                              LUMIS_LUM_AREA_S, pdf / area, counts[m], i, j, out + n);
+        for (int done = 0; done < counts[m];) {
+            enum { CHUNK = 32 };
+            double xs[CHUNK], ys[CHUNK], pdf[CHUNK];
+            int is[CHUNK], js[CHUNK];
+            const int c = counts[m] - done < CHUNK ? counts[m] - done : CHUNK;
+            lumis__lum_draw_batch(l, &pr, u + 2 * n, c, xs, ys, is, js, pdf);
+            for (int k = 0; k < c; k++, n++)
+                lumis__lum_finish(l, px, py, pz, m, l->sx0 + xs[k] * l->dx, l->sy0 + ys[k] * l->dy,
+                                  0.0, 0.0, LUMIS_LUM_AREA_S, pdf[k] / area, counts[m], is[k],
+                                  js[k], out + n);
+            done += c;
         }
     }
     *count = n;

@@ -21,6 +21,8 @@ struct lumis_luminaire {
     double radius; /* support half-width in cells */
     int gw, gh, m; /* grid W, H and M = W H */
     double gx0, gy0, hx, hy;
+    double inv_hx, inv_hy;
+    double psi_scale; /* 1 / (delta^2 h_x h_y) */
     int w, h;
     double sx0, sy0, sw, sh; /* image rectangle on S */
     double dx, dy;           /* pixel size */
@@ -64,8 +66,27 @@ static inline void lumis__lum_center(const lumis_luminaire *l, int m, double *cx
     *cy = l->gy0 + (m / l->gw) * l->hy;
 }
 
+/* The 1D profile (lumis_luminaire_basis_eval), inline for the hot path. */
+static inline double lumis__lum_profile(int bspline, double x)
+{
+    const double a = x < 0.0 ? -x : x;
+    if (bspline) return a <= 0.5 ? 0.75 - a * a : (a < 1.5 ? 0.5 * (1.5 - a) * (1.5 - a) : 0.0);
+    return a <= 0.5 ? 1.0 - 2.0 * a * a : (a < 1.0 ? 2.0 * (1.0 - a) * (1.0 - a) : 0.0);
+}
+
+/* Phi_m(u) for the function at grid position (a, b). */
+static inline double lumis__lum_phi_ab(const lumis_luminaire *l, int a, int b, double ux, double uy)
+{
+    const int bs = l->basis == LUMIS_BASIS_BSPLINE;
+    return lumis__lum_profile(bs, (ux - l->gx0) * l->inv_hx - a) *
+           lumis__lum_profile(bs, (uy - l->gy0) * l->inv_hy - b);
+}
+
 /* Phi_m(u). */
-double lumis__lum_phi(const lumis_luminaire *l, int m, double ux, double uy);
+static inline double lumis__lum_phi(const lumis_luminaire *l, int m, double ux, double uy)
+{
+    return lumis__lum_phi_ab(l, m % l->gw, m / l->gw, ux, uy);
+}
 
 /* The box on S that the support of Phi_m projects to from p (FRONT), clipped to the
  * images, in pixel coordinates.  Returns nonzero if it is not empty. */
@@ -137,6 +158,11 @@ void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, do
  * of the landed point.  Lookups: the two searches' probes (2 each) and 6. */
 void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, double u1, double u2,
                               double *x, double *y, int *i, int *j, double *pdf_pixels);
+
+/* count draws from u[2k], u[2k + 1]: the same results as count calls of
+ * lumis__lum_draw_prepared, the exact bisections run in lockstep. */
+void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
+                           int count, double *x, double *y, int *i, int *j, double *pdf_pixels);
 
 /* One restricted (or uniform) draw of image m inside box b: (x, y) in pixel coordinates
  * and the density per pixel area of the landed point.  units: lumis__lum_box_units(b). */

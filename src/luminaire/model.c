@@ -49,14 +49,6 @@ double lumis_luminaire_basis_radius(lumis_luminaire_basis basis)
     return basis == LUMIS_BASIS_BSPLINE ? 1.5 : 1.0;
 }
 
-double lumis__lum_phi(const lumis_luminaire *l, int m, double ux, double uy)
-{
-    double cx, cy;
-    lumis__lum_center(l, m, &cx, &cy);
-    return lumis_luminaire_basis_eval(l->basis, (ux - cx) / l->hx) *
-           lumis_luminaire_basis_eval(l->basis, (uy - cy) / l->hy);
-}
-
 /* ---- creation ---------------------------------------------------------------------- */
 
 static int finite_pos(double x)
@@ -117,6 +109,9 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
     l->gy0 = d->grid_origin[1];
     l->hx = d->grid_spacing[0];
     l->hy = d->grid_spacing[1];
+    l->inv_hx = 1.0 / l->hx;
+    l->inv_hy = 1.0 / l->hy;
+    l->psi_scale = 1.0 / (l->delta * l->delta * l->hx * l->hy);
     l->w = d->width;
     l->h = d->height;
     l->sx0 = d->image_origin[0];

@@ -225,6 +225,88 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
     *pdf_pixels = pr->units > 0.0 ? q / pr->units : 0.0;
 }
 
+void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
+                           int count, double *x, double *y, int *pi, int *pj, double *pdf_pixels)
+{
+    if (pr->uniform || pr->secant || pr->depth > 0) {
+        for (int k = 0; k < count; k++)
+            lumis__lum_draw_prepared(l, pr, u[2 * k], u[2 * k + 1], x + k, y + k, pi + k, pj + k,
+                                     pdf_pixels + k);
+        return;
+    }
+    /* Bisection over a bracket whose size depends only on the box: the draws of one image
+     * run in lockstep, LANES at a time, so their independent loads overlap instead of each
+     * search waiting on its own chain of dependent loads. */
+    enum { LANES = 8 };
+    const lumis__box *b = &pr->b;
+    const uint32_t *t = table(l, pr->m);
+    const size_t st = (size_t)l->h + 1;
+    line L;
+    L.t = t;
+    L.st = st;
+    L.kind = 0;
+    L.j0 = pr->j0, L.g0 = pr->g0, L.j1 = pr->j1, L.g1 = pr->g1;
+    for (int base = 0; base < count; base += LANES) {
+        const int nl = count - base < LANES ? count - base : LANES;
+        double g[LANES], xs[LANES];
+        int lo[LANES], col[LANES];
+        for (int k = 0; k < nl; k++) {
+            g[k] = pr->d_x0 + u[2 * (base + k)] * (pr->d_x1 - pr->d_x0);
+            lo[k] = pr->i0;
+        }
+        int n = pr->ilast + 1 - pr->i0;
+        while (n > 1) {
+            const int half = n / 2;
+            for (int k = 0; k < nl; k++)
+                lo[k] = probe(&L, lo[k] + half) <= g[k] ? lo[k] + half : lo[k];
+            n -= half;
+        }
+        for (int k = 0; k < nl; k++) {
+            xs[k] = chord(lo[k], lo[k], probe(&L, lo[k]), probe(&L, lo[k] + 1), g[k]);
+            if (xs[k] < b->x0) xs[k] = b->x0;
+            if (!(xs[k] < b->x1)) xs[k] = nextafter(b->x1, b->x0);
+            col[k] = lumis__clampi((int)xs[k], 0, l->w - 1);
+        }
+        /* Conditionals: the same rows for every column. */
+        double g2[LANES];
+        int jl[LANES];
+        for (int k = 0; k < nl; k++) {
+            const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
+            const double p_j0 = (double)(c1[L.j0] - c0[L.j0]);
+            const double p_y0 = p_j0 + L.g0 * ((double)(c1[L.j0 + 1] - c0[L.j0 + 1]) - p_j0);
+            const double p_j1 = (double)(c1[L.j1] - c0[L.j1]);
+            const double p_y1 = p_j1 + L.g1 * ((double)(c1[L.j1 + 1] - c0[L.j1 + 1]) - p_j1);
+            g2[k] = p_y0 + u[2 * (base + k) + 1] * (p_y1 - p_y0);
+            jl[k] = L.j0;
+        }
+        n = pr->jlast + 1 - L.j0;
+        while (n > 1) {
+            const int half = n / 2;
+            for (int k = 0; k < nl; k++) {
+                const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
+                const int mid = jl[k] + half;
+                jl[k] = (double)(c1[mid] - c0[mid]) <= g2[k] ? mid : jl[k];
+            }
+            n -= half;
+        }
+        for (int k = 0; k < nl; k++) {
+            const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
+            const int j = jl[k];
+            const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
+            double ys = chord(j, j, flo, fhi, g2[k]);
+            if (ys < b->y0) ys = b->y0;
+            if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
+            const int row = lumis__clampi((int)ys, 0, l->h - 1);
+            const double q = (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
+            x[base + k] = xs[k];
+            y[base + k] = ys;
+            pi[base + k] = col[k];
+            pj[base + k] = row;
+            pdf_pixels[base + k] = pr->units > 0.0 ? q / pr->units : 0.0;
+        }
+    }
+}
+
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
                      lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
                      int depth, double u1, double u2, double *x, double *y, double *pdf_pixels)

@@ -213,6 +213,30 @@ static void secant_search_matches_binary_search(void **state)
                 compared++;
             }
     assert_true(compared > 10000);
+    /* The lockstep bisection of the per-point entry gives the very same draws. */
+    for (int pi = 0; pi < NPOINTS; pi++)
+        for (int m = 0; m < 9; m++) {
+            lumis__box bx;
+            if (!lumis__lum_box(f.lum, m, test_points[pi].x, test_points[pi].y, test_points[pi].z,
+                                &bx))
+                continue;
+            const double units = lumis__lum_box_units(f.lum, m, &bx);
+            if (!(units > 0.0)) continue;
+            lumis__prep pr;
+            lumis__lum_prepare(f.lum, m, &bx, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0,
+                               &pr);
+            double u[2 * 19], x[19], y[19], pdf[19];
+            int is[19], js[19];
+            for (int k = 0; k < 2 * 19; k++) u[k] = lumis_pcg32_double(&rng);
+            lumis__lum_draw_batch(f.lum, &pr, u, 19, x, y, is, js, pdf);
+            for (int k = 0; k < 19; k++) {
+                double x1, y1, p1;
+                int i1, j1;
+                lumis__lum_draw_prepared(f.lum, &pr, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
+                                         &p1);
+                assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 && js[k] == j1);
+            }
+        }
     free_fixture(&f);
 }
 
@@ -308,6 +332,7 @@ static void estimator_mean_equals_quadrature(void **state)
                 q.budget = 16;
                 q.k_max = 6;
                 q.strategy = strategies[st];
+                q.search = (c & 1) ? LUMIS_LUM_BINARY : LUMIS_LUM_SECANT;
                 lumis_pcg32 rng;
                 lumis_pcg32_seed(&rng, 1234, (uint64_t)(c * 8 + (size_t)st));
                 const int T = strategies[st] == LUMIS_LUM_RESTRICTED ? 3000 : 12000;
