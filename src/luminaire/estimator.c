@@ -300,6 +300,12 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
             int is[CHUNK], js[CHUNK];
             const int c = counts[m] - done < CHUNK ? counts[m] - done : CHUNK;
             lumis__lum_draw_batch(l, &pr, u + 2 * n, c, xs, ys, is, js, pdf);
+#if defined(__GNUC__) || defined(__clang__)
+            /* The pixels' RGB lie in a large array: ask for all of them before using any. */
+            const float *img = l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3;
+            for (int k = 0; k < c; k++)
+                __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);
+#endif
             for (int k = 0; k < c; k++, n++)
                 lumis__lum_finish(l, px, py, pz, m, l->sx0 + xs[k] * l->dx, l->sy0 + ys[k] * l->dy,
                                   0.0, 0.0, LUMIS_LUM_AREA_S, pdf[k] / area, counts[m], is[k],
