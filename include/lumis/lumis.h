@@ -6,6 +6,7 @@
 #include "lumis/envmap.h"
 #include "lumis/image.h"
 #include "lumis/lights.h"
+#include "lumis/luminaire.h"
 #include "lumis/metrics.h"
 #include "lumis/rng.h"
 #include "lumis/sampler.h"

@@ -1,0 +1,317 @@
+/* lumis/luminaire.h - light-field luminaires and their position-dependent importance
+ * sampling (Lu, Pacanowski and Granier, "Position-Dependent Importance Sampling of Light
+ * Field Luminaires", IEEE TVCG 21(2), 2015).
+ *
+ * The model (Goesele et al. 2003): two parallel planes in the luminaire's frame, U at z = 0
+ * and S at z = delta; light travels from U towards +z.  M = W x H basis functions Phi_m
+ * on U, each with an axis-aligned compact support on a regular grid, and one RGB image
+ * C_m per basis function on a rectangle of S: the irradiance a sensor at s recorded while
+ * only the part of U weighted by Phi_m let light through.  The radiance of the ray from u
+ * through s is
+ *     L(u -> s) = sum_m C_m(s) Psi_m(u -> s),   Psi_m(u -> s) = Phi_m(u) delta^2 /
+ *                                                               (h_x h_y cos^4 theta),
+ * theta the ray's angle to +z and h_x h_y the area of a grid cell (the integral of Phi_m).
+ *
+ * Sampling, for a shading point p: the support of Phi_m, projected from p onto S, is a
+ * box; image m is sampled proportionally to its luminance restricted to that box (exactly:
+ * a summed-area table per image gives the restricted marginal and conditional CDFs), and
+ * a budget of K samples is shared among images in proportion to their restricted
+ * luminance A_m(p), at most K_max each, never dropping an image with A_m(p) > 0.  Every
+ * formula, measure and Jacobian, and every choice the paper leaves open: docs/luminaire.md.
+ *
+ * Random numbers are explicit (two uniform doubles in [0, 1) per sample); results depend
+ * only on them.  A built luminaire is immutable: any number of threads may sample it.
+ * Per-point calls allocate nothing and take no locks. */
+#ifndef LUMIS_LUMINAIRE_H
+#define LUMIS_LUMINAIRE_H
+
+#include "lumis/status.h"
+#include "lumis/types.h"
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- bases ------------------------------------------------------------------------- */
+
+typedef enum lumis_luminaire_basis {
+    LUMIS_BASIS_DEFAULT = 0, /* == LUMIS_BASIS_QUADRATIC */
+    LUMIS_BASIS_QUADRATIC,   /* Goesele et al.'s piecewise quadratic: support 2 x 2 cells */
+    LUMIS_BASIS_BSPLINE,     /* uniform quadratic B-spline: support 3 x 3 cells */
+    LUMIS_BASIS_COUNT
+} lumis_luminaire_basis;
+
+/* "quadratic", "bspline" ("default" for LUMIS_BASIS_DEFAULT). */
+const char *lumis_luminaire_basis_name(lumis_luminaire_basis basis);
+lumis_status lumis_luminaire_basis_from_name(const char *name, lumis_luminaire_basis *out);
+
+/* The 1D profile phi(x), x in grid cells from the function's centre; Phi_m(u) =
+ * phi((u_x - c_x) / h_x) phi((u_y - c_y) / h_y).  Both profiles are partitions of unity
+ * on the integer grid and integrate to 1. */
+double lumis_luminaire_basis_eval(lumis_luminaire_basis basis, double x);
+
+/* Half-width of the profile's support in cells: 1 (quadratic) or 1.5 (B-spline). */
+double lumis_luminaire_basis_radius(lumis_luminaire_basis basis);
+
+/* ---- the luminaire ----------------------------------------------------------------- */
+
+typedef struct lumis_luminaire_desc {
+    double delta;                /* distance from U (z = 0) to S (z = delta), > 0; required */
+    lumis_luminaire_basis basis; /* 0 == Goesele's piecewise quadratic */
+    int grid[2];                 /* W, H <= 256: functions along x and y (M = W H <= 1024) */
+    double grid_origin[2];       /* centre of basis function (0, 0) on U */
+    double grid_spacing[2];      /* h_x, h_y > 0: distance between neighbouring centres */
+    int width, height;           /* pixels of every image (each <= 16384); required */
+    double image_origin[2];      /* (x, y) on S of the corner of pixel (0, 0) */
+    double image_size[2];        /* extent of the images on S along x and y, > 0 */
+    /* M pointers, function m = a + W b at grid position (a, b); each to width * height RGB
+     * float triples, row-major, pixel (i, j) covering x in origin + [i, i + 1) size / width,
+     * y likewise (row 0 at the smallest y).  Copied; needed by lumis_luminaire_create,
+     * ignored by lumis_luminaire_acquire. */
+    const float *const *pixels;
+    lumis_error_sink errors; /* errors, and warnings (reported with status LUMIS_OK) */
+} lumis_luminaire_desc;
+
+typedef struct lumis_luminaire lumis_luminaire;
+
+/* Copies the images and builds one summed-area table of quantised luminance per image.
+ * Negative or non-finite values are replaced by 0, counted (lumis_luminaire_info) and
+ * reported once as a warning.  Cost: O(M pixels) time; memory 12 bytes per pixel (RGB)
+ * plus 4 per entry of the (width + 1) x (height + 1) table, per image. */
+lumis_status lumis_luminaire_create(const lumis_luminaire_desc *desc, lumis_luminaire **out);
+
+void lumis_luminaire_destroy(lumis_luminaire *lum);
+
+typedef struct lumis_luminaire_info {
+    int images;         /* M */
+    int grid[2];        /* W, H */
+    int width, height;  /* pixels per image */
+    double delta;       /* distance from U to S */
+    double pixel[2];    /* size of a pixel on S */
+    size_t replaced;    /* negative or non-finite pixel values set to 0 */
+    size_t bytes;       /* memory owned */
+    double total_power; /* sum over images of the luminance integral of C_m over S */
+} lumis_luminaire_info;
+
+void lumis_luminaire_get_info(const lumis_luminaire *lum, lumis_luminaire_info *out);
+
+/* The descriptor the luminaire was built from, pixels pointing at its own copies (valid
+ * while it lives): what a writer of luminaire files needs. */
+void lumis_luminaire_get_desc(const lumis_luminaire *lum, lumis_luminaire_desc *out);
+
+/* Image m's RGB pixels (width * height triples, as in the descriptor), or NULL. */
+const float *lumis_luminaire_image(const lumis_luminaire *lum, int m);
+
+/* Radiance L(u -> s) of the ray from (ux, uy, 0) through (sx, sy, delta): the sum over the
+ * at most 4 (quadratic) or 9 (B-spline) functions whose support contains u.  Zero outside
+ * the images.  Cost: one pixel lookup per such function. */
+lumis_rgb lumis_luminaire_radiance(const lumis_luminaire *lum, double ux, double uy, double sx,
+                                   double sy);
+
+/* ---- rigid placement in a scene ------------------------------------------------------ */
+
+/* world = R local + t, R a rotation (row-major). */
+typedef struct lumis_rigid {
+    double r[9];
+    double t[3];
+} lumis_rigid;
+
+lumis_rigid lumis_rigid_identity(void);
+/* LUMIS_ERR_INVALID_ARGUMENT unless R is orthonormal with determinant +1 (to 1e-6). */
+lumis_status lumis_rigid_check(const lumis_rigid *x);
+lumis_vec3 lumis_rigid_point_to_local(const lumis_rigid *x, lumis_vec3 world);
+lumis_vec3 lumis_rigid_point_to_world(const lumis_rigid *x, lumis_vec3 local);
+lumis_vec3 lumis_rigid_dir_to_local(const lumis_rigid *x, lumis_vec3 world);
+lumis_vec3 lumis_rigid_dir_to_world(const lumis_rigid *x, lumis_vec3 local);
+
+/* ---- sampling ---------------------------------------------------------------------- */
+
+typedef enum lumis_luminaire_strategy {
+    LUMIS_LUM_STRATEGY_DEFAULT = 0, /* == LUMIS_LUM_RESTRICTED */
+    LUMIS_LUM_RESTRICTED,           /* Lu et al.: luminance restricted to the projected box */
+    LUMIS_LUM_UNIFORM,              /* baseline: uniform over the projected box */
+    LUMIS_LUM_GLOBAL,               /* baseline: global CDFs, no restriction, the same
+                                       samples for every point */
+    LUMIS_LUM_STRATEGY_COUNT
+} lumis_luminaire_strategy;
+
+typedef enum lumis_luminaire_search {
+    LUMIS_LUM_SEARCH_DEFAULT = 0, /* == LUMIS_LUM_SECANT */
+    LUMIS_LUM_SECANT,             /* the paper's modified secant search */
+    LUMIS_LUM_BINARY,             /* bisection */
+    LUMIS_LUM_SEARCH_COUNT
+} lumis_luminaire_search;
+
+/* "restricted", "uniform", "global"; "secant", "binary". */
+const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy strategy);
+lumis_status lumis_luminaire_strategy_from_name(const char *name, lumis_luminaire_strategy *out);
+const char *lumis_luminaire_search_name(lumis_luminaire_search search);
+lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_search *out);
+
+typedef struct lumis_luminaire_query {
+    lumis_vec3 p;                      /* shading point, luminaire frame */
+    int budget;                        /* K, samples to share among images; 0 == 32 */
+    int k_max;                         /* K_max, most samples for one image; 0 == no cap */
+    lumis_luminaire_strategy strategy; /* 0 == restricted */
+    lumis_luminaire_search search;     /* 0 == secant */
+    int depth;                         /* probes per 1D inversion; 0 == unlimited (exact).
+                                          A limited search interpolates inside the bracket
+                                          it reached: approximate, biased (Fig. 5). */
+} lumis_luminaire_query;
+
+/* Which plane a sample's pdf is per unit area of. */
+typedef enum lumis_luminaire_measure {
+    LUMIS_LUM_AREA_S = 0, /* per unit area on S: the general case */
+    LUMIS_LUM_AREA_U = 1, /* per unit area on U: p on S (Eq. 9), where s = p */
+} lumis_luminaire_measure;
+
+typedef struct lumis_luminaire_sample {
+    double s[2];        /* point on S (z = delta), luminaire frame */
+    double u[2];        /* point on U (z = 0) on the line through p and s */
+    lumis_vec3 dir;     /* unit direction from p towards u: where the light comes from */
+    float distance;     /* |u - p| */
+    lumis_rgb radiance; /* image m's share of L(u -> s): C_m(s) Psi_m(u -> s) */
+    float pdf;          /* density of the sampled point per unit area (see measure) */
+    float weight;       /* 1 / (K_m pdf_omega), pdf_omega the density per steradian at p:
+                           the sample adds radiance * cos(n, dir) * weight to I(p) */
+    int image;          /* m */
+    int count;          /* K_m, samples image m received at p */
+    lumis_luminaire_measure measure;
+} lumis_luminaire_sample;
+
+/* Samples capacity lumis_luminaire_sample needs for a budget K: max(K, M). */
+int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
+
+/* All samples for point q->p: balances the budget over images (lumis_luminaire_balance on
+ * A_m(p), or on each image's total luminance for the global strategy), then draws K_m
+ * samples from each image m in increasing m, sample k from u[2k], u[2k + 1].  The total is
+ * min(K, K_max n) but at least n, n the images with A_m(p) > 0; a point with z <= 0 (behind
+ * U) or outside every projected support gets none (*count = 0, LUMIS_OK).  Fails with
+ * LUMIS_ERR_INVALID_ARGUMENT if capacity is too small (lumis_luminaire_capacity suffices).
+ * Cost: per point, W + H box ranges, 16 table lookups per image whose box meets its image
+ * and 6 per image that gets samples; per sample, two searches (binary: log2 of the box's
+ * width and height probes of 4 and 2 lookups, eight draws of an image in lockstep; secant:
+ * data-dependent, up to twice as many), 2 more lookups and one RGB pixel.  The car preset
+ * (11 x 9 x 256^2) measures 167 ns per sample (binary) on coherent points: docs/luminaire.md.
+ * No allocation. */
+lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
+                                          const lumis_luminaire_query *q, const double *u,
+                                          int capacity, lumis_luminaire_sample *out, int *count);
+
+/* The estimator (Eq. 13/14) from the samples of one point: sum of radiance *
+ * max(0, n . dir) * weight, n normalised here.  Unbiased for I(p) with an unlimited search (no
+ * visibility: multiply each term by it to light a scene). */
+lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *samples, int count, lumis_vec3 n);
+
+/* A_m(p) for every image (out: M doubles): the luminance integral of C_m over the box its
+ * support projects to from p (or, for p on S, Y_m(p) times the support's area on U).
+ * Cost: 16 lookups per image whose box meets its image. */
+void lumis_luminaire_masses(const lumis_luminaire *lum, lumis_vec3 p, double *out);
+
+/* Shares budget samples among n images in proportion to mass (>= 0): counts[i] = 0 when
+ * mass[i] == 0, else 1 <= counts[i] <= k_max (k_max 0: no cap), summing to
+ * min(budget, k_max n+) but at least n+ (n+ the nonzero masses); each count within one of
+ * its proportional share where no cap or minimum intervenes.  Returns the sum.  O(n) when
+ * nothing is capped. */
+int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, int *counts);
+
+/* One sample of image m alone at point p, strategy restricted, uniform or global (the
+ * global strategy ignores p for s): fills everything but count (1) and the weight's K_m
+ * (taken as 1).  LUMIS_ERR_INVALID_ARGUMENT if image m has nothing to sample at p
+ * (A_m(p) == 0).  Cost: as one sample of lumis_luminaire_sample_point plus 16 lookups. */
+lumis_status lumis_luminaire_sample_image(const lumis_luminaire *lum,
+                                          const lumis_luminaire_query *q, int m, double u1,
+                                          double u2, lumis_luminaire_sample *out);
+
+/* Density per unit area on S with which image m's sampler at p (strategy q->strategy)
+ * draws (sx, sy); 0 outside its box.  For p on S, per unit area on U at (sx, sy) read as
+ * a point of U.  Cost: 16 lookups + 4. */
+double lumis_luminaire_pdf(const lumis_luminaire *lum, const lumis_luminaire_query *q, int m,
+                           double sx, double sy);
+
+/* The (u1, u2) that lumis_luminaire_sample_image maps to (sx, sy) (restricted or uniform
+ * strategy, exact search): the inverse warp.  LUMIS_ERR_INVALID_ARGUMENT outside the box. */
+lumis_status lumis_luminaire_invert(const lumis_luminaire *lum, const lumis_luminaire_query *q,
+                                    int m, double sx, double sy, double *u1, double *u2);
+
+/* Irradiance I(p) on a surface of normal n (need not be unit) by deterministic quadrature:
+ * over S, per image, on pieces cut at pixel edges and at the basis' knots (Gauss-Legendre
+ * with `order` points per axis per piece, 0 == 4), or over U for p on S.  For tests and
+ * references: O(pixels in the boxes) time, no allocation. */
+lumis_status lumis_luminaire_irradiance(const lumis_luminaire *lum, lumis_vec3 p, lumis_vec3 n,
+                                        int order, lumis_rgb *out);
+
+/* ---- synthetic acquisition ----------------------------------------------------------- */
+
+/* A flat emissive disk parallel to U, behind it (center z < 0), radiance
+ * radiance * cos^exponent(theta) towards +z (theta the angle to +z). */
+typedef struct lumis_emitter_disk {
+    double center[3];
+    double radius;
+    lumis_rgb radiance;
+    double exponent; /* >= 0; 0 == Lambertian (constant radiance) */
+} lumis_emitter_disk;
+
+typedef enum lumis_emitter_pattern {
+    LUMIS_PATTERN_NONE = 0, /* clear */
+    LUMIS_PATTERN_STRIPES,  /* stripes across x of the given period */
+    LUMIS_PATTERN_CHECKER,  /* a checkerboard of the given period */
+    LUMIS_PATTERN_COUNT
+} lumis_emitter_pattern;
+
+/* Disks behind a patterned plate (a reflector's facets or a lens) at z = plate_z, between
+ * the disks and U; rays crossing a dark part keep 1 - contrast of their radiance. */
+typedef struct lumis_emitter_desc {
+    const lumis_emitter_disk *disks;
+    int disk_count;
+    lumis_emitter_pattern pattern;
+    double plate_z;   /* < 0 and > every disk's z (unless pattern NONE) */
+    double period[2]; /* > 0 for a pattern */
+    double contrast;  /* in [0, 1] */
+    lumis_rgb tint;   /* colour of the dark parts' transmission; 0 == (1, 1, 1) */
+} lumis_emitter_desc;
+
+typedef struct lumis_acquire_desc {
+    int samples_s;           /* sensor samples per pixel per axis; 0 == 2 */
+    int samples_radial;      /* quadrature nodes across each disk's footprint on U; 0 == 6 */
+    int samples_angular;     /* ... around it; 0 == 16 */
+    lumis_error_sink errors; /* errors */
+} lumis_acquire_desc;
+
+/* "Photographs" the emitter through each basis function: C_m(pixel) = the mean over the
+ * pixel of E_m(s) = integral over U of L_e(u -> s) Phi_m(u) cos^4 theta / delta^2 du (the
+ * irradiance of a sensor at s behind filter Phi_m), by quadrature over each disk's
+ * footprint on U.  layout gives the geometry (its pixels are ignored).  Then builds the
+ * luminaire as lumis_luminaire_create.  Cost: O(M pixels samples_s^2 disks nodes / M')
+ * where M' ~ the number of supports a footprint meets; seconds for 11 x 9 x 256^2. */
+lumis_status lumis_luminaire_acquire(const lumis_luminaire_desc *layout,
+                                     const lumis_emitter_desc *emitter,
+                                     const lumis_acquire_desc *acquire, lumis_luminaire **out);
+
+/* The emitter's true radiance along the ray from (ux, uy, 0) towards (sx, sy, delta). */
+lumis_rgb lumis_emitter_radiance(const lumis_emitter_desc *emitter, double delta, double ux,
+                                 double uy, double sx, double sy);
+
+/* The emitter's true irradiance at p (z > 0) on a surface of normal n, by quadrature over
+ * each disk's footprint on U (nodes: radial x angular per disk; 0 == 48 x 96). */
+lumis_status lumis_emitter_irradiance(const lumis_emitter_desc *emitter, lumis_vec3 p, lumis_vec3 n,
+                                      int radial, int angular, lumis_rgb *out);
+
+/* Layouts of the paper's Table 1 (geometry only; pixels NULL): an emitter of that size. */
+typedef enum lumis_luminaire_preset {
+    LUMIS_PRESET_BIKE = 0, /* 9 x 7 images of 300 x 300 */
+    LUMIS_PRESET_CAR = 1,  /* 11 x 9 images of 256 x 256 */
+    LUMIS_PRESET_SMALL = 2 /* 4 x 3 images of 24 x 20: tests */
+} lumis_luminaire_preset;
+
+/* Fills a layout, and an emitter (disks: storage for at least 4) that fits it: a few small
+ * bright disks behind a striped plate, like a headlight. */
+lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset, lumis_luminaire_desc *layout,
+                                        lumis_emitter_desc *emitter, lumis_emitter_disk *disks);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,504 @@
+/* Balancing the sample budget over images (Lu et al., Eq. 10-13), the per-point sampling
+ * entry, the estimator (Eq. 13/14) and the reference irradiance by quadrature (Eq. 2-4).
+ * Measures and Jacobians: docs/luminaire.md. */
+#include "internal.h"
+
+#include <limits.h>
+#include <math.h>
+#include <string.h>
+
+static const char *const strategy_names[LUMIS_LUM_STRATEGY_COUNT] = {"default", "restricted",
+                                                                     "uniform", "global"};
+static const char *const search_names[LUMIS_LUM_SEARCH_COUNT] = {"default", "secant", "binary"};
+
+const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy s)
+{
+    return (unsigned)s < (unsigned)LUMIS_LUM_STRATEGY_COUNT ? strategy_names[s] : "unknown";
+}
+
+lumis_status lumis_luminaire_strategy_from_name(const char *name, lumis_luminaire_strategy *out)
+{
+    if (!name || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (int i = 0; i < LUMIS_LUM_STRATEGY_COUNT; i++)
+        if (!strcmp(name, strategy_names[i])) {
+            *out = (lumis_luminaire_strategy)i;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+const char *lumis_luminaire_search_name(lumis_luminaire_search s)
+{
+    return (unsigned)s < (unsigned)LUMIS_LUM_SEARCH_COUNT ? search_names[s] : "unknown";
+}
+
+lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_search *out)
+{
+    if (!name || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (int i = 0; i < LUMIS_LUM_SEARCH_COUNT; i++)
+        if (!strcmp(name, search_names[i])) {
+            *out = (lumis_luminaire_search)i;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+/* ---- one sample's geometry --------------------------------------------------------- */
+
+void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
+                       double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
+                       int count, int i, int j, lumis_luminaire_sample *o)
+{
+    const double d = l->delta;
+    if (measure == LUMIS_LUM_AREA_S) {
+        /* The line from p through s meets U at u = p + (s - p) z / (z - delta). */
+        const double t = pz / (pz - d);
+        ux = px + (sx - px) * t;
+        uy = py + (sy - py) * t;
+    }
+    o->s[0] = sx;
+    o->s[1] = sy;
+    o->u[0] = ux;
+    o->u[1] = uy;
+    o->image = m;
+    o->count = count;
+    o->measure = measure;
+    o->pdf = (float)pdf;
+    o->radiance.r = o->radiance.g = o->radiance.b = 0.0f;
+    o->weight = 0.0f;
+    const double vx = ux - px, vy = uy - py, vz = -pz;
+    const double dist = sqrt(vx * vx + vy * vy + vz * vz);
+    o->distance = (float)dist;
+    if (!(dist > 0.0) || !(pdf > 0.0) || !isfinite(ux) || !isfinite(uy)) {
+        o->dir.x = o->dir.y = 0.0f;
+        o->dir.z = -1.0f;
+        return;
+    }
+    o->dir.x = (float)(vx / dist);
+    o->dir.y = (float)(vy / dist);
+    o->dir.z = (float)(vz / dist);
+    if (i < 0 && !lumis__lum_pixel(l, sx, sy, &i, &j)) return;
+    const double phi = lumis__lum_phi(l, m, ux, uy);
+    if (!(phi > 0.0)) return;
+    /* Psi_m(u -> s) = Phi_m(u) delta^2 / (h_x h_y cos^4 theta), cos theta = delta / |s - u|. */
+    const double ex = sx - ux, ey = sy - uy;
+    const double e2 = ex * ex + ey * ey + d * d;
+    const double psi = phi * e2 * e2 * l->psi_scale;
+    const float *c =
+        l->rgb +
+        ((size_t)m * (size_t)l->w * (size_t)l->h + (size_t)j * (size_t)l->w + (size_t)i) * 3;
+    o->radiance.r = (float)(psi * c[0]);
+    o->radiance.g = (float)(psi * c[1]);
+    o->radiance.b = (float)(psi * c[2]);
+    /* pdf_omega = pdf_area r^2 / cos: r and cos at the sampled plane (S, or U for p on S). */
+    double r2, cosine;
+    if (measure == LUMIS_LUM_AREA_S) {
+        const double wx = sx - px, wy = sy - py, wz = d - pz;
+        r2 = wx * wx + wy * wy + wz * wz;
+        cosine = fabs(wz) / sqrt(r2);
+    } else {
+        r2 = dist * dist;
+        cosine = pz / dist;
+    }
+    o->weight = (float)(cosine / ((double)count * pdf * r2));
+}
+
+/* ---- balancing --------------------------------------------------------------------- */
+
+int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, int *counts)
+{
+    if (n <= 0 || n > LUMIS__LUM_MAX_IMAGES || !mass || !counts) return 0;
+    int npos = 0;
+    double mmin = INFINITY, msum = 0.0;
+    for (int i = 0; i < n; i++) {
+        counts[i] = 0;
+        if (mass[i] > 0.0) {
+            npos++;
+            msum += mass[i];
+            if (mass[i] < mmin) mmin = mass[i];
+        }
+    }
+    if (npos == 0) return 0;
+    const double cap = k_max > 0 ? (double)k_max : INFINITY;
+    long long total = budget > 0 ? budget : 0;
+    if (total < npos) total = npos;
+    if (k_max > 0 && total > (long long)k_max * npos) total = (long long)k_max * npos;
+    if (total == npos || (k_max > 0 && total == (long long)k_max * npos)) {
+        const int k = (int)(total / npos);
+        for (int i = 0; i < n; i++) counts[i] = mass[i] > 0.0 ? k : 0;
+        return (int)total;
+    }
+    const double N = (double)total;
+    /* Continuous shares x_i = clamp(lambda m_i, 1, K_max) with sum N: f(lambda) = sum x_i - N
+     * is increasing and piecewise linear, so Newton's step (exact on the right piece) with
+     * a bisection safeguard ends in a few passes; without clamping in one. */
+    double lo = 0.0, hi = N / mmin, lambda = N / msum;
+    for (int it = 0; it < 200; it++) {
+        double fixed = 0.0, slope = 0.0;
+        for (int i = 0; i < n; i++) {
+            if (!(mass[i] > 0.0)) continue;
+            const double x = lambda * mass[i];
+            if (x <= 1.0)
+                fixed += 1.0;
+            else if (x >= cap)
+                fixed += cap;
+            else
+                slope += mass[i];
+        }
+        const double f = fixed + lambda * slope - N;
+        if (fabs(f) <= 1e-9 * N) break;
+        if (f < 0.0)
+            lo = lambda;
+        else
+            hi = lambda;
+        double next = slope > 0.0 ? (N - fixed) / slope : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (next == lambda) break;
+        lambda = next;
+    }
+    /* Integers by cumulative rounding of the shares: each within one of its share (so in
+     * [1, K_max]), the sum exactly N. */
+    double prefix = 0.0;
+    long long given = 0;
+    int last = 0;
+    for (int i = 0; i < n; i++) {
+        if (!(mass[i] > 0.0)) continue;
+        double x = lambda * mass[i];
+        x = x < 1.0 ? 1.0 : (x > cap ? cap : x);
+        prefix += x;
+        long long upto = (long long)(prefix + 0.5); /* prefix >= 0: round half up */
+        if (upto > total) upto = total;
+        long long k = upto - given;
+        if (k < 1) k = 1;
+        if (k > total) k = total;
+        counts[i] = (int)k;
+        given += k;
+        last = i;
+    }
+    /* Rounding drift (a unit at most, in practice): settle it on entries that can take it. */
+    for (int i = last; given != total && i >= 0; i--) {
+        if (!(mass[i] > 0.0)) continue;
+        while (given < total && counts[i] < cap) counts[i]++, given++;
+        while (given > total && counts[i] > 1) counts[i]--, given--;
+    }
+    return (int)given;
+}
+
+/* ---- masses and the per-point entry ------------------------------------------------- */
+
+/* A_m(p) for every image, and the units of its box (0 for p on S).  The boxes are
+ * separable, so the spans are computed once per grid column and row, and images whose box
+ * misses the images cost nothing. */
+static void masses(const lumis_luminaire *l, lumis__where where, double px, double py, double pz,
+                   lumis_luminaire_strategy strategy, double *mass, double *units)
+{
+    for (int m = 0; m < l->m; m++) mass[m] = units[m] = 0.0;
+    if (strategy == LUMIS_LUM_GLOBAL) {
+        for (int m = 0; m < l->m; m++)
+            if (l->unit[m] > 0.0) {
+                mass[m] = l->power[m];
+                units[m] = LUMIS__LUM_UNITS;
+            }
+        return;
+    }
+    if (where == LUMIS__FRONT) {
+        lumis__span xs[LUMIS__LUM_MAX_GRID], ys[LUMIS__LUM_MAX_GRID];
+        unsigned char xok[LUMIS__LUM_MAX_GRID], yok[LUMIS__LUM_MAX_GRID];
+        for (int a = 0; a < l->gw; a++) {
+            double lo, hi;
+            xok[a] = (unsigned char)lumis__lum_box_axis(l, 0, a, px, pz, &lo, &hi);
+            if (xok[a]) lumis__lum_span(lo, hi, l->w, &xs[a]);
+        }
+        for (int b = 0; b < l->gh; b++) {
+            double lo, hi;
+            yok[b] = (unsigned char)lumis__lum_box_axis(l, 1, b, py, pz, &lo, &hi);
+            if (yok[b]) lumis__lum_span(lo, hi, l->h, &ys[b]);
+        }
+        for (int b = 0; b < l->gh; b++) {
+            if (!yok[b]) continue;
+            for (int a = 0; a < l->gw; a++) {
+                const int m = a + l->gw * b;
+                if (!xok[a] || !(l->unit[m] > 0.0)) continue;
+                units[m] = lumis__lum_span_units(l, m, &xs[a], &ys[b]);
+                mass[m] = units[m] * l->unit[m];
+            }
+        }
+    } else if (where == LUMIS__ON_S) {
+        int i, j;
+        if (!lumis__lum_pixel(l, px, py, &i, &j)) return;
+        for (int m = 0; m < l->m; m++) {
+            const double y = lumis__lum_y(l->rgb + ((size_t)m * (size_t)l->w * (size_t)l->h +
+                                                    (size_t)j * (size_t)l->w + (size_t)i) *
+                                                       3);
+            mass[m] = y * (2.0 * l->radius * l->hx) * (2.0 * l->radius * l->hy);
+        }
+    }
+}
+
+void lumis_luminaire_masses(const lumis_luminaire *l, lumis_vec3 p, double *out)
+{
+    double units[LUMIS__LUM_MAX_IMAGES];
+    masses(l, lumis__lum_where(l, p.z), p.x, p.y, p.z, LUMIS_LUM_RESTRICTED, out, units);
+}
+
+int lumis_luminaire_capacity(const lumis_luminaire *l, int budget)
+{
+    if (budget <= 0) budget = 32;
+    return budget > l->m ? budget : l->m;
+}
+
+lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_luminaire_query *q,
+                                          const double *u, int capacity,
+                                          lumis_luminaire_sample *out, int *count)
+{
+    if (!count) return LUMIS_ERR_INVALID_ARGUMENT;
+    *count = 0;
+    if (!l || !q || (capacity > 0 && (!u || !out)) ||
+        (unsigned)q->strategy >= (unsigned)LUMIS_LUM_STRATEGY_COUNT ||
+        (unsigned)q->search >= (unsigned)LUMIS_LUM_SEARCH_COUNT)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis__where where = lumis__lum_where(l, q->p.z);
+    if (where == LUMIS__BEHIND) return LUMIS_OK;
+    const lumis_luminaire_strategy strategy =
+        q->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : q->strategy;
+    const double px = q->p.x, py = q->p.y, pz = q->p.z;
+    double mass[LUMIS__LUM_MAX_IMAGES], units[LUMIS__LUM_MAX_IMAGES];
+    int counts[LUMIS__LUM_MAX_IMAGES];
+    masses(l, where, px, py, pz, strategy, mass, units);
+    const int total =
+        lumis_luminaire_balance(mass, l->m, q->budget > 0 ? q->budget : 32, q->k_max, counts);
+    if (total > capacity) return LUMIS_ERR_INVALID_ARGUMENT;
+    int n = 0;
+    for (int m = 0; m < l->m; m++) {
+        if (!counts[m]) continue;
+        if (where == LUMIS__ON_S && strategy != LUMIS_LUM_GLOBAL) {
+            /* Eq. 9: s = p; u uniform over the support of Phi_m. */
+            double cx, cy;
+            lumis__lum_center(l, m, &cx, &cy);
+            const double rx = l->radius * l->hx, ry = l->radius * l->hy;
+            const double pdf = 1.0 / (4.0 * rx * ry);
+            for (int k = 0; k < counts[m]; k++, n++)
+                lumis__lum_finish(l, px, py, pz, m, px, py, cx - rx + 2.0 * rx * u[2 * n],
+                                  cy - ry + 2.0 * ry * u[2 * n + 1], LUMIS_LUM_AREA_U, pdf,
+                                  counts[m], -1, 0, out + n);
+            continue;
+        }
+        lumis__box b;
+        if (strategy == LUMIS_LUM_GLOBAL) {
+            b.x0 = b.y0 = 0.0;
+            b.x1 = l->w;
+            b.y1 = l->h;
+        } else {
+            lumis__lum_box(l, m, px, py, pz, &b);
+        }
+        lumis__prep pr;
+        lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, &pr);
+        const double area = l->dx * l->dy;
+        for (int done = 0; done < counts[m];) {
+            enum { CHUNK = 32 };
+            double xs[CHUNK], ys[CHUNK], pdf[CHUNK];
+            int is[CHUNK], js[CHUNK];
+            const int c = counts[m] - done < CHUNK ? counts[m] - done : CHUNK;
+            lumis__lum_draw_batch(l, &pr, u + 2 * n, c, xs, ys, is, js, pdf);
+#if defined(__GNUC__) || defined(__clang__)
+            /* The pixels' RGB lie in a large array: ask for all of them before using any. */
+            const float *img = l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3;
+            for (int k = 0; k < c; k++)
+                __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);
+#endif
+            for (int k = 0; k < c; k++, n++)
+                lumis__lum_finish(l, px, py, pz, m, l->sx0 + xs[k] * l->dx, l->sy0 + ys[k] * l->dy,
+                                  0.0, 0.0, LUMIS_LUM_AREA_S, pdf[k] / area, counts[m], is[k],
+                                  js[k], out + n);
+            done += c;
+        }
+    }
+    *count = n;
+    return LUMIS_OK;
+}
+
+lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *s, int count, lumis_vec3 n)
+{
+    double acc[3] = {0.0, 0.0, 0.0};
+    const double nl = sqrt((double)n.x * n.x + (double)n.y * n.y + (double)n.z * n.z);
+    if (nl > 0.0) n.x = (float)(n.x / nl), n.y = (float)(n.y / nl), n.z = (float)(n.z / nl);
+    for (int k = 0; k < count; k++) {
+        const double c =
+            (double)n.x * s[k].dir.x + (double)n.y * s[k].dir.y + (double)n.z * s[k].dir.z;
+        if (!(c > 0.0)) continue;
+        const double w = c * (double)s[k].weight;
+        acc[0] += w * s[k].radiance.r;
+        acc[1] += w * s[k].radiance.g;
+        acc[2] += w * s[k].radiance.b;
+    }
+    lumis_rgb r = {(float)acc[0], (float)acc[1], (float)acc[2]};
+    return r;
+}
+
+/* ---- reference irradiance by quadrature -------------------------------------------- */
+
+/* Gauss-Legendre nodes and weights on [0, 1], orders 1..8. */
+static void gauss(int order, double *x, double *w)
+{
+    static const double n2[] = {0.5773502691896257}, w2[] = {1.0};
+    static const double n3[] = {0.0, 0.7745966692414834},
+                        w3[] = {0.8888888888888888, 0.5555555555555556};
+    static const double n4[] = {0.3399810435848563, 0.8611363115940526},
+                        w4[] = {0.6521451548625461, 0.3478548451374538};
+    static const double n5[] = {0.0, 0.5384693101056831, 0.9061798459386640},
+                        w5[] = {0.5688888888888889, 0.4786286704993665, 0.2369268850561891};
+    static const double n6[] = {0.2386191860831969, 0.6612093864662645, 0.9324695142031521},
+                        w6[] = {0.4679139345726910, 0.3607615730481386, 0.1713244923791704};
+    static const double n7[] = {0.0, 0.4058451513773972, 0.7415311855993945, 0.9491079123427585},
+                        w7[] = {0.4179591836734694, 0.3818300505051189, 0.2797053914892766,
+                                0.1294849661688697};
+    static const double n8[] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                0.9602898564975363},
+                        w8[] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                0.1012285362903763};
+    const double *nn = n4, *ww = w4;
+    switch (order) {
+    case 1:
+        x[0] = 0.5, w[0] = 1.0;
+        return;
+    case 2:
+        nn = n2, ww = w2;
+        break;
+    case 3:
+        nn = n3, ww = w3;
+        break;
+    case 5:
+        nn = n5, ww = w5;
+        break;
+    case 6:
+        nn = n6, ww = w6;
+        break;
+    case 7:
+        nn = n7, ww = w7;
+        break;
+    case 8:
+        nn = n8, ww = w8;
+        break;
+    default:
+        break;
+    }
+    int k = 0;
+    const int half = (order + 1) / 2;
+    for (int a = 0; a < half; a++) {
+        const int zero = (order & 1) && a == 0;
+        x[k] = 0.5 - 0.5 * nn[a], w[k] = 0.5 * ww[a], k++;
+        if (!zero) x[k] = 0.5 + 0.5 * nn[a], w[k] = 0.5 * ww[a], k++;
+    }
+}
+
+/* The next breakpoint after v, at most hi: a pixel edge (integer) or a knot (sorted). */
+static double next_break(double v, double hi, const double *knots, int nk)
+{
+    double n = floor(v) + 1.0;
+    for (int k = 0; k < nk; k++)
+        if (knots[k] > v && knots[k] < n) n = knots[k];
+    return n < hi ? n : hi;
+}
+
+lumis_status lumis_luminaire_irradiance(const lumis_luminaire *l, lumis_vec3 p, lumis_vec3 nrm,
+                                        int order, lumis_rgb *out)
+{
+    if (!l || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    out->r = out->g = out->b = 0.0f;
+    if (order <= 0) order = 4;
+    if (order > 8) order = 8;
+    double gx[8], gw[8];
+    gauss(order, gx, gw);
+    const double px = p.x, py = p.y, pz = p.z, d = l->delta;
+    const double nl = sqrt((double)nrm.x * nrm.x + (double)nrm.y * nrm.y + (double)nrm.z * nrm.z);
+    if (!(nl > 0.0)) return LUMIS_ERR_INVALID_ARGUMENT;
+    const double nx = nrm.x / nl, ny = nrm.y / nl, nz = nrm.z / nl;
+    const lumis__where where = lumis__lum_where(l, pz);
+    if (where == LUMIS__BEHIND) return LUMIS_OK;
+    double acc[3] = {0.0, 0.0, 0.0};
+    /* Knots of the profile, in cells from the centre. */
+    const double kq[] = {-1.0, -0.5, 0.5, 1.0}, kb[] = {-1.5, -0.5, 0.5, 1.5};
+    const double *knots = l->basis == LUMIS_BASIS_BSPLINE ? kb : kq;
+    const size_t npx = (size_t)l->w * (size_t)l->h;
+    for (int m = 0; m < l->m; m++) {
+        if (l->unit[m] <= 0.0) continue;
+        double cx, cy;
+        lumis__lum_center(l, m, &cx, &cy);
+        if (where == LUMIS__ON_S) {
+            /* Eq. 9: s = p; integrate over U, piece by piece between knots. */
+            int i, j;
+            if (!lumis__lum_pixel(l, px, py, &i, &j)) return LUMIS_OK;
+            const float *c = l->rgb + ((size_t)m * npx + (size_t)j * (size_t)l->w + (size_t)i) * 3;
+            for (int ax = 0; ax < 3; ax++)
+                for (int ay = 0; ay < 3; ay++) {
+                    const double x0 = cx + knots[ax] * l->hx, x1 = cx + knots[ax + 1] * l->hx;
+                    const double y0 = cy + knots[ay] * l->hy, y1 = cy + knots[ay + 1] * l->hy;
+                    for (int a = 0; a < order; a++)
+                        for (int b = 0; b < order; b++) {
+                            const double ux = x0 + gx[a] * (x1 - x0), uy = y0 + gx[b] * (y1 - y0);
+                            const double vx = ux - px, vy = uy - py;
+                            const double r2 = vx * vx + vy * vy + pz * pz, r = sqrt(r2);
+                            const double cp = (nx * vx + ny * vy - nz * pz) / r;
+                            if (!(cp > 0.0)) continue;
+                            const double phi = lumis__lum_phi(l, m, ux, uy);
+                            const double e2 = vx * vx + vy * vy + d * d;
+                            const double psi = phi * e2 * e2 / (d * d * l->hx * l->hy);
+                            const double g = (pz / r) * cp / r2;
+                            const double wgt = gw[a] * gw[b] * (x1 - x0) * (y1 - y0) * psi * g;
+                            for (int k = 0; k < 3; k++) acc[k] += wgt * c[k];
+                        }
+                }
+            continue;
+        }
+        lumis__box bx;
+        if (!lumis__lum_box(l, m, px, py, pz, &bx)) continue;
+        if (!(lumis__lum_box_units(l, m, &bx) > 0.0)) continue;
+        /* Knots projected onto S, in pixel coordinates, sorted (the map is monotone). */
+        const double kk = (pz - d) / pz, cc = d / pz;
+        double kxs[4], kys[4];
+        for (int a = 0; a < 4; a++) {
+            const int src = kk < 0.0 ? 3 - a : a;
+            kxs[a] = (kk * (cx + knots[src] * l->hx) + cc * px - l->sx0) / l->dx;
+            kys[a] = (kk * (cy + knots[src] * l->hy) + cc * py - l->sy0) / l->dy;
+        }
+        for (double x0 = bx.x0, x1 = x0; x0 < bx.x1; x0 = x1) {
+            x1 = next_break(x0, bx.x1, kxs, 4);
+            for (double y0 = bx.y0, y1 = y0; y0 < bx.y1; y0 = y1) {
+                y1 = next_break(y0, bx.y1, kys, 4);
+                const int i = lumis__clampi((int)floor(0.5 * (x0 + x1)), 0, l->w - 1);
+                const int j = lumis__clampi((int)floor(0.5 * (y0 + y1)), 0, l->h - 1);
+                const float *c =
+                    l->rgb + ((size_t)m * npx + (size_t)j * (size_t)l->w + (size_t)i) * 3;
+                if (c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f) continue;
+                double part = 0.0;
+                for (int a = 0; a < order; a++)
+                    for (int b = 0; b < order; b++) {
+                        const double sx = l->sx0 + (x0 + gx[a] * (x1 - x0)) * l->dx;
+                        const double sy = l->sy0 + (y0 + gx[b] * (y1 - y0)) * l->dy;
+                        const double t = pz / (pz - d);
+                        const double ux = px + (sx - px) * t, uy = py + (sy - py) * t;
+                        const double phi = lumis__lum_phi(l, m, ux, uy);
+                        if (!(phi > 0.0)) continue;
+                        /* Light arrives at p from u: cos at p uses the direction to u. */
+                        const double vx = ux - px, vy = uy - py, vz = -pz;
+                        const double cp =
+                            (nx * vx + ny * vy + nz * vz) / sqrt(vx * vx + vy * vy + vz * vz);
+                        if (!(cp > 0.0)) continue;
+                        const double wx = sx - px, wy = sy - py, wz = d - pz;
+                        const double r2 = wx * wx + wy * wy + wz * wz;
+                        const double g = fabs(wz) / sqrt(r2) * cp / r2;
+                        const double ex = sx - ux, ey = sy - uy;
+                        const double e2 = ex * ex + ey * ey + d * d;
+                        const double psi = phi * e2 * e2 / (d * d * l->hx * l->hy);
+                        part += gw[a] * gw[b] * psi * g;
+                    }
+                part *= (x1 - x0) * (y1 - y0) * l->dx * l->dy;
+                for (int k = 0; k < 3; k++) acc[k] += part * c[k];
+            }
+        }
+    }
+    out->r = (float)acc[0];
+    out->g = (float)acc[1];
+    out->b = (float)acc[2];
+    return LUMIS_OK;
+}

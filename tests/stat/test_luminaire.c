@@ -1,0 +1,640 @@
+/* Tests of the light-field luminaire (lumis/luminaire.h), fixed seeds: deterministic.
+ *
+ * The bases are partitions of unity; the restricted sampler draws exactly its restricted
+ * pdf (chi-square per pixel piece), pdf(sample) and invert(sample) agree with the draw,
+ * and the secant search lands where bisection does; balancing keeps every image with
+ * A_m(p) > 0 and spends the budget; the estimator's mean equals the quadrature irradiance
+ * at points near, far, grazing, between the planes, on S and outside every support, for
+ * every strategy; the quadrature over S agrees with one over U; a generated luminaire
+ * reproduces its emitter's irradiance; malformed descriptors get a clear error. */
+#include "../testutil.h"
+
+#include "luminaire/internal.h"
+#include "stat.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- a random luminaire ---------------------------------------------------------------- */
+
+typedef struct fixture {
+    lumis_luminaire *lum;
+    float *pixels;
+    const float *ptr[64];
+} fixture;
+
+/* 3 x 3 functions on a 0.5 grid centred on the axis, S at delta = 1, images 16 x 12 over
+ * [-2, 2] x [-1.5, 1.5]; pixel values random with 30% zeros and some colour. */
+static fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
+{
+    fixture f;
+    memset(&f, 0, sizeof f);
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.basis = basis;
+    d.grid[0] = d.grid[1] = 3;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 0.5;
+    d.width = 16;
+    d.height = 12;
+    d.image_origin[0] = -2.0;
+    d.image_origin[1] = -1.5;
+    d.image_size[0] = 4.0;
+    d.image_size[1] = 3.0;
+    const size_t n = (size_t)d.width * d.height * 3;
+    f.pixels = malloc(9 * n * sizeof(float));
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, seed, 1);
+    for (int m = 0; m < 9; m++) {
+        for (size_t k = 0; k < n; k += 3) {
+            float v = lumis_pcg32_float(&rng) < 0.3f ? 0.0f : 0.1f + 4.0f * lumis_pcg32_float(&rng);
+            float tint = lumis_pcg32_float(&rng);
+            f.pixels[m * n + k] = v * (0.5f + tint);
+            f.pixels[m * n + k + 1] = v;
+            f.pixels[m * n + k + 2] = v * (1.5f - tint);
+        }
+        f.ptr[m] = f.pixels + m * n;
+    }
+    d.pixels = f.ptr;
+    assert_int_equal(lumis_luminaire_create(&d, &f.lum), LUMIS_OK);
+    return f;
+}
+
+static void free_fixture(fixture *f)
+{
+    lumis_luminaire_destroy(f->lum);
+    free(f->pixels);
+}
+
+/* ---- bases ----------------------------------------------------------------------------- */
+
+static void bases_are_partitions_of_unity(void **state)
+{
+    (void)state;
+    for (int b = LUMIS_BASIS_QUADRATIC; b <= LUMIS_BASIS_BSPLINE; b++) {
+        const lumis_luminaire_basis basis = (lumis_luminaire_basis)b;
+        double integral = 0.0;
+        const int n = 200000;
+        for (int k = 0; k < n; k++) {
+            double x = -2.0 + 4.0 * (k + 0.5) / n;
+            integral += lumis_luminaire_basis_eval(basis, x) * 4.0 / n;
+        }
+        assert_true(fabs(integral - 1.0) < 1e-6);
+        for (int k = 0; k <= 1000; k++) {
+            double x = -3.0 + 6.0 * k / 1000.0, sum = 0.0;
+            for (int c = -6; c <= 6; c++) sum += lumis_luminaire_basis_eval(basis, x - c);
+            assert_true(fabs(sum - 1.0) < 1e-12);
+            assert_true(lumis_luminaire_basis_eval(basis, x) >= 0.0);
+        }
+        const double r = lumis_luminaire_basis_radius(basis);
+        assert_true(lumis_luminaire_basis_eval(basis, r) == 0.0);
+        assert_true(lumis_luminaire_basis_eval(basis, r - 1e-3) > 0.0);
+        /* In 2D on a luminaire's grid: sum of Phi_m(u) == 1 inside the grid's interior. */
+        fixture f = make_fixture(basis, 3);
+        for (int k = 0; k < 400; k++) {
+            double ux = -0.5 + (r - 1.0) * 0.5 + (1.0 - (r - 1.0)) * (k % 20) / 19.0;
+            double uy = -0.5 + (r - 1.0) * 0.5 + (1.0 - (r - 1.0)) * (k / 20) / 19.0;
+            double s = 0.0;
+            for (int m = 0; m < 9; m++) s += lumis__lum_phi(f.lum, m, ux, uy);
+            assert_true(fabs(s - 1.0) < 1e-12);
+        }
+        free_fixture(&f);
+    }
+    lumis_luminaire_basis out;
+    assert_int_equal(lumis_luminaire_basis_from_name("bspline", &out), LUMIS_OK);
+    assert_int_equal(out, LUMIS_BASIS_BSPLINE);
+    assert_string_equal(lumis_luminaire_basis_name(LUMIS_BASIS_QUADRATIC), "quadratic");
+}
+
+/* ---- the restricted sampler --------------------------------------------------------------- */
+
+static const lumis_vec3 test_points[] = {
+    {0.1f, -0.05f, 1.3f}, /* near S */
+    {0.3f, 0.2f, 4.0f},   /* farther */
+    {-0.2f, 0.1f, 0.45f}, /* between U and S: the projection flips */
+    {1.2f, -0.6f, 1.05f}, /* off to the side, close */
+    {0.0f, 0.0f, 12.0f},  /* far: boxes nearly the supports */
+};
+enum { NPOINTS = sizeof test_points / sizeof test_points[0] };
+
+static void restricted_sampler_draws_its_pdf(void **state)
+{
+    (void)state;
+    const lumis_luminaire_search searches[] = {LUMIS_LUM_SECANT, LUMIS_LUM_BINARY};
+    int tests = 0;
+    double pmin = 1.0;
+    for (int b = LUMIS_BASIS_QUADRATIC; b <= LUMIS_BASIS_BSPLINE; b++) {
+        fixture f = make_fixture((lumis_luminaire_basis)b, 11 + b);
+        const lumis_luminaire *l = f.lum;
+        for (int pi = 0; pi < NPOINTS; pi++)
+            for (int m = 0; m < 9; m += 2) {
+                lumis_luminaire_query q = {0};
+                q.p = test_points[pi];
+                q.search = searches[(pi + m) & 1];
+                lumis__box bx;
+                if (!lumis__lum_box(l, m, q.p.x, q.p.y, q.p.z, &bx)) continue;
+                const double units = lumis__lum_box_units(l, m, &bx);
+                if (!(units > 0.0)) continue;
+                const int w = l->w;
+                const int nb = w * l->h;
+                double *obs = calloc((size_t)nb, sizeof(double));
+                double *expd = calloc((size_t)nb, sizeof(double));
+                for (int j = 0; j < l->h; j++)
+                    for (int i = 0; i < w; i++) {
+                        double ox = fmin(bx.x1, i + 1.0) - fmax(bx.x0, (double)i);
+                        double oy = fmin(bx.y1, j + 1.0) - fmax(bx.y0, (double)j);
+                        if (ox > 0.0 && oy > 0.0)
+                            expd[j * w + i] = (double)lumis__lum_q(l, m, i, j) * ox * oy / units;
+                    }
+                lumis_pcg32 rng;
+                lumis_pcg32_seed(&rng, 99, (uint64_t)(pi * 16 + m));
+                const int N = 20000;
+                for (int k = 0; k < N; k++) {
+                    double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+                    lumis_luminaire_sample s;
+                    assert_int_equal(lumis_luminaire_sample_image(l, &q, m, u1, u2, &s), LUMIS_OK);
+                    int i, j;
+                    assert_true(lumis__lum_pixel(l, s.s[0], s.s[1], &i, &j));
+                    obs[j * w + i] += 1.0;
+                    /* Every restricted sample conveys energy. */
+                    assert_true(s.radiance.g > 0.0f && s.weight > 0.0f);
+                    /* pdf() agrees with the draw, and invert() undoes it. */
+                    double pdf = lumis_luminaire_pdf(l, &q, m, s.s[0], s.s[1]);
+                    assert_true(fabs(pdf - s.pdf) <= 1e-5 * pdf);
+                    if (k < 2000) {
+                        double v1, v2;
+                        assert_int_equal(lumis_luminaire_invert(l, &q, m, s.s[0], s.s[1], &v1, &v2),
+                                         LUMIS_OK);
+                        assert_true(fabs(v1 - u1) < 1e-9 && fabs(v2 - u2) < 1e-9);
+                    }
+                }
+                for (int k = 0; k < nb; k++) expd[k] *= N;
+                int dof;
+                double p = stat_chi2_test(obs, expd, (size_t)nb, &dof);
+                assert_true(p >= 0.0); /* no sample in a cell of probability 0 */
+                if (p < pmin) pmin = p;
+                tests++;
+                free(obs);
+                free(expd);
+            }
+        free_fixture(&f);
+    }
+    printf("restricted chi-square: %d tests, smallest p %.4g\n", tests, pmin);
+    assert_true(tests >= 30);
+    assert_true(pmin > 0.01 / tests); /* Bonferroni */
+}
+
+static void secant_search_matches_binary_search(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_BSPLINE, 5);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 5, 5);
+    int compared = 0;
+    for (int pi = 0; pi < NPOINTS; pi++)
+        for (int m = 0; m < 9; m++)
+            for (int k = 0; k < 500; k++) {
+                double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+                lumis_luminaire_query q = {0};
+                q.p = test_points[pi];
+                q.search = LUMIS_LUM_SECANT;
+                lumis_luminaire_sample a, b;
+                if (lumis_luminaire_sample_image(f.lum, &q, m, u1, u2, &a) != LUMIS_OK) break;
+                q.search = LUMIS_LUM_BINARY;
+                assert_int_equal(lumis_luminaire_sample_image(f.lum, &q, m, u1, u2, &b), LUMIS_OK);
+                assert_true(fabs(a.s[0] - b.s[0]) < 1e-12 && fabs(a.s[1] - b.s[1]) < 1e-12);
+                assert_true(a.pdf == b.pdf);
+                /* A depth limit still lands in the box, with a finite pdf. */
+                q.depth = 1;
+                assert_int_equal(lumis_luminaire_sample_image(f.lum, &q, m, u1, u2, &b), LUMIS_OK);
+                assert_true(isfinite(b.s[0]) && isfinite(b.pdf));
+                compared++;
+            }
+    assert_true(compared > 10000);
+    /* The lockstep bisection of the per-point entry gives the very same draws. */
+    for (int pi = 0; pi < NPOINTS; pi++)
+        for (int m = 0; m < 9; m++) {
+            lumis__box bx;
+            if (!lumis__lum_box(f.lum, m, test_points[pi].x, test_points[pi].y, test_points[pi].z,
+                                &bx))
+                continue;
+            const double units = lumis__lum_box_units(f.lum, m, &bx);
+            if (!(units > 0.0)) continue;
+            lumis__prep pr;
+            lumis__lum_prepare(f.lum, m, &bx, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0,
+                               &pr);
+            double u[2 * 19], x[19], y[19], pdf[19];
+            int is[19], js[19];
+            for (int k = 0; k < 2 * 19; k++) u[k] = lumis_pcg32_double(&rng);
+            lumis__lum_draw_batch(f.lum, &pr, u, 19, x, y, is, js, pdf);
+            for (int k = 0; k < 19; k++) {
+                double x1, y1, p1;
+                int i1, j1;
+                lumis__lum_draw_prepared(f.lum, &pr, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
+                                         &p1);
+                assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 && js[k] == j1);
+            }
+        }
+    free_fixture(&f);
+}
+
+/* ---- balancing ----------------------------------------------------------------------------- */
+
+static void balancing_keeps_every_image_and_spends_the_budget(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 17, 3);
+    double mass[99];
+    int counts[99];
+    for (int t = 0; t < 20000; t++) {
+        const int n = 1 + (int)lumis_pcg32_bounded(&rng, 99);
+        const int budget = 1 + (int)lumis_pcg32_bounded(&rng, 300);
+        const int kmax =
+            lumis_pcg32_bounded(&rng, 3) == 0 ? 0 : 1 + (int)lumis_pcg32_bounded(&rng, 40);
+        int npos = 0;
+        double total = 0.0;
+        for (int i = 0; i < n; i++) {
+            const uint32_t r = lumis_pcg32_bounded(&rng, 4);
+            mass[i] = r == 0   ? 0.0
+                      : r == 1 ? 1e-9 * lumis_pcg32_double(&rng)
+                               : pow(10.0, 4.0 * lumis_pcg32_double(&rng));
+            npos += mass[i] > 0.0;
+            total += mass[i];
+        }
+        const int sum = lumis_luminaire_balance(mass, n, budget, kmax, counts);
+        long want = budget < npos ? npos : budget;
+        if (kmax > 0 && want > (long)kmax * npos) want = (long)kmax * npos;
+        if (npos == 0) want = 0;
+        assert_int_equal(sum, want);
+        int check = 0, capped = 0, raised = 0;
+        for (int i = 0; i < n; i++) {
+            check += counts[i];
+            if (mass[i] > 0.0) {
+                assert_true(counts[i] >= 1);
+                if (kmax) assert_true(counts[i] <= kmax);
+                capped += kmax && counts[i] == kmax;
+                raised += counts[i] == 1;
+            } else {
+                assert_int_equal(counts[i], 0);
+            }
+        }
+        assert_int_equal(check, sum);
+        /* Without caps or minimums intervening, each count is within one of its share. */
+        if (!capped && !raised && npos)
+            for (int i = 0; i < n; i++)
+                assert_true(fabs(counts[i] - sum * mass[i] / total) < 1.0 + 1e-9);
+    }
+}
+
+/* ---- the estimator against quadrature ----------------------------------------------------- */
+
+typedef struct est_case {
+    const char *name;
+    lumis_vec3 p, n;
+} est_case;
+
+static const est_case est_cases[] = {
+    {"near", {0.1f, -0.05f, 1.3f}, {0.0f, 0.0f, -1.0f}},
+    {"far", {0.3f, 0.2f, 6.0f}, {0.1f, 0.0f, -1.0f}},
+    {"grazing", {1.4f, 0.3f, 1.6f}, {-1.0f, 0.0f, -0.08f}},
+    {"between U and S", {-0.2f, 0.1f, 0.45f}, {0.0f, 0.0f, -1.0f}},
+    {"on S", {0.15f, -0.1f, 1.0f}, {0.0f, 0.2f, -1.0f}},
+    {"outside every support", {40.0f, 0.0f, 1.5f}, {0.0f, 0.0f, -1.0f}},
+};
+
+static double lum3(lumis_rgb c)
+{
+    return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+}
+
+static void estimator_mean_equals_quadrature(void **state)
+{
+    (void)state;
+    const lumis_luminaire_strategy strategies[] = {LUMIS_LUM_RESTRICTED, LUMIS_LUM_UNIFORM,
+                                                   LUMIS_LUM_GLOBAL};
+    for (int b = LUMIS_BASIS_QUADRATIC; b <= LUMIS_BASIS_BSPLINE; b++) {
+        fixture f = make_fixture((lumis_luminaire_basis)b, 21 + b);
+        const int cap = lumis_luminaire_capacity(f.lum, 16);
+        lumis_luminaire_sample *s = malloc((size_t)cap * sizeof *s);
+        double *u = malloc((size_t)cap * 2 * sizeof(double));
+        for (size_t c = 0; c < sizeof est_cases / sizeof est_cases[0]; c++) {
+            const est_case *ec = &est_cases[c];
+            lumis_rgb ref;
+            assert_int_equal(lumis_luminaire_irradiance(f.lum, ec->p, ec->n, 6, &ref), LUMIS_OK);
+            for (int st = 0; st < 3; st++) {
+                /* The global baseline cannot light points on S: a delta in s it never draws. */
+                if (strategies[st] == LUMIS_LUM_GLOBAL && !strcmp(ec->name, "on S")) continue;
+                lumis_luminaire_query q = {0};
+                q.p = ec->p;
+                q.budget = 16;
+                q.k_max = 6;
+                q.strategy = strategies[st];
+                q.search = (c & 1) ? LUMIS_LUM_BINARY : LUMIS_LUM_SECANT;
+                lumis_pcg32 rng;
+                lumis_pcg32_seed(&rng, 1234, (uint64_t)(c * 8 + (size_t)st));
+                const int T = strategies[st] == LUMIS_LUM_RESTRICTED ? 3000 : 12000;
+                double sum[3] = {0, 0, 0}, sq = 0.0;
+                for (int t = 0; t < T; t++) {
+                    for (int k = 0; k < 2 * cap; k++) u[k] = lumis_pcg32_double(&rng);
+                    int n;
+                    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, cap, s, &n),
+                                     LUMIS_OK);
+                    lumis_rgb e = lumis_luminaire_estimate(s, n, ec->n);
+                    sum[0] += e.r, sum[1] += e.g, sum[2] += e.b;
+                    sq += lum3(e) * lum3(e);
+                }
+                lumis_rgb mean = {(float)(sum[0] / T), (float)(sum[1] / T), (float)(sum[2] / T)};
+                const double my = lum3(mean), ry = lum3(ref);
+                const double se = sqrt(fmax(sq / T - my * my, 0.0) / T);
+                printf("%-9s %-22s %-10s ref %.6g  mean %.6g  se %.2g  (%+.2f se)\n",
+                       lumis_luminaire_basis_name((lumis_luminaire_basis)b), ec->name,
+                       lumis_luminaire_strategy_name(strategies[st]), ry, my, se,
+                       se > 0 ? (my - ry) / se : 0.0);
+                if (!strcmp(ec->name, "outside every support")) {
+                    assert_true(ry == 0.0 && my == 0.0);
+                    continue;
+                }
+                assert_true(ry > 0.0);
+                assert_true(fabs(my - ry) < 4.5 * se + 2e-3 * ry);
+                /* Colour too (Eq. 14): each channel within its own tolerance. */
+                assert_true(fabs(mean.r - ref.r) < 6.0 * se + 5e-3 * ref.r + 0.05 * ry);
+            }
+        }
+        free(s);
+        free(u);
+        free_fixture(&f);
+    }
+}
+
+/* Quadrature over S (the library's) against a dense midpoint rule over U of
+ * L(u -> p) cos_u cos_p / r^2 with L from lumis_luminaire_radiance. */
+static void quadrature_over_s_matches_quadrature_over_u(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 8);
+    const lumis_vec3 ps[] = {{0.1f, -0.05f, 1.3f}, {0.3f, 0.2f, 3.0f}, {-0.2f, 0.1f, 0.6f}};
+    for (int c = 0; c < 3; c++) {
+        const lumis_vec3 p = ps[c], n = {0.0f, 0.0f, -1.0f};
+        lumis_rgb ref;
+        assert_int_equal(lumis_luminaire_irradiance(f.lum, p, n, 6, &ref), LUMIS_OK);
+        const int N = 1500;
+        const double lo = -1.0, hi = 1.0, du = (hi - lo) / N; /* the supports: [-1, 1]^2 */
+        double acc = 0.0;
+        for (int a = 0; a < N; a++)
+            for (int b = 0; b < N; b++) {
+                const double ux = lo + (a + 0.5) * du, uy = lo + (b + 0.5) * du;
+                const double t = 1.0 / p.z; /* s = u + (p - u) delta / z */
+                const double sx = ux + (p.x - ux) * t, sy = uy + (p.y - uy) * t;
+                lumis_rgb L = lumis_luminaire_radiance(f.lum, ux, uy, sx, sy);
+                const double vx = p.x - ux, vy = p.y - uy, vz = p.z;
+                const double r2 = vx * vx + vy * vy + vz * vz;
+                const double cosu = vz / sqrt(r2), cosp = vz / sqrt(r2);
+                acc += lum3(L) * cosu * cosp / r2 * du * du;
+            }
+        printf("over S %.6g  over U %.6g\n", lum3(ref), acc);
+        assert_true(fabs(acc - lum3(ref)) < 3e-3 * lum3(ref));
+    }
+    free_fixture(&f);
+}
+
+/* ---- the per-point entry ---------------------------------------------------------------- */
+
+static void sample_point_edge_cases(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 4);
+    lumis_luminaire_sample s[64];
+    double u[128];
+    for (int k = 0; k < 128; k++) u[k] = (k * 0.618033988749895) - floor(k * 0.618033988749895);
+    lumis_luminaire_query q = {0};
+    int n = -1;
+    q.p.z = -1.0f; /* behind U */
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 64, s, &n), LUMIS_OK);
+    assert_int_equal(n, 0);
+    q.p.z = 0.0f; /* on U */
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 64, s, &n), LUMIS_OK);
+    assert_int_equal(n, 0);
+    q.p.x = 0.1f;
+    q.p.z = 2.0f;
+    q.budget = 40;
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 8, s, &n),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 64, s, &n), LUMIS_OK);
+    assert_int_equal(n, 40);
+    /* Samples come grouped by image, K_m each, matching the balance of A_m(p). */
+    double mass[9];
+    int counts[9];
+    lumis_luminaire_masses(f.lum, q.p, mass);
+    assert_int_equal(lumis_luminaire_balance(mass, 9, 40, 0, counts), 40);
+    for (int k = 0; k < n; k++) {
+        assert_int_equal(s[k].count, counts[s[k].image]);
+        assert_true(k == 0 || s[k].image >= s[k - 1].image);
+        assert_true(s[k].measure == LUMIS_LUM_AREA_S);
+    }
+    /* Budget smaller than the images with mass: each still gets one. */
+    q.budget = 1;
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 64, s, &n), LUMIS_OK);
+    int npos = 0;
+    for (int m = 0; m < 9; m++) npos += mass[m] > 0.0;
+    assert_int_equal(n, npos);
+    /* On S: samples on U. */
+    q.p.z = 1.0f;
+    q.budget = 10;
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, 64, s, &n), LUMIS_OK);
+    assert_true(n >= 1);
+    for (int k = 0; k < n; k++) assert_true(s[k].measure == LUMIS_LUM_AREA_U);
+    free_fixture(&f);
+}
+
+static void rigid_transform_round_trip(void **state)
+{
+    (void)state;
+    lumis_rigid x = lumis_rigid_identity();
+    assert_int_equal(lumis_rigid_check(&x), LUMIS_OK);
+    const double c = cos(0.7), s = sin(0.7);
+    const lumis_rigid r = {{c, 0, s, 0, 1, 0, -s, 0, c}, {1.0, -2.0, 3.0}};
+    assert_int_equal(lumis_rigid_check(&r), LUMIS_OK);
+    lumis_vec3 p = {0.3f, -1.2f, 2.5f};
+    lumis_vec3 q = lumis_rigid_point_to_local(&r, lumis_rigid_point_to_world(&r, p));
+    assert_true(fabsf(q.x - p.x) < 1e-5f && fabsf(q.y - p.y) < 1e-5f && fabsf(q.z - p.z) < 1e-5f);
+    lumis_vec3 d = lumis_rigid_dir_to_world(&r, p);
+    assert_true(fabsf(d.x - (float)(c * 0.3 + s * 2.5)) < 1e-5f);
+    q = lumis_rigid_dir_to_local(&r, d);
+    assert_true(fabsf(q.z - p.z) < 1e-5f);
+    lumis_rigid bad = r;
+    bad.r[0] = 2.0;
+    assert_int_equal(lumis_rigid_check(&bad), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = r;
+    bad.r[4] = -1.0; /* a reflection */
+    assert_int_equal(lumis_rigid_check(&bad), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+/* ---- synthetic acquisition --------------------------------------------------------------- */
+
+static void generated_luminaire_reproduces_its_emitter(void **state)
+{
+    (void)state;
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc em;
+    lumis_emitter_disk disks[4];
+    assert_int_equal(lumis_luminaire_preset_get(LUMIS_PRESET_SMALL, &layout, &em, disks), LUMIS_OK);
+    const lumis_vec3 n = {0.0f, 0.0f, -1.0f};
+    const lumis_vec3 ps[] = {{0.0f, 0.0f, 400.0f},
+                             {20.0f, -10.0f, 300.0f},
+                             {5.0f, 5.0f, 150.0f},
+                             {-30.0f, 10.0f, 600.0f}};
+    /* The error is the basis' (filters of h / delta radians against lobes of cos^40..80)
+     * and the pixels' (boxes a few pixels wide): both shrink together, the coarse grid with
+     * coarse images, the fine grid with images fine enough for its smaller boxes. */
+    const int grids[][4] = {{5, 4, 48, 40}, {17, 13, 160, 128}};
+    double worst[2] = {0.0, 0.0};
+    for (int g = 0; g < 2; g++) {
+        lumis_luminaire_desc d = layout;
+        d.grid[0] = grids[g][0];
+        d.grid[1] = grids[g][1];
+        d.grid_spacing[0] = d.grid_spacing[1] = 40.0 / (d.grid[0] - 1);
+        d.grid_origin[0] = -0.5 * (d.grid[0] - 1) * d.grid_spacing[0];
+        d.grid_origin[1] = -0.5 * (d.grid[1] - 1) * d.grid_spacing[1];
+        d.width = grids[g][2];
+        d.height = grids[g][3];
+        lumis_luminaire *lum = NULL;
+        lumis_acquire_desc acq = {0};
+        acq.samples_s = 1;
+        assert_int_equal(lumis_luminaire_acquire(&d, &em, &acq, &lum), LUMIS_OK);
+        for (size_t k = 0; k < sizeof ps / sizeof ps[0]; k++) {
+            lumis_rgb a, b;
+            assert_int_equal(lumis_luminaire_irradiance(lum, ps[k], n, 4, &a), LUMIS_OK);
+            assert_int_equal(lumis_emitter_irradiance(&em, ps[k], n, 0, 0, &b), LUMIS_OK);
+            const double rel = fabs(lum3(a) - lum3(b)) / lum3(b);
+            printf("grid %2dx%-2d images %3dx%-3d  p (%g, %g, %g): luminaire %.6g  emitter %.6g  "
+                   "rel %.3g\n",
+                   d.grid[0], d.grid[1], d.width, d.height, ps[k].x, ps[k].y, ps[k].z, lum3(a),
+                   lum3(b), rel);
+            if (rel > worst[g]) worst[g] = rel;
+        }
+        lumis_luminaire_destroy(lum);
+    }
+    assert_true(worst[0] < 0.10);
+    assert_true(worst[1] < 0.03);
+    assert_true(worst[1] < worst[0]);
+}
+
+/* ---- descriptors -------------------------------------------------------------------------- */
+
+static void malformed_descriptors_get_a_clear_error(void **state)
+{
+    (void)state;
+    float px[4 * 3 * 3] = {0};
+    px[4] = 1.0f;
+    const float *ptr[4] = {px, px, px, px};
+    lumis_luminaire_desc good = {0};
+    good.delta = 1.0;
+    good.grid[0] = good.grid[1] = 2;
+    good.grid_spacing[0] = good.grid_spacing[1] = 1.0;
+    good.width = 4;
+    good.height = 3;
+    good.image_size[0] = good.image_size[1] = 2.0;
+    good.pixels = ptr;
+    lumis_luminaire *l = NULL;
+    assert_int_equal(lumis_luminaire_create(&good, &l), LUMIS_OK);
+    lumis_luminaire_destroy(l);
+    struct bad {
+        const char *needle;
+        lumis_status status;
+    };
+    const struct bad expect[] = {
+        {"delta", LUMIS_ERR_INVALID_ARGUMENT},          {"grid", LUMIS_ERR_INVALID_ARGUMENT},
+        {"grid", LUMIS_ERR_INVALID_ARGUMENT},           {"spacing", LUMIS_ERR_INVALID_ARGUMENT},
+        {"pixels", LUMIS_ERR_BAD_DIMENSIONS},           {"image size", LUMIS_ERR_INVALID_ARGUMENT},
+        {"pixels is NULL", LUMIS_ERR_INVALID_ARGUMENT}, {"pixels[2]", LUMIS_ERR_INVALID_ARGUMENT},
+        {"basis", LUMIS_ERR_INVALID_ARGUMENT},
+    };
+    const float *holes[4] = {px, px, NULL, px};
+    for (int c = 0; c < 9; c++) {
+        lumis_luminaire_desc d = good;
+        tu_sink sink;
+        tu_sink_init(&sink);
+        d.errors = sink.sink;
+        switch (c) {
+        case 0:
+            d.delta = 0.0;
+            break;
+        case 1:
+            d.grid[0] = 0;
+            break;
+        case 2:
+            d.grid[0] = 40, d.grid[1] = 40;
+            break;
+        case 3:
+            d.grid_spacing[1] = -1.0;
+            break;
+        case 4:
+            d.width = 0;
+            break;
+        case 5:
+            d.image_size[0] = NAN;
+            break;
+        case 6:
+            d.pixels = NULL;
+            break;
+        case 7:
+            d.pixels = holes;
+            break;
+        case 8:
+            d.basis = (lumis_luminaire_basis)7;
+            break;
+        }
+        l = (lumis_luminaire *)&d; /* must be reset to NULL */
+        assert_int_equal(lumis_luminaire_create(&d, &l), expect[c].status);
+        assert_null(l);
+        assert_int_equal(sink.count, 1);
+        assert_non_null(strstr(sink.last, expect[c].needle));
+    }
+    /* Bad pixels are replaced, counted and reported once as a warning. */
+    float bad[4 * 3 * 3] = {0};
+    bad[0] = NAN, bad[1] = -1.0f, bad[5] = INFINITY, bad[7] = 2.0f;
+    const float *bp[4] = {bad, px, px, px};
+    lumis_luminaire_desc d = good;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    d.pixels = bp;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_OK);
+    lumis_luminaire_info info;
+    lumis_luminaire_get_info(l, &info);
+    assert_int_equal(info.replaced, 3);
+    assert_int_equal(sink.count, 1);
+    assert_int_equal(sink.status, LUMIS_OK);
+    lumis_luminaire_destroy(l);
+    /* Emitters too. */
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc em;
+    lumis_emitter_disk disks[4];
+    assert_int_equal(lumis_luminaire_preset_get(LUMIS_PRESET_SMALL, &layout, &em, disks), LUMIS_OK);
+    disks[1].center[2] = 1.0;
+    tu_sink_init(&sink);
+    lumis_acquire_desc acq = {0};
+    acq.errors = sink.sink;
+    assert_int_equal(lumis_luminaire_acquire(&layout, &em, &acq, &l), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "disk 1"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(bases_are_partitions_of_unity),
+        cmocka_unit_test(restricted_sampler_draws_its_pdf),
+        cmocka_unit_test(secant_search_matches_binary_search),
+        cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
+        cmocka_unit_test(estimator_mean_equals_quadrature),
+        cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
+        cmocka_unit_test(sample_point_edge_cases),
+        cmocka_unit_test(rigid_transform_round_trip),
+        cmocka_unit_test(generated_luminaire_reproduces_its_emitter),
+        cmocka_unit_test(malformed_descriptors_get_a_clear_error),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
