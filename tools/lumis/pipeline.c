@@ -452,7 +452,7 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     cJSON_AddNumberToObject(j, "height", cam->height);
     x = cJSON_AddObjectToObject(j, "timings");
     cJSON_AddNumberToObject(x, "load_seconds", r->load_seconds);
-    cJSON_AddNumberToObject(x, "sampler_build_seconds", lumis_sampler_build_ms(smp) / 1000.0);
+    cJSON_AddNumberToObject(x, "sampler_build_seconds", r->sampler_build_ms / 1000.0);
     cJSON_AddNumberToObject(x, "scene_build_seconds", r->scene_seconds);
     cJSON_AddNumberToObject(x, "render_seconds", s->seconds);
     cJSON_AddNumberToObject(x, "total_seconds", r->total_seconds);
@@ -465,14 +465,19 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     cJSON_AddNumberToObject(x, "per_second", s->seconds > 0 ? total / s->seconds : 0);
     cJSON_AddNumberToObject(x, "shadow_per_second",
                             s->seconds > 0 ? s->shadow_rays / s->seconds : 0);
-    x = cJSON_AddObjectToObject(j, "sampler");
-    cJSON_AddStringToObject(x, "method", lumis_sampler_method_name(lumis_sampler_get_method(smp)));
-    cJSON_AddNumberToObject(x, "build_ms", lumis_sampler_build_ms(smp));
-    cJSON_AddNumberToObject(x, "table_bytes", (double)lumis_sampler_table_bytes(smp));
-    cJSON_AddNumberToObject(x, "total_bytes", (double)lumis_sampler_total_bytes(smp));
-    if (lumis_sampler_kdtree_blocks(smp) > 0) {
-        cJSON_AddNumberToObject(x, "kdtree_blocks", lumis_sampler_kdtree_blocks(smp));
-        cJSON_AddNumberToObject(x, "kdtree_alpha", lumis_sampler_kdtree_alpha(smp));
+    if (smp) {
+        x = cJSON_AddObjectToObject(j, "sampler");
+        cJSON_AddStringToObject(x, "method",
+                                lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+        cJSON_AddNumberToObject(x, "build_ms", lumis_sampler_build_ms(smp));
+        cJSON_AddNumberToObject(x, "table_bytes", (double)lumis_sampler_table_bytes(smp));
+        cJSON_AddNumberToObject(x, "total_bytes", (double)lumis_sampler_total_bytes(smp));
+        if (lumis_sampler_kdtree_blocks(smp) > 0) {
+            cJSON_AddNumberToObject(x, "kdtree_blocks", lumis_sampler_kdtree_blocks(smp));
+            cJSON_AddNumberToObject(x, "kdtree_alpha", lumis_sampler_kdtree_alpha(smp));
+        }
+    } else {
+        cJSON_AddNullToObject(j, "sampler"); /* a light set: see "lights" */
     }
     x = cJSON_AddObjectToObject(j, "outputs");
     cJSON_AddStringToObject(x, "exr", o->out);
@@ -578,6 +583,16 @@ static lumis_status unit_image(render_unit *u, lumis_image **out)
     return st;
 }
 
+/* K in [1, min(65536, the map's pixels)]: every method needs a pixel per light. */
+static int clamp_lights_k(double k, const lumis_envmap *env)
+{
+    const double pixels = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
+    if (!(k >= 1.0)) k = 1.0;
+    if (k > 65536.0) k = 65536.0;
+    if (k > pixels) k = pixels;
+    return (int)k;
+}
+
 /* Wu's equal-time rule: a light set spends the time on lights, not samples.  Two pilot
  * renders at one sample per pixel with K = 16 and 64 lights fit the time as linear in K;
  * K is then what fills the budget at TOOL_LIGHTS_TIMED_SPP samples (or --spp). */
@@ -631,11 +646,7 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         d = once[1] / ks[1];
     }
     double k = (o->time_budget - spp * a - c) / (spp * b + d);
-    const double pixels = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
-    if (!(k >= 1.0)) k = 1.0;
-    if (k > 65536.0) k = 65536.0;
-    if (k > pixels) k = pixels;
-    *k_out = (int)k;
+    *k_out = clamp_lights_k(k, env);
     r->lights_pilot_seconds = now_seconds() - t0;
     r->lights_pilot_k[0] = ks[0];
     r->lights_pilot_k[1] = ks[1];
@@ -715,9 +726,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
-    if (lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
+    /* A light set lights the scene by itself: no sampler is built for it. */
+    if (!o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
-    r->load_seconds = now_seconds() - t0 - lumis_sampler_build_ms(smp) / 1000.0;
+    r->load_seconds = now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
     double t1 = now_seconds();
     if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
         goto done;
@@ -761,11 +773,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (st != LUMIS_OK || !k_fills_time || attempt > 0 || (T > 0.6 * B && T < 1.5 * B)) break;
         /* The pilots misjudged the time (a loaded machine, a tiny image): K is scaled by
          * the budget over the time taken, and the render is made again, once. */
-        double k2 = lights_k * B / (T > 1e-9 ? T : 1e-9);
-        if (k2 > 65536.0) k2 = 65536.0;
-        if (k2 < 1.0) k2 = 1.0;
-        if ((int)k2 == lights_k) break;
-        lights_k = (int)k2;
+        const int k2 = clamp_lights_k(lights_k * B / (T > 1e-9 ? T : 1e-9), env);
+        if (k2 == lights_k) break;
+        lights_k = k2;
         r->lights_retried = 1;
         lumis_image_destroy(r->image);
         r->image = NULL;
@@ -785,8 +795,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (tool_write_image(o->png, r->image, &po) != LUMIS_OK) goto done;
     }
     r->total_seconds = now_seconds() - t0;
-    r->sampler_build_ms = lumis_sampler_build_ms(smp);
-    r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
+    if (smp) {
+        r->sampler_build_ms = lumis_sampler_build_ms(smp);
+        r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
+    }
     if (lights) { /* what lights the image: the light set's build and memory */
         int lw = 0, lh = 0;
         lumis_light_set_labels(lights, &lw, &lh);
