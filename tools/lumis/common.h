@@ -171,7 +171,7 @@ typedef struct tool_render_result {
     int upsample; /* the factor used (1: none) */
     /* --lights with --time: the pilot renders that chose K (0 seconds: none ran). */
     double lights_pilot_seconds, lights_pilot_per_spp[2], lights_pilot_once[2];
-    double lights_pilot_chosen; /* K of the fit, before any re-render */
+    double lights_pilot_chosen; /* K the pilots chose, before any re-render */
     int lights_pilot_k[2];
     int lights_retried; /* the pilots misjudged: rendered again with K scaled */
 } tool_render_result;

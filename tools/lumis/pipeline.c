@@ -654,7 +654,7 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
     r->lights_pilot_per_spp[1] = t[1];
     r->lights_pilot_once[0] = once[0];
     r->lights_pilot_once[1] = once[1];
-    r->lights_pilot_chosen = k;
+    r->lights_pilot_chosen = *k_out;
     return LUMIS_OK;
 }
 
