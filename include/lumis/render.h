@@ -15,6 +15,7 @@
 #include "lumis/image.h"
 #include "lumis/io.h"
 #include "lumis/lights.h"
+#include "lumis/luminaire.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -65,9 +66,62 @@ typedef enum lumis_estimator {
     LUMIS_ESTIMATOR_BSDF     /* BSDF samples only */
 } lumis_estimator;
 
+/* ---- light-field luminaires in a scene (Lu et al.; lumis/luminaire.h) -------------------- */
+
+/* A luminaire placed in a scene: world = R (scale local) + t.  Radiance is unchanged by the
+ * scale (it only converts lengths: 0.001 puts a luminaire measured in millimetres into a scene
+ * in metres), so irradiance is too. */
+typedef struct lumis_luminaire_instance {
+    const lumis_luminaire *luminaire;
+    lumis_rigid placement; /* R a proper rotation (lumis_rigid_check); all zeros == identity */
+    double scale;          /* world units per luminaire unit, > 0; 0 == 1 */
+    float intensity;       /* radiance multiplier, >= 0; 0 == 1 */
+} lumis_luminaire_instance;
+
+/* How a luminaire sample's visibility is decided. */
+typedef enum lumis_visibility {
+    LUMIS_VISIBILITY_EXACT = 0, /* one shadow ray per light sample, to its point on U */
+    LUMIS_VISIBILITY_APPROX,    /* Lu et al. 6.2: per cell of the basis grid on U one ray to
+                                   the cell's centre; a sample of image m is weighted by the
+                                   mean visibility v_m(p) over the cells of Phi_m's support
+                                   (rays here where the paper uses shadow maps) */
+    LUMIS_VISIBILITY_NONE,      /* no shadows (the paper's irradiance, Eq. 2) */
+    LUMIS_VISIBILITY_COUNT
+} lumis_visibility;
+
+/* Where the luminaire samples' random numbers come from (Lu et al., Fig. 8). */
+typedef enum lumis_sequence {
+    LUMIS_SEQUENCE_PCG = 0, /* PCG32, a stream per pixel and camera sample */
+    LUMIS_SEQUENCE_HALTON,  /* Halton (2, 3), consecutive indices per camera sample, rotated
+                               per pixel (Cranley-Patterson) */
+    LUMIS_SEQUENCE_COUNT
+} lumis_sequence;
+
+/* "exact", "approx", "none"; "pcg", "halton". */
+const char *lumis_visibility_name(lumis_visibility visibility);
+lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
+const char *lumis_sequence_name(lumis_sequence sequence);
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+
+/* Luminaires as the renderer's lights: every camera sample's hit is lit by each instance with
+ * lumis_luminaire_sample_point (budget samples shared among its images) and the material's
+ * BSDF.  The instances and their luminaires must outlive the render. */
+typedef struct lumis_luminaire_lighting {
+    const lumis_luminaire_instance *instances;
+    int count;
+    int budget;                        /* K per instance per camera sample; 0 == 32 */
+    int k_max;                         /* most samples for one image; 0 == no cap */
+    lumis_luminaire_strategy strategy; /* 0 == restricted (Lu et al.) */
+    lumis_luminaire_search search;     /* 0 == the library's default */
+    int depth;                         /* search depth; 0 == exact */
+    lumis_visibility visibility;       /* 0 == exact */
+    lumis_sequence sequence;           /* 0 == PCG32 */
+} lumis_luminaire_lighting;
+
 typedef struct lumis_render_desc {
     const lumis_camera *camera;
-    const lumis_envmap *env;      /* seen by camera rays that escape, and sampled below */
+    const lumis_envmap *env;      /* seen by camera rays that escape, and sampled below (may be
+                                     NULL with luminaires: escaping rays see black) */
     const lumis_sampler *sampler; /* light sampler; NULL for LUMIS_ESTIMATOR_BSDF */
     /* The renderer's light interface: how a shading point is lit.
      *  - NULL (default): the environment, sampled per pixel through `sampler` with
@@ -80,6 +134,11 @@ typedef struct lumis_render_desc {
     const lumis_light_set *light_set;
     unsigned light_kinds; /* lights of the set used: 0 == all, else a mask of bits
                              1u << lumis_light_kind (e.g. EnvDirects only) */
+    /* - light-field luminaires: lit as lumis_luminaire_lighting says; `env` may then be NULL
+     *   (camera rays that escape see black), `sampler`, `estimator` and `light_set` are
+     *   unused (a light set and luminaires together are refused), and path tracing is refused.
+     *   NULL or count 0: not this kind. */
+    const lumis_luminaire_lighting *luminaires;
     int hide_environment; /* nonzero: camera rays that escape see black (a layer that is
                              added to another which shows the map) */
     int pixel_centers;    /* nonzero: every camera ray through its pixel's centre (a layer

@@ -434,6 +434,7 @@ typedef struct ctx {
     int fused; /* the sampler draws from d->env: radiance and pdf from one lookup */
     int sets;  /* light sets interleaved (light_set only) */
     const struct light_soa *soa; /* their lights, as the shading loop reads them */
+    const struct lum_inst *lum;  /* the placed luminaires (luminaires only) */
 } ctx;
 
 /* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
@@ -528,6 +529,239 @@ static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
     }
     *shadow_rays += (double)(p.n + p.flushed);
     packet_flush(c->scene, d, &p, &L);
+    return L;
+}
+
+/* splitmix64's finaliser: decorrelates (seed, sample) pairs into PCG start states. */
+static uint64_t mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+static const char *const visibility_names[] = {"exact", "approx", "none"};
+static const char *const sequence_names[] = {"pcg", "halton"};
+
+const char *lumis_visibility_name(lumis_visibility v)
+{
+    return (unsigned)v < LUMIS_VISIBILITY_COUNT ? visibility_names[v] : "unknown";
+}
+
+lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out)
+{
+    for (int k = 0; name && out && k < LUMIS_VISIBILITY_COUNT; k++)
+        if (strcmp(name, visibility_names[k]) == 0) {
+            *out = (lumis_visibility)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+const char *lumis_sequence_name(lumis_sequence q)
+{
+    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? sequence_names[q] : "unknown";
+}
+
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
+{
+    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
+        if (strcmp(name, sequence_names[k]) == 0) {
+            *out = (lumis_sequence)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+/* ---- the light interface: light-field luminaires ------------------------------------------ */
+
+/* One placed luminaire as the shading loop reads it. */
+typedef struct lum_inst {
+    const lumis_luminaire *lum;
+    double r[9], t[3], scale, inv_scale, intensity;
+    lumis_luminaire_query query;
+    int capacity;     /* samples lumis_luminaire_sample_point may return */
+    int grid[2];      /* W, H */
+    int span;         /* cells of the visibility grid a basis function covers per axis */
+    int cells[2];     /* cells of the visibility grid per axis: W + span - 1, ... */
+    double cell0[2];  /* centre of cell (0, 0) on U, luminaire frame */
+    double cell_h[2]; /* cell size */
+    double weight[3]; /* the share of Phi's integral over each covered cell, per axis */
+} lum_inst;
+
+/* Per-thread buffers of the luminaire kind (no allocation per shading point). */
+typedef struct lum_scratch {
+    double *u;                 /* 2 per sample */
+    lumis_luminaire_sample *s; /* capacity samples */
+    float *vis;                /* visibility per cell (approximate visibility) */
+    unsigned *stamp;           /* the point a cell's visibility belongs to */
+    unsigned point;
+    size_t cells; /* entries of vis and stamp */
+} lum_scratch;
+
+static v3 rot_apply(const double r[9], v3 a)
+{
+    return mk(r[0] * a.x + r[1] * a.y + r[2] * a.z, r[3] * a.x + r[4] * a.y + r[5] * a.z,
+              r[6] * a.x + r[7] * a.y + r[8] * a.z);
+}
+
+static v3 rot_apply_t(const double r[9], v3 a)
+{
+    return mk(r[0] * a.x + r[3] * a.y + r[6] * a.z, r[1] * a.x + r[4] * a.y + r[7] * a.z,
+              r[2] * a.x + r[5] * a.y + r[8] * a.z);
+}
+
+static void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
+{
+    const int q = p->n++;
+    p->valid[q] = -1;
+    p->r.org_x[q] = (float)o.x;
+    p->r.org_y[q] = (float)o.y;
+    p->r.org_z[q] = (float)o.z;
+    p->r.dir_x[q] = (float)d.x;
+    p->r.dir_y[q] = (float)d.y;
+    p->r.dir_z[q] = (float)d.z;
+    p->r.tnear[q] = 0.0f;
+    p->r.tfar[q] = tfar;
+    p->r.mask[q] = 0xffffffffu;
+    p->r.flags[q] = 0;
+    p->r.time[q] = 0.0f;
+    p->r.id[q] = (unsigned)q;
+    p->contrib[q] = contrib;
+}
+
+/* Mean visibility v_m(p) of image m = (a, b) (Lu et al. 6.2): rays from o to the centres of
+ * the cells Phi_m covers, each weighted by its share of Phi_m's integral; a cell already
+ * traced for this point is not traced again. */
+static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, int m, v3 o,
+                             double *shadow_rays)
+{
+    const int a = m % li->grid[0], b = m / li->grid[0];
+    packet p;
+    p.n = p.flushed = 0;
+    int cell[9];
+    for (int j = 0; j < li->span; j++)
+        for (int i = 0; i < li->span; i++) {
+            const int id = (b + j) * li->cells[0] + (a + i);
+            if (sc->stamp[id] == sc->point) continue;
+            sc->stamp[id] = sc->point;
+            const v3 local = mk(li->cell0[0] + (a + i) * li->cell_h[0],
+                                li->cell0[1] + (b + j) * li->cell_h[1], 0.0);
+            const v3 w =
+                add(rot_apply(li->r, mul(local, li->scale)), mk(li->t[0], li->t[1], li->t[2]));
+            const v3 d = sub(w, o);
+            const double len = sqrt(dot(d, d));
+            if (!(len > 0.0)) {
+                sc->vis[id] = 1.0f;
+                continue;
+            }
+            cell[p.n] = id;
+            packet_push(&p, o, mul(d, 1.0 / len), (float)(len * (1.0 - 1e-4)), mk(0, 0, 0));
+        }
+    if (p.n > 0) {
+        for (int k = p.n; k < PACKET; k++) p.valid[k] = 0;
+        if (c->d->shadow_ray)
+            for (int k = 0; k < p.n; k++) {
+                const float oo[3] = {p.r.org_x[k], p.r.org_y[k], p.r.org_z[k]},
+                            dd[3] = {p.r.dir_x[k], p.r.dir_y[k], p.r.dir_z[k]};
+                c->d->shadow_ray(c->d->shadow_ray_user, oo, dd);
+            }
+        struct RTCIntersectContext ictx;
+        rtcInitIntersectContext(&ictx);
+        rtcOccluded16(p.valid, c->scene->rtc, &ictx, &p.r);
+        for (int k = 0; k < p.n; k++) sc->vis[cell[k]] = p.r.tfar[k] >= 0.0f ? 1.0f : 0.0f;
+        *shadow_rays += p.n;
+    }
+    double v = 0.0;
+    for (int j = 0; j < li->span; j++)
+        for (int i = 0; i < li->span; i++)
+            v += li->weight[i] * li->weight[j] * sc->vis[(b + j) * li->cells[0] + (a + i)];
+    return v;
+}
+
+/* Every placed luminaire at h: its samples (lumis_luminaire_sample_point) times the BSDF and
+ * the cosine, each weighted as the sample says (1 / (K_m pdf_omega)), times its visibility. */
+static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, int k,
+                           lumis_pcg32 *rng, lum_scratch *sc, double *shadow_rays)
+{
+    const lumis_render_desc *d = c->d;
+    const lumis_luminaire_lighting *ll = d->luminaires;
+    v3 t, b, n = h->n;
+    basis(n, &t, &b);
+    v3 wow = mul(dir, -1.0);
+    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const lumis_bsdf *mat = &h->prim->material;
+    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    v3 L = mk(0, 0, 0);
+    for (int i = 0; i < ll->count; i++) {
+        const lum_inst *li = &c->lum[i];
+        lumis_luminaire_query q = li->query;
+        const v3 pl =
+            mul(rot_apply_t(li->r, sub(h->p, mk(li->t[0], li->t[1], li->t[2]))), li->inv_scale);
+        q.p = tof(pl);
+        if (!(q.p.z > 0.0f)) continue; /* behind U: no light */
+        const int nu = 2 * li->capacity;
+        if (q.strategy == LUMIS_LUM_GLOBAL) {
+            /* The same samples on S for every point: a stream per camera sample only. */
+            lumis_pcg32 g;
+            lumis_pcg32_seed(&g, mix64(d->seed ^ mix64((uint64_t)k + 1)),
+                             0x9e3779b9u + (uint64_t)i);
+            for (int j = 0; j < nu; j++) sc->u[j] = lumis_pcg32_double(&g);
+        } else if (ll->sequence == LUMIS_SEQUENCE_HALTON) {
+            lumis_pcg32 g; /* a rotation per pixel and instance, the same for every k */
+            lumis_pcg32_seed(&g, mix64(d->seed ^ 0x51ed27u ^ ((uint64_t)i << 40)),
+                             (uint64_t)py * 0x10000u + (uint64_t)px);
+            const double r0 = lumis_pcg32_double(&g), r1 = lumis_pcg32_double(&g);
+            const uint64_t base = (uint64_t)k * (uint64_t)li->capacity + 1;
+            for (int j = 0; j < nu / 2; j++) {
+                double u0 = lumis_halton(0, base + (uint64_t)j) + r0,
+                       u1 = lumis_halton(1, base + (uint64_t)j) + r1;
+                sc->u[2 * j] = u0 >= 1.0 ? u0 - 1.0 : u0;
+                sc->u[2 * j + 1] = u1 >= 1.0 ? u1 - 1.0 : u1;
+            }
+        } else {
+            for (int j = 0; j < nu; j++) sc->u[j] = lumis_pcg32_double(rng);
+        }
+        int count = 0;
+        if (lumis_luminaire_sample_point(li->lum, &q, sc->u, li->capacity, sc->s, &count) !=
+            LUMIS_OK)
+            continue;
+        sc->point++;
+        if (sc->point == 0) { /* the stamps wrapped: forget them all */
+            memset(sc->stamp, 0, sizeof *sc->stamp * sc->cells);
+            sc->point = 1;
+        }
+        packet p;
+        p.n = p.flushed = 0;
+        int vis_image = -1;
+        double vis = 1.0;
+        for (int j = 0; j < count; j++) {
+            const lumis_luminaire_sample *s = &sc->s[j];
+            const v3 wi = rot_apply(li->r, mk(s->dir.x, s->dir.y, s->dir.z));
+            const double cosn = dot(wi, n);
+            if (!(cosn > 0.0) || !(s->weight > 0.0f)) continue;
+            lumis_rgb f = lumis_bsdf_eval(mat, wo, tof(mk(dot(wi, t), dot(wi, b), cosn)));
+            if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+            const double kk = cosn * s->weight * li->intensity;
+            v3 contrib =
+                mk(f.r * s->radiance.r * kk, f.g * s->radiance.g * kk, f.b * s->radiance.b * kk);
+            if (ll->visibility == LUMIS_VISIBILITY_NONE) {
+                L = add(L, contrib);
+            } else if (ll->visibility == LUMIS_VISIBILITY_APPROX) {
+                if (s->image != vis_image) {
+                    vis_image = s->image;
+                    vis = lum_visibility(c, li, sc, s->image, o, shadow_rays);
+                }
+                L = add(L, mul(contrib, vis));
+            } else {
+                const float tfar = (float)((double)s->distance * li->scale * (1.0 - 1e-4));
+                packet_push(&p, o, wi, tfar, contrib);
+                if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
+            }
+        }
+        *shadow_rays += (double)(p.n + p.flushed);
+        packet_flush(c->scene, d, &p, &L);
+    }
     return L;
 }
 
@@ -643,6 +877,10 @@ struct lumis_render_job {
     double *sum;    /* 3 per pixel: the sum of every sample so far, in sample order */
     light_soa *soa; /* one per light set (light_set only) */
     int sets;
+    lum_inst *lum;                     /* one per placed luminaire (luminaires only) */
+    int lum_capacity;                  /* the most samples one instance returns */
+    size_t lum_cells;                  /* the most visibility cells one instance has */
+    lumis_luminaire_lighting lighting; /* a copy; d.luminaires points here */
     lumis_render_stats stats;
 };
 
@@ -689,20 +927,85 @@ static light_soa *soa_make(const lumis_light_set *set, unsigned kinds, int *sets
     return soa;
 }
 
-/* splitmix64's finaliser: decorrelates (seed, sample) pairs into PCG start states. */
-static uint64_t mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 void lumis_render_job_destroy(lumis_render_job *job)
 {
     if (!job) return;
     free(job->sum);
     soa_free(job->soa, job->sets);
+    free(job->lum);
     free(job);
+}
+
+/* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
+static lumis_status lum_prepare(const lumis_render_desc *d, lumis_render_job *job)
+{
+    const lumis_luminaire_lighting *ll = d->luminaires;
+    const lumis_error_sink *errors = &d->errors;
+    if (ll->count < 0 || ll->count > 4096 || !ll->instances || ll->budget < 0 ||
+        ll->budget > 65536 || ll->k_max < 0 || ll->depth < 0 ||
+        (unsigned)ll->strategy >= LUMIS_LUM_STRATEGY_COUNT ||
+        (unsigned)ll->search >= LUMIS_LUM_SEARCH_COUNT ||
+        (unsigned)ll->visibility >= LUMIS_VISIBILITY_COUNT ||
+        (unsigned)ll->sequence >= LUMIS_SEQUENCE_COUNT)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: luminaires: 1 to 4096 instances, budget 0 to 65536, "
+                           "k_max and depth >= 0, and known strategy, search, visibility and "
+                           "sequence");
+    if (!(job->lum = calloc((size_t)ll->count, sizeof *job->lum)))
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "render: luminaires: out of memory");
+    for (int i = 0; i < ll->count; i++) {
+        const lumis_luminaire_instance *in = &ll->instances[i];
+        lum_inst *li = &job->lum[i];
+        lumis_rigid x = in->placement;
+        int zero = 1;
+        for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
+        if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
+        const double scale = in->scale == 0.0 ? 1.0 : in->scale;
+        const double intensity = in->intensity == 0.0f ? 1.0 : in->intensity;
+        if (!in->luminaire || lumis_rigid_check(&x) != LUMIS_OK || !(scale > 0.0) ||
+            !isfinite(scale) || !(intensity >= 0.0) || !isfinite(intensity) ||
+            !isfinite(x.t[0] + x.t[1] + x.t[2]))
+            return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "render: luminaire %d: needs a luminaire, a proper rotation, a "
+                               "finite translation, scale > 0 and intensity >= 0",
+                               i);
+        li->lum = in->luminaire;
+        memcpy(li->r, x.r, sizeof li->r);
+        memcpy(li->t, x.t, sizeof li->t);
+        li->scale = scale;
+        li->inv_scale = 1.0 / scale;
+        li->intensity = intensity;
+        li->query.budget = ll->budget ? ll->budget : 32;
+        li->query.k_max = ll->k_max;
+        li->query.strategy = ll->strategy;
+        li->query.search = ll->search;
+        li->query.depth = ll->depth;
+        li->capacity = lumis_luminaire_capacity(in->luminaire, li->query.budget);
+        lumis_luminaire_desc ld;
+        lumis_luminaire_get_desc(in->luminaire, &ld);
+        /* The visibility grid: cells of the basis grid's size, so that Phi_m covers span x
+         * span of them (2 x 2 quadratic, 3 x 3 B-spline); cell centres are the reference
+         * light positions. */
+        const double radius = lumis_luminaire_basis_radius(ld.basis);
+        li->span = (int)(2.0 * radius + 0.5);
+        for (int a = 0; a < 2; a++) {
+            li->grid[a] = ld.grid[a];
+            li->cells[a] = ld.grid[a] + li->span - 1;
+            li->cell_h[a] = ld.grid_spacing[a];
+            li->cell0[a] = ld.grid_origin[a] + (0.5 - radius) * ld.grid_spacing[a];
+        }
+        for (int c = 0; c < li->span; c++) { /* the integral of phi over cell c, midpoint rule */
+            const int steps = 4096;
+            double sum = 0.0;
+            for (int q = 0; q < steps; q++)
+                sum += lumis_luminaire_basis_eval(ld.basis, c - radius + (q + 0.5) / steps);
+            li->weight[c] = sum / steps;
+        }
+        if (li->capacity > job->lum_capacity) job->lum_capacity = li->capacity;
+        const size_t cells = (size_t)li->cells[0] * (size_t)li->cells[1];
+        if (cells > job->lum_cells) job->lum_cells = cells;
+    }
+    return LUMIS_OK;
 }
 
 lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_render_desc *d,
@@ -710,12 +1013,17 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
+    const int lum_kind = d && d->luminaires && d->luminaires->count > 0;
+    if (lum_kind && (d->light_set || d->max_bounces > 0))
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: luminaires light direct illumination alone (no light set, "
+                           "max_bounces 0)");
     if (d && d->light_set && d->max_bounces > 0)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: a light set lights direct illumination only (max_bounces "
                            "must be 0)");
-    if (!scene || !d || !d->env ||
-        (!d->light_set && d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
+    if (!scene || !d || (!d->env && !lum_kind) ||
+        (!lum_kind && !d->light_set && d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
         (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
         d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
@@ -737,9 +1045,22 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         lumis_render_job_destroy(job);
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
     }
+    if (lum_kind) {
+        lumis_status lst = lum_prepare(d, job);
+        if (lst != LUMIS_OK) {
+            lumis_render_job_destroy(job);
+            return lst;
+        }
+    }
     job->scene = scene;
     job->d = *d;
     job->d.camera = NULL; /* job->cam is the camera */
+    if (lum_kind) {
+        job->lighting = *d->luminaires;
+        job->d.luminaires = &job->lighting;
+    } else {
+        job->d.luminaires = NULL;
+    }
     job->cam = cam;
     job->cf = cf;
     *out = job;
@@ -750,20 +1071,21 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
  * direct illumination at every further vertex of a BSDF-sampled path.  The environment
  * seen by a continuation ray is not added: the direct estimator at the vertex it left
  * already accounts for it, so each light path is counted once. */
-static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px, int py,
-                       lumis_pcg32 *rng, double *shadow, double *bounce)
+static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px, int py, int k,
+                       lumis_pcg32 *rng, lum_scratch *sc, double *shadow, double *bounce)
 {
     hit hh;
     if (!intersect(c->scene, job->cf.eye, dir, &hh)) {
-        if (job->d.hide_environment) return mk(0, 0, 0);
+        if (job->d.hide_environment || !job->d.env) return mk(0, 0, 0);
         lumis_rgb e = lumis_envmap_eval(job->d.env, tof(dir));
         return mk(e.r, e.g, e.b);
     }
     v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
     for (int depth = 0;; depth++) {
         /* The light interface: the kind of lights decides how the point is lit. */
-        v3 Ld = job->d.light_set ? shade_light_set(c, &hh, dir, px, py, shadow)
-                                 : shade(c, &hh, dir, rng, shadow);
+        v3 Ld = c->lum             ? shade_luminaires(c, &hh, dir, px, py, k, rng, sc, shadow)
+                : job->d.light_set ? shade_light_set(c, &hh, dir, px, py, shadow)
+                                   : shade(c, &hh, dir, rng, shadow);
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
         if (depth >= job->d.max_bounces) break;
         v3 t, b, n = hh.n;
@@ -797,42 +1119,72 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
              d->bsdf_samples ? d->bsdf_samples : 1,
              d->sampler && lumis_sampler_envmap(d->sampler) == d->env,
              job->sets,
-             job->soa};
+             job->soa,
+             job->lum};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
     double shadow = 0.0, bounce = 0.0, t0 = omp_get_wtime();
-    int done = 0;
+    int done = 0, failed = 0;
 
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : shadow, bounce)
-    for (int tile = 0; tile < tiles; tile++) {
-        const int x0 = tile % tx * TILE, y0 = tile / tx * TILE;
-        const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
-        for (int y = y0; y < y1; y++)
-            for (int x = x0; x < x1; x++) {
-                const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
-                double *acc = job->sum + 3 * pixel;
-                v3 a = mk(acc[0], acc[1], acc[2]);
-                for (int k = first; k < first + samples; k++) {
-                    /* Sample k of this pixel has its own stream: passes cannot change it. */
-                    lumis_pcg32 rng;
-                    lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
-                    double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
-                    if (d->pixel_centers) jx = jy = 0.5;
-                    double sx = (x + jx) / w * 2.0 - 1.0;
-                    double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
-                    v3 dir = camera_dir(&job->cf, sx, sy);
-                    a = add(a, trace_sample(&c, job, dir, x, y, &rng, &shadow, &bounce));
-                }
-                acc[0] = a.x;
-                acc[1] = a.y;
-                acc[2] = a.z;
+#pragma omp parallel num_threads(threads) reduction(+ : shadow, bounce)
+    {
+        lum_scratch sc;
+        memset(&sc, 0, sizeof sc);
+        if (job->lum) { /* the luminaire kind's buffers, one set per thread */
+            sc.cells = job->lum_cells;
+            sc.u = malloc(2 * sizeof *sc.u * (size_t)job->lum_capacity);
+            sc.s = malloc(sizeof *sc.s * (size_t)job->lum_capacity);
+            sc.vis = malloc(sizeof *sc.vis * sc.cells);
+            sc.stamp = calloc(sc.cells, sizeof *sc.stamp);
+            if (!sc.u || !sc.s || !sc.vis || !sc.stamp) {
+#pragma omp atomic write
+                failed = 1;
             }
-        int now;
+        }
+#pragma omp barrier
+        int stop;
+#pragma omp atomic read
+        stop = failed;
+#pragma omp for schedule(dynamic, 1)
+        for (int tile = 0; tile < tiles; tile++) {
+            if (stop) continue;
+            const int x0 = tile % tx * TILE, y0 = tile / tx * TILE;
+            const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
+            for (int y = y0; y < y1; y++)
+                for (int x = x0; x < x1; x++) {
+                    const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
+                    double *acc = job->sum + 3 * pixel;
+                    v3 a = mk(acc[0], acc[1], acc[2]);
+                    for (int k = first; k < first + samples; k++) {
+                        /* Sample k of this pixel has its own stream: passes cannot change it. */
+                        lumis_pcg32 rng;
+                        lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
+                        double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
+                        if (d->pixel_centers) jx = jy = 0.5;
+                        double sx = (x + jx) / w * 2.0 - 1.0;
+                        double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
+                        v3 dir = camera_dir(&job->cf, sx, sy);
+                        a = add(a,
+                                trace_sample(&c, job, dir, x, y, k, &rng, &sc, &shadow, &bounce));
+                    }
+                    acc[0] = a.x;
+                    acc[1] = a.y;
+                    acc[2] = a.z;
+                }
+            int now;
 #pragma omp atomic capture
-        now = ++done;
-        if (d->progress && omp_get_thread_num() == 0) d->progress(d->progress_user, now, tiles);
+            now = ++done;
+            if (d->progress && omp_get_thread_num() == 0) d->progress(d->progress_user, now, tiles);
+        }
+        free(sc.u);
+        free(sc.s);
+        free(sc.vis);
+        free(sc.stamp);
     }
+    if (failed)
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                           "render: luminaire buffers: out of memory");
     if (d->progress) d->progress(d->progress_user, tiles, tiles);
     job->stats.spp += samples;
     job->stats.passes++;

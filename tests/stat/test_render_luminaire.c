@@ -1,0 +1,294 @@
+/* Luminaires as the renderer's lights (lumis/render.h, lumis_luminaire_lighting): a pixel's
+ * mean equals albedo / pi times the quadrature irradiance for every strategy and sequence,
+ * wherever the luminaire is placed and whatever its scale; exact visibility with no
+ * occluder gives the unshadowed image bit for bit; an occluder that covers the whole
+ * luminaire gives black with exact and approximate visibility, a partial one something in
+ * between; bad lighting descriptors get a clear error. */
+#include "../testutil.h"
+
+#include "lumis/render.h"
+#include "lumis/rng.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* 3 x 3 functions on a 0.5 grid, S at delta = 1, images 16 x 12 over [-2, 2] x [-1.5, 1.5],
+ * random coloured pixels with 30% zeros. */
+typedef struct fixture {
+    lumis_luminaire *lum;
+    float *pixels;
+} fixture;
+
+static fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
+{
+    fixture f;
+    const float *ptr[9];
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.basis = basis;
+    d.grid[0] = d.grid[1] = 3;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 0.5;
+    d.width = 16;
+    d.height = 12;
+    d.image_origin[0] = -2.0;
+    d.image_origin[1] = -1.5;
+    d.image_size[0] = 4.0;
+    d.image_size[1] = 3.0;
+    const size_t n = (size_t)d.width * d.height * 3;
+    f.pixels = malloc(9 * n * sizeof(float));
+    assert_non_null(f.pixels);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, seed, 1);
+    for (int m = 0; m < 9; m++) {
+        for (size_t k = 0; k < n; k += 3) {
+            float v = lumis_pcg32_float(&rng) < 0.3f ? 0.0f : 0.1f + 4.0f * lumis_pcg32_float(&rng);
+            float tint = lumis_pcg32_float(&rng);
+            f.pixels[m * n + k] = v * (0.5f + tint);
+            f.pixels[m * n + k + 1] = v;
+            f.pixels[m * n + k + 2] = v * (1.5f - tint);
+        }
+        ptr[m] = f.pixels + m * n;
+    }
+    d.pixels = ptr;
+    f.lum = NULL;
+    assert_int_equal(lumis_luminaire_create(&d, &f.lum), LUMIS_OK);
+    return f;
+}
+
+static void free_fixture(fixture *f)
+{
+    lumis_luminaire_destroy(f->lum);
+    free(f->pixels);
+}
+
+/* A placement: world = R (scale local) + t. */
+typedef struct placement {
+    double r[9], t[3], scale;
+} placement;
+
+static lumis_vec3 to_world(const placement *x, double a, double b, double c, int point)
+{
+    const double k = point ? x->scale : 1.0, o = point ? 1.0 : 0.0;
+    const double v[3] = {a * k, b * k, c * k};
+    lumis_vec3 w;
+    w.x = (float)(x->r[0] * v[0] + x->r[1] * v[1] + x->r[2] * v[2] + o * x->t[0]);
+    w.y = (float)(x->r[3] * v[0] + x->r[4] * v[1] + x->r[5] * v[2] + o * x->t[1]);
+    w.z = (float)(x->r[6] * v[0] + x->r[7] * v[1] + x->r[8] * v[2] + o * x->t[2]);
+    return w;
+}
+
+/* The local shading point and the objects around it: a Lambertian floor through p facing
+ * the luminaire, and optionally a sphere (centre, radius, local units) in between. */
+static const double P[3] = {0.3, -0.2, 3.0};
+static const float ALBEDO = 0.5f;
+
+static lumis_scene *make_scene(const placement *x, const double *sphere, double radius)
+{
+    lumis_object o[2];
+    memset(o, 0, sizeof o);
+    o[0].type = LUMIS_OBJECT_PLANE;
+    o[0].center = to_world(x, P[0], P[1], P[2], 1);
+    o[0].normal = to_world(x, 0, 0, -1, 0);
+    o[0].size = (float)(20.0 * x->scale);
+    o[0].material.type = LUMIS_BSDF_LAMBERT;
+    o[0].material.diffuse = (lumis_rgb){ALBEDO, ALBEDO, ALBEDO};
+    int n = 1;
+    if (sphere) {
+        o[1].type = LUMIS_OBJECT_SPHERE;
+        o[1].center = to_world(x, sphere[0], sphere[1], sphere[2], 1);
+        o[1].radius = (float)(radius * x->scale);
+        o[1].material = o[0].material;
+        n = 2;
+    }
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(o, n, NULL, &s), LUMIS_OK);
+    return s;
+}
+
+/* A 1 x 1 image through the pixel's centre, which sees P from the side (above any sphere
+ * of the tests). */
+static lumis_rgb render_pixel(const lumis_scene *s, const placement *x,
+                              const lumis_luminaire_lighting *ll, uint64_t seed, int spp)
+{
+    lumis_camera cam = {to_world(x, P[0] + 2.0, P[1], 2.8, 1),
+                        to_world(x, P[0], P[1], P[2], 1),
+                        to_world(x, 0, 1, 0, 0),
+                        1.0f,
+                        1,
+                        1};
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.luminaires = ll;
+    d.pixel_centers = 1;
+    d.spp = spp;
+    d.seed = seed;
+    d.threads = 1;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    lumis_rgb c = {img->pixels[0], img->pixels[1], img->pixels[2]};
+    lumis_image_destroy(img);
+    return c;
+}
+
+static const placement IDENTITY = {{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 0}, 1.0};
+/* Local +z to world -y, millimetres to metres, moved. */
+static const placement TURNED = {{1, 0, 0, 0, 0, -1, 0, 1, 0}, {0.4, 0.7, -2.0}, 0.001};
+
+static void pixels_are_unbiased(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 7);
+    lumis_rgb ref;
+    const lumis_vec3 p = {(float)P[0], (float)P[1], (float)P[2]}, n = {0, 0, -1};
+    assert_int_equal(lumis_luminaire_irradiance(f.lum, p, n, 6, &ref), LUMIS_OK);
+    const double expect = ALBEDO / PI * ref.g;
+    assert_true(expect > 0.0);
+    const placement *where[2] = {&IDENTITY, &TURNED};
+    for (int w = 0; w < 2; w++) {
+        lumis_scene *s = make_scene(where[w], NULL, 0.0);
+        lumis_luminaire_instance in = {0};
+        in.luminaire = f.lum;
+        memcpy(in.placement.r, where[w]->r, sizeof in.placement.r);
+        memcpy(in.placement.t, where[w]->t, sizeof in.placement.t);
+        in.scale = where[w]->scale;
+        for (int strategy = LUMIS_LUM_RESTRICTED; strategy < LUMIS_LUM_STRATEGY_COUNT; strategy++)
+            for (int seq = 0; seq < LUMIS_SEQUENCE_COUNT; seq++) {
+                lumis_luminaire_lighting ll = {0};
+                ll.instances = &in;
+                ll.count = 1;
+                ll.budget = 16;
+                ll.strategy = (lumis_luminaire_strategy)strategy;
+                ll.sequence = (lumis_sequence)seq;
+                ll.visibility = LUMIS_VISIBILITY_NONE;
+                enum { RUNS = 32 };
+                double sum = 0.0, sum2 = 0.0;
+                for (int r = 0; r < RUNS; r++) {
+                    double v = render_pixel(s, where[w], &ll, 100 + (uint64_t)r, 64).g;
+                    sum += v;
+                    sum2 += v * v;
+                }
+                const double mean = sum / RUNS,
+                             se = sqrt(fmax(sum2 / RUNS - mean * mean, 0.0) / (RUNS - 1));
+                if (!(fabs(mean - expect) <= 4.0 * se + 1e-6 * expect))
+                    fail_msg("placement %d, %s, %s: mean %.6g, expected %.6g, se %.3g", w,
+                             lumis_luminaire_strategy_name(ll.strategy),
+                             lumis_sequence_name(ll.sequence), mean, expect, se);
+                /* Restricted sampling is far better than 30% relative error per run here. */
+                if (strategy == LUMIS_LUM_RESTRICTED) assert_true(se * sqrt(RUNS) < 0.3 * expect);
+            }
+        lumis_scene_destroy(s);
+    }
+    free_fixture(&f);
+}
+
+static void visibility(void **state)
+{
+    (void)state;
+    for (int basis = LUMIS_BASIS_QUADRATIC; basis <= LUMIS_BASIS_BSPLINE; basis++) {
+        fixture f = make_fixture((lumis_luminaire_basis)basis, 11);
+        lumis_luminaire_instance in = {0};
+        in.luminaire = f.lum; /* zero placement: the identity */
+        lumis_luminaire_lighting ll = {0};
+        ll.instances = &in;
+        ll.count = 1;
+        ll.budget = 24;
+        /* No occluder: exact visibility traces rays that all pass, the same image bit for
+         * bit; approximate visibility too. */
+        lumis_scene *open = make_scene(&IDENTITY, NULL, 0.0);
+        ll.visibility = LUMIS_VISIBILITY_NONE;
+        const lumis_rgb free_ = render_pixel(open, &IDENTITY, &ll, 5, 4);
+        assert_true(free_.g > 0.0f);
+        for (int v = LUMIS_VISIBILITY_EXACT; v <= LUMIS_VISIBILITY_APPROX; v++) {
+            ll.visibility = (lumis_visibility)v;
+            const lumis_rgb c = render_pixel(open, &IDENTITY, &ll, 5, 4);
+            assert_true(c.r == free_.r && c.g == free_.g && c.b == free_.b);
+        }
+        lumis_scene_destroy(open);
+        /* A sphere that hides all of U from P: black either way. */
+        const double centre[3] = {P[0], P[1], 2.0};
+        lumis_scene *closed = make_scene(&IDENTITY, centre, 0.8);
+        for (int v = LUMIS_VISIBILITY_EXACT; v <= LUMIS_VISIBILITY_APPROX; v++) {
+            ll.visibility = (lumis_visibility)v;
+            const lumis_rgb c = render_pixel(closed, &IDENTITY, &ll, 5, 4);
+            assert_true(c.r == 0.0f && c.g == 0.0f && c.b == 0.0f);
+        }
+        lumis_scene_destroy(closed);
+        /* A small one that hides part of it: strictly between, both ways. */
+        const double part[3] = {P[0] + 0.3, P[1], 1.5};
+        lumis_scene *some = make_scene(&IDENTITY, part, 0.15);
+        for (int v = LUMIS_VISIBILITY_EXACT; v <= LUMIS_VISIBILITY_APPROX; v++) {
+            ll.visibility = (lumis_visibility)v;
+            const lumis_rgb c = render_pixel(some, &IDENTITY, &ll, 5, 64);
+            if (!(c.g > 0.05f * free_.g && c.g < 0.99f * free_.g))
+                fail_msg("%s visibility: %g of the unshadowed %g",
+                         lumis_visibility_name(ll.visibility), c.g, free_.g);
+        }
+        lumis_scene_destroy(some);
+        free_fixture(&f);
+    }
+}
+
+static void bad_lighting(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 3);
+    lumis_scene *s = make_scene(&IDENTITY, NULL, 0.0);
+    lumis_camera cam = {{2, 0, 2}, {0, 0, 3}, {0, 1, 0}, 30.0f, 4, 4};
+    lumis_luminaire_instance in = {0};
+    in.luminaire = f.lum;
+    lumis_luminaire_lighting ll = {0};
+    ll.instances = &in;
+    ll.count = 1;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    const char *msg = sink.last;
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.luminaires = &ll;
+    d.spp = 1;
+    d.errors = sink.sink;
+    lumis_render_job *job = NULL;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_OK); /* no map needed */
+    lumis_render_job_destroy(job);
+    in.scale = -1.0;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(msg, "scale"));
+    in.scale = 0.0;
+    in.placement.r[0] = 2.0; /* not a rotation */
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    in.placement.r[0] = 0.0;
+    ll.strategy = LUMIS_LUM_STRATEGY_COUNT;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    ll.strategy = LUMIS_LUM_RESTRICTED;
+    d.max_bounces = 1;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(msg, "max_bounces"));
+    d.max_bounces = 0;
+    in.luminaire = NULL;
+    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(job);
+    lumis_visibility v;
+    lumis_sequence q;
+    assert_int_equal(lumis_visibility_from_name("approx", &v), LUMIS_OK);
+    assert_int_equal(v, LUMIS_VISIBILITY_APPROX);
+    assert_int_equal(lumis_visibility_from_name("shadowmap", &v), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sequence_from_name("halton", &q), LUMIS_OK);
+    assert_string_equal(lumis_sequence_name(q), "halton");
+    lumis_scene_destroy(s);
+    free_fixture(&f);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(pixels_are_unbiased),
+        cmocka_unit_test(visibility),
+        cmocka_unit_test(bad_lighting),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
