@@ -657,6 +657,37 @@ static void render_with_light_sets(void **state)
 }
 
 /* Rotates v by the unit quaternion q = (x, y, z, w). */
+/* Scenes with luminaires: the sidecar names the strategy and its settings; map and light-set
+ * options are refused for them, and luminaire options for scenes without. */
+static void render_with_luminaires(void **state)
+{
+    (void)state;
+    char a[1024];
+    snprintf(a, sizeof a,
+             "render --scene headlight --lum-strategy uniform --lum-budget 8 --lum-kmax 4 "
+             "--visibility approx --sequence halton --spp 1 --size 32x20 -o '%s'",
+             tu_path("hl.exr"));
+    expect(a, 0, "1 luminaire: uniform, K = 8, approx visibility, halton");
+    cJSON *j = read_json("hl.json");
+    const cJSON *l = item(j, "luminaires");
+    assert_string_equal(item(l, "strategy")->valuestring, "uniform");
+    assert_true(num(l, "count") == 1 && num(l, "budget") == 8 && num(l, "k_max") == 4);
+    assert_string_equal(item(l, "visibility")->valuestring, "approx");
+    assert_string_equal(item(l, "sequence")->valuestring, "halton");
+    assert_string_equal(item(j, "estimator")->valuestring, "luminaire");
+    assert_true(cJSON_IsNull(item(j, "environment")));
+    assert_true(num(l, "bytes") > 99 * 256 * 256 * 12.0); /* the car preset's images */
+    cJSON_Delete(j);
+    expect("render --scene headlight --env sky -o x.exr", 2, "lit by its luminaires");
+    expect("render --scene headlight --lights wu -o x.exr", 2, "lit by its luminaires");
+    expect("render --scene spheres --visibility approx -o x.exr", 2,
+           "applies to scenes with luminaires");
+    expect("render --scene headlight --lum-strategy best -o x.exr", 2, "--lum-strategy");
+    expect("render --scene headlight --lum-budget 0 -o x.exr", 2, "--lum-budget");
+    expect("render --scene headlight --visibility maybe -o x.exr", 2, "--visibility");
+    expect("render --scene headlight --sequence sobol -o x.exr", 2, "--sequence");
+}
+
 static void quat_rotate(const double q[4], const double v[3], double out[3])
 {
     const double x = q[0], y = q[1], z = q[2], w = q[3];
@@ -1052,6 +1083,7 @@ int main(void)
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(render_with_light_sets),
+        cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(lights_export_parses_back),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_light_sets),

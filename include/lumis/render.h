@@ -263,6 +263,10 @@ typedef struct lumis_scene_file {
     float env_rotation_deg, env_scale;
     lumis_object *objects; /* meshes' vertex and index arrays are owned by the file */
     int object_count;
+    /* Placed light-field luminaires (the file owns the luminaires; an instance's pointer
+     * may be shared).  A scene with luminaires is lit by them (lumis_luminaire_lighting). */
+    lumis_luminaire_instance *luminaires;
+    int luminaire_count;
 } lumis_scene_file;
 
 typedef struct lumis_scene_read_options {
@@ -285,6 +289,11 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
  *   wu-diffuse, wu-satin, wu-glossy, wu-mixed
  *               the bunny, Suzanne and one or two spheres on a ground plane, from all
  *               Lambertian to semi-glossy (Wu's scenes); Suzanne is compiled in too
+ *   headlight, headlight-close
+ *               a car headlight (the luminaire preset "car": 11 x 9 images of 256 x 256,
+ *               acquired from its emitter in about 2 s) lighting a floor and a wall past
+ *               the bunny and a sphere, which cast shadows (Lu et al., Fig. 13): a far view
+ *               of the scene, and a close-up of the floor just in front of the lamp
  * They name no map (env_map is ""). */
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out);

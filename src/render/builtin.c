@@ -16,8 +16,9 @@ extern const unsigned long lumis__bunny_glb_size;
 extern const unsigned char lumis__suzi_glb[];
 extern const unsigned long lumis__suzi_glb_size;
 
-static const char *const names[] = {"spheres",  "bunny-plane", "ward-aniso", "wu-diffuse",
-                                    "wu-satin", "wu-glossy",   "wu-mixed",   NULL};
+static const char *const names[] = {"spheres",         "bunny-plane", "ward-aniso", "wu-diffuse",
+                                    "wu-satin",        "wu-glossy",   "wu-mixed",   "headlight",
+                                    "headlight-close", NULL};
 
 const char *const *lumis_scene_builtin_names(void)
 {
@@ -211,6 +212,80 @@ static lumis_status wu_mixed(lumis_scene_file *f)
     return wu_scene(f, &m);
 }
 
+/* ---- luminaires ------------------------------------------------------------------------ */
+
+lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
+                                          lumis_luminaire **out)
+{
+    static const struct {
+        const char *name;
+        lumis_luminaire_preset preset;
+    } presets[] = {{"preset:car", LUMIS_PRESET_CAR},
+                   {"preset:bike", LUMIS_PRESET_BIKE},
+                   {"preset:small", LUMIS_PRESET_SMALL}};
+    *out = NULL;
+    for (size_t k = 0; k < sizeof presets / sizeof presets[0]; k++) {
+        if (!spec || strcmp(spec, presets[k].name) != 0) continue;
+        lumis_luminaire_desc layout;
+        lumis_emitter_desc emitter;
+        lumis_emitter_disk disks[4];
+        lumis_status st = lumis_luminaire_preset_get(presets[k].preset, &layout, &emitter, disks);
+        if (st != LUMIS_OK) return st;
+        lumis_acquire_desc acq = {0};
+        if (errors) acq.errors = *errors;
+        layout.errors = acq.errors;
+        return lumis_luminaire_acquire(&layout, &emitter, &acq, out);
+    }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+/* A car headlight (the "car" preset, in millimetres) 0.7 m above a floor, aimed 5 degrees
+ * down towards a wall 5 m away, with the bunny and a glossy sphere in its beam: shadows on
+ * the floor and on the wall (Lu et al., Fig. 13). */
+static lumis_status headlight_scene(lumis_scene_file *f)
+{
+    lumis_luminaire *lum = NULL;
+    lumis_status st = lumis__luminaire_from_preset("preset:car", NULL, &lum);
+    if (st != LUMIS_OK) return st;
+    const double tilt = 5.0 * LUMIS_PI / 180.0, sn = sin(tilt), cs = cos(tilt);
+    /* Local +z (the beam) to (0, -sin, -cos), local +y to up-ish, local +x to -x. */
+    lumis_luminaire_instance in = {
+        lum, {{-1, 0, 0, 0, cs, -sn, 0, -sn, -cs}, {0, 0.7, 0}}, 0.001, 100.0f};
+    if ((st = lumis__scene_file_add_luminaire(f, lum, &in)) != LUMIS_OK) return st;
+    lumis_object bunny;
+    st = embedded_mesh(f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size, 0.6f, -0.5f,
+                       -2.2f, 30.0f, 1, lambert(0.75f, 0.75f, 0.75f), &bunny);
+    if (st != LUMIS_OK) return st;
+    lumis_object ball = sphere(0.55f, 0.3f, -2.8f, 0.3f, plastic(0.6f, 0.12f, 0.08f, 0.2f));
+    lumis_object floor_ = ground_plane(0.5f);
+    floor_.size = 40.0f;
+    lumis_object wall;
+    memset(&wall, 0, sizeof wall);
+    wall.type = LUMIS_OBJECT_PLANE;
+    wall.center = (lumis_vec3){0, 0, -5.0f};
+    wall.normal = (lumis_vec3){0, 0, 1};
+    wall.size = 40.0f;
+    wall.material = lambert(0.7f, 0.7f, 0.7f);
+    if ((st = lumis__scene_file_push(f, &bunny)) != LUMIS_OK) return st;
+    if ((st = lumis__scene_file_push(f, &ball)) != LUMIS_OK) return st;
+    if ((st = lumis__scene_file_push(f, &floor_)) != LUMIS_OK) return st;
+    return lumis__scene_file_push(f, &wall);
+}
+
+/* The whole scene from behind and above the lamp. */
+static lumis_status headlight_far(lumis_scene_file *f)
+{
+    f->camera = (lumis_camera){{2.2f, 1.8f, 1.2f}, {0, 0.3f, -2.8f}, {0, 1, 0}, 45.0f, 640, 400};
+    return headlight_scene(f);
+}
+
+/* The floor just in front of the lamp, where the beam starts (the near field). */
+static lumis_status headlight_close(lumis_scene_file *f)
+{
+    f->camera = (lumis_camera){{0.6f, 0.9f, 0.3f}, {0, 0, -1.6f}, {0, 1, 0}, 40.0f, 640, 400};
+    return headlight_scene(f);
+}
+
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out)
 {
@@ -224,10 +299,13 @@ lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *error
     if (name && strcmp(name, "wu-satin") == 0) make = wu_satin;
     if (name && strcmp(name, "wu-glossy") == 0) make = wu_glossy;
     if (name && strcmp(name, "wu-mixed") == 0) make = wu_mixed;
+    if (name && strcmp(name, "headlight") == 0) make = headlight_far;
+    if (name && strcmp(name, "headlight-close") == 0) make = headlight_close;
     if (!make)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "unknown scene '%s' (built in: spheres, bunny-plane, ward-aniso, "
-                           "wu-diffuse, wu-satin, wu-glossy, wu-mixed)",
+                           "wu-diffuse, wu-satin, wu-glossy, wu-mixed, headlight, "
+                           "headlight-close)",
                            name ? name : "(null)");
     lumis_scene_file *f = lumis__scene_file_new();
     if (!f) return LUMIS_ERR_OUT_OF_MEMORY;

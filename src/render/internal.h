@@ -23,6 +23,14 @@ lumis_status lumis__scene_file_add_mesh(lumis_scene_file *f, const char *name,
 lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *name, const char *dir,
                                      int allow_files, const lumis_error_sink *errors,
                                      lumis_scene_file **out);
+/* Places a luminaire in f; f takes ownership of `owned` (NULL: in->luminaire belongs to an
+ * earlier instance of f). */
+lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
+                                             const lumis_luminaire_instance *in);
+/* A luminaire made by acquisition from a preset's emitter: spec "preset:car", "preset:bike"
+ * or "preset:small".  LUMIS_ERR_INVALID_ARGUMENT for another spec. */
+lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
+                                          lumis_luminaire **out);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 

@@ -30,6 +30,8 @@ typedef struct file_private {
     lumis_scene_file pub; /* first: a lumis_scene_file * is a file_private * */
     mesh_entry *meshes;
     int mesh_count, object_cap;
+    lumis_luminaire **owned; /* the luminaires the instances point to, each once */
+    int owned_count, luminaire_cap;
 } file_private;
 
 lumis_scene_file *lumis__scene_file_new(void)
@@ -51,6 +53,9 @@ void lumis_scene_file_destroy(lumis_scene_file *f)
     }
     free(fp->meshes);
     free(f->objects);
+    for (int k = 0; k < fp->owned_count; k++) lumis_luminaire_destroy(fp->owned[k]);
+    free(fp->owned);
+    free(f->luminaires);
     lumis_image_destroy(f->env_image);
     free(f);
 }
@@ -74,6 +79,31 @@ lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o)
         fp->object_cap = cap;
     }
     f->objects[f->object_count++] = *o;
+    return LUMIS_OK;
+}
+
+lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
+                                             const lumis_luminaire_instance *in)
+{
+    file_private *fp = (file_private *)f;
+    if (f->luminaire_count == fp->luminaire_cap) {
+        if (fp->luminaire_cap >= 4096) {
+            lumis_luminaire_destroy(owned);
+            return LUMIS_ERR_TOO_LARGE;
+        }
+        const int cap = fp->luminaire_cap ? 2 * fp->luminaire_cap : 4;
+        lumis_luminaire_instance *grown = realloc(f->luminaires, (size_t)cap * sizeof *grown);
+        lumis_luminaire **og = grown ? realloc(fp->owned, (size_t)cap * sizeof *og) : NULL;
+        if (grown) f->luminaires = grown;
+        if (og) fp->owned = og;
+        if (!grown || !og) {
+            lumis_luminaire_destroy(owned);
+            return LUMIS_ERR_OUT_OF_MEMORY;
+        }
+        fp->luminaire_cap = cap;
+    }
+    if (owned) fp->owned[fp->owned_count++] = owned;
+    f->luminaires[f->luminaire_count++] = *in;
     return LUMIS_OK;
 }
 

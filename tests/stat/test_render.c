@@ -664,10 +664,35 @@ static void builtin_scenes_build(void **state)
         lumis_scene_destroy(s);
         lumis_scene_file_destroy(f);
     }
-    assert_int_equal(n, 7);
+    assert_int_equal(n, 9);
     lumis_scene_file *f = NULL;
     assert_int_equal(lumis_scene_builtin("wu-mixed", NULL, &f), LUMIS_OK);
     assert_int_equal(f->object_count, 5); /* bunny, Suzanne, two spheres, the ground */
+    assert_int_equal(f->luminaire_count, 0);
+    lumis_scene_file_destroy(f);
+    /* The headlight lights its scene by itself: a lit floor, and black where rays escape. */
+    assert_int_equal(lumis_scene_builtin("headlight", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->luminaire_count, 1);
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
+    lumis_luminaire_lighting ll = {0};
+    ll.instances = f->luminaires;
+    ll.count = f->luminaire_count;
+    ll.budget = 8;
+    lumis_camera cam = f->camera;
+    cam.width = 32;
+    cam.height = 20;
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.luminaires = &ll;
+    d.spp = 1;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    int lit = 0;
+    for (int k = 0; k < 32 * 20; k++) lit += img->pixels[3 * k + 1] > 0.0f;
+    assert_true(lit > 32 * 20 / 4);
+    lumis_image_destroy(img);
+    lumis_scene_destroy(s);
     lumis_scene_file_destroy(f);
 }
 

@@ -13,9 +13,11 @@ static const char usage[] =
     "environment, objects: sphere, plane, mesh with transform or instances).  Built-in\n"
     "scenes: spheres (Lambert, Ward and GGX spheres, Ergun et al.'s Figure 6), bunny-plane\n"
     "(the Stanford bunny and a sphere on a ground plane) and ward-aniso (Ward alpha_x = 0.5,\n"
-    "alpha_y = 0.001: their Figure 7), and wu-diffuse, wu-satin, wu-glossy, wu-mixed (the\n"
-    "bunny, Suzanne and spheres on a ground plane, diffuse to semi-glossy: Wu's scenes).  Without "
-    "a map in the scene or --env, the procedural\n"
+    "alpha_y = 0.001: their Figure 7), wu-diffuse, wu-satin, wu-glossy, wu-mixed (the\n"
+    "bunny, Suzanne and spheres on a ground plane, diffuse to semi-glossy: Wu's scenes), and\n"
+    "headlight, headlight-close (a light-field car headlight lighting a floor and a wall, far\n"
+    "and close: Lu et al.'s Fig. 13; lit by the luminaire alone).  Without a map in the scene\n"
+    "or --env, the procedural\n"
     "sky lights it.  Writes OUT.exr (linear float), an optional PNG preview, and OUT.json:\n"
     "the settings, timings, rays per second and the sampler's build time and bytes.\n\n"
     "options:\n"
@@ -38,6 +40,17 @@ static const char usage[] =
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
     "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
     "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U')\n"
+    "  --lum-strategy S   scenes with luminaires (headlight, headlight-close, or a scene file\n"
+    "                     with \"luminaires\"): restricted (Lu et al., default), uniform (over\n"
+    "                     the restricted box) or global (precomputed CDFs, the same samples\n"
+    "                     for every point); docs/luminaire.md\n"
+    "  --lum-budget K     luminaire samples per camera sample, shared among images (32)\n"
+    "  --lum-kmax N       at most N samples for one image (default: no cap)\n"
+    "  --lum-search S     CDF inversion: secant (the paper's) or binary\n"
+    "  --lum-depth D      search depth, 0 exact (default); a limit is approximate (biased)\n"
+    "  --visibility V     exact (a shadow ray per sample, default), approx (Lu et al. 6.2: a\n"
+    "                     ray per basis cell, averaged over each function's cells) or none\n"
+    "  --sequence Q       the samples' numbers: pcg (default) or halton\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
@@ -65,6 +78,7 @@ int cmd_render(int argc, char **argv)
     o.scale = 1.0f;
     o.rd.seed = 1;
     o.png_auto_exposure = 1;
+    o.lum.strategy = LUMIS_LUM_RESTRICTED;
     o.argc = argc;
     o.argv = argv;
     const char *v, *png_only = NULL, *mis = NULL;
@@ -105,6 +119,40 @@ int cmd_render(int argc, char **argv)
             if (!tool_parse_int(v, 1, 16, &x))
                 return tool_bad_value("render", "--upsample", v, "needs a factor in [1, 16]");
             o.upsample = (int)x;
+        } else if (tool_option(argc, argv, &i, "--lum-strategy", &v)) {
+            o.lum_option = "--lum-strategy";
+            if (!v || lumis_luminaire_strategy_from_name(v, &o.lum.strategy) != LUMIS_OK)
+                return tool_bad_value("render", "--lum-strategy", v,
+                                      "must be restricted, uniform or global");
+        } else if (tool_option(argc, argv, &i, "--lum-budget", &v)) {
+            o.lum_option = "--lum-budget";
+            if (!tool_parse_int(v, 1, 65536, &x))
+                return tool_bad_value("render", "--lum-budget", v, "needs a count in [1, 65536]");
+            o.lum.budget = (int)x;
+        } else if (tool_option(argc, argv, &i, "--lum-kmax", &v)) {
+            o.lum_option = "--lum-kmax";
+            if (!tool_parse_int(v, 1, 65536, &x))
+                return tool_bad_value("render", "--lum-kmax", v, "needs a count in [1, 65536]");
+            o.lum.k_max = (int)x;
+        } else if (tool_option(argc, argv, &i, "--lum-search", &v)) {
+            o.lum_option = "--lum-search";
+            if (!v || strcmp(v, "default") == 0 ||
+                lumis_luminaire_search_from_name(v, &o.lum.search) != LUMIS_OK)
+                return tool_bad_value("render", "--lum-search", v, "must be secant or binary");
+        } else if (tool_option(argc, argv, &i, "--lum-depth", &v)) {
+            o.lum_option = "--lum-depth";
+            if (!tool_parse_int(v, 0, 64, &x))
+                return tool_bad_value("render", "--lum-depth", v,
+                                      "needs a count in [0, 64] (0: exact)");
+            o.lum.depth = (int)x;
+        } else if (tool_option(argc, argv, &i, "--visibility", &v)) {
+            o.lum_option = "--visibility";
+            if (!v || lumis_visibility_from_name(v, &o.lum.visibility) != LUMIS_OK)
+                return tool_bad_value("render", "--visibility", v, "must be exact, approx or none");
+        } else if (tool_option(argc, argv, &i, "--sequence", &v)) {
+            o.lum_option = "--sequence";
+            if (!v || lumis_sequence_from_name(v, &o.lum.sequence) != LUMIS_OK)
+                return tool_bad_value("render", "--sequence", v, "must be pcg or halton");
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)
@@ -187,7 +235,8 @@ int cmd_render(int argc, char **argv)
         if (!known)
             return tool_usage_error("render",
                                     "unknown scene '%s' (built in: spheres, bunny-plane, "
-                                    "ward-aniso, wu-diffuse, wu-satin, wu-glossy, wu-mixed)",
+                                    "ward-aniso, wu-diffuse, wu-satin, wu-glossy, wu-mixed, "
+                                    "headlight, headlight-close)",
                                     o.scene_name);
     }
     if (spp_given && o.time_budget > 0.0 && !o.lights)

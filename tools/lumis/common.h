@@ -150,11 +150,14 @@ typedef struct tool_render_opts {
     int lights_k, interleave; /* its K and number of interleaved sets (0: defaults) */
     int upsample;             /* Wu: EnvIndirects at 1/F resolution per axis (0: 2; 1: none) */
     lumis_render_desc rd;     /* estimator, heuristic, counts, seed, threads, bounces */
-    double time_budget;       /* > 0: progressive passes until this much render time */
-    int width, height;        /* 0: the scene's camera */
-    const char *out, *png;    /* out NULL: nothing written */
-    const char *sidecar;      /* NULL: OUT.json; "": none */
-    const char *cmd;          /* names the command in usage errors (NULL: "render") */
+    /* Scenes with luminaires: how they are sampled (the instances come from the scene). */
+    lumis_luminaire_lighting lum;
+    const char *lum_option; /* the first --lum-* / --visibility / --sequence option given */
+    double time_budget;     /* > 0: progressive passes until this much render time */
+    int width, height;      /* 0: the scene's camera */
+    const char *out, *png;  /* out NULL: nothing written */
+    const char *sidecar;    /* NULL: OUT.json; "": none */
+    const char *cmd;        /* names the command in usage errors (NULL: "render") */
     lumis_write_options png_options;
     int png_auto_exposure; /* nonzero: png_options.exposure_ev from the image (auto) */
     int quiet;             /* no progress bar, no summary line */

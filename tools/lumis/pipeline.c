@@ -369,9 +369,11 @@ void tool_sidecar_path(const char *out, char *buf, size_t cap)
 
 static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
                          const char *scene_label, const char *envspec, const lumis_envmap *env,
-                         const lumis_sampler *smp, const lumis_light_set *lights, int objects,
-                         const lumis_camera *cam, const tool_render_result *r)
+                         const lumis_sampler *smp, const lumis_light_set *lights,
+                         const lumis_scene_file *file, const lumis_camera *cam,
+                         const tool_render_result *r)
 {
+    const int objects = file->object_count, lum = rd->luminaires != NULL;
     const lumis_render_stats *s = &r->stats;
     cJSON *j = cJSON_CreateObject(), *x;
     char cmd[8192] = "lumis";
@@ -386,23 +388,61 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     if (o->rd.max_bounces > 0)
         snprintf(label, sizeof label, "path traced, global illumination, up to %d bounces",
                  o->rd.max_bounces);
+    else if (lum)
+        snprintf(label, sizeof label, "direct illumination from light-field luminaires");
     else
         snprintf(label, sizeof label, "direct illumination from the environment");
     cJSON_AddStringToObject(j, "label", label);
     cJSON_AddStringToObject(j, "scene", scene_label);
     cJSON_AddNumberToObject(j, "objects", objects);
-    x = cJSON_AddObjectToObject(j, "environment");
-    cJSON_AddStringToObject(x, "map", envspec);
-    cJSON_AddNumberToObject(x, "width", lumis_envmap_width(env));
-    cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
-    cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
-    cJSON_AddNumberToObject(x, "scale", o->scale);
+    if (env) {
+        x = cJSON_AddObjectToObject(j, "environment");
+        cJSON_AddStringToObject(x, "map", envspec);
+        cJSON_AddNumberToObject(x, "width", lumis_envmap_width(env));
+        cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
+        cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
+        cJSON_AddNumberToObject(x, "scale", o->scale);
+    } else {
+        cJSON_AddNullToObject(j, "environment");
+    }
     cJSON_AddStringToObject(j, "method",
-                            o->lights ? o->lights
+                            lum         ? lumis_luminaire_strategy_name(rd->luminaires->strategy)
+                            : o->lights ? o->lights
                             : o->bsdf_only
                                 ? "bsdf"
                                 : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
-    cJSON_AddStringToObject(j, "estimator", lights ? "light set" : estimator_name(rd));
+    cJSON_AddStringToObject(j, "estimator",
+                            lum      ? "luminaire"
+                            : lights ? "light set"
+                                     : estimator_name(rd));
+    if (lum) {
+        const lumis_luminaire_lighting *ll = rd->luminaires;
+        x = cJSON_AddObjectToObject(j, "luminaires");
+        cJSON_AddNumberToObject(x, "count", ll->count);
+        cJSON_AddStringToObject(x, "strategy", lumis_luminaire_strategy_name(ll->strategy));
+        cJSON_AddNumberToObject(x, "budget", ll->budget ? ll->budget : 32);
+        cJSON_AddNumberToObject(x, "k_max", ll->k_max);
+        cJSON_AddStringToObject(x, "search", lumis_luminaire_search_name(ll->search));
+        cJSON_AddNumberToObject(x, "depth", ll->depth);
+        cJSON_AddStringToObject(x, "visibility", lumis_visibility_name(ll->visibility));
+        cJSON_AddStringToObject(x, "sequence", lumis_sequence_name(ll->sequence));
+        cJSON_AddNumberToObject(x, "bytes", (double)r->sampler_table_bytes);
+        cJSON *arr = cJSON_AddArrayToObject(x, "instances");
+        for (int k = 0; k < ll->count; k++) {
+            lumis_luminaire_info li;
+            lumis_luminaire_get_info(ll->instances[k].luminaire, &li);
+            cJSON *e = cJSON_CreateObject();
+            cJSON_AddNumberToObject(e, "images", li.images);
+            cJSON_AddNumberToObject(e, "width", li.width);
+            cJSON_AddNumberToObject(e, "height", li.height);
+            cJSON_AddNumberToObject(e, "delta", li.delta);
+            cJSON_AddNumberToObject(e, "scale", ll->instances[k].scale);
+            cJSON_AddNumberToObject(e, "intensity", ll->instances[k].intensity);
+            cJSON_AddItemToArray(arr, e);
+        }
+    } else {
+        cJSON_AddNullToObject(j, "luminaires");
+    }
     if (lights) {
         const lumis_light_set_info *li = lumis_light_set_get_info(lights);
         x = cJSON_AddObjectToObject(j, "lights");
@@ -688,7 +728,25 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &so, &file)
                                     : lumis_scene_builtin(o->scene_name, &tool_errors, &file);
     if (st != LUMIS_OK) return EXIT_RUNTIME;
-    const char *envspec = o->envspec ? o->envspec : (file->env_map[0] ? file->env_map : "sky");
+    const char *cmd = o->cmd ? o->cmd : "render";
+    /* A scene with luminaires is lit by them alone; its camera rays that escape see black. */
+    const int lum = file->luminaire_count > 0;
+    const char *clash = o->envspec     ? "--env"
+                        : o->lights    ? "--lights"
+                        : o->bsdf_only ? "--method bsdf"
+                                       : NULL;
+    if (lum && clash) {
+        lumis_scene_file_destroy(file);
+        return tool_usage_error(cmd, "%s: the scene is lit by its luminaires, not by a map", clash);
+    }
+    if (!lum && o->lum_option) {
+        lumis_scene_file_destroy(file);
+        return tool_usage_error(
+            cmd, "%s applies to scenes with luminaires (e.g. --scene headlight)", o->lum_option);
+    }
+    const char *envspec = lum          ? NULL
+                          : o->envspec ? o->envspec
+                                       : (file->env_map[0] ? file->env_map : "sky");
     char sidecar[4096] = "";
     if (o->out && (!o->sidecar || o->sidecar[0])) {
         if (o->sidecar)
@@ -706,7 +764,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
     tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
     tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
-    int rc = tool_files_check(o->cmd ? o->cmd : "render", &files);
+    int rc = tool_files_check(cmd, &files);
     if (rc != EXIT_OK) {
         lumis_scene_file_destroy(file);
         return rc;
@@ -723,11 +781,11 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     memset(&unit, 0, sizeof unit);
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
-    if (tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
+    if (!lum && tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
-    /* A light set lights the scene by itself: no sampler is built for it. */
-    if (!o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
+    /* A light set or luminaires light the scene by themselves: no sampler is built. */
+    if (!lum && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
     double t1 = now_seconds();
@@ -745,6 +803,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     rd.sampler = smp;
     rd.light_set = lights;
     rd.errors = tool_errors;
+    lumis_luminaire_lighting lighting = o->lum;
+    lighting.instances = file->luminaires;
+    lighting.count = file->luminaire_count;
+    rd.luminaires = lum ? &lighting : NULL;
     if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
     if (pg.enabled) {
         rd.progress = on_progress;
@@ -799,6 +861,14 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         r->sampler_build_ms = lumis_sampler_build_ms(smp);
         r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
     }
+    for (int k = 0; k < file->luminaire_count; k++) { /* the luminaires' memory */
+        int seen = 0; /* an instance may share an earlier one's luminaire */
+        for (int q = 0; q < k; q++)
+            seen |= file->luminaires[q].luminaire == file->luminaires[k].luminaire;
+        lumis_luminaire_info li;
+        lumis_luminaire_get_info(file->luminaires[k].luminaire, &li);
+        if (!seen) r->sampler_table_bytes += li.bytes;
+    }
     if (lights) { /* what lights the image: the light set's build and memory */
         int lw = 0, lh = 0;
         lumis_light_set_labels(lights, &lw, &lh);
@@ -808,13 +878,19 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                      (size_t)lumis_light_set_get_info(lights)->count *
                                      sizeof(lumis_light);
     }
-    const char *method = o->lights      ? o->lights
+    const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
+                         : o->lights    ? o->lights
                          : o->bsdf_only ? "bsdf"
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {
         double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
         char how[160];
-        if (lights)
+        if (lum)
+            snprintf(how, sizeof how, "%d luminaire%s: %s, K = %d, %s visibility, %s",
+                     file->luminaire_count, file->luminaire_count > 1 ? "s" : "", method,
+                     o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
+                     lumis_sequence_name(o->lum.sequence));
+        else if (lights)
             snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms",
                      o->lights, lumis_light_set_get_info(lights)->count,
                      lumis_light_set_sets(lights), lumis_light_set_get_info(lights)->build_ms);
@@ -831,7 +907,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     rc = EXIT_OK;
     if (sidecar[0])
         rc = write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name, envspec,
-                           env, smp, lights, file->object_count, &cam, r);
+                           env, smp, lights, file, &cam, r);
 done:
     if (rc != EXIT_OK) {
         lumis_image_destroy(r->image);
