@@ -250,7 +250,7 @@ static lumis_status headlight_scene(lumis_scene_file *f)
     const double tilt = 5.0 * LUMIS_PI / 180.0, sn = sin(tilt), cs = cos(tilt);
     /* Local +z (the beam) to (0, -sin, -cos), local +y to up-ish, local +x to -x. */
     lumis_luminaire_instance in = {
-        lum, {{-1, 0, 0, 0, cs, -sn, 0, -sn, -cs}, {0, 0.7, 0}}, 0.001, 100.0f};
+        lum, {{-1, 0, 0, 0, cs, -sn, 0, -sn, -cs}, {0, 0.7, 0}}, 0.001, 8000.0f};
     if ((st = lumis__scene_file_add_luminaire(f, lum, &in)) != LUMIS_OK) return st;
     lumis_object bunny;
     st = embedded_mesh(f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size, 0.6f, -0.5f,
