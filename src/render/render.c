@@ -739,7 +739,9 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             const lumis_luminaire_sample *s = &sc->s[j];
             const v3 wi = rot_apply(li->r, mk(s->dir.x, s->dir.y, s->dir.z));
             const double cosn = dot(wi, n);
+            /* No light (a sample where Phi_m(u) = 0, or behind the surface): no shadow ray. */
             if (!(cosn > 0.0) || !(s->weight > 0.0f)) continue;
+            if (s->radiance.r == 0.0f && s->radiance.g == 0.0f && s->radiance.b == 0.0f) continue;
             lumis_rgb f = lumis_bsdf_eval(mat, wo, tof(mk(dot(wi, t), dot(wi, b), cosn)));
             if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
             const double kk = cosn * s->weight * li->intensity;
