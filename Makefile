@@ -8,7 +8,7 @@ JOBS         ?= $(shell nproc)
 # must not break their build.  `make WERROR=ON` turns it on anywhere.
 WERROR       ?= $(if $(CI),ON,OFF)
 BUILD_TYPE   ?= RelWithDebInfo
-FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene
+FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 

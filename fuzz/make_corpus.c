@@ -1,12 +1,14 @@
 /* fuzz_make_corpus DIR: writes the fuzzers' seed files into DIR/exr, DIR/hdr and DIR/pfm,
  * all made from a small procedural sky (16 x 8): EXR in several compressions, half and
- * float, scanline and tiled; Radiance HDR; PFM in both byte orders; PNG; and DIR/scene, JSON
- * scene files. */
+ * float, scanline and tiled; Radiance HDR; PFM in both byte orders; PNG; DIR/scene, JSON
+ * scene files; and DIR/luminaire, luminaire manifests (one written by lumis_luminaire_write
+ * into DIR/luminaire-files/, outside the corpus, which libFuzzer reads recursively). */
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -34,6 +36,73 @@ static int write_seed(const char *dir, const char *sub, const char *name, const 
     return 0;
 }
 
+static int write_text(const char *path, const char *text, size_t n)
+{
+    FILE *f = fopen(path, "wb");
+    if (!f || fwrite(text, 1, n, f) != n || fclose(f) != 0) {
+        fprintf(stderr, "fuzz_make_corpus: cannot write %s\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+/* Luminaire manifests: the documented schema with both bases, the largest grid's names, and
+ * one written by lumis_luminaire_write (its number formatting and escaping). */
+static int write_luminaire_seeds(const char *dir)
+{
+    static const char *const manifests[] = {
+        "{\n  \"format\": \"lumis-luminaire\",\n  \"version\": 1,\n  \"units\": \"mm\",\n"
+        "  \"delta\": 100,\n  \"basis\": \"quadratic\",\n  \"grid\": [2, 2],\n"
+        "  \"grid_origin\": [-5, -5],\n  \"grid_spacing\": [10, 10],\n"
+        "  \"image\": {\"width\": 24, \"height\": 20, \"origin\": [-60, -50], \"size\": [120, "
+        "100]},\n  \"images\": [\"lamp.images/a000_b000.exr\", \"lamp.images/a001_b000.exr\",\n"
+        "    \"lamp.images/a000_b001.exr\", \"lamp.images/a001_b001.exr\"]\n}\n",
+        "{\"format\":\"lumis-luminaire\",\"version\":1,\"units\":\"in\",\"delta\":0.25,"
+        "\"basis\":\"bspline\",\"grid\":[3,1],\"grid_origin\":[-1e-3,0.5],\"grid_spacing\":"
+        "[0.125,3.5e2],\"image\":{\"origin\":[-2,-2],\"size\":[4,4.5],\"width\":1,\"height\":"
+        "7},\"images\":[\"a.pfm\",\"sub/dir/b.pfm\",\"./c d.pfm\"],\"comment\":\"ignored\"}",
+    };
+    char path[4096];
+    int failed = 0;
+    for (size_t i = 0; i < sizeof manifests / sizeof manifests[0]; i++) {
+        snprintf(path, sizeof path, "%s/luminaire/seed%zu.json", dir, i);
+        failed |= write_text(path, manifests[i], strlen(manifests[i]));
+    }
+    /* A written one: 4 x 3 black images of 2 x 2 pixels, odd numbers. */
+    enum { W = 4, H = 3 };
+    static const float black[2 * 2 * 3];
+    const float *ptrs[W * H];
+    for (int m = 0; m < W * H; m++) ptrs[m] = black;
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0 / 3.0;
+    d.basis = LUMIS_BASIS_BSPLINE;
+    d.grid[0] = W;
+    d.grid[1] = H;
+    d.grid_origin[0] = -0.1 - 0.2;
+    d.grid_spacing[0] = d.grid_spacing[1] = 0.7;
+    d.width = d.height = 2;
+    d.image_origin[0] = d.image_origin[1] = -1e-7;
+    d.image_size[0] = d.image_size[1] = 2.0 / 7.0;
+    d.pixels = ptrs;
+    lumis_luminaire *lum = NULL;
+    lumis_status st = lumis_luminaire_create(&d, &lum);
+    snprintf(path, sizeof path, "%s/luminaire-files/written.json", dir);
+    lumis_luminaire_write_options wo = {0};
+    wo.image_format = LUMIS_FORMAT_PFM;
+    if (st == LUMIS_OK) st = lumis_luminaire_write(path, lum, &wo);
+    lumis_luminaire_destroy(lum);
+    if (st != LUMIS_OK) {
+        fprintf(stderr, "fuzz_make_corpus: %s: %s\n", path, lumis_status_string(st));
+        return 1;
+    }
+    FILE *f = fopen(path, "rb");
+    char text[8192];
+    size_t n = f ? fread(text, 1, sizeof text, f) : 0;
+    if (f) fclose(f);
+    snprintf(path, sizeof path, "%s/luminaire/written.json", dir);
+    return failed | (n == 0) | write_text(path, text, n);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -41,7 +110,8 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *dir = argv[1];
-    static const char *const subs[] = {"exr", "hdr", "pfm", "png", "scene"};
+    static const char *const subs[] = {
+        "exr", "hdr", "pfm", "png", "scene", "luminaire", "luminaire-files"};
     char path[4096];
     if (make_dir(dir)) return 1;
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++) {
@@ -126,7 +196,10 @@ int main(int argc, char **argv)
         }
     }
 
+    failed |= write_luminaire_seeds(dir);
+
     lumis_image_destroy(sky);
-    if (!failed) printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,png,scene}\n", dir);
+    if (!failed)
+        printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,png,scene,luminaire}\n", dir);
     return failed ? 1 : 0;
 }

@@ -15,6 +15,7 @@
 #define LUMIS_IO_H
 
 #include "lumis/image.h"
+#include "lumis/luminaire.h"
 #include "lumis/status.h"
 
 #include <stddef.h>
@@ -160,6 +161,79 @@ lumis_status lumis_light_set_write_json(const char *path, const struct lumis_lig
  * calibrated in cd/m^2 is illuminance in lux (docs/lights.md, "Export"). */
 lumis_status lumis_light_set_write_gltf(const char *path, const struct lumis_light_set *set,
                                         const lumis_light_export_options *options);
+
+/* ---- light-field luminaires (lumis/luminaire.h) as files ---------------------------------
+ *
+ * A luminaire is a JSON manifest ("format": "lumis-luminaire", "version": 1: the geometry
+ * of lumis_luminaire_desc, the units, and the M = W H image file names relative to the
+ * manifest's folder) plus M RGB float images (EXR or PFM) of the irradiance C_m on S.
+ * Schema, conventions and limits: docs/formats.md, "Luminaire files".  Image row 0 of a
+ * file (its top row as an image viewer shows it) is the row of the largest y on S, so an
+ * image looks like S seen with x to the right and y up. */
+
+struct lumis_luminaire;
+
+/* The manifest version this library reads and writes. */
+#define LUMIS_LUMINAIRE_FORMAT_VERSION 1
+
+typedef struct lumis_luminaire_read_options {
+    size_t max_pixels;       /* total pixels over all images; 0 == LUMIS_DEFAULT_MAX_PIXELS */
+    lumis_error_sink errors; /* errors, and warnings (reported with status LUMIS_OK) */
+} lumis_luminaire_read_options;
+
+/* A parsed manifest: everything but the pixels. */
+typedef struct lumis_luminaire_manifest {
+    int version;               /* LUMIS_LUMINAIRE_FORMAT_VERSION */
+    char units[32];            /* "units", e.g. "mm": the unit of every length */
+    lumis_luminaire_desc desc; /* the geometry; pixels NULL, errors zero */
+    int image_count;           /* M = W H */
+    const char *const *images; /* M names as written in "images" (relative paths) */
+    const char *const *paths;  /* M paths to open: base_dir joined with each name */
+} lumis_luminaire_manifest;
+
+/* Parses a manifest held in memory (borrowed for the call) and checks every field, the
+ * total pixel count against options->max_pixels and each image name (relative, no ".."
+ * component); opens no file.  name is used in messages (NULL == "<memory>"); base_dir
+ * (NULL or "" == none) is joined with each image name to give paths.  options may be
+ * NULL.  On failure *out is NULL; free the result with lumis_luminaire_manifest_destroy. */
+lumis_status lumis_luminaire_manifest_parse(const char *text, size_t size, const char *name,
+                                            const char *base_dir,
+                                            const lumis_luminaire_read_options *options,
+                                            lumis_luminaire_manifest **out);
+
+/* Reads and parses the manifest at path (images resolved against its folder); opens no
+ * image.  For a caller that wants the units or the file names. */
+lumis_status lumis_luminaire_manifest_read(const char *manifest_path,
+                                           const lumis_luminaire_read_options *options,
+                                           lumis_luminaire_manifest **out);
+
+/* Frees a manifest; NULL is accepted. */
+void lumis_luminaire_manifest_destroy(lumis_luminaire_manifest *manifest);
+
+/* Reads a manifest and its images (each checked against the manifest's size, a missing,
+ * truncated or corrupt one failing with the image reader's status) and builds the
+ * luminaire (lumis_luminaire_create).  Every message names the manifest and the JSON
+ * field, e.g. "lamp.json: image.width: expected an integer in 1..16384, got -3".  Peak
+ * memory: about twice the images' pixels.  options may be NULL.  On failure *out is
+ * NULL. */
+lumis_status lumis_luminaire_read(const char *manifest_path,
+                                  const lumis_luminaire_read_options *options,
+                                  struct lumis_luminaire **out);
+
+typedef struct lumis_luminaire_write_options {
+    lumis_file_format image_format; /* LUMIS_FORMAT_EXR (float, ZIP) or _PFM; 0 == EXR */
+    const char *units;              /* "units" recorded; NULL == "mm" */
+    lumis_error_sink errors;
+} lumis_luminaire_write_options;
+
+/* Writes the manifest at manifest_path and the images, bit-exact, into a folder beside it
+ * named <stem>.images/ (<stem>: the manifest's file name without its extension), created
+ * if needed, as a<a>_b<b>.exr (or .pfm) for grid position (a, b).  Every file goes through
+ * a temporary file and a rename, the manifest last.  On failure the images this call
+ * created are removed again, and the folder if this call created it; replacing an existing
+ * luminaire is atomic per file only (docs/formats.md).  options may be NULL. */
+lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
+                                   const lumis_luminaire_write_options *options);
 
 #ifdef __cplusplus
 }
