@@ -446,6 +446,7 @@ static void bad_images_name_manifest_and_field(void **state)
     size_t n;
     unsigned char *data = tu_read_file(keep, &n);
     tu_write_file(img, data, n - 100);
+    free(data);
     expect_read_error(path, LUMIS_ERR_TRUNCATED, "images[7]: cannot read");
     /* Not an image at all. */
     tu_write_file(img, "hello\n", 6);
