@@ -688,6 +688,73 @@ static void render_with_luminaires(void **state)
     expect("render --scene headlight --sequence sobol -o x.exr", 2, "--sequence");
 }
 
+/* lumis luminaire: create writes a manifest and its images, info reads them back, render
+ * lights the headlight scene with it; scene files place luminaires, and every bad field or
+ * file gets a message that names it. */
+static void luminaire_files_create_info_render(void **state)
+{
+    (void)state;
+    char a[2048];
+    const char *man = tu_path("small-lum.json");
+    snprintf(a, sizeof a, "luminaire create '%s' --preset small --format pfm", man);
+    expect(a, 0, "acquired 20 images of 24 x 20");
+    snprintf(a, sizeof a, "luminaire info '%s' --json", man);
+    char *out = NULL, *err = NULL;
+    assert_int_equal(run(a, &out, &err), 0);
+    cJSON *j = cJSON_Parse(out);
+    assert_non_null(j);
+    assert_true(num(j, "images") == 20 && num(j, "width") == 24 && num(j, "height") == 20);
+    assert_true(num(j, "precompute_ms") > 0.0 && num(j, "bytes") > 20 * 24 * 20 * 12.0);
+    assert_true(num(j, "total_power") > 0.0);
+    assert_string_equal(item(j, "units")->valuestring, "mm");
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    snprintf(a, sizeof a, "luminaire render '%s' --spp 1 --size 16x10 --lum-budget 4 -o '%s'", man,
+             tu_path("lr.exr"));
+    expect(a, 0, "1 luminaire: restricted, K = 4");
+    /* A scene file placing it twice (read once), in metres. */
+    char scene[2048];
+    snprintf(scene, sizeof scene,
+             "{\"camera\": {\"eye\": [1, 1, 1], \"look_at\": [0, 0, -2], \"width\": 16, "
+             "\"height\": 10},\n \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], "
+             "\"normal\": [0, 1, 0], \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, "
+             "0.5, 0.5]}}],\n \"luminaires\": [{\"file\": \"small-lum.json\", \"transform\": "
+             "{\"translate\": [0, 0.5, 0], \"rotate_deg\": [-170, 0, 180], \"scale\": 0.001}, "
+             "\"intensity\": 1000}, {\"file\": \"small-lum.json\", \"transform\": "
+             "{\"translate\": [0.3, 0.5, 0], \"rotate_deg\": [-170, 0, 180], \"scale\": 0.001}}]}");
+    tu_write_file(tu_path("lum-scene.json"), scene, strlen(scene));
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("lum-scene.json"),
+             tu_path("ls2.exr"));
+    expect(a, 0, "2 luminaires");
+    cJSON *side = read_json("ls2.json");
+    assert_true(num(item(side, "luminaires"), "count") == 2);
+    cJSON_Delete(side);
+    /* Its manifest is an input: no output may replace it. */
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("lum-scene.json"),
+             tu_path("ls3.exr"), man);
+    expect(a, 2, "would replace the luminaire");
+    /* Bad fields and files. */
+    static const bad_file bad[] = {
+        {"{\"objects\": [], \"luminaires\": 3}", "luminaires"},
+        {"{\"objects\": [], \"luminaires\": [{\"file\": 5}]}", "luminaires[0].file"},
+        {"{\"objects\": [], \"luminaires\": [{\"file\": \"preset:car\", \"transform\": "
+         "{\"scale\": [1, 1, 1]}}]}",
+         "luminaires[0].transform.scale"},
+        {"{\"objects\": [], \"luminaires\": [{\"file\": \"preset:car\", \"intensity\": -1}]}",
+         "luminaires[0].intensity"},
+        {"{\"objects\": [], \"luminaires\": [{\"file\": \"preset:lamp\"}]}", "preset:small"},
+        {"{\"objects\": [], \"luminaires\": [{\"file\": \"nowhere.json\"}]}", "nowhere.json"},
+    };
+    snprintf(a, sizeof a, "-o '%s'", tu_path("bad.exr"));
+    expect_bad_files("render", "bad-lum-scene.json", a, bad, sizeof bad / sizeof bad[0]);
+    expect("luminaire create out.txt", 2, ".json");
+    expect("luminaire create x.json --preset lamp", 2, "--preset");
+    expect("luminaire info /nonexistent/lamp.json", 1, "lamp.json");
+    expect("luminaire frobnicate", 2, "create, info or render");
+    expect("render --scene spheres --luminaire preset:small -o x.exr", 1, "places no luminaire");
+}
+
 static void quat_rotate(const double q[4], const double v[3], double out[3])
 {
     const double x = q[0], y = q[1], z = q[2], w = q[3];
@@ -1084,6 +1151,7 @@ int main(void)
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(render_with_light_sets),
         cmocka_unit_test(render_with_luminaires),
+        cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(lights_export_parses_back),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_light_sets),

@@ -311,6 +311,17 @@ typedef enum lumis_luminaire_preset {
 lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset, lumis_luminaire_desc *layout,
                                         lumis_emitter_desc *emitter, lumis_emitter_disk *disks);
 
+/* "car", "bike", "small". */
+const char *lumis_luminaire_preset_name(lumis_luminaire_preset preset);
+lumis_status lumis_luminaire_preset_from_name(const char *name, lumis_luminaire_preset *out);
+
+/* A preset's luminaire, acquired from its emitter with the default acquisition settings
+ * and the given basis (0 == the preset's): lumis_luminaire_preset_get then
+ * lumis_luminaire_acquire.  About 2 s for the car preset. */
+lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset,
+                                           lumis_luminaire_basis basis,
+                                           const lumis_error_sink *errors, lumis_luminaire **out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -297,9 +297,18 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
  * They name no map (env_map is ""). */
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out);
+/* As lumis_scene_builtin, but a scene that places luminaires (headlight, headlight-close)
+ * places `luminaire` (borrowed: it must outlive the file) instead of acquiring its own; for
+ * another scene, LUMIS_ERR_INVALID_ARGUMENT.  NULL: the same as lumis_scene_builtin. */
+lumis_status lumis_scene_builtin_with_luminaire(const char *name, const lumis_luminaire *luminaire,
+                                                const lumis_error_sink *errors,
+                                                lumis_scene_file **out);
 /* The mesh files a scene file read (resolved paths; built-in meshes by name), index 0 up;
  * NULL past the last.  A tool checks its outputs against them and the map. */
 const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
+/* The luminaire files a scene file read (resolved paths, or "preset:NAME"), index 0 up; NULL
+ * past the last. */
+const char *lumis_scene_file_luminaire_path(const lumis_scene_file *file, int index);
 /* The built-in names, NULL-terminated. */
 const char *const *lumis_scene_builtin_names(void);
 void lumis_scene_file_destroy(lumis_scene_file *file);

@@ -338,3 +338,37 @@ lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset, lumis_lum
     e->tint.b = 0.6f;
     return LUMIS_OK;
 }
+
+static const char *const preset_names[] = {"bike", "car", "small"};
+
+const char *lumis_luminaire_preset_name(lumis_luminaire_preset preset)
+{
+    return (unsigned)preset <= LUMIS_PRESET_SMALL ? preset_names[preset] : "unknown";
+}
+
+lumis_status lumis_luminaire_preset_from_name(const char *name, lumis_luminaire_preset *out)
+{
+    for (int k = 0; name && out && k <= LUMIS_PRESET_SMALL; k++)
+        if (strcmp(name, preset_names[k]) == 0) {
+            *out = (lumis_luminaire_preset)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset,
+                                           lumis_luminaire_basis basis,
+                                           const lumis_error_sink *errors, lumis_luminaire **out)
+{
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc emitter;
+    lumis_emitter_disk disks[4];
+    lumis_status st = lumis_luminaire_preset_get(preset, &layout, &emitter, disks);
+    if (st != LUMIS_OK) return lumis__fail(errors, st, "luminaire preset %d: unknown", (int)preset);
+    if (basis != LUMIS_BASIS_DEFAULT) layout.basis = basis;
+    lumis_acquire_desc acq = {0};
+    if (errors) acq.errors = layout.errors = *errors;
+    return lumis_luminaire_acquire(&layout, &emitter, &acq, out);
+}

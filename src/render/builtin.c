@@ -217,41 +217,27 @@ static lumis_status wu_mixed(lumis_scene_file *f)
 lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
                                           lumis_luminaire **out)
 {
-    static const struct {
-        const char *name;
-        lumis_luminaire_preset preset;
-    } presets[] = {{"preset:car", LUMIS_PRESET_CAR},
-                   {"preset:bike", LUMIS_PRESET_BIKE},
-                   {"preset:small", LUMIS_PRESET_SMALL}};
+    lumis_luminaire_preset preset;
     *out = NULL;
-    for (size_t k = 0; k < sizeof presets / sizeof presets[0]; k++) {
-        if (!spec || strcmp(spec, presets[k].name) != 0) continue;
-        lumis_luminaire_desc layout;
-        lumis_emitter_desc emitter;
-        lumis_emitter_disk disks[4];
-        lumis_status st = lumis_luminaire_preset_get(presets[k].preset, &layout, &emitter, disks);
-        if (st != LUMIS_OK) return st;
-        lumis_acquire_desc acq = {0};
-        if (errors) acq.errors = *errors;
-        layout.errors = acq.errors;
-        return lumis_luminaire_acquire(&layout, &emitter, &acq, out);
-    }
-    return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!spec || strncmp(spec, "preset:", 7) != 0 ||
+        lumis_luminaire_preset_from_name(spec + 7, &preset) != LUMIS_OK)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    return lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, errors, out);
 }
 
 /* A car headlight (the "car" preset, in millimetres) 0.7 m above a floor, aimed 5 degrees
  * down towards a wall 5 m away, with the bunny and a glossy sphere in its beam: shadows on
  * the floor and on the wall (Lu et al., Fig. 13). */
-static lumis_status headlight_scene(lumis_scene_file *f)
+static lumis_status headlight_scene(lumis_scene_file *f, const lumis_luminaire *given)
 {
-    lumis_luminaire *lum = NULL;
-    lumis_status st = lumis__luminaire_from_preset("preset:car", NULL, &lum);
+    lumis_luminaire *lum = NULL; /* acquired here and owned by f, unless one is given */
+    lumis_status st = given ? LUMIS_OK : lumis__luminaire_from_preset("preset:car", NULL, &lum);
     if (st != LUMIS_OK) return st;
     const double tilt = 5.0 * LUMIS_PI / 180.0, sn = sin(tilt), cs = cos(tilt);
     /* Local +z (the beam) to (0, -sin, -cos), local +y to up-ish, local +x to -x. */
     lumis_luminaire_instance in = {
-        lum, {{-1, 0, 0, 0, cs, -sn, 0, -sn, -cs}, {0, 0.7, 0}}, 0.001, 8000.0f};
-    if ((st = lumis__scene_file_add_luminaire(f, lum, &in)) != LUMIS_OK) return st;
+        given ? given : lum, {{-1, 0, 0, 0, cs, -sn, 0, -sn, -cs}, {0, 0.7, 0}}, 0.001, 8000.0f};
+    if ((st = lumis__scene_file_add_luminaire(f, lum, "preset:car", &in)) != LUMIS_OK) return st;
     lumis_object bunny;
     st = embedded_mesh(f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size, 0.6f, -0.5f,
                        -2.2f, 30.0f, 1, lambert(0.75f, 0.75f, 0.75f), &bunny);
@@ -273,24 +259,36 @@ static lumis_status headlight_scene(lumis_scene_file *f)
 }
 
 /* The whole scene from behind and above the lamp. */
-static lumis_status headlight_far(lumis_scene_file *f)
+static void headlight_far(lumis_scene_file *f)
 {
     f->camera = (lumis_camera){{2.2f, 1.8f, 1.2f}, {0, 0.3f, -2.8f}, {0, 1, 0}, 45.0f, 640, 400};
-    return headlight_scene(f);
 }
 
 /* The floor just in front of the lamp, where the beam starts (the near field). */
-static lumis_status headlight_close(lumis_scene_file *f)
+static void headlight_close(lumis_scene_file *f)
 {
     f->camera = (lumis_camera){{0.6f, 0.9f, 0.3f}, {0, 0, -1.6f}, {0, 1, 0}, 40.0f, 640, 400};
-    return headlight_scene(f);
 }
 
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out)
 {
+    return lumis_scene_builtin_with_luminaire(name, NULL, errors, out);
+}
+
+lumis_status lumis_scene_builtin_with_luminaire(const char *name, const lumis_luminaire *luminaire,
+                                                const lumis_error_sink *errors,
+                                                lumis_scene_file **out)
+{
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
+    void (*camera)(lumis_scene_file *) = NULL; /* the headlight scenes */
+    if (name && strcmp(name, "headlight") == 0) camera = headlight_far;
+    if (name && strcmp(name, "headlight-close") == 0) camera = headlight_close;
+    if (luminaire && !camera)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "scene '%s' places no luminaire (headlight and headlight-close do)",
+                           name ? name : "(null)");
     lumis_status (*make)(lumis_scene_file *) = NULL;
     if (name && strcmp(name, "spheres") == 0) make = spheres;
     if (name && strcmp(name, "bunny-plane") == 0) make = bunny_plane;
@@ -299,9 +297,7 @@ lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *error
     if (name && strcmp(name, "wu-satin") == 0) make = wu_satin;
     if (name && strcmp(name, "wu-glossy") == 0) make = wu_glossy;
     if (name && strcmp(name, "wu-mixed") == 0) make = wu_mixed;
-    if (name && strcmp(name, "headlight") == 0) make = headlight_far;
-    if (name && strcmp(name, "headlight-close") == 0) make = headlight_close;
-    if (!make)
+    if (!make && !camera)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "unknown scene '%s' (built in: spheres, bunny-plane, ward-aniso, "
                            "wu-diffuse, wu-satin, wu-glossy, wu-mixed, headlight, "
@@ -309,7 +305,13 @@ lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *error
                            name ? name : "(null)");
     lumis_scene_file *f = lumis__scene_file_new();
     if (!f) return LUMIS_ERR_OUT_OF_MEMORY;
-    lumis_status st = make(f);
+    lumis_status st = LUMIS_OK;
+    if (camera) {
+        camera(f);
+        st = headlight_scene(f, luminaire);
+    } else {
+        st = make(f);
+    }
     if (st != LUMIS_OK) {
         lumis_scene_file_destroy(f);
         return lumis__fail(errors, st, "scene %s: %s", name, lumis_status_string(st));

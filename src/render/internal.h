@@ -24,9 +24,9 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
                                      int allow_files, const lumis_error_sink *errors,
                                      lumis_scene_file **out);
 /* Places a luminaire in f; f takes ownership of `owned` (NULL: in->luminaire belongs to an
- * earlier instance of f). */
+ * earlier instance of f), read from path (a file or "preset:NAME"; copied). */
 lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
-                                             const lumis_luminaire_instance *in);
+                                             const char *path, const lumis_luminaire_instance *in);
 /* A luminaire made by acquisition from a preset's emitter: spec "preset:car", "preset:bike"
  * or "preset:small".  LUMIS_ERR_INVALID_ARGUMENT for another spec. */
 lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,

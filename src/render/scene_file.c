@@ -31,6 +31,7 @@ typedef struct file_private {
     mesh_entry *meshes;
     int mesh_count, object_cap;
     lumis_luminaire **owned; /* the luminaires the instances point to, each once */
+    char **owned_paths;      /* the file (or preset) each was read from; NULL: none */
     int owned_count, luminaire_cap;
 } file_private;
 
@@ -53,8 +54,12 @@ void lumis_scene_file_destroy(lumis_scene_file *f)
     }
     free(fp->meshes);
     free(f->objects);
-    for (int k = 0; k < fp->owned_count; k++) lumis_luminaire_destroy(fp->owned[k]);
+    for (int k = 0; k < fp->owned_count; k++) {
+        lumis_luminaire_destroy(fp->owned[k]);
+        free(fp->owned_paths[k]);
+    }
     free(fp->owned);
+    free(fp->owned_paths);
     free(f->luminaires);
     lumis_image_destroy(f->env_image);
     free(f);
@@ -83,28 +88,56 @@ lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o)
 }
 
 lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
-                                             const lumis_luminaire_instance *in)
+                                             const char *path, const lumis_luminaire_instance *in)
 {
     file_private *fp = (file_private *)f;
+    char *copy = NULL;
+    if (owned && path && !(copy = malloc(strlen(path) + 1))) {
+        lumis_luminaire_destroy(owned);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    if (copy) strcpy(copy, path);
     if (f->luminaire_count == fp->luminaire_cap) {
         if (fp->luminaire_cap >= 4096) {
             lumis_luminaire_destroy(owned);
+            free(copy);
             return LUMIS_ERR_TOO_LARGE;
         }
         const int cap = fp->luminaire_cap ? 2 * fp->luminaire_cap : 4;
         lumis_luminaire_instance *grown = realloc(f->luminaires, (size_t)cap * sizeof *grown);
         lumis_luminaire **og = grown ? realloc(fp->owned, (size_t)cap * sizeof *og) : NULL;
+        char **pg = og ? realloc(fp->owned_paths, (size_t)cap * sizeof *pg) : NULL;
         if (grown) f->luminaires = grown;
         if (og) fp->owned = og;
-        if (!grown || !og) {
+        if (pg) fp->owned_paths = pg;
+        if (!grown || !og || !pg) {
             lumis_luminaire_destroy(owned);
+            free(copy);
             return LUMIS_ERR_OUT_OF_MEMORY;
         }
         fp->luminaire_cap = cap;
     }
-    if (owned) fp->owned[fp->owned_count++] = owned;
+    if (owned) {
+        fp->owned_paths[fp->owned_count] = copy;
+        fp->owned[fp->owned_count++] = owned;
+    }
     f->luminaires[f->luminaire_count++] = *in;
     return LUMIS_OK;
+}
+
+const char *lumis_scene_file_luminaire_path(const lumis_scene_file *f, int index)
+{
+    const file_private *fp = (const file_private *)f;
+    return f && index >= 0 && index < fp->owned_count ? fp->owned_paths[index] : NULL;
+}
+
+/* The luminaire already read from path, or NULL. */
+static lumis_luminaire *find_luminaire(const lumis_scene_file *f, const char *path)
+{
+    const file_private *fp = (const file_private *)f;
+    for (int k = 0; k < fp->owned_count; k++)
+        if (fp->owned_paths[k] && strcmp(fp->owned_paths[k], path) == 0) return fp->owned[k];
+    return NULL;
 }
 
 /* The mesh registered under name, or NULL. */
@@ -437,6 +470,89 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k)
     return LUMIS_OK;
 }
 
+/* Rz Ry Rx (degrees), row-major, in double precision: a luminaire's placement must pass
+ * lumis_rigid_check (orthonormal to 1e-6). */
+static void rotation_deg(const float r[3], double m[9])
+{
+    const double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
+    const double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
+    const double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
+    for (int j = 0; j < 3; j++) { /* column j: the image of e_j, as lumis__transform_matrix */
+        double x = j == 0, y = j == 1, z = j == 2;
+        double y1 = cx * y - sx * z, z1 = sx * y + cx * z;
+        double x2 = cy * x + sy * z1, z2 = -sy * x + cy * z1;
+        double x3 = cz * x2 - sz * y1, y3 = sz * x2 + cz * y1;
+        m[j] = x3;
+        m[3 + j] = y3;
+        m[6 + j] = z2;
+    }
+}
+
+/* luminaires[k]: {"file": "lamp.json" | "preset:car", "transform": {"translate",
+ * "rotate_deg", "scale" (a number: lengths only)}, "intensity"}. */
+static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
+{
+    char path[64], at[256];
+    snprintf(path, sizeof path, "luminaires[%d]", k);
+    if (!cJSON_IsObject(j)) return bad(p, path, "an object with file, transform, intensity");
+    const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
+    join(at, sizeof at, path, "file");
+    if (!cJSON_IsString(file) || !file->valuestring[0])
+        return bad(p, at, "a luminaire manifest (.json) or preset:car, preset:bike, preset:small");
+    lumis_luminaire_instance in;
+    memset(&in, 0, sizeof in);
+    float tr[3] = {0, 0, 0}, rot[3] = {0, 0, 0};
+    double scale = 1.0, intensity = 1.0;
+    lumis_status st;
+    const cJSON *x = cJSON_GetObjectItemCaseSensitive(j, "transform");
+    if (x) {
+        char xp[128];
+        join(xp, sizeof xp, path, "transform");
+        if (!cJSON_IsObject(x)) return bad(p, xp, "an object with translate, rotate_deg, scale");
+        if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
+        if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
+        const cJSON *sc = cJSON_GetObjectItemCaseSensitive(x, "scale");
+        join(at, sizeof at, xp, "scale");
+        if (sc && !cJSON_IsNumber(sc))
+            return bad(p, at, "a positive number (a luminaire scales uniformly: lengths only)");
+        if ((st = get_number(p, x, "scale", xp, 1e-12, 1e12, &scale)) != LUMIS_OK) return st;
+    }
+    if ((st = get_number(p, j, "intensity", path, 0.0, 1e30, &intensity)) != LUMIS_OK) return st;
+    rotation_deg(rot, in.placement.r);
+    for (int a = 0; a < 3; a++) in.placement.t[a] = tr[a];
+    in.scale = scale;
+    in.intensity = intensity == 0.0 ? 0.0f : (float)intensity;
+    if (intensity == 0.0) { /* 0 means 1 in the descriptor: a black lamp is left out */
+        return LUMIS_OK;
+    }
+    if (!p->allow_files) return LUMIS_OK; /* the fuzzer: nothing is read or acquired */
+    char full[4096];
+    const char *name = file->valuestring;
+    if (strncmp(name, "preset:", 7) == 0 || name[0] == '/')
+        snprintf(full, sizeof full, "%s", name);
+    else
+        snprintf(full, sizeof full, "%s%s", p->dir, name);
+    lumis_luminaire *lum = find_luminaire(p->f, full);
+    lumis_luminaire *owned = NULL;
+    if (!lum) {
+        if (strncmp(name, "preset:", 7) == 0) {
+            st = lumis__luminaire_from_preset(name, p->errors, &owned);
+            if (st == LUMIS_ERR_INVALID_ARGUMENT && !owned)
+                return bad(p, at, "preset:car, preset:bike or preset:small");
+        } else {
+            lumis_luminaire_read_options ro = {0};
+            if (p->errors) ro.errors = *p->errors;
+            st = lumis_luminaire_read(full, &ro, &owned);
+        }
+        if (st != LUMIS_OK)
+            return lumis__fail(p->errors, st, "%s: %s.file: cannot load luminaire %s", p->file,
+                               path, full);
+        lum = owned;
+    }
+    in.luminaire = lum;
+    return lumis__scene_file_add_luminaire(p->f, owned, full, &in);
+}
+
 lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
                                    lumis_scene_file **out)
 {
@@ -554,6 +670,16 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
             for (int k = 0; k < n_obj && st == LUMIS_OK; k++)
                 st = parse_object(&p, cJSON_GetArrayItem(objs, k), k);
         }
+    }
+    if (st == LUMIS_OK) {
+        const cJSON *lums = cJSON_GetObjectItemCaseSensitive(root, "luminaires");
+        if (lums && !cJSON_IsArray(lums))
+            st = bad(&p, "luminaires", "an array of luminaires");
+        else if (lums && cJSON_GetArraySize(lums) > 4096)
+            st = bad(&p, "luminaires", "at most 4096 luminaires");
+        else
+            for (int k = 0; lums && k < cJSON_GetArraySize(lums) && st == LUMIS_OK; k++)
+                st = parse_luminaire(&p, cJSON_GetArrayItem(lums, k), k);
     }
     cJSON_Delete(root);
     if (st != LUMIS_OK) {

@@ -40,6 +40,8 @@ static const char usage[] =
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
     "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
     "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U')\n"
+    "  --luminaire L      replace every luminaire of the scene by L (a manifest written by\n"
+    "                     lumis luminaire create, or preset:car|bike|small)\n"
     "  --lum-strategy S   scenes with luminaires (headlight, headlight-close, or a scene file\n"
     "                     with \"luminaires\"): restricted (Lu et al., default), uniform (over\n"
     "                     the restricted box) or global (precomputed CDFs, the same samples\n"
@@ -119,6 +121,9 @@ int cmd_render(int argc, char **argv)
             if (!tool_parse_int(v, 1, 16, &x))
                 return tool_bad_value("render", "--upsample", v, "needs a factor in [1, 16]");
             o.upsample = (int)x;
+        } else if (tool_option(argc, argv, &i, "--luminaire", &v)) {
+            if (!v) return tool_bad_value("render", "--luminaire", v, "needs a manifest or preset");
+            o.luminaire = v;
         } else if (tool_option(argc, argv, &i, "--lum-strategy", &v)) {
             o.lum_option = "--lum-strategy";
             if (!v || lumis_luminaire_strategy_from_name(v, &o.lum.strategy) != LUMIS_OK)

@@ -52,6 +52,10 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
 
 /* "auto" exposure: the stops that bring an image's mean luminance to 0.18 (0 for a black
  * image).  The default of every PNG preview. */
+/* A luminaire manifest (lumis_luminaire_read) or preset:car|bike|small (acquired); errors
+ * printed. */
+lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out);
+
 float tool_auto_exposure(const lumis_image *image);
 
 /* Parses --exposure's value: "auto" (is_auto = 1) or stops in [-64, 64].  Exit code. */
@@ -108,6 +112,7 @@ void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text,
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);
+int cmd_luminaire(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_sky(int argc, char **argv);
 int cmd_studio(int argc, char **argv);
@@ -153,6 +158,8 @@ typedef struct tool_render_opts {
     /* Scenes with luminaires: how they are sampled (the instances come from the scene). */
     lumis_luminaire_lighting lum;
     const char *lum_option; /* the first --lum-* / --visibility / --sequence option given */
+    const char *luminaire;  /* --luminaire: replaces every luminaire of the scene (a manifest
+                               or preset:NAME); NULL: the scene's own */
     double time_budget;     /* > 0: progressive passes until this much render time */
     int width, height;      /* 0: the scene's camera */
     const char *out, *png;  /* out NULL: nothing written */

@@ -16,6 +16,8 @@ static const tool_command commands[] = {
     {"render", "render a scene lit by a map (light, BSDF or MIS sampling; path tracing)",
      cmd_render},
     {"lights", "an environment map as K directional lights: JSON, glTF, a picture", cmd_lights},
+    {"luminaire", "light-field luminaires: create one by simulated acquisition, inspect, render",
+     cmd_luminaire},
     {"compare", "image metrics: RMSE, relMSE, PSNR, CIELAB, LDR- and HDR-FLIP; error maps",
      cmd_compare},
     {"bench", "run a benchmark suite: renders, references, metrics, tables, plots, HTML",

@@ -135,6 +135,22 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
 }
 
 /* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
+lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
+{
+    if (strncmp(spec, "preset:", 7) == 0) {
+        lumis_luminaire_preset preset;
+        if (lumis_luminaire_preset_from_name(spec + 7, &preset) != LUMIS_OK) {
+            tool_runtime_error("%s: unknown preset (preset:car, preset:bike or preset:small)",
+                               spec);
+            return LUMIS_ERR_INVALID_ARGUMENT;
+        }
+        return lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, &tool_errors, out);
+    }
+    lumis_luminaire_read_options ro = {0};
+    ro.errors = tool_errors;
+    return lumis_luminaire_read(spec, &ro, out);
+}
+
 float tool_auto_exposure(const lumis_image *ref)
 {
     double sum = 0.0;
@@ -725,9 +741,18 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene_read_options so = {0};
     so.skip_env_map = o->envspec != NULL; /* --env replaces the scene's map: not read */
     so.errors = tool_errors;
+    /* --luminaire with a built-in scene: placed instead of the scene's own (which is not
+     * acquired); with a scene file, it replaces the file's luminaires below. */
+    lumis_luminaire *replacement = NULL;
+    if (o->luminaire && tool_load_luminaire(o->luminaire, &replacement) != LUMIS_OK)
+        return EXIT_RUNTIME;
     lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &so, &file)
-                                    : lumis_scene_builtin(o->scene_name, &tool_errors, &file);
-    if (st != LUMIS_OK) return EXIT_RUNTIME;
+                                    : lumis_scene_builtin_with_luminaire(o->scene_name, replacement,
+                                                                         &tool_errors, &file);
+    if (st != LUMIS_OK) {
+        lumis_luminaire_destroy(replacement);
+        return EXIT_RUNTIME;
+    }
     const char *cmd = o->cmd ? o->cmd : "render";
     /* A scene with luminaires is lit by them alone; its camera rays that escape see black. */
     const int lum = file->luminaire_count > 0;
@@ -737,12 +762,22 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                        : NULL;
     if (lum && clash) {
         lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
         return tool_usage_error(cmd, "%s: the scene is lit by its luminaires, not by a map", clash);
     }
     if (!lum && o->lum_option) {
         lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
         return tool_usage_error(
             cmd, "%s applies to scenes with luminaires (e.g. --scene headlight)", o->lum_option);
+    }
+    if (o->luminaire && !lum) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_usage_error(cmd,
+                                "--luminaire %s: the scene places no luminaire (try --scene "
+                                "headlight)",
+                                o->luminaire);
     }
     const char *envspec = lum          ? NULL
                           : o->envspec ? o->envspec
@@ -759,6 +794,11 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     tool_files files = {0};
     tool_files_input(&files, "scene file", o->scene_path);
     tool_files_input(&files, "environment map", envspec);
+    for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++)
+        if (strncmp(lumis_scene_file_luminaire_path(file, k), "preset:", 7) != 0)
+            tool_files_input(&files, "luminaire", lumis_scene_file_luminaire_path(file, k));
+    if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0)
+        tool_files_input(&files, "luminaire", o->luminaire);
     for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
         tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
@@ -767,6 +807,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     int rc = tool_files_check(cmd, &files);
     if (rc != EXIT_OK) {
         lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
         return rc;
     }
     float rotation = o->envspec ? o->rotation_deg : file->env_rotation_deg,
@@ -803,6 +844,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     rd.sampler = smp;
     rd.light_set = lights;
     rd.errors = tool_errors;
+    /* --luminaire: every placed luminaire of the scene replaced by that one. */
+    for (int k = 0; replacement && k < file->luminaire_count; k++)
+        file->luminaires[k].luminaire = replacement;
     lumis_luminaire_lighting lighting = o->lum;
     lighting.instances = file->luminaires;
     lighting.count = file->luminaire_count;
@@ -916,6 +960,7 @@ done:
     unit_destroy(&unit);
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
+    lumis_luminaire_destroy(replacement);
     lumis_sampler_destroy(smp);
     lumis_light_set_destroy(lights);
     lumis_envmap_destroy(env);

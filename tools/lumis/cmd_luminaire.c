@@ -1,0 +1,231 @@
+/* lumis luminaire create | info | render: light-field luminaires (lumis/luminaire.h) as
+ * files — made by simulated acquisition from a preset's emitter, inspected, and rendered in
+ * the headlight scenes. */
+#include "common.h"
+
+#include "lumis/luminaire.h"
+
+#include <cJSON.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const char usage[] =
+    "usage: lumis luminaire create OUT.json [--preset P] [--basis B] [--format F]\n"
+    "       lumis luminaire info LUMINAIRE [--json]\n"
+    "       lumis luminaire render LUMINAIRE [SCENE.json | --scene NAME] [render options]\n"
+    "                              -o OUT.exr\n\n"
+    "Light-field luminaires (Goesele et al.'s two-plane model, sampled as Lu et al.: docs/\n"
+    "luminaire.md).  LUMINAIRE is a manifest written by 'create' (docs/formats.md) or\n"
+    "preset:car, preset:bike, preset:small (acquired on the fly).\n\n"
+    "create   simulates the acquisition of a preset's emitter (a few bright disks behind a\n"
+    "         striped lens, like a headlight) through every basis function and writes the\n"
+    "         manifest OUT.json and its images in OUT.images/\n"
+    "  --preset P     car (11x9 images of 256x256, default), bike (9x7 of 300x300), small\n"
+    "                 (5x4 of 24x20): the sizes of Lu et al.'s Table 1\n"
+    "  --basis B      quadratic (Goesele et al., default) or bspline\n"
+    "  --format F     exr (default) or pfm images\n"
+    "info     images, grid, delta, basis, units, total power, memory, and the time to read\n"
+    "         it and to precompute its tables (the median of 3 builds)\n"
+    "  --json         print one JSON object (keys: file, units, images, grid, width, height,\n"
+    "                 delta, basis, pixel, total_power, bytes, replaced, read_seconds,\n"
+    "                 precompute_ms)\n"
+    "render   'lumis render --luminaire LUMINAIRE', in the built-in scene headlight unless a\n"
+    "         scene is given: every luminaire of the scene is replaced by LUMINAIRE, kept\n"
+    "         where the scene places it.  Every option of lumis render applies (--lum-*,\n"
+    "         --visibility, --sequence, --spp, --time, --size, -o, --png ...).\n";
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int create(int argc, char **argv)
+{
+    const char *out = NULL, *v;
+    lumis_luminaire_preset preset = LUMIS_PRESET_CAR;
+    lumis_luminaire_basis basis = LUMIS_BASIS_QUADRATIC;
+    lumis_luminaire_write_options wo = {0};
+    wo.image_format = LUMIS_FORMAT_EXR;
+    for (int i = 2; i < argc; i++) {
+        if (tool_option(argc, argv, &i, "--preset", &v)) {
+            if (!v || lumis_luminaire_preset_from_name(v, &preset) != LUMIS_OK)
+                return tool_bad_value("luminaire create", "--preset", v,
+                                      "must be car, bike or small");
+        } else if (tool_option(argc, argv, &i, "--basis", &v)) {
+            if (!v || strcmp(v, "default") == 0 ||
+                lumis_luminaire_basis_from_name(v, &basis) != LUMIS_OK)
+                return tool_bad_value("luminaire create", "--basis", v,
+                                      "must be quadratic or bspline");
+        } else if (tool_option(argc, argv, &i, "--format", &v)) {
+            if (v && strcmp(v, "exr") == 0)
+                wo.image_format = LUMIS_FORMAT_EXR;
+            else if (v && strcmp(v, "pfm") == 0)
+                wo.image_format = LUMIS_FORMAT_PFM;
+            else
+                return tool_bad_value("luminaire create", "--format", v, "must be exr or pfm");
+        } else if (argv[i][0] != '-' && !out) {
+            out = argv[i];
+        } else {
+            return tool_usage_error("luminaire create", "unknown argument '%s'", argv[i]);
+        }
+    }
+    if (!out) return tool_usage_error("luminaire create", "no output manifest (OUT.json)");
+    size_t n = strlen(out);
+    if (n < 5 || strcmp(out + n - 5, ".json") != 0)
+        return tool_usage_error("luminaire create", "the manifest must end in .json (got '%s')",
+                                out);
+    tool_files files = {0};
+    tool_files_output(&files, "manifest", out, TOOL_OUT_FILE);
+    int rc = tool_files_check("luminaire create", &files);
+    if (rc != EXIT_OK) return rc;
+    fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",
+            lumis_luminaire_preset_name(preset));
+    double t0 = now();
+    lumis_luminaire *lum = NULL;
+    if (lumis_luminaire_preset_create(preset, basis, &tool_errors, &lum) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    double t1 = now();
+    wo.errors = tool_errors;
+    wo.units = "mm";
+    lumis_status st = lumis_luminaire_write(out, lum, &wo);
+    lumis_luminaire_info info;
+    lumis_luminaire_get_info(lum, &info);
+    lumis_luminaire_destroy(lum);
+    if (st != LUMIS_OK) return EXIT_RUNTIME;
+    fprintf(stderr,
+            "lumis: acquired %d images of %d x %d in %.2f s; wrote %s and its images (%s) in "
+            "%.2f s\n",
+            info.images, info.width, info.height, t1 - t0, out,
+            wo.image_format == LUMIS_FORMAT_PFM ? "PFM" : "EXR", now() - t1);
+    return EXIT_OK;
+}
+
+static int info(int argc, char **argv)
+{
+    const char *file = NULL;
+    int json = 0;
+    for (int i = 2; i < argc; i++) {
+        if (strcmp(argv[i], "--json") == 0)
+            json = 1;
+        else if (argv[i][0] != '-' && !file)
+            file = argv[i];
+        else
+            return tool_usage_error("luminaire info", "unknown argument '%s'", argv[i]);
+    }
+    if (!file) return tool_usage_error("luminaire info", "no luminaire given");
+    double t0 = now();
+    lumis_luminaire *lum = NULL;
+    if (tool_load_luminaire(file, &lum) != LUMIS_OK) return EXIT_RUNTIME;
+    const double read_s = now() - t0;
+    char units[32] = "mm"; /* the presets' */
+    if (strncmp(file, "preset:", 7) != 0) {
+        lumis_luminaire_manifest *m = NULL;
+        if (lumis_luminaire_manifest_read(file, NULL, &m) == LUMIS_OK)
+            snprintf(units, sizeof units, "%s", m->units);
+        lumis_luminaire_manifest_destroy(m);
+    }
+    /* The precomputation alone (copies, luminance, summed-area tables): built again from
+     * the luminaire's own images, three times, the median. */
+    lumis_luminaire_desc d;
+    lumis_luminaire_get_desc(lum, &d);
+    double ms[3];
+    for (int k = 0; k < 3; k++) {
+        lumis_luminaire *again = NULL;
+        double t = now();
+        lumis_status st = lumis_luminaire_create(&d, &again);
+        ms[k] = 1e3 * (now() - t);
+        lumis_luminaire_destroy(again);
+        if (st != LUMIS_OK) {
+            lumis_luminaire_destroy(lum);
+            return tool_runtime_error("%s: rebuilding its tables failed: %s", file,
+                                      lumis_status_string(st));
+        }
+    }
+    qsort(ms, 3, sizeof ms[0], cmp_double);
+    lumis_luminaire_info in;
+    lumis_luminaire_get_info(lum, &in);
+    lumis_luminaire_destroy(lum);
+    if (json) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "file", file);
+        cJSON_AddStringToObject(j, "units", units);
+        cJSON_AddNumberToObject(j, "images", in.images);
+        cJSON_AddItemToObject(j, "grid", cJSON_CreateIntArray(in.grid, 2));
+        cJSON_AddNumberToObject(j, "width", in.width);
+        cJSON_AddNumberToObject(j, "height", in.height);
+        cJSON_AddNumberToObject(j, "delta", in.delta);
+        cJSON_AddStringToObject(j, "basis", lumis_luminaire_basis_name(d.basis));
+        cJSON_AddItemToObject(j, "pixel", cJSON_CreateDoubleArray(in.pixel, 2));
+        cJSON_AddNumberToObject(j, "total_power", in.total_power);
+        cJSON_AddNumberToObject(j, "bytes", (double)in.bytes);
+        cJSON_AddNumberToObject(j, "replaced", (double)in.replaced);
+        cJSON_AddNumberToObject(j, "read_seconds", read_s);
+        cJSON_AddNumberToObject(j, "precompute_ms", ms[1]);
+        char *text = cJSON_PrintUnformatted(j);
+        cJSON_Delete(j);
+        if (!text) return tool_runtime_error("out of memory");
+        puts(text);
+        free(text);
+        return EXIT_OK;
+    }
+    printf("file           %s\n", file);
+    printf("images         %d (%d x %d basis functions, %s)\n", in.images, in.grid[0], in.grid[1],
+           lumis_luminaire_basis_name(d.basis));
+    printf("pixels         %d x %d per image, %.4g x %.4g %s each\n", in.width, in.height,
+           in.pixel[0], in.pixel[1], units);
+    printf("delta          %g %s (U at z = 0, S at z = delta)\n", in.delta, units);
+    printf("grid spacing   %g x %g %s\n", d.grid_spacing[0], d.grid_spacing[1], units);
+    printf("total power    %.6g (luminance integral of every C_m over S)\n", in.total_power);
+    printf("memory         %.1f MB (RGB images and summed-area tables)\n", in.bytes / 1e6);
+    printf("replaced       %zu negative or non-finite values\n", in.replaced);
+    printf("read           %.3f s%s\n", read_s,
+           strncmp(file, "preset:", 7) == 0 ? " (acquired from the emitter)" : "");
+    printf("precompute     %.1f ms (tables, median of 3)\n", ms[1]);
+    return EXIT_OK;
+}
+
+int cmd_luminaire(int argc, char **argv)
+{
+    if (argc < 2 || tool_is_help(argv[1])) {
+        fputs(usage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? EXIT_USAGE : EXIT_OK;
+    }
+    for (int i = 2; i < argc; i++)
+        if (tool_is_help(argv[i])) {
+            fputs(usage, stdout);
+            return EXIT_OK;
+        }
+    if (strcmp(argv[1], "create") == 0) return create(argc, argv);
+    if (strcmp(argv[1], "info") == 0) return info(argc, argv);
+    if (strcmp(argv[1], "render") == 0) {
+        if (argc < 3 || argv[2][0] == '-')
+            return tool_usage_error("luminaire render", "no luminaire given");
+        /* lumis render --luminaire FILE [--scene headlight] REST */
+        char **a = calloc((size_t)argc + 4, sizeof *a);
+        if (!a) return tool_runtime_error("out of memory");
+        /* A scene: SCENE.json right after the luminaire, or --scene NAME anywhere. */
+        int n = 0, scene = argc > 3 && argv[3][0] != '-';
+        for (int i = 3; i < argc; i++) scene |= strcmp(argv[i], "--scene") == 0;
+        a[n++] = "render";
+        a[n++] = "--luminaire";
+        a[n++] = argv[2];
+        if (!scene) {
+            a[n++] = "--scene";
+            a[n++] = "headlight";
+        }
+        for (int i = 3; i < argc; i++) a[n++] = argv[i];
+        int rc = cmd_render(n, a);
+        free(a);
+        return rc;
+    }
+    return tool_usage_error("luminaire", "unknown action '%s' (create, info or render)", argv[1]);
+}
