@@ -250,6 +250,9 @@ lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_
  * A mesh may give "instances": [{"translate": ..., "rotate_deg": ..., "scale": ...}, ...]
  * instead of one "transform": one object per entry, sharing the mesh (Embree instances).
  * Rotation is Rz Ry Rx in degrees, applied after the scale and before the translation.
+ * "luminaires": [{"file": "lamp.json" or "preset:car", "transform": {"translate",
+ * "rotate_deg", "scale" (one number: lengths only)}, "intensity": 1}] places light-field
+ * luminaires (docs/render.md); a scene with luminaires is lit by them.
  * Meshes (OBJ, PLY, glTF/GLB, anything assimp reads) and maps resolve against the scene
  * file's folder; the same file named twice is loaded once and instanced; "map" may also be a
  * procedural spec (sky, sky:WxH, studio...).  Every error names the file, the JSON path
