@@ -55,6 +55,28 @@ double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span 
     return a > 0.0 ? a : 0.0;
 }
 
+/* D at column c (a pointer to the table's column): the units of the columns before it
+ * between rows j0 + g0 and j1 + g1.  The one formula of the marginal, wherever read. */
+static inline double marginal_at(const uint32_t *c, int j0, int j1, double g0, double g1)
+{
+    const double a = (double)c[j1] - (double)c[j0];
+    return a + g1 * (double)(c[j1 + 1] - c[j1]) - g0 * (double)(c[j0 + 1] - c[j0]);
+}
+
+double lumis__lum_span_units_d(const lumis_luminaire *l, int m, const lumis__span *x,
+                               const lumis__span *y, double d[4])
+{
+    const uint32_t *t = table(l, m);
+    const size_t st = (size_t)l->h + 1;
+    const int j0 = y->i0, j1 = y->i1;
+    const double g0 = y->f0, g1 = y->f1;
+    d[0] = marginal_at(t + (size_t)x->i0 * st, j0, j1, g0, g1);
+    d[1] = marginal_at(t + (size_t)(x->i0 + 1) * st, j0, j1, g0, g1);
+    d[2] = marginal_at(t + (size_t)x->i1 * st, j0, j1, g0, g1);
+    d[3] = marginal_at(t + (size_t)(x->i1 + 1) * st, j0, j1, g0, g1);
+    return lumis__lum_span_units(l, m, x, y);
+}
+
 /* ---- 1D inversion ------------------------------------------------------------------ */
 
 /* The two monotone functions searched: the restricted marginal over columns, D(i) = the
@@ -71,12 +93,7 @@ typedef struct line {
 
 static inline double probe(const line *L, int k)
 {
-    if (L->kind == 0) {
-        const uint32_t *c = L->t + (size_t)k * L->st;
-        const double a = (double)c[L->j1] - (double)c[L->j0];
-        return a + L->g1 * (double)(c[L->j1 + 1] - c[L->j1]) -
-               L->g0 * (double)(c[L->j0 + 1] - c[L->j0]);
-    }
+    if (L->kind == 0) return marginal_at(L->t + (size_t)k * L->st, L->j0, L->j1, L->g0, L->g1);
     return (double)(L->c1[k] - L->c0[k]);
 }
 
@@ -138,24 +155,22 @@ static inline double search(const line *L, int lo, int hi, double flo, double fh
     return chord(lo, hi, flo, fhi, g);
 }
 
-void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
-                        lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
-                        int depth, lumis__prep *pr)
+/* What every draw of image m in box b shares, from the marginal's values d = D(i0),
+ * D(i0 + 1), D(ia), D(ia + 1) at the columns of the box's ends x0 in [i0, i0 + 1) and x1 in
+ * [ia, ia + 1] (ia = w - 1 for x1 = w). */
+static void prepare_from(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                         const double d[4], lumis_luminaire_search search_kind, int depth,
+                         lumis__prep *pr)
 {
     pr->m = m;
     pr->b = *b;
     pr->units = units;
-    pr->uniform = strategy == LUMIS_LUM_UNIFORM;
+    pr->uniform = 0;
+    pr->tabulate = 0;
     pr->secant = search_kind != LUMIS_LUM_BINARY;
     pr->depth = depth;
-    if (pr->uniform) return;
-    line L;
-    L.t = table(l, m);
-    L.st = (size_t)l->h + 1;
-    L.kind = 0;
-    split(b->y0, l->h, &L.j0, &L.g0);
-    split(b->y1, l->h, &L.j1, &L.g1);
-    pr->j0 = L.j0, pr->g0 = L.g0, pr->j1 = L.j1, pr->g1 = L.g1;
+    split(b->y0, l->h, &pr->j0, &pr->g0);
+    split(b->y1, l->h, &pr->j1, &pr->g1);
     int i0, ia;
     double f0, fa;
     split(b->x0, l->w, &i0, &f0);
@@ -164,18 +179,58 @@ void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, do
     if (ilast < i0) ilast = i0;
     if (ilast > l->w - 1) ilast = l->w - 1;
     int jlast = (int)ceil(b->y1) - 1;
-    if (jlast < L.j0) jlast = L.j0;
+    if (jlast < pr->j0) jlast = pr->j0;
     if (jlast > l->h - 1) jlast = l->h - 1;
-    /* Marginal: g between D(x0) and D(x1), D linear inside a column. */
-    const double d_i0 = probe(&L, i0), d_i0n = probe(&L, i0 + 1);
-    const double d_ia = probe(&L, ia), d_ian = probe(&L, ia + 1);
     pr->i0 = i0;
     pr->ilast = ilast;
     pr->jlast = jlast;
-    pr->d_i0 = d_i0;
-    pr->d_hi = ilast == ia ? d_ian : probe(&L, ilast + 1);
-    pr->d_x0 = d_i0 + f0 * (d_i0n - d_i0);
-    pr->d_x1 = d_ia + fa * (d_ian - d_ia);
+    pr->d_i0 = d[0];
+    /* The bracket's top, D(ilast + 1): ilast is ia, or ia - 1 when x1 is a whole column. */
+    pr->d_hi =
+        ilast == ia
+            ? d[3]
+            : (ilast + 1 == ia ? d[2]
+                               : marginal_at(table(l, m) + (size_t)(ilast + 1) * ((size_t)l->h + 1),
+                                             pr->j0, pr->j1, pr->g0, pr->g1));
+    /* Marginal: g between D(x0) and D(x1), D linear inside a column. */
+    pr->d_x0 = d[0] + f0 * (d[1] - d[0]);
+    pr->d_x1 = d[2] + fa * (d[3] - d[2]);
+}
+
+void lumis__lum_prepare_d(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                          const double d[4], lumis_luminaire_search search_kind, int depth,
+                          lumis__prep *pr)
+{
+    prepare_from(l, m, b, units, d, search_kind, depth, pr);
+}
+
+void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                        lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
+                        int depth, lumis__prep *pr)
+{
+    if (strategy == LUMIS_LUM_UNIFORM) {
+        pr->m = m;
+        pr->b = *b;
+        pr->units = units;
+        pr->uniform = 1;
+        pr->tabulate = 0;
+        pr->secant = search_kind != LUMIS_LUM_BINARY;
+        pr->depth = depth;
+        return;
+    }
+    int j0, j1, i0, ia;
+    double g0, g1, f;
+    split(b->y0, l->h, &j0, &g0);
+    split(b->y1, l->h, &j1, &g1);
+    split(b->x0, l->w, &i0, &f);
+    split(b->x1, l->w, &ia, &f);
+    const uint32_t *t = table(l, m);
+    const size_t st = (size_t)l->h + 1;
+    const double d[4] = {marginal_at(t + (size_t)i0 * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)(i0 + 1) * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)ia * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)(ia + 1) * st, j0, j1, g0, g1)};
+    prepare_from(l, m, b, units, d, search_kind, depth, pr);
 }
 
 void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, double u1, double u2,
@@ -225,6 +280,20 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
     *pdf_pixels = pr->units > 0.0 ? q / pr->units : 0.0;
 }
 
+/* Whether draw_batch tabulates the marginal over the box's columns: when the count's
+ * searches would probe the table more often than the table has columns (a tabulation's
+ * reads are independent; a search's each wait for the last).  Measured on the car preset:
+ * docs/luminaire.md, "Benchmark". */
+static int tabulate_marginal(const lumis__prep *pr, int count)
+{
+    const int n = pr->ilast + 1 - pr->i0;
+    if (pr->tabulate) return pr->tabulate > 0 && n <= LUMIS__LUM_MAX_GRID_TAB;
+    if (n > LUMIS__LUM_MAX_GRID_TAB || n < 2) return 0;
+    int probes = 0;
+    while ((1 << probes) < n) probes++;
+    return count * probes * 4 >= n - 1;
+}
+
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *pi, int *pj, double *pdf_pixels)
 {
@@ -236,68 +305,101 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
     }
     /* Bisection over a bracket whose size depends only on the box: the draws of one image
      * run in lockstep, LANES at a time, so their independent loads overlap instead of each
-     * search waiting on its own chain of dependent loads. */
+     * search waiting on its own chain of dependent loads.  The same probes and comparisons
+     * as lumis__lum_draw_prepared, so the same draws. */
     enum { LANES = 8 };
     const lumis__box *b = &pr->b;
     const uint32_t *t = table(l, pr->m);
     const size_t st = (size_t)l->h + 1;
-    line L;
-    L.t = t;
-    L.st = st;
-    L.kind = 0;
-    L.j0 = pr->j0, L.g0 = pr->g0, L.j1 = pr->j1, L.g1 = pr->g1;
+    const int i0 = pr->i0, j0 = pr->j0, j1 = pr->j1;
+    const double g0 = pr->g0, g1 = pr->g1;
+    const int ncol = pr->ilast + 1 - i0, nrow = pr->jlast + 1 - j0;
+    /* The marginal D(i0 + k), k in [0, ncol], when worth tabulating (dtab == NULL if not). */
+    double dbuf[LUMIS__LUM_MAX_GRID_TAB + 1];
+    const double *dtab = NULL;
+    if (tabulate_marginal(pr, count)) {
+        dbuf[0] = pr->d_i0;
+        for (int k = 1; k < ncol; k++)
+            dbuf[k] = marginal_at(t + (size_t)(i0 + k) * st, j0, j1, g0, g1);
+        dbuf[ncol] = pr->d_hi;
+        dtab = dbuf;
+    }
     for (int base = 0; base < count; base += LANES) {
         const int nl = count - base < LANES ? count - base : LANES;
         double g[LANES], xs[LANES];
         int lo[LANES], col[LANES];
         for (int k = 0; k < nl; k++) {
             g[k] = pr->d_x0 + u[2 * (base + k)] * (pr->d_x1 - pr->d_x0);
-            lo[k] = pr->i0;
+            lo[k] = 0;
         }
-        int n = pr->ilast + 1 - pr->i0;
-        while (n > 1) {
-            const int half = n / 2;
-            for (int k = 0; k < nl; k++)
-                lo[k] = probe(&L, lo[k] + half) <= g[k] ? lo[k] + half : lo[k];
-            n -= half;
+        /* Marginal: lo[k] the column offset from i0.  The comparisons become conditional
+         * moves; keeping D's value at lo too would not (a branch on random data). */
+        int n = ncol;
+        if (dtab) {
+            while (n > 1) {
+                const int half = n / 2;
+                for (int k = 0; k < nl; k++)
+                    lo[k] = dtab[lo[k] + half] <= g[k] ? lo[k] + half : lo[k];
+                n -= half;
+            }
+        } else {
+            while (n > 1) {
+                const int half = n / 2;
+                for (int k = 0; k < nl; k++)
+                    lo[k] =
+                        marginal_at(t + (size_t)(i0 + lo[k] + half) * st, j0, j1, g0, g1) <= g[k]
+                            ? lo[k] + half
+                            : lo[k];
+                n -= half;
+            }
         }
         for (int k = 0; k < nl; k++) {
-            xs[k] = chord(lo[k], lo[k], probe(&L, lo[k]), probe(&L, lo[k] + 1), g[k]);
+            const int c = i0 + lo[k];
+            const uint32_t *cl = t + (size_t)c * st;
+            const double flo = dtab ? dtab[lo[k]] : marginal_at(cl, j0, j1, g0, g1);
+            const double fhi = dtab ? dtab[lo[k] + 1] : marginal_at(cl + st, j0, j1, g0, g1);
+            xs[k] = chord(c, c, flo, fhi, g[k]);
             if (xs[k] < b->x0) xs[k] = b->x0;
             if (!(xs[k] < b->x1)) xs[k] = nextafter(b->x1, b->x0);
             col[k] = lumis__clampi((int)xs[k], 0, l->w - 1);
         }
-        /* Conditionals: the same rows for every column. */
+        /* Conditionals: the same rows for every column.  A column's prefix is an integer, so
+         * P(j) <= g2 is P(j) <= floor(g2): the search compares integers. */
         double g2[LANES];
+        uint32_t gi[LANES];
         int jl[LANES];
         for (int k = 0; k < nl; k++) {
             const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
-            const double p_j0 = (double)(c1[L.j0] - c0[L.j0]);
-            const double p_y0 = p_j0 + L.g0 * ((double)(c1[L.j0 + 1] - c0[L.j0 + 1]) - p_j0);
-            const double p_j1 = (double)(c1[L.j1] - c0[L.j1]);
-            const double p_y1 = p_j1 + L.g1 * ((double)(c1[L.j1 + 1] - c0[L.j1 + 1]) - p_j1);
+            const double p_j0 = (double)(c1[j0] - c0[j0]);
+            const double p_y0 = p_j0 + g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
+            const double p_j1 = (double)(c1[j1] - c0[j1]);
+            const double p_y1 = p_j1 + g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
             g2[k] = p_y0 + u[2 * (base + k) + 1] * (p_y1 - p_y0);
-            jl[k] = L.j0;
+            gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
+            jl[k] = j0;
         }
-        n = pr->jlast + 1 - L.j0;
+        n = nrow;
         while (n > 1) {
             const int half = n / 2;
             for (int k = 0; k < nl; k++) {
                 const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
                 const int mid = jl[k] + half;
-                jl[k] = (double)(c1[mid] - c0[mid]) <= g2[k] ? mid : jl[k];
+                jl[k] = c1[mid] - c0[mid] <= gi[k] ? mid : jl[k];
             }
             n -= half;
         }
         for (int k = 0; k < nl; k++) {
             const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
             const int j = jl[k];
-            const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
-            double ys = chord(j, j, flo, fhi, g2[k]);
+            const double flo2 = (double)(c1[j] - c0[j]), fhi2 = (double)(c1[j + 1] - c0[j + 1]);
+            double ys = chord(j, j, flo2, fhi2, g2[k]);
             if (ys < b->y0) ys = b->y0;
             if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
             const int row = lumis__clampi((int)ys, 0, l->h - 1);
-            const double q = (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
+            /* The pixel's units: the search's last bracket unless ys was moved off it. */
+            const double q =
+                row == j ? fhi2 - flo2
+                         : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
             x[base + k] = xs[k];
             y[base + k] = ys;
             pi[base + k] = col[k];
@@ -367,9 +469,8 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
         double ua[2], ub[2], area;
         const float *px;
         if (!on_s_support(l, q, m, ua, ub, &area, &px)) return LUMIS_ERR_INVALID_ARGUMENT;
-        lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, q->p.x, q->p.y,
-                          ua[0] + u1 * (ua[1] - ua[0]), ub[0] + u2 * (ub[1] - ub[0]),
-                          LUMIS_LUM_AREA_U, 1.0 / area, 1, -1, 0, out);
+        lumis__lum_finish_u(l, q->p.x, q->p.y, q->p.z, m, ua[0] + u1 * (ua[1] - ua[0]),
+                            ub[0] + u2 * (ub[1] - ub[0]), 1.0 / area, 1, out);
         return LUMIS_OK;
     }
     lumis__box b;
@@ -380,9 +481,9 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
     lumis__prep pr;
     lumis__lum_prepare(l, m, &b, units, q->strategy, q->search, q->depth, &pr);
     lumis__lum_draw_prepared(l, &pr, u1, u2, &x, &y, &i, &j, &pdf);
-    const double sx = l->sx0 + x * l->dx, sy = l->sy0 + y * l->dy;
-    lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, sx, sy, 0.0, 0.0, LUMIS_LUM_AREA_S,
-                      pdf / (l->dx * l->dy), 1, i, j, out);
+    lumis__lum_finish_s(l, q->p.x, q->p.y, q->p.z, q->p.z / (q->p.z - l->delta), m, m % l->gw,
+                        m / l->gw, l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3, x, y, i, j,
+                        pdf, 1, out);
     return LUMIS_OK;
 }
 
