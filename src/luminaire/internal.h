@@ -77,12 +77,12 @@ static inline void lumis__lum_center(const lumis_luminaire *l, int m, double *cx
  * 0.5 (1.5 - a)^2 - 1.5 (0.5 - a)^2 = 0.75 - a^2, with a clamped to the support. */
 static inline double lumis__lum_profile(int bspline, double x)
 {
-    const double a = x < 0.0 ? -x : x;
+    const double a = fabs(x);
     if (bspline) {
-        const double o = 1.5 - (a < 1.5 ? a : 1.5), i = 0.5 - a > 0.0 ? 0.5 - a : 0.0;
+        const double o = 1.5 - lumis__minsel(a, 1.5), i = lumis__maxsel(0.5 - a, 0.0);
         return 0.5 * o * o - 1.5 * i * i;
     }
-    const double o = 1.0 - (a < 1.0 ? a : 1.0), i = 1.0 - 2.0 * a > 0.0 ? 1.0 - 2.0 * a : 0.0;
+    const double o = 1.0 - lumis__minsel(a, 1.0), i = lumis__maxsel(1.0 - 2.0 * a, 0.0);
     return 2.0 * o * o - i * i;
 }
 
@@ -256,8 +256,7 @@ static inline void lumis__lum_finish_s(const lumis_luminaire *l, double px, doub
     o->dir.z = (float)(vz * inv);
     const double wx = sx - px, wy = sy - py, wz = l->delta - pz;
     const double r2 = wx * wx + wy * wy + wz * wz;
-    lumis__lum_shade(l, a, b, img, sx, sy, ux, uy, i, j, pdf, count, r2,
-                     (wz < 0.0 ? -wz : wz) / sqrt(r2), o);
+    lumis__lum_shade(l, a, b, img, sx, sy, ux, uy, i, j, pdf, count, r2, fabs(wz) / sqrt(r2), o);
 }
 
 /* A sample of p on S (measure AREA_U, Eq. 9): s = p, u on U with density pdf per unit

@@ -9,11 +9,18 @@
 /* x in [0, n] as a cell and a fraction: i in [0, n - 1], f in [0, 1] (x == n -> n - 1, 1). */
 static inline void split(double x, int n, int *i, double *f)
 {
-    int k = (int)floor(x);
+    int k = x > 0.0 ? (int)x : 0; /* x <= n: truncation is floor, without a libm call */
     if (k > n - 1) k = n - 1;
     if (k < 0) k = 0;
     *i = k;
     *f = x - k;
+}
+
+/* ceil(x) - 1 for x in (0, n]: the last cell a range ending at x covers. */
+static inline int last_cell(double x)
+{
+    const int k = (int)x;
+    return (double)k == x ? k - 1 : k;
 }
 
 static inline const uint32_t *table(const lumis_luminaire *l, int m)
@@ -175,10 +182,10 @@ static void prepare_from(const lumis_luminaire *l, int m, const lumis__box *b, d
     double f0, fa;
     split(b->x0, l->w, &i0, &f0);
     split(b->x1, l->w, &ia, &fa);
-    int ilast = (int)ceil(b->x1) - 1; /* last column the box covers */
+    int ilast = last_cell(b->x1); /* last column the box covers */
     if (ilast < i0) ilast = i0;
     if (ilast > l->w - 1) ilast = l->w - 1;
-    int jlast = (int)ceil(b->y1) - 1;
+    int jlast = last_cell(b->y1);
     if (jlast < pr->j0) jlast = pr->j0;
     if (jlast > l->h - 1) jlast = l->h - 1;
     pr->i0 = i0;
