@@ -72,9 +72,9 @@ void lumis__lum_finish_u(const lumis_luminaire *l, double px, double py, double 
     o->dir.y = (float)(vy * inv);
     o->dir.z = (float)(vz * inv);
     if (!lumis__lum_pixel(l, px, py, &i, &j)) return;
-    /* r and cos at U. */
+    /* r and cos at U: cos = z / r. */
     lumis__lum_shade(l, m % l->gw, m / l->gw, l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3,
-                     px, py, ux, uy, i, j, pdf, count, dist * dist, pz * inv, o);
+                     px, py, ux, uy, i, j, pdf, count, pz, dist * dist * dist, o);
 }
 
 /* ---- balancing --------------------------------------------------------------------- */

@@ -29,6 +29,7 @@ struct lumis_luminaire {
     int w, h;
     double sx0, sy0, sw, sh; /* image rectangle on S */
     double dx, dy;           /* pixel size */
+    double inv_pixel_area;   /* 1 / (dx dy) */
     float *rgb;              /* M w h 3 */
     uint32_t *sat;           /* M (w + 1)(h + 1), column-major: sat[i (h + 1) + j] */
     double *unit;            /* M: luminance x area (world units) of one quantisation unit
@@ -198,11 +199,11 @@ void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, doubl
 
 /* A sample's radiance and weight once its direction is known (u on U, s on S, pixel
  * (i, j) of image m at grid position (a, b), img its RGB pixels): shared by
- * lumis__lum_finish and the per-point loop, which hoists a, b and img out of an image's
- * draws.  r2 and cosine: squared distance and cosine at the sampled plane. */
+ * lumis__lum_finish_s and lumis__lum_finish_u.  pdf_omega = pdf r^2 / cos at the sampled
+ * plane, written cos = cnum / r: weight = cnum / (K_m pdf r^3), one division. */
 static inline void lumis__lum_shade(const lumis_luminaire *l, int a, int b, const float *img,
                                     double sx, double sy, double ux, double uy, int i, int j,
-                                    double pdf, int count, double r2, double cosine,
+                                    double pdf, int count, double cnum, double r3,
                                     lumis_luminaire_sample *o)
 {
     const double phi = lumis__lum_phi_ab(l, a, b, ux, uy);
@@ -216,22 +217,23 @@ static inline void lumis__lum_shade(const lumis_luminaire *l, int a, int b, cons
     o->radiance.r = lit ? (float)(psi * c[0]) : 0.0f;
     o->radiance.g = lit ? (float)(psi * c[1]) : 0.0f;
     o->radiance.b = lit ? (float)(psi * c[2]) : 0.0f;
-    /* pdf_omega = pdf_area r^2 / cos. */
-    o->weight = lit ? (float)(cosine / ((double)count * pdf * r2)) : 0.0f;
+    o->weight = lit ? (float)(cnum / ((double)count * pdf * r3)) : 0.0f;
 }
 
 /* A sample on S (measure AREA_S) from p, its point s in pixel coordinates (x, y) inside
- * pixel (i, j) and its density per pixel area: everything lumis__lum_finish fills, with
- * t = z / (z - delta) (the projection from S to U through p) and pixel_area = dx dy. */
+ * pixel (i, j) and its density per pixel area: everything a sample holds, with
+ * t = z / (z - delta) (the projection from S to U through p). */
 static inline void lumis__lum_finish_s(const lumis_luminaire *l, double px, double py, double pz,
                                        double t, int m, int a, int b, const float *img, double x,
                                        double y, int i, int j, double pdf_pixels, int count,
                                        lumis_luminaire_sample *o)
 {
     const double sx = l->sx0 + x * l->dx, sy = l->sy0 + y * l->dy;
-    const double pdf = pdf_pixels / (l->dx * l->dy);
-    /* The line from p through s meets U at u = p + (s - p) z / (z - delta). */
-    const double ux = px + (sx - px) * t, uy = py + (sy - py) * t;
+    const double pdf = pdf_pixels * l->inv_pixel_area;
+    /* The line from p through s meets U at u = p + (s - p) t: p, s and u are on one line,
+     * so |u - p| = |t| |s - p| and the direction to u is sign(t) (s - p) / |s - p|. */
+    const double wx = sx - px, wy = sy - py, wz = l->delta - pz;
+    const double ux = px + wx * t, uy = py + wy * t;
     o->s[0] = sx;
     o->s[1] = sy;
     o->u[0] = ux;
@@ -240,8 +242,8 @@ static inline void lumis__lum_finish_s(const lumis_luminaire *l, double px, doub
     o->count = count;
     o->measure = LUMIS_LUM_AREA_S;
     o->pdf = (float)pdf;
-    const double vx = ux - px, vy = uy - py, vz = -pz;
-    const double dist = sqrt(vx * vx + vy * vy + vz * vz);
+    const double r2 = wx * wx + wy * wy + wz * wz, r = sqrt(r2);
+    const double dist = r * fabs(t);
     o->distance = (float)dist;
     if (!(dist > 0.0) || !(pdf > 0.0) || !isfinite(ux) || !isfinite(uy)) {
         o->radiance.r = o->radiance.g = o->radiance.b = 0.0f;
@@ -250,13 +252,11 @@ static inline void lumis__lum_finish_s(const lumis_luminaire *l, double px, doub
         o->dir.z = -1.0f;
         return;
     }
-    const double inv = 1.0 / dist;
-    o->dir.x = (float)(vx * inv);
-    o->dir.y = (float)(vy * inv);
-    o->dir.z = (float)(vz * inv);
-    const double wx = sx - px, wy = sy - py, wz = l->delta - pz;
-    const double r2 = wx * wx + wy * wy + wz * wz;
-    lumis__lum_shade(l, a, b, img, sx, sy, ux, uy, i, j, pdf, count, r2, fabs(wz) / sqrt(r2), o);
+    const double inv = copysign(1.0 / r, t);
+    o->dir.x = (float)(wx * inv);
+    o->dir.y = (float)(wy * inv);
+    o->dir.z = (float)(wz * inv);
+    lumis__lum_shade(l, a, b, img, sx, sy, ux, uy, i, j, pdf, count, fabs(wz), r2 * r, o);
 }
 
 /* A sample of p on S (measure AREA_U, Eq. 9): s = p, u on U with density pdf per unit

@@ -113,6 +113,7 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
     l->sh = d->image_size[1];
     l->dx = l->sw / l->w;
     l->dy = l->sh / l->h;
+    l->inv_pixel_area = 1.0 / (l->dx * l->dy);
     l->rgb = rgb;
     l->replaced = replaced;
     l->errors = d->errors;

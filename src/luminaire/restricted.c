@@ -36,8 +36,9 @@ double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b
     return lumis__lum_span_units(l, m, &x, &y);
 }
 
-double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
-                             const lumis__span *y)
+/* Inline so that lumis__lum_span_units_d shares its 16 loads. */
+static inline double span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                                const lumis__span *y)
 {
     const uint32_t *t = table(l, m);
     const size_t st = (size_t)l->h + 1;
@@ -62,6 +63,12 @@ double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span 
     return a > 0.0 ? a : 0.0;
 }
 
+double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                             const lumis__span *y)
+{
+    return span_units(l, m, x, y);
+}
+
 /* D at column c (a pointer to the table's column): the units of the columns before it
  * between rows j0 + g0 and j1 + g1.  The one formula of the marginal, wherever read. */
 static inline double marginal_at(const uint32_t *c, int j0, int j1, double g0, double g1)
@@ -81,7 +88,7 @@ double lumis__lum_span_units_d(const lumis_luminaire *l, int m, const lumis__spa
     d[1] = marginal_at(t + (size_t)(x->i0 + 1) * st, j0, j1, g0, g1);
     d[2] = marginal_at(t + (size_t)x->i1 * st, j0, j1, g0, g1);
     d[3] = marginal_at(t + (size_t)(x->i1 + 1) * st, j0, j1, g0, g1);
-    return lumis__lum_span_units(l, m, x, y);
+    return span_units(l, m, x, y);
 }
 
 /* ---- 1D inversion ------------------------------------------------------------------ */
