@@ -276,11 +276,36 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
     /* Two passes: every draw first, each asking for its RGB pixel as soon as it is known,
      * then every sample's geometry and radiance, by which time the pixels have arrived.  The
      * first pass parks a draw in its sample: s = its pixel coordinates, u[0] = its density
-     * per pixel area. */
-    for (int m = 0; m < l->m; m++) {
-        if (!counts[m]) continue;
+     * per pixel area.  Draws are made for groups of images at once (lumis__lum_draw_group:
+     * most images get one or two samples, whose searches alone would wait on their loads one
+     * after another). */
+    enum { GS = 64, GI = 32 };
+    lumis__prep prs[GI];
+    int gcount[GI], gm[GI], gi = 0, gs = 0;
+    double xs[GS], ys[GS], pdf[GS];
+    int is[GS], js[GS];
+    for (int m = 0; m <= l->m; m++) {
+        if (m < l->m && !counts[m]) continue;
+        if (gi && (m == l->m || gi == GI || gs + counts[m] > GS)) {
+            lumis__lum_draw_group(l, prs, gcount, gi, u + 2 * n, xs, ys, is, js, pdf);
+            for (int g = 0, k = 0; g < gi; g++) {
+                const float *img = l->rgb + (size_t)gm[g] * npx * 3;
+                for (int c = 0; c < gcount[g]; c++, k++, n++) {
+#if defined(__GNUC__) || defined(__clang__)
+                    __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);
+#endif
+                    out[n].s[0] = xs[k];
+                    out[n].s[1] = ys[k];
+                    out[n].u[0] = pdf[k];
+                    out[n].image = gm[g];
+                    out[n].count = gcount[g];
+                }
+            }
+            gi = gs = 0;
+        }
+        if (m == l->m) break;
         lumis__box b;
-        lumis__prep pr;
+        lumis__prep *pr = prs + gi;
         if (strategy == LUMIS_LUM_GLOBAL) {
             b.x0 = b.y0 = 0.0;
             b.x1 = l->w;
@@ -290,16 +315,20 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
             b.y0 = pb.ylo[m / l->gw], b.y1 = pb.yhi[m / l->gw];
         }
         if (strategy == LUMIS_LUM_RESTRICTED)
-            lumis__lum_prepare_d(l, m, &b, units[m], pb.d[m], q->search, q->depth, &pr);
+            lumis__lum_prepare_d(l, m, &b, units[m], pb.d[m], q->search, q->depth, pr);
         else
-            lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, &pr);
+            lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, pr);
+        if (counts[m] <= GS) { /* joins the group */
+            gcount[gi] = counts[m];
+            gm[gi] = m;
+            gi++;
+            gs += counts[m];
+            continue;
+        }
         const float *img = l->rgb + (size_t)m * npx * 3;
         for (int done = 0; done < counts[m];) {
-            enum { CHUNK = 32 };
-            double xs[CHUNK], ys[CHUNK], pdf[CHUNK];
-            int is[CHUNK], js[CHUNK];
-            const int c = counts[m] - done < CHUNK ? counts[m] - done : CHUNK;
-            lumis__lum_draw_batch(l, &pr, u + 2 * n, c, xs, ys, is, js, pdf);
+            const int c = counts[m] - done < GS ? counts[m] - done : GS;
+            lumis__lum_draw_batch(l, pr, u + 2 * n, c, xs, ys, is, js, pdf);
             for (int k = 0; k < c; k++, n++) {
 #if defined(__GNUC__) || defined(__clang__)
                 __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);

@@ -191,6 +191,13 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *i, int *j, double *pdf_pixels);
 
+/* The draws of nimg images (pr[k] drawn counts[k] times, in order) from u[2n], u[2n + 1]:
+ * the same results as lumis__lum_draw_batch on each, the exact bisections of images whose
+ * marginal it tabulates run in lockstep across images.  Returns the sum of the counts. */
+int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const int *counts,
+                          int nimg, const double *u, double *x, double *y, int *i, int *j,
+                          double *pdf_pixels);
+
 /* One restricted (or uniform) draw of image m inside box b: (x, y) in pixel coordinates
  * and the density per pixel area of the landed point.  units: lumis__lum_box_units(b). */
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,

@@ -308,6 +308,106 @@ static int tabulate_marginal(const lumis__prep *pr, int count)
     return count * probes * 4 >= n - 1;
 }
 
+enum { LANES = 64 }; /* draws in lockstep at most */
+
+/* nl <= LANES exact bisection draws in lockstep, lane k from image pr[k] with its marginal
+ * tabulated in tab[k] (D(i0 + c), c in [0, ncol]), from u[2k], u[2k + 1].  Lanes of
+ * different images (brackets of different sizes) step together: a lane whose bracket is
+ * down to one column probes its own lower end, which is <= g, and stays.  The same probes
+ * and comparisons as lumis__lum_draw_prepared, so the same draws. */
+static void draw_lanes(const lumis_luminaire *l, const lumis__prep *const *pr,
+                       const double *const *tab, const double *u, int nl, double *x, double *y,
+                       int *pi, int *pj, double *pdf_pixels)
+{
+    const size_t st = (size_t)l->h + 1;
+    double g[LANES], g2[LANES];
+    int lo[LANES], n[LANES], col[LANES], jl[LANES];
+    uint32_t gi[LANES];
+    const uint32_t *c0s[LANES];
+    /* Marginal: lo[k] the column offset from i0.  The comparisons become conditional moves
+     * (keeping D's value at lo too would be a branch on random data). */
+    int most = 1;
+    for (int k = 0; k < nl; k++) {
+        g[k] = pr[k]->d_x0 + u[2 * k] * (pr[k]->d_x1 - pr[k]->d_x0);
+        lo[k] = 0;
+        n[k] = pr[k]->ilast + 1 - pr[k]->i0;
+        most = n[k] > most ? n[k] : most;
+    }
+    while (most > 1) {
+        for (int k = 0; k < nl; k++) {
+            const int half = n[k] / 2;
+            lo[k] = tab[k][lo[k] + half] <= g[k] ? lo[k] + half : lo[k];
+            n[k] -= half;
+        }
+        most -= most / 2;
+    }
+    for (int k = 0; k < nl; k++) {
+        const lumis__box *b = &pr[k]->b;
+        const int c = pr[k]->i0 + lo[k];
+        double xs = chord(c, c, tab[k][lo[k]], tab[k][lo[k] + 1], g[k]);
+        if (xs < b->x0) xs = b->x0;
+        if (!(xs < b->x1)) xs = nextafter(b->x1, b->x0);
+        x[k] = xs;
+        col[k] = lumis__clampi((int)xs, 0, l->w - 1);
+    }
+    /* Conditionals in the drawn columns.  A column's prefix is an integer, so P(j) <= g2 is
+     * P(j) <= floor(g2): the search compares integers. */
+    most = 1;
+    for (int k = 0; k < nl; k++) {
+        const int j0 = pr[k]->j0, j1 = pr[k]->j1;
+        const uint32_t *c0 = table(l, pr[k]->m) + (size_t)col[k] * st, *c1 = c0 + st;
+        const double p_j0 = (double)(c1[j0] - c0[j0]);
+        const double p_y0 = p_j0 + pr[k]->g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
+        const double p_j1 = (double)(c1[j1] - c0[j1]);
+        const double p_y1 = p_j1 + pr[k]->g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
+        g2[k] = p_y0 + u[2 * k + 1] * (p_y1 - p_y0);
+        gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
+        c0s[k] = c0;
+        jl[k] = j0;
+        n[k] = pr[k]->jlast + 1 - j0;
+        most = n[k] > most ? n[k] : most;
+    }
+    while (most > 1) {
+        for (int k = 0; k < nl; k++) {
+            const uint32_t *c0 = c0s[k], *c1 = c0 + st;
+            const int half = n[k] / 2, mid = jl[k] + half;
+            jl[k] = c1[mid] - c0[mid] <= gi[k] ? mid : jl[k];
+            n[k] -= half;
+        }
+        most -= most / 2;
+    }
+    for (int k = 0; k < nl; k++) {
+        const lumis__box *b = &pr[k]->b;
+        const uint32_t *c0 = c0s[k], *c1 = c0 + st;
+        const int j = jl[k];
+        const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
+        double ys = chord(j, j, flo, fhi, g2[k]);
+        if (ys < b->y0) ys = b->y0;
+        if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
+        const int row = lumis__clampi((int)ys, 0, l->h - 1);
+        /* The pixel's units: the search's last bracket unless ys was moved off it. */
+        const double q = row == j
+                             ? fhi - flo
+                             : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
+        y[k] = ys;
+        pi[k] = col[k];
+        pj[k] = row;
+        pdf_pixels[k] = pr[k]->units > 0.0 ? q / pr[k]->units : 0.0;
+    }
+}
+
+/* D(i0 + c) for c in [0, ncol] into d. */
+static void tabulate(const lumis_luminaire *l, const lumis__prep *pr, double *d)
+{
+    const uint32_t *t = table(l, pr->m);
+    const size_t st = (size_t)l->h + 1;
+    const int ncol = pr->ilast + 1 - pr->i0;
+    d[0] = pr->d_i0;
+    for (int c = 1; c < ncol; c++)
+        d[c] = marginal_at(t + (size_t)(pr->i0 + c) * st, pr->j0, pr->j1, pr->g0, pr->g1);
+    d[ncol] = pr->d_hi;
+}
+
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *pi, int *pj, double *pdf_pixels)
 {
@@ -317,71 +417,56 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
                                      pdf_pixels + k);
         return;
     }
-    /* Bisection over a bracket whose size depends only on the box: the draws of one image
-     * run in lockstep, LANES at a time, so their independent loads overlap instead of each
-     * search waiting on its own chain of dependent loads.  The same probes and comparisons
-     * as lumis__lum_draw_prepared, so the same draws. */
-    enum { LANES = 8 };
+    if (tabulate_marginal(pr, count)) {
+        double d[LUMIS__LUM_MAX_GRID_TAB + 1];
+        tabulate(l, pr, d);
+        const lumis__prep *prs[LANES];
+        const double *tabs[LANES];
+        for (int k = 0; k < LANES; k++) prs[k] = pr, tabs[k] = d;
+        for (int base = 0; base < count; base += LANES)
+            draw_lanes(l, prs, tabs, u + 2 * base, count - base < LANES ? count - base : LANES,
+                       x + base, y + base, pi + base, pj + base, pdf_pixels + base);
+        return;
+    }
+    /* A wide box drawn a few times: bisections in the table, the draws in lockstep
+     * (their brackets have the same size), so their independent loads overlap instead of
+     * each search waiting on its own chain of dependent loads. */
+    enum { L8 = 8 };
     const lumis__box *b = &pr->b;
     const uint32_t *t = table(l, pr->m);
     const size_t st = (size_t)l->h + 1;
     const int i0 = pr->i0, j0 = pr->j0, j1 = pr->j1;
     const double g0 = pr->g0, g1 = pr->g1;
     const int ncol = pr->ilast + 1 - i0, nrow = pr->jlast + 1 - j0;
-    /* The marginal D(i0 + k), k in [0, ncol], when worth tabulating (dtab == NULL if not). */
-    double dbuf[LUMIS__LUM_MAX_GRID_TAB + 1];
-    const double *dtab = NULL;
-    if (tabulate_marginal(pr, count)) {
-        dbuf[0] = pr->d_i0;
-        for (int k = 1; k < ncol; k++)
-            dbuf[k] = marginal_at(t + (size_t)(i0 + k) * st, j0, j1, g0, g1);
-        dbuf[ncol] = pr->d_hi;
-        dtab = dbuf;
-    }
-    for (int base = 0; base < count; base += LANES) {
-        const int nl = count - base < LANES ? count - base : LANES;
-        double g[LANES], xs[LANES];
-        int lo[LANES], col[LANES];
+    for (int base = 0; base < count; base += L8) {
+        const int nl = count - base < L8 ? count - base : L8;
+        double g[L8], xs[L8];
+        int lo[L8], col[L8];
         for (int k = 0; k < nl; k++) {
             g[k] = pr->d_x0 + u[2 * (base + k)] * (pr->d_x1 - pr->d_x0);
             lo[k] = 0;
         }
-        /* Marginal: lo[k] the column offset from i0.  The comparisons become conditional
-         * moves; keeping D's value at lo too would not (a branch on random data). */
         int n = ncol;
-        if (dtab) {
-            while (n > 1) {
-                const int half = n / 2;
-                for (int k = 0; k < nl; k++)
-                    lo[k] = dtab[lo[k] + half] <= g[k] ? lo[k] + half : lo[k];
-                n -= half;
-            }
-        } else {
-            while (n > 1) {
-                const int half = n / 2;
-                for (int k = 0; k < nl; k++)
-                    lo[k] =
-                        marginal_at(t + (size_t)(i0 + lo[k] + half) * st, j0, j1, g0, g1) <= g[k]
+        while (n > 1) {
+            const int half = n / 2;
+            for (int k = 0; k < nl; k++)
+                lo[k] = marginal_at(t + (size_t)(i0 + lo[k] + half) * st, j0, j1, g0, g1) <= g[k]
                             ? lo[k] + half
                             : lo[k];
-                n -= half;
-            }
+            n -= half;
         }
         for (int k = 0; k < nl; k++) {
             const int c = i0 + lo[k];
             const uint32_t *cl = t + (size_t)c * st;
-            const double flo = dtab ? dtab[lo[k]] : marginal_at(cl, j0, j1, g0, g1);
-            const double fhi = dtab ? dtab[lo[k] + 1] : marginal_at(cl + st, j0, j1, g0, g1);
-            xs[k] = chord(c, c, flo, fhi, g[k]);
+            xs[k] = chord(c, c, marginal_at(cl, j0, j1, g0, g1),
+                          marginal_at(cl + st, j0, j1, g0, g1), g[k]);
             if (xs[k] < b->x0) xs[k] = b->x0;
             if (!(xs[k] < b->x1)) xs[k] = nextafter(b->x1, b->x0);
             col[k] = lumis__clampi((int)xs[k], 0, l->w - 1);
         }
-        /* Conditionals: the same rows for every column.  A column's prefix is an integer, so
-         * P(j) <= g2 is P(j) <= floor(g2): the search compares integers. */
-        double g2[LANES];
-        uint32_t gi[LANES];
-        int jl[LANES];
+        double g2[L8];
+        uint32_t gi[L8];
+        int jl[L8];
         for (int k = 0; k < nl; k++) {
             const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
             const double p_j0 = (double)(c1[j0] - c0[j0]);
@@ -405,14 +490,13 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
         for (int k = 0; k < nl; k++) {
             const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
             const int j = jl[k];
-            const double flo2 = (double)(c1[j] - c0[j]), fhi2 = (double)(c1[j + 1] - c0[j + 1]);
-            double ys = chord(j, j, flo2, fhi2, g2[k]);
+            const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
+            double ys = chord(j, j, flo, fhi, g2[k]);
             if (ys < b->y0) ys = b->y0;
             if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
             const int row = lumis__clampi((int)ys, 0, l->h - 1);
-            /* The pixel's units: the search's last bracket unless ys was moved off it. */
             const double q =
-                row == j ? fhi2 - flo2
+                row == j ? fhi - flo
                          : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
             x[base + k] = xs[k];
             y[base + k] = ys;
@@ -421,6 +505,51 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
             pdf_pixels[base + k] = pr->units > 0.0 ? q / pr->units : 0.0;
         }
     }
+}
+
+int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const int *counts,
+                          int nimg, const double *u, double *x, double *y, int *pi, int *pj,
+                          double *pdf_pixels)
+{
+    enum { TAB = 2048 };
+    double buf[TAB];
+    const lumis__prep *prs[LANES];
+    const double *tabs[LANES];
+    int done = 0, nl = 0, used = 0;
+    for (int im = 0; im < nimg; im++) {
+        if (pr[im].uniform || pr[im].secant || pr[im].depth > 0 ||
+            !tabulate_marginal(pr + im, counts[im])) {
+            if (nl) { /* keep the samples in order */
+                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+                nl = used = 0;
+            }
+            lumis__lum_draw_batch(l, pr + im, u + 2 * done, counts[im], x + done, y + done,
+                                  pi + done, pj + done, pdf_pixels + done);
+            done += counts[im];
+            continue;
+        }
+        const int ncol = pr[im].ilast + 1 - pr[im].i0;
+        for (int k = 0; k < counts[im]; k++) {
+            if (nl == LANES || (k == 0 && used + ncol + 1 > TAB)) {
+                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+                nl = 0;
+                if (k == 0) used = 0;
+            }
+            if (k == 0) {
+                tabulate(l, pr + im, buf + used);
+                used += ncol + 1;
+            }
+            prs[nl] = pr + im;
+            tabs[nl] = buf + used - (ncol + 1);
+            nl++, done++;
+        }
+    }
+    if (nl)
+        draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                   pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+    return done;
 }
 
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
