@@ -245,6 +245,55 @@ static void secant_search_matches_binary_search(void **state)
     free_fixture(&f);
 }
 
+/* Draws of many images at once (lumis__lum_draw_group): more lanes and more tabulated
+ * marginals than it holds at a time, images it does not tabulate in between; the very same
+ * draws as one at a time. */
+static void grouped_draws_match_single_draws(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 8);
+    enum { NP = 600 };
+    lumis__prep *prs = calloc(NP, sizeof *prs);
+    int counts[NP], total = 0, np = 0;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 8, 8);
+    for (int k = 0; np < NP && k < 100000; k++) {
+        const int m = (int)lumis_pcg32_bounded(&rng, 9);
+        const double px = 2.0 * lumis_pcg32_double(&rng) - 1.0, py = lumis_pcg32_double(&rng) - 0.5;
+        const double pz =
+            k % 2 ? 0.15 + 0.6 * lumis_pcg32_double(&rng) : 1.2 + 4.0 * lumis_pcg32_double(&rng);
+        lumis__box bx;
+        if (!lumis__lum_box(f.lum, m, px, py, pz, &bx)) continue;
+        const double units = lumis__lum_box_units(f.lum, m, &bx);
+        if (!(units > 0.0)) continue;
+        lumis__lum_prepare(f.lum, m, &bx, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0,
+                           prs + np);
+        prs[np].tabulate = np % 7 == 3 ? -1 : 0; /* some searched in the table */
+        counts[np] = np % 5 == 0 ? 1 + (int)lumis_pcg32_bounded(&rng, 90) : 1;
+        total += counts[np++];
+    }
+    assert_int_equal(np, NP);
+    int entries = 0; /* tabulated marginal entries: more than the group's buffer (2048) */
+    for (int p = 0; p < NP; p++) entries += prs[p].ilast + 2 - prs[p].i0;
+    assert_true(entries > 2048 && total > 1000);
+    double *u = malloc(2 * (size_t)total * sizeof(double));
+    double *x = malloc((size_t)total * sizeof(double)), *y = malloc((size_t)total * sizeof(double));
+    double *pdf = malloc((size_t)total * sizeof(double));
+    int *is = malloc((size_t)total * sizeof(int)), *js = malloc((size_t)total * sizeof(int));
+    for (int k = 0; k < 2 * total; k++) u[k] = lumis_pcg32_double(&rng);
+    assert_int_equal(lumis__lum_draw_group(f.lum, prs, counts, NP, u, x, y, is, js, pdf), total);
+    for (int p = 0, k = 0; p < NP; p++)
+        for (int c = 0; c < counts[p]; c++, k++) {
+            double x1, y1, p1;
+            int i1, j1;
+            lumis__lum_draw_prepared(f.lum, prs + p, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
+                                     &p1);
+            assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 && js[k] == j1);
+        }
+    free(u), free(x), free(y), free(pdf), free(is), free(js), free(prs);
+    free_fixture(&f);
+}
+
 /* ---- balancing ----------------------------------------------------------------------------- */
 
 static void balancing_keeps_every_image_and_spends_the_budget(void **state)
@@ -490,7 +539,7 @@ static void sample_point_draws_what_sample_image_draws(void **state)
                 q.p.y = (float)(2.0 * lumis_pcg32_double(&rng) - 1.0);
                 q.p.z = (float)(k % 7 == 0 ? 0.3 + 0.6 * lumis_pcg32_double(&rng)
                                            : 1.1 + 6.0 * lumis_pcg32_double(&rng));
-                q.budget = 1 + (int)lumis_pcg32_bounded(&rng, 60);
+                q.budget = k % 13 == 0 ? 300 : 1 + (int)lumis_pcg32_bounded(&rng, 60);
                 q.k_max = k % 3 == 0 ? 5 : 0;
                 q.search = k % 2 ? LUMIS_LUM_BINARY : LUMIS_LUM_SECANT;
                 q.strategy = k % 5 == 0    ? LUMIS_LUM_UNIFORM
@@ -506,11 +555,11 @@ static void sample_point_draws_what_sample_image_draws(void **state)
                     assert_true(mass[m] == units * l->unit[m]);
                     pruned += li == 1 && units == 0.0 && l->unit[m] > 0.0;
                 }
-                double u[2 * 128];
-                for (int c = 0; c < 2 * 128; c++) u[c] = lumis_pcg32_double(&rng);
-                lumis_luminaire_sample s[128];
+                double u[2 * 320];
+                for (int c = 0; c < 2 * 320; c++) u[c] = lumis_pcg32_double(&rng);
+                lumis_luminaire_sample s[320];
                 int n = 0;
-                assert_int_equal(lumis_luminaire_sample_point(l, &q, u, 128, s, &n), LUMIS_OK);
+                assert_int_equal(lumis_luminaire_sample_point(l, &q, u, 320, s, &n), LUMIS_OK);
                 for (int c = 0; c < n; c++) {
                     lumis_luminaire_sample a;
                     assert_int_equal(
@@ -713,6 +762,7 @@ int main(void)
         cmocka_unit_test(bases_are_partitions_of_unity),
         cmocka_unit_test(restricted_sampler_draws_its_pdf),
         cmocka_unit_test(secant_search_matches_binary_search),
+        cmocka_unit_test(grouped_draws_match_single_draws),
         cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
         cmocka_unit_test(estimator_mean_equals_quadrature),
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
