@@ -181,7 +181,7 @@ static void prepare_from(const lumis_luminaire *l, int m, const lumis__box *b, d
     pr->units = units;
     pr->uniform = 0;
     pr->tabulate = 0;
-    pr->secant = search_kind != LUMIS_LUM_BINARY;
+    pr->secant = search_kind == LUMIS_LUM_SECANT;
     pr->depth = depth;
     split(b->y0, l->h, &pr->j0, &pr->g0);
     split(b->y1, l->h, &pr->j1, &pr->g1);
@@ -228,7 +228,7 @@ void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, do
         pr->units = units;
         pr->uniform = 1;
         pr->tabulate = 0;
-        pr->secant = search_kind != LUMIS_LUM_BINARY;
+        pr->secant = search_kind == LUMIS_LUM_SECANT;
         pr->depth = depth;
         return;
     }
