@@ -138,7 +138,8 @@ typedef enum lumis_luminaire_strategy {
 } lumis_luminaire_strategy;
 
 typedef enum lumis_luminaire_search {
-    LUMIS_LUM_SEARCH_DEFAULT = 0, /* == LUMIS_LUM_SECANT */
+    LUMIS_LUM_SEARCH_DEFAULT = 0, /* == LUMIS_LUM_BINARY: the same samples, 2.2x faster
+                                     (docs/luminaire.md, "Searches") */
     LUMIS_LUM_SECANT,             /* the paper's modified secant search */
     LUMIS_LUM_BINARY,             /* bisection */
     LUMIS_LUM_SEARCH_COUNT
@@ -155,7 +156,7 @@ typedef struct lumis_luminaire_query {
     int budget;                        /* K, samples to share among images; 0 == 32 */
     int k_max;                         /* K_max, most samples for one image; 0 == no cap */
     lumis_luminaire_strategy strategy; /* 0 == restricted */
-    lumis_luminaire_search search;     /* 0 == secant */
+    lumis_luminaire_search search;     /* 0 == binary */
     int depth;                         /* probes per 1D inversion; 0 == unlimited (exact).
                                           A limited search interpolates inside the bracket
                                           it reached: approximate, biased (Fig. 5). */
@@ -190,11 +191,15 @@ int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
  * min(K, K_max n) but at least n, n the images with A_m(p) > 0; a point with z <= 0 (behind
  * U) or outside every projected support gets none (*count = 0, LUMIS_OK).  Fails with
  * LUMIS_ERR_INVALID_ARGUMENT if capacity is too small (lumis_luminaire_capacity suffices).
- * Cost: per point, W + H box ranges, 16 table lookups per image whose box meets its image
- * and 6 per image that gets samples; per sample, two searches (binary: log2 of the box's
- * width and height probes of 4 and 2 lookups, eight draws of an image in lockstep; secant:
- * data-dependent, up to twice as many), 2 more lookups and one RGB pixel.  The car preset
- * (11 x 9 x 256^2) measures 167 ns per sample (binary) on coherent points: docs/luminaire.md.
+ * Cost: per point, W + H box ranges, 16 table lookups per image whose box meets the image's
+ * nonzero pixels, the balancing; per image that gets samples, its restricted marginal over
+ * the box's columns (4 lookups per column) unless the box is wide and drawn rarely; per
+ * sample, the marginal bisection in that table (log2 of the box's width probes, in L1), the
+ * conditional (6 lookups, then log2 of the box's height probes of 2 lookups), one RGB
+ * pixel.  Binary search: every draw of the point in lockstep across images, so their loads
+ * overlap.  Secant: per draw, data-dependent probes of 4 and 2 lookups.  The car preset
+ * (11 x 9 x 256^2, K = 64) measures 91 ns per sample (binary; 205 secant) on coherent
+ * points, 115 on random ones: docs/luminaire.md, "Benchmark".  Stack: about 100 KB.
  * No allocation. */
 lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
                                           const lumis_luminaire_query *q, const double *u,

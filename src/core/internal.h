@@ -5,6 +5,9 @@
 #include "lumis/status.h"
 
 #include <stddef.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #define LUMIS_PI   3.14159265358979323846
 #define LUMIS_PI_F 3.14159265358979323846f
@@ -23,6 +26,26 @@ lumis_status lumis__fail(const lumis_error_sink *sink, lumis_status status, cons
 static inline int lumis__clampi(int x, int lo, int hi)
 {
     return x < lo ? lo : (x > hi ? hi : x);
+}
+
+/* a < b ? a : b and a > b ? a : b without a branch: GCC keeps these ternaries on doubles as
+ * branches, which cost a misprediction each time the outcome is random (per sample). */
+static inline double lumis__minsel(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_min_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a < b ? a : b;
+#endif
+}
+
+static inline double lumis__maxsel(double a, double b)
+{
+#if defined(__SSE2__)
+    return _mm_cvtsd_f64(_mm_max_sd(_mm_set_sd(a), _mm_set_sd(b)));
+#else
+    return a > b ? a : b;
+#endif
 }
 
 #endif

@@ -45,62 +45,36 @@ lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_
 
 /* ---- one sample's geometry --------------------------------------------------------- */
 
-void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
-                       double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
-                       int count, int i, int j, lumis_luminaire_sample *o)
+void lumis__lum_finish_u(const lumis_luminaire *l, double px, double py, double pz, int m,
+                         double ux, double uy, double pdf, int count, lumis_luminaire_sample *o)
 {
-    const double d = l->delta;
-    if (measure == LUMIS_LUM_AREA_S) {
-        /* The line from p through s meets U at u = p + (s - p) z / (z - delta). */
-        const double t = pz / (pz - d);
-        ux = px + (sx - px) * t;
-        uy = py + (sy - py) * t;
-    }
-    o->s[0] = sx;
-    o->s[1] = sy;
+    o->s[0] = px;
+    o->s[1] = py;
     o->u[0] = ux;
     o->u[1] = uy;
     o->image = m;
     o->count = count;
-    o->measure = measure;
+    o->measure = LUMIS_LUM_AREA_U;
     o->pdf = (float)pdf;
     o->radiance.r = o->radiance.g = o->radiance.b = 0.0f;
     o->weight = 0.0f;
     const double vx = ux - px, vy = uy - py, vz = -pz;
     const double dist = sqrt(vx * vx + vy * vy + vz * vz);
     o->distance = (float)dist;
+    int i, j;
     if (!(dist > 0.0) || !(pdf > 0.0) || !isfinite(ux) || !isfinite(uy)) {
         o->dir.x = o->dir.y = 0.0f;
         o->dir.z = -1.0f;
         return;
     }
-    o->dir.x = (float)(vx / dist);
-    o->dir.y = (float)(vy / dist);
-    o->dir.z = (float)(vz / dist);
-    if (i < 0 && !lumis__lum_pixel(l, sx, sy, &i, &j)) return;
-    const double phi = lumis__lum_phi(l, m, ux, uy);
-    if (!(phi > 0.0)) return;
-    /* Psi_m(u -> s) = Phi_m(u) delta^2 / (h_x h_y cos^4 theta), cos theta = delta / |s - u|. */
-    const double ex = sx - ux, ey = sy - uy;
-    const double e2 = ex * ex + ey * ey + d * d;
-    const double psi = phi * e2 * e2 * l->psi_scale;
-    const float *c =
-        l->rgb +
-        ((size_t)m * (size_t)l->w * (size_t)l->h + (size_t)j * (size_t)l->w + (size_t)i) * 3;
-    o->radiance.r = (float)(psi * c[0]);
-    o->radiance.g = (float)(psi * c[1]);
-    o->radiance.b = (float)(psi * c[2]);
-    /* pdf_omega = pdf_area r^2 / cos: r and cos at the sampled plane (S, or U for p on S). */
-    double r2, cosine;
-    if (measure == LUMIS_LUM_AREA_S) {
-        const double wx = sx - px, wy = sy - py, wz = d - pz;
-        r2 = wx * wx + wy * wy + wz * wz;
-        cosine = fabs(wz) / sqrt(r2);
-    } else {
-        r2 = dist * dist;
-        cosine = pz / dist;
-    }
-    o->weight = (float)(cosine / ((double)count * pdf * r2));
+    const double inv = 1.0 / dist;
+    o->dir.x = (float)(vx * inv);
+    o->dir.y = (float)(vy * inv);
+    o->dir.z = (float)(vz * inv);
+    if (!lumis__lum_pixel(l, px, py, &i, &j)) return;
+    /* r and cos at U: cos = z / r. */
+    lumis__lum_shade(l, m % l->gw, m / l->gw, l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3,
+                     px, py, ux, uy, i, j, pdf, count, pz, dist * dist * dist, o);
 }
 
 /* ---- balancing --------------------------------------------------------------------- */
@@ -186,11 +160,21 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
 
 /* ---- masses and the per-point entry ------------------------------------------------- */
 
-/* A_m(p) for every image, and the units of its box (0 for p on S).  The boxes are
- * separable, so the spans are computed once per grid column and row, and images whose box
- * misses the images cost nothing. */
+/* What the per-point entry learns about p while computing the masses: every grid column's
+ * and row's box range (boxes are separable) and, per image with A_m(p) > 0, the marginal
+ * at the box's end columns (lumis__lum_span_units_d), so preparing an image's draws reads
+ * no table again. */
+typedef struct point_boxes {
+    double xlo[LUMIS__LUM_MAX_GRID], xhi[LUMIS__LUM_MAX_GRID];
+    double ylo[LUMIS__LUM_MAX_GRID], yhi[LUMIS__LUM_MAX_GRID];
+    double d[LUMIS__LUM_MAX_IMAGES][4];
+} point_boxes;
+
+/* A_m(p) for every image, and the units of its box (0 for p on S).  The spans are computed
+ * once per grid column and row, and images whose box misses the images, or misses every
+ * pixel of the image that is not 0, cost no lookup. */
 static void masses(const lumis_luminaire *l, lumis__where where, double px, double py, double pz,
-                   lumis_luminaire_strategy strategy, double *mass, double *units)
+                   lumis_luminaire_strategy strategy, double *mass, double *units, point_boxes *pb)
 {
     for (int m = 0; m < l->m; m++) mass[m] = units[m] = 0.0;
     if (strategy == LUMIS_LUM_GLOBAL) {
@@ -205,21 +189,24 @@ static void masses(const lumis_luminaire *l, lumis__where where, double px, doub
         lumis__span xs[LUMIS__LUM_MAX_GRID], ys[LUMIS__LUM_MAX_GRID];
         unsigned char xok[LUMIS__LUM_MAX_GRID], yok[LUMIS__LUM_MAX_GRID];
         for (int a = 0; a < l->gw; a++) {
-            double lo, hi;
-            xok[a] = (unsigned char)lumis__lum_box_axis(l, 0, a, px, pz, &lo, &hi);
-            if (xok[a]) lumis__lum_span(lo, hi, l->w, &xs[a]);
+            xok[a] = (unsigned char)lumis__lum_box_axis(l, 0, a, px, pz, &pb->xlo[a], &pb->xhi[a]);
+            if (xok[a]) lumis__lum_span(pb->xlo[a], pb->xhi[a], l->w, &xs[a]);
         }
         for (int b = 0; b < l->gh; b++) {
-            double lo, hi;
-            yok[b] = (unsigned char)lumis__lum_box_axis(l, 1, b, py, pz, &lo, &hi);
-            if (yok[b]) lumis__lum_span(lo, hi, l->h, &ys[b]);
+            yok[b] = (unsigned char)lumis__lum_box_axis(l, 1, b, py, pz, &pb->ylo[b], &pb->yhi[b]);
+            if (yok[b]) lumis__lum_span(pb->ylo[b], pb->yhi[b], l->h, &ys[b]);
         }
         for (int b = 0; b < l->gh; b++) {
             if (!yok[b]) continue;
             for (int a = 0; a < l->gw; a++) {
                 const int m = a + l->gw * b;
-                if (!xok[a] || !(l->unit[m] > 0.0)) continue;
-                units[m] = lumis__lum_span_units(l, m, &xs[a], &ys[b]);
+                const int *nz = l->nz + 4 * m;
+                /* Outside the nonzero pixels (or all zero: nz[0] > nz[1]) the box holds
+                 * exactly 0 units. */
+                if (!xok[a] || xs[a].i1 < nz[0] || xs[a].i0 > nz[1] || ys[b].i1 < nz[2] ||
+                    ys[b].i0 > nz[3])
+                    continue;
+                units[m] = lumis__lum_span_units_d(l, m, &xs[a], &ys[b], pb->d[m]);
                 mass[m] = units[m] * l->unit[m];
             }
         }
@@ -238,7 +225,8 @@ static void masses(const lumis_luminaire *l, lumis__where where, double px, doub
 void lumis_luminaire_masses(const lumis_luminaire *l, lumis_vec3 p, double *out)
 {
     double units[LUMIS__LUM_MAX_IMAGES];
-    masses(l, lumis__lum_where(l, p.z), p.x, p.y, p.z, LUMIS_LUM_RESTRICTED, out, units);
+    point_boxes pb;
+    masses(l, lumis__lum_where(l, p.z), p.x, p.y, p.z, LUMIS_LUM_RESTRICTED, out, units, &pb);
 }
 
 int lumis_luminaire_capacity(const lumis_luminaire *l, int budget)
@@ -264,53 +252,107 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
     const double px = q->p.x, py = q->p.y, pz = q->p.z;
     double mass[LUMIS__LUM_MAX_IMAGES], units[LUMIS__LUM_MAX_IMAGES];
     int counts[LUMIS__LUM_MAX_IMAGES];
-    masses(l, where, px, py, pz, strategy, mass, units);
+    point_boxes pb;
+    masses(l, where, px, py, pz, strategy, mass, units, &pb);
     const int total =
         lumis_luminaire_balance(mass, l->m, q->budget > 0 ? q->budget : 32, q->k_max, counts);
     if (total > capacity) return LUMIS_ERR_INVALID_ARGUMENT;
+    const size_t npx = (size_t)l->w * (size_t)l->h;
     int n = 0;
-    for (int m = 0; m < l->m; m++) {
-        if (!counts[m]) continue;
-        if (where == LUMIS__ON_S && strategy != LUMIS_LUM_GLOBAL) {
+    if (where == LUMIS__ON_S && strategy != LUMIS_LUM_GLOBAL) {
+        for (int m = 0; m < l->m; m++) {
             /* Eq. 9: s = p; u uniform over the support of Phi_m. */
             double cx, cy;
             lumis__lum_center(l, m, &cx, &cy);
             const double rx = l->radius * l->hx, ry = l->radius * l->hy;
             const double pdf = 1.0 / (4.0 * rx * ry);
             for (int k = 0; k < counts[m]; k++, n++)
-                lumis__lum_finish(l, px, py, pz, m, px, py, cx - rx + 2.0 * rx * u[2 * n],
-                                  cy - ry + 2.0 * ry * u[2 * n + 1], LUMIS_LUM_AREA_U, pdf,
-                                  counts[m], -1, 0, out + n);
-            continue;
+                lumis__lum_finish_u(l, px, py, pz, m, cx - rx + 2.0 * rx * u[2 * n],
+                                    cy - ry + 2.0 * ry * u[2 * n + 1], pdf, counts[m], out + n);
         }
+        *count = n;
+        return LUMIS_OK;
+    }
+    /* Two passes: every draw first, each asking for its RGB pixel as soon as it is known,
+     * then every sample's geometry and radiance, by which time the pixels have arrived.  The
+     * first pass parks a draw in its sample: s = its pixel coordinates, u[0] = its density
+     * per pixel area.  Draws are made for groups of images at once (lumis__lum_draw_group:
+     * most images get one or two samples, whose searches alone would wait on their loads one
+     * after another). */
+    enum { GS = 64, GI = 32 };
+    lumis__prep prs[GI];
+    int gcount[GI], gm[GI], gi = 0, gs = 0;
+    double xs[GS], ys[GS], pdf[GS];
+    int is[GS], js[GS];
+    for (int m = 0; m <= l->m; m++) {
+        if (m < l->m && !counts[m]) continue;
+        if (gi && (m == l->m || gi == GI || gs + counts[m] > GS)) {
+            lumis__lum_draw_group(l, prs, gcount, gi, u + 2 * n, xs, ys, is, js, pdf);
+            for (int g = 0, k = 0; g < gi; g++) {
+                const float *img = l->rgb + (size_t)gm[g] * npx * 3;
+                for (int c = 0; c < gcount[g]; c++, k++, n++) {
+#if defined(__GNUC__) || defined(__clang__)
+                    __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);
+#endif
+                    out[n].s[0] = xs[k];
+                    out[n].s[1] = ys[k];
+                    out[n].u[0] = pdf[k];
+                    out[n].image = gm[g];
+                    out[n].count = gcount[g];
+                }
+            }
+            gi = gs = 0;
+        }
+        if (m == l->m) break;
         lumis__box b;
+        lumis__prep *pr = prs + gi;
         if (strategy == LUMIS_LUM_GLOBAL) {
             b.x0 = b.y0 = 0.0;
             b.x1 = l->w;
             b.y1 = l->h;
         } else {
-            lumis__lum_box(l, m, px, py, pz, &b);
+            b.x0 = pb.xlo[m % l->gw], b.x1 = pb.xhi[m % l->gw];
+            b.y0 = pb.ylo[m / l->gw], b.y1 = pb.yhi[m / l->gw];
         }
-        lumis__prep pr;
-        lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, &pr);
-        const double area = l->dx * l->dy;
+        if (strategy == LUMIS_LUM_RESTRICTED)
+            lumis__lum_prepare_d(l, m, &b, units[m], pb.d[m], q->search, q->depth, pr);
+        else
+            lumis__lum_prepare(l, m, &b, units[m], strategy, q->search, q->depth, pr);
+        if (counts[m] <= GS) { /* joins the group */
+            gcount[gi] = counts[m];
+            gm[gi] = m;
+            gi++;
+            gs += counts[m];
+            continue;
+        }
+        const float *img = l->rgb + (size_t)m * npx * 3;
         for (int done = 0; done < counts[m];) {
-            enum { CHUNK = 32 };
-            double xs[CHUNK], ys[CHUNK], pdf[CHUNK];
-            int is[CHUNK], js[CHUNK];
-            const int c = counts[m] - done < CHUNK ? counts[m] - done : CHUNK;
-            lumis__lum_draw_batch(l, &pr, u + 2 * n, c, xs, ys, is, js, pdf);
+            const int c = counts[m] - done < GS ? counts[m] - done : GS;
+            lumis__lum_draw_batch(l, pr, u + 2 * n, c, xs, ys, is, js, pdf);
+            for (int k = 0; k < c; k++, n++) {
 #if defined(__GNUC__) || defined(__clang__)
-            /* The pixels' RGB lie in a large array: ask for all of them before using any. */
-            const float *img = l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3;
-            for (int k = 0; k < c; k++)
                 __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);
 #endif
-            for (int k = 0; k < c; k++, n++)
-                lumis__lum_finish(l, px, py, pz, m, l->sx0 + xs[k] * l->dx, l->sy0 + ys[k] * l->dy,
-                                  0.0, 0.0, LUMIS_LUM_AREA_S, pdf[k] / area, counts[m], is[k],
-                                  js[k], out + n);
+                out[n].s[0] = xs[k];
+                out[n].s[1] = ys[k];
+                out[n].u[0] = pdf[k];
+                out[n].image = m;
+                out[n].count = counts[m];
+            }
             done += c;
+        }
+    }
+    const double t = pz / (pz - l->delta);
+    for (int k = 0; k < n;) {
+        const int m = out[k].image, a = m % l->gw, b = m / l->gw, km = out[k].count;
+        const float *img = l->rgb + (size_t)m * npx * 3;
+        for (const int end = k + km; k < end; k++) {
+            const double x = out[k].s[0], y = out[k].s[1];
+            /* The pixel the draw landed in, as lumis__lum_draw_prepared finds it. */
+            const int i = lumis__clampi((int)x, 0, l->w - 1),
+                      j = lumis__clampi((int)y, 0, l->h - 1);
+            lumis__lum_finish_s(l, px, py, pz, t, m, a, b, img, x, y, i, j, out[k].u[0], km,
+                                out + k);
         }
     }
     *count = n;

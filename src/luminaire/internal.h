@@ -6,12 +6,15 @@
 
 #include "../core/internal.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
 #define LUMIS__LUM_MAX_IMAGES 1024
 #define LUMIS__LUM_MAX_GRID   256 /* functions along one axis */
 #define LUMIS__LUM_MAX_SIDE   16384
+/* Widest box (in columns) whose marginal lumis__lum_draw_batch may tabulate on the stack. */
+#define LUMIS__LUM_MAX_GRID_TAB 256
 /* Quantisation units per image: every summed-area table entry fits in 32 bits. */
 #define LUMIS__LUM_UNITS 4294967295.0
 
@@ -26,11 +29,14 @@ struct lumis_luminaire {
     int w, h;
     double sx0, sy0, sw, sh; /* image rectangle on S */
     double dx, dy;           /* pixel size */
+    double inv_pixel_area;   /* 1 / (dx dy) */
     float *rgb;              /* M w h 3 */
     uint32_t *sat;           /* M (w + 1)(h + 1), column-major: sat[i (h + 1) + j] */
     double *unit;            /* M: luminance x area (world units) of one quantisation unit
                                 of a whole pixel */
     double *power;           /* M: integral of Y_m over S */
+    int *nz;                 /* M x 4: pixels [i0, i1] x [j0, j1] hold all of image m's
+                                nonzero units (i0 > i1 if none): a box outside has A_m = 0 */
     double total_power;
     size_t replaced, bytes;
     lumis_error_sink errors;
@@ -66,12 +72,19 @@ static inline void lumis__lum_center(const lumis_luminaire *l, int m, double *cx
     *cy = l->gy0 + (m / l->gw) * l->hy;
 }
 
-/* The 1D profile (lumis_luminaire_basis_eval), inline for the hot path. */
+/* The 1D profile (lumis_luminaire_basis_eval), inline for the hot path and without
+ * branches (their outcome is random per sample): each profile is its outer piece less the
+ * square that the inner piece differs by, 2 (1 - a)^2 - (1 - 2a)^2 = 1 - 2a^2 and
+ * 0.5 (1.5 - a)^2 - 1.5 (0.5 - a)^2 = 0.75 - a^2, with a clamped to the support. */
 static inline double lumis__lum_profile(int bspline, double x)
 {
-    const double a = x < 0.0 ? -x : x;
-    if (bspline) return a <= 0.5 ? 0.75 - a * a : (a < 1.5 ? 0.5 * (1.5 - a) * (1.5 - a) : 0.0);
-    return a <= 0.5 ? 1.0 - 2.0 * a * a : (a < 1.0 ? 2.0 * (1.0 - a) * (1.0 - a) : 0.0);
+    const double a = fabs(x);
+    if (bspline) {
+        const double o = 1.5 - lumis__minsel(a, 1.5), i = lumis__maxsel(0.5 - a, 0.0);
+        return 0.5 * o * o - 1.5 * i * i;
+    }
+    const double o = 1.0 - lumis__minsel(a, 1.0), i = lumis__maxsel(1.0 - 2.0 * a, 0.0);
+    return 2.0 * o * o - i * i;
 }
 
 /* Phi_m(u) for the function at grid position (a, b). */
@@ -120,6 +133,12 @@ static inline void lumis__lum_span(double x0, double x1, int n, lumis__span *s)
 double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
                              const lumis__span *y);
 
+/* The same, and the restricted marginal D(k) (the units in columns < k between rows y0 and
+ * y1, as lumis__lum_prepare reads it) at k = x.i0, x.i0 + 1, x.i1, x.i1 + 1 from the same
+ * 16 lookups. */
+double lumis__lum_span_units_d(const lumis_luminaire *l, int m, const lumis__span *x,
+                               const lumis__span *y, double d[4]);
+
 /* The same for a box. */
 double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b);
 
@@ -146,6 +165,8 @@ typedef struct lumis__prep {
     lumis__box b;
     double units;
     int m, uniform, secant, depth;
+    int tabulate; /* lumis__lum_draw_batch's marginal: 0 its choice, 1 tabulated, -1 searched
+                     in the table (tests pin both) */
     int i0, ilast, j0, j1, jlast;
     double g0, g1, d_i0, d_hi, d_x0, d_x1;
 } lumis__prep;
@@ -153,6 +174,12 @@ typedef struct lumis__prep {
 void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
                         lumis_luminaire_strategy strategy, lumis_luminaire_search search, int depth,
                         lumis__prep *pr);
+
+/* The same for the restricted strategy with d from lumis__lum_span_units_d (no lookups):
+ * the very same prep. */
+void lumis__lum_prepare_d(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                          const double d[4], lumis_luminaire_search search, int depth,
+                          lumis__prep *pr);
 
 /* One draw: (x, y) in pixel coordinates, its pixel (i, j) and the density per pixel area
  * of the landed point.  Lookups: the two searches' probes (2 each) and 6. */
@@ -164,17 +191,84 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *i, int *j, double *pdf_pixels);
 
+/* The draws of nimg images (pr[k] drawn counts[k] times, in order) from u[2n], u[2n + 1]:
+ * the same results as lumis__lum_draw_batch on each, the exact bisections of images whose
+ * marginal it tabulates run in lockstep across images.  Returns the sum of the counts. */
+int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const int *counts,
+                          int nimg, const double *u, double *x, double *y, int *i, int *j,
+                          double *pdf_pixels);
+
 /* One restricted (or uniform) draw of image m inside box b: (x, y) in pixel coordinates
  * and the density per pixel area of the landed point.  units: lumis__lum_box_units(b). */
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
                      lumis_luminaire_strategy strategy, lumis_luminaire_search search, int depth,
                      double u1, double u2, double *x, double *y, double *pdf_pixels);
 
-/* Fills a sample's geometry and radiance from p and its point (s on S, or u on U for
- * measure AREA_U), with the pdf per unit area given and K_m = count; (i, j) the pixel
- * holding s, or i < 0 to find it. */
-void lumis__lum_finish(const lumis_luminaire *l, double px, double py, double pz, int m, double sx,
-                       double sy, double ux, double uy, lumis_luminaire_measure measure, double pdf,
-                       int count, int i, int j, lumis_luminaire_sample *out);
+/* A sample's radiance and weight once its direction is known (u on U, s on S, pixel
+ * (i, j) of image m at grid position (a, b), img its RGB pixels): shared by
+ * lumis__lum_finish_s and lumis__lum_finish_u.  pdf_omega = pdf r^2 / cos at the sampled
+ * plane, written cos = cnum / r: weight = cnum / (K_m pdf r^3), one division. */
+static inline void lumis__lum_shade(const lumis_luminaire *l, int a, int b, const float *img,
+                                    double sx, double sy, double ux, double uy, int i, int j,
+                                    double pdf, int count, double cnum, double r3,
+                                    lumis_luminaire_sample *o)
+{
+    const double phi = lumis__lum_phi_ab(l, a, b, ux, uy);
+    /* Psi_m(u -> s) = Phi_m(u) delta^2 / (h_x h_y cos^4 theta), cos theta = delta / |s - u|. */
+    const double ex = sx - ux, ey = sy - uy;
+    const double e2 = ex * ex + ey * ey + l->delta * l->delta;
+    const double psi = phi * e2 * e2 * l->psi_scale;
+    const float *c = img + ((size_t)j * (size_t)l->w + (size_t)i) * 3;
+    /* phi == 0 (u on the support's edge): no energy, weight 0 as for a miss. */
+    const int lit = phi > 0.0;
+    o->radiance.r = lit ? (float)(psi * c[0]) : 0.0f;
+    o->radiance.g = lit ? (float)(psi * c[1]) : 0.0f;
+    o->radiance.b = lit ? (float)(psi * c[2]) : 0.0f;
+    o->weight = lit ? (float)(cnum / ((double)count * pdf * r3)) : 0.0f;
+}
+
+/* A sample on S (measure AREA_S) from p, its point s in pixel coordinates (x, y) inside
+ * pixel (i, j) and its density per pixel area: everything a sample holds, with
+ * t = z / (z - delta) (the projection from S to U through p). */
+static inline void lumis__lum_finish_s(const lumis_luminaire *l, double px, double py, double pz,
+                                       double t, int m, int a, int b, const float *img, double x,
+                                       double y, int i, int j, double pdf_pixels, int count,
+                                       lumis_luminaire_sample *o)
+{
+    const double sx = l->sx0 + x * l->dx, sy = l->sy0 + y * l->dy;
+    const double pdf = pdf_pixels * l->inv_pixel_area;
+    /* The line from p through s meets U at u = p + (s - p) t: p, s and u are on one line,
+     * so |u - p| = |t| |s - p| and the direction to u is sign(t) (s - p) / |s - p|. */
+    const double wx = sx - px, wy = sy - py, wz = l->delta - pz;
+    const double ux = px + wx * t, uy = py + wy * t;
+    o->s[0] = sx;
+    o->s[1] = sy;
+    o->u[0] = ux;
+    o->u[1] = uy;
+    o->image = m;
+    o->count = count;
+    o->measure = LUMIS_LUM_AREA_S;
+    o->pdf = (float)pdf;
+    const double r2 = wx * wx + wy * wy + wz * wz, r = sqrt(r2);
+    const double dist = r * fabs(t);
+    o->distance = (float)dist;
+    if (!(dist > 0.0) || !(pdf > 0.0) || !isfinite(ux) || !isfinite(uy)) {
+        o->radiance.r = o->radiance.g = o->radiance.b = 0.0f;
+        o->weight = 0.0f;
+        o->dir.x = o->dir.y = 0.0f;
+        o->dir.z = -1.0f;
+        return;
+    }
+    const double inv = copysign(1.0 / r, t);
+    o->dir.x = (float)(wx * inv);
+    o->dir.y = (float)(wy * inv);
+    o->dir.z = (float)(wz * inv);
+    lumis__lum_shade(l, a, b, img, sx, sy, ux, uy, i, j, pdf, count, fabs(wz), r2 * r, o);
+}
+
+/* A sample of p on S (measure AREA_U, Eq. 9): s = p, u on U with density pdf per unit
+ * area of U, K_m = count. */
+void lumis__lum_finish_u(const lumis_luminaire *l, double px, double py, double pz, int m,
+                         double ux, double uy, double pdf, int count, lumis_luminaire_sample *out);
 
 #endif

@@ -31,17 +31,10 @@ lumis_status lumis_luminaire_basis_from_name(const char *name, lumis_luminaire_b
 
 double lumis_luminaire_basis_eval(lumis_luminaire_basis basis, double x)
 {
-    const double a = fabs(x);
-    if (basis == LUMIS_BASIS_BSPLINE) {
-        if (a <= 0.5) return 0.75 - a * a;
-        if (a < 1.5) return 0.5 * (1.5 - a) * (1.5 - a);
-        return 0.0;
-    }
-    /* Goesele et al.: 1 - 2x^2 on [0, 1/2], 2 (1 - x)^2 on [1/2, 1]; C1, and its integer
-     * translates add up to one. */
-    if (a <= 0.5) return 1.0 - 2.0 * a * a;
-    if (a < 1.0) return 2.0 * (1.0 - a) * (1.0 - a);
-    return 0.0;
+    /* Goesele et al.: 1 - 2x^2 on [0, 1/2], 2 (1 - x)^2 on [1/2, 1]; the B-spline: 3/4 - x^2
+     * on [0, 1/2], (3/2 - x)^2 / 2 on [1/2, 3/2].  Both C1, and their integer translates add
+     * up to one.  The one formula the samplers use (internal.h). */
+    return lumis__lum_profile(basis == LUMIS_BASIS_BSPLINE, x);
 }
 
 double lumis_luminaire_basis_radius(lumis_luminaire_basis basis)
@@ -120,6 +113,7 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
     l->sh = d->image_size[1];
     l->dx = l->sw / l->w;
     l->dy = l->sh / l->h;
+    l->inv_pixel_area = 1.0 / (l->dx * l->dy);
     l->rgb = rgb;
     l->replaced = replaced;
     l->errors = d->errors;
@@ -130,10 +124,11 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
     l->sat = malloc(M * ntab * sizeof(uint32_t));
     l->unit = malloc(M * sizeof(double));
     l->power = malloc(M * sizeof(double));
+    l->nz = malloc(M * 4 * sizeof(int));
     l->ptrs = malloc(M * sizeof(const float *));
     double *wts = malloc(npx * sizeof(double));
     uint64_t *units = malloc(npx * sizeof(uint64_t));
-    if (!l->sat || !l->unit || !l->power || !l->ptrs || !wts || !units) {
+    if (!l->sat || !l->unit || !l->power || !l->nz || !l->ptrs || !wts || !units) {
         free(wts);
         free(units);
         lumis_luminaire_destroy(l);
@@ -154,6 +149,8 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
         uint32_t *t = l->sat + m * ntab;
         memset(t, 0, ntab * sizeof(uint32_t));
         l->power[m] = sum * l->dx * l->dy;
+        int *nz = l->nz + 4 * m;
+        nz[0] = l->w, nz[1] = -1, nz[2] = l->h, nz[3] = -1;
         if (sum <= 0.0) {
             l->unit[m] = 0.0;
             continue;
@@ -164,7 +161,14 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
         for (int i = 0; i < l->w; i++) {
             uint64_t col = 0;
             for (int j = 0; j < l->h; j++) {
-                col += units[(size_t)i * (size_t)l->h + (size_t)j];
+                const uint64_t q = units[(size_t)i * (size_t)l->h + (size_t)j];
+                if (q) {
+                    nz[0] = nz[0] < i ? nz[0] : i;
+                    nz[1] = i;
+                    nz[2] = nz[2] < j ? nz[2] : j;
+                    nz[3] = nz[3] > j ? nz[3] : j;
+                }
+                col += q;
                 t[(size_t)(i + 1) * stride + (size_t)j + 1] =
                     (uint32_t)(t[(size_t)i * stride + (size_t)j + 1] + col);
             }
@@ -174,7 +178,7 @@ static lumis_status build(const lumis_luminaire_desc *d, float *rgb, size_t repl
     free(wts);
     free(units);
     l->bytes = sizeof *l + M * npx * 3 * sizeof(float) + M * ntab * sizeof(uint32_t) +
-               M * (2 * sizeof(double) + sizeof(const float *));
+               M * (2 * sizeof(double) + 4 * sizeof(int) + sizeof(const float *));
     *out = l;
     return LUMIS_OK;
 }
@@ -234,6 +238,7 @@ void lumis_luminaire_destroy(lumis_luminaire *l)
     free(l->sat);
     free(l->unit);
     free(l->power);
+    free(l->nz);
     free(l->ptrs);
     free(l);
 }

@@ -9,11 +9,18 @@
 /* x in [0, n] as a cell and a fraction: i in [0, n - 1], f in [0, 1] (x == n -> n - 1, 1). */
 static inline void split(double x, int n, int *i, double *f)
 {
-    int k = (int)floor(x);
+    int k = x > 0.0 ? (int)x : 0; /* x <= n: truncation is floor, without a libm call */
     if (k > n - 1) k = n - 1;
     if (k < 0) k = 0;
     *i = k;
     *f = x - k;
+}
+
+/* ceil(x) - 1 for x in (0, n]: the last cell a range ending at x covers. */
+static inline int last_cell(double x)
+{
+    const int k = (int)x;
+    return (double)k == x ? k - 1 : k;
 }
 
 static inline const uint32_t *table(const lumis_luminaire *l, int m)
@@ -29,8 +36,9 @@ double lumis__lum_box_units(const lumis_luminaire *l, int m, const lumis__box *b
     return lumis__lum_span_units(l, m, &x, &y);
 }
 
-double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
-                             const lumis__span *y)
+/* Inline so that lumis__lum_span_units_d shares its 16 loads. */
+static inline double span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                                const lumis__span *y)
 {
     const uint32_t *t = table(l, m);
     const size_t st = (size_t)l->h + 1;
@@ -55,6 +63,34 @@ double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span 
     return a > 0.0 ? a : 0.0;
 }
 
+double lumis__lum_span_units(const lumis_luminaire *l, int m, const lumis__span *x,
+                             const lumis__span *y)
+{
+    return span_units(l, m, x, y);
+}
+
+/* D at column c (a pointer to the table's column): the units of the columns before it
+ * between rows j0 + g0 and j1 + g1.  The one formula of the marginal, wherever read. */
+static inline double marginal_at(const uint32_t *c, int j0, int j1, double g0, double g1)
+{
+    const double a = (double)c[j1] - (double)c[j0];
+    return a + g1 * (double)(c[j1 + 1] - c[j1]) - g0 * (double)(c[j0 + 1] - c[j0]);
+}
+
+double lumis__lum_span_units_d(const lumis_luminaire *l, int m, const lumis__span *x,
+                               const lumis__span *y, double d[4])
+{
+    const uint32_t *t = table(l, m);
+    const size_t st = (size_t)l->h + 1;
+    const int j0 = y->i0, j1 = y->i1;
+    const double g0 = y->f0, g1 = y->f1;
+    d[0] = marginal_at(t + (size_t)x->i0 * st, j0, j1, g0, g1);
+    d[1] = marginal_at(t + (size_t)(x->i0 + 1) * st, j0, j1, g0, g1);
+    d[2] = marginal_at(t + (size_t)x->i1 * st, j0, j1, g0, g1);
+    d[3] = marginal_at(t + (size_t)(x->i1 + 1) * st, j0, j1, g0, g1);
+    return span_units(l, m, x, y);
+}
+
 /* ---- 1D inversion ------------------------------------------------------------------ */
 
 /* The two monotone functions searched: the restricted marginal over columns, D(i) = the
@@ -71,12 +107,7 @@ typedef struct line {
 
 static inline double probe(const line *L, int k)
 {
-    if (L->kind == 0) {
-        const uint32_t *c = L->t + (size_t)k * L->st;
-        const double a = (double)c[L->j1] - (double)c[L->j0];
-        return a + L->g1 * (double)(c[L->j1 + 1] - c[L->j1]) -
-               L->g0 * (double)(c[L->j0 + 1] - c[L->j0]);
-    }
+    if (L->kind == 0) return marginal_at(L->t + (size_t)k * L->st, L->j0, L->j1, L->g0, L->g1);
     return (double)(L->c1[k] - L->c0[k]);
 }
 
@@ -138,44 +169,82 @@ static inline double search(const line *L, int lo, int hi, double flo, double fh
     return chord(lo, hi, flo, fhi, g);
 }
 
-void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
-                        lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
-                        int depth, lumis__prep *pr)
+/* What every draw of image m in box b shares, from the marginal's values d = D(i0),
+ * D(i0 + 1), D(ia), D(ia + 1) at the columns of the box's ends x0 in [i0, i0 + 1) and x1 in
+ * [ia, ia + 1] (ia = w - 1 for x1 = w). */
+static void prepare_from(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                         const double d[4], lumis_luminaire_search search_kind, int depth,
+                         lumis__prep *pr)
 {
     pr->m = m;
     pr->b = *b;
     pr->units = units;
-    pr->uniform = strategy == LUMIS_LUM_UNIFORM;
-    pr->secant = search_kind != LUMIS_LUM_BINARY;
+    pr->uniform = 0;
+    pr->tabulate = 0;
+    pr->secant = search_kind == LUMIS_LUM_SECANT;
     pr->depth = depth;
-    if (pr->uniform) return;
-    line L;
-    L.t = table(l, m);
-    L.st = (size_t)l->h + 1;
-    L.kind = 0;
-    split(b->y0, l->h, &L.j0, &L.g0);
-    split(b->y1, l->h, &L.j1, &L.g1);
-    pr->j0 = L.j0, pr->g0 = L.g0, pr->j1 = L.j1, pr->g1 = L.g1;
+    split(b->y0, l->h, &pr->j0, &pr->g0);
+    split(b->y1, l->h, &pr->j1, &pr->g1);
     int i0, ia;
     double f0, fa;
     split(b->x0, l->w, &i0, &f0);
     split(b->x1, l->w, &ia, &fa);
-    int ilast = (int)ceil(b->x1) - 1; /* last column the box covers */
+    int ilast = last_cell(b->x1); /* last column the box covers */
     if (ilast < i0) ilast = i0;
     if (ilast > l->w - 1) ilast = l->w - 1;
-    int jlast = (int)ceil(b->y1) - 1;
-    if (jlast < L.j0) jlast = L.j0;
+    int jlast = last_cell(b->y1);
+    if (jlast < pr->j0) jlast = pr->j0;
     if (jlast > l->h - 1) jlast = l->h - 1;
-    /* Marginal: g between D(x0) and D(x1), D linear inside a column. */
-    const double d_i0 = probe(&L, i0), d_i0n = probe(&L, i0 + 1);
-    const double d_ia = probe(&L, ia), d_ian = probe(&L, ia + 1);
     pr->i0 = i0;
     pr->ilast = ilast;
     pr->jlast = jlast;
-    pr->d_i0 = d_i0;
-    pr->d_hi = ilast == ia ? d_ian : probe(&L, ilast + 1);
-    pr->d_x0 = d_i0 + f0 * (d_i0n - d_i0);
-    pr->d_x1 = d_ia + fa * (d_ian - d_ia);
+    pr->d_i0 = d[0];
+    /* The bracket's top, D(ilast + 1): ilast is ia, or ia - 1 when x1 is a whole column. */
+    pr->d_hi =
+        ilast == ia
+            ? d[3]
+            : (ilast + 1 == ia ? d[2]
+                               : marginal_at(table(l, m) + (size_t)(ilast + 1) * ((size_t)l->h + 1),
+                                             pr->j0, pr->j1, pr->g0, pr->g1));
+    /* Marginal: g between D(x0) and D(x1), D linear inside a column. */
+    pr->d_x0 = d[0] + f0 * (d[1] - d[0]);
+    pr->d_x1 = d[2] + fa * (d[3] - d[2]);
+}
+
+void lumis__lum_prepare_d(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                          const double d[4], lumis_luminaire_search search_kind, int depth,
+                          lumis__prep *pr)
+{
+    prepare_from(l, m, b, units, d, search_kind, depth, pr);
+}
+
+void lumis__lum_prepare(const lumis_luminaire *l, int m, const lumis__box *b, double units,
+                        lumis_luminaire_strategy strategy, lumis_luminaire_search search_kind,
+                        int depth, lumis__prep *pr)
+{
+    if (strategy == LUMIS_LUM_UNIFORM) {
+        pr->m = m;
+        pr->b = *b;
+        pr->units = units;
+        pr->uniform = 1;
+        pr->tabulate = 0;
+        pr->secant = search_kind == LUMIS_LUM_SECANT;
+        pr->depth = depth;
+        return;
+    }
+    int j0, j1, i0, ia;
+    double g0, g1, f;
+    split(b->y0, l->h, &j0, &g0);
+    split(b->y1, l->h, &j1, &g1);
+    split(b->x0, l->w, &i0, &f);
+    split(b->x1, l->w, &ia, &f);
+    const uint32_t *t = table(l, m);
+    const size_t st = (size_t)l->h + 1;
+    const double d[4] = {marginal_at(t + (size_t)i0 * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)(i0 + 1) * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)ia * st, j0, j1, g0, g1),
+                         marginal_at(t + (size_t)(ia + 1) * st, j0, j1, g0, g1)};
+    prepare_from(l, m, b, units, d, search_kind, depth, pr);
 }
 
 void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, double u1, double u2,
@@ -225,6 +294,120 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
     *pdf_pixels = pr->units > 0.0 ? q / pr->units : 0.0;
 }
 
+/* Whether draw_batch tabulates the marginal over the box's columns: when the count's
+ * searches would probe the table more often than the table has columns (a tabulation's
+ * reads are independent; a search's each wait for the last).  Measured on the car preset:
+ * docs/luminaire.md, "Benchmark". */
+static int tabulate_marginal(const lumis__prep *pr, int count)
+{
+    const int n = pr->ilast + 1 - pr->i0;
+    if (pr->tabulate) return pr->tabulate > 0 && n <= LUMIS__LUM_MAX_GRID_TAB;
+    if (n > LUMIS__LUM_MAX_GRID_TAB || n < 2) return 0;
+    int probes = 0;
+    while ((1 << probes) < n) probes++;
+    return count * probes * 4 >= n - 1;
+}
+
+enum { LANES = 64 }; /* draws in lockstep at most */
+
+/* nl <= LANES exact bisection draws in lockstep, lane k from image pr[k] with its marginal
+ * tabulated in tab[k] (D(i0 + c), c in [0, ncol]), from u[2k], u[2k + 1].  Lanes of
+ * different images (brackets of different sizes) step together: a lane whose bracket is
+ * down to one column probes its own lower end, which is <= g, and stays.  The same probes
+ * and comparisons as lumis__lum_draw_prepared, so the same draws. */
+static void draw_lanes(const lumis_luminaire *l, const lumis__prep *const *pr,
+                       const double *const *tab, const double *u, int nl, double *x, double *y,
+                       int *pi, int *pj, double *pdf_pixels)
+{
+    const size_t st = (size_t)l->h + 1;
+    double g[LANES], g2[LANES];
+    int lo[LANES], n[LANES], col[LANES], jl[LANES];
+    uint32_t gi[LANES];
+    const uint32_t *c0s[LANES];
+    /* Marginal: lo[k] the column offset from i0.  The comparisons become conditional moves
+     * (keeping D's value at lo too would be a branch on random data). */
+    int most = 1;
+    for (int k = 0; k < nl; k++) {
+        g[k] = pr[k]->d_x0 + u[2 * k] * (pr[k]->d_x1 - pr[k]->d_x0);
+        lo[k] = 0;
+        n[k] = pr[k]->ilast + 1 - pr[k]->i0;
+        most = n[k] > most ? n[k] : most;
+    }
+    while (most > 1) {
+        for (int k = 0; k < nl; k++) {
+            const int half = n[k] / 2;
+            lo[k] = tab[k][lo[k] + half] <= g[k] ? lo[k] + half : lo[k];
+            n[k] -= half;
+        }
+        most -= most / 2;
+    }
+    for (int k = 0; k < nl; k++) {
+        const lumis__box *b = &pr[k]->b;
+        const int c = pr[k]->i0 + lo[k];
+        double xs = chord(c, c, tab[k][lo[k]], tab[k][lo[k] + 1], g[k]);
+        if (xs < b->x0) xs = b->x0;
+        if (!(xs < b->x1)) xs = nextafter(b->x1, b->x0);
+        x[k] = xs;
+        col[k] = lumis__clampi((int)xs, 0, l->w - 1);
+    }
+    /* Conditionals in the drawn columns.  A column's prefix is an integer, so P(j) <= g2 is
+     * P(j) <= floor(g2): the search compares integers. */
+    most = 1;
+    for (int k = 0; k < nl; k++) {
+        const int j0 = pr[k]->j0, j1 = pr[k]->j1;
+        const uint32_t *c0 = table(l, pr[k]->m) + (size_t)col[k] * st, *c1 = c0 + st;
+        const double p_j0 = (double)(c1[j0] - c0[j0]);
+        const double p_y0 = p_j0 + pr[k]->g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
+        const double p_j1 = (double)(c1[j1] - c0[j1]);
+        const double p_y1 = p_j1 + pr[k]->g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
+        g2[k] = p_y0 + u[2 * k + 1] * (p_y1 - p_y0);
+        gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
+        c0s[k] = c0;
+        jl[k] = j0;
+        n[k] = pr[k]->jlast + 1 - j0;
+        most = n[k] > most ? n[k] : most;
+    }
+    while (most > 1) {
+        for (int k = 0; k < nl; k++) {
+            const uint32_t *c0 = c0s[k], *c1 = c0 + st;
+            const int half = n[k] / 2, mid = jl[k] + half;
+            jl[k] = c1[mid] - c0[mid] <= gi[k] ? mid : jl[k];
+            n[k] -= half;
+        }
+        most -= most / 2;
+    }
+    for (int k = 0; k < nl; k++) {
+        const lumis__box *b = &pr[k]->b;
+        const uint32_t *c0 = c0s[k], *c1 = c0 + st;
+        const int j = jl[k];
+        const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
+        double ys = chord(j, j, flo, fhi, g2[k]);
+        if (ys < b->y0) ys = b->y0;
+        if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
+        const int row = lumis__clampi((int)ys, 0, l->h - 1);
+        /* The pixel's units: the search's last bracket unless ys was moved off it. */
+        const double q = row == j
+                             ? fhi - flo
+                             : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
+        y[k] = ys;
+        pi[k] = col[k];
+        pj[k] = row;
+        pdf_pixels[k] = pr[k]->units > 0.0 ? q / pr[k]->units : 0.0;
+    }
+}
+
+/* D(i0 + c) for c in [0, ncol] into d. */
+static void tabulate(const lumis_luminaire *l, const lumis__prep *pr, double *d)
+{
+    const uint32_t *t = table(l, pr->m);
+    const size_t st = (size_t)l->h + 1;
+    const int ncol = pr->ilast + 1 - pr->i0;
+    d[0] = pr->d_i0;
+    for (int c = 1; c < ncol; c++)
+        d[c] = marginal_at(t + (size_t)(pr->i0 + c) * st, pr->j0, pr->j1, pr->g0, pr->g1);
+    d[ncol] = pr->d_hi;
+}
+
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *pi, int *pj, double *pdf_pixels)
 {
@@ -234,58 +417,73 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
                                      pdf_pixels + k);
         return;
     }
-    /* Bisection over a bracket whose size depends only on the box: the draws of one image
-     * run in lockstep, LANES at a time, so their independent loads overlap instead of each
-     * search waiting on its own chain of dependent loads. */
-    enum { LANES = 8 };
+    if (tabulate_marginal(pr, count)) {
+        double d[LUMIS__LUM_MAX_GRID_TAB + 1];
+        tabulate(l, pr, d);
+        const lumis__prep *prs[LANES];
+        const double *tabs[LANES];
+        for (int k = 0; k < LANES; k++) prs[k] = pr, tabs[k] = d;
+        for (int base = 0; base < count; base += LANES)
+            draw_lanes(l, prs, tabs, u + 2 * base, count - base < LANES ? count - base : LANES,
+                       x + base, y + base, pi + base, pj + base, pdf_pixels + base);
+        return;
+    }
+    /* A wide box drawn a few times: bisections in the table, the draws in lockstep
+     * (their brackets have the same size), so their independent loads overlap instead of
+     * each search waiting on its own chain of dependent loads. */
+    enum { L8 = 8 };
     const lumis__box *b = &pr->b;
     const uint32_t *t = table(l, pr->m);
     const size_t st = (size_t)l->h + 1;
-    line L;
-    L.t = t;
-    L.st = st;
-    L.kind = 0;
-    L.j0 = pr->j0, L.g0 = pr->g0, L.j1 = pr->j1, L.g1 = pr->g1;
-    for (int base = 0; base < count; base += LANES) {
-        const int nl = count - base < LANES ? count - base : LANES;
-        double g[LANES], xs[LANES];
-        int lo[LANES], col[LANES];
+    const int i0 = pr->i0, j0 = pr->j0, j1 = pr->j1;
+    const double g0 = pr->g0, g1 = pr->g1;
+    const int ncol = pr->ilast + 1 - i0, nrow = pr->jlast + 1 - j0;
+    for (int base = 0; base < count; base += L8) {
+        const int nl = count - base < L8 ? count - base : L8;
+        double g[L8], xs[L8];
+        int lo[L8], col[L8];
         for (int k = 0; k < nl; k++) {
             g[k] = pr->d_x0 + u[2 * (base + k)] * (pr->d_x1 - pr->d_x0);
-            lo[k] = pr->i0;
+            lo[k] = 0;
         }
-        int n = pr->ilast + 1 - pr->i0;
+        int n = ncol;
         while (n > 1) {
             const int half = n / 2;
             for (int k = 0; k < nl; k++)
-                lo[k] = probe(&L, lo[k] + half) <= g[k] ? lo[k] + half : lo[k];
+                lo[k] = marginal_at(t + (size_t)(i0 + lo[k] + half) * st, j0, j1, g0, g1) <= g[k]
+                            ? lo[k] + half
+                            : lo[k];
             n -= half;
         }
         for (int k = 0; k < nl; k++) {
-            xs[k] = chord(lo[k], lo[k], probe(&L, lo[k]), probe(&L, lo[k] + 1), g[k]);
+            const int c = i0 + lo[k];
+            const uint32_t *cl = t + (size_t)c * st;
+            xs[k] = chord(c, c, marginal_at(cl, j0, j1, g0, g1),
+                          marginal_at(cl + st, j0, j1, g0, g1), g[k]);
             if (xs[k] < b->x0) xs[k] = b->x0;
             if (!(xs[k] < b->x1)) xs[k] = nextafter(b->x1, b->x0);
             col[k] = lumis__clampi((int)xs[k], 0, l->w - 1);
         }
-        /* Conditionals: the same rows for every column. */
-        double g2[LANES];
-        int jl[LANES];
+        double g2[L8];
+        uint32_t gi[L8];
+        int jl[L8];
         for (int k = 0; k < nl; k++) {
             const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
-            const double p_j0 = (double)(c1[L.j0] - c0[L.j0]);
-            const double p_y0 = p_j0 + L.g0 * ((double)(c1[L.j0 + 1] - c0[L.j0 + 1]) - p_j0);
-            const double p_j1 = (double)(c1[L.j1] - c0[L.j1]);
-            const double p_y1 = p_j1 + L.g1 * ((double)(c1[L.j1 + 1] - c0[L.j1 + 1]) - p_j1);
+            const double p_j0 = (double)(c1[j0] - c0[j0]);
+            const double p_y0 = p_j0 + g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
+            const double p_j1 = (double)(c1[j1] - c0[j1]);
+            const double p_y1 = p_j1 + g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
             g2[k] = p_y0 + u[2 * (base + k) + 1] * (p_y1 - p_y0);
-            jl[k] = L.j0;
+            gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
+            jl[k] = j0;
         }
-        n = pr->jlast + 1 - L.j0;
+        n = nrow;
         while (n > 1) {
             const int half = n / 2;
             for (int k = 0; k < nl; k++) {
                 const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
                 const int mid = jl[k] + half;
-                jl[k] = (double)(c1[mid] - c0[mid]) <= g2[k] ? mid : jl[k];
+                jl[k] = c1[mid] - c0[mid] <= gi[k] ? mid : jl[k];
             }
             n -= half;
         }
@@ -297,7 +495,9 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
             if (ys < b->y0) ys = b->y0;
             if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
             const int row = lumis__clampi((int)ys, 0, l->h - 1);
-            const double q = (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
+            const double q =
+                row == j ? fhi - flo
+                         : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
             x[base + k] = xs[k];
             y[base + k] = ys;
             pi[base + k] = col[k];
@@ -305,6 +505,51 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
             pdf_pixels[base + k] = pr->units > 0.0 ? q / pr->units : 0.0;
         }
     }
+}
+
+int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const int *counts,
+                          int nimg, const double *u, double *x, double *y, int *pi, int *pj,
+                          double *pdf_pixels)
+{
+    enum { TAB = 2048 };
+    double buf[TAB];
+    const lumis__prep *prs[LANES];
+    const double *tabs[LANES];
+    int done = 0, nl = 0, used = 0;
+    for (int im = 0; im < nimg; im++) {
+        if (pr[im].uniform || pr[im].secant || pr[im].depth > 0 ||
+            !tabulate_marginal(pr + im, counts[im])) {
+            if (nl) { /* keep the samples in order */
+                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+                nl = used = 0;
+            }
+            lumis__lum_draw_batch(l, pr + im, u + 2 * done, counts[im], x + done, y + done,
+                                  pi + done, pj + done, pdf_pixels + done);
+            done += counts[im];
+            continue;
+        }
+        const int ncol = pr[im].ilast + 1 - pr[im].i0;
+        for (int k = 0; k < counts[im]; k++) {
+            if (nl == LANES || (k == 0 && used + ncol + 1 > TAB)) {
+                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+                nl = 0;
+                if (k == 0) used = 0;
+            }
+            if (k == 0) {
+                tabulate(l, pr + im, buf + used);
+                used += ncol + 1;
+            }
+            prs[nl] = pr + im;
+            tabs[nl] = buf + used - (ncol + 1);
+            nl++, done++;
+        }
+    }
+    if (nl)
+        draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
+                   pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+    return done;
 }
 
 void lumis__lum_draw(const lumis_luminaire *l, int m, const lumis__box *b, double units,
@@ -367,9 +612,8 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
         double ua[2], ub[2], area;
         const float *px;
         if (!on_s_support(l, q, m, ua, ub, &area, &px)) return LUMIS_ERR_INVALID_ARGUMENT;
-        lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, q->p.x, q->p.y,
-                          ua[0] + u1 * (ua[1] - ua[0]), ub[0] + u2 * (ub[1] - ub[0]),
-                          LUMIS_LUM_AREA_U, 1.0 / area, 1, -1, 0, out);
+        lumis__lum_finish_u(l, q->p.x, q->p.y, q->p.z, m, ua[0] + u1 * (ua[1] - ua[0]),
+                            ub[0] + u2 * (ub[1] - ub[0]), 1.0 / area, 1, out);
         return LUMIS_OK;
     }
     lumis__box b;
@@ -380,9 +624,9 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
     lumis__prep pr;
     lumis__lum_prepare(l, m, &b, units, q->strategy, q->search, q->depth, &pr);
     lumis__lum_draw_prepared(l, &pr, u1, u2, &x, &y, &i, &j, &pdf);
-    const double sx = l->sx0 + x * l->dx, sy = l->sy0 + y * l->dy;
-    lumis__lum_finish(l, q->p.x, q->p.y, q->p.z, m, sx, sy, 0.0, 0.0, LUMIS_LUM_AREA_S,
-                      pdf / (l->dx * l->dy), 1, i, j, out);
+    lumis__lum_finish_s(l, q->p.x, q->p.y, q->p.z, q->p.z / (q->p.z - l->delta), m, m % l->gw,
+                        m / l->gw, l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3, x, y, i, j,
+                        pdf, 1, out);
     return LUMIS_OK;
 }
 

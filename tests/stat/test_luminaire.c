@@ -228,15 +228,69 @@ static void secant_search_matches_binary_search(void **state)
             double u[2 * 19], x[19], y[19], pdf[19];
             int is[19], js[19];
             for (int k = 0; k < 2 * 19; k++) u[k] = lumis_pcg32_double(&rng);
-            lumis__lum_draw_batch(f.lum, &pr, u, 19, x, y, is, js, pdf);
-            for (int k = 0; k < 19; k++) {
-                double x1, y1, p1;
-                int i1, j1;
-                lumis__lum_draw_prepared(f.lum, &pr, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
-                                         &p1);
-                assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 && js[k] == j1);
+            /* Its marginal searched in the table, tabulated, or as it chooses. */
+            for (int tab = -1; tab <= 1; tab++) {
+                pr.tabulate = tab;
+                lumis__lum_draw_batch(f.lum, &pr, u, 19, x, y, is, js, pdf);
+                for (int k = 0; k < 19; k++) {
+                    double x1, y1, p1;
+                    int i1, j1;
+                    lumis__lum_draw_prepared(f.lum, &pr, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
+                                             &p1);
+                    assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 &&
+                                js[k] == j1);
+                }
             }
         }
+    free_fixture(&f);
+}
+
+/* Draws of many images at once (lumis__lum_draw_group): more lanes and more tabulated
+ * marginals than it holds at a time, images it does not tabulate in between; the very same
+ * draws as one at a time. */
+static void grouped_draws_match_single_draws(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 8);
+    enum { NP = 600 };
+    lumis__prep *prs = calloc(NP, sizeof *prs);
+    int counts[NP], total = 0, np = 0;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 8, 8);
+    for (int k = 0; np < NP && k < 100000; k++) {
+        const int m = (int)lumis_pcg32_bounded(&rng, 9);
+        const double px = 2.0 * lumis_pcg32_double(&rng) - 1.0, py = lumis_pcg32_double(&rng) - 0.5;
+        const double pz =
+            k % 2 ? 0.15 + 0.6 * lumis_pcg32_double(&rng) : 1.2 + 4.0 * lumis_pcg32_double(&rng);
+        lumis__box bx;
+        if (!lumis__lum_box(f.lum, m, px, py, pz, &bx)) continue;
+        const double units = lumis__lum_box_units(f.lum, m, &bx);
+        if (!(units > 0.0)) continue;
+        lumis__lum_prepare(f.lum, m, &bx, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0,
+                           prs + np);
+        prs[np].tabulate = np % 7 == 3 ? -1 : 0; /* some searched in the table */
+        counts[np] = np % 5 == 0 ? 1 + (int)lumis_pcg32_bounded(&rng, 90) : 1;
+        total += counts[np++];
+    }
+    assert_int_equal(np, NP);
+    int entries = 0; /* tabulated marginal entries: more than the group's buffer (2048) */
+    for (int p = 0; p < NP; p++) entries += prs[p].ilast + 2 - prs[p].i0;
+    assert_true(entries > 2048 && total > 1000);
+    double *u = malloc(2 * (size_t)total * sizeof(double));
+    double *x = malloc((size_t)total * sizeof(double)), *y = malloc((size_t)total * sizeof(double));
+    double *pdf = malloc((size_t)total * sizeof(double));
+    int *is = malloc((size_t)total * sizeof(int)), *js = malloc((size_t)total * sizeof(int));
+    for (int k = 0; k < 2 * total; k++) u[k] = lumis_pcg32_double(&rng);
+    assert_int_equal(lumis__lum_draw_group(f.lum, prs, counts, NP, u, x, y, is, js, pdf), total);
+    for (int p = 0, k = 0; p < NP; p++)
+        for (int c = 0; c < counts[p]; c++, k++) {
+            double x1, y1, p1;
+            int i1, j1;
+            lumis__lum_draw_prepared(f.lum, prs + p, u[2 * k], u[2 * k + 1], &x1, &y1, &i1, &j1,
+                                     &p1);
+            assert_true(x[k] == x1 && y[k] == y1 && pdf[k] == p1 && is[k] == i1 && js[k] == j1);
+        }
+    free(u), free(x), free(y), free(pdf), free(is), free(js), free(prs);
     free_fixture(&f);
 }
 
@@ -449,6 +503,86 @@ static void sample_point_edge_cases(void **state)
     free_fixture(&f);
 }
 
+/* The per-point entry draws what the per-image one does: the same (u1, u2) give image m
+ * the same point, pdf, direction and radiance, the weight divided by K_m; its masses are
+ * the boxes' integrals, exactly 0 where the box misses every nonzero pixel (images that are
+ * zero outside a rectangle, one all zero, so that the entry's shortcut is exercised). */
+static void sample_point_draws_what_sample_image_draws(void **state)
+{
+    (void)state;
+    for (int b = LUMIS_BASIS_QUADRATIC; b <= LUMIS_BASIS_BSPLINE; b++) {
+        fixture f = make_fixture((lumis_luminaire_basis)b, 21 + b);
+        lumis_luminaire_desc d;
+        lumis_luminaire_get_desc(f.lum, &d);
+        const int w = d.width, h = d.height;
+        for (int m = 0; m < 9; m++) {
+            float *px = f.pixels + (size_t)m * w * h * 3;
+            /* Nonzero only in [2m/3, 2m/3 + 7] x [m/2, m/2 + 5]; image 4 all zero. */
+            const int i0 = 2 * m / 3 - 1, j0 = m / 2 - 1;
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++)
+                    if (m == 4 || i < i0 || i > i0 + 7 || j < j0 || j > j0 + 5)
+                        px[3 * (j * w + i)] = px[3 * (j * w + i) + 1] = px[3 * (j * w + i) + 2] =
+                            0.0f;
+        }
+        lumis_luminaire *sparse = NULL;
+        assert_int_equal(lumis_luminaire_create(&d, &sparse), LUMIS_OK);
+        const lumis_luminaire *ls[2] = {f.lum, sparse};
+        lumis_pcg32 rng;
+        lumis_pcg32_seed(&rng, 31, (uint64_t)b);
+        int compared = 0, pruned = 0;
+        for (int li = 0; li < 2; li++)
+            for (int k = 0; k < 400; k++) {
+                const lumis_luminaire *l = ls[li];
+                lumis_luminaire_query q = {0};
+                q.p.x = (float)(3.0 * lumis_pcg32_double(&rng) - 1.5);
+                q.p.y = (float)(2.0 * lumis_pcg32_double(&rng) - 1.0);
+                q.p.z = (float)(k % 7 == 0 ? 0.3 + 0.6 * lumis_pcg32_double(&rng)
+                                           : 1.1 + 6.0 * lumis_pcg32_double(&rng));
+                q.budget = k % 13 == 0 ? 300 : 1 + (int)lumis_pcg32_bounded(&rng, 60);
+                q.k_max = k % 3 == 0 ? 5 : 0;
+                q.search = k % 2 ? LUMIS_LUM_BINARY : LUMIS_LUM_SECANT;
+                q.strategy = k % 5 == 0    ? LUMIS_LUM_UNIFORM
+                             : k % 11 == 0 ? LUMIS_LUM_GLOBAL
+                                           : LUMIS_LUM_RESTRICTED;
+                double mass[9];
+                lumis_luminaire_masses(l, q.p, mass);
+                for (int m = 0; m < 9; m++) {
+                    lumis__box bx;
+                    double units = 0.0;
+                    if (lumis__lum_box(l, m, q.p.x, q.p.y, q.p.z, &bx))
+                        units = lumis__lum_box_units(l, m, &bx);
+                    assert_true(mass[m] == units * l->unit[m]);
+                    pruned += li == 1 && units == 0.0 && l->unit[m] > 0.0;
+                }
+                double u[2 * 320];
+                for (int c = 0; c < 2 * 320; c++) u[c] = lumis_pcg32_double(&rng);
+                lumis_luminaire_sample s[320];
+                int n = 0;
+                assert_int_equal(lumis_luminaire_sample_point(l, &q, u, 320, s, &n), LUMIS_OK);
+                for (int c = 0; c < n; c++) {
+                    lumis_luminaire_sample a;
+                    assert_int_equal(
+                        lumis_luminaire_sample_image(l, &q, s[c].image, u[2 * c], u[2 * c + 1], &a),
+                        LUMIS_OK);
+                    assert_true(a.s[0] == s[c].s[0] && a.s[1] == s[c].s[1]);
+                    assert_true(a.u[0] == s[c].u[0] && a.u[1] == s[c].u[1]);
+                    assert_true(a.pdf == s[c].pdf && a.distance == s[c].distance);
+                    assert_true(a.dir.x == s[c].dir.x && a.dir.y == s[c].dir.y &&
+                                a.dir.z == s[c].dir.z);
+                    assert_true(a.radiance.r == s[c].radiance.r &&
+                                a.radiance.g == s[c].radiance.g && a.radiance.b == s[c].radiance.b);
+                    assert_true(fabs(a.weight - s[c].weight * s[c].count) <= 1e-6 * a.weight);
+                    compared++;
+                }
+            }
+        printf("sample_point == sample_image: %d samples, %d boxes pruned\n", compared, pruned);
+        assert_true(compared > 10000 && pruned > 50);
+        lumis_luminaire_destroy(sparse);
+        free_fixture(&f);
+    }
+}
+
 static void rigid_transform_round_trip(void **state)
 {
     (void)state;
@@ -628,10 +762,12 @@ int main(void)
         cmocka_unit_test(bases_are_partitions_of_unity),
         cmocka_unit_test(restricted_sampler_draws_its_pdf),
         cmocka_unit_test(secant_search_matches_binary_search),
+        cmocka_unit_test(grouped_draws_match_single_draws),
         cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
         cmocka_unit_test(estimator_mean_equals_quadrature),
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(sample_point_edge_cases),
+        cmocka_unit_test(sample_point_draws_what_sample_image_draws),
         cmocka_unit_test(rigid_transform_round_trip),
         cmocka_unit_test(generated_luminaire_reproduces_its_emitter),
         cmocka_unit_test(malformed_descriptors_get_a_clear_error),
