@@ -205,6 +205,21 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
                                           const lumis_luminaire_query *q, const double *u,
                                           int capacity, lumis_luminaire_sample *out, int *count);
 
+/* The global strategy's points on S do not depend on the shading point: a renderer draws
+ * them once per set of random numbers and finishes them for every point.
+ * lumis_luminaire_global_draw (q->strategy must be LUMIS_LUM_GLOBAL; q->p is ignored) fills
+ * each sample's s, image, count and, parked in u[0], its density per pixel area; nothing
+ * that needs p.  lumis_luminaire_global_finish completes them for p (out may be drawn):
+ * draw then finish gives what lumis_luminaire_sample_point gives for p with the same u, bit
+ * for bit (none for p behind U).  Cost of a finish: per sample one RGB pixel and a few
+ * dozen flops; no table lookup. */
+lumis_status lumis_luminaire_global_draw(const lumis_luminaire *lum, const lumis_luminaire_query *q,
+                                         const double *u, int capacity, lumis_luminaire_sample *out,
+                                         int *count);
+lumis_status lumis_luminaire_global_finish(const lumis_luminaire *lum, lumis_vec3 p,
+                                           const lumis_luminaire_sample *drawn, int count,
+                                           lumis_luminaire_sample *out, int *out_count);
+
 /* The estimator (Eq. 13/14) from the samples of one point: sum of radiance *
  * max(0, n . dir) * weight, n normalised here.  Unbiased for I(p) with an unlimited search (no
  * visibility: multiply each term by it to light a scene). */

@@ -235,9 +235,29 @@ int lumis_luminaire_capacity(const lumis_luminaire *l, int budget)
     return budget > l->m ? budget : l->m;
 }
 
-lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_luminaire_query *q,
-                                          const double *u, int capacity,
-                                          lumis_luminaire_sample *out, int *count)
+/* The second pass of the per-point entry: every parked draw's geometry and radiance at p. */
+static void finish_draws(const lumis_luminaire *l, double px, double py, double pz,
+                         lumis_luminaire_sample *out, int n)
+{
+    const size_t npx = (size_t)l->w * (size_t)l->h;
+    const double t = pz / (pz - l->delta);
+    for (int k = 0; k < n;) {
+        const int m = out[k].image, a = m % l->gw, b = m / l->gw, km = out[k].count;
+        const float *img = l->rgb + (size_t)m * npx * 3;
+        for (const int end = k + km; k < end; k++) {
+            const double x = out[k].s[0], y = out[k].s[1];
+            /* The pixel the draw landed in, as lumis__lum_draw_prepared finds it. */
+            const int i = lumis__clampi((int)x, 0, l->w - 1),
+                      j = lumis__clampi((int)y, 0, l->h - 1);
+            lumis__lum_finish_s(l, px, py, pz, t, m, a, b, img, x, y, i, j, out[k].u[0], km,
+                                out + k);
+        }
+    }
+}
+
+static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire_query *q,
+                                 const double *u, int capacity, lumis_luminaire_sample *out,
+                                 int *count, int draw_only)
 {
     if (!count) return LUMIS_ERR_INVALID_ARGUMENT;
     *count = 0;
@@ -342,20 +362,47 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_
             done += c;
         }
     }
-    const double t = pz / (pz - l->delta);
-    for (int k = 0; k < n;) {
-        const int m = out[k].image, a = m % l->gw, b = m / l->gw, km = out[k].count;
-        const float *img = l->rgb + (size_t)m * npx * 3;
-        for (const int end = k + km; k < end; k++) {
-            const double x = out[k].s[0], y = out[k].s[1];
-            /* The pixel the draw landed in, as lumis__lum_draw_prepared finds it. */
-            const int i = lumis__clampi((int)x, 0, l->w - 1),
-                      j = lumis__clampi((int)y, 0, l->h - 1);
-            lumis__lum_finish_s(l, px, py, pz, t, m, a, b, img, x, y, i, j, out[k].u[0], km,
-                                out + k);
-        }
+    if (draw_only) { /* the global strategy's draws, finished per point later */
+        *count = n;
+        return LUMIS_OK;
     }
+    finish_draws(l, px, py, pz, out, n);
     *count = n;
+    return LUMIS_OK;
+}
+
+lumis_status lumis_luminaire_sample_point(const lumis_luminaire *l, const lumis_luminaire_query *q,
+                                          const double *u, int capacity,
+                                          lumis_luminaire_sample *out, int *count)
+{
+    return sample_point(l, q, u, capacity, out, count, 0);
+}
+
+lumis_status lumis_luminaire_global_draw(const lumis_luminaire *l, const lumis_luminaire_query *q,
+                                         const double *u, int capacity, lumis_luminaire_sample *out,
+                                         int *count)
+{
+    if (!l || !q || q->strategy != LUMIS_LUM_GLOBAL) {
+        if (count) *count = 0;
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    }
+    lumis_luminaire_query g = *q;
+    g.p.x = g.p.y = 0.0f;
+    g.p.z = (float)(3.0 * l->delta); /* any point in front of S: the draws ignore it */
+    return sample_point(l, &g, u, capacity, out, count, 1);
+}
+
+lumis_status lumis_luminaire_global_finish(const lumis_luminaire *l, lumis_vec3 p,
+                                           const lumis_luminaire_sample *drawn, int count,
+                                           lumis_luminaire_sample *out, int *out_count)
+{
+    if (!out_count) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out_count = 0;
+    if (!l || count < 0 || (count > 0 && (!drawn || !out))) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (lumis__lum_where(l, p.z) == LUMIS__BEHIND) return LUMIS_OK;
+    if (out != drawn) memcpy(out, drawn, (size_t)count * sizeof *out);
+    finish_draws(l, p.x, p.y, p.z, out, count);
+    *out_count = count;
     return LUMIS_OK;
 }
 

@@ -435,6 +435,11 @@ typedef struct ctx {
     int sets;  /* light sets interleaved (light_set only) */
     const struct light_soa *soa; /* their lights, as the shading loop reads them */
     const struct lum_inst *lum;  /* the placed luminaires (luminaires only) */
+    /* The global strategy's draws for camera samples global_k0 ...: camera sample k,
+     * instance i at slot (k - global_k0) * instances + i, global_stride samples a slot. */
+    const lumis_luminaire_sample *global;
+    const int *global_n;
+    int global_k0, global_stride;
 } ctx;
 
 /* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
@@ -701,12 +706,15 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
         q.p = tof(pl);
         if (!(q.p.z > 0.0f)) continue; /* behind U: no light */
         const int nu = 2 * li->capacity;
+        int count = 0;
         if (q.strategy == LUMIS_LUM_GLOBAL) {
-            /* The same samples on S for every point: a stream per camera sample only. */
-            lumis_pcg32 g;
-            lumis_pcg32_seed(&g, mix64(d->seed ^ mix64((uint64_t)k + 1)),
-                             0x9e3779b9u + (uint64_t)i);
-            for (int j = 0; j < nu; j++) sc->u[j] = lumis_pcg32_double(&g);
+            /* The same points on S for every shading point: drawn once per camera sample
+             * (global_draws), finished here. */
+            const size_t slot = (size_t)(k - c->global_k0) * (size_t)ll->count + (size_t)i;
+            if (lumis_luminaire_global_finish(li->lum, q.p,
+                                              c->global + slot * (size_t)c->global_stride,
+                                              c->global_n[slot], sc->s, &count) != LUMIS_OK)
+                continue;
         } else if (ll->sequence == LUMIS_SEQUENCE_HALTON) {
             lumis_pcg32 g; /* a rotation per pixel and instance, the same for every k */
             lumis_pcg32_seed(&g, mix64(d->seed ^ 0x51ed27u ^ ((uint64_t)i << 40)),
@@ -722,9 +730,9 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
         } else {
             for (int j = 0; j < nu; j++) sc->u[j] = lumis_pcg32_double(rng);
         }
-        int count = 0;
-        if (lumis_luminaire_sample_point(li->lum, &q, sc->u, li->capacity, sc->s, &count) !=
-            LUMIS_OK)
+        if (q.strategy != LUMIS_LUM_GLOBAL &&
+            lumis_luminaire_sample_point(li->lum, &q, sc->u, li->capacity, sc->s, &count) !=
+                LUMIS_OK)
             continue;
         sc->point++;
         if (sc->point == 0) { /* the stamps wrapped: forget them all */
@@ -1108,6 +1116,28 @@ static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px
     return L;
 }
 
+/* The global strategy's draws of camera samples k0 .. k1 - 1, every instance: a stream per
+ * camera sample and instance, the same for every pixel. */
+static lumis_status global_draws(const lumis_render_job *job, int k0, int k1,
+                                 lumis_luminaire_sample *out, int *n, double *u)
+{
+    const lumis_luminaire_lighting *ll = &job->lighting;
+    for (int k = k0; k < k1; k++)
+        for (int i = 0; i < ll->count; i++) {
+            const lum_inst *li = &job->lum[i];
+            const size_t slot = (size_t)(k - k0) * (size_t)ll->count + (size_t)i;
+            lumis_pcg32 g;
+            lumis_pcg32_seed(&g, mix64(job->d.seed ^ mix64((uint64_t)k + 1)),
+                             0x9e3779b9u + (uint64_t)i);
+            for (int j = 0; j < 2 * li->capacity; j++) u[j] = lumis_pcg32_double(&g);
+            lumis_status st =
+                lumis_luminaire_global_draw(li->lum, &li->query, u, li->capacity,
+                                            out + slot * (size_t)job->lum_capacity, &n[slot]);
+            if (st != LUMIS_OK) return st;
+        }
+    return LUMIS_OK;
+}
+
 lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
 {
     if (!job) return LUMIS_ERR_INVALID_ARGUMENT;
@@ -1122,12 +1152,41 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
              d->sampler && lumis_sampler_envmap(d->sampler) == d->env,
              job->sets,
              job->soa,
-             job->lum};
+             job->lum,
+             NULL,
+             NULL,
+             0,
+             job->lum_capacity};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
     double shadow = 0.0, bounce = 0.0, t0 = omp_get_wtime();
     int done = 0, failed = 0;
+    /* The global strategy draws once per camera sample for every pixel: the camera samples
+     * are rendered in chunks whose draws take at most 64 MB. */
+    int chunk = samples;
+    lumis_luminaire_sample *gbuf = NULL;
+    int *gn = NULL;
+    double *gu = NULL;
+    if (job->lum && job->lighting.strategy == LUMIS_LUM_GLOBAL) {
+        const size_t per_k = (size_t)job->lighting.count * (size_t)job->lum_capacity * sizeof *gbuf;
+        chunk = (int)((size_t)(64 << 20) / per_k);
+        chunk = chunk < 1 ? 1 : chunk > samples ? samples : chunk;
+        gbuf = malloc(per_k * (size_t)chunk);
+        gn = malloc(sizeof *gn * (size_t)chunk * (size_t)job->lighting.count);
+        gu = malloc(2 * sizeof *gu * (size_t)job->lum_capacity);
+        if (!gbuf || !gn || !gu) {
+            free(gbuf);
+            free(gn);
+            free(gu);
+            return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                               "render: global luminaire draws: out of memory");
+        }
+        c.global = gbuf;
+        c.global_n = gn;
+    }
+    const int chunks = (samples + chunk - 1) / chunk;
+    lumis_status gst = LUMIS_OK;
 
 #pragma omp parallel num_threads(threads) reduction(+ : shadow, bounce)
     {
@@ -1144,50 +1203,68 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                 failed = 1;
             }
         }
+        for (int ci = 0; ci < chunks; ci++) {
+            const int k0 = first + ci * chunk,
+                      k1 = k0 + chunk < first + samples ? k0 + chunk : first + samples;
 #pragma omp barrier
-        int stop;
+#pragma omp single
+            if (gbuf) {
+                c.global_k0 = k0;
+                gst = global_draws(job, k0, k1, gbuf, gn, gu);
+                if (gst != LUMIS_OK) failed = 1;
+            }
+            int stop;
 #pragma omp atomic read
-        stop = failed;
+            stop = failed;
 #pragma omp for schedule(dynamic, 1)
-        for (int tile = 0; tile < tiles; tile++) {
-            if (stop) continue;
-            const int x0 = tile % tx * TILE, y0 = tile / tx * TILE;
-            const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
-            for (int y = y0; y < y1; y++)
-                for (int x = x0; x < x1; x++) {
-                    const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
-                    double *acc = job->sum + 3 * pixel;
-                    v3 a = mk(acc[0], acc[1], acc[2]);
-                    for (int k = first; k < first + samples; k++) {
-                        /* Sample k of this pixel has its own stream: passes cannot change it. */
-                        lumis_pcg32 rng;
-                        lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
-                        double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
-                        if (d->pixel_centers) jx = jy = 0.5;
-                        double sx = (x + jx) / w * 2.0 - 1.0;
-                        double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
-                        v3 dir = camera_dir(&job->cf, sx, sy);
-                        a = add(a,
-                                trace_sample(&c, job, dir, x, y, k, &rng, &sc, &shadow, &bounce));
+            for (int tile = 0; tile < tiles; tile++) {
+                if (stop) continue;
+                const int x0 = tile % tx * TILE, y0 = tile / tx * TILE;
+                const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
+                for (int y = y0; y < y1; y++)
+                    for (int x = x0; x < x1; x++) {
+                        const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
+                        double *acc = job->sum + 3 * pixel;
+                        v3 a = mk(acc[0], acc[1], acc[2]);
+                        for (int k = k0; k < k1; k++) {
+                            /* Sample k of this pixel has its own stream: passes cannot change it.
+                             */
+                            lumis_pcg32 rng;
+                            lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
+                            double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
+                            if (d->pixel_centers) jx = jy = 0.5;
+                            double sx = (x + jx) / w * 2.0 - 1.0;
+                            double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
+                            v3 dir = camera_dir(&job->cf, sx, sy);
+                            a = add(a, trace_sample(&c, job, dir, x, y, k, &rng, &sc, &shadow,
+                                                    &bounce));
+                        }
+                        acc[0] = a.x;
+                        acc[1] = a.y;
+                        acc[2] = a.z;
                     }
-                    acc[0] = a.x;
-                    acc[1] = a.y;
-                    acc[2] = a.z;
-                }
-            int now;
+                int now;
 #pragma omp atomic capture
-            now = ++done;
-            if (d->progress && omp_get_thread_num() == 0) d->progress(d->progress_user, now, tiles);
+                now = ++done;
+                if (d->progress && omp_get_thread_num() == 0)
+                    d->progress(d->progress_user, now, tiles * chunks);
+            }
         }
         free(sc.u);
         free(sc.s);
         free(sc.vis);
         free(sc.stamp);
     }
+    free(gbuf);
+    free(gn);
+    free(gu);
+    if (gst != LUMIS_OK)
+        return lumis__fail(&d->errors, gst, "render: global luminaire draws: %s",
+                           lumis_status_string(gst));
     if (failed)
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                            "render: luminaire buffers: out of memory");
-    if (d->progress) d->progress(d->progress_user, tiles, tiles);
+    if (d->progress) d->progress(d->progress_user, tiles * chunks, tiles * chunks);
     job->stats.spp += samples;
     job->stats.passes++;
     job->stats.threads = threads;

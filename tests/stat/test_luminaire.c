@@ -507,6 +507,41 @@ static void sample_point_edge_cases(void **state)
  * the same point, pdf, direction and radiance, the weight divided by K_m; its masses are
  * the boxes' integrals, exactly 0 where the box misses every nonzero pixel (images that are
  * zero outside a rectangle, one all zero, so that the entry's shortcut is exercised). */
+/* The global strategy drawn once and finished per point gives what the per-point entry
+ * gives, bit for bit, in front of S, between U and S, and nothing behind U. */
+static void global_draws_finish_like_sample_point(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 5);
+    enum { K = 40 };
+    const int cap = lumis_luminaire_capacity(f.lum, K);
+    double u[2 * 64];
+    lumis_luminaire_sample drawn[64], a[64], b[64];
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 8, 2);
+    for (int r = 0; r < 2 * cap; r++) u[r] = lumis_pcg32_double(&rng);
+    lumis_luminaire_query q = {0};
+    q.budget = K;
+    q.strategy = LUMIS_LUM_GLOBAL;
+    int nd = 0;
+    assert_int_equal(lumis_luminaire_global_draw(f.lum, &q, u, cap, drawn, &nd), LUMIS_OK);
+    assert_int_equal(nd, K);
+    const float zs[4] = {3.0f, 1.7f, 0.4f, -0.5f};
+    for (int z = 0; z < 4; z++) {
+        q.p = (lumis_vec3){0.3f, -0.2f, zs[z]};
+        int na = 0, nb = 0;
+        assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, cap, a, &na), LUMIS_OK);
+        assert_int_equal(lumis_luminaire_global_finish(f.lum, q.p, drawn, nd, b, &nb), LUMIS_OK);
+        assert_int_equal(na, nb);
+        assert_int_equal(na, zs[z] < 0.0f ? 0 : K);
+        if (na) assert_memory_equal(a, b, (size_t)na * sizeof a[0]);
+    }
+    q.strategy = LUMIS_LUM_RESTRICTED; /* only the global strategy can be drawn once */
+    assert_int_equal(lumis_luminaire_global_draw(f.lum, &q, u, cap, drawn, &nd),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    free_fixture(&f);
+}
+
 static void sample_point_draws_what_sample_image_draws(void **state)
 {
     (void)state;
@@ -768,6 +803,7 @@ int main(void)
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(sample_point_edge_cases),
         cmocka_unit_test(sample_point_draws_what_sample_image_draws),
+        cmocka_unit_test(global_draws_finish_like_sample_point),
         cmocka_unit_test(rigid_transform_round_trip),
         cmocka_unit_test(generated_luminaire_reproduces_its_emitter),
         cmocka_unit_test(malformed_descriptors_get_a_clear_error),

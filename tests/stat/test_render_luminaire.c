@@ -233,6 +233,53 @@ static void visibility(void **state)
     }
 }
 
+/* Every strategy, the global one drawn once per camera sample for all pixels included: the
+ * image depends on the seed and the sample count, not on passes or threads. */
+static void passes_and_threads_do_not_matter(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_BSPLINE, 9);
+    lumis_scene *s = make_scene(&IDENTITY, NULL, 0.0);
+    lumis_luminaire_instance in[2] = {{0}, {0}};
+    in[0].luminaire = in[1].luminaire = f.lum;
+    in[1].placement.t[0] = 0.4;
+    in[1].placement.r[0] = in[1].placement.r[4] = in[1].placement.r[8] = 1.0;
+    lumis_camera cam = {{2, 0.3f, 2}, {0, 0, 3}, {0, 1, 0}, 50.0f, 24, 16};
+    for (int strategy = LUMIS_LUM_RESTRICTED; strategy < LUMIS_LUM_STRATEGY_COUNT; strategy++) {
+        lumis_luminaire_lighting ll = {0};
+        ll.instances = in;
+        ll.count = 2;
+        ll.budget = 12;
+        ll.strategy = (lumis_luminaire_strategy)strategy;
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.luminaires = &ll;
+        d.seed = 3;
+        d.threads = 1;
+        d.spp = 6;
+        lumis_image *one = NULL, *split = NULL;
+        assert_int_equal(lumis_render(s, &d, &one, NULL), LUMIS_OK);
+        d.threads = 2;
+        lumis_render_job *job = NULL;
+        assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_OK);
+        assert_int_equal(lumis_render_job_run(job, 1), LUMIS_OK);
+        assert_int_equal(lumis_render_job_run(job, 2), LUMIS_OK);
+        assert_int_equal(lumis_render_job_run(job, 3), LUMIS_OK);
+        assert_int_equal(lumis_render_job_image(job, &split), LUMIS_OK);
+        lumis_render_job_destroy(job);
+        double sum = 0.0;
+        for (int k = 0; k < 3 * 24 * 16; k++) {
+            assert_true(one->pixels[k] == split->pixels[k]);
+            sum += one->pixels[k];
+        }
+        assert_true(sum > 0.0);
+        lumis_image_destroy(one);
+        lumis_image_destroy(split);
+    }
+    lumis_scene_destroy(s);
+    free_fixture(&f);
+}
+
 static void bad_lighting(void **state)
 {
     (void)state;
@@ -288,6 +335,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(pixels_are_unbiased),
         cmocka_unit_test(visibility),
+        cmocka_unit_test(passes_and_threads_do_not_matter),
         cmocka_unit_test(bad_lighting),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
