@@ -833,6 +833,70 @@ static void lights_export_parses_back(void **state)
     expect(a, 2, "would replace the map");
 }
 
+/* K = 2 on a map with a bright spot (the one EnvDirect), a dimmer strip 170 degrees away
+ * (emissive, but too far from the EnvDirect: its 32 pixels are given back to the
+ * EnvIndirect) and a brighter lower half, which keeps the EnvIndirect's cross off the strip. */
+static float two_spots(int i, int j, int c)
+{
+    (void)c;
+    if (i >= 20 && i < 26 && j >= 20 && j < 26) return 1000.0f;
+    if (i >= 80 && i < 96 && j >= 12 && j < 14) return 100.0f;
+    return j >= 32 ? 10.0f : 1.0f;
+}
+
+/* Picture pixels of the returned (magenta) and EnvDirect (orange) tints, read back linear. */
+static void count_tints(const char *png, int w, int h, int *magenta, int *orange)
+{
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_read(tu_path(png), NULL, &img, NULL), LUMIS_OK);
+    assert_int_equal(img->width, w);
+    assert_int_equal(img->height, h);
+    *magenta = *orange = 0;
+    for (int p = 0; p < w * h; p++) {
+        const float *q = img->pixels + 3 * p;
+        *magenta += q[0] > 0.6f && q[1] < 0.1f && q[2] > 0.6f;
+        *orange += q[0] > 0.6f && q[1] > 0.15f && q[1] < 0.4f && q[2] < 0.1f;
+    }
+    lumis_image_destroy(img);
+}
+
+/* lumis lights --png: emissive pixels of the EnvDirects in orange, emissive pixels given back
+ * to the EnvIndirects in magenta; --png-width draws at another size, and a picture smaller
+ * than the map still shows a spot smaller than one of its pixels. */
+static void lights_picture_marks_emissive_pixels(void **state)
+{
+    (void)state;
+    char a[2048], *out = NULL;
+    lumis_image *map = tu_image(128, 64, two_spots);
+    assert_int_equal(lumis_image_write(tu_path("spots.pfm"), map, NULL), LUMIS_OK);
+    lumis_image_destroy(map);
+    snprintf(a, sizeof a, "lights '%s' --method wu -k 2 --png '%s'", tu_path("spots.pfm"),
+             tu_path("spots.png"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    assert_non_null(strstr(out, "1 EnvDirects, 1 EnvIndirects"));
+    assert_non_null(strstr(out, "emissive pixels 68 "));
+    assert_non_null(strstr(out, "32 given back to the EnvIndirects"));
+    free(out);
+    int magenta = 0, orange = 0;
+    count_tints("spots.png", 128, 64, &magenta, &orange);
+    assert_int_equal(magenta, 32);
+    assert_true(orange > 0);
+    snprintf(a, sizeof a, "lights '%s' --method wu -k 2 --png '%s' --png-width 32",
+             tu_path("spots.pfm"), tu_path("small.png"));
+    expect(a, 0, NULL);
+    count_tints("small.png", 32, 16, &magenta, &orange);
+    /* 4 x 4 map pixels to a picture pixel: the strip is 4 wide, and half a row high (rows
+     * 12-13 of 12-15, which the pixel's centre, row 14, misses) */
+    assert_int_equal(magenta, 4);
+    snprintf(a, sizeof a, "lights '%s' --method median-cut -k 2 --png '%s' --png-width 256",
+             tu_path("spots.pfm"), tu_path("big.png"));
+    expect(a, 0, NULL);
+    count_tints("big.png", 256, 128, &magenta, &orange);
+    assert_int_equal(magenta + orange, 0); /* no emissive classes outside Wu's methods */
+    expect("lights sky:16x8 --method wu --png x.png --png-width 8", 2, "--png-width needs pixels");
+    expect("lights sky:16x8 --method wu --png-width 64", 2, "--png-width goes with --png");
+}
+
 static void compare_prints_every_metric(void **state)
 {
     (void)state;
@@ -1153,6 +1217,7 @@ int main(void)
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(lights_export_parses_back),
+        cmocka_unit_test(lights_picture_marks_emissive_pixels),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),

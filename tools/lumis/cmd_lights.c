@@ -9,7 +9,8 @@
 
 static const char usage[] =
     "usage: lumis lights MAP --method M [-k K] [--sets N] [--rotate DEG]\n"
-    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf] [--png OUT.png]\n\n"
+    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf]\n"
+    "                    [--png OUT.png [--png-width W]]\n\n"
     "Turns an environment map into K directional lights whose powers add up to the map's\n"
     "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
     "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
@@ -28,9 +29,11 @@ static const char usage[] =
     "                  (three.js, Babylon.js, Blender, game engines); intensity in lux for a\n"
     "                  map in cd/m^2\n"
     "  --png OUT       the map (auto exposure) with the regions' borders in cyan, the\n"
-    "                  EnvDirects' (emissive) pixels in orange and every light marked (red:\n"
-    "                  EnvDirect, green: EnvIndirect, white: a median-cut or variance-min\n"
-    "                  region)\n";
+    "                  EnvDirects' (emissive) pixels in orange, emissive pixels given back\n"
+    "                  to the EnvIndirects in magenta, and every light marked (red:\n"
+    "                  EnvDirect, green: EnvIndirect, white: a region of the other methods)\n"
+    "  --png-width W   the picture's width in pixels, height to the map's aspect (default:\n"
+    "                  the map's); borders and markers are drawn at this size\n";
 
 static void put(lumis_image *img, int x, int y, const float c[3])
 {
@@ -41,73 +44,144 @@ static void put(lumis_image *img, int x, int y, const float c[3])
     p[2] = c[2];
 }
 
-/* The picture of Wu's Fig. 4-5: the map, region borders, EnvDirect pixels tinted, lights
- * marked.  Colours are set relative to the exposure so they show after tone mapping. */
-static int write_picture(const char *path, const lumis_envmap *env, const lumis_light_set *set)
+/* What a map pixel shows under the tint: nothing, an emissive pixel of an EnvDirect (Eq. 1's
+ * Y > L_T, kept by k-means), or an emissive pixel given back to the EnvIndirects. */
+enum { PIC_PLAIN = 0, PIC_RETURNED = 1, PIC_DIRECT = 2 };
+
+static int pixel_class(const lumis_envmap *env, const int32_t *labels, const lumis_light *l,
+                       int count, double threshold, int i, int j)
+{
+    const int32_t a = labels[(size_t)j * (size_t)lumis_envmap_width(env) + (size_t)i];
+    if (a < 0 || a >= count) return PIC_PLAIN;
+    if (l[a].kind == LUMIS_LIGHT_ENV_DIRECT) return PIC_DIRECT;
+    if (l[a].kind != LUMIS_LIGHT_ENV_INDIRECT) return PIC_PLAIN;
+    /* Y as the decomposition weighs it (lumis__pixel_y on the scaled texel) */
+    const lumis_rgb c = lumis_envmap_texel(env, i, j);
+    const float y = (float)(0.2126 * (double)c.r + 0.7152 * (double)c.g + 0.0722 * (double)c.b);
+    return (double)y > threshold ? PIC_RETURNED : PIC_PLAIN;
+}
+
+/* The picture of Wu's Fig. 4-5, `pw` pixels wide (the map's aspect): the map (box-filtered
+ * when smaller, nearest when larger), region borders, emissive pixels tinted, lights marked.
+ * A picture pixel takes the strongest class of the map pixels it covers, so that a sun of a
+ * few pixels stays visible when the picture is smaller than the map; borders and markers are
+ * drawn at the picture's resolution and stay one line wide.  Colours are set relative to the
+ * exposure so they show after tone mapping. */
+static int write_picture(const char *path, const lumis_envmap *env, const lumis_light_set *set,
+                         int pw)
 {
     const int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    if (pw <= 0) pw = w;
+    int ph = (int)lround((double)pw * h / w);
+    if (ph < 1) ph = 1;
     lumis_image *img = NULL;
-    if (lumis_image_create(w, h, &img) != LUMIS_OK)
+    unsigned char *cls = malloc((size_t)pw * (size_t)ph);
+    int32_t *lab = malloc((size_t)pw * (size_t)ph * sizeof *lab);
+    if (!cls || !lab || lumis_image_create(pw, ph, &img) != LUMIS_OK) {
+        free(cls);
+        free(lab);
         return tool_runtime_error("%s: out of memory", path);
-    for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) {
-            lumis_rgb c = lumis_envmap_texel(env, i, j);
-            float *p = img->pixels + 3 * ((size_t)j * (size_t)w + (size_t)i);
-            p[0] = c.r;
-            p[1] = c.g;
-            p[2] = c.b;
+    }
+    int lw = 0, lh = 0;
+    const int32_t *labels = lumis_light_set_labels(set, &lw, &lh);
+    if (!labels || lw != w || lh != h) labels = NULL;
+    const lumis_light *l = NULL;
+    int count = 0;
+    lumis_light_set_get(set, 0, &l, &count);
+    const lumis_light_set_info *info = lumis_light_set_get_info(set);
+    const double threshold = info->method == LUMIS_LIGHTS_DECOMPOSITION && info->threshold > 0
+                                 ? info->threshold
+                                 : INFINITY;
+    for (int y = 0; y < ph; y++) {
+        /* the map pixels [i0, i1) x [j0, j1) under picture pixel (x, y); at least one */
+        const int j0 = (int)((long long)y * h / ph), j1e = (int)((long long)(y + 1) * h / ph);
+        const int j1 = j1e > j0 ? j1e : j0 + 1;
+        for (int x = 0; x < pw; x++) {
+            const int i0 = (int)((long long)x * w / pw), i1e = (int)((long long)(x + 1) * w / pw);
+            const int i1 = i1e > i0 ? i1e : i0 + 1;
+            double s[3] = {0, 0, 0};
+            int c = PIC_PLAIN;
+            for (int j = j0; j < j1; j++)
+                for (int i = i0; i < i1; i++) {
+                    const lumis_rgb t = lumis_envmap_texel(env, i, j);
+                    s[0] += t.r;
+                    s[1] += t.g;
+                    s[2] += t.b;
+                    if (labels && c < PIC_DIRECT) {
+                        const int k = pixel_class(env, labels, l, count, threshold, i, j);
+                        c = k > c ? k : c;
+                    }
+                }
+            const double n = (double)(j1 - j0) * (double)(i1 - i0);
+            float *p = img->pixels + 3 * ((size_t)y * (size_t)pw + (size_t)x);
+            for (int q = 0; q < 3; q++) p[q] = (float)(s[q] / n);
+            const size_t o = (size_t)y * (size_t)pw + (size_t)x;
+            cls[o] = (unsigned char)c;
+            /* the region at the picture pixel's centre */
+            const int ci = (int)(((long long)2 * x + 1) * w / (2 * (long long)pw)),
+                      cj = (int)(((long long)2 * y + 1) * h / (2 * (long long)ph));
+            lab[o] = labels ? labels[(size_t)cj * (size_t)w + (size_t)ci] : -1;
         }
+    }
     lumis_write_options wo = {0};
     wo.exposure_ev = tool_auto_exposure(img);
     wo.tonemap = LUMIS_TONEMAP_ACES;
     const float white = 2.0f * exp2f(-wo.exposure_ev);
-    int lw = 0, lh = 0;
-    const int32_t *labels = lumis_light_set_labels(set, &lw, &lh);
-    const lumis_light *l = NULL;
-    int count = 0;
-    lumis_light_set_get(set, 0, &l, &count);
-    if (labels && lw == w && lh == h) {
-        /* Blends with the pixel clamped to display white, so they show on a bright sky. */
-        const float orange[3] = {0.6f * white, 0.12f * white, 0.0f},
-                    cyan[3] = {0.0f, 0.35f * white, 0.6f * white};
-        for (int j = 0; j < h; j++)
-            for (int i = 0; i < w; i++) {
-                const int32_t a = labels[(size_t)j * (size_t)w + (size_t)i];
-                float *p = img->pixels + 3 * ((size_t)j * (size_t)w + (size_t)i);
-                const int right = labels[(size_t)j * (size_t)w + (size_t)((i + 1) % w)];
-                const int below = j + 1 < h ? labels[(size_t)(j + 1) * (size_t)w + (size_t)i] : a;
-                const float *tint = a != right || a != below ? cyan
-                                    : a >= 0 && a < count && l[a].kind == LUMIS_LIGHT_ENV_DIRECT
-                                        ? orange
-                                        : NULL;
-                if (tint)
-                    for (int c = 0; c < 3; c++) p[c] = 0.15f * fminf(p[c], 0.5f * white) + tint[c];
+    if (labels) {
+        /* Region borders replace the pixel; the tints keep a trace of it, clamped to display
+         * white so that they show on a bright sky. */
+        const float orange[3] = {0.5f * white, 0.08f * white, 0.0f},
+                    magenta[3] = {0.5f * white, 0.0f, 0.5f * white},
+                    cyan[3] = {0.0f, 0.5f * white, 0.9f * white};
+        for (int y = 0; y < ph; y++)
+            for (int x = 0; x < pw; x++) {
+                const size_t o = (size_t)y * (size_t)pw + (size_t)x;
+                const int32_t a = lab[o];
+                const int32_t right = lab[(size_t)y * (size_t)pw + (size_t)((x + 1) % pw)];
+                const int32_t below = y + 1 < ph ? lab[o + (size_t)pw] : a;
+                float *p = img->pixels + 3 * o;
+                const float *tint = cls[o] == PIC_DIRECT     ? orange
+                                    : cls[o] == PIC_RETURNED ? magenta
+                                                             : NULL;
+                if (a != right || a != below)
+                    for (int c = 0; c < 3; c++) p[c] = cyan[c];
+                else if (tint)
+                    for (int c = 0; c < 3; c++) p[c] = 0.05f * fminf(p[c], 0.5f * white) + tint[c];
             }
     }
-    const int arm = w >= 512 ? w / 256 : 2;
-    for (int k = 0; k < count; k++) {
-        int i = 0, j = 0;
-        lumis_envmap_dir_to_pixel(env, l[k].dir, &i, &j);
-        const float red[3] = {white, 0, 0}, green[3] = {0, white, 0},
-                    grey[3] = {white, white, white};
-        const float *c = l[k].kind == LUMIS_LIGHT_ENV_DIRECT     ? red
-                         : l[k].kind == LUMIS_LIGHT_ENV_INDIRECT ? green
-                                                                 : grey;
-        for (int d = -arm; d <= arm; d++)
-            for (int t = -1; t <= 1; t++) {
-                put(img, (i + d + w) % w, j + t * (arm > 2), c);
-                put(img, (i + t * (arm > 2) + w) % w, j + d, c);
-            }
-    }
+    /* Crosses 3 pixels thick from 256 pixels wide, their arms a 256th of the width (>= 3),
+     * outlined in black (all outlines first, so that no outline cuts a neighbour's cross). */
+    const int arm = pw / 256 > 3 ? pw / 256 : 3, thick = pw >= 256;
+    for (int pass = 0; pass < 2; pass++)
+        for (int k = 0; k < count; k++) {
+            int i = 0, j = 0;
+            lumis_envmap_dir_to_pixel(env, l[k].dir, &i, &j);
+            const int x = (int)(((long long)2 * i + 1) * pw / (2 * (long long)w)),
+                      y = (int)(((long long)2 * j + 1) * ph / (2 * (long long)h));
+            const float red[3] = {white, 0, 0}, green[3] = {0, white, 0},
+                        grey[3] = {white, white, white}, black[3] = {0, 0, 0};
+            const float *c = pass == 0                               ? black
+                             : l[k].kind == LUMIS_LIGHT_ENV_DIRECT   ? red
+                             : l[k].kind == LUMIS_LIGHT_ENV_INDIRECT ? green
+                                                                     : grey;
+            const int e = pass == 0, t1 = thick + e;
+            for (int d = -arm - e; d <= arm + e; d++)
+                for (int t = -t1; t <= t1; t++) {
+                    put(img, (x + d + pw) % pw, y + t, c);
+                    put(img, (x + t + pw) % pw, y + d, c);
+                }
+        }
     lumis_status st = tool_write_image(path, img, &wo);
     lumis_image_destroy(img);
+    free(cls);
+    free(lab);
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }
 
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
-    int k = 0, sets = 0, masks = 0;
+    int k = 0, sets = 0, masks = 0, png_width = 0;
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -138,6 +212,10 @@ int cmd_lights(int argc, char **argv)
             gltf = v;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
             png = v;
+        } else if (tool_option(argc, argv, &i, "--png-width", &v)) {
+            if (!tool_parse_int(v, 16, 16384, &x))
+                return tool_bad_value("lights", "--png-width", v, "needs pixels in [16, 16384]");
+            png_width = (int)x;
         } else if (strcmp(argv[i], "--masks") == 0) {
             masks = 1;
         } else if (argv[i][0] != '-' && !map) {
@@ -149,6 +227,7 @@ int cmd_lights(int argc, char **argv)
     if (!map) return tool_usage_error("lights", "no map given");
     if (!method) return tool_usage_error("lights", "--method M is required");
     if (masks && !json) return tool_usage_error("lights", "--masks goes with --json OUT");
+    if (png_width && !png) return tool_usage_error("lights", "--png-width goes with --png OUT");
     tool_files files = {0};
     tool_files_input(&files, "map", map);
     tool_files_output(&files, "--json", json, TOOL_OUT_FILE);
@@ -171,6 +250,9 @@ int cmd_lights(int argc, char **argv)
         for (int c = 0; c < 3; c++) total[c] += l[q].power[c];
     printf("%s: %d lights by %s (%d EnvDirects, %d EnvIndirects), %d sets, built in %.2f ms\n", map,
            count, method, info->direct, info->indirect, lumis_light_set_sets(set), info->build_ms);
+    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
+        printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
+               info->emissive_pixels, info->threshold, info->returned_pixels);
     printf("total power (RGB) %.6g %.6g %.6g\n", total[0], total[1], total[2]);
     printf("%5s %-13s %9s %9s %9s %12s %12s %12s %10s %9s\n", "light", "kind", "x", "y", "z",
            "power r", "power g", "power b", "sr", "extent");
@@ -188,7 +270,7 @@ int cmd_lights(int argc, char **argv)
     eo.errors = tool_errors;
     if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
         (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
-        (png && write_picture(png, env, set) != EXIT_OK))
+        (png && write_picture(png, env, set, png_width) != EXIT_OK))
         goto done;
     rc = fflush(stdout) == 0 ? EXIT_OK : tool_runtime_error("write error on stdout");
 done:
