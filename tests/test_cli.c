@@ -1045,11 +1045,27 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     assert_int_equal(run(a, NULL, &err), 0);
     assert_non_null(strstr(err, "18 items (18 in this shard, 18 to render)"));
     assert_non_null(strstr(err, "loaded 2 maps ("));
-    assert_non_null(strstr(err, "warning: the reference has 128 spp"));
-    free(err);
     char p[4096];
     snprintf(p, sizeof p, "%s/results.csv", tu_path("b"));
     assert_int_equal(count_lines(p), 19); /* header + 18 items */
+    /* The noisy-reference warning: exactly when an item reached more than 128 / 4 spp (the
+     * equal-time items' spp depend on the machine's load; column 5 of the CSV). */
+    {
+        size_t n = 0;
+        char *csv = (char *)tu_read_file(p, &n), *save = NULL;
+        int most = 0;
+        for (char *line = strtok_r(csv, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+            const char *f = line;
+            for (int c = 0; c < 4 && f; c++) f = strchr(f, ',') ? strchr(f, ',') + 1 : NULL;
+            if (f && atoi(f) > most) most = atoi(f);
+        }
+        free(csv);
+        if (most > 32)
+            assert_non_null(strstr(err, "warning: the reference has 128 spp"));
+        else
+            assert_null(strstr(err, "warning: the reference has"));
+    }
+    free(err);
     const char *files[] = {"results.json", "results.md", "index.html", "convergence-spheres.svg"};
     for (int k = 0; k < 4; k++) assert_int_equal(tu_count_entries(tu_path("b"), files[k]), 1);
     snprintf(p, sizeof p, "%s/results.md", tu_path("b"));
