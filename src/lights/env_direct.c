@@ -93,7 +93,13 @@ static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3],
     }
 }
 
-/* ---- spherical k-means ------------------------------------------------------------------ */
+/* ---- spherical k-means ------------------------------------------------------------------
+ *
+ * Work per step is proportional to the pixels of the clusters that can change, not to
+ * all emissive pixels: clusters keep member lists, their sums, objective terms and a bound
+ * R_a on their members' distance to the centre are recomputed only when they change, and
+ * an assignment step looks only at clusters whose centre moved or that a moved centre
+ * came near (docs/lights.md, "k-means"). */
 
 static double dist3(const double *a, const double *b)
 {
@@ -101,42 +107,78 @@ static double dist3(const double *a, const double *b)
     return sqrt(x * x + y * y + z * z);
 }
 
-/* sum w |d - c_a|^2 / 2 = sum w (1 - d . c_a) for unit vectors, without cancellation. */
-static double objective(const lumis__decomp *dc, const int32_t *a, const double *c)
+static double dot3(const double *a, const double *b)
 {
-    double J = 0.0;
-    for (int i = 0; i < dc->m; i++) {
-        double r = dist3(dc->em_d + 3 * (size_t)i, c + 3 * (size_t)a[i]);
-        J += dc->em_w[i] * 0.5 * r * r;
-    }
-    return J;
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* Nearest centre by dot product; `keep` (or -1) wins ties and anything not strictly
- * better.  Returns the best and its runner-up's distances. */
-static int nearest(const double *x, const double *c, int k, int keep, double *d1, double *d2)
+/* An upper bound of the chord |x - c| from the computed dot product of unit vectors x and
+ * c: |x - c|^2 = |x|^2 + |c|^2 - 2 x.c, the norms within 4e-16 of 1 and the dot product
+ * within 4e-16; 4e-15 covers all of it with room to spare. */
+static double chord_bound(double dot)
 {
-    int best = keep;
-    double bd = keep >= 0 ? x[0] * c[3 * keep] + x[1] * c[3 * keep + 1] + x[2] * c[3 * keep + 2]
-                          : -INFINITY;
-    for (int j = 0; j < k; j++) {
-        if (j == keep) continue;
-        const double *q = c + 3 * (size_t)j;
-        double dt = x[0] * q[0] + x[1] * q[1] + x[2] * q[2];
-        if (dt > bd) {
-            bd = dt;
-            best = j;
+    return sqrt(fmax(0.0, 2.0 - 2.0 * dot) + 4e-15);
+}
+
+/* Margin of the candidate test: a centre farther than 2 R_a + KM_MARGIN from c_a is
+ * farther from every member of a than c_a by at least KM_MARGIN, i.e. its squared chord
+ * exceeds c_a's by >= KM_MARGIN^2 = 1e-12, and its dot product falls short of c_a's by
+ * >= 5e-13, far beyond rounding: the float comparison could never pick it. */
+#define KM_MARGIN 1e-6
+
+typedef struct km_state {
+    int m, k;
+    const double *x, *w; /* unit directions (3 m) and weights (m) */
+    double *c;           /* 3 k centres */
+    int32_t *a;          /* m: cluster of each pixel */
+    int32_t *head;       /* k: first member, -1 if none */
+    int32_t *next, *prev;
+    double *J; /* k: sum over the members of w |x - c|^2 / 2 */
+    double *R; /* k: bound of the members' chord distance to the centre */
+} km_state;
+
+static void km_link(km_state *s, int i, int b)
+{
+    s->a[i] = b;
+    s->prev[i] = -1;
+    s->next[i] = s->head[b];
+    if (s->head[b] >= 0) s->prev[s->head[b]] = i;
+    s->head[b] = i;
+}
+
+static void km_unlink(km_state *s, int i)
+{
+    int b = s->a[i];
+    if (s->prev[i] >= 0)
+        s->next[s->prev[i]] = s->next[i];
+    else
+        s->head[b] = s->next[i];
+    if (s->next[i] >= 0) s->prev[s->next[i]] = s->prev[i];
+}
+
+/* Objective term of cluster j; with `bound`, also R_j from its members. */
+static void km_cluster_terms(km_state *s, int j, int bound)
+{
+    const double *cj = s->c + 3 * (size_t)j;
+    double J = 0.0, mind = 2.0;
+    for (int i = s->head[j]; i >= 0; i = s->next[i]) {
+        const double *x = s->x + 3 * (size_t)i;
+        double dx = x[0] - cj[0], dy = x[1] - cj[1], dz = x[2] - cj[2];
+        J += s->w[i] * 0.5 * (dx * dx + dy * dy + dz * dz);
+        if (bound) {
+            double d = dot3(x, cj);
+            if (d < mind) mind = d;
         }
     }
-    double second = INFINITY;
-    for (int j = 0; j < k; j++)
-        if (j != best) {
-            double r = dist3(x, c + 3 * (size_t)j);
-            if (r < second) second = r;
-        }
-    *d1 = dist3(x, c + 3 * (size_t)best);
-    *d2 = second;
-    return best;
+    s->J[j] = J;
+    if (bound) s->R[j] = s->head[j] >= 0 ? chord_bound(mind) : 0.0;
+}
+
+static double km_objective(const km_state *s)
+{
+    double J = 0.0;
+    for (int j = 0; j < s->k; j++) J += s->J[j];
+    return J;
 }
 
 static lumis_status push_objective(lumis__direct_result *r, int *cap, double J)
@@ -159,85 +201,135 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                            int32_t *a, lumis__direct_result *res)
 {
     const int m = dc->m;
-    const double slack = 1e-12; /* bounds stay bounds despite rounding */
-    double *u = malloc((size_t)m * sizeof(double)), *l = malloc((size_t)m * sizeof(double));
-    double *sum = malloc(3 * (size_t)k * sizeof(double)),
-           *delta = malloc((size_t)k * sizeof(double));
-    double *half = malloc((size_t)k * sizeof(double));
+    km_state s = {m, k, dc->em_d, dc->em_w, c, a, NULL, NULL, NULL, NULL, NULL};
+    s.head = malloc((size_t)k * sizeof(int32_t));
+    s.next = malloc((size_t)m * sizeof(int32_t));
+    s.prev = malloc((size_t)m * sizeof(int32_t));
+    s.J = malloc((size_t)k * sizeof(double));
+    s.R = malloc((size_t)k * sizeof(double));
+    double *delta = malloc((size_t)k * sizeof(double));
+    unsigned char *changed = malloc((size_t)k);
+    int32_t *cand = malloc((size_t)k * sizeof(int32_t));
+    int32_t *moves = malloc(2 * (size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!u || !l || !sum || !delta || !half) st = LUMIS_ERR_OUT_OF_MEMORY;
-    for (int i = 0; st == LUMIS_OK && i < m; i++)
-        a[i] = nearest(dc->em_d + 3 * (size_t)i, c, k, -1, &u[i], &l[i]);
-    if (st == LUMIS_OK) st = push_objective(res, &cap, objective(dc, a, c));
+    if (!s.head || !s.next || !s.prev || !s.J || !s.R || !delta || !changed || !cand || !moves)
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) {
+        /* The seeds' assignment: nearest centre by dot product, the first on ties. */
+        for (int j = 0; j < k; j++) s.head[j] = -1;
+        for (int i = m - 1; i >= 0; i--) { /* linked in index order */
+            const double *x = s.x + 3 * (size_t)i;
+            int best = -1;
+            double bd = -INFINITY;
+            for (int j = 0; j < k; j++) {
+                double dt = dot3(x, c + 3 * (size_t)j);
+                if (dt > bd) {
+                    bd = dt;
+                    best = j;
+                }
+            }
+            km_link(&s, i, best);
+        }
+        for (int j = 0; j < k; j++) {
+            km_cluster_terms(&s, j, 1);
+            changed[j] = 1;
+        }
+        st = push_objective(res, &cap, km_objective(&s));
+    }
     res->iterations = 1;
     res->converged = !p->kmeans;
     const int limit = p->max_iterations > 0 ? p->max_iterations : KMEANS_HARD_LIMIT;
     int updates = 0;
     while (st == LUMIS_OK && p->kmeans) {
-        /* Update: each centre to its cluster's normalised weighted mean direction, which
-         * minimises the cluster's sum w |d - c|^2 over unit c. */
-        memset(sum, 0, 3 * (size_t)k * sizeof(double));
-        for (int i = 0; i < m; i++)
-            for (int q = 0; q < 3; q++)
-                sum[3 * a[i] + q] += dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)q];
-        double dmax = 0.0, dmax2 = 0.0;
-        int imax = -1;
+        /* Update: each changed cluster's centre to its normalised weighted mean direction,
+         * which minimises the cluster's sum w |d - c|^2 over unit c.  An unchanged
+         * cluster would get the very same centre. */
+        int nmoved = 0;
         for (int j = 0; j < k; j++) {
-            double *s = sum + 3 * (size_t)j, len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
             delta[j] = 0.0;
+            if (!changed[j]) continue;
+            changed[j] = 0;
+            double sx = 0.0, sy = 0.0, sz = 0.0;
+            for (int i = s.head[j]; i >= 0; i = s.next[i]) {
+                const double *x = s.x + 3 * (size_t)i, wi = s.w[i];
+                sx += wi * x[0];
+                sy += wi * x[1];
+                sz += wi * x[2];
+            }
+            double len = sqrt(sx * sx + sy * sy + sz * sz);
             if (!(len > 0.0)) continue; /* empty cluster: keeps its centre */
-            double nc[3] = {s[0] / len, s[1] / len, s[2] / len};
-            delta[j] = dist3(nc, c + 3 * (size_t)j);
-            memcpy(c + 3 * (size_t)j, nc, sizeof nc);
-            if (delta[j] > dmax) {
-                dmax2 = dmax;
-                dmax = delta[j];
-                imax = j;
-            } else if (delta[j] > dmax2) {
-                dmax2 = delta[j];
+            double nc[3] = {sx / len, sy / len, sz / len}, *cj = c + 3 * (size_t)j;
+            delta[j] = dist3(nc, cj);
+            memcpy(cj, nc, sizeof nc);
+            if (delta[j] > 0.0) {
+                km_cluster_terms(&s, j, 1);
+                nmoved++;
             }
         }
         updates++;
-        st = push_objective(res, &cap, objective(dc, a, c));
+        st = push_objective(res, &cap, km_objective(&s));
         if (st != LUMIS_OK || updates >= limit) break;
-        /* Assignment with Hamerly's bounds: u >= |x - c_a|, l <= distance to any other. */
-        for (int j = 0; j < k; j++) {
-            double best = INFINITY;
-            for (int q = 0; q < k; q++)
-                if (q != j) {
-                    double r = dist3(c + 3 * (size_t)j, c + 3 * (size_t)q);
-                    if (r < best) best = r;
+        /* Assignment.  The last step left every pixel with its nearest centre; only a
+         * centre that moved can change that.  A member x of cluster a has |x - c_a| <= R_a,
+         * so a centre b with |c_a - c_b| >= 2 R_a + margin cannot be nearer to it: a
+         * cluster is visited only if it moved (then every near centre is a candidate) or a
+         * moved centre is near (then only the moved ones are, since the others kept their
+         * order with c_a for every member). */
+        int nm = 0;
+        for (int ca = 0; nmoved > 0 && ca < k; ca++) {
+            const double *cc = c + 3 * (size_t)ca;
+            const int self = delta[ca] > 0.0;
+            int nc = 0;
+            for (int b = 0; b < k; b++)
+                if (b != ca && (self || delta[b] > 0.0) &&
+                    dist3(cc, c + 3 * (size_t)b) < 2.0 * s.R[ca] + KM_MARGIN)
+                    cand[nc++] = b;
+            if (nc == 0) continue;
+            for (int i = s.head[ca]; i >= 0; i = s.next[i]) {
+                const double *x = s.x + 3 * (size_t)i;
+                int best = ca;
+                double bd = dot3(x, cc);
+                for (int q = 0; q < nc; q++) {
+                    double dt = dot3(x, c + 3 * (size_t)cand[q]);
+                    if (dt > bd) { /* the current centre wins ties */
+                        bd = dt;
+                        best = cand[q];
+                    }
                 }
-            half[j] = 0.5 * best;
-        }
-        int changes = 0;
-        for (int i = 0; i < m; i++) {
-            u[i] += delta[a[i]] + slack;
-            l[i] -= (a[i] == imax ? dmax2 : dmax) + slack;
-            double bound = half[a[i]] > l[i] ? half[a[i]] : l[i];
-            if (u[i] <= bound) continue;
-            const double *x = dc->em_d + 3 * (size_t)i;
-            u[i] = dist3(x, c + 3 * (size_t)a[i]);
-            if (u[i] <= bound) continue;
-            int b = nearest(x, c, k, a[i], &u[i], &l[i]);
-            if (b != a[i]) {
-                changes++;
-                a[i] = b;
+                if (best != ca) {
+                    moves[2 * nm] = i;
+                    moves[2 * nm + 1] = best;
+                    nm++;
+                }
             }
         }
+        for (int q = 0; q < nm; q++) {
+            int i = moves[2 * q], b = moves[2 * q + 1];
+            changed[a[i]] = changed[b] = 1;
+            km_unlink(&s, i);
+            km_link(&s, i, b);
+            double r = chord_bound(dot3(s.x + 3 * (size_t)i, c + 3 * (size_t)b));
+            if (r > s.R[b]) s.R[b] = r; /* the leavers' R stays a bound */
+        }
+        for (int j = 0; j < k; j++)
+            if (changed[j]) km_cluster_terms(&s, j, 0);
         res->iterations++;
-        st = push_objective(res, &cap, objective(dc, a, c));
-        if (changes == 0) {
+        st = push_objective(res, &cap, km_objective(&s));
+        if (nm == 0) {
             res->converged = 1;
             break;
         }
     }
-    free(u);
-    free(l);
-    free(sum);
+    free(s.head);
+    free(s.next);
+    free(s.prev);
+    free(s.J);
+    free(s.R);
     free(delta);
-    free(half);
+    free(changed);
+    free(cand);
+    free(moves);
     return st;
 }
 
