@@ -117,7 +117,8 @@ static double dot3(const double *a, const double *b)
  * within 4e-16; 4e-15 covers all of it with room to spare. */
 static double chord_bound(double dot)
 {
-    return sqrt(fmax(0.0, 2.0 - 2.0 * dot) + 4e-15);
+    double t = 2.0 - 2.0 * dot;
+    return sqrt((t > 0.0 ? t : 0.0) + 4e-15);
 }
 
 /* Margin of the candidate test: a centre farther than 2 R_a + KM_MARGIN from c_a is
@@ -126,52 +127,114 @@ static double chord_bound(double dot)
  * >= 5e-13, far beyond rounding: the float comparison could never pick it. */
 #define KM_MARGIN 1e-6
 
+/* A lower bound of the chord from the computed dot product (see chord_bound). */
+static double chord_lower(double dot)
+{
+    double t = 2.0 - 2.0 * dot - 4e-15;
+    return sqrt(t > 0.0 ? t : 0.0);
+}
+
+/* A cluster's members, contiguous (structure of arrays), with each member's Hamerly
+ * bound kept lazily: slack = (lower bound of the distance to every other centre) - (upper
+ * bound of the distance to its own), valid when D[own] + G equalled base; since then its
+ * own centre moved by at most D[own] - (its share of base) and any other by at most the
+ * growth of G, so slack - (D[own] + G - base) is still a valid slack. */
+typedef struct km_cluster {
+    int n, cap;
+    int32_t *id;
+    double *x, *y, *z, *w, *slack, *base;
+} km_cluster;
+
 typedef struct km_state {
-    int m, k;
-    const double *x, *w; /* unit directions (3 m) and weights (m) */
-    double *c;           /* 3 k centres */
-    int32_t *a;          /* m: cluster of each pixel */
-    int32_t *head;       /* k: first member, -1 if none */
-    int32_t *next, *prev;
-    double *J; /* k: sum over the members of w |x - c|^2 / 2 */
-    double *R; /* k: bound of the members' chord distance to the centre */
+    int k;
+    km_cluster *cl;
+    int32_t *pos; /* m: index of each pixel in its cluster's arrays */
+    double *J;    /* k: sum over the members of w |x - c|^2 / 2 */
+    double *R;    /* k: bound of the members' chord distance to the centre */
+    double *D, G; /* k cumulative centre drifts, and the cumulative largest drift */
 } km_state;
 
-static void km_link(km_state *s, int i, int b)
+static lumis_status km_push(km_state *s, int j, int32_t i, const double v[6])
 {
-    s->a[i] = b;
-    s->prev[i] = -1;
-    s->next[i] = s->head[b];
-    if (s->head[b] >= 0) s->prev[s->head[b]] = i;
-    s->head[b] = i;
-}
-
-static void km_unlink(km_state *s, int i)
-{
-    int b = s->a[i];
-    if (s->prev[i] >= 0)
-        s->next[s->prev[i]] = s->next[i];
-    else
-        s->head[b] = s->next[i];
-    if (s->next[i] >= 0) s->prev[s->next[i]] = s->prev[i];
-}
-
-/* Objective term of cluster j; with `bound`, also R_j from its members. */
-static void km_cluster_terms(km_state *s, int j, int bound)
-{
-    const double *cj = s->c + 3 * (size_t)j;
-    double J = 0.0, mind = 2.0;
-    for (int i = s->head[j]; i >= 0; i = s->next[i]) {
-        const double *x = s->x + 3 * (size_t)i;
-        double dx = x[0] - cj[0], dy = x[1] - cj[1], dz = x[2] - cj[2];
-        J += s->w[i] * 0.5 * (dx * dx + dy * dy + dz * dz);
-        if (bound) {
-            double d = dot3(x, cj);
-            if (d < mind) mind = d;
-        }
+    km_cluster *c = &s->cl[j];
+    if (c->n == c->cap) {
+        int nc = c->cap ? 2 * c->cap : 16;
+        int32_t *id = realloc(c->id, (size_t)nc * sizeof(int32_t));
+        if (id) c->id = id;
+        double *d = id ? realloc(c->x, 6 * (size_t)nc * sizeof(double)) : NULL;
+        if (!d) return LUMIS_ERR_OUT_OF_MEMORY;
+        /* one block of six arrays of nc entries: move the old ones to their new places */
+        for (size_t f = 5; f >= 1; f--) /* field f: from f cap to f nc, last field first */
+            memmove(d + f * (size_t)nc, d + f * (size_t)c->cap, (size_t)c->n * sizeof(double));
+        c->x = d;
+        c->y = d + nc;
+        c->z = d + 2 * (size_t)nc;
+        c->w = d + 3 * (size_t)nc;
+        c->slack = d + 4 * (size_t)nc;
+        c->base = d + 5 * (size_t)nc;
+        c->cap = nc;
     }
-    s->J[j] = J;
-    if (bound) s->R[j] = s->head[j] >= 0 ? chord_bound(mind) : 0.0;
+    int q = c->n++;
+    c->id[q] = i;
+    c->x[q] = v[0];
+    c->y[q] = v[1];
+    c->z[q] = v[2];
+    c->w[q] = v[3];
+    c->slack[q] = v[4];
+    c->base[q] = v[5];
+    s->pos[i] = q;
+    return LUMIS_OK;
+}
+
+/* Removes member q of cluster j (the last member takes its place). */
+static void km_remove(km_state *s, int j, int q)
+{
+    km_cluster *c = &s->cl[j];
+    int last = --c->n;
+    if (q == last) return;
+    c->id[q] = c->id[last];
+    c->x[q] = c->x[last];
+    c->y[q] = c->y[last];
+    c->z[q] = c->z[last];
+    c->w[q] = c->w[last];
+    c->slack[q] = c->slack[last];
+    c->base[q] = c->base[last];
+    s->pos[c->id[q]] = q;
+}
+
+/* Objective term of cluster j; with `bound`, also R_j from its members.  Sums run in
+ * four interleaved partial sums (fixed order): a single chain of additions was latency
+ * bound and this runs once or twice per cluster and step. */
+static void km_cluster_terms(km_state *s, const double *c, int j, int bound)
+{
+    const km_cluster *cl = &s->cl[j];
+    const double c0 = c[3 * j], c1 = c[3 * j + 1], c2 = c[3 * j + 2];
+    double J[4] = {0.0, 0.0, 0.0, 0.0}, mind;
+    int q = 0;
+    for (; q + 4 <= cl->n; q += 4)
+        for (int u = 0; u < 4; u++) {
+            double dx = cl->x[q + u] - c0, dy = cl->y[q + u] - c1, dz = cl->z[q + u] - c2;
+            J[u] += cl->w[q + u] * 0.5 * (dx * dx + dy * dy + dz * dz);
+        }
+    for (; q < cl->n; q++) {
+        double dx = cl->x[q] - c0, dy = cl->y[q] - c1, dz = cl->z[q] - c2;
+        J[0] += cl->w[q] * 0.5 * (dx * dx + dy * dy + dz * dz);
+    }
+    if (bound) {
+        double mn[4] = {2.0, 2.0, 2.0, 2.0};
+        for (q = 0; q + 4 <= cl->n; q += 4)
+            for (int u = 0; u < 4; u++) {
+                double d = cl->x[q + u] * c0 + cl->y[q + u] * c1 + cl->z[q + u] * c2;
+                mn[u] = d < mn[u] ? d : mn[u];
+            }
+        for (; q < cl->n; q++) {
+            double d = cl->x[q] * c0 + cl->y[q] * c1 + cl->z[q] * c2;
+            mn[0] = d < mn[0] ? d : mn[0];
+        }
+        mind = fmin(fmin(mn[0], mn[1]), fmin(mn[2], mn[3]));
+        s->R[j] = cl->n > 0 ? chord_bound(mind) : 0.0;
+    }
+    s->J[j] = (J[0] + J[1]) + (J[2] + J[3]);
 }
 
 static double km_objective(const km_state *s)
@@ -197,42 +260,54 @@ static lumis_status push_objective(lumis__direct_result *r, int *cap, double J)
 /* Safety net for floating-point cycling; the exact algorithm cannot cycle (docs). */
 #define KMEANS_HARD_LIMIT 100000
 
+typedef struct km_move {
+    int32_t i, to;
+    double slack;
+} km_move;
+
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,
                            int32_t *a, lumis__direct_result *res)
 {
     const int m = dc->m;
-    km_state s = {m, k, dc->em_d, dc->em_w, c, a, NULL, NULL, NULL, NULL, NULL};
-    s.head = malloc((size_t)k * sizeof(int32_t));
-    s.next = malloc((size_t)m * sizeof(int32_t));
-    s.prev = malloc((size_t)m * sizeof(int32_t));
+    km_state s;
+    memset(&s, 0, sizeof s);
+    s.k = k;
+    s.cl = calloc((size_t)k, sizeof *s.cl);
+    s.pos = malloc((size_t)m * sizeof(int32_t));
     s.J = malloc((size_t)k * sizeof(double));
     s.R = malloc((size_t)k * sizeof(double));
+    s.D = calloc((size_t)k, sizeof(double));
     double *delta = malloc((size_t)k * sizeof(double));
     unsigned char *changed = malloc((size_t)k);
-    int32_t *cand = malloc((size_t)k * sizeof(int32_t));
-    int32_t *moves = malloc(2 * (size_t)m * sizeof(int32_t));
+    int32_t *nb = malloc((size_t)k * sizeof(int32_t));
+    km_move *moves = malloc((size_t)m * sizeof *moves);
+    int32_t *fail = malloc((size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!s.head || !s.next || !s.prev || !s.J || !s.R || !delta || !changed || !cand || !moves)
+    if (!s.cl || !s.pos || !s.J || !s.R || !s.D || !delta || !changed || !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
-    if (st == LUMIS_OK) {
-        /* The seeds' assignment: nearest centre by dot product, the first on ties. */
-        for (int j = 0; j < k; j++) s.head[j] = -1;
-        for (int i = m - 1; i >= 0; i--) { /* linked in index order */
-            const double *x = s.x + 3 * (size_t)i;
-            int best = -1;
-            double bd = -INFINITY;
-            for (int j = 0; j < k; j++) {
-                double dt = dot3(x, c + 3 * (size_t)j);
-                if (dt > bd) {
-                    bd = dt;
-                    best = j;
-                }
-            }
-            km_link(&s, i, best);
-        }
+    /* The seeds' assignment: nearest centre by dot product, the first on ties. */
+    for (int i = 0; st == LUMIS_OK && i < m; i++) {
+        const double *x = dc->em_d + 3 * (size_t)i;
+        int best = -1;
+        double bd = -INFINITY, sec = -INFINITY;
         for (int j = 0; j < k; j++) {
-            km_cluster_terms(&s, j, 1);
+            double dt = dot3(x, c + 3 * (size_t)j);
+            if (dt > bd) {
+                sec = bd;
+                bd = dt;
+                best = j;
+            } else if (dt > sec) {
+                sec = dt;
+            }
+        }
+        a[i] = best;
+        double v[6] = {x[0], x[1], x[2], dc->em_w[i], chord_lower(sec) - chord_bound(bd), 0.0};
+        st = km_push(&s, best, i, v);
+    }
+    if (st == LUMIS_OK) {
+        for (int j = 0; j < k; j++) {
+            km_cluster_terms(&s, c, j, 1);
             changed[j] = 1;
         }
         st = push_objective(res, &cap, km_objective(&s));
@@ -246,74 +321,114 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
          * which minimises the cluster's sum w |d - c|^2 over unit c.  An unchanged
          * cluster would get the very same centre. */
         int nmoved = 0;
+        double dmax = 0.0;
         for (int j = 0; j < k; j++) {
             delta[j] = 0.0;
             if (!changed[j]) continue;
             changed[j] = 0;
-            double sx = 0.0, sy = 0.0, sz = 0.0;
-            for (int i = s.head[j]; i >= 0; i = s.next[i]) {
-                const double *x = s.x + 3 * (size_t)i, wi = s.w[i];
-                sx += wi * x[0];
-                sy += wi * x[1];
-                sz += wi * x[2];
+            const km_cluster *cl = &s.cl[j];
+            double px[2] = {0.0, 0.0}, py[2] = {0.0, 0.0}, pz[2] = {0.0, 0.0};
+            int q = 0;
+            for (; q + 2 <= cl->n; q += 2)
+                for (int u = 0; u < 2; u++) {
+                    px[u] += cl->w[q + u] * cl->x[q + u];
+                    py[u] += cl->w[q + u] * cl->y[q + u];
+                    pz[u] += cl->w[q + u] * cl->z[q + u];
+                }
+            if (q < cl->n) {
+                px[0] += cl->w[q] * cl->x[q];
+                py[0] += cl->w[q] * cl->y[q];
+                pz[0] += cl->w[q] * cl->z[q];
             }
+            const double sx = px[0] + px[1], sy = py[0] + py[1], sz = pz[0] + pz[1];
             double len = sqrt(sx * sx + sy * sy + sz * sz);
             if (!(len > 0.0)) continue; /* empty cluster: keeps its centre */
             double nc[3] = {sx / len, sy / len, sz / len}, *cj = c + 3 * (size_t)j;
             delta[j] = dist3(nc, cj);
             memcpy(cj, nc, sizeof nc);
             if (delta[j] > 0.0) {
-                km_cluster_terms(&s, j, 1);
+                km_cluster_terms(&s, c, j, 1);
+                s.D[j] += delta[j];
+                dmax = delta[j] > dmax ? delta[j] : dmax;
                 nmoved++;
             }
         }
+        s.G += dmax;
         updates++;
         st = push_objective(res, &cap, km_objective(&s));
         if (st != LUMIS_OK || updates >= limit) break;
         /* Assignment.  The last step left every pixel with its nearest centre; only a
          * centre that moved can change that.  A member x of cluster a has |x - c_a| <= R_a,
-         * so a centre b with |c_a - c_b| >= 2 R_a + margin cannot be nearer to it: a
-         * cluster is visited only if it moved (then every near centre is a candidate) or a
-         * moved centre is near (then only the moved ones are, since the others kept their
-         * order with c_a for every member). */
+         * so a centre b with |c_a - c_b| >= 2 R_a + margin cannot be nearer to it (nor,
+         * by the margin, win the float comparison): a cluster is visited only if it moved
+         * or a moved centre is near, and then only its members whose lazy Hamerly bound
+         * fails are compared with the near centres. */
         int nm = 0;
         for (int ca = 0; nmoved > 0 && ca < k; ca++) {
             const double *cc = c + 3 * (size_t)ca;
-            const int self = delta[ca] > 0.0;
-            int nc = 0;
-            for (int b = 0; b < k; b++)
-                if (b != ca && (self || delta[b] > 0.0) &&
-                    dist3(cc, c + 3 * (size_t)b) < 2.0 * s.R[ca] + KM_MARGIN)
-                    cand[nc++] = b;
-            if (nc == 0) continue;
-            for (int i = s.head[ca]; i >= 0; i = s.next[i]) {
-                const double *x = s.x + 3 * (size_t)i;
+            const double reach = 2.0 * s.R[ca] + KM_MARGIN;
+            int nn = 0, need = delta[ca] > 0.0;
+            double far = INFINITY;
+            for (int b = 0; b < k; b++) {
+                if (b == ca) continue;
+                double r = dist3(cc, c + 3 * (size_t)b);
+                if (r < reach) {
+                    nb[nn++] = b;
+                    need |= delta[b] > 0.0;
+                } else if (r < far) {
+                    far = r;
+                }
+            }
+            if (!need) continue;
+            km_cluster *cl = &s.cl[ca];
+            const double now = s.D[ca] + s.G;
+            int nf = 0; /* the members whose bound fails, gathered without branches */
+            for (int q = 0; q < cl->n; q++) {
+                fail[nf] = q;
+                nf += !(cl->slack[q] - (now - cl->base[q]) > KM_MARGIN);
+            }
+            for (int f = 0; f < nf; f++) {
+                const int q = fail[f];
+                const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
+                const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
                 int best = ca;
-                double bd = dot3(x, cc);
-                for (int q = 0; q < nc; q++) {
-                    double dt = dot3(x, c + 3 * (size_t)cand[q]);
+                double bd = da, sec = -INFINITY;
+                for (int t = 0; t < nn; t++) {
+                    const double *cb = c + 3 * (size_t)nb[t];
+                    double dt = x0 * cb[0] + x1 * cb[1] + x2 * cb[2];
                     if (dt > bd) { /* the current centre wins ties */
+                        sec = bd;
                         bd = dt;
-                        best = cand[q];
+                        best = nb[t];
+                    } else if (dt > sec) {
+                        sec = dt;
                     }
                 }
-                if (best != ca) {
-                    moves[2 * nm] = i;
-                    moves[2 * nm + 1] = best;
-                    nm++;
+                /* centres beyond the reach: at least far - |x - c_a| away */
+                double lb = fmin(chord_lower(sec), far - chord_bound(da));
+                double slack = lb - chord_bound(bd);
+                if (best == ca) {
+                    cl->slack[q] = slack;
+                    cl->base[q] = now;
+                } else {
+                    moves[nm++] = (km_move){cl->id[q], best, slack};
                 }
             }
         }
-        for (int q = 0; q < nm; q++) {
-            int i = moves[2 * q], b = moves[2 * q + 1];
-            changed[a[i]] = changed[b] = 1;
-            km_unlink(&s, i);
-            km_link(&s, i, b);
-            double r = chord_bound(dot3(s.x + 3 * (size_t)i, c + 3 * (size_t)b));
-            if (r > s.R[b]) s.R[b] = r; /* the leavers' R stays a bound */
+        for (int t = 0; st == LUMIS_OK && t < nm; t++) {
+            const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
+            const km_cluster *cl = &s.cl[from];
+            double v[6] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack, s.D[to] + s.G};
+            changed[from] = changed[to] = 1;
+            km_remove(&s, from, q);
+            a[i] = to;
+            st = km_push(&s, to, i, v);
+            double r = chord_bound(v[0] * c[3 * to] + v[1] * c[3 * to + 1] + v[2] * c[3 * to + 2]);
+            if (r > s.R[to]) s.R[to] = r; /* the leavers' R stays a bound */
         }
+        if (st != LUMIS_OK) break;
         for (int j = 0; j < k; j++)
-            if (changed[j]) km_cluster_terms(&s, j, 0);
+            if (changed[j]) km_cluster_terms(&s, c, j, 0);
         res->iterations++;
         st = push_objective(res, &cap, km_objective(&s));
         if (nm == 0) {
@@ -321,15 +436,20 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             break;
         }
     }
-    free(s.head);
-    free(s.next);
-    free(s.prev);
+    for (int j = 0; s.cl && j < k; j++) {
+        free(s.cl[j].id);
+        free(s.cl[j].x);
+    }
+    free(s.cl);
+    free(s.pos);
     free(s.J);
     free(s.R);
+    free(s.D);
     free(delta);
     free(changed);
-    free(cand);
+    free(nb);
     free(moves);
+    free(fail);
     return st;
 }
 
