@@ -36,6 +36,98 @@ static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
     return out;
 }
 
+/* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
+ * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
+ * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
+ * fixed pairwise tree and the groups are added in order. */
+static double row_luminance(const float *restrict px, float *restrict yr, int w, double sc,
+                            float *ymax)
+{
+    enum { G = 16 };
+    double row = 0.0;
+    float mx[G];
+    for (int k = 0; k < G; k++) mx[k] = *ymax;
+    int i = 0;
+    for (; i + G <= w; i += G, px += 3 * G) {
+        double d[3 * G], v[G];
+        for (int k = 0; k < 3 * G; k++) d[k] = px[k];
+        for (int k = 0; k < G; k++) {
+            float f = (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] +
+                                    0.0722 * d[3 * k + 2]));
+            yr[i + k] = f;
+            mx[k] = f > mx[k] ? f : mx[k];
+            v[k] = f;
+        }
+        for (int k = 0; k < 8; k++) v[k] += v[k + 8];
+        for (int k = 0; k < 4; k++) v[k] += v[k + 4];
+        row += (v[0] + v[2]) + (v[1] + v[3]);
+    }
+    for (; i < w; i++, px += 3) {
+        float f = lumis__pixel_y(px, sc);
+        yr[i] = f;
+        mx[0] = f > mx[0] ? f : mx[0];
+        row += f;
+    }
+    for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
+    return row;
+}
+
+/* One pixel of indirect_rect: its terms (zeros unless it is non-emissive) into s. */
+static inline void pixel_terms(const float *row, const float *yr, int32_t *lab,
+                               const lumis__geom *g, int i, int32_t label, double s[8], int *n)
+{
+    const int in = lab[i] == -1;
+    const double mk = in, v = (double)yr[i] * mk;
+    const float *px = row + (size_t)i * 3;
+    s[0] += (double)px[0] * mk;
+    s[1] += (double)px[1] * mk;
+    s[2] += (double)px[2] * mk;
+    s[3] += v;
+    s[4] += v * g->cs[i];
+    s[5] += v * g->cc[i];
+    s[6] += g->cs[i] * mk;
+    s[7] += g->cc[i] * mk;
+    lab[i] = in ? label : lab[i];
+    *n += in;
+}
+
+/* lumis__acc_rect for an EnvIndirect: labels the non-emissive pixels (label -1) of r and
+ * adds them to acc, reading each pixel's luminance from y instead of recomputing it.  A
+ * pixel of another label is added as zeros (multiplied by a 0/1 mask, exact for finite
+ * values), so the loop has no branch to mispredict; two interleaved accumulators per sum
+ * halve the add-latency chains. */
+static void indirect_rect(const lumis__geom *g, const lumis_envmap *env, const float *y,
+                          int32_t *labels, lumis__rect r, int32_t label, lumis__acc *acc)
+{
+    const int w = g->w;
+    for (int j = r.y0; j < r.y1; j++) {
+        const size_t o = (size_t)j * (size_t)w;
+        const float *row = env->pixels + o * 3, *yr = y + o;
+        int32_t *lab = labels + o;
+        double s0[8] = {0, 0, 0, 0, 0, 0, 0, 0}, s1[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        int n = 0, i = r.x0;
+        for (; i + 1 < r.x1; i += 2) {
+            pixel_terms(row, yr, lab, g, i, label, s0, &n);
+            pixel_terms(row, yr, lab, g, i + 1, label, s1, &n);
+        }
+        if (i < r.x1) pixel_terms(row, yr, lab, g, i, label, s0, &n);
+        double t[8];
+        for (int k = 0; k < 8; k++) t[k] = s0[k] + s1[k];
+        const double om = g->omega[j];
+        acc->rgb[0] += t[0] * om;
+        acc->rgb[1] += t[1] * om;
+        acc->rgb[2] += t[2] * om;
+        acc->m[0] += g->a[j] * t[4];
+        acc->m[1] += g->b[j] * t[3];
+        acc->m[2] += g->a[j] * t[5];
+        acc->g[0] += g->a[j] * t[6];
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * t[7];
+        acc->omega += om * n;
+        acc->pixels += n;
+    }
+}
+
 static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sink *err)
 {
     const char *bad = NULL;
@@ -103,7 +195,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     memset(&dr, 0, sizeof dr);
     lumis__tiles tiles;
     memset(&tiles, 0, sizeof tiles);
-    uint32_t *hist = calloc(65536, sizeof(uint32_t));
+    uint32_t *hist = calloc(2 * 65536, sizeof(uint32_t));
     st = (y && rects && acc && hist)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
@@ -121,19 +213,21 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
     double power_y = 0.0;
     float ymax = 0.0f;
+    uint32_t *hist2 = hist + 65536;
     for (int j = 0; j < h; j++) {
-        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
         float *yr = y + (size_t)j * (size_t)w;
-        double row = 0.0;
-        for (int i = 0; i < w; i++, px += 3) {
-            float v = lumis__pixel_y(px, g.scale);
-            yr[i] = v;
-            row += v;
-            if (v > ymax) ymax = v;
-            hist[float_bits(v) >> 16]++;
+        power_y += row_luminance(env->pixels + (size_t)j * (size_t)w * 3, yr, w, g.scale, &ymax) *
+                   g.omega[j];
+        /* two histograms for alternate pixels: neighbours of equal luminance would
+         * otherwise increment one counter back to back, a chain through memory */
+        int i = 0;
+        for (; i + 1 < w; i += 2) {
+            hist[float_bits(yr[i]) >> 16]++;
+            hist2[float_bits(yr[i + 1]) >> 16]++;
         }
-        power_y += row * g.omega[j];
+        if (i < w) hist[float_bits(yr[i]) >> 16]++;
     }
+    for (size_t b = 0; b < 65536; b++) hist[b] += hist2[b];
     const double pct = def(desc->percentile, 98.0);
     size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
     rank = rank < 1 ? 1 : (rank > n ? n : rank);
@@ -333,7 +427,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     for (int k = 0; k < ni; k++) {
         lumis__acc a;
         memset(&a, 0, sizeof a);
-        lumis__acc_rect(&g, env, set->labels, rects[k], -1, nd + k, &a);
+        indirect_rect(&g, env, y, set->labels, rects[k], nd + k, &a);
         lumis_light *l = &set->lights[nd + k];
         lumis__light_from_acc(&g, &a, LUMIS_LIGHT_ENV_INDIRECT, l);
         double d[3];
