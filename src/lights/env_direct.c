@@ -107,6 +107,12 @@ static double dist3(const double *a, const double *b)
     return sqrt(x * x + y * y + z * z);
 }
 
+static double sq_dist(const double *a, const double *b)
+{
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return x * x + y * y + z * z;
+}
+
 static double dot3(const double *a, const double *b)
 {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
@@ -136,13 +142,15 @@ static double chord_lower(double dot)
 
 /* A cluster's members, contiguous (structure of arrays), with each member's Hamerly
  * bound kept lazily: slack = (lower bound of the distance to every other centre) - (upper
- * bound of the distance to its own), valid when D[own] + G equalled base; since then its
- * own centre moved by at most D[own] - (its share of base) and any other by at most the
- * growth of G, so slack - (D[own] + G - base) is still a valid slack. */
+ * bound of the distance to its own), valid when D[own] + G equalled `now`; since then its
+ * own centre moved by at most the growth of D[own] and any other by at most the growth of
+ * G, so slack - (D[own] + G - now) is still a valid slack.  Stored is key = slack + now,
+ * and the member cannot change cluster while key - (D[own] + G) exceeds the margin (the
+ * rounding of the key, ~1e-16, is far inside the margin). */
 typedef struct km_cluster {
     int n, cap;
     int32_t *id;
-    double *x, *y, *z, *w, *slack, *base;
+    double *x, *y, *z, *w, *key;
 } km_cluster;
 
 typedef struct km_state {
@@ -154,24 +162,23 @@ typedef struct km_state {
     double *D, G; /* k cumulative centre drifts, and the cumulative largest drift */
 } km_state;
 
-static lumis_status km_push(km_state *s, int j, int32_t i, const double v[6])
+static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
 {
     km_cluster *c = &s->cl[j];
     if (c->n == c->cap) {
         int nc = c->cap ? 2 * c->cap : 16;
         int32_t *id = realloc(c->id, (size_t)nc * sizeof(int32_t));
         if (id) c->id = id;
-        double *d = id ? realloc(c->x, 6 * (size_t)nc * sizeof(double)) : NULL;
+        double *d = id ? realloc(c->x, 5 * (size_t)nc * sizeof(double)) : NULL;
         if (!d) return LUMIS_ERR_OUT_OF_MEMORY;
-        /* one block of six arrays of nc entries: move the old ones to their new places */
-        for (size_t f = 5; f >= 1; f--) /* field f: from f cap to f nc, last field first */
+        /* one block of five arrays of nc entries: move the old ones to their new places */
+        for (size_t f = 4; f >= 1; f--) /* field f: from f cap to f nc, last field first */
             memmove(d + f * (size_t)nc, d + f * (size_t)c->cap, (size_t)c->n * sizeof(double));
         c->x = d;
         c->y = d + nc;
         c->z = d + 2 * (size_t)nc;
         c->w = d + 3 * (size_t)nc;
-        c->slack = d + 4 * (size_t)nc;
-        c->base = d + 5 * (size_t)nc;
+        c->key = d + 4 * (size_t)nc;
         c->cap = nc;
     }
     int q = c->n++;
@@ -180,8 +187,7 @@ static lumis_status km_push(km_state *s, int j, int32_t i, const double v[6])
     c->y[q] = v[1];
     c->z[q] = v[2];
     c->w[q] = v[3];
-    c->slack[q] = v[4];
-    c->base[q] = v[5];
+    c->key[q] = v[4];
     s->pos[i] = q;
     return LUMIS_OK;
 }
@@ -197,8 +203,7 @@ static void km_remove(km_state *s, int j, int q)
     c->y[q] = c->y[last];
     c->z[q] = c->z[last];
     c->w[q] = c->w[last];
-    c->slack[q] = c->slack[last];
-    c->base[q] = c->base[last];
+    c->key[q] = c->key[last];
     s->pos[c->id[q]] = q;
 }
 
@@ -302,7 +307,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             }
         }
         a[i] = best;
-        double v[6] = {x[0], x[1], x[2], dc->em_w[i], chord_lower(sec) - chord_bound(bd), 0.0};
+        double v[5] = {x[0], x[1], x[2], dc->em_w[i], chord_lower(sec) - chord_bound(bd)};
         st = km_push(&s, best, i, v);
     }
     if (st == LUMIS_OK) {
@@ -342,7 +347,10 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             }
             const double sx = px[0] + px[1], sy = py[0] + py[1], sz = pz[0] + pz[1];
             double len = sqrt(sx * sx + sy * sy + sz * sz);
-            if (!(len > 0.0)) continue; /* empty cluster: keeps its centre */
+            if (!(len > 0.0)) {               /* empty cluster: keeps its centre */
+                if (cl->n == 0) s.J[j] = 0.0; /* not a residue of the leavers' terms */
+                continue;
+            }
             double nc[3] = {sx / len, sy / len, sz / len}, *cj = c + 3 * (size_t)j;
             delta[j] = dist3(nc, cj);
             memcpy(cj, nc, sizeof nc);
@@ -385,7 +393,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             int nf = 0; /* the members whose bound fails, gathered without branches */
             for (int q = 0; q < cl->n; q++) {
                 fail[nf] = q;
-                nf += !(cl->slack[q] - (now - cl->base[q]) > KM_MARGIN);
+                nf += !(cl->key[q] - now > KM_MARGIN);
             }
             for (int f = 0; f < nf; f++) {
                 const int q = fail[f];
@@ -408,8 +416,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                 double lb = fmin(chord_lower(sec), far - chord_bound(da));
                 double slack = lb - chord_bound(bd);
                 if (best == ca) {
-                    cl->slack[q] = slack;
-                    cl->base[q] = now;
+                    cl->key[q] = slack + now;
                 } else {
                     moves[nm++] = (km_move){cl->id[q], best, slack};
                 }
@@ -418,8 +425,12 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         for (int t = 0; st == LUMIS_OK && t < nm; t++) {
             const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
             const km_cluster *cl = &s.cl[from];
-            double v[6] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack, s.D[to] + s.G};
+            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G};
             changed[from] = changed[to] = 1;
+            /* The objective terms follow the pixel; the next update recomputes the terms of
+             * every cluster whose centre moves, so no drift carries over. */
+            s.J[from] -= v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)from);
+            s.J[to] += v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)to);
             km_remove(&s, from, q);
             a[i] = to;
             st = km_push(&s, to, i, v);
@@ -427,8 +438,6 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             if (r > s.R[to]) s.R[to] = r; /* the leavers' R stays a bound */
         }
         if (st != LUMIS_OK) break;
-        for (int j = 0; j < k; j++)
-            if (changed[j]) km_cluster_terms(&s, c, j, 0);
         res->iterations++;
         st = push_objective(res, &cap, km_objective(&s));
         if (nm == 0) {
