@@ -52,8 +52,8 @@ static double row_luminance(const float *restrict px, float *restrict yr, int w,
         double d[3 * G], v[G];
         for (int k = 0; k < 3 * G; k++) d[k] = px[k];
         for (int k = 0; k < G; k++) {
-            float f = (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] +
-                                    0.0722 * d[3 * k + 2]));
+            float f =
+                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
             yr[i + k] = f;
             mx[k] = f > mx[k] ? f : mx[k];
             v[k] = f;
