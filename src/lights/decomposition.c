@@ -15,11 +15,12 @@ static uint32_t float_bits(float f)
     return (u & 0x80000000u) ? 0u : u; /* luminance is >= 0; -0 counts as 0 */
 }
 
-/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries) holds the
- * histogram of the high 16 bits of their IEEE patterns, which order like the values; a
- * second histogram of the low 16 bits inside the bucket found settles it.  Clobbers hist. */
-static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
+/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries, zeroed)
+ * gets the histogram of the high 16 bits of their IEEE patterns, which order like the
+ * values; a second histogram of the low 16 bits inside the bucket found settles it. */
+static float select_rank_radix(const float *y, size_t n, size_t rank, uint32_t *hist)
 {
+    for (size_t p = 0; p < n; p++) hist[float_bits(y[p]) >> 16]++;
     size_t below = 0;
     uint32_t hi = 0;
     while (below + hist[hi] < rank) below += hist[hi++];
@@ -34,6 +35,85 @@ static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
     float out;
     memcpy(&out, &bits, sizeof out);
     return out;
+}
+
+/* The k-th smallest (0-based) of a[0 .. n), reordering a (Hoare's selection, median of
+ * three pivots). */
+static float kth_smallest(float *a, ptrdiff_t n, ptrdiff_t k)
+{
+    ptrdiff_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        float x = a[lo], y = a[lo + (hi - lo) / 2], z = a[hi];
+        float pv = x < y ? (y < z ? y : (x < z ? z : x)) : (x < z ? x : (y < z ? z : y));
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (a[i] < pv) i++;
+            while (a[j] > pv) j--;
+            if (i <= j) {
+                float t = a[i];
+                a[i] = a[j];
+                a[j] = t;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return a[k]; /* between the two parts: equal to the pivot */
+    }
+    return a[k];
+}
+
+/* Size of the sample that brackets the percentile (select_rank); maps of fewer than
+ * 4 SELECT_SAMPLE pixels use the radix selection directly. */
+enum { SELECT_SAMPLE = 16384 };
+
+/* The rank-th smallest (1-based) of the n luminances y, exactly.  A histogram of all
+ * pixels costs a scattered increment per pixel; instead the sample (SELECT_SAMPLE values
+ * y[t stride + stride / 2], stride = n / SELECT_SAMPLE, taken while y was written;
+ * reordered here) brackets the answer between its order statistics 6 binomial standard
+ * deviations + 16 ranks either side of the target, one branch-free pass counts the pixels
+ * below the bracket and gathers those inside it, and a selection among the gathered few
+ * settles the value.  Should the bracket miss (the count below reaches the rank, or too
+ * few inside) or hold too many (ties), the radix selection runs instead, so the answer
+ * never depends on the sample.  hist: 65536 zeroed entries, for that fallback. */
+static lumis_status select_rank(const float *y, size_t n, size_t rank, float *sample,
+                                uint32_t *hist, float *out)
+{
+    enum { S = SELECT_SAMPLE, CHUNK = 4096 };
+    if (n < 4 * (size_t)S) {
+        *out = select_rank_radix(y, n, rank, hist);
+        return LUMIS_OK;
+    }
+    const double f = (double)rank / (double)n;
+    const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
+    const ptrdiff_t target = (ptrdiff_t)(f * S);
+    const ptrdiff_t ilo = target - margin, ihi = target + margin;
+    const float lo = ilo <= 0 ? -INFINITY : kth_smallest(sample, S, ilo);
+    const float hi = ihi >= S - 1 ? INFINITY : kth_smallest(sample, S, ihi);
+    /* the expected count inside is (2 margin + 1) n / S; allow four times that */
+    const size_t cap = (size_t)(4 * (2 * margin + 1)) * (n / S) + CHUNK;
+    float *buf = malloc((cap + CHUNK) * sizeof(float));
+    if (!buf) return LUMIS_ERR_OUT_OF_MEMORY;
+    size_t below = 0, nb = 0, p = 0;
+    for (; p < n && nb <= cap; p += CHUNK) {
+        const size_t e = p + CHUNK < n ? p + CHUNK : n;
+        for (size_t q = p; q < e; q++) {
+            const float v = y[q];
+            below += v < lo;
+            buf[nb] = v;
+            nb += (v >= lo) & (v <= hi);
+        }
+    }
+    if (p >= n && below < rank && rank <= below + nb)
+        *out = kth_smallest(buf, (ptrdiff_t)nb, (ptrdiff_t)(rank - below - 1));
+    else
+        *out = select_rank_radix(y, n, rank, hist);
+    free(buf);
+    return LUMIS_OK;
 }
 
 /* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
@@ -195,8 +275,9 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     memset(&dr, 0, sizeof dr);
     lumis__tiles tiles;
     memset(&tiles, 0, sizeof tiles);
-    uint32_t *hist = calloc(2 * 65536, sizeof(uint32_t));
-    st = (y && rects && acc && hist)
+    uint32_t *hist = calloc(65536, sizeof(uint32_t));
+    float *sample = malloc(SELECT_SAMPLE * sizeof(float));
+    st = (y && rects && acc && hist && sample)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
@@ -213,25 +294,19 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
     double power_y = 0.0;
     float ymax = 0.0f;
-    uint32_t *hist2 = hist + 65536;
+    const size_t stride = n / SELECT_SAMPLE;
+    size_t next = stride / 2, taken = 0; /* the percentile's sample (select_rank) */
     for (int j = 0; j < h; j++) {
-        float *yr = y + (size_t)j * (size_t)w;
-        power_y += row_luminance(env->pixels + (size_t)j * (size_t)w * 3, yr, w, g.scale, &ymax) *
-                   g.omega[j];
-        /* two histograms for alternate pixels: neighbours of equal luminance would
-         * otherwise increment one counter back to back, a chain through memory */
-        int i = 0;
-        for (; i + 1 < w; i += 2) {
-            hist[float_bits(yr[i]) >> 16]++;
-            hist2[float_bits(yr[i + 1]) >> 16]++;
-        }
-        if (i < w) hist[float_bits(yr[i]) >> 16]++;
+        const size_t row0 = (size_t)j * (size_t)w, row1 = row0 + (size_t)w;
+        power_y += row_luminance(env->pixels + row0 * 3, y + row0, w, g.scale, &ymax) * g.omega[j];
+        for (; stride > 0 && taken < SELECT_SAMPLE && next < row1; next += stride)
+            sample[taken++] = y[next];
     }
-    for (size_t b = 0; b < 65536; b++) hist[b] += hist2[b];
     const double pct = def(desc->percentile, 98.0);
     size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
     rank = rank < 1 ? 1 : (rank > n ? n : rank);
-    float lb = select_rank(y, n, rank, hist);
+    float lb;
+    if ((st = select_rank(y, n, rank, sample, hist, &lb)) != LUMIS_OK) goto done;
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
     info->max_luminance = ymax;
@@ -447,6 +522,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 
 done:
     free(hist);
+    free(sample);
     lumis__tiles_free(&tiles);
     free(y);
     free(rects);
