@@ -67,53 +67,68 @@ static float kth_smallest(float *a, ptrdiff_t n, ptrdiff_t k)
     return a[k];
 }
 
-/* Size of the sample that brackets the percentile (select_rank); maps of fewer than
- * 4 SELECT_SAMPLE pixels use the radix selection directly. */
+/* Size of the sample that brackets the percentile; maps of fewer than 4 SELECT_SAMPLE
+ * pixels use the radix selection directly. */
 enum { SELECT_SAMPLE = 16384 };
 
-/* The rank-th smallest (1-based) of the n luminances y, exactly.  A histogram of all
- * pixels costs a scattered increment per pixel; instead the sample (SELECT_SAMPLE values
- * y[t stride + stride / 2], stride = n / SELECT_SAMPLE, taken while y was written;
- * reordered here) brackets the answer between its order statistics 6 binomial standard
- * deviations + 16 ranks either side of the target, one branch-free pass counts the pixels
- * below the bracket and gathers those inside it, and a selection among the gathered few
- * settles the value.  Should the bracket miss (the count below reaches the rank, or too
- * few inside) or hold too many (ties), the radix selection runs instead, so the answer
- * never depends on the sample.  hist: 65536 zeroed entries, for that fallback. */
-static lumis_status select_rank(const float *y, size_t n, size_t rank, float *sample,
-                                uint32_t *hist, float *out)
+/* The exact rank-th smallest (1-based) luminance without a histogram of all pixels (a
+ * scattered increment per pixel): a strided sample of SELECT_SAMPLE pixels' luminance
+ * brackets the answer between its order statistics 6 binomial standard deviations + 16
+ * ranks either side of the target; the luminance pass then counts, row by row while the
+ * row is hot, the pixels below the bracket and gathers those inside it, and a selection
+ * among the gathered few settles the value.  Should the bracket miss (the count below
+ * reaches the rank, or too few inside) or hold too many (ties), the radix selection runs
+ * instead, so the answer never depends on the sample. */
+typedef struct bracket {
+    int on;       /* the sampled path is in use */
+    float lo, hi; /* the bracket, inclusive */
+    size_t below, nb, cap;
+    float *buf; /* cap + w entries: the values inside */
+} bracket;
+
+static lumis_status bracket_init(bracket *b, const lumis_envmap *env, double scale, size_t n,
+                                 size_t rank, int w)
 {
-    enum { S = SELECT_SAMPLE, CHUNK = 4096 };
-    if (n < 4 * (size_t)S) {
-        *out = select_rank_radix(y, n, rank, hist);
-        return LUMIS_OK;
-    }
+    enum { S = SELECT_SAMPLE };
+    memset(b, 0, sizeof *b);
+    if (n < 4 * (size_t)S) return LUMIS_OK;
     const double f = (double)rank / (double)n;
     const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
-    const ptrdiff_t target = (ptrdiff_t)(f * S);
-    const ptrdiff_t ilo = target - margin, ihi = target + margin;
-    const float lo = ilo <= 0 ? -INFINITY : kth_smallest(sample, S, ilo);
-    const float hi = ihi >= S - 1 ? INFINITY : kth_smallest(sample, S, ihi);
+    const ptrdiff_t target = (ptrdiff_t)(f * S), ilo = target - margin, ihi = target + margin;
     /* the expected count inside is (2 margin + 1) n / S; allow four times that */
-    const size_t cap = (size_t)(4 * (2 * margin + 1)) * (n / S) + CHUNK;
-    float *buf = malloc((cap + CHUNK) * sizeof(float));
-    if (!buf) return LUMIS_ERR_OUT_OF_MEMORY;
-    size_t below = 0, nb = 0, p = 0;
-    for (; p < n && nb <= cap; p += CHUNK) {
-        const size_t e = p + CHUNK < n ? p + CHUNK : n;
-        for (size_t q = p; q < e; q++) {
-            const float v = y[q];
-            below += v < lo;
-            buf[nb] = v;
-            nb += (v >= lo) & (v <= hi);
-        }
-    }
-    if (p >= n && below < rank && rank <= below + nb)
-        *out = kth_smallest(buf, (ptrdiff_t)nb, (ptrdiff_t)(rank - below - 1));
-    else
-        *out = select_rank_radix(y, n, rank, hist);
-    free(buf);
+    b->cap = (size_t)(4 * (2 * margin + 1)) * (n / S);
+    b->buf = malloc((b->cap + (size_t)w > S ? b->cap + (size_t)w : S) * sizeof(float));
+    if (!b->buf) return LUMIS_ERR_OUT_OF_MEMORY;
+    const size_t stride = n / S;
+    for (size_t t = 0; t < S; t++)
+        b->buf[t] = lumis__pixel_y(env->pixels + 3 * (t * stride + stride / 2), scale);
+    b->lo = ilo <= 0 ? -INFINITY : kth_smallest(b->buf, S, ilo);
+    b->hi = ihi >= S - 1 ? INFINITY : kth_smallest(b->buf, S, ihi);
+    b->on = 1;
     return LUMIS_OK;
+}
+
+/* One row of luminance into the bracket's count and gathering (branch free). */
+static void bracket_row(bracket *b, const float *yr, int w)
+{
+    if (!b->on || b->nb > b->cap) return; /* overfull: the fallback will run */
+    size_t below = b->below, nb = b->nb;
+    const float lo = b->lo, hi = b->hi;
+    for (int i = 0; i < w; i++) {
+        const float v = yr[i];
+        below += v < lo;
+        b->buf[nb] = v;
+        nb += (v >= lo) & (v <= hi);
+    }
+    b->below = below;
+    b->nb = nb;
+}
+
+static float bracket_select(bracket *b, const float *y, size_t n, size_t rank, uint32_t *hist)
+{
+    if (b->on && b->nb <= b->cap && b->below < rank && rank <= b->below + b->nb)
+        return kth_smallest(b->buf, (ptrdiff_t)b->nb, (ptrdiff_t)(rank - b->below - 1));
+    return select_rank_radix(y, n, rank, hist);
 }
 
 /* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
@@ -276,8 +291,9 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     lumis__tiles tiles;
     memset(&tiles, 0, sizeof tiles);
     uint32_t *hist = calloc(65536, sizeof(uint32_t));
-    float *sample = malloc(SELECT_SAMPLE * sizeof(float));
-    st = (y && rects && acc && hist && sample)
+    bracket br;
+    memset(&br, 0, sizeof br);
+    st = (y && rects && acc && hist)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
@@ -292,21 +308,19 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dc.labels = set->labels;
 
     /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
-    double power_y = 0.0;
-    float ymax = 0.0f;
-    const size_t stride = n / SELECT_SAMPLE;
-    size_t next = stride / 2, taken = 0; /* the percentile's sample (select_rank) */
-    for (int j = 0; j < h; j++) {
-        const size_t row0 = (size_t)j * (size_t)w, row1 = row0 + (size_t)w;
-        power_y += row_luminance(env->pixels + row0 * 3, y + row0, w, g.scale, &ymax) * g.omega[j];
-        for (; stride > 0 && taken < SELECT_SAMPLE && next < row1; next += stride)
-            sample[taken++] = y[next];
-    }
     const double pct = def(desc->percentile, 98.0);
     size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
     rank = rank < 1 ? 1 : (rank > n ? n : rank);
-    float lb;
-    if ((st = select_rank(y, n, rank, sample, hist, &lb)) != LUMIS_OK) goto done;
+    if ((st = bracket_init(&br, env, g.scale, n, rank, w)) != LUMIS_OK) goto done;
+    double power_y = 0.0;
+    float ymax = 0.0f;
+    for (int j = 0; j < h; j++) {
+        float *yr = y + (size_t)j * (size_t)w;
+        power_y += row_luminance(env->pixels + (size_t)j * (size_t)w * 3, yr, w, g.scale, &ymax) *
+                   g.omega[j];
+        bracket_row(&br, yr, w);
+    }
+    float lb = bracket_select(&br, y, n, rank, hist);
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
     info->max_luminance = ymax;
@@ -522,7 +536,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 
 done:
     free(hist);
-    free(sample);
+    free(br.buf);
     lumis__tiles_free(&tiles);
     free(y);
     free(rects);
