@@ -132,19 +132,18 @@ lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lu
             for (int j = j0; j < j1; j++) {
                 const size_t p = (size_t)j * W + (size_t)x0;
                 const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
-                double *ry = s->ry + (size_t)j * (size_t)s->nc + (size_t)(x0 / T);
-                double *rcs =
-                    row_moments ? s->rcs + (size_t)j * (size_t)s->nc + (size_t)(x0 / T) : NULL;
-                double *rcc =
-                    row_moments ? s->rcc + (size_t)j * (size_t)s->nc + (size_t)(x0 / T) : NULL;
+                /* row sums are stored band-major, [c][j]: see lumis__strips_rows */
+                const size_t rb = (size_t)(x0 / T) * (size_t)h + (size_t)j;
                 for (int i = x0, c = 0; i < x1; i += T, c++) {
+                    const size_t rq = rb + (size_t)c * (size_t)h;
                     const size_t q = (size_t)(i - x0);
                     const int n = x1 - i < T ? x1 - i : T;
                     strip_group(env->pixels + (p + q) * 3, yf + p + q, n, g->scale, om, aj, bj,
                                 s->ce + o + q, s->ca + o + q, s->cb + o + q, s->crgb + (o + q) * 3,
-                                &ry[c]);
+                                &s->ry[rq]);
                     if (row_moments)
-                        strip_moments(yf + p + q, g->cs + i, g->cc + i, n, &rcs[c], &rcc[c]);
+                        strip_moments(yf + p + q, g->cs + i, g->cc + i, n, &s->rcs[rq],
+                                      &s->rcc[rq]);
                 }
             }
         }
@@ -221,51 +220,53 @@ void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double
     direct_rows(s, b1 * T, r.y1, r.x0, r.x1, e, a, b, NULL);
 }
 
-/* Sums over columns [x0, x1) of row j: Y, Y cs, Y cc (the last two if ycs). */
-static void row_sums(const lumis__strips *s, int j, int x0, int x1, double *y, double *ycs,
-                     double *ycc)
+/* The row sums are stored band-major (ry[c h + j] for column band c and row j), so the
+ * bands add into all rows of a rectangle elementwise (vectorised, no chain of additions
+ * per row); each row's sum still takes its bands in order, then its direct stretches. */
+void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
 {
-    const int T = s->T;
+    const int T = s->T, n = r.y1 - r.y0;
+    const size_t H = (size_t)s->h;
     const lumis__geom *g = s->g;
-    int c0 = (x0 + T - 1) / T, c1 = x1 / T;
-    double sy = 0.0, sx = 0.0, sz = 0.0;
-    int d0 = x1, d1 = x1; /* the direct stretches: [x0, d0) and [d1, x1) */
+    const int c0 = (r.x0 + T - 1) / T, c1 = r.x1 / T;
+    int d0 = r.x1, d1 = r.x1; /* the direct stretches: [x0, d0) and [d1, x1) */
+    for (int k = 0; k < n; k++) {
+        y[k] = 0.0;
+        if (ycs) ycs[k] = ycc[k] = 0.0;
+    }
     if (c0 < c1) {
-        const size_t o = (size_t)j * (size_t)s->nc;
         for (int c = c0; c < c1; c++) {
-            sy += s->ry[o + (size_t)c];
+            const size_t o = (size_t)c * H + (size_t)r.y0;
+            const double *ry = s->ry + o;
+            for (int k = 0; k < n; k++) y[k] += ry[k];
             if (ycs) {
-                sx += s->rcs[o + (size_t)c];
-                sz += s->rcc[o + (size_t)c];
+                const double *rcs = s->rcs + o, *rcc = s->rcc + o;
+                for (int k = 0; k < n; k++) ycs[k] += rcs[k];
+                for (int k = 0; k < n; k++) ycc[k] += rcc[k];
             }
         }
         d0 = c0 * T;
         d1 = c1 * T;
     }
-    const float *row = s->y + (size_t)j * (size_t)s->w;
-    for (int pass = 0; pass < 2; pass++) {
-        int i0 = pass ? d1 : x0, i1 = pass ? x1 : d0;
-        for (int i = i0; i < i1; i++) {
-            double v = row[i];
-            sy += v;
-            if (ycs) {
-                sx += v * g->cs[i];
-                sz += v * g->cc[i];
+    for (int k = 0; k < n; k++) {
+        const float *row = s->y + (size_t)(r.y0 + k) * (size_t)s->w;
+        double sy = y[k], sx = ycs ? ycs[k] : 0.0, sz = ycs ? ycc[k] : 0.0;
+        for (int pass = 0; pass < 2; pass++) {
+            int i0 = pass ? d1 : r.x0, i1 = pass ? r.x1 : d0;
+            for (int i = i0; i < i1; i++) {
+                double v = row[i];
+                sy += v;
+                if (ycs) {
+                    sx += v * g->cs[i];
+                    sz += v * g->cc[i];
+                }
             }
         }
-    }
-    *y = sy;
-    if (ycs) {
-        *ycs = sx;
-        *ycc = sz;
-    }
-}
-
-void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
-{
-    for (int j = r.y0; j < r.y1; j++) {
-        int k = j - r.y0;
-        row_sums(s, j, r.x0, r.x1, &y[k], ycs ? &ycs[k] : NULL, ycc ? &ycc[k] : NULL);
+        y[k] = sy;
+        if (ycs) {
+            ycs[k] = sx;
+            ycc[k] = sz;
+        }
     }
 }
 
