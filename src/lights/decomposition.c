@@ -1,7 +1,7 @@
 /* Wu's decomposition ("Efficient Environment Map Rendering based on Decomposition", Wu
- * 2024): the emissive threshold (Eq. 1, an exact percentile by two-level radix
- * selection), the light budget (Eq. 2), and the assembly of EnvDirects (env_direct.c) and
- * EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
+ * 2024): the emissive threshold (Eq. 1, an exact percentile: a sample-bracketed selection,
+ * or two-level radix selection), the light budget (Eq. 2), and the assembly of EnvDirects
+ * (env_direct.c) and EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
 #include "decomp.h"
 
 #include <math.h>

@@ -1,7 +1,8 @@
 /* EnvDirects of Wu's decomposition: importance sampling of the emissive pixels through a
  * sum tree (O(log n) per draw and per masked pixel, no CDF rebuilt per draw), masking of
  * a cap about each drawn pixel, spherical k-means on the energy centroids until no pixel
- * changes cluster (Hamerly's bounds skip most distance evaluations), and the return of
+ * changes cluster (a step visits only the clusters a moved centre can reach, and lazy
+ * Hamerly bounds skip most of their members), and the return of
  * far pixels to the non-emissive set.  docs/lights.md. */
 #include "decomp.h"
 
