@@ -82,7 +82,8 @@ typedef struct lumis_median_cut_desc {
  * most energetic regions of the last level.  Exact pixel-resolution marginals from band
  * sums of 16 rows / columns made in one pass (docs/lights.md).
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
- * w h (4 + 3.4) bytes of temporary memory (a float luminance array and the band sums). */
+ * w h (4 + 3.4) bytes of temporary memory (a float luminance array and the band sums).
+ * About 12 ms at 2048 x 1024, K = 64, on one core of the project's Xeon (docs/lights.md). */
 lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
                                      lumis_light_set **out);
 
@@ -94,7 +95,7 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
  * partial level splits the regions of largest variance.  Marginals of energy and moment
  * along both axes from the same band sums as median cut.
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
- * w h (4 + 4.1) bytes of temporary memory. */
+ * w h (4 + 4.1) bytes of temporary memory; about 18 ms at 2048 x 1024, K = 64. */
 lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
                                        lumis_light_set **out);
 
@@ -162,7 +163,11 @@ typedef struct lumis_decomp_desc {
  * pixel), masking a cap after each draw and refining with spherical k-means, then covers
  * the non-emissive pixels with K - N EnvIndirects from a cut of a binary light tree.  A
  * map without emissive pixels gets K EnvIndirects; one with only emissive pixels K
- * EnvDirects (fewer only if K exceeds what the pixels can give; a warning says so). */
+ * EnvDirects (fewer only if K exceeds what the pixels can give; a warning says so).
+ * Cost: three passes over the pixels (luminance and the exact percentile, classification,
+ * the lights), O(pixels) each; a k-means step costs in proportion to the members of the
+ * clusters a moved centre can reach, mostly bound checks (docs/lights.md).  About 21 ms on
+ * the 2048 x 1024 sky and 37-49 ms on real maps with 34-42 K emissive pixels (K = 64). */
 lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
                                     lumis_light_set **out);
 

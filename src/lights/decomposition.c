@@ -1,7 +1,7 @@
 /* Wu's decomposition ("Efficient Environment Map Rendering based on Decomposition", Wu
- * 2024): the emissive threshold (Eq. 1, an exact percentile by two-level radix
- * selection), the light budget (Eq. 2), and the assembly of EnvDirects (env_direct.c) and
- * EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
+ * 2024): the emissive threshold (Eq. 1, an exact percentile: a sample-bracketed selection,
+ * or two-level radix selection), the light budget (Eq. 2), and the assembly of EnvDirects
+ * (env_direct.c) and EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
 #include "decomp.h"
 
 #include <math.h>
@@ -15,11 +15,12 @@ static uint32_t float_bits(float f)
     return (u & 0x80000000u) ? 0u : u; /* luminance is >= 0; -0 counts as 0 */
 }
 
-/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries) holds the
- * histogram of the high 16 bits of their IEEE patterns, which order like the values; a
- * second histogram of the low 16 bits inside the bucket found settles it.  Clobbers hist. */
-static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
+/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries, zeroed)
+ * gets the histogram of the high 16 bits of their IEEE patterns, which order like the
+ * values; a second histogram of the low 16 bits inside the bucket found settles it. */
+static float select_rank_radix(const float *y, size_t n, size_t rank, uint32_t *hist)
 {
+    for (size_t p = 0; p < n; p++) hist[float_bits(y[p]) >> 16]++;
     size_t below = 0;
     uint32_t hi = 0;
     while (below + hist[hi] < rank) below += hist[hi++];
@@ -34,6 +35,210 @@ static float select_rank(const float *y, size_t n, size_t rank, uint32_t *hist)
     float out;
     memcpy(&out, &bits, sizeof out);
     return out;
+}
+
+/* The k-th smallest (0-based) of a[0 .. n), reordering a (Hoare's selection, median of
+ * three pivots). */
+static float kth_smallest(float *a, ptrdiff_t n, ptrdiff_t k)
+{
+    ptrdiff_t lo = 0, hi = n - 1;
+    while (lo < hi) {
+        float x = a[lo], y = a[lo + (hi - lo) / 2], z = a[hi];
+        float pv = x < y ? (y < z ? y : (x < z ? z : x)) : (x < z ? x : (y < z ? z : y));
+        ptrdiff_t i = lo, j = hi;
+        while (i <= j) {
+            while (a[i] < pv) i++;
+            while (a[j] > pv) j--;
+            if (i <= j) {
+                float t = a[i];
+                a[i] = a[j];
+                a[j] = t;
+                i++;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return a[k]; /* between the two parts: equal to the pivot */
+    }
+    return a[k];
+}
+
+/* Size of the sample that brackets the percentile; maps of fewer than 4 SELECT_SAMPLE
+ * pixels use the radix selection directly. */
+enum { SELECT_SAMPLE = 16384 };
+
+/* The exact rank-th smallest (1-based) luminance without a histogram of all pixels (a
+ * scattered increment per pixel): a strided sample of SELECT_SAMPLE pixels' luminance
+ * brackets the answer between its order statistics 6 binomial standard deviations + 16
+ * ranks either side of the target; the luminance pass then counts, row by row while the
+ * row is hot, the pixels below the bracket and gathers those inside it, and a selection
+ * among the gathered few settles the value.  Should the bracket miss (the count below
+ * reaches the rank, or too few inside) or hold too many (ties), the radix selection runs
+ * instead, so the answer never depends on the sample. */
+typedef struct bracket {
+    int on;       /* the sampled path is in use */
+    float lo, hi; /* the bracket, inclusive */
+    size_t below, nb, cap;
+    float *buf; /* cap + w entries: the values inside */
+} bracket;
+
+static lumis_status bracket_init(bracket *b, const lumis_envmap *env, double scale, size_t n,
+                                 size_t rank, int w)
+{
+    enum { S = SELECT_SAMPLE };
+    memset(b, 0, sizeof *b);
+    if (n < 4 * (size_t)S) return LUMIS_OK;
+    const double f = (double)rank / (double)n;
+    const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
+    const ptrdiff_t target = (ptrdiff_t)(f * S), ilo = target - margin, ihi = target + margin;
+    /* the expected count inside is (2 margin + 1) n / S; allow four times that */
+    b->cap = (size_t)(4 * (2 * margin + 1)) * (n / S);
+    b->buf = malloc((b->cap + (size_t)w > S ? b->cap + (size_t)w : S) * sizeof(float));
+    if (!b->buf) return LUMIS_ERR_OUT_OF_MEMORY;
+    const size_t stride = n / S;
+    for (size_t t = 0; t < S; t++)
+        b->buf[t] = lumis__pixel_y(env->pixels + 3 * (t * stride + stride / 2), scale);
+    b->lo = ilo <= 0 ? -INFINITY : kth_smallest(b->buf, S, ilo);
+    b->hi = ihi >= S - 1 ? INFINITY : kth_smallest(b->buf, S, ihi);
+    b->on = 1;
+    return LUMIS_OK;
+}
+
+/* One row of luminance into the bracket's count and gathering.  Groups of 16 are counted
+ * by a loop the compiler vectorises; only a group with a value inside the bracket (about
+ * one in fifty at the default percentile) is gathered, without branches. */
+static void bracket_row(bracket *b, const float *yr, int w)
+{
+    enum { G = 16 };
+    if (!b->on || b->nb > b->cap) return; /* overfull: the fallback will run */
+    size_t below = b->below, nb = b->nb;
+    const float lo = b->lo, hi = b->hi;
+    int i = 0;
+    for (; i + G <= w; i += G) {
+        int nlo = 0, nhi = 0;
+        for (int k = 0; k < G; k++) {
+            nlo += yr[i + k] < lo;
+            nhi += yr[i + k] > hi;
+        }
+        below += (size_t)nlo;
+        if (nlo + nhi == G) continue;
+        for (int k = 0; k < G; k++) {
+            const float v = yr[i + k];
+            b->buf[nb] = v;
+            nb += (v >= lo) & (v <= hi);
+        }
+    }
+    for (; i < w; i++) {
+        const float v = yr[i];
+        below += v < lo;
+        b->buf[nb] = v;
+        nb += (v >= lo) & (v <= hi);
+    }
+    b->below = below;
+    b->nb = nb;
+}
+
+static float bracket_select(bracket *b, const float *y, size_t n, size_t rank, uint32_t *hist)
+{
+    if (b->on && b->nb <= b->cap && b->below < rank && rank <= b->below + b->nb)
+        return kth_smallest(b->buf, (ptrdiff_t)b->nb, (ptrdiff_t)(rank - b->below - 1));
+    return select_rank_radix(y, n, rank, hist);
+}
+
+/* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
+ * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
+ * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
+ * fixed pairwise tree and the groups are added in order. */
+static double row_luminance(const float *restrict px, float *restrict yr, int w, double sc,
+                            float *ymax)
+{
+    enum { G = 16 };
+    double row = 0.0;
+    float mx[G];
+    for (int k = 0; k < G; k++) mx[k] = *ymax;
+    int i = 0;
+    for (; i + G <= w; i += G, px += 3 * G) {
+        double d[3 * G], v[G];
+        for (int k = 0; k < 3 * G; k++) d[k] = px[k];
+        for (int k = 0; k < G; k++) {
+            float f =
+                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
+            yr[i + k] = f;
+            mx[k] = f > mx[k] ? f : mx[k];
+            v[k] = f;
+        }
+        for (int k = 0; k < 8; k++) v[k] += v[k + 8];
+        for (int k = 0; k < 4; k++) v[k] += v[k + 4];
+        row += (v[0] + v[2]) + (v[1] + v[3]);
+    }
+    for (; i < w; i++, px += 3) {
+        float f = lumis__pixel_y(px, sc);
+        yr[i] = f;
+        mx[0] = f > mx[0] ? f : mx[0];
+        row += f;
+    }
+    for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
+    return row;
+}
+
+/* One pixel of indirect_rect: its terms (zeros unless it is non-emissive) into s. */
+static inline void pixel_terms(const float *row, const float *yr, int32_t *lab,
+                               const lumis__geom *g, int i, int32_t label, double s[8], int *n)
+{
+    const int in = lab[i] == -1;
+    const double mk = in, v = (double)yr[i] * mk;
+    const float *px = row + (size_t)i * 3;
+    s[0] += (double)px[0] * mk;
+    s[1] += (double)px[1] * mk;
+    s[2] += (double)px[2] * mk;
+    s[3] += v;
+    s[4] += v * g->cs[i];
+    s[5] += v * g->cc[i];
+    s[6] += g->cs[i] * mk;
+    s[7] += g->cc[i] * mk;
+    lab[i] = in ? label : lab[i];
+    *n += in;
+}
+
+/* lumis__acc_rect for an EnvIndirect: labels the non-emissive pixels (label -1) of r and
+ * adds them to acc, reading each pixel's luminance from y instead of recomputing it.  A
+ * pixel of another label is added as zeros (multiplied by a 0/1 mask, exact for finite
+ * values), so the loop has no branch to mispredict; two interleaved accumulators per sum
+ * halve the add-latency chains. */
+static void indirect_rect(const lumis__geom *g, const lumis_envmap *env, const float *y,
+                          int32_t *labels, lumis__rect r, int32_t label, lumis__acc *acc)
+{
+    const int w = g->w;
+    for (int j = r.y0; j < r.y1; j++) {
+        const size_t o = (size_t)j * (size_t)w;
+        const float *row = env->pixels + o * 3, *yr = y + o;
+        int32_t *lab = labels + o;
+        double s0[8] = {0, 0, 0, 0, 0, 0, 0, 0}, s1[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+        int n = 0, i = r.x0;
+        for (; i + 1 < r.x1; i += 2) {
+            pixel_terms(row, yr, lab, g, i, label, s0, &n);
+            pixel_terms(row, yr, lab, g, i + 1, label, s1, &n);
+        }
+        if (i < r.x1) pixel_terms(row, yr, lab, g, i, label, s0, &n);
+        double t[8];
+        for (int k = 0; k < 8; k++) t[k] = s0[k] + s1[k];
+        const double om = g->omega[j];
+        acc->rgb[0] += t[0] * om;
+        acc->rgb[1] += t[1] * om;
+        acc->rgb[2] += t[2] * om;
+        acc->m[0] += g->a[j] * t[4];
+        acc->m[1] += g->b[j] * t[3];
+        acc->m[2] += g->a[j] * t[5];
+        acc->g[0] += g->a[j] * t[6];
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * t[7];
+        acc->omega += om * n;
+        acc->pixels += n;
+    }
 }
 
 static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sink *err)
@@ -104,6 +309,8 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     lumis__tiles tiles;
     memset(&tiles, 0, sizeof tiles);
     uint32_t *hist = calloc(65536, sizeof(uint32_t));
+    bracket br;
+    memset(&br, 0, sizeof br);
     st = (y && rects && acc && hist)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
@@ -119,25 +326,19 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dc.labels = set->labels;
 
     /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
-    double power_y = 0.0;
-    float ymax = 0.0f;
-    for (int j = 0; j < h; j++) {
-        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
-        float *yr = y + (size_t)j * (size_t)w;
-        double row = 0.0;
-        for (int i = 0; i < w; i++, px += 3) {
-            float v = lumis__pixel_y(px, g.scale);
-            yr[i] = v;
-            row += v;
-            if (v > ymax) ymax = v;
-            hist[float_bits(v) >> 16]++;
-        }
-        power_y += row * g.omega[j];
-    }
     const double pct = def(desc->percentile, 98.0);
     size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
     rank = rank < 1 ? 1 : (rank > n ? n : rank);
-    float lb = select_rank(y, n, rank, hist);
+    if ((st = bracket_init(&br, env, g.scale, n, rank, w)) != LUMIS_OK) goto done;
+    double power_y = 0.0;
+    float ymax = 0.0f;
+    for (int j = 0; j < h; j++) {
+        float *yr = y + (size_t)j * (size_t)w;
+        power_y += row_luminance(env->pixels + (size_t)j * (size_t)w * 3, yr, w, g.scale, &ymax) *
+                   g.omega[j];
+        bracket_row(&br, yr, w);
+    }
+    float lb = bracket_select(&br, y, n, rank, hist);
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
     info->max_luminance = ymax;
@@ -333,7 +534,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     for (int k = 0; k < ni; k++) {
         lumis__acc a;
         memset(&a, 0, sizeof a);
-        lumis__acc_rect(&g, env, set->labels, rects[k], -1, nd + k, &a);
+        indirect_rect(&g, env, y, set->labels, rects[k], nd + k, &a);
         lumis_light *l = &set->lights[nd + k];
         lumis__light_from_acc(&g, &a, LUMIS_LIGHT_ENV_INDIRECT, l);
         double d[3];
@@ -353,6 +554,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 
 done:
     free(hist);
+    free(br.buf);
     lumis__tiles_free(&tiles);
     free(y);
     free(rects);

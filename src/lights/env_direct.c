@@ -1,7 +1,8 @@
 /* EnvDirects of Wu's decomposition: importance sampling of the emissive pixels through a
  * sum tree (O(log n) per draw and per masked pixel, no CDF rebuilt per draw), masking of
  * a cap about each drawn pixel, spherical k-means on the energy centroids until no pixel
- * changes cluster (Hamerly's bounds skip most distance evaluations), and the return of
+ * changes cluster (a step visits only the clusters a moved centre can reach, and lazy
+ * Hamerly bounds skip most of their members), and the return of
  * far pixels to the non-emissive set.  docs/lights.md. */
 #include "decomp.h"
 
@@ -93,7 +94,13 @@ static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3],
     }
 }
 
-/* ---- spherical k-means ------------------------------------------------------------------ */
+/* ---- spherical k-means ------------------------------------------------------------------
+ *
+ * Work per step is proportional to the pixels of the clusters that can change, not to
+ * all emissive pixels: clusters keep member lists, their sums, objective terms and a bound
+ * R_a on their members' distance to the centre are recomputed only when they change, and
+ * an assignment step looks only at clusters whose centre moved or that a moved centre
+ * came near (docs/lights.md, "k-means"). */
 
 static double dist3(const double *a, const double *b)
 {
@@ -101,42 +108,146 @@ static double dist3(const double *a, const double *b)
     return sqrt(x * x + y * y + z * z);
 }
 
-/* sum w |d - c_a|^2 / 2 = sum w (1 - d . c_a) for unit vectors, without cancellation. */
-static double objective(const lumis__decomp *dc, const int32_t *a, const double *c)
+static double sq_dist(const double *a, const double *b)
 {
-    double J = 0.0;
-    for (int i = 0; i < dc->m; i++) {
-        double r = dist3(dc->em_d + 3 * (size_t)i, c + 3 * (size_t)a[i]);
-        J += dc->em_w[i] * 0.5 * r * r;
-    }
-    return J;
+    double x = a[0] - b[0], y = a[1] - b[1], z = a[2] - b[2];
+    return x * x + y * y + z * z;
 }
 
-/* Nearest centre by dot product; `keep` (or -1) wins ties and anything not strictly
- * better.  Returns the best and its runner-up's distances. */
-static int nearest(const double *x, const double *c, int k, int keep, double *d1, double *d2)
+static double dot3(const double *a, const double *b)
 {
-    int best = keep;
-    double bd = keep >= 0 ? x[0] * c[3 * keep] + x[1] * c[3 * keep + 1] + x[2] * c[3 * keep + 2]
-                          : -INFINITY;
-    for (int j = 0; j < k; j++) {
-        if (j == keep) continue;
-        const double *q = c + 3 * (size_t)j;
-        double dt = x[0] * q[0] + x[1] * q[1] + x[2] * q[2];
-        if (dt > bd) {
-            bd = dt;
-            best = j;
-        }
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* An upper bound of the chord |x - c| from the computed dot product of unit vectors x and
+ * c: |x - c|^2 = |x|^2 + |c|^2 - 2 x.c, the norms within 4e-16 of 1 and the dot product
+ * within 4e-16; 4e-15 covers all of it with room to spare. */
+static double chord_bound(double dot)
+{
+    double t = 2.0 - 2.0 * dot;
+    return sqrt((t > 0.0 ? t : 0.0) + 4e-15);
+}
+
+/* Margin of the candidate test: a centre farther than 2 R_a + KM_MARGIN from c_a is
+ * farther from every member of a than c_a by at least KM_MARGIN, i.e. its squared chord
+ * exceeds c_a's by >= KM_MARGIN^2 = 1e-12, and its dot product falls short of c_a's by
+ * >= 5e-13, far beyond rounding: the float comparison could never pick it. */
+#define KM_MARGIN 1e-6
+
+/* A lower bound of the chord from the computed dot product (see chord_bound). */
+static double chord_lower(double dot)
+{
+    double t = 2.0 - 2.0 * dot - 4e-15;
+    return sqrt(t > 0.0 ? t : 0.0);
+}
+
+/* A cluster's members, contiguous (structure of arrays), with each member's Hamerly
+ * bound kept lazily: slack = (lower bound of the distance to every other centre) - (upper
+ * bound of the distance to its own), valid when D[own] + G equalled `now`; since then its
+ * own centre moved by at most the growth of D[own] and any other by at most the growth of
+ * G, so slack - (D[own] + G - now) is still a valid slack.  Stored is key = slack + now,
+ * and the member cannot change cluster while key - (D[own] + G) exceeds the margin (the
+ * rounding of the key, ~1e-16, is far inside the margin). */
+typedef struct km_cluster {
+    int n, cap;
+    int32_t *id;
+    double *x, *y, *z, *w, *key;
+} km_cluster;
+
+typedef struct km_state {
+    int k;
+    km_cluster *cl;
+    int32_t *pos; /* m: index of each pixel in its cluster's arrays */
+    double *J;    /* k: sum over the members of w |x - c|^2 / 2 */
+    double *R;    /* k: bound of the members' chord distance to the centre */
+    double *D, G; /* k cumulative centre drifts, and the cumulative largest drift */
+} km_state;
+
+static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
+{
+    km_cluster *c = &s->cl[j];
+    if (c->n == c->cap) {
+        int nc = c->cap ? 2 * c->cap : 16;
+        int32_t *id = realloc(c->id, (size_t)nc * sizeof(int32_t));
+        if (id) c->id = id;
+        double *d = id ? realloc(c->x, 5 * (size_t)nc * sizeof(double)) : NULL;
+        if (!d) return LUMIS_ERR_OUT_OF_MEMORY;
+        /* one block of five arrays of nc entries: move the old ones to their new places */
+        for (size_t f = 4; f >= 1; f--) /* field f: from f cap to f nc, last field first */
+            memmove(d + f * (size_t)nc, d + f * (size_t)c->cap, (size_t)c->n * sizeof(double));
+        c->x = d;
+        c->y = d + nc;
+        c->z = d + 2 * (size_t)nc;
+        c->w = d + 3 * (size_t)nc;
+        c->key = d + 4 * (size_t)nc;
+        c->cap = nc;
     }
-    double second = INFINITY;
-    for (int j = 0; j < k; j++)
-        if (j != best) {
-            double r = dist3(x, c + 3 * (size_t)j);
-            if (r < second) second = r;
+    int q = c->n++;
+    c->id[q] = i;
+    c->x[q] = v[0];
+    c->y[q] = v[1];
+    c->z[q] = v[2];
+    c->w[q] = v[3];
+    c->key[q] = v[4];
+    s->pos[i] = q;
+    return LUMIS_OK;
+}
+
+/* Removes member q of cluster j (the last member takes its place). */
+static void km_remove(km_state *s, int j, int q)
+{
+    km_cluster *c = &s->cl[j];
+    int last = --c->n;
+    if (q == last) return;
+    c->id[q] = c->id[last];
+    c->x[q] = c->x[last];
+    c->y[q] = c->y[last];
+    c->z[q] = c->z[last];
+    c->w[q] = c->w[last];
+    c->key[q] = c->key[last];
+    s->pos[c->id[q]] = q;
+}
+
+/* Objective term of cluster j; with `bound`, also R_j from its members.  Sums run in
+ * four interleaved partial sums (fixed order): a single chain of additions was latency
+ * bound and this runs once or twice per cluster and step. */
+static void km_cluster_terms(km_state *s, const double *c, int j, int bound)
+{
+    const km_cluster *cl = &s->cl[j];
+    const double c0 = c[3 * j], c1 = c[3 * j + 1], c2 = c[3 * j + 2];
+    double J[4] = {0.0, 0.0, 0.0, 0.0}, mind;
+    int q = 0;
+    for (; q + 4 <= cl->n; q += 4)
+        for (int u = 0; u < 4; u++) {
+            double dx = cl->x[q + u] - c0, dy = cl->y[q + u] - c1, dz = cl->z[q + u] - c2;
+            J[u] += cl->w[q + u] * 0.5 * (dx * dx + dy * dy + dz * dz);
         }
-    *d1 = dist3(x, c + 3 * (size_t)best);
-    *d2 = second;
-    return best;
+    for (; q < cl->n; q++) {
+        double dx = cl->x[q] - c0, dy = cl->y[q] - c1, dz = cl->z[q] - c2;
+        J[0] += cl->w[q] * 0.5 * (dx * dx + dy * dy + dz * dz);
+    }
+    if (bound) {
+        double mn[4] = {2.0, 2.0, 2.0, 2.0};
+        for (q = 0; q + 4 <= cl->n; q += 4)
+            for (int u = 0; u < 4; u++) {
+                double d = cl->x[q + u] * c0 + cl->y[q + u] * c1 + cl->z[q + u] * c2;
+                mn[u] = d < mn[u] ? d : mn[u];
+            }
+        for (; q < cl->n; q++) {
+            double d = cl->x[q] * c0 + cl->y[q] * c1 + cl->z[q] * c2;
+            mn[0] = d < mn[0] ? d : mn[0];
+        }
+        mind = fmin(fmin(mn[0], mn[1]), fmin(mn[2], mn[3]));
+        s->R[j] = cl->n > 0 ? chord_bound(mind) : 0.0;
+    }
+    s->J[j] = (J[0] + J[1]) + (J[2] + J[3]);
+}
+
+static double km_objective(const km_state *s)
+{
+    double J = 0.0;
+    for (int j = 0; j < s->k; j++) J += s->J[j];
+    return J;
 }
 
 static lumis_status push_objective(lumis__direct_result *r, int *cap, double J)
@@ -155,89 +266,200 @@ static lumis_status push_objective(lumis__direct_result *r, int *cap, double J)
 /* Safety net for floating-point cycling; the exact algorithm cannot cycle (docs). */
 #define KMEANS_HARD_LIMIT 100000
 
+typedef struct km_move {
+    int32_t i, to;
+    double slack;
+} km_move;
+
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,
                            int32_t *a, lumis__direct_result *res)
 {
     const int m = dc->m;
-    const double slack = 1e-12; /* bounds stay bounds despite rounding */
-    double *u = malloc((size_t)m * sizeof(double)), *l = malloc((size_t)m * sizeof(double));
-    double *sum = malloc(3 * (size_t)k * sizeof(double)),
-           *delta = malloc((size_t)k * sizeof(double));
-    double *half = malloc((size_t)k * sizeof(double));
+    km_state s;
+    memset(&s, 0, sizeof s);
+    s.k = k;
+    s.cl = calloc((size_t)k, sizeof *s.cl);
+    s.pos = malloc((size_t)m * sizeof(int32_t));
+    s.J = malloc((size_t)k * sizeof(double));
+    s.R = malloc((size_t)k * sizeof(double));
+    s.D = calloc((size_t)k, sizeof(double));
+    double *delta = malloc((size_t)k * sizeof(double));
+    unsigned char *changed = malloc((size_t)k);
+    int32_t *nb = malloc((size_t)k * sizeof(int32_t));
+    km_move *moves = malloc((size_t)m * sizeof *moves);
+    int32_t *fail = malloc((size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!u || !l || !sum || !delta || !half) st = LUMIS_ERR_OUT_OF_MEMORY;
-    for (int i = 0; st == LUMIS_OK && i < m; i++)
-        a[i] = nearest(dc->em_d + 3 * (size_t)i, c, k, -1, &u[i], &l[i]);
-    if (st == LUMIS_OK) st = push_objective(res, &cap, objective(dc, a, c));
+    if (!s.cl || !s.pos || !s.J || !s.R || !s.D || !delta || !changed || !nb || !moves || !fail)
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+    /* The seeds' assignment: nearest centre by dot product, the first on ties. */
+    for (int i = 0; st == LUMIS_OK && i < m; i++) {
+        const double *x = dc->em_d + 3 * (size_t)i;
+        int best = -1;
+        double bd = -INFINITY, sec = -INFINITY;
+        for (int j = 0; j < k; j++) {
+            double dt = dot3(x, c + 3 * (size_t)j);
+            if (dt > bd) {
+                sec = bd;
+                bd = dt;
+                best = j;
+            } else if (dt > sec) {
+                sec = dt;
+            }
+        }
+        a[i] = best;
+        double v[5] = {x[0], x[1], x[2], dc->em_w[i], chord_lower(sec) - chord_bound(bd)};
+        st = km_push(&s, best, i, v);
+    }
+    if (st == LUMIS_OK) {
+        for (int j = 0; j < k; j++) {
+            km_cluster_terms(&s, c, j, 1);
+            changed[j] = 1;
+        }
+        st = push_objective(res, &cap, km_objective(&s));
+    }
     res->iterations = 1;
     res->converged = !p->kmeans;
     const int limit = p->max_iterations > 0 ? p->max_iterations : KMEANS_HARD_LIMIT;
     int updates = 0;
     while (st == LUMIS_OK && p->kmeans) {
-        /* Update: each centre to its cluster's normalised weighted mean direction, which
-         * minimises the cluster's sum w |d - c|^2 over unit c. */
-        memset(sum, 0, 3 * (size_t)k * sizeof(double));
-        for (int i = 0; i < m; i++)
-            for (int q = 0; q < 3; q++)
-                sum[3 * a[i] + q] += dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)q];
-        double dmax = 0.0, dmax2 = 0.0;
-        int imax = -1;
+        /* Update: each changed cluster's centre to its normalised weighted mean direction,
+         * which minimises the cluster's sum w |d - c|^2 over unit c.  An unchanged
+         * cluster would get the very same centre. */
+        int nmoved = 0;
+        double dmax = 0.0;
         for (int j = 0; j < k; j++) {
-            double *s = sum + 3 * (size_t)j, len = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
             delta[j] = 0.0;
-            if (!(len > 0.0)) continue; /* empty cluster: keeps its centre */
-            double nc[3] = {s[0] / len, s[1] / len, s[2] / len};
-            delta[j] = dist3(nc, c + 3 * (size_t)j);
-            memcpy(c + 3 * (size_t)j, nc, sizeof nc);
-            if (delta[j] > dmax) {
-                dmax2 = dmax;
-                dmax = delta[j];
-                imax = j;
-            } else if (delta[j] > dmax2) {
-                dmax2 = delta[j];
-            }
-        }
-        updates++;
-        st = push_objective(res, &cap, objective(dc, a, c));
-        if (st != LUMIS_OK || updates >= limit) break;
-        /* Assignment with Hamerly's bounds: u >= |x - c_a|, l <= distance to any other. */
-        for (int j = 0; j < k; j++) {
-            double best = INFINITY;
-            for (int q = 0; q < k; q++)
-                if (q != j) {
-                    double r = dist3(c + 3 * (size_t)j, c + 3 * (size_t)q);
-                    if (r < best) best = r;
+            if (!changed[j]) continue;
+            changed[j] = 0;
+            const km_cluster *cl = &s.cl[j];
+            double px[2] = {0.0, 0.0}, py[2] = {0.0, 0.0}, pz[2] = {0.0, 0.0};
+            int q = 0;
+            for (; q + 2 <= cl->n; q += 2)
+                for (int u = 0; u < 2; u++) {
+                    px[u] += cl->w[q + u] * cl->x[q + u];
+                    py[u] += cl->w[q + u] * cl->y[q + u];
+                    pz[u] += cl->w[q + u] * cl->z[q + u];
                 }
-            half[j] = 0.5 * best;
-        }
-        int changes = 0;
-        for (int i = 0; i < m; i++) {
-            u[i] += delta[a[i]] + slack;
-            l[i] -= (a[i] == imax ? dmax2 : dmax) + slack;
-            double bound = half[a[i]] > l[i] ? half[a[i]] : l[i];
-            if (u[i] <= bound) continue;
-            const double *x = dc->em_d + 3 * (size_t)i;
-            u[i] = dist3(x, c + 3 * (size_t)a[i]);
-            if (u[i] <= bound) continue;
-            int b = nearest(x, c, k, a[i], &u[i], &l[i]);
-            if (b != a[i]) {
-                changes++;
-                a[i] = b;
+            if (q < cl->n) {
+                px[0] += cl->w[q] * cl->x[q];
+                py[0] += cl->w[q] * cl->y[q];
+                pz[0] += cl->w[q] * cl->z[q];
+            }
+            const double sx = px[0] + px[1], sy = py[0] + py[1], sz = pz[0] + pz[1];
+            double len = sqrt(sx * sx + sy * sy + sz * sz);
+            if (!(len > 0.0)) {               /* empty cluster: keeps its centre */
+                if (cl->n == 0) s.J[j] = 0.0; /* not a residue of the leavers' terms */
+                continue;
+            }
+            double nc[3] = {sx / len, sy / len, sz / len}, *cj = c + 3 * (size_t)j;
+            delta[j] = dist3(nc, cj);
+            memcpy(cj, nc, sizeof nc);
+            if (delta[j] > 0.0) {
+                km_cluster_terms(&s, c, j, 1);
+                s.D[j] += delta[j];
+                dmax = delta[j] > dmax ? delta[j] : dmax;
+                nmoved++;
             }
         }
+        s.G += dmax;
+        updates++;
+        st = push_objective(res, &cap, km_objective(&s));
+        if (st != LUMIS_OK || updates >= limit) break;
+        /* Assignment.  The last step left every pixel with its nearest centre; only a
+         * centre that moved can change that.  A member x of cluster a has |x - c_a| <= R_a,
+         * so a centre b with |c_a - c_b| >= 2 R_a + margin cannot be nearer to it (nor,
+         * by the margin, win the float comparison): a cluster is visited only if it moved
+         * or a moved centre is near, and then only its members whose lazy Hamerly bound
+         * fails are compared with the near centres. */
+        int nm = 0;
+        for (int ca = 0; nmoved > 0 && ca < k; ca++) {
+            const double *cc = c + 3 * (size_t)ca;
+            const double reach = 2.0 * s.R[ca] + KM_MARGIN;
+            int nn = 0, need = delta[ca] > 0.0;
+            double far = INFINITY;
+            for (int b = 0; b < k; b++) {
+                if (b == ca) continue;
+                double r = dist3(cc, c + 3 * (size_t)b);
+                if (r < reach) {
+                    nb[nn++] = b;
+                    need |= delta[b] > 0.0;
+                } else if (r < far) {
+                    far = r;
+                }
+            }
+            if (!need) continue;
+            km_cluster *cl = &s.cl[ca];
+            const double now = s.D[ca] + s.G;
+            int nf = 0; /* the members whose bound fails, gathered without branches */
+            for (int q = 0; q < cl->n; q++) {
+                fail[nf] = q;
+                nf += !(cl->key[q] - now > KM_MARGIN);
+            }
+            for (int f = 0; f < nf; f++) {
+                const int q = fail[f];
+                const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
+                const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
+                int best = ca;
+                double bd = da, sec = -INFINITY;
+                for (int t = 0; t < nn; t++) {
+                    const double *cb = c + 3 * (size_t)nb[t];
+                    double dt = x0 * cb[0] + x1 * cb[1] + x2 * cb[2];
+                    if (dt > bd) { /* the current centre wins ties */
+                        sec = bd;
+                        bd = dt;
+                        best = nb[t];
+                    } else if (dt > sec) {
+                        sec = dt;
+                    }
+                }
+                /* centres beyond the reach: at least far - |x - c_a| away */
+                double lb = fmin(chord_lower(sec), far - chord_bound(da));
+                double slack = lb - chord_bound(bd);
+                if (best == ca) {
+                    cl->key[q] = slack + now;
+                } else {
+                    moves[nm++] = (km_move){cl->id[q], best, slack};
+                }
+            }
+        }
+        for (int t = 0; st == LUMIS_OK && t < nm; t++) {
+            const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
+            const km_cluster *cl = &s.cl[from];
+            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G};
+            changed[from] = changed[to] = 1;
+            /* The objective terms follow the pixel; the next update recomputes the terms of
+             * every cluster whose centre moves, so no drift carries over. */
+            s.J[from] -= v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)from);
+            s.J[to] += v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)to);
+            km_remove(&s, from, q);
+            a[i] = to;
+            st = km_push(&s, to, i, v);
+            double r = chord_bound(v[0] * c[3 * to] + v[1] * c[3 * to + 1] + v[2] * c[3 * to + 2]);
+            if (r > s.R[to]) s.R[to] = r; /* the leavers' R stays a bound */
+        }
+        if (st != LUMIS_OK) break;
         res->iterations++;
-        st = push_objective(res, &cap, objective(dc, a, c));
-        if (changes == 0) {
+        st = push_objective(res, &cap, km_objective(&s));
+        if (nm == 0) {
             res->converged = 1;
             break;
         }
     }
-    free(u);
-    free(l);
-    free(sum);
+    for (int j = 0; s.cl && j < k; j++) {
+        free(s.cl[j].id);
+        free(s.cl[j].x);
+    }
+    free(s.cl);
+    free(s.pos);
+    free(s.J);
+    free(s.R);
+    free(s.D);
     free(delta);
-    free(half);
+    free(changed);
+    free(nb);
+    free(moves);
+    free(fail);
     return st;
 }
 

@@ -145,8 +145,8 @@ typedef struct lumis__strips {
     const lumis_envmap *env;
     double *ce, *ca, *cb; /* nb x w: sum over the band's rows of Omega_j Y, a_j Y, b_j Y */
     double *crgb;         /* nb x 3w: sum of Omega_j RGB (unscaled) */
-    double *ry;           /* h x nc: sum over the band's columns of Y */
-    double *rcs, *rcc;    /* h x nc: sum of Y cs_i, Y cc_i (only with row_moments) */
+    double *ry;           /* nc x h (band-major): sum over the band's columns of Y */
+    double *rcs, *rcc;    /* nc x h: sum of Y cs_i, Y cc_i (only with row_moments) */
     float *y;             /* w x h: every pixel's luminance (lumis__pixel_y) */
     double *scratch;      /* 6 max(w, h) doubles, used by lumis__strips_rect */
     size_t scratch_n;

@@ -12,7 +12,83 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { STRIP_T = 16 };
+enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
+
+/* One row's stretch of n <= 16 pixels (a column band): luminance (lumis__pixel_y) into yr,
+ * the band's column sums, and the sum of Y over the stretch into *ry.  The n == 16 case has
+ * fixed trip counts, so the compiler vectorises it even at -O2; each column's sum is still
+ * accumulated row by row, and the stretch's sum of Y is a fixed pairwise tree. */
+static void strip_group(const float *restrict px, float *restrict yr, int n, double sc, double om,
+                        double aj, double bj, double *restrict ce, double *restrict ca,
+                        double *restrict cb, double *restrict cr, double *restrict ry)
+{
+    double y[STRIP_T];
+    if (n == STRIP_T) {
+        double d[3 * STRIP_T];
+        for (int k = 0; k < 3 * STRIP_T; k++) d[k] = px[k];
+        for (int k = 0; k < 3 * STRIP_T; k++) cr[k] += om * d[k];
+        for (int k = 0; k < STRIP_T; k++) {
+            float f =
+                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
+            yr[k] = f;
+            y[k] = f;
+        }
+        for (int k = 0; k < STRIP_T; k++) {
+            ce[k] += om * y[k];
+            ca[k] += aj * y[k];
+            cb[k] += bj * y[k];
+        }
+        for (int k = 0; k < 8; k++) y[k] += y[k + 8];
+        for (int k = 0; k < 4; k++) y[k] += y[k + 4];
+        *ry = (y[0] + y[2]) + (y[1] + y[3]);
+        return;
+    }
+    double sy = 0.0;
+    for (int k = 0; k < n; k++) {
+        float f = lumis__pixel_y(px + 3 * k, sc);
+        double v = f;
+        yr[k] = f;
+        ce[k] += om * v;
+        ca[k] += aj * v;
+        cb[k] += bj * v;
+        for (int c = 0; c < 3; c++) cr[3 * k + c] += om * (double)px[3 * k + c];
+        sy += v;
+    }
+    *ry = sy;
+}
+
+/* Sums of Y cs and Y cc over a stretch of n <= 16 pixels of a row (variance minimisation's
+ * row moments), a pairwise tree when n == 16. */
+static void strip_moments(const float *restrict yr, const double *restrict cs,
+                          const double *restrict cc, int n, double *restrict rcs,
+                          double *restrict rcc)
+{
+    if (n == STRIP_T) {
+        double xs[STRIP_T], xc[STRIP_T];
+        for (int k = 0; k < STRIP_T; k++) {
+            xs[k] = (double)yr[k] * cs[k];
+            xc[k] = (double)yr[k] * cc[k];
+        }
+        for (int k = 0; k < 8; k++) {
+            xs[k] += xs[k + 8];
+            xc[k] += xc[k + 8];
+        }
+        for (int k = 0; k < 4; k++) {
+            xs[k] += xs[k + 4];
+            xc[k] += xc[k + 4];
+        }
+        *rcs = (xs[0] + xs[2]) + (xs[1] + xs[3]);
+        *rcc = (xc[0] + xc[2]) + (xc[1] + xc[3]);
+        return;
+    }
+    double a = 0.0, c = 0.0;
+    for (int k = 0; k < n; k++) {
+        a += (double)yr[k] * cs[k];
+        c += (double)yr[k] * cc[k];
+    }
+    *rcs = a;
+    *rcc = c;
+}
 
 lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lumis_envmap *env,
                                 int row_moments)
@@ -46,59 +122,29 @@ lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lu
     s->scratch = (row_moments ? s->rcc : s->ry) + rows;
     s->scratch_n = 6 * (W > (size_t)h ? W : (size_t)h);
 
-    double *yd = s->scratch; /* one row of luminance, as double */
+    memset(s->ce, 0, 6 * nb * W * sizeof(double)); /* ce, ca, cb, crgb accumulate */
     for (int b = 0; b < s->nb; b++) {
-        double *ce = s->ce + (size_t)b * W, *ca = s->ca + (size_t)b * W,
-               *cb = s->cb + (size_t)b * W;
-        double *cr = s->crgb + (size_t)b * 3 * W;
         const int j0 = b * T, j1 = j0 + T < h ? j0 + T : h;
-        for (int j = j0; j < j1; j++) {
-            const float *px = env->pixels + (size_t)j * W * 3;
-            const double om = g->omega[j], aj = g->a[j], bj = g->b[j], sc = g->scale;
-            float *yr = yf + (size_t)j * W;
-            for (int i = 0; i < w; i++)
-                yr[i] = (float)(sc * (0.2126 * (double)px[3 * i] + 0.7152 * (double)px[3 * i + 1] +
-                                      0.0722 * (double)px[3 * i + 2]));
-            for (int i = 0; i < w; i++) yd[i] = yr[i];
-            if (j == j0) {
-                for (int i = 0; i < w; i++) {
-                    ce[i] = om * yd[i];
-                    ca[i] = aj * yd[i];
-                    cb[i] = bj * yd[i];
+        /* Column chunks whose band sums stay in L1 across the band's rows. */
+        for (int x0 = 0; x0 < w; x0 += STRIP_CHUNK) {
+            const int x1 = x0 + STRIP_CHUNK < w ? x0 + STRIP_CHUNK : w;
+            const size_t o = (size_t)b * W + (size_t)x0;
+            for (int j = j0; j < j1; j++) {
+                const size_t p = (size_t)j * W + (size_t)x0;
+                const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
+                /* row sums are stored band-major, [c][j]: see lumis__strips_rows */
+                const size_t rb = (size_t)(x0 / T) * (size_t)h + (size_t)j;
+                for (int i = x0, c = 0; i < x1; i += T, c++) {
+                    const size_t rq = rb + (size_t)c * (size_t)h;
+                    const size_t q = (size_t)(i - x0);
+                    const int n = x1 - i < T ? x1 - i : T;
+                    strip_group(env->pixels + (p + q) * 3, yf + p + q, n, g->scale, om, aj, bj,
+                                s->ce + o + q, s->ca + o + q, s->cb + o + q, s->crgb + (o + q) * 3,
+                                &s->ry[rq]);
+                    if (row_moments)
+                        strip_moments(yf + p + q, g->cs + i, g->cc + i, n, &s->rcs[rq],
+                                      &s->rcc[rq]);
                 }
-                for (size_t k = 0; k < 3 * W; k++) cr[k] = om * (double)px[k];
-            } else {
-                for (int i = 0; i < w; i++) {
-                    ce[i] += om * yd[i];
-                    ca[i] += aj * yd[i];
-                    cb[i] += bj * yd[i];
-                }
-                for (size_t k = 0; k < 3 * W; k++) cr[k] += om * (double)px[k];
-            }
-            double *ry = s->ry + (size_t)j * (size_t)s->nc;
-            for (int c = 0; c < s->nc; c++) {
-                const int i0 = c * T, i1 = i0 + T < w ? i0 + T : w;
-                double sy = 0.0, sy2 = 0.0;
-                int i = i0;
-                for (; i + 1 < i1; i += 2) {
-                    sy += yd[i];
-                    sy2 += yd[i + 1];
-                }
-                if (i < i1) sy += yd[i];
-                ry[c] = sy + sy2;
-            }
-            if (!row_moments) continue;
-            double *rcs = s->rcs + (size_t)j * (size_t)s->nc,
-                   *rcc = s->rcc + (size_t)j * (size_t)s->nc;
-            for (int c = 0; c < s->nc; c++) {
-                const int i0 = c * T, i1 = i0 + T < w ? i0 + T : w;
-                double xs = 0.0, xc = 0.0;
-                for (int i = i0; i < i1; i++) {
-                    xs += yd[i] * g->cs[i];
-                    xc += yd[i] * g->cc[i];
-                }
-                rcs[c] = xs;
-                rcc[c] = xc;
             }
         }
     }
@@ -174,51 +220,53 @@ void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double
     direct_rows(s, b1 * T, r.y1, r.x0, r.x1, e, a, b, NULL);
 }
 
-/* Sums over columns [x0, x1) of row j: Y, Y cs, Y cc (the last two if ycs). */
-static void row_sums(const lumis__strips *s, int j, int x0, int x1, double *y, double *ycs,
-                     double *ycc)
+/* The row sums are stored band-major (ry[c h + j] for column band c and row j), so the
+ * bands add into all rows of a rectangle elementwise (vectorised, no chain of additions
+ * per row); each row's sum still takes its bands in order, then its direct stretches. */
+void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
 {
-    const int T = s->T;
+    const int T = s->T, n = r.y1 - r.y0;
+    const size_t H = (size_t)s->h;
     const lumis__geom *g = s->g;
-    int c0 = (x0 + T - 1) / T, c1 = x1 / T;
-    double sy = 0.0, sx = 0.0, sz = 0.0;
-    int d0 = x1, d1 = x1; /* the direct stretches: [x0, d0) and [d1, x1) */
+    const int c0 = (r.x0 + T - 1) / T, c1 = r.x1 / T;
+    int d0 = r.x1, d1 = r.x1; /* the direct stretches: [x0, d0) and [d1, x1) */
+    for (int k = 0; k < n; k++) {
+        y[k] = 0.0;
+        if (ycs) ycs[k] = ycc[k] = 0.0;
+    }
     if (c0 < c1) {
-        const size_t o = (size_t)j * (size_t)s->nc;
         for (int c = c0; c < c1; c++) {
-            sy += s->ry[o + (size_t)c];
+            const size_t o = (size_t)c * H + (size_t)r.y0;
+            const double *ry = s->ry + o;
+            for (int k = 0; k < n; k++) y[k] += ry[k];
             if (ycs) {
-                sx += s->rcs[o + (size_t)c];
-                sz += s->rcc[o + (size_t)c];
+                const double *rcs = s->rcs + o, *rcc = s->rcc + o;
+                for (int k = 0; k < n; k++) ycs[k] += rcs[k];
+                for (int k = 0; k < n; k++) ycc[k] += rcc[k];
             }
         }
         d0 = c0 * T;
         d1 = c1 * T;
     }
-    const float *row = s->y + (size_t)j * (size_t)s->w;
-    for (int pass = 0; pass < 2; pass++) {
-        int i0 = pass ? d1 : x0, i1 = pass ? x1 : d0;
-        for (int i = i0; i < i1; i++) {
-            double v = row[i];
-            sy += v;
-            if (ycs) {
-                sx += v * g->cs[i];
-                sz += v * g->cc[i];
+    for (int k = 0; k < n; k++) {
+        const float *row = s->y + (size_t)(r.y0 + k) * (size_t)s->w;
+        double sy = y[k], sx = ycs ? ycs[k] : 0.0, sz = ycs ? ycc[k] : 0.0;
+        for (int pass = 0; pass < 2; pass++) {
+            int i0 = pass ? d1 : r.x0, i1 = pass ? r.x1 : d0;
+            for (int i = i0; i < i1; i++) {
+                double v = row[i];
+                sy += v;
+                if (ycs) {
+                    sx += v * g->cs[i];
+                    sz += v * g->cc[i];
+                }
             }
         }
-    }
-    *y = sy;
-    if (ycs) {
-        *ycs = sx;
-        *ycc = sz;
-    }
-}
-
-void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
-{
-    for (int j = r.y0; j < r.y1; j++) {
-        int k = j - r.y0;
-        row_sums(s, j, r.x0, r.x1, &y[k], ycs ? &ycs[k] : NULL, ycc ? &ycc[k] : NULL);
+        y[k] = sy;
+        if (ycs) {
+            ycs[k] = sx;
+            ycc[k] = sz;
+        }
     }
 }
 
@@ -271,12 +319,13 @@ void lumis__lights_from_strips(lumis_light_set *set, const lumis__strips *s,
                                const lumis__rect *rects, int k)
 {
     const lumis__geom *g = s->g;
+    int32_t *fill = (int32_t *)(void *)(s->scratch + 4 * (size_t)s->w); /* a row of label q */
     for (int q = 0; q < k; q++) {
         const lumis__rect r = rects[q];
-        for (int j = r.y0; j < r.y1; j++) {
-            int32_t *lab = set->labels + (size_t)j * (size_t)s->w;
-            for (int i = r.x0; i < r.x1; i++) lab[i] = q;
-        }
+        const size_t n = (size_t)(r.x1 - r.x0);
+        for (size_t i = 0; i < n; i++) fill[i] = q;
+        for (int j = r.y0; j < r.y1; j++)
+            memcpy(set->labels + (size_t)j * (size_t)s->w + (size_t)r.x0, fill, n * sizeof *fill);
         lumis__acc acc;
         lumis__strips_rect(s, r, &acc);
         lumis_light *l = &set->lights[q];

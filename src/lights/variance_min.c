@@ -92,8 +92,10 @@ static int vm_split(void *ctx, lumis__rect r, lumis__rect *ra, lumis__rect *rb)
     const vm_ctx *v = ctx;
     int nx = r.x1 - r.x0, ny = r.y1 - r.y0;
     if (nx < 2 && ny < 2) return 0;
-    double e;
-    variance(v, r, &e);
+    /* the column marginals give the energy and serve the column cuts below */
+    const int ncol = marginals(v, r, 0);
+    double e = 0.0;
+    for (int k = 0; k < ncol; k++) e += v->q[0][k];
     *ra = *rb = r;
     if (!(e > 0.0)) { /* nothing to weigh: halve the longer side */
         double wd, ht;
@@ -107,7 +109,7 @@ static int vm_split(void *ctx, lumis__rect r, lumis__rect *ra, lumis__rect *rb)
     double best = INFINITY;
     int best_axis = -1, best_pos = 0;
     if (nx >= 2) {
-        int c = best_cut(v, marginals(v, r, 0), &best);
+        int c = best_cut(v, ncol, &best);
         if (c > 0) {
             best_axis = 0;
             best_pos = r.x0 + c;
