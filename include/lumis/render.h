@@ -80,12 +80,15 @@ typedef struct lumis_luminaire_instance {
 
 /* How a luminaire sample's visibility is decided. */
 typedef enum lumis_visibility {
-    LUMIS_VISIBILITY_EXACT = 0, /* one shadow ray per light sample, to its point on U */
-    LUMIS_VISIBILITY_APPROX,    /* Lu et al. 6.2: per cell of the basis grid on U one ray to
-                                   the cell's centre; a sample of image m is weighted by the
-                                   mean visibility v_m(p) over the cells of Phi_m's support
-                                   (rays here where the paper uses shadow maps) */
-    LUMIS_VISIBILITY_NONE,      /* no shadows (the paper's irradiance, Eq. 2) */
+    LUMIS_VISIBILITY_EXACT = 0,  /* one shadow ray per light sample, to its point on U */
+    LUMIS_VISIBILITY_APPROX,     /* Lu et al. 6.2: per cell of the basis grid on U one ray to
+                                    the cell's centre; a sample of image m is weighted by the
+                                    mean visibility v_m(p) over the cells of Phi_m's support
+                                    (rays here where the paper uses shadow maps) */
+    LUMIS_VISIBILITY_NONE,       /* no shadows (the paper's irradiance, Eq. 2) */
+    LUMIS_VISIBILITY_SHADOW_MAP, /* approx, with the visibility of each cell's centre read
+                                   from a depth map rendered from it when the render starts
+                                   (as the paper): no ray per shading point */
     LUMIS_VISIBILITY_COUNT
 } lumis_visibility;
 
@@ -97,7 +100,7 @@ typedef enum lumis_sequence {
     LUMIS_SEQUENCE_COUNT
 } lumis_sequence;
 
-/* "exact", "approx", "none"; "pcg", "halton". */
+/* "exact", "approx", "none", "shadowmap"; "pcg", "halton". */
 const char *lumis_visibility_name(lumis_visibility visibility);
 lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
 const char *lumis_sequence_name(lumis_sequence sequence);

@@ -545,7 +545,7 @@ static uint64_t mix64(uint64_t z)
     return z ^ (z >> 31);
 }
 
-static const char *const visibility_names[] = {"exact", "approx", "none"};
+static const char *const visibility_names[] = {"exact", "approx", "none", "shadowmap"};
 static const char *const sequence_names[] = {"pcg", "halton"};
 
 const char *lumis_visibility_name(lumis_visibility v)
@@ -592,6 +592,10 @@ typedef struct lum_inst {
     double cell0[2];  /* centre of cell (0, 0) on U, luminaire frame */
     double cell_h[2]; /* cell size */
     double weight[3]; /* the share of Phi's integral over each covered cell, per axis */
+    float *smap;      /* shadow maps: per cell n x n distances to the nearest hit, over
+                         directions (x / z, y / z) in [-tmax, tmax]^2 of the local frame */
+    int smap_n;
+    double smap_t;
 } lum_inst;
 
 /* Per-thread buffers of the luminaire kind (no allocation per shading point). */
@@ -684,6 +688,74 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
     return v;
 }
 
+/* A cell's centre on U, in the world. */
+static v3 lum_cell_world(const lum_inst *li, int ci, int cj)
+{
+    const v3 local = mk(li->cell0[0] + ci * li->cell_h[0], li->cell0[1] + cj * li->cell_h[1], 0.0);
+    return add(rot_apply(li->r, mul(local, li->scale)), mk(li->t[0], li->t[1], li->t[2]));
+}
+
+/* Visibility of x from the centre of cell (ci, cj), read from its shadow map: 2 x 2
+ * percentage-closer filtering, a depth bias of 1 % plus four texels' slope. */
+static double smap_visibility(const lum_inst *li, int ci, int cj, v3 x)
+{
+    const v3 d = sub(x, lum_cell_world(li, ci, cj));
+    const v3 dl = rot_apply_t(li->r, d);
+    if (!(dl.z > 0.0)) return 1.0; /* behind U: no light reaches it anyway */
+    const int n = li->smap_n;
+    const double t = li->smap_t, fx = (dl.x / dl.z + t) / (2.0 * t) * n - 0.5,
+                 fy = (dl.y / dl.z + t) / (2.0 * t) * n - 0.5;
+    if (!(fx > -0.5 && fx < n - 0.5 && fy > -0.5 && fy < n - 0.5)) return 1.0;
+    const double dist = sqrt(dot(d, d)), bias = dist * (0.01 + 4.0 * t / n);
+    const int x0 = (int)floor(fx), y0 = (int)floor(fy);
+    const double ax = fx - x0, ay = fy - y0;
+    const float *map =
+        li->smap + ((size_t)cj * (size_t)li->cells[0] + (size_t)ci) * (size_t)n * (size_t)n;
+    double v = 0.0;
+    for (int q = 0; q < 4; q++) {
+        const int i = x0 + (q & 1), j = y0 + (q >> 1);
+        const int ic = i < 0 ? 0 : i >= n ? n - 1 : i, jc = j < 0 ? 0 : j >= n ? n - 1 : j;
+        const double w = ((q & 1) ? ax : 1.0 - ax) * ((q >> 1) ? ay : 1.0 - ay);
+        if (dist <= (double)map[(size_t)jc * (size_t)n + (size_t)ic] + bias) v += w;
+    }
+    return v;
+}
+
+/* Renders every cell's shadow map: n x n rays from its centre over the directions that
+ * reach the images (the largest |s - u| / delta over the images and the cells). */
+static lumis_status lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int n, int threads)
+{
+    lumis_luminaire_desc ld;
+    lumis_luminaire_get_desc(li->lum, &ld);
+    double t = 0.0;
+    for (int a = 0; a < 2; a++) {
+        const double u0 = li->cell0[a] - 0.5 * li->cell_h[a],
+                     u1 = li->cell0[a] + (li->cells[a] - 0.5) * li->cell_h[a];
+        const double s0 = ld.image_origin[a], s1 = ld.image_origin[a] + ld.image_size[a];
+        t = fmax(t, fmax(fabs(s1 - u0), fabs(s0 - u1)) / ld.delta);
+    }
+    const size_t cells = (size_t)li->cells[0] * (size_t)li->cells[1];
+    li->smap_n = n;
+    li->smap_t = t;
+    if (!(li->smap = malloc(cells * (size_t)n * (size_t)n * sizeof *li->smap)))
+        return LUMIS_ERR_OUT_OF_MEMORY;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int c = 0; c < (int)cells; c++) {
+        const v3 o = lum_cell_world(li, c % li->cells[0], c / li->cells[0]);
+        float *map = li->smap + (size_t)c * (size_t)n * (size_t)n;
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < n; i++) {
+                const v3 dl = mk(-t + (i + 0.5) * 2.0 * t / n, -t + (j + 0.5) * 2.0 * t / n, 1.0);
+                const v3 dir = norm(rot_apply(li->r, dl));
+                hit h;
+                map[(size_t)j * (size_t)n + (size_t)i] =
+                    intersect(scene, o, dir, &h) ? (float)sqrt(dot(sub(h.p, o), sub(h.p, o)))
+                                                 : INFINITY;
+            }
+    }
+    return LUMIS_OK;
+}
+
 /* Every placed luminaire at h: its samples (lumis_luminaire_sample_point) times the BSDF and
  * the cosine, each weighted as the sample says (1 / (K_m pdf_omega)), times its visibility. */
 static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, int k,
@@ -761,6 +833,17 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
                 if (s->image != vis_image) {
                     vis_image = s->image;
                     vis = lum_visibility(c, li, sc, s->image, o, shadow_rays);
+                }
+                L = add(L, mul(contrib, vis));
+            } else if (ll->visibility == LUMIS_VISIBILITY_SHADOW_MAP) {
+                if (s->image != vis_image) {
+                    vis_image = s->image;
+                    const int ga = s->image % li->grid[0], gb = s->image / li->grid[0];
+                    vis = 0.0;
+                    for (int jj = 0; jj < li->span; jj++)
+                        for (int ii = 0; ii < li->span; ii++)
+                            vis += li->weight[ii] * li->weight[jj] *
+                                   smap_visibility(li, ga + ii, gb + jj, o);
                 }
                 L = add(L, mul(contrib, vis));
             } else {
@@ -942,6 +1025,7 @@ void lumis_render_job_destroy(lumis_render_job *job)
     if (!job) return;
     free(job->sum);
     soa_free(job->soa, job->sets);
+    for (int i = 0; job->lum && i < job->lighting.count; i++) free(job->lum[i].smap);
     free(job->lum);
     free(job);
 }
@@ -1056,7 +1140,16 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
     }
     if (lum_kind) {
+        job->lighting = *d->luminaires; /* what destroy reads to free the shadow maps */
         lumis_status lst = lum_prepare(d, job);
+        for (int i = 0;
+             lst == LUMIS_OK && d->luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
+             i < d->luminaires->count;
+             i++)
+            if ((lst = lum_shadow_maps(scene, &job->lum[i], 256,
+                                       d->threads > 0 ? d->threads : omp_get_max_threads())) !=
+                LUMIS_OK)
+                lumis__fail(&d->errors, lst, "render: luminaire %d: shadow maps: out of memory", i);
         if (lst != LUMIS_OK) {
             lumis_render_job_destroy(job);
             return lst;

@@ -218,10 +218,22 @@ static void visibility(void **state)
             assert_true(c.r == 0.0f && c.g == 0.0f && c.b == 0.0f);
         }
         lumis_scene_destroy(closed);
-        /* A small one that hides part of it: strictly between, both ways. */
+        /* Shadow maps: no false shadows without an occluder (the bias), black behind the
+         * big sphere. */
+        ll.visibility = LUMIS_VISIBILITY_SHADOW_MAP;
+        lumis_scene *open2 = make_scene(&IDENTITY, NULL, 0.0);
+        const lumis_rgb sm = render_pixel(open2, &IDENTITY, &ll, 5, 4);
+        assert_true(sm.r == free_.r && sm.g == free_.g && sm.b == free_.b);
+        lumis_scene_destroy(open2);
+        lumis_scene *closed2 = make_scene(&IDENTITY, centre, 0.8);
+        const lumis_rgb smc = render_pixel(closed2, &IDENTITY, &ll, 5, 4);
+        assert_true(smc.r == 0.0f && smc.g == 0.0f && smc.b == 0.0f);
+        lumis_scene_destroy(closed2);
+        /* A small one that hides part of it: strictly between, every way. */
         const double part[3] = {P[0] + 0.3, P[1], 1.5};
         lumis_scene *some = make_scene(&IDENTITY, part, 0.15);
-        for (int v = LUMIS_VISIBILITY_EXACT; v <= LUMIS_VISIBILITY_APPROX; v++) {
+        for (int v = LUMIS_VISIBILITY_EXACT; v <= LUMIS_VISIBILITY_SHADOW_MAP; v++) {
+            if (v == LUMIS_VISIBILITY_NONE) continue;
             ll.visibility = (lumis_visibility)v;
             const lumis_rgb c = render_pixel(some, &IDENTITY, &ll, 5, 64);
             if (!(c.g > 0.05f * free_.g && c.g < 0.99f * free_.g))
@@ -323,7 +335,9 @@ static void bad_lighting(void **state)
     lumis_sequence q;
     assert_int_equal(lumis_visibility_from_name("approx", &v), LUMIS_OK);
     assert_int_equal(v, LUMIS_VISIBILITY_APPROX);
-    assert_int_equal(lumis_visibility_from_name("shadowmap", &v), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_visibility_from_name("shadowmap", &v), LUMIS_OK);
+    assert_int_equal(v, LUMIS_VISIBILITY_SHADOW_MAP);
+    assert_int_equal(lumis_visibility_from_name("raster", &v), LUMIS_ERR_INVALID_ARGUMENT);
     assert_int_equal(lumis_sequence_from_name("halton", &q), LUMIS_OK);
     assert_string_equal(lumis_sequence_name(q), "halton");
     lumis_scene_destroy(s);

@@ -51,7 +51,9 @@ static const char usage[] =
     "  --lum-search S     CDF inversion: secant (the paper's) or binary\n"
     "  --lum-depth D      search depth, 0 exact (default); a limit is approximate (biased)\n"
     "  --visibility V     exact (a shadow ray per sample, default), approx (Lu et al. 6.2: a\n"
-    "                     ray per basis cell, averaged over each function's cells) or none\n"
+    "                     ray per basis cell, averaged over each function's cells),\n"
+    "                     shadowmap (the same cells read from 256x256 depth maps rendered\n"
+    "                     once, as the paper) or none\n"
     "  --sequence Q       the samples' numbers: pcg (default) or halton\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
@@ -153,7 +155,8 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--visibility", &v)) {
             o.lum_option = "--visibility";
             if (!v || lumis_visibility_from_name(v, &o.lum.visibility) != LUMIS_OK)
-                return tool_bad_value("render", "--visibility", v, "must be exact, approx or none");
+                return tool_bad_value("render", "--visibility", v,
+                                      "must be exact, approx, shadowmap or none");
         } else if (tool_option(argc, argv, &i, "--sequence", &v)) {
             o.lum_option = "--sequence";
             if (!v || lumis_sequence_from_name(v, &o.lum.sequence) != LUMIS_OK)

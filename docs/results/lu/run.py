@@ -154,7 +154,7 @@ for scene in args.scenes.split(","):
 
     # Fig. 7: approximate against exact visibility.
     vis = [judge(scene, ref, f"vis-{v}", ["--lum-budget", "32", "--spp", "64", "--visibility", v])
-           for v in ("exact", "approx", "none")]
+           for v in ("exact", "approx", "shadowmap", "none")]
     R["visibility"] = vis
     md.append("\nVisibility (K = 32, 64 spp) against the exact reference:\n\n" + table(
         ["visibility", "mean Lab", "RMSE", "shadow rays", "render s"],
