@@ -618,6 +618,38 @@ static void exr_size_is_checked_against_the_limit(void **state)
     free(b);
 }
 
+/* A file of 240 bytes whose one row of 3.3 million pixels under a 32-line compression would
+ * make OpenEXR allocate 838 MB before a pixel is read (found by fuzz_exr): refused from the
+ * header, within the pixel limit. */
+static void exr_block_buffers_are_bounded(void **state)
+{
+    (void)state;
+    static const unsigned char b[] = {
+        118, 47,  49,  1,   2,   0,  0,   0,   99,  104, 97,  110, 110, 101, 108, 115, 0,   99,
+        104, 108, 105, 115, 116, 0,  55,  0,   0,   0,   66,  0,   1,   0,   0,   0,   0,   0,
+        0,   0,   1,   0,   0,   0,  1,   0,   0,   0,   46,  0,   0,   0,   0,   0,   0,   0,
+        0,   96,  1,   0,   0,   0,  1,   0,   0,   0,   82,  0,   1,   0,   0,   0,   0,   0,
+        0,   0,   1,   0,   0,   0,  1,   0,   0,   0,   0,   99,  111, 109, 112, 114, 101, 115,
+        115, 105, 111, 110, 0,   99, 111, 109, 112, 114, 101, 115, 115, 105, 111, 110, 0,   1,
+        0,   0,   0,   6,   100, 97, 116, 97,  87,  105, 110, 100, 111, 119, 0,   98,  111, 120,
+        50,  105, 0,   16,  0,   0,  0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   50,
+        0,   0,   0,   0,   0,   0,  0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,
+        0,   0,   0,   0,   0,   0,  0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,
+        0,   0,   0,   0,   0,   0,  0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,   0,
+        0,   0,   0,   0,   0,   0,  0,   0,   0,   255, 253, 245, 142, 239, 46,  192, 152, 2,
+        8,   32,  130, 130, 8,   32, 130, 8,   32,  130, 8,   32};
+    lumis_image *img = NULL;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    assert_int_equal(
+        lumis_image_read_memory(b, sizeof b, LUMIS_FORMAT_AUTO, "oom.exr", &ro, &img, NULL),
+        LUMIS_ERR_TOO_LARGE);
+    assert_null(img);
+    assert_non_null(strstr(sink.last, "limit 256 MB"));
+}
+
 static void hdr_headers(void **state)
 {
     (void)state;
@@ -834,6 +866,7 @@ int main(void)
         cmocka_unit_test(exr_attribute_sizes_are_checked_before_openexr),
         cmocka_unit_test(exr_decodes_the_same_with_any_thread_count),
         cmocka_unit_test(exr_size_is_checked_against_the_limit),
+        cmocka_unit_test(exr_block_buffers_are_bounded),
         cmocka_unit_test(hdr_headers),
         cmocka_unit_test(hdr_scanline_variants),
         cmocka_unit_test(pfm_headers),

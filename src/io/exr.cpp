@@ -166,18 +166,25 @@ size_t fixed_attribute_size(const char *type)
 
 // Whether a channel list of `size` bytes is exactly what OpenEXR's reader consumes:
 // entries of a name (at most 255 characters and its NUL) and 16 bytes, then a NUL.
-bool channel_list_fits(CheckedIStream &in, int32_t size)
+bool channel_list_fits(CheckedIStream &in, int32_t size, int64_t *channels)
 {
     std::string bytes(static_cast<size_t>(size), '\0');
     if (size > 0) in.read(&bytes[0], size);
     size_t at = 0;
-    for (;;) {
+    for (*channels = 0;; ++*channels) {
         const size_t nul = bytes.find('\0', at);
         if (nul == std::string::npos || nul - at > 255) return false;
         if (nul == at) return nul + 1 == bytes.size(); // the list's terminator
         at = nul + 1 + 16;
         if (at > bytes.size()) return false;
     }
+}
+
+// Scan lines OpenEXR decodes as one block, by compression (OpenEXR's enum order).
+int64_t lines_per_block(int compression)
+{
+    static const int lines[] = {1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+    return compression >= 0 && compression < 10 ? lines[compression] : 256;
 }
 
 // Walks the attribute lists of the header(s) and checks every attribute's declared size
@@ -196,11 +203,30 @@ lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ct
     const size_t max_name = long_names ? 256 : 32;
     for (;;) {
         char name[256], type[256];
+        // What OpenEXR sizes its block buffers from when the file is opened.
+        int64_t width = 0, channels = 0;
+        int compression = 0;
+        bool tiled = false;
         for (;;) {
             if (!read_name(in, name, max_name) || (name[0] && !read_name(in, type, max_name)))
                 return fail(ctx->errors, LUMIS_ERR_BAD_HEADER,
                             "%s: header attribute name longer than %zu bytes", ctx->name, max_name);
-            if (!name[0]) break; // end of this header
+            if (!name[0]) { // end of this header
+                // A scan-line file's decoder holds a block of lines of every channel: a
+                // tiny file claiming 3 million pixels a row under a 32-line compression
+                // would cost OpenEXR gigabytes before a pixel is read.
+                const int64_t block =
+                    width * (channels > 0 ? channels : 1) * 4 * lines_per_block(compression);
+                if (!tiled && block > (int64_t{256} << 20))
+                    return fail(ctx->errors, LUMIS_ERR_TOO_LARGE,
+                                "%s: rows of %lld pixels x %lld channels in blocks of %lld "
+                                "lines need %lld MB to decode (limit 256 MB)",
+                                ctx->name, static_cast<long long>(width),
+                                static_cast<long long>(channels),
+                                static_cast<long long>(lines_per_block(compression)),
+                                static_cast<long long>(block >> 20));
+                break;
+            }
             unsigned char sz[4];
             in.read(reinterpret_cast<char *>(sz), 4);
             const int32_t size = static_cast<int32_t>(sz[0] | sz[1] << 8 | sz[2] << 16 |
@@ -219,7 +245,7 @@ lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ct
             if (fixed) {
                 fits = static_cast<size_t>(size) == fixed;
             } else if (std::strcmp(type, "chlist") == 0) {
-                fits = channel_list_fits(in, size);
+                fits = channel_list_fits(in, size, &channels);
             } else if (std::strcmp(type, "preview") == 0) { // width, height, then RGBA8
                 unsigned char wh[8] = {0};
                 if (size >= 8) in.read(reinterpret_cast<char *>(wh), 8);
@@ -249,11 +275,20 @@ lumis_status check_attribute_sizes(CheckedIStream &in, const lumis__read_ctx *ct
                                                 static_cast<uint32_t>(v[4 * k + 3]) << 24);
                 const int64_t w = window ? x[2] - x[0] + 1 : x[0];
                 const int64_t h = window ? x[3] - x[1] + 1 : x[1];
+                if (window) width = w;
+                tiled |= tiles;
                 const lumis_status st = lumis_image_check_size(w, h, ctx->max_pixels);
                 if (st != LUMIS_OK)
                     return fail(ctx->errors, st, "%s: %s %lld x %lld: %s", ctx->name,
                                 window ? "data window" : "tile size", static_cast<long long>(w),
                                 static_cast<long long>(h), lumis_status_string(st));
+            }
+            if (!std::strcmp(name, "compression") && !std::strcmp(type, "compression") &&
+                size == 1) {
+                unsigned char c = 0;
+                in.seekg(value_at);
+                in.read(reinterpret_cast<char *>(&c), 1);
+                compression = c;
             }
             in.seekg(value_at + static_cast<uint64_t>(size));
         }
