@@ -31,6 +31,9 @@ lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminair
  * or "preset:small".  LUMIS_ERR_INVALID_ARGUMENT for another spec. */
 lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
                                           lumis_luminaire **out);
+/* Rotation Rz Ry Rx (degrees r), row-major, in double precision (a luminaire's placement
+ * must pass lumis_rigid_check). */
+void lumis__rotation_deg(const float r[3], double m[9]);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 

@@ -462,9 +462,10 @@ typedef struct packet {
     int n, flushed; /* lanes filled; lanes traced in earlier packets */
 } packet;
 
-static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packet *p, v3 *L)
+/* Traces the packet's filled lanes (the shadow-ray hook sees each first); a lane's tfar is
+ * then negative when its ray is occluded. */
+static void packet_trace(const lumis_scene *s, const lumis_render_desc *d, packet *p)
 {
-    if (p->n == 0) return;
     for (int k = p->n; k < PACKET; k++) p->valid[k] = 0;
     if (d->shadow_ray)
         for (int k = 0; k < p->n; k++) {
@@ -475,10 +476,35 @@ static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packe
     struct RTCIntersectContext ictx;
     rtcInitIntersectContext(&ictx);
     rtcOccluded16(p->valid, s->rtc, &ictx, &p->r);
+}
+
+static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packet *p, v3 *L)
+{
+    if (p->n == 0) return;
+    packet_trace(s, d, p);
     for (int k = 0; k < p->n; k++)
         if (p->r.tfar[k] >= 0.0f) *L = add(*L, p->contrib[k]);
     p->flushed += p->n;
     p->n = 0;
+}
+
+static void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
+{
+    const int q = p->n++;
+    p->valid[q] = -1;
+    p->r.org_x[q] = (float)o.x;
+    p->r.org_y[q] = (float)o.y;
+    p->r.org_z[q] = (float)o.z;
+    p->r.dir_x[q] = (float)d.x;
+    p->r.dir_y[q] = (float)d.y;
+    p->r.dir_z[q] = (float)d.z;
+    p->r.tnear[q] = 0.0f;
+    p->r.tfar[q] = tfar;
+    p->r.mask[q] = 0xffffffffu;
+    p->r.flags[q] = 0;
+    p->r.time[q] = 0.0f;
+    p->r.id[q] = (unsigned)q;
+    p->contrib[q] = contrib;
 }
 
 /* Every light of the pixel's set: f cos V power, one shadow ray each.  A Lambertian surface
@@ -497,7 +523,6 @@ static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
                 kg = m->diffuse.g * (float)(1.0 / LUMIS_PI),
                 kb = m->diffuse.b * (float)(1.0 / LUMIS_PI);
     const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
-    const float ox = (float)o.x, oy = (float)o.y, oz = (float)o.z;
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
     v3 L = mk(0, 0, 0);
     packet p;
@@ -515,21 +540,8 @@ static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
             fg = f.g;
             fb = f.b;
         }
-        const int q = p.n++;
-        p.valid[q] = -1;
-        p.r.org_x[q] = ox;
-        p.r.org_y[q] = oy;
-        p.r.org_z[q] = oz;
-        p.r.dir_x[q] = wx;
-        p.r.dir_y[q] = wy;
-        p.r.dir_z[q] = wz;
-        p.r.tnear[q] = 0.0f;
-        p.r.tfar[q] = INFINITY;
-        p.r.mask[q] = 0xffffffffu;
-        p.r.flags[q] = 0;
-        p.r.time[q] = 0.0f;
-        p.r.id[q] = (unsigned)q;
-        p.contrib[q] = mk(fr * ls->r[k] * cosn, fg * ls->g[k] * cosn, fb * ls->b[k] * cosn);
+        packet_push(&p, o, mk(wx, wy, wz), INFINITY,
+                    mk(fr * ls->r[k] * cosn, fg * ls->g[k] * cosn, fb * ls->b[k] * cosn));
         if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
     }
     *shadow_rays += (double)(p.n + p.flushed);
@@ -620,25 +632,6 @@ static v3 rot_apply_t(const double r[9], v3 a)
               r[2] * a.x + r[5] * a.y + r[8] * a.z);
 }
 
-static void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
-{
-    const int q = p->n++;
-    p->valid[q] = -1;
-    p->r.org_x[q] = (float)o.x;
-    p->r.org_y[q] = (float)o.y;
-    p->r.org_z[q] = (float)o.z;
-    p->r.dir_x[q] = (float)d.x;
-    p->r.dir_y[q] = (float)d.y;
-    p->r.dir_z[q] = (float)d.z;
-    p->r.tnear[q] = 0.0f;
-    p->r.tfar[q] = tfar;
-    p->r.mask[q] = 0xffffffffu;
-    p->r.flags[q] = 0;
-    p->r.time[q] = 0.0f;
-    p->r.id[q] = (unsigned)q;
-    p->contrib[q] = contrib;
-}
-
 /* Mean visibility v_m(p) of image m = (a, b) (Lu et al. 6.2): rays from o to the centres of
  * the cells Phi_m covers, each weighted by its share of Phi_m's integral; a cell already
  * traced for this point is not traced again. */
@@ -668,16 +661,7 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
             packet_push(&p, o, mul(d, 1.0 / len), (float)(len * (1.0 - 1e-4)), mk(0, 0, 0));
         }
     if (p.n > 0) {
-        for (int k = p.n; k < PACKET; k++) p.valid[k] = 0;
-        if (c->d->shadow_ray)
-            for (int k = 0; k < p.n; k++) {
-                const float oo[3] = {p.r.org_x[k], p.r.org_y[k], p.r.org_z[k]},
-                            dd[3] = {p.r.dir_x[k], p.r.dir_y[k], p.r.dir_z[k]};
-                c->d->shadow_ray(c->d->shadow_ray_user, oo, dd);
-            }
-        struct RTCIntersectContext ictx;
-        rtcInitIntersectContext(&ictx);
-        rtcOccluded16(p.valid, c->scene->rtc, &ictx, &p.r);
+        packet_trace(c->scene, c->d, &p);
         for (int k = 0; k < p.n; k++) sc->vis[cell[k]] = p.r.tfar[k] >= 0.0f ? 1.0f : 0.0f;
         *shadow_rays += p.n;
     }
@@ -1157,13 +1141,8 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
     }
     job->scene = scene;
     job->d = *d;
-    job->d.camera = NULL; /* job->cam is the camera */
-    if (lum_kind) {
-        job->lighting = *d->luminaires;
-        job->d.luminaires = &job->lighting;
-    } else {
-        job->d.luminaires = NULL;
-    }
+    job->d.camera = NULL;                                 /* job->cam is the camera */
+    job->d.luminaires = lum_kind ? &job->lighting : NULL; /* copied before lum_prepare */
     job->cam = cam;
     job->cf = cf;
     *out = job;

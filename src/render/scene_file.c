@@ -279,23 +279,30 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
 
 /* Scale, then rotation R = Rz Ry Rx (degrees), then translation, as a row-major 3x4
  * matrix. */
-void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12])
+void lumis__rotation_deg(const float r[3], double m[9])
 {
-    double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
-    double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
-    double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
-    for (int j = 0; j < 3; j++) { /* column j: the image of s_j e_j */
-        double x = j == 0 ? s[0] : 0.0, y = j == 1 ? s[1] : 0.0, z = j == 2 ? s[2] : 0.0;
+    const double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
+    const double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
+    const double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
+    for (int j = 0; j < 3; j++) { /* column j: the image of e_j */
+        double x = j == 0, y = j == 1, z = j == 2;
         double y1 = cx * y - sx * z, z1 = sx * y + cx * z;     /* about x */
         double x2 = cy * x + sy * z1, z2 = -sy * x + cy * z1;  /* about y */
         double x3 = cz * x2 - sz * y1, y3 = sz * x2 + cz * y1; /* about z */
-        m[j] = (float)x3;
-        m[4 + j] = (float)y3;
-        m[8 + j] = (float)z2;
+        m[j] = x3;
+        m[3 + j] = y3;
+        m[6 + j] = z2;
     }
-    m[3] = t[0];
-    m[7] = t[1];
-    m[11] = t[2];
+}
+
+void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12])
+{
+    double rot[9];
+    lumis__rotation_deg(r, rot);
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) m[4 * i + j] = (float)(rot[3 * i + j] * s[j]);
+        m[4 * i + 3] = t[i];
+    }
 }
 
 static lumis_status mesh_from_assimp(const struct aiScene *sc, lumis_object *o)
@@ -470,24 +477,6 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k)
     return LUMIS_OK;
 }
 
-/* Rz Ry Rx (degrees), row-major, in double precision: a luminaire's placement must pass
- * lumis_rigid_check (orthonormal to 1e-6). */
-static void rotation_deg(const float r[3], double m[9])
-{
-    const double cx = cos(r[0] * LUMIS_PI / 180), sx = sin(r[0] * LUMIS_PI / 180);
-    const double cy = cos(r[1] * LUMIS_PI / 180), sy = sin(r[1] * LUMIS_PI / 180);
-    const double cz = cos(r[2] * LUMIS_PI / 180), sz = sin(r[2] * LUMIS_PI / 180);
-    for (int j = 0; j < 3; j++) { /* column j: the image of e_j, as lumis__transform_matrix */
-        double x = j == 0, y = j == 1, z = j == 2;
-        double y1 = cx * y - sx * z, z1 = sx * y + cx * z;
-        double x2 = cy * x + sy * z1, z2 = -sy * x + cy * z1;
-        double x3 = cz * x2 - sz * y1, y3 = sz * x2 + cz * y1;
-        m[j] = x3;
-        m[3 + j] = y3;
-        m[6 + j] = z2;
-    }
-}
-
 /* luminaires[k]: {"file": "lamp.json" | "preset:car", "transform": {"translate",
  * "rotate_deg", "scale" (a number: lengths only)}, "intensity"}. */
 static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
@@ -518,7 +507,7 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
         if ((st = get_number(p, x, "scale", xp, 1e-12, 1e12, &scale)) != LUMIS_OK) return st;
     }
     if ((st = get_number(p, j, "intensity", path, 0.0, 1e30, &intensity)) != LUMIS_OK) return st;
-    rotation_deg(rot, in.placement.r);
+    lumis__rotation_deg(rot, in.placement.r);
     for (int a = 0; a < 3; a++) in.placement.t[a] = tr[a];
     in.scale = scale;
     in.intensity = intensity == 0.0 ? 0.0f : (float)intensity;
