@@ -32,25 +32,6 @@ static const char usage[] =
     "  --runs R        timing runs and builds; medians are reported (default 5)\n"
     "  --blocks K      kd-tree blocks (default 6144)\n";
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 enum { NNORMALS = 16, SPP = 64 };
 
 /* The quadrature both the reference and the variance use: every pixel at its centre
@@ -154,29 +135,29 @@ static int bench_one(const lumis_envmap *env, lumis_sampler_desc d, int runs, lo
         }
         t[k] = lumis_sampler_build_ms(s);
     }
-    r->build_ms = median(t, runs);
+    r->build_ms = tool_median(t, runs);
     r->bytes = lumis_sampler_table_bytes(s);
     r->total_bytes = lumis_sampler_total_bytes(s);
     r->blocks = lumis_sampler_kdtree_blocks(s);
     r->alpha = lumis_sampler_kdtree_alpha(s);
     volatile float sink = 0.0f;
     for (int k = 0; k < runs; k++) {
-        double t0 = now_s();
+        double t0 = tool_now_seconds();
         float acc = 0.0f;
         for (long q = 0; q < nsamples; q++)
             acc += lumis_sampler_sample(s, u[2 * q], u[2 * q + 1]).pdf;
-        t[k] = (double)nsamples / (now_s() - t0);
+        t[k] = (double)nsamples / (tool_now_seconds() - t0);
         sink += acc;
     }
-    r->sps = median(t, runs);
+    r->sps = tool_median(t, runs);
     for (int k = 0; k < runs; k++) {
-        double t0 = now_s();
+        double t0 = tool_now_seconds();
         lumis_sampler_sample_n(s, u, (size_t)nsamples, out);
-        t[k] = (double)nsamples / (now_s() - t0);
+        t[k] = (double)nsamples / (tool_now_seconds() - t0);
         sink += out[nsamples - 1].pdf;
     }
     (void)sink;
-    r->batch_sps = median(t, runs);
+    r->batch_sps = tool_median(t, runs);
     r->rse = rel_stderr_64(s, q, normals);
     lumis_sampler_destroy(s);
     free(t);

@@ -8,7 +8,6 @@
 #include <cJSON.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 static const char usage[] =
     "usage: lumis luminaire create OUT.json [--preset P] [--basis B] [--format F]\n"
@@ -34,19 +33,6 @@ static const char usage[] =
     "         scene is given: every luminaire of the scene is replaced by LUMINAIRE, kept\n"
     "         where the scene places it.  Every option of lumis render applies (--lum-*,\n"
     "         --visibility, --sequence, --spp, --time, --size, -o, --png ...).\n";
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static int create(int argc, char **argv)
 {
@@ -89,11 +75,11 @@ static int create(int argc, char **argv)
     if (rc != EXIT_OK) return rc;
     fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",
             lumis_luminaire_preset_name(preset));
-    double t0 = now();
+    double t0 = tool_now_seconds();
     lumis_luminaire *lum = NULL;
     if (lumis_luminaire_preset_create(preset, basis, &tool_errors, &lum) != LUMIS_OK)
         return EXIT_RUNTIME;
-    double t1 = now();
+    double t1 = tool_now_seconds();
     wo.errors = tool_errors;
     wo.units = "mm";
     lumis_status st = lumis_luminaire_write(out, lum, &wo);
@@ -105,7 +91,7 @@ static int create(int argc, char **argv)
             "lumis: acquired %d images of %d x %d in %.2f s; wrote %s and its images (%s) in "
             "%.2f s\n",
             info.images, info.width, info.height, t1 - t0, out,
-            wo.image_format == LUMIS_FORMAT_PFM ? "PFM" : "EXR", now() - t1);
+            wo.image_format == LUMIS_FORMAT_PFM ? "PFM" : "EXR", tool_now_seconds() - t1);
     return EXIT_OK;
 }
 
@@ -122,10 +108,10 @@ static int info(int argc, char **argv)
             return tool_usage_error("luminaire info", "unknown argument '%s'", argv[i]);
     }
     if (!file) return tool_usage_error("luminaire info", "no luminaire given");
-    double t0 = now();
+    double t0 = tool_now_seconds();
     lumis_luminaire *lum = NULL;
     if (tool_load_luminaire(file, &lum) != LUMIS_OK) return EXIT_RUNTIME;
-    const double read_s = now() - t0;
+    const double read_s = tool_now_seconds() - t0;
     char units[32] = "mm"; /* the presets' */
     if (strncmp(file, "preset:", 7) != 0) {
         lumis_luminaire_manifest *m = NULL;
@@ -140,9 +126,9 @@ static int info(int argc, char **argv)
     double ms[3];
     for (int k = 0; k < 3; k++) {
         lumis_luminaire *again = NULL;
-        double t = now();
+        double t = tool_now_seconds();
         lumis_status st = lumis_luminaire_create(&d, &again);
-        ms[k] = 1e3 * (now() - t);
+        ms[k] = 1e3 * (tool_now_seconds() - t);
         lumis_luminaire_destroy(again);
         if (st != LUMIS_OK) {
             lumis_luminaire_destroy(lum);
@@ -150,7 +136,7 @@ static int info(int argc, char **argv)
                                       lumis_status_string(st));
         }
     }
-    qsort(ms, 3, sizeof ms[0], cmp_double);
+    const double precompute_ms = tool_median(ms, 3);
     lumis_luminaire_info in;
     lumis_luminaire_get_info(lum, &in);
     lumis_luminaire_destroy(lum);
@@ -169,7 +155,7 @@ static int info(int argc, char **argv)
         cJSON_AddNumberToObject(j, "bytes", (double)in.bytes);
         cJSON_AddNumberToObject(j, "replaced", (double)in.replaced);
         cJSON_AddNumberToObject(j, "read_seconds", read_s);
-        cJSON_AddNumberToObject(j, "precompute_ms", ms[1]);
+        cJSON_AddNumberToObject(j, "precompute_ms", precompute_ms);
         char *text = cJSON_PrintUnformatted(j);
         cJSON_Delete(j);
         if (!text) return tool_runtime_error("out of memory");
@@ -189,7 +175,7 @@ static int info(int argc, char **argv)
     printf("replaced       %zu negative or non-finite values\n", in.replaced);
     printf("read           %.3f s%s\n", read_s,
            strncmp(file, "preset:", 7) == 0 ? " (acquired from the emitter)" : "");
-    printf("precompute     %.1f ms (tables, median of 3)\n", ms[1]);
+    printf("precompute     %.1f ms (tables, median of 3)\n", precompute_ms);
     return EXIT_OK;
 }
 

@@ -52,6 +52,11 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
 
 /* "auto" exposure: the stops that bring an image's mean luminance to 0.18 (0 for a black
  * image).  The default of every PNG preview. */
+/* Monotonic wall-clock seconds. */
+double tool_now_seconds(void);
+/* The median of n values (sorts them). */
+double tool_median(double *v, int n);
+
 /* A luminaire manifest (lumis_luminaire_read) or preset:car|bike|small (acquired); errors
  * printed. */
 lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out);

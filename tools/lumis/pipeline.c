@@ -335,7 +335,19 @@ typedef struct progress {
     int spp_done;
 } progress;
 
-static double now_seconds(void)
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double tool_median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof(double), cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double tool_now_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -344,7 +356,7 @@ static double now_seconds(void)
 
 static void progress_draw(progress *p, double fraction, int final)
 {
-    double t = now_seconds();
+    double t = tool_now_seconds();
     if (!final && t - p->last < 0.1) return;
     p->last = t;
     if (fraction > 1.0) fraction = 1.0;
@@ -361,7 +373,7 @@ static void progress_draw(progress *p, double fraction, int final)
 static void on_progress(void *user, int done, int total)
 {
     progress *p = user;
-    double f = p->budget > 0.0 ? (now_seconds() - p->start) / p->budget
+    double f = p->budget > 0.0 ? (tool_now_seconds() - p->start) / p->budget
                                : (total > 0 ? (double)done / total : 1.0);
     progress_draw(p, f, 0);
 }
@@ -584,12 +596,12 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
     if (low.width < 1) low.width = 1;
     if (low.height < 1) low.height = 1;
     indirect.camera = &low;
-    double t0 = now_seconds();
+    double t0 = tool_now_seconds();
     lumis_status st = lumis_render_job_create(scene, &direct, &u->full);
     if (st == LUMIS_OK) st = lumis_render_job_create(scene, &indirect, &u->low);
     if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, rd->camera, &tool_errors, &u->g_full);
     if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, &low, &tool_errors, &u->g_low);
-    u->join_seconds = now_seconds() - t0;
+    u->join_seconds = tool_now_seconds() - t0;
     if (st != LUMIS_OK) unit_destroy(u);
     return st;
 }
@@ -620,7 +632,7 @@ static lumis_status unit_image(render_unit *u, lumis_image **out)
 {
     lumis_status st = lumis_render_job_image(u->full, out);
     if (st != LUMIS_OK || !u->low) return st;
-    double t0 = now_seconds();
+    double t0 = tool_now_seconds();
     lumis_image *low = NULL, *up = NULL;
     lumis_upsample_desc ud = {0};
     ud.errors = tool_errors;
@@ -635,7 +647,7 @@ static lumis_status unit_image(render_unit *u, lumis_image **out)
     }
     lumis_image_destroy(low);
     lumis_image_destroy(up);
-    u->join_seconds += now_seconds() - t0;
+    u->join_seconds += tool_now_seconds() - t0;
     return st;
 }
 
@@ -658,7 +670,7 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
 {
     static const int ks[2] = {16, 64};
     double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
-    const double t0 = now_seconds();
+    const double t0 = tool_now_seconds();
     for (int p = 0; p < 2; p++) {
         lumis_light_set *set = NULL;
         render_unit u;
@@ -703,7 +715,7 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
     }
     double k = (o->time_budget - spp * a - c) / (spp * b + d);
     *k_out = clamp_lights_k(k, env);
-    r->lights_pilot_seconds = now_seconds() - t0;
+    r->lights_pilot_seconds = tool_now_seconds() - t0;
     r->lights_pilot_k[0] = ks[0];
     r->lights_pilot_k[1] = ks[1];
     r->lights_pilot_per_spp[0] = t[0];
@@ -736,7 +748,7 @@ static lumis_status run_timed(render_unit *u, double budget, progress *pg)
 int tool_render(const tool_render_opts *o, tool_render_result *r)
 {
     memset(r, 0, sizeof *r);
-    double t0 = now_seconds();
+    double t0 = tool_now_seconds();
     lumis_scene_file *file = NULL;
     lumis_scene_read_options so = {0};
     so.skip_env_map = o->envspec != NULL; /* --env replaces the scene's map: not read */
@@ -828,15 +840,15 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     /* A light set or luminaires light the scene by themselves: no sampler is built. */
     if (!lum && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
-    r->load_seconds = now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
-    double t1 = now_seconds();
+    r->load_seconds = tool_now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
+    double t1 = tool_now_seconds();
     if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
         goto done;
-    r->scene_seconds = now_seconds() - t1;
+    r->scene_seconds = tool_now_seconds() - t1;
 
     progress pg = {0};
     pg.enabled = (!o->quiet || o->progress) && isatty(STDERR_FILENO);
-    pg.start = now_seconds();
+    pg.start = tool_now_seconds();
     pg.budget = o->time_budget;
     lumis_render_desc rd = o->rd;
     rd.camera = &cam;
@@ -900,7 +912,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (o->png_auto_exposure) po.exposure_ev = tool_auto_exposure(r->image);
         if (tool_write_image(o->png, r->image, &po) != LUMIS_OK) goto done;
     }
-    r->total_seconds = now_seconds() - t0;
+    r->total_seconds = tool_now_seconds() - t0;
     if (smp) {
         r->sampler_build_ms = lumis_sampler_build_ms(smp);
         r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
