@@ -604,6 +604,7 @@ typedef struct lum_inst {
     double cell0[2];  /* centre of cell (0, 0) on U, luminaire frame */
     double cell_h[2]; /* cell size */
     double weight[3]; /* the share of Phi's integral over each covered cell, per axis */
+    v3 *cell_world;   /* the cells' centres in the world (approximate visibility) */
     float *smap;      /* shadow maps: per cell n x n distances to the nearest hit, over
                          directions (x / z, y / z) in [-tmax, tmax]^2 of the local frame */
     int smap_n;
@@ -647,11 +648,7 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
             const int id = (b + j) * li->cells[0] + (a + i);
             if (sc->stamp[id] == sc->point) continue;
             sc->stamp[id] = sc->point;
-            const v3 local = mk(li->cell0[0] + (a + i) * li->cell_h[0],
-                                li->cell0[1] + (b + j) * li->cell_h[1], 0.0);
-            const v3 w =
-                add(rot_apply(li->r, mul(local, li->scale)), mk(li->t[0], li->t[1], li->t[2]));
-            const v3 d = sub(w, o);
+            const v3 d = sub(li->cell_world[id], o);
             const double len = sqrt(dot(d, d));
             if (!(len > 0.0)) {
                 sc->vis[id] = 1.0f;
@@ -672,18 +669,11 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
     return v;
 }
 
-/* A cell's centre on U, in the world. */
-static v3 lum_cell_world(const lum_inst *li, int ci, int cj)
-{
-    const v3 local = mk(li->cell0[0] + ci * li->cell_h[0], li->cell0[1] + cj * li->cell_h[1], 0.0);
-    return add(rot_apply(li->r, mul(local, li->scale)), mk(li->t[0], li->t[1], li->t[2]));
-}
-
 /* Visibility of x from the centre of cell (ci, cj), read from its shadow map: 2 x 2
  * percentage-closer filtering, a depth bias of 1 % plus four texels' slope. */
 static double smap_visibility(const lum_inst *li, int ci, int cj, v3 x)
 {
-    const v3 d = sub(x, lum_cell_world(li, ci, cj));
+    const v3 d = sub(x, li->cell_world[(size_t)cj * (size_t)li->cells[0] + (size_t)ci]);
     const v3 dl = rot_apply_t(li->r, d);
     if (!(dl.z > 0.0)) return 1.0; /* behind U: no light reaches it anyway */
     const int n = li->smap_n;
@@ -725,7 +715,7 @@ static lumis_status lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int 
         return LUMIS_ERR_OUT_OF_MEMORY;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int c = 0; c < (int)cells; c++) {
-        const v3 o = lum_cell_world(li, c % li->cells[0], c / li->cells[0]);
+        const v3 o = li->cell_world[c];
         float *map = li->smap + (size_t)c * (size_t)n * (size_t)n;
         for (int j = 0; j < n; j++)
             for (int i = 0; i < n; i++) {
@@ -1009,7 +999,10 @@ void lumis_render_job_destroy(lumis_render_job *job)
     if (!job) return;
     free(job->sum);
     soa_free(job->soa, job->sets);
-    for (int i = 0; job->lum && i < job->lighting.count; i++) free(job->lum[i].smap);
+    for (int i = 0; job->lum && i < job->lighting.count; i++) {
+        free(job->lum[i].smap);
+        free(job->lum[i].cell_world);
+    }
     free(job->lum);
     free(job);
 }
@@ -1082,6 +1075,19 @@ static lumis_status lum_prepare(const lumis_render_desc *d, lumis_render_job *jo
         if (li->capacity > job->lum_capacity) job->lum_capacity = li->capacity;
         const size_t cells = (size_t)li->cells[0] * (size_t)li->cells[1];
         if (cells > job->lum_cells) job->lum_cells = cells;
+        if (ll->visibility == LUMIS_VISIBILITY_APPROX ||
+            ll->visibility == LUMIS_VISIBILITY_SHADOW_MAP) {
+            if (!(li->cell_world = malloc(cells * sizeof *li->cell_world)))
+                return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY,
+                                   "render: luminaires: out of memory");
+            for (int cj = 0; cj < li->cells[1]; cj++)
+                for (int ci = 0; ci < li->cells[0]; ci++) {
+                    const v3 local = mk(li->cell0[0] + ci * li->cell_h[0],
+                                        li->cell0[1] + cj * li->cell_h[1], 0.0);
+                    li->cell_world[(size_t)cj * (size_t)li->cells[0] + (size_t)ci] = add(
+                        rot_apply(li->r, mul(local, li->scale)), mk(li->t[0], li->t[1], li->t[2]));
+                }
+        }
     }
     return LUMIS_OK;
 }
