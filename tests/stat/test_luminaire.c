@@ -560,8 +560,13 @@ static void sample_point_draws_what_sample_image_draws(void **state)
                         px[3 * (j * w + i)] = px[3 * (j * w + i) + 1] = px[3 * (j * w + i) + 2] =
                             0.0f;
         }
+        /* The sparse luminaire is built from the zeroed pixels (get_desc's pointers are
+         * f.lum's own copies, which must stay as they were). */
+        d.pixels = f.ptr;
         lumis_luminaire *sparse = NULL;
         assert_int_equal(lumis_luminaire_create(&d, &sparse), LUMIS_OK);
+        const float *img4 = lumis_luminaire_image(sparse, 4);
+        for (int k = 0; k < 3 * w * h; k++) assert_true(img4[k] == 0.0f);
         const lumis_luminaire *ls[2] = {f.lum, sparse};
         lumis_pcg32 rng;
         lumis_pcg32_seed(&rng, 31, (uint64_t)b);
