@@ -6,6 +6,7 @@
  * between; bad lighting descriptors get a clear error. */
 #include "../testutil.h"
 
+#include "lum_fixture.h"
 #include "lumis/render.h"
 #include "lumis/rng.h"
 
@@ -15,56 +16,6 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-
-/* 3 x 3 functions on a 0.5 grid, S at delta = 1, images 16 x 12 over [-2, 2] x [-1.5, 1.5],
- * random coloured pixels with 30% zeros. */
-typedef struct fixture {
-    lumis_luminaire *lum;
-    float *pixels;
-} fixture;
-
-static fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
-{
-    fixture f;
-    const float *ptr[9];
-    lumis_luminaire_desc d = {0};
-    d.delta = 1.0;
-    d.basis = basis;
-    d.grid[0] = d.grid[1] = 3;
-    d.grid_origin[0] = d.grid_origin[1] = -0.5;
-    d.grid_spacing[0] = d.grid_spacing[1] = 0.5;
-    d.width = 16;
-    d.height = 12;
-    d.image_origin[0] = -2.0;
-    d.image_origin[1] = -1.5;
-    d.image_size[0] = 4.0;
-    d.image_size[1] = 3.0;
-    const size_t n = (size_t)d.width * d.height * 3;
-    f.pixels = malloc(9 * n * sizeof(float));
-    assert_non_null(f.pixels);
-    lumis_pcg32 rng;
-    lumis_pcg32_seed(&rng, seed, 1);
-    for (int m = 0; m < 9; m++) {
-        for (size_t k = 0; k < n; k += 3) {
-            float v = lumis_pcg32_float(&rng) < 0.3f ? 0.0f : 0.1f + 4.0f * lumis_pcg32_float(&rng);
-            float tint = lumis_pcg32_float(&rng);
-            f.pixels[m * n + k] = v * (0.5f + tint);
-            f.pixels[m * n + k + 1] = v;
-            f.pixels[m * n + k + 2] = v * (1.5f - tint);
-        }
-        ptr[m] = f.pixels + m * n;
-    }
-    d.pixels = ptr;
-    f.lum = NULL;
-    assert_int_equal(lumis_luminaire_create(&d, &f.lum), LUMIS_OK);
-    return f;
-}
-
-static void free_fixture(fixture *f)
-{
-    lumis_luminaire_destroy(f->lum);
-    free(f->pixels);
-}
 
 /* A placement: world = R (scale local) + t. */
 typedef struct placement {
