@@ -114,6 +114,25 @@ static void pcg32_advance_jumps_both_ways(void **state)
     assert_int_equal(b.state, c.state);
 }
 
+/* The leapfrogged fill gives the very numbers of successive lumis_pcg32_double calls, for
+ * every length (whole chain steps, a tail, shorter than one step) and leaves the generator
+ * where the calls would. */
+static void pcg32_fill_doubles_matches_successive_draws(void **state)
+{
+    (void)state;
+    for (size_t n = 0; n <= 75; n++) {
+        lumis_pcg32 a, b;
+        lumis_pcg32_seed(&a, 0x9e37u + n, 11 * n + 1);
+        b = a;
+        double got[75], want[75];
+        lumis_pcg32_fill_doubles(&a, got, n);
+        for (size_t k = 0; k < n; k++) want[k] = lumis_pcg32_double(&b);
+        for (size_t k = 0; k < n; k++) assert_true(got[k] == want[k]);
+        assert_int_equal(a.state, b.state);
+        assert_int_equal(lumis_pcg32_next(&a), lumis_pcg32_next(&b));
+    }
+}
+
 static void pcg32_floats_and_bounded_are_uniform(void **state)
 {
     (void)state;
@@ -171,6 +190,7 @@ int main(void)
         cmocka_unit_test(sanitize_counts_each_kind),
         cmocka_unit_test(pcg32_matches_the_reference_sequence),
         cmocka_unit_test(pcg32_advance_jumps_both_ways),
+        cmocka_unit_test(pcg32_fill_doubles_matches_successive_draws),
         cmocka_unit_test(pcg32_floats_and_bounded_are_uniform),
         cmocka_unit_test(radical_inverse_reverses_digits),
     };

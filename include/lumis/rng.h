@@ -6,6 +6,7 @@
 #ifndef LUMIS_RNG_H
 #define LUMIS_RNG_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #ifdef __cplusplus
@@ -20,14 +21,20 @@ typedef struct lumis_pcg32 {
 /* Seeds a generator; different streams give independent sequences for the same seed. */
 void lumis_pcg32_seed(lumis_pcg32 *rng, uint64_t seed, uint64_t stream);
 
+/* The 32 output bits of an LCG state (XSH-RR). */
+static inline uint32_t lumis_pcg32_output(uint64_t state)
+{
+    uint32_t xorshifted = (uint32_t)(((state >> 18u) ^ state) >> 27u);
+    uint32_t rot = (uint32_t)(state >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+}
+
 /* Next 32 uniformly distributed bits. */
 static inline uint32_t lumis_pcg32_next(lumis_pcg32 *rng)
 {
     uint64_t old = rng->state;
     rng->state = old * 6364136223846793005ULL + rng->inc;
-    uint32_t xorshifted = (uint32_t)(((old >> 18u) ^ old) >> 27u);
-    uint32_t rot = (uint32_t)(old >> 59u);
-    return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
+    return lumis_pcg32_output(old);
 }
 
 /* Uniform float in [0, 1) with 24 random bits (never returns 1). */
@@ -42,6 +49,11 @@ static inline double lumis_pcg32_double(lumis_pcg32 *rng)
     uint64_t hi = lumis_pcg32_next(rng), lo = lumis_pcg32_next(rng);
     return (double)(((hi << 32) | lo) >> 11) * 0x1p-53;
 }
+
+/* out[0..n) = n successive lumis_pcg32_double(rng), the very same numbers, several times
+ * faster for long runs: the LCG is stepped in interleaved chains (leapfrogging), so the
+ * multiplications do not wait on one another. */
+void lumis_pcg32_fill_doubles(lumis_pcg32 *rng, double *out, size_t n);
 
 /* Uniform integer in [0, bound) without modulo bias (Lemire 2019); bound > 0. */
 uint32_t lumis_pcg32_bounded(lumis_pcg32 *rng, uint32_t bound);

@@ -43,6 +43,35 @@ void lumis_pcg32_advance(lumis_pcg32 *rng, int64_t delta)
     rng->state = acc_mult * rng->state + acc_plus;
 }
 
+void lumis_pcg32_fill_doubles(lumis_pcg32 *rng, double *out, size_t n)
+{
+    enum { W = 8 }; /* states per chain step: W / 2 doubles */
+    const uint64_t a = 6364136223846793005ULL;
+    size_t k = 0;
+    if (n >= W / 2) {
+        /* W steps as one affine map x -> aw x + cw; chain i holds states i, i + W, ... */
+        uint64_t aw = 1u, cw = 0u, s[W];
+        for (int i = 0; i < W; i++) {
+            aw *= a;
+            cw = cw * a + rng->inc;
+        }
+        s[0] = rng->state;
+        for (int i = 1; i < W; i++) s[i] = s[i - 1] * a + rng->inc;
+        for (; k + W / 2 <= n; k += W / 2) {
+            uint32_t o[W];
+            for (int i = 0; i < W; i++) {
+                o[i] = lumis_pcg32_output(s[i]);
+                s[i] = s[i] * aw + cw;
+            }
+            for (int j = 0; j < W / 2; j++)
+                out[k + (size_t)j] =
+                    (double)((((uint64_t)o[2 * j] << 32) | o[2 * j + 1]) >> 11) * 0x1p-53;
+        }
+        rng->state = s[0]; /* the first state not yet used */
+    }
+    for (; k < n; k++) out[k] = lumis_pcg32_double(rng);
+}
+
 static const unsigned primes[LUMIS_HALTON_MAX_DIMENSION] = {
     2,  3,  5,  7,  11, 13, 17, 19, 23, 29,  31,  37,  41,  43,  47,  53,
     59, 61, 67, 71, 73, 79, 83, 89, 97, 101, 103, 107, 109, 113, 127, 131};

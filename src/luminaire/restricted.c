@@ -305,66 +305,87 @@ static int tabulate_marginal(const lumis__prep *pr, int count)
     if (n > LUMIS__LUM_MAX_GRID_TAB || n < 2) return 0;
     int probes = 0;
     while ((1 << probes) < n) probes++;
-    return count * probes * 4 >= n - 1;
+    return count * probes * 2 >= n - 1;
 }
 
 enum { LANES = 64 }; /* draws in lockstep at most */
 
-/* nl <= LANES exact bisection draws in lockstep, lane k from image pr[k] with its marginal
- * tabulated in tab[k] (D(i0 + c), c in [0, ncol]), from u[2k], u[2k + 1].  Lanes of
- * different images (brackets of different sizes) step together: a lane whose bracket is
- * down to one column probes its own lower end, which is <= g, and stays.  The same probes
- * and comparisons as lumis__lum_draw_prepared, so the same draws. */
-static void draw_lanes(const lumis_luminaire *l, const lumis__prep *const *pr,
-                       const double *const *tab, const double *u, int nl, double *x, double *y,
-                       int *pi, int *pj, double *pdf_pixels)
+/* Up to LANES exact bisection draws waiting to run in lockstep.  Lane k draws image pr[k]
+ * from u[2 at[k]], u[2 at[k] + 1] into entry at[k] of the outputs; its marginal is read
+ * from tab[k] (D(i0 + c) for c in [0, ncol], tabulated) or, tab[k] NULL, probed in the
+ * summed-area table. */
+typedef struct lanes {
+    const lumis__prep *pr[LANES];
+    const double *tab[LANES];
+    int at[LANES];
+    int n;
+} lanes;
+
+/* Runs the lanes of ls (all tabulated, or all probing the table: direct) and empties it.
+ * Lanes of different images (brackets of different sizes) step together: a lane whose
+ * bracket is down to one column probes its own lower end, which is <= g, and stays.  The
+ * same probes and comparisons as lumis__lum_draw_prepared, so the same draws; what lockstep
+ * buys is that the lanes' loads are independent, so they overlap instead of each search
+ * waiting on its own chain of dependent loads (most images of a point get one or two
+ * draws, so the overlap must come from across images). */
+static inline void run_lanes(const lumis_luminaire *l, lanes *ls, int direct, const double *u,
+                             double *x, double *y, int *pi, int *pj, double *pdf_pixels)
 {
+    const int nl = ls->n;
     const size_t st = (size_t)l->h + 1;
-    double g[LANES], g2[LANES];
-    int lo[LANES], n[LANES], col[LANES], jl[LANES];
+    double g[LANES], g2[LANES], g0[LANES], g1[LANES];
+    int lo[LANES], n[LANES], col[LANES], jl[LANES], j0[LANES], j1[LANES];
     uint32_t gi[LANES];
-    const uint32_t *c0s[LANES];
+    const uint32_t *c0s[LANES], *base[LANES];
+    ls->n = 0;
     /* Marginal: lo[k] the column offset from i0.  The comparisons become conditional moves
      * (keeping D's value at lo too would be a branch on random data). */
     int most = 1;
     for (int k = 0; k < nl; k++) {
-        g[k] = pr[k]->d_x0 + u[2 * k] * (pr[k]->d_x1 - pr[k]->d_x0);
+        const lumis__prep *p = ls->pr[k];
+        g[k] = p->d_x0 + u[2 * ls->at[k]] * (p->d_x1 - p->d_x0);
         lo[k] = 0;
-        n[k] = pr[k]->ilast + 1 - pr[k]->i0;
+        n[k] = p->ilast + 1 - p->i0;
         most = n[k] > most ? n[k] : most;
+        j0[k] = p->j0, j1[k] = p->j1, g0[k] = p->g0, g1[k] = p->g1;
+        base[k] = table(l, p->m) + (size_t)p->i0 * st;
     }
+#define D(k, c)                                                                                    \
+    (direct ? marginal_at(base[k] + (size_t)(c)*st, j0[k], j1[k], g0[k], g1[k]) : ls->tab[k][c])
     while (most > 1) {
         for (int k = 0; k < nl; k++) {
             const int half = n[k] / 2;
-            lo[k] = tab[k][lo[k] + half] <= g[k] ? lo[k] + half : lo[k];
+            lo[k] = D(k, lo[k] + half) <= g[k] ? lo[k] + half : lo[k];
             n[k] -= half;
         }
         most -= most / 2;
     }
     for (int k = 0; k < nl; k++) {
-        const lumis__box *b = &pr[k]->b;
-        const int c = pr[k]->i0 + lo[k];
-        double xs = chord(c, c, tab[k][lo[k]], tab[k][lo[k] + 1], g[k]);
+        const lumis__box *b = &ls->pr[k]->b;
+        const int c = ls->pr[k]->i0 + lo[k];
+        double xs = chord(c, c, D(k, lo[k]), D(k, lo[k] + 1), g[k]);
         if (xs < b->x0) xs = b->x0;
         if (!(xs < b->x1)) xs = nextafter(b->x1, b->x0);
-        x[k] = xs;
+        x[ls->at[k]] = xs;
         col[k] = lumis__clampi((int)xs, 0, l->w - 1);
     }
+#undef D
     /* Conditionals in the drawn columns.  A column's prefix is an integer, so P(j) <= g2 is
      * P(j) <= floor(g2): the search compares integers. */
     most = 1;
     for (int k = 0; k < nl; k++) {
-        const int j0 = pr[k]->j0, j1 = pr[k]->j1;
-        const uint32_t *c0 = table(l, pr[k]->m) + (size_t)col[k] * st, *c1 = c0 + st;
-        const double p_j0 = (double)(c1[j0] - c0[j0]);
-        const double p_y0 = p_j0 + pr[k]->g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
-        const double p_j1 = (double)(c1[j1] - c0[j1]);
-        const double p_y1 = p_j1 + pr[k]->g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
-        g2[k] = p_y0 + u[2 * k + 1] * (p_y1 - p_y0);
+        const lumis__prep *p = ls->pr[k];
+        const int a = j0[k], z = j1[k];
+        const uint32_t *c0 = table(l, p->m) + (size_t)col[k] * st, *c1 = c0 + st;
+        const double p_j0 = (double)(c1[a] - c0[a]);
+        const double p_y0 = p_j0 + g0[k] * ((double)(c1[a + 1] - c0[a + 1]) - p_j0);
+        const double p_j1 = (double)(c1[z] - c0[z]);
+        const double p_y1 = p_j1 + g1[k] * ((double)(c1[z + 1] - c0[z + 1]) - p_j1);
+        g2[k] = p_y0 + u[2 * ls->at[k] + 1] * (p_y1 - p_y0);
         gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
         c0s[k] = c0;
-        jl[k] = j0;
-        n[k] = pr[k]->jlast + 1 - j0;
+        jl[k] = a;
+        n[k] = p->jlast + 1 - a;
         most = n[k] > most ? n[k] : most;
     }
     while (most > 1) {
@@ -377,9 +398,10 @@ static void draw_lanes(const lumis_luminaire *l, const lumis__prep *const *pr,
         most -= most / 2;
     }
     for (int k = 0; k < nl; k++) {
-        const lumis__box *b = &pr[k]->b;
+        const lumis__prep *p = ls->pr[k];
+        const lumis__box *b = &p->b;
         const uint32_t *c0 = c0s[k], *c1 = c0 + st;
-        const int j = jl[k];
+        const int j = jl[k], at = ls->at[k];
         const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
         double ys = chord(j, j, flo, fhi, g2[k]);
         if (ys < b->y0) ys = b->y0;
@@ -389,11 +411,23 @@ static void draw_lanes(const lumis_luminaire *l, const lumis__prep *const *pr,
         const double q = row == j
                              ? fhi - flo
                              : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
-        y[k] = ys;
-        pi[k] = col[k];
-        pj[k] = row;
-        pdf_pixels[k] = pr[k]->units > 0.0 ? q / pr[k]->units : 0.0;
+        y[at] = ys;
+        pi[at] = col[k];
+        pj[at] = row;
+        pdf_pixels[at] = p->units > 0.0 ? q / p->units : 0.0;
     }
+}
+
+static void run_tabulated(const lumis_luminaire *l, lanes *ls, const double *u, double *x,
+                          double *y, int *pi, int *pj, double *pdf_pixels)
+{
+    run_lanes(l, ls, 0, u, x, y, pi, pj, pdf_pixels);
+}
+
+static void run_direct(const lumis_luminaire *l, lanes *ls, const double *u, double *x, double *y,
+                       int *pi, int *pj, double *pdf_pixels)
+{
+    run_lanes(l, ls, 1, u, x, y, pi, pj, pdf_pixels);
 }
 
 /* D(i0 + c) for c in [0, ncol] into d. */
@@ -408,102 +442,31 @@ static void tabulate(const lumis_luminaire *l, const lumis__prep *pr, double *d)
     d[ncol] = pr->d_hi;
 }
 
+static int exact_bisection(const lumis__prep *pr)
+{
+    return !pr->uniform && !pr->secant && pr->depth <= 0;
+}
+
 void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, const double *u,
                            int count, double *x, double *y, int *pi, int *pj, double *pdf_pixels)
 {
-    if (pr->uniform || pr->secant || pr->depth > 0) {
+    if (!exact_bisection(pr)) {
         for (int k = 0; k < count; k++)
             lumis__lum_draw_prepared(l, pr, u[2 * k], u[2 * k + 1], x + k, y + k, pi + k, pj + k,
                                      pdf_pixels + k);
         return;
     }
-    if (tabulate_marginal(pr, count)) {
-        double d[LUMIS__LUM_MAX_GRID_TAB + 1];
-        tabulate(l, pr, d);
-        const lumis__prep *prs[LANES];
-        const double *tabs[LANES];
-        for (int k = 0; k < LANES; k++) prs[k] = pr, tabs[k] = d;
-        for (int base = 0; base < count; base += LANES)
-            draw_lanes(l, prs, tabs, u + 2 * base, count - base < LANES ? count - base : LANES,
-                       x + base, y + base, pi + base, pj + base, pdf_pixels + base);
-        return;
-    }
-    /* A wide box drawn a few times: bisections in the table, the draws in lockstep
-     * (their brackets have the same size), so their independent loads overlap instead of
-     * each search waiting on its own chain of dependent loads. */
-    enum { L8 = 8 };
-    const lumis__box *b = &pr->b;
-    const uint32_t *t = table(l, pr->m);
-    const size_t st = (size_t)l->h + 1;
-    const int i0 = pr->i0, j0 = pr->j0, j1 = pr->j1;
-    const double g0 = pr->g0, g1 = pr->g1;
-    const int ncol = pr->ilast + 1 - i0, nrow = pr->jlast + 1 - j0;
-    for (int base = 0; base < count; base += L8) {
-        const int nl = count - base < L8 ? count - base : L8;
-        double g[L8], xs[L8];
-        int lo[L8], col[L8];
-        for (int k = 0; k < nl; k++) {
-            g[k] = pr->d_x0 + u[2 * (base + k)] * (pr->d_x1 - pr->d_x0);
-            lo[k] = 0;
-        }
-        int n = ncol;
-        while (n > 1) {
-            const int half = n / 2;
-            for (int k = 0; k < nl; k++)
-                lo[k] = marginal_at(t + (size_t)(i0 + lo[k] + half) * st, j0, j1, g0, g1) <= g[k]
-                            ? lo[k] + half
-                            : lo[k];
-            n -= half;
-        }
-        for (int k = 0; k < nl; k++) {
-            const int c = i0 + lo[k];
-            const uint32_t *cl = t + (size_t)c * st;
-            xs[k] = chord(c, c, marginal_at(cl, j0, j1, g0, g1),
-                          marginal_at(cl + st, j0, j1, g0, g1), g[k]);
-            if (xs[k] < b->x0) xs[k] = b->x0;
-            if (!(xs[k] < b->x1)) xs[k] = nextafter(b->x1, b->x0);
-            col[k] = lumis__clampi((int)xs[k], 0, l->w - 1);
-        }
-        double g2[L8];
-        uint32_t gi[L8];
-        int jl[L8];
-        for (int k = 0; k < nl; k++) {
-            const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
-            const double p_j0 = (double)(c1[j0] - c0[j0]);
-            const double p_y0 = p_j0 + g0 * ((double)(c1[j0 + 1] - c0[j0 + 1]) - p_j0);
-            const double p_j1 = (double)(c1[j1] - c0[j1]);
-            const double p_y1 = p_j1 + g1 * ((double)(c1[j1 + 1] - c0[j1 + 1]) - p_j1);
-            g2[k] = p_y0 + u[2 * (base + k) + 1] * (p_y1 - p_y0);
-            gi[k] = g2[k] >= LUMIS__LUM_UNITS ? UINT32_MAX : g2[k] > 0.0 ? (uint32_t)g2[k] : 0u;
-            jl[k] = j0;
-        }
-        n = nrow;
-        while (n > 1) {
-            const int half = n / 2;
-            for (int k = 0; k < nl; k++) {
-                const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
-                const int mid = jl[k] + half;
-                jl[k] = c1[mid] - c0[mid] <= gi[k] ? mid : jl[k];
-            }
-            n -= half;
-        }
-        for (int k = 0; k < nl; k++) {
-            const uint32_t *c0 = t + (size_t)col[k] * st, *c1 = c0 + st;
-            const int j = jl[k];
-            const double flo = (double)(c1[j] - c0[j]), fhi = (double)(c1[j + 1] - c0[j + 1]);
-            double ys = chord(j, j, flo, fhi, g2[k]);
-            if (ys < b->y0) ys = b->y0;
-            if (!(ys < b->y1)) ys = nextafter(b->y1, b->y0);
-            const int row = lumis__clampi((int)ys, 0, l->h - 1);
-            const double q =
-                row == j ? fhi - flo
-                         : (double)(c1[row + 1] - c0[row + 1]) - (double)(c1[row] - c0[row]);
-            x[base + k] = xs[k];
-            y[base + k] = ys;
-            pi[base + k] = col[k];
-            pj[base + k] = row;
-            pdf_pixels[base + k] = pr->units > 0.0 ? q / pr->units : 0.0;
-        }
+    double d[LUMIS__LUM_MAX_GRID_TAB + 1];
+    const int tab = tabulate_marginal(pr, count);
+    if (tab) tabulate(l, pr, d);
+    lanes ls;
+    ls.n = 0;
+    for (int k = 0; k < count; k++) {
+        ls.pr[ls.n] = pr;
+        ls.tab[ls.n] = tab ? d : NULL;
+        ls.at[ls.n++] = k;
+        if (ls.n == LANES || k == count - 1)
+            (tab ? run_tabulated : run_direct)(l, &ls, u, x, y, pi, pj, pdf_pixels);
     }
 }
 
@@ -513,42 +476,39 @@ int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const
 {
     enum { TAB = 2048 };
     double buf[TAB];
-    const lumis__prep *prs[LANES];
-    const double *tabs[LANES];
-    int done = 0, nl = 0, used = 0;
+    lanes tl, dl; /* tabulated lanes, direct lanes */
+    tl.n = dl.n = 0;
+    int done = 0, used = 0;
     for (int im = 0; im < nimg; im++) {
-        if (pr[im].uniform || pr[im].secant || pr[im].depth > 0 ||
-            !tabulate_marginal(pr + im, counts[im])) {
-            if (nl) { /* keep the samples in order */
-                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
-                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
-                nl = used = 0;
-            }
-            lumis__lum_draw_batch(l, pr + im, u + 2 * done, counts[im], x + done, y + done,
-                                  pi + done, pj + done, pdf_pixels + done);
+        const lumis__prep *p = pr + im;
+        if (!exact_bisection(p)) {
+            lumis__lum_draw_batch(l, p, u + 2 * done, counts[im], x + done, y + done, pi + done,
+                                  pj + done, pdf_pixels + done);
             done += counts[im];
             continue;
         }
-        const int ncol = pr[im].ilast + 1 - pr[im].i0;
-        for (int k = 0; k < counts[im]; k++) {
-            if (nl == LANES || (k == 0 && used + ncol + 1 > TAB)) {
-                draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
-                           pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
-                nl = 0;
-                if (k == 0) used = 0;
+        const double *tab = NULL;
+        if (tabulate_marginal(p, counts[im])) {
+            const int ncol = p->ilast + 1 - p->i0;
+            if (used + ncol + 1 > TAB) { /* the buffer is full: its lanes go first */
+                if (tl.n) run_tabulated(l, &tl, u, x, y, pi, pj, pdf_pixels);
+                used = 0;
             }
-            if (k == 0) {
-                tabulate(l, pr + im, buf + used);
-                used += ncol + 1;
-            }
-            prs[nl] = pr + im;
-            tabs[nl] = buf + used - (ncol + 1);
-            nl++, done++;
+            tabulate(l, p, buf + used);
+            tab = buf + used;
+            used += ncol + 1;
+        }
+        lanes *ls = tab ? &tl : &dl;
+        for (int k = 0; k < counts[im]; k++, done++) {
+            ls->pr[ls->n] = p;
+            ls->tab[ls->n] = tab;
+            ls->at[ls->n++] = done;
+            if (ls->n == LANES)
+                (tab ? run_tabulated : run_direct)(l, ls, u, x, y, pi, pj, pdf_pixels);
         }
     }
-    if (nl)
-        draw_lanes(l, prs, tabs, u + 2 * (done - nl), nl, x + done - nl, y + done - nl,
-                   pi + done - nl, pj + done - nl, pdf_pixels + done - nl);
+    if (tl.n) run_tabulated(l, &tl, u, x, y, pi, pj, pdf_pixels);
+    if (dl.n) run_direct(l, &dl, u, x, y, pi, pj, pdf_pixels);
     return done;
 }
 

@@ -774,7 +774,7 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
                 sc->u[2 * j + 1] = u1 >= 1.0 ? u1 - 1.0 : u1;
             }
         } else {
-            for (int j = 0; j < nu; j++) sc->u[j] = lumis_pcg32_double(rng);
+            lumis_pcg32_fill_doubles(rng, sc->u, (size_t)nu);
         }
         if (q.strategy != LUMIS_LUM_GLOBAL &&
             lumis_luminaire_sample_point(li->lum, &q, sc->u, li->capacity, sc->s, &count) !=
