@@ -160,6 +160,12 @@ typedef struct lumis_luminaire_query {
     int depth;                         /* probes per 1D inversion; 0 == unlimited (exact).
                                           A limited search interpolates inside the bracket
                                           it reached: approximate, biased (Fig. 5). */
+    /* Optional source of the random numbers: NULL, the caller's array u holds capacity
+     * pairs; else the samplers call fill(fill_ctx, buf, n) for the next n numbers (n even,
+     * at most 128, in the order u would hold them) as they need them and ignore u, so a
+     * caller pays for only the numbers the point uses (often far fewer than capacity). */
+    void (*fill)(void *fill_ctx, double *buf, int n);
+    void *fill_ctx;
 } lumis_luminaire_query;
 
 /* Which plane a sample's pdf is per unit area of. */
@@ -187,7 +193,8 @@ int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
 
 /* All samples for point q->p: balances the budget over images (lumis_luminaire_balance on
  * A_m(p), or on each image's total luminance for the global strategy), then draws K_m
- * samples from each image m in increasing m, sample k from u[2k], u[2k + 1].  The total is
+ * samples from each image m in increasing m, sample k from u[2k], u[2k + 1] (or from the
+ * numbers q->fill hands out, in the same order; u may then be NULL).  The total is
  * min(K, K_max n) but at least n, n the images with A_m(p) > 0; a point with z <= 0 (behind
  * U) or outside every projected support gets none (*count = 0, LUMIS_OK).  Fails with
  * LUMIS_ERR_INVALID_ARGUMENT if capacity is too small (lumis_luminaire_capacity suffices).

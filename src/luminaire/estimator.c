@@ -82,12 +82,15 @@ void lumis__lum_finish_u(const lumis_luminaire *l, double px, double py, double 
 int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, int *counts)
 {
     if (n <= 0 || n > LUMIS__LUM_MAX_IMAGES || !mass || !counts) return 0;
-    int npos = 0;
+    /* The nonzero masses, packed: every pass below visits only them, in increasing i. */
+    int pos[LUMIS__LUM_MAX_IMAGES], npos = 0;
+    double pm[LUMIS__LUM_MAX_IMAGES];
     double mmin = INFINITY, msum = 0.0;
     for (int i = 0; i < n; i++) {
         counts[i] = 0;
         if (mass[i] > 0.0) {
-            npos++;
+            pos[npos] = i;
+            pm[npos++] = mass[i];
             msum += mass[i];
             if (mass[i] < mmin) mmin = mass[i];
         }
@@ -99,25 +102,22 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
     if (k_max > 0 && total > (long long)k_max * npos) total = (long long)k_max * npos;
     if (total == npos || (k_max > 0 && total == (long long)k_max * npos)) {
         const int k = (int)(total / npos);
-        for (int i = 0; i < n; i++) counts[i] = mass[i] > 0.0 ? k : 0;
+        for (int p = 0; p < npos; p++) counts[pos[p]] = k;
         return (int)total;
     }
     const double N = (double)total;
     /* Continuous shares x_i = clamp(lambda m_i, 1, K_max) with sum N: f(lambda) = sum x_i - N
      * is increasing and piecewise linear, so Newton's step (exact on the right piece) with
-     * a bisection safeguard ends in a few passes; without clamping in one. */
+     * a bisection safeguard ends in a few passes; without clamping in one.  The passes are
+     * written without branches on the data (which piece a share is on is unpredictable). */
     double lo = 0.0, hi = N / mmin, lambda = N / msum;
     for (int it = 0; it < 200; it++) {
         double fixed = 0.0, slope = 0.0;
-        for (int i = 0; i < n; i++) {
-            if (!(mass[i] > 0.0)) continue;
-            const double x = lambda * mass[i];
-            if (x <= 1.0)
-                fixed += 1.0;
-            else if (x >= cap)
-                fixed += cap;
-            else
-                slope += mass[i];
+        for (int p = 0; p < npos; p++) {
+            const double x = lambda * pm[p];
+            const int low = x <= 1.0, high = !low && x >= cap;
+            fixed += low ? 1.0 : (high ? cap : 0.0);
+            slope += low || high ? 0.0 : pm[p];
         }
         const double f = fixed + lambda * slope - N;
         if (fabs(f) <= 1e-9 * N) break;
@@ -134,10 +134,8 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
      * [1, K_max]), the sum exactly N. */
     double prefix = 0.0;
     long long given = 0;
-    int last = 0;
-    for (int i = 0; i < n; i++) {
-        if (!(mass[i] > 0.0)) continue;
-        double x = lambda * mass[i];
+    for (int p = 0; p < npos; p++) {
+        double x = lambda * pm[p];
         x = x < 1.0 ? 1.0 : (x > cap ? cap : x);
         prefix += x;
         long long upto = (long long)(prefix + 0.5); /* prefix >= 0: round half up */
@@ -145,15 +143,15 @@ int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, in
         long long k = upto - given;
         if (k < 1) k = 1;
         if (k > total) k = total;
-        counts[i] = (int)k;
+        counts[pos[p]] = (int)k;
         given += k;
-        last = i;
     }
-    /* Rounding drift (a unit at most, in practice): settle it on entries that can take it. */
-    for (int i = last; given != total && i >= 0; i--) {
-        if (!(mass[i] > 0.0)) continue;
-        while (given < total && counts[i] < cap) counts[i]++, given++;
-        while (given > total && counts[i] > 1) counts[i]--, given--;
+    /* Rounding drift (a unit at most, in practice): settle it on entries that can take it,
+     * from the last. */
+    for (int p = npos - 1; given != total && p >= 0; p--) {
+        int *c = counts + pos[p];
+        while (given < total && *c < cap) (*c)++, given++;
+        while (given > total && *c > 1) (*c)--, given--;
     }
     return (int)given;
 }
@@ -255,13 +253,25 @@ static void finish_draws(const lumis_luminaire *l, double px, double py, double 
     }
 }
 
+enum { GS = 64 }; /* samples drawn at once */
+
+/* The random numbers of samples [n, n + c), c <= GS: read from u, or handed out by q->fill
+ * into buf (2 GS doubles). */
+static const double *numbers(const lumis_luminaire_query *q, const double *u, int n, int c,
+                             double *buf)
+{
+    if (!q->fill) return u + 2 * (size_t)n;
+    q->fill(q->fill_ctx, buf, 2 * c);
+    return buf;
+}
+
 static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire_query *q,
                                  const double *u, int capacity, lumis_luminaire_sample *out,
                                  int *count, int draw_only)
 {
     if (!count) return LUMIS_ERR_INVALID_ARGUMENT;
     *count = 0;
-    if (!l || !q || (capacity > 0 && (!u || !out)) ||
+    if (!l || !q || (capacity > 0 && ((!u && !q->fill) || !out)) ||
         (unsigned)q->strategy >= (unsigned)LUMIS_LUM_STRATEGY_COUNT ||
         (unsigned)q->search >= (unsigned)LUMIS_LUM_SEARCH_COUNT)
         return LUMIS_ERR_INVALID_ARGUMENT;
@@ -278,6 +288,7 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
         lumis_luminaire_balance(mass, l->m, q->budget > 0 ? q->budget : 32, q->k_max, counts);
     if (total > capacity) return LUMIS_ERR_INVALID_ARGUMENT;
     const size_t npx = (size_t)l->w * (size_t)l->h;
+    double ubuf[2 * GS];
     int n = 0;
     if (where == LUMIS__ON_S && strategy != LUMIS_LUM_GLOBAL) {
         for (int m = 0; m < l->m; m++) {
@@ -286,9 +297,14 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
             lumis__lum_center(l, m, &cx, &cy);
             const double rx = l->radius * l->hx, ry = l->radius * l->hy;
             const double pdf = 1.0 / (4.0 * rx * ry);
-            for (int k = 0; k < counts[m]; k++, n++)
-                lumis__lum_finish_u(l, px, py, pz, m, cx - rx + 2.0 * rx * u[2 * n],
-                                    cy - ry + 2.0 * ry * u[2 * n + 1], pdf, counts[m], out + n);
+            for (int done = 0; done < counts[m];) {
+                const int c = counts[m] - done < GS ? counts[m] - done : GS;
+                const double *v = numbers(q, u, n, c, ubuf);
+                for (int k = 0; k < c; k++, n++)
+                    lumis__lum_finish_u(l, px, py, pz, m, cx - rx + 2.0 * rx * v[2 * k],
+                                        cy - ry + 2.0 * ry * v[2 * k + 1], pdf, counts[m], out + n);
+                done += c;
+            }
         }
         *count = n;
         return LUMIS_OK;
@@ -299,7 +315,7 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
      * per pixel area.  Draws are made for groups of images at once (lumis__lum_draw_group:
      * most images get one or two samples, whose searches alone would wait on their loads one
      * after another). */
-    enum { GS = 64, GI = 32 };
+    enum { GI = 32 };
     lumis__prep prs[GI];
     int gcount[GI], gm[GI], gi = 0, gs = 0;
     double xs[GS], ys[GS], pdf[GS];
@@ -307,7 +323,8 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
     for (int m = 0; m <= l->m; m++) {
         if (m < l->m && !counts[m]) continue;
         if (gi && (m == l->m || gi == GI || gs + counts[m] > GS)) {
-            lumis__lum_draw_group(l, prs, gcount, gi, u + 2 * n, xs, ys, is, js, pdf);
+            lumis__lum_draw_group(l, prs, gcount, gi, numbers(q, u, n, gs, ubuf), xs, ys, is, js,
+                                  pdf);
             for (int g = 0, k = 0; g < gi; g++) {
                 const float *img = l->rgb + (size_t)gm[g] * npx * 3;
                 for (int c = 0; c < gcount[g]; c++, k++, n++) {
@@ -348,7 +365,7 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
         const float *img = l->rgb + (size_t)m * npx * 3;
         for (int done = 0; done < counts[m];) {
             const int c = counts[m] - done < GS ? counts[m] - done : GS;
-            lumis__lum_draw_batch(l, pr, u + 2 * n, c, xs, ys, is, js, pdf);
+            lumis__lum_draw_batch(l, pr, numbers(q, u, n, c, ubuf), c, xs, ys, is, js, pdf);
             for (int k = 0; k < c; k++, n++) {
 #if defined(__GNUC__) || defined(__clang__)
                 __builtin_prefetch(img + ((size_t)js[k] * (size_t)l->w + (size_t)is[k]) * 3);

@@ -613,7 +613,6 @@ typedef struct lum_inst {
 
 /* Per-thread buffers of the luminaire kind (no allocation per shading point). */
 typedef struct lum_scratch {
-    double *u;                 /* 2 per sample */
     lumis_luminaire_sample *s; /* capacity samples */
     float *vis;                /* visibility per cell (approximate visibility) */
     unsigned *stamp;           /* the point a cell's visibility belongs to */
@@ -730,6 +729,29 @@ static lumis_status lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int 
     return LUMIS_OK;
 }
 
+/* The luminaire samplers' random numbers (lumis_luminaire_query.fill).  PCG32: the pixel's
+ * generator.  Halton: sample j of camera sample k at index k capacity + 1 + j of
+ * dimensions 0 and 1, rotated per pixel (Cranley-Patterson). */
+static void fill_pcg(void *rng, double *u, int n)
+{
+    lumis_pcg32_fill_doubles(rng, u, (size_t)n);
+}
+
+typedef struct halton_pairs {
+    uint64_t next; /* index of the next pair */
+    double r0, r1; /* the pixel's rotation */
+} halton_pairs;
+
+static void fill_halton(void *state, double *u, int n)
+{
+    halton_pairs *h = state;
+    for (int j = 0; j < n; j += 2, h->next++) {
+        const double u0 = lumis_halton(0, h->next) + h->r0, u1 = lumis_halton(1, h->next) + h->r1;
+        u[j] = u0 >= 1.0 ? u0 - 1.0 : u0;
+        u[j + 1] = u1 >= 1.0 ? u1 - 1.0 : u1;
+    }
+}
+
 /* Every placed luminaire at h: its samples (lumis_luminaire_sample_point) times the BSDF and
  * the cosine, each weighted as the sample says (1 / (K_m pdf_omega)), times its visibility. */
 static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, int k,
@@ -751,8 +773,8 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             mul(rot_apply_t(li->r, sub(h->p, mk(li->t[0], li->t[1], li->t[2]))), li->inv_scale);
         q.p = tof(pl);
         if (!(q.p.z > 0.0f)) continue; /* behind U: no light */
-        const int nu = 2 * li->capacity;
         int count = 0;
+        halton_pairs hp;
         if (q.strategy == LUMIS_LUM_GLOBAL) {
             /* The same points on S for every shading point: drawn once per camera sample
              * (global_draws), finished here. */
@@ -765,19 +787,19 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             lumis_pcg32 g; /* a rotation per pixel and instance, the same for every k */
             lumis_pcg32_seed(&g, mix64(d->seed ^ 0x51ed27u ^ ((uint64_t)i << 40)),
                              (uint64_t)py * 0x10000u + (uint64_t)px);
-            const double r0 = lumis_pcg32_double(&g), r1 = lumis_pcg32_double(&g);
-            const uint64_t base = (uint64_t)k * (uint64_t)li->capacity + 1;
-            for (int j = 0; j < nu / 2; j++) {
-                double u0 = lumis_halton(0, base + (uint64_t)j) + r0,
-                       u1 = lumis_halton(1, base + (uint64_t)j) + r1;
-                sc->u[2 * j] = u0 >= 1.0 ? u0 - 1.0 : u0;
-                sc->u[2 * j + 1] = u1 >= 1.0 ? u1 - 1.0 : u1;
-            }
+            hp.r0 = lumis_pcg32_double(&g);
+            hp.r1 = lumis_pcg32_double(&g);
+            hp.next = (uint64_t)k * (uint64_t)li->capacity + 1;
+            q.fill = fill_halton;
+            q.fill_ctx = &hp;
         } else {
-            lumis_pcg32_fill_doubles(rng, sc->u, (size_t)nu);
+            /* Only the numbers the point's samples use (there are often far fewer samples
+             * than the capacity reserved for the worst point). */
+            q.fill = fill_pcg;
+            q.fill_ctx = rng;
         }
         if (q.strategy != LUMIS_LUM_GLOBAL &&
-            lumis_luminaire_sample_point(li->lum, &q, sc->u, li->capacity, sc->s, &count) !=
+            lumis_luminaire_sample_point(li->lum, &q, NULL, li->capacity, sc->s, &count) !=
                 LUMIS_OK)
             continue;
         sc->point++;
@@ -1272,11 +1294,10 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
         memset(&sc, 0, sizeof sc);
         if (job->lum) { /* the luminaire kind's buffers, one set per thread */
             sc.cells = job->lum_cells;
-            sc.u = malloc(2 * sizeof *sc.u * (size_t)job->lum_capacity);
             sc.s = malloc(sizeof *sc.s * (size_t)job->lum_capacity);
             sc.vis = malloc(sizeof *sc.vis * sc.cells);
             sc.stamp = calloc(sc.cells, sizeof *sc.stamp);
-            if (!sc.u || !sc.s || !sc.vis || !sc.stamp) {
+            if (!sc.s || !sc.vis || !sc.stamp) {
 #pragma omp atomic write
                 failed = 1;
             }
@@ -1328,7 +1349,6 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     d->progress(d->progress_user, now, tiles * chunks);
             }
         }
-        free(sc.u);
         free(sc.s);
         free(sc.vis);
         free(sc.stamp);
