@@ -453,10 +453,72 @@ static void sample_point_edge_cases(void **state)
     free_fixture(&f);
 }
 
-/* The per-point entry draws what the per-image one does: the same (u1, u2) give image m
- * the same point, pdf, direction and radiance, the weight divided by K_m; its masses are
- * the boxes' integrals, exactly 0 where the box misses every nonzero pixel (images that are
- * zero outside a rectangle, one all zero, so that the entry's shortcut is exercised). */
+/* Random numbers on demand (query.fill): the very samples the array gives, the numbers
+ * asked for in order, at most 128 and an even count at a time, 2 per sample in all; for
+ * every strategy, in front of S, between U and S, on S, and for images with more samples
+ * than one batch holds. */
+typedef struct fill_source {
+    const double *u;
+    int used, calls, bad;
+} fill_source;
+
+static void fill_from(void *state, double *buf, int n)
+{
+    fill_source *f = state;
+    if (n <= 0 || n > 128 || n % 2) f->bad++;
+    for (int k = 0; k < n; k++) buf[k] = f->u[f->used + k];
+    f->used += n;
+    f->calls++;
+}
+
+static void numbers_on_demand_match_the_array(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 6);
+    enum { CAP = 400 };
+    double *u = malloc(2 * CAP * sizeof *u);
+    lumis_luminaire_sample *a = malloc(CAP * sizeof *a), *b = malloc(CAP * sizeof *b);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 6, 6);
+    for (int k = 0; k < 2 * CAP; k++) u[k] = lumis_pcg32_double(&rng);
+    const float zs[3] = {2.5f, 0.6f, 1.0f}; /* in front of S, between U and S, on S */
+    const int budgets[3] = {1, 40, 390};
+    int checked = 0, big = 0; /* samples of images with more than a batch */
+    for (int st = 0; st < 3; st++)
+        for (int z = 0; z < 3; z++)
+            for (int bi = 0; bi < 3; bi++) {
+                lumis_luminaire_query q = {0};
+                q.strategy = (lumis_luminaire_strategy)st;
+                q.p = (lumis_vec3){0.2f, -0.1f, zs[z]};
+                q.budget = budgets[bi];
+                int na = -1, nb = -1;
+                assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, CAP, a, &na), LUMIS_OK);
+                fill_source src = {u, 0, 0, 0};
+                q.fill = fill_from;
+                q.fill_ctx = &src;
+                assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, NULL, CAP, b, &nb),
+                                 LUMIS_OK);
+                assert_int_equal(na, nb);
+                assert_true(na > 0);
+                assert_memory_equal(a, b, (size_t)na * sizeof a[0]);
+                assert_int_equal(src.used, 2 * na);
+                assert_int_equal(src.bad, 0);
+                if (budgets[bi] == 390) assert_true(src.calls > 390 / 64);
+                for (int k = 0; k < na; k++) big += a[k].count > 64;
+                checked++;
+            }
+    assert_int_equal(checked, 27);
+    assert_true(big > 0);
+    /* Without u and without fill there is nothing to draw from. */
+    lumis_luminaire_query q = {0};
+    q.p = (lumis_vec3){0.2f, -0.1f, 2.5f};
+    int n = -1;
+    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, NULL, CAP, a, &n),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    free(u), free(a), free(b);
+    free_fixture(&f);
+}
+
 /* The global strategy drawn once and finished per point gives what the per-point entry
  * gives, bit for bit, in front of S, between U and S, and nothing behind U. */
 static void global_draws_finish_like_sample_point(void **state)
@@ -492,6 +554,10 @@ static void global_draws_finish_like_sample_point(void **state)
     free_fixture(&f);
 }
 
+/* The per-point entry draws what the per-image one does: the same (u1, u2) give image m
+ * the same point, pdf, direction and radiance, the weight divided by K_m; its masses are
+ * the boxes' integrals, exactly 0 where the box misses every nonzero pixel (images that are
+ * zero outside a rectangle, one all zero, so that the entry's shortcut is exercised). */
 static void sample_point_draws_what_sample_image_draws(void **state)
 {
     (void)state;
@@ -758,6 +824,7 @@ int main(void)
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(sample_point_edge_cases),
         cmocka_unit_test(sample_point_draws_what_sample_image_draws),
+        cmocka_unit_test(numbers_on_demand_match_the_array),
         cmocka_unit_test(global_draws_finish_like_sample_point),
         cmocka_unit_test(rigid_transform_round_trip),
         cmocka_unit_test(generated_luminaire_reproduces_its_emitter),
