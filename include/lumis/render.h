@@ -177,6 +177,9 @@ typedef struct lumis_render_stats {
     double camera_rays; /* primary rays */
     double shadow_rays; /* occlusion rays of the direct estimators */
     double bounce_rays; /* continuation rays of path tracing */
+    double light_samples; /* luminaire samples evaluated, summed over shading points (the
+                             global strategy's shared draws count at every point): what
+                             an equal-samples comparison counts; 0 for other lights */
 } lumis_render_stats;
 
 /* Renders desc->spp samples per pixel into a new image (linear radiance).  stats may be

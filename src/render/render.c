@@ -617,7 +617,8 @@ typedef struct lum_scratch {
     float *vis;                /* visibility per cell (approximate visibility) */
     unsigned *stamp;           /* the point a cell's visibility belongs to */
     unsigned point;
-    size_t cells; /* entries of vis and stamp */
+    size_t cells;   /* entries of vis and stamp */
+    double samples; /* luminaire samples evaluated by this thread */
 } lum_scratch;
 
 static v3 rot_apply(const double r[9], v3 a)
@@ -802,6 +803,7 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             lumis_luminaire_sample_point(li->lum, &q, NULL, li->capacity, sc->s, &count) !=
                 LUMIS_OK)
             continue;
+        sc->samples += count;
         sc->point++;
         if (sc->point == 0) { /* the stamps wrapped: forget them all */
             memset(sc->stamp, 0, sizeof *sc->stamp * sc->cells);
@@ -1260,7 +1262,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
-    double shadow = 0.0, bounce = 0.0, t0 = omp_get_wtime();
+    double shadow = 0.0, bounce = 0.0, lum_samples = 0.0, t0 = omp_get_wtime();
     int done = 0, failed = 0;
     /* The global strategy draws once per camera sample for every pixel: the camera samples
      * are rendered in chunks whose draws take at most 64 MB. */
@@ -1288,7 +1290,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
     const int chunks = (samples + chunk - 1) / chunk;
     lumis_status gst = LUMIS_OK;
 
-#pragma omp parallel num_threads(threads) reduction(+ : shadow, bounce)
+#pragma omp parallel num_threads(threads) reduction(+ : shadow, bounce, lum_samples)
     {
         lum_scratch sc;
         memset(&sc, 0, sizeof sc);
@@ -1349,6 +1351,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     d->progress(d->progress_user, now, tiles * chunks);
             }
         }
+        lum_samples += sc.samples;
         free(sc.s);
         free(sc.vis);
         free(sc.stamp);
@@ -1369,6 +1372,7 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
     job->stats.seconds += omp_get_wtime() - t0;
     job->stats.camera_rays += (double)w * h * samples;
     job->stats.shadow_rays += shadow;
+    job->stats.light_samples += lum_samples;
     job->stats.bounce_rays += bounce;
     return LUMIS_OK;
 }

@@ -221,7 +221,8 @@ static void passes_and_threads_do_not_matter(void **state)
         d.threads = 1;
         d.spp = 6;
         lumis_image *one = NULL, *split = NULL;
-        assert_int_equal(lumis_render(s, &d, &one, NULL), LUMIS_OK);
+        lumis_render_stats st1, st2;
+        assert_int_equal(lumis_render(s, &d, &one, &st1), LUMIS_OK);
         d.threads = 2;
         lumis_render_job *job = NULL;
         assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_OK);
@@ -229,7 +230,15 @@ static void passes_and_threads_do_not_matter(void **state)
         assert_int_equal(lumis_render_job_run(job, 2), LUMIS_OK);
         assert_int_equal(lumis_render_job_run(job, 3), LUMIS_OK);
         assert_int_equal(lumis_render_job_image(job, &split), LUMIS_OK);
+        lumis_render_job_stats(job, &st2);
         lumis_render_job_destroy(job);
+        /* The samples evaluated: the same count, at least the budget per lit camera
+         * sample of a pixel (each point draws >= K, two luminaires) and no more than the
+         * capacity per luminaire. */
+        assert_true(st1.light_samples == st2.light_samples);
+        assert_true(st1.light_samples >= 12.0 &&
+                    st1.light_samples <=
+                        24.0 * 16 * 6 * 2 * (double)lumis_luminaire_capacity(f.lum, 12));
         double sum = 0.0;
         for (int k = 0; k < 3 * 24 * 16; k++) {
             assert_true(one->pixels[k] == split->pixels[k]);

@@ -455,6 +455,11 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         cJSON_AddStringToObject(x, "visibility", lumis_visibility_name(ll->visibility));
         cJSON_AddStringToObject(x, "sequence", lumis_sequence_name(ll->sequence));
         cJSON_AddNumberToObject(x, "bytes", (double)r->sampler_table_bytes);
+        /* Samples evaluated, not the budget: a point draws at least one per image with
+         * energy in its box, and the global strategy one per image with any. */
+        cJSON_AddNumberToObject(x, "samples", s->light_samples);
+        cJSON_AddNumberToObject(x, "samples_per_pixel",
+                                s->light_samples / ((double)cam->width * (double)cam->height));
         cJSON *arr = cJSON_AddArrayToObject(x, "instances");
         for (int k = 0; k < ll->count; k++) {
             lumis_luminaire_info li;
@@ -625,6 +630,7 @@ static void unit_stats(const render_unit *u, lumis_render_stats *s)
     s->camera_rays += l.camera_rays;
     s->shadow_rays += l.shadow_rays;
     s->bounce_rays += l.bounce_rays;
+    s->light_samples += l.light_samples;
 }
 
 /* The image: the full job's, plus the low one's upsampled (timed as render time). */
