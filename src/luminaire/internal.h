@@ -192,8 +192,9 @@ void lumis__lum_draw_batch(const lumis_luminaire *l, const lumis__prep *pr, cons
                            int count, double *x, double *y, int *i, int *j, double *pdf_pixels);
 
 /* The draws of nimg images (pr[k] drawn counts[k] times, in order) from u[2n], u[2n + 1]:
- * the same results as lumis__lum_draw_batch on each, the exact bisections of images whose
- * marginal it tabulates run in lockstep across images.  Returns the sum of the counts. */
+ * the same results as lumis__lum_draw_batch on each, every exact bisection in lockstep
+ * across images (a lockstep group for images whose marginal is tabulated, one for those
+ * probed in the table).  Returns the sum of the counts. */
 int lumis__lum_draw_group(const lumis_luminaire *l, const lumis__prep *pr, const int *counts,
                           int nimg, const double *u, double *x, double *y, int *i, int *j,
                           double *pdf_pixels);

@@ -294,10 +294,12 @@ void lumis__lum_draw_prepared(const lumis_luminaire *l, const lumis__prep *pr, d
     *pdf_pixels = pr->units > 0.0 ? q / pr->units : 0.0;
 }
 
-/* Whether draw_batch tabulates the marginal over the box's columns: when the count's
- * searches would probe the table more often than the table has columns (a tabulation's
- * reads are independent; a search's each wait for the last).  Measured on the car preset:
- * docs/luminaire.md, "Benchmark". */
+/* Whether the draws tabulate the marginal over the box's columns (4 lookups per column)
+ * rather than probe the table (4 lookups per probe): when the count's searches would make
+ * half as many probes as the box has columns.  Not when they merely make fewer: probing
+ * lanes run in lockstep across images too, so their loads overlap as a tabulation's do,
+ * and a tabulated lane's probes are cheaper only once the table is paid for.  Measured on
+ * the car preset (factor 4, 2, 1, 0 against 2): docs/luminaire.md, "Benchmark". */
 static int tabulate_marginal(const lumis__prep *pr, int count)
 {
     const int n = pr->ilast + 1 - pr->i0;

@@ -29,29 +29,30 @@ os.makedirs(args.out, exist_ok=True)
 PIXELS = math.prod(int(v) for v in args.size.split("x"))
 
 
-def render(scene, name, opts, seed=1):
+def render(scene, name, opts, seed=1, threads=None):
     """Renders once (or reuses the render); returns (exr path, sidecar dict)."""
     exr = os.path.join(args.out, f"{scene}-{name}.exr")
     side = exr[:-4] + ".json"
     if not os.path.exists(side):
         cmd = [args.lumis, "render", "--scene", scene, "--size", args.size, "--seed", str(seed),
                "--quiet", "-o", exr] + opts
-        if args.threads:
-            cmd += ["--threads", str(args.threads)]
+        threads = args.threads if threads is None else threads
+        if threads:
+            cmd += ["--threads", str(threads)]
         print("  " + " ".join(cmd[1:]), file=sys.stderr, flush=True)
         subprocess.run(cmd, check=True)
     with open(side) as f:
         return exr, json.load(f)
 
 
-def judge(scene, ref, name, opts):
-    exr, side = render(scene, name, opts)
+def judge(scene, ref, name, opts, threads=None):
+    exr, side = render(scene, name, opts, threads=threads)
     out = subprocess.run([args.lumis, "compare", ref, exr, "--json", "--no-hdr-flip"],
                          check=True, capture_output=True, text=True).stdout
     m = json.loads(out)
     return {"name": name, "options": " ".join(opts), "lab": m["lab_delta_e"], "rmse": m["rmse"],
             "seconds": side["timings"]["render_seconds"], "shadow_rays": side["rays"]["shadow"],
-            "spp": side["spp"]}
+            "spp": side["spp"], "samples": side["luminaires"]["samples_per_pixel"]}
 
 
 def loglog_at(points, lab):
@@ -62,6 +63,16 @@ def loglog_at(points, lab):
             t = math.log(e0 / lab) / math.log(e0 / e1)
             return math.exp(math.log(x0) + t * (math.log(x1) - math.log(x0)))
     return None
+
+
+def envelope(points):
+    """The lower envelope of (cost, lab) points: sorted by cost, each with a lower lab than
+    every cheaper one (the best quality reachable at that cost)."""
+    front = []
+    for c, e in sorted(points):
+        if not front or e < front[-1][1]:
+            front.append((c, e))
+    return front
 
 
 def table(head, rows):
@@ -81,7 +92,7 @@ for scene in args.scenes.split(","):
               f"{R['reference']['seconds']:.0f} s)\n")
     f = lambda x: f"{x:.3g}"
 
-    # Fig. 11 and 12: restricted against the global and the uniform strategies, K = 32.
+    # Fig. 12 (and the K = 32 rows of Fig. 11): every strategy at K = 32 per camera sample.
     runs = {}
     for strat, spps in (("restricted", (1, 2, 4, 16)), ("uniform", (1, 2, 4, 8, 16, 32)),
                         ("global", (1, 4, 16, 64, 256))):
@@ -89,38 +100,75 @@ for scene in args.scenes.split(","):
                              ["--lum-strategy", strat, "--lum-budget", "32", "--spp", str(n)])
                        for n in spps]
     R["strategies"] = runs
-    rows = [[s, str(r["spp"] * 32), f(r["lab"]), f(r["rmse"]), f"{r['seconds']:.3f}"]
+    rows = [[s, str(r["spp"]), f"{r['samples']:.1f}", f(r["lab"]), f(r["rmse"]), f"{r['seconds']:.3f}"]
             for s in runs for r in runs[s]]
-    md.append("Strategies at K = 32 per camera sample (samples = K x spp per pixel):\n\n" +
-              table(["strategy", "samples/pixel", "mean Lab", "RMSE", "render s"], rows))
+    md.append("Strategies at K = 32 per camera sample (samples: evaluated per pixel, sidecar):\n\n" +
+              table(["strategy", "spp", "samples/pixel", "mean Lab", "RMSE", "render s"], rows))
     base = runs["restricted"][0]
-    eq = {}
-    for strat in ("global", "uniform"):
-        pts = [(r["spp"], r["lab"]) for r in runs[strat]]
-        spp = loglog_at(pts, base["lab"])
-        tp = [(r["spp"], r["seconds"]) for r in runs[strat]]
-        if spp is None:
-            # Beyond the last render: extrapolate with the last pair's slope.
-            (x0, e0), (x1, e1) = pts[-2], pts[-1]
-            slope = math.log(e1 / e0) / math.log(x1 / x0)
-            spp = x1 * (base["lab"] / e1) ** (1.0 / slope) if slope < 0 else float("inf")
-            extrapolated = True
-        else:
-            extrapolated = False
-        sec = tp[-1][1] * spp / tp[-1][0]  # render time is linear in spp
-        eq[strat] = {"spp": spp, "samples": spp * 32, "seconds": sec, "extrapolated": extrapolated,
-                     "sample_ratio": spp / base["spp"], "time_ratio": sec / base["seconds"]}
-    R["equal_quality"] = eq
+    pts = [(r["samples"], r["lab"]) for r in runs["uniform"]]
+    uni = loglog_at(pts, base["lab"])
     same = {n: runs["uniform"][[r["spp"] for r in runs["uniform"]].index(n)]["lab"] /
             runs["restricted"][[r["spp"] for r in runs["restricted"]].index(n)]["lab"]
             for n in (1, 2, 4, 16)}
     R["uniform_over_restricted_equal_samples"] = same
-    md.append(f"\nEqual quality (mean Lab of restricted at 32 samples/pixel, {base['lab']:.3g}): "
-              + "; ".join(f"{s} needs {e['samples']:.0f} samples/pixel ({e['sample_ratio']:.1f}x), "
-                          f"{e['time_ratio']:.1f}x the time{' (extrapolated)' if e['extrapolated'] else ''}"
-                          for s, e in eq.items())
-              + ".  Uniform over restricted Lab error at equal samples: "
-              + ", ".join(f"{v:.2f}x at {n * 32}" for n, v in same.items()) + ".\n")
+    R["uniform_equal_quality_samples"] = uni
+    md.append(f"\nUniform at the mean Lab of restricted at 1 spp ({base['lab']:.3g}, "
+              f"{base['samples']:.1f} samples/pixel): "
+              + (f"{uni:.1f} samples/pixel" if uni else "beyond the renders") + ".  Uniform over "
+              "restricted Lab error at equal samples: "
+              + ", ".join(f"{v:.2f}x at {n} spp" for n, v in same.items()) + ".\n")
+
+    # Fig. 11: restricted against global sampling at equal quality.  Each strategy over a
+    # grid of K (samples per camera sample) and spp, then the best of each at equal mean
+    # Lab: the lower envelope of (render time, Lab) and of (samples, Lab).  The global
+    # strategy's best K is large (its draws are shared by every pixel, and most cost no
+    # ray), so a comparison at one K would flatter restricted sampling.
+    # The long global renders (K = 4096 beyond 16 spp, minutes on one thread) run on every
+    # core and are timed by scaling the 16 spp render's time linearly in spp (render time
+    # is linear in spp at fixed K: the 1-16 spp rows show it).
+    grid = {"restricted": [(k, n) for k in (32, 64, 128, 256) for n in (1, 2, 4)] +
+                          [(256, 8), (512, 4), (512, 8)],
+            "global": [(k, n) for k in (64, 256, 1024, 4096) for n in (1, 2, 4, 8, 16)] +
+                      [(4096, 32), (4096, 64)]}
+    fronts = {}
+    for strat, cfgs in grid.items():
+        rs = []
+        for k, n in cfgs:
+            long = strat == "global" and n > 16
+            r = judge(scene, ref, f"fig11-{strat}-k{k}-spp{n}",
+                      ["--lum-strategy", strat, "--lum-budget", str(k), "--spp", str(n)],
+                      threads=0 if long else None)
+            if long:
+                r16 = next(x for x in rs if x["options"].split()[3] == str(k) and x["spp"] == 16)
+                r["seconds"], r["scaled"] = r16["seconds"] * n / 16, True
+            rs.append(r)
+        fronts[strat] = {"runs": rs, "time": envelope([(r["seconds"], r["lab"]) for r in rs]),
+                         "samples": envelope([(r["samples"], r["lab"]) for r in rs])}
+    R["fig11"] = fronts
+    md.append("\nFig. 11 grid (one thread; samples evaluated per pixel):\n\n" + table(
+        ["strategy", "K", "spp", "samples/pixel", "mean Lab", "render s"],
+        [[s, r["options"].split()[3], str(r["spp"]), f"{r['samples']:.0f}", f(r["lab"]),
+          f"{r['seconds']:.3f}" + (" (scaled)" if r.get("scaled") else "")]
+         for s in fronts for r in fronts[s]["runs"]]))
+    eq = []
+    for r in fronts["restricted"]["runs"]:
+        if (r["seconds"], r["lab"]) not in fronts["restricted"]["time"]:
+            continue  # not on restricted's own best-time front
+        gt = loglog_at(fronts["global"]["time"], r["lab"])
+        gs = loglog_at(fronts["global"]["samples"], r["lab"])
+        if gt is None or gs is None:
+            continue  # outside the global grid's range: no interpolation
+        eq.append({"restricted": r["options"], "lab": r["lab"], "seconds": r["seconds"],
+                   "samples": r["samples"], "global_seconds": gt, "global_samples": gs,
+                   "time_ratio": gt / r["seconds"], "sample_ratio": gs / r["samples"]})
+    R["equal_quality"] = eq
+    md.append("\nEqual quality, each strategy at its best (global interpolated log-log on its "
+              "fronts):\n\n" + table(
+                  ["restricted", "mean Lab", "samples/pixel", "s", "global samples/pixel",
+                   "global s", "sample ratio", "time ratio"],
+                  [[e["restricted"], f(e["lab"]), f"{e['samples']:.0f}", f"{e['seconds']:.3f}",
+                    f"{e['global_samples']:.0f}", f"{e['global_seconds']:.2f}",
+                    f"{e['sample_ratio']:.0f}x", f"{e['time_ratio']:.1f}x"] for e in eq]))
 
     # Fig. 9: K_max at K = 64.
     kmax = [judge(scene, ref, f"kmax{k}-k64", ["--lum-budget", "64", "--spp", "2"] +
