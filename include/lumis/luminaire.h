@@ -205,8 +205,8 @@ int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
  * conditional (6 lookups, then log2 of the box's height probes of 2 lookups), one RGB
  * pixel.  Binary search: every draw of the point in lockstep across images, so their loads
  * overlap.  Secant: per draw, data-dependent probes of 4 and 2 lookups.  The car preset
- * (11 x 9 x 256^2, K = 64) measures 91 ns per sample (binary; 205 secant) on coherent
- * points, 115 on random ones: docs/luminaire.md, "Benchmark".  Stack: about 100 KB.
+ * (11 x 9 x 256^2, K = 64) measures 87 ns per sample (binary; ~200 secant) on coherent
+ * points, 99 on random ones: docs/luminaire.md, "Benchmark".  Stack: about 100 KB.
  * No allocation. */
 lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
                                           const lumis_luminaire_query *q, const double *u,
