@@ -170,13 +170,13 @@ typedef struct lumis_render_desc {
 } lumis_render_desc;
 
 typedef struct lumis_render_stats {
-    int spp;            /* camera samples per pixel so far */
-    int passes;         /* lumis_render_job_run calls so far */
-    int threads;        /* worker threads of the last pass */
-    double seconds;     /* wall time spent rendering (all passes) */
-    double camera_rays; /* primary rays */
-    double shadow_rays; /* occlusion rays of the direct estimators */
-    double bounce_rays; /* continuation rays of path tracing */
+    int spp;              /* camera samples per pixel so far */
+    int passes;           /* lumis_render_job_run calls so far */
+    int threads;          /* worker threads of the last pass */
+    double seconds;       /* wall time spent rendering (all passes) */
+    double camera_rays;   /* primary rays */
+    double shadow_rays;   /* occlusion rays of the direct estimators */
+    double bounce_rays;   /* continuation rays of path tracing */
     double light_samples; /* luminaire samples evaluated, summed over shading points (the
                              global strategy's shared draws count at every point): what
                              an equal-samples comparison counts; 0 for other lights */
