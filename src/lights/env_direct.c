@@ -154,12 +154,20 @@ typedef struct km_cluster {
     double *x, *y, *z, *w, *key;
 } km_cluster;
 
+/* The clusters' weighted direction sums S = sum w d are kept in fixed point (int64 steps of
+ * `unit`): a move subtracts a pixel's w d from one sum and adds it to another exactly, so a
+ * centre depends only on its cluster's members, never on the order of the moves, and an
+ * update costs O(1) per cluster instead of a pass over its members. */
 typedef struct km_state {
     int k;
     km_cluster *cl;
     int32_t *pos; /* m: index of each pixel in its cluster's arrays */
+    int64_t *q;   /* 3 m: each pixel's w d in steps of unit */
+    int64_t *S;   /* 3 k: the sums of q over each cluster's members */
+    double unit;
     double *J;    /* k: sum over the members of w |x - c|^2 / 2 */
     double *R;    /* k: bound of the members' chord distance to the centre */
+    double *R0;   /* k: R when last computed from the members */
     double *D, G; /* k cumulative centre drifts, and the cumulative largest drift */
 } km_state;
 
@@ -190,6 +198,7 @@ static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
     c->w[q] = v[3];
     c->key[q] = v[4];
     s->pos[i] = q;
+    for (int t = 0; t < 3; t++) s->S[3 * (size_t)j + (size_t)t] += s->q[3 * (size_t)i + (size_t)t];
     return LUMIS_OK;
 }
 
@@ -197,6 +206,7 @@ static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
 static void km_remove(km_state *s, int j, int q)
 {
     km_cluster *c = &s->cl[j];
+    for (int t = 0; t < 3; t++) s->S[3 * (size_t)j + (size_t)t] -= s->q[3 * (size_t)c->id[q] + (size_t)t];
     int last = --c->n;
     if (q == last) return;
     c->id[q] = c->id[last];
@@ -208,39 +218,56 @@ static void km_remove(km_state *s, int j, int q)
     s->pos[c->id[q]] = q;
 }
 
-/* Objective term of cluster j; with `bound`, also R_j from its members.  Sums run in
- * four interleaved partial sums (fixed order): a single chain of additions was latency
- * bound and this runs once or twice per cluster and step. */
-static void km_cluster_terms(km_state *s, const double *c, int j, int bound)
+/* The pixels' w d in fixed point: steps of a power of two such that m times the largest
+ * weight is below 2^61 steps, so no sum of up to m of them overflows. */
+static void km_quantise(km_state *s, const lumis__decomp *dc)
+{
+    double wmax = 0.0;
+    for (int i = 0; i < dc->m; i++) wmax = dc->em_w[i] > wmax ? dc->em_w[i] : wmax;
+    int ew, em;
+    frexp(wmax, &ew);
+    frexp((double)dc->m, &em);
+    const int shift = 61 - ew - em; /* w d / unit = ldexp(w d, shift) < 2^61 / m */
+    s->unit = ldexp(1.0, -shift);
+    for (int i = 0; i < dc->m; i++)
+        for (int t = 0; t < 3; t++)
+            s->q[3 * (size_t)i + (size_t)t] =
+                (int64_t)llrint(ldexp(dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)t], shift));
+}
+
+/* Objective term J_j of cluster j from its members; with `bound`, also R_j.  Sums run in
+ * four interleaved partial sums (fixed order): a single chain of additions is latency
+ * bound. */
+static void km_cluster_terms(km_state *s, const double *c, int j, int objective)
 {
     const km_cluster *cl = &s->cl[j];
     const double c0 = c[3 * j], c1 = c[3 * j + 1], c2 = c[3 * j + 2];
-    double J[4] = {0.0, 0.0, 0.0, 0.0}, mind;
     int q = 0;
-    for (; q + 4 <= cl->n; q += 4)
-        for (int u = 0; u < 4; u++) {
-            double dx = cl->x[q + u] - c0, dy = cl->y[q + u] - c1, dz = cl->z[q + u] - c2;
-            J[u] += cl->w[q + u] * 0.5 * (dx * dx + dy * dy + dz * dz);
-        }
-    for (; q < cl->n; q++) {
-        double dx = cl->x[q] - c0, dy = cl->y[q] - c1, dz = cl->z[q] - c2;
-        J[0] += cl->w[q] * 0.5 * (dx * dx + dy * dy + dz * dz);
-    }
-    if (bound) {
-        double mn[4] = {2.0, 2.0, 2.0, 2.0};
-        for (q = 0; q + 4 <= cl->n; q += 4)
+    if (objective) {
+        double J[4] = {0.0, 0.0, 0.0, 0.0};
+        for (; q + 4 <= cl->n; q += 4)
             for (int u = 0; u < 4; u++) {
-                double d = cl->x[q + u] * c0 + cl->y[q + u] * c1 + cl->z[q + u] * c2;
-                mn[u] = d < mn[u] ? d : mn[u];
+                double dx = cl->x[q + u] - c0, dy = cl->y[q + u] - c1, dz = cl->z[q + u] - c2;
+                J[u] += cl->w[q + u] * 0.5 * (dx * dx + dy * dy + dz * dz);
             }
         for (; q < cl->n; q++) {
-            double d = cl->x[q] * c0 + cl->y[q] * c1 + cl->z[q] * c2;
-            mn[0] = d < mn[0] ? d : mn[0];
+            double dx = cl->x[q] - c0, dy = cl->y[q] - c1, dz = cl->z[q] - c2;
+            J[0] += cl->w[q] * 0.5 * (dx * dx + dy * dy + dz * dz);
         }
-        mind = fmin(fmin(mn[0], mn[1]), fmin(mn[2], mn[3]));
-        s->R[j] = cl->n > 0 ? chord_bound(mind) : 0.0;
+        s->J[j] = (J[0] + J[1]) + (J[2] + J[3]);
     }
-    s->J[j] = (J[0] + J[1]) + (J[2] + J[3]);
+    double mn[4] = {2.0, 2.0, 2.0, 2.0};
+    for (q = 0; q + 4 <= cl->n; q += 4)
+        for (int u = 0; u < 4; u++) {
+            double d = cl->x[q + u] * c0 + cl->y[q + u] * c1 + cl->z[q + u] * c2;
+            mn[u] = d < mn[u] ? d : mn[u];
+        }
+    for (; q < cl->n; q++) {
+        double d = cl->x[q] * c0 + cl->y[q] * c1 + cl->z[q] * c2;
+        mn[0] = d < mn[0] ? d : mn[0];
+    }
+    double mind = fmin(fmin(mn[0], mn[1]), fmin(mn[2], mn[3]));
+    s->R[j] = s->R0[j] = cl->n > 0 ? chord_bound(mind) : 0.0;
 }
 
 static double km_objective(const km_state *s)
@@ -266,6 +293,11 @@ static lumis_status push_objective(lumis__direct_result *r, int *cap, double J)
 /* Safety net for floating-point cycling; the exact algorithm cannot cycle (docs). */
 #define KMEANS_HARD_LIMIT 100000
 
+/* R_j grows by each drift of the centre (triangle inequality) and is recomputed from the
+ * members once it exceeds this factor times its last exact value: a loose R only makes an
+ * assignment step look at more neighbouring centres. */
+#define KM_R_SLACK 1.5
+
 typedef struct km_move {
     int32_t i, to;
     double slack;
@@ -280,8 +312,11 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     s.k = k;
     s.cl = calloc((size_t)k, sizeof *s.cl);
     s.pos = malloc((size_t)m * sizeof(int32_t));
+    s.q = malloc(3 * (size_t)m * sizeof(int64_t));
+    s.S = calloc(3 * (size_t)k, sizeof(int64_t));
     s.J = malloc((size_t)k * sizeof(double));
     s.R = malloc((size_t)k * sizeof(double));
+    s.R0 = malloc((size_t)k * sizeof(double));
     s.D = calloc((size_t)k, sizeof(double));
     double *delta = malloc((size_t)k * sizeof(double));
     unsigned char *changed = malloc((size_t)k);
@@ -290,8 +325,10 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *fail = malloc((size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!s.cl || !s.pos || !s.J || !s.R || !s.D || !delta || !changed || !nb || !moves || !fail)
+    if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !delta || !changed ||
+        !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) km_quantise(&s, dc);
     /* The seeds' assignment: nearest centre by dot product, the first on ties. */
     for (int i = 0; st == LUMIS_OK && i < m; i++) {
         const double *x = dc->em_d + 3 * (size_t)i;
@@ -323,40 +360,32 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     const int limit = p->max_iterations > 0 ? p->max_iterations : KMEANS_HARD_LIMIT;
     int updates = 0;
     while (st == LUMIS_OK && p->kmeans) {
-        /* Update: each changed cluster's centre to its normalised weighted mean direction,
-         * which minimises the cluster's sum w |d - c|^2 over unit c.  An unchanged
-         * cluster would get the very same centre. */
+        /* Update: each changed cluster's centre to its normalised weighted mean direction
+         * S / |S|, which minimises the cluster's J = sum w |d - c|^2 / 2 = sum w - c . S
+         * over unit c; J falls by exactly (c_new - c_old) . S = |S| |c_new - c_old|^2 / 2.
+         * An unchanged cluster would get the very same centre. */
         int nmoved = 0;
         double dmax = 0.0;
         for (int j = 0; j < k; j++) {
             delta[j] = 0.0;
             if (!changed[j]) continue;
             changed[j] = 0;
-            const km_cluster *cl = &s.cl[j];
-            double px[2] = {0.0, 0.0}, py[2] = {0.0, 0.0}, pz[2] = {0.0, 0.0};
-            int q = 0;
-            for (; q + 2 <= cl->n; q += 2)
-                for (int u = 0; u < 2; u++) {
-                    px[u] += cl->w[q + u] * cl->x[q + u];
-                    py[u] += cl->w[q + u] * cl->y[q + u];
-                    pz[u] += cl->w[q + u] * cl->z[q + u];
-                }
-            if (q < cl->n) {
-                px[0] += cl->w[q] * cl->x[q];
-                py[0] += cl->w[q] * cl->y[q];
-                pz[0] += cl->w[q] * cl->z[q];
-            }
-            const double sx = px[0] + px[1], sy = py[0] + py[1], sz = pz[0] + pz[1];
+            const int64_t *S = s.S + 3 * (size_t)j;
+            const double sx = (double)S[0] * s.unit, sy = (double)S[1] * s.unit,
+                         sz = (double)S[2] * s.unit;
             double len = sqrt(sx * sx + sy * sy + sz * sz);
-            if (!(len > 0.0)) {               /* empty cluster: keeps its centre */
-                if (cl->n == 0) s.J[j] = 0.0; /* not a residue of the leavers' terms */
+            if (!(len > 0.0)) {                 /* empty cluster: keeps its centre */
+                if (s.cl[j].n == 0) s.J[j] = 0.0; /* not a residue of the leavers' terms */
                 continue;
             }
             double nc[3] = {sx / len, sy / len, sz / len}, *cj = c + 3 * (size_t)j;
             delta[j] = dist3(nc, cj);
             memcpy(cj, nc, sizeof nc);
             if (delta[j] > 0.0) {
-                km_cluster_terms(&s, c, j, 1);
+                const double drop = 0.5 * len * delta[j] * delta[j];
+                s.J[j] = s.J[j] > drop ? s.J[j] - drop : 0.0;
+                s.R[j] += delta[j];
+                if (s.R[j] > KM_R_SLACK * s.R0[j]) km_cluster_terms(&s, c, j, 0);
                 s.D[j] += delta[j];
                 dmax = delta[j] > dmax ? delta[j] : dmax;
                 nmoved++;
@@ -375,20 +404,22 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         int nm = 0;
         for (int ca = 0; nmoved > 0 && ca < k; ca++) {
             const double *cc = c + 3 * (size_t)ca;
-            const double reach = 2.0 * s.R[ca] + KM_MARGIN;
+            const double reach = 2.0 * s.R[ca] + KM_MARGIN, reach2 = reach * reach;
             int nn = 0, need = delta[ca] > 0.0;
-            double far = INFINITY;
+            double far2 = INFINITY;
             for (int b = 0; b < k; b++) {
                 if (b == ca) continue;
-                double r = dist3(cc, c + 3 * (size_t)b);
-                if (r < reach) {
+                double r2 = sq_dist(cc, c + 3 * (size_t)b);
+                if (r2 < reach2) {
                     nb[nn++] = b;
                     need |= delta[b] > 0.0;
-                } else if (r < far) {
-                    far = r;
+                } else if (r2 < far2) {
+                    far2 = r2;
                 }
             }
             if (!need) continue;
+            /* a little under the distance to the nearest centre beyond the reach */
+            const double far = sqrt(far2) * (1.0 - 1e-15);
             km_cluster *cl = &s.cl[ca];
             const double now = s.D[ca] + s.G;
             int nf = 0; /* the members whose bound fails, gathered without branches */
@@ -428,8 +459,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             const km_cluster *cl = &s.cl[from];
             double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G};
             changed[from] = changed[to] = 1;
-            /* The objective terms follow the pixel; the next update recomputes the terms of
-             * every cluster whose centre moves, so no drift carries over. */
+            /* The objective terms follow the pixel. */
             s.J[from] -= v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)from);
             s.J[to] += v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)to);
             km_remove(&s, from, q);
@@ -452,8 +482,11 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     }
     free(s.cl);
     free(s.pos);
+    free(s.q);
+    free(s.S);
     free(s.J);
     free(s.R);
+    free(s.R0);
     free(s.D);
     free(delta);
     free(changed);
