@@ -15,7 +15,9 @@ typedef struct lumis__decomp {
     const lumis_decomp_desc *desc;
     int w, h;
     const float *y;  /* per-pixel luminance (lumis__pixel_y) */
-    int32_t *labels; /* the set's labels, used as scratch (see each step) */
+    double lt;       /* the emissive threshold: pixel p is emissive if y[p] > lt */
+    int32_t *labels; /* the set's labels, used as scratch: until the end only an emissive
+                      * pixel's label is written (its index, then its cluster or -1) */
 
     /* Emissive pixels. */
     int m;
@@ -25,6 +27,13 @@ typedef struct lumis__decomp {
     double *em_e;        /* sampling weight Y Omega */
     int32_t *em_cluster; /* cluster, or -1 when returned to the non-emissive set */
 } lumis__decomp;
+
+/* Whether pixel p belongs to the non-emissive set: below the threshold (such a pixel's
+ * label is not written before the end), or emissive and returned (label -1). */
+static inline int lumis__non_emissive(const lumis__decomp *dc, size_t p)
+{
+    return !((double)dc->y[p] > dc->lt) || dc->labels[p] == -1;
+}
 
 /* Parameters of the EnvDirect step, defaults applied. */
 typedef struct lumis__direct_params {
@@ -48,25 +57,30 @@ typedef struct lumis__direct_result {
     int objective_count;
 } lumis__direct_result;
 
-/* On entry labels[p] is the emissive index of pixel p or -1.  On return em_cluster is set,
- * labels[p] is the cluster of each clustered emissive pixel and -1 for every other. */
+/* On entry labels[p] is the emissive index of each emissive pixel p.  On return em_cluster
+ * is set, and labels[p] is the cluster of each clustered emissive pixel, -1 of each
+ * returned one. */
 lumis_status lumis__env_direct(lumis__decomp *dc, const lumis__direct_params *p,
                                lumis__direct_result *out);
 
 /* Per-tile sums of the non-emissive pixels (E = sum Y Omega, M = sum Y m, N = pixels),
  * stored at [(ty + 1)(tw + 1) + tx + 1] and turned into summed-area tables by
- * lumis__tiles_prefix.  T = 4 on maps of 2^16 pixels or more, else 1. */
+ * lumis__tiles_prefix; rgb (sum L Omega, same layout) stays per tile.  T = 4 on maps of
+ * 2^16 pixels or more, else 1. */
 enum { LUMIS__Q_E, LUMIS__Q_MX, LUMIS__Q_MY, LUMIS__Q_MZ, LUMIS__Q_N, LUMIS__Q_COUNT };
 typedef struct lumis__tiles {
     int T, tw, th;
     double *q[LUMIS__Q_COUNT];
+    double *rgb[3];
 } lumis__tiles;
 
 lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h);
 void lumis__tiles_free(lumis__tiles *t);
-/* Adds one pixel of luminance y (before the prefix sums). */
-void lumis__tiles_add(lumis__tiles *t, const lumis__geom *g, int i, int j, double y);
 void lumis__tiles_prefix(lumis__tiles *t);
+/* Whether r's edges lie on tile edges (or the map's), so its sums come from the tiles. */
+int lumis__tiles_aligned(const lumis__tiles *t, int w, int h, lumis__rect r);
+/* r's tile range (r aligned). */
+lumis__rect lumis__tiles_of(const lumis__tiles *t, lumis__rect r);
 
 /* The cut: up to `budget` rectangles covering every pixel labelled -1 (the non-emissive
  * set), each holding at least one of them.  *count receives how many (fewer than budget

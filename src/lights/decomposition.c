@@ -153,8 +153,8 @@ static float bracket_select(bracket *b, const float *y, size_t n, size_t rank, u
  * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
  * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
  * fixed pairwise tree and the groups are added in order. */
-static double row_luminance(const float *restrict px, float *restrict yr, int w, double sc,
-                            float *ymax)
+static LUMIS__AVX2_CLONES double row_luminance(const float *restrict px, float *restrict yr, int w,
+                                               double sc, float *ymax)
 {
     enum { G = 16 };
     double row = 0.0;
@@ -185,12 +185,188 @@ static double row_luminance(const float *restrict px, float *restrict yr, int w,
     return row;
 }
 
-/* One pixel of indirect_rect: its terms (zeros unless it is non-emissive) into s. */
-static inline void pixel_terms(const float *row, const float *yr, int32_t *lab,
-                               const lumis__geom *g, int i, int32_t label, double s[8], int *n)
+/* The sums of one tile row's stretch of n pixels, in the order every tile sum uses (pixel
+ * by pixel, then weighted by the row's factors): s = (Y, Y cs, Y cc, R, G, B). */
+static inline LUMIS__ALWAYS_INLINE void stretch_sums(const float *restrict px,
+                                                     const float *restrict yr,
+                                                     const double *restrict cs,
+                                                     const double *restrict cc, int n,
+                                                     double s[6])
 {
-    const int in = lab[i] == -1;
-    const double mk = in, v = (double)yr[i] * mk;
+    double ys = 0.0, ycs = 0.0, ycc = 0.0, r = 0.0, gr = 0.0, b = 0.0;
+    for (int k = 0; k < n; k++) {
+        const double v = yr[k];
+        ys += v;
+        ycs += v * cs[k];
+        ycc += v * cc[k];
+        r += px[3 * k];
+        gr += px[3 * k + 1];
+        b += px[3 * k + 2];
+    }
+    s[0] = ys;
+    s[1] = ycs;
+    s[2] = ycc;
+    s[3] = r;
+    s[4] = gr;
+    s[5] = b;
+}
+
+static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q,
+                                                 const double s[6], double om, double a,
+                                                 double b)
+{
+    t->q[LUMIS__Q_E][q] += s[0] * om;
+    t->q[LUMIS__Q_MX][q] += s[1] * a;
+    t->q[LUMIS__Q_MY][q] += s[0] * b;
+    t->q[LUMIS__Q_MZ][q] += s[2] * a;
+    t->rgb[0][q] += s[3] * om;
+    t->rgb[1][q] += s[4] * om;
+    t->rgb[2][q] += s[5] * om;
+}
+
+/* Row j (its luminance yr already computed) into the tile sums over all pixels.  Tiles
+ * whose pixels are not all non-emissive are summed again later (dirty_tile). */
+static LUMIS__AVX2_CLONES void row_tiles(const lumis__tiles *t, const lumis__geom *g,
+                                         const float *restrict px, const float *restrict yr,
+                                         int j)
+{
+    const int T = t->T, w = g->w;
+    const size_t q0 = (size_t)(j / T + 1) * ((size_t)t->tw + 1) + 1;
+    const double om = g->omega[j], a = g->a[j], b = g->b[j];
+    int tx = 0;
+    if (T == 4)
+        for (; 4 * tx + 4 <= w; tx++) {
+            double s[6];
+            const int i = 4 * tx;
+            stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, 4, s);
+            tile_add(t, q0 + (size_t)tx, s, om, a, b);
+        }
+    for (; tx < t->tw; tx++) {
+        double s[6];
+        const int i = tx * T, n = (tx + 1) * T < w ? T : w - i;
+        stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, n, s);
+        tile_add(t, q0 + (size_t)tx, s, om, a, b);
+    }
+}
+
+/* Tile (tx, ty) summed again over its non-emissive pixels only. */
+static void dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, int ty)
+{
+    const lumis__geom *g = dc->g;
+    const int T = t->T, w = g->w;
+    const size_t q = (size_t)(ty + 1) * ((size_t)t->tw + 1) + (size_t)tx + 1;
+    for (int k = 0; k < LUMIS__Q_COUNT; k++) t->q[k][q] = 0.0;
+    for (int k = 0; k < 3; k++) t->rgb[k][q] = 0.0;
+    const int i0 = tx * T, i1 = i0 + T < w ? i0 + T : w;
+    const int j1 = (ty + 1) * T < g->h ? (ty + 1) * T : g->h;
+    for (int j = ty * T; j < j1; j++) {
+        const size_t o = (size_t)j * (size_t)w;
+        double s[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+        int n = 0;
+        for (int i = i0; i < i1; i++) {
+            if (!lumis__non_emissive(dc, o + (size_t)i)) continue;
+            const double v = dc->y[o + (size_t)i];
+            const float *px = dc->env->pixels + (o + (size_t)i) * 3;
+            s[0] += v;
+            s[1] += v * g->cs[i];
+            s[2] += v * g->cc[i];
+            s[3] += px[0];
+            s[4] += px[1];
+            s[5] += px[2];
+            n++;
+        }
+        tile_add(t, q, s, g->omega[j], g->a[j], g->b[j]);
+        t->q[LUMIS__Q_N][q] += n;
+    }
+}
+
+/* Every tile's pixel count (the non-emissive count of a tile without emissive pixels). */
+static void tile_counts(const lumis__tiles *t, int w, int h)
+{
+    const int T = t->T;
+    for (int ty = 0; ty < t->th; ty++) {
+        const int ny = (ty + 1) * T < h ? T : h - ty * T;
+        double *row = t->q[LUMIS__Q_N] + (size_t)(ty + 1) * ((size_t)t->tw + 1) + 1;
+        for (int tx = 0; tx < t->tw; tx++) {
+            const int nx = (tx + 1) * T < w ? T : w - tx * T;
+            row[tx] = (double)(nx * ny);
+        }
+    }
+}
+
+/* Appends pixel o to the emissive pixels (growing em_pix) and labels it with its index. */
+static lumis_status add_emissive(lumis__decomp *dc, size_t *cap, int32_t *lab, size_t o)
+{
+    if ((size_t)dc->m == *cap) {
+        int32_t *p = realloc(dc->em_pix, 2 * *cap * sizeof(int32_t));
+        if (!p) return LUMIS_ERR_OUT_OF_MEMORY;
+        dc->em_pix = p;
+        *cap *= 2;
+    }
+    *lab = dc->m;
+    dc->em_pix[dc->m++] = (int32_t)o;
+    return LUMIS_OK;
+}
+
+/* One row's emissive pixels (y > lt, i.e. y > ltf, the largest float <= lt): appended
+ * to em_pix and labelled with their indices (no other label is written); the row's
+ * emissive luminance and count, and its non-emissive luminance.  Groups of 16 without an
+ * emissive pixel (nearly all) are counted and summed by loops the compiler vectorises. */
+static lumis_status classify_row(lumis__decomp *dc, size_t *cap, const float *restrict yr,
+                                 int32_t *lab, size_t o, float ltf, double *rem, double *rne,
+                                 int *cem)
+{
+    enum { G = 16 };
+    const int w = dc->w;
+    double em = 0.0, ne = 0.0;
+    int c = 0, i = 0;
+    lumis_status st = LUMIS_OK;
+    for (; i + G <= w; i += G) {
+        int hot = 0;
+        for (int k = 0; k < G; k++) hot += yr[i + k] > ltf;
+        if (!hot) {
+            double v[G];
+            for (int k = 0; k < G; k++) v[k] = yr[i + k];
+            for (int k = 0; k < 8; k++) v[k] += v[k + 8];
+            for (int k = 0; k < 4; k++) v[k] += v[k + 4];
+            ne += (v[0] + v[2]) + (v[1] + v[3]);
+            continue;
+        }
+        for (int k = 0; k < G; k++) {
+            const double v = yr[i + k];
+            if (!(yr[i + k] > ltf)) {
+                ne += v;
+            } else {
+                if ((st = add_emissive(dc, cap, lab + i + k, o + (size_t)(i + k))) != LUMIS_OK)
+                    return st;
+                em += v;
+                c++;
+            }
+        }
+    }
+    for (; i < w; i++) {
+        const double v = yr[i];
+        if (!(yr[i] > ltf)) {
+            ne += v;
+        } else {
+            if ((st = add_emissive(dc, cap, lab + i, o + (size_t)i)) != LUMIS_OK) return st;
+            em += v;
+            c++;
+        }
+    }
+    *rem = em;
+    *rne = ne;
+    *cem = c;
+    return LUMIS_OK;
+}
+
+/* One pixel of indirect_rect: its terms (zeros unless it is non-emissive) into s. */
+static inline void pixel_terms(const lumis__decomp *dc, const float *row, size_t o, int i,
+                               int32_t label, double s[8], int *n)
+{
+    const lumis__geom *g = dc->g;
+    const int in = lumis__non_emissive(dc, o + (size_t)i);
+    const double mk = in, v = (double)dc->y[o + (size_t)i] * mk;
     const float *px = row + (size_t)i * 3;
     s[0] += (double)px[0] * mk;
     s[1] += (double)px[1] * mk;
@@ -200,30 +376,70 @@ static inline void pixel_terms(const float *row, const float *yr, int32_t *lab,
     s[5] += v * g->cc[i];
     s[6] += g->cs[i] * mk;
     s[7] += g->cc[i] * mk;
-    lab[i] = in ? label : lab[i];
+    if (in) dc->labels[o + (size_t)i] = label;
     *n += in;
 }
 
-/* lumis__acc_rect for an EnvIndirect: labels the non-emissive pixels (label -1) of r and
- * adds them to acc, reading each pixel's luminance from y instead of recomputing it.  A
- * pixel of another label is added as zeros (multiplied by a 0/1 mask, exact for finite
- * values), so the loop has no branch to mispredict; two interleaved accumulators per sum
- * halve the add-latency chains. */
-static void indirect_rect(const lumis__geom *g, const lumis_envmap *env, const float *y,
-                          int32_t *labels, lumis__rect r, int32_t label, lumis__acc *acc)
+/* Every label of rectangle r set to `label` (the clustered emissive pixels inside get
+ * theirs back afterwards). */
+static void label_rect(int32_t *labels, int w, lumis__rect r, int32_t label)
 {
+    for (int j = r.y0; j < r.y1; j++) {
+        int32_t *lab = labels + (size_t)j * (size_t)w;
+        for (int i = r.x0; i < r.x1; i++) lab[i] = label;
+    }
+}
+
+/* An aligned EnvIndirect's sums from the tiles: power and moments of its non-emissive
+ * pixels; the geometric moment and solid angle of the whole rectangle, from which the
+ * clustered emissive pixels inside are subtracted afterwards. */
+static void tiles_rect_acc(const lumis__tiles *t, const lumis__geom *g, lumis__rect r,
+                           lumis__acc *acc)
+{
+    memset(acc, 0, sizeof *acc);
+    const lumis__rect tr = lumis__tiles_of(t, r);
+    const size_t W = (size_t)t->tw + 1;
+    for (int ty = tr.y0; ty < tr.y1; ty++)
+        for (int c = 0; c < 3; c++) {
+            const double *row = t->rgb[c] + (size_t)(ty + 1) * W + 1;
+            double s = 0.0;
+            for (int tx = tr.x0; tx < tr.x1; tx++) s += row[tx];
+            acc->rgb[c] += s;
+        }
+    acc->m[0] = lumis__sat_rect(t->q[LUMIS__Q_MX], t->tw, tr);
+    acc->m[1] = lumis__sat_rect(t->q[LUMIS__Q_MY], t->tw, tr);
+    acc->m[2] = lumis__sat_rect(t->q[LUMIS__Q_MZ], t->tw, tr);
+    acc->pixels = (int)llround(lumis__sat_rect(t->q[LUMIS__Q_N], t->tw, tr));
+    const int n = r.x1 - r.x0;
+    /* sums of cs (cc) over the columns telescope to sin (cos) differences at the ends */
+    const double gcs = g->sin_p[r.x1] - g->sin_p[r.x0], gcc = g->cos_p[r.x0] - g->cos_p[r.x1];
+    for (int j = r.y0; j < r.y1; j++) {
+        acc->g[0] += g->a[j] * gcs;
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * gcc;
+        acc->omega += g->omega[j] * n;
+    }
+}
+
+/* lumis__acc_rect for an EnvIndirect that is not aligned to the tiles: labels the
+ * non-emissive pixels of r and adds them to acc, reading each pixel's luminance from y
+ * instead of recomputing it.  Another pixel is added as zeros (multiplied by a 0/1 mask,
+ * exact for finite values); two interleaved accumulators per sum halve the add-latency
+ * chains. */
+static void indirect_rect(const lumis__decomp *dc, lumis__rect r, int32_t label, lumis__acc *acc)
+{
+    const lumis__geom *g = dc->g;
     const int w = g->w;
     for (int j = r.y0; j < r.y1; j++) {
         const size_t o = (size_t)j * (size_t)w;
-        const float *row = env->pixels + o * 3, *yr = y + o;
-        int32_t *lab = labels + o;
+        const float *row = dc->env->pixels + o * 3;
         double s0[8] = {0, 0, 0, 0, 0, 0, 0, 0}, s1[8] = {0, 0, 0, 0, 0, 0, 0, 0};
         int n = 0, i = r.x0;
         for (; i + 1 < r.x1; i += 2) {
-            pixel_terms(row, yr, lab, g, i, label, s0, &n);
-            pixel_terms(row, yr, lab, g, i + 1, label, s1, &n);
+            pixel_terms(dc, row, o, i, label, s0, &n);
+            pixel_terms(dc, row, o, i + 1, label, s1, &n);
         }
-        if (i < r.x1) pixel_terms(row, yr, lab, g, i, label, s0, &n);
+        if (i < r.x1) pixel_terms(dc, row, o, i, label, s0, &n);
         double t[8];
         for (int k = 0; k < 8; k++) t[k] = s0[k] + s1[k];
         const double om = g->omega[j];
@@ -311,6 +527,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     uint32_t *hist = calloc(65536, sizeof(uint32_t));
     bracket br;
     memset(&br, 0, sizeof br);
+    int32_t *tile_of = NULL;
     st = (y && rects && acc && hist)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
@@ -334,10 +551,12 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     float ymax = 0.0f;
     for (int j = 0; j < h; j++) {
         float *yr = y + (size_t)j * (size_t)w;
-        power_y += row_luminance(env->pixels + (size_t)j * (size_t)w * 3, yr, w, g.scale, &ymax) *
-                   g.omega[j];
+        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
+        power_y += row_luminance(px, yr, w, g.scale, &ymax) * g.omega[j];
         bracket_row(&br, yr, w);
+        row_tiles(&tiles, &g, px, yr, j);
     }
+    tile_counts(&tiles, w, h);
     float lb = bracket_select(&br, y, n, rank, hist);
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
@@ -347,54 +566,19 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     if (desc->threshold > 0.0f) lt = desc->threshold;
     info->threshold = lt;
 
-    /* ---- classification: labels[p] = emissive index or -1 ---- */
+    /* ---- classification: labels[p] = emissive index of each emissive pixel ---- */
+    dc.lt = lt;
+    float ltf = (float)lt; /* the largest float <= lt: y > lt exactly when y > ltf */
+    if ((double)ltf > lt) ltf = nextafterf(ltf, -INFINITY);
     size_t cap = n / 64 + 16;
     dc.em_pix = malloc(cap * sizeof(int32_t));
     if (!dc.em_pix) st = LUMIS_ERR_OUT_OF_MEMORY;
     double e_em = 0.0, o_em = 0.0, e_ne = 0.0, o_ne = 0.0;
-    const int T = tiles.T;
-    const size_t TW = (size_t)tiles.tw + 1;
     for (int j = 0; st == LUMIS_OK && j < h; j++) {
-        const float *yr = y + (size_t)j * (size_t)w;
-        int32_t *lab = set->labels + (size_t)j * (size_t)w;
+        const size_t o = (size_t)j * (size_t)w;
         double rem = 0.0, rne = 0.0;
         int cem = 0;
-        const size_t trow = (size_t)(j / T + 1) * TW + 1;
-        for (int tx = 0; st == LUMIS_OK && tx < tiles.tw; tx++) {
-            /* the non-emissive pixels of this row's stretch of tile tx, into the tile sums */
-            int i1 = (tx + 1) * T < w ? (tx + 1) * T : w, cnt = 0;
-            double ys = 0.0, ycs = 0.0, ycc = 0.0;
-            for (int i = tx * T; i < i1; i++) {
-                if (!((double)yr[i] > lt)) {
-                    lab[i] = -1;
-                    ys += yr[i];
-                    ycs += (double)yr[i] * g.cs[i];
-                    ycc += (double)yr[i] * g.cc[i];
-                    cnt++;
-                    continue;
-                }
-                if ((size_t)dc.m == cap) {
-                    int32_t *p = realloc(dc.em_pix, 2 * cap * sizeof(int32_t));
-                    if (!p) {
-                        st = LUMIS_ERR_OUT_OF_MEMORY;
-                        break;
-                    }
-                    dc.em_pix = p;
-                    cap *= 2;
-                }
-                lab[i] = dc.m;
-                dc.em_pix[dc.m++] = (int32_t)((size_t)j * (size_t)w + (size_t)i);
-                rem += yr[i];
-                cem++;
-            }
-            size_t q = trow + (size_t)tx;
-            tiles.q[LUMIS__Q_E][q] += ys * g.omega[j];
-            tiles.q[LUMIS__Q_MX][q] += ycs * g.a[j];
-            tiles.q[LUMIS__Q_MY][q] += ys * g.b[j];
-            tiles.q[LUMIS__Q_MZ][q] += ycc * g.a[j];
-            tiles.q[LUMIS__Q_N][q] += cnt;
-            rne += ys;
-        }
+        st = classify_row(&dc, &cap, y + o, set->labels + o, o, ltf, &rem, &rne, &cem);
         e_em += rem * g.omega[j];
         e_ne += rne * g.omega[j];
         o_em += cem * g.omega[j];
@@ -493,10 +677,22 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
         nd--;
     }
     info->returned_pixels = dr.returned;
-    for (int e = 0; e < m; e++)
-        if (dc.em_cluster[e] < 0)
-            lumis__tiles_add(&tiles, &g, (int)(dc.em_pix[e] % w), (int)(dc.em_pix[e] / w),
-                             (double)y[dc.em_pix[e]]);
+    /* The tiles holding emissive pixels, summed again over their non-emissive pixels now
+     * that the returned ones are known; the others hold only non-emissive pixels. */
+    const size_t TW = (size_t)tiles.tw + 1;
+    tile_of = calloc(TW * ((size_t)tiles.th + 1), sizeof(int32_t));
+    if (!tile_of) {
+        st = LUMIS_ERR_OUT_OF_MEMORY;
+        goto done;
+    }
+    for (int e = 0; e < m; e++) {
+        const int i = (int)(dc.em_pix[e] % w), j = (int)(dc.em_pix[e] / w);
+        const int tx = i / tiles.T, ty = j / tiles.T;
+        int32_t *f = &tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1];
+        if (*f) continue;
+        *f = 1;
+        dirty_tile(&tiles, &dc, tx, ty);
+    }
     lumis__tiles_prefix(&tiles);
 
     /* ---- EnvIndirects ---- */
@@ -531,12 +727,40 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     for (int k = 0; k < nd; k++) set->lights[k].extent = lumis__extent_from_min_dot(mind[k]);
     free(mind);
     free(dirs);
+    /* EnvIndirects: an aligned rectangle's sums come from the tiles (tile_of[t] = its index
+     * + 1 for its tiles), with its clustered emissive pixels' geometry taken out; any other
+     * is summed from its pixels. */
+    lumis__acc *ia = acc + nd; /* nd + ni <= K */
+    memset(tile_of, 0, TW * ((size_t)tiles.th + 1) * sizeof(int32_t));
     for (int k = 0; k < ni; k++) {
-        lumis__acc a;
-        memset(&a, 0, sizeof a);
-        indirect_rect(&g, env, y, set->labels, rects[k], nd + k, &a);
+        if (!lumis__tiles_aligned(&tiles, w, h, rects[k])) {
+            memset(&ia[k], 0, sizeof ia[k]);
+            indirect_rect(&dc, rects[k], nd + k, &ia[k]);
+            continue;
+        }
+        tiles_rect_acc(&tiles, &g, rects[k], &ia[k]);
+        label_rect(set->labels, w, rects[k], nd + k);
+        const lumis__rect tr = lumis__tiles_of(&tiles, rects[k]);
+        for (int ty = tr.y0; ty < tr.y1; ty++)
+            for (int tx = tr.x0; tx < tr.x1; tx++)
+                tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1] = k + 1;
+    }
+    for (int e = 0; e < m; e++) {
+        if (dc.em_cluster[e] < 0) continue;
+        const int i = (int)(dc.em_pix[e] % w), j = (int)(dc.em_pix[e] / w);
+        const int32_t k =
+            tile_of[(size_t)(j / tiles.T + 1) * TW + (size_t)(i / tiles.T) + 1] - 1;
+        if (k < 0) continue;
+        set->labels[dc.em_pix[e]] = dc.em_cluster[e];
+        const double mx = g.a[j] * g.cs[i], mz = g.a[j] * g.cc[i];
+        ia[k].g[0] -= mx;
+        ia[k].g[1] -= g.b[j];
+        ia[k].g[2] -= mz;
+        ia[k].omega -= g.omega[j];
+    }
+    for (int k = 0; k < ni; k++) {
         lumis_light *l = &set->lights[nd + k];
-        lumis__light_from_acc(&g, &a, LUMIS_LIGHT_ENV_INDIRECT, l);
+        lumis__light_from_acc(&g, &ia[k], LUMIS_LIGHT_ENV_INDIRECT, l);
         double d[3];
         lumis__light_map_dir(&g, l, d);
         l->extent = lumis__extent_from_min_dot(
@@ -553,6 +777,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     lumis__set_finish(set, &g, env, &c, t0);
 
 done:
+    free(tile_of);
     free(hist);
     free(br.buf);
     lumis__tiles_free(&tiles);

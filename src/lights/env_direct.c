@@ -58,7 +58,7 @@ static int tree_sample(const sum_tree *s, double u)
 /* ---- masking ---------------------------------------------------------------------------- */
 
 /* Zeroes the tree leaf of every emissive pixel whose centroid lies within angle alpha of
- * unit direction d (labels map pixels to emissive indices).  Visits only the pixels of the
+ * unit direction d (labels map emissive pixels to their indices).  Visits only the pixels of the
  * cap's bounding box in rows and columns. */
 static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3], double alpha)
 {
@@ -83,11 +83,12 @@ static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3],
         }
     }
     for (int j = j0; j < j1; j++) {
-        const int32_t *lab = dc->labels + (size_t)j * (size_t)w;
+        const size_t o = (size_t)j * (size_t)w;
         for (int k = 0; k < span; k++) {
             int i = ((i0 + k) % w + w) % w;
-            int32_t e = lab[i];
-            if (e < 0 || !(tree->t[tree->P + e] > 0.0)) continue;
+            if (!((double)dc->y[o + (size_t)i] > dc->lt)) continue; /* non-emissive */
+            int32_t e = dc->labels[o + (size_t)i];
+            if (!(tree->t[tree->P + e] > 0.0)) continue;
             const double *q = dc->em_d + 3 * (size_t)e;
             if (q[0] * d[0] + q[1] * d[1] + q[2] * d[2] >= cos_a) tree_zero(tree, e);
         }

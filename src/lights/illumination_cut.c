@@ -33,6 +33,7 @@ typedef struct cut_ctx {
     const lumis__geom *g;
     int T, tw, th;
     double *const *sat; /* the tiles' summed-area tables */
+    const lumis__tiles *tiles;
 } cut_ctx;
 
 lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
@@ -42,12 +43,16 @@ lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
     t->tw = (w + t->T - 1) / t->T;
     t->th = (h + t->T - 1) / t->T;
     size_t n = ((size_t)t->tw + 1) * ((size_t)t->th + 1);
-    for (int k = 0; k < Q_COUNT; k++) {
-        t->q[k] = calloc(n, sizeof(double));
-        if (!t->q[k]) {
+    for (int k = 0; k < Q_COUNT + 3; k++) {
+        double *a = calloc(n, sizeof(double));
+        if (!a) {
             lumis__tiles_free(t);
             return LUMIS_ERR_OUT_OF_MEMORY;
         }
+        if (k < Q_COUNT)
+            t->q[k] = a;
+        else
+            t->rgb[k - Q_COUNT] = a;
     }
     return LUMIS_OK;
 }
@@ -58,16 +63,24 @@ void lumis__tiles_free(lumis__tiles *t)
         free(t->q[k]);
         t->q[k] = NULL;
     }
+    for (int k = 0; k < 3; k++) {
+        free(t->rgb[k]);
+        t->rgb[k] = NULL;
+    }
 }
 
-void lumis__tiles_add(lumis__tiles *t, const lumis__geom *g, int i, int j, double y)
+int lumis__tiles_aligned(const lumis__tiles *t, int w, int h, lumis__rect r)
 {
-    size_t q = (size_t)(j / t->T + 1) * ((size_t)t->tw + 1) + (size_t)(i / t->T) + 1;
-    t->q[Q_E][q] += y * g->omega[j];
-    t->q[Q_MX][q] += y * g->a[j] * g->cs[i];
-    t->q[Q_MY][q] += y * g->b[j];
-    t->q[Q_MZ][q] += y * g->a[j] * g->cc[i];
-    t->q[Q_N][q] += 1.0;
+    const int T = t->T;
+    return r.x0 % T == 0 && (r.x1 % T == 0 || r.x1 == w) && r.y0 % T == 0 &&
+           (r.y1 % T == 0 || r.y1 == h);
+}
+
+lumis__rect lumis__tiles_of(const lumis__tiles *t, lumis__rect r)
+{
+    lumis__rect q = {r.x0 / t->T, r.y0 / t->T, (r.x1 + t->T - 1) / t->T,
+                     (r.y1 + t->T - 1) / t->T};
+    return q;
 }
 
 void lumis__tiles_prefix(lumis__tiles *t)
@@ -87,17 +100,14 @@ void lumis__tiles_prefix(lumis__tiles *t)
 
 static int aligned(const cut_ctx *c, lumis__rect r)
 {
-    const int T = c->T;
-    return r.x0 % T == 0 && (r.x1 % T == 0 || r.x1 == c->dc->w) && r.y0 % T == 0 &&
-           (r.y1 % T == 0 || r.y1 == c->dc->h);
+    return lumis__tiles_aligned(c->tiles, c->dc->w, c->dc->h, r);
 }
 
 static void node_sums(const cut_ctx *c, node *nd)
 {
     const lumis__rect r = nd->r;
     if (aligned(c, r)) {
-        lumis__rect t = {r.x0 / c->T, r.y0 / c->T, (r.x1 + c->T - 1) / c->T,
-                         (r.y1 + c->T - 1) / c->T};
+        lumis__rect t = lumis__tiles_of(c->tiles, r);
         for (int k = 0; k < Q_COUNT; k++) nd->q[k] = lumis__sat_rect(c->sat[k], c->tw, t);
         nd->q[Q_N] = round(nd->q[Q_N]); /* integers, exact unless rounding intrudes */
     } else {
@@ -107,7 +117,7 @@ static void node_sums(const cut_ctx *c, node *nd)
         for (int j = r.y0; j < r.y1; j++)
             for (int i = r.x0; i < r.x1; i++) {
                 size_t p = (size_t)j * (size_t)dc->w + (size_t)i;
-                if (dc->labels[p] != -1) continue;
+                if (!lumis__non_emissive(dc, p)) continue;
                 double v = dc->y[p];
                 nd->q[Q_E] += v * g->omega[j];
                 nd->q[Q_MX] += v * g->a[j] * g->cs[i];
@@ -176,6 +186,7 @@ lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles
     c.tw = tiles->tw;
     c.th = tiles->th;
     c.sat = tiles->q;
+    c.tiles = tiles;
     node *cut = malloc((size_t)budget * sizeof *cut);
     lumis_status st = cut ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     int n = 0;

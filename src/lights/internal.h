@@ -10,6 +10,20 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Whole-map pixel passes are built twice, for AVX2 and for the baseline, and the loader
+ * picks one (GNU ifunc).  Their sums stay bit-identical: AVX2 alone allows no fused
+ * multiply-adds, and every sum keeps its order.  GCC only (clang 14 leaves a clone of an
+ * external function unresolved at link time) and not under AddressSanitizer, whose
+ * runtime may not be up when an ifunc resolver runs. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
+    !defined(__SANITIZE_ADDRESS__)
+#define LUMIS__ALWAYS_INLINE __attribute__((always_inline))
+#define LUMIS__AVX2_CLONES   __attribute__((target_clones("avx2", "default")))
+#else
+#define LUMIS__ALWAYS_INLINE
+#define LUMIS__AVX2_CLONES
+#endif
+
 /* Exact per-row and per-column factors of the map (map frame, no rotation).  Pixel (i, j)
  * has solid angle omega[j] and first moment (the integral of the direction over it)
  *     m = (a[j] cs[i], b[j], a[j] cc[i]),

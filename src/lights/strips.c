@@ -12,20 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The pixel pass is built twice, for AVX2 and for the baseline, and the loader picks one
- * (GNU ifunc): it is compute-bound at SSE2's two doubles per vector (median cut 11 -> 9.3
- * ms, docs/lights.md).  The sums stay bit-identical: AVX2 alone allows no fused
- * multiply-adds, and every sum keeps its order.  GCC only (clang 14 leaves a clone of an
- * external function unresolved at link time) and not under AddressSanitizer, whose
- * runtime may not be up when an ifunc resolver runs. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
-    !defined(__SANITIZE_ADDRESS__)
-#define LUMIS__ALWAYS_INLINE __attribute__((always_inline))
-#define LUMIS__AVX2_CLONES   __attribute__((target_clones("avx2", "default")))
-#else
-#define LUMIS__ALWAYS_INLINE
-#define LUMIS__AVX2_CLONES
-#endif
+/* The pixel pass is built for AVX2 too (LUMIS__AVX2_CLONES, internal.h): it is
+ * compute-bound at SSE2's two doubles per vector (median cut 11 -> 9.3 ms, docs/lights.md). */
 
 enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
 
