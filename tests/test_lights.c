@@ -269,8 +269,8 @@ static void wu_on_tiled_maps_conserves_power(void **state)
     float (*maps[])(int, int, int, int, int) = {sky_pixel, speckle_pixel};
     for (size_t s = 0; s < 3; s++)
         for (size_t mp = 0; mp < 2; mp++) {
-            lumis_envmap *env = make_env(sizes[s][0], sizes[s][1], maps[mp], mp ? 0.0f : 31.0f,
-                                         0.0f);
+            lumis_envmap *env =
+                make_env(sizes[s][0], sizes[s][1], maps[mp], mp ? 0.0f : 31.0f, 0.0f);
             for (size_t k = 0; k < sizeof ks / sizeof ks[0]; k++) {
                 if (ks[k] == 5000 && s != 2) continue;
                 lumis_light_set *set = NULL;

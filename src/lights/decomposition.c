@@ -190,8 +190,7 @@ static LUMIS__AVX2_CLONES double row_luminance(const float *restrict px, float *
 static inline LUMIS__ALWAYS_INLINE void stretch_sums(const float *restrict px,
                                                      const float *restrict yr,
                                                      const double *restrict cs,
-                                                     const double *restrict cc, int n,
-                                                     double s[6])
+                                                     const double *restrict cc, int n, double s[6])
 {
     double ys = 0.0, ycs = 0.0, ycc = 0.0, r = 0.0, gr = 0.0, b = 0.0;
     for (int k = 0; k < n; k++) {
@@ -211,9 +210,8 @@ static inline LUMIS__ALWAYS_INLINE void stretch_sums(const float *restrict px,
     s[5] = b;
 }
 
-static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q,
-                                                 const double s[6], double om, double a,
-                                                 double b)
+static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q, const double s[6],
+                                                 double om, double a, double b)
 {
     t->q[LUMIS__Q_E][q] += s[0] * om;
     t->q[LUMIS__Q_MX][q] += s[1] * a;
@@ -227,8 +225,7 @@ static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q
 /* Row j (its luminance yr already computed) into the tile sums over all pixels.  Tiles
  * whose pixels are not all non-emissive are summed again later (dirty_tile). */
 static LUMIS__AVX2_CLONES void row_tiles(const lumis__tiles *t, const lumis__geom *g,
-                                         const float *restrict px, const float *restrict yr,
-                                         int j)
+                                         const float *restrict px, const float *restrict yr, int j)
 {
     const int T = t->T, w = g->w;
     const size_t q0 = (size_t)(j / T + 1) * ((size_t)t->tw + 1) + 1;
@@ -748,8 +745,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     for (int e = 0; e < m; e++) {
         if (dc.em_cluster[e] < 0) continue;
         const int i = (int)(dc.em_pix[e] % w), j = (int)(dc.em_pix[e] / w);
-        const int32_t k =
-            tile_of[(size_t)(j / tiles.T + 1) * TW + (size_t)(i / tiles.T) + 1] - 1;
+        const int32_t k = tile_of[(size_t)(j / tiles.T + 1) * TW + (size_t)(i / tiles.T) + 1] - 1;
         if (k < 0) continue;
         set->labels[dc.em_pix[e]] = dc.em_cluster[e];
         const double mx = g.a[j] * g.cs[i], mz = g.a[j] * g.cc[i];

@@ -207,7 +207,8 @@ static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
 static void km_remove(km_state *s, int j, int q)
 {
     km_cluster *c = &s->cl[j];
-    for (int t = 0; t < 3; t++) s->S[3 * (size_t)j + (size_t)t] -= s->q[3 * (size_t)c->id[q] + (size_t)t];
+    for (int t = 0; t < 3; t++)
+        s->S[3 * (size_t)j + (size_t)t] -= s->q[3 * (size_t)c->id[q] + (size_t)t];
     int last = --c->n;
     if (q == last) return;
     c->id[q] = c->id[last];
@@ -375,7 +376,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             const double sx = (double)S[0] * s.unit, sy = (double)S[1] * s.unit,
                          sz = (double)S[2] * s.unit;
             double len = sqrt(sx * sx + sy * sy + sz * sz);
-            if (!(len > 0.0)) {                 /* empty cluster: keeps its centre */
+            if (!(len > 0.0)) {                   /* empty cluster: keeps its centre */
                 if (s.cl[j].n == 0) s.J[j] = 0.0; /* not a residue of the leavers' terms */
                 continue;
             }

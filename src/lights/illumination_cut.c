@@ -78,8 +78,7 @@ int lumis__tiles_aligned(const lumis__tiles *t, int w, int h, lumis__rect r)
 
 lumis__rect lumis__tiles_of(const lumis__tiles *t, lumis__rect r)
 {
-    lumis__rect q = {r.x0 / t->T, r.y0 / t->T, (r.x1 + t->T - 1) / t->T,
-                     (r.y1 + t->T - 1) / t->T};
+    lumis__rect q = {r.x0 / t->T, r.y0 / t->T, (r.x1 + t->T - 1) / t->T, (r.y1 + t->T - 1) / t->T};
     return q;
 }
 
