@@ -229,12 +229,13 @@ static void km_quantise(km_state *s, const lumis__decomp *dc)
     int ew, em;
     frexp(wmax, &ew);
     frexp((double)dc->m, &em);
-    const int shift = 61 - ew - em; /* w d / unit = ldexp(w d, shift) < 2^61 / m */
+    const int shift = 61 - ew - em; /* w d / unit = w d 2^shift < 2^61 / m */
     s->unit = ldexp(1.0, -shift);
+    const double scale = ldexp(1.0, shift); /* exact: a power of two */
     for (int i = 0; i < dc->m; i++)
         for (int t = 0; t < 3; t++)
             s->q[3 * (size_t)i + (size_t)t] =
-                (int64_t)llrint(ldexp(dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)t], shift));
+                (int64_t)llrint(dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)t] * scale);
 }
 
 /* Objective term J_j of cluster j from its members; with `bound`, also R_j.  Sums run in
@@ -330,26 +331,48 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !delta || !changed ||
         !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
-    if (st == LUMIS_OK) km_quantise(&s, dc);
-    /* The seeds' assignment: nearest centre by dot product, the first on ties. */
-    for (int i = 0; st == LUMIS_OK && i < m; i++) {
+    if (st == LUMIS_OK) {
+        km_quantise(&s, dc);
+        /* half the chord from each centre to its nearest other centre */
+        for (int j = 0; j < k; j++) {
+            double near = INFINITY;
+            for (int b = 0; b < k; b++)
+                if (b != j) near = fmin(near, sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b));
+            s.D[j] = 0.5 * sqrt(near) * (1.0 - 1e-15);
+        }
+    }
+    /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
+     * in scan order, so the last pixel's centre is usually the answer: it is, with the
+     * first-on-ties rule intact, when the pixel lies within half the distance from that
+     * centre to every other by more than the margin; the slack is then a valid lower bound.
+     * Otherwise all k centres are compared. */
+    for (int i = 0, last = 0; st == LUMIS_OK && i < m; i++) {
         const double *x = dc->em_d + 3 * (size_t)i;
         int best = -1;
-        double bd = -INFINITY, sec = -INFINITY;
-        for (int j = 0; j < k; j++) {
-            double dt = dot3(x, c + 3 * (size_t)j);
-            if (dt > bd) {
-                sec = bd;
-                bd = dt;
-                best = j;
-            } else if (dt > sec) {
-                sec = dt;
+        double slack;
+        const double dl = dot3(x, c + 3 * (size_t)last), rl = chord_bound(dl);
+        if (k > 1 && rl + KM_MARGIN < s.D[last]) {
+            best = last;
+            slack = 2.0 * (s.D[last] - rl);
+        } else {
+            double bd = -INFINITY, sec = -INFINITY;
+            for (int j = 0; j < k; j++) {
+                double dt = dot3(x, c + 3 * (size_t)j);
+                if (dt > bd) {
+                    sec = bd;
+                    bd = dt;
+                    best = j;
+                } else if (dt > sec) {
+                    sec = dt;
+                }
             }
+            slack = chord_lower(sec) - chord_bound(bd);
         }
-        a[i] = best;
-        double v[5] = {x[0], x[1], x[2], dc->em_w[i], chord_lower(sec) - chord_bound(bd)};
+        a[i] = last = best;
+        double v[5] = {x[0], x[1], x[2], dc->em_w[i], slack};
         st = km_push(&s, best, i, v);
     }
+    if (s.D) memset(s.D, 0, (size_t)k * sizeof(double));
     if (st == LUMIS_OK) {
         for (int j = 0; j < k; j++) {
             km_cluster_terms(&s, c, j, 1);
