@@ -29,13 +29,22 @@ static lumis_status tree_build(sum_tree *s, const double *w, int n)
     return LUMIS_OK;
 }
 
-/* Sets leaf i to 0; ancestors are recomputed from their children, so no rounding drift
- * accumulates however many leaves are zeroed. */
-static void tree_zero(sum_tree *s, int i)
+/* After leaves ids[0 .. n) (ascending) were set to 0: their ancestors recomputed from their
+ * children, level by level, each once (ids is overwritten).  As no sum is carried from
+ * before, no rounding drift accumulates however many leaves are zeroed. */
+static void tree_update(sum_tree *s, int32_t *ids, int n)
 {
-    int k = s->P + i;
-    s->t[k] = 0.0;
-    for (k /= 2; k >= 1; k /= 2) s->t[k] = s->t[2 * k] + s->t[2 * k + 1];
+    if (s->P == 1) return; /* the one leaf is the root */
+    for (int i = 0; i < n; i++) ids[i] = (s->P + ids[i]) / 2;
+    while (n > 0) {
+        int u = 0;
+        for (int i = 0; i < n; i++)
+            if (u == 0 || ids[i] != ids[u - 1]) ids[u++] = ids[i];
+        for (int i = 0; i < u; i++) s->t[ids[i]] = s->t[2 * ids[i]] + s->t[2 * ids[i] + 1];
+        if (ids[0] == 1) break;
+        for (int i = 0; i < u; i++) ids[i] /= 2;
+        n = u;
+    }
 }
 
 /* Leaf drawn with probability weight / total from u in [0, 1); the total must be > 0. */
@@ -58,9 +67,11 @@ static int tree_sample(const sum_tree *s, double u)
 /* ---- masking ---------------------------------------------------------------------------- */
 
 /* Zeroes the tree leaf of every emissive pixel whose centroid lies within angle alpha of
- * unit direction d (labels map emissive pixels to their indices).  Visits only the pixels of the
- * cap's bounding box in rows and columns. */
-static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3], double alpha)
+ * unit direction d (labels map emissive pixels to their indices).  Visits only the pixels
+ * of the cap's bounding box in rows and columns, in scan order, so the zeroed leaves come
+ * in ascending order for one tree_update (zbuf: room for every emissive pixel). */
+static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3], double alpha,
+                     int32_t *zbuf)
 {
     const int w = dc->w, h = dc->h;
     const double cos_a = cos(alpha), dth = LUMIS_PI / h, dph = 2.0 * LUMIS_PI / w;
@@ -82,17 +93,27 @@ static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3],
             i0 = 0;
         }
     }
+    i0 = ((i0 % w) + w) % w;
+    /* the columns: [i0, i0 + span) modulo w, as at most two ascending ranges */
+    const int wrap = i0 + span > w ? i0 + span - w : 0;
+    const int ra[2][2] = {{0, wrap}, {i0, wrap ? w : i0 + span}};
+    int nz = 0;
     for (int j = j0; j < j1; j++) {
         const size_t o = (size_t)j * (size_t)w;
-        for (int k = 0; k < span; k++) {
-            int i = ((i0 + k) % w + w) % w;
-            if (!((double)dc->y[o + (size_t)i] > dc->lt)) continue; /* non-emissive */
-            int32_t e = dc->labels[o + (size_t)i];
-            if (!(tree->t[tree->P + e] > 0.0)) continue;
-            const double *q = dc->em_d + 3 * (size_t)e;
-            if (q[0] * d[0] + q[1] * d[1] + q[2] * d[2] >= cos_a) tree_zero(tree, e);
-        }
+        for (int r = 0; r < 2; r++)
+            for (int i = ra[r][0]; i < ra[r][1]; i++) {
+                if (!((double)dc->y[o + (size_t)i] > dc->lt)) continue; /* non-emissive */
+                int32_t e = dc->labels[o + (size_t)i];
+                double *leaf = &tree->t[tree->P + e];
+                if (!(*leaf > 0.0)) continue;
+                const double *q = dc->em_d + 3 * (size_t)e;
+                if (q[0] * d[0] + q[1] * d[1] + q[2] * d[2] >= cos_a) {
+                    *leaf = 0.0;
+                    zbuf[nz++] = e;
+                }
+            }
     }
+    tree_update(tree, zbuf, nz);
 }
 
 /* ---- spherical k-means ------------------------------------------------------------------
@@ -551,7 +572,8 @@ lumis_status lumis__env_direct(lumis__decomp *dc, const lumis__direct_params *p,
         while (k < p->budget && tree.t[1] > 0.0) {
             int e = tree_sample(&tree, lumis_pcg32_double(&rng));
             seeds[k++] = e;
-            if (p->mask) mask_cap(dc, &tree, dc->em_d + 3 * (size_t)e, p->mask_radius);
+            if (p->mask) /* a, not yet in use, holds the zeroed leaves */
+                mask_cap(dc, &tree, dc->em_d + 3 * (size_t)e, p->mask_radius, a);
         }
         out->seeds = k;
         for (int j = 0; j < k; j++)
