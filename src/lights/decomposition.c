@@ -454,6 +454,63 @@ static void indirect_rect(const lumis__decomp *dc, lumis__rect r, int32_t label,
     }
 }
 
+/* The smallest d . p over the patches of each cluster's pixels (mind[k] starts at 1), the
+ * exact patch minimum (lumis__rect_min_dot, two atan2) evaluated only where it can be the
+ * smallest: a patch lies within rho of its centre c, so its minimum is at least
+ * cos(angle(d, c) + rho) and at most d . c; a pixel whose lower bound exceeds its
+ * cluster's least d . c cannot hold the minimum.  The result is that of evaluating every
+ * pixel. */
+static void direct_extents(const lumis__decomp *dc, int nd, double (*dirs)[3], double *mind)
+{
+    const lumis__geom *g = dc->g;
+    const int w = dc->w, h = dc->h;
+    const double dth = LUMIS_PI / h, dph = 2.0 * LUMIS_PI / w;
+    const double kt = 0.5 / cos(0.5 * dth), kp = 0.5 / cos(0.5 * dph);
+    double *ub = malloc((size_t)(nd > 0 ? nd : 1) * sizeof(double));
+    if (!ub) { /* no room for the bounds: every pixel exactly */
+        for (int e = 0; e < dc->m; e++) {
+            const int cl = dc->em_cluster[e];
+            if (cl < 0) continue;
+            const int j = (int)(dc->em_pix[e] / w), i = (int)(dc->em_pix[e] % w);
+            mind[cl] = fmin(mind[cl], lumis__rect_min_dot(g, dirs[cl], j, j + 1, i, i + 1));
+        }
+        return;
+    }
+    for (int k = 0; k < nd; k++) ub[k] = 1.0;
+    int row = -1;
+    double cr = 1.0, sr = 0.0;
+    for (int pass = 0; pass < 2; pass++)
+        for (int e = 0; e < dc->m; e++) {
+            const int cl = dc->em_cluster[e];
+            if (cl < 0) continue;
+            const int j = (int)(dc->em_pix[e] / w), i = (int)(dc->em_pix[e] % w);
+            /* the patch centre, by the half-angle formulas from the edges */
+            const double ct = (g->cos_t[j] + g->cos_t[j + 1]) * kt,
+                         st = (g->sin_t[j] + g->sin_t[j + 1]) * kt;
+            const double cp = (g->cos_p[i] + g->cos_p[i + 1]) * kp,
+                         sp = (g->sin_p[i] + g->sin_p[i + 1]) * kp;
+            const double *d = dirs[cl];
+            const double dc_ = d[0] * st * cp + d[1] * ct + d[2] * st * sp;
+            if (pass == 0) {
+                ub[cl] = fmin(ub[cl], dc_);
+                continue;
+            }
+            /* rho: half the row's height plus half its widest width, a path along a
+             * meridian and a parallel no shorter than the way to any point of the patch */
+            if (j != row) { /* pixels come in scan order: once per row */
+                const double rho =
+                    (0.5 * dth + 0.5 * dph * fmax(g->sin_t[j], g->sin_t[j + 1])) * (1.0 + 1e-9);
+                row = j;
+                cr = cos(rho);
+                sr = sin(rho);
+            }
+            const double lb = dc_ < -cr ? -1.0 : dc_ * cr - sqrt(fmax(0.0, 1.0 - dc_ * dc_)) * sr;
+            if (lb - 1e-9 > ub[cl]) continue;
+            mind[cl] = fmin(mind[cl], lumis__rect_min_dot(g, d, j, j + 1, i, i + 1));
+        }
+    free(ub);
+}
+
 static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sink *err)
 {
     const char *bad = NULL;
@@ -714,13 +771,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
         mind[k] = 1.0;
         lumis__light_map_dir(&g, &set->lights[k], dirs[k]);
     }
-    for (int e = 0; e < m; e++) {
-        int cl = dc.em_cluster[e];
-        if (cl < 0) continue;
-        int j = (int)(dc.em_pix[e] / w), i = (int)(dc.em_pix[e] % w);
-        double md = lumis__rect_min_dot(&g, dirs[cl], j, j + 1, i, i + 1);
-        if (md < mind[cl]) mind[cl] = md;
-    }
+    direct_extents(&dc, nd, dirs, mind);
     for (int k = 0; k < nd; k++) set->lights[k].extent = lumis__extent_from_min_dot(mind[k]);
     free(mind);
     free(dirs);
