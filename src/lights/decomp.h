@@ -14,10 +14,10 @@ typedef struct lumis__decomp {
     const lumis__geom *g;
     const lumis_decomp_desc *desc;
     int w, h;
-    const float *y;  /* per-pixel luminance (lumis__pixel_y) */
-    double lt;       /* the emissive threshold: pixel p is emissive if y[p] > lt */
-    int32_t *labels; /* the set's labels, used as scratch: until the end only an emissive
-                      * pixel's label is written (its index, then its cluster or -1) */
+    const uint64_t *em_bits; /* bit p: pixel p is emissive (its luminance is over L_T) */
+    int32_t *labels;         /* the set's labels, used as scratch: until the end only an
+                              * emissive pixel's label is written (its index, then its
+                              * cluster or -1) */
 
     /* Emissive pixels. */
     int m;
@@ -28,11 +28,17 @@ typedef struct lumis__decomp {
     int32_t *em_cluster; /* cluster, or -1 when returned to the non-emissive set */
 } lumis__decomp;
 
-/* Whether pixel p belongs to the non-emissive set: below the threshold (such a pixel's
+/* Whether pixel p is emissive (over the threshold). */
+static inline int lumis__emissive(const lumis__decomp *dc, size_t p)
+{
+    return (int)((dc->em_bits[p >> 6] >> (p & 63)) & 1u);
+}
+
+/* Whether pixel p belongs to the non-emissive set: under the threshold (such a pixel's
  * label is not written before the end), or emissive and returned (label -1). */
 static inline int lumis__non_emissive(const lumis__decomp *dc, size_t p)
 {
-    return !((double)dc->y[p] > dc->lt) || dc->labels[p] == -1;
+    return !lumis__emissive(dc, p) || dc->labels[p] == -1;
 }
 
 /* Parameters of the EnvDirect step, defaults applied. */

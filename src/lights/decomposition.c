@@ -67,23 +67,28 @@ static float kth_smallest(float *a, ptrdiff_t n, ptrdiff_t k)
     return a[k];
 }
 
-/* Size of the sample that brackets the percentile; maps of fewer than 4 SELECT_SAMPLE
- * pixels use the radix selection directly. */
+/* Size of the sample that places the bracket; maps of fewer than 4 SELECT_SAMPLE pixels
+ * gather every pixel. */
 enum { SELECT_SAMPLE = 16384 };
 
-/* The exact rank-th smallest (1-based) luminance without a histogram of all pixels (a
- * scattered increment per pixel): a strided sample of SELECT_SAMPLE pixels' luminance
- * brackets the answer between its order statistics 6 binomial standard deviations + 16
- * ranks either side of the target; the luminance pass then counts, row by row while the
- * row is hot, the pixels below the bracket and gathers those inside it, and a selection
- * among the gathered few settles the value.  Should the bracket miss (the count below
- * reaches the rank, or too few inside) or hold too many (ties), the radix selection runs
- * instead, so the answer never depends on the sample. */
+/* The exact rank-th smallest (1-based) luminance, and the pixels that may be emissive,
+ * without storing the luminance of every pixel: a strided sample of SELECT_SAMPLE pixels
+ * puts a lower bound `lo` 6 binomial standard deviations + 16 ranks under the target rank
+ * of the sample; the luminance pass counts, row by row while the row is hot, the pixels
+ * under lo and gathers the others (index and luminance), a few per cent of the map.  If
+ * fewer than `rank` lie under lo, the answer is a selection among the gathered, and since
+ * the threshold L_T is at least that percentile, every emissive pixel is among them too.
+ * Should the bound miss (rank pixels or more under it), the gathering overflow (ties), or
+ * a threshold given by the caller lie under lo, the luminance of the whole map is computed
+ * again and the radix selection runs (full_candidates), so no answer depends on the
+ * sample. */
 typedef struct bracket {
-    int on;       /* the sampled path is in use */
-    float lo, hi; /* the bracket, inclusive */
-    size_t below, nb, cap;
-    float *buf; /* cap + w entries: the values inside */
+    float lo;       /* -INFINITY: every pixel is gathered */
+    int full;       /* the gathering overflowed */
+    size_t below;   /* pixels under lo */
+    size_t nc, cap; /* gathered pixels, room */
+    int32_t *idx;   /* their pixel indices, ascending */
+    float *val;     /* their luminance */
 } bracket;
 
 static lumis_status bracket_init(bracket *b, const lumis_envmap *env, double scale, size_t n,
@@ -91,62 +96,66 @@ static lumis_status bracket_init(bracket *b, const lumis_envmap *env, double sca
 {
     enum { S = SELECT_SAMPLE };
     memset(b, 0, sizeof *b);
-    if (n < 4 * (size_t)S) return LUMIS_OK;
-    const double f = (double)rank / (double)n;
-    const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
-    const ptrdiff_t target = (ptrdiff_t)(f * S), ilo = target - margin, ihi = target + margin;
-    /* the expected count inside is (2 margin + 1) n / S; allow four times that */
-    b->cap = (size_t)(4 * (2 * margin + 1)) * (n / S);
-    b->buf = malloc((b->cap + (size_t)w > S ? b->cap + (size_t)w : S) * sizeof(float));
-    if (!b->buf) return LUMIS_ERR_OUT_OF_MEMORY;
-    const size_t stride = n / S;
-    for (size_t t = 0; t < S; t++)
-        b->buf[t] = lumis__pixel_y(env->pixels + 3 * (t * stride + stride / 2), scale);
-    b->lo = ilo <= 0 ? -INFINITY : kth_smallest(b->buf, S, ilo);
-    b->hi = ihi >= S - 1 ? INFINITY : kth_smallest(b->buf, S, ihi);
-    b->on = 1;
-    return LUMIS_OK;
+    b->lo = -INFINITY;
+    size_t expect = n;
+    float *sample = NULL;
+    if (n >= 4 * (size_t)S) {
+        const double f = (double)rank / (double)n;
+        const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
+        const ptrdiff_t ilo = (ptrdiff_t)(f * S) - margin;
+        if (ilo > 0) {
+            sample = malloc(S * sizeof(float));
+            if (!sample) return LUMIS_ERR_OUT_OF_MEMORY;
+            const size_t stride = n / S;
+            for (size_t t = 0; t < S; t++)
+                sample[t] = lumis__pixel_y(env->pixels + 3 * (t * stride + stride / 2), scale);
+            b->lo = kth_smallest(sample, S, ilo);
+            free(sample);
+            /* expected above lo: (S - ilo) / S of the map; room for twice that */
+            expect = (size_t)((double)n * (double)(S - ilo) / S * 2.0) + 4096;
+        }
+    }
+    b->cap = (expect < n ? expect : n) + (size_t)w; /* + w: a row's gathering overshoots */
+    b->idx = malloc(b->cap * sizeof(int32_t));
+    b->val = malloc(b->cap * sizeof(float));
+    return b->idx && b->val ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
 }
 
-/* One row of luminance into the bracket's count and gathering.  Groups of 16 are counted
- * by a loop the compiler vectorises; only a group with a value inside the bracket (about
- * one in fifty at the default percentile) is gathered, without branches. */
-static void bracket_row(bracket *b, const float *yr, int w)
+/* One row of luminance (row index o of its first pixel) into the count under lo and the
+ * gathering.  Groups of 16 are counted by a loop the compiler vectorises; a group with a
+ * value at or over lo (a few per cent) is gathered without branches. */
+static void bracket_row(bracket *b, const float *restrict yr, int w, size_t o)
 {
     enum { G = 16 };
-    if (!b->on || b->nb > b->cap) return; /* overfull: the fallback will run */
-    size_t below = b->below, nb = b->nb;
-    const float lo = b->lo, hi = b->hi;
+    if (b->full) return;
+    if (b->nc + (size_t)w > b->cap) {
+        b->full = 1; /* the full pass will run */
+        return;
+    }
+    size_t below = b->below, nc = b->nc;
+    const float lo = b->lo;
     int i = 0;
     for (; i + G <= w; i += G) {
-        int nlo = 0, nhi = 0;
-        for (int k = 0; k < G; k++) {
-            nlo += yr[i + k] < lo;
-            nhi += yr[i + k] > hi;
-        }
+        int nlo = 0;
+        for (int k = 0; k < G; k++) nlo += yr[i + k] < lo;
         below += (size_t)nlo;
-        if (nlo + nhi == G) continue;
+        if (nlo == G) continue;
         for (int k = 0; k < G; k++) {
             const float v = yr[i + k];
-            b->buf[nb] = v;
-            nb += (v >= lo) & (v <= hi);
+            b->idx[nc] = (int32_t)(o + (size_t)(i + k));
+            b->val[nc] = v;
+            nc += !(v < lo);
         }
     }
     for (; i < w; i++) {
         const float v = yr[i];
         below += v < lo;
-        b->buf[nb] = v;
-        nb += (v >= lo) & (v <= hi);
+        b->idx[nc] = (int32_t)(o + (size_t)i);
+        b->val[nc] = v;
+        nc += !(v < lo);
     }
     b->below = below;
-    b->nb = nb;
-}
-
-static float bracket_select(bracket *b, const float *y, size_t n, size_t rank, uint32_t *hist)
-{
-    if (b->on && b->nb <= b->cap && b->below < rank && rank <= b->below + b->nb)
-        return kth_smallest(b->buf, (ptrdiff_t)b->nb, (ptrdiff_t)(rank - b->below - 1));
-    return select_rank_radix(y, n, rank, hist);
+    b->nc = nc;
 }
 
 /* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
@@ -262,7 +271,7 @@ static void dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, i
         int n = 0;
         for (int i = i0; i < i1; i++) {
             if (!lumis__non_emissive(dc, o + (size_t)i)) continue;
-            const double v = dc->y[o + (size_t)i];
+            const double v = lumis__pixel_y(dc->env->pixels + (o + (size_t)i) * 3, g->scale);
             const float *px = dc->env->pixels + (o + (size_t)i) * 3;
             s[0] += v;
             s[1] += v * g->cs[i];
@@ -291,69 +300,66 @@ static void tile_counts(const lumis__tiles *t, int w, int h)
     }
 }
 
-/* Appends pixel o to the emissive pixels (growing em_pix) and labels it with its index. */
-static lumis_status add_emissive(lumis__decomp *dc, size_t *cap, int32_t *lab, size_t o)
+/* Every pixel's luminance into *out (malloc'ed), when the gathered pixels do not settle
+ * Eq. 1: a second pass over the map. */
+static lumis_status full_luminance(const lumis_envmap *env, const lumis__geom *g, float **out)
 {
-    if ((size_t)dc->m == *cap) {
-        int32_t *p = realloc(dc->em_pix, 2 * *cap * sizeof(int32_t));
-        if (!p) return LUMIS_ERR_OUT_OF_MEMORY;
-        dc->em_pix = p;
-        *cap *= 2;
-    }
-    *lab = dc->m;
-    dc->em_pix[dc->m++] = (int32_t)o;
+    const size_t w = (size_t)g->w;
+    float *y = malloc(w * (size_t)g->h * sizeof(float));
+    if (!y) return LUMIS_ERR_OUT_OF_MEMORY;
+    float ymax = 0.0f;
+    for (size_t j = 0; j < (size_t)g->h; j++)
+        (void)row_luminance(env->pixels + j * w * 3, y + j * w, g->w, g->scale, &ymax);
+    *out = y;
     return LUMIS_OK;
 }
 
-/* One row's emissive pixels (y > lt, i.e. y > ltf, the largest float <= lt): appended
- * to em_pix and labelled with their indices (no other label is written); the row's
- * emissive luminance and count, and its non-emissive luminance.  Groups of 16 without an
- * emissive pixel (nearly all) are counted and summed by loops the compiler vectorises. */
-static lumis_status classify_row(lumis__decomp *dc, size_t *cap, const float *restrict yr,
-                                 int32_t *lab, size_t o, float ltf, double *rem, double *rne,
-                                 int *cem)
+/* The gathered pixels replaced by every pixel over lt, from the whole map's luminance. */
+static lumis_status full_candidates(bracket *b, const float *y, size_t n, double lt)
 {
-    enum { G = 16 };
-    const int w = dc->w;
-    double em = 0.0, ne = 0.0;
-    int c = 0, i = 0;
-    lumis_status st = LUMIS_OK;
-    for (; i + G <= w; i += G) {
-        int hot = 0;
-        for (int k = 0; k < G; k++) hot += yr[i + k] > ltf;
-        if (!hot) {
-            double v[G];
-            for (int k = 0; k < G; k++) v[k] = yr[i + k];
-            for (int k = 0; k < 8; k++) v[k] += v[k + 8];
-            for (int k = 0; k < 4; k++) v[k] += v[k + 4];
-            ne += (v[0] + v[2]) + (v[1] + v[3]);
-            continue;
-        }
-        for (int k = 0; k < G; k++) {
-            const double v = yr[i + k];
-            if (!(yr[i + k] > ltf)) {
-                ne += v;
-            } else {
-                if ((st = add_emissive(dc, cap, lab + i + k, o + (size_t)(i + k))) != LUMIS_OK)
-                    return st;
-                em += v;
-                c++;
-            }
-        }
+    size_t c = 0;
+    for (size_t p = 0; p < n; p++) c += (double)y[p] > lt;
+    if (c > b->cap) {
+        int32_t *idx = realloc(b->idx, c * sizeof(int32_t));
+        if (idx) b->idx = idx;
+        float *val = idx ? realloc(b->val, c * sizeof(float)) : NULL;
+        if (!val) return LUMIS_ERR_OUT_OF_MEMORY;
+        b->val = val;
+        b->cap = c;
     }
-    for (; i < w; i++) {
-        const double v = yr[i];
-        if (!(yr[i] > ltf)) {
-            ne += v;
-        } else {
-            if ((st = add_emissive(dc, cap, lab + i, o + (size_t)i)) != LUMIS_OK) return st;
-            em += v;
-            c++;
+    b->nc = 0;
+    for (size_t p = 0; p < n; p++)
+        if ((double)y[p] > lt) {
+            b->idx[b->nc] = (int32_t)p;
+            b->val[b->nc++] = y[p];
         }
+    return LUMIS_OK;
+}
+
+/* The emissive pixels (the gathered over lt, in scan order): em_pix, their labels (their
+ * indices), em_bits, and per row (rowsum[h + j], rowsum[2 h + j]) their luminance and
+ * count. */
+static lumis_status classify(lumis__decomp *dc, const bracket *b, double lt, double *rowsum)
+{
+    const size_t n = (size_t)dc->w * (size_t)dc->h, h = (size_t)dc->h;
+    size_t m = 0;
+    for (size_t c = 0; c < b->nc; c++) m += (double)b->val[c] > lt;
+    uint64_t *bits = calloc((n + 63) / 64, sizeof(uint64_t));
+    dc->em_pix = malloc((m > 0 ? m : 1) * sizeof(int32_t));
+    dc->em_bits = bits;
+    if (!bits || !dc->em_pix) return LUMIS_ERR_OUT_OF_MEMORY;
+    int e = 0;
+    for (size_t c = 0; c < b->nc; c++) {
+        if (!((double)b->val[c] > lt)) continue;
+        const int32_t p = b->idx[c];
+        const size_t j = (size_t)p / (size_t)dc->w;
+        dc->em_pix[e] = p;
+        dc->labels[p] = e++;
+        bits[(size_t)p >> 6] |= (uint64_t)1 << ((size_t)p & 63);
+        rowsum[h + j] += b->val[c];
+        rowsum[2 * h + j] += 1.0;
     }
-    *rem = em;
-    *rne = ne;
-    *cem = c;
+    dc->m = e;
     return LUMIS_OK;
 }
 
@@ -363,7 +369,7 @@ static inline void pixel_terms(const lumis__decomp *dc, const float *row, size_t
 {
     const lumis__geom *g = dc->g;
     const int in = lumis__non_emissive(dc, o + (size_t)i);
-    const double mk = in, v = (double)dc->y[o + (size_t)i] * mk;
+    const double mk = in, v = (double)lumis__pixel_y(row + (size_t)i * 3, g->scale) * mk;
     const float *px = row + (size_t)i * 3;
     s[0] += (double)px[0] * mk;
     s[1] += (double)px[1] * mk;
@@ -569,7 +575,8 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     const int K = c.count, w = g.w, h = g.h;
     const size_t n = (size_t)w * (size_t)h;
     lumis_light_set *set = NULL;
-    float *y = malloc(n * sizeof(float));
+    float *yrow = malloc((size_t)w * sizeof(float)), *yall = NULL;
+    double *rowsum = calloc(3 * (size_t)h, sizeof(double)); /* per row: Y, emissive Y, count */
     lumis__rect *rects = malloc((size_t)K * sizeof *rects);
     lumis__acc *acc = calloc((size_t)K, sizeof *acc);
     lumis__decomp dc;
@@ -582,7 +589,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     bracket br;
     memset(&br, 0, sizeof br);
     int32_t *tile_of = NULL;
-    st = (y && rects && acc && hist)
+    st = (yrow && rowsum && rects && acc && hist)
              ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
              : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
@@ -593,7 +600,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dc.desc = desc;
     dc.w = w;
     dc.h = h;
-    dc.y = y;
+    dc.em_bits = NULL;
     dc.labels = set->labels;
 
     /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
@@ -604,14 +611,29 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     double power_y = 0.0;
     float ymax = 0.0f;
     for (int j = 0; j < h; j++) {
-        float *yr = y + (size_t)j * (size_t)w;
-        const float *px = env->pixels + (size_t)j * (size_t)w * 3;
-        power_y += row_luminance(px, yr, w, g.scale, &ymax) * g.omega[j];
-        bracket_row(&br, yr, w);
-        row_tiles(&tiles, &g, px, yr, j);
+        const size_t o = (size_t)j * (size_t)w;
+        const float *px = env->pixels + o * 3;
+        rowsum[j] = row_luminance(px, yrow, w, g.scale, &ymax);
+        power_y += rowsum[j] * g.omega[j];
+        bracket_row(&br, yrow, w, o);
+        row_tiles(&tiles, &g, px, yrow, j);
     }
     tile_counts(&tiles, w, h);
-    float lb = bracket_select(&br, y, n, rank, hist);
+    float lb = 0.0f;
+    const int gathered = !br.full && br.below < rank;
+    if (gathered) { /* the answer is among the gathered: select on a copy */
+        float *sel = malloc((br.nc > 0 ? br.nc : 1) * sizeof(float));
+        if (!sel) {
+            st = LUMIS_ERR_OUT_OF_MEMORY;
+            goto done;
+        }
+        memcpy(sel, br.val, br.nc * sizeof(float));
+        lb = kth_smallest(sel, (ptrdiff_t)br.nc, (ptrdiff_t)(rank - br.below - 1));
+        free(sel);
+    } else {
+        if ((st = full_luminance(env, &g, &yall)) != LUMIS_OK) goto done;
+        lb = select_rank_radix(yall, n, rank, hist);
+    }
     info->percentile_luminance = lb;
     info->avg_luminance = power_y / (4.0 * LUMIS_PI);
     info->max_luminance = ymax;
@@ -619,26 +641,24 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
                                       def(desc->gamma, 0.001) * (double)ymax));
     if (desc->threshold > 0.0f) lt = desc->threshold;
     info->threshold = lt;
+    if (!gathered || !(lt >= (double)br.lo)) {
+        /* the gathered may miss emissive pixels: gather them from the whole map */
+        if (!yall && (st = full_luminance(env, &g, &yall)) != LUMIS_OK) goto done;
+        if ((st = full_candidates(&br, yall, n, lt)) != LUMIS_OK) goto done;
+        free(yall);
+        yall = NULL;
+    }
 
-    /* ---- classification: labels[p] = emissive index of each emissive pixel ---- */
-    dc.lt = lt;
-    float ltf = (float)lt; /* the largest float <= lt: y > lt exactly when y > ltf */
-    if ((double)ltf > lt) ltf = nextafterf(ltf, -INFINITY);
-    size_t cap = n / 64 + 16;
-    dc.em_pix = malloc(cap * sizeof(int32_t));
-    if (!dc.em_pix) st = LUMIS_ERR_OUT_OF_MEMORY;
+    /* ---- classification: the gathered over L_T are the emissive pixels ---- */
+    if ((st = classify(&dc, &br, lt, rowsum)) != LUMIS_OK) goto done;
     double e_em = 0.0, o_em = 0.0, e_ne = 0.0, o_ne = 0.0;
-    for (int j = 0; st == LUMIS_OK && j < h; j++) {
-        const size_t o = (size_t)j * (size_t)w;
-        double rem = 0.0, rne = 0.0;
-        int cem = 0;
-        st = classify_row(&dc, &cap, y + o, set->labels + o, o, ltf, &rem, &rne, &cem);
+    for (int j = 0; j < h; j++) {
+        const double rem = rowsum[h + j], cem = rowsum[2 * h + j];
         e_em += rem * g.omega[j];
-        e_ne += rne * g.omega[j];
         o_em += cem * g.omega[j];
+        e_ne += (cem < w ? fmax(0.0, rowsum[j] - rem) : 0.0) * g.omega[j];
         o_ne += (w - cem) * g.omega[j];
     }
-    if (st != LUMIS_OK) goto done;
     const int m = dc.m;
     const long long n_ne = (long long)n - m;
     info->emissive_pixels = m;
@@ -672,8 +692,9 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
         dc.em_d[3 * e] = mx / len;
         dc.em_d[3 * e + 1] = my / len;
         dc.em_d[3 * e + 2] = mz / len;
-        dc.em_w[e] = (double)y[dc.em_pix[e]] * len;
-        dc.em_e[e] = (double)y[dc.em_pix[e]] * g.omega[j];
+        const double ye = lumis__pixel_y(env->pixels + 3 * (size_t)dc.em_pix[e], g.scale);
+        dc.em_w[e] = ye * len;
+        dc.em_e[e] = ye * g.omega[j];
     }
     lumis_decomp_variant var = desc->variant ? desc->variant : LUMIS_DECOMP_FULL;
     lumis__direct_params dp;
@@ -826,9 +847,13 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 done:
     free(tile_of);
     free(hist);
-    free(br.buf);
     lumis__tiles_free(&tiles);
-    free(y);
+    free(yrow);
+    free(yall);
+    free(rowsum);
+    free((void *)dc.em_bits);
+    free(br.idx);
+    free(br.val);
     free(rects);
     free(acc);
     free(dc.em_pix);

@@ -102,7 +102,7 @@ static void mask_cap(const lumis__decomp *dc, sum_tree *tree, const double d[3],
         const size_t o = (size_t)j * (size_t)w;
         for (int r = 0; r < 2; r++)
             for (int i = ra[r][0]; i < ra[r][1]; i++) {
-                if (!((double)dc->y[o + (size_t)i] > dc->lt)) continue; /* non-emissive */
+                if (!lumis__emissive(dc, o + (size_t)i)) continue;
                 int32_t e = dc->labels[o + (size_t)i];
                 double *leaf = &tree->t[tree->P + e];
                 if (!(*leaf > 0.0)) continue;

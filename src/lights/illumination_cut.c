@@ -117,7 +117,7 @@ static void node_sums(const cut_ctx *c, node *nd)
             for (int i = r.x0; i < r.x1; i++) {
                 size_t p = (size_t)j * (size_t)dc->w + (size_t)i;
                 if (!lumis__non_emissive(dc, p)) continue;
-                double v = dc->y[p];
+                double v = lumis__pixel_y(dc->env->pixels + 3 * p, g->scale);
                 nd->q[Q_E] += v * g->omega[j];
                 nd->q[Q_MX] += v * g->a[j] * g->cs[i];
                 nd->q[Q_MY] += v * g->b[j];
