@@ -77,6 +77,17 @@ static float speckle_pixel(int w, int h, int i, int j, int c)
     return (r % 37 == 0) ? (float)(50 + (r >> 20) % 400) : 0.2f + 0.1f * (float)c;
 }
 
+/* Bright exactly at the pixels the decomposition samples to place its percentile bound
+ * on maps of 2^18 pixels (every 16th, from the 8th), each a different value, and dim
+ * elsewhere: the bound lands over the true percentile. */
+static float sample_trap_pixel(int w, int h, int i, int j, int c)
+{
+    (void)h;
+    (void)c;
+    const int p = j * w + i;
+    return p % 16 == 8 ? 100.0f + (float)(p / 16) : 1.0f;
+}
+
 /* The luminance every method weighs pixels by (docs/lights.md). */
 static float pixel_y(const lumis_envmap *env, int i, int j)
 {
@@ -426,15 +437,17 @@ static void emissive_threshold_is_a_brute_force_percentile(void **state)
 {
     (void)state;
     static const float pcts[] = {0.0f, 50.0f, 90.0f, 99.9f, 100.0f, 0.01f};
-    /* The last three have >= 2^18 pixels, where the percentile is bracketed from a sample
-     * (the constant map overflows the bracket and takes the radix fallback). */
-    lumis_envmap *maps[6] = {make_env(97, 51, sky_pixel, 0.0f, 0.0f),
+    /* The last four have >= 2^18 pixels, where only the pixels at or over a bound drawn
+     * from a sample are gathered: the constant map overflows the gathering, the trap map
+     * puts the bound over the percentile, and both take the full second pass. */
+    lumis_envmap *maps[7] = {make_env(97, 51, sky_pixel, 0.0f, 0.0f),
                              make_env(64, 32, speckle_pixel, 20.0f, 0.25f),
                              make_env(16, 8, const_pixel, 0.0f, 0.0f),
                              make_env(1031, 517, sky_pixel, 0.0f, 0.0f),
                              make_env(1024, 512, speckle_pixel, 0.0f, 2.0f),
-                             make_env(1024, 256, const_pixel, 0.0f, 0.0f)};
-    for (int e = 0; e < 6; e++) {
+                             make_env(1024, 256, const_pixel, 0.0f, 0.0f),
+                             make_env(1024, 256, sample_trap_pixel, 0.0f, 0.0f)};
+    for (int e = 0; e < 7; e++) {
         lumis_envmap *env = maps[e];
         int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
         size_t n = (size_t)w * (size_t)h;
@@ -469,6 +482,19 @@ static void emissive_threshold_is_a_brute_force_percentile(void **state)
             for (size_t q = 0; q < n; q++) em += (double)y[q] > info->threshold;
             assert_int_equal(info->emissive_pixels, em);
             if (e < 3) check_set(set, env); /* the large maps: the threshold only */
+            lumis_light_set_destroy(set);
+        }
+        /* A threshold given under the sampled bound: every pixel over it is emissive. */
+        for (int t = 0; t < 2; t++) {
+            lumis_decomp_desc d = {0};
+            d.count = 8;
+            d.threshold = t ? sorted[n / 2] : fmaxf(sorted[n / 10], 1e-30f);
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            int em = 0;
+            for (size_t q = 0; q < n; q++) em += (double)y[q] > (double)d.threshold;
+            assert_int_equal(info->emissive_pixels, em);
             lumis_light_set_destroy(set);
         }
         free(y);
