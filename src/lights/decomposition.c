@@ -255,6 +255,79 @@ static LUMIS__AVX2_CLONES void row_tiles(const lumis__tiles *t, const lumis__geo
     }
 }
 
+/* row_luminance and row_tiles in one loop, for tiles of 4: the sums of a group of 16
+ * pixels' four tiles are made while the group is in registers, so their arithmetic
+ * overlaps the loads of the next pixels instead of following the row's (the sums, in
+ * stretch_sums' order, and Y are those of the two functions, bit for bit). */
+static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__geom *g,
+                                          const float *restrict px, float *restrict yr, int j,
+                                          float *ymax)
+{
+    enum { G = 16 };
+    const int w = g->w;
+    const double sc = g->scale, om = g->omega[j], a = g->a[j], b = g->b[j];
+    const size_t q0 = (size_t)(j / 4 + 1) * ((size_t)t->tw + 1) + 1;
+    double *restrict tE = t->q[LUMIS__Q_E] + q0, *restrict tX = t->q[LUMIS__Q_MX] + q0,
+                     *restrict tY = t->q[LUMIS__Q_MY] + q0, *restrict tZ = t->q[LUMIS__Q_MZ] + q0,
+                     *restrict tR = t->rgb[0] + q0, *restrict tG = t->rgb[1] + q0,
+                     *restrict tB = t->rgb[2] + q0;
+    double row = 0.0;
+    float mx[G];
+    for (int k = 0; k < G; k++) mx[k] = *ymax;
+    int i = 0;
+    const float *p = px;
+    for (; i + G <= w; i += G, p += 3 * G) {
+        double d[3 * G], v[G];
+        for (int k = 0; k < 3 * G; k++) d[k] = p[k];
+        for (int k = 0; k < G; k++) {
+            float f =
+                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
+            yr[i + k] = f;
+            mx[k] = f > mx[k] ? f : mx[k];
+            v[k] = f;
+        }
+        for (int u = 0; u < 4; u++) {
+            const int o = 4 * u, tx = i / 4 + u;
+            const double *cs = g->cs + i + o, *cc = g->cc + i + o;
+            double ys = v[o], ycs = v[o] * cs[0], ycc = v[o] * cc[0];
+            double r = d[3 * o], gr = d[3 * o + 1], bl = d[3 * o + 2];
+            for (int k = 1; k < 4; k++) {
+                ys += v[o + k];
+                ycs += v[o + k] * cs[k];
+                ycc += v[o + k] * cc[k];
+                r += d[3 * (o + k)];
+                gr += d[3 * (o + k) + 1];
+                bl += d[3 * (o + k) + 2];
+            }
+            tE[tx] += ys * om;
+            tX[tx] += ycs * a;
+            tY[tx] += ys * b;
+            tZ[tx] += ycc * a;
+            tR[tx] += r * om;
+            tG[tx] += gr * om;
+            tB[tx] += bl * om;
+        }
+        for (int k = 0; k < 8; k++) v[k] += v[k + 8];
+        for (int k = 0; k < 4; k++) v[k] += v[k + 4];
+        row += (v[0] + v[2]) + (v[1] + v[3]);
+    }
+    const int i0 = i;
+    for (; i < w; i++, p += 3) {
+        float f = lumis__pixel_y(p, sc);
+        yr[i] = f;
+        mx[0] = f > mx[0] ? f : mx[0];
+        row += f;
+    }
+    for (int tx = i0 / 4; tx < t->tw; tx++) {
+        double s[6];
+        const int c0 = tx * 4, n = c0 + 4 < w ? 4 : w - c0;
+        stretch_sums(px + 3 * c0, yr + c0, g->cs + c0, g->cc + c0, n, s);
+        tile_add(t, q0 + (size_t)tx, s, om, a, b);
+    }
+    for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
+    return row;
+}
+
 /* Tile (tx, ty) summed again over its non-emissive pixels only. */
 static void dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, int ty)
 {
@@ -613,10 +686,14 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     for (int j = 0; j < h; j++) {
         const size_t o = (size_t)j * (size_t)w;
         const float *px = env->pixels + o * 3;
-        rowsum[j] = row_luminance(px, yrow, w, g.scale, &ymax);
+        if (tiles.T == 4) {
+            rowsum[j] = row_pass(&tiles, &g, px, yrow, j, &ymax);
+        } else {
+            rowsum[j] = row_luminance(px, yrow, w, g.scale, &ymax);
+            row_tiles(&tiles, &g, px, yrow, j);
+        }
         power_y += rowsum[j] * g.omega[j];
         bracket_row(&br, yrow, w, o);
-        row_tiles(&tiles, &g, px, yrow, j);
     }
     tile_counts(&tiles, w, h);
     float lb = 0.0f;
