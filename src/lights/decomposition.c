@@ -219,16 +219,16 @@ static inline LUMIS__ALWAYS_INLINE void stretch_sums(const float *restrict px,
     s[5] = b;
 }
 
+/* Adds one tile row's stretch sums to tile q, or with `first` (the tile's first row; the
+ * tiles are not zeroed) assigns them. */
 static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q, const double s[6],
-                                                 double om, double a, double b)
+                                                 double om, double a, double b, int first)
 {
-    t->q[LUMIS__Q_E][q] += s[0] * om;
-    t->q[LUMIS__Q_MX][q] += s[1] * a;
-    t->q[LUMIS__Q_MY][q] += s[0] * b;
-    t->q[LUMIS__Q_MZ][q] += s[2] * a;
-    t->rgb[0][q] += s[3] * om;
-    t->rgb[1][q] += s[4] * om;
-    t->rgb[2][q] += s[5] * om;
+    const double v[7] = {s[0] * om, s[1] * a, s[0] * b, s[2] * a, s[3] * om, s[4] * om, s[5] * om};
+    double *const dst[7] = {t->q[LUMIS__Q_E],  t->q[LUMIS__Q_MX], t->q[LUMIS__Q_MY],
+                            t->q[LUMIS__Q_MZ], t->rgb[0],         t->rgb[1],
+                            t->rgb[2]};
+    for (int k = 0; k < 7; k++) dst[k][q] = first ? v[k] : dst[k][q] + v[k];
 }
 
 /* Row j (its luminance yr already computed) into the tile sums over all pixels.  Tiles
@@ -245,13 +245,13 @@ static LUMIS__AVX2_CLONES void row_tiles(const lumis__tiles *t, const lumis__geo
             double s[6];
             const int i = 4 * tx;
             stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, 4, s);
-            tile_add(t, q0 + (size_t)tx, s, om, a, b);
+            tile_add(t, q0 + (size_t)tx, s, om, a, b, j % T == 0);
         }
     for (; tx < t->tw; tx++) {
         double s[6];
         const int i = tx * T, n = (tx + 1) * T < w ? T : w - i;
         stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, n, s);
-        tile_add(t, q0 + (size_t)tx, s, om, a, b);
+        tile_add(t, q0 + (size_t)tx, s, om, a, b, j % T == 0);
     }
 }
 
@@ -267,6 +267,7 @@ static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__ge
     const int w = g->w;
     const double sc = g->scale, om = g->omega[j], a = g->a[j], b = g->b[j];
     const size_t q0 = (size_t)(j / 4 + 1) * ((size_t)t->tw + 1) + 1;
+    const int first = j % 4 == 0;
     double *restrict tE = t->q[LUMIS__Q_E] + q0, *restrict tX = t->q[LUMIS__Q_MX] + q0,
                      *restrict tY = t->q[LUMIS__Q_MY] + q0, *restrict tZ = t->q[LUMIS__Q_MZ] + q0,
                      *restrict tR = t->rgb[0] + q0, *restrict tG = t->rgb[1] + q0,
@@ -299,13 +300,23 @@ static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__ge
                 gr += d[3 * (o + k) + 1];
                 bl += d[3 * (o + k) + 2];
             }
-            tE[tx] += ys * om;
-            tX[tx] += ycs * a;
-            tY[tx] += ys * b;
-            tZ[tx] += ycc * a;
-            tR[tx] += r * om;
-            tG[tx] += gr * om;
-            tB[tx] += bl * om;
+            if (first) { /* the tiles are not zeroed: their first row assigns */
+                tE[tx] = ys * om;
+                tX[tx] = ycs * a;
+                tY[tx] = ys * b;
+                tZ[tx] = ycc * a;
+                tR[tx] = r * om;
+                tG[tx] = gr * om;
+                tB[tx] = bl * om;
+            } else {
+                tE[tx] += ys * om;
+                tX[tx] += ycs * a;
+                tY[tx] += ys * b;
+                tZ[tx] += ycc * a;
+                tR[tx] += r * om;
+                tG[tx] += gr * om;
+                tB[tx] += bl * om;
+            }
         }
         for (int k = 0; k < 8; k++) v[k] += v[k + 8];
         for (int k = 0; k < 4; k++) v[k] += v[k + 4];
@@ -322,7 +333,7 @@ static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__ge
         double s[6];
         const int c0 = tx * 4, n = c0 + 4 < w ? 4 : w - c0;
         stretch_sums(px + 3 * c0, yr + c0, g->cs + c0, g->cc + c0, n, s);
-        tile_add(t, q0 + (size_t)tx, s, om, a, b);
+        tile_add(t, q0 + (size_t)tx, s, om, a, b, first);
     }
     for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
     return row;
@@ -354,7 +365,7 @@ static void dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, i
             s[5] += px[2];
             n++;
         }
-        tile_add(t, q, s, g->omega[j], g->a[j], g->b[j]);
+        tile_add(t, q, s, g->omega[j], g->a[j], g->b[j], 0);
         t->q[LUMIS__Q_N][q] += n;
     }
 }

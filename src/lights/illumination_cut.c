@@ -42,13 +42,17 @@ lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
     t->T = (long long)w * h >= 65536 ? 4 : 1;
     t->tw = (w + t->T - 1) / t->T;
     t->th = (h + t->T - 1) / t->T;
-    size_t n = ((size_t)t->tw + 1) * ((size_t)t->th + 1);
+    /* Not zeroed (the luminance pass assigns each tile's first row); the summed-area
+     * tables' border, row 0 and column 0, is. */
+    const size_t W = (size_t)t->tw + 1, n = W * ((size_t)t->th + 1);
     for (int k = 0; k < Q_COUNT + 3; k++) {
-        double *a = calloc(n, sizeof(double));
+        double *a = malloc(n * sizeof(double));
         if (!a) {
             lumis__tiles_free(t);
             return LUMIS_ERR_OUT_OF_MEMORY;
         }
+        memset(a, 0, W * sizeof(double));
+        for (size_t r = 1; r * W < n; r++) a[r * W] = 0.0;
         if (k < Q_COUNT)
             t->q[k] = a;
         else
