@@ -165,11 +165,12 @@ static double chord_lower(double dot)
 
 /* A cluster's members, contiguous (structure of arrays), with each member's Hamerly
  * bound kept lazily: slack = (lower bound of the distance to every other centre) - (upper
- * bound of the distance to its own), valid when D[own] + G equalled `now`; since then its
- * own centre moved by at most the growth of D[own] and any other by at most the growth of
- * G, so slack - (D[own] + G - now) is still a valid slack.  Stored is key = slack + now,
- * and the member cannot change cluster while key - (D[own] + G) exceeds the margin (the
- * rounding of the key, ~1e-16, is far inside the margin). */
+ * bound of the distance to its own), valid when D[own] + G[own] equalled `now`; since then
+ * its own centre moved by at most the growth of D[own] and any other by at most the growth
+ * of G[own] (the sum over the steps of the largest drift among the other centres), so
+ * slack - (D[own] + G[own] - now) is still a valid slack.  Stored is key = slack + now,
+ * and the member cannot change cluster while key - (D[own] + G[own]) exceeds the margin
+ * (the rounding of the key, ~1e-16, is far inside the margin). */
 typedef struct km_cluster {
     int n, cap;
     int32_t *id;
@@ -190,7 +191,8 @@ typedef struct km_state {
     double *J;    /* k: sum over the members of w |x - c|^2 / 2 */
     double *R;    /* k: bound of the members' chord distance to the centre */
     double *R0;   /* k: R when last computed from the members */
-    double *D, G; /* k cumulative centre drifts, and the cumulative largest drift */
+    double *D; /* k: cumulative drift of each centre */
+    double *G; /* k: cumulative largest drift of the other centres */
 } km_state;
 
 static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
@@ -342,6 +344,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     s.R = malloc((size_t)k * sizeof(double));
     s.R0 = malloc((size_t)k * sizeof(double));
     s.D = calloc((size_t)k, sizeof(double));
+    s.G = calloc((size_t)k, sizeof(double));
     double *delta = malloc((size_t)k * sizeof(double));
     unsigned char *changed = malloc((size_t)k);
     int32_t *nb = malloc((size_t)k * sizeof(int32_t));
@@ -349,7 +352,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *fail = malloc((size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !delta || !changed ||
+    if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta || !changed ||
         !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
@@ -411,7 +414,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
          * over unit c; J falls by exactly (c_new - c_old) . S = |S| |c_new - c_old|^2 / 2.
          * An unchanged cluster would get the very same centre. */
         int nmoved = 0;
-        double dmax = 0.0;
+        double dmax = 0.0, dmax2 = 0.0;
+        int jmax = -1;
         for (int j = 0; j < k; j++) {
             delta[j] = 0.0;
             if (!changed[j]) continue;
@@ -433,11 +437,19 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                 s.R[j] += delta[j];
                 if (s.R[j] > KM_R_SLACK * s.R0[j]) km_cluster_terms(&s, c, j, 0);
                 s.D[j] += delta[j];
-                dmax = delta[j] > dmax ? delta[j] : dmax;
+                if (delta[j] > dmax) {
+                    dmax2 = dmax;
+                    dmax = delta[j];
+                    jmax = j;
+                } else if (delta[j] > dmax2) {
+                    dmax2 = delta[j];
+                }
                 nmoved++;
             }
         }
-        s.G += dmax;
+        /* Hamerly: the other centres approach a member by at most the largest drift
+         * among them, which for the farthest-moving centre is the second largest */
+        for (int j = 0; j < k; j++) s.G[j] += j == jmax ? dmax2 : dmax;
         updates++;
         st = push_objective(res, &cap, km_objective(&s));
         if (st != LUMIS_OK || updates >= limit) break;
@@ -467,7 +479,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             /* a little under the distance to the nearest centre beyond the reach */
             const double far = sqrt(far2) * (1.0 - 1e-15);
             km_cluster *cl = &s.cl[ca];
-            const double now = s.D[ca] + s.G;
+            const double now = s.D[ca] + s.G[ca];
             int nf = 0; /* the members whose bound fails, gathered without branches */
             for (int q = 0; q < cl->n; q++) {
                 fail[nf] = q;
@@ -503,7 +515,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         for (int t = 0; st == LUMIS_OK && t < nm; t++) {
             const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
             const km_cluster *cl = &s.cl[from];
-            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G};
+            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G[to]};
             changed[from] = changed[to] = 1;
             /* The objective terms follow the pixel. */
             s.J[from] -= v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)from);
@@ -534,6 +546,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(s.R);
     free(s.R0);
     free(s.D);
+    free(s.G);
     free(delta);
     free(changed);
     free(nb);
