@@ -603,7 +603,7 @@ static void direct_extents(const lumis__decomp *dc, int nd, double (*dirs)[3], d
             const double *d = dirs[cl];
             const double dc_ = d[0] * st * cp + d[1] * ct + d[2] * st * sp;
             if (pass == 0) {
-                ub[cl] = fmin(ub[cl], dc_);
+                ub[cl] = dc_ < ub[cl] ? dc_ : ub[cl];
                 continue;
             }
             /* rho: half the row's height plus half its widest width, a path along a

@@ -292,7 +292,8 @@ static void km_cluster_terms(km_state *s, const double *c, int j, int objective)
         double d = cl->x[q] * c0 + cl->y[q] * c1 + cl->z[q] * c2;
         mn[0] = d < mn[0] ? d : mn[0];
     }
-    double mind = fmin(fmin(mn[0], mn[1]), fmin(mn[2], mn[3]));
+    const double m01 = mn[0] < mn[1] ? mn[0] : mn[1], m23 = mn[2] < mn[3] ? mn[2] : mn[3];
+    const double mind = m01 < m23 ? m01 : m23;
     s->R[j] = s->R0[j] = cl->n > 0 ? chord_bound(mind) : 0.0;
 }
 
@@ -503,8 +504,9 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                     }
                 }
                 /* centres beyond the reach: at least far - |x - c_a| away */
-                double lb = fmin(chord_lower(sec), far - chord_bound(da));
-                double slack = lb - chord_bound(bd);
+                const double ua = chord_bound(da), lo = chord_lower(sec), lf = far - ua;
+                const double lb = lo < lf ? lo : lf; /* no NaN here: no libm fmin */
+                const double slack = lb - (best == ca ? ua : chord_bound(bd));
                 if (best == ca) {
                     cl->key[q] = slack + now;
                 } else {
