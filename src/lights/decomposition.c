@@ -8,9 +8,6 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 static uint32_t float_bits(float f)
 {
@@ -471,27 +468,6 @@ static inline void pixel_terms(const lumis__decomp *dc, const float *row, size_t
     *n += in;
 }
 
-/* Every label of rectangle r set to `label` (the clustered emissive pixels inside get
- * theirs back afterwards). */
-static void label_rect(int32_t *labels, int w, lumis__rect r, int32_t label)
-{
-    for (int j = r.y0; j < r.y1; j++) {
-        int32_t *lab = labels + (size_t)j * (size_t)w;
-        int i = r.x0;
-#if defined(__SSE2__)
-        /* streaming stores: the labels are written, not read, so the cache lines need not
-         * be fetched first (about half the memory traffic of a plain fill) */
-        for (; i < r.x1 && ((uintptr_t)(lab + i) & 15u); i++) lab[i] = label;
-        const __m128i v = _mm_set1_epi32(label);
-        for (; i + 4 <= r.x1; i += 4) _mm_stream_si128((__m128i *)(void *)(lab + i), v);
-#endif
-        for (; i < r.x1; i++) lab[i] = label;
-    }
-#if defined(__SSE2__)
-    _mm_sfence();
-#endif
-}
-
 /* An aligned EnvIndirect's sums from the tiles: power and moments of its non-emissive
  * pixels; the geometric moment and solid angle of the whole rectangle, from which the
  * clustered emissive pixels inside are subtracted afterwards. */
@@ -917,7 +893,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
             continue;
         }
         tiles_rect_acc(&tiles, &g, rects[k], &ia[k]);
-        label_rect(set->labels, w, rects[k], nd + k);
+        lumis__fill_labels(set->labels, w, rects[k], nd + k);
         const lumis__rect tr = lumis__tiles_of(&tiles, rects[k]);
         for (int ty = tr.y0; ty < tr.y1; ty++)
             for (int tx = tr.x0; tx < tr.x1; tx++)

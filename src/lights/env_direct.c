@@ -188,11 +188,11 @@ typedef struct km_state {
     int64_t *q;   /* 3 m: each pixel's w d in steps of unit */
     int64_t *S;   /* 3 k: the sums of q over each cluster's members */
     double unit;
-    double *J;    /* k: sum over the members of w |x - c|^2 / 2 */
-    double *R;    /* k: bound of the members' chord distance to the centre */
-    double *R0;   /* k: R when last computed from the members */
-    double *D; /* k: cumulative drift of each centre */
-    double *G; /* k: cumulative largest drift of the other centres */
+    double *J;  /* k: sum over the members of w |x - c|^2 / 2 */
+    double *R;  /* k: bound of the members' chord distance to the centre */
+    double *R0; /* k: R when last computed from the members */
+    double *D;  /* k: cumulative drift of each centre */
+    double *G;  /* k: cumulative largest drift of the other centres */
 } km_state;
 
 static lumis_status km_push(km_state *s, int j, int32_t i, const double v[5])
@@ -353,8 +353,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *fail = malloc((size_t)m * sizeof(int32_t));
     int cap = 0;
     lumis_status st = LUMIS_OK;
-    if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta || !changed ||
-        !nb || !moves || !fail)
+    if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
+        !changed || !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
@@ -517,7 +517,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         for (int t = 0; st == LUMIS_OK && t < nm; t++) {
             const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
             const km_cluster *cl = &s.cl[from];
-            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q], moves[t].slack + s.D[to] + s.G[to]};
+            double v[5] = {cl->x[q], cl->y[q], cl->z[q], cl->w[q],
+                           moves[t].slack + s.D[to] + s.G[to]};
             changed[from] = changed[to] = 1;
             /* The objective terms follow the pixel. */
             s.J[from] -= v[3] * 0.5 * sq_dist(v, c + 3 * (size_t)from);

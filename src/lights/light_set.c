@@ -6,9 +6,13 @@
 #include "lumis/rng.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 double lumis__now_ms(void)
 {
@@ -118,6 +122,25 @@ void lumis__rect_sides(const lumis__geom *g, lumis__rect r, double *width, doubl
     double mid = 0.5 * LUMIS_PI * (r.y0 + r.y1) / g->h;
     *height = LUMIS_PI * (r.y1 - r.y0) / g->h;
     *width = 2.0 * LUMIS_PI * (r.x1 - r.x0) / g->w * sin(mid);
+}
+
+/* ---- labels ------------------------------------------------------------------------- */
+
+void lumis__fill_labels(int32_t *labels, int w, lumis__rect r, int32_t label)
+{
+    for (int j = r.y0; j < r.y1; j++) {
+        int32_t *lab = labels + (size_t)j * (size_t)w;
+        int i = r.x0;
+#if defined(__SSE2__)
+        for (; i < r.x1 && ((uintptr_t)(lab + i) & 15u); i++) lab[i] = label;
+        const __m128i v = _mm_set1_epi32(label);
+        for (; i + 4 <= r.x1; i += 4) _mm_stream_si128((__m128i *)(void *)(lab + i), v);
+#endif
+        for (; i < r.x1; i++) lab[i] = label;
+    }
+#if defined(__SSE2__)
+    _mm_sfence(); /* the streamed labels are visible before anything reads them */
+#endif
 }
 
 /* ---- region sums ----------------------------------------------------------------------- */
