@@ -330,6 +330,19 @@ typedef struct km_move {
     double slack;
 } km_move;
 
+/* A centre's distance (chord) to another, for the seeds' assignment. */
+typedef struct km_near {
+    double d;
+    int32_t j;
+} km_near;
+
+static int cmp_near(const void *pa, const void *pb)
+{
+    const km_near *a = pa, *b = pb;
+    if (a->d != b->d) return a->d < b->d ? -1 : 1;
+    return (a->j > b->j) - (a->j < b->j);
+}
+
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,
                            int32_t *a, lumis__direct_result *res)
 {
@@ -351,6 +364,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *nb = malloc((size_t)k * sizeof(int32_t));
     km_move *moves = malloc((size_t)m * sizeof *moves);
     int32_t *fail = malloc((size_t)m * sizeof(int32_t));
+    km_near *near = malloc(((size_t)k * (size_t)(k > 1 ? k - 1 : 1)) * sizeof *near);
     int cap = 0;
     lumis_status st = LUMIS_OK;
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
@@ -358,32 +372,40 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
-        /* half the chord from each centre to its nearest other centre */
-        for (int j = 0; j < k; j++) {
-            double near = INFINITY;
+        /* each centre's others by distance; D: half the distance to the nearest */
+        for (int j = 0; j < k && k > 1; j++) {
+            km_near *L = near + (size_t)j * (size_t)(k - 1);
+            int t = 0;
             for (int b = 0; b < k; b++)
-                if (b != j) near = fmin(near, sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b));
-            s.D[j] = 0.5 * sqrt(near) * (1.0 - 1e-15);
+                if (b != j)
+                    L[t++] = (km_near){sqrt(sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b)), b};
+            qsort(L, (size_t)(k - 1), sizeof *L, cmp_near);
+            s.D[j] = 0.5 * L[0].d * (1.0 - 1e-15);
         }
     }
     /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
      * in scan order, so the last pixel's centre is usually the answer: it is, with the
      * first-on-ties rule intact, when the pixel lies within half the distance from that
      * centre to every other by more than the margin; the slack is then a valid lower bound.
-     * Otherwise all k centres are compared. */
+     * Otherwise only the centres within 2 r + margin of the last one (r the pixel's
+     * distance to it) can be nearer, or tie: they are compared, nearest first, and the
+     * first one beyond bounds the rest. */
     for (int i = 0, last = 0; st == LUMIS_OK && i < m; i++) {
         const double *x = dc->em_d + 3 * (size_t)i;
-        int best = -1;
-        double slack;
+        int best = last;
+        double slack = INFINITY;
         const double dl = dot3(x, c + 3 * (size_t)last), rl = chord_bound(dl);
         if (k > 1 && rl + KM_MARGIN < s.D[last]) {
-            best = last;
             slack = 2.0 * (s.D[last] - rl);
-        } else {
-            double bd = -INFINITY, sec = -INFINITY;
-            for (int j = 0; j < k; j++) {
-                double dt = dot3(x, c + 3 * (size_t)j);
-                if (dt > bd) {
+        } else if (k > 1) {
+            const km_near *L = near + (size_t)last * (size_t)(k - 1);
+            const double reach = 2.0 * rl + KM_MARGIN;
+            double bd = dl, sec = -INFINITY, rest = INFINITY;
+            int t = 0;
+            for (; t < k - 1 && L[t].d < reach; t++) {
+                const int j = L[t].j;
+                const double dt = dot3(x, c + 3 * (size_t)j);
+                if (dt > bd || (dt == bd && j < best)) {
                     sec = bd;
                     bd = dt;
                     best = j;
@@ -391,7 +413,9 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                     sec = dt;
                 }
             }
-            slack = chord_lower(sec) - chord_bound(bd);
+            if (t < k - 1) rest = L[t].d * (1.0 - 1e-15) - rl;
+            const double lo = chord_lower(sec);
+            slack = (lo < rest ? lo : rest) - chord_bound(bd);
         }
         a[i] = last = best;
         double v[5] = {x[0], x[1], x[2], dc->em_w[i], slack};
@@ -555,6 +579,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(nb);
     free(moves);
     free(fail);
+    free(near);
     return st;
 }
 
