@@ -159,6 +159,28 @@ static void bracket_row(bracket *b, const float *restrict yr, int w, size_t o)
     b->nc = nc;
 }
 
+/* Y of one group of 16 pixels (their RGB in d, as doubles) into yr and v, raising mx. */
+static inline LUMIS__ALWAYS_INLINE void group_luminance(const float *restrict p, double sc,
+                                                        double d[48], double v[16],
+                                                        float *restrict yr, float mx[16])
+{
+    for (int k = 0; k < 48; k++) d[k] = p[k];
+    for (int k = 0; k < 16; k++) {
+        float f = (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
+        yr[k] = f;
+        mx[k] = f > mx[k] ? f : mx[k];
+        v[k] = f;
+    }
+}
+
+/* The sum of a group's 16 values of Y, a fixed pairwise tree (v is overwritten). */
+static inline LUMIS__ALWAYS_INLINE double group_sum(double v[16])
+{
+    for (int k = 0; k < 8; k++) v[k] += v[k + 8];
+    for (int k = 0; k < 4; k++) v[k] += v[k + 4];
+    return (v[0] + v[2]) + (v[1] + v[3]);
+}
+
 /* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
  * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
  * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
@@ -173,17 +195,8 @@ static LUMIS__AVX2_CLONES double row_luminance(const float *restrict px, float *
     int i = 0;
     for (; i + G <= w; i += G, px += 3 * G) {
         double d[3 * G], v[G];
-        for (int k = 0; k < 3 * G; k++) d[k] = px[k];
-        for (int k = 0; k < G; k++) {
-            float f =
-                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
-            yr[i + k] = f;
-            mx[k] = f > mx[k] ? f : mx[k];
-            v[k] = f;
-        }
-        for (int k = 0; k < 8; k++) v[k] += v[k + 8];
-        for (int k = 0; k < 4; k++) v[k] += v[k + 4];
-        row += (v[0] + v[2]) + (v[1] + v[3]);
+        group_luminance(px, sc, d, v, yr + i, mx);
+        row += group_sum(v);
     }
     for (; i < w; i++, px += 3) {
         float f = lumis__pixel_y(px, sc);
@@ -232,23 +245,16 @@ static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q
     for (int k = 0; k < 7; k++) dst[k][q] = first ? v[k] : dst[k][q] + v[k];
 }
 
-/* Row j (its luminance yr already computed) into the tile sums over all pixels.  Tiles
- * whose pixels are not all non-emissive are summed again later (dirty_tile). */
-static LUMIS__AVX2_CLONES void row_tiles(const lumis__tiles *t, const lumis__geom *g,
-                                         const float *restrict px, const float *restrict yr, int j)
+/* Row j (its luminance yr already computed) into the tile sums over all pixels, for any
+ * tile size (row_pass does tiles of 4 with the luminance).  Tiles whose pixels are not all
+ * non-emissive are summed again later (dirty_tile). */
+static void row_tiles(const lumis__tiles *t, const lumis__geom *g, const float *restrict px,
+                      const float *restrict yr, int j)
 {
     const int T = t->T, w = g->w;
     const size_t q0 = (size_t)(j / T + 1) * ((size_t)t->tw + 1) + 1;
     const double om = g->omega[j], a = g->a[j], b = g->b[j];
-    int tx = 0;
-    if (T == 4)
-        for (; 4 * tx + 4 <= w; tx++) {
-            double s[6];
-            const int i = 4 * tx;
-            stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, 4, s);
-            tile_add(t, q0 + (size_t)tx, s, om, a, b, j % T == 0);
-        }
-    for (; tx < t->tw; tx++) {
+    for (int tx = 0; tx < t->tw; tx++) {
         double s[6];
         const int i = tx * T, n = (tx + 1) * T < w ? T : w - i;
         stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, n, s);
@@ -280,14 +286,9 @@ static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__ge
     const float *p = px;
     for (; i + G <= w; i += G, p += 3 * G) {
         double d[3 * G], v[G];
-        for (int k = 0; k < 3 * G; k++) d[k] = p[k];
-        for (int k = 0; k < G; k++) {
-            float f =
-                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
-            yr[i + k] = f;
-            mx[k] = f > mx[k] ? f : mx[k];
-            v[k] = f;
-        }
+        group_luminance(p, sc, d, v, yr + i, mx);
+        /* the group's four tiles from the values in registers (through stretch_sums and
+         * tile_add, reading them again from memory, the pass measured 1.8 ms slower) */
         for (int u = 0; u < 4; u++) {
             const int o = 4 * u, tx = i / 4 + u;
             const double *cs = g->cs + i + o, *cc = g->cc + i + o;
@@ -319,9 +320,7 @@ static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__ge
                 tB[tx] += bl * om;
             }
         }
-        for (int k = 0; k < 8; k++) v[k] += v[k + 8];
-        for (int k = 0; k < 4; k++) v[k] += v[k + 4];
-        row += (v[0] + v[2]) + (v[1] + v[3]);
+        row += group_sum(v);
     }
     const int i0 = i;
     for (; i < w; i++, p += 3) {
@@ -494,15 +493,7 @@ static void tiles_rect_acc(const lumis__tiles *t, const lumis__geom *g, lumis__r
     acc->m[1] = lumis__sat_rect(t->q[LUMIS__Q_MY], t->tw, tr);
     acc->m[2] = lumis__sat_rect(t->q[LUMIS__Q_MZ], t->tw, tr);
     acc->pixels = (int)llround(lumis__sat_rect(t->q[LUMIS__Q_N], t->tw, tr));
-    const int n = r.x1 - r.x0;
-    /* sums of cs (cc) over the columns telescope to sin (cos) differences at the ends */
-    const double gcs = g->sin_p[r.x1] - g->sin_p[r.x0], gcc = g->cos_p[r.x0] - g->cos_p[r.x1];
-    for (int j = r.y0; j < r.y1; j++) {
-        acc->g[0] += g->a[j] * gcs;
-        acc->g[1] += g->b[j] * n;
-        acc->g[2] += g->a[j] * gcc;
-        acc->omega += g->omega[j] * n;
-    }
+    lumis__acc_rect_geometry(g, r, acc);
 }
 
 /* lumis__acc_rect for an EnvIndirect that is not aligned to the tiles: labels the

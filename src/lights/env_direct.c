@@ -261,7 +261,7 @@ static void km_quantise(km_state *s, const lumis__decomp *dc)
                 (int64_t)llrint(dc->em_w[i] * dc->em_d[3 * (size_t)i + (size_t)t] * scale);
 }
 
-/* Objective term J_j of cluster j from its members; with `bound`, also R_j.  Sums run in
+/* R_j of cluster j from its members, and with `objective` its term J_j.  Sums run in
  * four interleaved partial sums (fixed order): a single chain of additions is latency
  * bound. */
 static void km_cluster_terms(km_state *s, const double *c, int j, int objective)
@@ -372,7 +372,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
-        /* each centre's others by distance; D: half the distance to the nearest */
+        /* each centre's others, nearest first */
         for (int j = 0; j < k && k > 1; j++) {
             km_near *L = near + (size_t)j * (size_t)(k - 1);
             int t = 0;
@@ -380,7 +380,6 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                 if (b != j)
                     L[t++] = (km_near){sqrt(sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b)), b};
             qsort(L, (size_t)(k - 1), sizeof *L, cmp_near);
-            s.D[j] = 0.5 * L[0].d * (1.0 - 1e-15);
         }
     }
     /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
@@ -395,10 +394,12 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         int best = last;
         double slack = INFINITY;
         const double dl = dot3(x, c + 3 * (size_t)last), rl = chord_bound(dl);
-        if (k > 1 && rl + KM_MARGIN < s.D[last]) {
-            slack = 2.0 * (s.D[last] - rl);
+        const km_near *L = near + (size_t)last * (size_t)(k - 1);
+        /* half the distance from the last centre to its nearest other */
+        const double half = k > 1 ? 0.5 * L[0].d * (1.0 - 1e-15) : INFINITY;
+        if (k > 1 && rl + KM_MARGIN < half) {
+            slack = 2.0 * (half - rl);
         } else if (k > 1) {
-            const km_near *L = near + (size_t)last * (size_t)(k - 1);
             const double reach = 2.0 * rl + KM_MARGIN;
             double bd = dl, sec = -INFINITY, rest = INFINITY;
             int t = 0;
@@ -421,7 +422,6 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         double v[5] = {x[0], x[1], x[2], dc->em_w[i], slack};
         st = km_push(&s, best, i, v);
     }
-    if (s.D) memset(s.D, 0, (size_t)k * sizeof(double));
     if (st == LUMIS_OK) {
         for (int j = 0; j < k; j++) {
             km_cluster_terms(&s, c, j, 1);

@@ -31,9 +31,7 @@ typedef struct node {
 typedef struct cut_ctx {
     const lumis__decomp *dc;
     const lumis__geom *g;
-    int T, tw, th;
-    double *const *sat; /* the tiles' summed-area tables */
-    const lumis__tiles *tiles;
+    const lumis__tiles *tiles; /* their summed-area tables */
 } cut_ctx;
 
 lumis_status lumis__tiles_init(lumis__tiles *t, int w, int h)
@@ -111,7 +109,8 @@ static void node_sums(const cut_ctx *c, node *nd)
     const lumis__rect r = nd->r;
     if (aligned(c, r)) {
         lumis__rect t = lumis__tiles_of(c->tiles, r);
-        for (int k = 0; k < Q_COUNT; k++) nd->q[k] = lumis__sat_rect(c->sat[k], c->tw, t);
+        for (int k = 0; k < Q_COUNT; k++)
+            nd->q[k] = lumis__sat_rect(c->tiles->q[k], c->tiles->tw, t);
         nd->q[Q_N] = round(nd->q[Q_N]); /* integers, exact unless rounding intrudes */
     } else {
         const lumis__decomp *dc = c->dc;
@@ -152,7 +151,7 @@ static void node_sums(const cut_ctx *c, node *nd)
 static void node_split(const cut_ctx *c, const node *parent, node *a, node *b)
 {
     lumis__rect r = parent->r;
-    const int T = c->T;
+    const int T = c->tiles->T;
     for (;;) {
         int tx0 = r.x0 / T, tx1 = (r.x1 + T - 1) / T, ty0 = r.y0 / T, ty1 = (r.y1 + T - 1) / T;
         int tiles = aligned(c, r) && (tx1 - tx0 > 1 || ty1 - ty0 > 1);
@@ -185,10 +184,6 @@ lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles
     memset(&c, 0, sizeof c);
     c.dc = dc;
     c.g = dc->g;
-    c.T = tiles->T;
-    c.tw = tiles->tw;
-    c.th = tiles->th;
-    c.sat = tiles->q;
     c.tiles = tiles;
     node *cut = malloc((size_t)budget * sizeof *cut);
     lumis_status st = cut ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;

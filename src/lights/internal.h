@@ -76,6 +76,10 @@ typedef struct lumis__acc {
 /* Adds pixel (i, j) to acc. */
 void lumis__acc_pixel(const lumis__geom *g, const lumis_envmap *env, lumis__acc *acc, int i, int j);
 
+/* Adds the geometric moment and solid angle of the whole rectangle r to acc (closed form
+ * per row). */
+void lumis__acc_rect_geometry(const lumis__geom *g, lumis__rect r, lumis__acc *acc);
+
 /* Labels the pixels of r whose label equals `only` (any pixel if only == INT32_MIN) with
  * `label` and adds them to acc. */
 void lumis__acc_rect(const lumis__geom *g, const lumis_envmap *env, int32_t *labels, lumis__rect r,

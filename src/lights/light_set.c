@@ -163,6 +163,19 @@ void lumis__acc_pixel(const lumis__geom *g, const lumis_envmap *env, lumis__acc 
     acc->pixels++;
 }
 
+void lumis__acc_rect_geometry(const lumis__geom *g, lumis__rect r, lumis__acc *acc)
+{
+    const int n = r.x1 - r.x0;
+    /* sums of cs (cc) over the columns telescope to sin (cos) differences at the ends */
+    const double gcs = g->sin_p[r.x1] - g->sin_p[r.x0], gcc = g->cos_p[r.x0] - g->cos_p[r.x1];
+    for (int j = r.y0; j < r.y1; j++) {
+        acc->g[0] += g->a[j] * gcs;
+        acc->g[1] += g->b[j] * n;
+        acc->g[2] += g->a[j] * gcc;
+        acc->omega += g->omega[j] * n;
+    }
+}
+
 void lumis__acc_rect(const lumis__geom *g, const lumis_envmap *env, int32_t *labels, lumis__rect r,
                      int32_t only, int32_t label, lumis__acc *acc)
 {

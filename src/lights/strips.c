@@ -310,14 +310,7 @@ void lumis__strips_rect(const lumis__strips *s, lumis__rect r, lumis__acc *acc)
         direct_rows(s, b1 * T, r.y1, r.x0, r.x1, NULL, NULL, NULL, rgb);
     }
     for (int c = 0; c < 3; c++) acc->rgb[c] = rgb[c];
-    /* Geometric moment and solid angle in closed form per row. */
-    const double gcs = g->sin_p[r.x1] - g->sin_p[r.x0], gcc = g->cos_p[r.x0] - g->cos_p[r.x1];
-    for (int j = r.y0; j < r.y1; j++) {
-        acc->g[0] += g->a[j] * gcs;
-        acc->g[1] += g->b[j] * n;
-        acc->g[2] += g->a[j] * gcc;
-        acc->omega += g->omega[j] * n;
-    }
+    lumis__acc_rect_geometry(g, r, acc);
     acc->pixels = n * (r.y1 - r.y0);
 }
 
