@@ -170,8 +170,13 @@ typedef struct lumis__strips {
     double *crgb;         /* nb x 3w: sum of Omega_j RGB (unscaled) */
     double *ry;           /* nc x h (band-major): sum over the band's columns of Y */
     double *rcs, *rcc;    /* nc x h: sum of Y cs_i, Y cc_i (only with row_moments) */
-    float *y;             /* w x h: every pixel's luminance (lumis__pixel_y) */
-    double *scratch;      /* 6 max(w, h) doubles, used by lumis__strips_rect */
+    /* A coarse level of STRIPS_GROUP full bands each, so a tall or wide rectangle's
+     * marginals add a few coarse bands instead of many fine ones: nB x w for ce, ca, cb
+     * and nC x h for ry, rcs, rcc (nB, nC = full bands / STRIPS_GROUP). */
+    int nB, nC;
+    double *ce2, *ca2, *cb2, *ry2, *rcs2, *rcc2;
+    float *y;        /* w x h: every pixel's luminance (lumis__pixel_y) */
+    double *scratch; /* 6 max(w, h) doubles, used by lumis__strips_rect */
     size_t scratch_n;
 } lumis__strips;
 

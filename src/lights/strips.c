@@ -16,6 +16,7 @@
  * compute-bound at SSE2's two doubles per vector (median cut 11 -> 9.3 ms, docs/lights.md). */
 
 enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
+enum { STRIPS_GROUP = 8 };                /* fine bands per coarse band */
 
 /* One row's stretch of n <= 16 pixels (a column band): luminance (lumis__pixel_y) into yr,
  * the band's column sums, and the sum of Y over the stretch into *ry.  The n == 16 case has
@@ -96,6 +97,41 @@ static inline LUMIS__ALWAYS_INLINE void strip_moments(const float *restrict yr,
     *rcc = c;
 }
 
+/* coarse[B] = the sum of fine bands [GROUP B, GROUP (B + 1)), each band n doubles, added
+ * in order. */
+static void coarsen(const double *fine, double *coarse, size_t n, int nB)
+{
+    for (int B = 0; B < nB; B++) {
+        double *c = coarse + (size_t)B * n;
+        const double *f = fine + (size_t)B * STRIPS_GROUP * n;
+        memcpy(c, f, n * sizeof *c);
+        for (int k = 1; k < STRIPS_GROUP; k++)
+            for (size_t i = 0; i < n; i++) c[i] += f[(size_t)k * n + i];
+    }
+}
+
+/* out[i] += the sum over bands [b0, b1) of band[b][off + i] for i < n, coarse bands where
+ * a whole group lies inside (stride: a band's length). */
+static void add_bands(const double *fine, const double *coarse, size_t stride, int b0, int b1,
+                      size_t off, int n, double *restrict out)
+{
+    const int B0 = (b0 + STRIPS_GROUP - 1) / STRIPS_GROUP, B1 = b1 / STRIPS_GROUP;
+    const int f1 = B0 < B1 ? B0 * STRIPS_GROUP : b1;
+    for (int b = b0; b < f1; b++) {
+        const double *f = fine + (size_t)b * stride + off;
+        for (int i = 0; i < n; i++) out[i] += f[i];
+    }
+    if (B0 >= B1) return;
+    for (int B = B0; B < B1; B++) {
+        const double *c = coarse + (size_t)B * stride + off;
+        for (int i = 0; i < n; i++) out[i] += c[i];
+    }
+    for (int b = B1 * STRIPS_GROUP; b < b1; b++) {
+        const double *f = fine + (size_t)b * stride + off;
+        for (int i = 0; i < n; i++) out[i] += f[i];
+    }
+}
+
 LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g,
                                                    const lumis_envmap *env, int row_moments)
 {
@@ -109,7 +145,11 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->g = g;
     s->env = env;
     const size_t W = (size_t)w, nb = (size_t)s->nb, rows = (size_t)h * (size_t)s->nc;
-    size_t total = 6 * nb * W + (row_moments ? 3 : 1) * rows + 6 * (W > (size_t)h ? W : (size_t)h);
+    s->nB = h / T / STRIPS_GROUP;
+    s->nC = w / T / STRIPS_GROUP;
+    const size_t coarse = 3 * (size_t)s->nB * W + 3 * (size_t)s->nC * (size_t)h;
+    size_t total =
+        6 * nb * W + (row_moments ? 3 : 1) * rows + 6 * (W > (size_t)h ? W : (size_t)h) + coarse;
     double *mem = malloc(total * sizeof(double));
     float *yf = malloc((size_t)w * (size_t)h * sizeof(float));
     if (!mem || !yf) {
@@ -127,6 +167,12 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->rcc = row_moments ? s->rcs + rows : NULL;
     s->scratch = (row_moments ? s->rcc : s->ry) + rows;
     s->scratch_n = 6 * (W > (size_t)h ? W : (size_t)h);
+    s->ce2 = s->scratch + s->scratch_n;
+    s->ca2 = s->ce2 + (size_t)s->nB * W;
+    s->cb2 = s->ca2 + (size_t)s->nB * W;
+    s->ry2 = s->cb2 + (size_t)s->nB * W;
+    s->rcs2 = s->ry2 + (size_t)s->nC * (size_t)h;
+    s->rcc2 = s->rcs2 + (size_t)s->nC * (size_t)h;
 
     memset(s->ce, 0, 6 * nb * W * sizeof(double)); /* ce, ca, cb, crgb accumulate */
     for (int b = 0; b < s->nb; b++) {
@@ -153,6 +199,14 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
                 }
             }
         }
+    }
+    coarsen(s->ce, s->ce2, W, s->nB);
+    coarsen(s->ca, s->ca2, W, s->nB);
+    coarsen(s->cb, s->cb2, W, s->nB);
+    coarsen(s->ry, s->ry2, (size_t)h, s->nC);
+    if (row_moments) {
+        coarsen(s->rcs, s->rcs2, (size_t)h, s->nC);
+        coarsen(s->rcc, s->rcc2, (size_t)h, s->nC);
     }
     return LUMIS_OK;
 }
@@ -210,18 +264,9 @@ void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double
         direct_rows(s, r.y0, r.y1, r.x0, r.x1, e, a, b, NULL);
         return;
     }
-    for (int k = b0; k < b1; k++) {
-        const double *ce = s->ce + (size_t)k * W + (size_t)r.x0;
-        for (int i = 0; i < n; i++) e[i] += ce[i];
-        if (a) {
-            const double *ca = s->ca + (size_t)k * W + (size_t)r.x0;
-            for (int i = 0; i < n; i++) a[i] += ca[i];
-        }
-        if (b) {
-            const double *cb = s->cb + (size_t)k * W + (size_t)r.x0;
-            for (int i = 0; i < n; i++) b[i] += cb[i];
-        }
-    }
+    add_bands(s->ce, s->ce2, W, b0, b1, (size_t)r.x0, n, e);
+    if (a) add_bands(s->ca, s->ca2, W, b0, b1, (size_t)r.x0, n, a);
+    if (b) add_bands(s->cb, s->cb2, W, b0, b1, (size_t)r.x0, n, b);
     direct_rows(s, r.y0, b0 * T, r.x0, r.x1, e, a, b, NULL);
     direct_rows(s, b1 * T, r.y1, r.x0, r.x1, e, a, b, NULL);
 }
@@ -241,15 +286,10 @@ void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double
         if (ycs) ycs[k] = ycc[k] = 0.0;
     }
     if (c0 < c1) {
-        for (int c = c0; c < c1; c++) {
-            const size_t o = (size_t)c * H + (size_t)r.y0;
-            const double *ry = s->ry + o;
-            for (int k = 0; k < n; k++) y[k] += ry[k];
-            if (ycs) {
-                const double *rcs = s->rcs + o, *rcc = s->rcc + o;
-                for (int k = 0; k < n; k++) ycs[k] += rcs[k];
-                for (int k = 0; k < n; k++) ycc[k] += rcc[k];
-            }
+        add_bands(s->ry, s->ry2, H, c0, c1, (size_t)r.y0, n, y);
+        if (ycs) {
+            add_bands(s->rcs, s->rcs2, H, c0, c1, (size_t)r.y0, n, ycs);
+            add_bands(s->rcc, s->rcc2, H, c0, c1, (size_t)r.y0, n, ycc);
         }
         d0 = c0 * T;
         d1 = c1 * T;
