@@ -97,17 +97,24 @@ static inline LUMIS__ALWAYS_INLINE void strip_moments(const float *restrict yr,
     *rcc = c;
 }
 
-/* coarse[B] = the sum of fine bands [GROUP B, GROUP (B + 1)), each band n doubles, added
- * in order. */
-static void coarsen(const double *fine, double *coarse, size_t n, int nB)
+/* Coarse column sums: c = f for the group's first band, c += f for the others. */
+static inline LUMIS__ALWAYS_INLINE void coarse_add(double *restrict c, const double *restrict f,
+                                                   size_t n, int first)
 {
-    for (int B = 0; B < nB; B++) {
-        double *c = coarse + (size_t)B * n;
-        const double *f = fine + (size_t)B * STRIPS_GROUP * n;
+    if (first)
         memcpy(c, f, n * sizeof *c);
-        for (int k = 1; k < STRIPS_GROUP; k++)
-            for (size_t i = 0; i < n; i++) c[i] += f[(size_t)k * n + i];
-    }
+    else
+        for (size_t i = 0; i < n; i++) c[i] += f[i];
+}
+
+/* Coarse row sum of row j over group C of column bands (band-major, stride h), in order. */
+static inline LUMIS__ALWAYS_INLINE void coarse_row(const double *fine, double *coarse, size_t h,
+                                                   int C, int j)
+{
+    const double *f = fine + (size_t)C * STRIPS_GROUP * h + (size_t)j;
+    double t = f[0];
+    for (int k = 1; k < STRIPS_GROUP; k++) t += f[(size_t)k * h];
+    coarse[(size_t)C * h + (size_t)j] = t;
 }
 
 /* out[i] += the sum over bands [b0, b1) of band[b][off + i] for i < n, coarse bands where
@@ -174,13 +181,17 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->rcs2 = s->ry2 + (size_t)s->nC * (size_t)h;
     s->rcc2 = s->rcs2 + (size_t)s->nC * (size_t)h;
 
-    memset(s->ce, 0, 6 * nb * W * sizeof(double)); /* ce, ca, cb, crgb accumulate */
     for (int b = 0; b < s->nb; b++) {
         const int j0 = b * T, j1 = j0 + T < h ? j0 + T : h;
-        /* Column chunks whose band sums stay in L1 across the band's rows. */
+        /* Column chunks whose band sums stay in L1 across the band's rows (zeroed there, not
+         * in a pass of their own); a chunk holds whole groups of column bands. */
         for (int x0 = 0; x0 < w; x0 += STRIP_CHUNK) {
             const int x1 = x0 + STRIP_CHUNK < w ? x0 + STRIP_CHUNK : w;
-            const size_t o = (size_t)b * W + (size_t)x0;
+            const size_t o = (size_t)b * W + (size_t)x0, nx = (size_t)(x1 - x0);
+            memset(s->ce + o, 0, nx * sizeof(double));
+            memset(s->ca + o, 0, nx * sizeof(double));
+            memset(s->cb + o, 0, nx * sizeof(double));
+            memset(s->crgb + 3 * o, 0, 3 * nx * sizeof(double));
             for (int j = j0; j < j1; j++) {
                 const size_t p = (size_t)j * W + (size_t)x0;
                 const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
@@ -197,16 +208,24 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
                         strip_moments(yf + p + q, g->cs + i, g->cc + i, n, &s->rcs[rq],
                                       &s->rcc[rq]);
                 }
+                /* the coarse row sums of the chunk's whole groups */
+                for (int C = x0 / T / STRIPS_GROUP; C < s->nC && C * STRIPS_GROUP * T < x1; C++) {
+                    coarse_row(s->ry, s->ry2, (size_t)h, C, j);
+                    if (row_moments) {
+                        coarse_row(s->rcs, s->rcs2, (size_t)h, C, j);
+                        coarse_row(s->rcc, s->rcc2, (size_t)h, C, j);
+                    }
+                }
+            }
+            /* the band's coarse column sums, added in band order */
+            if (b < s->nB * STRIPS_GROUP) {
+                const size_t co = (size_t)(b / STRIPS_GROUP) * W + (size_t)x0;
+                const int first = b % STRIPS_GROUP == 0;
+                coarse_add(s->ce2 + co, s->ce + o, nx, first);
+                coarse_add(s->ca2 + co, s->ca + o, nx, first);
+                coarse_add(s->cb2 + co, s->cb + o, nx, first);
             }
         }
-    }
-    coarsen(s->ce, s->ce2, W, s->nB);
-    coarsen(s->ca, s->ca2, W, s->nB);
-    coarsen(s->cb, s->cb2, W, s->nB);
-    coarsen(s->ry, s->ry2, (size_t)h, s->nC);
-    if (row_moments) {
-        coarsen(s->rcs, s->rcs2, (size_t)h, s->nC);
-        coarsen(s->rcc, s->rcc2, (size_t)h, s->nC);
     }
     return LUMIS_OK;
 }
