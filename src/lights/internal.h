@@ -10,17 +10,22 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Whole-map pixel passes are built twice, for AVX2 and for the baseline, and the loader
- * picks one (GNU ifunc).  Their sums stay bit-identical: AVX2 alone allows no fused
- * multiply-adds, and every sum keeps its order.  GCC only (clang 14 leaves a clone of an
- * external function unresolved at link time) and not under AddressSanitizer, whose
- * runtime may not be up when an ifunc resolver runs. */
+/* Whole-map pixel passes are built several times and the loader picks one (GNU ifunc): the
+ * rectangle methods' band sums for AVX-512, AVX2 and the baseline (LUMIS__SIMD_CLONES; AVX-512
+ * made them ~30 % faster), Wu's passes for AVX2 and the baseline (LUMIS__AVX2_CLONES; its
+ * AVX-512 build measured slower).  Their sums stay bit-identical: contraction into fused
+ * multiply-adds is off (-ffp-contract=off on these files, CMakeLists.txt) and every sum
+ * keeps its order.  GCC only (clang 14 leaves a clone of an external function unresolved
+ * at link time) and not under AddressSanitizer, whose runtime may not be up when an ifunc
+ * resolver runs. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
     !defined(__SANITIZE_ADDRESS__)
 #define LUMIS__ALWAYS_INLINE __attribute__((always_inline))
+#define LUMIS__SIMD_CLONES   __attribute__((target_clones("avx512f", "avx2", "default")))
 #define LUMIS__AVX2_CLONES   __attribute__((target_clones("avx2", "default")))
 #else
 #define LUMIS__ALWAYS_INLINE
+#define LUMIS__SIMD_CLONES
 #define LUMIS__AVX2_CLONES
 #endif
 
@@ -168,11 +173,12 @@ typedef struct lumis__strips {
     const lumis_envmap *env;
     double *ce, *ca, *cb; /* nb x w: sum over the band's rows of Omega_j Y, a_j Y, b_j Y */
     double *crgb;         /* nb x 3w: sum of Omega_j RGB (unscaled) */
-    double *ry;           /* nc x h (band-major): sum over the band's columns of Y */
-    double *rcs, *rcc;    /* nc x h: sum of Y cs_i, Y cc_i (only with row_moments) */
+    size_t hs;            /* the row sums' band stride: h + 8 */
+    double *ry;           /* nc x hs (band-major): sum over the band's columns of Y */
+    double *rcs, *rcc;    /* nc x hs: sum of Y cs_i, Y cc_i (only with row_moments) */
     /* A coarse level of STRIPS_GROUP full bands each, so a tall or wide rectangle's
      * marginals add a few coarse bands instead of many fine ones: nB x w for ce, ca, cb
-     * and nC x h for ry, rcs, rcc (nB, nC = full bands / STRIPS_GROUP). */
+     * and nC x hs for ry, rcs, rcc (nB, nC = full bands / STRIPS_GROUP). */
     int nB, nC;
     double *ce2, *ca2, *cb2, *ry2, *rcs2, *rcc2;
     float *y;        /* w x h: every pixel's luminance (lumis__pixel_y) */

@@ -12,8 +12,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The pixel pass is built for AVX2 too (LUMIS__AVX2_CLONES, internal.h): it is
- * compute-bound at SSE2's two doubles per vector (median cut 11 -> 9.3 ms, docs/lights.md). */
+/* The pixel pass is built for AVX-512 and AVX2 too (LUMIS__SIMD_CLONES, internal.h): it is
+ * compute-bound, not memory-bound (docs/lights.md, performance). */
 
 enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
 enum { STRIPS_GROUP = 8 };                /* fine bands per coarse band */
@@ -139,7 +139,7 @@ static void add_bands(const double *fine, const double *coarse, size_t stride, i
     }
 }
 
-LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g,
+LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g,
                                                    const lumis_envmap *env, int row_moments)
 {
     memset(s, 0, sizeof *s);
@@ -151,10 +151,14 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->nc = (w + T - 1) / T;
     s->g = g;
     s->env = env;
-    const size_t W = (size_t)w, nb = (size_t)s->nb, rows = (size_t)h * (size_t)s->nc;
+    /* row sums band-major with a stride of h plus one cache line: with a stride of a power of
+     * two, a row's bands would all fall in one cache set */
+    s->hs = (size_t)h + 8;
+    const size_t HS = s->hs;
+    const size_t W = (size_t)w, nb = (size_t)s->nb, rows = HS * (size_t)s->nc;
     s->nB = h / T / STRIPS_GROUP;
     s->nC = w / T / STRIPS_GROUP;
-    const size_t coarse = 3 * (size_t)s->nB * W + 3 * (size_t)s->nC * (size_t)h;
+    const size_t coarse = 3 * (size_t)s->nB * W + 3 * (size_t)s->nC * HS;
     size_t total =
         6 * nb * W + (row_moments ? 3 : 1) * rows + 6 * (W > (size_t)h ? W : (size_t)h) + coarse;
     double *mem = malloc(total * sizeof(double));
@@ -178,8 +182,8 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->ca2 = s->ce2 + (size_t)s->nB * W;
     s->cb2 = s->ca2 + (size_t)s->nB * W;
     s->ry2 = s->cb2 + (size_t)s->nB * W;
-    s->rcs2 = s->ry2 + (size_t)s->nC * (size_t)h;
-    s->rcc2 = s->rcs2 + (size_t)s->nC * (size_t)h;
+    s->rcs2 = s->ry2 + (size_t)s->nC * HS;
+    s->rcc2 = s->rcs2 + (size_t)s->nC * HS;
 
     for (int b = 0; b < s->nb; b++) {
         const int j0 = b * T, j1 = j0 + T < h ? j0 + T : h;
@@ -196,27 +200,36 @@ LUMIS__AVX2_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
                 const size_t p = (size_t)j * W + (size_t)x0;
                 const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
                 /* row sums are stored band-major, [c][j]: see lumis__strips_rows */
-                const size_t rb = (size_t)(x0 / T) * (size_t)h + (size_t)j;
+                const size_t rb = (size_t)(x0 / T) * HS + (size_t)j;
                 for (int i = x0, c = 0; i < x1; i += T, c++) {
-                    const size_t rq = rb + (size_t)c * (size_t)h;
+                    const size_t rq = rb + (size_t)c * HS;
                     const size_t q = (size_t)(i - x0);
                     const int n = x1 - i < T ? x1 - i : T;
                     strip_group(env->pixels + (p + q) * 3, yf + p + q, n, g->scale, om, aj, bj,
                                 s->ce + o + q, s->ca + o + q, s->cb + o + q, s->crgb + (o + q) * 3,
                                 &s->ry[rq]);
-                    if (row_moments)
-                        strip_moments(yf + p + q, g->cs + i, g->cc + i, n, &s->rcs[rq],
-                                      &s->rcc[rq]);
                 }
                 /* the coarse row sums of the chunk's whole groups */
                 for (int C = x0 / T / STRIPS_GROUP; C < s->nC && C * STRIPS_GROUP * T < x1; C++) {
-                    coarse_row(s->ry, s->ry2, (size_t)h, C, j);
-                    if (row_moments) {
-                        coarse_row(s->rcs, s->rcs2, (size_t)h, C, j);
-                        coarse_row(s->rcc, s->rcc2, (size_t)h, C, j);
-                    }
+                    coarse_row(s->ry, s->ry2, HS, C, j);
                 }
             }
+            if (row_moments)
+                for (int j = j0; j < j1; j++) {
+                    const size_t p = (size_t)j * W + (size_t)x0;
+                    const size_t rb = (size_t)(x0 / T) * HS + (size_t)j;
+                    for (int i = x0, c = 0; i < x1; i += T, c++) {
+                        const size_t rq = rb + (size_t)c * HS;
+                        const int n = x1 - i < T ? x1 - i : T;
+                        strip_moments(yf + p + (size_t)(i - x0), g->cs + i, g->cc + i, n,
+                                      &s->rcs[rq], &s->rcc[rq]);
+                    }
+                    for (int C = x0 / T / STRIPS_GROUP; C < s->nC && C * STRIPS_GROUP * T < x1;
+                         C++) {
+                        coarse_row(s->rcs, s->rcs2, HS, C, j);
+                        coarse_row(s->rcc, s->rcc2, HS, C, j);
+                    }
+                }
             /* the band's coarse column sums, added in band order */
             if (b < s->nB * STRIPS_GROUP) {
                 const size_t co = (size_t)(b / STRIPS_GROUP) * W + (size_t)x0;
@@ -296,7 +309,7 @@ void lumis__strips_cols(const lumis__strips *s, lumis__rect r, double *e, double
 void lumis__strips_rows(const lumis__strips *s, lumis__rect r, double *y, double *ycs, double *ycc)
 {
     const int T = s->T, n = r.y1 - r.y0;
-    const size_t H = (size_t)s->h;
+    const size_t H = s->hs;
     const lumis__geom *g = s->g;
     const int c0 = (r.x0 + T - 1) / T, c1 = r.x1 / T;
     int d0 = r.x1, d1 = r.x1; /* the direct stretches: [x0, d0) and [d1, x1) */
