@@ -358,6 +358,115 @@ static void median_cut_regions_have_equal_energy(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* 16-point Gauss-Legendre (two 8-point rules on the halves) of f over [a, b]. */
+static double gauss16(double (*f)(double), double a, double b)
+{
+    static const double x8[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                 -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                 0.7966664774136267,  0.9602898564975363};
+    static const double w8[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                 0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                 0.2223810344533745, 0.1012285362903763};
+    double s = 0.0;
+    for (int k = 0; k < 16; k++)
+        s += w8[k % 8] * f(0.5 * (a + b) + 0.25 * (b - a) * ((k < 8 ? -1 : 1) + x8[k % 8]));
+    return s * 0.25 * (b - a);
+}
+static double sin_sq(double t)
+{
+    return sin(t) * sin(t);
+}
+static double sin_cos(double t)
+{
+    return sin(t) * cos(t);
+}
+
+/* Energy-weighted directional variance E - |M|^2 / E of a region from its sums. */
+static long double region_variance(const long double v[4])
+{
+    if (!(v[0] > 0)) return 0;
+    long double r = v[0] - (v[1] * v[1] + v[2] * v[2] + v[3] * v[3]) / v[0];
+    return r > 0 ? r : 0;
+}
+
+/* Variance minimisation picks, for every region it splits, the cut of least summed
+ * variance of the two halves over every column and row position: checked against brute
+ * force in long double, with the pixels' first moments by quadrature (a map of 300 x 150
+ * takes the band sums' fine, coarse and direct paths). */
+static void variance_min_splits_minimise_the_summed_variance(void **state)
+{
+    (void)state;
+    const int W = 300, H = 150;
+    lumis_envmap *env = make_env(W, H, sky_pixel, 0.0f, 0.0f);
+    /* per-pixel sums: E = Y Omega and M = Y m, m = (A_j C_i, B_j, A_j S_i) */
+    long double *q = malloc((size_t)W * H * 4 * sizeof(long double));
+    assert_non_null(q);
+    for (int j = 0; j < H; j++) {
+        double t0 = PI * j / H, t1 = PI * (j + 1) / H;
+        double A = gauss16(sin_sq, t0, t1), B = gauss16(sin_cos, t0, t1) * 2 * PI / W;
+        for (int i = 0; i < W; i++) {
+            double p0 = 2 * PI * i / W, p1 = 2 * PI * (i + 1) / W;
+            long double y = pixel_y(env, i, j), *o = q + ((size_t)j * W + (size_t)i) * 4;
+            o[0] = y * (long double)lumis_envmap_pixel_solid_angle(env, j);
+            o[1] = y * (long double)(A * (sin(p1) - sin(p0)));
+            o[2] = y * (long double)B;
+            o[3] = y * (long double)(A * (cos(p0) - cos(p1)));
+        }
+    }
+    int checked = 0;
+    for (int k = 2; k <= 16; k *= 2) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(build_vm(env, k, &set), LUMIS_OK);
+        int w, h;
+        const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+        for (int p = 0; p < k; p += 2) { /* lights 2i and 2i + 1: the halves of one split */
+            box a = label_box(lab, w, h, p), b = label_box(lab, w, h, p + 1);
+            box u = {a.x0 < b.x0 ? a.x0 : b.x0, a.y0 < b.y0 ? a.y0 : b.y0,
+                     a.x1 > b.x1 ? a.x1 : b.x1, a.y1 > b.y1 ? a.y1 : b.y1};
+            const int nx = u.x1 - u.x0, ny = u.y1 - u.y0;
+            /* the parent's column and row marginals */
+            long double *col = calloc((size_t)nx * 4, sizeof *col),
+                        *row = calloc((size_t)ny * 4, sizeof *row), tot[4] = {0, 0, 0, 0};
+            assert_true(col && row);
+            for (int j = u.y0; j < u.y1; j++)
+                for (int i = u.x0; i < u.x1; i++)
+                    for (int c = 0; c < 4; c++) {
+                        long double v = q[((size_t)j * W + (size_t)i) * 4 + (size_t)c];
+                        col[(i - u.x0) * 4 + c] += v;
+                        row[(j - u.y0) * 4 + c] += v;
+                        tot[c] += v;
+                    }
+            long double best = INFINITY, chosen = -1;
+            for (int axis = 0; axis < 2; axis++) {
+                const int n = axis ? ny : nx;
+                const long double *m = axis ? row : col;
+                long double pre[4] = {0, 0, 0, 0};
+                for (int c = 1; c < n; c++) {
+                    long double rest[4];
+                    for (int t = 0; t < 4; t++) {
+                        pre[t] += m[(c - 1) * 4 + t];
+                        rest[t] = tot[t] - pre[t];
+                    }
+                    long double v = region_variance(pre) + region_variance(rest);
+                    if (v < best) best = v;
+                    int hit = axis ? (a.y1 == u.y0 + c && b.y0 == a.y1)
+                                   : (a.x1 == u.x0 + c && b.x0 == a.x1);
+                    if (hit) chosen = v;
+                }
+            }
+            assert_true(chosen >= 0); /* the two halves are the two sides of one cut */
+            assert_true(chosen <= best + 1e-9L * tot[0]);
+            free(col);
+            free(row);
+            checked++;
+        }
+        lumis_light_set_destroy(set);
+    }
+    assert_int_equal(checked, 1 + 2 + 4 + 8);
+    free(q);
+    lumis_envmap_destroy(env);
+}
+
 /* The first moment of pixel (i, j) of a w x h map by 16 x 16 Gauss-Legendre quadrature in
  * (theta, phi): independent of the library's closed form. */
 static void pixel_moment_quadrature(int w, int h, int i, int j, double m[3])
@@ -933,6 +1042,7 @@ int main(void)
         cmocka_unit_test(every_method_conserves_power),
         cmocka_unit_test(wu_on_tiled_maps_conserves_power),
         cmocka_unit_test(median_cut_regions_have_equal_energy),
+        cmocka_unit_test(variance_min_splits_minimise_the_summed_variance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(one_light_per_pixel_is_exact),
