@@ -180,9 +180,9 @@ typedef struct lumis__strips {
      * marginals add a few coarse bands instead of many fine ones: nB x w for ce, ca, cb
      * and nC x hs for ry, rcs, rcc (nB, nC = full bands / STRIPS_GROUP). */
     int nB, nC;
-    double *ce2, *ca2, *cb2, *ry2, *rcs2, *rcc2;
+    double *ce2, *ca2, *cb2, *ry2, *rcs2, *rcc2, *crgb2; /* crgb2: nB x 3w */
     float *y;        /* w x h: every pixel's luminance (lumis__pixel_y) */
-    double *scratch; /* 6 max(w, h) doubles, used by lumis__strips_rect */
+    double *scratch; /* 7 max(w, h) doubles, used by lumis__strips_rect and _lights_from_strips */
     size_t scratch_n;
 } lumis__strips;
 

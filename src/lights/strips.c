@@ -158,9 +158,9 @@ LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     const size_t W = (size_t)w, nb = (size_t)s->nb, rows = HS * (size_t)s->nc;
     s->nB = h / T / STRIPS_GROUP;
     s->nC = w / T / STRIPS_GROUP;
-    const size_t coarse = 3 * (size_t)s->nB * W + 3 * (size_t)s->nC * HS;
+    const size_t coarse = 6 * (size_t)s->nB * W + 3 * (size_t)s->nC * HS;
     size_t total =
-        6 * nb * W + (row_moments ? 3 : 1) * rows + 6 * (W > (size_t)h ? W : (size_t)h) + coarse;
+        6 * nb * W + (row_moments ? 3 : 1) * rows + 7 * (W > (size_t)h ? W : (size_t)h) + coarse;
     double *mem = malloc(total * sizeof(double));
     float *yf = malloc((size_t)w * (size_t)h * sizeof(float));
     if (!mem || !yf) {
@@ -177,13 +177,14 @@ LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
     s->rcs = row_moments ? s->ry + rows : NULL;
     s->rcc = row_moments ? s->rcs + rows : NULL;
     s->scratch = (row_moments ? s->rcc : s->ry) + rows;
-    s->scratch_n = 6 * (W > (size_t)h ? W : (size_t)h);
+    s->scratch_n = 7 * (W > (size_t)h ? W : (size_t)h);
     s->ce2 = s->scratch + s->scratch_n;
     s->ca2 = s->ce2 + (size_t)s->nB * W;
     s->cb2 = s->ca2 + (size_t)s->nB * W;
     s->ry2 = s->cb2 + (size_t)s->nB * W;
     s->rcs2 = s->ry2 + (size_t)s->nC * HS;
     s->rcc2 = s->rcs2 + (size_t)s->nC * HS;
+    s->crgb2 = s->rcc2 + (size_t)s->nC * HS;
 
     for (int b = 0; b < s->nb; b++) {
         const int j0 = b * T, j1 = j0 + T < h ? j0 + T : h;
@@ -237,6 +238,7 @@ LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
                 coarse_add(s->ce2 + co, s->ce + o, nx, first);
                 coarse_add(s->ca2 + co, s->ca + o, nx, first);
                 coarse_add(s->cb2 + co, s->cb + o, nx, first);
+                coarse_add(s->crgb2 + 3 * co, s->crgb + 3 * o, 3 * nx, first);
             }
         }
     }
@@ -370,13 +372,14 @@ void lumis__strips_rect(const lumis__strips *s, lumis__rect r, lumis__acc *acc)
     if (b0 >= b1) {
         direct_rows(s, r.y0, r.y1, r.x0, r.x1, NULL, NULL, NULL, rgb);
     } else {
-        for (int k = b0; k < b1; k++) {
-            const double *cr = s->crgb + ((size_t)k * W + (size_t)r.x0) * 3;
-            for (int i = 0; i < n; i++) {
-                rgb[0] += cr[3 * i];
-                rgb[1] += cr[3 * i + 1];
-                rgb[2] += cr[3 * i + 2];
-            }
+        /* each column's RGB over the bands (elementwise, so vectorised), then the columns */
+        double *cr = b + W;
+        for (int i = 0; i < 3 * n; i++) cr[i] = 0.0;
+        add_bands(s->crgb, s->crgb2, 3 * W, b0, b1, 3 * (size_t)r.x0, 3 * n, cr);
+        for (int i = 0; i < n; i++) {
+            rgb[0] += cr[3 * i];
+            rgb[1] += cr[3 * i + 1];
+            rgb[2] += cr[3 * i + 2];
         }
         direct_rows(s, r.y0, b0 * T, r.x0, r.x1, NULL, NULL, NULL, rgb);
         direct_rows(s, b1 * T, r.y1, r.x0, r.x1, NULL, NULL, NULL, rgb);
@@ -390,7 +393,8 @@ void lumis__lights_from_strips(lumis_light_set *set, const lumis__strips *s,
                                const lumis__rect *rects, int k)
 {
     const lumis__geom *g = s->g;
-    int32_t *fill = (int32_t *)(void *)(s->scratch + 4 * (size_t)s->w); /* a row of label q */
+    /* a row of label q, past lumis__strips_rect's part of the scratch */
+    int32_t *fill = (int32_t *)(void *)(s->scratch + 6 * (size_t)(s->w > s->h ? s->w : s->h));
     for (int q = 0; q < k; q++) {
         const lumis__rect r = rects[q];
         const size_t n = (size_t)(r.x1 - r.x0);
