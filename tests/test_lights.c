@@ -3,6 +3,8 @@
  * input (docs/lights.md). */
 #include "testutil.h"
 
+#include "lights/penrose.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -715,6 +717,138 @@ static void wu_parts_and_ablations(void **state)
 }
 
 /* Table 1's other baselines: every invariant of the others, on every map kind. */
+/* ---- FHIS's Penrose tiling ----------------------------------------------------------- */
+
+static double tri_area(double p[3][2])
+{
+    return 0.5 *
+           ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]));
+}
+
+static int in_tri(double p[3][2], double x, double y)
+{
+    for (int e = 0; e < 3; e++) {
+        const double *a = p[e], *b = p[(e + 1) % 3];
+        if ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) < 0) return 0;
+    }
+    return 1;
+}
+
+typedef struct tiling {
+    lumis__ptile *tri;
+    int ntri, nsamp, max_is, fcode_ok;
+} tiling;
+
+static void tile_down(const lumis__ptile *t, int level, tiling *out)
+{
+    if (t->level == level) {
+        if (t->type >= LUMIS__PT_C)
+            out->tri[out->ntri++] = *t;
+        else {
+            out->nsamp++;
+            int is = lumis__penrose_structural_index(t->fcode);
+            if (is > out->max_is) out->max_is = is;
+        }
+        /* no two adjacent ones: a Zeckendorf code */
+        if (t->fcode & (t->fcode >> 1)) out->fcode_ok = 0;
+        return;
+    }
+    lumis__ptile c[4];
+    int n = lumis__ptile_split(t, c);
+    for (int k = 0; k < n; k++) tile_down(&c[k], level, out);
+}
+
+/* Every split's children tile their parent exactly: down to level 9 the triangles' areas
+ * add up to the root's, all counter-clockwise, and random points of the root fall in
+ * exactly one; triangles and sampling tiles grow as the Fibonacci numbers. */
+static void penrose_children_tile_their_parent(void **state)
+{
+    (void)state;
+    lumis__ptile root = lumis__penrose_root(300, 200);
+    double rp[3][2];
+    lumis__ptile_vertices(&root, rp);
+    const double ra = tri_area(rp);
+    assert_true(ra > 0);
+    /* the root covers the map */
+    assert_true(in_tri(rp, 0, 0) && in_tri(rp, 300, 0) && in_tri(rp, 0, 200) &&
+                in_tri(rp, 300, 200));
+    static const int tris[] = {1, 3, 8, 21, 55, 144, 377, 987, 2584, 6765};
+    static const int samp[] = {0, 1, 3, 9, 26, 71, 188, 493, 1291, 3381};
+    tiling t = {malloc(6765 * sizeof(lumis__ptile)), 0, 0, 0, 1};
+    assert_non_null(t.tri);
+    for (int level = 0; level <= 9; level++) {
+        t.ntri = t.nsamp = 0;
+        tile_down(&root, level, &t);
+        assert_int_equal(t.ntri, tris[level]);
+        assert_int_equal(t.nsamp, samp[level]);
+        double sum = 0.0;
+        for (int k = 0; k < t.ntri; k++) {
+            double p[3][2];
+            lumis__ptile_vertices(&t.tri[k], p);
+            double a = tri_area(p);
+            assert_true(a > 0);
+            sum += a;
+        }
+        assert_true(fabs(sum - ra) <= 1e-9 * ra);
+        if (level < 4) continue;
+        uint32_t r = 7;
+        for (int q = 0; q < 300; q++) {
+            double u = (hash(r++) & 0xffff) / 65536.0, v = (hash(r++) & 0xffff) / 65536.0;
+            if (u + v > 1) u = 1 - u, v = 1 - v;
+            double x = rp[0][0] + u * (rp[1][0] - rp[0][0]) + v * (rp[2][0] - rp[0][0]);
+            double y = rp[0][1] + u * (rp[1][1] - rp[0][1]) + v * (rp[2][1] - rp[0][1]);
+            int hits = 0;
+            for (int k = 0; k < t.ntri; k++) {
+                double p[3][2];
+                lumis__ptile_vertices(&t.tri[k], p);
+                hits += in_tri(p, x, y);
+            }
+            assert_int_equal(hits, 1);
+        }
+    }
+    assert_true(t.fcode_ok);
+    assert_int_equal(t.max_is, 20); /* structural indices 0 .. 20 */
+    free(t.tri);
+    /* F-code values and indices */
+    assert_true(lumis__fcode_value(1, 1) == 1 && lumis__fcode_value(1, 2) == 2);
+    assert_true(lumis__fcode_value(2, 2) == 1 && lumis__fcode_value(5, 3) == 4);
+    assert_true(lumis__fcode_value((uint64_t)1 << 40, 42) == 2); /* weights stay put */
+    assert_int_equal(lumis__penrose_level_for(0.0), 0);
+    assert_int_equal(lumis__penrose_level_for(1.0), 1);
+    for (int iv = 0; iv < 21; iv++) {
+        double I = (pow(2.6180339887498949, 9.0 + (iv + 0.5) / 21.0) - 1.0) / sqrt(5.0);
+        assert_int_equal(lumis__penrose_importance_index(I), iv);
+    }
+}
+
+/* FHIS's points follow the importance: on a map twice as bright on its left half, the
+ * left half gets about twice the lights (one light per point, K = 600). */
+static float halves_pixel(int w, int h, int i, int j, int c)
+{
+    (void)h, (void)j, (void)c;
+    return i < w / 2 ? 2.0f : 1.0f;
+}
+
+static void fhis_points_follow_the_importance(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, halves_pixel, 0.0f, 0.0f);
+    lumis_light_set *set = NULL;
+    assert_int_equal(build_fhis(env, 600, &set), LUMIS_OK);
+    const lumis_light *L;
+    int n, left = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    assert_int_equal(n, 600);
+    for (int k = 0; k < n; k++) {
+        float u, v;
+        lumis_envmap_dir_to_uv(env, L[k].dir, &u, &v);
+        left += u < 0.5f;
+    }
+    assert_true(left > 370 && left < 430); /* 400 expected */
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
 {
     (void)state;
@@ -786,7 +920,7 @@ static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
             assert_memory_equal(la, lb, (size_t)na * sizeof *la);
             differs |= memcmp(la, lc, (size_t)na * sizeof *la) != 0;
         }
-        assert_true(differs); /* the seed moves FHIS's points, and every set's jitter */
+        assert_true(differs); /* the seed moves every interleaved set's jitter */
         assert_memory_equal(lumis_light_set_labels(a, NULL, NULL),
                             lumis_light_set_labels(b, NULL, NULL), 128 * 64 * sizeof(int32_t));
         lumis_light_set_destroy(a);
@@ -1043,6 +1177,8 @@ int main(void)
         cmocka_unit_test(wu_on_tiled_maps_conserves_power),
         cmocka_unit_test(median_cut_regions_have_equal_energy),
         cmocka_unit_test(variance_min_splits_minimise_the_summed_variance),
+        cmocka_unit_test(penrose_children_tile_their_parent),
+        cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(one_light_per_pixel_is_exact),

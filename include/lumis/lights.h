@@ -175,13 +175,14 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 
 typedef lumis_median_cut_desc lumis_fhis_desc;
 
-/* FHIS-style hierarchical importance sampling (after Ostromoukhov, Donohue & Jodoin 2004),
- * a simplified variant without the Penrose tiling: K points by systematic sampling of the
- * energy (Y Omega) along a Hilbert curve over the map (a hierarchical, stratified point
- * process; the seed moves the one random offset), one light at each point, whose region
- * is the pixels nearer to it than to any other point (a Voronoi cell on the sphere, so
- * power is conserved).  Lights sit at the sample points, not at their cells' centroids.
- * Cost: O(pixels log pixels) for the curve order, O(pixels x candidates) for the cells. */
+/* FHIS (Ostromoukhov, Donohue & Jodoin 2004): K points of the paper's hierarchical Penrose
+ * tiling, thresholded by their Fibonacci-numbered F-codes against the importance (the
+ * energy Y Omega per pixel times a magnitude found by bisection, so that exactly K points
+ * fall in distinct pixels) and moved by a correction-vector table, one light at each point,
+ * whose region is the pixels nearer to it than to any other point (a Voronoi cell on the
+ * sphere, so power is conserved).  Deterministic: the seed moves only the interleaved sets'
+ * jitter.  Lights sit at the sample points, not at their cells' centroids.  docs/lights.md
+ * says what follows the paper and what is ours. */
 lumis_status lumis_lights_fhis(const lumis_envmap *env, const lumis_fhis_desc *desc,
                                lumis_light_set **out);
 
