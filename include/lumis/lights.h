@@ -81,9 +81,10 @@ typedef struct lumis_median_cut_desc {
  * rectangle's middle row), level by level; K that is not a power of two splits only the
  * most energetic regions of the last level.  Exact pixel-resolution marginals from band
  * sums of 16 rows / columns made in one pass (docs/lights.md).
- * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
- * w h (4 + 3.4) bytes of temporary memory (a float luminance array and the band sums).
- * About 12 ms at 2048 x 1024, K = 64, on one core of the project's Xeon (docs/lights.md). */
+ * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits, less where a
+ * coarse level of 8 bands covers a region; about w h (4 + 4.1) bytes of temporary memory
+ * (a float luminance array and the band sums).  About 5.3-6.9 ms at 2048 x 1024, K = 64,
+ * on one core of the project's Xeon (docs/lights.md, performance). */
 lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
                                      lumis_light_set **out);
 
@@ -95,7 +96,7 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
  * partial level splits the regions of largest variance.  Marginals of energy and moment
  * along both axes from the same band sums as median cut.
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
- * w h (4 + 4.1) bytes of temporary memory; about 18 ms at 2048 x 1024, K = 64. */
+ * w h (4 + 5.1) bytes of temporary memory; about 7.8-9.2 ms at 2048 x 1024, K = 64. */
 lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
                                        lumis_light_set **out);
 
