@@ -5,6 +5,7 @@
 #ifndef LUMIS_LIGHTS_FHIS_LUT_H
 #define LUMIS_LIGHTS_FHIS_LUT_H
 
+/* clang-format off */
 static const float lumis__fhis_lut[21][21][2] = {
     {{-0.002988f, 0.140716f}, {0.002136f, -0.044081f}, {-0.000569f, -0.358420f},
      {0.017993f, -0.185288f}, {-0.027951f, 0.036743f}, {0.151067f, 0.374212f},
@@ -154,5 +155,6 @@ static const float lumis__fhis_lut[21][21][2] = {
      {0.002923f, 0.240127f}, {-0.003027f, 0.247759f}, {-0.003387f, 0.291984f},
      {-0.032438f, 0.230090f}, {-0.020282f, 0.240384f}, {-0.012507f, 0.290320f}}
 };
+/* clang-format on */
 
 #endif
