@@ -18,37 +18,15 @@
 enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
 enum { STRIPS_GROUP = 8 };                /* fine bands per coarse band */
 
-/* One row's stretch of n <= 16 pixels (a column band): luminance (lumis__pixel_y) into yr,
- * the band's column sums, and the sum of Y over the stretch into *ry.  The n == 16 case has
- * fixed trip counts, so the compiler vectorises it even at -O2; each column's sum is still
- * accumulated row by row, and the stretch's sum of Y is a fixed pairwise tree. */
+/* One row's stretch of n < 16 pixels (the map's last, partial column band): luminance
+ * (lumis__pixel_y) into yr, the band's column sums, and the sum of Y over the stretch into
+ * *ry.  Whole bands go through strip_band. */
 static inline LUMIS__ALWAYS_INLINE void strip_group(const float *restrict px, float *restrict yr,
                                                     int n, double sc, double om, double aj,
                                                     double bj, double *restrict ce,
                                                     double *restrict ca, double *restrict cb,
                                                     double *restrict cr, double *restrict ry)
 {
-    double y[STRIP_T];
-    if (n == STRIP_T) {
-        double d[3 * STRIP_T];
-        for (int k = 0; k < 3 * STRIP_T; k++) d[k] = px[k];
-        for (int k = 0; k < 3 * STRIP_T; k++) cr[k] += om * d[k];
-        for (int k = 0; k < STRIP_T; k++) {
-            float f =
-                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
-            yr[k] = f;
-            y[k] = f;
-        }
-        for (int k = 0; k < STRIP_T; k++) {
-            ce[k] += om * y[k];
-            ca[k] += aj * y[k];
-            cb[k] += bj * y[k];
-        }
-        for (int k = 0; k < 8; k++) y[k] += y[k + 8];
-        for (int k = 0; k < 4; k++) y[k] += y[k + 4];
-        *ry = (y[0] + y[2]) + (y[1] + y[3]);
-        return;
-    }
     double sy = 0.0;
     for (int k = 0; k < n; k++) {
         float f = lumis__pixel_y(px + 3 * k, sc);
@@ -61,6 +39,92 @@ static inline LUMIS__ALWAYS_INLINE void strip_group(const float *restrict px, fl
         sy += v;
     }
     *ry = sy;
+}
+
+/* Eight doubles, eight floats: GCC's vector extensions, so that the column sums below are
+ * values (registers), not arrays the compiler keeps on the stack; the AVX-512 build makes
+ * each one register, the others two or four. */
+typedef double v8d __attribute__((vector_size(64)));
+typedef float v8f __attribute__((vector_size(32)));
+
+/* (macros: a function returning or taking a vector would change the ABI per build) */
+#define LOAD8(v, p)                                                                                \
+    do {                                                                                           \
+        v8f f_;                                                                                    \
+        memcpy(&f_, (p), sizeof f_);                                                               \
+        (v) = __builtin_convertvector(f_, v8d);                                                    \
+    } while (0)
+#define STORE8(p, v) memcpy((p), &(v), sizeof(v8d))
+
+/* A whole column band of 16 columns over the rows [0, rows) of a row band: strip_group's
+ * n == 16 case row after row, with the band's 96 column sums held as values across the
+ * rows instead of added to memory at every row, and stored once.  The same additions in
+ * the same order (each column's sum starts at 0 and adds its rows in order), so the same
+ * bits.  px, yr: the band's first row; W: the map's width; om, aj, bj: the factors from
+ * the band's first row; ry: the rows' stretch sums, one per row. */
+static inline LUMIS__ALWAYS_INLINE void
+strip_band(const float *restrict px, float *restrict yr, size_t W, int rows, double sc,
+           const double *restrict om, const double *restrict aj, const double *restrict bj,
+           double *restrict ce, double *restrict ca, double *restrict cb, double *restrict cr,
+           double *restrict ry)
+{
+    const v8d z = {0};
+    v8d r0 = z, r1 = z, r2 = z, r3 = z, r4 = z, r5 = z, e0 = z, e1 = z, a0 = z, a1 = z, b0 = z,
+        b1 = z;
+    for (int t = 0; t < rows; t++) {
+        const float *p = px + (size_t)t * 3 * W;
+        const double o = om[t], ja = aj[t], jb = bj[t];
+        double d[3 * STRIP_T], y[STRIP_T];
+        v8d d0, d1, d2, d3, d4, d5;
+        LOAD8(d0, p);
+        LOAD8(d1, p + 8);
+        LOAD8(d2, p + 16);
+        LOAD8(d3, p + 24);
+        LOAD8(d4, p + 32);
+        LOAD8(d5, p + 40);
+        r0 += o * d0;
+        r1 += o * d1;
+        r2 += o * d2;
+        r3 += o * d3;
+        r4 += o * d4;
+        r5 += o * d5;
+        STORE8(d, d0);
+        STORE8(d + 8, d1);
+        STORE8(d + 16, d2);
+        STORE8(d + 24, d3);
+        STORE8(d + 32, d4);
+        STORE8(d + 40, d5);
+        for (int k = 0; k < STRIP_T; k++) {
+            float f =
+                (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
+            yr[(size_t)t * W + (size_t)k] = f;
+            y[k] = f;
+        }
+        v8d y0, y1;
+        memcpy(&y0, y, sizeof y0);
+        memcpy(&y1, y + 8, sizeof y1);
+        e0 += o * y0;
+        e1 += o * y1;
+        a0 += ja * y0;
+        a1 += ja * y1;
+        b0 += jb * y0;
+        b1 += jb * y1;
+        for (int k = 0; k < 8; k++) y[k] += y[k + 8];
+        for (int k = 0; k < 4; k++) y[k] += y[k + 4];
+        ry[t] = (y[0] + y[2]) + (y[1] + y[3]);
+    }
+    STORE8(ce, e0);
+    STORE8(ce + 8, e1);
+    STORE8(ca, a0);
+    STORE8(ca + 8, a1);
+    STORE8(cb, b0);
+    STORE8(cb + 8, b1);
+    STORE8(cr, r0);
+    STORE8(cr + 8, r1);
+    STORE8(cr + 16, r2);
+    STORE8(cr + 24, r3);
+    STORE8(cr + 32, r4);
+    STORE8(cr + 40, r5);
 }
 
 /* Sums of Y cs and Y cc over a stretch of n <= 16 pixels of a row (variance minimisation's
@@ -193,28 +257,32 @@ LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
         for (int x0 = 0; x0 < w; x0 += STRIP_CHUNK) {
             const int x1 = x0 + STRIP_CHUNK < w ? x0 + STRIP_CHUNK : w;
             const size_t o = (size_t)b * W + (size_t)x0, nx = (size_t)(x1 - x0);
-            memset(s->ce + o, 0, nx * sizeof(double));
-            memset(s->ca + o, 0, nx * sizeof(double));
-            memset(s->cb + o, 0, nx * sizeof(double));
-            memset(s->crgb + 3 * o, 0, 3 * nx * sizeof(double));
-            for (int j = j0; j < j1; j++) {
-                const size_t p = (size_t)j * W + (size_t)x0;
-                const double om = g->omega[j], aj = g->a[j], bj = g->b[j];
-                /* row sums are stored band-major, [c][j]: see lumis__strips_rows */
-                const size_t rb = (size_t)(x0 / T) * HS + (size_t)j;
-                for (int i = x0, c = 0; i < x1; i += T, c++) {
-                    const size_t rq = rb + (size_t)c * HS;
-                    const size_t q = (size_t)(i - x0);
-                    const int n = x1 - i < T ? x1 - i : T;
-                    strip_group(env->pixels + (p + q) * 3, yf + p + q, n, g->scale, om, aj, bj,
-                                s->ce + o + q, s->ca + o + q, s->cb + o + q, s->crgb + (o + q) * 3,
-                                &s->ry[rq]);
+            /* row sums are stored band-major, [c][j]: see lumis__strips_rows */
+            for (int i = x0, c = 0; i < x1; i += T, c++) {
+                const size_t q = (size_t)(i - x0), p0 = (size_t)j0 * W + (size_t)x0 + q;
+                const size_t rq = (size_t)(x0 / T + c) * HS + (size_t)j0;
+                if (x1 - i >= T) { /* a whole column band: its sums in registers */
+                    strip_band(env->pixels + p0 * 3, yf + p0, W, j1 - j0, g->scale, g->omega + j0,
+                               g->a + j0, g->b + j0, s->ce + o + q, s->ca + o + q, s->cb + o + q,
+                               s->crgb + (o + q) * 3, &s->ry[rq]);
+                    continue;
                 }
-                /* the coarse row sums of the chunk's whole groups */
-                for (int C = x0 / T / STRIPS_GROUP; C < s->nC && C * STRIPS_GROUP * T < x1; C++) {
-                    coarse_row(s->ry, s->ry2, HS, C, j);
+                const int n = x1 - i;
+                memset(s->ce + o + q, 0, (size_t)n * sizeof(double));
+                memset(s->ca + o + q, 0, (size_t)n * sizeof(double));
+                memset(s->cb + o + q, 0, (size_t)n * sizeof(double));
+                memset(s->crgb + 3 * (o + q), 0, 3 * (size_t)n * sizeof(double));
+                for (int j = j0; j < j1; j++) {
+                    const size_t p = p0 + (size_t)(j - j0) * W;
+                    strip_group(env->pixels + p * 3, yf + p, n, g->scale, g->omega[j], g->a[j],
+                                g->b[j], s->ce + o + q, s->ca + o + q, s->cb + o + q,
+                                s->crgb + (o + q) * 3, &s->ry[rq + (size_t)(j - j0)]);
                 }
             }
+            /* the coarse row sums of the chunk's whole groups */
+            for (int j = j0; j < j1; j++)
+                for (int C = x0 / T / STRIPS_GROUP; C < s->nC && C * STRIPS_GROUP * T < x1; C++)
+                    coarse_row(s->ry, s->ry2, HS, C, j);
             if (row_moments)
                 for (int j = j0; j < j1; j++) {
                     const size_t p = (size_t)j * W + (size_t)x0;
