@@ -262,81 +262,107 @@ static void row_tiles(const lumis__tiles *t, const lumis__geom *g, const float *
     }
 }
 
-/* row_luminance and row_tiles in one loop, for tiles of 4: the sums of a group of 16
- * pixels' four tiles are made while the group is in registers, so their arithmetic
- * overlaps the loads of the next pixels instead of following the row's (the sums, in
- * stretch_sums' order, and Y are those of the two functions, bit for bit). */
-static LUMIS__AVX2_CLONES double row_pass(const lumis__tiles *t, const lumis__geom *g,
-                                          const float *restrict px, float *restrict yr, int j,
-                                          float *ymax)
+/* Four doubles: GCC's vector extensions, so that a group's four tiles' sums stay values
+ * (registers) across the tile's rows rather than memory added to at every row. */
+typedef double v4d __attribute__((vector_size(32)));
+
+/* row_luminance and row_tiles in one loop, for tiles of 4, over one row of tiles (rows j0 ..
+ * j0 + rows - 1, rows <= 4, j0 a multiple of 4): for each group of 16 columns, the four
+ * tiles' sums are carried in registers through the rows (lane u the group's u-th tile) and
+ * stored once.  Every sum is the one of stretch_sums then tile_add, in the same order (a
+ * tile's first row assigns, the others add), and Y is row_luminance's, bit for bit.  yr
+ * receives the rows' luminance (row t at yr + t w), rowsum their sums of Y. */
+static LUMIS__AVX2_CLONES void row_pass(const lumis__tiles *t, const lumis__geom *g,
+                                        const float *restrict px, float *restrict yr, int j0,
+                                        int rows, float *ymax, double *restrict rowsum)
 {
     enum { G = 16 };
     const int w = g->w;
-    const double sc = g->scale, om = g->omega[j], a = g->a[j], b = g->b[j];
-    const size_t q0 = (size_t)(j / 4 + 1) * ((size_t)t->tw + 1) + 1;
-    const int first = j % 4 == 0;
+    const size_t W = (size_t)w;
+    const double sc = g->scale;
+    const size_t q0 = (size_t)(j0 / 4 + 1) * ((size_t)t->tw + 1) + 1;
     double *restrict tE = t->q[LUMIS__Q_E] + q0, *restrict tX = t->q[LUMIS__Q_MX] + q0,
                      *restrict tY = t->q[LUMIS__Q_MY] + q0, *restrict tZ = t->q[LUMIS__Q_MZ] + q0,
                      *restrict tR = t->rgb[0] + q0, *restrict tG = t->rgb[1] + q0,
                      *restrict tB = t->rgb[2] + q0;
-    double row = 0.0;
     float mx[G];
     for (int k = 0; k < G; k++) mx[k] = *ymax;
+    for (int r = 0; r < rows; r++) rowsum[r] = 0.0;
     int i = 0;
-    const float *p = px;
-    for (; i + G <= w; i += G, p += 3 * G) {
-        double d[3 * G], v[G];
-        group_luminance(p, sc, d, v, yr + i, mx);
-        /* the group's four tiles from the values in registers (through stretch_sums and
-         * tile_add, reading them again from memory, the pass measured 1.8 ms slower) */
-        for (int u = 0; u < 4; u++) {
-            const int o = 4 * u, tx = i / 4 + u;
-            const double *cs = g->cs + i + o, *cc = g->cc + i + o;
-            double ys = v[o], ycs = v[o] * cs[0], ycc = v[o] * cc[0];
-            double r = d[3 * o], gr = d[3 * o + 1], bl = d[3 * o + 2];
-            for (int k = 1; k < 4; k++) {
-                ys += v[o + k];
-                ycs += v[o + k] * cs[k];
-                ycc += v[o + k] * cc[k];
-                r += d[3 * (o + k)];
-                gr += d[3 * (o + k) + 1];
-                bl += d[3 * (o + k) + 2];
-            }
-            if (first) { /* the tiles are not zeroed: their first row assigns */
-                tE[tx] = ys * om;
-                tX[tx] = ycs * a;
-                tY[tx] = ys * b;
-                tZ[tx] = ycc * a;
-                tR[tx] = r * om;
-                tG[tx] = gr * om;
-                tB[tx] = bl * om;
-            } else {
-                tE[tx] += ys * om;
-                tX[tx] += ycs * a;
-                tY[tx] += ys * b;
-                tZ[tx] += ycc * a;
-                tR[tx] += r * om;
-                tG[tx] += gr * om;
-                tB[tx] += bl * om;
-            }
+    for (; i + G <= w; i += G) {
+        const double *cs = g->cs + i, *cc = g->cc + i;
+        /* CS[k], CC[k]: the k-th column's factor of each of the four tiles */
+        v4d CS[4], CC[4];
+        for (int k = 0; k < 4; k++) {
+            CS[k] = (v4d){cs[k], cs[4 + k], cs[8 + k], cs[12 + k]};
+            CC[k] = (v4d){cc[k], cc[4 + k], cc[8 + k], cc[12 + k]};
         }
-        row += group_sum(v);
+        v4d E = {0}, X = {0}, Y = {0}, Z = {0}, R = {0}, Gr = {0}, B = {0};
+        for (int r = 0; r < rows; r++) {
+            const int j = j0 + r;
+            const double om = g->omega[j], a = g->a[j], b = g->b[j];
+            double d[3 * G], v[G];
+            group_luminance(px + (size_t)r * 3 * W + 3 * (size_t)i, sc, d, v,
+                            yr + (size_t)r * W + (size_t)i, mx);
+            v4d ys = {v[0], v[4], v[8], v[12]}, ycs = ys * CS[0], ycc = ys * CC[0];
+            v4d rr = {d[0], d[12], d[24], d[36]}, rg = {d[1], d[13], d[25], d[37]},
+                rb = {d[2], d[14], d[26], d[38]};
+            for (int k = 1; k < 4; k++) {
+                const v4d vk = {v[k], v[4 + k], v[8 + k], v[12 + k]};
+                ys += vk;
+                ycs += vk * CS[k];
+                ycc += vk * CC[k];
+                rr += (v4d){d[3 * k], d[3 * k + 12], d[3 * k + 24], d[3 * k + 36]};
+                rg += (v4d){d[3 * k + 1], d[3 * k + 13], d[3 * k + 25], d[3 * k + 37]};
+                rb += (v4d){d[3 * k + 2], d[3 * k + 14], d[3 * k + 26], d[3 * k + 38]};
+            }
+            if (r == 0) { /* the tiles are not zeroed: their first row assigns */
+                E = ys * om;
+                X = ycs * a;
+                Y = ys * b;
+                Z = ycc * a;
+                R = rr * om;
+                Gr = rg * om;
+                B = rb * om;
+            } else {
+                E += ys * om;
+                X += ycs * a;
+                Y += ys * b;
+                Z += ycc * a;
+                R += rr * om;
+                Gr += rg * om;
+                B += rb * om;
+            }
+            rowsum[r] += group_sum(v);
+        }
+        const int tx = i / 4;
+        memcpy(tE + tx, &E, sizeof E);
+        memcpy(tX + tx, &X, sizeof X);
+        memcpy(tY + tx, &Y, sizeof Y);
+        memcpy(tZ + tx, &Z, sizeof Z);
+        memcpy(tR + tx, &R, sizeof R);
+        memcpy(tG + tx, &Gr, sizeof Gr);
+        memcpy(tB + tx, &B, sizeof B);
     }
     const int i0 = i;
-    for (; i < w; i++, p += 3) {
-        float f = lumis__pixel_y(p, sc);
-        yr[i] = f;
-        mx[0] = f > mx[0] ? f : mx[0];
-        row += f;
-    }
-    for (int tx = i0 / 4; tx < t->tw; tx++) {
-        double s[6];
-        const int c0 = tx * 4, n = c0 + 4 < w ? 4 : w - c0;
-        stretch_sums(px + 3 * c0, yr + c0, g->cs + c0, g->cc + c0, n, s);
-        tile_add(t, q0 + (size_t)tx, s, om, a, b, first);
+    for (int r = 0; r < rows; r++) {
+        const int j = j0 + r;
+        const float *p = px + (size_t)r * 3 * W;
+        float *y = yr + (size_t)r * W;
+        for (int c = i0; c < w; c++) {
+            float f = lumis__pixel_y(p + 3 * (size_t)c, sc);
+            y[c] = f;
+            mx[0] = f > mx[0] ? f : mx[0];
+            rowsum[r] += f;
+        }
+        for (int tx = i0 / 4; tx < t->tw; tx++) {
+            double s[6];
+            const int c0 = tx * 4, n = c0 + 4 < w ? 4 : w - c0;
+            stretch_sums(p + 3 * c0, y + c0, g->cs + c0, g->cc + c0, n, s);
+            tile_add(t, q0 + (size_t)tx, s, g->omega[j], g->a[j], g->b[j], r == 0);
+        }
     }
     for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
-    return row;
 }
 
 /* Tile (tx, ty) summed again over its non-emissive pixels only. */
@@ -647,7 +673,7 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     const int K = c.count, w = g.w, h = g.h;
     const size_t n = (size_t)w * (size_t)h;
     lumis_light_set *set = NULL;
-    float *yrow = malloc((size_t)w * sizeof(float)), *yall = NULL;
+    float *yrow = malloc(4 * (size_t)w * sizeof(float)), *yall = NULL; /* 4 rows */
     double *rowsum = calloc(3 * (size_t)h, sizeof(double)); /* per row: Y, emissive Y, count */
     lumis__rect *rects = malloc((size_t)K * sizeof *rects);
     lumis__acc *acc = calloc((size_t)K, sizeof *acc);
@@ -682,17 +708,23 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     if ((st = bracket_init(&br, env, g.scale, n, rank, w)) != LUMIS_OK) goto done;
     double power_y = 0.0;
     float ymax = 0.0f;
-    for (int j = 0; j < h; j++) {
-        const size_t o = (size_t)j * (size_t)w;
-        const float *px = env->pixels + o * 3;
+    for (int j0 = 0; j0 < h; j0 += 4) { /* a row of tiles of 4 at a time */
+        const int rows = h - j0 < 4 ? h - j0 : 4;
         if (tiles.T == 4) {
-            rowsum[j] = row_pass(&tiles, &g, px, yrow, j, &ymax);
+            row_pass(&tiles, &g, env->pixels + (size_t)j0 * (size_t)w * 3, yrow, j0, rows, &ymax,
+                     rowsum + j0);
         } else {
-            rowsum[j] = row_luminance(px, yrow, w, g.scale, &ymax);
-            row_tiles(&tiles, &g, px, yrow, j);
+            for (int r = 0; r < rows; r++) {
+                const size_t o = (size_t)(j0 + r) * (size_t)w;
+                rowsum[j0 + r] = row_luminance(env->pixels + o * 3, yrow + (size_t)r * (size_t)w, w,
+                                               g.scale, &ymax);
+                row_tiles(&tiles, &g, env->pixels + o * 3, yrow + (size_t)r * (size_t)w, j0 + r);
+            }
         }
-        power_y += rowsum[j] * g.omega[j];
-        bracket_row(&br, yrow, w, o);
+        for (int r = 0; r < rows; r++) {
+            power_y += rowsum[j0 + r] * g.omega[j0 + r];
+            bracket_row(&br, yrow + (size_t)r * (size_t)w, w, (size_t)(j0 + r) * (size_t)w);
+        }
     }
     tile_counts(&tiles, w, h);
     float lb = 0.0f;
