@@ -172,7 +172,7 @@ typedef struct lumis_decomp_desc {
 lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
                                     lumis_light_set **out);
 
-/* ---- Table 1's other baselines (simplified variants; docs/lights.md says how) ---------- */
+/* ---- Table 1's other baselines (FHIS as published, TMMS a variant: docs/lights.md) ----- */
 
 typedef lumis_median_cut_desc lumis_fhis_desc;
 

@@ -16,7 +16,7 @@ static const char usage[] =
     "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
     "method and unit.\n\n"
     "options:\n"
-    "  --method M      median-cut, variance-min, fhis, tmms (simplified; docs/lights.md),\n"
+    "  --method M      median-cut, variance-min, fhis, tmms (a variant; docs/lights.md),\n"
     "                  wu (Wu's decomposition: EnvDirects on the emissive pixels,\n"
     "                  EnvIndirects for the rest), wu-is, wu-is-mask,\n"
     "                  wu-is-kmeans, wu-original-cut (required)\n"

@@ -28,7 +28,7 @@ static const char usage[] =
     "                     or 'bsdf' for BSDF sampling only\n"
     "  --mis H            balance (default), power, or none (light sampling only)\n"
     "  --lights M         light the scene with a light set instead of sampling the map:\n"
-    "                     median-cut, variance-min, fhis, tmms (simplified; docs/lights.md),\n"
+    "                     median-cut, variance-min, fhis, tmms (a variant; docs/lights.md),\n"
     "                     wu (Wu's decomposition: EnvDirects and EnvIndirects), or its\n"
     "                     ablations wu-is, wu-is-mask, wu-is-kmeans,\n"
     "                     wu-original-cut; every light of the pixel's set, one shadow ray\n"
