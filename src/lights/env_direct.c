@@ -386,6 +386,113 @@ static int cmp_near(const void *pa, const void *pb)
     return (a->j > b->j) - (a->j < b->j);
 }
 
+/* Failing member q of cluster ca compared with the near centres nb[0 .. nn): the nearest
+ * (the current centre, then the first in nb's order, wins ties) into *bd's centre, the
+ * second-largest dot product into *sec. */
+static inline LUMIS__ALWAYS_INLINE int km_nearest(const double *c, int ca, const int32_t *nb,
+                                                  int nn, double x0, double x1, double x2,
+                                                  double da, double *bd_out, double *sec_out)
+{
+    int best = ca;
+    double bd = da, sec = -INFINITY;
+    for (int t = 0; t < nn; t++) {
+        const double *cb = c + 3 * (size_t)nb[t];
+        double dt = x0 * cb[0] + x1 * cb[1] + x2 * cb[2];
+        if (dt > bd) { /* the current centre wins ties */
+            sec = bd;
+            bd = dt;
+            best = nb[t];
+        } else if (dt > sec) {
+            sec = dt;
+        }
+    }
+    *bd_out = bd;
+    *sec_out = sec;
+    return best;
+}
+
+/* The member's new bound, or its move: centres beyond the reach are at least far - |x - c_a|
+ * away.  Returns the number of moves. */
+static inline LUMIS__ALWAYS_INLINE int km_settle(km_cluster *cl, int q, int ca, int best, double da,
+                                                 double bd, double sec, double far, double now,
+                                                 km_move *moves, int nm)
+{
+    const double ua = chord_bound(da), lo = chord_lower(sec), lf = far - ua;
+    const double lb = lo < lf ? lo : lf; /* no NaN here: no libm fmin */
+    const double slack = lb - (best == ca ? ua : chord_bound(bd));
+    if (best == ca) {
+        cl->key[q] = slack + now;
+    } else {
+        moves[nm++] = (km_move){cl->id[q], best, slack};
+    }
+    return nm;
+}
+
+/* The failing members fail[0 .. nf) of cluster ca (centre c + 3 ca) re-evaluated against
+ * the near centres nb[0 .. nn); returns the new number of moves. */
+static int km_visit(km_cluster *cl, const int32_t *fail, int nf, const double *c, int ca,
+                    const int32_t *nb, int nn, double far, double now, km_move *moves, int nm)
+{
+    const double *cc = c + 3 * (size_t)ca;
+    for (int f = 0; f < nf; f++) {
+        const int q = fail[f];
+        const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
+        const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
+        double bd, sec;
+        const int best = km_nearest(c, ca, nb, nn, x0, x1, x2, da, &bd, &sec);
+        nm = km_settle(cl, q, ca, best, da, bd, sec, far, now, moves, nm);
+    }
+    return nm;
+}
+
+#ifdef KM_AVX512
+/* km_visit with the near centres' dot products eight at a time.  Most failing members stay:
+ * no near centre's dot product exceeds their own centre's, so the nearest is their centre
+ * and the second-largest dot product is the near centres' largest, one vector maximum.
+ * Only a member that may move goes through km_nearest for the first-wins order.  The dot
+ * products are the scalar ones, operation for operation (no contraction: -ffp-contract=off
+ * on this file), so the outcome is the same.  nbc: room for 3 (nn + 7) doubles. */
+__attribute__((target("avx512f"))) static int km_visit_avx512(km_cluster *cl, const int32_t *fail,
+                                                              int nf, const double *c, int ca,
+                                                              const int32_t *nb, int nn, double far,
+                                                              double now, km_move *moves, int nm,
+                                                              double *nbc)
+{
+    if (nn == 0) return km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
+    const double *cc = c + 3 * (size_t)ca;
+    /* the near centres' coordinates, a block of eight per axis per chunk; the last chunk
+     * padded with the first centre, which cannot change a maximum */
+    const int nch = (nn + 7) / 8;
+    double *X = nbc, *Y = nbc + 8 * (size_t)nch, *Z = nbc + 16 * (size_t)nch;
+    for (int t = 0; t < 8 * nch; t++) {
+        const double *cb = c + 3 * (size_t)nb[t < nn ? t : 0];
+        X[t] = cb[0];
+        Y[t] = cb[1];
+        Z[t] = cb[2];
+    }
+    for (int f = 0; f < nf; f++) {
+        const int q = fail[f];
+        const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
+        const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
+        const __m512d v0 = _mm512_set1_pd(x0), v1 = _mm512_set1_pd(x1), v2 = _mm512_set1_pd(x2);
+        __m512d mx = _mm512_set1_pd(-INFINITY);
+        for (int h = 0; h < nch; h++) {
+            const __m512d d =
+                _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(v0, _mm512_loadu_pd(X + 8 * h)),
+                                            _mm512_mul_pd(v1, _mm512_loadu_pd(Y + 8 * h))),
+                              _mm512_mul_pd(v2, _mm512_loadu_pd(Z + 8 * h)));
+            mx = _mm512_max_pd(mx, d);
+        }
+        const double m1 = _mm512_reduce_max_pd(mx);
+        double bd = da, sec = m1;
+        int best = ca;
+        if (m1 > da) best = km_nearest(c, ca, nb, nn, x0, x1, x2, da, &bd, &sec);
+        nm = km_settle(cl, q, ca, best, da, bd, sec, far, now, moves, nm);
+    }
+    return nm;
+}
+#endif
+
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,
                            int32_t *a, lumis__direct_result *res)
 {
@@ -407,11 +514,12 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *nb = malloc((size_t)k * sizeof(int32_t));
     km_move *moves = malloc((size_t)m * sizeof *moves);
     int32_t *fail = malloc(((size_t)m + 16) * sizeof(int32_t));
+    double *nbc = malloc(3 * ((size_t)k + 8) * sizeof(double)); /* km_visit_avx512 */
     km_near *near = malloc(((size_t)k * (size_t)(k > 1 ? k - 1 : 1)) * sizeof *near);
     int cap = 0;
     lumis_status st = LUMIS_OK;
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
-        !changed || !nb || !moves || !fail)
+        !changed || !nb || !moves || !fail || !nbc)
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
@@ -558,33 +666,12 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
 #else
             const int nf = km_failing(cl->key, 0, cl->n, now, fail);
 #endif
-            for (int f = 0; f < nf; f++) {
-                const int q = fail[f];
-                const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
-                const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
-                int best = ca;
-                double bd = da, sec = -INFINITY;
-                for (int t = 0; t < nn; t++) {
-                    const double *cb = c + 3 * (size_t)nb[t];
-                    double dt = x0 * cb[0] + x1 * cb[1] + x2 * cb[2];
-                    if (dt > bd) { /* the current centre wins ties */
-                        sec = bd;
-                        bd = dt;
-                        best = nb[t];
-                    } else if (dt > sec) {
-                        sec = dt;
-                    }
-                }
-                /* centres beyond the reach: at least far - |x - c_a| away */
-                const double ua = chord_bound(da), lo = chord_lower(sec), lf = far - ua;
-                const double lb = lo < lf ? lo : lf; /* no NaN here: no libm fmin */
-                const double slack = lb - (best == ca ? ua : chord_bound(bd));
-                if (best == ca) {
-                    cl->key[q] = slack + now;
-                } else {
-                    moves[nm++] = (km_move){cl->id[q], best, slack};
-                }
-            }
+#ifdef KM_AVX512
+            nm = avx512 ? km_visit_avx512(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm, nbc)
+                        : km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
+#else
+            nm = km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
+#endif
         }
         for (int t = 0; st == LUMIS_OK && t < nm; t++) {
             const int i = moves[t].i, from = a[i], to = moves[t].to, q = s.pos[i];
@@ -627,6 +714,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(nb);
     free(moves);
     free(fail);
+    free(nbc);
     free(near);
     return st;
 }
