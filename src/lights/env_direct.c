@@ -446,48 +446,61 @@ static int km_visit(km_cluster *cl, const int32_t *fail, int nf, const double *c
 }
 
 #ifdef KM_AVX512
-/* km_visit with the near centres' dot products eight at a time.  Most failing members stay:
- * no near centre's dot product exceeds their own centre's, so the nearest is their centre
- * and the second-largest dot product is the near centres' largest, one vector maximum.
- * Only a member that may move goes through km_nearest for the first-wins order.  The dot
- * products are the scalar ones, operation for operation (no contraction: -ffp-contract=off
- * on this file), so the outcome is the same.  nbc: room for 3 (nn + 7) doubles. */
+/* km_visit for eight failing members at a time with AVX-512, lane by lane the scalar
+ * arithmetic: the dot products with their centre and with each near centre (the largest
+ * kept per lane), and for a member that stays, which is most of them (no near centre's dot
+ * product exceeds its own centre's), the new bound: its nearest is its centre and its
+ * second-largest dot product the near centres' largest.  A member that may move goes
+ * through the scalar km_nearest (first wins ties) and km_settle, in member order, so the
+ * moves are listed as km_visit lists them.  Same operations in the same order, no
+ * contraction (-ffp-contract=off on this file), and IEEE square roots: the same bits. */
 __attribute__((target("avx512f"))) static int km_visit_avx512(km_cluster *cl, const int32_t *fail,
                                                               int nf, const double *c, int ca,
                                                               const int32_t *nb, int nn, double far,
-                                                              double now, km_move *moves, int nm,
-                                                              double *nbc)
+                                                              double now, km_move *moves, int nm)
 {
     if (nn == 0) return km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
     const double *cc = c + 3 * (size_t)ca;
-    /* the near centres' coordinates, a block of eight per axis per chunk; the last chunk
-     * padded with the first centre, which cannot change a maximum */
-    const int nch = (nn + 7) / 8;
-    double *X = nbc, *Y = nbc + 8 * (size_t)nch, *Z = nbc + 16 * (size_t)nch;
-    for (int t = 0; t < 8 * nch; t++) {
-        const double *cb = c + 3 * (size_t)nb[t < nn ? t : 0];
-        X[t] = cb[0];
-        Y[t] = cb[1];
-        Z[t] = cb[2];
-    }
-    for (int f = 0; f < nf; f++) {
-        const int q = fail[f];
-        const double x0 = cl->x[q], x1 = cl->y[q], x2 = cl->z[q];
-        const double da = x0 * cc[0] + x1 * cc[1] + x2 * cc[2];
-        const __m512d v0 = _mm512_set1_pd(x0), v1 = _mm512_set1_pd(x1), v2 = _mm512_set1_pd(x2);
-        __m512d mx = _mm512_set1_pd(-INFINITY);
-        for (int h = 0; h < nch; h++) {
-            const __m512d d =
-                _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(v0, _mm512_loadu_pd(X + 8 * h)),
-                                            _mm512_mul_pd(v1, _mm512_loadu_pd(Y + 8 * h))),
-                              _mm512_mul_pd(v2, _mm512_loadu_pd(Z + 8 * h)));
-            mx = _mm512_max_pd(mx, d);
+    const __m512d c0 = _mm512_set1_pd(cc[0]), c1 = _mm512_set1_pd(cc[1]),
+                  c2 = _mm512_set1_pd(cc[2]), two = _mm512_set1_pd(2.0), zero = _mm512_setzero_pd(),
+                  eps = _mm512_set1_pd(4e-15), vfar = _mm512_set1_pd(far),
+                  vnow = _mm512_set1_pd(now);
+    for (int f = 0; f < nf; f += 8) {
+        const __mmask8 live = (__mmask8)(nf - f >= 8 ? 0xff : (1u << (nf - f)) - 1u);
+        /* fail has room (zeroed) for 16 past its members: inactive lanes are never used */
+        const __m256i qi = _mm256_loadu_si256((const __m256i *)(const void *)(fail + f));
+        const __m512d x0 = _mm512_mask_i32gather_pd(zero, live, qi, cl->x, 8),
+                      x1 = _mm512_mask_i32gather_pd(zero, live, qi, cl->y, 8),
+                      x2 = _mm512_mask_i32gather_pd(zero, live, qi, cl->z, 8);
+        const __m512d da = _mm512_add_pd(
+            _mm512_add_pd(_mm512_mul_pd(x0, c0), _mm512_mul_pd(x1, c1)), _mm512_mul_pd(x2, c2));
+        __m512d m1 = _mm512_set1_pd(-INFINITY);
+        for (int t = 0; t < nn; t++) {
+            const double *cb = c + 3 * (size_t)nb[t];
+            const __m512d dt =
+                _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(x0, _mm512_set1_pd(cb[0])),
+                                            _mm512_mul_pd(x1, _mm512_set1_pd(cb[1]))),
+                              _mm512_mul_pd(x2, _mm512_set1_pd(cb[2])));
+            m1 = _mm512_max_pd(m1, dt);
         }
-        const double m1 = _mm512_reduce_max_pd(mx);
-        double bd = da, sec = m1;
-        int best = ca;
-        if (m1 > da) best = km_nearest(c, ca, nb, nn, x0, x1, x2, da, &bd, &sec);
-        nm = km_settle(cl, q, ca, best, da, bd, sec, far, now, moves, nm);
+        /* the members that stay: chord_bound(da), chord_lower(m1), the slack, the key */
+        const __mmask8 moving = _mm512_mask_cmp_pd_mask(live, m1, da, _CMP_GT_OQ);
+        const __mmask8 stay = (__mmask8)(live & ~moving);
+        const __m512d ua = _mm512_sqrt_pd(
+            _mm512_add_pd(_mm512_max_pd(_mm512_sub_pd(two, _mm512_mul_pd(two, da)), zero), eps));
+        const __m512d lo = _mm512_sqrt_pd(
+            _mm512_max_pd(_mm512_sub_pd(_mm512_sub_pd(two, _mm512_mul_pd(two, m1)), eps), zero));
+        const __m512d lb = _mm512_min_pd(lo, _mm512_sub_pd(vfar, ua));
+        const __m512d key = _mm512_add_pd(_mm512_sub_pd(lb, ua), vnow);
+        _mm512_mask_i32scatter_pd(cl->key, stay, qi, key, 8);
+        for (unsigned mv = moving; mv; mv &= mv - 1) {
+            const int q = fail[f + __builtin_ctz(mv)];
+            const double y0 = cl->x[q], y1 = cl->y[q], y2 = cl->z[q];
+            const double d = y0 * cc[0] + y1 * cc[1] + y2 * cc[2];
+            double bd, sec;
+            const int best = km_nearest(c, ca, nb, nn, y0, y1, y2, d, &bd, &sec);
+            nm = km_settle(cl, q, ca, best, d, bd, sec, far, now, moves, nm);
+        }
     }
     return nm;
 }
@@ -513,13 +526,12 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     unsigned char *changed = malloc((size_t)k);
     int32_t *nb = malloc((size_t)k * sizeof(int32_t));
     km_move *moves = malloc((size_t)m * sizeof *moves);
-    int32_t *fail = malloc(((size_t)m + 16) * sizeof(int32_t));
-    double *nbc = malloc(3 * ((size_t)k + 8) * sizeof(double)); /* km_visit_avx512 */
+    int32_t *fail = calloc((size_t)m + 16, sizeof(int32_t));
     km_near *near = malloc(((size_t)k * (size_t)(k > 1 ? k - 1 : 1)) * sizeof *near);
     int cap = 0;
     lumis_status st = LUMIS_OK;
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
-        !changed || !nb || !moves || !fail || !nbc)
+        !changed || !nb || !moves || !fail)
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
@@ -667,7 +679,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             const int nf = km_failing(cl->key, 0, cl->n, now, fail);
 #endif
 #ifdef KM_AVX512
-            nm = avx512 ? km_visit_avx512(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm, nbc)
+            nm = avx512 ? km_visit_avx512(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm)
                         : km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
 #else
             nm = km_visit(cl, fail, nf, c, ca, nb, nn, far, now, moves, nm);
@@ -714,7 +726,6 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(nb);
     free(moves);
     free(fail);
-    free(nbc);
     free(near);
     return st;
 }
