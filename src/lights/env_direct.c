@@ -454,6 +454,10 @@ static int km_visit(km_cluster *cl, const int32_t *fail, int nf, const double *c
  * through the scalar km_nearest (first wins ties) and km_settle, in member order, so the
  * moves are listed as km_visit lists them.  Same operations in the same order, no
  * contraction (-ffp-contract=off on this file), and IEEE square roots: the same bits. */
+/* GCC's gather and scatter macros (unoptimised builds) convert their mask with a sign
+ * change that -Wconversion reports; the masks here are plain 8-bit lane masks. */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wsign-conversion"
 __attribute__((target("avx512f"))) static int km_visit_avx512(km_cluster *cl, const int32_t *fail,
                                                               int nf, const double *c, int ca,
                                                               const int32_t *nb, int nn, double far,
@@ -504,6 +508,7 @@ __attribute__((target("avx512f"))) static int km_visit_avx512(km_cluster *cl, co
     }
     return nm;
 }
+#pragma GCC diagnostic pop
 #endif
 
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,

@@ -153,7 +153,7 @@ static size_t run(fh_ctx *c, double m, unsigned char *mark)
     c->over = 0;
     lumis__ptile root = lumis__penrose_root(c->w, c->h);
     visit(c, &root);
-    qsort(c->cand, c->n, sizeof *c->cand, cmp_cand);
+    if (c->n > 1) qsort(c->cand, c->n, sizeof *c->cand, cmp_cand); /* cand is NULL when empty */
     size_t distinct = 0;
     for (size_t k = 0; k < c->n; k++)
         if (!mark[c->cand[k].pixel]) {
