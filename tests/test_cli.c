@@ -833,6 +833,72 @@ static void lights_export_parses_back(void **state)
     expect(a, 2, "would replace the map");
 }
 
+/* The light tables of `lumis lights` (stdout after its "built in" line), for comparing runs. */
+static char *light_table(const char *args)
+{
+    char *out = NULL, *err = NULL;
+    const int rc = run(args, &out, &err);
+    if (rc != 0) fail_msg("lumis %s: exit %d; stderr: %s", args, rc, err);
+    free(err);
+    char *nl = strchr(out, '\n');
+    assert_non_null(nl);
+    char *table = strdup(nl + 1);
+    free(out);
+    return table;
+}
+
+/* --param and --lights-param reach the library: Eq. 1's threshold, Eq. 3's weights and
+ * TMMS' bandwidth change the lights; the sidecar and the summary record what was given;
+ * unknown names, zero or out-of-range values and parameters of another method are refused. */
+static void light_params_reach_the_methods(void **state)
+{
+    (void)state;
+    char *def = light_table("lights sky:64x32 --method wu -k 12");
+    char *thr = light_table("lights sky:64x32 --method wu -k 12 --param threshold=1e30");
+    assert_non_null(strstr(thr, "parameters threshold=1e+30\n"));
+    assert_non_null(strstr(thr, "emissive pixels 0 (Y > L_T = 1e+30)"));
+    assert_null(strstr(def, "emissive pixels 0 "));
+    char *wd = light_table("lights sky:64x32 --method wu -k 12 --param wd=1e-6,wv=2");
+    assert_non_null(strstr(wd, "parameters wv=2,wd=1e-06\n"));
+    assert_true(strcmp(strstr(def, "total power"), strstr(wd, "total power")) != 0);
+    /* the same power whatever the parameters */
+    assert_true(strncmp(strstr(def, "total power"), strstr(wd, "total power"), 40) == 0);
+    char *t1 = light_table("lights sky:64x32 --method tmms -k 12 --param bandwidth=0.02");
+    char *t2 = light_table("lights sky:64x32 --method tmms -k 12 --param bandwidth=1,key=0.5");
+    assert_true(strcmp(strstr(t1, "total power"), strstr(t2, "total power")) != 0);
+    free(def);
+    free(thr);
+    free(wd);
+    free(t1);
+    free(t2);
+
+    char a[1024];
+    snprintf(a, sizeof a,
+             "render --scene spheres --env sky:64x32 --lights wu --lights-k 8 "
+             "--lights-param lambda=5 --lights-param mask=radians,seed=9 --spp 1 --size 16x12 "
+             "-o '%s'",
+             tu_path("lp.exr"));
+    expect(a, 0, NULL);
+    cJSON *j = read_json("lp.json");
+    assert_string_equal(item(item(j, "lights"), "params")->valuestring,
+                        "lambda=5,mask=radians,seed=9");
+    cJSON_Delete(j);
+
+    expect("lights sky:16x8 --method wu --param foo=1", 2, "unknown parameter 'foo'");
+    expect("lights sky:16x8 --method wu --param lambda", 2, "'lambda' is not NAME=VALUE");
+    expect("lights sky:16x8 --method wu --param lambda=0", 2, "lambda=VALUE needs");
+    expect("lights sky:16x8 --method wu --param percentile=101", 2, "percentile=VALUE needs");
+    expect("lights sky:16x8 --method wu --param mask=disc", 2, "mask=VALUE needs");
+    expect("lights sky:16x8 --method wu --param seed=-3", 2, "seed=VALUE needs");
+    expect("lights sky:16x8 --method wu --param kmeans-iterations=0", 2, "needs a count");
+    expect("lights sky:16x8 --method tmms --param bandwidth=2", 2, "bandwidth=VALUE needs");
+    expect("lights sky:16x8 --method median-cut --param lambda=3", 2,
+           "'lambda' is a parameter of Wu's decomposition");
+    expect("lights sky:16x8 --method wu --param key=0.3", 2, "'key' is a parameter of tmms");
+    expect("render --scene spheres --lights-param wd=1 -o x.exr", 2, "need --lights METHOD");
+    expect("render --scene spheres --lights fhis --lights-param wd=1 -o x.exr", 2, "not of fhis");
+}
+
 /* K = 2 on a map with a bright spot (the one EnvDirect), a dimmer strip 170 degrees away
  * (emissive, but too far from the EnvDirect: its 32 pixels are given back to the
  * EnvIndirect) and a brighter lower half, which keeps the EnvIndirect's cross off the strip. */
@@ -1002,7 +1068,8 @@ static void bench_runs_light_sets(void **state)
     (void)state;
     static const char suite[] =
         "{\"name\": \"lights\", \"maps\": [\"sky:64x32\"], \"scenes\": [\"bunny-plane\"],\n"
-        " \"methods\": [{\"method\": \"inversion\"}, {\"method\": \"wu\", \"k\": 16},\n"
+        " \"methods\": [{\"method\": \"inversion\"}, {\"method\": \"wu\", \"k\": 16, \"params\": "
+        "\"wd=4\"},\n"
         "             {\"method\": \"median-cut\", \"label\": \"mc\", \"interleave\": 2}],\n"
         " \"budgets\": [{\"spp\": 2}, {\"time\": 0.15}],\n"
         " \"reference\": {\"spp\": 64, \"method\": \"inversion\"}, \"size\": [48, 36]}\n";
@@ -1031,6 +1098,15 @@ static void bench_runs_light_sets(void **state)
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"alias\", \"k\": 8}], \"budgets\": [{\"spp\": 1}]}",
          "belong to light sets"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"alias\", \"params\": \"seed=1\"}], \"budgets\": [{\"spp\": 1}]}",
+         "belong to light sets"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"wu\", \"params\": \"lambda=-1\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].params lambda=VALUE needs"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"median-cut\", \"params\": \"wd=2\"}], \"budgets\": [{\"spp\": 1}]}",
+         "'wd' is a parameter of Wu's decomposition"},
     };
     snprintf(a, sizeof a, "--out '%s'", tu_path("bl-bad"));
     expect_bad_files("bench", "bad-lights.json", a, bad, sizeof bad / sizeof bad[0]);
@@ -1233,6 +1309,7 @@ int main(void)
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(lights_export_parses_back),
+        cmocka_unit_test(light_params_reach_the_methods),
         cmocka_unit_test(lights_picture_marks_emissive_pixels),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(bench_runs_light_sets),

@@ -150,6 +150,9 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         snprintf(buf, sizeof buf, " lights %s %d %d %d", m->lights, m->lights_k, m->interleave,
                  m->upsample);
         h = fnv_str(h, buf);
+        char params[1024];
+        tool_light_params_format(&m->lights_params, params, sizeof params);
+        if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
     snprintf(out, cap, "%016llx", (unsigned long long)h);
 }

@@ -61,6 +61,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->lights = m->lights[0] ? m->lights : NULL;
     o->lights_k = m->lights_k;
     o->interleave = m->interleave;
+    o->lights_params = m->lights_params;
     o->upsample = m->upsample;
     o->rd.estimator = m->estimator;
     o->rd.power_heuristic = m->power;

@@ -227,10 +227,9 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method", "label",         "mis",
-                                          "blocks", "light_samples", "bsdf_samples",
-                                          "k",      "interleave",    "upsample",
-                                          NULL},
+static const char *const method_keys[] = {"method",        "label",        "mis", "blocks",
+                                          "light_samples", "bsdf_samples", "k",   "interleave",
+                                          "upsample",      "params",       NULL},
                          *reference_keys[] = {"method",        "label",        "mis", "blocks",
                                               "light_samples", "bsdf_samples", "spp", NULL};
 
@@ -258,15 +257,24 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
         if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
         if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
+        const char *params = NULL;
+        if (rc == EXIT_OK) rc = opt_string(e, "params", file, where, &params);
         if (rc != EXIT_OK) return rc;
+        if (params) {
+            char opt[256];
+            snprintf(opt, sizeof opt, "%s: %s.params", file, where);
+            if (tool_light_params_parse(&m->lights_params, "bench", opt, params) != EXIT_OK ||
+                tool_light_params_check(&m->lights_params, "bench", opt, name) != EXIT_OK)
+                return EXIT_RUNTIME;
+        }
         if (m->upsample && !tool_lights_method_is_wu(name))
             return tool_runtime_error("%s: %s.upsample: only Wu's decomposition (wu...) has it",
                                       file, where);
         if (mis || cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
             cJSON_GetObjectItemCaseSensitive(e, "light_samples") ||
             cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples"))
-            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave and upsample, "
-                                      "not mis, blocks or sample counts",
+            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave, upsample "
+                                      "and params, not mis, blocks or sample counts",
                                       file, where, name);
     } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
         return tool_runtime_error("%s: %s.method: unknown method '%s' (a sampler, bsdf, or a "
@@ -275,9 +283,11 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     }
     if (!m->lights[0] && (cJSON_GetObjectItemCaseSensitive(e, "k") ||
                           cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
-                          cJSON_GetObjectItemCaseSensitive(e, "upsample")))
-        return tool_runtime_error("%s: %s: k, interleave and upsample belong to light sets", file,
-                                  where);
+                          cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "params")))
+        return tool_runtime_error("%s: %s: k, interleave, upsample and params belong to light "
+                                  "sets",
+                                  file, where);
     if (mis) {
         if (strcmp(mis, "power") == 0)
             m->power = 1;

@@ -8,7 +8,8 @@
 #include <string.h>
 
 static const char usage[] =
-    "usage: lumis lights MAP --method M [-k K] [--sets N] [--rotate DEG]\n"
+    "usage: lumis lights MAP --method M [-k K] [--sets N] [--param NAME=VALUE,...]\n"
+    "                    [--rotate DEG]\n"
     "                    [--json OUT.json [--masks]] [--gltf OUT.gltf]\n"
     "                    [--png OUT.png [--png-width W]]\n\n"
     "Turns an environment map into K directional lights whose powers add up to the map's\n"
@@ -22,6 +23,12 @@ static const char usage[] =
     "                  wu-is-kmeans, wu-original-cut (required)\n"
     "  -k K            number of lights (default 64)\n"
     "  --sets N        interleaved sets to build (default 8; files hold the original)\n"
+    "  --param P       the method's parameters, NAME=VALUE[,NAME=VALUE...] (repeatable):\n"
+    "                  every method: jitter (0.1), seed (0); Wu: percentile (98),\n"
+    "                  lambda (3), gamma (0.001), threshold (L_T instead of Eq. 1), a (1),\n"
+    "                  b (0.25), s (0.15), mask (cap|radians), return (2),\n"
+    "                  kmeans-iterations (until no pixel moves), wv (1), wd (5), we (1);\n"
+    "                  tmms: key (0.18), bandwidth (0.1).  docs/lights.md says what each is\n"
     "  --rotate DEG    rotate the map about +y first\n"
     "  --json OUT      directions, power, colour and intensity, solid angle, extent, kind\n"
     "  --masks         with --json: each light's region as pixel runs [row, column, length]\n"
@@ -182,6 +189,7 @@ int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
     int k = 0, sets = 0, masks = 0, png_width = 0;
+    tool_light_params params = {0};
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -203,6 +211,9 @@ int cmd_lights(int argc, char **argv)
             if (!tool_parse_int(v, 1, 64, &x))
                 return tool_bad_value("lights", "--sets", v, "needs a count in [1, 64]");
             sets = (int)x;
+        } else if (tool_option(argc, argv, &i, "--param", &v)) {
+            const int prc = tool_light_params_parse(&params, "lights", "--param", v);
+            if (prc != EXIT_OK) return prc;
         } else if (tool_option(argc, argv, &i, "--rotate", &v)) {
             if (!tool_parse_double(v, &rotation) || !isfinite(rotation))
                 return tool_bad_value("lights", "--rotate", v, "needs degrees");
@@ -226,6 +237,9 @@ int cmd_lights(int argc, char **argv)
     }
     if (!map) return tool_usage_error("lights", "no map given");
     if (!method) return tool_usage_error("lights", "--method M is required");
+    int rc0;
+    rc0 = tool_light_params_check(&params, "lights", "--param", method);
+    if (rc0 != EXIT_OK) return rc0;
     if (masks && !json) return tool_usage_error("lights", "--masks goes with --json OUT");
     if (png_width && !png) return tool_usage_error("lights", "--png-width goes with --png OUT");
     tool_files files = {0};
@@ -240,7 +254,7 @@ int cmd_lights(int argc, char **argv)
     lumis_light_set *set = NULL;
     if (tool_make_envmap(map, NULL, (float)rotation, 1.0f, &env) != LUMIS_OK) return EXIT_RUNTIME;
     rc = EXIT_RUNTIME;
-    if (tool_make_light_set(env, method, k, sets, &set) != LUMIS_OK) goto done;
+    if (tool_make_light_set(env, method, k, sets, &params, &set) != LUMIS_OK) goto done;
     const lumis_light_set_info *info = lumis_light_set_get_info(set);
     const lumis_light *l = NULL;
     int count = 0;
@@ -250,6 +264,9 @@ int cmd_lights(int argc, char **argv)
         for (int c = 0; c < 3; c++) total[c] += l[q].power[c];
     printf("%s: %d lights by %s (%d EnvDirects, %d EnvIndirects), %d sets, built in %.2f ms\n", map,
            count, method, info->direct, info->indirect, lumis_light_set_sets(set), info->build_ms);
+    char given[1024];
+    tool_light_params_format(&params, given, sizeof given);
+    if (*given) printf("parameters %s\n", given);
     if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
         printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
                info->emissive_pixels, info->threshold, info->returned_pixels);

@@ -38,6 +38,8 @@ static const char usage[] =
     "                     pilot renders at K = 16 and 64 fit the time (Wu's equal-time rule);\n"
     "                     with both, passes of samples fill it\n"
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
+    "  --lights-param P   the light-set method's parameters, NAME=VALUE[,NAME=VALUE...]\n"
+    "                     (repeatable; names as in lumis lights --param, docs/lights.md)\n"
     "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
     "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U')\n"
     "  --luminaire L      replace every luminaire of the scene by L (a manifest written by\n"
@@ -115,6 +117,10 @@ int cmd_render(int argc, char **argv)
             if (!tool_parse_int(v, 1, 1 << 20, &x))
                 return tool_bad_value("render", "--lights-k", v, "needs a count in [1, 2^20]");
             o.lights_k = (int)x;
+        } else if (tool_option(argc, argv, &i, "--lights-param", &v)) {
+            const int prc =
+                tool_light_params_parse(&o.lights_params, "render", "--lights-param", v);
+            if (prc != EXIT_OK) return prc;
         } else if (tool_option(argc, argv, &i, "--interleave", &v)) {
             if (!tool_parse_int(v, 1, 64, &x))
                 return tool_bad_value("render", "--interleave", v, "needs a count in [1, 64]");
@@ -260,8 +266,14 @@ int cmd_render(int argc, char **argv)
     if (o.upsample && !(o.lights && tool_lights_method_is_wu(o.lights)))
         return tool_usage_error("render",
                                 "--upsample applies to Wu's decomposition (--lights wu...)");
-    if ((o.lights_k || o.interleave) && !o.lights)
-        return tool_usage_error("render", "--lights-k and --interleave need --lights METHOD");
+    if ((o.lights_k || o.interleave || o.lights_params.given) && !o.lights)
+        return tool_usage_error("render", "--lights-k, --interleave and --lights-param need "
+                                          "--lights METHOD");
+    if (o.lights) {
+        const int prc =
+            tool_light_params_check(&o.lights_params, "render", "--lights-param", o.lights);
+        if (prc != EXIT_OK) return prc;
+    }
     if (o.lights && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
         return tool_usage_error("render", "--lights sums every light of a set: --method bsdf, "
                                           "--mis, --light-samples and --bsdf-samples do not apply");
