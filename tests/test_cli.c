@@ -858,7 +858,18 @@ static void light_params_reach_the_methods(void **state)
     assert_non_null(strstr(thr, "parameters threshold=1e+30\n"));
     assert_non_null(strstr(thr, "emissive pixels 0 (Y > L_T = 1e+30)"));
     assert_null(strstr(def, "emissive pixels 0 "));
-    char *wd = light_table("lights sky:64x32 --method wu -k 12 --param wd=1e-6,wv=2");
+    char a[1024];
+    snprintf(a, sizeof a,
+             "lights sky:64x32 --method wu -k 12 --param wd=1e-6,wv=2 --json '%s' --gltf '%s'",
+             tu_path("lp-lights.json"), tu_path("lp-lights.gltf"));
+    char *wd = light_table(a);
+    cJSON *lj = read_json("lp-lights.json"), *lg = read_json("lp-lights.gltf");
+    assert_string_equal(item(lj, "parameters")->valuestring, "wv=2,wd=1e-06");
+    assert_string_equal(
+        item(item(cJSON_GetArrayItem(item(lg, "scenes"), 0), "extras"), "parameters")->valuestring,
+        "wv=2,wd=1e-06");
+    cJSON_Delete(lj);
+    cJSON_Delete(lg);
     assert_non_null(strstr(wd, "parameters wv=2,wd=1e-06\n"));
     assert_true(strcmp(strstr(def, "total power"), strstr(wd, "total power")) != 0);
     /* the same power whatever the parameters */
@@ -872,7 +883,6 @@ static void light_params_reach_the_methods(void **state)
     free(t1);
     free(t2);
 
-    char a[1024];
     snprintf(a, sizeof a,
              "render --scene spheres --env sky:64x32 --lights wu --lights-k 8 "
              "--lights-param lambda=5 --lights-param mask=radians,seed=9 --spp 1 --size 16x12 "

@@ -146,6 +146,8 @@ typedef struct lumis_light_export_options {
     const char *source; /* JSON: the map's name, recorded (may be NULL) */
     const char *method; /* the method's name, recorded (may be NULL) */
     lumis_error_sink errors;
+    const char *parameters; /* the method's parameters as given ("name=value,..."), recorded
+                               when not NULL or empty (JSON; glTF: the scene's extras) */
 } lumis_light_export_options;
 
 /* JSON: per light its direction, power (RGB, sum of L x solid angle), colour and intensity

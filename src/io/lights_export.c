@@ -112,6 +112,8 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
                             "radiance units x sr); colour x intensity == power");
     if (options && options->source) cJSON_AddStringToObject(root, "source", options->source);
     if (options && options->method) cJSON_AddStringToObject(root, "method", options->method);
+    if (options && options->parameters && *options->parameters)
+        cJSON_AddStringToObject(root, "parameters", options->parameters);
     cJSON_AddNumberToObject(root, "set", index);
     cJSON_AddNumberToObject(root, "sets", lumis_light_set_sets(set));
     int w = 0, h = 0;
@@ -175,6 +177,9 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
     cJSON *scene = cJSON_CreateObject();
     cJSON_AddItemToArray(scenes, scene);
     cJSON_AddStringToObject(scene, "name", options && options->method ? options->method : "lights");
+    if (options && options->parameters && *options->parameters)
+        cJSON_AddStringToObject(cJSON_AddObjectToObject(scene, "extras"), "parameters",
+                                options->parameters);
     cJSON *scene_nodes = cJSON_AddArrayToObject(scene, "nodes");
     cJSON *nodes = cJSON_AddArrayToObject(root, "nodes");
     for (int k = 0; k < count; k++) {

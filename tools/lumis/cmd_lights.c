@@ -284,6 +284,7 @@ int cmd_lights(int argc, char **argv)
     eo.masks = masks;
     eo.source = map;
     eo.method = method;
+    eo.parameters = given;
     eo.errors = tool_errors;
     if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
         (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
