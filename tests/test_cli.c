@@ -874,6 +874,22 @@ static void light_params_reach_the_methods(void **state)
     assert_true(strcmp(strstr(def, "total power"), strstr(wd, "total power")) != 0);
     /* the same power whatever the parameters */
     assert_true(strncmp(strstr(def, "total power"), strstr(wd, "total power"), 40) == 0);
+    /* the seed of Wu's importance sampling, the mask's reading, lambda of Eq. 1 */
+    char *s5 = light_table("lights sky:64x32 --method wu-is -k 12 --param threshold=1,seed=5");
+    char *s6 = light_table("lights sky:64x32 --method wu-is -k 12 --param threshold=1,seed=6");
+    assert_true(strcmp(strstr(s5, "total power"), strstr(s6, "total power")) != 0);
+    char *mc =
+        light_table("lights sky:64x32 --method wu-is-mask -k 12 --param threshold=1,mask=cap");
+    char *mr =
+        light_table("lights sky:64x32 --method wu-is-mask -k 12 --param threshold=1,mask=radians");
+    assert_true(strcmp(strstr(mc, "total power"), strstr(mr, "total power")) != 0);
+    char *lam = light_table("lights sky:64x32 --method wu -k 12 --param lambda=50");
+    assert_true(strcmp(strstr(def, "emissive pixels"), strstr(lam, "emissive pixels")) != 0);
+    free(s5);
+    free(s6);
+    free(mc);
+    free(mr);
+    free(lam);
     char *t1 = light_table("lights sky:64x32 --method tmms -k 12 --param bandwidth=0.02");
     char *t2 = light_table("lights sky:64x32 --method tmms -k 12 --param bandwidth=1,key=0.5");
     assert_true(strcmp(strstr(t1, "total power"), strstr(t2, "total power")) != 0);
@@ -893,6 +909,20 @@ static void light_params_reach_the_methods(void **state)
     assert_string_equal(item(item(j, "lights"), "params")->valuestring,
                         "lambda=5,mask=radians,seed=9");
     cJSON_Delete(j);
+    /* the interleaved sets' jitter moves the lights of the image's other sets */
+    size_t n0 = 0, n1 = 0;
+    unsigned char *img[2] = {NULL, NULL};
+    for (int r = 0; r < 2; r++) {
+        snprintf(a, sizeof a,
+                 "render --scene spheres --env sky:64x32 --lights median-cut --lights-k 8 "
+                 "--lights-param jitter=%s --spp 1 --size 16x12 -o '%s'",
+                 r ? "1" : "0.01", tu_path(r ? "lj1.exr" : "lj0.exr"));
+        expect(a, 0, NULL);
+        img[r] = tu_read_file(tu_path(r ? "lj1.exr" : "lj0.exr"), r ? &n1 : &n0);
+    }
+    assert_true(n0 != n1 || memcmp(img[0], img[1], n0) != 0);
+    free(img[0]);
+    free(img[1]);
 
     expect("lights sky:16x8 --method wu --param foo=1", 2, "unknown parameter 'foo'");
     expect("lights sky:16x8 --method wu --param lambda", 2, "'lambda' is not NAME=VALUE");
@@ -1097,6 +1127,16 @@ static void bench_runs_light_sets(void **state)
     assert_non_null(strstr(csv, ",wu,"));
     assert_non_null(strstr(csv, ",mc,"));
     free(csv);
+    /* A method's params are part of its items' keys: changing them re-renders those items
+     * (Wu's two budgets) and no other. */
+    char *edited = strdup(suite);
+    memcpy(strstr(edited, "wd=4"), "wd=3", 4);
+    tu_write_file(tu_path("lights-suite.json"), edited, strlen(edited));
+    free(edited);
+    err = NULL;
+    assert_int_equal(run(a, NULL, &err), 0);
+    if (!strstr(err, "(6 in this shard, 2 to render)")) fail_msg("re-run: %s", err);
+    free(err);
     /* Malformed light-set methods. */
     static const bad_file bad[] = {
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "

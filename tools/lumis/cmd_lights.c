@@ -237,9 +237,8 @@ int cmd_lights(int argc, char **argv)
     }
     if (!map) return tool_usage_error("lights", "no map given");
     if (!method) return tool_usage_error("lights", "--method M is required");
-    int rc0;
-    rc0 = tool_light_params_check(&params, "lights", "--param", method);
-    if (rc0 != EXIT_OK) return rc0;
+    const int prc = tool_light_params_check(&params, "lights", "--param", method);
+    if (prc != EXIT_OK) return prc;
     if (masks && !json) return tool_usage_error("lights", "--masks goes with --json OUT");
     if (png_width && !png) return tool_usage_error("lights", "--png-width goes with --png OUT");
     tool_files files = {0};

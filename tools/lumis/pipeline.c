@@ -84,11 +84,17 @@ static const struct {
 };
 enum { LIGHT_METHODS = sizeof light_methods / sizeof light_methods[0] };
 
-int tool_lights_method_known(const char *name)
+/* The kind of a method (light_methods[].kind), -1 for an unknown name. */
+static int method_kind(const char *name)
 {
     for (int k = 0; k < LIGHT_METHODS; k++)
-        if (strcmp(light_methods[k].name, name) == 0) return 1;
-    return 0;
+        if (strcmp(light_methods[k].name, name) == 0) return light_methods[k].kind;
+    return -1;
+}
+
+int tool_lights_method_known(const char *name)
+{
+    return method_kind(name) >= 0;
 }
 
 const char *tool_lights_method_names(void)
@@ -99,9 +105,7 @@ const char *tool_lights_method_names(void)
 
 int tool_lights_method_is_wu(const char *name)
 {
-    for (int k = 0; k < LIGHT_METHODS; k++)
-        if (strcmp(light_methods[k].name, name) == 0) return light_methods[k].kind == 2;
-    return 0;
+    return method_kind(name) == 2;
 }
 
 /* The parameters of --param / --lights-param.  Each is a field of a library descriptor
@@ -143,6 +147,11 @@ _Static_assert(LIGHT_PARAMS <= 32, "a bit per parameter in tool_light_params.giv
 static float *param_float(tool_light_params *p, int q)
 {
     return (float *)(void *)((char *)p + light_params[q].field);
+}
+
+static float param_float_value(const tool_light_params *p, int q)
+{
+    return *(const float *)(const void *)((const char *)p + light_params[q].field);
 }
 
 int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *opt,
@@ -207,7 +216,7 @@ int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *o
 int tool_light_params_check(const tool_light_params *p, const char *cmd, const char *opt,
                             const char *method)
 {
-    const int wu = tool_lights_method_is_wu(method), tmms = strcmp(method, "tmms") == 0;
+    const int kind = method_kind(method), wu = kind == 2, tmms = kind == 4;
     for (int q = 0; q < LIGHT_PARAMS; q++) {
         if (!(p->given & (1u << q))) continue;
         const int a = light_params[q].applies;
@@ -238,7 +247,7 @@ void tool_light_params_format(const tool_light_params *p, char *buf, size_t cap)
             w = snprintf(buf + len, cap - len, "%s%s=%llu", sep, light_params[q].name,
                          (unsigned long long)p->seed);
         else { /* the shortest decimal that reads back as the same float */
-            const float f = *param_float((tool_light_params *)p, q);
+            const float f = param_float_value(p, q);
             char num[32];
             for (int digits = 6; digits <= 9; digits++) {
                 snprintf(num, sizeof num, "%.*g", digits, (double)f);
