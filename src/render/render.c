@@ -303,6 +303,30 @@ static lumis_status add_object(lumis_scene *s, const lumis_object *objects, int 
     return LUMIS_OK;
 }
 
+/* Embree 3 ignores an isa or max_isa value it does not know (the device then picks the best
+ * kernels), so a misspelt isa=avx-2 would quietly test the wrong ones: lumis checks the names
+ * itself. */
+static int embree_isa_known(const char *config)
+{
+    static const char *const keys[] = {"isa=", "max_isa="};
+    static const char *const names[] = {"sse", "sse2", "sse3", "ssse3",  "sse4.1",    "sse4.2",
+                                        "avx", "avxi", "avx2", "avx512", "avx512knl", "avx512skx"};
+    for (const char *p = config; *p;) {
+        while (*p == ',' || *p == ' ') p++;
+        const size_t len = strcspn(p, ",");
+        for (size_t k = 0; k < sizeof keys / sizeof *keys; k++) {
+            const size_t kl = strlen(keys[k]);
+            if (len < kl || strncmp(p, keys[k], kl) != 0) continue;
+            int ok = 0;
+            for (size_t i = 0; i < sizeof names / sizeof *names; i++)
+                ok |= strlen(names[i]) == len - kl && strncmp(p + kl, names[i], len - kl) == 0;
+            if (!ok) return 0;
+        }
+        p += len;
+    }
+    return 1;
+}
+
 lumis_status lumis_scene_create(const lumis_object *objects, int count,
                                 const lumis_error_sink *errors, lumis_scene **out)
 {
@@ -312,7 +336,25 @@ lumis_status lumis_scene_create(const lumis_object *objects, int count,
     lumis_scene *s = calloc(1, sizeof *s);
     if (!s) return LUMIS_ERR_OUT_OF_MEMORY;
     const size_t n = (size_t)(count > 0 ? count : 1);
-    s->device = rtcNewDevice(NULL);
+    /* LUMIS_EMBREE_CONFIG is handed to Embree as its device configuration (isa=sse4.2,
+     * threads=1, verbose=1, ...; docs/render.md), so a user can pin Embree's kernels and
+     * CI runs the same tests on the kernels of older CPUs. */
+    const char *config = getenv("LUMIS_EMBREE_CONFIG");
+    if (config && !embree_isa_known(config)) {
+        free(s);
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "scene: LUMIS_EMBREE_CONFIG=\"%s\": unknown isa (Embree knows sse2, "
+                           "sse4.2, avx, avx2, avx512; it would ignore the key silently)",
+                           config);
+    }
+    s->device = rtcNewDevice(config && *config ? config : NULL);
+    if (!s->device) {
+        free(s);
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "scene: Embree refused its device configuration "
+                           "(LUMIS_EMBREE_CONFIG=\"%s\")",
+                           config ? config : "");
+    }
     s->prims = calloc(n, sizeof(prim));
     s->shared = calloc(n, sizeof(RTCScene));
     int *first = malloc(n * sizeof(int)), *users = malloc(n * sizeof(int));
@@ -463,10 +505,24 @@ typedef struct packet {
 } packet;
 
 /* Traces the packet's filled lanes (the shadow-ray hook sees each first); a lane's tfar is
- * then negative when its ray is occluded. */
+ * then negative when its ray is occluded.  Every lane is initialised, filled or not: Embree's
+ * 8- and 4-wide kernels split the packet and check each half's rays against its valid mask
+ * (asserted in Debian's build), and an uninitialised lane fails that check or is read as
+ * uninitialised by valgrind.  An idle lane is a valid ray that cannot hit: tfar < tnear. */
 static void packet_trace(const lumis_scene *s, const lumis_render_desc *d, packet *p)
 {
-    for (int k = p->n; k < PACKET; k++) p->valid[k] = 0;
+    for (int k = p->n; k < PACKET; k++) {
+        p->valid[k] = 0;
+        p->r.org_x[k] = p->r.org_y[k] = p->r.org_z[k] = 0.0f;
+        p->r.dir_x[k] = p->r.dir_y[k] = 0.0f;
+        p->r.dir_z[k] = 1.0f;
+        p->r.tnear[k] = 0.0f;
+        p->r.tfar[k] = -1.0f;
+        p->r.mask[k] = 0xffffffffu;
+        p->r.flags[k] = 0;
+        p->r.time[k] = 0.0f;
+        p->r.id[k] = (unsigned)k;
+    }
     if (d->shadow_ray)
         for (int k = 0; k < p->n; k++) {
             const float o[3] = {p->r.org_x[k], p->r.org_y[k], p->r.org_z[k]},
