@@ -3,6 +3,7 @@
  * input (docs/lights.md). */
 #include "testutil.h"
 
+#include "core/internal.h"
 #include "lights/penrose.h"
 
 #include <math.h>
@@ -1005,6 +1006,83 @@ static void deterministic_with_fixed_seeds(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Every light of every set (and Wu's labels) of the three methods with SIMD passes. */
+typedef struct simd_result {
+    lumis_light_set *set[3];
+} simd_result;
+
+static simd_result simd_lights(const lumis_envmap *env)
+{
+    simd_result r;
+    lumis_median_cut_desc md = {0};
+    md.count = 64;
+    lumis_variance_min_desc vd = {0};
+    vd.count = 64;
+    lumis_decomp_desc dd = {0};
+    dd.count = 64;
+    dd.seed = 3;
+    assert_int_equal(lumis_lights_median_cut(env, &md, &r.set[0]), LUMIS_OK);
+    assert_int_equal(lumis_lights_variance_min(env, &vd, &r.set[1]), LUMIS_OK);
+    assert_int_equal(lumis_lights_decompose(env, &dd, &r.set[2]), LUMIS_OK);
+    return r;
+}
+
+/* lumis's SIMD variants (the band sums for AVX-512, AVX2 and the baseline; Wu's passes for
+ * AVX2 and the baseline; k-means' AVX-512 visits) give the same light sets bit for bit: each
+ * variant the CPU has is forced in turn and compared with the baseline, on maps whose sides
+ * are no multiple of the passes' widths (partial bands and tiles) and one large enough for
+ * the coarse band level.  CI also runs the whole suite with each variant forced
+ * (LUMIS_SIMD). */
+static void simd_variants_give_identical_lights(void **state)
+{
+    (void)state;
+    const char *best = lumis_simd_variant();
+    assert_non_null(best);
+    int top = strcmp(best, "avx512") == 0 ? LUMIS__SIMD_AVX512
+              : strcmp(best, "avx2") == 0 ? LUMIS__SIMD_AVX2
+                                          : LUMIS__SIMD_BASELINE;
+    if (top < LUMIS__SIMD_AVX512)
+        print_message("note: this CPU (or LUMIS_SIMD) stops at %s; the higher variants are "
+                      "not compared here\n",
+                      best);
+    lumis_envmap *maps[] = {make_env(517, 259, speckle_pixel, 0.3f, 0.0f),
+                            make_env(1031, 515, sky_pixel, 0.0f, 0.0f)};
+    for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
+        lumis__simd_force(LUMIS__SIMD_BASELINE);
+        simd_result base = simd_lights(maps[m]);
+        for (int level = LUMIS__SIMD_AVX2; level <= top; level++) {
+            lumis__simd_force(level);
+            simd_result r = simd_lights(maps[m]);
+            for (int k = 0; k < 3; k++) {
+                const int sets = lumis_light_set_sets(base.set[k]);
+                assert_int_equal(lumis_light_set_sets(r.set[k]), sets);
+                for (int s = 0; s < sets; s++) {
+                    const lumis_light *la, *lb;
+                    int na, nb;
+                    lumis_light_set_get(base.set[k], s, &la, &na);
+                    lumis_light_set_get(r.set[k], s, &lb, &nb);
+                    assert_int_equal(na, nb);
+                    if (memcmp(la, lb, (size_t)na * sizeof *la) != 0)
+                        fail_msg("map %zu, method %d, set %d: variant %d differs from the "
+                                 "baseline",
+                                 m, k, s, level);
+                }
+                const int32_t *a = lumis_light_set_labels(base.set[k], NULL, NULL),
+                              *b = lumis_light_set_labels(r.set[k], NULL, NULL);
+                assert_true((a == NULL) == (b == NULL));
+                if (a)
+                    assert_memory_equal(a, b,
+                                        (size_t)lumis_envmap_width(maps[m]) *
+                                            (size_t)lumis_envmap_height(maps[m]) * sizeof(int32_t));
+                lumis_light_set_destroy(r.set[k]);
+            }
+        }
+        for (int k = 0; k < 3; k++) lumis_light_set_destroy(base.set[k]);
+        lumis_envmap_destroy(maps[m]);
+    }
+    lumis__simd_force(-1);
+}
+
 static void special_maps_get_a_clear_answer(void **state)
 {
     (void)state;
@@ -1187,6 +1265,7 @@ int main(void)
         cmocka_unit_test(the_cut_yields_exactly_k_lights),
         cmocka_unit_test(wu_parts_and_ablations),
         cmocka_unit_test(deterministic_with_fixed_seeds),
+        cmocka_unit_test(simd_variants_give_identical_lights),
         cmocka_unit_test(special_maps_get_a_clear_answer),
         cmocka_unit_test(malformed_options_are_refused),
         cmocka_unit_test(interleave_pattern_covers_every_set),

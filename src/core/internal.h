@@ -23,6 +23,28 @@
 lumis_status lumis__fail(const lumis_error_sink *sink, lumis_status status, const char *fmt, ...)
     LUMIS_PRINTF(3, 4);
 
+/* lumis's own SIMD variants (docs/lights.md, "Every CPU"): a hot pass is compiled once per
+ * level with LUMIS__TARGET_AVX512 / LUMIS__TARGET_AVX2 wrappers around one always-inlined
+ * body, and a call picks by lumis__simd_level(): the best the CPU has, lowered by the
+ * environment variable LUMIS_SIMD (avx512, avx2, baseline) so that every variant can be
+ * forced and compared on one machine.  GCC on x86-64 only (clang's contraction and
+ * vectoriser differ; its builds run the baseline). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define LUMIS__MULTIVERSION  1
+#define LUMIS__ALWAYS_INLINE __attribute__((always_inline))
+#define LUMIS__TARGET_AVX2   __attribute__((target("avx2")))
+#define LUMIS__TARGET_AVX512 __attribute__((target("avx512f")))
+#else
+#define LUMIS__MULTIVERSION 0
+#define LUMIS__ALWAYS_INLINE
+#define LUMIS__TARGET_AVX2
+#define LUMIS__TARGET_AVX512
+#endif
+enum { LUMIS__SIMD_BASELINE = 0, LUMIS__SIMD_AVX2 = 1, LUMIS__SIMD_AVX512 = 2 };
+int lumis__simd_level(void);
+/* Tests: every later call runs `level` (capped at the CPU's); -1 returns to LUMIS_SIMD. */
+void lumis__simd_force(int level);
+
 static inline int lumis__clampi(int x, int lo, int hi)
 {
     return x < lo ? lo : (x > hi ? hi : x);

@@ -185,8 +185,8 @@ static inline LUMIS__ALWAYS_INLINE double group_sum(double v[16])
  * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
  * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
  * fixed pairwise tree and the groups are added in order. */
-static LUMIS__AVX2_CLONES double row_luminance(const float *restrict px, float *restrict yr, int w,
-                                               double sc, float *ymax)
+static inline LUMIS__ALWAYS_INLINE double
+row_luminance_body(const float *restrict px, float *restrict yr, int w, double sc, float *ymax)
 {
     enum { G = 16 };
     double row = 0.0;
@@ -272,9 +272,10 @@ typedef double v4d __attribute__((vector_size(32)));
  * stored once.  Every sum is the one of stretch_sums then tile_add, in the same order (a
  * tile's first row assigns, the others add), and Y is row_luminance's, bit for bit.  yr
  * receives the rows' luminance (row t at yr + t w), rowsum their sums of Y. */
-static LUMIS__AVX2_CLONES void row_pass(const lumis__tiles *t, const lumis__geom *g,
-                                        const float *restrict px, float *restrict yr, int j0,
-                                        int rows, float *ymax, double *restrict rowsum)
+static inline LUMIS__ALWAYS_INLINE void row_pass_body(const lumis__tiles *t, const lumis__geom *g,
+                                                      const float *restrict px, float *restrict yr,
+                                                      int j0, int rows, float *ymax,
+                                                      double *restrict rowsum)
 {
     enum { G = 16 };
     const int w = g->w;
@@ -363,6 +364,43 @@ static LUMIS__AVX2_CLONES void row_pass(const lumis__tiles *t, const lumis__geom
         }
     }
     for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
+}
+
+/* The two passes for AVX2 and the baseline (internal.h), picked per call. */
+#if LUMIS__MULTIVERSION
+static LUMIS__TARGET_AVX2 double row_luminance_avx2(const float *restrict px, float *restrict yr,
+                                                    int w, double sc, float *ymax)
+{
+    return row_luminance_body(px, yr, w, sc, ymax);
+}
+
+static LUMIS__TARGET_AVX2 void row_pass_avx2(const lumis__tiles *t, const lumis__geom *g,
+                                             const float *restrict px, float *restrict yr, int j0,
+                                             int rows, float *ymax, double *restrict rowsum)
+{
+    row_pass_body(t, g, px, yr, j0, rows, ymax, rowsum);
+}
+#endif
+
+static double row_luminance(const float *restrict px, float *restrict yr, int w, double sc,
+                            float *ymax)
+{
+#if LUMIS__MULTIVERSION
+    if (lumis__simd_level() >= LUMIS__SIMD_AVX2) return row_luminance_avx2(px, yr, w, sc, ymax);
+#endif
+    return row_luminance_body(px, yr, w, sc, ymax);
+}
+
+static void row_pass(const lumis__tiles *t, const lumis__geom *g, const float *restrict px,
+                     float *restrict yr, int j0, int rows, float *ymax, double *restrict rowsum)
+{
+#if LUMIS__MULTIVERSION
+    if (lumis__simd_level() >= LUMIS__SIMD_AVX2) {
+        row_pass_avx2(t, g, px, yr, j0, rows, ymax, rowsum);
+        return;
+    }
+#endif
+    row_pass_body(t, g, px, yr, j0, rows, ymax, rowsum);
 }
 
 /* Tile (tx, ty) summed again over its non-emissive pixels only. */

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#if defined(__GNUC__) && defined(__x86_64__)
+#if LUMIS__MULTIVERSION /* k-means' AVX-512 visits, when lumis__simd_level() allows them */
 #include <immintrin.h>
 #define KM_AVX512 1
 #endif
@@ -601,7 +601,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     res->converged = !p->kmeans;
     const int limit = p->max_iterations > 0 ? p->max_iterations : KMEANS_HARD_LIMIT;
 #ifdef KM_AVX512
-    const int avx512 = __builtin_cpu_supports("avx512f");
+    const int avx512 = lumis__simd_level() >= LUMIS__SIMD_AVX512;
 #endif
     int updates = 0;
     while (st == LUMIS_OK && p->kmeans) {

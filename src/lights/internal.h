@@ -10,24 +10,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Whole-map pixel passes are built several times and the loader picks one (GNU ifunc): the
- * rectangle methods' band sums for AVX-512, AVX2 and the baseline (LUMIS__SIMD_CLONES; AVX-512
- * made them ~30 % faster), Wu's passes for AVX2 and the baseline (LUMIS__AVX2_CLONES; its
- * AVX-512 build measured slower).  Their sums stay bit-identical: contraction into fused
- * multiply-adds is off (-ffp-contract=off on these files, CMakeLists.txt) and every sum
- * keeps its order.  GCC only (clang 14 leaves a clone of an external function unresolved
- * at link time) and not under AddressSanitizer, whose runtime may not be up when an ifunc
- * resolver runs. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__) &&       \
-    !defined(__SANITIZE_ADDRESS__)
-#define LUMIS__ALWAYS_INLINE __attribute__((always_inline))
-#define LUMIS__SIMD_CLONES   __attribute__((target_clones("avx512f", "avx2", "default")))
-#define LUMIS__AVX2_CLONES   __attribute__((target_clones("avx2", "default")))
-#else
-#define LUMIS__ALWAYS_INLINE
-#define LUMIS__SIMD_CLONES
-#define LUMIS__AVX2_CLONES
-#endif
+/* Whole-map pixel passes are built several times and lumis__simd_level() picks one
+ * (core/internal.h): the rectangle methods' band sums for AVX-512, AVX2 and the baseline
+ * (AVX-512 made them ~30 % faster), Wu's passes for AVX2 and the baseline (its AVX-512 build
+ * measured slower).  Their sums stay bit-identical: contraction into fused multiply-adds is
+ * off (-ffp-contract=off on these files, CMakeLists.txt) and every sum keeps its order;
+ * test_lights compares every variant the CPU has, and CI forces each (LUMIS_SIMD). */
 
 /* Exact per-row and per-column factors of the map (map frame, no rotation).  Pixel (i, j)
  * has solid angle omega[j] and first moment (the integral of the direction over it)

@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The pixel pass is built for AVX-512 and AVX2 too (LUMIS__SIMD_CLONES, internal.h): it is
+/* The pixel pass is built for AVX-512 and AVX2 too (lumis__strips_init, internal.h): it is
  * compute-bound, not memory-bound (docs/lights.md, performance). */
 
 enum { STRIP_T = 16, STRIP_CHUNK = 256 }; /* STRIP_CHUNK: a multiple of STRIP_T */
@@ -203,8 +203,9 @@ static void add_bands(const double *fine, const double *coarse, size_t stride, i
     }
 }
 
-LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g,
-                                                   const lumis_envmap *env, int row_moments)
+static inline LUMIS__ALWAYS_INLINE lumis_status strips_init(lumis__strips *s, const lumis__geom *g,
+                                                            const lumis_envmap *env,
+                                                            int row_moments)
 {
     memset(s, 0, sizeof *s);
     const int w = g->w, h = g->h, T = STRIP_T;
@@ -311,6 +312,37 @@ LUMIS__SIMD_CLONES lumis_status lumis__strips_init(lumis__strips *s, const lumis
         }
     }
     return LUMIS_OK;
+}
+
+#if LUMIS__MULTIVERSION
+static LUMIS__TARGET_AVX512 lumis_status strips_init_avx512(lumis__strips *s, const lumis__geom *g,
+                                                            const lumis_envmap *env,
+                                                            int row_moments)
+{
+    return strips_init(s, g, env, row_moments);
+}
+
+static LUMIS__TARGET_AVX2 lumis_status strips_init_avx2(lumis__strips *s, const lumis__geom *g,
+                                                        const lumis_envmap *env, int row_moments)
+{
+    return strips_init(s, g, env, row_moments);
+}
+#endif
+
+lumis_status lumis__strips_init(lumis__strips *s, const lumis__geom *g, const lumis_envmap *env,
+                                int row_moments)
+{
+#if LUMIS__MULTIVERSION
+    switch (lumis__simd_level()) {
+    case LUMIS__SIMD_AVX512:
+        return strips_init_avx512(s, g, env, row_moments);
+    case LUMIS__SIMD_AVX2:
+        return strips_init_avx2(s, g, env, row_moments);
+    default:
+        break;
+    }
+#endif
+    return strips_init(s, g, env, row_moments);
 }
 
 void lumis__strips_free(lumis__strips *s)

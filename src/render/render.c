@@ -9,6 +9,7 @@
 
 #include "../core/internal.h"
 #include "internal.h"
+#include "packet.h"
 
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -493,74 +494,37 @@ typedef struct light_soa {
 
 /* ---- the light interface: a light set ---------------------------------------------------- */
 
-enum { PACKET = 16 };
+enum { PACKET = LUMIS__PACKET };
 
-/* Shadow rays of one shading point, traced PACKET at a time; a lane's contribution is added
- * when its ray is unoccluded. */
+/* Shadow rays of one shading point, traced PACKET at a time (packet.h); a lane's
+ * contribution is added when its ray is unoccluded. */
 typedef struct packet {
-    struct RTCRay16 r; /* 64-byte aligned, as Embree requires */
-    _Alignas(64) int valid[PACKET];
+    lumis__packet rays;
     v3 contrib[PACKET];
-    int n, flushed; /* lanes filled; lanes traced in earlier packets */
+    int flushed; /* lanes traced in earlier packets */
 } packet;
 
-/* Traces the packet's filled lanes (the shadow-ray hook sees each first); a lane's tfar is
- * then negative when its ray is occluded.  Every lane is initialised, filled or not: Embree's
- * 8- and 4-wide kernels split the packet and check each half's rays against its valid mask
- * (asserted in Debian's build), and an uninitialised lane fails that check or is read as
- * uninitialised by valgrind.  An idle lane is a valid ray that cannot hit: tfar < tnear. */
 static void packet_trace(const lumis_scene *s, const lumis_render_desc *d, packet *p)
 {
-    for (int k = p->n; k < PACKET; k++) {
-        p->valid[k] = 0;
-        p->r.org_x[k] = p->r.org_y[k] = p->r.org_z[k] = 0.0f;
-        p->r.dir_x[k] = p->r.dir_y[k] = 0.0f;
-        p->r.dir_z[k] = 1.0f;
-        p->r.tnear[k] = 0.0f;
-        p->r.tfar[k] = -1.0f;
-        p->r.mask[k] = 0xffffffffu;
-        p->r.flags[k] = 0;
-        p->r.time[k] = 0.0f;
-        p->r.id[k] = (unsigned)k;
-    }
-    if (d->shadow_ray)
-        for (int k = 0; k < p->n; k++) {
-            const float o[3] = {p->r.org_x[k], p->r.org_y[k], p->r.org_z[k]},
-                        dd[3] = {p->r.dir_x[k], p->r.dir_y[k], p->r.dir_z[k]};
-            d->shadow_ray(d->shadow_ray_user, o, dd);
-        }
-    struct RTCIntersectContext ictx;
-    rtcInitIntersectContext(&ictx);
-    rtcOccluded16(p->valid, s->rtc, &ictx, &p->r);
+    lumis__packet_trace(s->rtc, d->shadow_ray, d->shadow_ray_user, &p->rays);
 }
 
 static void packet_flush(const lumis_scene *s, const lumis_render_desc *d, packet *p, v3 *L)
 {
-    if (p->n == 0) return;
+    if (p->rays.n == 0) return;
     packet_trace(s, d, p);
-    for (int k = 0; k < p->n; k++)
-        if (p->r.tfar[k] >= 0.0f) *L = add(*L, p->contrib[k]);
-    p->flushed += p->n;
-    p->n = 0;
+    for (int k = 0; k < p->rays.n; k++)
+        if (p->rays.r.tfar[k] >= 0.0f) *L = add(*L, p->contrib[k]);
+    p->flushed += p->rays.n;
+    p->rays.n = 0;
 }
 
 static void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
 {
-    const int q = p->n++;
-    p->valid[q] = -1;
-    p->r.org_x[q] = (float)o.x;
-    p->r.org_y[q] = (float)o.y;
-    p->r.org_z[q] = (float)o.z;
-    p->r.dir_x[q] = (float)d.x;
-    p->r.dir_y[q] = (float)d.y;
-    p->r.dir_z[q] = (float)d.z;
-    p->r.tnear[q] = 0.0f;
-    p->r.tfar[q] = tfar;
-    p->r.mask[q] = 0xffffffffu;
-    p->r.flags[q] = 0;
-    p->r.time[q] = 0.0f;
-    p->r.id[q] = (unsigned)q;
-    p->contrib[q] = contrib;
+    const float of[3] = {(float)o.x, (float)o.y, (float)o.z},
+                df[3] = {(float)d.x, (float)d.y, (float)d.z};
+    p->contrib[p->rays.n] = contrib;
+    lumis__packet_push(&p->rays, of, df, tfar);
 }
 
 /* Every light of the pixel's set: f cos V power, one shadow ray each.  A Lambertian surface
@@ -582,7 +546,7 @@ static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
     v3 L = mk(0, 0, 0);
     packet p;
-    p.n = p.flushed = 0;
+    p.rays.n = p.flushed = 0;
     for (int k = 0; k < ls->count; k++) {
         const float wx = ls->x[k], wy = ls->y[k], wz = ls->z[k];
         const float cosn = wx * nx + wy * ny + wz * nz;
@@ -598,9 +562,9 @@ static v3 shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
         }
         packet_push(&p, o, mk(wx, wy, wz), INFINITY,
                     mk(fr * ls->r[k] * cosn, fg * ls->g[k] * cosn, fb * ls->b[k] * cosn));
-        if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
+        if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
     }
-    *shadow_rays += (double)(p.n + p.flushed);
+    *shadow_rays += (double)(p.rays.n + p.flushed);
     packet_flush(c->scene, d, &p, &L);
     return L;
 }
@@ -697,7 +661,7 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
 {
     const int a = m % li->grid[0], b = m / li->grid[0];
     packet p;
-    p.n = p.flushed = 0;
+    p.rays.n = p.flushed = 0;
     int cell[9];
     for (int j = 0; j < li->span; j++)
         for (int i = 0; i < li->span; i++) {
@@ -710,13 +674,14 @@ static double lum_visibility(const ctx *c, const lum_inst *li, lum_scratch *sc, 
                 sc->vis[id] = 1.0f;
                 continue;
             }
-            cell[p.n] = id;
+            cell[p.rays.n] = id;
             packet_push(&p, o, mul(d, 1.0 / len), (float)(len * (1.0 - 1e-4)), mk(0, 0, 0));
         }
-    if (p.n > 0) {
+    if (p.rays.n > 0) {
         packet_trace(c->scene, c->d, &p);
-        for (int k = 0; k < p.n; k++) sc->vis[cell[k]] = p.r.tfar[k] >= 0.0f ? 1.0f : 0.0f;
-        *shadow_rays += p.n;
+        for (int k = 0; k < p.rays.n; k++)
+            sc->vis[cell[k]] = p.rays.r.tfar[k] >= 0.0f ? 1.0f : 0.0f;
+        *shadow_rays += p.rays.n;
     }
     double v = 0.0;
     for (int j = 0; j < li->span; j++)
@@ -866,7 +831,7 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             sc->point = 1;
         }
         packet p;
-        p.n = p.flushed = 0;
+        p.rays.n = p.flushed = 0;
         int vis_image = -1;
         double vis = 1.0;
         for (int j = 0; j < count; j++) {
@@ -903,10 +868,10 @@ static v3 shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
             } else {
                 const float tfar = (float)((double)s->distance * li->scale * (1.0 - 1e-4));
                 packet_push(&p, o, wi, tfar, contrib);
-                if (p.n == PACKET) packet_flush(c->scene, d, &p, &L);
+                if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
             }
         }
-        *shadow_rays += (double)(p.n + p.flushed);
+        *shadow_rays += (double)(p.rays.n + p.flushed);
         packet_flush(c->scene, d, &p, &L);
     }
     return L;

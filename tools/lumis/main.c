@@ -1,6 +1,7 @@
 /* lumis: command-line front end.  Each subcommand lives in its own cmd_*.c file. */
 #include "common.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static const tool_command commands[] = {
@@ -50,8 +51,15 @@ int main(int argc, char **argv)
         print_help(stdout);
         return EXIT_OK;
     }
+    if (!lumis_simd_variant()) {
+        fprintf(stderr, "lumis: LUMIS_SIMD=%s names no SIMD variant (avx512, avx2 or baseline)\n",
+                getenv("LUMIS_SIMD"));
+        return EXIT_USAGE;
+    }
     if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
-        printf("lumis %s\n", lumis_version());
+        const char *embree = getenv("LUMIS_EMBREE_CONFIG");
+        printf("lumis %s (SIMD variant: %s; Embree config: %s)\n", lumis_version(),
+               lumis_simd_variant(), embree && *embree ? embree : "default");
         return EXIT_OK;
     }
     for (int i = 0; i < NCOMMANDS; i++)

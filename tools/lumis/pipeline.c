@@ -693,6 +693,11 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     cJSON_AddNumberToObject(j, "passes", s->passes);
     cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
     cJSON_AddNumberToObject(j, "threads", s->threads);
+    { /* the code paths this CPU ran: a result is reproduced with the same ones */
+        const char *embree = getenv("LUMIS_EMBREE_CONFIG");
+        cJSON_AddStringToObject(j, "simd_variant", lumis_simd_variant());
+        cJSON_AddStringToObject(j, "embree_config", embree && *embree ? embree : "default");
+    }
     cJSON_AddNumberToObject(j, "width", cam->width);
     cJSON_AddNumberToObject(j, "height", cam->height);
     x = cJSON_AddObjectToObject(j, "timings");
