@@ -570,6 +570,54 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
 
 /* --lights renders with a light set: the sidecar names it, its K and its sets; options that
  * do not apply to a light set are refused. */
+/* lumis's SIMD variants give the same light sets (test_lights) and so the same image, byte
+ * for byte: Wu's (with upsampling) and variance minimisation's renders under every variant
+ * LUMIS_SIMD can force; an unknown variant is a usage error; the sidecar names the one used. */
+static void simd_variants_render_the_same_image(void **state)
+{
+    (void)state;
+    static const char *const variants[] = {"baseline", "avx2", "avx512"};
+    static const char *const methods[] = {"wu", "variance-min"};
+    char a[1024];
+    for (int m = 0; m < 2; m++) {
+        unsigned char *first = NULL;
+        size_t first_n = 0;
+        for (int v = 0; v < 3; v++) {
+            char cmd[2048];
+            snprintf(a, sizeof a,
+                     "render --scene bunny-plane --env sky:256x128 --lights %s --lights-k 24 "
+                     "--spp 1 --size 32x24 -o '%s'",
+                     methods[m], tu_path("simd.exr"));
+            snprintf(cmd, sizeof cmd, "LUMIS_SIMD=%s '%s' %s", variants[v], LUMIS_CLI, a);
+            char *err = NULL;
+            if (tu_run(cmd, NULL, &err) != 0) fail_msg("%s: %s", cmd, err);
+            free(err);
+            cJSON *j = read_json("simd.json");
+            const char *used = item(j, "simd_variant")->valuestring;
+            assert_true(strcmp(used, variants[v]) == 0 || v == 2 || strcmp(used, "baseline") == 0);
+            cJSON_Delete(j);
+            size_t n = 0;
+            unsigned char *img = tu_read_file(tu_path("simd.exr"), &n);
+            assert_non_null(img);
+            if (!first) {
+                first = img;
+                first_n = n;
+                continue;
+            }
+            if (n != first_n || memcmp(img, first, n) != 0)
+                fail_msg("%s: LUMIS_SIMD=%s renders another image than the baseline", methods[m],
+                         variants[v]);
+            free(img);
+        }
+        free(first);
+    }
+    char *err = NULL;
+    snprintf(a, sizeof a, "LUMIS_SIMD=avx3 '%s' info sky:8x4", LUMIS_CLI);
+    assert_int_equal(tu_run(a, NULL, &err), 2);
+    assert_non_null(strstr(err, "LUMIS_SIMD=avx3"));
+    free(err);
+}
+
 static void render_with_light_sets(void **state)
 {
     (void)state;
@@ -1356,6 +1404,7 @@ int main(void)
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(render_with_light_sets),
+        cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(lights_export_parses_back),
