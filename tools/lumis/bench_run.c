@@ -163,6 +163,8 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         cJSON_AddStringToObject(j, "item_key", ikey);
         cJSON_AddNumberToObject(j, "spp", r.stats.spp);
         cJSON_AddNumberToObject(j, "render_seconds", r.stats.seconds);
+        /* inside an equal-time item's budget: tables, light sets, K's pilots */
+        cJSON_AddNumberToObject(j, "prep_seconds", r.prep_seconds);
         /* BSDF sampling builds no light sampler worth counting (the CLI makes one anyway). */
         const int bsdf = s->methods[it->method].bsdf_only;
         cJSON_AddNumberToObject(j, "sampler_build_ms", bsdf ? 0.0 : r.sampler_build_ms);

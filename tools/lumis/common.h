@@ -213,6 +213,9 @@ typedef struct tool_render_result {
     double lights_pilot_chosen; /* K the pilots chose, before any re-render */
     int lights_pilot_k[2];
     int lights_retried; /* the pilots misjudged: rendered again with K scaled */
+    /* Equal wall time: seconds before the first sample (sampler tables, light-set generation
+     * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
+    double prep_seconds, budget_used_seconds;
 } tool_render_result;
 
 /* Samples per pixel of a light set rendered to a time budget (--lights with --time): the

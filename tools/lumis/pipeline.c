@@ -705,6 +705,12 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     cJSON_AddNumberToObject(x, "sampler_build_seconds", r->sampler_build_ms / 1000.0);
     cJSON_AddNumberToObject(x, "scene_build_seconds", r->scene_seconds);
     cJSON_AddNumberToObject(x, "render_seconds", s->seconds);
+    /* Before the first sample: tables, light-set generation, K's pilots (every attempt). */
+    cJSON_AddNumberToObject(x, "prep_seconds", r->prep_seconds);
+    if (o->time_budget > 0.0) /* prep + every attempt's render: what the budget paid for */
+        cJSON_AddNumberToObject(x, "budget_used_seconds", r->budget_used_seconds);
+    else
+        cJSON_AddNullToObject(x, "budget_used_seconds");
     cJSON_AddNumberToObject(x, "total_seconds", r->total_seconds);
     x = cJSON_AddObjectToObject(j, "rays");
     double total = s->camera_rays + s->shadow_rays + s->bounce_rays;
@@ -849,10 +855,11 @@ static int clamp_lights_k(double k, const lumis_envmap *env)
  * K is then what fills the budget at TOOL_LIGHTS_TIMED_SPP samples (or --spp). */
 static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render_desc *rd,
                                     const lumis_envmap *env, const tool_render_opts *o, int factor,
-                                    tool_render_result *r, int *k_out)
+                                    double budget, tool_render_result *r, int *k_out)
 {
     static const int ks[2] = {16, 64};
     double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
+    double gen[2] = {0, 0};                 /* the light set's generation */
     const double t0 = tool_now_seconds();
     for (int p = 0; p < 2; p++) {
         lumis_light_set *set = NULL;
@@ -860,8 +867,10 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         memset(&u, 0, sizeof u);
         lumis_render_desc pd = *rd;
         pd.progress = NULL;
+        const double tg = tool_now_seconds();
         lumis_status st =
             tool_make_light_set(env, o->lights, ks[p], o->interleave, &o->lights_params, &set);
+        gen[p] = tool_now_seconds() - tg;
         pd.light_set = set;
         if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
         /* Samples until the full layer has run long enough to time (small images). */
@@ -885,8 +894,13 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         if (st != LUMIS_OK) return st;
     }
     /* total(K) = spp (a + b K) + c + d K: the full layer runs every sample, the low layer
-     * of Wu's split, its G-buffers and the upsampling once. */
+     * of Wu's split, its G-buffers and the upsampling once, and the set's generation once
+     * (in c and d: equal time is equal wall time, the lights' making included).  The
+     * budget is what is left after the pilots. */
     const int spp = rd->spp ? rd->spp : TOOL_LIGHTS_TIMED_SPP;
+    once[0] += gen[0];
+    once[1] += gen[1];
+    budget -= tool_now_seconds() - t0;
     double b = (t[1] - t[0]) / (ks[1] - ks[0]), a = t[0] - b * ks[0];
     double d = (once[1] - once[0]) / (ks[1] - ks[0]), c = once[0] - d * ks[0];
     if (!(b > 0.0) || !(a >= 0.0)) { /* too noisy to separate: proportional */
@@ -897,7 +911,7 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         c = 0.0;
         d = once[1] / ks[1];
     }
-    double k = (o->time_budget - spp * a - c) / (spp * b + d);
+    double k = (budget - spp * a - c) / (spp * b + d);
     *k_out = clamp_lights_k(k, env);
     r->lights_pilot_seconds = tool_now_seconds() - t0;
     r->lights_pilot_k[0] = ks[0];
@@ -1056,27 +1070,48 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         o->lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
     int lights_k = o->lights_k;
     const int k_fills_time = o->lights && o->time_budget > 0.0 && !o->lights_k;
-    if (k_fills_time && choose_lights_k(scene, &rd, env, o, factor, r, &lights_k) != LUMIS_OK)
-        goto done;
+    /* Equal time is equal wall time: what a method needs before its first sample (the
+     * sampler's tables, the light set's generation, the pilots that choose K) is spent from
+     * the budget, and reported (r->prep_seconds). */
+    const double B = o->time_budget;
+    r->prep_seconds = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
+    double rendered = 0.0; /* render seconds of earlier attempts */
+    if (k_fills_time) {
+        const double tp = tool_now_seconds();
+        if (choose_lights_k(scene, &rd, env, o, factor, B - r->prep_seconds, r, &lights_k) !=
+            LUMIS_OK)
+            goto done;
+        r->prep_seconds += tool_now_seconds() - tp;
+    }
     for (int attempt = 0;; attempt++) {
+        const double tg = tool_now_seconds(), prep_before = r->prep_seconds;
         if (o->lights && tool_make_light_set(env, o->lights, lights_k, o->interleave,
                                              &o->lights_params, &lights) != LUMIS_OK)
             goto done;
         rd.light_set = lights;
         if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
+        r->prep_seconds += tool_now_seconds() - tg;
         /* A light set under --time without a K: K fills the time at a fixed sample count.
-         * Otherwise --time adds passes (samples per pixel) until the time is spent. */
-        st = k_fills_time           ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
-             : o->time_budget > 0.0 ? run_timed(&unit, o->time_budget, &pg)
-                                    : unit_run(&unit, rd.spp ? rd.spp : 16);
+         * Otherwise --time adds passes (samples per pixel) until what is left of it is
+         * spent. */
+        const double left = B - r->prep_seconds - rendered;
+        st = k_fills_time ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
+             : B > 0.0    ? run_timed(&unit, left, &pg)
+                          : unit_run(&unit, rd.spp ? rd.spp : 16);
         if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
         unit_stats(&unit, &r->stats);
-        const double T = r->stats.seconds, B = o->time_budget;
-        if (st != LUMIS_OK || !k_fills_time || attempt > 0 || (T > 0.6 * B && T < 1.5 * B)) break;
-        /* The pilots misjudged the time (a loaded machine, a tiny image): K is scaled by
-         * the budget over the time taken, and the render is made again, once. */
-        const int k2 = clamp_lights_k(lights_k * B / (T > 1e-9 ? T : 1e-9), env);
-        if (k2 == lights_k) break;
+        const double T = r->stats.seconds;
+        r->budget_used_seconds = r->prep_seconds + rendered + T;
+        /* The pilots misjudged the time (a loaded machine, a tiny image) and less than 60 %
+         * of the budget went: K is scaled to what is left, and the render is made again,
+         * once (the first attempt's time stays spent).  Over the budget, nothing can be
+         * won back: the time used is reported as it is. */
+        if (st != LUMIS_OK || !k_fills_time || attempt > 0 || r->budget_used_seconds > 0.6 * B)
+            break;
+        const double rest = B - r->budget_used_seconds, g = r->prep_seconds - prep_before;
+        const int k2 = clamp_lights_k(lights_k * rest / (T + g > 1e-9 ? T + g : 1e-9), env);
+        if (k2 <= lights_k) break;
+        rendered += T;
         lights_k = k2;
         r->lights_retried = 1;
         lumis_image_destroy(r->image);
@@ -1143,6 +1178,12 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                 cam.width, cam.height, r->stats.spp,
                 o->rd.max_bounces > 0 ? "path traced, " : "direct, ", how, r->stats.seconds,
                 rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds);
+        if (o->time_budget > 0.0)
+            fprintf(stderr,
+                    "lumis: time budget %.3g s: %.3f s before the first sample (tables, light "
+                    "sets, K's pilots) + %.3f s rendering = %.3f s\n",
+                    o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
+                    r->budget_used_seconds);
     }
     rc = EXIT_OK;
     if (sidecar[0])
