@@ -1,6 +1,7 @@
 /* lumis: command-line front end.  Each subcommand lives in its own cmd_*.c file. */
 #include "common.h"
 
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -41,6 +42,23 @@ static void print_help(FILE *f)
                "studio[:WxH].  Exit status: 0 success, 1 runtime error, 2 usage error.\n");
 }
 
+/* Every command's standard output is checked before the exit status is given: a full disk
+ * or a closed pipe (lumis info --json > /dev/full) must not exit 0 with the output lost. */
+static int finish(int rc)
+{
+    errno = 0;
+    const int failed = fflush(stdout) != 0 || ferror(stdout);
+    const int err = errno;
+    if ((fclose(stdout) != 0 || failed) && rc == EXIT_OK) { /* a failed command said why */
+        fprintf(stderr, "lumis: writing to standard output failed: %s\n",
+                err     ? strerror(err)
+                : errno ? strerror(errno)
+                        : "I/O error");
+        return EXIT_RUNTIME;
+    }
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -49,7 +67,7 @@ int main(int argc, char **argv)
     }
     if (tool_is_help(argv[1]) || strcmp(argv[1], "help") == 0) {
         print_help(stdout);
-        return EXIT_OK;
+        return finish(EXIT_OK);
     }
     if (!lumis_simd_variant()) {
         fprintf(stderr, "lumis: LUMIS_SIMD=%s names no SIMD variant (avx512, avx2 or baseline)\n",
@@ -60,10 +78,11 @@ int main(int argc, char **argv)
         const char *embree = getenv("LUMIS_EMBREE_CONFIG");
         printf("lumis %s (SIMD variant: %s; Embree config: %s)\n", lumis_version(),
                lumis_simd_variant(), embree && *embree ? embree : "default");
-        return EXIT_OK;
+        return finish(EXIT_OK);
     }
     for (int i = 0; i < NCOMMANDS; i++)
-        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+        if (strcmp(argv[1], commands[i].name) == 0)
+            return finish(commands[i].run(argc - 1, argv + 1));
     fprintf(stderr, "lumis: unknown command '%s' (see 'lumis --help')\n", argv[1]);
     return EXIT_USAGE;
 }
