@@ -374,16 +374,119 @@ typedef struct km_move {
 } km_move;
 
 /* A centre's distance (chord) to another, for the seeds' assignment. */
-typedef struct km_near {
-    double d;
-    int32_t j;
-} km_near;
+/* The centres in a uniform 3D grid over [-1, 1]^3: for unit vectors the chord is the
+ * Euclidean distance, so the centres within a radius of a point are found among the cells
+ * its box covers, in O(cells + found) instead of O(K).  What the grid returns is a
+ * superset, tested with the same sq_dist as a full scan, so every list it yields is the
+ * one the scan would (the light sets do not change: docs/lights.md, "k-means"). */
+typedef struct km_grid {
+    int g;           /* cells per axis */
+    double inv_h, h; /* cells per unit; cell size */
+    int32_t *start;  /* g^3 + 1 offsets into item */
+    int32_t *item;   /* centre indices by cell, ascending within a cell */
+    int32_t *cand;   /* a query's result, up to K */
+} km_grid;
 
-static int cmp_near(const void *pa, const void *pb)
+static lumis_status km_grid_init(km_grid *gr, int k)
 {
-    const km_near *a = pa, *b = pb;
-    if (a->d != b->d) return a->d < b->d ? -1 : 1;
-    return (a->j > b->j) - (a->j < b->j);
+    /* about one centre per cell of the sphere's surface: spacing sqrt(4 pi / K) */
+    int g = (int)(2.0 / sqrt(4.0 * LUMIS_PI / (k > 0 ? k : 1)) + 0.5);
+    gr->g = g < 1 ? 1 : (g > 48 ? 48 : g);
+    gr->h = 2.0 / gr->g;
+    gr->inv_h = gr->g / 2.0;
+    const size_t cells = (size_t)gr->g * (size_t)gr->g * (size_t)gr->g;
+    gr->start = malloc((cells + 1) * sizeof(int32_t));
+    gr->item = malloc((size_t)(k > 0 ? k : 1) * sizeof(int32_t));
+    gr->cand = malloc((size_t)(k > 0 ? k : 1) * sizeof(int32_t));
+    return gr->start && gr->item && gr->cand ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+}
+
+static void km_grid_free(km_grid *gr)
+{
+    free(gr->start);
+    free(gr->item);
+    free(gr->cand);
+}
+
+static int km_grid_axis(const km_grid *gr, double x)
+{
+    const double f = (x + 1.0) * gr->inv_h;
+    return f < 0.0 ? 0 : (f >= gr->g ? gr->g - 1 : (int)f);
+}
+
+static int km_grid_cell(const km_grid *gr, const double *p)
+{
+    return (km_grid_axis(gr, p[2]) * gr->g + km_grid_axis(gr, p[1])) * gr->g +
+           km_grid_axis(gr, p[0]);
+}
+
+/* Counting sort of the centres by cell (stable: ascending indices within a cell). */
+static void km_grid_build(km_grid *gr, const double *c, int k)
+{
+    const int cells = gr->g * gr->g * gr->g;
+    memset(gr->start, 0, ((size_t)cells + 1) * sizeof(int32_t));
+    for (int j = 0; j < k; j++) gr->start[km_grid_cell(gr, c + 3 * (size_t)j) + 1]++;
+    for (int q = 0; q < cells; q++) gr->start[q + 1] += gr->start[q];
+    for (int j = 0; j < k; j++) gr->item[gr->start[km_grid_cell(gr, c + 3 * (size_t)j)]++] = j;
+    for (int q = cells; q > 0; q--) gr->start[q] = gr->start[q - 1];
+    gr->start[0] = 0;
+}
+
+/* Every centre whose cell meets the box of the ball (p, r) into gr->cand (a superset of the
+ * centres within r; a centre left out is farther than r); returns their number, or -1 when
+ * the box covers more cells than there are centres (the caller scans them all). */
+static int km_grid_query(km_grid *gr, const double *p, double r, int k)
+{
+    r = r * (1.0 + 1e-12) + 1e-12; /* the box's rounding never drops a centre */
+    int lo[3], hi[3];
+    double cells = 1.0;
+    for (int a = 0; a < 3; a++) {
+        lo[a] = km_grid_axis(gr, p[a] - r);
+        hi[a] = km_grid_axis(gr, p[a] + r);
+        cells *= hi[a] - lo[a] + 1;
+    }
+    if (cells > k) return -1;
+    int n = 0;
+    for (int z = lo[2]; z <= hi[2]; z++)
+        for (int y = lo[1]; y <= hi[1]; y++) {
+            const int row = (z * gr->g + y) * gr->g;
+            const int32_t b = gr->start[row + lo[0]], e = gr->start[row + hi[0] + 1];
+            for (int32_t t = b; t < e; t++) gr->cand[n++] = gr->item[t];
+        }
+    return n;
+}
+
+static int cmp_i32(const void *pa, const void *pb)
+{
+    const int32_t a = *(const int32_t *)pa, b = *(const int32_t *)pb;
+    return (a > b) - (a < b);
+}
+
+/* The distance from centre j to its nearest other (INFINITY for K = 1), exactly the
+ * minimum a full scan computes: balls of doubling radius until one holds a centre within
+ * its radius. */
+static double km_nearest_other(km_grid *gr, const double *c, int k, int j)
+{
+    const double *cj = c + 3 * (size_t)j;
+    for (double r = gr->h;; r *= 2.0) {
+        const int n = km_grid_query(gr, cj, r, k);
+        double m2 = INFINITY;
+        if (n < 0) {
+            for (int b = 0; b < k; b++)
+                if (b != j) {
+                    const double d2 = sq_dist(cj, c + 3 * (size_t)b);
+                    if (d2 < m2) m2 = d2;
+                }
+            return sqrt(m2);
+        }
+        for (int t = 0; t < n; t++) {
+            const int b = gr->cand[t];
+            if (b == j) continue;
+            const double d2 = sq_dist(cj, c + 3 * (size_t)b);
+            if (d2 < m2) m2 = d2;
+        }
+        if (m2 <= r * r) return sqrt(m2);
+    }
 }
 
 /* Failing member q of cluster ca compared with the near centres nb[0 .. nn): the nearest
@@ -532,23 +635,17 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     int32_t *nb = malloc((size_t)k * sizeof(int32_t));
     km_move *moves = malloc((size_t)m * sizeof *moves);
     int32_t *fail = calloc((size_t)m + 16, sizeof(int32_t));
-    km_near *near = malloc(((size_t)k * (size_t)(k > 1 ? k - 1 : 1)) * sizeof *near);
+    double *nearest = malloc((size_t)k * sizeof(double)); /* each centre's nearest other */
+    km_grid grid;
     int cap = 0;
-    lumis_status st = LUMIS_OK;
+    lumis_status st = km_grid_init(&grid, k);
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
-        !changed || !nb || !moves || !fail)
+        !changed || !nb || !moves || !fail || !nearest)
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
-        /* each centre's others, nearest first */
-        for (int j = 0; j < k && k > 1; j++) {
-            km_near *L = near + (size_t)j * (size_t)(k - 1);
-            int t = 0;
-            for (int b = 0; b < k; b++)
-                if (b != j)
-                    L[t++] = (km_near){sqrt(sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b)), b};
-            qsort(L, (size_t)(k - 1), sizeof *L, cmp_near);
-        }
+        km_grid_build(&grid, c, k);
+        for (int j = 0; j < k; j++) nearest[j] = km_nearest_other(&grid, c, k, j);
     }
     /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
      * in scan order, so the last pixel's centre is usually the answer: it is, with the
@@ -562,17 +659,27 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         int best = last;
         double slack = INFINITY;
         const double dl = dot3(x, c + 3 * (size_t)last), rl = chord_bound(dl);
-        const km_near *L = near + (size_t)last * (size_t)(k - 1);
         /* half the distance from the last centre to its nearest other */
-        const double half = k > 1 ? 0.5 * L[0].d * (1.0 - 1e-15) : INFINITY;
+        const double half = k > 1 ? 0.5 * nearest[last] * (1.0 - 1e-15) : INFINITY;
         if (k > 1 && rl + KM_MARGIN < half) {
             slack = 2.0 * (half - rl);
         } else if (k > 1) {
-            const double reach = 2.0 * rl + KM_MARGIN;
-            double bd = dl, sec = -INFINITY, rest = INFINITY;
-            int t = 0;
-            for (; t < k - 1 && L[t].d < reach; t++) {
-                const int j = L[t].j;
+            /* the centres within the reach of the last one, and a bound on the others'
+             * distance: the nearest found beyond the reach, or the searched radius */
+            const double reach = 2.0 * rl + KM_MARGIN, searched = reach + grid.h;
+            const double *cl = c + 3 * (size_t)last;
+            int n = km_grid_query(&grid, cl, searched, k);
+            const int all = n < 0;
+            if (all) n = k;
+            double bd = dl, sec = -INFINITY, beyond = all ? INFINITY : searched;
+            for (int t = 0; t < n; t++) {
+                const int j = all ? t : grid.cand[t];
+                if (j == last) continue;
+                const double dj = sqrt(sq_dist(cl, c + 3 * (size_t)j));
+                if (!(dj < reach)) {
+                    if (dj < beyond) beyond = dj;
+                    continue;
+                }
                 const double dt = dot3(x, c + 3 * (size_t)j);
                 if (dt > bd || (dt == bd && j < best)) {
                     sec = bd;
@@ -582,8 +689,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                     sec = dt;
                 }
             }
-            if (t < k - 1) rest = L[t].d * (1.0 - 1e-15) - rl;
-            const double lo = chord_lower(sec);
+            const double rest = beyond * (1.0 - 1e-15) - rl, lo = chord_lower(sec);
             slack = (lo < rest ? lo : rest) - chord_bound(bd);
         }
         a[i] = last = best;
@@ -656,12 +762,20 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
          * or a moved centre is near, and then only its members whose lazy Hamerly bound
          * fails are compared with the near centres. */
         int nm = 0;
+        if (nmoved > 0) km_grid_build(&grid, c, k);
         for (int ca = 0; nmoved > 0 && ca < k; ca++) {
             const double *cc = c + 3 * (size_t)ca;
             const double reach = 2.0 * s.R[ca] + KM_MARGIN, reach2 = reach * reach;
+            /* the centres within the reach (ascending, as a full scan lists them) and the
+             * nearest beyond it, or the searched radius: a bound on the rest */
+            const double searched = reach + grid.h;
+            int n = km_grid_query(&grid, cc, searched, k);
+            const int all = n < 0;
+            if (all) n = k;
             int nn = 0, need = delta[ca] > 0.0;
-            double far2 = INFINITY;
-            for (int b = 0; b < k; b++) {
+            double far2 = all ? INFINITY : searched * searched;
+            for (int t = 0; t < n; t++) {
+                const int b = all ? t : grid.cand[t];
                 if (b == ca) continue;
                 double r2 = sq_dist(cc, c + 3 * (size_t)b);
                 if (r2 < reach2) {
@@ -672,6 +786,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                 }
             }
             if (!need) continue;
+            if (!all) qsort(nb, (size_t)nn, sizeof *nb, cmp_i32);
             /* a little under the distance to the nearest centre beyond the reach */
             const double far = sqrt(far2) * (1.0 - 1e-15);
             km_cluster *cl = &s.cl[ca];
@@ -731,7 +846,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(nb);
     free(moves);
     free(fail);
-    free(near);
+    free(nearest);
+    km_grid_free(&grid);
     return st;
 }
 

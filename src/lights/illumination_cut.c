@@ -174,6 +174,66 @@ static void node_split(const cut_ctx *c, const node *parent, node *a, node *b)
     }
 }
 
+/* The cut's nodes under a tournament tree of their maxima (variance, extent, energy; zeros
+ * for a node that cannot split), so that the node Eq. 3 picks is found by branch and bound
+ * instead of a scan of every node at every split (O(K^2) at K = 4096: 30 ms of Wu's
+ * 76 ms on an interior map).  Every term is non-negative, so a subtree's objective bound
+ * from its maxima is at least each of its nodes' objective in floating point too, and
+ * the search visits subtrees in index order: it returns exactly the node the scan would
+ * (the first of the largest). */
+typedef struct cut_tree {
+    int leaves;  /* a power of two >= the budget */
+    double *max; /* 3 per tree node, 1-based heap order: v, d, E */
+    int splittable;
+} cut_tree;
+
+static void cut_tree_set(cut_tree *t, int k, const node *nd)
+{
+    const int can = nd->q[Q_N] >= 2.0;
+    size_t i = (size_t)t->leaves + (size_t)k;
+    double *m = t->max + 3 * i;
+    m[0] = can ? nd->v : 0.0;
+    m[1] = can ? nd->d : 0.0;
+    m[2] = can ? nd->q[Q_E] : 0.0;
+    for (i >>= 1; i >= 1; i >>= 1) {
+        const double *l = t->max + 6 * i, *r = l + 3;
+        double *p = t->max + 3 * i;
+        for (int c = 0; c < 3; c++) p[c] = l[c] > r[c] ? l[c] : r[c];
+    }
+}
+
+typedef struct cut_search {
+    const cut_tree *t;
+    const node *cut;
+    int n, original, best;
+    double sv, sd, se, bo;
+} cut_search;
+
+static double cut_objective(const cut_search *q, double v, double d, double e)
+{
+    return q->original ? v : q->sv * v + q->sd * d + q->se * e;
+}
+
+static void cut_find(cut_search *q, size_t i, int lo, int width)
+{
+    if (lo >= q->n) return;
+    const double *m = q->t->max + 3 * i;
+    /* a subtree whose bound cannot beat the best so far (ties go to the earlier node) */
+    if (q->best >= 0 && !(cut_objective(q, m[0], m[1], m[2]) > q->bo)) return;
+    if (width == 1) {
+        const node *nd = &q->cut[lo];
+        if (nd->q[Q_N] < 2.0) return;
+        const double o = cut_objective(q, nd->v, nd->d, nd->q[Q_E]);
+        if (o > q->bo || q->best < 0) {
+            q->bo = o;
+            q->best = lo;
+        }
+        return;
+    }
+    cut_find(q, 2 * i, lo, width / 2);
+    cut_find(q, 2 * i + 1, lo + width / 2, width / 2);
+}
+
 lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles *tiles, int budget,
                                      lumis_cut_objective obj, double w_v, double w_d, double w_e,
                                      lumis__rect *rects, int *count)
@@ -185,48 +245,49 @@ lumis_status lumis__illumination_cut(const lumis__decomp *dc, const lumis__tiles
     c.dc = dc;
     c.g = dc->g;
     c.tiles = tiles;
+    cut_tree t;
+    t.leaves = 1;
+    while (t.leaves < budget) t.leaves *= 2;
     node *cut = malloc((size_t)budget * sizeof *cut);
-    lumis_status st = cut ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+    t.max = calloc(6 * (size_t)t.leaves, sizeof(double));
+    lumis_status st = cut && t.max ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     int n = 0;
     if (st == LUMIS_OK) {
         lumis__rect whole = {0, 0, dc->w, dc->h};
         cut[0].r = whole;
         node_sums(&c, &cut[0]);
-        if (cut[0].q[Q_N] > 0.0) n = 1;
+        if (cut[0].q[Q_N] > 0.0) {
+            n = 1;
+            cut_tree_set(&t, 0, &cut[0]);
+        }
     }
     while (st == LUMIS_OK && n > 0 && n < budget) {
-        /* Eq. 3 normalises each term by its maximum over the nodes that can still split. */
-        double mv = 0.0, md = 0.0, me = 0.0;
-        int any = 0;
-        for (int k = 0; k < n; k++) {
-            if (cut[k].q[Q_N] < 2.0) continue;
-            any = 1;
-            mv = fmax(mv, cut[k].v);
-            md = fmax(md, cut[k].d);
-            me = fmax(me, cut[k].q[Q_E]);
-        }
-        if (!any) break; /* every node is a single pixel */
-        double sv = mv > 0.0 ? w_v / mv : 0.0, sd = md > 0.0 ? w_d / md : 0.0,
-               se = me > 0.0 ? w_e / me : 0.0;
-        int best = -1;
-        double bo = -INFINITY;
-        for (int k = 0; k < n; k++) {
-            if (cut[k].q[Q_N] < 2.0) continue;
-            double o = obj == LUMIS_CUT_ORIGINAL
-                           ? cut[k].v
-                           : sv * cut[k].v + sd * cut[k].d + se * cut[k].q[Q_E];
-            if (o > bo) {
-                bo = o;
-                best = k;
-            }
-        }
+        /* Eq. 3 normalises each term by its maximum over the nodes that can still split
+         * (the tree's root; zero when none can) */
+        const double mv = t.max[3], md = t.max[4], me = t.max[5];
+        cut_search q;
+        q.t = &t;
+        q.cut = cut;
+        q.n = n;
+        q.original = obj == LUMIS_CUT_ORIGINAL;
+        q.sv = mv > 0.0 ? w_v / mv : 0.0;
+        q.sd = md > 0.0 ? w_d / md : 0.0;
+        q.se = me > 0.0 ? w_e / me : 0.0;
+        q.best = -1;
+        q.bo = -INFINITY;
+        cut_find(&q, 1, 0, t.leaves);
+        if (q.best < 0) break; /* every node is a single pixel */
         node a, b;
-        node_split(&c, &cut[best], &a, &b);
-        cut[best] = a;
-        cut[n++] = b;
+        node_split(&c, &cut[q.best], &a, &b);
+        cut[q.best] = a;
+        cut[n] = b;
+        cut_tree_set(&t, q.best, &a);
+        cut_tree_set(&t, n, &b);
+        n++;
     }
     for (int k = 0; k < n; k++) rects[k] = cut[k].r;
     *count = n;
     free(cut);
+    free(t.max);
     return st;
 }
