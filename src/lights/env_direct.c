@@ -374,6 +374,23 @@ typedef struct km_move {
 } km_move;
 
 /* A centre's distance (chord) to another, for the seeds' assignment. */
+/* A centre's others, nearest first: the first assignment's candidates on small K, where
+ * the K x K lists cost less than grid queries (above K = 256 they cost O(K^2 log K)
+ * time and 16 K^2 bytes: the grid then). */
+enum { KM_LISTS_MAX_K = 256 };
+
+typedef struct km_near {
+    double d;
+    int32_t j;
+} km_near;
+
+static int cmp_near(const void *pa, const void *pb)
+{
+    const km_near *a = pa, *b = pb;
+    if (a->d != b->d) return a->d < b->d ? -1 : 1;
+    return (a->j > b->j) - (a->j < b->j);
+}
+
 /* The centres in a uniform 3D grid over [-1, 1]^3: for unit vectors the chord is the
  * Euclidean distance, so the centres within a radius of a point are found among the cells
  * its box covers, in O(cells + found) instead of O(K).  What the grid returns is a
@@ -434,7 +451,8 @@ static void km_grid_build(km_grid *gr, const double *c, int k)
 
 /* Every centre whose cell meets the box of the ball (p, r) into gr->cand (a superset of the
  * centres within r; a centre left out is farther than r); returns their number, or -1 when
- * the box covers more cells than there are centres (the caller scans them all). */
+ * the box covers more than a quarter as many cells as there are centres (the caller
+ * scans them all then: cheaper). */
 static int km_grid_query(km_grid *gr, const double *p, double r, int k)
 {
     r = r * (1.0 + 1e-12) + 1e-12; /* the box's rounding never drops a centre */
@@ -445,7 +463,7 @@ static int km_grid_query(km_grid *gr, const double *p, double r, int k)
         hi[a] = km_grid_axis(gr, p[a] + r);
         cells *= hi[a] - lo[a] + 1;
     }
-    if (cells > k) return -1;
+    if (4.0 * cells > k) return -1; /* a plain scan costs less */
     int n = 0;
     for (int z = lo[2]; z <= hi[2]; z++)
         for (int y = lo[1]; y <= hi[1]; y++) {
@@ -636,16 +654,28 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     km_move *moves = malloc((size_t)m * sizeof *moves);
     int32_t *fail = calloc((size_t)m + 16, sizeof(int32_t));
     double *nearest = malloc((size_t)k * sizeof(double)); /* each centre's nearest other */
+    unsigned char *visit = malloc((size_t)k);
+    km_near *near = k <= KM_LISTS_MAX_K
+                        ? malloc(((size_t)k * (size_t)(k > 1 ? k - 1 : 1)) * sizeof *near)
+                        : NULL;
     km_grid grid;
     int cap = 0;
     lumis_status st = km_grid_init(&grid, k);
     if (!s.cl || !s.pos || !s.q || !s.S || !s.J || !s.R || !s.R0 || !s.D || !s.G || !delta ||
-        !changed || !nb || !moves || !fail || !nearest)
+        !changed || !nb || !moves || !fail || !nearest || !visit || (k <= KM_LISTS_MAX_K && !near))
         st = LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
         km_grid_build(&grid, c, k);
         for (int j = 0; j < k; j++) nearest[j] = km_nearest_other(&grid, c, k, j);
+        for (int j = 0; near && j < k && k > 1; j++) {
+            km_near *L = near + (size_t)j * (size_t)(k - 1);
+            int t = 0;
+            for (int b = 0; b < k; b++)
+                if (b != j)
+                    L[t++] = (km_near){sqrt(sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b)), b};
+            qsort(L, (size_t)(k - 1), sizeof *L, cmp_near);
+        }
     }
     /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
      * in scan order, so the last pixel's centre is usually the answer: it is, with the
@@ -663,21 +693,44 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
         const double half = k > 1 ? 0.5 * nearest[last] * (1.0 - 1e-15) : INFINITY;
         if (k > 1 && rl + KM_MARGIN < half) {
             slack = 2.0 * (half - rl);
+        } else if (k > 1 && near) { /* the last one's others, nearest first */
+            const km_near *L = near + (size_t)last * (size_t)(k - 1);
+            const double reach = 2.0 * rl + KM_MARGIN;
+            double bd = dl, sec = -INFINITY, rest = INFINITY;
+            int t = 0;
+            for (; t < k - 1 && L[t].d < reach; t++) {
+                const int j = L[t].j;
+                const double dt = dot3(x, c + 3 * (size_t)j);
+                if (dt > bd || (dt == bd && j < best)) {
+                    sec = bd;
+                    bd = dt;
+                    best = j;
+                } else if (dt > sec) {
+                    sec = dt;
+                }
+            }
+            if (t < k - 1) rest = L[t].d * (1.0 - 1e-15) - rl;
+            const double lo = chord_lower(sec);
+            slack = (lo < rest ? lo : rest) - chord_bound(bd);
         } else if (k > 1) {
             /* the centres within the reach of the last one, and a bound on the others'
              * distance: the nearest found beyond the reach, or the searched radius */
-            const double reach = 2.0 * rl + KM_MARGIN, searched = reach + grid.h;
+            const double reach = 2.0 * rl + KM_MARGIN, searched = 1.25 * reach;
             const double *cl = c + 3 * (size_t)last;
             int n = km_grid_query(&grid, cl, searched, k);
             const int all = n < 0;
             if (all) n = k;
-            double bd = dl, sec = -INFINITY, beyond = all ? INFINITY : searched;
+            /* squared distances: a centre nearer to x than the last one is within 2 rl of
+             * it, far inside the reach, so rounding at the reach's edge only adds or drops
+             * a candidate that cannot win (it may change sec: the slack stays a bound) */
+            const double reach2 = reach * reach;
+            double bd = dl, sec = -INFINITY, beyond2 = all ? INFINITY : searched * searched;
             for (int t = 0; t < n; t++) {
                 const int j = all ? t : grid.cand[t];
                 if (j == last) continue;
-                const double dj = sqrt(sq_dist(cl, c + 3 * (size_t)j));
-                if (!(dj < reach)) {
-                    if (dj < beyond) beyond = dj;
+                const double d2 = sq_dist(cl, c + 3 * (size_t)j);
+                if (!(d2 < reach2)) {
+                    beyond2 = d2 < beyond2 ? d2 : beyond2;
                     continue;
                 }
                 const double dt = dot3(x, c + 3 * (size_t)j);
@@ -689,7 +742,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                     sec = dt;
                 }
             }
-            const double rest = beyond * (1.0 - 1e-15) - rl, lo = chord_lower(sec);
+            const double rest = sqrt(beyond2) * (1.0 - 1e-15) - rl, lo = chord_lower(sec);
             slack = (lo < rest ? lo : rest) - chord_bound(bd);
         }
         a[i] = last = best;
@@ -762,13 +815,35 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
          * or a moved centre is near, and then only its members whose lazy Hamerly bound
          * fails are compared with the near centres. */
         int nm = 0;
-        if (nmoved > 0) km_grid_build(&grid, c, k);
+        if (nmoved > 0) {
+            /* the clusters to visit: each moved centre's own, and those it came within
+             * their reach of (found around it within the largest reach) */
+            km_grid_build(&grid, c, k);
+            double rmax = 0.0;
+            for (int j = 0; j < k; j++) rmax = s.R[j] > rmax ? s.R[j] : rmax;
+            /* when many moved, most clusters are visited anyway: no marking */
+            memset(visit, 4 * nmoved > k, (size_t)k);
+            for (int b = 0; b < k && 4 * nmoved <= k; b++) {
+                if (!(delta[b] > 0.0)) continue;
+                visit[b] = 1;
+                const double *cb = c + 3 * (size_t)b;
+                int n = km_grid_query(&grid, cb, 2.0 * rmax + KM_MARGIN, k);
+                const int all = n < 0;
+                if (all) n = k;
+                for (int t = 0; t < n; t++) {
+                    const int ca = all ? t : grid.cand[t];
+                    const double reach = 2.0 * s.R[ca] + KM_MARGIN;
+                    if (ca != b && sq_dist(c + 3 * (size_t)ca, cb) < reach * reach) visit[ca] = 1;
+                }
+            }
+        }
         for (int ca = 0; nmoved > 0 && ca < k; ca++) {
+            if (!visit[ca]) continue; /* neither it nor a centre within its reach moved */
             const double *cc = c + 3 * (size_t)ca;
             const double reach = 2.0 * s.R[ca] + KM_MARGIN, reach2 = reach * reach;
             /* the centres within the reach (ascending, as a full scan lists them) and the
              * nearest beyond it, or the searched radius: a bound on the rest */
-            const double searched = reach + grid.h;
+            const double searched = 1.25 * reach;
             int n = km_grid_query(&grid, cc, searched, k);
             const int all = n < 0;
             if (all) n = k;
@@ -847,6 +922,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     free(moves);
     free(fail);
     free(nearest);
+    free(near);
+    free(visit);
     km_grid_free(&grid);
     return st;
 }
