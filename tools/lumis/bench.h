@@ -128,11 +128,12 @@ typedef struct result {
     int present;
     double v[NMETRICS];
     double seconds, build_ms, table_bytes;
+    double prep; /* seconds before the first sample, inside an equal-time budget */
     int spp;
 } result;
 
 typedef struct summary {
-    double mean[NMETRICS], rank[NMETRICS], seconds, spp, build_ms, table_bytes;
+    double mean[NMETRICS], rank[NMETRICS], seconds, spp, build_ms, table_bytes, prep;
     int n;
 } summary;
 

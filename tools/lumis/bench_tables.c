@@ -33,6 +33,7 @@ static int load_results(const suite *s, const char *out, result *res)
         if (isnan(res[k].v[M_PSNR]) && res[k].v[M_RMSE] == 0.0) res[k].v[M_PSNR] = INFINITY;
         res[k].seconds = jnum(j, "render_seconds");
         res[k].build_ms = jnum(j, "sampler_build_ms");
+        res[k].prep = jnum(j, "prep_seconds"); /* NaN in results made before 2026-11-25 */
         res[k].table_bytes = jnum(j, "sampler_table_bytes");
         res[k].spp = (int)jnum(j, "spp");
         res[k].present = 1;
@@ -96,6 +97,7 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
                 out[me].seconds += r->seconds;
                 out[me].spp += r->spp;
                 out[me].build_ms += r->build_ms;
+                out[me].prep += r->prep;
                 out[me].table_bytes += r->table_bytes;
                 out[me].n++;
             }
@@ -107,6 +109,7 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
             u->seconds /= u->n;
             u->spp /= u->n;
             u->build_ms /= u->n;
+            u->prep /= u->n;
             u->table_bytes /= u->n;
         }
         for (int metric = 0; metric < NMETRICS; metric++) {
@@ -403,16 +406,16 @@ int bench_write_csv(const bench_report *r, const char *path)
     const result *res = r->res;
     FILE *f = tmpfile();
     if (!f) return tool_runtime_error("bench: cannot write a temporary file");
-    fprintf(f, "map,scene,method,budget,spp,render_seconds,sampler_build_ms,"
+    fprintf(f, "map,scene,method,budget,spp,render_seconds,prep_seconds,sampler_build_ms,"
                "sampler_table_bytes");
     for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%s", bench_metric_key[m]);
     fprintf(f, "\n");
     for (int k = 0; k < r->n; k++) {
         if (!res[k].present) continue;
         item it = bench_item_at(s, k);
-        fprintf(f, "%s,%s,%s,%s,%d,%.6g,%.6g,%.0f", s->maps[it.map].label,
+        fprintf(f, "%s,%s,%s,%s,%d,%.6g,%.6g,%.6g,%.0f", s->maps[it.map].label,
                 s->scenes[it.scene].label, s->methods[it.method].label, s->budgets[it.budget].label,
-                res[k].spp, res[k].seconds, res[k].build_ms, res[k].table_bytes);
+                res[k].spp, res[k].seconds, res[k].prep, res[k].build_ms, res[k].table_bytes);
         for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%.9g", res[k].v[m]);
         fprintf(f, "\n");
     }
@@ -447,6 +450,10 @@ int bench_write_json(const bench_report *r, const char *path)
             cJSON_AddNumberToObject(o, "n", u->n);
             cJSON_AddNumberToObject(o, "mean_spp", u->spp);
             cJSON_AddNumberToObject(o, "mean_render_seconds", u->seconds);
+            if (isfinite(u->prep))
+                cJSON_AddNumberToObject(o, "mean_prep_seconds", u->prep);
+            else
+                cJSON_AddNullToObject(o, "mean_prep_seconds");
             cJSON_AddNumberToObject(o, "mean_sampler_build_ms", u->build_ms);
             cJSON_AddNumberToObject(o, "mean_sampler_table_bytes", u->table_bytes);
             for (int m = 0; m < NMETRICS; m++) {
@@ -504,18 +511,20 @@ int bench_write_md(const bench_report *r, const char *path)
             fprintf(md, "\n## Budget: %d samples per pixel\n\n", bu->spp);
         else
             fprintf(md, "\n## Budget: %g s of rendering (equal time)\n\n", bu->seconds);
-        fprintf(md, "Means over (map, scene) pairs; rank = average rank per pair (1 = best).\n\n"
-                    "| method | n | spp | render s | build ms | table bytes |");
+        fprintf(md, "Means over (map, scene) pairs; rank = average rank per pair (1 = best); "
+                    "prep s = seconds before the first sample (tables, light sets, K's "
+                    "pilots), spent from an equal-time budget.\n\n"
+                    "| method | n | spp | render s | prep s | build ms | table bytes |");
         for (int m = 0; m < NMETRICS; m++) fprintf(md, " %s |", bench_metric_title[m]);
         for (int m = 0; m < NMETRICS; m++)
             if (m != M_RMSE && m != M_PSNR) fprintf(md, " rank %s |", bench_metric_title[m]);
-        fprintf(md, "\n|---|---|---|---|---|---|");
+        fprintf(md, "\n|---|---|---|---|---|---|---|");
         for (int m = 0; m < 2 * NMETRICS - 2; m++) fprintf(md, "---|");
         fprintf(md, "\n");
         for (int me = 0; me < s->nmethods; me++) {
             const summary *u = &sum[b * s->nmethods + me];
-            fprintf(md, "| %s | %d | %.1f | %.3f | %.2f | %.0f |", s->methods[me].label, u->n,
-                    u->spp, u->seconds, u->build_ms, u->table_bytes);
+            fprintf(md, "| %s | %d | %.1f | %.3f | %.3f | %.2f | %.0f |", s->methods[me].label,
+                    u->n, u->spp, u->seconds, u->prep, u->build_ms, u->table_bytes);
             char buf[64];
             for (int m = 0; m < NMETRICS; m++) {
                 bench_fmt_metric(buf, sizeof buf, u->n ? u->mean[m] : NAN, m);
