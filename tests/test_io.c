@@ -2,12 +2,16 @@
  * getting its own status and a message that names the file. */
 #include "testutil.h"
 
+#include "io/internal.h"
+
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -828,6 +832,103 @@ static void failed_writes_leave_the_old_file(void **state)
     assert_int_equal(tu_count_entries(tu_tmpdir(), ".keep."), 0);
 }
 
+/* An output that is a FIFO (or a device: /dev/null, a terminal) is written in place: a
+ * rename over it would replace the node (as root, /dev/null became a regular file).  A
+ * reader child takes what arrives; the FIFO must still be a FIFO afterwards. */
+static void outputs_to_fifos_links_and_directories(void **state)
+{
+    (void)state;
+    const char *fifo = tu_path("out.fifo");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    const char text[] = "{\"lights\": []}\n";
+    for (int k = 0; k < 2; k++) { /* text, then an image (PFM: a stream, no seeking) */
+        int pipefd[2];
+        assert_int_equal(pipe(pipefd), 0);
+        pid_t pid = fork();
+        assert_true(pid >= 0);
+        if (pid == 0) { /* the reader: counts the bytes, gives up after 10 s */
+            alarm(10);
+            close(pipefd[0]);
+            FILE *f = fopen(fifo, "rb");
+            long n = 0;
+            while (f && fgetc(f) != EOF) n++;
+            if (write(pipefd[1], &n, sizeof n) != (ssize_t)sizeof n) _exit(2);
+            _exit(0);
+        }
+        close(pipefd[1]);
+        lumis_status st;
+        long want;
+        if (k == 0) {
+            st = lumis_write_text(fifo, text, sizeof text - 1, NULL);
+            want = (long)sizeof text - 1;
+        } else {
+            lumis_image *img = sample_image(8, 4);
+            lumis_write_options o = {0};
+            o.format = LUMIS_FORMAT_PFM;
+            st = lumis_image_write(fifo, img, &o);
+            lumis_image_destroy(img);
+            want = -1;
+        }
+        /* a reader still waiting (a writer that renamed instead) is released */
+        const int fd = open(fifo, O_WRONLY | O_NONBLOCK);
+        if (fd >= 0) close(fd);
+        long got = -2;
+        if (read(pipefd[0], &got, sizeof got) != (ssize_t)sizeof got) got = -2;
+        close(pipefd[0]);
+        int status;
+        waitpid(pid, &status, 0);
+        assert_int_equal(st, LUMIS_OK);
+        struct stat sb;
+        assert_int_equal(stat(fifo, &sb), 0);
+        if (!S_ISFIFO(sb.st_mode)) fail_msg("write %d replaced the FIFO with a file", k);
+        if (want >= 0)
+            assert_int_equal(got, want);
+        else
+            assert_true(got > 8 * 4 * 3 * 4);
+    }
+    unlink(fifo);
+    /* A symbolic link: its target is replaced, the link stays a link. */
+    const char *target = tu_path("linked.json"), *link = tu_path("link.json");
+    tu_write_file(target, "old", 3);
+    unlink(link);
+    assert_int_equal(symlink(target, link), 0);
+    assert_int_equal(lumis_write_text(link, text, sizeof text - 1, NULL), LUMIS_OK);
+    struct stat lb;
+    assert_int_equal(lstat(link, &lb), 0);
+    assert_true(S_ISLNK(lb.st_mode));
+    size_t n;
+    char *d = (char *)tu_read_file(target, &n);
+    assert_int_equal(n, sizeof text - 1);
+    free(d);
+    /* A directory is an error, and stays a directory. */
+    tu_sink sink;
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_write_text(tu_tmpdir(), text, 3, &sink.sink), LUMIS_ERR_WRITE);
+    assert_non_null(strstr(sink.last, "is a directory"));
+}
+
+/* An interrupted program removes its writes' temporary files: what its SIGINT handler
+ * calls (lumis_io_remove_partial_outputs) removes the hidden .NAME.XXXXXX of a write in
+ * progress, and the write then fails instead of renaming nothing over the output. */
+static void partial_outputs_are_removed_on_request(void **state)
+{
+    (void)state;
+    const char *path = tu_path("partial.json");
+    tu_write_file(path, "old", 3);
+    lumis__atomic_file af;
+    assert_int_equal(lumis__atomic_begin(&af, path, NULL), LUMIS_OK);
+    fputs("half of a", af.f);
+    assert_int_equal(tu_count_entries(tu_tmpdir(), ".partial.json."), 1);
+    lumis_io_remove_partial_outputs();
+    assert_int_equal(tu_count_entries(tu_tmpdir(), ".partial.json."), 0);
+    assert_int_not_equal(lumis__atomic_end(&af, LUMIS_OK, NULL), LUMIS_OK);
+    size_t n;
+    char *d = (char *)tu_read_file(path, &n);
+    assert_int_equal(n, 3);
+    free(d);
+}
+
 static void format_names_and_detection(void **state)
 {
     (void)state;
@@ -872,6 +973,8 @@ int main(void)
         cmocka_unit_test(pfm_headers),
         cmocka_unit_test(unwritable_outputs_fail_cleanly),
         cmocka_unit_test(failed_writes_leave_the_old_file),
+        cmocka_unit_test(outputs_to_fifos_links_and_directories),
+        cmocka_unit_test(partial_outputs_are_removed_on_request),
         cmocka_unit_test(format_names_and_detection),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

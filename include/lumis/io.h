@@ -128,13 +128,22 @@ typedef struct lumis_write_options {
 } lumis_write_options;
 
 /* Writes an image through a temporary file in the same folder, renamed on success.
- * options may be NULL (format from the extension, defaults otherwise). */
+ * options may be NULL (format from the extension, defaults otherwise).  A path that names
+ * a device or a FIFO (/dev/null, /dev/stdout, a named pipe) is written in place, never
+ * replaced; a symbolic link's target is replaced and the link kept; a directory is an
+ * error. */
 lumis_status lumis_image_write(const char *path, const lumis_image *image,
                                const lumis_write_options *options);
 
 /* Writes len bytes of text (a JSON sidecar, a report) the same crash-safe way. */
 lumis_status lumis_write_text(const char *path, const char *text, size_t len,
                               const lumis_error_sink *errors);
+
+/* Removes the temporary files of the writes in progress (a hidden ".NAME.XXXXXX" beside
+ * each destination).  Async-signal-safe: a program's SIGINT / SIGTERM handler calls it so
+ * that an interrupted write leaves the old output and nothing else.  The library installs
+ * no handler itself. */
+void lumis_io_remove_partial_outputs(void);
 
 /* ---- light sets (lumis/lights.h) as files ------------------------------------------------- */
 

@@ -44,15 +44,23 @@ lumis_status lumis__exr_write(const char *path, const char *display_name, const 
                               const lumis_write_options *options);
 
 /* An output written under a temporary name in the destination's folder and renamed over
- * the destination only when complete. */
+ * the destination only when complete.  A destination that exists and is not a regular
+ * file (a character device such as /dev/null or /dev/stdout's terminal, a FIFO, a socket)
+ * is written in place instead: renaming over it would replace the device node.  A
+ * symbolic link is followed: its target is replaced, the link stays. */
 typedef struct lumis__atomic_file {
-    char *tmp_path;
+    char *tmp_path; /* where to write: the temporary file, or (in place) the destination */
     const char *path;
     FILE *f; /* open for writing (binary) */
+    int in_place;
+    char *target; /* the link's target when path is a symbolic link, else NULL */
 } lumis__atomic_file;
 
 lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
                                  const lumis_error_sink *errors);
+/* Registers / forgets a temporary file for lumis_io_remove_partial_outputs. */
+void lumis__atomic_track(const char *tmp);
+void lumis__atomic_untrack(const char *tmp);
 /* Closes the stream if open, renames on success; removes the temporary file otherwise. */
 lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
                                const lumis_error_sink *errors);

@@ -2,6 +2,7 @@
 #include "common.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,8 +60,19 @@ static int finish(int rc)
     return rc;
 }
 
+/* SIGINT / SIGTERM: the temporary files of writes in progress are removed, then the
+ * signal takes its default course (the exit status says it). */
+static void on_signal(int sig)
+{
+    lumis_io_remove_partial_outputs();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
 int main(int argc, char **argv)
 {
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
     if (argc < 2) {
         print_help(stderr);
         return EXIT_USAGE;
