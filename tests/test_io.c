@@ -683,6 +683,29 @@ static void hdr_headers(void **state)
         expect_memory_error(cases[k].text, strlen(cases[k].text), cases[k].want);
 }
 
+/* RGBE holds values below 2^127: at or above it the exponent byte wrapped to 0 and a sun
+ * of 3e38 was written as black.  Such values are clamped to RGBE's largest (1.69e38). */
+static void hdr_writes_huge_values_clamped(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(4, 1, &img), LUMIS_OK);
+    const float v[4] = {1.0f, 1e38f, 3e38f, INFINITY};
+    for (int k = 0; k < 4; k++)
+        img->pixels[3 * k] = img->pixels[3 * k + 1] = img->pixels[3 * k + 2] = v[k];
+    const char *path = tu_path("huge.hdr");
+    assert_int_equal(lumis_image_write(path, img, NULL), LUMIS_OK);
+    lumis_image *back = NULL;
+    assert_int_equal(lumis_image_read(path, NULL, &back, NULL), LUMIS_OK);
+    for (int k = 0; k < 4; k++) {
+        const double got = back->pixels[3 * k], want = v[k] < 0x1.fep126f ? v[k] : 0x1.fep126f;
+        if (!(fabs(got - want) <= want / 128))
+            fail_msg("pixel %d: wrote %g, read %g", k, v[k], got);
+    }
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
 static void hdr_scanline_variants(void **state)
 {
     (void)state;
@@ -970,6 +993,7 @@ int main(void)
         cmocka_unit_test(exr_block_buffers_are_bounded),
         cmocka_unit_test(hdr_headers),
         cmocka_unit_test(hdr_scanline_variants),
+        cmocka_unit_test(hdr_writes_huge_values_clamped),
         cmocka_unit_test(pfm_headers),
         cmocka_unit_test(unwritable_outputs_fail_cleanly),
         cmocka_unit_test(failed_writes_leave_the_old_file),

@@ -246,10 +246,29 @@ static void write_to_file(void *context, void *data, int size)
     if (size > 0) fwrite(data, 1, (size_t)size, f);
 }
 
+/* The largest value RGBE holds: mantissa 255/256, exponent 127 (a value of 2^127 or more
+ * would need exponent byte 256, which stb wraps to 0: black). */
+#define RGBE_MAX 0x1.fep126f
+
 lumis_status lumis__hdr_write(FILE *f, const lumis_image *image)
 {
-    /* stb clamps nothing and writes new-style RLE for widths 8..32767, flat otherwise. */
-    if (!stbi_write_hdr_to_func(write_to_file, f, image->width, image->height, 3, image->pixels))
-        return LUMIS_ERR_WRITE;
+    /* stb clamps nothing and writes new-style RLE for widths 8..32767, flat otherwise: values
+     * past RGBE's range are clamped to its largest (as the EXR half writer clamps to 65504),
+     * NaN written as 0, in a copy made only when some value needs it. */
+    const size_t n = (size_t)image->width * (size_t)image->height * 3;
+    const float *px = image->pixels;
+    float *copy = NULL;
+    for (size_t k = 0; k < n; k++)
+        if (!(px[k] <= RGBE_MAX)) {
+            copy = malloc(n * sizeof(float));
+            if (!copy) return LUMIS_ERR_OUT_OF_MEMORY;
+            for (size_t q = 0; q < n; q++)
+                copy[q] = px[q] <= RGBE_MAX ? px[q] : (isnan(px[q]) ? 0.0f : RGBE_MAX);
+            px = copy;
+            break;
+        }
+    const int ok = stbi_write_hdr_to_func(write_to_file, f, image->width, image->height, 3, px);
+    free(copy);
+    if (!ok) return LUMIS_ERR_WRITE;
     return ferror(f) ? LUMIS_ERR_WRITE : LUMIS_OK;
 }

@@ -16,6 +16,8 @@ static const char usage[] =
     "  --resize WxH    resample as an equirectangular map, preserving total power\n"
     "                  (every output pixel is the solid-angle mean of what it covers)\n"
     "  --half          EXR: write half floats (values above 65504 are clamped)\n"
+    "                  (Radiance HDR holds values below 2^127: larger ones are clamped to\n"
+    "                  its largest, 1.69e38)\n"
     "  --compression C EXR: zip (default), none, rle, zips, piz, pxr24, b44, b44a, dwaa, dwab\n"
     "  --tile N        EXR: write a tiled file with N x N tiles\n"
     "  --big-endian    PFM: write big-endian floats (default little-endian)\n";
