@@ -290,6 +290,11 @@ static void sample_and_pdf_agree_and_are_reproducible(void **state)
     }
     expect("sample sky:8x4 --method kdtree", 2, "-n N is required");
     expect("sample sky:8x4 --method cdf -n 3", 2, "--method must be one of");
+    /* strtoull read "-5" as 2^64 - 5; a seed is a plain unsigned integer */
+    expect("sample sky:8x4 --method alias -n 1 --seed -5", 2, "--seed needs an integer");
+    expect("sample sky:8x4 --method alias -n 1 --seed ' 5'", 2, "--seed needs an integer");
+    expect("sample sky:8x4 --method alias -n 1 --seed 18446744073709551616", 2, "--seed");
+    expect("sample sky:8x4 --method alias -n 1 --seed 18446744073709551615", 0, NULL);
     expect("pdf", 2, "no map given");
     tu_write_file(tu_path("bad.txt"), "1 2\n", 4);
     char *err = NULL;

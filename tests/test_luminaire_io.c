@@ -488,6 +488,10 @@ static void bad_images_name_manifest_and_field(void **state)
     assert_int_equal(sink.status, LUMIS_OK);
     assert_non_null(strstr(sink.last, "2 negative or non-finite pixel values"));
     assert_non_null(strstr(sink.last, path));
+    /* and counted in the luminaire's info (`lumis luminaire info` printed "replaced 0") */
+    lumis_luminaire_info li;
+    lumis_luminaire_get_info(back, &li);
+    assert_int_equal(li.replaced, 2);
     lumis_luminaire_destroy(back);
     /* The pixel limit. */
     ro.max_pixels = 20 * 24 * 20 - 1;

@@ -48,6 +48,18 @@ int tool_parse_int(const char *s, long lo, long hi, long *out)
     return 1;
 }
 
+int tool_parse_u64(const char *s, int base, unsigned long long *out)
+{
+    /* strtoull would take "-5" as 2^64 - 5 and skip leading blanks: a digit must come first */
+    if (!s || !(*s >= '0' && *s <= '9')) return 0;
+    char *end;
+    errno = 0;
+    const unsigned long long v = strtoull(s, &end, base);
+    if (*end != '\0' || errno == ERANGE) return 0;
+    *out = v;
+    return 1;
+}
+
 int tool_parse_size(const char *s, int *w, int *h)
 {
     if (!s) return 0;

@@ -480,7 +480,10 @@ lumis_status lumis_luminaire_read(const char *manifest_path,
                     manifest_path, (unsigned long long)replaced);
     d.pixels = ptrs;
     d.errors = *errors;
-    st = lumis_luminaire_create(&d, out);
+    /* The images' reader already replaced their bad values: the luminaire takes the
+     * sanitised copy and the reader's count (its info said 0 after 1440 replacements). */
+    st = lumis__lum_build(&d, rgb, (size_t)replaced, out);
+    rgb = NULL; /* the luminaire's now, or freed by the build on failure */
 done:
     free(ptrs);
     free(rgb);

@@ -44,9 +44,8 @@ static int parse_common(const char *cmd, int argc, char **argv, const char *usag
             if (!tool_parse_int(v, 0, 1000000000L, n))
                 return tool_bad_value(cmd, "-n", v, "needs a sample count in [0, 10^9]");
         } else if (is_sample && tool_option(argc, argv, &i, "--seed", &v)) {
-            char *end;
-            if (!v || !*v || (*seed = strtoull(v, &end, 10), *end))
-                return tool_bad_value(cmd, "--seed", v, "needs a non-negative integer");
+            if (!tool_parse_u64(v, 10, seed))
+                return tool_bad_value(cmd, "--seed", v, "needs an integer in [0, 2^64 - 1]");
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return tool_usage_error(cmd, "unknown option '%s'", argv[i]);
         } else if (!*map) {

@@ -191,10 +191,8 @@ int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *o
             ok = tool_parse_int(value, 1, 1 << 20, &n);
             if (ok) p->wu.kmeans_max_iterations = (int)n;
         } else if (type == PARAM_SEED) {
-            char *end = NULL;
-            errno = 0;
-            const unsigned long long u = strtoull(value, &end, 0);
-            ok = *value && *value != '-' && end && !*end && errno == 0;
+            unsigned long long u = 0;
+            ok = tool_parse_u64(value, 0, &u);
             if (ok) p->seed = (uint64_t)u;
         } else {
             ok = tool_parse_double(value, &x) && isfinite(x) && x > 0.0 && x <= FLT_MAX &&
