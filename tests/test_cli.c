@@ -741,6 +741,16 @@ static void render_with_light_sets(void **state)
     expect("render --scene spheres --lights median-cut --upsample 2 -o x.exr", 2,
            "--upsample applies to Wu's decomposition");
     expect("render --scene spheres --lights cut -o x.exr", 2, "--lights must be one of");
+    /* Options that do not apply: refused at once (before a luminaire's seconds of
+     * acquisition), not ignored. */
+    expect("render --scene spheres --lights median-cut --method kdtree -o x.exr", 2,
+           "--method: --lights replaces the map's sampler");
+    expect("render --scene headlight --method kdtree -o x.exr", 2,
+           "--method: the scene is lit by its luminaires");
+    expect("render --scene headlight --mis none -o x.exr", 2, "--mis: the scene is lit by");
+    expect("render --scene headlight-close --blocks 8 -o x.exr", 2, "--blocks: the scene is");
+    expect("render --scene headlight --light-samples 2 -o x.exr", 2, "--light-samples: the");
+    expect("render --scene headlight --bounces 2 -o x.exr", 2, "--bounces: luminaires light");
     expect("render --scene spheres --lights-k 8 -o x.exr", 2, "need --lights METHOD");
     expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2, "do not apply");
     expect("render --scene spheres --lights median-cut --bounces 2 -o x.exr", 2,
@@ -825,6 +835,15 @@ static void luminaire_files_create_info_render(void **state)
     snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("lum-scene.json"),
              tu_path("ls3.exr"), man);
     expect(a, 2, "would replace the luminaire");
+    /* So is every image it names: an output over one would destroy the luminaire, from a
+     * scene file or from --luminaire (an image's name as the manifest writes it). */
+    char img[512];
+    snprintf(img, sizeof img, "%s", tu_path("small-lum.images/a002_b001.pfm"));
+    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("lum-scene.json"), img);
+    expect(a, 2, "would replace the luminaire image");
+    snprintf(a, sizeof a, "render --scene headlight --luminaire '%s' --spp 1 -o '%s'",
+             tu_path("small-lum.json"), img);
+    expect(a, 2, "would replace the luminaire image");
     /* Bad fields and files. */
     static const bad_file bad[] = {
         {"{\"objects\": [], \"luminaires\": 3}", "luminaires"},

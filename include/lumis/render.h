@@ -320,6 +320,9 @@ const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
 const char *lumis_scene_file_luminaire_path(const lumis_scene_file *file, int index);
 /* The built-in names, NULL-terminated. */
 const char *const *lumis_scene_builtin_names(void);
+/* 1 when the built-in scene `name` is lit by luminaires (headlight, headlight-close), so a
+ * tool can refuse options that do not apply before acquiring them (seconds); else 0. */
+int lumis_scene_builtin_has_luminaires(const char *name);
 void lumis_scene_file_destroy(lumis_scene_file *file);
 
 #ifdef __cplusplus

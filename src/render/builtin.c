@@ -25,6 +25,11 @@ const char *const *lumis_scene_builtin_names(void)
     return names;
 }
 
+int lumis_scene_builtin_has_luminaires(const char *name)
+{
+    return name && (strcmp(name, "headlight") == 0 || strcmp(name, "headlight-close") == 0);
+}
+
 static lumis_object sphere(float x, float y, float z, float r, lumis_bsdf m)
 {
     lumis_object o;
@@ -285,6 +290,7 @@ lumis_status lumis_scene_builtin_with_luminaire(const char *name, const lumis_lu
     void (*camera)(lumis_scene_file *) = NULL; /* the headlight scenes */
     if (name && strcmp(name, "headlight") == 0) camera = headlight_far;
     if (name && strcmp(name, "headlight-close") == 0) camera = headlight_close;
+    /* (lumis_scene_builtin_has_luminaires names the same two) */
     if (luminaire && !camera)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "scene '%s' places no luminaire (headlight and headlight-close do)",

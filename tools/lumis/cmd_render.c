@@ -88,6 +88,7 @@ int cmd_render(int argc, char **argv)
     o.argc = argc;
     o.argv = argv;
     const char *v, *png_only = NULL, *mis = NULL;
+    const char *sampler_opt = NULL; /* --method or --blocks, if given */
     int spp_given = 0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -102,6 +103,7 @@ int cmd_render(int argc, char **argv)
             if (!v) return tool_bad_value("render", "--env", v, "needs a map");
             o.envspec = v;
         } else if (tool_option(argc, argv, &i, "--method", &v)) {
+            sampler_opt = "--method";
             if (v && strcmp(v, "bsdf") == 0)
                 o.bsdf_only = 1;
             else if (!v || lumis_sampler_method_from_name(v, &o.sampler.method) != LUMIS_OK)
@@ -207,6 +209,7 @@ int cmd_render(int argc, char **argv)
                 return tool_bad_value("render", "--threads", v, "needs a count in [1, 4096]");
             o.rd.threads = (int)x;
         } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
+            sampler_opt = "--blocks";
             if (!tool_parse_int(v, 1, 1 << 24, &x))
                 return tool_bad_value("render", "--blocks", v, "needs a count in [1, 16777216]");
             o.sampler.kdtree_blocks = (int)x;
@@ -273,6 +276,29 @@ int cmd_render(int argc, char **argv)
         const int prc =
             tool_light_params_check(&o.lights_params, "render", "--lights-param", o.lights);
         if (prc != EXIT_OK) return prc;
+    }
+    /* Options that do not apply are refused at once, before a luminaire is acquired. */
+    if (o.lights && sampler_opt && !o.bsdf_only)
+        return tool_usage_error("render",
+                                "%s: --lights replaces the map's sampler with a light "
+                                "set (it does not apply)",
+                                sampler_opt);
+    if (lumis_scene_builtin_has_luminaires(o.scene_name) || o.luminaire) {
+        const char *no = sampler_opt          ? sampler_opt
+                         : mis                ? "--mis"
+                         : o.envspec          ? "--env"
+                         : o.lights           ? "--lights"
+                         : o.rd.light_samples ? "--light-samples"
+                         : o.rd.bsdf_samples  ? "--bsdf-samples"
+                                              : NULL;
+        if (no)
+            return tool_usage_error("render",
+                                    "%s: the scene is lit by its luminaires, not by a map "
+                                    "(it does not apply)",
+                                    no);
+        if (o.rd.max_bounces > 0)
+            return tool_usage_error("render", "--bounces: luminaires light direct illumination "
+                                              "only");
     }
     if (o.lights && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
         return tool_usage_error("render", "--lights sums every light of a set: --method bsdf, "

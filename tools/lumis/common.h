@@ -116,12 +116,20 @@ typedef struct tool_files {
         const char *what, *path;
         tool_output_kind kind;
     } in[TOOL_FILES_MAX], out[TOOL_FILES_MAX];
+    int n_lists; /* inputs by the list: a luminaire's images (borrowed until the check) */
+    struct {
+        const char *what;
+        const char *const *paths;
+        int count;
+    } lists[TOOL_FILES_MAX];
 } tool_files;
 
 /* Records an input or an output; what names it in messages ("scene file", "--png").  NULL
  * or empty paths are ignored. */
 void tool_files_input(tool_files *f, const char *what, const char *path);
 void tool_files_output(tool_files *f, const char *what, const char *path, tool_output_kind kind);
+/* Records count inputs at once (the paths are borrowed until tool_files_check). */
+void tool_files_input_list(tool_files *f, const char *what, const char *const *paths, int count);
 
 /* Usage error (exit 2, naming both paths) unless every output has an extension of its kind,
  * a directory that exists and can be written, and is neither an input nor another output.

@@ -87,6 +87,15 @@ void tool_files_input(tool_files *f, const char *what, const char *path)
     f->n_in++;
 }
 
+void tool_files_input_list(tool_files *f, const char *what, const char *const *paths, int count)
+{
+    if (!paths || count <= 0 || f->n_lists >= TOOL_FILES_MAX) return;
+    f->lists[f->n_lists].what = what;
+    f->lists[f->n_lists].paths = paths;
+    f->lists[f->n_lists].count = count;
+    f->n_lists++;
+}
+
 void tool_files_output(tool_files *f, const char *what, const char *path, tool_output_kind kind)
 {
     if (!path || !*path || f->n_out >= TOOL_FILES_MAX) return;
@@ -134,6 +143,12 @@ int tool_files_check(const char *cmd, const tool_files *f)
                 return tool_usage_error(cmd, "%s %s would replace the %s %s; choose another name",
                                         f->out[o].what, f->out[o].path, f->in[i].what,
                                         f->in[i].path);
+        for (int l = 0; l < f->n_lists; l++)
+            for (int i = 0; i < f->lists[l].count; i++)
+                if (tool_same_file(f->out[o].path, f->lists[l].paths[i]))
+                    return tool_usage_error(
+                        cmd, "%s %s would replace the %s %s; choose another name", f->out[o].what,
+                        f->out[o].path, f->lists[l].what, f->lists[l].paths[i]);
         for (int p = 0; p < o; p++)
             if (tool_same_file(f->out[o].path, f->out[p].path))
                 return tool_usage_error(cmd, "%s and %s are the same file (%s)", f->out[p].what,

@@ -1002,17 +1002,36 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     tool_files files = {0};
     tool_files_input(&files, "scene file", o->scene_path);
     tool_files_input(&files, "environment map", envspec);
-    for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++)
-        if (strncmp(lumis_scene_file_luminaire_path(file, k), "preset:", 7) != 0)
-            tool_files_input(&files, "luminaire", lumis_scene_file_luminaire_path(file, k));
-    if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0)
+    /* A luminaire is its manifest and every image it names: all inputs. */
+    lumis_luminaire_manifest *mans[TOOL_FILES_MAX] = {0};
+    int nmans = 0;
+    for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++) {
+        const char *lp = lumis_scene_file_luminaire_path(file, k);
+        if (strncmp(lp, "preset:", 7) == 0) continue;
+        tool_files_input(&files, "luminaire", lp);
+        if (nmans < TOOL_FILES_MAX &&
+            lumis_luminaire_manifest_read(lp, NULL, &mans[nmans]) == LUMIS_OK) {
+            tool_files_input_list(&files, "luminaire image", mans[nmans]->paths,
+                                  mans[nmans]->image_count);
+            nmans++;
+        }
+    }
+    if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0) {
         tool_files_input(&files, "luminaire", o->luminaire);
+        if (nmans < TOOL_FILES_MAX &&
+            lumis_luminaire_manifest_read(o->luminaire, NULL, &mans[nmans]) == LUMIS_OK) {
+            tool_files_input_list(&files, "luminaire image", mans[nmans]->paths,
+                                  mans[nmans]->image_count);
+            nmans++;
+        }
+    }
     for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
         tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
     tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
     tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
     int rc = tool_files_check(cmd, &files);
+    for (int k = 0; k < nmans; k++) lumis_luminaire_manifest_destroy(mans[k]);
     if (rc != EXIT_OK) {
         lumis_scene_file_destroy(file);
         lumis_luminaire_destroy(replacement);
