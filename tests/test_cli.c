@@ -1113,6 +1113,48 @@ static void lights_picture_marks_emissive_pixels(void **state)
     expect("lights sky:16x8 --method wu --png-width 64", 2, "--png-width goes with --png");
 }
 
+/* NaN, Inf and negative map values are replaced by 0 everywhere, and every command says
+ * so: render (and its sidecar), lights, sample and compare (whose JSON counts them). */
+static void replaced_values_are_reported(void **state)
+{
+    (void)state;
+    float px[8 * 4 * 3];
+    for (int k = 0; k < 8 * 4 * 3; k++) px[k] = 1.0f;
+    px[0] = NAN;
+    px[4] = INFINITY;
+    px[7] = -2.0f;
+    char pfm[64 + sizeof px];
+    const int hn = snprintf(pfm, 64, "PF\n8 4\n-1.0\n");
+    memcpy(pfm + hn, px, sizeof px);
+    const char *map = tu_path("nan.pfm");
+    tu_write_file(map, pfm, (size_t)hn + sizeof px);
+    char m[512], a[2048];
+    snprintf(m, sizeof m, "%s", map);
+    const char *warn = "3 channel values replaced by 0 (NaN 1, Inf 1, negative 1)";
+    snprintf(a, sizeof a, "render --scene spheres --env '%s' --size 8x6 --spp 1 --quiet -o '%s'", m,
+             tu_path("nan-r.exr"));
+    expect(a, 0, warn);
+    cJSON *j = read_json("nan-r.json");
+    const cJSON *e = item(j, "environment");
+    assert_true(num(e, "replaced") == 3 && num(e, "replaced_nan") == 1 &&
+                num(e, "replaced_inf") == 1 && num(e, "replaced_negative") == 1);
+    cJSON_Delete(j);
+    snprintf(a, sizeof a, "lights '%s' --method median-cut -k 2", m);
+    expect(a, 0, warn);
+    snprintf(a, sizeof a, "sample '%s' --method alias -n 1", m);
+    expect(a, 0, warn);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json", m, m);
+    char *out = NULL, *err = NULL;
+    assert_int_equal(run(a, &out, &err), 0);
+    assert_non_null(strstr(err, warn));
+    cJSON *c = cJSON_Parse(out);
+    assert_non_null(c);
+    assert_true(num(c, "replaced_test") == 3 && num(c, "nonfinite_test") == 2);
+    cJSON_Delete(c);
+    free(out);
+    free(err);
+}
+
 static void compare_prints_every_metric(void **state)
 {
     (void)state;
@@ -1476,6 +1518,7 @@ int main(void)
         cmocka_unit_test(light_params_reach_the_methods),
         cmocka_unit_test(lights_picture_marks_emissive_pixels),
         cmocka_unit_test(compare_prints_every_metric),
+        cmocka_unit_test(replaced_values_are_reported),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
     };

@@ -74,8 +74,12 @@ int cmd_compare(int argc, char **argv)
     lumis_image *ref = NULL, *test = NULL;
     float *map = NULL;
     rc = EXIT_RUNTIME;
-    if (tool_load_image(ref_path, &ref, NULL) != LUMIS_OK ||
-        tool_load_image(test_path, &test, NULL) != LUMIS_OK)
+    /* A NaN, Inf or negative value is read as 0 (and warned about): the counts are part of
+     * the result, since a test image with NaNs would otherwise score as if it were black
+     * there. */
+    lumis_read_info ref_info, test_info;
+    if (tool_load_image(ref_path, &ref, &ref_info) != LUMIS_OK ||
+        tool_load_image(test_path, &test, &test_info) != LUMIS_OK)
         goto done;
     if (ref->width != test->width || ref->height != test->height) {
         rc = tool_runtime_error("%s is %d x %d but %s is %d x %d", ref_path, ref->width,
@@ -93,6 +97,12 @@ int cmd_compare(int argc, char **argv)
         cJSON_AddStringToObject(o, "test", test_path);
         cJSON_AddNumberToObject(o, "width", ref->width);
         cJSON_AddNumberToObject(o, "height", ref->height);
+        cJSON_AddNumberToObject(o, "replaced_reference",
+                                (double)lumis_replaced_total(ref_info.replaced));
+        cJSON_AddNumberToObject(o, "replaced_test",
+                                (double)lumis_replaced_total(test_info.replaced));
+        cJSON_AddNumberToObject(o, "nonfinite_test",
+                                (double)(test_info.replaced.nan + test_info.replaced.inf));
         tool_metrics_json(&m, o);
         char *text = cJSON_PrintUnformatted(o);
         cJSON_Delete(o);
@@ -101,6 +111,11 @@ int cmd_compare(int argc, char **argv)
     } else {
         printf("reference    %s (%d x %d)\n", ref_path, ref->width, ref->height);
         printf("test         %s\n", test_path);
+        if (lumis_replaced_total(ref_info.replaced) || lumis_replaced_total(test_info.replaced))
+            printf("replaced     %llu reference, %llu test channel values (NaN, Inf or negative: "
+                   "scored as 0)\n",
+                   (unsigned long long)lumis_replaced_total(ref_info.replaced),
+                   (unsigned long long)lumis_replaced_total(test_info.replaced));
         printf("rmse         %.6g   (linear HDR values, all channels)\n", m.err.rmse);
         printf("relmse       %.6g   (mean (t-r)^2 / (r^2 + %g))\n", m.err.relmse,
                m.err.relmse_epsilon);

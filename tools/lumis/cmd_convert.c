@@ -88,10 +88,7 @@ int cmd_convert(int argc, char **argv)
 
     lumis_image *image = NULL;
     lumis_read_info info;
-    if (tool_load_image(in, &image, &info) != LUMIS_OK) return EXIT_RUNTIME;
-    if (lumis_replaced_total(info.replaced))
-        fprintf(stderr, "lumis: %s: replaced %llu negative or non-finite values by 0\n", in,
-                (unsigned long long)lumis_replaced_total(info.replaced));
+    if (tool_load_image(in, &image, &info) != LUMIS_OK) return EXIT_RUNTIME; /* warns */
     if (rw && (rw != image->width || rh != image->height)) {
         lumis_image *resized = NULL;
         lumis_status st = lumis_image_create(rw, rh, &resized);

@@ -251,7 +251,8 @@ int cmd_lights(int argc, char **argv)
 
     lumis_envmap *env = NULL;
     lumis_light_set *set = NULL;
-    if (tool_make_envmap(map, NULL, (float)rotation, 1.0f, &env) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_make_envmap(map, NULL, (float)rotation, 1.0f, &env, NULL) != LUMIS_OK)
+        return EXIT_RUNTIME;
     rc = EXIT_RUNTIME;
     if (tool_make_light_set(env, method, k, sets, &params, &set) != LUMIS_OK) goto done;
     const lumis_light_set_info *info = lumis_light_set_get_info(set);

@@ -41,6 +41,8 @@ int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)
  * procedural spec "sky", "sky:WxH", "studio", "studio:WxH".  Prints errors itself; returns a
  * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
+/* Prints a warning naming what (a file or spec) when r counts replaced values. */
+void tool_warn_replaced(const char *what, lumis_replaced r);
 
 /* Light sets by name (median-cut, variance-min, ...): K lights (0: the method's default)
  * in `sets` interleaved sets (0: its default).  Prints errors itself. */
@@ -170,7 +172,7 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
 /* The envmap of a map (file or procedural spec), rotated and scaled; from preloaded (borrowed)
  * when given, spec then only names it.  Prints errors itself. */
 lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,
-                              float scale, lumis_envmap **env);
+                              float scale, lumis_envmap **env, lumis_replaced *replaced);
 
 /* Loads a map (file or procedural spec), builds its envmap (rotated, scaled) and a
  * sampler; prints errors itself. */
@@ -224,6 +226,7 @@ typedef struct tool_render_result {
     /* Equal wall time: seconds before the first sample (sampler tables, light-set generation
      * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
     double prep_seconds, budget_used_seconds;
+    lumis_replaced env_replaced; /* the map's values its reader replaced by 0 */
 } tool_render_result;
 
 /* Samples per pixel of a light set rendered to a time budget (--lights with --time): the

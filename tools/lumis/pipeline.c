@@ -18,20 +18,37 @@
 
 /* ---- maps and samplers ------------------------------------------------------------------- */
 
+void tool_warn_replaced(const char *what, lumis_replaced r)
+{
+    if (!lumis_replaced_total(r)) return;
+    fprintf(stderr,
+            "lumis: warning: %s: %llu channel values replaced by 0 (NaN %llu, Inf %llu, "
+            "negative %llu)\n",
+            what, (unsigned long long)lumis_replaced_total(r), (unsigned long long)r.nan,
+            (unsigned long long)r.inf, (unsigned long long)r.negative);
+}
+
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
 {
     lumis_read_options opt = {0};
     opt.errors = tool_errors;
-    return lumis_map_read(spec, &opt, out, info);
+    lumis_read_info local;
+    if (!info) info = &local;
+    const lumis_status st = lumis_map_read(spec, &opt, out, info);
+    /* every command says what it replaced: a NaN read as 0 changes a render or a score */
+    if (st == LUMIS_OK) tool_warn_replaced(spec, info->replaced);
+    return st;
 }
 
 lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,
-                              float scale, lumis_envmap **env)
+                              float scale, lumis_envmap **env, lumis_replaced *replaced)
 {
     lumis_image *img = NULL;
     *env = NULL;
     if (!preloaded) {
-        lumis_status st = tool_load_image(spec, &img, NULL);
+        lumis_read_info info;
+        lumis_status st = tool_load_image(spec, &img, &info);
+        if (st == LUMIS_OK && replaced) *replaced = info.replaced;
         if (st != LUMIS_OK) return st;
         preloaded = img;
     }
@@ -52,7 +69,7 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
                                lumis_sampler **sampler)
 {
     *sampler = NULL;
-    lumis_status st = tool_make_envmap(spec, NULL, rotation, scale, env);
+    lumis_status st = tool_make_envmap(spec, NULL, rotation, scale, env, NULL);
     if (st != LUMIS_OK) return st;
     lumis_sampler_desc d = *desc;
     d.errors = tool_errors;
@@ -597,6 +614,11 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
         cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
         cJSON_AddNumberToObject(x, "scale", o->scale);
+        /* channel values the map's reader replaced by 0 (NaN, Inf, negative) */
+        cJSON_AddNumberToObject(x, "replaced", (double)lumis_replaced_total(r->env_replaced));
+        cJSON_AddNumberToObject(x, "replaced_nan", (double)r->env_replaced.nan);
+        cJSON_AddNumberToObject(x, "replaced_inf", (double)r->env_replaced.inf);
+        cJSON_AddNumberToObject(x, "replaced_negative", (double)r->env_replaced.negative);
     } else {
         cJSON_AddNullToObject(j, "environment");
     }
@@ -1049,7 +1071,13 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     memset(&unit, 0, sizeof unit);
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
-    if (!lum && tool_make_envmap(envspec, preloaded, rotation, scale, &env) != LUMIS_OK) goto done;
+    if (!lum && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
+        r->env_replaced = file->env_info.replaced;
+        tool_warn_replaced(envspec, r->env_replaced);
+    }
+    if (!lum &&
+        tool_make_envmap(envspec, preloaded, rotation, scale, &env, &r->env_replaced) != LUMIS_OK)
+        goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
     /* A light set or luminaires light the scene by themselves: no sampler is built. */
