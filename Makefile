@@ -73,10 +73,12 @@ bench: build
 	./build/bench/bench_pick
 	./build/bench/bench_render
 
-# Reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
-install: build
-	cmake -S . -B build -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
-	cmake --install build --prefix $(PREFIX)
+# The optimised Release build (-O3, no debug information) is what a user installs; it is
+# reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
+install: release
+	cmake -S . -B build-release -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
+	cmake --build build-release -j$(JOBS)
+	cmake --install build-release --prefix $(PREFIX)
 
 clean:
 	rm -rf build build-release build-asan build-fuzz

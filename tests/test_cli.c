@@ -795,8 +795,8 @@ static void render_with_luminaires(void **state)
 static void luminaire_files_create_info_render(void **state)
 {
     (void)state;
-    char a[2048];
-    const char *man = tu_path("small-lum.json");
+    char a[2048], man[512]; /* tu_path's buffer is reused by the next call: a copy */
+    snprintf(man, sizeof man, "%s", tu_path("small-lum.json"));
     snprintf(a, sizeof a, "luminaire create '%s' --preset small --format pfm", man);
     expect(a, 0, "acquired 20 images of 24 x 20");
     snprintf(a, sizeof a, "luminaire info '%s' --json", man);
@@ -831,6 +831,23 @@ static void luminaire_files_create_info_render(void **state)
     cJSON *side = read_json("ls2.json");
     assert_true(num(item(side, "luminaires"), "count") == 2);
     cJSON_Delete(side);
+    /* Every luminaire black: an error, not the default sky; a map beside luminaires: a
+     * warning that it is ignored. */
+    char black[2048];
+    snprintf(black, sizeof black,
+             "{\"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], "
+             "\"material\": {\"type\": \"lambert\"}}], "
+             "\"luminaires\": [{\"file\": \"small-lum.json\", \"intensity\": 0}]}");
+    tu_write_file(tu_path("black-scene.json"), black, strlen(black));
+    snprintf(a, sizeof a, "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("black-scene.json"),
+             tu_path("black.exr"));
+    expect(a, 1, "every luminaire of the scene has intensity 0");
+    char with_map[2200];
+    snprintf(with_map, sizeof with_map, "{\"environment\": {\"map\": \"sky:16x8\"}, %s", scene + 1);
+    tu_write_file(tu_path("lum-map-scene.json"), with_map, strlen(with_map));
+    snprintf(a, sizeof a, "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("lum-map-scene.json"),
+             tu_path("lm.exr"));
+    expect(a, 0, "the scene's environment (sky:16x8) is ignored");
     /* Its manifest is an input: no output may replace it. */
     snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("lum-scene.json"),
              tu_path("ls3.exr"), man);

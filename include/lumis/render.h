@@ -276,6 +276,9 @@ typedef struct lumis_scene_file {
      * may be shared).  A scene with luminaires is lit by them (lumis_luminaire_lighting). */
     lumis_luminaire_instance *luminaires;
     int luminaire_count;
+    /* Luminaires the file lists, those of intensity 0 (left out of `luminaires`) included:
+     * a scene that lists some is lit by its luminaires, even when all of them are black. */
+    int luminaires_listed;
 } lumis_scene_file;
 
 typedef struct lumis_scene_read_options {

@@ -667,8 +667,10 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
         else if (lums && cJSON_GetArraySize(lums) > 4096)
             st = bad(&p, "luminaires", "at most 4096 luminaires");
         else
-            for (int k = 0; lums && k < cJSON_GetArraySize(lums) && st == LUMIS_OK; k++)
+            for (int k = 0; lums && k < cJSON_GetArraySize(lums) && st == LUMIS_OK; k++) {
                 st = parse_luminaire(&p, cJSON_GetArrayItem(lums, k), k);
+                f->luminaires_listed++;
+            }
     }
     cJSON_Delete(root);
     if (st != LUMIS_OK) {

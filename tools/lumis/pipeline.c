@@ -986,6 +986,19 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const char *cmd = o->cmd ? o->cmd : "render";
     /* A scene with luminaires is lit by them alone; its camera rays that escape see black. */
     const int lum = file->luminaire_count > 0;
+    if (!lum && file->luminaires_listed > 0) { /* not the default sky instead */
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_runtime_error("%s: every luminaire of the scene has intensity 0: nothing "
+                                  "lights it (give one an intensity, or list none to light it "
+                                  "by a map)",
+                                  o->scene_path ? o->scene_path : o->scene_name);
+    }
+    if (lum && file->env_map[0])
+        fprintf(stderr,
+                "lumis: warning: %s: the scene's environment (%s) is ignored: a scene with "
+                "luminaires is lit by them alone\n",
+                o->scene_path ? o->scene_path : o->scene_name, file->env_map);
     const char *clash = o->envspec     ? "--env"
                         : o->lights    ? "--lights"
                         : o->bsdf_only ? "--method bsdf"
