@@ -290,6 +290,25 @@ static void sample_and_pdf_agree_and_are_reproducible(void **state)
     }
     expect("sample sky:8x4 --method kdtree", 2, "-n N is required");
     expect("sample sky:8x4 --method cdf -n 3", 2, "--method must be one of");
+    /* Messages about what the user did (issue 23's list): a float parameter too small for a
+     * float, a studio intensity that overflowed float radiance, help for one command, more
+     * threads than processors. */
+    expect("lights sky:64x32 --method wu --param gamma=1e-300", 2, "at least 1.2e-38");
+    expect("studio --intensity 1e37 -o x.exr", 2, "--intensity needs a number in (0, 1e30]");
+    {
+        char *hout = NULL;
+        assert_int_equal(run("help render", &hout, NULL), 0);
+        assert_non_null(strstr(hout, "usage: lumis render"));
+        free(hout);
+    }
+    expect("help nothing", 2, "unknown command 'nothing'");
+    {
+        char a2[1024];
+        snprintf(a2, sizeof a2,
+                 "render --scene spheres --size 8x6 --spp 1 --threads 4096 --quiet -o '%s'",
+                 tu_path("threads.exr"));
+        expect(a2, 0, "--threads 4096: capped at");
+    }
     /* strtoull read "-5" as 2^64 - 5; a seed is a plain unsigned integer */
     expect("sample sky:8x4 --method alias -n 1 --seed -5", 2, "--seed needs an integer");
     expect("sample sky:8x4 --method alias -n 1 --seed ' 5'", 2, "--seed needs an integer");

@@ -2,6 +2,8 @@
 #include "args.h"
 
 #include <errno.h>
+#include <stdio.h>
+#include <unistd.h>
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
@@ -46,6 +48,19 @@ int tool_parse_int(const char *s, long lo, long hi, long *out)
     if (*end != '\0' || errno == ERANGE || v < lo || v > hi) return 0;
     *out = v;
     return 1;
+}
+
+int tool_cap_threads(const char *cmd, int n)
+{
+    /* the images never depend on the thread count, so more threads than processors only
+     * cost memory and time (--threads 1000 started 1000) */
+    const long cpus = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cpus > 0 && n > cpus) {
+        fprintf(stderr, "lumis %s: --threads %d: capped at %ld, this machine's processors\n", cmd,
+                n, cpus);
+        return (int)cpus;
+    }
+    return n;
 }
 
 int tool_parse_u64(const char *s, int base, unsigned long long *out)

@@ -13,6 +13,8 @@ int tool_parse_int(const char *s, long lo, long hi, long *out);
 /* An unsigned 64-bit integer in `base` (0: 0x.. and 0.. prefixes too); no sign, no blanks,
  * nothing after it, not out of range. */
 int tool_parse_u64(const char *s, int base, unsigned long long *out);
+/* n, or this machine's processor count when n is more (with a note on stderr). */
+int tool_cap_threads(const char *cmd, int n);
 int tool_parse_size(const char *s, int *w, int *h); /* "WxH", each 1..INT_MAX */
 
 /* True for --help / -h. */

@@ -45,6 +45,13 @@ lumis_status lumis_studio_create(const lumis_studio_desc *desc, lumis_image **ou
     if (!(k > 0.0) || !isfinite(k))
         return lumis__fail(&desc->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "studio: intensity must be positive and finite");
+    /* The key light's radiance is 40 k; past 1e30 a map's power, exposure and metrics
+     * overflow float (at 1e37 the pixels themselves became infinite). */
+    if (k > 1e30)
+        return lumis__fail(&desc->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "studio: intensity %g is too large: at most 1e30 (the soft boxes' "
+                           "radiance must stay far inside float's range)",
+                           k);
     lumis_status st = lumis_image_create(w, h, out);
     if (st != LUMIS_OK)
         return lumis__fail(&desc->errors, st, "studio: %d x %d: %s", w, h, lumis_status_string(st));

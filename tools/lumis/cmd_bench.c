@@ -100,7 +100,8 @@ int cmd_bench(int argc, char **argv)
                 return tool_usage_error("bench", "--jobs needs a count in [1, 256]");
         } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!tool_parse_int(v, 1, 4096, &threads))
-                return tool_usage_error("bench", "--threads needs a count");
+                return tool_usage_error("bench", "--threads needs a count in [1, 4096]");
+            threads = tool_cap_threads("bench", (int)threads);
         } else if (tool_option(argc, argv, &i, "--shard", &v)) {
             char *slash = v ? strchr(v, '/') : NULL;
             if (!slash) return tool_usage_error("bench", "--shard needs I/N, e.g. 0/4");

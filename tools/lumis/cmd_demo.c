@@ -96,6 +96,7 @@ int cmd_demo(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!tool_parse_int(v, 1, 4096, &threads))
                 return tool_bad_value("demo", "--threads", v, "needs a count in [1, 4096]");
+            threads = tool_cap_threads("demo", (int)threads);
         } else {
             return tool_usage_error("demo", "unknown argument '%s'", argv[i]);
         }

@@ -207,7 +207,7 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--threads", &v)) {
             if (!tool_parse_int(v, 1, 4096, &x))
                 return tool_bad_value("render", "--threads", v, "needs a count in [1, 4096]");
-            o.rd.threads = (int)x;
+            o.rd.threads = tool_cap_threads("render", (int)x);
         } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
             sampler_opt = "--blocks";
             if (!tool_parse_int(v, 1, 1 << 24, &x))

@@ -138,8 +138,8 @@ int cmd_studio(int argc, char **argv)
             fputs(studio_usage, stdout);
             return EXIT_OK;
         } else if (tool_option(argc, argv, &i, "--intensity", &v)) {
-            if (!tool_parse_double(v, &x) || !(x > 0))
-                return tool_bad_value("studio", "--intensity", v, "needs a positive number");
+            if (!tool_parse_double(v, &x) || !(x > 0) || !(x <= 1e30))
+                return tool_bad_value("studio", "--intensity", v, "needs a number in (0, 1e30]");
             d.intensity = (float)x;
         } else {
             return tool_usage_error("studio", "unknown argument '%s'", argv[i]);

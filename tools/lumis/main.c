@@ -77,6 +77,15 @@ int main(int argc, char **argv)
         print_help(stderr);
         return EXIT_USAGE;
     }
+    if (strcmp(argv[1], "help") == 0 && argc > 2) { /* lumis help COMMAND */
+        for (int i = 0; i < NCOMMANDS; i++)
+            if (strcmp(argv[2], commands[i].name) == 0) {
+                char *args[] = {argv[2], (char *)"--help", NULL};
+                return finish(commands[i].run(2, args));
+            }
+        fprintf(stderr, "lumis help: unknown command '%s' (see 'lumis --help')\n", argv[2]);
+        return EXIT_USAGE;
+    }
     if (tool_is_help(argv[1]) || strcmp(argv[1], "help") == 0) {
         print_help(stdout);
         return finish(EXIT_OK);

@@ -219,8 +219,16 @@ int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *o
             if (ok) *param_float(p, q) = (float)x;
         }
         if (!ok) {
-            char what[160];
-            snprintf(what, sizeof what, "%s=VALUE needs %s", item, light_params[q].what);
+            char what[200];
+            /* a positive number that float cannot hold: say that, not "needs > 0" */
+            const int tiny = type != PARAM_COUNT && type != PARAM_SEED &&
+                             tool_parse_double(value, &x) && x > 0.0 && (float)x == 0.0f;
+            const int huge = type != PARAM_COUNT && type != PARAM_SEED &&
+                             tool_parse_double(value, &x) && isfinite(x) && x > FLT_MAX;
+            snprintf(what, sizeof what, "%s=VALUE needs %s%s", item, light_params[q].what,
+                     tiny   ? " (and at least 1.2e-38: the parameters are floats)"
+                     : huge ? " (and at most 3.4e38: the parameters are floats)"
+                            : "");
             return tool_bad_value(cmd, opt, value, what);
         }
         p->given |= 1u << q;
