@@ -207,6 +207,86 @@ static lumis_status get_number(const parser *p, const cJSON *o, const char *key,
     return LUMIS_OK;
 }
 
+/* The edit distance of two short strings (keys), capped at 9. */
+static int key_distance(const char *a, const char *b)
+{
+    int d[2][33];
+    const int la = (int)strlen(a), lb = (int)strlen(b);
+    if (la > 32 || lb > 32) return 9;
+    for (int j = 0; j <= lb; j++) d[0][j] = j;
+    for (int i = 1; i <= la; i++) {
+        int *cur = d[i & 1], *prev = d[(i - 1) & 1];
+        cur[0] = i;
+        for (int j = 1; j <= lb; j++) {
+            const int sub = prev[j - 1] + (a[i - 1] != b[j - 1]);
+            const int del = prev[j] + 1, ins = cur[j - 1] + 1;
+            cur[j] = sub < del ? (sub < ins ? sub : ins) : (del < ins ? del : ins);
+        }
+    }
+    return d[la & 1][lb] < 9 ? d[la & 1][lb] : 9;
+}
+
+/* Every key of object o must be one of keys[] (NULL-terminated), and given once: a
+ * misspelt key ("lumnaires", "albedo " with a space) would otherwise be ignored without a
+ * word, and a duplicate would silently lose to the first.  The message names the JSON
+ * path and the nearest known key. */
+static lumis_status check_keys(const parser *p, const cJSON *o, const char *path,
+                               const char *const *keys)
+{
+    for (const cJSON *c = o ? o->child : NULL; c; c = c->next) {
+        const char *k = c->string ? c->string : "";
+        char at[256];
+        if (path[0])
+            join(at, sizeof at, path, k);
+        else
+            snprintf(at, sizeof at, "%s", k);
+        int known = 0, best = 9;
+        const char *near = NULL;
+        for (const char *const *q = keys; *q; q++) {
+            if (strcmp(*q, k) == 0) known = 1;
+            const int dist = key_distance(k, *q);
+            if (dist < best) best = dist, near = *q;
+        }
+        /* a key with blanks around it is a misspelling of the trimmed one */
+        if (!known) {
+            char list[256] = "";
+            for (const char *const *q = keys; *q; q++) {
+                strncat(list, *q, sizeof list - strlen(list) - 1);
+                if (q[1]) strncat(list, ", ", sizeof list - strlen(list) - 1);
+            }
+            if (near && best <= 2 + (int)(strlen(k) > 6))
+                return lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER,
+                                   "%s: \"%s\": unknown key (did you mean \"%s\"? known: %s)",
+                                   p->file, at, near, list);
+            return lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER,
+                               "%s: \"%s\": unknown key (known: %s)", p->file, at, list);
+        }
+        for (const cJSON *e = o->child; e != c; e = e->next)
+            if (e->string && strcmp(e->string, k) == 0)
+                return lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER,
+                                   "%s: %s: given twice (a JSON object's keys are unique)", p->file,
+                                   at);
+    }
+    return LUMIS_OK;
+}
+
+/* An optional whole number (24.5 is not a width). */
+static lumis_status get_int(const parser *p, const cJSON *o, const char *key, const char *path,
+                            double lo, double hi, double *out)
+{
+    double v = *out;
+    lumis_status st = get_number(p, o, key, path, lo, hi, &v);
+    if (st != LUMIS_OK) return st;
+    if (v != floor(v)) {
+        char at[256], what[96];
+        join(at, sizeof at, path, key);
+        snprintf(what, sizeof what, "a whole number in [%g, %g]", lo, hi);
+        return bad(p, at, what);
+    }
+    *out = v;
+    return LUMIS_OK;
+}
+
 static lumis_status get_vec3(const parser *p, const cJSON *o, const char *key, const char *path,
                              int required, float out[3])
 {
@@ -250,13 +330,26 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
     memset(b, 0, sizeof *b);
     double ax = 0.1, ay = -1.0, a = -1.0;
     lumis_status st = LUMIS_OK;
+    static const char *const lambert_keys[] = {"type", "albedo", NULL};
+    static const char *const ward_keys[] = {"type",    "diffuse", "specular", "alpha",
+                                            "alpha_x", "alpha_y", NULL};
+    static const char *const ggx_keys[] = {"type", "f0", "alpha", "alpha_x", "alpha_y", NULL};
+    /* plastic's coat has F0 = 0.04: no f0 key (it would be read and never used) */
+    static const char *const plastic_keys[] = {"type",    "diffuse", "alpha",
+                                               "alpha_x", "alpha_y", NULL};
     if (strcmp(t->valuestring, "lambert") == 0) {
+        if ((st = check_keys(p, m, path, lambert_keys)) != LUMIS_OK) return st;
         b->type = LUMIS_BSDF_LAMBERT;
         b->diffuse = (lumis_rgb){0.8f, 0.8f, 0.8f};
         st = get_rgb(p, m, "albedo", path, &b->diffuse);
     } else if (strcmp(t->valuestring, "ward") == 0 || strcmp(t->valuestring, "conductor") == 0 ||
                strcmp(t->valuestring, "ggx") == 0 || strcmp(t->valuestring, "plastic") == 0) {
         int ward = t->valuestring[0] == 'w', plastic = t->valuestring[0] == 'p';
+        if ((st = check_keys(p, m, path,
+                             ward      ? ward_keys
+                             : plastic ? plastic_keys
+                                       : ggx_keys)) != LUMIS_OK)
+            return st;
         b->type =
             ward ? LUMIS_BSDF_WARD : (plastic ? LUMIS_BSDF_GGX_PLASTIC : LUMIS_BSDF_GGX_CONDUCTOR);
         b->diffuse = (lumis_rgb){ward ? 0.1f : (plastic ? 0.5f : 0.0f),
@@ -370,6 +463,19 @@ static lumis_status load_mesh(const parser *p, const char *file, const char *pat
     if (!sc)
         return lumis__fail(p->errors, LUMIS_ERR_OPEN, "%s: %s.file: cannot load mesh %s: %s",
                            p->file, path, full, aiGetErrorString());
+    /* A NaN or huge vertex made its triangles vanish from the render without a word. */
+    for (unsigned m = 0; m < sc->mNumMeshes; m++)
+        for (unsigned k = 0; k < sc->mMeshes[m]->mNumVertices; k++) {
+            const struct aiVector3D q = sc->mMeshes[m]->mVertices[k];
+            if (!(fabs(q.x) <= 1e30 && fabs(q.y) <= 1e30 && fabs(q.z) <= 1e30)) {
+                const double x = q.x, y = q.y, z = q.z;
+                aiReleaseImport(sc);
+                return lumis__fail(p->errors, LUMIS_ERR_CORRUPT,
+                                   "%s: %s.file: %s: vertex %u of mesh %u is (%g, %g, %g): "
+                                   "every coordinate must be finite and at most 1e30",
+                                   p->file, path, full, k, m, x, y, z);
+            }
+        }
     lumis_status st = lumis__scene_file_add_mesh(p->f, full, sc, o);
     aiReleaseImport(sc);
     if (st == LUMIS_ERR_CORRUPT)
@@ -383,6 +489,8 @@ static lumis_status parse_transform(const parser *p, const cJSON *x, const char 
     float tr[3] = {0, 0, 0}, rot[3] = {0, 0, 0}, sc[3] = {1, 1, 1};
     lumis_status st;
     if (!cJSON_IsObject(x)) return bad(p, xp, "an object with translate, rotate_deg, scale");
+    static const char *const keys[] = {"translate", "rotate_deg", "scale", NULL};
+    if ((st = check_keys(p, x, xp, keys)) != LUMIS_OK) return st;
     if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
     if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
     const cJSON *s = cJSON_GetObjectItemCaseSensitive(x, "scale");
@@ -415,7 +523,19 @@ static lumis_status parse_object(const parser *p, const cJSON *j, int k)
     float c[3] = {0, 0, 0};
     const cJSON *instances = NULL;
     lumis_status st;
-    if (strcmp(t->valuestring, "sphere") == 0) {
+    static const char *const sphere_keys[] = {"type", "center", "radius", "material", NULL};
+    static const char *const plane_keys[] = {"type", "point", "normal", "size", "material", NULL};
+    static const char *const mesh_keys[] = {"type",      "file",     "transform",
+                                            "instances", "material", NULL};
+    const int is_sphere = strcmp(t->valuestring, "sphere") == 0,
+              is_plane = strcmp(t->valuestring, "plane") == 0,
+              is_mesh = strcmp(t->valuestring, "mesh") == 0;
+    if ((is_sphere || is_plane || is_mesh) && (st = check_keys(p, j, path,
+                                                               is_sphere  ? sphere_keys
+                                                               : is_plane ? plane_keys
+                                                                          : mesh_keys)) != LUMIS_OK)
+        return st;
+    if (is_sphere) {
         double r = -1.0;
         o.type = LUMIS_OBJECT_SPHERE;
         if ((st = get_vec3(p, j, "center", path, 1, c)) != LUMIS_OK) return st;
@@ -484,6 +604,9 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
     char path[64], at[256];
     snprintf(path, sizeof path, "luminaires[%d]", k);
     if (!cJSON_IsObject(j)) return bad(p, path, "an object with file, transform, intensity");
+    static const char *const keys[] = {"file", "transform", "intensity", NULL};
+    lumis_status kst = check_keys(p, j, path, keys);
+    if (kst != LUMIS_OK) return kst;
     const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
     join(at, sizeof at, path, "file");
     if (!cJSON_IsString(file) || !file->valuestring[0])
@@ -498,6 +621,8 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
         char xp[128];
         join(xp, sizeof xp, path, "transform");
         if (!cJSON_IsObject(x)) return bad(p, xp, "an object with translate, rotate_deg, scale");
+        static const char *const xkeys[] = {"translate", "rotate_deg", "scale", NULL};
+        if ((st = check_keys(p, x, xp, xkeys)) != LUMIS_OK) return st;
         if ((st = get_vec3(p, x, "translate", xp, 0, tr)) != LUMIS_OK) return st;
         if ((st = get_vec3(p, x, "rotate_deg", xp, 0, rot)) != LUMIS_OK) return st;
         const cJSON *sc = cJSON_GetObjectItemCaseSensitive(x, "scale");
@@ -589,7 +714,18 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
     *out = NULL;
     parser p = {name, "", errors, NULL, allow_files};
     snprintf(p.dir, sizeof p.dir, "%s", dir);
-    cJSON *root = cJSON_ParseWithLength(text, n);
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, n, &end, 0);
+    if (root && end) { /* only blanks may follow the top-level value */
+        for (const char *c = end; c < text + n; c++)
+            if (*c != ' ' && *c != '\t' && *c != '\n' && *c != '\r' && *c != '\0') {
+                int line = 1;
+                for (const char *q = text; q < c; q++) line += *q == '\n';
+                cJSON_Delete(root);
+                return lumis__fail(errors, LUMIS_ERR_BAD_HEADER,
+                                   "%s:%d: text after the scene's closing brace", name, line);
+            }
+    }
     if (!root) {
         const char *e = cJSON_GetErrorPtr();
         size_t at = e && e >= text && e <= text + n ? (size_t)(e - text) : 0;
@@ -601,6 +737,17 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
     p.f = f;
     lumis_status st = f ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK && !cJSON_IsObject(root)) st = bad(&p, "(top level)", "an object");
+    static const char *const root_keys[] = {"camera", "environment", "objects", "luminaires", NULL};
+    static const char *const camera_keys[] = {"eye",   "look_at", "up", "fov_deg",
+                                              "width", "height",  NULL};
+    static const char *const env_keys[] = {"map", "rotation_deg", "scale", NULL};
+    if (st == LUMIS_OK) st = check_keys(&p, root, "", root_keys);
+    if (st == LUMIS_OK && cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "camera")))
+        st =
+            check_keys(&p, cJSON_GetObjectItemCaseSensitive(root, "camera"), "camera", camera_keys);
+    if (st == LUMIS_OK && cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, "environment")))
+        st = check_keys(&p, cJSON_GetObjectItemCaseSensitive(root, "environment"), "environment",
+                        env_keys);
     /* Camera: the renderer's defaults for what is absent. */
     if (st == LUMIS_OK) {
         const cJSON *c = cJSON_GetObjectItemCaseSensitive(root, "camera");
@@ -619,8 +766,8 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
             if (st == LUMIS_OK && (st = get_vec3(&p, c, "up", "camera", 0, v)) == LUMIS_OK)
                 f->camera.up = (lumis_vec3){v[0], v[1], v[2]};
             if (st == LUMIS_OK) st = get_number(&p, c, "fov_deg", "camera", 1e-3, 179.0, &fov);
-            if (st == LUMIS_OK) st = get_number(&p, c, "width", "camera", 1, 16384, &w);
-            if (st == LUMIS_OK) st = get_number(&p, c, "height", "camera", 1, 16384, &h);
+            if (st == LUMIS_OK) st = get_int(&p, c, "width", "camera", 1, 16384, &w);
+            if (st == LUMIS_OK) st = get_int(&p, c, "height", "camera", 1, 16384, &h);
             f->camera.fov_deg = (float)fov;
             f->camera.width = (int)w;
             f->camera.height = (int)h;
