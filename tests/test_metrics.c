@@ -47,6 +47,16 @@ static void errors_on_linear_values(void **state)
     assert_true(isfinite(e.mse) && e.mse > mse);
     lumis_image_destroy(ref);
     lumis_image_destroy(test);
+    /* relMSE divides by r^2, not r: with r = 3 and 0.5 (where r and r^2 differ, unlike the
+     * r = 1 above), t - r = 1 and 0.25: mean of 1/(9 + eps) and 0.0625/(0.25 + eps). */
+    ref = filled(2, 1, 3.0f, 3.0f, 3.0f);
+    test = filled(2, 1, 4.0f, 4.0f, 4.0f);
+    for (int c = 0; c < 3; c++) ref->pixels[3 + c] = 0.5f, test->pixels[3 + c] = 0.75f;
+    assert_int_equal(lumis_image_errors(ref, test, NULL, &e), LUMIS_OK);
+    const double want = 0.5 * (1.0 / 9.01 + 0.0625 / 0.26);
+    if (!(fabs(e.relmse - want) < 1e-12)) fail_msg("relmse %.12g, want %.12g", e.relmse, want);
+    lumis_image_destroy(ref);
+    lumis_image_destroy(test);
 }
 
 static void lab_delta_e_by_hand(void **state)

@@ -164,6 +164,44 @@ static void furnace(void **state)
         if (fabs(sum / n - 1.0) > 0.01) fail_msg("method %d: furnace mean %g", m, sum / n);
         lumis_image_destroy(img);
     }
+    /* Both heuristics, with unequal sample counts: MIS weights that do not sum to 1 over
+     * the strategies (a power heuristic squaring one term only, a count left out) bias the
+     * furnace (the map's pdf, uniform on the sphere, and the BSDF's, cosine, differ). */
+    lumis_envmap *flat = env_of(tu_image(32, 16, f_const));
+    for (int power = 0; power < 2; power++)
+        for (int c = 0; c < 3; c++) {
+            static const int nl[3] = {1, 2, 1}, nb[3] = {1, 1, 3};
+            lumis_sampler_desc sd = {0};
+            sd.method = LUMIS_METHOD_INVERSION;
+            lumis_sampler *smp = NULL;
+            assert_int_equal(lumis_sampler_create(flat, &sd, &smp), LUMIS_OK);
+            lumis_render_desc d = {0};
+            d.camera = &cam;
+            d.env = flat;
+            d.sampler = smp;
+            d.estimator = LUMIS_ESTIMATOR_MIS;
+            d.power_heuristic = power;
+            d.light_samples = nl[c];
+            d.bsdf_samples = nb[c];
+            d.spp = 16;
+            d.seed = 3;
+            img = NULL;
+            assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+            double sum = 0.0;
+            int n = 0;
+            for (int y = 0; y < 24; y++)
+                for (int x = 0; x < 24; x++)
+                    if (on_sphere(x, y)) {
+                        sum += img->pixels[3 * (y * 24 + x) + 1];
+                        n++;
+                    }
+            if (fabs(sum / n - 1.0) > 0.01)
+                fail_msg("%s heuristic, %d light + %d BSDF samples: furnace mean %g",
+                         power ? "power" : "balance", nl[c], nb[c], sum / n);
+            lumis_image_destroy(img);
+            lumis_sampler_destroy(smp);
+        }
+    lumis_envmap_destroy(flat);
     lumis_scene_destroy(s);
     lumis_envmap_destroy(env);
 }
@@ -728,6 +766,41 @@ static void upsampling_keeps_constants_and_depth_edges(void **state)
     assert_int_equal(lumis_joint_bilateral_upsample(low, lo, hi, &ud, &up), LUMIS_OK);
     assert_true(up->pixels[3 * 7] > 1.01f);
     lumis_image_destroy(up);
+    /* x and y alike: a ramp in y upsamples to the transpose of the same ramp in x (on one
+     * flat G-buffer, the spatial term alone decides), and in between its samples, strictly
+     * between their values (a spatial term that used x for y fails both). */
+    {
+        lumis_gbuffer *flo = step_gbuffer(8, 8, 8), *fhi = step_gbuffer(16, 16, 16);
+        lumis_image *rx = NULL, *ry = NULL, *ux = NULL, *uy = NULL;
+        assert_int_equal(lumis_image_create(8, 8, &rx), LUMIS_OK);
+        assert_int_equal(lumis_image_create(8, 8, &ry), LUMIS_OK);
+        for (int y = 0; y < 8; y++)
+            for (int x = 0; x < 8; x++)
+                for (int ch = 0; ch < 3; ch++) {
+                    rx->pixels[3 * (y * 8 + x) + ch] = (float)(x * x + 1);
+                    ry->pixels[3 * (y * 8 + x) + ch] = (float)(y * y + 1);
+                }
+        assert_int_equal(lumis_joint_bilateral_upsample(rx, flo, fhi, NULL, &ux), LUMIS_OK);
+        assert_int_equal(lumis_joint_bilateral_upsample(ry, flo, fhi, NULL, &uy), LUMIS_OK);
+        for (int y = 0; y < 16; y++)
+            for (int x = 0; x < 16; x++) {
+                const float a = ux->pixels[3 * (y * 16 + x)], b = uy->pixels[3 * (x * 16 + y)];
+                if (!(fabsf(a - b) <= 1e-5f * fabsf(a)))
+                    fail_msg("ramp in x at (%d, %d): %g; ramp in y at (%d, %d): %g", x, y, a, y, x,
+                             b);
+            }
+        /* between low rows 3 and 4 (values 10 and 17): high rows 7 and 8 */
+        for (int y = 7; y <= 8; y++) {
+            const float v = uy->pixels[3 * (y * 16 + 5)];
+            if (!(v > 10.0f && v < 17.0f)) fail_msg("row %d: %g not between 10 and 17", y, v);
+        }
+        lumis_image_destroy(rx);
+        lumis_image_destroy(ry);
+        lumis_image_destroy(ux);
+        lumis_image_destroy(uy);
+        lumis_gbuffer_destroy(flo);
+        lumis_gbuffer_destroy(fhi);
+    }
     /* Mismatched sizes are refused. */
     tu_sink sink;
     tu_sink_init(&sink);
