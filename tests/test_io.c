@@ -685,6 +685,33 @@ static void hdr_headers(void **state)
 
 /* RGBE holds values below 2^127: at or above it the exponent byte wrapped to 0 and a sun
  * of 3e38 was written as black.  Such values are clamped to RGBE's largest (1.69e38). */
+/* A scanline of 300 pixels of noise: stb's RLE writer cuts its literal stretches into runs
+ * of 128 bytes, the largest literal count, which a reader that took 128 for a repeat
+ * would decode as one byte repeated.  Read back within RGBE's precision. */
+static void hdr_long_literal_runs_round_trip(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(300, 3, &img), LUMIS_OK);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 9, 1);
+    for (size_t q = 0; q < (size_t)300 * 3 * 3; q++)
+        img->pixels[q] = 0.01f + 10.0f * lumis_pcg32_float(&rng);
+    const char *path = tu_path("noise.hdr");
+    assert_int_equal(lumis_image_write(path, img, NULL), LUMIS_OK);
+    lumis_image *back = NULL;
+    assert_int_equal(lumis_image_read(path, NULL, &back, NULL), LUMIS_OK);
+    for (size_t q = 0; q < (size_t)300 * 3; q++) {
+        const float *a = img->pixels + 3 * q, *b = back->pixels + 3 * q;
+        const float m = fmaxf(a[0], fmaxf(a[1], a[2]));
+        for (int c = 0; c < 3; c++)
+            if (!(fabsf(a[c] - b[c]) <= m / 128))
+                fail_msg("pixel %zu channel %d: wrote %g, read %g", q, c, a[c], b[c]);
+    }
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
 static void hdr_writes_huge_values_clamped(void **state)
 {
     (void)state;
@@ -994,6 +1021,7 @@ int main(void)
         cmocka_unit_test(hdr_headers),
         cmocka_unit_test(hdr_scanline_variants),
         cmocka_unit_test(hdr_writes_huge_values_clamped),
+        cmocka_unit_test(hdr_long_literal_runs_round_trip),
         cmocka_unit_test(pfm_headers),
         cmocka_unit_test(unwritable_outputs_fail_cleanly),
         cmocka_unit_test(failed_writes_leave_the_old_file),

@@ -342,6 +342,14 @@ static void median_cut_regions_have_equal_energy(void **state)
         for (int p = 0; p < k; p += 2) {
             box a = label_box(lab, w, h, p), b = label_box(lab, w, h, p + 1);
             box sa = a, sb = b; /* the columns (rows) on either side of the cut */
+            /* The cut crosses the parent's longer side, in radians on the sphere (its width
+             * at its middle latitude against its height), as Debevec's median cut does. */
+            const double mid = 0.5 * PI * (a.y0 + b.y1) / h,
+                         wd = 2.0 * PI * (b.x1 - a.x0) / w * sin(mid), ht = PI * (b.y1 - a.y0) / h;
+            const int across_x = a.x1 == b.x0 && a.y0 == b.y0 && a.y1 == b.y1;
+            if (across_x ? !(wd >= ht || b.y1 - a.y0 < 2) : !(ht > wd || b.x1 - a.x0 < 2))
+                fail_msg("K = %d, lights %d and %d: a %s cut of a region %g wide and %g high", k, p,
+                         p + 1, across_x ? "vertical" : "horizontal", wd, ht);
             if (a.x1 == b.x0 && a.y0 == b.y0 && a.y1 == b.y1) {
                 sa.x0 = a.x1 - 1;
                 sb.x1 = b.x0 + 1;
