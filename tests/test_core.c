@@ -1,6 +1,7 @@
 /* Core building blocks: status table, image buffers, sanitizing, PCG32, Halton. */
 #include "testutil.h"
 
+#include "core/distrib.h"
 #include "core/internal.h"
 
 #include <math.h>
@@ -158,6 +159,59 @@ static void pcg32_floats_and_bounded_are_uniform(void **state)
     assert_true(chi2 < 22.46);
 }
 
+/* Every lit entry keeps at least one unit of 2^32: a 1e-12 weight beside a bright one (no
+ * test map had an entry under 2^-32 of its table) would otherwise never be drawn, biasing
+ * every estimate; the units still sum to the total and follow the weights. */
+static void quantize_keeps_every_lit_entry(void **state)
+{
+    (void)state;
+    const double w[5] = {1e-12, 1.0, 0.0, 3e-15, 0.5};
+    uint64_t u[5];
+    const uint64_t total = (uint64_t)1 << 32;
+    lumis__quantize(w, 5, total, u);
+    assert_true(u[0] >= 1 && u[3] >= 1 && u[2] == 0);
+    assert_true(u[0] + u[1] + u[2] + u[3] + u[4] == total);
+    assert_true(llabs((long long)u[1] - (long long)(total * 2 / 3)) <= 2);
+}
+
+/* The realised probability of each alias entry, from its bins: its own columns' kept
+ * share and what the other columns give it. */
+static void alias_probabilities(const lumis__alias *a, double *p)
+{
+    for (uint32_t k = 0; k < a->n; k++) p[k] = 0.0;
+    for (uint32_t j = 0; j < a->n; j++) {
+        const double keep = a->bin[j].alias == j ? LUMIS__ONE32 : (double)a->bin[j].thresh;
+        p[j] += keep;
+        if (a->bin[j].alias != j) p[a->bin[j].alias] += LUMIS__ONE32 - keep;
+    }
+    for (uint32_t k = 0; k < a->n; k++) p[k] /= (double)a->n * LUMIS__ONE32;
+}
+
+/* Vose's construction realises the weights exactly, an entry of exactly the mean weight
+ * beside larger and smaller ones included ({1, 1, 0.5, 1.5} put the 1s on the small stack
+ * and drew them with probability 0), and a tiny entry keeps its unit. */
+static void alias_realises_its_weights(void **state)
+{
+    (void)state;
+    static const double cases[3][6] = {
+        {1, 1, 0.5, 1.5, 0, 0}, {2, 0.25, 1, 1, 1, 0.75}, {1e-12, 1, 1, 1, 3, 0}};
+    static const uint32_t ns[3] = {4, 6, 5};
+    for (int c = 0; c < 3; c++) {
+        lumis__alias a;
+        assert_int_equal(lumis__alias_build(&a, cases[c], ns[c], NULL, NULL), LUMIS_OK);
+        double p[6], sum = 0.0;
+        alias_probabilities(&a, p);
+        for (uint32_t k = 0; k < ns[c]; k++) sum += cases[c][k];
+        for (uint32_t k = 0; k < ns[c]; k++) {
+            const double want = cases[c][k] / sum;
+            if (!(fabs(p[k] - want) <= 4.0 / LUMIS__ONE32 + 1e-12 * want) || !(p[k] > 0.0))
+                fail_msg("case %d, entry %u: drawn with probability %.12g, weight share %.12g", c,
+                         k, p[k], want);
+        }
+        lumis__alias_free(&a);
+    }
+}
+
 static void radical_inverse_reverses_digits(void **state)
 {
     (void)state;
@@ -193,6 +247,8 @@ int main(void)
         cmocka_unit_test(pcg32_fill_doubles_matches_successive_draws),
         cmocka_unit_test(pcg32_floats_and_bounded_are_uniform),
         cmocka_unit_test(radical_inverse_reverses_digits),
+        cmocka_unit_test(quantize_keeps_every_lit_entry),
+        cmocka_unit_test(alias_realises_its_weights),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
