@@ -19,9 +19,11 @@ typedef struct fixture {
     const float *ptr[64];
 } fixture;
 
-/* 3 x 3 functions on a 0.5 grid centred on the axis, S at delta = 1, images 16 x 12 over
- * [-2, 2] x [-1.5, 1.5]; pixel values random with 30% zeros and some colour. */
-static inline fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
+/* 3 x 3 functions on a 0.5 grid centred on the axis, S at delta = 1, images width x height
+ * (make_fixture: 16 x 12, square pixels) over [-2, 2] x [-1.5, 1.5]; pixel values random
+ * with 30% zeros and some colour. */
+static inline fixture make_fixture_sized(lumis_luminaire_basis basis, uint64_t seed, int width,
+                                         int height)
 {
     fixture f;
     memset(&f, 0, sizeof f);
@@ -31,8 +33,8 @@ static inline fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
     d.grid[0] = d.grid[1] = 3;
     d.grid_origin[0] = d.grid_origin[1] = -0.5;
     d.grid_spacing[0] = d.grid_spacing[1] = 0.5;
-    d.width = 16;
-    d.height = 12;
+    d.width = width;
+    d.height = height;
     d.image_origin[0] = -2.0;
     d.image_origin[1] = -1.5;
     d.image_size[0] = 4.0;
@@ -54,6 +56,11 @@ static inline fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
     d.pixels = f.ptr;
     assert_int_equal(lumis_luminaire_create(&d, &f.lum), LUMIS_OK);
     return f;
+}
+
+static inline fixture make_fixture(lumis_luminaire_basis basis, uint64_t seed)
+{
+    return make_fixture_sized(basis, seed, 16, 12);
 }
 
 static inline void free_fixture(fixture *f)

@@ -136,6 +136,50 @@ static void restricted_sampler_draws_its_pdf(void **state)
     assert_true(pmin > 0.01 / tests); /* Bonferroni */
 }
 
+/* The uniform strategy (the restricted box, uniform in area): its density per unit area of
+ * S times the box's area is 1, pdf() agrees with the draw, and invert() undoes it (the
+ * round trips were tested for the restricted strategy only: a per-pixel density and an
+ * inverse with the wrong width passed). */
+static void uniform_sampler_pdf_and_inverse(void **state)
+{
+    (void)state;
+    /* pixels twice as wide as high: a box's width and height in pixels differ */
+    fixture f = make_fixture_sized(LUMIS_BASIS_QUADRATIC, 5, 16, 24);
+    const lumis_luminaire *l = f.lum;
+    lumis_luminaire_info in;
+    lumis_luminaire_get_info(l, &in);
+    int tests = 0;
+    for (int pi = 0; pi < NPOINTS; pi++)
+        for (int m = 1; m < 9; m += 3) {
+            lumis_luminaire_query q = {0};
+            q.p = test_points[pi];
+            q.strategy = LUMIS_LUM_UNIFORM;
+            lumis__box bx;
+            if (!lumis__lum_box(l, m, q.p.x, q.p.y, q.p.z, &bx)) continue;
+            const double area = (bx.x1 - bx.x0) * (bx.y1 - bx.y0) * in.pixel[0] * in.pixel[1];
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 7, (uint64_t)(pi * 16 + m));
+            for (int k = 0; k < 200; k++) {
+                const double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+                lumis_luminaire_sample smp;
+                if (lumis_luminaire_sample_image(l, &q, m, u1, u2, &smp) != LUMIS_OK) break;
+                const double pdf = lumis_luminaire_pdf(l, &q, m, smp.s[0], smp.s[1]);
+                if (!(fabs(pdf - smp.pdf) <= 1e-6 * pdf && fabs(pdf * area - 1.0) < 1e-6))
+                    fail_msg("point %d, image %d: pdf %g, drawn %g, times the box's area %g", pi, m,
+                             pdf, (double)smp.pdf, pdf * area);
+                double v1, v2;
+                assert_int_equal(lumis_luminaire_invert(l, &q, m, smp.s[0], smp.s[1], &v1, &v2),
+                                 LUMIS_OK);
+                if (!(fabs(v1 - u1) < 1e-9 && fabs(v2 - u2) < 1e-9))
+                    fail_msg("point %d, image %d: (%g, %g) inverts to (%g, %g)", pi, m, u1, u2, v1,
+                             v2);
+            }
+            tests++;
+        }
+    assert_true(tests >= 8);
+    free_fixture(&f);
+}
+
 static void secant_search_matches_binary_search(void **state)
 {
     (void)state;
@@ -817,6 +861,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(bases_are_partitions_of_unity),
         cmocka_unit_test(restricted_sampler_draws_its_pdf),
+        cmocka_unit_test(uniform_sampler_pdf_and_inverse),
         cmocka_unit_test(secant_search_matches_binary_search),
         cmocka_unit_test(grouped_draws_match_single_draws),
         cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
