@@ -302,6 +302,18 @@ static void sample_and_pdf_agree_and_are_reproducible(void **state)
         free(hout);
     }
     expect("help nothing", 2, "unknown command 'nothing'");
+    expect("sample sky:64x32 --method alias -n 1 --rotate 1e300", 2, "--rotate needs degrees");
+    expect("lights sky:64x32 --method median-cut -k 2 --rotate 1e300", 2, "--rotate needs");
+    {
+        /* Wu's K fitted to the time on a map of 8 pixels: the pilots' K fit the map ("count
+         * 16 is not in 1 .. 8" came from a pilot) */
+        char a2[1024];
+        snprintf(a2, sizeof a2,
+                 "render --scene spheres --env sky:4x2 --lights wu --time 0.2 --size 8x6 --quiet "
+                 "-o '%s'",
+                 tu_path("tiny-wu.exr"));
+        expect(a2, 0, NULL);
+    }
     {
         char a2[1024];
         snprintf(a2, sizeof a2,

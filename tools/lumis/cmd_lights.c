@@ -215,8 +215,8 @@ int cmd_lights(int argc, char **argv)
             const int prc = tool_light_params_parse(&params, "lights", "--param", v);
             if (prc != EXIT_OK) return prc;
         } else if (tool_option(argc, argv, &i, "--rotate", &v)) {
-            if (!tool_parse_double(v, &rotation) || !isfinite(rotation))
-                return tool_bad_value("lights", "--rotate", v, "needs degrees");
+            if (!tool_parse_double(v, &rotation) || !(fabs(rotation) <= 1e6))
+                return tool_bad_value("lights", "--rotate", v, "needs degrees in [-1e6, 1e6]");
         } else if (tool_option(argc, argv, &i, "--json", &v)) {
             json = v;
         } else if (tool_option(argc, argv, &i, "--gltf", &v)) {

@@ -1,5 +1,7 @@
 #include "common.h"
 
+#include <math.h>
+
 #include <cJSON.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -98,7 +100,9 @@ int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sa
                                   "must be luminance, average or max-channel");
     } else if (tool_option(argc, argv, i, "--rotate", &v)) {
         double deg;
-        if (!tool_parse_double(v, &deg)) return tool_bad_value(cmd, "--rotate", v, "needs degrees");
+        /* a usage error about --rotate, not the envmap's "rotation finite" */
+        if (!tool_parse_double(v, &deg) || !(fabs(deg) <= 1e6))
+            return tool_bad_value(cmd, "--rotate", v, "needs degrees in [-1e6, 1e6]");
         *rotation = (float)deg;
     } else {
         return -1;

@@ -885,7 +885,10 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
                                     const lumis_envmap *env, const tool_render_opts *o, int factor,
                                     double budget, tool_render_result *r, int *k_out)
 {
-    static const int ks[2] = {16, 64};
+    /* K = 16 and 64, or fewer on a map of fewer pixels (a 4 x 2 map has 8 lights at most:
+     * "count 16 is not in 1 .. 8" came from a pilot, not from anything the user gave) */
+    const double px = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
+    const int ks[2] = {px >= 16 ? 16 : (px >= 2 ? (int)px / 2 : 1), px >= 64 ? 64 : (int)px};
     double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
     double gen[2] = {0, 0};                 /* the light set's generation */
     const double t0 = tool_now_seconds();
@@ -929,8 +932,9 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
     once[0] += gen[0];
     once[1] += gen[1];
     budget -= tool_now_seconds() - t0;
-    double b = (t[1] - t[0]) / (ks[1] - ks[0]), a = t[0] - b * ks[0];
-    double d = (once[1] - once[0]) / (ks[1] - ks[0]), c = once[0] - d * ks[0];
+    const double dk = ks[1] > ks[0] ? ks[1] - ks[0] : 1.0; /* a 1-pixel map: one pilot K */
+    double b = (t[1] - t[0]) / dk, a = t[0] - b * ks[0];
+    double d = (once[1] - once[0]) / dk, c = once[0] - d * ks[0];
     if (!(b > 0.0) || !(a >= 0.0)) { /* too noisy to separate: proportional */
         a = 0.0;
         b = t[1] / ks[1];
