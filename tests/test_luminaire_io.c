@@ -425,6 +425,42 @@ static void copy_file(const char *from, const char *to)
     free(d);
 }
 
+/* A luminaire written over another that failed half-way left new images beside the old
+ * manifest, and the mixture loaded silently.  The manifest records a digest of its pixels:
+ * a set with one image of another luminaire (here copied in, as the failed write left it)
+ * is refused, naming the field; the intact set loads. */
+static void mixed_image_sets_are_refused(void **state)
+{
+    (void)state;
+    lumis_luminaire *a = small_luminaire();
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc emitter;
+    lumis_emitter_disk disks[4];
+    assert_int_equal(lumis_luminaire_preset_get(LUMIS_PRESET_SMALL, &layout, &emitter, disks),
+                     LUMIS_OK);
+    layout.basis = LUMIS_BASIS_BSPLINE; /* another luminaire of the same layout */
+    lumis_acquire_desc acq = {0};
+    acq.samples_s = 1;
+    lumis_luminaire *b = NULL;
+    assert_int_equal(lumis_luminaire_acquire(&layout, &emitter, &acq, &b), LUMIS_OK);
+    char da[512], db[512], pa[600], pb[600], ia[700], ib[700];
+    snprintf(da, sizeof da, "%s", subdir("mix-a"));
+    snprintf(db, sizeof db, "%s", subdir("mix-b"));
+    snprintf(pa, sizeof pa, "%s/lamp.json", da);
+    snprintf(pb, sizeof pb, "%s/lamp.json", db);
+    lumis_luminaire_write_options wo = {0};
+    wo.image_format = LUMIS_FORMAT_PFM;
+    assert_int_equal(lumis_luminaire_write(pa, a, &wo), LUMIS_OK);
+    assert_int_equal(lumis_luminaire_write(pb, b, &wo), LUMIS_OK);
+    lumis_luminaire_destroy(read_ok(pa));
+    snprintf(ia, sizeof ia, "%s/lamp.images/a001_b001.pfm", da);
+    snprintf(ib, sizeof ib, "%s/lamp.images/a001_b001.pfm", db);
+    copy_file(ib, ia);
+    expect_read_error(pa, LUMIS_ERR_CORRUPT, "pixels_digest: the images are not the ones");
+    lumis_luminaire_destroy(a);
+    lumis_luminaire_destroy(b);
+}
+
 static void bad_images_name_manifest_and_field(void **state)
 {
     (void)state;
@@ -641,6 +677,7 @@ int main(void)
         cmocka_unit_test(malformed_manifests_name_file_and_field),
         cmocka_unit_test(odd_inputs_to_the_parser),
         cmocka_unit_test(bad_images_name_manifest_and_field),
+        cmocka_unit_test(mixed_image_sets_are_refused),
         cmocka_unit_test(unwritable_outputs_fail_cleanly),
         cmocka_unit_test(failed_writes_leave_nothing),
     };

@@ -200,6 +200,11 @@ typedef struct lumis_luminaire_manifest {
     int image_count;           /* M = W H */
     const char *const *images; /* M names as written in "images" (relative paths) */
     const char *const *paths;  /* M paths to open: base_dir joined with each name */
+    /* "pixels_digest": FNV-1a (64-bit) of the images' float values as the luminaire holds
+     * them (docs/formats.md); a read whose images do not give it fails, so a half-rewritten
+     * set never loads as a mixture.  has_pixels_digest 0: a manifest without one (older). */
+    int has_pixels_digest;
+    uint64_t pixels_digest;
 } lumis_luminaire_manifest;
 
 /* Parses a manifest held in memory (borrowed for the call) and checks every field, the
