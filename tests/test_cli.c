@@ -823,6 +823,33 @@ static void render_with_luminaires(void **state)
 /* lumis luminaire: create writes a manifest and its images, info reads them back, render
  * lights the headlight scene with it; scene files place luminaires, and every bad field or
  * file gets a message that names it. */
+/* An acquired preset is cached (XDG_CACHE_HOME/lumis), read back checked, and acquired
+ * again when the cached copy is damaged: the headlight's car took ~10 s on every run. */
+static void acquired_presets_are_cached(void **state)
+{
+    (void)state;
+    char cache[512], a[2048];
+    snprintf(cache, sizeof cache, "%s", tu_path("xdg"));
+    for (int k = 0; k < 3; k++) {
+        if (k == 2) { /* damage every cached image: the digest refuses them */
+            char cmd[1024];
+            snprintf(cmd, sizeof cmd,
+                     "for f in '%s'/lumis/small-*.images/*.pfm; do printf 'PF\\n24 20\\n-1.0\\n' "
+                     "> \"$f.h\"; head -c 5760 /dev/zero >> \"$f.h\"; mv \"$f.h\" \"$f\"; done",
+                     cache);
+            assert_int_equal(tu_run(cmd, NULL, NULL), 0);
+        }
+        snprintf(a, sizeof a, "XDG_CACHE_HOME='%s' '%s' luminaire info preset:small", cache,
+                 LUMIS_CLI);
+        char *err = NULL;
+        assert_int_equal(tu_run(a, NULL, &err), 0);
+        const int acquired = strstr(err, "acquiring preset:small") != NULL;
+        if (acquired != (k != 1)) fail_msg("run %d: %s", k, err);
+        if (k == 2) assert_non_null(strstr(err, "does not read back"));
+        free(err);
+    }
+}
+
 static void luminaire_files_create_info_render(void **state)
 {
     (void)state;
@@ -1562,6 +1589,7 @@ int main(void)
         cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(luminaire_files_create_info_render),
+        cmocka_unit_test(acquired_presets_are_cached),
         cmocka_unit_test(lights_export_parses_back),
         cmocka_unit_test(light_params_reach_the_methods),
         cmocka_unit_test(lights_picture_marks_emissive_pixels),

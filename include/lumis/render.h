@@ -326,6 +326,10 @@ const char *const *lumis_scene_builtin_names(void);
 /* 1 when the built-in scene `name` is lit by luminaires (headlight, headlight-close), so a
  * tool can refuse options that do not apply before acquiring them (seconds); else 0. */
 int lumis_scene_builtin_has_luminaires(const char *name);
+/* The preset the built-in scene `name` places ("preset:car"), NULL for a scene without
+ * luminaires: a tool may acquire it (or read it from a cache) and pass it to
+ * lumis_scene_builtin_with_luminaire. */
+const char *lumis_scene_builtin_luminaire_spec(const char *name);
 void lumis_scene_file_destroy(lumis_scene_file *file);
 
 #ifdef __cplusplus

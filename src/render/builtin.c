@@ -27,7 +27,14 @@ const char *const *lumis_scene_builtin_names(void)
 
 int lumis_scene_builtin_has_luminaires(const char *name)
 {
-    return name && (strcmp(name, "headlight") == 0 || strcmp(name, "headlight-close") == 0);
+    return lumis_scene_builtin_luminaire_spec(name) != NULL;
+}
+
+const char *lumis_scene_builtin_luminaire_spec(const char *name)
+{
+    const int lit =
+        name && (strcmp(name, "headlight") == 0 || strcmp(name, "headlight-close") == 0);
+    return lit ? "preset:car" : NULL; /* headlight_scene's */
 }
 
 static lumis_object sphere(float x, float y, float z, float r, lumis_bsdf m)

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* ---- maps and samplers ------------------------------------------------------------------- */
@@ -327,6 +328,91 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
 }
 
 /* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
+/* FNV-1a of n bytes, continued from h. */
+static uint64_t fnv_bytes(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t k = 0; k < n; k++) {
+        h ^= p[k];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* What shapes an acquired preset: its name, the library's version and the numbers of its
+ * layout and emitter (field by field: no padding bytes). */
+static uint64_t preset_key(const char *name, lumis_luminaire_preset preset)
+{
+    lumis_luminaire_desc l;
+    lumis_emitter_desc e;
+    lumis_emitter_disk disks[16];
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv_bytes(h, name, strlen(name));
+    h = fnv_bytes(h, LUMIS_VERSION_STRING, strlen(LUMIS_VERSION_STRING));
+    if (lumis_luminaire_preset_get(preset, &l, &e, disks) != LUMIS_OK) return h;
+    const double g[] = {l.delta,           l.grid_origin[0],  l.grid_origin[1],  l.grid_spacing[0],
+                        l.grid_spacing[1], l.image_origin[0], l.image_origin[1], l.image_size[0],
+                        l.image_size[1],   e.plate_z,         e.period[0],       e.period[1],
+                        e.contrast,        e.tint.r,          e.tint.g,          e.tint.b};
+    const int n[] = {(int)l.basis, l.grid[0],    l.grid[1],     l.width,
+                     l.height,     e.disk_count, (int)e.pattern};
+    h = fnv_bytes(h, g, sizeof g);
+    h = fnv_bytes(h, n, sizeof n);
+    for (int k = 0; k < e.disk_count && k < 16; k++) {
+        const double dk[] = {disks[k].center[0],  disks[k].center[1],  disks[k].center[2],
+                             disks[k].radius,     disks[k].radiance.r, disks[k].radiance.g,
+                             disks[k].radiance.b, disks[k].exponent};
+        h = fnv_bytes(h, dk, sizeof dk);
+    }
+    return h;
+}
+
+/* Acquiring a preset takes seconds (the car: ~10 s), so what was acquired is kept under
+ * $XDG_CACHE_HOME/lumis (else ~/.cache/lumis), one luminaire file per key, written
+ * atomically and checked on read (its pixels' digest); LUMIS_NO_CACHE=1 turns it off.  A
+ * cache that cannot be written or read is only a note: the preset is acquired. */
+static lumis_status load_preset(const char *spec, lumis_luminaire_preset preset,
+                                lumis_luminaire **out)
+{
+    const char *xdg = getenv("XDG_CACHE_HOME"), *home = getenv("HOME"),
+               *off = getenv("LUMIS_NO_CACHE");
+    char dir[2048] = "", path[2300] = "";
+    if (!(off && *off && strcmp(off, "0") != 0)) {
+        if (xdg && xdg[0] == '/')
+            snprintf(dir, sizeof dir, "%s/lumis", xdg);
+        else if (home && home[0] == '/')
+            snprintf(dir, sizeof dir, "%s/.cache/lumis", home);
+    }
+    if (dir[0]) {
+        snprintf(path, sizeof path, "%s/%s-%016llx.json", dir, spec + 7,
+                 (unsigned long long)preset_key(spec + 7, preset));
+        struct stat sb;
+        if (stat(path, &sb) == 0) {
+            lumis_luminaire_read_options ro = {0}; /* quiet: a bad entry is replaced */
+            if (lumis_luminaire_read(path, &ro, out) == LUMIS_OK) return LUMIS_OK;
+            fprintf(stderr, "lumis: the cached %s (%s) does not read back: acquiring it again\n",
+                    spec, path);
+        }
+    }
+    fprintf(stderr, "lumis: acquiring %s from its emitter (seconds)%s%s ...\n", spec,
+            dir[0] ? "; kept for later runs in " : "", dir);
+    lumis_status st = lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, &tool_errors, out);
+    if (st != LUMIS_OK || !dir[0]) return st;
+    /* mkdir -p of the cache folder; then the luminaire, its manifest last */
+    for (char *q = dir + 1; *q; q++)
+        if (*q == '/') {
+            *q = '\0';
+            (void)mkdir(dir, 0777);
+            *q = '/';
+        }
+    (void)mkdir(dir, 0777);
+    lumis_luminaire_write_options wo = {0};
+    wo.image_format = LUMIS_FORMAT_PFM; /* lossless and fast to read */
+    if (lumis_luminaire_write(path, *out, &wo) != LUMIS_OK)
+        fprintf(stderr, "lumis: note: could not cache %s in %s\n", spec, dir);
+    return LUMIS_OK;
+}
+
 lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
 {
     if (strncmp(spec, "preset:", 7) == 0) {
@@ -336,7 +422,7 @@ lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
                                spec);
             return LUMIS_ERR_INVALID_ARGUMENT;
         }
-        return lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, &tool_errors, out);
+        return load_preset(spec, preset, out);
     }
     lumis_luminaire_read_options ro = {0};
     ro.errors = tool_errors;
@@ -987,6 +1073,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
      * acquired); with a scene file, it replaces the file's luminaires below. */
     lumis_luminaire *replacement = NULL;
     if (o->luminaire && tool_load_luminaire(o->luminaire, &replacement) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    /* A built-in scene's own luminaire through the cache too (it would be acquired anew). */
+    const char *own = o->scene_name ? lumis_scene_builtin_luminaire_spec(o->scene_name) : NULL;
+    if (!replacement && own && tool_load_luminaire(own, &replacement) != LUMIS_OK)
         return EXIT_RUNTIME;
     lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &so, &file)
                                     : lumis_scene_builtin_with_luminaire(o->scene_name, replacement,
