@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static int run(const char *args, char **out, char **err)
 {
@@ -1389,6 +1391,65 @@ static void bench_runs_light_sets(void **state)
     expect_bad_files("bench", "bad-lights.json", a, bad, sizeof bad / sizeof bad[0]);
 }
 
+/* A bench survives its items: one that fails (here its output path is a folder) is
+ * recorded with its error, the others are done, the report lists it, the run exits 1,
+ * and a rerun retries it alone.  A malformed scene stops the run before any render. */
+static void bench_survives_a_failing_item(void **state)
+{
+    (void)state;
+    char dir[512], suite[600], a[2048], p[1200];
+    snprintf(dir, sizeof dir, "%s", tu_path("bsurv"));
+    snprintf(suite, sizeof suite, "%s/s.json", dir);
+    mkdir(dir, 0777);
+    static const char text[] =
+        "{\"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+        "\"alias\"}, {\"method\": \"inversion\"}], \"budgets\": [{\"spp\": 2}], \"reference\": "
+        "{\"spp\": 4}, \"size\": [8, 6]}";
+    tu_write_file(suite, text, sizeof text - 1);
+    snprintf(p, sizeof p, "%s/out/renders/sky-32x16__spheres__alias__spp2.exr", dir);
+    char mk[1400];
+    snprintf(mk, sizeof mk, "mkdir -p '%s'", p);
+    assert_int_equal(tu_run(mk, NULL, NULL), 0);
+    snprintf(a, sizeof a, "bench '%s' --out '%s/out'", suite, dir);
+    char *err = NULL;
+    assert_int_equal(run(a, NULL, &err), 1);
+    assert_non_null(strstr(err, "item sky-32x16__spheres__alias__spp2 failed"));
+    assert_non_null(strstr(err, "1 of 2 items"));
+    free(err);
+    char md_path[1200];
+    snprintf(md_path, sizeof md_path, "%s/out/results.md", dir);
+    size_t n;
+    char *md = (char *)tu_read_file(md_path, &n);
+    assert_non_null(md);
+    assert_non_null(strstr(md, "## Failed items"));
+    free(md);
+    assert_int_equal(rmdir(p), 0);
+    err = NULL;
+    assert_int_equal(run(a, NULL, &err), 0);
+    assert_non_null(strstr(err, "(2 in this shard, 1 to render)"));
+    free(err);
+    md = (char *)tu_read_file(md_path, &n);
+    assert_null(strstr(md, "Failed items"));
+    free(md);
+    /* a malformed scene: refused before the first render */
+    static const char bad[] = "{\"objects\": [], \"lumnaires\": []}";
+    char scene[700];
+    snprintf(scene, sizeof scene, "%s/bad.json", dir);
+    tu_write_file(scene, bad, sizeof bad - 1);
+    static const char text2[] =
+        "{\"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\", \"bad.json\"], \"methods\": "
+        "[{\"method\": \"alias\"}], \"budgets\": [{\"spp\": 2}], \"reference\": {\"spp\": 4}, "
+        "\"size\": [8, 6]}";
+    tu_write_file(suite, text2, sizeof text2 - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s/out2'", suite, dir);
+    err = NULL;
+    assert_int_equal(run(a, NULL, &err), 1);
+    assert_non_null(strstr(err, "did you mean \"luminaires\""));
+    assert_non_null(strstr(err, "nothing was rendered"));
+    assert_null(strstr(err, "reference"));
+    free(err);
+}
+
 static void bench_runs_resumes_shards_and_reports(void **state)
 {
     (void)state;
@@ -1597,6 +1658,7 @@ int main(void)
         cmocka_unit_test(replaced_values_are_reported),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
+        cmocka_unit_test(bench_survives_a_failing_item),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

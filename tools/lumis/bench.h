@@ -112,7 +112,9 @@ typedef struct bench_run_opts {
 /* Loads the maps this shard renders with (each once, from the bytes bench_read_inputs kept,
  * which it frees), renders the references this shard needs, then its items, in o->jobs
  * processes.  Exit code. */
-int bench_run(suite *s, const bench_run_opts *o);
+/* Exit code; *failed_items: the items whose process failed (recorded in DIR/failures/: the
+ * run went on without them, and returns EXIT_RUNTIME). */
+int bench_run(suite *s, const bench_run_opts *o, int *failed_items);
 
 int bench_file_exists(const char *path);
 /* mkdir -p */
@@ -171,6 +173,8 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
 int bench_noisy_reference(const bench_report *r, int budget, int method, int *max_spp);
 /* The warning, with a table of those items per budget and method (nothing if none). */
 void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r);
+/* The items whose process failed (DIR/failures/ID.txt): a list; returns their number. */
+int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
 
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);

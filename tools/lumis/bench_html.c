@@ -86,6 +86,7 @@ int bench_write_html(const bench_report *r, const char *path)
             "<a href=\"results.md\">results.md</a>, <a href=\"results.csv\">results.csv</a>, "
             "<a href=\"results.json\">results.json</a>.</p>\n",
             LUMIS_VERSION_STRING, r->date, r->machine, r->found, r->n, s->ref_spp);
+    bench_write_failures(h, BENCH_HTML, r);
     int most;
     if (bench_noisy_reference(r, -1, -1, &most)) {
         fputs("<div class=\"warn\">", h);

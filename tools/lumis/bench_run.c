@@ -1,10 +1,12 @@
 /* lumis bench: running the items.  References first (cached by their hash), then each
  * item: a render, its metrics against the reference, its previews and its result file
- * (written last: it marks the item done).  With --jobs, in forked worker processes. */
+ * (written last: it marks the item done).  Each item in a process of its own (up to --jobs
+ * at once), so that one failing or crashing item is recorded and the others go on. */
 #include "bench.h"
 
 #include <cJSON.h>
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -221,8 +223,35 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
     return rc;
 }
 
-int bench_run(suite *s, const bench_run_opts *o)
+/* After an item's process ended: its failure (exit status or signal) written to
+ * out/failures/ID.txt, or an earlier failure record removed.  Returns 1 if it failed. */
+static int record_outcome(const char *out, const item *it, int status)
 {
+    char path[9800], dir[8800];
+    snprintf(dir, sizeof dir, "%s/failures", out);
+    snprintf(path, sizeof path, "%s/%s.txt", dir, it->id);
+    const int ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    if (ok) {
+        unlink(path);
+        return 0;
+    }
+    char why[128];
+    if (WIFSIGNALED(status))
+        snprintf(why, sizeof why, "crashed: signal %d (%s)", WTERMSIG(status),
+                 strsignal(WTERMSIG(status)));
+    else
+        snprintf(why, sizeof why, "failed: exit status %d (its error is above in the log)",
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    fprintf(stderr, "lumis bench: item %s %s\n", it->id, why);
+    char text[512];
+    const int n = snprintf(text, sizeof text, "%s %s\n", it->id, why);
+    if (bench_make_dir(dir) == EXIT_OK) (void)lumis_write_text(path, text, (size_t)n, NULL);
+    return 1;
+}
+
+int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
+{
+    *failed_items = 0;
     const long jobs = o->jobs, shard_i = o->shard_i, shard_n = o->shard_n;
     const char *out = o->out;
     const int total = bench_nitems(s);
@@ -251,6 +280,35 @@ int bench_run(suite *s, const bench_run_opts *o)
     run_ctx c = {s,       out,
                  images,  (int)(o->threads ? o->threads : (cores > jobs ? cores / jobs : 1)),
                  o->argc, o->argv};
+    /* Every scene file read once before anything renders (in a child: reading a scene
+     * may acquire a luminaire, with threads), so a malformed one stops the run at once,
+     * not after the first reference render. */
+    if (rc == EXIT_OK) {
+        fflush(NULL);
+        const pid_t vp = fork();
+        if (vp == 0) {
+            int vrc = EXIT_OK;
+            for (int sc = 0; sc < s->nscenes; sc++) {
+                if (!s->scenes[sc].is_file) continue;
+                lumis_scene_read_options so = {0};
+                so.skip_env_map = 1; /* the maps were read above */
+                so.errors = tool_errors;
+                lumis_scene_file *f = NULL;
+                if (lumis_scene_file_read(s->scenes[sc].spec, &so, &f) != LUMIS_OK)
+                    vrc = EXIT_RUNTIME;
+                lumis_scene_file_destroy(f);
+            }
+            fflush(NULL);
+            _exit(vrc);
+        }
+        int status = 0;
+        if (vp < 0)
+            rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+        else if (waitpid(vp, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+            rc = tool_runtime_error("bench: a scene of the suite does not read (above): nothing "
+                                    "was rendered");
+    }
+    const int started = rc == EXIT_OK; /* something may render from here on */
     /* References first, with every thread, for the pairs this shard needs.  With
      * --jobs the parent forks workers afterwards, so it must never start OpenMP's or
      * Embree's threads itself (they do not survive a fork): references are rendered
@@ -258,7 +316,7 @@ int bench_run(suite *s, const bench_run_opts *o)
     run_ctx rc_all = c;
     rc_all.threads = o->threads;
     pid_t refs_pid = 0;
-    if (rc == EXIT_OK && jobs > 1) {
+    if (rc == EXIT_OK) { /* always: the items are forked from this process below */
         fflush(NULL);
         refs_pid = fork();
         if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
@@ -275,51 +333,85 @@ int bench_run(suite *s, const bench_run_opts *o)
                 char ref[8800];
                 if (need) rc = ensure_reference(&rc_all, m, sc, ref, sizeof ref);
             }
-        if (jobs > 1) {
-            fflush(NULL);
-            _exit(rc);
-        }
+        fflush(NULL);
+        _exit(rc);
     } else if (refs_pid > 0) {
         int status = 0;
         if (waitpid(refs_pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
             rc = EXIT_RUNTIME;
     }
-    /* Items, in --jobs processes. */
-    if (rc == EXIT_OK && jobs <= 1) {
-        for (int k = 0; k < total && rc == EXIT_OK; k++)
-            if (bench_in_shard(s, k, shard_i, shard_n)) {
-                item it = bench_item_at(s, k);
-                rc = run_item(&c, &it, k, total);
-            }
-    } else if (rc == EXIT_OK) {
+    /* Items: each in a process of its own (at most --jobs at once), forked from this one,
+     * which starts no thread: an item that fails or crashes is recorded with its error in
+     * DIR/failures/ID.txt and the others go on; the run then exits 1. */
+    int failed = 0;
+    if (rc == EXIT_OK) {
         fflush(NULL);
         pid_t *pids = calloc((size_t)jobs, sizeof *pids);
-        for (long j = 0; pids && j < jobs; j++) {
-            pid_t pid = fork();
-            if (pid == 0) {
-                int crc = EXIT_OK;
-                for (int k = 0, mi = 0; k < total && crc == EXIT_OK; k++)
-                    if (bench_in_shard(s, k, shard_i, shard_n) && mi++ % jobs == j) {
-                        item it = bench_item_at(s, k);
-                        crc = run_item(&c, &it, k, total);
-                    }
+        int *slot_item = calloc((size_t)jobs, sizeof *slot_item);
+        if (!pids || !slot_item) rc = tool_runtime_error("bench: out of memory");
+        int next = 0, running = 0;
+        while (rc == EXIT_OK) {
+            /* fill the free slots with the next items of this shard that are not done */
+            for (long j = 0; j < jobs && next < total; j++) {
+                if (pids[j] > 0) continue;
+                while (next < total && !bench_in_shard(s, next, shard_i, shard_n)) next++;
+                if (next >= total) break;
+                const int k = next++;
+                item it = bench_item_at(s, k);
+                if (bench_item_done(s, out, &it)) {
+                    j--; /* the slot is still free */
+                    continue;
+                }
                 fflush(NULL);
-                _exit(crc);
+                const pid_t pid = fork();
+                if (pid == 0) {
+                    const int crc = run_item(&c, &it, k, total);
+                    fflush(NULL);
+                    _exit(crc);
+                }
+                if (pid < 0) {
+                    rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+                    break;
+                }
+                pids[j] = pid;
+                slot_item[j] = k;
+                running++;
             }
-            if (pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
-            pids[j] = pid;
-        }
-        for (long j = 0; pids && j < jobs; j++) {
+            if (running == 0) break;
             int status = 0;
-            if (pids[j] > 0 && (waitpid(pids[j], &status, 0) < 0 || !WIFEXITED(status) ||
-                                WEXITSTATUS(status) != 0))
-                rc = EXIT_RUNTIME;
+            const pid_t done = waitpid(-1, &status, 0);
+            if (done < 0) {
+                rc = tool_runtime_error("bench: waitpid: %s", strerror(errno));
+                break;
+            }
+            for (long j = 0; j < jobs; j++)
+                if (pids[j] == done) {
+                    pids[j] = 0;
+                    running--;
+                    item it = bench_item_at(s, slot_item[j]);
+                    failed += record_outcome(out, &it, status);
+                }
         }
-        if (!pids) rc = tool_runtime_error("bench: out of memory");
+        /* an error above: the items still running are waited for, not orphaned */
+        for (long j = 0; pids && j < jobs; j++)
+            if (pids[j] > 0) {
+                int status = 0;
+                waitpid(pids[j], &status, 0);
+            }
         free(pids);
+        free(slot_item);
     }
-    if (rc != EXIT_OK)
+    *failed_items = failed;
+    if (rc == EXIT_OK && failed > 0) {
+        fprintf(stderr,
+                "lumis bench: %d item%s failed (their errors are in %s/failures/ and in "
+                "results.md); every other item is done; run the same command again to retry "
+                "them\n",
+                failed, failed == 1 ? "" : "s", out);
+        rc = EXIT_RUNTIME;
+    } else if (rc != EXIT_OK && started) {
         fprintf(stderr, "lumis bench: stopped; run the same command again to resume\n");
+    }
     for (int m = 0; m < s->nmaps; m++)
         if (s->maps[m].first == m) lumis_image_destroy(images[m]);
     free(images);

@@ -276,6 +276,34 @@ int bench_noisy_reference(const bench_report *r, int budget, int method, int *ma
     return n;
 }
 
+int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r)
+{
+    /* out/failures/ID.txt, written by bench_run for an item whose process failed */
+    int n = 0;
+    for (int k = 0; k < r->n; k++) {
+        item it = bench_item_at(r->s, k);
+        char path[9800];
+        snprintf(path, sizeof path, "%s/failures/%s.txt", r->out, it.id);
+        size_t len = 0;
+        FILE *in = fopen(path, "rb");
+        if (!in) continue;
+        char line[600] = "";
+        len = fread(line, 1, sizeof line - 1, in);
+        fclose(in);
+        line[len] = '\0';
+        for (char *c = line; *c; c++)
+            if (*c == '\n' || *c == '<' || *c == '>' || *c == '&') *c = ' ';
+        if (n++ == 0)
+            fprintf(f, mk == BENCH_HTML ? "<h2>Failed items</h2>\n<ul>\n"
+                                        : "\n## Failed items\n\nThese items failed (run the same "
+                                          "command again to retry them); the tables leave them "
+                                          "out.\n\n");
+        fprintf(f, mk == BENCH_HTML ? "<li>%s</li>\n" : "- %s\n", line);
+    }
+    if (n && mk == BENCH_HTML) fputs("</ul>\n", f);
+    return n;
+}
+
 void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r)
 {
     const suite *s = r->s;
@@ -504,6 +532,7 @@ int bench_write_md(const bench_report *r, const char *path)
             s->reference.bsdf_only ? "BSDF sampling"
                                    : lumis_sampler_method_name(s->reference.sampler.method),
             expo);
+    bench_write_failures(md, BENCH_MD, r);
     bench_write_reference_warning(md, BENCH_MD, r);
     for (int b = 0; b < s->nbudgets; b++) {
         const suite_budget *bu = &s->budgets[b];

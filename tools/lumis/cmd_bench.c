@@ -159,11 +159,16 @@ int cmd_bench(int argc, char **argv)
                     if (stat(argv[k], &sb) != 0 || !S_ISDIR(sb.st_mode)) break;
                     rc = bench_merge_dir(argv[k], out);
                 }
+    int failed_items = 0;
     if (renders && rc == EXIT_OK) {
         bench_run_opts ro = {out, (int)threads, jobs, shard_i, shard_n, argc, argv};
-        rc = bench_run(&s, &ro);
+        rc = bench_run(&s, &ro, &failed_items);
     }
-    if (rc == EXIT_OK && !sharded) rc = write_report(&s, out, argc, argv);
+    /* the report also when some items failed: it lists them (and the run still exits 1) */
+    if ((rc == EXIT_OK || failed_items > 0) && !sharded) {
+        const int wrc = write_report(&s, out, argc, argv);
+        if (rc == EXIT_OK) rc = wrc;
+    }
     if (rc == EXIT_OK && sharded)
         fprintf(stderr,
                 "lumis bench: shard %ld/%ld done; join the shards with: lumis bench %s --out DIR "
