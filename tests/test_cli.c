@@ -1431,6 +1431,19 @@ static void bench_survives_a_failing_item(void **state)
     md = (char *)tu_read_file(md_path, &n);
     assert_null(strstr(md, "Failed items"));
     free(md);
+    /* --merge of another suite's folder: refused, nothing copied (it copied silently) */
+    static const char other[] =
+        "{\"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+        "\"hierarchical\"}], \"budgets\": [{\"spp\": 2}], \"reference\": {\"spp\": 4}, "
+        "\"size\": [8, 6]}";
+    char suite3[700];
+    snprintf(suite3, sizeof suite3, "%s/other.json", dir);
+    tu_write_file(suite3, other, sizeof other - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s/out3' --merge '%s/out'", suite3, dir, dir);
+    err = NULL;
+    assert_int_equal(run(a, NULL, &err), 1);
+    assert_non_null(strstr(err, "none of its 2 results belongs to suite 'other'"));
+    free(err);
     /* a malformed scene: refused before the first render */
     static const char bad[] = "{\"objects\": [], \"lumnaires\": []}";
     char scene[700];

@@ -193,6 +193,6 @@ int bench_write_html(const bench_report *r, const char *path);
 /* ---- merging (bench_merge.c) --------------------------------------------------------------- */
 
 /* Copies every results/ and previews/ file (and refs/ PNGs) of src into dst. */
-int bench_merge_dir(const char *src, const char *dst);
+int bench_merge_dir(const suite *s, const char *src, const char *dst);
 
 #endif

@@ -157,7 +157,7 @@ int cmd_bench(int argc, char **argv)
                 for (int k = i + 1; k < argc && rc == EXIT_OK; k++) {
                     struct stat sb;
                     if (stat(argv[k], &sb) != 0 || !S_ISDIR(sb.st_mode)) break;
-                    rc = bench_merge_dir(argv[k], out);
+                    rc = bench_merge_dir(&s, argv[k], out);
                 }
     int failed_items = 0;
     if (renders && rc == EXIT_OK) {
