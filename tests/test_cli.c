@@ -304,6 +304,14 @@ static void sample_and_pdf_agree_and_are_reproducible(void **state)
         free(hout);
     }
     expect("help nothing", 2, "unknown command 'nothing'");
+    {
+        /* median cut makes regions: no Wu counts in its summary */
+        char *lout = NULL;
+        assert_int_equal(run("lights sky:64x32 --method median-cut -k 4", &lout, NULL), 0);
+        assert_non_null(strstr(lout, "4 lights by median-cut, 8 sets"));
+        assert_null(strstr(lout, "EnvDirects"));
+        free(lout);
+    }
     expect("sample sky:64x32 --method alias -n 1 --rotate 1e300", 2, "--rotate needs degrees");
     expect("lights sky:64x32 --method median-cut -k 2 --rotate 1e300", 2, "--rotate needs");
     {

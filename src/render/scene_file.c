@@ -297,8 +297,10 @@ static lumis_status get_vec3(const parser *p, const cJSON *o, const char *key, c
     if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 3) return bad(p, at, "an array of 3 numbers");
     for (int k = 0; k < 3; k++) {
         const cJSON *e = cJSON_GetArrayItem(v, k);
-        if (!cJSON_IsNumber(e) || !isfinite(e->valuedouble))
-            return bad(p, at, "an array of 3 numbers");
+        /* within float's range with room: 1e300 became infinity, and a camera at infinity
+         * was then blamed on look_at */
+        if (!cJSON_IsNumber(e) || !(fabs(e->valuedouble) <= 1e30))
+            return bad(p, at, "an array of 3 numbers within [-1e30, 1e30]");
         out[k] = (float)e->valuedouble;
     }
     return LUMIS_OK;

@@ -954,6 +954,8 @@ static void scene_files_are_strict(void **state)
          "camera.width: given twice"},
         {"{\"objects\": []} trailing", "text after the scene's closing brace"},
         {"{\"objects\": [], \"camera\": {\"width\": 24.5}}", "camera.width: expected a whole"},
+        {"{\"objects\": [], \"camera\": {\"eye\": [1e300, 0, 0]}}",
+         "camera.eye: expected an array of 3 numbers within [-1e30, 1e30]"},
         {"{\"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,1,0], "
          "\"sise\": 3, \"material\": {\"type\": \"lambert\"}}]}",
          "did you mean \"size\""},

@@ -118,7 +118,7 @@ int cmd_demo(int argc, char **argv)
     if (tool_write_image(exr, sky, NULL) == LUMIS_OK &&
         tool_write_image(png, sky, &wo) == LUMIS_OK) {
         printf("wrote %s and %s\n\n", exr, png);
-        rc = tool_print_info(stdout, "sky (procedural default)", sky, &info, 0);
+        rc = tool_print_info(stdout, "sky (the default)", sky, &info, 0);
     }
     lumis_image_destroy(sky);
     if (rc != EXIT_OK) return rc;

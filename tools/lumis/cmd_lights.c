@@ -262,8 +262,12 @@ int cmd_lights(int argc, char **argv)
     double total[3] = {0, 0, 0};
     for (int q = 0; q < count; q++)
         for (int c = 0; c < 3; c++) total[c] += l[q].power[c];
-    printf("%s: %d lights by %s (%d EnvDirects, %d EnvIndirects), %d sets, built in %.2f ms\n", map,
-           count, method, info->direct, info->indirect, lumis_light_set_sets(set), info->build_ms);
+    char split[96] = ""; /* Wu's kinds; the other methods make regions only */
+    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
+        snprintf(split, sizeof split, " (%d EnvDirects, %d EnvIndirects)", info->direct,
+                 info->indirect);
+    printf("%s: %d lights by %s%s, %d sets, built in %.2f ms\n", map, count, method, split,
+           lumis_light_set_sets(set), info->build_ms);
     char given[1024];
     tool_light_params_format(&params, given, sizeof given);
     if (*given) printf("parameters %s\n", given);
