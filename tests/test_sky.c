@@ -13,6 +13,7 @@ static lumis_image *sky(int w, int h, float elev, float az, float T, float albed
     d.width = w;
     d.height = h;
     d.sun_elevation_deg = elev;
+    d.sun_at_horizon = elev == 0.0f; /* 0 alone means the default, 35 degrees */
     d.sun_azimuth_deg = az;
     d.turbidity = T;
     d.ground_albedo = albedo;
@@ -195,6 +196,43 @@ static void sky_rejects_parameters_outside_the_model(void **state)
     assert_int_equal(lumis_sky_create(&d, &img), LUMIS_ERR_BAD_DIMENSIONS);
 }
 
+/* The elevation of the brightest pixel's row (the sun's), in degrees. */
+static double brightest_elevation(const lumis_image *img)
+{
+    double best = -1.0;
+    int row = 0;
+    for (int j = 0; j < img->height; j++)
+        for (int i = 0; i < img->width; i++) {
+            const double y = lum(img->pixels + 3 * ((size_t)j * img->width + i));
+            if (y > best) best = y, row = j;
+        }
+    return 90.0 - (row + 0.5) * 180.0 / img->height;
+}
+
+/* Zero means the documented default (DESIGN.md): a zero-initialised descriptor puts the sun
+ * at 35 degrees, not on the horizon; the horizon is asked for by name, and asking for both
+ * is an error. */
+static void zero_descriptor_is_the_default_sky(void **state)
+{
+    (void)state;
+    lumis_sky_desc d = {0};
+    d.width = 360;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
+    const double e = brightest_elevation(img);
+    if (!(fabs(e - LUMIS_SKY_DEFAULT_ELEVATION_DEG) <= 1.0)) fail_msg("sun at %g degrees", e);
+    lumis_image_destroy(img);
+    d.sun_at_horizon = 1;
+    assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
+    const double h = brightest_elevation(img);
+    if (!(fabs(h) <= 1.0)) fail_msg("sun_at_horizon: sun at %g degrees", h);
+    lumis_image_destroy(img);
+    d.sun_elevation_deg = 20.0f;
+    img = (lumis_image *)1;
+    assert_int_equal(lumis_sky_create(&d, &img), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+}
+
 static void studio_power_is_resolution_independent(void **state)
 {
     (void)state;
@@ -237,6 +275,7 @@ int main(void)
         cmocka_unit_test(sky_is_deterministic_and_finite_at_odd_sizes),
         cmocka_unit_test(sky_rejects_parameters_outside_the_model),
         cmocka_unit_test(studio_power_is_resolution_independent),
+        cmocka_unit_test(zero_descriptor_is_the_default_sky),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,17 +13,23 @@
 extern "C" {
 #endif
 
+/* The sun's elevation a zero-initialised lumis_sky_desc gives (the CLI's default too). */
+#define LUMIS_SKY_DEFAULT_ELEVATION_DEG 35.0
+
 /* Clear sky after Preetham, Shirley and Smits (1999), with a sun disk and a diffuse ground.
- * Zero-initialised, it is a 1024 x 512 map, turbidity 2.5, sun on the horizon at azimuth 0.
- * With the sun at 35 degrees (the CLI's default) the sun holds about 55 % of the power. */
+ * Zero-initialised, it is a 1024 x 512 map, turbidity 2.5, the sun at 35 degrees elevation
+ * (LUMIS_SKY_DEFAULT_ELEVATION_DEG) and azimuth 0, where it holds about 55 % of the power.
+ * (Before 2026-11-25 zero put the sun on the horizon: sun_at_horizon asks for that now.) */
 typedef struct lumis_sky_desc {
     int width;               /* 0 == default 1024 */
     int height;              /* 0 == default width / 2 */
-    float sun_elevation_deg; /* degrees above the horizon, [-90, 90]; 0 is the horizon */
+    float sun_elevation_deg; /* degrees above the horizon, (0, 90]; 0 == default 35 */
     float sun_azimuth_deg;   /* degrees; 0 == +x, 90 == +z (increasing u) */
     float turbidity;         /* 0 == default 2.5 (a clear day); valid range [1.7, 10] */
     float ground_albedo;     /* 0 == default 0.1 (dark soil, asphalt); negative == black */
     int no_sun;              /* nonzero: the sky without the sun disk */
+    int sun_at_horizon;      /* nonzero: the sun on the horizon (elevation 0; then
+                                sun_elevation_deg must be 0) */
     lumis_error_sink errors;
 } lumis_sky_desc;
 

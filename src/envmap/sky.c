@@ -199,7 +199,14 @@ lumis_status lumis_sky_create(const lumis_sky_desc *desc, lumis_image **out)
     int w = desc->width ? desc->width : 1024;
     int h = desc->height ? desc->height : (w / 2 > 0 ? w / 2 : 1);
     double T = desc->turbidity == 0.0f ? 2.5 : desc->turbidity;
-    double elev = desc->sun_elevation_deg;
+    /* zero means the default (DESIGN.md); the horizon is asked for by name */
+    if (desc->sun_at_horizon && desc->sun_elevation_deg != 0.0f)
+        return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sky: sun_at_horizon with a sun elevation of %g degrees: give one",
+                           (double)desc->sun_elevation_deg);
+    double elev = desc->sun_at_horizon              ? 0.0
+                  : desc->sun_elevation_deg == 0.0f ? LUMIS_SKY_DEFAULT_ELEVATION_DEG
+                                                    : desc->sun_elevation_deg;
     double albedo = desc->ground_albedo == 0.0f ? 0.1 : fmax(0.0, desc->ground_albedo);
     if (!(T >= 1.7 && T <= 10.0))
         return lumis__fail(err, LUMIS_ERR_INVALID_ARGUMENT,

@@ -96,6 +96,7 @@ int cmd_sky(int argc, char **argv)
             if (!tool_parse_double(v, &x) || x < 0 || x > 90)
                 return tool_bad_value("sky", "--sun-elevation", v, "needs degrees in [0, 90]");
             d.sun_elevation_deg = (float)x;
+            d.sun_at_horizon = x == 0.0; /* 0 in the descriptor means the default */
         } else if (tool_option(argc, argv, &i, "--sun-azimuth", &v)) {
             if (!tool_parse_double(v, &x))
                 return tool_bad_value("sky", "--sun-azimuth", v, "needs degrees");
