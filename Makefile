@@ -12,10 +12,10 @@ FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
-.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean
+.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean mutate
 
 help:
-	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean"
+	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate"
 	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
 	@echo "  make install PREFIX=$(PREFIX)"
 
@@ -60,6 +60,11 @@ fuzz: deps
 	  else tail -n 80 $$log; echo "$$f FAILED; reproducer: build-fuzz/artifacts/$$fmt/"; exit 1; fi; \
 	done
 
+# Mutation testing: each mutant of tests/mutants/ applied in turn against its module's tests
+# (tests/mutants/README.md).  make mutate MODULES="core io" for some modules.
+mutate: deps
+	scripts/mutate.sh $(MODULES)
+
 format:
 	@echo "clang-format -i: $(words $(FORMAT_FILES)) files"
 	@clang-format -i $(FORMAT_FILES)
@@ -81,4 +86,4 @@ install: release
 	cmake --install build-release --prefix $(PREFIX)
 
 clean:
-	rm -rf build build-release build-asan build-fuzz
+	rm -rf build build-release build-asan build-fuzz build-mutate

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# make mutate: applies each mutant of tests/mutants/*.txt in turn (tests/mutants/README.md),
+# rebuilds the test program it names in build-mutate/, runs it, restores the file, and
+# prints whether the module's own tests caught it, then the score per module.  Exit 1 if
+# any non-equivalent mutant survives.
+#
+#   scripts/mutate.sh [MODULE...]        (default: every file in tests/mutants)
+set -uo pipefail
+cd "$(dirname "$0")/.."
+B=build-mutate
+cmake -S . -B "$B" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLUMIS_BUILD_BENCH=OFF >/dev/null || exit 2
+cmake --build "$B" -j"$(nproc)" >/dev/null || { echo "mutate: the unmutated build fails" >&2; exit 2; }
+mods=("$@")
+[ ${#mods[@]} -eq 0 ] && mods=($(ls tests/mutants/*.txt | xargs -n1 basename | sed 's/\.txt$//'))
+backup=$(mktemp)
+restore() { [ -n "${cur:-}" ] && cp "$backup" "$cur"; cur=; }
+trap 'restore; rm -f "$backup"' EXIT INT TERM
+total_caught=0 total_scored=0 survived=0
+summary=""
+for mod in "${mods[@]}"; do
+    f=tests/mutants/$mod.txt
+    [ -f "$f" ] || { echo "mutate: no $f" >&2; exit 2; }
+    caught=0 scored=0 equiv=0
+    # entries: blank-line separated "key: value" lines (perl splits them; one record a line,
+    # fields joined by \x1f, so that values keep their spaces)
+    while IFS=$'\x1f' read -r id file from to test why equivalent; do
+        [ -z "$id" ] && continue
+        if [ -n "$equivalent" ]; then
+            equiv=$((equiv + 1))
+            printf '  %-8s %-36s equivalent: %s\n' "$mod" "$id" "$equivalent"
+            continue
+        fi
+        scored=$((scored + 1))
+        cur=$file
+        cp "$file" "$backup"
+        n=$(FROM="$from" TO="$to" perl -0777 -e '
+            my $t = do { local $/; open my $h, "<", $ARGV[0] or die; <$h> };
+            my $n = () = $t =~ /\Q$ENV{FROM}\E/g;
+            if ($n == 1) { my $i = index($t, $ENV{FROM});
+                substr($t, $i, length $ENV{FROM}) = $ENV{TO};
+                open my $o, ">", $ARGV[0] or die; print $o $t; }
+            print $n;' "$file")
+        if [ "$n" != 1 ]; then
+            restore
+            printf '  %-8s %-36s ERROR: "from" occurs %s times in %s\n' "$mod" "$id" "$n" "$file"
+            survived=$((survived + 1))
+            continue
+        fi
+        if ! cmake --build "$B" --target "$test" -j"$(nproc)" >/dev/null 2>&1; then
+            result="caught (does not compile)"
+            caught=$((caught + 1))
+        elif (cd "$B/tests" && XDG_CACHE_HOME="$PWD/../test-cache" timeout 600 "./$test" >/dev/null 2>&1); then
+            result="SURVIVED ($why)"
+            survived=$((survived + 1))
+        else
+            result="caught by $test"
+            caught=$((caught + 1))
+        fi
+        restore
+        printf '  %-8s %-36s %s\n' "$mod" "$id" "$result"
+    done < <(perl -00 -ne '
+        my %e; my $k;
+        for (split /\n/) { next if /^#/;
+            if (/^(id|file|from|to|test|why|equivalent):\s?(.*)$/) { $k = $1; $e{$k} = $2; }
+            elsif (defined $k) { $e{$k} .= "\n$_"; } }
+        print join("\x1f", map { $e{$_} // "" } qw(id file from to test why equivalent)), "\n"
+            if $e{id};' "$f")
+    summary+=$(printf '%-10s %d of %d caught (%d equivalent)\n' "$mod" "$caught" "$scored" "$equiv")$'\n'
+    total_caught=$((total_caught + caught))
+    total_scored=$((total_scored + scored))
+done
+# the sources as they were, and the build with them
+cmake --build "$B" -j"$(nproc)" >/dev/null 2>&1
+echo "mutate: per module"
+printf '%s' "$summary"
+echo "mutate: $total_caught of $total_scored non-equivalent mutants caught"
+[ "$survived" -eq 0 ]
