@@ -1091,6 +1091,43 @@ static void simd_variants_give_identical_lights(void **state)
     lumis__simd_force(-1);
 }
 
+/* Eq. 3's terms are three different things: with one weight dominant at a time (variance,
+ * directional extent, energy), the modified cut splits different nodes on a map where
+ * they rank the nodes differently, so every pair of the three cuts differs.  (An extent
+ * computed from the variance passed every test: nothing looked at which node Eq. 3 picks.)
+ * The map's emissive threshold is set out of reach, so every light is an EnvIndirect. */
+static void eq3_terms_each_steer_the_cut(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, sky_pixel, 0.0f, 0.0f);
+    const float w[3][3] = {{1, 1e-6f, 1e-6f}, {1e-6f, 1, 1e-6f}, {1e-6f, 1e-6f, 1}};
+    int32_t *labels[3];
+    for (int k = 0; k < 3; k++) {
+        lumis_decomp_desc d = {0};
+        d.count = 24;
+        d.sets = 1;
+        d.threshold = 1e30f;
+        d.w_v = w[k][0];
+        d.w_d = w[k][1];
+        d.w_e = w[k][2];
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        assert_int_equal(lumis_light_set_get_info(set)->direct, 0);
+        int lw, lh;
+        const int32_t *l = lumis_light_set_labels(set, &lw, &lh);
+        labels[k] = malloc((size_t)lw * (size_t)lh * sizeof(int32_t));
+        memcpy(labels[k], l, (size_t)lw * (size_t)lh * sizeof(int32_t));
+        lumis_light_set_destroy(set);
+    }
+    static const char *const names[3] = {"variance", "extent", "energy"};
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++)
+            if (memcmp(labels[a], labels[b], 256 * 128 * sizeof(int32_t)) == 0)
+                fail_msg("the cut by %s alone equals the cut by %s alone", names[a], names[b]);
+    for (int k = 0; k < 3; k++) free(labels[k]);
+    lumis_envmap_destroy(env);
+}
+
 static void special_maps_get_a_clear_answer(void **state)
 {
     (void)state;
@@ -1274,6 +1311,7 @@ int main(void)
         cmocka_unit_test(wu_parts_and_ablations),
         cmocka_unit_test(deterministic_with_fixed_seeds),
         cmocka_unit_test(simd_variants_give_identical_lights),
+        cmocka_unit_test(eq3_terms_each_steer_the_cut),
         cmocka_unit_test(special_maps_get_a_clear_answer),
         cmocka_unit_test(malformed_options_are_refused),
         cmocka_unit_test(interleave_pattern_covers_every_set),
