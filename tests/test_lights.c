@@ -1128,6 +1128,55 @@ static void eq3_terms_each_steer_the_cut(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Two emissive patches of equal size, one three times as bright as the other. */
+static float two_patches(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)c;
+    if (j >= 20 && j < 40 && i >= 20 && i < 60) return 10.0f;
+    if (j >= 20 && j < 40 && i >= 140 && i < 180) return 30.0f;
+    return 0.1f;
+}
+
+/* EnvDirect seeds are drawn in proportion to energy: with importance sampling alone (no
+ * masking, no k-means, so each seed keeps its cluster), the dimmer patch, a quarter of the
+ * emissive energy, gets about a quarter of the EnvDirects (binomial bounds, fixed seed).
+ * Seeds drawn out of proportion to energy (uniformly over the emissive pixels) give it
+ * half: nothing looked at the seeds before. */
+static void envdirect_seeds_follow_energy(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, two_patches, 0.0f, 0.0f);
+    lumis_decomp_desc d = {0};
+    d.count = 400;
+    d.sets = 1;
+    d.seed = 5;
+    d.threshold = 5.0f;
+    d.variant = LUMIS_DECOMP_IS_ONLY;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+    const lumis_light *l = NULL;
+    int n = 0, w, h;
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &n), LUMIS_OK);
+    const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+    int dim = 0, bright = 0;
+    for (int k = 0; k < n; k++) {
+        if (l[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+        for (int p = 0; p < w * h; p++)
+            if (lab[p] == k) {
+                *(p % w < 128 ? &dim : &bright) += 1;
+                break;
+            }
+    }
+    const int total = dim + bright;
+    /* p = 1/4: mean total / 4, standard deviation sqrt(total 3 / 16); 4.5 of them */
+    const double mean = total / 4.0, sd = sqrt(total * 3.0 / 16.0);
+    if (total < 40 || fabs(dim - mean) > 4.5 * sd)
+        fail_msg("%d EnvDirects: %d on the dim patch, %d on the bright one (want %.1f +- %.1f)",
+                 total, dim, bright, mean, 4.5 * sd);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 static void special_maps_get_a_clear_answer(void **state)
 {
     (void)state;
@@ -1312,6 +1361,7 @@ int main(void)
         cmocka_unit_test(deterministic_with_fixed_seeds),
         cmocka_unit_test(simd_variants_give_identical_lights),
         cmocka_unit_test(eq3_terms_each_steer_the_cut),
+        cmocka_unit_test(envdirect_seeds_follow_energy),
         cmocka_unit_test(special_maps_get_a_clear_answer),
         cmocka_unit_test(malformed_options_are_refused),
         cmocka_unit_test(interleave_pattern_covers_every_set),
