@@ -55,6 +55,10 @@ static void errors_on_linear_values(void **state)
     assert_int_equal(lumis_image_errors(ref, test, NULL, &e), LUMIS_OK);
     const double want = 0.5 * (1.0 / 9.01 + 0.0625 / 0.26);
     if (!(fabs(e.relmse - want) < 1e-12)) fail_msg("relmse %.12g, want %.12g", e.relmse, want);
+    /* PSNR's peak is the reference's largest value (3), not the test's (4) */
+    const double mse2 = 0.5 * (1.0 + 0.0625);
+    assert_true(e.psnr_peak == 3.0);
+    assert_true(fabs(e.psnr - 10.0 * log10(9.0 / mse2)) < 1e-9);
     lumis_image_destroy(ref);
     lumis_image_destroy(test);
 }
