@@ -632,6 +632,19 @@ __attribute__((target("avx512f"))) static int km_visit_avx512(km_cluster *cl, co
 #pragma GCC diagnostic pop
 #endif
 
+/* A candidate centre j at dot product dt for the first assignment: the largest dot product
+ * wins (the smaller index on ties) into *bd / *best, the second largest into *sec. */
+static inline void km_consider(int j, double dt, double *bd, double *sec, int *best)
+{
+    if (dt > *bd || (dt == *bd && j < *best)) {
+        *sec = *bd;
+        *bd = dt;
+        *best = j;
+    } else if (dt > *sec) {
+        *sec = dt;
+    }
+}
+
 static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *p, double *c, int k,
                            int32_t *a, lumis__direct_result *res)
 {
@@ -667,14 +680,18 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
     if (st == LUMIS_OK) {
         km_quantise(&s, dc);
         km_grid_build(&grid, c, k);
-        for (int j = 0; j < k; j++) nearest[j] = km_nearest_other(&grid, c, k, j);
-        for (int j = 0; near && j < k && k > 1; j++) {
+        for (int j = 0; j < k; j++) {
+            if (!near || k == 1) { /* from the grid; with the lists, their first entry */
+                nearest[j] = km_nearest_other(&grid, c, k, j);
+                continue;
+            }
             km_near *L = near + (size_t)j * (size_t)(k - 1);
             int t = 0;
             for (int b = 0; b < k; b++)
                 if (b != j)
                     L[t++] = (km_near){sqrt(sq_dist(c + 3 * (size_t)j, c + 3 * (size_t)b)), b};
             qsort(L, (size_t)(k - 1), sizeof *L, cmp_near);
+            nearest[j] = L[0].d; /* the same minimum of the same square roots */
         }
     }
     /* The seeds' assignment: nearest centre by dot product, the first on ties.  Pixels come
@@ -698,17 +715,8 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
             const double reach = 2.0 * rl + KM_MARGIN;
             double bd = dl, sec = -INFINITY, rest = INFINITY;
             int t = 0;
-            for (; t < k - 1 && L[t].d < reach; t++) {
-                const int j = L[t].j;
-                const double dt = dot3(x, c + 3 * (size_t)j);
-                if (dt > bd || (dt == bd && j < best)) {
-                    sec = bd;
-                    bd = dt;
-                    best = j;
-                } else if (dt > sec) {
-                    sec = dt;
-                }
-            }
+            for (; t < k - 1 && L[t].d < reach; t++)
+                km_consider(L[t].j, dot3(x, c + 3 * (size_t)L[t].j), &bd, &sec, &best);
             if (t < k - 1) rest = L[t].d * (1.0 - 1e-15) - rl;
             const double lo = chord_lower(sec);
             slack = (lo < rest ? lo : rest) - chord_bound(bd);
@@ -733,14 +741,7 @@ static lumis_status kmeans(const lumis__decomp *dc, const lumis__direct_params *
                     beyond2 = d2 < beyond2 ? d2 : beyond2;
                     continue;
                 }
-                const double dt = dot3(x, c + 3 * (size_t)j);
-                if (dt > bd || (dt == bd && j < best)) {
-                    sec = bd;
-                    bd = dt;
-                    best = j;
-                } else if (dt > sec) {
-                    sec = dt;
-                }
+                km_consider(j, dot3(x, c + 3 * (size_t)j), &bd, &sec, &best);
             }
             const double rest = sqrt(beyond2) * (1.0 - 1e-15) - rl, lo = chord_lower(sec);
             slack = (lo < rest ? lo : rest) - chord_bound(bd);
