@@ -117,8 +117,6 @@ typedef struct bench_run_opts {
 int bench_run(suite *s, const bench_run_opts *o, int *failed_items);
 
 int bench_file_exists(const char *path);
-/* mkdir -p */
-int bench_make_dir(const char *path);
 
 /* ---- the report: results and tables (bench_tables.c) ------------------------------------- */
 

@@ -33,16 +33,9 @@ int bench_idx(const suite *s, int m, int sc, int me, int b)
     return ((m * s->nscenes + sc) * s->nmethods + me) * s->nbudgets + b;
 }
 
-static uint64_t fnv(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t k = 0; k < n; k++) h = (h ^ p[k]) * 0x100000001b3ull;
-    return h;
-}
-
 static uint64_t fnv_str(uint64_t h, const char *s)
 {
-    return fnv(h, s, strlen(s) + 1);
+    return tool_fnv(h, s, strlen(s) + 1);
 }
 
 /* Where every reference key starts (the map's content comes next). */
@@ -95,7 +88,7 @@ int bench_read_inputs(suite *s, int keep_maps)
         int oom;
         unsigned char *b = read_all(map->spec, &map->nbytes, &oom);
         if (oom) return tool_runtime_error("bench: out of memory reading %s", map->spec);
-        map->hash = b ? fnv(basis, b, map->nbytes) : fnv_str(basis, map->spec);
+        map->hash = b ? tool_fnv(basis, b, map->nbytes) : fnv_str(basis, map->spec);
         if (keep_maps)
             map->bytes = b;
         else
@@ -126,7 +119,7 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
              s->reference.bsdf_samples, s->bounces, s->seed);
     h = fnv_str(h, buf);
     const suite_scene *scene = &s->scenes[sc];
-    h = scene->bytes ? fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
+    h = scene->bytes ? tool_fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
     snprintf(out, cap, "%016llx", (unsigned long long)h);
 }
 

@@ -28,22 +28,6 @@ int bench_file_exists(const char *path)
     return stat(path, &sb) == 0;
 }
 
-/* mkdir -p */
-int bench_make_dir(const char *path)
-{
-    char buf[8800];
-    bench_copy_cut(buf, sizeof buf, path);
-    for (char *p = buf + 1; *p; p++)
-        if (*p == '/') {
-            *p = '\0';
-            if (mkdir(buf, 0755) != 0 && errno != EEXIST)
-                return tool_runtime_error("%s: cannot create folder: %s", buf, strerror(errno));
-            *p = '/';
-        }
-    if (mkdir(buf, 0755) == 0 || errno == EEXIST) return EXIT_OK;
-    return tool_runtime_error("%s: cannot create folder: %s", path, strerror(errno));
-}
-
 static void fill_render_opts(const run_ctx *c, const item *it, const suite_method *m,
                              tool_render_opts *o)
 {
@@ -245,7 +229,7 @@ static int record_outcome(const char *out, const item *it, int status)
     fprintf(stderr, "lumis bench: item %s %s\n", it->id, why);
     char text[512];
     const int n = snprintf(text, sizeof text, "%s %s\n", it->id, why);
-    if (bench_make_dir(dir) == EXIT_OK) (void)lumis_write_text(path, text, (size_t)n, NULL);
+    if (tool_make_dir(dir) == EXIT_OK) (void)lumis_write_text(path, text, (size_t)n, NULL);
     return 1;
 }
 

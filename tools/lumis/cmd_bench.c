@@ -146,7 +146,7 @@ int cmd_bench(int argc, char **argv)
     for (int k = 0; k < 5; k++) {
         char d[8800];
         snprintf(d, sizeof d, "%s%s", out, subs[k]);
-        if (bench_make_dir(d) != EXIT_OK) {
+        if (tool_make_dir(d) != EXIT_OK) {
             bench_suite_free(&s);
             return EXIT_RUNTIME;
         }

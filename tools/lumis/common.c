@@ -1,5 +1,11 @@
 #include "common.h"
 
+#include <stdint.h>
+
+#include <sys/stat.h>
+
+#include <errno.h>
+
 #include <math.h>
 
 #include <cJSON.h>
@@ -130,4 +136,27 @@ int tool_png_only_option(const char *cmd, const char *option, const char *out)
 {
     if (!option || !out || lumis_format_from_path(out) == LUMIS_FORMAT_PNG) return EXIT_OK;
     return tool_usage_error(cmd, "%s applies to PNG output only, and %s is not a PNG", option, out);
+}
+
+uint64_t tool_fnv(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t k = 0; k < n; k++) h = (h ^ p[k]) * 0x100000001b3ull;
+    return h;
+}
+
+int tool_make_dir(const char *path)
+{
+    char buf[8800];
+    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf)
+        return tool_runtime_error("%s: folder name too long", path);
+    for (char *p = buf + 1; *p; p++)
+        if (*p == '/') {
+            *p = '\0';
+            if (mkdir(buf, 0755) != 0 && errno != EEXIST)
+                return tool_runtime_error("%s: cannot create folder: %s", buf, strerror(errno));
+            *p = '/';
+        }
+    if (mkdir(buf, 0755) == 0 || errno == EEXIST) return EXIT_OK;
+    return tool_runtime_error("%s: cannot create folder: %s", path, strerror(errno));
 }

@@ -8,6 +8,7 @@
 #include "lumis/metrics.h"
 #include "lumis/render.h"
 
+#include <stdint.h>
 #include <stdio.h>
 
 /* Sun of the default sky (`lumis sky`, the "sky" map spec, `lumis demo`). */
@@ -41,6 +42,11 @@ int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)
  * procedural spec "sky", "sky:WxH", "studio", "studio:WxH".  Prints errors itself; returns a
  * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
+/* FNV-1a (64-bit) of n bytes, continued from h (start: 0xcbf29ce484222325): the cache keys
+ * of lumis bench and of acquired luminaires. */
+uint64_t tool_fnv(uint64_t h, const void *data, size_t n);
+/* mkdir -p; prints the error.  Exit code. */
+int tool_make_dir(const char *path);
 /* Prints a warning naming what (a file or spec) when r counts replaced values. */
 void tool_warn_replaced(const char *what, lumis_replaced r);
 

@@ -328,17 +328,6 @@ lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, in
 }
 
 /* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
-/* FNV-1a of n bytes, continued from h. */
-static uint64_t fnv_bytes(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t k = 0; k < n; k++) {
-        h ^= p[k];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-
 /* What shapes an acquired preset: its name, the library's version and the numbers of its
  * layout and emitter (field by field: no padding bytes). */
 static uint64_t preset_key(const char *name, lumis_luminaire_preset preset)
@@ -347,8 +336,8 @@ static uint64_t preset_key(const char *name, lumis_luminaire_preset preset)
     lumis_emitter_desc e;
     lumis_emitter_disk disks[16];
     uint64_t h = 0xcbf29ce484222325ull;
-    h = fnv_bytes(h, name, strlen(name));
-    h = fnv_bytes(h, LUMIS_VERSION_STRING, strlen(LUMIS_VERSION_STRING));
+    h = tool_fnv(h, name, strlen(name));
+    h = tool_fnv(h, LUMIS_VERSION_STRING, strlen(LUMIS_VERSION_STRING));
     if (lumis_luminaire_preset_get(preset, &l, &e, disks) != LUMIS_OK) return h;
     const double g[] = {l.delta,           l.grid_origin[0],  l.grid_origin[1],  l.grid_spacing[0],
                         l.grid_spacing[1], l.image_origin[0], l.image_origin[1], l.image_size[0],
@@ -356,13 +345,13 @@ static uint64_t preset_key(const char *name, lumis_luminaire_preset preset)
                         e.contrast,        e.tint.r,          e.tint.g,          e.tint.b};
     const int n[] = {(int)l.basis, l.grid[0],    l.grid[1],     l.width,
                      l.height,     e.disk_count, (int)e.pattern};
-    h = fnv_bytes(h, g, sizeof g);
-    h = fnv_bytes(h, n, sizeof n);
+    h = tool_fnv(h, g, sizeof g);
+    h = tool_fnv(h, n, sizeof n);
     for (int k = 0; k < e.disk_count && k < 16; k++) {
         const double dk[] = {disks[k].center[0],  disks[k].center[1],  disks[k].center[2],
                              disks[k].radius,     disks[k].radiance.r, disks[k].radiance.g,
                              disks[k].radiance.b, disks[k].exponent};
-        h = fnv_bytes(h, dk, sizeof dk);
+        h = tool_fnv(h, dk, sizeof dk);
     }
     return h;
 }
@@ -398,14 +387,11 @@ static lumis_status load_preset(const char *spec, lumis_luminaire_preset preset,
             dir[0] ? "; kept for later runs in " : "", dir);
     lumis_status st = lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, &tool_errors, out);
     if (st != LUMIS_OK || !dir[0]) return st;
-    /* mkdir -p of the cache folder; then the luminaire, its manifest last */
-    for (char *q = dir + 1; *q; q++)
-        if (*q == '/') {
-            *q = '\0';
-            (void)mkdir(dir, 0777);
-            *q = '/';
-        }
-    (void)mkdir(dir, 0777);
+    /* the cache folder, then the luminaire (its manifest last) */
+    if (tool_make_dir(dir) != EXIT_OK) {
+        fprintf(stderr, "lumis: note: could not cache %s in %s\n", spec, dir);
+        return LUMIS_OK;
+    }
     lumis_luminaire_write_options wo = {0};
     wo.image_format = LUMIS_FORMAT_PFM; /* lossless and fast to read */
     if (lumis_luminaire_write(path, *out, &wo) != LUMIS_OK)
