@@ -1238,6 +1238,27 @@ static void replaced_values_are_reported(void **state)
     cJSON_Delete(c);
     free(out);
     free(err);
+    /* lumis bench decodes its maps once itself: it says so too, and each item's sidecar
+     * records the counts */
+    char suite[1024];
+    snprintf(suite, sizeof suite,
+             "{\"maps\": [\"%s\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+             "\"alias\"}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"spp\": 2}, "
+             "\"size\": [8, 6]}",
+             m);
+    tu_write_file(tu_path("nan-suite.json"), suite, strlen(suite));
+    char dir[512];
+    snprintf(dir, sizeof dir, "%s", tu_path("nan-bench"));
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("nan-suite.json"), dir);
+    expect(a, 0, warn);
+    snprintf(a, sizeof a, "%s/renders/nan__spheres__alias__spp1.json", dir);
+    size_t n = 0;
+    char *side = (char *)tu_read_file(a, &n);
+    assert_non_null(side);
+    c = cJSON_Parse(side);
+    assert_true(num(item(c, "environment"), "replaced") == 3);
+    cJSON_Delete(c);
+    free(side);
 }
 
 static void compare_prints_every_metric(void **state)

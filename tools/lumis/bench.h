@@ -22,6 +22,7 @@ typedef struct suite_map {
     unsigned long long hash; /* of the content, as the reference key starts it */
     unsigned char *bytes;    /* the file's bytes, kept for decoding (first only) */
     size_t nbytes;
+    lumis_replaced replaced; /* values its decoding replaced by 0 (bench_run) */
 } suite_map;
 
 typedef struct suite_scene {

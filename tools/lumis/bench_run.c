@@ -40,6 +40,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->scene_name = sc->spec;
     o->envspec = s->maps[it->map].spec;
     o->env_image = c->images[it->map];
+    o->env_image_replaced = s->maps[it->map].replaced;
     o->rotation_deg = s->maps[it->map].rotation_deg;
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
@@ -183,14 +184,18 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
         suite_map *map = &s->maps[m];
         if (map->first == m && need[m] && rc == EXIT_OK) {
             lumis_status st;
+            lumis_read_info info;
+            memset(&info, 0, sizeof info);
             if (map->bytes) {
                 lumis_read_options ro = {0};
                 ro.errors = tool_errors;
                 st = lumis_image_read_memory(map->bytes, map->nbytes, LUMIS_FORMAT_AUTO, map->spec,
-                                             &ro, &images[m], NULL);
+                                             &ro, &images[m], &info);
+                if (st == LUMIS_OK) tool_warn_replaced(map->spec, info.replaced);
             } else { /* a procedural spec, or a file that would not open (named by the error) */
-                st = tool_load_image(map->spec, &images[m], NULL);
+                st = tool_load_image(map->spec, &images[m], &info); /* warns itself */
             }
+            map->replaced = info.replaced; /* for the items' sidecars */
             if (st != LUMIS_OK) rc = EXIT_RUNTIME;
             if (images[m]) {
                 loaded++;
@@ -198,6 +203,7 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
             }
         }
         images[m] = images[map->first];
+        map->replaced = s->maps[map->first].replaced;
         free(map->bytes);
         map->bytes = NULL;
     }
@@ -205,6 +211,19 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
         fprintf(stderr, "lumis bench: loaded %d map%s (%.1f MB), one read each for the whole run\n",
                 loaded, loaded == 1 ? "" : "s", bytes / 1e6);
     return rc;
+}
+
+/* The next item from *next on that is in this shard and not done (advancing *next past
+ * it), or -1. */
+static int next_to_render(const suite *s, const char *out, long shard_i, long shard_n, int *next)
+{
+    for (const int total = bench_nitems(s); *next < total;) {
+        const int k = (*next)++;
+        if (!bench_in_shard(s, k, shard_i, shard_n)) continue;
+        item it = bench_item_at(s, k);
+        if (!bench_item_done(s, out, &it)) return k;
+    }
+    return -1;
 }
 
 /* After an item's process ended: its failure (exit status or signal) written to
@@ -336,16 +355,11 @@ int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
         int next = 0, running = 0;
         while (rc == EXIT_OK) {
             /* fill the free slots with the next items of this shard that are not done */
-            for (long j = 0; j < jobs && next < total; j++) {
+            for (long j = 0; j < jobs; j++) {
                 if (pids[j] > 0) continue;
-                while (next < total && !bench_in_shard(s, next, shard_i, shard_n)) next++;
-                if (next >= total) break;
-                const int k = next++;
+                const int k = next_to_render(s, out, shard_i, shard_n, &next);
+                if (k < 0) break;
                 item it = bench_item_at(s, k);
-                if (bench_item_done(s, out, &it)) {
-                    j--; /* the slot is still free */
-                    continue;
-                }
                 fflush(NULL);
                 const pid_t pid = fork();
                 if (pid == 0) {

@@ -192,6 +192,7 @@ typedef struct tool_render_opts {
     const char *envspec;                 /* NULL: the scene's map, else "sky" */
     const lumis_image *env_image;        /* envspec's pixels, loaded by the caller (borrowed);
                                             NULL: loaded from envspec */
+    lumis_replaced env_image_replaced;   /* what loading env_image replaced (the sidecar's) */
     float rotation_deg, scale;           /* of envspec when given */
     lumis_sampler_desc sampler;
     int bsdf_only;

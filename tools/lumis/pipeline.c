@@ -1175,6 +1175,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (!lum && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
         r->env_replaced = file->env_info.replaced;
         tool_warn_replaced(envspec, r->env_replaced);
+    } else if (!lum && preloaded) { /* the caller's (lumis bench): it warned when it read it */
+        r->env_replaced = o->env_image_replaced;
     }
     if (!lum &&
         tool_make_envmap(envspec, preloaded, rotation, scale, &env, &r->env_replaced) != LUMIS_OK)
