@@ -901,12 +901,11 @@ static void luminaire_files_create_info_render(void **state)
     cJSON_Delete(side);
     /* Every luminaire black: an error, not the default sky; a map beside luminaires: a
      * warning that it is ignored. */
-    char black[2048];
-    snprintf(black, sizeof black,
-             "{\"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], "
-             "\"material\": {\"type\": \"lambert\"}}], "
-             "\"luminaires\": [{\"file\": \"small-lum.json\", \"intensity\": 0}]}");
-    tu_write_file(tu_path("black-scene.json"), black, strlen(black));
+    static const char black[] =
+        "{\"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], "
+        "\"material\": {\"type\": \"lambert\"}}], "
+        "\"luminaires\": [{\"file\": \"small-lum.json\", \"intensity\": 0}]}";
+    tu_write_file(tu_path("black-scene.json"), black, sizeof black - 1);
     snprintf(a, sizeof a, "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("black-scene.json"),
              tu_path("black.exr"));
     expect(a, 1, "every luminaire of the scene has intensity 0");
