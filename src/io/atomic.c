@@ -62,9 +62,10 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     if (!path || !*path)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no output path given");
     struct stat sb;
-    if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+    const int exists = stat(path, &sb) == 0;
+    if (exists && S_ISDIR(sb.st_mode))
         return lumis__fail(errors, LUMIS_ERR_WRITE, "%s: is a directory", path);
-    if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+    if (exists && !S_ISREG(sb.st_mode)) {
         /* A device or a FIFO: written where it is, never renamed over (as root, rename
          * would replace /dev/null with a regular file). */
         af->tmp_path = malloc(strlen(path) + 1);
