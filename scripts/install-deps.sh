@@ -4,7 +4,7 @@ set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
       libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates)
-DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind)
+DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr)
 
 usage() {
     cat <<EOF
@@ -16,7 +16,8 @@ Install with apt-get the Debian packages that are missing:
   --dev         also the CI tools: ${DEV[*]}
                 (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check',
                 chromium for the screenshot test of 'lumis bench' reports,
-                valgrind for the memcheck stage, scripts/memcheck.sh)
+                valgrind for the memcheck stage, scripts/memcheck.sh,
+                gcovr for 'make coverage')
   --data-tools  also nodejs and npm (unless the node and npm commands already exist),
                 which scripts/fetch-data.sh needs only when no local copy of the
                 test data (../shared/data) exists

@@ -4,11 +4,29 @@
 # prints whether the module's own tests caught it, then the score per module.  Exit 1 if
 # any non-equivalent mutant survives.
 #
+# Mutants are applied to a copy of the sources ($MUTATE_DIR/tree, refreshed file by file
+# at each start), never to the working tree: an editor, a build or a second mutate run
+# beside it never sees a mutated file.
+#
 #   scripts/mutate.sh [MODULE...]        (default: every file in tests/mutants)
+#   MUTATE_DIR=build-mutate-2 scripts/mutate.sh lights     (a second run beside the first)
+#   MUTATE_ONLY=ID scripts/mutate.sh MODULE                (one mutant of a module)
 set -uo pipefail
 cd "$(dirname "$0")/.."
-B=build-mutate
-cmake -S . -B "$B" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLUMIS_BUILD_BENCH=OFF >/dev/null || exit 2
+root=$PWD
+B=${MUTATE_DIR:-build-mutate}
+T=$B/tree
+mkdir -p "$T" || exit 2
+# the copy: only files whose bytes changed are copied, so the build stays incremental
+while IFS= read -r f; do
+    if ! cmp -s "$f" "$T/$f"; then mkdir -p "$T/$(dirname "$f")" && cp -p "$f" "$T/$f"; fi
+done < <(find CMakeLists.txt cmake include src tests tools fuzz bench assets -type f 2>/dev/null)
+# the test data (data/, filled by scripts/fetch-data.sh) is shared, not copied
+scripts/fetch-data.sh >/dev/null 2>&1 || echo "mutate: warning: scripts/fetch-data.sh failed" >&2
+ln -sfn "$root/data" "$T/data"
+cmake -S "$T" -B "$B/build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLUMIS_BUILD_BENCH=OFF >/dev/null || exit 2
+B=$B/build
+cache=$(cd "$B" && pwd)/test-cache
 cmake --build "$B" -j"$(nproc)" >/dev/null || { echo "mutate: the unmutated build fails" >&2; exit 2; }
 mods=("$@")
 [ ${#mods[@]} -eq 0 ] && mods=($(ls tests/mutants/*.txt | xargs -n1 basename | sed 's/\.txt$//'))
@@ -25,12 +43,14 @@ for mod in "${mods[@]}"; do
     # fields joined by \x1f, so that values keep their spaces)
     while IFS=$'\x1f' read -r id file from to test why equivalent; do
         [ -z "$id" ] && continue
+        [ -n "${MUTATE_ONLY:-}" ] && [ "$id" != "$MUTATE_ONLY" ] && continue
         if [ -n "$equivalent" ]; then
             equiv=$((equiv + 1))
             printf '  %-8s %-36s equivalent: %s\n' "$mod" "$id" "$equivalent"
             continue
         fi
         scored=$((scored + 1))
+        file=$T/$file
         cur=$file
         cp "$file" "$backup"
         n=$(FROM="$from" TO="$to" perl -0777 -e '
@@ -49,7 +69,7 @@ for mod in "${mods[@]}"; do
         if ! cmake --build "$B" --target "$test" -j"$(nproc)" >/dev/null 2>&1; then
             result="caught (does not compile)"
             caught=$((caught + 1))
-        elif (cd "$B/tests" && XDG_CACHE_HOME="$PWD/../test-cache" timeout 600 "./$test" >/dev/null 2>&1); then
+        elif (cd "$B/tests" && XDG_CACHE_HOME="$cache" timeout 600 "./$test" >/dev/null 2>&1); then
             result="SURVIVED ($why)"
             survived=$((survived + 1))
         else
