@@ -120,6 +120,7 @@ lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **o
 
     lumis_envmap *env = calloc(1, sizeof *env);
     if (!env) return LUMIS_ERR_OUT_OF_MEMORY;
+    atomic_init(&env->refs, 1); /* before the first failure: lumis_envmap_destroy frees at 0 */
     size_t n = (size_t)desc->width * (size_t)desc->height * 3;
     env->pixels = malloc(n * sizeof(float));
     env->row_solid_angle = malloc((size_t)desc->height * sizeof(double));
@@ -142,7 +143,6 @@ lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **o
     for (int j = 0; j <= env->height; j++) env->cos_row[j] = cos(LUMIS_PI * j / env->height);
     env->cos_row[0] = 1.0;
     env->cos_row[env->height] = -1.0;
-    atomic_init(&env->refs, 1);
     *out = env;
     return LUMIS_OK;
 }

@@ -44,6 +44,7 @@ typedef struct fh_ctx {
     fh_cand *cand;
     size_t n, cap, tiles, budget;
     int over;    /* the tile budget ran out, or memory */
+    int nomem;   /* memory ran out (an error, where the budget is not) */
     int correct; /* move points by the correction table */
 } fh_ctx;
 
@@ -80,7 +81,7 @@ static void add_cand(fh_ctx *c, double t, const double p[2])
         size_t cap = c->cap ? 2 * c->cap : 256;
         fh_cand *n = realloc(c->cand, cap * sizeof *n);
         if (!n) {
-            c->over = 1;
+            c->over = c->nomem = 1;
             return;
         }
         c->cand = n;
@@ -255,6 +256,11 @@ static lumis_status choose_points(const lumis__geom *g, const lumis_envmap *env,
                 lo = mid;
         }
         run(&c, hi, mark);
+    }
+    if (c.nomem) {
+        free(c.cand);
+        free(pyr);
+        return LUMIS_ERR_OUT_OF_MEMORY;
     }
     int k = 0;
     for (size_t q = 0; q < c.n && k < K; q++) {

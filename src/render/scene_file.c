@@ -687,7 +687,11 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
         return lumis__fail(errors, LUMIS_ERR_TOO_LARGE, "%s: not a scene file (size)", path);
     }
     char *text = malloc((size_t)n + 1);
-    if (!text || fread(text, 1, (size_t)n, fp) != (size_t)n) {
+    if (!text) {
+        fclose(fp);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    if (fread(text, 1, (size_t)n, fp) != (size_t)n) {
         free(text);
         fclose(fp);
         return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", path);
