@@ -117,6 +117,7 @@ typedef struct inputs {
     lumis_light_set *set;      /* median cut, 8 lights */
     lumis_image *a, *b;        /* 24 x 16 images for the metrics */
     lumis_luminaire *lum;      /* a 2 x 2 light field of 6 x 5 images */
+    lumis_luminaire *lum2;     /* another: 3 x 2, B-spline, other pixels */
     lumis_scene_file *spheres; /* the built-in scene's objects */
     lumis_scene *scene;        /* of them */
     lumis_sampler *sampler;    /* kd-tree sampler of env */
@@ -179,6 +180,16 @@ static int setup(void **state)
     d.image_size[0] = d.image_size[1] = 2.0;
     d.pixels = ptrs;
     if (lumis_luminaire_create(&d, &in.lum) != LUMIS_OK) return -1;
+    static float px2[3 * 2][w * h * 3];
+    const float *ptrs2[3 * 2];
+    for (int m = 0; m < 3 * 2; m++) {
+        for (int k = 0; k < w * h * 3; k++) px2[m][k] = 0.5f + 0.02f * (float)((k * 5 + m) % 19);
+        ptrs2[m] = px2[m];
+    }
+    d.grid[0] = 3;
+    d.basis = LUMIS_BASIS_BSPLINE;
+    d.pixels = ptrs2;
+    if (lumis_luminaire_create(&d, &in.lum2) != LUMIS_OK) return -1;
     if (lumis_scene_builtin("spheres", NULL, &in.spheres) != LUMIS_OK) return -1;
     if (lumis_scene_create(in.spheres->objects, in.spheres->object_count, NULL, &in.scene) !=
         LUMIS_OK)
@@ -204,6 +215,7 @@ static int teardown(void **state)
     lumis_sampler_destroy(in.sampler);
     lumis_scene_destroy(in.scene);
     lumis_scene_file_destroy(in.spheres);
+    lumis_luminaire_destroy(in.lum2);
     lumis_luminaire_destroy(in.lum);
     lumis_image_destroy(in.a);
     lumis_image_destroy(in.b);
@@ -354,6 +366,41 @@ static lumis_status op_luminaire_files(void *ctx)
     st = lumis_luminaire_read(path, NULL, &back);
     lumis_luminaire_destroy(back);
     return st;
+}
+
+/* 1 when the two luminaires have the same grid, basis and pixels. */
+static int same_luminaire(const lumis_luminaire *x, const lumis_luminaire *y)
+{
+    lumis_luminaire_desc a, b;
+    lumis_luminaire_get_desc(x, &a);
+    lumis_luminaire_get_desc(y, &b);
+    if (a.grid[0] != b.grid[0] || a.grid[1] != b.grid[1] || a.basis != b.basis ||
+        a.width != b.width || a.height != b.height)
+        return 0;
+    for (int m = 0; m < a.grid[0] * a.grid[1]; m++)
+        if (memcmp(a.pixels[m], b.pixels[m], (size_t)a.width * (size_t)a.height * 3 * 4) != 0)
+            return 0;
+    return 1;
+}
+
+/* Writes lum2 over a luminaire file of lum.  When that fails, the file must still read back
+ * as lum, with no staging folder left beside it (else LUMIS_ERR_CORRUPT); after a success
+ * lum is written back (allocations then do not fail). */
+static lumis_status op_luminaire_overwrite(void *ctx)
+{
+    (void)ctx;
+    char path[600];
+    snprintf(path, sizeof path, "%s/over.json", in.dir);
+    lumis_status st = lumis_luminaire_write(path, in.lum2, NULL);
+    const long armed = atomic_exchange(&fail_at, 0);
+    lumis_luminaire *back = NULL;
+    int intact = lumis_luminaire_read(path, NULL, &back) == LUMIS_OK &&
+                 same_luminaire(back, st == LUMIS_OK ? in.lum2 : in.lum) &&
+                 tu_count_entries(in.dir, "over.images.") == 0;
+    lumis_luminaire_destroy(back);
+    if (st == LUMIS_OK && lumis_luminaire_write(path, in.lum, NULL) != LUMIS_OK) intact = 0;
+    atomic_store(&fail_at, armed);
+    return intact ? st : LUMIS_ERR_CORRUPT;
 }
 
 static lumis_status op_metrics(void *ctx)
@@ -522,6 +569,10 @@ static void light_export_luminaire_files_and_metrics(void **state)
     gltf = 1;
     each_allocation_fails("lights gltf", op_export, &gltf);
     each_allocation_fails("luminaire write + read", op_luminaire_files, NULL);
+    char path[600];
+    snprintf(path, sizeof path, "%s/over.json", in.dir);
+    assert_int_equal(lumis_luminaire_write(path, in.lum, NULL), LUMIS_OK);
+    each_allocation_fails("luminaire written over another", op_luminaire_overwrite, NULL);
     each_allocation_fails("metrics", op_metrics, NULL);
 }
 

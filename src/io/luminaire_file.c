@@ -10,6 +10,7 @@
 #include "../luminaire/internal.h"
 
 #include <cJSON.h>
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -640,6 +641,28 @@ static char *manifest_text(const lumis_luminaire_desc *d, const char *units, cha
     return b.s;
 }
 
+/* Removes a luminaire image folder this module made: its images (aNNN_bNNN.exr or .pfm) and,
+ * if nothing else is left in it, the folder. */
+static void remove_images(const char *folder)
+{
+    DIR *dp = opendir(folder);
+    if (!dp) return;
+    const size_t n = strlen(folder);
+    char path[4096];
+    struct dirent *e;
+    while ((e = readdir(dp)) != NULL) {
+        unsigned a, b;
+        char ext[8], tail;
+        if (sscanf(e->d_name, "a%3u_b%3u.%7s%c", &a, &b, ext, &tail) != 3) continue;
+        if (strcmp(ext, "exr") != 0 && strcmp(ext, "pfm") != 0) continue;
+        if (n + strlen(e->d_name) + 2 > sizeof path) continue;
+        snprintf(path, sizeof path, "%s/%s", folder, e->d_name);
+        unlink(path);
+    }
+    closedir(dp);
+    rmdir(folder);
+}
+
 lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
                                    const lumis_luminaire_write_options *options)
 {
@@ -684,64 +707,62 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
     lumis_luminaire_get_desc(lum, &d);
     const int M = d.grid[0] * d.grid[1];
     const char *ext = format == LUMIS_FORMAT_EXR ? "exr" : "pfm";
+    /* Nothing of an existing luminaire is touched until the new one is complete: the images
+     * go to a fresh staging folder beside it; then the old folder steps aside, the staging
+     * folder takes its name, and the manifest is replaced (atomically).  A failure at any
+     * step puts the old folder back, so the old manifest and images stay a pair.  (A crash
+     * between the swap and the manifest leaves the old manifest with the new images, which
+     * the manifest's pixel digest refuses on load, and a staging or old folder beside.) */
     char *dir = dir_of(manifest_path);
-    char *folder = NULL, **names = calloc((size_t)M, sizeof *names);
+    const size_t dlen = dir ? strlen(dir) : 0;
+    const size_t flen = dlen + stem + sizeof IMAGES_SUFFIX; /* with its NUL */
+    char *folder = malloc(flen), *stage = malloc(flen + 16), *old = malloc(flen + 16);
+    char *path = malloc(flen + 48); /* an image's path in either folder */
     char *text = NULL;
-    unsigned char *existed = calloc((size_t)M, 1);
     float *flipped = malloc((size_t)d.width * (size_t)d.height * 3 * sizeof(float));
+    char **names = calloc((size_t)M, sizeof *names);
     lumis_status st = LUMIS_OK;
-    int created = 0, written = 0;
-    if (!dir || !names || !existed || !flipped) {
+    int staged = 0, moved_old = 0, swapped = 0;
+    if (!dir || !folder || !stage || !old || !path || !flipped || !names) {
         st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
         goto done;
     }
-    /* The folder's path: dir + stem + ".images" (its name relative to the manifest below). */
-    size_t dlen = strlen(dir);
-    folder = malloc(dlen + stem + sizeof IMAGES_SUFFIX);
-    if (!folder) {
-        st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
+    snprintf(folder, flen, "%s%.*s" IMAGES_SUFFIX, dir, (int)stem, base);
+    struct stat sb;
+    const int exists = lstat(folder, &sb) == 0;
+    if (exists && !S_ISDIR(sb.st_mode)) {
+        st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create the image folder %s: %s",
+                         manifest_path, folder, strerror(ENOTDIR));
         goto done;
     }
-    memcpy(folder, dir, dlen);
-    memcpy(folder + dlen, base, stem);
-    memcpy(folder + dlen + stem, IMAGES_SUFFIX, sizeof IMAGES_SUFFIX);
-    if (mkdir(folder, 0777) == 0)
-        created = 1;
-    else {
-        struct stat sb;
-        int e = errno;
-        if (e != EEXIST || stat(folder, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-            st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create the image folder %s: %s",
-                             manifest_path, folder, strerror(e == EEXIST ? ENOTDIR : e));
-            goto done;
-        }
+    snprintf(stage, flen + 16, "%s.new-XXXXXX", folder);
+    if (!mkdtemp(stage)) {
+        st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create the image folder %s: %s",
+                         manifest_path, stage, strerror(errno));
+        goto done;
     }
+    staged = 1;
     lumis_write_options wo = {0};
     wo.format = format;
     wo.errors = *errors;
+    const size_t cap = stem + sizeof IMAGES_SUFFIX + 32;
     for (int m = 0; m < M && st == LUMIS_OK; m++) {
         /* The name relative to the manifest: "<stem>.images/a003_b001.exr". */
-        size_t cap = stem + sizeof IMAGES_SUFFIX + 32;
         names[m] = malloc(cap);
-        char *full = names[m] ? malloc(dlen + cap) : NULL;
-        if (!full) {
+        if (!names[m]) {
             st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
             break;
         }
         snprintf(names[m], cap, "%.*s" IMAGES_SUFFIX "/a%03d_b%03d.%s", (int)stem, base,
                  m % d.grid[0], m / d.grid[0], ext);
-        snprintf(full, dlen + cap, "%s%s", dir, names[m]);
-        struct stat sb;
-        existed[m] = lstat(full, &sb) == 0;
+        snprintf(path, flen + 48, "%s/a%03d_b%03d.%s", stage, m % d.grid[0], m / d.grid[0], ext);
         /* Rows reversed: a file's top row is the largest y. */
         const size_t row = (size_t)d.width * 3;
         for (int j = 0; j < d.height; j++)
             memcpy(flipped + (size_t)j * row, d.pixels[m] + (size_t)(d.height - 1 - j) * row,
                    row * sizeof(float));
         lumis_image img = {d.width, d.height, flipped};
-        st = lumis_image_write(full, &img, &wo);
-        if (st == LUMIS_OK) written = m + 1;
-        free(full);
+        st = lumis_image_write(path, &img, &wo);
     }
     if (st != LUMIS_OK) goto done;
     size_t len = 0;
@@ -751,27 +772,40 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
         st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
         goto done;
     }
+    if (exists) { /* the old folder steps aside (rename onto an empty folder of our own) */
+        snprintf(old, flen + 16, "%s.old-XXXXXX", folder);
+        const int made = mkdtemp(old) != NULL;
+        if (!made || rename(folder, old) != 0) {
+            const int e = errno;
+            if (made) rmdir(old);
+            st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot move the old images aside: %s",
+                             manifest_path, strerror(e));
+            goto done;
+        }
+        moved_old = 1;
+    }
+    if (rename(stage, folder) != 0) {
+        st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot rename %s to %s: %s", manifest_path,
+                         stage, folder, strerror(errno));
+        goto done;
+    }
+    swapped = 1;
     st = lumis_write_text(manifest_path, text, len, errors);
 done:
-    if (st != LUMIS_OK && names) {
-        /* Take back what this call added; what was there before stays. */
-        for (int m = 0; m < written; m++) {
-            if (existed[m] || !names[m]) continue;
-            char *full = malloc(strlen(dir) + strlen(names[m]) + 1);
-            if (full) {
-                strcpy(full, dir);
-                strcat(full, names[m]);
-                unlink(full);
-                free(full);
-            }
-        }
-        if (created) rmdir(folder);
+    if (st != LUMIS_OK) {
+        /* Take back what this call made; the old luminaire goes back where it was. */
+        if (swapped && rename(folder, stage) != 0) staged = 0; /* cannot: leave it */
+        if (moved_old && rename(old, folder) == 0) moved_old = 0;
+        if (staged) remove_images(stage);
     }
+    if (st == LUMIS_OK && moved_old) remove_images(old);
     if (names)
         for (int m = 0; m < M; m++) free(names[m]);
     free(names);
-    free(existed);
     free(flipped);
+    free(path);
+    free(old);
+    free(stage);
     free(folder);
     free(dir);
     free(text);
