@@ -858,6 +858,28 @@ static void acquired_presets_are_cached(void **state)
         if (k == 2) assert_non_null(strstr(err, "does not read back"));
         free(err);
     }
+    /* A scene file that names the preset reads it from the same cache: no acquisition
+     * (before, a preset named in a scene file was acquired on every run). */
+    static const char scene[] =
+        "{\"camera\": {\"eye\": [0, 1, 4], \"look_at\": [0, 0, 0], \"width\": 8, \"height\": 6},"
+        " \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0],"
+        " \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}],"
+        " \"luminaires\": [{\"file\": \"preset:small\", \"transform\": {\"translate\": [0, 1, 0],"
+        " \"rotate_deg\": [90, 0, 0]}}]}";
+    char cache2[512], scene_path[512], out[512];
+    snprintf(cache2, sizeof cache2, "%s", tu_path("xdg2"));
+    snprintf(scene_path, sizeof scene_path, "%s", tu_path("preset-scene.json"));
+    snprintf(out, sizeof out, "%s", tu_path("preset-out.exr"));
+    tu_write_file(scene_path, scene, sizeof scene - 1);
+    for (int k = 0; k < 2; k++) { /* a fresh cache: the first run acquires, the second not */
+        snprintf(a, sizeof a, "XDG_CACHE_HOME='%s' '%s' render '%s' --spp 1 -o '%s'", cache2,
+                 LUMIS_CLI, scene_path, out);
+        char *err = NULL;
+        const int rc = tu_run(a, NULL, &err);
+        const int acquired = strstr(err, "acquiring preset:small") != NULL;
+        if (rc != 0 || acquired != (k == 0)) fail_msg("scene run %d (exit %d): %s", k, rc, err);
+        free(err);
+    }
 }
 
 static void luminaire_files_create_info_render(void **state)

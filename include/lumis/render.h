@@ -286,6 +286,12 @@ typedef struct lumis_scene_read_options {
                                another map) */
     lumis_read_options map; /* how the map is read (pixel limit, threads) */
     lumis_error_sink errors;
+    /* Optional: how a luminaire the file names as "preset:NAME" is made, e.g. read from a
+     * cache of acquired luminaires (as the lumis tool does, under $XDG_CACHE_HOME/lumis).
+     * spec is "preset:NAME"; on success *out is a luminaire the scene file then owns.
+     * NULL: acquired with lumis_luminaire_preset_create (seconds). */
+    lumis_status (*load_preset)(void *user, const char *spec, lumis_luminaire **out);
+    void *load_preset_user;
 } lumis_scene_read_options;
 
 /* Reads a scene file, its meshes and its map (lumis_map_read: a file beside the scene or a

@@ -176,6 +176,7 @@ typedef struct parser {
     const lumis_error_sink *errors;
     lumis_scene_file *f;
     int allow_files; /* 0: mesh files are refused (the fuzzer must not open paths) */
+    const lumis_scene_read_options *options; /* NULL: the defaults */
 } parser;
 
 static lumis_status bad(const parser *p, const char *path, const char *what)
@@ -652,9 +653,12 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
     lumis_luminaire *owned = NULL;
     if (!lum) {
         if (strncmp(name, "preset:", 7) == 0) {
-            st = lumis__luminaire_from_preset(name, p->errors, &owned);
-            if (st == LUMIS_ERR_INVALID_ARGUMENT && !owned)
+            lumis_luminaire_preset preset;
+            if (lumis_luminaire_preset_from_name(name + 7, &preset) != LUMIS_OK)
                 return bad(p, at, "preset:car, preset:bike or preset:small");
+            st = p->options && p->options->load_preset
+                     ? p->options->load_preset(p->options->load_preset_user, name, &owned)
+                     : lumis__luminaire_from_preset(name, p->errors, &owned);
         } else {
             lumis_luminaire_read_options ro = {0};
             if (p->errors) ro.errors = *p->errors;
@@ -668,6 +672,10 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
     in.luminaire = lum;
     return lumis__scene_file_add_luminaire(p->f, owned, full, &in);
 }
+
+static lumis_status parse_with(const char *text, size_t n, const char *name, const char *dir,
+                               int allow_files, const lumis_error_sink *errors,
+                               const lumis_scene_read_options *options, lumis_scene_file **out);
 
 lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
                                    lumis_scene_file **out)
@@ -697,7 +705,7 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
         return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", path);
     }
     fclose(fp);
-    lumis_status st = lumis__scene_file_parse(text, (size_t)n, path, dir, 1, errors, out);
+    lumis_status st = parse_with(text, (size_t)n, path, dir, 1, errors, options, out);
     free(text);
     if (st != LUMIS_OK || !(*out)->env_map[0] || (options && options->skip_env_map)) return st;
     /* The map, through lumis-io (a file beside the scene, or a procedural spec). */
@@ -716,9 +724,16 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
                                      int allow_files, const lumis_error_sink *errors,
                                      lumis_scene_file **out)
 {
+    return parse_with(text, n, name, dir, allow_files, errors, NULL, out);
+}
+
+static lumis_status parse_with(const char *text, size_t n, const char *name, const char *dir,
+                               int allow_files, const lumis_error_sink *errors,
+                               const lumis_scene_read_options *options, lumis_scene_file **out)
+{
     if (!out || (!text && n) || !name || !dir) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    parser p = {name, "", errors, NULL, allow_files};
+    parser p = {name, "", errors, NULL, allow_files, options};
     snprintf(p.dir, sizeof p.dir, "%s", dir);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(text, n, &end, 0);

@@ -296,6 +296,7 @@ int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
                 lumis_scene_read_options so = {0};
                 so.skip_env_map = 1; /* the maps were read above */
                 so.errors = tool_errors;
+                so.load_preset = tool_scene_load_preset;
                 lumis_scene_file *f = NULL;
                 if (lumis_scene_file_read(s->scenes[sc].spec, &so, &f) != LUMIS_OK)
                     vrc = EXIT_RUNTIME;

@@ -91,6 +91,9 @@ double tool_median(double *v, int n);
 /* A luminaire manifest (lumis_luminaire_read) or preset:car|bike|small (acquired); errors
  * printed. */
 lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out);
+/* lumis_scene_read_options.load_preset: a preset a scene file names, through the cache of
+ * tool_load_luminaire. */
+lumis_status tool_scene_load_preset(void *user, const char *spec, lumis_luminaire **out);
 
 float tool_auto_exposure(const lumis_image *image);
 

@@ -399,6 +399,12 @@ static lumis_status load_preset(const char *spec, lumis_luminaire_preset preset,
     return LUMIS_OK;
 }
 
+lumis_status tool_scene_load_preset(void *user, const char *spec, lumis_luminaire **out)
+{
+    (void)user;
+    return tool_load_luminaire(spec, out);
+}
+
 lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
 {
     if (strncmp(spec, "preset:", 7) == 0) {
@@ -1055,6 +1061,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene_read_options so = {0};
     so.skip_env_map = o->envspec != NULL; /* --env replaces the scene's map: not read */
     so.errors = tool_errors;
+    so.load_preset = tool_scene_load_preset; /* presets through the cache */
     /* --luminaire with a built-in scene: placed instead of the scene's own (which is not
      * acquired); with a scene file, it replaces the file's luminaires below. */
     lumis_luminaire *replacement = NULL;
