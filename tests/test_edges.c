@@ -1,0 +1,360 @@
+/* The edges of the public interface: every function that can fail refuses missing and
+ * absurd arguments with a status (never a crash, never success), leaves its output NULL,
+ * and says why through the error sink when it has one; the BSDFs are zero, with zero
+ * density, below the horizon. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "lumis/bsdf.h"
+#include "lumis/io.h"
+#include "lumis/lumis.h"
+#include "lumis/render.h"
+#include "testutil.h"
+
+/* st must be a failure, and out (if given) still NULL. */
+#define REFUSED(st, out)                                                                           \
+    do {                                                                                           \
+        const lumis_status st_ = (st);                                                             \
+        if (st_ == LUMIS_OK) fail_msg("%s: accepted", #st);                                        \
+        if ((out) != NULL)                                                                         \
+            fail_msg("%s: refused (%s) but wrote an output", #st, lumis_status_name(st_));         \
+    } while (0)
+
+static lumis_image *small_image(int w, int h, float v)
+{
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(w, h, &img), LUMIS_OK);
+    for (int i = 0; i < w * h * 3; i++) img->pixels[i] = v;
+    return img;
+}
+
+static void core_and_maps(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    REFUSED(lumis_image_create(0, 4, &img), img);
+    REFUSED(lumis_image_create(4, -1, &img), img);
+    REFUSED(lumis_image_create(1 << 30, 1 << 30, &img), img);
+    assert_int_not_equal(lumis_image_create(4, 4, NULL), LUMIS_OK);
+    REFUSED(lumis_image_clone(NULL, &img), img);
+    assert_int_equal(lumis_image_check_size(0, 1, 0), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_int_equal(lumis_image_check_size(1000, 1000, 999999), LUMIS_ERR_TOO_LARGE);
+
+    lumis_envmap *env = NULL;
+    REFUSED(lumis_envmap_create(NULL, &env), env);
+    lumis_envmap_desc ed = {0};
+    REFUSED(lumis_envmap_create(&ed, &env), env); /* no pixels */
+    float px[2 * 1 * 3] = {1, 1, 1, 1, 1, 1};
+    ed.pixels = px;
+    ed.width = 2;
+    ed.height = 1;
+    ed.scale = NAN;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    ed.errors = sink.sink;
+    REFUSED(lumis_envmap_create(&ed, &env), env);
+    assert_non_null(strstr(sink.last, "scale"));
+    ed.scale = 1.0f;
+    ed.rotation_deg = INFINITY;
+    REFUSED(lumis_envmap_create(&ed, &env), env);
+    ed.rotation_deg = 0.0f;
+    ed.width = -2;
+    REFUSED(lumis_envmap_create(&ed, &env), env);
+    REFUSED(lumis_envmap_from_image(NULL, &env), env);
+    lumis_envmap_stats stats;
+    assert_int_not_equal(lumis_envmap_stats_compute(NULL, &stats), LUMIS_OK);
+    assert_int_not_equal(lumis_equirect_stats(NULL, 2, 1, 1.0f, &stats), LUMIS_OK);
+    assert_int_not_equal(lumis_equirect_stats(px, 0, 1, 1.0f, &stats), LUMIS_OK);
+    float dst[12];
+    assert_int_not_equal(lumis_equirect_resize(NULL, 2, 1, dst, 2, 1), LUMIS_OK);
+    assert_int_not_equal(lumis_equirect_resize(px, 2, 1, NULL, 2, 1), LUMIS_OK);
+    assert_int_not_equal(lumis_equirect_resize(px, 2, 1, dst, 0, 1), LUMIS_OK);
+
+    lumis_sky_desc sd = {0};
+    sd.width = -3;
+    REFUSED(lumis_sky_create(&sd, &img), img);
+    sd.width = 8;
+    sd.turbidity = NAN;
+    REFUSED(lumis_sky_create(&sd, &img), img);
+    lumis_studio_desc std = {0};
+    std.width = -1;
+    REFUSED(lumis_studio_create(&std, &img), img);
+    assert_int_not_equal(lumis_sky_create(NULL, NULL), LUMIS_OK);
+}
+
+static void samplers_and_light_sets(void **state)
+{
+    (void)state;
+    lumis_image *img = small_image(8, 4, 1.0f);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    lumis_sampler *s = NULL;
+    REFUSED(lumis_sampler_create(NULL, NULL, &s), s);
+    lumis_sampler_desc d = {0};
+    d.method = LUMIS_METHOD_COUNT;
+    REFUSED(lumis_sampler_create(env, &d, &s), s);
+    d.method = LUMIS_METHOD_KDTREE;
+    d.kdtree_blocks = -5;
+    REFUSED(lumis_sampler_create(env, &d, &s), s);
+    d.kdtree_blocks = 0;
+    d.importance = LUMIS_IMPORTANCE_COUNT;
+    REFUSED(lumis_sampler_create(env, &d, &s), s);
+    double u[2];
+    assert_int_not_equal(lumis_sampler_invert(NULL, (lumis_vec3){0, 1, 0}, u), LUMIS_OK);
+
+    lumis_light_set *set = NULL;
+    lumis_median_cut_desc mc = {0};
+    REFUSED(lumis_lights_median_cut(NULL, &mc, &set), set);
+    mc.count = -1;
+    REFUSED(lumis_lights_median_cut(env, &mc, &set), set);
+    mc.count = 4;
+    mc.sets = 1000;
+    REFUSED(lumis_lights_median_cut(env, &mc, &set), set);
+    mc.sets = 1;
+    mc.jitter = 2.0f;
+    REFUSED(lumis_lights_median_cut(env, &mc, &set), set);
+    lumis_variance_min_desc vm = {0};
+    vm.count = 1000; /* more lights than the 32 pixels */
+    REFUSED(lumis_lights_variance_min(env, &vm, &set), set);
+    lumis_decomp_desc dd = {0};
+    dd.percentile = 150.0f;
+    REFUSED(lumis_lights_decompose(env, &dd, &set), set);
+    dd.percentile = 0.0f;
+    dd.variant = LUMIS_DECOMP_VARIANT_COUNT;
+    REFUSED(lumis_lights_decompose(env, &dd, &set), set);
+    lumis_fhis_desc fd = {0};
+    fd.count = -2;
+    REFUSED(lumis_lights_fhis(env, &fd, &set), set);
+    lumis_tmms_desc td = {0};
+    td.key = -1.0f;
+    REFUSED(lumis_lights_tmms(env, &td, &set), set);
+    const lumis_light *l = NULL;
+    int n = 0;
+    assert_int_not_equal(lumis_light_set_get(NULL, 0, &l, &n), LUMIS_OK);
+    mc.count = 4;
+    mc.jitter = 0.0f;
+    assert_int_equal(lumis_lights_median_cut(env, &mc, &set), LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_get(set, 1, &l, &n), LUMIS_OK); /* one set only */
+    assert_int_not_equal(lumis_light_set_get(set, -1, &l, &n), LUMIS_OK);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
+static void files_and_metrics(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL, *a = small_image(4, 3, 0.5f), *b = small_image(5, 3, 0.5f);
+    REFUSED(lumis_image_read(NULL, NULL, &img, NULL), img);
+    REFUSED(lumis_map_read(NULL, NULL, &img, NULL), img);
+    REFUSED(lumis_map_read("sky:0x0", NULL, &img, NULL), img);
+    REFUSED(lumis_map_read("sky:axb", NULL, &img, NULL), img);
+    REFUSED(lumis_image_read_memory(NULL, 10, LUMIS_FORMAT_EXR, "x", NULL, &img, NULL), img);
+    REFUSED(lumis_image_read_memory("", 0, LUMIS_FORMAT_PFM, "x", NULL, &img, NULL), img);
+    assert_int_not_equal(lumis_image_write(NULL, a, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_image_write(tu_path("x.exr"), NULL, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_image_write(tu_path("x.unknown"), a, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_write_text(NULL, "x", 1, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_write_text("", "x", 1, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_write_text(tu_path("t.txt"), NULL, 3, NULL), LUMIS_OK);
+    assert_int_equal(lumis_write_text(tu_path("t.txt"), NULL, 0, NULL), LUMIS_OK); /* empty */
+    assert_int_not_equal(lumis_light_set_write_json(tu_path("l.json"), NULL, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_write_gltf(NULL, NULL, NULL), LUMIS_OK);
+    lumis_luminaire *lum = NULL;
+    REFUSED(lumis_luminaire_read(NULL, NULL, &lum), lum);
+    assert_int_not_equal(lumis_luminaire_write(tu_path("m.json"), NULL, NULL), LUMIS_OK);
+    lumis_luminaire_manifest *man = NULL;
+    REFUSED(lumis_luminaire_manifest_parse(NULL, 4, "m", "", NULL, &man), man);
+    REFUSED(lumis_luminaire_manifest_read(NULL, NULL, &man), man);
+
+    lumis_image_error_stats es;
+    assert_int_not_equal(lumis_image_errors(a, b, NULL, &es), LUMIS_OK); /* sizes differ */
+    assert_int_not_equal(lumis_image_errors(NULL, a, NULL, &es), LUMIS_OK);
+    double mean = 0;
+    assert_int_not_equal(lumis_lab_delta_e(a, b, NULL, NULL, &mean), LUMIS_OK);
+    assert_int_not_equal(lumis_flip_ldr(a, b, NULL, NULL, &mean), LUMIS_OK);
+    lumis_flip_hdr_result r;
+    assert_int_not_equal(lumis_flip_hdr(a, NULL, NULL, NULL, NULL, &r), LUMIS_OK);
+    lumis_flip_options fo = {0};
+    fo.pixels_per_degree = -1.0f;
+    assert_int_not_equal(lumis_flip_ldr(a, a, &fo, NULL, &mean), LUMIS_OK);
+    REFUSED(lumis_flip_colormap(NULL, 4, 3, &img), img);
+    float map[12] = {0};
+    REFUSED(lumis_flip_colormap(map, 0, 3, &img), img);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+}
+
+static void luminaires(void **state)
+{
+    (void)state;
+    lumis_luminaire *lum = NULL;
+    REFUSED(lumis_luminaire_create(NULL, &lum), lum);
+    lumis_luminaire_desc d = {0};
+    REFUSED(lumis_luminaire_create(&d, &lum), lum); /* an empty grid */
+    lumis_rigid bad = {{0}, {0, 0, 0}};
+    bad.r[0] = 2.0; /* not a rotation */
+    assert_int_not_equal(lumis_rigid_check(&bad), LUMIS_OK);
+    assert_int_not_equal(lumis_rigid_check(NULL), LUMIS_OK);
+    lumis_rigid id = lumis_rigid_identity();
+    assert_int_equal(lumis_rigid_check(&id), LUMIS_OK);
+    REFUSED(
+        lumis_luminaire_preset_create((lumis_luminaire_preset)7, LUMIS_BASIS_DEFAULT, NULL, &lum),
+        lum);
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc em;
+    lumis_emitter_disk disks[16];
+    assert_int_not_equal(lumis_luminaire_preset_get((lumis_luminaire_preset)7, &layout, &em, disks),
+                         LUMIS_OK);
+    REFUSED(lumis_luminaire_acquire(NULL, NULL, NULL, &lum), lum);
+    lumis_rgb e;
+    assert_int_not_equal(
+        lumis_emitter_irradiance(NULL, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 4, 8, &e),
+        LUMIS_OK);
+    lumis_luminaire_sample smp[4];
+    int n = 0;
+    double u[8] = {0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
+    assert_int_not_equal(lumis_luminaire_sample_point(NULL, NULL, u, 4, smp, &n), LUMIS_OK);
+    assert_int_not_equal(lumis_luminaire_global_draw(NULL, NULL, u, 4, smp, &n), LUMIS_OK);
+    assert_int_not_equal(
+        lumis_luminaire_global_finish(NULL, (lumis_vec3){0, 0, 1}, smp, 0, smp, &n), LUMIS_OK);
+    assert_int_not_equal(lumis_luminaire_sample_image(NULL, NULL, 0, 0.5, 0.5, smp), LUMIS_OK);
+    double u1, u2;
+    assert_int_not_equal(lumis_luminaire_invert(NULL, NULL, 0, 0, 0, &u1, &u2), LUMIS_OK);
+    assert_int_not_equal(
+        lumis_luminaire_irradiance(NULL, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 2, &e),
+        LUMIS_OK);
+}
+
+static void renderer(void **state)
+{
+    (void)state;
+    lumis_scene *scene = NULL;
+    REFUSED(lumis_scene_create(NULL, 3, NULL, &scene), scene);
+    lumis_object sphere = {0};
+    sphere.type = LUMIS_OBJECT_SPHERE;
+    sphere.radius = -1.0f;
+    REFUSED(lumis_scene_create(&sphere, 1, NULL, &scene), scene);
+    sphere.radius = 1.0f;
+    assert_int_equal(lumis_scene_create(&sphere, 1, NULL, &scene), LUMIS_OK);
+    lumis_image *img = NULL, *sky = small_image(8, 4, 1.0f);
+    lumis_envmap *env = NULL;
+    lumis_sampler *smp = NULL;
+    assert_int_equal(lumis_envmap_from_image(sky, &env), LUMIS_OK);
+    assert_int_equal(lumis_sampler_create(env, NULL, &smp), LUMIS_OK);
+    REFUSED(lumis_render(scene, NULL, &img, NULL), img);
+    lumis_camera cam = {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.0f, 8, 6};
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.spp = 1;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img); /* MIS with no map and no sampler */
+    d.env = env;
+    d.sampler = smp;
+    assert_int_equal(lumis_render(scene, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    img = NULL;
+    REFUSED(lumis_render(NULL, &d, &img, NULL), img);
+    cam.width = -8;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.width = 8;
+    cam.fov_deg = 200.0f;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.fov_deg = 40.0f;
+    cam.eye = cam.look_at; /* no direction to look in */
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.eye = (lumis_vec3){0, 0, 4};
+    d.spp = -4;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.spp = 1;
+    d.max_bounces = -1;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.max_bounces = 0;
+    d.estimator = (lumis_estimator)9;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.estimator = LUMIS_ESTIMATOR_MIS;
+    lumis_render_job *job = NULL;
+    REFUSED(lumis_render_job_create(scene, NULL, &job), job);
+    assert_int_not_equal(lumis_render_job_run(NULL, 1), LUMIS_OK);
+    REFUSED(lumis_render_job_image(NULL, &img), img);
+    lumis_gbuffer *g = NULL;
+    cam.height = -1;
+    REFUSED(lumis_render_gbuffer(scene, &cam, NULL, &g), g);
+    cam.height = 6;
+    REFUSED(lumis_render_gbuffer(NULL, &cam, NULL, &g), g);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(sky);
+
+    /* upsampling: missing buffers, sizes that disagree, absurd sigmas */
+    assert_int_equal(lumis_render_gbuffer(scene, &cam, NULL, &g), LUMIS_OK);
+    lumis_image *low = small_image(8, 6, 1.0f), *wrong = small_image(4, 6, 1.0f);
+    REFUSED(lumis_joint_bilateral_upsample(NULL, g, g, NULL, &img), img);
+    REFUSED(lumis_joint_bilateral_upsample(low, NULL, g, NULL, &img), img);
+    REFUSED(lumis_joint_bilateral_upsample(low, g, NULL, NULL, &img), img);
+    REFUSED(lumis_joint_bilateral_upsample(wrong, g, g, NULL, &img), img);
+    lumis_upsample_desc ud = {0};
+    ud.sigma_depth = INFINITY;
+    REFUSED(lumis_joint_bilateral_upsample(low, g, g, &ud, &img), img);
+    ud.sigma_depth = 0.0f;
+    ud.radius = 99;
+    REFUSED(lumis_joint_bilateral_upsample(low, g, g, &ud, &img), img);
+    ud.radius = 0;
+    assert_int_equal(lumis_joint_bilateral_upsample(low, g, g, &ud, &img), LUMIS_OK);
+    lumis_image_destroy(img);
+    lumis_image_destroy(low);
+    lumis_image_destroy(wrong);
+    lumis_gbuffer_destroy(g);
+    lumis_scene_destroy(scene);
+
+    lumis_scene_file *f = NULL;
+    REFUSED(lumis_scene_builtin("no-such-scene", NULL, &f), f);
+    REFUSED(lumis_scene_builtin(NULL, NULL, &f), f);
+    REFUSED(
+        lumis_scene_builtin_with_luminaire("spheres", (const lumis_luminaire *)&sphere, NULL, &f),
+        f); /* a scene without luminaires takes none */
+    REFUSED(lumis_scene_file_read(NULL, NULL, &f), f);
+    REFUSED(lumis_scene_file_read(tu_path("no-such-file.json"), NULL, &f), f);
+}
+
+/* Every BSDF is 0, with density 0, when either direction is below the horizon, and at
+ * grazing or mirrored configurations it stays finite. */
+static void bsdfs_below_the_horizon(void **state)
+{
+    (void)state;
+    const lumis_vec3 up = {0, 0, 1}, down = {0.3f, 0, -0.95f}, side = {1, 0, 0},
+                     tilt = {0.6f, 0, 0.8f}, mirror = {-0.6f, 0, 0.8f};
+    for (int t = 0; t < LUMIS_BSDF_TYPE_COUNT; t++) {
+        lumis_bsdf b = {(lumis_bsdf_type)t, {0.5f, 0.5f, 0.5f}, {0.5f, 0.5f, 0.5f}, 0.2f, 0.3f};
+        const lumis_vec3 pairs[][2] = {{up, down}, {down, up}, {down, down}, {side, up}};
+        for (size_t k = 0; k < sizeof pairs / sizeof pairs[0]; k++) {
+            const lumis_rgb f = lumis_bsdf_eval(&b, pairs[k][0], pairs[k][1]);
+            if (f.r != 0.0f || f.g != 0.0f || f.b != 0.0f)
+                fail_msg("type %d pair %zu: f = %g", t, k, (double)f.r);
+            if (lumis_bsdf_pdf(&b, pairs[k][0], pairs[k][1]) != 0.0f)
+                fail_msg("type %d pair %zu: pdf > 0", t, k);
+        }
+        /* a sample from below the horizon is refused (pdf 0, weight 0) */
+        lumis_bsdf_sample s = lumis_bsdf_sample_wi(&b, down, 0.3, 0.6, 0.9);
+        assert_true(s.pdf == 0.0f && s.weight.r == 0.0f);
+        /* the mirror direction: finite, positive */
+        const lumis_rgb f = lumis_bsdf_eval(&b, tilt, mirror);
+        assert_true(isfinite(f.r) && f.r > 0.0f);
+        assert_true(isfinite(lumis_bsdf_pdf(&b, tilt, mirror)));
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(core_and_maps),     cmocka_unit_test(samplers_and_light_sets),
+        cmocka_unit_test(files_and_metrics), cmocka_unit_test(luminaires),
+        cmocka_unit_test(renderer),          cmocka_unit_test(bsdfs_below_the_horizon),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
