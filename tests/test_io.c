@@ -999,6 +999,224 @@ static void format_names_and_detection(void **state)
     assert_int_equal(lumis_exr_compression_from_name("lzma", &c), LUMIS_ERR_INVALID_ARGUMENT);
 }
 
+/* Every EXPOSURE line multiplies the stored values (Radiance's rule): two of 2 and 4 are
+ * undone by 8.  An XYZE file's equal-energy white X = Y = Z = v is linear Rec. 709 RGB
+ * v (1.2047843, 0.9483008, 0.9088427). */
+static void hdr_exposures_multiply_and_xyze_converts(void **state)
+{
+    (void)state;
+    const unsigned char px[4] = {128, 128, 128, 129}; /* (128 + 0.5) / 256 * 2 each */
+    const float v = 1.00390625f;
+    const char *heads[] = {"#?RADIANCE\nEXPOSURE=2\nEXPOSURE=4\n\n-Y 1 +X 1\n",
+                           "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 1 +X 1\n"};
+    const float want[2][3] = {{v / 8, v / 8, v / 8},
+                              {v * 1.2047843f, v * 0.9483008f, v * 0.9088427f}};
+    for (int k = 0; k < 2; k++) {
+        unsigned char buf[128];
+        size_t hl = strlen(heads[k]);
+        memcpy(buf, heads[k], hl);
+        memcpy(buf + hl, px, 4);
+        lumis_image *img = NULL;
+        assert_int_equal(
+            lumis_image_read_memory(buf, hl + 4, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
+            LUMIS_OK);
+        for (int c = 0; c < 3; c++)
+            if (!(fabsf(img->pixels[c] - want[k][c]) < 1e-5f))
+                fail_msg("%s: channel %d reads %g, want %g", k ? "XYZE" : "two EXPOSUREs", c,
+                         img->pixels[c], want[k][c]);
+        lumis_image_destroy(img);
+    }
+}
+
+/* Consecutive old-style run markers scale by 256 each: a pixel, (1,1,1,1) and (1,1,1,1)
+ * make 1 + 1 + 256 = 258 pixels. */
+static void hdr_consecutive_old_style_runs(void **state)
+{
+    (void)state;
+    const char *head = "#?RADIANCE\n\n-Y 1 +X 258\n";
+    const unsigned char data[12] = {10, 20, 30, 128, 1, 1, 1, 1, 1, 1, 1, 1};
+    unsigned char buf[64];
+    size_t hl = strlen(head);
+    memcpy(buf, head, hl);
+    memcpy(buf + hl, data, sizeof data);
+    lumis_image *img = NULL;
+    assert_int_equal(
+        lumis_image_read_memory(buf, hl + sizeof data, LUMIS_FORMAT_AUTO, NULL, NULL, &img, NULL),
+        LUMIS_OK);
+    for (int x = 1; x < 258; x++)
+        for (int c = 0; c < 3; c++) assert_true(img->pixels[3 * x + c] == img->pixels[c]);
+    assert_true(img->pixels[0] > 0.0f);
+    lumis_image_destroy(img);
+}
+
+/* A NaN is written as black, like the other readers' replacement (not as RGBE's largest
+ * value, where a value too large to hold goes). */
+static void hdr_writes_nan_as_black(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(2, 1, &img), LUMIS_OK);
+    const float v[6] = {NAN, 1.0f, 1.0f, 3e38f, 1.0f, 1.0f};
+    memcpy(img->pixels, v, sizeof v);
+    const char *path = tu_path("nan.hdr");
+    assert_int_equal(lumis_image_write(path, img, NULL), LUMIS_OK);
+    lumis_image *back = NULL;
+    assert_int_equal(lumis_image_read(path, NULL, &back, NULL), LUMIS_OK);
+    /* 0 in a pixel whose largest channel is 1: the mantissa's centre, 0.5 / 128. */
+    if (!(back->pixels[0] < 0.01f)) fail_msg("NaN written as %g", back->pixels[0]);
+    assert_true(back->pixels[3] > 1e38f);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
+/* The half-float EXR writer clamps what half cannot hold to 65504 and writes NaN as 0 (the
+ * clamp alone wrote NaN as 65504, the brightest half value). */
+static void exr_half_writes_nan_as_black(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(2, 1, &img), LUMIS_OK);
+    const float v[6] = {NAN, 1.0f, 2.0f, 1e9f, INFINITY, 0.5f};
+    memcpy(img->pixels, v, sizeof v);
+    const char *path = tu_path("nan-half.exr");
+    lumis_write_options wo = {0};
+    wo.exr_half = 1;
+    assert_int_equal(lumis_image_write(path, img, &wo), LUMIS_OK);
+    lumis_image *back = NULL;
+    lumis_read_info info;
+    assert_int_equal(lumis_image_read(path, NULL, &back, &info), LUMIS_OK);
+    const float want[6] = {0.0f, 1.0f, 2.0f, 65504.0f, 65504.0f, 0.5f};
+    for (int k = 0; k < 6; k++)
+        if (back->pixels[k] != want[k])
+            fail_msg("value %d: %g, not %g", k, back->pixels[k], want[k]);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
+/* The sRGB curve near black, both ways: linear 0.01 is past the encoder's linear toe
+ * (0.0031308) and encodes to 25, not 12.92 * 0.01 * 255 = 33; code 10 is inside the
+ * decoder's toe (10 / 255 <= 0.04045) and decodes to 10 / 255 / 12.92. */
+static void png_srgb_curve_near_black(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(2, 1, &img), LUMIS_OK);
+    const float dark = (float)(10.0 / 255.0 / 12.92);
+    const float v[6] = {0.01f, 0.01f, 0.01f, dark, dark, dark};
+    memcpy(img->pixels, v, sizeof v);
+    assert_int_equal(write_img(tu_path("dark.png"), img, NULL), LUMIS_OK);
+    int w, h, n;
+    unsigned char *px = stbi_load(tu_path("dark.png"), &w, &h, &n, 3);
+    assert_non_null(px);
+    assert_int_equal(px[0], 25);
+    assert_int_equal(px[3], 10);
+    stbi_image_free(px);
+    lumis_image *back = read_ok(tu_path("dark.png"), NULL);
+    if (!(fabsf(back->pixels[3] - dark) < 1e-6f * dark))
+        fail_msg("code 10 decodes to %.9g, want %.9g", back->pixels[3], dark);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
+/* "studio:WxH" and "sky:WxH" make maps of that width and height; a file whose name only
+ * starts like one ("studio_key.pfm") is read as the file. */
+static void map_specs_name_sizes_and_files(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_map_read("studio:64x16", NULL, &img, NULL), LUMIS_OK);
+    assert_int_equal(img->width, 64);
+    assert_int_equal(img->height, 16);
+    lumis_image_destroy(img);
+    assert_int_equal(lumis_map_read("sky:24x6", NULL, &img, NULL), LUMIS_OK);
+    assert_int_equal(img->width, 24);
+    assert_int_equal(img->height, 6);
+    lumis_image_destroy(img);
+    assert_int_equal(lumis_map_read("sky:24", NULL, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+
+    lumis_image *file = sample_image(5, 3);
+    assert_int_equal(write_img(tu_path("studio_key.pfm"), file, NULL), LUMIS_OK);
+    char cwd[4096];
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    assert_int_equal(chdir(tu_tmpdir()), 0);
+    lumis_status st = lumis_map_read("studio_key.pfm", NULL, &img, NULL);
+    assert_int_equal(chdir(cwd), 0);
+    assert_int_equal(st, LUMIS_OK);
+    assert_close(file, img, 0.0, 0.0);
+    lumis_image_destroy(img);
+    lumis_image_destroy(file);
+}
+
+/* A glTF directional light shines along its node's -Z turned by the rotation: the
+ * quaternion must take -Z to -dir (the light comes from dir), for every direction,
+ * the two along Z included. */
+static void gltf_rotation_turns_minus_z_into_minus_dir(void **state)
+{
+    (void)state;
+    static const float dirs[][3] = {{1, 0, 0}, {0, 1, 0},  {0.3f, -0.5f, 0.8f}, {-2, 1, -0.5f},
+                                    {0, 0, 1}, {0, 0, -1}, {0, -1, 0}};
+    for (size_t k = 0; k < sizeof dirs / sizeof dirs[0]; k++) {
+        lumis_vec3 d = {dirs[k][0], dirs[k][1], dirs[k][2]};
+        double q[4];
+        lumis__light_quaternion(d, q);
+        /* v' = v + 2 w (u x v) + 2 u x (u x v), with u = q.xyz and v = (0, 0, -1). */
+        const double v[3] = {0, 0, -1};
+        double uv[3] = {q[1] * v[2] - q[2] * v[1], q[2] * v[0] - q[0] * v[2],
+                        q[0] * v[1] - q[1] * v[0]};
+        double uuv[3] = {q[1] * uv[2] - q[2] * uv[1], q[2] * uv[0] - q[0] * uv[2],
+                         q[0] * uv[1] - q[1] * uv[0]};
+        const double n = sqrt((double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z);
+        const double want[3] = {-d.x / n, -d.y / n, -d.z / n};
+        const double norm = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+        assert_true(fabs(norm - 1.0) < 1e-12);
+        for (int c = 0; c < 3; c++) {
+            const double got = v[c] + 2.0 * q[3] * uv[c] + 2.0 * uuv[c];
+            if (!(fabs(got - want[c]) < 1e-9))
+                fail_msg("dir %zu: -Z turns into component %d = %g, want %g", k, c, got, want[c]);
+        }
+    }
+}
+
+/* An output is an ordinary file, 0644 less the umask, not the 0600 of mkstemp's
+ * temporary file it was renamed from. */
+static void outputs_get_ordinary_permissions(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(2, 2);
+    const char *path = tu_path("mode.pfm");
+    unlink(path);
+    assert_int_equal(write_img(path, img, NULL), LUMIS_OK);
+    const mode_t mask = umask(022);
+    umask(mask);
+    struct stat sb;
+    assert_int_equal(stat(path, &sb), 0);
+    if ((sb.st_mode & 0777) != (0644 & ~mask))
+        fail_msg("output mode %o, want %o", (unsigned)(sb.st_mode & 0777),
+                 (unsigned)(0644 & ~mask));
+    lumis_image_destroy(img);
+}
+
+/* A format asked for wins over the name's extension: "x.png" written as PFM is a PFM. */
+static void explicit_format_wins_over_the_extension(void **state)
+{
+    (void)state;
+    lumis_image *img = sample_image(3, 2);
+    lumis_write_options wo = {0};
+    wo.format = LUMIS_FORMAT_PFM;
+    assert_int_equal(write_img(tu_path("named.png"), img, &wo), LUMIS_OK);
+    size_t n;
+    unsigned char *raw = tu_read_file(tu_path("named.png"), &n);
+    assert_true(n > 3 && raw[0] == 'P' && raw[1] == 'F');
+    free(raw);
+    lumis_read_info info;
+    lumis_image *back = read_ok(tu_path("named.png"), &info);
+    assert_int_equal(info.format, LUMIS_FORMAT_PFM);
+    assert_close(img, back, 0.0, 0.0);
+    lumis_image_destroy(back);
+    lumis_image_destroy(img);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1028,6 +1246,15 @@ int main(void)
         cmocka_unit_test(outputs_to_fifos_links_and_directories),
         cmocka_unit_test(partial_outputs_are_removed_on_request),
         cmocka_unit_test(format_names_and_detection),
+        cmocka_unit_test(hdr_exposures_multiply_and_xyze_converts),
+        cmocka_unit_test(hdr_consecutive_old_style_runs),
+        cmocka_unit_test(hdr_writes_nan_as_black),
+        cmocka_unit_test(exr_half_writes_nan_as_black),
+        cmocka_unit_test(png_srgb_curve_near_black),
+        cmocka_unit_test(map_specs_name_sizes_and_files),
+        cmocka_unit_test(gltf_rotation_turns_minus_z_into_minus_dir),
+        cmocka_unit_test(outputs_get_ordinary_permissions),
+        cmocka_unit_test(explicit_format_wins_over_the_extension),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -9,6 +9,8 @@
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfIO.h>
+#include <cmath>
+
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 #include <ImfTiledOutputFile.h>
@@ -485,11 +487,15 @@ extern "C" lumis_status lumis__exr_write(const char *path, const char *display_n
         Imf::FrameBuffer fb;
         const size_t n = static_cast<size_t>(image->width) * static_cast<size_t>(image->height) * 3;
         if (half) {
-            // Half overflows to infinity above 65504 (a sun disk easily does): clamp instead.
-            // Converting here also serves tiled files, which do not convert pixel types.
+            // Half overflows to infinity above 65504 (a sun disk easily does): clamp instead;
+            // NaN is written as 0, as the HDR writer does (the clamp alone made it 65504, the
+            // brightest half).  Converting here also serves tiled files, which do not convert
+            // pixel types.
             halves = new Imath::half[n];
-            for (size_t k = 0; k < n; k++)
-                halves[k] = Imath::half(image->pixels[k] < 65504.0f ? image->pixels[k] : 65504.0f);
+            for (size_t k = 0; k < n; k++) {
+                const float v = image->pixels[k];
+                halves[k] = Imath::half(v < 65504.0f ? v : std::isnan(v) ? 0.0f : 65504.0f);
+            }
         }
         const size_t elem = half ? sizeof(Imath::half) : sizeof(float);
         const size_t xs = 3 * elem, ys = xs * static_cast<size_t>(image->width);
