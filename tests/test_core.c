@@ -4,6 +4,7 @@
 #include "core/distrib.h"
 #include "core/internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,9 +63,11 @@ static void image_sizes_are_checked_before_allocation(void **state)
     assert_int_equal(lumis_image_create(3, 2, &img), LUMIS_OK);
     for (int k = 0; k < 18; k++) assert_true(img->pixels[k] == 0.0f);
     img->pixels[5] = 2.5f;
+    img->pixels[17] = 7.0f; /* the last value: the clone copies all three channels */
     lumis_image *copy = NULL;
     assert_int_equal(lumis_image_clone(img, &copy), LUMIS_OK);
     assert_true(copy->pixels[5] == 2.5f && copy->pixels != img->pixels);
+    assert_true(copy->pixels[17] == 7.0f);
     lumis_image_destroy(copy);
     lumis_image_destroy(img);
     lumis_image_destroy(NULL);
@@ -87,6 +90,10 @@ static void sanitize_counts_each_kind(void **state)
     float w[] = {NAN};
     lumis_sanitize_floats(w, 1, &r);
     assert_int_equal(r.nan, 2);
+    /* The largest float is a legal (if bright) value, kept as it is. */
+    float big[] = {FLT_MAX};
+    assert_int_equal(lumis_sanitize_floats(big, 1, NULL), 0);
+    assert_true(big[0] == FLT_MAX);
 }
 
 static void pcg32_matches_the_reference_sequence(void **state)
@@ -159,6 +166,27 @@ static void pcg32_floats_and_bounded_are_uniform(void **state)
     assert_true(chi2 < 22.46);
 }
 
+/* A bound of 3 2^30: without Lemire's rejection (or with a single retry) the multiples of 3
+ * take 2 of the 4 preimages of each group, so they would be drawn half the time, not a
+ * third of it. */
+static void pcg32_bounded_rejects_the_biased_slice(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 5, 17);
+    enum { N = 30000 };
+    const uint32_t bound = 3u << 30;
+    int multiples = 0;
+    for (int k = 0; k < N; k++) {
+        uint32_t x = lumis_pcg32_bounded(&rng, bound);
+        assert_true(x < bound);
+        multiples += x % 3 == 0;
+    }
+    /* sigma = sqrt(2/9 / N) = 0.0027; the bias would be 0.042. */
+    const double share = (double)multiples / N;
+    if (!(fabs(share - 1.0 / 3.0) < 0.015)) fail_msg("multiples of 3: share %.4f, want 1/3", share);
+}
+
 /* Every lit entry keeps at least one unit of 2^32: a 1e-12 weight beside a bright one (no
  * test map had an entry under 2^-32 of its table) would otherwise never be drawn, biasing
  * every estimate; the units still sum to the total and follow the weights. */
@@ -172,6 +200,44 @@ static void quantize_keeps_every_lit_entry(void **state)
     assert_true(u[0] >= 1 && u[3] >= 1 && u[2] == 0);
     assert_true(u[0] + u[1] + u[2] + u[3] + u[4] == total);
     assert_true(llabs((long long)u[1] - (long long)(total * 2 / 3)) <= 2);
+    /* Two tiny entries in a row: the second's rounded share lies below what the first's
+     * forced unit already gave, and must not wrap round. */
+    const double t[3] = {1e-12, 1e-12, 1.0};
+    lumis__quantize(t, 3, total, u);
+    assert_true(u[0] == 1 && u[1] == 1);
+    assert_true(u[0] + u[1] + u[2] == total);
+}
+
+/* Weights with dyadic shares, a dark entry in the middle and one at the end: the
+ * probabilities are exact, a u on an entry's start lands in that entry with fraction 0
+ * (the empty entry before it never), and the search finds the same entry with and without
+ * the guide table. */
+static void cdf_samples_and_probabilities_are_exact(void **state)
+{
+    (void)state;
+    const double w[6] = {1, 2, 0, 1, 4, 0};
+    const double cum[7] = {0, 0.125, 0.375, 0.375, 0.5, 1.0, 1.0}; /* share before entry i */
+    for (int guided = 0; guided < 2; guided++) {
+        lumis__cdf c;
+        assert_int_equal(lumis__cdf_build(&c, w, 6, guided), LUMIS_OK);
+        for (uint32_t i = 0; i < 6; i++)
+            if (lumis__cdf_prob(&c, i) != cum[i + 1] - cum[i])
+                fail_msg("guided %d: entry %u has probability %.17g, want %g", guided, i,
+                         lumis__cdf_prob(&c, i), cum[i + 1] - cum[i]);
+        for (int q = 0; q <= 1024; q++) {
+            const double u = q < 1024 ? q / 1024.0 : 0x1.fffffffffffffp-1;
+            uint32_t want = 0;
+            for (uint32_t i = 0; i < 5; i++)
+                if (cum[i] <= u && cum[i + 1] > cum[i]) want = i;
+            const double want_frac = (u - cum[want]) / (cum[want + 1] - cum[want]);
+            double frac = -1.0;
+            const uint32_t got = lumis__cdf_sample(&c, u, &frac);
+            if (got != want || fabs(frac - want_frac) > 1e-9)
+                fail_msg("guided %d, u = %.17g: entry %u at %.17g, want %u at %.17g", guided, u,
+                         got, frac, want, want_frac);
+        }
+        lumis__cdf_free(&c);
+    }
 }
 
 /* The realised probability of each alias entry, from its bins: its own columns' kept
@@ -212,6 +278,29 @@ static void alias_realises_its_weights(void **state)
     }
 }
 
+/* LUMIS_SIMD=avx512 (set by main before the first query) names the best variant, capped at
+ * what the CPU has; forcing a level overrides it until it is released. */
+static void simd_variant_follows_the_environment(void **state)
+{
+    (void)state;
+    const char *want = "baseline";
+#if LUMIS__MULTIVERSION
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f"))
+        want = "avx512";
+    else if (__builtin_cpu_supports("avx2"))
+        want = "avx2";
+#endif
+    const char *got = lumis_simd_variant();
+    if (!got || strcmp(got, want) != 0)
+        fail_msg("LUMIS_SIMD=avx512: variant %s, want %s", got ? got : "(unknown)", want);
+    lumis__simd_force(LUMIS__SIMD_BASELINE);
+    assert_string_equal(lumis_simd_variant(), "baseline");
+    assert_int_equal(lumis__simd_level(), LUMIS__SIMD_BASELINE);
+    lumis__simd_force(-1);
+    assert_string_equal(lumis_simd_variant(), want);
+}
+
 static void radical_inverse_reverses_digits(void **state)
 {
     (void)state;
@@ -237,6 +326,8 @@ static void radical_inverse_reverses_digits(void **state)
 
 int main(void)
 {
+    /* Before anything reads it (the variant is chosen once per process). */
+    setenv("LUMIS_SIMD", "avx512", 1);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(status_names_are_unique_and_total),
         cmocka_unit_test(fail_helper_formats_into_the_sink),
@@ -246,9 +337,12 @@ int main(void)
         cmocka_unit_test(pcg32_advance_jumps_both_ways),
         cmocka_unit_test(pcg32_fill_doubles_matches_successive_draws),
         cmocka_unit_test(pcg32_floats_and_bounded_are_uniform),
+        cmocka_unit_test(pcg32_bounded_rejects_the_biased_slice),
         cmocka_unit_test(radical_inverse_reverses_digits),
         cmocka_unit_test(quantize_keeps_every_lit_entry),
         cmocka_unit_test(alias_realises_its_weights),
+        cmocka_unit_test(cdf_samples_and_probabilities_are_exact),
+        cmocka_unit_test(simd_variant_follows_the_environment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -126,6 +126,40 @@ static void solid_angles_cover_the_sphere(void **state)
     assert_true(lumis_equirect_solid_angle(8, 4, -1) == 0.0);
 }
 
+/* Each channel's power is its own, the map's scale applied (lumis_envmap_power and the
+ * statistics' power_rgb alike), and a texel is the pixel at column i of row j, on a map
+ * whose width and height differ and whose channels differ. */
+static void power_per_channel_and_texels(void **state)
+{
+    (void)state;
+    const int w = 12, h = 5;
+    lumis_image *img = tu_image(w, h, f_index);
+    lumis_envmap *env = make_env(img, 0.0f, 2.0f);
+    double want[3] = {0, 0, 0};
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++)
+            for (int c = 0; c < 3; c++)
+                want[c] += 2.0 * f_index(i, j, c) * lumis_equirect_solid_angle(w, h, j);
+    lumis_rgb p = lumis_envmap_power(env);
+    const float got[3] = {p.r, p.g, p.b};
+    lumis_envmap_stats st;
+    assert_int_equal(lumis_envmap_stats_compute(env, &st), LUMIS_OK);
+    for (int c = 0; c < 3; c++) {
+        if (!(fabs(got[c] - want[c]) < 1e-6 * want[c]))
+            fail_msg("channel %d: power %.9g, want %.9g", c, got[c], want[c]);
+        if (!(fabs(st.power_rgb[c] - want[c]) < 1e-9 * want[c]))
+            fail_msg("channel %d: stats power %.9g, want %.9g", c, st.power_rgb[c], want[c]);
+    }
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            lumis_rgb t = lumis_envmap_texel(env, i, j);
+            assert_true(t.r == 2.0f * f_index(i, j, 0) && t.g == 2.0f * f_index(i, j, 1) &&
+                        t.b == 2.0f * f_index(i, j, 2));
+        }
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
 static void power_is_radiance_times_solid_angle(void **state)
 {
     (void)state;
@@ -331,6 +365,7 @@ int main(void)
         cmocka_unit_test(rotation_turns_the_map_about_y),
         cmocka_unit_test(solid_angles_cover_the_sphere),
         cmocka_unit_test(power_is_radiance_times_solid_angle),
+        cmocka_unit_test(power_per_channel_and_texels),
         cmocka_unit_test(bad_pixels_are_replaced_and_counted),
         cmocka_unit_test(invalid_descriptors_are_refused),
         cmocka_unit_test(stats_of_special_maps),

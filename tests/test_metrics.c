@@ -61,6 +61,24 @@ static void errors_on_linear_values(void **state)
     assert_true(fabs(e.psnr - 10.0 * log10(9.0 / mse2)) < 1e-9);
     lumis_image_destroy(ref);
     lumis_image_destroy(test);
+    /* A black reference against anything else: no peak to compare with, PSNR -infinity
+     * (not the +infinity of identical images). */
+    ref = filled(2, 1, 0.0f, 0.0f, 0.0f);
+    test = filled(2, 1, 1.0f, 1.0f, 1.0f);
+    assert_int_equal(lumis_image_errors(ref, test, NULL, &e), LUMIS_OK);
+    assert_true(e.mse == 1.0 && e.psnr_peak == 0.0);
+    if (!(isinf(e.psnr) && e.psnr < 0)) fail_msg("PSNR of a black reference: %g", e.psnr);
+    lumis_image_destroy(ref);
+    lumis_image_destroy(test);
+    /* An infinite value counts as 0, like NaN: one of six values differs by 1. */
+    ref = filled(2, 1, 1.0f, 1.0f, 1.0f);
+    test = filled(2, 1, 1.0f, 1.0f, 1.0f);
+    test->pixels[0] = INFINITY;
+    assert_int_equal(lumis_image_errors(ref, test, NULL, &e), LUMIS_OK);
+    if (!(fabs(e.mse - 1.0 / 6.0) < 1e-12 && fabs(e.relmse - 1.0 / 1.01 / 6.0) < 1e-12))
+        fail_msg("an infinite pixel: mse %g, relmse %g", e.mse, e.relmse);
+    lumis_image_destroy(ref);
+    lumis_image_destroy(test);
 }
 
 static void lab_delta_e_by_hand(void **state)
@@ -89,6 +107,28 @@ static void lab_delta_e_by_hand(void **state)
     lumis_image *red = filled(2, 2, 1, 0, 0);
     assert_int_equal(lumis_lab_delta_e(red, black, NULL, NULL, &m), LUMIS_OK);
     assert_true(m > 100.0 && m < 200.0);
+    /* sRGB red and blue are L*a*b* (53.2408, 80.0925, 67.2032) and (32.2970, 79.1875,
+     * -107.8602) (D65); blue's b* checks the 200 of b*, red's a* the 500 of a*. */
+    assert_int_equal(lumis_lab_delta_e(red, black, NULL, NULL, &m), LUMIS_OK);
+    double want = sqrt(53.2408 * 53.2408 + 80.0925 * 80.0925 + 67.2032 * 67.2032);
+    if (!(fabs(m - want) < 1e-3)) fail_msg("red against black: %.6f, want %.6f", m, want);
+    lumis_image *blue = filled(2, 2, 0, 0, 1);
+    assert_int_equal(lumis_lab_delta_e(blue, black, NULL, NULL, &m), LUMIS_OK);
+    want = sqrt(32.2970 * 32.2970 + 79.1875 * 79.1875 + 107.8602 * 107.8602);
+    if (!(fabs(m - want) < 1e-3)) fail_msg("blue against black: %.6f, want %.6f", m, want);
+    lumis_image_destroy(blue);
+    /* Dark greys: Y = 0.001 is on the linear toe, L* = 116 (Y / (3 (6/29)^2)) = 903.3 Y;
+     * Y = 0.02 is past (6/29)^3 = 0.008856, on the cube root, though under (6/29)^2. */
+    lumis_image *dark = filled(2, 2, 0.001f, 0.001f, 0.001f);
+    assert_int_equal(lumis_lab_delta_e(dark, black, NULL, NULL, &m), LUMIS_OK);
+    want = (double)0.001f * 116.0 * 841.0 / 108.0;
+    if (!(fabs(m - want) < 1e-6)) fail_msg("grey 0.001: L* %.8f, want %.8f", m, want);
+    lumis_image_destroy(dark);
+    dark = filled(2, 2, 0.02f, 0.02f, 0.02f);
+    assert_int_equal(lumis_lab_delta_e(dark, black, NULL, NULL, &m), LUMIS_OK);
+    want = 116.0 * cbrt((double)0.02f) - 16.0;
+    if (!(fabs(m - want) < 1e-4)) fail_msg("grey 0.02: L* %.8f, want %.8f", m, want);
+    lumis_image_destroy(dark);
     lumis_image_destroy(white);
     lumis_image_destroy(black);
     lumis_image_destroy(grey);

@@ -265,6 +265,81 @@ static void studio_power_is_resolution_independent(void **state)
     assert_int_equal(lumis_studio_create(&d, &img), LUMIS_ERR_INVALID_ARGUMENT);
 }
 
+/* A sun whose centre is h radii above the horizon shows the part of its disk above the
+ * chord: 1 - (acos h - h sqrt(1 - h^2)) / pi of its power (0.838 at 0.15 degrees). */
+static void sun_partly_below_the_horizon(void **state)
+{
+    (void)state;
+    const double elev = 0.15, h = elev * PI / 180.0 / 0.004654;
+    const double visible = 1.0 - (acos(h) - h * sqrt(1.0 - h * h)) / PI;
+    double want[3], pa[3], pb[3];
+    expected_sun_power(elev, 2.5, want);
+    lumis_image *a = sky(512, 256, (float)elev, 0.0f, 0.0f, -1.0f, 0);
+    lumis_image *b = sky(512, 256, (float)elev, 0.0f, 0.0f, -1.0f, 1);
+    power_rgb(a, pa);
+    power_rgb(b, pb);
+    if (!(fabs((pa[1] - pb[1]) - visible * want[1]) < 1e-4 * want[1]))
+        fail_msg("sun at %g degrees: power %.6g, want %.6g (%.4f of the disk)", elev, pa[1] - pb[1],
+                 visible * want[1], visible);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+}
+
+/* At an odd height the middle row straddles the horizon: its upper half is sky, seen at
+ * the middle of that half (the very row of a map twice as high, at half weight), and its
+ * lower half ground (half the ground's radiance). */
+static void odd_heights_split_the_horizon_row(void **state)
+{
+    (void)state;
+    const int w = 64;
+    lumis_image *lit = sky(w, 33, 30.0f, 0.0f, 3.0f, 0.3f, 1);
+    lumis_image *bare = sky(w, 33, 30.0f, 0.0f, 3.0f, -1.0f, 1); /* albedo 0: no ground */
+    lumis_image *fine = sky(w, 66, 30.0f, 0.0f, 3.0f, -1.0f, 1);
+    for (int i = 0; i < w; i++)
+        for (int c = 0; c < 3; c++) {
+            const float sky_half = bare->pixels[3 * (16 * w + i) + c];
+            const float sky_fine = fine->pixels[3 * (32 * w + i) + c];
+            if (!(fabsf(sky_half - 0.5f * sky_fine) <= 1e-5f * sky_fine))
+                fail_msg("column %d: the horizon row's sky %g, want half of %g", i, sky_half,
+                         sky_fine);
+            const float ground_half = lit->pixels[3 * (16 * w + i) + c] - sky_half;
+            const float ground = lit->pixels[3 * (32 * w + i) + c];
+            if (!(fabsf(ground_half - 0.5f * ground) <= 1e-4f * ground))
+                fail_msg("column %d: the horizon row's ground %g, want half of %g", i, ground_half,
+                         ground);
+        }
+    lumis_image_destroy(lit);
+    lumis_image_destroy(bare);
+    lumis_image_destroy(fine);
+}
+
+/* Known pixels of the studio at one pixel per degree: inside the key light (azimuth 20..50,
+ * elevation 15..45) the wall plus intensity x (40, 38, 35); the bottom row is floor, the
+ * top row wall. */
+static void studio_pixels_by_hand(void **state)
+{
+    (void)state;
+    static const double wall[3] = {0.02, 0.02, 0.021}, floor_[3] = {0.035, 0.033, 0.03},
+                        key[3] = {40.0, 38.0, 35.0};
+    for (int k = 1; k <= 2; k++) {
+        lumis_studio_desc d = {0};
+        d.width = 360;
+        d.height = 180;
+        d.intensity = (float)k;
+        lumis_image *img = NULL;
+        assert_int_equal(lumis_studio_create(&d, &img), LUMIS_OK);
+        const float *in_key = img->pixels + 3 * (60 * 360 + 30); /* elevation 29..30 */
+        const float *top = img->pixels + 3 * 5, *bottom = img->pixels + 3 * (179 * 360 + 5);
+        for (int c = 0; c < 3; c++) {
+            const double want = wall[c] + k * key[c];
+            if (!(fabs(in_key[c] - want) < 1e-5 * want))
+                fail_msg("intensity %d: key light channel %d = %g, want %g", k, c, in_key[c], want);
+            assert_true(fabs(top[c] - wall[c]) < 1e-7 && fabs(bottom[c] - floor_[c]) < 1e-7);
+        }
+        lumis_image_destroy(img);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -276,6 +351,9 @@ int main(void)
         cmocka_unit_test(sky_rejects_parameters_outside_the_model),
         cmocka_unit_test(studio_power_is_resolution_independent),
         cmocka_unit_test(zero_descriptor_is_the_default_sky),
+        cmocka_unit_test(sun_partly_below_the_horizon),
+        cmocka_unit_test(odd_heights_split_the_horizon_row),
+        cmocka_unit_test(studio_pixels_by_hand),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

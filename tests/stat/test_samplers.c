@@ -614,6 +614,116 @@ static void invalid_descriptors(void **state)
     lumis_image_destroy(img);
 }
 
+/* The pdf of an exact method is the importance it was asked for over its total, per
+ * steradian: pdf(pixel) / value(pixel) is the same for every pixel, with the value the
+ * luminance, the channels' mean or their maximum (f_colour has every channel the largest
+ * somewhere). */
+static void importance_kinds_weight_the_channels(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(24, 12, f_colour);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    static const lumis_importance kinds[] = {LUMIS_IMPORTANCE_LUMINANCE, LUMIS_IMPORTANCE_AVERAGE,
+                                             LUMIS_IMPORTANCE_MAX_CHANNEL};
+    for (int k = 0; k < 3; k++) {
+        lumis_sampler_desc d = {0};
+        d.method = LUMIS_METHOD_INVERSION;
+        d.importance = kinds[k];
+        lumis_sampler *s = NULL;
+        assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+        double ratio0 = 0.0;
+        for (int j = 0; j < 12; j++)
+            for (int i = 0; i < 24; i++) {
+                const float *p = img->pixels + 3 * (j * 24 + i);
+                double v = k == 0   ? 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+                           : k == 1 ? (p[0] + p[1] + p[2]) / 3.0
+                                    : fmax(fmax(p[0], p[1]), p[2]);
+                double ratio = lumis_sampler_pdf(s, cell_dir(env, i, j, 1, 0, 0)) / v;
+                if (i == 0 && j == 0) ratio0 = ratio;
+                if (!(fabs(ratio / ratio0 - 1.0) < 1e-5))
+                    fail_msg("importance %d, pixel (%d, %d): pdf / value %.9g, pixel 0 %.9g", k, i,
+                             j, ratio, ratio0);
+            }
+        lumis_sampler_destroy(s);
+    }
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
+static int bright_a_i = 3, bright_a_j = 2, bright_b_i = 9, bright_b_j = 5;
+static float f_two_bright(int i, int j, int c)
+{
+    (void)c;
+    if (i == bright_a_i && j == bright_a_j) return 10.0f;
+    if (i == bright_b_i && j == bright_b_j) return 20.0f;
+    return 1.0f;
+}
+
+/* MIS compensation (Karlik et al. 2019) subtracts the mean over the sphere,
+ * mean = sum(v Omega) / 4 pi: on a grey map of 1 with pixels of 10 and 20 only those two
+ * keep importance, in the ratio (10 - mean) / (20 - mean) per steradian. */
+static void compensation_subtracts_the_mean_over_the_sphere(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(16, 8, f_two_bright);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    const double oa = lumis_equirect_solid_angle(16, 8, bright_a_j),
+                 ob = lumis_equirect_solid_angle(16, 8, bright_b_j);
+    const double mean = 1.0 + (9.0 * oa + 19.0 * ob) / (4.0 * PI);
+    static const lumis_sampler_method methods[] = {LUMIS_METHOD_ALIAS, LUMIS_METHOD_INVERSION};
+    for (int m = 0; m < 2; m++) {
+        lumis_sampler_desc d = {0};
+        d.method = methods[m];
+        d.compensate = 1;
+        lumis_sampler *s = NULL;
+        assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+        const double pa = lumis_sampler_pdf(s, cell_dir(env, bright_a_i, bright_a_j, 1, 0, 0));
+        const double pb = lumis_sampler_pdf(s, cell_dir(env, bright_b_i, bright_b_j, 1, 0, 0));
+        const double want_pa = (10.0 - mean) / ((10.0 - mean) * oa + (20.0 - mean) * ob);
+        if (!(fabs(pa / pb - (10.0 - mean) / (20.0 - mean)) < 1e-6 &&
+              fabs(pa / want_pa - 1.0) < 1e-6))
+            fail_msg("%s: pdfs %.9g and %.9g, want %.9g in the ratio %.9g",
+                     lumis_sampler_method_name(methods[m]), pa, pb, want_pa,
+                     (10.0 - mean) / (20.0 - mean));
+        assert_true(lumis_sampler_pdf(s, cell_dir(env, 0, 0, 1, 0, 0)) == 0.0f);
+        lumis_sampler_destroy(s);
+    }
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
+/* What the tables take, counted by hand for a 20 x 10 map lit everywhere: inversion has
+ * a 4-byte CDF entry per pixel and per row, the guided variant a guide of n + 1 entries
+ * beside each CDF; alias has a 16-byte bin per pixel. */
+static void table_bytes_count_every_table(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(20, 10, f_grad);
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_from_image(img, &env), LUMIS_OK);
+    static const struct {
+        lumis_sampler_method method;
+        size_t bytes;
+    } want[] = {{LUMIS_METHOD_INVERSION, 4 * (10 + 10 * 20)},
+                {LUMIS_METHOD_INVERSION_GUIDED, 4 * (10 + 11 + 10 * (20 + 21))},
+                {LUMIS_METHOD_ALIAS, 16 * 200}};
+    for (int k = 0; k < 3; k++) {
+        lumis_sampler_desc d = {0};
+        d.method = want[k].method;
+        lumis_sampler *s = NULL;
+        assert_int_equal(lumis_sampler_create(env, &d, &s), LUMIS_OK);
+        if (lumis_sampler_table_bytes(s) != want[k].bytes)
+            fail_msg("%s: %zu table bytes, want %zu", lumis_sampler_method_name(want[k].method),
+                     lumis_sampler_table_bytes(s), want[k].bytes);
+        assert_true(lumis_sampler_total_bytes(s) > lumis_sampler_table_bytes(s));
+        lumis_sampler_destroy(s);
+    }
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+}
+
 /* The alias table realises exactly the pmf it stores, at 2^21 entries: every column's
  * threshold and alias are summed back into probabilities. */
 static void alias_is_exact_at_2048x1024(void **state)
@@ -880,6 +990,9 @@ int main(void)
         cmocka_unit_test(sampler_keeps_its_map_alive),
         cmocka_unit_test(invalid_descriptors),
         cmocka_unit_test(alias_is_exact_at_2048x1024),
+        cmocka_unit_test(importance_kinds_weight_the_channels),
+        cmocka_unit_test(compensation_subtracts_the_mean_over_the_sphere),
+        cmocka_unit_test(table_bytes_count_every_table),
         cmocka_unit_test(kdtree_blocks_partition_the_map),
         cmocka_unit_test(kdtree_split_is_the_brute_force_optimum),
         cmocka_unit_test(kdtree_alpha_minimises_the_objective),
