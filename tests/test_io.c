@@ -1069,6 +1069,27 @@ static void hdr_writes_nan_as_black(void **state)
     lumis_image_destroy(img);
 }
 
+/* A grey EXR (one Y channel; tests/data/grey-y.exr, 3 x 2, uncompressed float: 1 2 3 / 4 5
+ * 0.25) reads as Y in every channel (it read as (0, 0, Y): blue only). */
+static void exr_grey_reads_into_every_channel(void **state)
+{
+    (void)state;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/tests/data/grey-y.exr", LUMIS_SOURCE_DIR);
+    lumis_image *img = NULL;
+    lumis_read_info info;
+    assert_int_equal(lumis_image_read(path, NULL, &img, &info), LUMIS_OK);
+    assert_true(info.grey);
+    assert_int_equal(img->width, 3);
+    assert_int_equal(img->height, 2);
+    const float y[6] = {1, 2, 3, 4, 5, 0.25f};
+    for (int k = 0; k < 6; k++)
+        for (int c = 0; c < 3; c++)
+            if (img->pixels[3 * k + c] != y[k])
+                fail_msg("pixel %d channel %d: %g, not %g", k, c, img->pixels[3 * k + c], y[k]);
+    lumis_image_destroy(img);
+}
+
 /* The half-float EXR writer clamps what half cannot hold to 65504 and writes NaN as 0 (the
  * clamp alone wrote NaN as 65504, the brightest half value). */
 static void exr_half_writes_nan_as_black(void **state)
@@ -1250,6 +1271,7 @@ int main(void)
         cmocka_unit_test(hdr_consecutive_old_style_runs),
         cmocka_unit_test(hdr_writes_nan_as_black),
         cmocka_unit_test(exr_half_writes_nan_as_black),
+        cmocka_unit_test(exr_grey_reads_into_every_channel),
         cmocka_unit_test(png_srgb_curve_near_black),
         cmocka_unit_test(map_specs_name_sizes_and_files),
         cmocka_unit_test(gltf_rotation_turns_minus_z_into_minus_dir),

@@ -396,12 +396,19 @@ lumis_status read_stream(CheckedIStream &in, const lumis__read_ctx *ctx, lumis_i
                                static_cast<uintptr_t>(static_cast<intptr_t>(dw.min.y)) * ys;
         Imf::FrameBuffer fb;
         static const char *const names[3] = {"R", "G", "B"};
-        for (int c = 0; c < 3; c++)
+        // A grey file's Y goes to R and is copied to G and B below: a frame buffer holds one
+        // slice per name (inserting Y three times kept only the last, blue).
+        for (int c = 0; c < (grey ? 1 : 3); c++)
             fb.insert(
                 grey ? "Y" : names[c],
                 Imf::Slice(Imf::FLOAT, reinterpret_cast<char *>(base + c * sizeof(float)), xs, ys));
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
+        if (grey) {
+            float *px = (*out)->pixels;
+            const size_t count = static_cast<size_t>(w) * static_cast<size_t>(h);
+            for (size_t k = 0; k < count; k++) px[3 * k + 1] = px[3 * k + 2] = px[3 * k];
+        }
         return LUMIS_OK;
     } catch (const std::bad_alloc &) {
         return fail(err, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", ctx->name);
