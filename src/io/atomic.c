@@ -9,7 +9,9 @@
 
 #include <errno.h>
 #include <limits.h>
+#include <signal.h>
 #include <stdatomic.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -45,10 +47,138 @@ void lumis__atomic_untrack(const char *tmp)
         }
 }
 
+/* Staging folders of luminaire images (luminaire_file.c): the folder and its grid, so that
+ * the handler can name every image it may hold (aNNN_bNNN.EXT) without reading the folder
+ * (opendir is not async-signal-safe). */
+enum { STAGE_SLOTS = 4 };
+static _Atomic int stage_state[STAGE_SLOTS];
+static char stage_path[STAGE_SLOTS][TRACK_PATH];
+static int stage_grid[STAGE_SLOTS][2];
+static char stage_ext[STAGE_SLOTS][8];
+
+void lumis__atomic_track_stage(const char *dir, int gw, int gh, const char *ext)
+{
+    if (strlen(dir) + 20 >= TRACK_PATH || strlen(ext) >= sizeof stage_ext[0]) return;
+    for (int k = 0; k < STAGE_SLOTS; k++) {
+        int expected = 0;
+        if (atomic_compare_exchange_strong(&stage_state[k], &expected, 1)) {
+            memcpy(stage_path[k], dir, strlen(dir) + 1);
+            stage_grid[k][0] = gw;
+            stage_grid[k][1] = gh;
+            memcpy(stage_ext[k], ext, strlen(ext) + 1);
+            atomic_store(&stage_state[k], 2);
+            return;
+        }
+    }
+}
+
+void lumis__atomic_untrack_stage(const char *dir)
+{
+    for (int k = 0; k < STAGE_SLOTS; k++)
+        if (atomic_load(&stage_state[k]) == 2 && strcmp(stage_path[k], dir) == 0) {
+            atomic_store(&stage_state[k], 0);
+            return;
+        }
+}
+
+/* "/a%03d_b%03d." without snprintf (not async-signal-safe). */
+static char *put3(char *p, int v)
+{
+    p[0] = (char)('0' + v / 100 % 10);
+    p[1] = (char)('0' + v / 10 % 10);
+    p[2] = (char)('0' + v % 10);
+    return p + 3;
+}
+
 void lumis_io_remove_partial_outputs(void)
 {
     for (int k = 0; k < TRACK_SLOTS; k++)
         if (atomic_load(&track_state[k]) == 2) unlink(track_path[k]);
+    for (int k = 0; k < STAGE_SLOTS; k++) {
+        if (atomic_load(&stage_state[k]) != 2) continue;
+        char name[TRACK_PATH + 32];
+        const size_t n = strlen(stage_path[k]);
+        memcpy(name, stage_path[k], n);
+        for (int b = 0; b < stage_grid[k][1] && b < 1000; b++)
+            for (int a = 0; a < stage_grid[k][0] && a < 1000; a++) {
+                char *p = name + n;
+                *p++ = '/';
+                *p++ = 'a';
+                p = put3(p, a);
+                *p++ = '_';
+                *p++ = 'b';
+                p = put3(p, b);
+                *p++ = '.';
+                const size_t e = strlen(stage_ext[k]);
+                memcpy(p, stage_ext[k], e + 1);
+                unlink(name);
+            }
+        rmdir(stage_path[k]);
+    }
+}
+
+void lumis__signals_block(sigset_t *was)
+{
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGQUIT);
+    pthread_sigmask(SIG_BLOCK, &set, was);
+}
+
+void lumis__signals_restore(const sigset_t *was)
+{
+    pthread_sigmask(SIG_SETMASK, was, NULL);
+}
+
+/* A descriptor named as a path: /dev/stdout, /dev/stderr, /dev/fd/N, /proc/self/fd/N; else
+ * -1.  Opening such a path anew would truncate what the descriptor writes to (a log that
+ * `>>` appends to), and renaming over it would replace that file. */
+static int fd_of_path(const char *p)
+{
+    if (strcmp(p, "/dev/stdout") == 0) return STDOUT_FILENO;
+    if (strcmp(p, "/dev/stderr") == 0) return STDERR_FILENO;
+    const char *n = strncmp(p, "/dev/fd/", 8) == 0          ? p + 8
+                    : strncmp(p, "/proc/self/fd/", 14) == 0 ? p + 14
+                                                            : NULL;
+    if (!n || !*n) return -1;
+    char *end = NULL;
+    const long fd = strtol(n, &end, 10);
+    return *end == '\0' && fd >= 0 && fd < INT_MAX ? (int)fd : -1;
+}
+
+/* Follows path's chain of symbolic links by their text (a dangling link included: its
+ * target is where the output goes), at most 40 links.  Returns the last path of the chain
+ * (malloc'ed; NULL when out of memory) and in *fd a descriptor the chain names, or -1. */
+char *lumis__follow_links(const char *path, int *fd)
+{
+    char *cur = malloc(strlen(path) + 1);
+    if (!cur) return NULL;
+    strcpy(cur, path);
+    *fd = fd_of_path(cur);
+    for (int hop = 0; hop < 40 && *fd < 0; hop++) {
+        struct stat lb;
+        if (lstat(cur, &lb) != 0 || !S_ISLNK(lb.st_mode)) break;
+        char link[PATH_MAX];
+        const ssize_t n = readlink(cur, link, sizeof link - 1);
+        if (n <= 0) break;
+        link[n] = '\0';
+        const char *slash = strrchr(cur, '/');
+        const size_t dir = link[0] == '/' || !slash ? 0 : (size_t)(slash - cur) + 1;
+        char *next = malloc(dir + (size_t)n + 1);
+        if (!next) {
+            free(cur);
+            return NULL;
+        }
+        memcpy(next, cur, dir);
+        memcpy(next + dir, link, (size_t)n + 1);
+        free(cur);
+        cur = next;
+        *fd = fd_of_path(cur);
+    }
+    return cur;
 }
 
 lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
@@ -61,13 +191,40 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     af->target = NULL;
     if (!path || !*path)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no output path given");
+    int fd = -1;
+    af->target = lumis__follow_links(path, &fd);
+    if (!af->target) return LUMIS_ERR_OUT_OF_MEMORY;
+    if (fd >= 0) { /* a descriptor by name: written where it stands, not reopened */
+        const int dup_fd = dup(fd);
+        af->f = dup_fd >= 0 ? fdopen(dup_fd, "wb") : NULL;
+        if (!af->f) {
+            const int e = errno;
+            if (dup_fd >= 0) close(dup_fd);
+            free(af->target);
+            af->target = NULL;
+            return lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot write: %s", path, strerror(e));
+        }
+        af->tmp_path = af->target; /* owned by tmp_path from here */
+        af->target = NULL;
+        af->in_place = 1;
+        return LUMIS_OK;
+    }
+    if (strcmp(af->target, path) == 0) { /* not a link */
+        free(af->target);
+        af->target = NULL;
+    }
     struct stat sb;
     const int exists = stat(path, &sb) == 0;
-    if (exists && S_ISDIR(sb.st_mode))
+    if (exists && S_ISDIR(sb.st_mode)) {
+        free(af->target);
+        af->target = NULL;
         return lumis__fail(errors, LUMIS_ERR_WRITE, "%s: is a directory", path);
+    }
     if (exists && !S_ISREG(sb.st_mode)) {
         /* A device or a FIFO: written where it is, never renamed over (as root, rename
          * would replace /dev/null with a regular file). */
+        free(af->target);
+        af->target = NULL;
         af->tmp_path = malloc(strlen(path) + 1);
         if (!af->tmp_path) return LUMIS_ERR_OUT_OF_MEMORY;
         strcpy(af->tmp_path, path);
@@ -81,13 +238,9 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
         }
         return LUMIS_OK;
     }
-    struct stat lb;
-    if (lstat(path, &lb) == 0 && S_ISLNK(lb.st_mode)) {
-        /* A link to a regular file: the file is replaced beside itself; renaming over the
-         * link would turn the link into a file and leave its target unchanged. */
-        af->target = realpath(path, NULL);
-        if (af->target) path = af->target;
-    }
+    /* A link (to a file, or dangling): its target is written, beside itself; renaming over
+     * the link would turn the link into a file and leave its target unchanged. */
+    if (af->target) path = af->target;
     const char *slash = strrchr(path, '/');
     size_t dir_len = slash ? (size_t)(slash - path) + 1 : 0;
     size_t len = strlen(path);
@@ -102,7 +255,13 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     af->tmp_path[dir_len] = '.';
     memcpy(af->tmp_path + dir_len + 1, path + dir_len, len - dir_len);
     memcpy(af->tmp_path + len + 1, ".XXXXXX", 8);
-    int fd = mkstemp(af->tmp_path);
+    /* No signal between creating the file and registering it: the handler must see it. */
+    sigset_t all, was;
+    sigfillset(&all);
+    const int masked = pthread_sigmask(SIG_BLOCK, &all, &was) == 0;
+    fd = mkstemp(af->tmp_path);
+    if (fd >= 0) lumis__atomic_track(af->tmp_path);
+    if (masked) pthread_sigmask(SIG_SETMASK, &was, NULL);
     if (fd < 0) {
         int e = errno;
         free(af->tmp_path);
@@ -112,7 +271,6 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
         return lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create a file there: %s", af->path,
                            strerror(e));
     }
-    lumis__atomic_track(af->tmp_path);
     /* mkstemp makes the file private (0600); an image is an ordinary output. */
     (void)fchmod(fd, 0644);
     af->f = fdopen(fd, "wb");

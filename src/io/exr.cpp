@@ -463,6 +463,35 @@ const Imf::Compression compressions[LUMIS_EXR_COMPRESSION_COUNT] = {
     Imf::PIZ_COMPRESSION,  Imf::PXR24_COMPRESSION, Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION,
     Imf::DWAA_COMPRESSION, Imf::DWAB_COMPRESSION};
 
+// OpenEXR writes through our stream, so that every error (a full disk at the last flush
+// included) reaches the atomic writer, which checks the stream when it closes it; OpenEXR
+// writing by name lost the error of its own stream's close, and an empty file replaced the
+// output with success.
+class FileOStream final : public Imf::OStream
+{
+  public:
+    FileOStream(FILE *f, const char *name) : Imf::OStream(name), f_(f) {}
+    void write(const char c[], int n) override
+    {
+        if (n > 0 && fwrite(c, 1, static_cast<size_t>(n), f_) != static_cast<size_t>(n))
+            throw std::runtime_error(std::string("write failed: ") + std::strerror(errno));
+    }
+    uint64_t tellp() override
+    {
+        const off_t at = ftello(f_);
+        if (at < 0) throw std::runtime_error(std::string("tell failed: ") + std::strerror(errno));
+        return static_cast<uint64_t>(at);
+    }
+    void seekp(uint64_t pos) override
+    {
+        if (fseeko(f_, static_cast<off_t>(pos), SEEK_SET) != 0)
+            throw std::runtime_error(std::string("seek failed: ") + std::strerror(errno));
+    }
+
+  private:
+    FILE *f_;
+};
+
 template <class File> void write_pixels(File &file, const Imf::FrameBuffer &fb, int height)
 {
     file.setFrameBuffer(fb);
@@ -474,7 +503,7 @@ template <class File> void write_pixels(File &file, const Imf::FrameBuffer &fb, 
 
 } // namespace
 
-extern "C" lumis_status lumis__exr_write(const char *path, const char *display_name,
+extern "C" lumis_status lumis__exr_write(FILE *out, const char *display_name,
                                          const lumis_image *image,
                                          const lumis_write_options *options)
 {
@@ -512,10 +541,12 @@ extern "C" lumis_status lumis__exr_write(const char *path, const char *display_n
             fb.insert(names[c], Imf::Slice(type, base + static_cast<size_t>(c) * elem, xs, ys));
         // Written in the caller's thread (0): writing is rare and needs no pool.
         if (options->exr_tile_size > 0) {
-            Imf::TiledOutputFile file(path, hdr, 0);
+            FileOStream os(out, display_name);
+            Imf::TiledOutputFile file(os, hdr, 0);
             write_pixels(file, fb, image->height);
         } else {
-            Imf::OutputFile file(path, hdr, 0);
+            FileOStream os(out, display_name);
+            Imf::OutputFile file(os, hdr, 0);
             write_pixels(file, fb, image->height);
         }
         delete[] halves;

@@ -195,10 +195,7 @@ lumis_status lumis_image_write(const char *path, const lumis_image *image,
     if (st != LUMIS_OK) return st;
     switch (format) {
     case LUMIS_FORMAT_EXR:
-        /* OpenEXR writes by name: close our stream and let it overwrite the temp file. */
-        fclose(af.f);
-        af.f = NULL;
-        st = lumis__exr_write(af.tmp_path, path, image, options);
+        st = lumis__exr_write(af.f, path, image, options);
         break;
     case LUMIS_FORMAT_HDR:
         st = lumis__hdr_write(af.f, image);

@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <signal.h>
 #include <stdio.h>
 
 #ifdef __cplusplus
@@ -38,9 +39,10 @@ lumis_status lumis__hdr_write(FILE *f, const lumis_image *image);
 lumis_status lumis__pfm_write(FILE *f, const lumis_image *image, int big_endian);
 lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_ev,
                               lumis_tonemap tonemap);
-/* Writes an EXR file at path (half: channels as half, values clamped to 65504) with the
- * options' compression and tiling; messages name display_name. */
-lumis_status lumis__exr_write(const char *path, const char *display_name, const lumis_image *image,
+/* Writes an EXR file to out from its position (half: channels as half, values clamped to
+ * 65504) with the options' compression and tiling; messages name display_name.  Errors of
+ * the last flush show at the caller's fclose. */
+lumis_status lumis__exr_write(FILE *out, const char *display_name, const lumis_image *image,
                               const lumis_write_options *options);
 
 /* An output written under a temporary name in the destination's folder and renamed over
@@ -58,6 +60,18 @@ typedef struct lumis__atomic_file {
 
 lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
                                  const lumis_error_sink *errors);
+/* The end of path's chain of symbolic links, by their text (a dangling link's target is
+ * where a write through it goes); *fd a descriptor the chain names (/dev/stdout,
+ * /proc/self/fd/N ...) or -1.  malloc'ed; NULL when out of memory. */
+char *lumis__follow_links(const char *path, int *fd);
+/* Registers / forgets a staging folder of luminaire images (gw x gh images aNNN_bNNN.ext)
+ * for lumis_io_remove_partial_outputs. */
+void lumis__atomic_track_stage(const char *dir, int gw, int gh, const char *ext);
+void lumis__atomic_untrack_stage(const char *dir);
+/* Holds back SIGINT, SIGTERM, SIGHUP and SIGQUIT (in this thread) over a few renames that
+ * must all happen or none; restore delivers what arrived. */
+void lumis__signals_block(sigset_t *was);
+void lumis__signals_restore(const sigset_t *was);
 /* Registers / forgets a temporary file for lumis_io_remove_partial_outputs. */
 void lumis__atomic_track(const char *tmp);
 void lumis__atomic_untrack(const char *tmp);
