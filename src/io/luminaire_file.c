@@ -641,9 +641,11 @@ static char *manifest_text(const lumis_luminaire_desc *d, const char *units, cha
     return b.s;
 }
 
-/* Removes a luminaire image folder this module made: its images (aNNN_bNNN.exr or .pfm) and,
- * if nothing else is left in it, the folder. */
-static void remove_images(const char *folder)
+/* Removes a luminaire image folder this module made: its images (aNNN_bNNN.exr or .pfm),
+ * then moves anything else it holds into keep (when given, and where keep has no entry of
+ * that name: a user's notes beside the images stay beside them), and removes the folder if
+ * it is then empty. */
+static void remove_images(const char *folder, const char *keep)
 {
     DIR *dp = opendir(folder);
     if (!dp) return;
@@ -651,20 +653,36 @@ static void remove_images(const char *folder)
     char path[4096];
     struct dirent *e;
     while ((e = readdir(dp)) != NULL) {
-        unsigned a, b;
-        char ext[8], tail;
-        if (sscanf(e->d_name, "a%3u_b%3u.%7s%c", &a, &b, ext, &tail) != 3) continue;
-        if (strcmp(ext, "exr") != 0 && strcmp(ext, "pfm") != 0) continue;
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0) continue;
         if (n + strlen(e->d_name) + 2 > sizeof path) continue;
         snprintf(path, sizeof path, "%s/%s", folder, e->d_name);
-        unlink(path);
+        unsigned a, b;
+        char ext[8], tail;
+        if (sscanf(e->d_name, "a%3u_b%3u.%7s%c", &a, &b, ext, &tail) == 3 &&
+            (strcmp(ext, "exr") == 0 || strcmp(ext, "pfm") == 0)) {
+            unlink(path);
+            continue;
+        }
+        const size_t kl = keep ? strlen(keep) : 0, el = strlen(e->d_name);
+        char *there = keep ? malloc(kl + el + 2) : NULL;
+        struct stat sb;
+        if (there) {
+            memcpy(there, keep, kl);
+            there[kl] = '/';
+            memcpy(there + kl + 1, e->d_name, el + 1);
+            if (lstat(there, &sb) != 0) (void)rename(path, there);
+            free(there);
+        }
     }
     closedir(dp);
     rmdir(folder);
 }
 
-lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
-                                   const lumis_luminaire_write_options *options)
+/* lumis_luminaire_write at `where` (manifest_path with its links followed), messages naming
+ * manifest_path. */
+static lumis_status write_luminaire(const char *manifest_path, const char *where,
+                                    const struct lumis_luminaire *lum,
+                                    const lumis_luminaire_write_options *options)
 {
     static const lumis_luminaire_write_options zero_options;
     if (!options) options = &zero_options;
@@ -683,8 +701,8 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
     if (!units_ok(units))
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "%s: units: expected 1..31 printable bytes", manifest_path);
-    const char *base = strrchr(manifest_path, '/');
-    base = base ? base + 1 : manifest_path;
+    const char *base = strrchr(where, '/');
+    base = base ? base + 1 : where;
     if (!*base || strcmp(base, ".") == 0 || strcmp(base, "..") == 0)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "%s: the manifest path names a folder, not a file", manifest_path);
@@ -713,7 +731,7 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
      * step puts the old folder back, so the old manifest and images stay a pair.  (A crash
      * between the swap and the manifest leaves the old manifest with the new images, which
      * the manifest's pixel digest refuses on load, and a staging or old folder beside.) */
-    char *dir = dir_of(manifest_path);
+    char *dir = dir_of(where);
     const size_t dlen = dir ? strlen(dir) : 0;
     const size_t flen = dlen + stem + sizeof IMAGES_SUFFIX; /* with its NUL */
     char *folder = malloc(flen), *stage = malloc(flen + 16), *old = malloc(flen + 16);
@@ -722,7 +740,8 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
     float *flipped = malloc((size_t)d.width * (size_t)d.height * 3 * sizeof(float));
     char **names = calloc((size_t)M, sizeof *names);
     lumis_status st = LUMIS_OK;
-    int staged = 0, moved_old = 0, swapped = 0;
+    int staged = 0, moved_old = 0, swapped = 0, blocked = 0;
+    sigset_t was;
     if (!dir || !folder || !stage || !old || !path || !flipped || !names) {
         st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
         goto done;
@@ -736,9 +755,14 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
         goto done;
     }
     snprintf(stage, flen + 16, "%s.new-XXXXXX", folder);
-    if (!mkdtemp(stage)) {
+    lumis__signals_block(&was); /* made and registered for removal on an interrupt, at once */
+    const int made = mkdtemp(stage) != NULL;
+    const int made_errno = errno;
+    if (made) lumis__atomic_track_stage(stage, d.grid[0], d.grid[1], ext);
+    lumis__signals_restore(&was);
+    if (!made) {
         st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create the image folder %s: %s",
-                         manifest_path, stage, strerror(errno));
+                         manifest_path, stage, strerror(made_errno));
         goto done;
     }
     staged = 1;
@@ -772,12 +796,16 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
         st = lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
         goto done;
     }
+    /* From here to the end all or nothing: an interrupt waits until the manifest and its
+     * folder are a pair again (the new one, or the old one put back). */
+    lumis__signals_block(&was);
+    blocked = 1;
     if (exists) { /* the old folder steps aside (rename onto an empty folder of our own) */
         snprintf(old, flen + 16, "%s.old-XXXXXX", folder);
-        const int made = mkdtemp(old) != NULL;
-        if (!made || rename(folder, old) != 0) {
+        const int aside = mkdtemp(old) != NULL;
+        if (!aside || rename(folder, old) != 0) {
             const int e = errno;
-            if (made) rmdir(old);
+            if (aside) rmdir(old);
             st = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot move the old images aside: %s",
                              manifest_path, strerror(e));
             goto done;
@@ -790,15 +818,17 @@ lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis
         goto done;
     }
     swapped = 1;
-    st = lumis_write_text(manifest_path, text, len, errors);
+    st = lumis_write_text(where, text, len, errors);
 done:
     if (st != LUMIS_OK) {
         /* Take back what this call made; the old luminaire goes back where it was. */
         if (swapped && rename(folder, stage) != 0) staged = 0; /* cannot: leave it */
         if (moved_old && rename(old, folder) == 0) moved_old = 0;
-        if (staged) remove_images(stage);
+        if (staged) remove_images(stage, NULL);
     }
-    if (st == LUMIS_OK && moved_old) remove_images(old);
+    if (st == LUMIS_OK && moved_old) remove_images(old, folder); /* other files move along */
+    if (staged) lumis__atomic_untrack_stage(stage);
+    if (blocked) lumis__signals_restore(&was);
     if (names)
         for (int m = 0; m < M; m++) free(names[m]);
     free(names);
@@ -809,5 +839,26 @@ done:
     free(folder);
     free(dir);
     free(text);
+    return st;
+}
+
+lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
+                                   const lumis_luminaire_write_options *options)
+{
+    const lumis_error_sink *errors = options ? &options->errors : NULL;
+    if (!manifest_path || !*manifest_path)
+        return write_luminaire(manifest_path, manifest_path, lum, options);
+    /* Through a link, the images go beside the manifest the link names (beside the link,
+     * that manifest would name images that are not there). */
+    int fd = -1;
+    char *where = lumis__follow_links(manifest_path, &fd);
+    if (!where)
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
+    lumis_status st =
+        fd >= 0 ? lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                              "%s: a luminaire manifest is a file beside its images, not a stream",
+                              manifest_path)
+                : write_luminaire(manifest_path, where, lum, options);
+    free(where);
     return st;
 }
