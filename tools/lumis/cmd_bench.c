@@ -7,8 +7,10 @@
  * This file holds the options and the top-level flow; the parts live in bench_suite.c
  * (the suite file), bench_keys.c (items and cache keys), bench_run.c (rendering),
  * bench_tables.c, bench_svg.c and bench_html.c (the report) and bench_merge.c. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "bench.h"
 
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -40,6 +42,18 @@ static int check_out(const char *out, const char *suite_path)
         return tool_usage_error("bench", "--out %s is the suite file; name a folder", out);
     struct stat sb;
     if (stat(out, &sb) != 0) return EXIT_OK; /* made below, parents too */
+    /* The bench owns its folder (results.json, results.csv, ... are rewritten): a suite
+     * inside it would be replaced by a report of the same name. */
+    char *ro = realpath(out, NULL), *rs = realpath(suite_path, NULL);
+    const size_t lo = ro ? strlen(ro) : 0;
+    const int inside = ro && rs && strncmp(rs, ro, lo) == 0 && rs[lo] == '/';
+    free(ro);
+    free(rs);
+    if (inside)
+        return tool_usage_error("bench",
+                                "the suite %s lies in --out %s, whose files the bench "
+                                "writes: keep the suite elsewhere",
+                                suite_path, out);
     tool_files files = {0};
     tool_files_input(&files, "suite", suite_path);
     tool_files_output(&files, "--out", out, TOOL_OUT_DIR);
