@@ -109,6 +109,9 @@ lumis_status lumis__pfm_read(const unsigned char *data, size_t size, const lumis
         }
     }
     ctx->info->grey = channels == 1;
+    if (have > need) /* a file padded, or a header that says fewer rows than it holds */
+        lumis__fail(err, LUMIS_OK, "%s: %zu bytes after the %zu x %zu pixels ignored", ctx->name,
+                    have - need, w, h);
     return LUMIS_OK;
 }
 

@@ -16,8 +16,8 @@
 static void print_error(void *user, lumis_status status, const char *message)
 {
     (void)user;
-    (void)status;
-    fprintf(stderr, "lumis: %s\n", message);
+    /* the library reports warnings with status ok: said as warnings */
+    fprintf(stderr, "lumis: %s%s\n", status == LUMIS_OK ? "warning: " : "", message);
 }
 
 const lumis_error_sink tool_errors = {print_error, NULL};
