@@ -3,7 +3,7 @@
 set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
-      libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates)
+      libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3)
 DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr)
 
 usage() {

@@ -825,17 +825,19 @@ if [ -n "$HOOK" ]; then
     begin "luminaire create: SIGINT right after the old images folder stepped aside (injected)"
     lum; snap; inject x rename .images.old- INT 1 "\$L luminaire create lum.json --preset small --basis bspline"
     "$L" luminaire info lum.json >/dev/null 2>"$LOGS/$N.info" || fail "lum.json no longer loads: $(head -1 "$LOGS/$N.info")"
-    end
+    # the swap holds the signal back until the manifest and its images are a pair again:
+    # the old luminaire or the new one, whole (it loads, checked by its digest)
+    end lum.json 'lum.images/*'
 
     begin "luminaire create: SIGTERM right after the new images took the folder's name (injected)"
     lum; snap; inject x rename =lum.images TERM 1 "\$L luminaire create lum.json --preset small --basis bspline"
     "$L" luminaire info lum.json >/dev/null 2>"$LOGS/$N.info" || fail "lum.json no longer loads: $(head -1 "$LOGS/$N.info")"
-    end 'lum.images/*'
+    end lum.json 'lum.images/*'
 
     begin "luminaire create: SIGTERM right after the manifest's temporary is made (injected)"
     lum; snap; inject x mkstemp .lum.json. TERM 1 "\$L luminaire create lum.json --preset small --basis bspline"
     "$L" luminaire info lum.json >/dev/null 2>"$LOGS/$N.info" || fail "lum.json no longer loads: $(head -1 "$LOGS/$N.info")"
-    end 'lum.images/*'
+    end lum.json 'lum.images/*'
 
     begin "bench: SIGTERM right after the report's results.csv (injected)"
     cp "$FIX/suite.json" s.json; "$L" bench s.json --out o --threads 1 >/dev/null 2>&1
@@ -901,7 +903,8 @@ for fmt in pfm hdr exr png; do
     cp "$FIX/map.$fmt" g.$fmt; printf 'TRAILING GARBAGE\n' >>g.$fmt
     snap; run any "\$L info g.$fmt"
     if [ "$RC" = 0 ]; then
-        if [ $fmt = pfm ]; then fail "read as a 16x8 map without a word: the bytes after the pixels are ignored"
+        if [ $fmt = pfm ]; then grep -q "ignored" "$LOGS/$N.err" ||
+            fail "read as a 16x8 map without a word: the bytes after the pixels are ignored"
         else warn "accepted without a word (bytes after the image ignored)"; fi
     fi
     end
@@ -914,7 +917,8 @@ w, h = 16, 9
 open('g.pfm', 'wb').write(b'PF\n16 8\n-1.0\n' + struct.pack('<%df' % (w * h * 3), *[float(i % 7) for i in range(w * h * 3)]))
 EOF
 snap; run any "\$L convert g.pfm o.exr"
-[ "$RC" = 0 ] && fail "converted as 16x8 without a word; the 9th row of data dropped"
+[ "$RC" = 0 ] && ! grep -q "ignored" "$LOGS/$N.err" &&
+    fail "converted as 16x8 without a word; the 9th row of data dropped"
 end o.exr
 
 begin "exr: R,G,B plus a diffuse.R/G/B layer: the base layer is read"
