@@ -1137,6 +1137,36 @@ static float two_patches(int w, int h, int i, int j, int c)
     return 0.1f;
 }
 
+/* The first pixel (row-major) of every EnvDirect's region, Wu's importance sampling alone
+ * (no masking, no k-means: each seed keeps its cluster) with K = 400 and L_T = 5; returns
+ * their number (at most cap) and the map's width in *w. */
+static int envdirect_seed_pixels(const lumis_envmap *env, uint64_t seed, int *pixels, int cap,
+                                 int *w)
+{
+    lumis_decomp_desc d = {0};
+    d.count = 400;
+    d.sets = 1;
+    d.seed = seed;
+    d.threshold = 5.0f;
+    d.variant = LUMIS_DECOMP_IS_ONLY;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+    const lumis_light *l = NULL;
+    int n = 0, h, found = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &n), LUMIS_OK);
+    const int32_t *lab = lumis_light_set_labels(set, w, &h);
+    for (int k = 0; k < n && found < cap; k++) {
+        if (l[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+        for (int p = 0; p < *w * h; p++)
+            if (lab[p] == k) {
+                pixels[found++] = p;
+                break;
+            }
+    }
+    lumis_light_set_destroy(set);
+    return found;
+}
+
 /* EnvDirect seeds are drawn in proportion to energy: with importance sampling alone (no
  * masking, no k-means, so each seed keeps its cluster), the dimmer patch, a quarter of the
  * emissive energy, gets about a quarter of the EnvDirects (binomial bounds, fixed seed).
@@ -1146,35 +1176,270 @@ static void envdirect_seeds_follow_energy(void **state)
 {
     (void)state;
     lumis_envmap *env = make_env(256, 128, two_patches, 0.0f, 0.0f);
-    lumis_decomp_desc d = {0};
-    d.count = 400;
-    d.sets = 1;
-    d.seed = 5;
-    d.threshold = 5.0f;
-    d.variant = LUMIS_DECOMP_IS_ONLY;
-    lumis_light_set *set = NULL;
-    assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
-    const lumis_light *l = NULL;
-    int n = 0, w, h;
-    assert_int_equal(lumis_light_set_get(set, 0, &l, &n), LUMIS_OK);
-    const int32_t *lab = lumis_light_set_labels(set, &w, &h);
-    int dim = 0, bright = 0;
-    for (int k = 0; k < n; k++) {
-        if (l[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
-        for (int p = 0; p < w * h; p++)
-            if (lab[p] == k) {
-                *(p % w < 128 ? &dim : &bright) += 1;
-                break;
-            }
-    }
+    int seeds[400], w, dim = 0, bright = 0;
+    const int n = envdirect_seed_pixels(env, 5, seeds, 400, &w);
+    for (int k = 0; k < n; k++) *(seeds[k] % w < 128 ? &dim : &bright) += 1;
     const int total = dim + bright;
     /* p = 1/4: mean total / 4, standard deviation sqrt(total 3 / 16); 4.5 of them */
     const double mean = total / 4.0, sd = sqrt(total * 3.0 / 16.0);
     if (total < 40 || fabs(dim - mean) > 4.5 * sd)
         fail_msg("%d EnvDirects: %d on the dim patch, %d on the bright one (want %.1f +- %.1f)",
                  total, dim, bright, mean, 4.5 * sd);
+    lumis_envmap_destroy(env);
+}
+
+/* Eq. 2 from the pixels: with the emissive pixels those over the reported L_T, G = L^a
+ * dw^b per part (L its mean luminance, dw its solid angle, a = 1 and b = 1/4 by default
+ * or as given), N = round(K G_em / (G_em + G_nem)) clamped to [1, K - 1].  Only the lights'
+ * kinds were checked before: a budget from the emissive part's total energy, or from the
+ * exponents swapped, passed. */
+static void eq2_budget_from_the_pixels(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(128, 64, sky_pixel, 0.0f, 0.0f);
+    const float ab[2][2] = {{0.0f, 0.0f}, {0.5f, 0.75f}};
+    for (int v = 0; v < 2; v++) {
+        lumis_decomp_desc d = {0};
+        d.count = 48;
+        d.sets = 1;
+        d.seed = 1;
+        d.budget_a = ab[v][0];
+        d.budget_b = ab[v][1];
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        const lumis_light_set_info *info = lumis_light_set_get_info(set);
+        long double e[2] = {0, 0}, o[2] = {0, 0};
+        int m = 0;
+        for (int j = 0; j < 64; j++)
+            for (int i = 0; i < 128; i++) {
+                const double y = pixel_y(env, i, j), om = lumis_envmap_pixel_solid_angle(env, j);
+                const int em = y > info->threshold;
+                m += em;
+                e[em] += (long double)y * om;
+                o[em] += om;
+            }
+        assert_int_equal(info->emissive_pixels, m);
+        assert_true(m > 0 && m < 128 * 64);
+        const double a = v ? 0.5 : 1.0, b = v ? 0.75 : 0.25;
+        const double g_ne = pow((double)(e[0] / o[0]), a) * pow((double)o[0], b),
+                     g_em = pow((double)(e[1] / o[1]), a) * pow((double)o[1], b);
+        if (!(fabs(info->gamma_em - g_em) <= 1e-9 * g_em &&
+              fabs(info->gamma_nem - g_ne) <= 1e-9 * g_ne))
+            fail_msg("a = %g, b = %g: Gamma_em %.12g (want %.12g), Gamma_nem %.12g (want %.12g)", a,
+                     b, info->gamma_em, g_em, info->gamma_nem, g_ne);
+        long long N = llround(48.0 * g_em / (g_em + g_ne));
+        N = N < 1 ? 1 : (N > 47 ? 47 : N);
+        N = N > m ? m : N;
+        assert_int_equal(info->budget, (int)N);
+        lumis_light_set_destroy(set);
+    }
+    lumis_envmap_destroy(env);
+}
+
+/* The light tree splits a node across its longer side (in radians), at the middle: the
+ * whole 256 x 128 map (2 pi wide, pi high) splits into its left and right halves, each of
+ * those (pi by pi at the equator) again across x. */
+static void the_cut_splits_the_longer_side_in_the_middle(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, sky_pixel, 0.0f, 0.0f);
+    for (int k = 2; k <= 4; k += 2) {
+        lumis_decomp_desc d = {0};
+        d.count = k;
+        d.sets = 1;
+        d.threshold = 1e30f;
+        d.cut = LUMIS_CUT_ORIGINAL;
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        const int32_t *lab = lumis_light_set_labels(set, NULL, NULL);
+        for (int q = 0; q < k; q++) {
+            box b = label_box(lab, 256, 128, q);
+            const int wdt = 256 / k;
+            if (!(b.y0 == 0 && b.y1 == 128 && b.x1 - b.x0 == wdt && b.x0 % wdt == 0))
+                fail_msg("K = %d, light %d: columns [%d, %d), rows [%d, %d)", k, q, b.x0, b.x1,
+                         b.y0, b.y1);
+        }
+        lumis_light_set_destroy(set);
+    }
+    lumis_envmap_destroy(env);
+}
+
+/* Eq. 3 normalises each term by its maximum over the cut, so a map scaled by 2^10 (every
+ * variance and energy scaled exactly, the extents unchanged) gives the very same cut; a
+ * term normalised by another term's maximum does not. */
+static void eq3_is_invariant_to_the_maps_scale(void **state)
+{
+    (void)state;
+    lumis_envmap *a = make_env(256, 128, sky_pixel, 0.0f, 1.0f),
+                 *b = make_env(256, 128, sky_pixel, 0.0f, 1024.0f);
+    lumis_decomp_desc d = {0};
+    d.count = 40;
+    d.sets = 1;
+    d.threshold = 1e30f;
+    lumis_light_set *sa = NULL, *sb = NULL;
+    assert_int_equal(lumis_lights_decompose(a, &d, &sa), LUMIS_OK);
+    assert_int_equal(lumis_lights_decompose(b, &d, &sb), LUMIS_OK);
+    assert_memory_equal(lumis_light_set_labels(sa, NULL, NULL),
+                        lumis_light_set_labels(sb, NULL, NULL), 256 * 128 * sizeof(int32_t));
+    lumis_light_set_destroy(sa);
+    lumis_light_set_destroy(sb);
+    lumis_envmap_destroy(a);
+    lumis_envmap_destroy(b);
+}
+
+/* Two emissive patches of equal luminance and size, one near the pole and one on the
+ * equator: EnvDirect seeds are drawn by energy (luminance times solid angle), so the polar
+ * patch gets its share of the energy, about 15 %, not half (binomial bounds, fixed seed). */
+static float pole_and_equator(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)c;
+    if (i >= 40 && i < 80 && ((j >= 4 && j < 9) || (j >= 61 && j < 66))) return 20.0f;
+    return 0.1f;
+}
+
+static void envdirect_seeds_weigh_solid_angle(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, pole_and_equator, 0.0f, 0.0f);
+    double ep = 0.0, eq = 0.0;
+    for (int j = 4; j < 9; j++) ep += lumis_envmap_pixel_solid_angle(env, j);
+    for (int j = 61; j < 66; j++) eq += lumis_envmap_pixel_solid_angle(env, j);
+    int seeds[400], w, polar = 0;
+    const int total = envdirect_seed_pixels(env, 9, seeds, 400, &w);
+    for (int k = 0; k < total; k++) polar += seeds[k] / w < 32;
+    const double f = ep / (ep + eq), mean = total * f, sd = sqrt(total * f * (1 - f));
+    if (total < 40 || fabs(polar - mean) > 4.5 * sd)
+        fail_msg("%d EnvDirects: %d on the polar patch (want %.1f +- %.1f)", total, polar, mean,
+                 4.5 * sd);
+    lumis_envmap_destroy(env);
+}
+
+/* FHIS's importance is energy: on a constant map its points are uniform per solid angle,
+ * so half of them lie within 60 degrees of a pole (|y| > 1/2), not the two thirds of the
+ * rows there. */
+static void fhis_points_are_uniform_on_a_constant_map(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(256, 128, const_pixel, 0.0f, 0.0f);
+    lumis_light_set *set = NULL;
+    assert_int_equal(build_fhis(env, 600, &set), LUMIS_OK);
+    const lumis_light *L;
+    int n, caps = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    assert_int_equal(n, 600);
+    for (int k = 0; k < n; k++) caps += fabsf(L[k].dir.y) > 0.5f;
+    if (!(caps > 255 && caps < 345)) fail_msg("%d of 600 points near the poles (want 300)", caps);
     lumis_light_set_destroy(set);
     lumis_envmap_destroy(env);
+}
+
+/* A light's extent bounds every point of its pixels, not only their centres: the corners
+ * and edge midpoints of every pixel of FHIS's and TMMS's Voronoi-like regions lie in the
+ * light's cone.  And TMMS takes a range bandwidth of exactly 1 (documented as (0, 1]). */
+static void label_extents_cover_whole_pixels(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_fhis, build_tmms};
+    lumis_envmap *env = make_env(64, 32, sky_pixel, 0.0f, 0.0f);
+    for (size_t f = 0; f < 2; f++)
+        for (int k = 5; k <= 40; k *= 2) {
+            lumis_light_set *set = NULL;
+            assert_int_equal(fns[f](env, k, &set), LUMIS_OK);
+            const lumis_light *L;
+            int n;
+            assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+            const int32_t *lab = lumis_light_set_labels(set, NULL, NULL);
+            for (int j = 0; j < 32; j++)
+                for (int i = 0; i < 64; i++) {
+                    const lumis_light *l = &L[lab[j * 64 + i]];
+                    for (int c = 0; c < 9; c++) {
+                        if (c == 4) continue; /* the centre: check_set's */
+                        const float u = (float)((i + 0.5 * (c % 3)) / 64),
+                                    v = (float)((j + 0.5 * (c / 3)) / 32);
+                        const lumis_vec3 p = lumis_envmap_uv_to_dir(env, u, v);
+                        double dd[3] = {p.x, p.y, p.z};
+                        if (!(angle(l->dir, dd) <= (double)l->extent + 1e-5))
+                            fail_msg("%s, K = %d: pixel (%d, %d), point %d at %g of an extent %g",
+                                     f ? "tmms" : "fhis", k, i, j, c, angle(l->dir, dd),
+                                     (double)l->extent);
+                    }
+                }
+            lumis_light_set_destroy(set);
+        }
+    lumis_tmms_desc td = {0};
+    td.count = 8;
+    td.range_bandwidth = 1.0f;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_tmms(env, &td, &set), LUMIS_OK);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
+/* The energy E and first moment M of a box by the pixel quadrature of
+ * variance_min_splits_minimise_the_summed_variance (v: E, Mx, My, Mz). */
+static void box_sums(const lumis_envmap *env, box b, long double v[4])
+{
+    const int W = lumis_envmap_width(env), H = lumis_envmap_height(env);
+    v[0] = v[1] = v[2] = v[3] = 0;
+    for (int j = b.y0; j < b.y1; j++) {
+        const double t0 = PI * j / H, t1 = PI * (j + 1) / H;
+        const double A = gauss16(sin_sq, t0, t1), B = gauss16(sin_cos, t0, t1) * 2 * PI / W;
+        for (int i = b.x0; i < b.x1; i++) {
+            const double p0 = 2 * PI * i / W, p1 = 2 * PI * (i + 1) / W;
+            const long double y = pixel_y(env, i, j);
+            v[0] += y * (long double)lumis_envmap_pixel_solid_angle(env, j);
+            v[1] += y * (long double)(A * (sin(p1) - sin(p0)));
+            v[2] += y * (long double)B;
+            v[3] += y * (long double)(A * (cos(p0) - cos(p1)));
+        }
+    }
+}
+
+/* With K = 3 the second split goes to the first split's half of larger priority: energy
+ * for median cut, variance for variance minimisation (the halves of K = 2 are the first
+ * split; lights 0, 1 or 1, 2 of K = 3 are the halves of the one split again).  Only
+ * powers of two were checked before, where every region splits: a priority by area, or
+ * by energy for variance minimisation, passed. */
+static void the_second_split_takes_the_larger_priority(void **state)
+{
+    (void)state;
+    lumis_envmap *maps[] = {make_env(256, 128, sky_pixel, 0.0f, 0.0f),
+                            make_env(200, 100, sky_pixel, 0.0f, 0.0f),
+                            make_env(300, 150, sky_pixel, 0.0f, 0.0f),
+                            make_env(64, 32, sky_pixel, 0.0f, 0.0f),
+                            make_env(128, 64, speckle_pixel, 0.0f, 0.0f),
+                            make_env(96, 48, speckle_pixel, 0.0f, 0.0f),
+                            make_env(256, 128, two_patches, 0.0f, 0.0f),
+                            make_env(256, 128, pole_and_equator, 0.0f, 0.0f)};
+    for (size_t e = 0; e < sizeof maps / sizeof *maps; e++)
+        for (int method = 0; method < 2; method++) {
+            lumis_envmap *env = maps[e];
+            const int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+            const build_fn fn = method ? build_vm : build_mc;
+            lumis_light_set *two = NULL, *three = NULL;
+            assert_int_equal(fn(env, 2, &two), LUMIS_OK);
+            assert_int_equal(fn(env, 3, &three), LUMIS_OK);
+            const int32_t *l2 = lumis_light_set_labels(two, NULL, NULL),
+                          *l3 = lumis_light_set_labels(three, NULL, NULL);
+            const box a = label_box(l2, w, h, 0), b = label_box(l2, w, h, 1);
+            const box t0 = label_box(l3, w, h, 0), t2 = label_box(l3, w, h, 2);
+            const int a_split = memcmp(&t2, &b, sizeof b) == 0,
+                      b_split = memcmp(&t0, &a, sizeof a) == 0;
+            assert_true(a_split != b_split);
+            long double va[4], vb[4];
+            box_sums(env, a, va);
+            box_sums(env, b, vb);
+            const long double pa = method ? region_variance(va) : va[0],
+                              pb = method ? region_variance(vb) : vb[0];
+            const long double split = a_split ? pa : pb, kept = a_split ? pb : pa;
+            if (!(split >= kept * (1 - 1e-9L)))
+                fail_msg("map %zu, %s: the half of %s %Lg split before the one of %Lg", e,
+                         method ? "variance minimisation" : "median cut",
+                         method ? "variance" : "energy", split, kept);
+            lumis_light_set_destroy(two);
+            lumis_light_set_destroy(three);
+        }
+    for (size_t e = 0; e < sizeof maps / sizeof *maps; e++) lumis_envmap_destroy(maps[e]);
 }
 
 static void special_maps_get_a_clear_answer(void **state)
@@ -1362,6 +1627,13 @@ int main(void)
         cmocka_unit_test(simd_variants_give_identical_lights),
         cmocka_unit_test(eq3_terms_each_steer_the_cut),
         cmocka_unit_test(envdirect_seeds_follow_energy),
+        cmocka_unit_test(eq2_budget_from_the_pixels),
+        cmocka_unit_test(the_cut_splits_the_longer_side_in_the_middle),
+        cmocka_unit_test(eq3_is_invariant_to_the_maps_scale),
+        cmocka_unit_test(envdirect_seeds_weigh_solid_angle),
+        cmocka_unit_test(fhis_points_are_uniform_on_a_constant_map),
+        cmocka_unit_test(label_extents_cover_whole_pixels),
+        cmocka_unit_test(the_second_split_takes_the_larger_priority),
         cmocka_unit_test(special_maps_get_a_clear_answer),
         cmocka_unit_test(malformed_options_are_refused),
         cmocka_unit_test(interleave_pattern_covers_every_set),

@@ -756,6 +756,156 @@ static void generated_luminaire_reproduces_its_emitter(void **state)
     assert_true(worst[1] < worst[0]);
 }
 
+/* The luminaire's power is the sum over images of the luminance integral of C_m over S
+ * (each pixel's luminance times its area on S), whatever the grid; the capacity holds a
+ * sample for every image when the budget is smaller; and a grid of exactly the maximum
+ * of 1024 images is accepted, one more refused.  Nothing read total_power before: an image
+ * power summed per pixel, or only the last image's, passed. */
+static void luminaire_power_and_limits(void **state)
+{
+    (void)state;
+    enum { GW = 3, GH = 2, W = 5, H = 4 };
+    static float img[GW * GH][W * H * 3];
+    const float *ptrs[GW * GH];
+    double want = 0.0;
+    const double dx = 0.7 / W, dy = 0.45 / H;
+    for (int m = 0; m < GW * GH; m++) {
+        for (int p = 0; p < W * H; p++)
+            for (int c = 0; c < 3; c++) {
+                const float v = m == 2 ? 0.0f : (float)(0.1 + 0.05 * ((p * 7 + m * 3 + c) % 11));
+                img[m][3 * p + c] = v;
+            }
+        for (int p = 0; p < W * H; p++)
+            want +=
+                (0.2126 * img[m][3 * p] + 0.7152 * img[m][3 * p + 1] + 0.0722 * img[m][3 * p + 2]) *
+                dx * dy;
+        ptrs[m] = img[m];
+    }
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.5;
+    d.grid[0] = GW;
+    d.grid[1] = GH;
+    d.grid_spacing[0] = 0.3;
+    d.grid_spacing[1] = 0.2;
+    d.width = W;
+    d.height = H;
+    d.image_origin[0] = -0.35;
+    d.image_origin[1] = -0.2;
+    d.image_size[0] = 0.7;
+    d.image_size[1] = 0.45;
+    d.pixels = ptrs;
+    lumis_luminaire *l = NULL;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_OK);
+    lumis_luminaire_info in;
+    lumis_luminaire_get_info(l, &in);
+    if (!(fabs(in.total_power - want) <= 1e-12 * want))
+        fail_msg("total power %.12g, sum of the images' luminance integrals %.12g", in.total_power,
+                 want);
+    /* Every sample's radiance and weight from their definitions, with delta != 1 and
+     * h_x != h_y (the fixtures have delta = 1 and a square grid): Psi_m(u -> s) =
+     * Phi_m(u) (|s - u|^2 + delta^2)^2 / (delta^2 h_x h_y) C_m(s), and the weight
+     * 1 / (K_m pdf_omega) = |delta - p_z| / (K_m pdf |s - p|^3). */
+    const lumis_vec3 pts[2] = {{0.05f, -0.02f, 4.0f}, {-0.1f, 0.05f, 0.6f}};
+    for (int k = 0; k < 2; k++) {
+        lumis_luminaire_query q = {0};
+        q.p = pts[k];
+        q.budget = 24;
+        lumis_luminaire_sample smp[64];
+        double u[128];
+        for (int t = 0; t < 128; t++) u[t] = fmod(0.5 + t * 0.6180339887498949, 1.0);
+        int n = 0;
+        assert_int_equal(lumis_luminaire_sample_point(l, &q, u, 64, smp, &n), LUMIS_OK);
+        assert_true(n >= 6);
+        for (int t = 0; t < n; t++) {
+            const lumis_luminaire_sample *o = &smp[t];
+            const int m = o->image, i = (int)((o->s[0] + 0.35) / dx),
+                      j = (int)((o->s[1] + 0.2) / dy);
+            assert_true(i >= 0 && i < W && j >= 0 && j < H);
+            const double ex = o->s[0] - o->u[0], ey = o->s[1] - o->u[1];
+            const double e2 = ex * ex + ey * ey + 1.5 * 1.5;
+            const double psi = lumis__lum_phi(l, m, o->u[0], o->u[1]) * e2 * e2 /
+                               (1.5 * 1.5 * 0.3 * 0.2) * img[m][3 * (j * W + i) + 1];
+            const double wx = o->s[0] - pts[k].x, wy = o->s[1] - pts[k].y, wz = 1.5 - pts[k].z;
+            const double r = sqrt(wx * wx + wy * wy + wz * wz);
+            const double wt = fabs(wz) / (o->count * (double)o->pdf * r * r * r);
+            if (!(fabs(o->radiance.g - psi) <= 1e-5 * psi + 1e-30 &&
+                  fabs(o->weight - wt) <= 1e-5 * wt))
+                fail_msg("p %d, sample %d: radiance %g (want %g), weight %g (want %g)", k, t,
+                         o->radiance.g, psi, o->weight, wt);
+        }
+    }
+    assert_true(lumis_luminaire_capacity(l, 2) >= GW * GH);
+    assert_true(lumis_luminaire_capacity(l, 40) >= 40);
+    lumis_luminaire_destroy(l);
+    /* 1024 images of one pixel: the limit, accepted; 1025 refused. */
+    static float one[3] = {1.0f, 1.0f, 1.0f};
+    static const float *many[1025];
+    for (int m = 0; m < 1025; m++) many[m] = one;
+    d.grid[0] = 32;
+    d.grid[1] = 32;
+    d.width = d.height = 1;
+    d.pixels = many;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_OK);
+    lumis_luminaire_get_info(l, &in);
+    assert_int_equal(in.images, 1024);
+    lumis_luminaire_destroy(l);
+    d.grid[0] = 41;
+    d.grid[1] = 25;
+    l = (lumis_luminaire *)&l;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(l);
+}
+
+/* The synthetic emitter against closed forms.  A disk of constant radiance L and radius R
+ * seen on its axis from distance D, facing it: E = pi L R^2 / (R^2 + D^2); with a lobe
+ * cos^n about the axis, E = 2 pi L (1 - cos^(n+2) theta_m) / (n + 2), cos theta_m =
+ * D / sqrt(D^2 + R^2).  Through a striped plate, a ray crossing a dark stripe carries
+ * L (1 - contrast) tint, one crossing a clear stripe L.  (The emitter's irradiance was
+ * only compared with a luminaire acquired from the same emitter, so a wrong footprint or
+ * plate changed both sides alike.) */
+static void emitter_matches_closed_forms(void **state)
+{
+    (void)state;
+    const double L = 3.0, R = 2.0, cz = -4.0;
+    for (int lobe = 0; lobe < 2; lobe++) {
+        const double n = lobe ? 6.0 : 0.0;
+        const lumis_emitter_disk disk = {{0.0, 0.0, cz}, R, {(float)L, (float)L, (float)L}, n};
+        lumis_emitter_desc e = {0};
+        e.disks = &disk;
+        e.disk_count = 1;
+        const float pzs[2] = {1.0f, 6.0f};
+        for (int k = 0; k < 2; k++) {
+            const double D = pzs[k] - cz, cm = D / sqrt(D * D + R * R);
+            const double want =
+                lobe ? 2 * 3.14159265358979323846 * L * (1 - pow(cm, n + 2)) / (n + 2)
+                     : 3.14159265358979323846 * L * R * R / (R * R + D * D);
+            lumis_rgb E;
+            const lumis_vec3 p = {0.0f, 0.0f, pzs[k]}, nrm = {0.0f, 0.0f, -1.0f};
+            assert_int_equal(lumis_emitter_irradiance(&e, p, nrm, 0, 0, &E), LUMIS_OK);
+            if (!(fabs(E.g - want) <= 1e-4 * want))
+                fail_msg("lobe cos^%g at z = %g: irradiance %.8g, closed form %.8g", n, pzs[k], E.g,
+                         want);
+        }
+    }
+    const lumis_emitter_disk big = {{0.0, 0.0, -2.0}, 10.0, {2.0f, 4.0f, 6.0f}, 0.0};
+    lumis_emitter_desc e = {0};
+    e.disks = &big;
+    e.disk_count = 1;
+    e.pattern = LUMIS_PATTERN_STRIPES;
+    e.plate_z = -1.0;
+    e.period[0] = e.period[1] = 1.0;
+    e.contrast = 0.75;
+    e.tint = (lumis_rgb){0.5f, 1.0f, 0.25f};
+    /* from u = (0, 0) towards s = (sx, 0) on S at delta = 1: the plate at x = -sx */
+    const lumis_rgb dark = lumis_emitter_radiance(&e, 1.0, 0.0, 0.0, -1.5, 0.0),
+                    clear = lumis_emitter_radiance(&e, 1.0, 0.0, 0.0, -0.5, 0.0);
+    assert_float_equal(dark.r, 2.0f * 0.25f * 0.5f, 1e-6);
+    assert_float_equal(dark.g, 4.0f * 0.25f * 1.0f, 1e-6);
+    assert_float_equal(dark.b, 6.0f * 0.25f * 0.25f, 1e-6);
+    assert_float_equal(clear.r, 2.0f, 1e-6);
+    assert_float_equal(clear.b, 6.0f, 1e-6);
+}
+
 /* ---- descriptors -------------------------------------------------------------------------- */
 
 static void malformed_descriptors_get_a_clear_error(void **state)
@@ -873,6 +1023,8 @@ int main(void)
         cmocka_unit_test(global_draws_finish_like_sample_point),
         cmocka_unit_test(rigid_transform_round_trip),
         cmocka_unit_test(generated_luminaire_reproduces_its_emitter),
+        cmocka_unit_test(luminaire_power_and_limits),
+        cmocka_unit_test(emitter_matches_closed_forms),
         cmocka_unit_test(malformed_descriptors_get_a_clear_error),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -600,6 +600,83 @@ static void light_set_lights_each_pixel_with_its_set(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* A light set on a glossy floor: each pixel is sum_k f(wo, dir_k) (n . dir_k) power_k with
+ * the floor's BSDF, not albedo / pi (a GGX conductor has no albedo: the Lambertian shortcut
+ * taken for every material rendered it black, and the Lambertian floor above cannot tell).
+ * A narrow view from straight above: wo is the same to 1e-4 rad over a pixel's samples. */
+static void light_set_shades_glossy_surfaces_with_their_bsdf(void **state)
+{
+    (void)state;
+    lumis_envmap *env = env_of(tu_image(16, 8, f_bands));
+    lumis_object o = {0};
+    o.type = LUMIS_OBJECT_PLANE;
+    o.normal = (lumis_vec3){0, 1, 0};
+    o.size = 100.0f;
+    o.material = (lumis_bsdf){LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.9f, 0.6f, 0.3f}, 0.5f, 0.35f};
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(&o, 1, NULL, &s), LUMIS_OK);
+    lumis_median_cut_desc md = {0};
+    md.count = 21;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_median_cut(env, &md, &set), LUMIS_OK);
+    const int sets = lumis_light_set_sets(set);
+    const lumis_camera view = {{1.5f, 5, 0.5f}, {0, 0, 0}, {0, 0, -1}, 0.2f, 8, 6};
+    lumis_render_desc d = {0};
+    d.camera = &view;
+    d.env = env;
+    d.light_set = set;
+    d.spp = 2;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    /* the camera's frame, as lumis_render builds it */
+    const double e[3] = {1.5, 5, 0.5}, el = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    const double fwd[3] = {-e[0] / el, -e[1] / el, -e[2] / el}, up[3] = {0, 0, -1};
+    double r[3] = {fwd[1] * up[2] - fwd[2] * up[1], fwd[2] * up[0] - fwd[0] * up[2],
+                   fwd[0] * up[1] - fwd[1] * up[0]};
+    const double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    for (int k = 0; k < 3; k++) r[k] /= rl;
+    const double u[3] = {r[1] * fwd[2] - r[2] * fwd[1], r[2] * fwd[0] - r[0] * fwd[2],
+                         r[0] * fwd[1] - r[1] * fwd[0]};
+    const double th = tan(0.5 * 0.2 * PI / 180), aspect = 8.0 / 6.0;
+    double total = 0.0;
+    for (int y = 0; y < 6; y++)
+        for (int x = 0; x < 8; x++) {
+            const double sx = (x + 0.5) / 8 * 2 - 1, sy = 1 - (y + 0.5) / 6 * 2;
+            double dir[3];
+            for (int k = 0; k < 3; k++) dir[k] = fwd[k] + r[k] * sx * th * aspect + u[k] * sy * th;
+            const double dl = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            /* local frame (x, z, y): the material is isotropic in its frame's turn */
+            const lumis_vec3 wo = {(float)(-dir[0] / dl), (float)(-dir[2] / dl),
+                                   (float)(-dir[1] / dl)};
+            const lumis_light *l = NULL;
+            int count = 0;
+            assert_int_equal(
+                lumis_light_set_get(set, lumis_light_set_interleave_index(sets, x, y), &l, &count),
+                LUMIS_OK);
+            double want[3] = {0, 0, 0};
+            for (int k = 0; k < count; k++) {
+                if (!(l[k].dir.y > 0.0f)) continue;
+                const lumis_vec3 wi = {l[k].dir.x, l[k].dir.z, l[k].dir.y};
+                const lumis_rgb f = lumis_bsdf_eval(&o.material, wo, wi);
+                want[0] += f.r * l[k].dir.y * l[k].power[0];
+                want[1] += f.g * l[k].dir.y * l[k].power[1];
+                want[2] += f.b * l[k].dir.y * l[k].power[2];
+            }
+            const float *px = img->pixels + 3 * (y * 8 + x);
+            for (int ch = 0; ch < 3; ch++) {
+                total += want[ch];
+                if (!(fabs(px[ch] - want[ch]) <= 2e-3 * want[ch] + 1e-9))
+                    fail_msg("pixel (%d, %d) channel %d: %.7g, want %.7g", x, y, ch, px[ch],
+                             want[ch]);
+            }
+        }
+    assert_true(total > 0.0);
+    lumis_image_destroy(img);
+    lumis_light_set_destroy(set);
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
 /* What every light kind hands Embree: a shadow packet filled with 0 .. 16 rays over stale
  * bytes (0xff: NaN floats).  The filled lanes answer occluded or not; every idle lane is a
  * valid ray that cannot hit (finite origin, unit direction, tnear = 0 > tfar, valid = 0),
@@ -821,6 +898,103 @@ static void upsampling_keeps_constants_and_depth_edges(void **state)
     lumis_scene_destroy(s);
 }
 
+/* Objects and background do not mix: a low-resolution image whose right half is the
+ * background (infinite depth) upsamples to exactly its two values, next to the edge too.
+ * The built-in scenes' meshes have the heights they are given and stand where they are
+ * put.  A scene file's alpha_y and a reflectance of exactly 1 are kept, and rotate_deg is
+ * a rotation (R = Rz Ry Rx): orthonormal, each axis turning the right way. */
+static void upsampling_builtins_and_scene_values(void **state)
+{
+    (void)state;
+    lumis_gbuffer *lo = step_gbuffer(8, 6, 4), *hi = step_gbuffer(16, 12, 8);
+    for (int p = 0; p < 8 * 6; p++)
+        if (p % 8 >= 4) lo->depth[p] = INFINITY;
+    for (int p = 0; p < 16 * 12; p++)
+        if (p % 16 >= 8) hi->depth[p] = INFINITY;
+    lumis_image *low = NULL, *up = NULL;
+    assert_int_equal(lumis_image_create(8, 6, &low), LUMIS_OK);
+    for (int p = 0; p < 8 * 6; p++)
+        for (int c = 0; c < 3; c++) low->pixels[3 * p + c] = p % 8 < 4 ? 1.0f : 5.0f;
+    assert_int_equal(lumis_joint_bilateral_upsample(low, lo, hi, NULL, &up), LUMIS_OK);
+    for (int p = 0; p < 16 * 12; p++)
+        if (!(fabsf(up->pixels[3 * p] - (p % 16 < 8 ? 1.0f : 5.0f)) <= 1e-5f))
+            fail_msg("pixel (%d, %d): %g across the object's edge", p % 16, p / 16,
+                     up->pixels[3 * p]);
+    lumis_image_destroy(up);
+    lumis_image_destroy(low);
+    lumis_gbuffer_destroy(lo);
+    lumis_gbuffer_destroy(hi);
+
+    static const struct {
+        const char *scene;
+        int object, centred;
+        float height, x, z;
+    } meshes[] = {{"bunny-plane", 0, 0, 1.1f, 0, 0},
+                  {"wu-diffuse", 0, 1, 1.0f, -1.15f, -0.1f},
+                  {"wu-diffuse", 1, 1, 0.95f, 0.1f, -0.35f}};
+    for (size_t k = 0; k < sizeof meshes / sizeof *meshes; k++) {
+        lumis_scene_file *f = NULL;
+        assert_int_equal(lumis_scene_builtin(meshes[k].scene, NULL, &f), LUMIS_OK);
+        const lumis_object *o = &f->objects[meshes[k].object];
+        assert_int_equal(o->type, LUMIS_OBJECT_MESH);
+        const float *m = o->transform;
+        float top = -INFINITY, lb[3] = {INFINITY, INFINITY, INFINITY},
+              hb[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int v = 0; v < o->vertex_count; v++) {
+            const float *p = o->vertices + 3 * v;
+            top = fmaxf(top, m[4] * p[0] + m[5] * p[1] + m[6] * p[2] + m[7]);
+            for (int a = 0; a < 3; a++) {
+                lb[a] = fminf(lb[a], p[a]);
+                hb[a] = fmaxf(hb[a], p[a]);
+            }
+        }
+        if (fabsf(top - meshes[k].height) > 1e-4f)
+            fail_msg("%s, object %d: top at y = %g, height %g", meshes[k].scene, meshes[k].object,
+                     top, meshes[k].height);
+        if (meshes[k].centred) { /* the middle of its bounds' foot lands on (x, z) */
+            const float c[3] = {0.5f * (lb[0] + hb[0]), lb[1], 0.5f * (lb[2] + hb[2])};
+            const float wx = m[0] * c[0] + m[1] * c[1] + m[2] * c[2] + m[3],
+                        wz = m[8] * c[0] + m[9] * c[1] + m[10] * c[2] + m[11];
+            if (fabsf(wx - meshes[k].x) > 1e-4f || fabsf(wz - meshes[k].z) > 1e-4f)
+                fail_msg("%s, object %d: foot centre at (%g, %g), want (%g, %g)", meshes[k].scene,
+                         meshes[k].object, wx, wz, meshes[k].x, meshes[k].z);
+        }
+        lumis_scene_file_destroy(f);
+    }
+
+    static const char text[] =
+        "{\"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+        "\"material\": {\"type\": \"ward\", \"alpha_x\": 0.2, \"alpha_y\": 0.5}}, "
+        "{\"type\": \"sphere\", \"center\": [3, 0, 0], \"radius\": 1, \"material\": {\"type\": "
+        "\"lambert\", \"albedo\": [1, 1, 1]}}]}";
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis__scene_file_parse(text, sizeof text - 1, "t.json", "", 0, NULL, &f),
+                     LUMIS_OK);
+    assert_int_equal(f->object_count, 2);
+    assert_float_equal(f->objects[0].material.alpha_x, 0.2f, 1e-7);
+    assert_float_equal(f->objects[0].material.alpha_y, 0.5f, 1e-7);
+    assert_true(f->objects[1].material.diffuse.r == 1.0f);
+    lumis_scene_file_destroy(f);
+
+    const float axes[3][3] = {{0, 0, 90}, {90, 0, 0}, {0, 90, 0}};
+    const int from[3] = {0, 1, 2}, to[3] = {1, 2, 0}; /* x -> y, y -> z, z -> x */
+    for (int a = 0; a < 3; a++) {
+        double R[9];
+        lumis__rotation_deg(axes[a], R);
+        for (int i = 0; i < 3; i++) /* column from[a]: the image of that axis */
+            assert_true(fabs(R[3 * i + from[a]] - (i == to[a] ? 1.0 : 0.0)) < 1e-12);
+    }
+    const float any[3] = {30, -40, 125};
+    double R[9];
+    lumis__rotation_deg(any, R);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double dot = 0.0;
+            for (int k = 0; k < 3; k++) dot += R[3 * k + i] * R[3 * k + j];
+            assert_true(fabs(dot - (i == j ? 1.0 : 0.0)) < 1e-12);
+        }
+}
+
 /* Every built-in scene builds, with its objects standing on (not sinking into or floating
  * above) the ground: the lowest vertex of each mesh is at y = 0 to float rounding. */
 static void builtin_scenes_build(void **state)
@@ -1036,6 +1210,8 @@ int main(void)
         cmocka_unit_test(builtin_scenes_build),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
         cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
+        cmocka_unit_test(light_set_shades_glossy_surfaces_with_their_bsdf),
+        cmocka_unit_test(upsampling_builtins_and_scene_values),
         cmocka_unit_test(packets_hand_embree_initialised_lanes),
         cmocka_unit_test(every_embree_kernel_renders_light_sets),
         cmocka_unit_test(scene_file_reads_its_map),

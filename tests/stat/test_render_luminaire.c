@@ -196,6 +196,39 @@ static void visibility(void **state)
     }
 }
 
+/* A shadow ray ends at the luminaire, in world units: a sphere behind U (beyond the
+ * luminaire seen from P) casts no shadow, for the identity placement and for one scaled
+ * from millimetres to metres (a ray's length left in the luminaire's units reached 1000
+ * times too far there). */
+static void blockers_behind_the_luminaire_cast_no_shadow(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 11);
+    const placement *where[2] = {&IDENTITY, &TURNED};
+    const double behind[3] = {P[0], P[1], -3.0};
+    for (int w = 0; w < 2; w++) {
+        lumis_luminaire_instance in = {0};
+        in.luminaire = f.lum;
+        memcpy(in.placement.r, where[w]->r, sizeof in.placement.r);
+        memcpy(in.placement.t, where[w]->t, sizeof in.placement.t);
+        in.scale = where[w]->scale;
+        lumis_luminaire_lighting ll = {0};
+        ll.instances = &in;
+        ll.count = 1;
+        ll.budget = 24;
+        lumis_scene *s = make_scene(where[w], behind, 2.0);
+        ll.visibility = LUMIS_VISIBILITY_NONE;
+        const lumis_rgb free_ = render_pixel(s, where[w], &ll, 5, 4);
+        ll.visibility = LUMIS_VISIBILITY_EXACT;
+        const lumis_rgb c = render_pixel(s, where[w], &ll, 5, 4);
+        assert_true(free_.g > 0.0f);
+        if (!(fabsf(c.g - free_.g) <= 1e-6f * free_.g))
+            fail_msg("placement %d: %g with exact visibility, %g without", w, c.g, free_.g);
+        lumis_scene_destroy(s);
+    }
+    free_fixture(&f);
+}
+
 /* Every strategy, the global one drawn once per camera sample for all pixels included: the
  * image depends on the seed and the sample count, not on passes or threads. */
 static void passes_and_threads_do_not_matter(void **state)
@@ -309,6 +342,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(pixels_are_unbiased),
         cmocka_unit_test(visibility),
+        cmocka_unit_test(blockers_behind_the_luminaire_cast_no_shadow),
         cmocka_unit_test(passes_and_threads_do_not_matter),
         cmocka_unit_test(bad_lighting),
     };
