@@ -3,7 +3,7 @@
  * the warp to a direction and the radiance fetch that every method shares.  Together with
  * `lumis bench-samplers` (whole samples) it shows where a sample's time goes. */
 #include "bench_common.h"
-#include "envmap/sampler_internal.h"
+#include "envmap/sampler_method.h"
 #include "lumis/lumis.h"
 
 #include <stdio.h>

@@ -4,6 +4,8 @@
 
 #include "lumis/envmap.h"
 
+#include "../core/internal.h"
+
 #include <stdatomic.h>
 
 struct lumis_envmap {
@@ -20,5 +22,12 @@ struct lumis_envmap {
 
 /* Takes a reference (released by lumis_envmap_destroy). */
 const lumis_envmap *lumis__envmap_retain(const lumis_envmap *env);
+
+/* Solid angle of the pixel rectangle [x0,x1) x [y0,y1). */
+static inline double lumis__rect_solid_angle(const lumis_envmap *env, int x0, int y0, int x1,
+                                             int y1)
+{
+    return (2.0 * LUMIS_PI * (x1 - x0) / env->width) * (env->cos_row[y0] - env->cos_row[y1]);
+}
 
 #endif

@@ -1,7 +1,7 @@
 /* The sampler interface: building, the shared warp from a picked rectangle to a
  * direction, pdf lookups, and the importance every table-based method starts from.
  * Derivations: docs/samplers.md. */
-#include "sampler_internal.h"
+#include "sampler_method.h"
 
 #include "../core/internal.h"
 
@@ -28,11 +28,6 @@ lumis_status lumis_sampler_method_from_name(const char *name, lumis_sampler_meth
             return LUMIS_OK;
         }
     return LUMIS_ERR_INVALID_ARGUMENT;
-}
-
-double lumis__rect_solid_angle(const lumis_envmap *env, int x0, int y0, int x1, int y1)
-{
-    return (2.0 * LUMIS_PI * (x1 - x0) / env->width) * (env->cos_row[y0] - env->cos_row[y1]);
 }
 
 /* ---- importance ---------------------------------------------------------------------- */

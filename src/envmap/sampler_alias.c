@@ -4,7 +4,7 @@
  * Cost per sample: O(1), one lookup: a 16-byte bin holds the threshold, the alias and the
  * densities of both outcomes, so neither the pmf nor the row's solid angle is read again.
  * Tables: 16 bytes per pixel; pdf() reads the pixel's own bin. */
-#include "sampler_internal.h"
+#include "sampler_method.h"
 
 #include "../core/distrib.h"
 

@@ -10,7 +10,7 @@
  * Tables: 8 bytes per pixel and about a third more for the coarser levels.
  * Precision: the ratios are doubles, so a pixel with less than 2^-53 of its 2 x 2 block's
  * weight is drawn with probability 0 - and pdf() reports 0 for it too. */
-#include "sampler_internal.h"
+#include "sampler_method.h"
 
 #include <stdlib.h>
 

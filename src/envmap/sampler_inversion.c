@@ -7,7 +7,7 @@
  * about two CDF lookups per search - the same samples for the same u.
  * Tables: 4 bytes per pixel and per row (integer CDFs; rows without light have none),
  * plus as much again for guides. */
-#include "sampler_internal.h"
+#include "sampler_method.h"
 
 #include "../core/distrib.h"
 

@@ -27,7 +27,7 @@
  * Tables: 8 bytes per block (16-bit bounds) plus alpha and log(1 + n/alpha) (16 bytes)
  * for sampling; the tree for pdf()
  * adds 8 bytes per node (2n - 1 nodes).  Derivation: docs/samplers.md. */
-#include "sampler_internal.h"
+#include "sampler_method.h"
 
 #include "../core/distrib.h"
 #include "../core/internal.h"

@@ -306,6 +306,40 @@ int lumis__lum_pixel(const lumis_luminaire *l, double sx, double sy, int *i, int
     return 1;
 }
 
+/* ---- one sample's geometry (both strategies' last step) ------------------------- */
+
+void lumis__lum_finish_u(const lumis_luminaire *l, double px, double py, double pz, int m,
+                         double ux, double uy, double pdf, int count, lumis_luminaire_sample *o)
+{
+    o->s[0] = px;
+    o->s[1] = py;
+    o->u[0] = ux;
+    o->u[1] = uy;
+    o->image = m;
+    o->count = count;
+    o->measure = LUMIS_LUM_AREA_U;
+    o->pdf = (float)pdf;
+    o->radiance.r = o->radiance.g = o->radiance.b = 0.0f;
+    o->weight = 0.0f;
+    const double vx = ux - px, vy = uy - py, vz = -pz;
+    const double dist = sqrt(vx * vx + vy * vy + vz * vz);
+    o->distance = (float)dist;
+    int i, j;
+    if (!(dist > 0.0) || !(pdf > 0.0) || !isfinite(ux) || !isfinite(uy)) {
+        o->dir.x = o->dir.y = 0.0f;
+        o->dir.z = -1.0f;
+        return;
+    }
+    const double inv = 1.0 / dist;
+    o->dir.x = (float)(vx * inv);
+    o->dir.y = (float)(vy * inv);
+    o->dir.z = (float)(vz * inv);
+    if (!lumis__lum_pixel(l, px, py, &i, &j)) return;
+    /* r and cos at U: cos = z / r. */
+    lumis__lum_shade(l, m % l->gw, m / l->gw, l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3,
+                     px, py, ux, uy, i, j, pdf, count, pz, dist * dist * dist, o);
+}
+
 int lumis__lum_box_axis(const lumis_luminaire *l, int axis, int index, double pc, double pz,
                         double *lo, double *hi)
 {

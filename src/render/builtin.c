@@ -175,17 +175,17 @@ static lumis_status wu_scene(lumis_scene_file *f, const wu_materials *m)
     return lumis__scene_file_push(f, &ground);
 }
 
-static lumis_bsdf lambert(float r, float g, float b)
+static lumis_bsdf mat_lambert(float r, float g, float b)
 {
     return (lumis_bsdf){LUMIS_BSDF_LAMBERT, {r, g, b}, {0, 0, 0}, 0, 0};
 }
 
-static lumis_bsdf ward(float d, float sp, float alpha)
+static lumis_bsdf mat_ward(float d, float sp, float alpha)
 {
     return (lumis_bsdf){LUMIS_BSDF_WARD, {d, d, d}, {sp, sp, sp}, alpha, alpha};
 }
 
-static lumis_bsdf plastic(float r, float g, float b, float alpha)
+static lumis_bsdf mat_plastic(float r, float g, float b, float alpha)
 {
     return (lumis_bsdf){LUMIS_BSDF_GGX_PLASTIC, {r, g, b}, {0.04f, 0.04f, 0.04f}, alpha, alpha};
 }
@@ -193,24 +193,25 @@ static lumis_bsdf plastic(float r, float g, float b, float alpha)
 /* Every object Lambertian. */
 static lumis_status wu_diffuse(lumis_scene_file *f)
 {
-    const wu_materials m = {lambert(0.75f, 0.75f, 0.75f), lambert(0.7f, 0.55f, 0.35f),
-                            lambert(0.35f, 0.45f, 0.7f), lambert(0, 0, 0), 0};
+    const wu_materials m = {mat_lambert(0.75f, 0.75f, 0.75f), mat_lambert(0.7f, 0.55f, 0.35f),
+                            mat_lambert(0.35f, 0.45f, 0.7f), mat_lambert(0, 0, 0), 0};
     return wu_scene(f, &m);
 }
 
 /* Broad glossy lobes (Ward, alpha 0.3): diffuse-looking, light direction still matters. */
 static lumis_status wu_satin(lumis_scene_file *f)
 {
-    const wu_materials m = {ward(0.6f, 0.15f, 0.3f), ward(0.5f, 0.2f, 0.3f),
-                            ward(0.45f, 0.25f, 0.25f), lambert(0, 0, 0), 0};
+    const wu_materials m = {mat_ward(0.6f, 0.15f, 0.3f), mat_ward(0.5f, 0.2f, 0.3f),
+                            mat_ward(0.45f, 0.25f, 0.25f), mat_lambert(0, 0, 0), 0};
     return wu_scene(f, &m);
 }
 
 /* Semi-glossy plastics (GGX, alpha 0.15 to 0.25). */
 static lumis_status wu_glossy(lumis_scene_file *f)
 {
-    const wu_materials m = {plastic(0.7f, 0.7f, 0.7f, 0.25f), plastic(0.6f, 0.35f, 0.15f, 0.2f),
-                            plastic(0.15f, 0.3f, 0.65f, 0.15f), lambert(0, 0, 0), 0};
+    const wu_materials m = {mat_plastic(0.7f, 0.7f, 0.7f, 0.25f),
+                            mat_plastic(0.6f, 0.35f, 0.15f, 0.2f),
+                            mat_plastic(0.15f, 0.3f, 0.65f, 0.15f), mat_lambert(0, 0, 0), 0};
     return wu_scene(f, &m);
 }
 
@@ -219,22 +220,10 @@ static lumis_status wu_glossy(lumis_scene_file *f)
 static lumis_status wu_mixed(lumis_scene_file *f)
 {
     const wu_materials m = {
-        lambert(0.75f, 0.75f, 0.75f), ward(0.5f, 0.2f, 0.3f), plastic(0.6f, 0.12f, 0.08f, 0.2f),
+        mat_lambert(0.75f, 0.75f, 0.75f), mat_ward(0.5f, 0.2f, 0.3f),
+        mat_plastic(0.6f, 0.12f, 0.08f, 0.2f),
         (lumis_bsdf){LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.95f, 0.64f, 0.54f}, 0.3f, 0.3f}, 1};
     return wu_scene(f, &m);
-}
-
-/* ---- luminaires ------------------------------------------------------------------------ */
-
-lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
-                                          lumis_luminaire **out)
-{
-    lumis_luminaire_preset preset;
-    *out = NULL;
-    if (!spec || strncmp(spec, "preset:", 7) != 0 ||
-        lumis_luminaire_preset_from_name(spec + 7, &preset) != LUMIS_OK)
-        return LUMIS_ERR_INVALID_ARGUMENT;
-    return lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, errors, out);
 }
 
 /* A car headlight (the "car" preset, in millimetres) 0.7 m above a floor, aimed 5 degrees
@@ -243,7 +232,9 @@ lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_si
 static lumis_status headlight_scene(lumis_scene_file *f, const lumis_luminaire *given)
 {
     lumis_luminaire *lum = NULL; /* acquired here and owned by f, unless one is given */
-    lumis_status st = given ? LUMIS_OK : lumis__luminaire_from_preset("preset:car", NULL, &lum);
+    lumis_status st =
+        given ? LUMIS_OK
+              : lumis_luminaire_preset_create(LUMIS_PRESET_CAR, LUMIS_BASIS_DEFAULT, NULL, &lum);
     if (st != LUMIS_OK) return st;
     const double tilt = 5.0 * LUMIS_PI / 180.0, sn = sin(tilt), cs = cos(tilt);
     /* Local +z (the beam) to (0, -sin, -cos), local +y to up-ish, local +x to -x. */
@@ -252,9 +243,9 @@ static lumis_status headlight_scene(lumis_scene_file *f, const lumis_luminaire *
     if ((st = lumis__scene_file_add_luminaire(f, lum, "preset:car", &in)) != LUMIS_OK) return st;
     lumis_object bunny;
     st = embedded_mesh(f, "builtin:bunny", lumis__bunny_glb, lumis__bunny_glb_size, 0.6f, -0.5f,
-                       -2.2f, 30.0f, 1, lambert(0.75f, 0.75f, 0.75f), &bunny);
+                       -2.2f, 30.0f, 1, mat_lambert(0.75f, 0.75f, 0.75f), &bunny);
     if (st != LUMIS_OK) return st;
-    lumis_object ball = sphere(0.55f, 0.3f, -2.8f, 0.3f, plastic(0.6f, 0.12f, 0.08f, 0.2f));
+    lumis_object ball = sphere(0.55f, 0.3f, -2.8f, 0.3f, mat_plastic(0.6f, 0.12f, 0.08f, 0.2f));
     lumis_object floor_ = ground_plane(0.5f);
     floor_.size = 40.0f;
     lumis_object wall;
@@ -263,7 +254,7 @@ static lumis_status headlight_scene(lumis_scene_file *f, const lumis_luminaire *
     wall.center = (lumis_vec3){0, 0, -5.0f};
     wall.normal = (lumis_vec3){0, 0, 1};
     wall.size = 40.0f;
-    wall.material = lambert(0.7f, 0.7f, 0.7f);
+    wall.material = mat_lambert(0.7f, 0.7f, 0.7f);
     if ((st = lumis__scene_file_push(f, &bunny)) != LUMIS_OK) return st;
     if ((st = lumis__scene_file_push(f, &ball)) != LUMIS_OK) return st;
     if ((st = lumis__scene_file_push(f, &floor_)) != LUMIS_OK) return st;

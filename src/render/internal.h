@@ -27,10 +27,6 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
  * earlier instance of f), read from path (a file or "preset:NAME"; copied). */
 lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
                                              const char *path, const lumis_luminaire_instance *in);
-/* A luminaire made by acquisition from a preset's emitter: spec "preset:car", "preset:bike"
- * or "preset:small".  LUMIS_ERR_INVALID_ARGUMENT for another spec. */
-lumis_status lumis__luminaire_from_preset(const char *spec, const lumis_error_sink *errors,
-                                          lumis_luminaire **out);
 /* Rotation Rz Ry Rx (degrees r), row-major, in double precision (a luminaire's placement
  * must pass lumis_rigid_check). */
 void lumis__rotation_deg(const float r[3], double m[9]);

@@ -656,9 +656,10 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
             lumis_luminaire_preset preset;
             if (lumis_luminaire_preset_from_name(name + 7, &preset) != LUMIS_OK)
                 return bad(p, at, "preset:car, preset:bike or preset:small");
-            st = p->options && p->options->load_preset
-                     ? p->options->load_preset(p->options->load_preset_user, name, &owned)
-                     : lumis__luminaire_from_preset(name, p->errors, &owned);
+            st =
+                p->options && p->options->load_preset
+                    ? p->options->load_preset(p->options->load_preset_user, name, &owned)
+                    : lumis_luminaire_preset_create(preset, LUMIS_BASIS_DEFAULT, p->errors, &owned);
         } else {
             lumis_luminaire_read_options ro = {0};
             if (p->errors) ro.errors = *p->errors;

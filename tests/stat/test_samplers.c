@@ -10,7 +10,7 @@
 #include "../testutil.h"
 
 #include "core/distrib.h"
-#include "envmap/sampler_internal.h"
+#include "envmap/sampler_method.h"
 #include "stat.h"
 
 #include <math.h>

@@ -1,4 +1,4 @@
-/* The machinery every environment-map sampler shares (not public API).
+/* The interface between sampler.c and the sampling methods (sampler_*.c), not public API.
  *
  * A method picks a rectangle of pixels [x0, x1) x [y0, y1) (one pixel, a kd-tree block or
  * the whole map) and a point (s, t) in [0,1)^2; sampler.c turns that into a direction
@@ -7,8 +7,8 @@
  * looks up its radiance.  pdf() goes the other way: direction -> pixel -> the method's
  * density for that pixel.  Both paths call the same density function with the same
  * arguments, so pdf(sample(u).dir) == sample(u).pdf exactly. */
-#ifndef LUMIS_SAMPLER_INTERNAL_H
-#define LUMIS_SAMPLER_INTERNAL_H
+#ifndef LUMIS_SAMPLER_METHOD_H
+#define LUMIS_SAMPLER_METHOD_H
 
 #include "lumis/sampler.h"
 
@@ -57,9 +57,6 @@ struct lumis_sampler {
  * compensation applied.  *total receives the sum; 0 means nothing to sample. */
 lumis_status lumis__importance(const lumis_envmap *env, const lumis_sampler_desc *desc,
                                double **out, double *total);
-
-/* Solid angle of the pixel rectangle [x0,x1) x [y0,y1). */
-double lumis__rect_solid_angle(const lumis_envmap *env, int x0, int y0, int x1, int y1);
 
 /* The methods. */
 lumis_status lumis__uniform_init(lumis_sampler *s);
