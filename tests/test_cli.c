@@ -1432,7 +1432,7 @@ static void bench_runs_light_sets(void **state)
          "belong to light sets"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"wu\", \"params\": \"lambda=-1\"}], \"budgets\": [{\"spp\": 1}]}",
-         "methods[0].params lambda=VALUE needs"},
+         "methods[0].params: lambda=VALUE needs"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"median-cut\", \"params\": \"wd=2\"}], \"budgets\": [{\"spp\": 1}]}",
          "'wd' is a parameter of Wu's decomposition"},

@@ -1607,6 +1607,88 @@ static void interleave_pattern_covers_every_set(void **state)
     assert_int_equal(lumis_light_set_interleave_index(8, 3, 1), 7); /* a 4 x 2 tile */
 }
 
+/* Methods and parameters by name (what a host application exposes, as the tool does): every
+ * name builds the method it names, the same lights as the method's own call; NAME=VALUE
+ * pairs set their fields, format back in table order, and bad ones are refused with a
+ * message naming them. */
+static void methods_and_parameters_by_name(void **state)
+{
+    (void)state;
+    int n = 0;
+    for (const char *const *name = lumis_lights_method_names(); *name; name++, n++)
+        assert_int_not_equal(lumis_lights_method_from_name(*name), 0);
+    assert_int_equal(n, 9);
+    assert_int_equal(lumis_lights_method_from_name("wu-is"), LUMIS_LIGHTS_DECOMPOSITION);
+    assert_int_equal(lumis_lights_method_from_name("fhis"), LUMIS_LIGHTS_FHIS);
+    assert_int_equal(lumis_lights_method_from_name("median"), 0);
+    assert_int_equal(lumis_lights_method_from_name(NULL), 0);
+
+    lumis_light_params p = {0};
+    assert_int_equal(
+        lumis_light_params_parse(&p, "seed=9,lambda=5,,mask=radians,jitter=0.25", NULL), LUMIS_OK);
+    assert_float_equal(p.wu.lambda, 5.0f, 0.0f);
+    assert_int_equal(p.wu.mask_radius, LUMIS_MASK_RADIANS);
+    assert_float_equal(p.jitter, 0.25f, 0.0f);
+    assert_true(p.seed == 9);
+    char buf[256];
+    lumis_light_params_format(&p, buf, sizeof buf);
+    assert_string_equal(buf, "lambda=5,mask=radians,jitter=0.25,seed=9");
+    assert_int_equal(lumis_light_params_check(&p, "wu-is-mask", NULL), LUMIS_OK);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_light_params_check(&p, "median-cut", &sink.sink),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "'lambda' is a parameter of Wu"));
+    static const struct {
+        const char *text, *says;
+    } bad[] = {{"lambda=0", "lambda=VALUE needs"},
+               {"percentile=100.5", "in (0, 100]"},
+               {"jitter=1.5", "in (0, 1]"},
+               {"seed=-3", "an unsigned integer"},
+               {"kmeans-iterations=0", "a count"},
+               {"gamma=1e-300", "at least 1.2e-38"},
+               {"wv=1e39", "at most 3.4e38"},
+               {"mask=disc", "cap"},
+               {"lambda", "is not NAME=VALUE"},
+               {"frobnicate=1", "unknown parameter"},
+               {"", "NAME=VALUE"}};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        lumis_light_params q = {0};
+        tu_sink_init(&sink);
+        if (lumis_light_params_parse(&q, bad[k].text, &sink.sink) != LUMIS_ERR_INVALID_ARGUMENT ||
+            !strstr(sink.last, bad[k].says))
+            fail_msg("'%s': '%s'", bad[k].text, sink.last);
+    }
+    /* by name == the method's own call, bit for bit */
+    lumis_envmap *env = make_env(64, 32, sky_pixel, 0.0f, 0.0f);
+    lumis_light_set *a = NULL, *b = NULL;
+    lumis_light_params wp = {0};
+    assert_int_equal(lumis_light_params_parse(&wp, "threshold=2,seed=3", NULL), LUMIS_OK);
+    assert_int_equal(lumis_lights_by_name(env, "wu-is-kmeans", 16, 2, &wp, NULL, &a), LUMIS_OK);
+    lumis_decomp_desc d = {0};
+    d.count = 16;
+    d.sets = 2;
+    d.threshold = 2.0f;
+    d.seed = 3;
+    d.variant = LUMIS_DECOMP_IS_KMEANS;
+    assert_int_equal(lumis_lights_decompose(env, &d, &b), LUMIS_OK);
+    for (int set = 0; set < 2; set++) {
+        const lumis_light *la = NULL, *lb = NULL;
+        int na = 0, nb = 0;
+        assert_int_equal(lumis_light_set_get(a, set, &la, &na), LUMIS_OK);
+        assert_int_equal(lumis_light_set_get(b, set, &lb, &nb), LUMIS_OK);
+        assert_int_equal(na, nb);
+        assert_memory_equal(la, lb, (size_t)na * sizeof *la);
+    }
+    lumis_light_set_destroy(a);
+    lumis_light_set_destroy(b);
+    a = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "no-such", 16, 2, NULL, NULL, &a),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(a);
+    lumis_envmap_destroy(env);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1631,6 +1713,7 @@ int main(void)
         cmocka_unit_test(the_cut_splits_the_longer_side_in_the_middle),
         cmocka_unit_test(eq3_is_invariant_to_the_maps_scale),
         cmocka_unit_test(envdirect_seeds_weigh_solid_angle),
+        cmocka_unit_test(methods_and_parameters_by_name),
         cmocka_unit_test(fhis_points_are_uniform_on_a_constant_map),
         cmocka_unit_test(label_extents_cover_whole_pixels),
         cmocka_unit_test(the_second_split_takes_the_larger_priority),

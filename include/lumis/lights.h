@@ -259,6 +259,46 @@ typedef struct lumis_light_set_info {
 /* The build's report (valid while the set lives). */
 const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
 
+/* ---- methods and parameters by name ------------------------------------------------------
+ * What the lumis tool's --method / --lights and --param / --lights-param take, for a host
+ * application that exposes the same choices: a method by name, and NAME=VALUE parameters
+ * (docs/lights.md lists them).  Methods: "median-cut", "variance-min", "fhis", "tmms", "wu",
+ * and Wu's ablations "wu-is", "wu-is-mask", "wu-is-kmeans", "wu-original-cut". */
+
+/* The method names, NULL-terminated. */
+const char *const *lumis_lights_method_names(void);
+/* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...), 0 for an unknown
+ * name. */
+lumis_lights_method lumis_lights_method_from_name(const char *name);
+
+/* Parameters by name.  Zero-initialised: every method's defaults. */
+typedef struct lumis_light_params {
+    lumis_decomp_desc wu; /* Wu: Eq. 1-3, masking, k-means (count, sets, variant, cut unused) */
+    float jitter;         /* every method: the extra sets' jitter */
+    uint64_t seed;        /* every method: the seed */
+    float key, bandwidth; /* TMMS */
+    unsigned given;       /* a bit per parameter given, in lumis_light_params_parse's order */
+} lumis_light_params;
+
+/* Adds the pairs of "NAME=VALUE[,NAME=VALUE...]" to p.  LUMIS_ERR_INVALID_ARGUMENT, with a
+ * message naming the pair and the value's range, for an unknown name or a bad value (p then
+ * holds the pairs before it). */
+lumis_status lumis_light_params_parse(lumis_light_params *p, const char *text,
+                                      const lumis_error_sink *errors);
+/* LUMIS_OK if every parameter given applies to the method `method` (a name), else
+ * LUMIS_ERR_INVALID_ARGUMENT with a message naming the parameter and its method. */
+lumis_status lumis_light_params_check(const lumis_light_params *p, const char *method,
+                                      const lumis_error_sink *errors);
+/* The parameters given, as "name=value,..." (empty when none; each value the shortest that
+ * reads back the same), into buf of cap bytes (truncated to fit). */
+void lumis_light_params_format(const lumis_light_params *p, char *buf, size_t cap);
+
+/* K lights in `sets` interleaved sets by the method `method` (a name) with parameters
+ * `params` (NULL: the defaults); 0 for K or sets: the method's default. */
+lumis_status lumis_lights_by_name(const lumis_envmap *env, const char *method, int count, int sets,
+                                  const lumis_light_params *params, const lumis_error_sink *errors,
+                                  lumis_light_set **out);
+
 #ifdef __cplusplus
 }
 #endif

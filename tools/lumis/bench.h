@@ -40,7 +40,7 @@ typedef struct suite_method {
     int power, light_samples, bsdf_samples;
     char lights[32];                    /* a light-set method, or "" */
     int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
-    tool_light_params lights_params;    /* "params": the light-set method's parameters */
+    lumis_light_params lights_params;   /* "params": the light-set method's parameters */
 } suite_method;
 
 typedef struct suite_budget {

@@ -144,7 +144,7 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
                  m->upsample);
         h = fnv_str(h, buf);
         char params[1024];
-        tool_light_params_format(&m->lights_params, params, sizeof params);
+        lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
     snprintf(out, cap, "%016llx", (unsigned long long)h);

@@ -189,7 +189,7 @@ int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
     int k = 0, sets = 0, masks = 0, png_width = 0;
-    tool_light_params params = {0};
+    lumis_light_params params = {0};
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -262,7 +262,8 @@ int cmd_lights(int argc, char **argv)
     lumis_image_destroy(img);
     if (est != LUMIS_OK) return EXIT_RUNTIME;
     rc = EXIT_RUNTIME;
-    if (tool_make_light_set(env, method, k, sets, &params, &set) != LUMIS_OK) goto done;
+    if (lumis_lights_by_name(env, method, k, sets, &params, &tool_errors, &set) != LUMIS_OK)
+        goto done;
     const lumis_light_set_info *info = lumis_light_set_get_info(set);
     const lumis_light *l = NULL;
     int count = 0;
@@ -277,7 +278,7 @@ int cmd_lights(int argc, char **argv)
     printf("%s: %d lights by %s%s, %d sets, built in %.2f ms\n", map, count, method, split,
            lumis_light_set_sets(set), info->build_ms);
     char given[1024];
-    tool_light_params_format(&params, given, sizeof given);
+    lumis_light_params_format(&params, given, sizeof given);
     if (*given) printf("parameters %s\n", given);
     printf("map read in %.2f ms, set up in %.2f ms\n", 1e3 * (t_setup - t_read),
            1e3 * (t_done - t_setup));

@@ -50,36 +50,20 @@ int tool_make_dir(const char *path);
 /* Prints a warning naming what (a file or spec) when r counts replaced values. */
 void tool_warn_replaced(const char *what, lumis_replaced r);
 
-/* Light sets by name (median-cut, variance-min, ...): K lights (0: the method's default)
- * in `sets` interleaved sets (0: its default).  Prints errors itself. */
+/* Light-set methods by name (lumis_lights_method_from_name): known, Wu's (any wu...), and
+ * the names joined for a message. */
 int tool_lights_method_known(const char *name);
 const char *tool_lights_method_names(void);
 int tool_lights_method_is_wu(const char *name);
 
-/* The methods' parameters as `--param NAME=VALUE[,NAME=VALUE...]` gives them (lumis lights
- * --param, lumis render --lights-param; docs/lights.md lists the names).  Zero-initialised:
- * every method's defaults. */
-typedef struct tool_light_params {
-    lumis_decomp_desc wu; /* Wu: Eq. 1-3, masking, k-means (count, sets, variant, cut unused) */
-    float jitter;         /* every method: the extra sets' jitter */
-    uint64_t seed;        /* every method: the seed (when given) */
-    float key, bandwidth; /* TMMS */
-    unsigned given;       /* a bit per name given (tool_light_params_parse's table) */
-} tool_light_params;
-
-/* Adds the NAME=VALUE pairs of `text` (the value of option `opt` of command `cmd`); prints
- * a usage error and returns EXIT_USAGE on an unknown name or a bad value, else EXIT_OK. */
-int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *opt,
+/* lumis_light_params_parse of option `opt`'s value `text` (lumis lights --param, lumis render
+ * --lights-param): a usage error of command `cmd` (EXIT_USAGE) with the library's message,
+ * else EXIT_OK. */
+int tool_light_params_parse(lumis_light_params *p, const char *cmd, const char *opt,
                             const char *text);
-/* EXIT_OK if every parameter given applies to `method`, else a usage error (EXIT_USAGE). */
-int tool_light_params_check(const tool_light_params *p, const char *cmd, const char *opt,
+/* lumis_light_params_check against `method`, as a usage error (EXIT_USAGE) or EXIT_OK. */
+int tool_light_params_check(const lumis_light_params *p, const char *cmd, const char *opt,
                             const char *method);
-/* The parameters given, as "name=value,..." (empty when none) into buf. */
-void tool_light_params_format(const tool_light_params *p, char *buf, size_t cap);
-
-/* K lights by `method` with parameters `params` (NULL: the defaults). */
-lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
-                                 const tool_light_params *params, lumis_light_set **out);
 
 /* "auto" exposure: the stops that bring an image's mean luminance to 0.18 (0 for a black
  * image).  The default of every PNG preview. */
@@ -199,9 +183,9 @@ typedef struct tool_render_opts {
     float rotation_deg, scale;           /* of envspec when given */
     lumis_sampler_desc sampler;
     int bsdf_only;
-    const char *lights;              /* a light-set method (tool_lights_method_known), or NULL */
-    int lights_k, interleave;        /* its K and number of interleaved sets (0: defaults) */
-    tool_light_params lights_params; /* --lights-param (zero: the method's defaults) */
+    const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
+    int lights_k, interleave;         /* its K and number of interleaved sets (0: defaults) */
+    lumis_light_params lights_params; /* --lights-param (zero: the method's defaults) */
     int upsample;         /* Wu: EnvIndirects at 1/F resolution per axis (0: 2; 1: none) */
     lumis_render_desc rd; /* estimator, heuristic, counts, seed, threads, bounces */
     /* Scenes with luminaires: how they are sampled (the instances come from the scene). */

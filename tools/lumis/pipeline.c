@@ -82,249 +82,55 @@ lumis_status tool_make_sampler(const char *spec, float rotation, float scale,
     return st;
 }
 
-/* The light-set methods of --lights: median cut, variance minimisation, and Wu's
- * decomposition with its Table 2 ablations and the original (variance-only) cut. */
-static const struct {
-    const char *name;
-    int kind; /* 0: median cut, 1: variance minimisation, 2: Wu, 3: FHIS, 4: TMMS */
-    lumis_decomp_variant variant;
-    lumis_cut_objective cut;
-} light_methods[] = {
-    {"median-cut", 0, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
-    {"variance-min", 1, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
-    {"fhis", 3, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
-    {"tmms", 4, LUMIS_DECOMP_DEFAULT, LUMIS_CUT_DEFAULT},
-    {"wu", 2, LUMIS_DECOMP_FULL, LUMIS_CUT_MODIFIED},
-    {"wu-is", 2, LUMIS_DECOMP_IS_ONLY, LUMIS_CUT_MODIFIED},
-    {"wu-is-mask", 2, LUMIS_DECOMP_IS_MASK, LUMIS_CUT_MODIFIED},
-    {"wu-is-kmeans", 2, LUMIS_DECOMP_IS_KMEANS, LUMIS_CUT_MODIFIED},
-    {"wu-original-cut", 2, LUMIS_DECOMP_FULL, LUMIS_CUT_ORIGINAL},
-};
-enum { LIGHT_METHODS = sizeof light_methods / sizeof light_methods[0] };
-
-/* The kind of a method (light_methods[].kind), -1 for an unknown name. */
-static int method_kind(const char *name)
-{
-    for (int k = 0; k < LIGHT_METHODS; k++)
-        if (strcmp(light_methods[k].name, name) == 0) return light_methods[k].kind;
-    return -1;
-}
+/* ---- light-set methods and parameters: the library's (lumis/lights.h), with the CLI's
+ * messages --------------------------------------------------------------------------- */
 
 int tool_lights_method_known(const char *name)
 {
-    return method_kind(name) >= 0;
-}
-
-const char *tool_lights_method_names(void)
-{
-    return "median-cut, variance-min, fhis, tmms, wu, wu-is, wu-is-mask, wu-is-kmeans, "
-           "wu-original-cut";
+    return lumis_lights_method_from_name(name) != 0;
 }
 
 int tool_lights_method_is_wu(const char *name)
 {
-    return method_kind(name) == 2;
+    return lumis_lights_method_from_name(name) == LUMIS_LIGHTS_DECOMPOSITION;
 }
 
-/* The parameters of --param / --lights-param.  Each is a field of a library descriptor
- * whose zero means the default, so a value must be positive (a tiny one stands for zero). */
-enum { PARAM_WU = 1, PARAM_ALL = 2, PARAM_TMMS = 4 };
-enum { PARAM_POSITIVE, PARAM_FRACTION, PARAM_PERCENT, PARAM_COUNT, PARAM_SEED, PARAM_MASK };
-#define PF(field) offsetof(tool_light_params, field) /* a float field of the parameters */
-static const struct {
-    const char *name;
-    int applies, type;
-    size_t field; /* PARAM_POSITIVE, _FRACTION, _PERCENT: the float it sets */
-    const char *what;
-} light_params[] = {
-    {"percentile", PARAM_WU, PARAM_PERCENT, PF(wu.percentile),
-     "L_b's percentile of Eq. 1, in (0, 100]"},
-    {"lambda", PARAM_WU, PARAM_POSITIVE, PF(wu.lambda), "Eq. 1's lambda, > 0"},
-    {"gamma", PARAM_WU, PARAM_POSITIVE, PF(wu.gamma), "Eq. 1's gamma, > 0"},
-    {"threshold", PARAM_WU, PARAM_POSITIVE, PF(wu.threshold), "L_T itself instead of Eq. 1, > 0"},
-    {"a", PARAM_WU, PARAM_POSITIVE, PF(wu.budget_a), "Eq. 2's exponent a, > 0"},
-    {"b", PARAM_WU, PARAM_POSITIVE, PF(wu.budget_b), "Eq. 2's exponent b, > 0"},
-    {"s", PARAM_WU, PARAM_POSITIVE, PF(wu.mask_scale), "the mask's s of s * 4 pi / K, > 0"},
-    {"mask", PARAM_WU, PARAM_MASK, 0, "cap (solid angle s 4 pi / K) or radians"},
-    {"return", PARAM_WU, PARAM_POSITIVE, PF(wu.return_factor),
-     "the return distance over the mask radius, > 0"},
-    {"kmeans-iterations", PARAM_WU, PARAM_COUNT, 0, "a count in [1, 2^20]"},
-    {"wv", PARAM_WU, PARAM_POSITIVE, PF(wu.w_v), "Eq. 3's w_V, > 0"},
-    {"wd", PARAM_WU, PARAM_POSITIVE, PF(wu.w_d), "Eq. 3's w_D, > 0"},
-    {"we", PARAM_WU, PARAM_POSITIVE, PF(wu.w_e), "Eq. 3's w_E, > 0"},
-    {"jitter", PARAM_ALL, PARAM_FRACTION, PF(jitter),
-     "a fraction of each light's extent, in (0, 1]"},
-    {"seed", PARAM_ALL, PARAM_SEED, 0, "an unsigned integer"},
-    {"key", PARAM_TMMS, PARAM_POSITIVE, PF(key), "the tone-mapping key, > 0"},
-    {"bandwidth", PARAM_TMMS, PARAM_FRACTION, PF(bandwidth), "the range bandwidth, in (0, 1]"},
-};
-#undef PF
-enum { LIGHT_PARAMS = sizeof light_params / sizeof light_params[0] };
-_Static_assert(LIGHT_PARAMS <= 32, "a bit per parameter in tool_light_params.given");
-
-static float *param_float(tool_light_params *p, int q)
+const char *tool_lights_method_names(void)
 {
-    return (float *)(void *)((char *)p + light_params[q].field);
+    static char list[512];
+    if (!list[0])
+        for (const char *const *n = lumis_lights_method_names(); *n; n++) {
+            if (list[0]) strcat(list, ", ");
+            strcat(list, *n);
+        }
+    return list;
 }
 
-static float param_float_value(const tool_light_params *p, int q)
+/* The library's message, kept for a usage error. */
+static void keep_message(void *user, lumis_status status, const char *message)
 {
-    return *(const float *)(const void *)((const char *)p + light_params[q].field);
+    (void)status;
+    snprintf((char *)user, 600, "%s", message);
 }
 
-int tool_light_params_parse(tool_light_params *p, const char *cmd, const char *opt,
+int tool_light_params_parse(lumis_light_params *p, const char *cmd, const char *opt,
                             const char *text)
 {
-    if (!text || !*text) return tool_bad_value(cmd, opt, text, "needs NAME=VALUE[,NAME=VALUE...]");
-    char buf[1024];
-    if (strlen(text) >= sizeof buf) return tool_bad_value(cmd, opt, "...", "is too long");
-    strcpy(buf, text);
-    for (char *save = NULL, *item = strtok_r(buf, ",", &save); item;
-         item = strtok_r(NULL, ",", &save)) {
-        char *eq = strchr(item, '=');
-        if (!eq) return tool_usage_error(cmd, "%s: '%s' is not NAME=VALUE", opt, item);
-        *eq = '\0';
-        const char *value = eq + 1;
-        int q = 0;
-        while (q < LIGHT_PARAMS && strcmp(light_params[q].name, item) != 0) q++;
-        if (q == LIGHT_PARAMS) {
-            char names[512] = "";
-            for (int n = 0; n < LIGHT_PARAMS; n++) {
-                strcat(names, n ? ", " : "");
-                strcat(names, light_params[n].name);
-            }
-            return tool_usage_error(cmd, "%s: unknown parameter '%s' (known: %s)", opt, item,
-                                    names);
-        }
-        const int type = light_params[q].type;
-        double x = 0.0;
-        long n = 0;
-        int ok;
-        if (type == PARAM_MASK) {
-            ok = strcmp(value, "cap") == 0 || strcmp(value, "radians") == 0;
-            if (ok)
-                p->wu.mask_radius =
-                    value[0] == 'c' ? LUMIS_MASK_CAP_SOLID_ANGLE : LUMIS_MASK_RADIANS;
-        } else if (type == PARAM_COUNT) {
-            ok = tool_parse_int(value, 1, 1 << 20, &n);
-            if (ok) p->wu.kmeans_max_iterations = (int)n;
-        } else if (type == PARAM_SEED) {
-            unsigned long long u = 0;
-            ok = tool_parse_u64(value, 0, &u);
-            if (ok) p->seed = (uint64_t)u;
-        } else {
-            ok = tool_parse_double(value, &x) && isfinite(x) && x > 0.0 && x <= FLT_MAX &&
-                 (float)x > 0.0f;
-            if (type == PARAM_FRACTION) ok = ok && x <= 1.0;
-            if (type == PARAM_PERCENT) ok = ok && x <= 100.0;
-            if (ok) *param_float(p, q) = (float)x;
-        }
-        if (!ok) {
-            char what[200];
-            /* a positive number that float cannot hold: say that, not "needs > 0" */
-            const int tiny = type != PARAM_COUNT && type != PARAM_SEED &&
-                             tool_parse_double(value, &x) && x > 0.0 && (float)x == 0.0f;
-            const int huge = type != PARAM_COUNT && type != PARAM_SEED &&
-                             tool_parse_double(value, &x) && isfinite(x) && x > FLT_MAX;
-            snprintf(what, sizeof what, "%s=VALUE needs %s%s", item, light_params[q].what,
-                     tiny   ? " (and at least 1.2e-38: the parameters are floats)"
-                     : huge ? " (and at most 3.4e38: the parameters are floats)"
-                            : "");
-            return tool_bad_value(cmd, opt, value, what);
-        }
-        p->given |= 1u << q;
-    }
+    char msg[600] = "";
+    const lumis_error_sink sink = {keep_message, msg};
+    if (lumis_light_params_parse(p, text, &sink) != LUMIS_OK)
+        return tool_usage_error(cmd, "%s: %s", opt, msg);
     return EXIT_OK;
 }
 
-int tool_light_params_check(const tool_light_params *p, const char *cmd, const char *opt,
+int tool_light_params_check(const lumis_light_params *p, const char *cmd, const char *opt,
                             const char *method)
 {
-    const int kind = method_kind(method), wu = kind == 2, tmms = kind == 4;
-    for (int q = 0; q < LIGHT_PARAMS; q++) {
-        if (!(p->given & (1u << q))) continue;
-        const int a = light_params[q].applies;
-        if (a == PARAM_ALL || (a == PARAM_WU && wu) || (a == PARAM_TMMS && tmms)) continue;
-        return tool_usage_error(cmd, "%s: '%s' is a parameter of %s, not of %s", opt,
-                                light_params[q].name,
-                                a == PARAM_WU ? "Wu's decomposition (wu...)" : "tmms", method);
-    }
+    char msg[600] = "";
+    const lumis_error_sink sink = {keep_message, msg};
+    if (lumis_light_params_check(p, method, &sink) != LUMIS_OK)
+        return tool_usage_error(cmd, "%s: %s", opt, msg);
     return EXIT_OK;
-}
-
-void tool_light_params_format(const tool_light_params *p, char *buf, size_t cap)
-{
-    size_t len = 0;
-    buf[0] = '\0';
-    for (int q = 0; q < LIGHT_PARAMS && len < cap; q++) {
-        if (!(p->given & (1u << q))) continue;
-        const char *sep = len ? "," : "";
-        const int type = light_params[q].type;
-        int w;
-        if (type == PARAM_MASK)
-            w = snprintf(buf + len, cap - len, "%s%s=%s", sep, light_params[q].name,
-                         p->wu.mask_radius == LUMIS_MASK_RADIANS ? "radians" : "cap");
-        else if (type == PARAM_COUNT)
-            w = snprintf(buf + len, cap - len, "%s%s=%d", sep, light_params[q].name,
-                         p->wu.kmeans_max_iterations);
-        else if (type == PARAM_SEED)
-            w = snprintf(buf + len, cap - len, "%s%s=%llu", sep, light_params[q].name,
-                         (unsigned long long)p->seed);
-        else { /* the shortest decimal that reads back as the same float */
-            const float f = param_float_value(p, q);
-            char num[32];
-            for (int digits = 6; digits <= 9; digits++) {
-                snprintf(num, sizeof num, "%.*g", digits, (double)f);
-                if (strtof(num, NULL) == f) break;
-            }
-            w = snprintf(buf + len, cap - len, "%s%s=%s", sep, light_params[q].name, num);
-        }
-        if (w < 0) break;
-        len += (size_t)w;
-    }
-}
-
-lumis_status tool_make_light_set(const lumis_envmap *env, const char *method, int k, int sets,
-                                 const tool_light_params *params, lumis_light_set **out)
-{
-    static const tool_light_params defaults;
-    const tool_light_params *p = params ? params : &defaults;
-    *out = NULL;
-    for (int m = 0; m < LIGHT_METHODS; m++) {
-        if (strcmp(light_methods[m].name, method) != 0) continue;
-        if (light_methods[m].kind == 2) {
-            lumis_decomp_desc dd = p->wu;
-            dd.count = k;
-            dd.sets = sets;
-            dd.jitter = p->jitter;
-            dd.seed = p->seed;
-            dd.variant = light_methods[m].variant;
-            dd.cut = light_methods[m].cut;
-            dd.errors = tool_errors;
-            return lumis_lights_decompose(env, &dd, out);
-        }
-        if (light_methods[m].kind == 4) {
-            lumis_tmms_desc td = {0};
-            td.count = k;
-            td.sets = sets;
-            td.jitter = p->jitter;
-            td.seed = p->seed;
-            td.key = p->key;
-            td.range_bandwidth = p->bandwidth;
-            td.errors = tool_errors;
-            return lumis_lights_tmms(env, &td, out);
-        }
-        lumis_median_cut_desc md = {0};
-        md.count = k;
-        md.sets = sets;
-        md.jitter = p->jitter;
-        md.seed = p->seed;
-        md.errors = tool_errors;
-        if (light_methods[m].kind == 0) return lumis_lights_median_cut(env, &md, out);
-        if (light_methods[m].kind == 3) return lumis_lights_fhis(env, &md, out);
-        return lumis_lights_variance_min(env, &md, out);
-    }
-    return LUMIS_ERR_INVALID_ARGUMENT;
 }
 
 /* "auto" exposure: the stops that bring the reference's mean luminance to 0.18. */
@@ -756,7 +562,7 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
         x = cJSON_AddObjectToObject(j, "lights");
         cJSON_AddStringToObject(x, "method", o->lights);
         char params[1024];
-        tool_light_params_format(&o->lights_params, params, sizeof params);
+        lumis_light_params_format(&o->lights_params, params, sizeof params);
         cJSON_AddStringToObject(x, "params", params);
         cJSON_AddNumberToObject(x, "requested", li->requested);
         cJSON_AddNumberToObject(x, "count", li->count);
@@ -977,8 +783,8 @@ static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render
         lumis_render_desc pd = *rd;
         pd.progress = NULL;
         const double tg = tool_now_seconds();
-        lumis_status st =
-            tool_make_light_set(env, o->lights, ks[p], o->interleave, &o->lights_params, &set);
+        lumis_status st = lumis_lights_by_name(env, o->lights, ks[p], o->interleave,
+                                               &o->lights_params, &tool_errors, &set);
         gen[p] = tool_now_seconds() - tg;
         pd.light_set = set;
         if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
@@ -1240,8 +1046,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     }
     for (int attempt = 0;; attempt++) {
         const double tg = tool_now_seconds(), prep_before = r->prep_seconds;
-        if (o->lights && tool_make_light_set(env, o->lights, lights_k, o->interleave,
-                                             &o->lights_params, &lights) != LUMIS_OK)
+        if (o->lights && lumis_lights_by_name(env, o->lights, lights_k, o->interleave,
+                                              &o->lights_params, &tool_errors, &lights) != LUMIS_OK)
             goto done;
         rd.light_set = lights;
         if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
