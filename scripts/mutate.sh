@@ -11,9 +11,33 @@
 #   scripts/mutate.sh [MODULE...]        (default: every file in tests/mutants)
 #   MUTATE_DIR=build-mutate-2 scripts/mutate.sh lights     (a second run beside the first)
 #   MUTATE_ONLY=ID scripts/mutate.sh MODULE                (one mutant of a module)
+#   scripts/mutate.sh --check                              (no build: every "from" occurs
+#                                                           exactly once in its file; a test)
 set -uo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
+if [ "${1:-}" = --check ]; then
+    # the list stays applicable as code moves: a stale mutant is an error, not a skip
+    perl -00 -e '
+        my $bad = 0; my $n = 0;
+        for my $f (glob "tests/mutants/*.txt") {
+            open my $h, "<", $f or die; local $/ = ""; 
+            while (my $rec = <$h>) {
+                my %e; my $k;
+                for (split /\n/, $rec) { next if /^#/;
+                    if (/^(id|file|from|to|test|why|equivalent):\s?(.*)$/) { $k = $1; $e{$k} = $2; }
+                    elsif (defined $k) { $e{$k} .= "\n$_"; } }
+                next unless $e{id};
+                $n++;
+                my $t = do { local $/; open my $s, "<", $e{file} or do { print "$f: $e{id}: no file $e{file}\n"; $bad++; next }; <$s> };
+                my $c = () = $t =~ /\Q$e{from}\E/g;
+                if ($c != 1) { print "$f: $e{id}: \"from\" occurs $c times in $e{file}\n"; $bad++; }
+                if (!$e{test} && !$e{equivalent}) { print "$f: $e{id}: neither test nor equivalent\n"; $bad++; }
+            } }
+        print "mutate --check: $n mutants, ", ($bad ? "$bad stale" : "all apply"), "\n";
+        exit($bad ? 1 : 0);'
+    exit $?
+fi
 B=${MUTATE_DIR:-build-mutate}
 T=$B/tree
 mkdir -p "$T" || exit 2
