@@ -1,0 +1,66 @@
+/* The environment map as a light: light, BSDF or multiple importance sampling of the map
+ * through its sampler (Veach's balance or power heuristic). */
+#include "lumis/render.h"
+
+#include "../core/internal.h"
+#include "shade.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Direct light from the environment reflected at h towards -dir. */
+v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *shadow_rays)
+{
+    const lumis_render_desc *d = c->d;
+    v3 t, b, n = h->n, L = mk(0, 0, 0);
+    basis(n, &t, &b);
+    v3 wow = mul(dir, -1.0);
+    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const lumis_bsdf *m = &h->prim->material;
+    double scale = 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)));
+    v3 org = add(h->p, mul(n, scale));
+    int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
+        use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT;
+    int mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    for (int k = 0; use_light && k < c->nl; k++) {
+        double u1 = lumis_pcg32_double(rng), u2 = lumis_pcg32_double(rng);
+        lumis_env_sample e = lumis_sampler_sample(d->sampler, u1, u2);
+        v3 wi = fromf(e.dir);
+        double cosn = dot(wi, n);
+        if (!(cosn > 0.0) || !(e.pdf > 0.0f)) continue;
+        lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
+        lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
+        if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+        *shadow_rays += 1.0;
+        if (occluded(c->scene, d, org, wi)) continue;
+        double w =
+            mis ? mis_weight(c->nl, e.pdf, c->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
+                : 1.0;
+        double k2 = w * cosn / ((double)e.pdf * c->nl);
+        L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
+    }
+    for (int k = 0; use_bsdf && k < c->nb; k++) {
+        double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
+               u2 = lumis_pcg32_double(rng);
+        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u0, u1, u2);
+        if (!(bs.pdf > 0.0f)) continue;
+        v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+        *shadow_rays += 1.0;
+        if (occluded(c->scene, d, org, wi)) continue;
+        lumis_rgb Le;
+        double w = 1.0;
+        if (mis && c->fused) { /* one pixel lookup for the radiance and the light pdf */
+            float pl = lumis_sampler_pdf_radiance(d->sampler, tof(wi), &Le);
+            w = mis_weight(c->nb, bs.pdf, c->nl, pl, d->power_heuristic);
+        } else {
+            Le = lumis_envmap_eval(d->env, tof(wi));
+            if (mis)
+                w = mis_weight(c->nb, bs.pdf, c->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
+                               d->power_heuristic);
+        }
+        double k2 = w / c->nb;
+        L = add(L, mk(bs.weight.r * Le.r * k2, bs.weight.g * Le.g * k2, bs.weight.b * Le.b * k2));
+    }
+    return L;
+}
