@@ -9,10 +9,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The light samples and BSDF samples per vertex, and whether the sampler draws from the
+ * map lit with (its radiance and pdf then come from one lookup). */
+typedef struct env_state {
+    int nl, nb;
+    int fused;
+} env_state;
+
 /* Direct light from the environment reflected at h towards -dir. */
-v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *shadow_rays)
+static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
+    const env_state *st = c->state;
+    lumis_pcg32 *rng = v->rng;
+    double *shadow_rays = v->shadow_rays;
     v3 t, b, n = h->n, L = mk(0, 0, 0);
     basis(n, &t, &b);
     v3 wow = mul(dir, -1.0);
@@ -23,7 +33,7 @@ v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double
     int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
         use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT;
     int mis = d->estimator == LUMIS_ESTIMATOR_MIS;
-    for (int k = 0; use_light && k < c->nl; k++) {
+    for (int k = 0; use_light && k < st->nl; k++) {
         double u1 = lumis_pcg32_double(rng), u2 = lumis_pcg32_double(rng);
         lumis_env_sample e = lumis_sampler_sample(d->sampler, u1, u2);
         v3 wi = fromf(e.dir);
@@ -35,12 +45,12 @@ v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double
         *shadow_rays += 1.0;
         if (occluded(c->scene, d, org, wi)) continue;
         double w =
-            mis ? mis_weight(c->nl, e.pdf, c->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
+            mis ? mis_weight(st->nl, e.pdf, st->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
                 : 1.0;
-        double k2 = w * cosn / ((double)e.pdf * c->nl);
+        double k2 = w * cosn / ((double)e.pdf * st->nl);
         L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
     }
-    for (int k = 0; use_bsdf && k < c->nb; k++) {
+    for (int k = 0; use_bsdf && k < st->nb; k++) {
         double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
                u2 = lumis_pcg32_double(rng);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u0, u1, u2);
@@ -50,17 +60,43 @@ v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double
         if (occluded(c->scene, d, org, wi)) continue;
         lumis_rgb Le;
         double w = 1.0;
-        if (mis && c->fused) { /* one pixel lookup for the radiance and the light pdf */
+        if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
             float pl = lumis_sampler_pdf_radiance(d->sampler, tof(wi), &Le);
-            w = mis_weight(c->nb, bs.pdf, c->nl, pl, d->power_heuristic);
+            w = mis_weight(st->nb, bs.pdf, st->nl, pl, d->power_heuristic);
         } else {
             Le = lumis_envmap_eval(d->env, tof(wi));
             if (mis)
-                w = mis_weight(c->nb, bs.pdf, c->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
+                w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
                                d->power_heuristic);
         }
-        double k2 = w / c->nb;
+        double k2 = w / st->nb;
         L = add(L, mk(bs.weight.r * Le.r * k2, bs.weight.g * Le.g * k2, bs.weight.b * Le.b * k2));
     }
     return L;
 }
+
+static int lights(const lumis_render_desc *d)
+{
+    (void)d;
+    return 1; /* the default kind */
+}
+
+static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
+{
+    (void)scene;
+    if (!d->env || (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler))
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
+                           "non-negative sample counts and 0 to 1024 bounces");
+    env_state *st = malloc(sizeof *st);
+    if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
+    st->nl = d->light_samples ? d->light_samples : 1;
+    st->nb = d->bsdf_samples ? d->bsdf_samples : 1;
+    st->fused = d->sampler && lumis_sampler_envmap(d->sampler) == d->env;
+    *state = st;
+    return LUMIS_OK;
+}
+
+const lumis__light_kind lumis__light_env = {
+    "environment map", lights, prepare, free, NULL, NULL, NULL, NULL, NULL, shade,
+};

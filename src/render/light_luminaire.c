@@ -11,6 +11,50 @@
 #include <omp.h>
 #include <string.h>
 
+/* One placed luminaire as the shading loop reads it. */
+typedef struct lum_inst {
+    const lumis_luminaire *lum;
+    double r[9], t[3], scale, inv_scale, intensity;
+    lumis_luminaire_query query;
+    int capacity;     /* samples lumis_luminaire_sample_point may return */
+    int grid[2];      /* W, H */
+    int span;         /* cells of the visibility grid a basis function covers per axis */
+    int cells[2];     /* cells of the visibility grid per axis: W + span - 1, ... */
+    double cell0[2];  /* centre of cell (0, 0) on U, luminaire frame */
+    double cell_h[2]; /* cell size */
+    double weight[3]; /* the share of Phi's integral over each covered cell, per axis */
+    v3 *cell_world;   /* the cells' centres in the world (approximate visibility) */
+    float *smap;      /* shadow maps: per cell n x n distances to the nearest hit, over
+                         directions (x / z, y / z) in [-tmax, tmax]^2 of the local frame */
+    int smap_n;
+    double smap_t;
+} lum_inst;
+
+/* Per-thread buffers of the luminaire kind (no allocation per shading point). */
+typedef struct lum_scratch {
+    lumis_luminaire_sample *s; /* capacity samples */
+    float *vis;                /* visibility per cell (approximate visibility) */
+    unsigned *stamp;           /* the point a cell's visibility belongs to */
+    unsigned point;
+    size_t cells;   /* entries of vis and stamp */
+    double samples; /* luminaire samples evaluated by this thread */
+} lum_scratch;
+
+/* The kind's state: the placed luminaires, and the global strategy's draws of the chunk of
+ * camera samples being rendered (camera sample k, instance i at slot (k - global_k0) *
+ * count + i, `capacity` samples a slot). */
+typedef struct lum_state {
+    lum_inst *lum;
+    lumis_luminaire_lighting lighting; /* a copy of the render's */
+    int capacity;                      /* the most samples one instance returns */
+    size_t cells;                      /* the most visibility cells one instance has */
+    lumis_error_sink errors;
+    lumis_luminaire_sample *global;
+    int *global_n;
+    double *global_u;
+    int global_k0;
+} lum_state;
+
 static const char *const visibility_names[] = {"exact", "approx", "none", "shadowmap"};
 static const char *const sequence_names[] = {"pcg", "halton"};
 
@@ -121,7 +165,7 @@ static double smap_visibility(const lum_inst *li, int ci, int cj, v3 x)
 
 /* Renders every cell's shadow map: n x n rays from its centre over the directions that
  * reach the images (the largest |s - u| / delta over the images and the cells). */
-lumis_status lumis__lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int n, int threads)
+static lumis_status lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int n, int threads)
 {
     lumis_luminaire_desc ld;
     lumis_luminaire_get_desc(li->lum, &ld);
@@ -179,11 +223,15 @@ static void fill_halton(void *state, double *u, int n)
 
 /* Every placed luminaire at h: its samples (lumis_luminaire_sample_point) times the BSDF and
  * the cosine, each weighted as the sample says (1 / (K_m pdf_omega)), times its visibility. */
-v3 lumis__shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, int k,
-                           lumis_pcg32 *rng, lum_scratch *sc, double *shadow_rays)
+static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
-    const lumis_luminaire_lighting *ll = d->luminaires;
+    const lum_state *st = c->state;
+    const lumis_luminaire_lighting *ll = &st->lighting;
+    const int px = v->px, py = v->py, k = v->k;
+    lumis_pcg32 *rng = v->rng;
+    lum_scratch *sc = v->scratch;
+    double *shadow_rays = v->shadow_rays;
     v3 t, b, n = h->n;
     basis(n, &t, &b);
     v3 wow = mul(dir, -1.0);
@@ -192,7 +240,7 @@ v3 lumis__shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
     const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
     v3 L = mk(0, 0, 0);
     for (int i = 0; i < ll->count; i++) {
-        const lum_inst *li = &c->lum[i];
+        const lum_inst *li = &st->lum[i];
         lumis_luminaire_query q = li->query;
         const v3 pl =
             mul(rot_apply_t(li->r, sub(h->p, mk(li->t[0], li->t[1], li->t[2]))), li->inv_scale);
@@ -203,10 +251,10 @@ v3 lumis__shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
         if (q.strategy == LUMIS_LUM_GLOBAL) {
             /* The same points on S for every shading point: drawn once per camera sample
              * (global_draws), finished here. */
-            const size_t slot = (size_t)(k - c->global_k0) * (size_t)ll->count + (size_t)i;
+            const size_t slot = (size_t)(k - st->global_k0) * (size_t)ll->count + (size_t)i;
             if (lumis_luminaire_global_finish(li->lum, q.p,
-                                              c->global + slot * (size_t)c->global_stride,
-                                              c->global_n[slot], sc->s, &count) != LUMIS_OK)
+                                              st->global + slot * (size_t)st->capacity,
+                                              st->global_n[slot], sc->s, &count) != LUMIS_OK)
                 continue;
         } else if (ll->sequence == LUMIS_SEQUENCE_HALTON) {
             lumis_pcg32 g; /* a rotation per pixel and instance, the same for every k */
@@ -281,8 +329,8 @@ v3 lumis__shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, i
 }
 
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
-lumis_status lumis__render_lum_prepare(const lumis_render_desc *d, lum_inst **lum, int *capacity,
-                                       size_t *most_cells)
+static lumis_status lum_prepare(const lumis_render_desc *d, lum_inst **lum, int *capacity,
+                                size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     const lumis_error_sink *errors = &d->errors;
@@ -368,9 +416,9 @@ lumis_status lumis__render_lum_prepare(const lumis_render_desc *d, lum_inst **lu
 
 /* The global strategy's draws of camera samples k0 .. k1 - 1, every instance: a stream per
  * camera sample and instance, the same for every pixel. */
-lumis_status lumis__lum_global_draws(const lumis_luminaire_lighting *ll, const lum_inst *lum,
-                                     int capacity, uint64_t seed, int k0, int k1,
-                                     lumis_luminaire_sample *out, int *n, double *u)
+static lumis_status global_draws(const lumis_luminaire_lighting *ll, const lum_inst *lum,
+                                 int capacity, uint64_t seed, int k0, int k1,
+                                 lumis_luminaire_sample *out, int *n, double *u)
 {
     for (int k = k0; k < k1; k++)
         for (int i = 0; i < ll->count; i++) {
@@ -385,3 +433,121 @@ lumis_status lumis__lum_global_draws(const lumis_luminaire_lighting *ll, const l
         }
     return LUMIS_OK;
 }
+
+/* ---- the kind ------------------------------------------------------------------------ */
+
+static int lights(const lumis_render_desc *d)
+{
+    return d->luminaires && d->luminaires->count > 0;
+}
+
+static void release(void *state)
+{
+    lum_state *st = state;
+    if (!st) return;
+    for (int i = 0; st->lum && i < st->lighting.count; i++) {
+        free(st->lum[i].smap);
+        free(st->lum[i].cell_world);
+    }
+    free(st->lum);
+    free(st);
+}
+
+static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
+{
+    if (d->light_set || d->max_bounces > 0)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: luminaires light direct illumination alone (no light set, "
+                           "max_bounces 0)");
+    lum_state *st = calloc(1, sizeof *st);
+    *state = st;
+    if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
+    st->lighting = *d->luminaires; /* what release reads to free the shadow maps */
+    st->errors = d->errors;
+    lumis_status lst = lum_prepare(d, &st->lum, &st->capacity, &st->cells);
+    for (int i = 0; lst == LUMIS_OK && d->luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
+                    i < d->luminaires->count;
+         i++)
+        if ((lst = lum_shadow_maps(scene, &st->lum[i], 256,
+                                   d->threads > 0 ? d->threads : omp_get_max_threads())) !=
+            LUMIS_OK)
+            lumis__fail(&d->errors, lst, "render: luminaire %d: shadow maps: out of memory", i);
+    return lst;
+}
+
+/* The global strategy draws once per camera sample for every pixel: the camera samples are
+ * rendered in chunks whose draws take at most 64 MB. */
+static lumis_status run_begin(void *state, int samples, int *chunk)
+{
+    lum_state *st = state;
+    if (st->lighting.strategy != LUMIS_LUM_GLOBAL) return LUMIS_OK;
+    const size_t per_k = (size_t)st->lighting.count * (size_t)st->capacity * sizeof *st->global;
+    int n = (int)((size_t)(64 << 20) / per_k);
+    n = n < 1 ? 1 : n > samples ? samples : n;
+    st->global = malloc(per_k * (size_t)n);
+    st->global_n = malloc(sizeof *st->global_n * (size_t)n * (size_t)st->lighting.count);
+    st->global_u = malloc(2 * sizeof *st->global_u * (size_t)st->capacity);
+    if (!st->global || !st->global_n || !st->global_u)
+        return lumis__fail(&st->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                           "render: global luminaire draws: out of memory");
+    *chunk = n;
+    return LUMIS_OK;
+}
+
+static lumis_status chunk_begin(void *state, uint64_t seed, int k0, int k1)
+{
+    lum_state *st = state;
+    if (!st->global) return LUMIS_OK;
+    st->global_k0 = k0;
+    const lumis_status gst = global_draws(&st->lighting, st->lum, st->capacity, seed, k0, k1,
+                                          st->global, st->global_n, st->global_u);
+    if (gst != LUMIS_OK)
+        lumis__fail(&st->errors, gst, "render: global luminaire draws: %s",
+                    lumis_status_string(gst));
+    return gst;
+}
+
+static void run_end(void *state)
+{
+    lum_state *st = state;
+    free(st->global);
+    free(st->global_n);
+    free(st->global_u);
+    st->global = NULL;
+    st->global_n = NULL;
+    st->global_u = NULL;
+}
+
+static void thread_end_(void *scratch, double *light_samples)
+{
+    lum_scratch *sc = scratch;
+    if (!sc) return;
+    *light_samples += sc->samples;
+    free(sc->s);
+    free(sc->vis);
+    free(sc->stamp);
+    free(sc);
+}
+
+/* A thread's buffers: the samples of one instance, and visibility per cell. */
+static void *thread_begin(const void *state)
+{
+    const lum_state *st = state;
+    lum_scratch *sc = calloc(1, sizeof *sc);
+    if (!sc) return NULL;
+    sc->cells = st->cells;
+    sc->s = malloc(sizeof *sc->s * (size_t)st->capacity);
+    sc->vis = malloc(sizeof *sc->vis * sc->cells);
+    sc->stamp = calloc(sc->cells, sizeof *sc->stamp);
+    if (!sc->s || !sc->vis || !sc->stamp) {
+        double ignored = 0.0;
+        thread_end_(sc, &ignored);
+        return NULL;
+    }
+    return sc;
+}
+
+const lumis__light_kind lumis__light_luminaires = {
+    "luminaires", lights,  prepare,      release,     run_begin,
+    chunk_begin,  run_end, thread_begin, thread_end_, shade,
+};

@@ -9,14 +9,27 @@
 #include <stdlib.h>
 #include <string.h>
 
-void lumis__soa_free(light_soa *soa, int sets)
+/* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
+ * six floats a light and nothing else. */
+typedef struct light_soa {
+    int count;
+    float *x, *y, *z, *r, *g, *b;
+} light_soa;
+
+/* The set's lights as the shading loop reads them: one light_soa per interleaved set. */
+typedef struct set_state {
+    light_soa *soa;
+    int sets;
+} set_state;
+
+static void soa_free(light_soa *soa, int sets)
 {
     for (int k = 0; soa && k < sets; k++) free(soa[k].x);
     free(soa);
 }
 
 /* The lights of every set that `kinds` selects, as float arrays (one allocation a set). */
-light_soa *lumis__soa_make(const lumis_light_set *set, unsigned kinds, int *sets_out)
+static light_soa *soa_make(const lumis_light_set *set, unsigned kinds, int *sets_out)
 {
     const int sets = lumis_light_set_sets(set);
     light_soa *soa = calloc((size_t)sets, sizeof *soa);
@@ -27,7 +40,7 @@ light_soa *lumis__soa_make(const lumis_light_set *set, unsigned kinds, int *sets
         float *mem = NULL;
         if (lumis_light_set_get(set, s, &l, &count) != LUMIS_OK ||
             !(mem = malloc(6 * sizeof(float) * (size_t)(count > 0 ? count : 1)))) {
-            lumis__soa_free(soa, sets);
+            soa_free(soa, sets);
             return NULL;
         }
         light_soa *a = &soa[s];
@@ -54,10 +67,12 @@ light_soa *lumis__soa_make(const lumis_light_set *set, unsigned kinds, int *sets
 
 /* Every light of the pixel's set: f cos V power, one shadow ray each.  A Lambertian surface
  * needs no BSDF evaluation per light (f = albedo / pi). */
-v3 lumis__shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, double *shadow_rays)
+static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
-    const light_soa *ls = &c->soa[lumis_light_set_interleave_index(c->sets, px, py)];
+    const set_state *st = c->state;
+    const light_soa *ls = &st->soa[lumis_light_set_interleave_index(st->sets, v->px, v->py)];
+    double *shadow_rays = v->shadow_rays;
     v3 t, b, n = h->n;
     basis(n, &t, &b);
     v3 wow = mul(dir, -1.0);
@@ -93,3 +108,34 @@ v3 lumis__shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, do
     packet_flush(c->scene, d, &p, &L);
     return L;
 }
+
+static int lights(const lumis_render_desc *d)
+{
+    return d->light_set != NULL;
+}
+
+static void release(void *state)
+{
+    set_state *st = state;
+    if (st) soa_free(st->soa, st->sets);
+    free(st);
+}
+
+static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
+{
+    (void)scene;
+    if (d->max_bounces > 0)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: a light set lights direct illumination only (max_bounces "
+                           "must be 0)");
+    set_state *st = calloc(1, sizeof *st);
+    *state = st;
+    if (!st ||
+        !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets)))
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
+    return LUMIS_OK;
+}
+
+const lumis__light_kind lumis__light_set_kind = {
+    "light set", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
+};

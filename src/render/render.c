@@ -28,26 +28,22 @@ struct lumis_render_job {
     lumis_render_desc d;
     lumis_camera cam;
     cam_frame cf;
-    double *sum;    /* 3 per pixel: the sum of every sample so far, in sample order */
-    light_soa *soa; /* one per light set (light_set only) */
-    int sets;
-    lum_inst *lum;                     /* one per placed luminaire (luminaires only) */
-    int lum_capacity;                  /* the most samples one instance returns */
-    size_t lum_cells;                  /* the most visibility cells one instance has */
-    lumis_luminaire_lighting lighting; /* a copy; d.luminaires points here */
+    double *sum; /* 3 per pixel: the sum of every sample so far, in sample order */
+    const lumis__light_kind *kind;
+    void *state; /* the kind's (its prepare) */
     lumis_render_stats stats;
 };
+
+/* The light kinds, the first whose lights() says so lighting a render (the environment map
+ * last: it takes every render the others do not). */
+static const lumis__light_kind *const kinds[] = {&lumis__light_luminaires, &lumis__light_set_kind,
+                                                 &lumis__light_env};
 
 void lumis_render_job_destroy(lumis_render_job *job)
 {
     if (!job) return;
     free(job->sum);
-    lumis__soa_free(job->soa, job->sets);
-    for (int i = 0; job->lum && i < job->lighting.count; i++) {
-        free(job->lum[i].smap);
-        free(job->lum[i].cell_world);
-    }
-    free(job->lum);
+    if (job->kind) job->kind->release(job->state);
     free(job);
 }
 
@@ -56,20 +52,15 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    const int lum_kind = d && d->luminaires && d->luminaires->count > 0;
-    if (lum_kind && (d->light_set || d->max_bounces > 0))
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: luminaires light direct illumination alone (no light set, "
-                           "max_bounces 0)");
-    if (d && d->light_set && d->max_bounces > 0)
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: a light set lights direct illumination only (max_bounces "
-                           "must be 0)");
-    if (!scene || !d || (!d->env && !lum_kind) ||
-        (!lum_kind && !d->light_set && d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) ||
-        (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
-        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
+    if (!scene || !d || (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 ||
+        d->light_samples < 0 || d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
+                           "non-negative sample counts and 0 to 1024 bounces");
+    const lumis__light_kind *kind = kinds[0];
+    for (size_t k = 0; !kind->lights(d); k++) kind = kinds[k + 1];
+    if (!d->env && kind != &lumis__light_luminaires) /* luminaires alone may go without */
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
                            "non-negative sample counts and 0 to 1024 bounces");
     cam_frame cf;
@@ -83,32 +74,15 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
                            cam.width, cam.height);
     }
-    if (d->light_set && !(job->soa = lumis__soa_make(
-                              d->light_set, d->light_kinds ? d->light_kinds : ~0u, &job->sets))) {
+    job->kind = kind;
+    const lumis_status kst = kind->prepare(scene, d, &job->state);
+    if (kst != LUMIS_OK) {
         lumis_render_job_destroy(job);
-        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
-    }
-    if (lum_kind) {
-        job->lighting = *d->luminaires; /* what destroy reads to free the shadow maps */
-        lumis_status lst =
-            lumis__render_lum_prepare(d, &job->lum, &job->lum_capacity, &job->lum_cells);
-        for (int i = 0;
-             lst == LUMIS_OK && d->luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
-             i < d->luminaires->count;
-             i++)
-            if ((lst = lumis__lum_shadow_maps(scene, &job->lum[i], 256,
-                                              d->threads > 0 ? d->threads
-                                                             : omp_get_max_threads())) != LUMIS_OK)
-                lumis__fail(&d->errors, lst, "render: luminaire %d: shadow maps: out of memory", i);
-        if (lst != LUMIS_OK) {
-            lumis_render_job_destroy(job);
-            return lst;
-        }
+        return kst;
     }
     job->scene = scene;
     job->d = *d;
-    job->d.camera = NULL;                                 /* job->cam is the camera */
-    job->d.luminaires = lum_kind ? &job->lighting : NULL; /* copied before lum_prepare */
+    job->d.camera = NULL; /* job->cam is the camera */
     job->cam = cam;
     job->cf = cf;
     *out = job;
@@ -119,9 +93,10 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
  * direct illumination at every further vertex of a BSDF-sampled path.  The environment
  * seen by a continuation ray is not added: the direct estimator at the vertex it left
  * already accounts for it, so each light path is counted once. */
-static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px, int py, int k,
-                       lumis_pcg32 *rng, lum_scratch *sc, double *shadow, double *bounce)
+static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, const lumis__vertex *v,
+                       double *bounce)
 {
+    lumis_pcg32 *rng = v->rng;
     hit hh;
     if (!intersect(c->scene, job->cf.eye, dir, &hh)) {
         if (job->d.hide_environment || !job->d.env) return mk(0, 0, 0);
@@ -131,9 +106,7 @@ static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, int px
     v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
     for (int depth = 0;; depth++) {
         /* The light interface: the kind of lights decides how the point is lit. */
-        v3 Ld = c->lum ? lumis__shade_luminaires(c, &hh, dir, px, py, k, rng, sc, shadow)
-                : job->d.light_set ? lumis__shade_light_set(c, &hh, dir, px, py, shadow)
-                                   : lumis__shade_env(c, &hh, dir, rng, shadow);
+        v3 Ld = job->kind->shade(c, &hh, dir, v);
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
         if (depth >= job->d.max_bounces) break;
         v3 t, b, n = hh.n;
@@ -161,72 +134,39 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
         return lumis__fail(&job->d.errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: %d more samples per pixel is out of range", samples);
     const lumis_render_desc *d = &job->d;
-    ctx c = {job->scene,
-             d,
-             d->light_samples ? d->light_samples : 1,
-             d->bsdf_samples ? d->bsdf_samples : 1,
-             d->sampler && lumis_sampler_envmap(d->sampler) == d->env,
-             job->sets,
-             job->soa,
-             job->lum,
-             NULL,
-             NULL,
-             0,
-             job->lum_capacity};
+    const lumis__light_kind *kind = job->kind;
+    ctx c = {job->scene, d, job->state};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
     const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
     double shadow = 0.0, bounce = 0.0, lum_samples = 0.0, t0 = omp_get_wtime();
     int done = 0, failed = 0;
-    /* The global strategy draws once per camera sample for every pixel: the camera samples
-     * are rendered in chunks whose draws take at most 64 MB. */
+    /* A kind may render the camera samples in chunks, with work before each. */
     int chunk = samples;
-    lumis_luminaire_sample *gbuf = NULL;
-    int *gn = NULL;
-    double *gu = NULL;
-    if (job->lum && job->lighting.strategy == LUMIS_LUM_GLOBAL) {
-        const size_t per_k = (size_t)job->lighting.count * (size_t)job->lum_capacity * sizeof *gbuf;
-        chunk = (int)((size_t)(64 << 20) / per_k);
-        chunk = chunk < 1 ? 1 : chunk > samples ? samples : chunk;
-        gbuf = malloc(per_k * (size_t)chunk);
-        gn = malloc(sizeof *gn * (size_t)chunk * (size_t)job->lighting.count);
-        gu = malloc(2 * sizeof *gu * (size_t)job->lum_capacity);
-        if (!gbuf || !gn || !gu) {
-            free(gbuf);
-            free(gn);
-            free(gu);
-            return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
-                               "render: global luminaire draws: out of memory");
+    if (kind->run_begin) {
+        const lumis_status rst = kind->run_begin(job->state, samples, &chunk);
+        if (rst != LUMIS_OK) {
+            if (kind->run_end) kind->run_end(job->state);
+            return rst;
         }
-        c.global = gbuf;
-        c.global_n = gn;
     }
     const int chunks = (samples + chunk - 1) / chunk;
     lumis_status gst = LUMIS_OK;
 
 #pragma omp parallel num_threads(threads) reduction(+ : shadow, bounce, lum_samples)
     {
-        lum_scratch sc;
-        memset(&sc, 0, sizeof sc);
-        if (job->lum) { /* the luminaire kind's buffers, one set per thread */
-            sc.cells = job->lum_cells;
-            sc.s = malloc(sizeof *sc.s * (size_t)job->lum_capacity);
-            sc.vis = malloc(sizeof *sc.vis * sc.cells);
-            sc.stamp = calloc(sc.cells, sizeof *sc.stamp);
-            if (!sc.s || !sc.vis || !sc.stamp) {
+        void *scratch = kind->thread_begin ? kind->thread_begin(job->state) : NULL;
+        if (kind->thread_begin && !scratch) {
 #pragma omp atomic write
-                failed = 1;
-            }
+            failed = 1;
         }
         for (int ci = 0; ci < chunks; ci++) {
             const int k0 = first + ci * chunk,
                       k1 = k0 + chunk < first + samples ? k0 + chunk : first + samples;
 #pragma omp barrier
 #pragma omp single
-            if (gbuf) {
-                c.global_k0 = k0;
-                gst = lumis__lum_global_draws(&job->lighting, job->lum, job->lum_capacity, d->seed,
-                                              k0, k1, gbuf, gn, gu);
+            if (kind->chunk_begin) {
+                gst = kind->chunk_begin(job->state, d->seed, k0, k1);
                 if (gst != LUMIS_OK) failed = 1;
             }
             int stop;
@@ -252,8 +192,8 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                             double sx = (x + jx) / w * 2.0 - 1.0;
                             double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
                             v3 dir = camera_dir(&job->cf, sx, sy);
-                            a = add(a, trace_sample(&c, job, dir, x, y, k, &rng, &sc, &shadow,
-                                                    &bounce));
+                            const lumis__vertex v = {x, y, k, &rng, scratch, &shadow};
+                            a = add(a, trace_sample(&c, job, dir, &v, &bounce));
                         }
                         acc[0] = a.x;
                         acc[1] = a.y;
@@ -266,20 +206,13 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                     d->progress(d->progress_user, now, tiles * chunks);
             }
         }
-        lum_samples += sc.samples;
-        free(sc.s);
-        free(sc.vis);
-        free(sc.stamp);
+        if (kind->thread_end) kind->thread_end(scratch, &lum_samples);
     }
-    free(gbuf);
-    free(gn);
-    free(gu);
-    if (gst != LUMIS_OK)
-        return lumis__fail(&d->errors, gst, "render: global luminaire draws: %s",
-                           lumis_status_string(gst));
+    if (kind->run_end) kind->run_end(job->state);
+    if (gst != LUMIS_OK) return gst; /* the kind said why */
     if (failed)
-        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
-                           "render: luminaire buffers: out of memory");
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %s buffers: out of memory",
+                           kind->name);
     if (d->progress) d->progress(d->progress_user, tiles * chunks, tiles * chunks);
     job->stats.spp += samples;
     job->stats.passes++;

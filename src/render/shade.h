@@ -27,27 +27,48 @@ static inline double mis_weight(double nf, double pf, double ng, double pg, int 
     return a + b > 0.0 ? a / (a + b) : 0.0;
 }
 
+/* What a shading point is lit in: the scene, the render's settings and the light kind's
+ * state (what its prepare() made). */
 typedef struct ctx {
     const lumis_scene *scene;
     const lumis_render_desc *d;
-    int nl, nb;
-    int fused; /* the sampler draws from d->env: radiance and pdf from one lookup */
-    int sets;  /* light sets interleaved (light_set only) */
-    const struct light_soa *soa; /* their lights, as the shading loop reads them */
-    const struct lum_inst *lum;  /* the placed luminaires (luminaires only) */
-    /* The global strategy's draws for camera samples global_k0 ...: camera sample k,
-     * instance i at slot (k - global_k0) * instances + i, global_stride samples a slot. */
-    const lumis_luminaire_sample *global;
-    const int *global_n;
-    int global_k0, global_stride;
+    const void *state;
 } ctx;
 
-/* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
- * six floats a light and nothing else. */
-typedef struct light_soa {
-    int count;
-    float *x, *y, *z, *r, *g, *b;
-} light_soa;
+/* One camera sample's vertex as a light kind sees it. */
+typedef struct lumis__vertex {
+    int px, py, k;       /* the pixel and the camera sample */
+    lumis_pcg32 *rng;    /* the sample's stream (light and BSDF numbers) */
+    void *scratch;       /* the kind's per-thread buffers (thread_begin), or NULL */
+    double *shadow_rays; /* add the shadow rays traced */
+} lumis__vertex;
+
+/* The renderer's light interface: a kind of light is one file and one entry of render.c's
+ * table (the first whose lights() is true lights the render).  Optional entries are NULL. */
+typedef struct lumis__light_kind {
+    const char *name;
+    /* 1 when d asks for this kind */
+    int (*lights)(const lumis_render_desc *d);
+    /* Checks d and makes the kind's state (freed by release, also after a failure) */
+    lumis_status (*prepare)(const lumis_scene *scene, const lumis_render_desc *d, void **state);
+    void (*release)(void *state);
+    /* Optional, around a lumis_render_job_run of `samples` camera samples: how many camera
+     * samples a chunk may hold (*chunk starts at samples), and the work before each chunk
+     * (k0 .. k1 - 1) and after the run. */
+    lumis_status (*run_begin)(void *state, int samples, int *chunk);
+    lumis_status (*chunk_begin)(void *state, uint64_t seed, int k0, int k1);
+    void (*run_end)(void *state);
+    /* Optional per-thread buffers (NULL: out of memory) and their release, which adds the
+     * light samples the thread evaluated. */
+    void *(*thread_begin)(const void *state);
+    void (*thread_end)(void *scratch, double *light_samples);
+    /* The light reflected at h towards -dir. */
+    v3 (*shade)(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v);
+} lumis__light_kind;
+
+extern const lumis__light_kind lumis__light_env;        /* light_env.c */
+extern const lumis__light_kind lumis__light_set_kind;   /* light_set.c */
+extern const lumis__light_kind lumis__light_luminaires; /* light_luminaire.c */
 
 enum { PACKET = LUMIS__PACKET };
 
@@ -89,64 +110,5 @@ static inline uint64_t mix64(uint64_t z)
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     return z ^ (z >> 31);
 }
-
-/* One placed luminaire as the shading loop reads it. */
-typedef struct lum_inst {
-    const lumis_luminaire *lum;
-    double r[9], t[3], scale, inv_scale, intensity;
-    lumis_luminaire_query query;
-    int capacity;     /* samples lumis_luminaire_sample_point may return */
-    int grid[2];      /* W, H */
-    int span;         /* cells of the visibility grid a basis function covers per axis */
-    int cells[2];     /* cells of the visibility grid per axis: W + span - 1, ... */
-    double cell0[2];  /* centre of cell (0, 0) on U, luminaire frame */
-    double cell_h[2]; /* cell size */
-    double weight[3]; /* the share of Phi's integral over each covered cell, per axis */
-    v3 *cell_world;   /* the cells' centres in the world (approximate visibility) */
-    float *smap;      /* shadow maps: per cell n x n distances to the nearest hit, over
-                         directions (x / z, y / z) in [-tmax, tmax]^2 of the local frame */
-    int smap_n;
-    double smap_t;
-} lum_inst;
-
-/* Per-thread buffers of the luminaire kind (no allocation per shading point). */
-typedef struct lum_scratch {
-    lumis_luminaire_sample *s; /* capacity samples */
-    float *vis;                /* visibility per cell (approximate visibility) */
-    unsigned *stamp;           /* the point a cell's visibility belongs to */
-    unsigned point;
-    size_t cells;   /* entries of vis and stamp */
-    double samples; /* luminaire samples evaluated by this thread */
-} lum_scratch;
-
-/* ---- the environment map (light_env.c) ---- */
-
-/* Direct light from the environment reflected at h towards -dir. */
-v3 lumis__shade_env(const ctx *c, const hit *h, v3 dir, lumis_pcg32 *rng, double *shadow_rays);
-
-/* ---- a light set (light_set.c) ---- */
-
-/* The lights of every set that `kinds` selects, as float arrays (one allocation a set). */
-light_soa *lumis__soa_make(const lumis_light_set *set, unsigned kinds, int *sets_out);
-void lumis__soa_free(light_soa *soa, int sets);
-/* Every light of the pixel's set: f cos V power, one shadow ray each. */
-v3 lumis__shade_light_set(const ctx *c, const hit *h, v3 dir, int px, int py, double *shadow_rays);
-
-/* ---- luminaires (light_luminaire.c) ---- */
-
-/* Checks the luminaire lighting and lays out one lum_inst per placed luminaire in *lum (set
- * before any failure: the caller frees it), with the most samples one instance returns and
- * the most visibility cells one has. */
-lumis_status lumis__render_lum_prepare(const lumis_render_desc *d, lum_inst **lum, int *capacity,
-                                       size_t *most_cells);
-/* Renders every cell's shadow map of an instance (LUMIS_VISIBILITY_SHADOW_MAP). */
-lumis_status lumis__lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int n, int threads);
-/* The global strategy's draws of camera samples k0 .. k1 - 1, every instance. */
-lumis_status lumis__lum_global_draws(const lumis_luminaire_lighting *ll, const lum_inst *lum,
-                                     int capacity, uint64_t seed, int k0, int k1,
-                                     lumis_luminaire_sample *out, int *n, double *u);
-/* Every placed luminaire at h. */
-v3 lumis__shade_luminaires(const ctx *c, const hit *h, v3 dir, int px, int py, int k,
-                           lumis_pcg32 *rng, lum_scratch *sc, double *shadow_rays);
 
 #endif
