@@ -240,6 +240,50 @@ lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_
                                             const lumis_gbuffer *high_g,
                                             const lumis_upsample_desc *desc, lumis_image **out);
 
+/* ---- a render session: what a host calls to render for a time budget ---------------------
+ * One call does what the lumis tool's render does between loading and writing: with a
+ * light-set method it makes the light set (Wu's split rendering with its EnvIndirects at
+ * 1/F resolution, joint-bilateral upsampled, included), and with a time budget it spends
+ * the budget as wall time: the light set's generation, and the pilot renders that fit K
+ * when none is given, count inside it; otherwise progressive passes fill it. */
+
+typedef struct lumis_session_desc {
+    /* camera, env, sampler, estimator, luminaires, counts, seed, threads, progress ...:
+     * as lumis_render; light_set and light_kinds are the session's own */
+    lumis_render_desc render;
+    const char *lights;                      /* a light-set method by name, or NULL */
+    int lights_k;                            /* K; 0: fitted to time_budget, else 64 */
+    int interleave;                          /* interleaved sets; 0: the method's default */
+    const lumis_light_params *lights_params; /* NULL: the method's defaults */
+    int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2, 1 == none */
+    double time_budget; /* > 0: seconds of wall time; 0: render.spp samples (0 == 16) */
+    double spent;       /* seconds of the budget already spent (a sampler's build) */
+    int timed_spp;      /* with lights, time_budget and no K: samples per pixel; 0 == 4 */
+    /* Optional: called after every pass with the samples per pixel so far. */
+    void (*pass_done)(void *user, int spp);
+    void *pass_done_user;
+} lumis_session_desc;
+
+typedef struct lumis_session_result {
+    lumis_render_stats stats;   /* of the render that made the image (both layers) */
+    double prep_seconds;        /* before the first sample: spent + generation + pilots */
+    double budget_used_seconds; /* prep_seconds + every render (time_budget only) */
+    int lights_k;               /* K of the light set used (0: none) */
+    int upsample;               /* the factor used (1: none) */
+    double lights_build_ms;     /* the light set's generation */
+    size_t lights_bytes;        /* its lights and labels */
+    /* With lights, time_budget and no K: the pilots that chose K. */
+    double pilot_seconds, pilot_per_spp[2], pilot_once[2];
+    int pilot_k[2], pilot_chosen;
+    int retried; /* the pilots misjudged the time: rendered again with K scaled, once */
+    lumis_light_set *light_set; /* the set that lit the image (NULL: none): the caller
+                                   destroys it (lumis_light_set_destroy) */
+} lumis_session_result;
+
+/* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */
+lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,
+                                  lumis_image **out, lumis_session_result *result);
+
 /* ---- scene files (JSON) and built-in scenes -------------------------------------------
  *
  * {"camera": {"eye": [0,1,5], "look_at": [0,0.5,0], "up": [0,1,0], "fov_deg": 40,

@@ -1203,11 +1203,125 @@ static void bad_scenes(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* The render session gives what its parts give: with a sample count and no light set the
+ * image of lumis_render, bit for bit; with a light set by name and K the image of that set
+ * (lumis_lights_by_name) rendered by lumis_render; with Wu's method and F = 2 the full
+ * layer plus the upsampled low one.  A budget is spent (prep and render reported, K chosen
+ * by the pilots), and bad requests are refused. */
+static void render_session_equals_its_parts(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    lumis_image *sky = NULL;
+    lumis_sky_desc sd = {0};
+    sd.width = 64;
+    sd.height = 32;
+    assert_int_equal(lumis_sky_create(&sd, &sky), LUMIS_OK);
+    lumis_envmap *env = env_of(sky);
+    lumis_sampler *smp = NULL;
+    assert_int_equal(lumis_sampler_create(env, NULL, &smp), LUMIS_OK);
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.env = env;
+    d.sampler = smp;
+    d.spp = 3;
+    d.seed = 11;
+    d.threads = 2;
+    const size_t bytes = 24 * 24 * 3 * sizeof(float);
+    /* the map's sampler, 3 spp */
+    lumis_image *a = NULL, *b = NULL;
+    assert_int_equal(lumis_render(s, &d, &a, NULL), LUMIS_OK);
+    lumis_session_desc sess = {0};
+    sess.render = d;
+    lumis_session_result r;
+    assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
+    assert_memory_equal(a->pixels, b->pixels, bytes);
+    assert_int_equal(r.stats.spp, 3);
+    assert_null(r.light_set);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    /* median cut, K = 12, by name */
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", 12, 0, NULL, NULL, &set), LUMIS_OK);
+    d.light_set = set;
+    assert_int_equal(lumis_render(s, &d, &a, NULL), LUMIS_OK);
+    sess.lights = "median-cut";
+    sess.lights_k = 12;
+    assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
+    assert_memory_equal(a->pixels, b->pixels, bytes);
+    assert_int_equal(r.lights_k, 12);
+    assert_int_equal(r.upsample, 1);
+    assert_non_null(r.light_set);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    lumis_light_set_destroy(set);
+    /* Wu, F = 2: EnvDirects at full resolution + EnvIndirects at 12 x 12, upsampled */
+    assert_int_equal(lumis_lights_by_name(env, "wu", 12, 0, NULL, NULL, &set), LUMIS_OK);
+    lumis_render_desc full = d, low = d;
+    full.light_set = low.light_set = set;
+    full.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
+    low.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+    low.hide_environment = low.pixel_centers = 1;
+    low.spp = 1;
+    lumis_camera lc = cam;
+    lc.width = lc.height = 12;
+    low.camera = &lc;
+    lumis_image *lo = NULL, *up = NULL;
+    lumis_gbuffer *gf = NULL, *gl = NULL;
+    assert_int_equal(lumis_render(s, &full, &a, NULL), LUMIS_OK);
+    assert_int_equal(lumis_render(s, &low, &lo, NULL), LUMIS_OK);
+    assert_int_equal(lumis_render_gbuffer(s, &cam, NULL, &gf), LUMIS_OK);
+    assert_int_equal(lumis_render_gbuffer(s, &lc, NULL, &gl), LUMIS_OK);
+    assert_int_equal(lumis_joint_bilateral_upsample(lo, gl, gf, NULL, &up), LUMIS_OK);
+    for (size_t k = 0; k < 24 * 24 * 3; k++) a->pixels[k] += up->pixels[k];
+    sess.lights = "wu";
+    assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
+    assert_memory_equal(a->pixels, b->pixels, bytes);
+    assert_int_equal(r.upsample, 2);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    lumis_image_destroy(lo);
+    lumis_image_destroy(up);
+    lumis_gbuffer_destroy(gf);
+    lumis_gbuffer_destroy(gl);
+    lumis_light_set_destroy(set);
+    /* a budget: K from the pilots, everything inside the budget's accounting */
+    sess.lights_k = 0;
+    sess.time_budget = 0.2;
+    sess.spent = 0.01;
+    assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
+    assert_true(r.pilot_k[0] == 16 && r.pilot_k[1] == 64 && r.lights_k >= 1);
+    assert_true(r.prep_seconds >= 0.01 && r.budget_used_seconds > r.prep_seconds);
+    assert_true(r.budget_used_seconds >= r.prep_seconds + r.stats.seconds - 1e-9);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(b);
+    /* refused */
+    lumis_session_desc bad = sess;
+    bad.lights = "no-such";
+    b = NULL;
+    assert_int_equal(lumis_render_session(s, &bad, &b, &r), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(b);
+    bad = sess;
+    bad.lights = "median-cut";
+    bad.upsample = 2; /* upsampling is Wu's */
+    assert_int_equal(lumis_render_session(s, &bad, &b, &r), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = sess;
+    bad.time_budget = -1.0;
+    assert_int_equal(lumis_render_session(s, &bad, &b, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(b);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+    lumis_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
+        cmocka_unit_test(render_session_equals_its_parts),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
         cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
         cmocka_unit_test(light_set_shades_glossy_surfaces_with_their_bsdf),

@@ -658,205 +658,10 @@ static int write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd,
     return rc;
 }
 
-/* What one render runs: a job, or for Wu's split rendering two (EnvDirects at full
- * resolution with the map behind them, EnvIndirects at 1/F of it on black) and the
- * G-buffers that join them by joint-bilateral upsampling. */
-typedef struct render_unit {
-    lumis_render_job *full, *low;
-    lumis_gbuffer *g_full, *g_low;
-    double join_seconds; /* the G-buffers and the upsampling: render time too */
-} render_unit;
-
-static void unit_destroy(render_unit *u)
+/* The session's passes, for the progress bar. */
+static void on_pass(void *user, int spp)
 {
-    lumis_render_job_destroy(u->full);
-    lumis_render_job_destroy(u->low);
-    lumis_gbuffer_destroy(u->g_full);
-    lumis_gbuffer_destroy(u->g_low);
-}
-
-/* factor > 1: the split (rd must light with a light set). */
-static lumis_status unit_create(const lumis_scene *scene, const lumis_render_desc *rd, int factor,
-                                render_unit *u)
-{
-    memset(u, 0, sizeof *u);
-    if (factor <= 1) return lumis_render_job_create(scene, rd, &u->full);
-    lumis_render_desc direct = *rd, indirect = *rd;
-    direct.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
-    indirect.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
-    indirect.hide_environment = 1;
-    /* The low layer is lit where its G-buffer looked: at the pixels' centres, so a pixel
-     * on a silhouette is not darkened by the background it half covers.  A light set is
-     * deterministic, so one sample per pixel is the whole layer. */
-    indirect.pixel_centers = 1;
-    indirect.progress = NULL;
-    lumis_camera low = *rd->camera;
-    low.width = (rd->camera->width + factor / 2) / factor;
-    low.height = (rd->camera->height + factor / 2) / factor;
-    if (low.width < 1) low.width = 1;
-    if (low.height < 1) low.height = 1;
-    indirect.camera = &low;
-    double t0 = tool_now_seconds();
-    lumis_status st = lumis_render_job_create(scene, &direct, &u->full);
-    if (st == LUMIS_OK) st = lumis_render_job_create(scene, &indirect, &u->low);
-    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, rd->camera, &tool_errors, &u->g_full);
-    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, &low, &tool_errors, &u->g_low);
-    u->join_seconds = tool_now_seconds() - t0;
-    if (st != LUMIS_OK) unit_destroy(u);
-    return st;
-}
-
-static lumis_status unit_run(render_unit *u, int n)
-{
-    lumis_status st = lumis_render_job_run(u->full, n);
-    lumis_render_stats s;
-    if (u->low) lumis_render_job_stats(u->low, &s);
-    if (st == LUMIS_OK && u->low && s.spp == 0) st = lumis_render_job_run(u->low, 1);
-    return st;
-}
-
-static void unit_stats(const render_unit *u, lumis_render_stats *s)
-{
-    lumis_render_job_stats(u->full, s);
-    if (!u->low) return;
-    lumis_render_stats l;
-    lumis_render_job_stats(u->low, &l);
-    s->seconds += l.seconds + u->join_seconds;
-    s->camera_rays += l.camera_rays;
-    s->shadow_rays += l.shadow_rays;
-    s->bounce_rays += l.bounce_rays;
-    s->light_samples += l.light_samples;
-}
-
-/* The image: the full job's, plus the low one's upsampled (timed as render time). */
-static lumis_status unit_image(render_unit *u, lumis_image **out)
-{
-    lumis_status st = lumis_render_job_image(u->full, out);
-    if (st != LUMIS_OK || !u->low) return st;
-    double t0 = tool_now_seconds();
-    lumis_image *low = NULL, *up = NULL;
-    lumis_upsample_desc ud = {0};
-    ud.errors = tool_errors;
-    st = lumis_render_job_image(u->low, &low);
-    if (st == LUMIS_OK) st = lumis_joint_bilateral_upsample(low, u->g_low, u->g_full, &ud, &up);
-    if (st == LUMIS_OK) {
-        const size_t n = 3 * (size_t)up->width * (size_t)up->height;
-        for (size_t k = 0; k < n; k++) (*out)->pixels[k] += up->pixels[k];
-    } else {
-        lumis_image_destroy(*out);
-        *out = NULL;
-    }
-    lumis_image_destroy(low);
-    lumis_image_destroy(up);
-    u->join_seconds += tool_now_seconds() - t0;
-    return st;
-}
-
-/* K in [1, min(65536, the map's pixels)]: every method needs a pixel per light. */
-static int clamp_lights_k(double k, const lumis_envmap *env)
-{
-    const double pixels = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
-    if (!(k >= 1.0)) k = 1.0;
-    if (k > 65536.0) k = 65536.0;
-    if (k > pixels) k = pixels;
-    return (int)k;
-}
-
-/* Wu's equal-time rule: a light set spends the time on lights, not samples.  Two pilot
- * renders at one sample per pixel with K = 16 and 64 lights fit the time as linear in K;
- * K is then what fills the budget at TOOL_LIGHTS_TIMED_SPP samples (or --spp). */
-static lumis_status choose_lights_k(const lumis_scene *scene, const lumis_render_desc *rd,
-                                    const lumis_envmap *env, const tool_render_opts *o, int factor,
-                                    double budget, tool_render_result *r, int *k_out)
-{
-    /* K = 16 and 64, or fewer on a map of fewer pixels (a 4 x 2 map has 8 lights at most:
-     * "count 16 is not in 1 .. 8" came from a pilot, not from anything the user gave) */
-    const double px = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
-    const int ks[2] = {px >= 16 ? 16 : (px >= 2 ? (int)px / 2 : 1), px >= 64 ? 64 : (int)px};
-    double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
-    double gen[2] = {0, 0};                 /* the light set's generation */
-    const double t0 = tool_now_seconds();
-    for (int p = 0; p < 2; p++) {
-        lumis_light_set *set = NULL;
-        render_unit u;
-        memset(&u, 0, sizeof u);
-        lumis_render_desc pd = *rd;
-        pd.progress = NULL;
-        const double tg = tool_now_seconds();
-        lumis_status st = lumis_lights_by_name(env, o->lights, ks[p], o->interleave,
-                                               &o->lights_params, &tool_errors, &set);
-        gen[p] = tool_now_seconds() - tg;
-        pd.light_set = set;
-        if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
-        /* Samples until the full layer has run long enough to time (small images). */
-        lumis_render_stats s, f;
-        memset(&f, 0, sizeof f);
-        for (int n = 1; st == LUMIS_OK; n *= 2) {
-            st = unit_run(&u, n);
-            lumis_render_job_stats(u.full, &f);
-            if (f.seconds >= 0.02 || f.seconds >= o->time_budget / 50 || f.spp >= 1024) break;
-        }
-        lumis_image *img = NULL;
-        if (st == LUMIS_OK) st = unit_image(&u, &img); /* the upsampling is render time too */
-        if (st == LUMIS_OK) {
-            unit_stats(&u, &s);
-            t[p] = f.seconds / f.spp;
-            once[p] = s.seconds - f.seconds; /* the low layer, the G-buffers, the upsampling */
-        }
-        lumis_image_destroy(img);
-        unit_destroy(&u);
-        lumis_light_set_destroy(set);
-        if (st != LUMIS_OK) return st;
-    }
-    /* total(K) = spp (a + b K) + c + d K: the full layer runs every sample, the low layer
-     * of Wu's split, its G-buffers and the upsampling once, and the set's generation once
-     * (in c and d: equal time is equal wall time, the lights' making included).  The
-     * budget is what is left after the pilots. */
-    const int spp = rd->spp ? rd->spp : TOOL_LIGHTS_TIMED_SPP;
-    once[0] += gen[0];
-    once[1] += gen[1];
-    budget -= tool_now_seconds() - t0;
-    const double dk = ks[1] > ks[0] ? ks[1] - ks[0] : 1.0; /* a 1-pixel map: one pilot K */
-    double b = (t[1] - t[0]) / dk, a = t[0] - b * ks[0];
-    double d = (once[1] - once[0]) / dk, c = once[0] - d * ks[0];
-    if (!(b > 0.0) || !(a >= 0.0)) { /* too noisy to separate: proportional */
-        a = 0.0;
-        b = t[1] / ks[1];
-    }
-    if (!(d >= 0.0) || !(c >= 0.0)) {
-        c = 0.0;
-        d = once[1] / ks[1];
-    }
-    double k = (budget - spp * a - c) / (spp * b + d);
-    *k_out = clamp_lights_k(k, env);
-    r->lights_pilot_seconds = tool_now_seconds() - t0;
-    r->lights_pilot_k[0] = ks[0];
-    r->lights_pilot_k[1] = ks[1];
-    r->lights_pilot_per_spp[0] = t[0];
-    r->lights_pilot_per_spp[1] = t[1];
-    r->lights_pilot_once[0] = once[0];
-    r->lights_pilot_once[1] = once[1];
-    r->lights_pilot_chosen = *k_out;
-    return LUMIS_OK;
-}
-
-/* Runs passes until the budget: each pass is sized from the time per sample so far, so
- * the last one ends as close to the budget as the estimate allows. */
-static lumis_status run_timed(render_unit *u, double budget, progress *pg)
-{
-    lumis_render_stats s;
-    int n = 1;
-    for (;;) {
-        lumis_status st = unit_run(u, n);
-        if (st != LUMIS_OK) return st;
-        unit_stats(u, &s);
-        pg->spp_done = s.spp;
-        double per = s.seconds / s.spp, left = budget - s.seconds;
-        double next = left / per;
-        if (next < 0.5 || s.spp >= (1 << 24)) return LUMIS_OK;
-        n = next > s.spp ? s.spp : (int)(next + 0.5); /* at most double: estimates settle */
-        if (n < 1) n = 1;
-    }
+    ((progress *)user)->spp_done = spp;
 }
 
 int tool_render(const tool_render_opts *o, tool_render_result *r)
@@ -981,8 +786,6 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_sampler *smp = NULL;
     lumis_light_set *lights = NULL;
     lumis_scene *scene = NULL;
-    render_unit unit;
-    memset(&unit, 0, sizeof unit);
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
     if (!lum && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
@@ -1027,61 +830,36 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         rd.progress = on_progress;
         rd.progress_user = &pg;
     }
-    const int factor =
-        o->lights && tool_lights_method_is_wu(o->lights) ? (o->upsample ? o->upsample : 2) : 1;
-    int lights_k = o->lights_k;
-    const int k_fills_time = o->lights && o->time_budget > 0.0 && !o->lights_k;
     /* Equal time is equal wall time: what a method needs before its first sample (the
      * sampler's tables, the light set's generation, the pilots that choose K) is spent from
-     * the budget, and reported (r->prep_seconds). */
-    const double B = o->time_budget;
-    r->prep_seconds = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
-    double rendered = 0.0; /* render seconds of earlier attempts */
-    if (k_fills_time) {
-        const double tp = tool_now_seconds();
-        if (choose_lights_k(scene, &rd, env, o, factor, B - r->prep_seconds, r, &lights_k) !=
-            LUMIS_OK)
-            goto done;
-        r->prep_seconds += tool_now_seconds() - tp;
+     * the budget, and reported (r->prep_seconds): lumis_render_session does it. */
+    lumis_session_desc sess = {0};
+    sess.render = rd;
+    sess.lights = o->lights;
+    sess.lights_k = o->lights_k;
+    sess.interleave = o->interleave;
+    sess.lights_params = &o->lights_params;
+    sess.upsample = o->upsample;
+    sess.time_budget = o->time_budget;
+    sess.spent = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
+    sess.timed_spp = TOOL_LIGHTS_TIMED_SPP;
+    sess.pass_done = on_pass;
+    sess.pass_done_user = &pg;
+    lumis_session_result sr;
+    st = lumis_render_session(scene, &sess, &r->image, &sr);
+    lights = sr.light_set;
+    r->stats = sr.stats;
+    r->prep_seconds = sr.prep_seconds;
+    r->budget_used_seconds = sr.budget_used_seconds;
+    r->lights_pilot_seconds = sr.pilot_seconds;
+    for (int p = 0; p < 2; p++) {
+        r->lights_pilot_k[p] = sr.pilot_k[p];
+        r->lights_pilot_per_spp[p] = sr.pilot_per_spp[p];
+        r->lights_pilot_once[p] = sr.pilot_once[p];
     }
-    for (int attempt = 0;; attempt++) {
-        const double tg = tool_now_seconds(), prep_before = r->prep_seconds;
-        if (o->lights && lumis_lights_by_name(env, o->lights, lights_k, o->interleave,
-                                              &o->lights_params, &tool_errors, &lights) != LUMIS_OK)
-            goto done;
-        rd.light_set = lights;
-        if (unit_create(scene, &rd, factor, &unit) != LUMIS_OK) goto done;
-        r->prep_seconds += tool_now_seconds() - tg;
-        /* A light set under --time without a K: K fills the time at a fixed sample count.
-         * Otherwise --time adds passes (samples per pixel) until what is left of it is
-         * spent. */
-        const double left = B - r->prep_seconds - rendered;
-        st = k_fills_time ? unit_run(&unit, rd.spp ? rd.spp : TOOL_LIGHTS_TIMED_SPP)
-             : B > 0.0    ? run_timed(&unit, left, &pg)
-                          : unit_run(&unit, rd.spp ? rd.spp : 16);
-        if (st == LUMIS_OK) st = unit_image(&unit, &r->image);
-        unit_stats(&unit, &r->stats);
-        const double T = r->stats.seconds;
-        r->budget_used_seconds = r->prep_seconds + rendered + T;
-        /* The pilots misjudged the time (a loaded machine, a tiny image) and less than 60 %
-         * of the budget went: K is scaled to what is left, and the render is made again,
-         * once (the first attempt's time stays spent).  Over the budget, nothing can be
-         * won back: the time used is reported as it is. */
-        if (st != LUMIS_OK || !k_fills_time || attempt > 0 || r->budget_used_seconds > 0.6 * B)
-            break;
-        const double rest = B - r->budget_used_seconds, g = r->prep_seconds - prep_before;
-        const int k2 = clamp_lights_k(lights_k * rest / (T + g > 1e-9 ? T + g : 1e-9), env);
-        if (k2 <= lights_k) break;
-        rendered += T;
-        lights_k = k2;
-        r->lights_retried = 1;
-        lumis_image_destroy(r->image);
-        r->image = NULL;
-        unit_destroy(&unit);
-        memset(&unit, 0, sizeof unit);
-        lumis_light_set_destroy(lights);
-        lights = NULL;
-    }
+    r->lights_pilot_chosen = sr.pilot_chosen;
+    r->lights_retried = sr.retried;
+    const int factor = sr.upsample;
     r->upsample = factor;
     pg.spp_done = r->stats.spp;
     if (pg.enabled) progress_draw(&pg, 1.0, 1);
@@ -1155,7 +933,6 @@ done:
         lumis_image_destroy(r->image);
         r->image = NULL;
     }
-    unit_destroy(&unit);
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
     lumis_luminaire_destroy(replacement);
