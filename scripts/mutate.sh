@@ -44,7 +44,7 @@ mkdir -p "$T" || exit 2
 # the copy: only files whose bytes changed are copied, so the build stays incremental
 while IFS= read -r f; do
     if ! cmp -s "$f" "$T/$f"; then mkdir -p "$T/$(dirname "$f")" && cp -p "$f" "$T/$f"; fi
-done < <(find CMakeLists.txt cmake include src tests tools fuzz bench assets docs/examples -type f 2>/dev/null)
+done < <(find CMakeLists.txt cmake include src tests tools fuzz bench assets docs/examples examples -type f 2>/dev/null)
 # the test data (data/, filled by scripts/fetch-data.sh) is shared, not copied
 scripts/fetch-data.sh >/dev/null 2>&1 || echo "mutate: warning: scripts/fetch-data.sh failed" >&2
 ln -sfn "$root/data" "$T/data"
