@@ -467,6 +467,27 @@ static lumis_status op_render(void *ctx)
     return st;
 }
 
+/* ctx: 0 the map's sampler, 1 median cut by name, 2 Wu with its upsampled low layer */
+static lumis_status op_session(void *ctx)
+{
+    const int kind = *(const int *)ctx;
+    lumis_session_desc s = {0};
+    s.render.camera = &tiny_cam;
+    s.render.env = in.env;
+    s.render.sampler = in.sampler;
+    s.render.spp = 2;
+    s.render.threads = 1;
+    s.lights = kind == 1 ? "median-cut" : kind == 2 ? "wu" : NULL;
+    s.lights_k = kind ? 8 : 0;
+    lumis_image *img = NULL;
+    lumis_session_result r;
+    lumis_status st = lumis_render_session(in.scene, &s, &img, &r);
+    digest = st == LUMIS_OK ? image_digest(img) : 0;
+    if (st == LUMIS_OK) lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(img);
+    return st;
+}
+
 static lumis_status op_scene_create(void *ctx)
 {
     (void)ctx;
@@ -603,6 +624,9 @@ static void renders_of_every_light_kind(void **state)
                                         "render luminaire", "render path tracing"};
     for (int k = 0; k < 4; k++) each_allocation_fails(names[k], op_render, &k);
     each_allocation_fails("G-buffers + upsampling", op_upsample, NULL);
+    static const char *const sessions[] = {"session: the map's sampler", "session: median cut",
+                                           "session: Wu, upsampled"};
+    for (int k = 0; k < 3; k++) each_allocation_fails(sessions[k], op_session, &k);
 }
 
 static void map_specs_and_metrics(void **state)
