@@ -269,6 +269,20 @@ static void renderer(void **state)
     cam.eye = cam.look_at; /* no direction to look in */
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
     cam.eye = (lumis_vec3){0, 0, 4};
+    cam.up = (lumis_vec3){0, 0, 1}; /* parallel to the view */
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.up = (lumis_vec3){0, 1, 0};
+    cam.width = 70000;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.width = 8;
+    cam.height = 1 << 17;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.height = 6;
+    cam.fov_deg = 0.0f; /* zero: the default 40 degrees */
+    assert_int_equal(lumis_render(scene, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    img = NULL;
+    cam.fov_deg = 40.0f;
     d.spp = -4;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
     d.spp = 1;

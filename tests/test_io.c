@@ -1238,6 +1238,55 @@ static void explicit_format_wins_over_the_extension(void **state)
     lumis_image_destroy(img);
 }
 
+/* Outputs named through descriptors and links: /dev/fd/N and /proc/self/fd/N are written
+ * where the descriptor stands (a file opened for appending keeps what it had), a dangling
+ * link creates its target and stays a link, a chain of links is followed, and malformed
+ * descriptor names are ordinary (here unwritable) paths. */
+static void outputs_through_descriptors_and_links(void **state)
+{
+    (void)state;
+    char path[600], name[64], text[64];
+    snprintf(path, sizeof path, "%s", tu_path("fd-target.txt"));
+    FILE *f = fopen(path, "w+");
+    assert_non_null(f);
+    fputs("HEAD", f);
+    fflush(f);
+    const int fd = fileno(f);
+    snprintf(name, sizeof name, "/dev/fd/%d", fd);
+    assert_int_equal(lumis_write_text(name, "abc", 3, NULL), LUMIS_OK);
+    snprintf(name, sizeof name, "/proc/self/fd/%d", fd);
+    assert_int_equal(lumis_write_text(name, "de", 2, NULL), LUMIS_OK);
+    fclose(f);
+    size_t n = 0;
+    unsigned char *got = tu_read_file(path, &n);
+    assert_non_null(got);
+    assert_int_equal(n, 9);
+    assert_memory_equal(got, "HEADabcde", 9);
+    free(got);
+    assert_int_not_equal(lumis_write_text("/dev/fd/12abc", "x", 1, NULL), LUMIS_OK);
+    assert_int_not_equal(lumis_write_text("/dev/fd/", "x", 1, NULL), LUMIS_OK);
+    /* a dangling link, and a link to it: the target is made, both links stay links */
+    char target[600], link1[600], link2[600];
+    snprintf(target, sizeof target, "%s", tu_path("made-by-link.txt"));
+    snprintf(link1, sizeof link1, "%s", tu_path("link1.txt"));
+    snprintf(link2, sizeof link2, "%s", tu_path("link2.txt"));
+    assert_int_equal(symlink("made-by-link.txt", link1), 0);
+    assert_int_equal(symlink("link1.txt", link2), 0);
+    assert_int_equal(lumis_write_text(link2, "through two links", 17, NULL), LUMIS_OK);
+    got = tu_read_file(target, &n);
+    assert_non_null(got);
+    snprintf(text, sizeof text, "%.*s", (int)n, (const char *)got);
+    assert_string_equal(text, "through two links");
+    free(got);
+    struct stat sb;
+    assert_int_equal(lstat(link1, &sb), 0);
+    assert_true(S_ISLNK(sb.st_mode));
+    assert_int_equal(lstat(link2, &sb), 0);
+    assert_true(S_ISLNK(sb.st_mode));
+    /* a folder is refused, by name or through a link */
+    assert_int_not_equal(lumis_write_text(tu_tmpdir(), "x", 1, NULL), LUMIS_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1272,6 +1321,7 @@ int main(void)
         cmocka_unit_test(hdr_writes_nan_as_black),
         cmocka_unit_test(exr_half_writes_nan_as_black),
         cmocka_unit_test(exr_grey_reads_into_every_channel),
+        cmocka_unit_test(outputs_through_descriptors_and_links),
         cmocka_unit_test(png_srgb_curve_near_black),
         cmocka_unit_test(map_specs_name_sizes_and_files),
         cmocka_unit_test(gltf_rotation_turns_minus_z_into_minus_dir),
