@@ -38,7 +38,7 @@ int tool_bad_value(const char *cmd, const char *option, const char *value, const
 /* Prints "lumis: message" on stderr; returns EXIT_RUNTIME. */
 int tool_runtime_error(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
-/* Loads a map (tools/lumis/pipeline.c, as everything down to tool_print_info): an image file, or a
+/* Loads a map (tools/lumis/load.c): an image file, or a
  * procedural spec "sky", "sky:WxH", "studio", "studio:WxH".  Prints errors itself; returns a
  * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
@@ -229,6 +229,24 @@ typedef struct tool_render_result {
 
 /* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */
 void tool_sidecar_path(const char *out, char *buf, size_t cap);
+/* The sidecar of a render (sidecar.c): every setting, timing and count.  Exit code. */
+int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
+                       const char *scene_label, const char *envspec, const lumis_envmap *env,
+                       const lumis_sampler *smp, const lumis_light_set *lights,
+                       const lumis_scene_file *file, const lumis_camera *cam,
+                       const tool_render_result *r);
+/* "bsdf", "light" or "mis". */
+const char *tool_estimator_name(const lumis_render_desc *d);
+
+/* The progress bar (progress.c): on stderr when it is a terminal; budget > 0: by time. */
+typedef struct progress {
+    int enabled;
+    double start, budget, last;
+    int spp_done;
+} progress;
+void tool_progress_draw(progress *p, double fraction, int final);
+/* lumis_render_desc.progress for a progress (user). */
+void tool_on_progress(void *user, int done, int total);
 
 /* Checks every output against every input (the scene file, the map, the meshes) before any
  * work (exit 2), then renders.  Returns an exit code; prints errors, a progress bar (stderr is a

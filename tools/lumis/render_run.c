@@ -1,0 +1,303 @@
+/* lumis render (and the bench's items, the demo): a scene, its map and sampler, then
+ * lumis_render_session, then the outputs and the sidecar. */
+#include "common.h"
+
+#include "lumis/metrics.h"
+#include "lumis/render.h"
+
+#include <cJSON.h>
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* ---- the run --------------------------------------------------------------------------- */
+
+/* The session's passes, for the progress bar. */
+static void on_pass(void *user, int spp)
+{
+    ((progress *)user)->spp_done = spp;
+}
+
+int tool_render(const tool_render_opts *o, tool_render_result *r)
+{
+    memset(r, 0, sizeof *r);
+    double t0 = tool_now_seconds();
+    lumis_scene_file *file = NULL;
+    lumis_scene_read_options so = {0};
+    so.skip_env_map = o->envspec != NULL; /* --env replaces the scene's map: not read */
+    so.errors = tool_errors;
+    so.load_preset = tool_scene_load_preset; /* presets through the cache */
+    /* --luminaire with a built-in scene: placed instead of the scene's own (which is not
+     * acquired); with a scene file, it replaces the file's luminaires below. */
+    lumis_luminaire *replacement = NULL;
+    if (o->luminaire && tool_load_luminaire(o->luminaire, &replacement) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    /* A built-in scene's own luminaire through the cache too (it would be acquired anew). */
+    const char *own = o->scene_name ? lumis_scene_builtin_luminaire_spec(o->scene_name) : NULL;
+    if (!replacement && own && tool_load_luminaire(own, &replacement) != LUMIS_OK)
+        return EXIT_RUNTIME;
+    lumis_status st = o->scene_path ? lumis_scene_file_read(o->scene_path, &so, &file)
+                                    : lumis_scene_builtin_with_luminaire(o->scene_name, replacement,
+                                                                         &tool_errors, &file);
+    if (st != LUMIS_OK) {
+        lumis_luminaire_destroy(replacement);
+        return EXIT_RUNTIME;
+    }
+    const char *cmd = o->cmd ? o->cmd : "render";
+    /* A scene with luminaires is lit by them alone; its camera rays that escape see black. */
+    const int lum = file->luminaire_count > 0;
+    if (!lum && file->luminaires_listed > 0) { /* not the default sky instead */
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_runtime_error("%s: every luminaire of the scene has intensity 0: nothing "
+                                  "lights it (give one an intensity, or list none to light it "
+                                  "by a map)",
+                                  o->scene_path ? o->scene_path : o->scene_name);
+    }
+    if (lum && file->env_map[0])
+        fprintf(stderr,
+                "lumis: warning: %s: the scene's environment (%s) is ignored: a scene with "
+                "luminaires is lit by them alone\n",
+                o->scene_path ? o->scene_path : o->scene_name, file->env_map);
+    const char *clash = o->envspec     ? "--env"
+                        : o->lights    ? "--lights"
+                        : o->bsdf_only ? "--method bsdf"
+                                       : NULL;
+    if (lum && clash) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_usage_error(cmd, "%s: the scene is lit by its luminaires, not by a map", clash);
+    }
+    if (!lum && o->lum_option) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_usage_error(
+            cmd, "%s applies to scenes with luminaires (e.g. --scene headlight)", o->lum_option);
+    }
+    if (o->luminaire && !lum) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_usage_error(cmd,
+                                "--luminaire %s: the scene places no luminaire (try --scene "
+                                "headlight)",
+                                o->luminaire);
+    }
+    const char *envspec = lum          ? NULL
+                          : o->envspec ? o->envspec
+                                       : (file->env_map[0] ? file->env_map : "sky");
+    char sidecar[4096] = "";
+    if (o->out && (!o->sidecar || o->sidecar[0])) {
+        if (o->sidecar)
+            snprintf(sidecar, sizeof sidecar, "%s", o->sidecar);
+        else
+            tool_sidecar_path(o->out, sidecar, sizeof sidecar);
+    }
+    /* Every output is checked against every input before the work: a sidecar named after
+     * OUT.exr must never replace the scene file (render scene.json -o scene.exr). */
+    tool_files files = {0};
+    tool_files_input(&files, "scene file", o->scene_path);
+    tool_files_input(&files, "environment map", envspec);
+    /* A luminaire is its manifest and every image it names: all inputs. */
+    lumis_luminaire_manifest *mans[TOOL_FILES_MAX] = {0};
+    int nmans = 0;
+    for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++) {
+        const char *lp = lumis_scene_file_luminaire_path(file, k);
+        if (strncmp(lp, "preset:", 7) == 0) continue;
+        tool_files_input(&files, "luminaire", lp);
+        if (nmans < TOOL_FILES_MAX &&
+            lumis_luminaire_manifest_read(lp, NULL, &mans[nmans]) == LUMIS_OK) {
+            tool_files_input_list(&files, "luminaire image", mans[nmans]->paths,
+                                  mans[nmans]->image_count);
+            nmans++;
+        }
+    }
+    if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0) {
+        tool_files_input(&files, "luminaire", o->luminaire);
+        if (nmans < TOOL_FILES_MAX &&
+            lumis_luminaire_manifest_read(o->luminaire, NULL, &mans[nmans]) == LUMIS_OK) {
+            tool_files_input_list(&files, "luminaire image", mans[nmans]->paths,
+                                  mans[nmans]->image_count);
+            nmans++;
+        }
+    }
+    for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
+        tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
+    tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
+    tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
+    tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
+    int rc = tool_files_check(cmd, &files);
+    for (int k = 0; k < nmans; k++) lumis_luminaire_manifest_destroy(mans[k]);
+    if (rc != EXIT_OK) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return rc;
+    }
+    float rotation = o->envspec ? o->rotation_deg : file->env_rotation_deg,
+          scale = o->envspec ? o->scale : file->env_scale;
+    lumis_camera cam = file->camera;
+    if (o->width) cam.width = o->width, cam.height = o->height;
+    lumis_envmap *env = NULL;
+    lumis_sampler *smp = NULL;
+    lumis_light_set *lights = NULL;
+    lumis_scene *scene = NULL;
+    rc = EXIT_RUNTIME;
+    const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
+    if (!lum && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
+        r->env_replaced = file->env_info.replaced;
+        tool_warn_replaced(envspec, r->env_replaced);
+    } else if (!lum && preloaded) { /* the caller's (lumis bench): it warned when it read it */
+        r->env_replaced = o->env_image_replaced;
+    }
+    if (!lum &&
+        tool_make_envmap(envspec, preloaded, rotation, scale, &env, &r->env_replaced) != LUMIS_OK)
+        goto done;
+    lumis_sampler_desc sd = o->sampler;
+    sd.errors = tool_errors;
+    /* A light set or luminaires light the scene by themselves: no sampler is built. */
+    if (!lum && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
+    /* The map's loading alone: the sampler's build is reported on its own. */
+    r->load_seconds = tool_now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
+    double t1 = tool_now_seconds();
+    if (lumis_scene_create(file->objects, file->object_count, &tool_errors, &scene) != LUMIS_OK)
+        goto done;
+    r->scene_seconds = tool_now_seconds() - t1;
+
+    progress pg = {0};
+    pg.enabled = (!o->quiet || o->progress) && isatty(STDERR_FILENO);
+    pg.start = tool_now_seconds();
+    pg.budget = o->time_budget;
+    lumis_render_desc rd = o->rd;
+    rd.camera = &cam;
+    rd.env = env;
+    rd.sampler = smp;
+    rd.light_set = lights;
+    rd.errors = tool_errors;
+    /* --luminaire: every placed luminaire of the scene replaced by that one. */
+    for (int k = 0; replacement && k < file->luminaire_count; k++)
+        file->luminaires[k].luminaire = replacement;
+    lumis_luminaire_lighting lighting = o->lum;
+    lighting.instances = file->luminaires;
+    lighting.count = file->luminaire_count;
+    rd.luminaires = lum ? &lighting : NULL;
+    if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
+    if (pg.enabled) {
+        rd.progress = tool_on_progress;
+        rd.progress_user = &pg;
+    }
+    /* Equal time is equal wall time: what a method needs before its first sample (the
+     * sampler's tables, the light set's generation, the pilots that choose K) is spent from
+     * the budget, and reported (r->prep_seconds): lumis_render_session does it. */
+    lumis_session_desc sess = {0};
+    sess.render = rd;
+    sess.lights = o->lights;
+    sess.lights_k = o->lights_k;
+    sess.interleave = o->interleave;
+    sess.lights_params = &o->lights_params;
+    sess.upsample = o->upsample;
+    sess.time_budget = o->time_budget;
+    sess.spent = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
+    sess.timed_spp = TOOL_LIGHTS_TIMED_SPP;
+    sess.pass_done = on_pass;
+    sess.pass_done_user = &pg;
+    lumis_session_result sr;
+    st = lumis_render_session(scene, &sess, &r->image, &sr);
+    lights = sr.light_set;
+    r->stats = sr.stats;
+    r->prep_seconds = sr.prep_seconds;
+    r->budget_used_seconds = sr.budget_used_seconds;
+    r->lights_pilot_seconds = sr.pilot_seconds;
+    for (int p = 0; p < 2; p++) {
+        r->lights_pilot_k[p] = sr.pilot_k[p];
+        r->lights_pilot_per_spp[p] = sr.pilot_per_spp[p];
+        r->lights_pilot_once[p] = sr.pilot_once[p];
+    }
+    r->lights_pilot_chosen = sr.pilot_chosen;
+    r->lights_retried = sr.retried;
+    const int factor = sr.upsample;
+    r->upsample = factor;
+    pg.spp_done = r->stats.spp;
+    if (pg.enabled) tool_progress_draw(&pg, 1.0, 1);
+    if (st != LUMIS_OK) goto done;
+    if (o->out && tool_write_image(o->out, r->image, NULL) != LUMIS_OK) goto done;
+    if (o->png) {
+        lumis_write_options po = o->png_options;
+        if (o->png_auto_exposure) po.exposure_ev = tool_auto_exposure(r->image);
+        if (tool_write_image(o->png, r->image, &po) != LUMIS_OK) goto done;
+    }
+    r->total_seconds = tool_now_seconds() - t0;
+    if (smp) {
+        r->sampler_build_ms = lumis_sampler_build_ms(smp);
+        r->sampler_table_bytes = lumis_sampler_table_bytes(smp);
+    }
+    for (int k = 0; k < file->luminaire_count; k++) { /* the luminaires' memory */
+        int seen = 0; /* an instance may share an earlier one's luminaire */
+        for (int q = 0; q < k; q++)
+            seen |= file->luminaires[q].luminaire == file->luminaires[k].luminaire;
+        lumis_luminaire_info li;
+        lumis_luminaire_get_info(file->luminaires[k].luminaire, &li);
+        if (!seen) r->sampler_table_bytes += li.bytes;
+    }
+    if (lights) { /* what lights the image: the light set's build and memory */
+        int lw = 0, lh = 0;
+        lumis_light_set_labels(lights, &lw, &lh);
+        r->sampler_build_ms = lumis_light_set_get_info(lights)->build_ms;
+        r->sampler_table_bytes = (size_t)lw * (size_t)lh * sizeof(int32_t) +
+                                 (size_t)lumis_light_set_sets(lights) *
+                                     (size_t)lumis_light_set_get_info(lights)->count *
+                                     sizeof(lumis_light);
+    }
+    const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
+                         : o->lights    ? o->lights
+                         : o->bsdf_only ? "bsdf"
+                                        : lumis_sampler_method_name(lumis_sampler_get_method(smp));
+    if (!o->quiet) {
+        double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
+        char how[160];
+        if (lum)
+            snprintf(how, sizeof how, "%d luminaire%s: %s, K = %d, %s visibility, %s",
+                     file->luminaire_count, file->luminaire_count > 1 ? "s" : "", method,
+                     o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
+                     lumis_sequence_name(o->lum.sequence));
+        else if (lights)
+            snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms",
+                     o->lights, lumis_light_set_get_info(lights)->count,
+                     lumis_light_set_sets(lights), lumis_light_set_get_info(lights)->build_ms);
+        else
+            snprintf(how, sizeof how, "%s, sampler %s built in %.2f ms", tool_estimator_name(&rd),
+                     method, r->sampler_build_ms);
+        fprintf(stderr,
+                "lumis: rendered %dx%d at %d spp (%s%s) in %.3f s, %.3g rays/s (%.3g shadow "
+                "rays/s)\n",
+                cam.width, cam.height, r->stats.spp,
+                o->rd.max_bounces > 0 ? "path traced, " : "direct, ", how, r->stats.seconds,
+                rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds);
+        if (o->time_budget > 0.0)
+            fprintf(stderr,
+                    "lumis: time budget %.3g s: %.3f s before the first sample (tables, light "
+                    "sets, K's pilots) + %.3f s rendering = %.3f s\n",
+                    o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
+                    r->budget_used_seconds);
+    }
+    rc = EXIT_OK;
+    if (sidecar[0])
+        rc = tool_write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name,
+                                envspec, env, smp, lights, file, &cam, r);
+done:
+    if (rc != EXIT_OK) {
+        lumis_image_destroy(r->image);
+        r->image = NULL;
+    }
+    lumis_scene_destroy(scene);
+    lumis_scene_file_destroy(file);
+    lumis_luminaire_destroy(replacement);
+    lumis_sampler_destroy(smp);
+    lumis_light_set_destroy(lights);
+    lumis_envmap_destroy(env);
+    return rc;
+}

@@ -1,0 +1,218 @@
+/* The JSON sidecar of a render: every setting, timing and count that made the image. */
+#include "common.h"
+
+#include "lumis/metrics.h"
+#include "lumis/render.h"
+
+#include <cJSON.h>
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+const char *tool_estimator_name(const lumis_render_desc *d)
+{
+    return d->estimator == LUMIS_ESTIMATOR_BSDF    ? "bsdf"
+           : d->estimator == LUMIS_ESTIMATOR_LIGHT ? "light"
+                                                   : "mis";
+}
+
+void tool_sidecar_path(const char *out, char *buf, size_t cap)
+{
+    size_t n = strlen(out);
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (dot && (!slash || dot > slash) && dot != out && dot[-1] != '/') n = (size_t)(dot - out);
+    snprintf(buf, cap, "%.*s.json", (int)n, out);
+}
+
+int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
+                       const char *scene_label, const char *envspec, const lumis_envmap *env,
+                       const lumis_sampler *smp, const lumis_light_set *lights,
+                       const lumis_scene_file *file, const lumis_camera *cam,
+                       const tool_render_result *r)
+{
+    const int objects = file->object_count, lum = rd->luminaires != NULL;
+    const lumis_render_stats *s = &r->stats;
+    cJSON *j = cJSON_CreateObject(), *x;
+    char cmd[8192] = "lumis";
+    for (int k = 0; k < o->argc; k++) {
+        size_t n = strlen(cmd);
+        snprintf(cmd + n, sizeof cmd - n, " %s", o->argv[k]);
+    }
+    cJSON_AddStringToObject(j, "lumis_version", LUMIS_VERSION_STRING);
+    cJSON_AddStringToObject(j, "command", o->argc ? cmd : "(library call)");
+    cJSON_AddStringToObject(j, "mode", o->rd.max_bounces > 0 ? "path" : "direct");
+    char label[128];
+    if (o->rd.max_bounces > 0)
+        snprintf(label, sizeof label, "path traced, global illumination, up to %d bounces",
+                 o->rd.max_bounces);
+    else if (lum)
+        snprintf(label, sizeof label, "direct illumination from light-field luminaires");
+    else
+        snprintf(label, sizeof label, "direct illumination from the environment");
+    cJSON_AddStringToObject(j, "label", label);
+    cJSON_AddStringToObject(j, "scene", scene_label);
+    cJSON_AddNumberToObject(j, "objects", objects);
+    if (env) {
+        x = cJSON_AddObjectToObject(j, "environment");
+        cJSON_AddStringToObject(x, "map", envspec);
+        cJSON_AddNumberToObject(x, "width", lumis_envmap_width(env));
+        cJSON_AddNumberToObject(x, "height", lumis_envmap_height(env));
+        cJSON_AddNumberToObject(x, "rotation_deg", o->rotation_deg);
+        cJSON_AddNumberToObject(x, "scale", o->scale);
+        /* channel values the map's reader replaced by 0 (NaN, Inf, negative) */
+        cJSON_AddNumberToObject(x, "replaced", (double)lumis_replaced_total(r->env_replaced));
+        cJSON_AddNumberToObject(x, "replaced_nan", (double)r->env_replaced.nan);
+        cJSON_AddNumberToObject(x, "replaced_inf", (double)r->env_replaced.inf);
+        cJSON_AddNumberToObject(x, "replaced_negative", (double)r->env_replaced.negative);
+    } else {
+        cJSON_AddNullToObject(j, "environment");
+    }
+    cJSON_AddStringToObject(j, "method",
+                            lum         ? lumis_luminaire_strategy_name(rd->luminaires->strategy)
+                            : o->lights ? o->lights
+                            : o->bsdf_only
+                                ? "bsdf"
+                                : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+    cJSON_AddStringToObject(j, "estimator",
+                            lum      ? "luminaire"
+                            : lights ? "light set"
+                                     : tool_estimator_name(rd));
+    if (lum) {
+        const lumis_luminaire_lighting *ll = rd->luminaires;
+        x = cJSON_AddObjectToObject(j, "luminaires");
+        cJSON_AddNumberToObject(x, "count", ll->count);
+        cJSON_AddStringToObject(x, "strategy", lumis_luminaire_strategy_name(ll->strategy));
+        cJSON_AddNumberToObject(x, "budget", ll->budget ? ll->budget : 32);
+        cJSON_AddNumberToObject(x, "k_max", ll->k_max);
+        cJSON_AddStringToObject(x, "search", lumis_luminaire_search_name(ll->search));
+        cJSON_AddNumberToObject(x, "depth", ll->depth);
+        cJSON_AddStringToObject(x, "visibility", lumis_visibility_name(ll->visibility));
+        cJSON_AddStringToObject(x, "sequence", lumis_sequence_name(ll->sequence));
+        cJSON_AddNumberToObject(x, "bytes", (double)r->sampler_table_bytes);
+        /* Samples evaluated, not the budget: a point draws at least one per image with
+         * energy in its box, and the global strategy one per image with any. */
+        cJSON_AddNumberToObject(x, "samples", s->light_samples);
+        cJSON_AddNumberToObject(x, "samples_per_pixel",
+                                s->light_samples / ((double)cam->width * (double)cam->height));
+        cJSON *arr = cJSON_AddArrayToObject(x, "instances");
+        for (int k = 0; k < ll->count; k++) {
+            lumis_luminaire_info li;
+            lumis_luminaire_get_info(ll->instances[k].luminaire, &li);
+            cJSON *e = cJSON_CreateObject();
+            cJSON_AddNumberToObject(e, "images", li.images);
+            cJSON_AddNumberToObject(e, "width", li.width);
+            cJSON_AddNumberToObject(e, "height", li.height);
+            cJSON_AddNumberToObject(e, "delta", li.delta);
+            cJSON_AddNumberToObject(e, "scale", ll->instances[k].scale);
+            cJSON_AddNumberToObject(e, "intensity", ll->instances[k].intensity);
+            cJSON_AddItemToArray(arr, e);
+        }
+    } else {
+        cJSON_AddNullToObject(j, "luminaires");
+    }
+    if (lights) {
+        const lumis_light_set_info *li = lumis_light_set_get_info(lights);
+        x = cJSON_AddObjectToObject(j, "lights");
+        cJSON_AddStringToObject(x, "method", o->lights);
+        char params[1024];
+        lumis_light_params_format(&o->lights_params, params, sizeof params);
+        cJSON_AddStringToObject(x, "params", params);
+        cJSON_AddNumberToObject(x, "requested", li->requested);
+        cJSON_AddNumberToObject(x, "count", li->count);
+        cJSON_AddNumberToObject(x, "env_directs", li->direct);
+        cJSON_AddNumberToObject(x, "env_indirects", li->indirect);
+        cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
+        cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
+        cJSON_AddNumberToObject(x, "upsample", r->upsample);
+        if (r->lights_pilot_seconds > 0.0) {
+            /* --time: K chosen from two pilot renders (seconds per sample at K = 16, 64). */
+            cJSON *pl = cJSON_AddObjectToObject(x, "k_from_time");
+            cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, 2));
+            cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
+                                  cJSON_CreateDoubleArray(r->lights_pilot_per_spp, 2));
+            cJSON_AddItemToObject(pl, "pilot_seconds_once",
+                                  cJSON_CreateDoubleArray(r->lights_pilot_once, 2));
+            cJSON_AddNumberToObject(pl, "k_from_pilots", r->lights_pilot_chosen);
+            cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
+            cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
+            cJSON_AddBoolToObject(pl, "rerendered", r->lights_retried);
+        }
+    } else {
+        cJSON_AddNullToObject(j, "lights");
+    }
+    if (rd->estimator == LUMIS_ESTIMATOR_MIS)
+        cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
+    else
+        cJSON_AddNullToObject(j, "heuristic");
+    cJSON_AddNumberToObject(j, "light_samples", o->rd.light_samples ? o->rd.light_samples : 1);
+    cJSON_AddNumberToObject(j, "bsdf_samples", o->rd.bsdf_samples ? o->rd.bsdf_samples : 1);
+    cJSON_AddNumberToObject(j, "max_bounces", o->rd.max_bounces);
+    if (o->time_budget > 0.0) {
+        cJSON_AddNumberToObject(j, "time_budget_seconds", o->time_budget);
+        cJSON_AddNullToObject(j, "spp_requested");
+    } else {
+        cJSON_AddNullToObject(j, "time_budget_seconds");
+        cJSON_AddNumberToObject(j, "spp_requested", o->rd.spp ? o->rd.spp : 16);
+    }
+    cJSON_AddNumberToObject(j, "spp", s->spp);
+    cJSON_AddNumberToObject(j, "passes", s->passes);
+    cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
+    cJSON_AddNumberToObject(j, "threads", s->threads);
+    { /* the code paths this CPU ran: a result is reproduced with the same ones */
+        const char *embree = getenv("LUMIS_EMBREE_CONFIG");
+        cJSON_AddStringToObject(j, "simd_variant", lumis_simd_variant());
+        cJSON_AddStringToObject(j, "embree_config", embree && *embree ? embree : "default");
+    }
+    cJSON_AddNumberToObject(j, "width", cam->width);
+    cJSON_AddNumberToObject(j, "height", cam->height);
+    x = cJSON_AddObjectToObject(j, "timings");
+    cJSON_AddNumberToObject(x, "load_seconds", r->load_seconds);
+    cJSON_AddNumberToObject(x, "sampler_build_seconds", r->sampler_build_ms / 1000.0);
+    cJSON_AddNumberToObject(x, "scene_build_seconds", r->scene_seconds);
+    cJSON_AddNumberToObject(x, "render_seconds", s->seconds);
+    /* Before the first sample: tables, light-set generation, K's pilots (every attempt). */
+    cJSON_AddNumberToObject(x, "prep_seconds", r->prep_seconds);
+    if (o->time_budget > 0.0) /* prep + every attempt's render: what the budget paid for */
+        cJSON_AddNumberToObject(x, "budget_used_seconds", r->budget_used_seconds);
+    else
+        cJSON_AddNullToObject(x, "budget_used_seconds");
+    cJSON_AddNumberToObject(x, "total_seconds", r->total_seconds);
+    x = cJSON_AddObjectToObject(j, "rays");
+    double total = s->camera_rays + s->shadow_rays + s->bounce_rays;
+    cJSON_AddNumberToObject(x, "camera", s->camera_rays);
+    cJSON_AddNumberToObject(x, "shadow", s->shadow_rays);
+    cJSON_AddNumberToObject(x, "bounce", s->bounce_rays);
+    cJSON_AddNumberToObject(x, "total", total);
+    cJSON_AddNumberToObject(x, "per_second", s->seconds > 0 ? total / s->seconds : 0);
+    cJSON_AddNumberToObject(x, "shadow_per_second",
+                            s->seconds > 0 ? s->shadow_rays / s->seconds : 0);
+    if (smp) {
+        x = cJSON_AddObjectToObject(j, "sampler");
+        cJSON_AddStringToObject(x, "method",
+                                lumis_sampler_method_name(lumis_sampler_get_method(smp)));
+        cJSON_AddNumberToObject(x, "build_ms", lumis_sampler_build_ms(smp));
+        cJSON_AddNumberToObject(x, "table_bytes", (double)lumis_sampler_table_bytes(smp));
+        cJSON_AddNumberToObject(x, "total_bytes", (double)lumis_sampler_total_bytes(smp));
+        if (lumis_sampler_kdtree_blocks(smp) > 0) {
+            cJSON_AddNumberToObject(x, "kdtree_blocks", lumis_sampler_kdtree_blocks(smp));
+            cJSON_AddNumberToObject(x, "kdtree_alpha", lumis_sampler_kdtree_alpha(smp));
+        }
+    } else {
+        cJSON_AddNullToObject(j, "sampler"); /* a light set: see "lights" */
+    }
+    x = cJSON_AddObjectToObject(j, "outputs");
+    cJSON_AddStringToObject(x, "exr", o->out);
+    if (o->png)
+        cJSON_AddStringToObject(x, "png", o->png);
+    else
+        cJSON_AddNullToObject(x, "png");
+    int rc = tool_write_json(path, j);
+    cJSON_Delete(j);
+    return rc;
+}
