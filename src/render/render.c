@@ -89,44 +89,6 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
     return LUMIS_OK;
 }
 
-/* One camera sample: direct illumination at the first hit, and with max_bounces > 0 the
- * direct illumination at every further vertex of a BSDF-sampled path.  The environment
- * seen by a continuation ray is not added: the direct estimator at the vertex it left
- * already accounts for it, so each light path is counted once. */
-static v3 trace_sample(const ctx *c, const lumis_render_job *job, v3 dir, const lumis__vertex *v,
-                       double *bounce)
-{
-    lumis_pcg32 *rng = v->rng;
-    hit hh;
-    if (!intersect(c->scene, job->cf.eye, dir, &hh)) {
-        if (job->d.hide_environment || !job->d.env) return mk(0, 0, 0);
-        lumis_rgb e = lumis_envmap_eval(job->d.env, tof(dir));
-        return mk(e.r, e.g, e.b);
-    }
-    v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
-    for (int depth = 0;; depth++) {
-        /* The light interface: the kind of lights decides how the point is lit. */
-        v3 Ld = job->kind->shade(c, &hh, dir, v);
-        L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
-        if (depth >= job->d.max_bounces) break;
-        v3 t, b, n = hh.n;
-        basis(n, &t, &b);
-        v3 wow = mul(dir, -1.0);
-        lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
-        double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
-               u2 = lumis_pcg32_double(rng);
-        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u0, u1, u2);
-        if (!(bs.pdf > 0.0f)) break;
-        beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);
-        if (beta.x == 0.0 && beta.y == 0.0 && beta.z == 0.0) break;
-        dir = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
-        v3 org = add(hh.p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(hh.p, hh.p)))));
-        *bounce += 1.0;
-        if (!intersect(c->scene, org, dir, &hh)) break;
-    }
-    return L;
-}
-
 lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
 {
     if (!job) return LUMIS_ERR_INVALID_ARGUMENT;
@@ -193,7 +155,8 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                             double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
                             v3 dir = camera_dir(&job->cf, sx, sy);
                             const lumis__vertex v = {x, y, k, &rng, scratch, &shadow};
-                            a = add(a, trace_sample(&c, job, dir, &v, &bounce));
+                            a = add(a, lumis__trace_sample(&c, job->kind, job->cf.eye, dir, &v,
+                                                           &bounce));
                         }
                         acc[0] = a.x;
                         acc[1] = a.y;

@@ -111,4 +111,11 @@ static inline uint64_t mix64(uint64_t z)
     return z ^ (z >> 31);
 }
 
+/* ---- the integrator (integrator.c) ---- */
+
+/* One camera sample from eye along dir: what the kind lights at its first hit, and along a
+ * BSDF-sampled path of up to c->d->max_bounces further vertices (bounce rays counted). */
+v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 dir,
+                       const lumis__vertex *v, double *bounce);
+
 #endif
