@@ -828,6 +828,9 @@ static void render_with_luminaires(void **state)
     expect("render --scene headlight --lum-budget 0 -o x.exr", 2, "--lum-budget");
     expect("render --scene headlight --visibility maybe -o x.exr", 2, "--visibility");
     expect("render --scene headlight --sequence sobol -o x.exr", 2, "--sequence");
+    /* an option given twice: refused (the first was silently ignored) */
+    expect("render --scene spheres -o a.exr -o b.exr", 2, "-o given twice");
+    expect("sample sky:16x8 --method inversion -n 2 --seed=1 --seed 2", 2, "--seed given twice");
 }
 
 /* lumis luminaire: create writes a manifest and its images, info reads them back, render

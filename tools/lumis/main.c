@@ -69,6 +69,35 @@ static void on_signal(int sig)
     raise(sig);
 }
 
+/* An option given twice is refused: the first would be silently ignored (-o a.exr -o b.exr
+ * never wrote a.exr).  The options that add up (--lights-param, --param, --merge's folders)
+ * may repeat. */
+static int repeated_option(const char *cmd, int argc, char **argv)
+{
+    static const char *const repeatable[] = {"--lights-param", "--param", "--merge"};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const int opt = (a[0] == '-' && a[1] == '-' && a[2]) ||
+                        (a[0] == '-' && (a[1] == 'o' || a[1] == 'n' || a[1] == 'k') && !a[2]);
+        if (!opt) continue;
+        const size_t n = strcspn(a, "=");
+        int adds = 0;
+        for (size_t r = 0; r < sizeof repeatable / sizeof repeatable[0]; r++)
+            adds |= strlen(repeatable[r]) == n && strncmp(a, repeatable[r], n) == 0;
+        if (adds) continue;
+        for (int j = 1; j < i; j++)
+            if (strncmp(argv[j], a, n) == 0 && (argv[j][n] == '\0' || argv[j][n] == '=') &&
+                (a[n] == '\0' || a[n] == '=')) {
+                fprintf(stderr,
+                        "lumis %s: %.*s given twice (the first would be ignored)\n(see 'lumis "
+                        "%s --help')\n",
+                        cmd, (int)n, a, cmd);
+                return 1;
+            }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     signal(SIGINT, on_signal);
@@ -102,8 +131,10 @@ int main(int argc, char **argv)
         return finish(EXIT_OK);
     }
     for (int i = 0; i < NCOMMANDS; i++)
-        if (strcmp(argv[1], commands[i].name) == 0)
+        if (strcmp(argv[1], commands[i].name) == 0) {
+            if (repeated_option(argv[1], argc - 1, argv + 1)) return EXIT_USAGE;
             return finish(commands[i].run(argc - 1, argv + 1));
+        }
     fprintf(stderr, "lumis: unknown command '%s' (see 'lumis --help')\n", argv[1]);
     return EXIT_USAGE;
 }
