@@ -831,6 +831,14 @@ static void render_with_luminaires(void **state)
     /* an option given twice: refused (the first was silently ignored) */
     expect("render --scene spheres -o a.exr -o b.exr", 2, "-o given twice");
     expect("sample sky:16x8 --method inversion -n 2 --seed=1 --seed 2", 2, "--seed given twice");
+    /* an option's value is never the next option ("--json --masks" wrote a file "--masks"),
+     * and an output option without a value is an error, not ignored */
+    expect("lights sky:16x8 --method median-cut -k 2 --json --masks", 2, "--json needs a file");
+    expect("lights sky:16x8 --method median-cut -k 2 --gltf", 2, "--gltf needs a file");
+    expect("render --scene spheres --size 8x6 --spp 1 -o x.exr --sidecar --quiet", 2,
+           "--sidecar needs a path");
+    /* two outputs to /dev/null are not one file written twice */
+    expect("lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null", 0, "");
 }
 
 /* lumis luminaire: create writes a manifest and its images, info reads them back, render

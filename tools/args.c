@@ -24,7 +24,10 @@ int tool_option(int argc, char **argv, int *i, const char *name, const char **va
         return 1;
     }
     if (a[n] != '\0') return 0;
-    *value = *i + 1 < argc ? argv[++*i] : NULL;
+    /* the next argument is the value, unless it is another option ("--json --masks" took
+     * "--masks" as a file name): then no value is given (a usage error) */
+    const int next = *i + 1 < argc && !(argv[*i + 1][0] == '-' && argv[*i + 1][1] == '-');
+    *value = next ? argv[++*i] : NULL;
     return 1;
 }
 

@@ -218,10 +218,13 @@ int cmd_lights(int argc, char **argv)
             if (!tool_parse_double(v, &rotation) || !(fabs(rotation) <= 1e6))
                 return tool_bad_value("lights", "--rotate", v, "needs degrees in [-1e6, 1e6]");
         } else if (tool_option(argc, argv, &i, "--json", &v)) {
+            if (!v || !*v) return tool_bad_value("lights", "--json", v, "needs a file");
             json = v;
         } else if (tool_option(argc, argv, &i, "--gltf", &v)) {
+            if (!v || !*v) return tool_bad_value("lights", "--gltf", v, "needs a file");
             gltf = v;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
+            if (!v || !*v) return tool_bad_value("lights", "--png", v, "needs a file");
             png = v;
         } else if (tool_option(argc, argv, &i, "--png-width", &v)) {
             if (!tool_parse_int(v, 16, 16384, &x))

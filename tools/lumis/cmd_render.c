@@ -218,8 +218,10 @@ int cmd_render(int argc, char **argv)
                 return tool_bad_value("render", "--size", v, "needs WxH up to 16384x16384");
         } else if (tool_option(argc, argv, &i, "--output", &v) ||
                    tool_option(argc, argv, &i, "-o", &v)) {
+            if (!v || !*v) return tool_bad_value("render", "-o", v, "needs a file");
             o.out = v;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
+            if (!v || !*v) return tool_bad_value("render", "--png", v, "needs a file");
             o.png = v;
         } else if (tool_option(argc, argv, &i, "--sidecar", &v)) {
             if (!v || !*v) return tool_bad_value("render", "--sidecar", v, "needs a path");

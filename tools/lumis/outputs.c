@@ -95,7 +95,8 @@ int tool_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
     int ea = stat(a, &sa) == 0, eb = stat(b, &sb) == 0;
-    if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    /* two outputs to /dev/null (a character device) are not one file's two versions */
+    if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino && !S_ISCHR(sa.st_mode);
     if (ea != eb) return 0; /* one exists, the other does not: not yet the same file */
     char fa[PATH_MAX + 256], fb[PATH_MAX + 256], ca[PATH_MAX + 512], cb[PATH_MAX + 512];
     follow_links(a, fa, sizeof fa);
