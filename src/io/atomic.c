@@ -256,12 +256,11 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     memcpy(af->tmp_path + dir_len + 1, path + dir_len, len - dir_len);
     memcpy(af->tmp_path + len + 1, ".XXXXXX", 8);
     /* No signal between creating the file and registering it: the handler must see it. */
-    sigset_t all, was;
-    sigfillset(&all);
-    const int masked = pthread_sigmask(SIG_BLOCK, &all, &was) == 0;
+    sigset_t was;
+    lumis__signals_block(&was);
     fd = mkstemp(af->tmp_path);
     if (fd >= 0) lumis__atomic_track(af->tmp_path);
-    if (masked) pthread_sigmask(SIG_SETMASK, &was, NULL);
+    lumis__signals_restore(&was);
     if (fd < 0) {
         int e = errno;
         free(af->tmp_path);
