@@ -1278,6 +1278,13 @@ static void outputs_through_descriptors_and_links(void **state)
     snprintf(text, sizeof text, "%.*s", (int)n, (const char *)got);
     assert_string_equal(text, "through two links");
     free(got);
+    char where[600];
+    assert_int_equal(lumis_output_target(link2, where, sizeof where), LUMIS_OK);
+    assert_string_equal(where, target);
+    assert_int_equal(lumis_output_target(link2, where, 8), LUMIS_ERR_INVALID_ARGUMENT);
+    snprintf(name, sizeof name, "/dev/fd/%d", 1);
+    assert_int_equal(lumis_output_target(name, where, sizeof where), LUMIS_OK);
+    assert_string_equal(where, name); /* a descriptor: written in place */
     struct stat sb;
     assert_int_equal(lstat(link1, &sb), 0);
     assert_true(S_ISLNK(sb.st_mode));

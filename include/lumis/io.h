@@ -135,6 +135,13 @@ typedef struct lumis_write_options {
 lumis_status lumis_image_write(const char *path, const lumis_image *image,
                                const lumis_write_options *options);
 
+/* Where a write to path lands: path with its chain of symbolic links followed by their text
+ * (a dangling link's target is created, the link kept), as lumis_image_write and
+ * lumis_write_text do, into buf.  A path naming a descriptor (/dev/stdout, /dev/fd/N) is
+ * written in place and is its own target.  LUMIS_ERR_INVALID_ARGUMENT when it does not fit
+ * in cap bytes. */
+lumis_status lumis_output_target(const char *path, char *buf, size_t cap);
+
 /* Writes len bytes of text (a JSON sidecar, a report) the same crash-safe way. */
 lumis_status lumis_write_text(const char *path, const char *text, size_t len,
                               const lumis_error_sink *errors);

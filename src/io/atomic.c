@@ -181,6 +181,20 @@ char *lumis__follow_links(const char *path, int *fd)
     return cur;
 }
 
+lumis_status lumis_output_target(const char *path, char *buf, size_t cap)
+{
+    if (!path || !buf || cap == 0) return LUMIS_ERR_INVALID_ARGUMENT;
+    int fd = -1;
+    char *end = lumis__follow_links(path, &fd);
+    if (!end) return LUMIS_ERR_OUT_OF_MEMORY;
+    const char *target = fd >= 0 ? path : end;
+    const size_t n = strlen(target);
+    const lumis_status st = n < cap ? LUMIS_OK : LUMIS_ERR_INVALID_ARGUMENT;
+    if (st == LUMIS_OK) memcpy(buf, target, n + 1);
+    free(end);
+    return st;
+}
+
 lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
                                  const lumis_error_sink *errors)
 {

@@ -67,30 +67,6 @@ static void canonical(const char *path, char *buf, size_t cap)
         snprintf(buf, cap, "%s", path);
 }
 
-/* The end of path's chain of symbolic links, by their text (a dangling link's target is
- * where a write through it goes, as the library's atomic writer does), in buf. */
-static void follow_links(const char *path, char *buf, size_t cap)
-{
-    snprintf(buf, cap, "%s", path);
-    for (int hop = 0; hop < 40; hop++) {
-        struct stat lb;
-        if (lstat(buf, &lb) != 0 || !S_ISLNK(lb.st_mode)) return;
-        char link[PATH_MAX], dir[PATH_MAX];
-        const ssize_t n = readlink(buf, link, sizeof link - 1);
-        if (n <= 0) return;
-        link[n] = '\0';
-        size_t d = 0;
-        if (link[0] != '/' && strchr(buf, '/')) {
-            dir_of(buf, dir, sizeof dir);
-            d = strlen(dir) + 1;
-            dir[d - 1] = '/';
-        }
-        if (d + (size_t)n + 1 > cap) return; /* too long: compared as it is */
-        memcpy(buf, dir, d);
-        memcpy(buf + d, link, (size_t)n + 1);
-    }
-}
-
 int tool_same_file(const char *a, const char *b)
 {
     struct stat sa, sb;
@@ -98,9 +74,10 @@ int tool_same_file(const char *a, const char *b)
     /* two outputs to /dev/null (a character device) are not one file's two versions */
     if (ea && eb) return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino && !S_ISCHR(sa.st_mode);
     if (ea != eb) return 0; /* one exists, the other does not: not yet the same file */
+    /* where each write lands (a dangling link's target), as the library writes it */
     char fa[PATH_MAX + 256], fb[PATH_MAX + 256], ca[PATH_MAX + 512], cb[PATH_MAX + 512];
-    follow_links(a, fa, sizeof fa);
-    follow_links(b, fb, sizeof fb);
+    if (lumis_output_target(a, fa, sizeof fa) != LUMIS_OK) snprintf(fa, sizeof fa, "%s", a);
+    if (lumis_output_target(b, fb, sizeof fb) != LUMIS_OK) snprintf(fb, sizeof fb, "%s", b);
     canonical(fa, ca, sizeof ca);
     canonical(fb, cb, sizeof cb);
     return strcmp(ca, cb) == 0;
