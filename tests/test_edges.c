@@ -255,6 +255,12 @@ static void renderer(void **state)
     d.spp = 1;
     REFUSED(lumis_render(scene, &d, &img, NULL), img); /* MIS with no map and no sampler */
     d.env = env;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img); /* a map but no sampler for MIS */
+    assert_non_null(strstr(sink.last, "need a sampler"));
+    d.errors = (lumis_error_sink){0};
     d.sampler = smp;
     assert_int_equal(lumis_render(scene, &d, &img, NULL), LUMIS_OK);
     lumis_image_destroy(img);

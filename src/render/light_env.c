@@ -84,10 +84,9 @@ static int lights(const lumis_render_desc *d)
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
     (void)scene;
-    if (!d->env || (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler))
+    if (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) /* the job checked the map */
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
-                           "non-negative sample counts and 0 to 1024 bounces");
+                           "render: light and MIS sampling of the map need a sampler");
     env_state *st = malloc(sizeof *st);
     if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
     st->nl = d->light_samples ? d->light_samples : 1;

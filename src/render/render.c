@@ -52,15 +52,13 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    if (!scene || !d || (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 ||
-        d->light_samples < 0 || d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
-        return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
-                           "non-negative sample counts and 0 to 1024 bounces");
     const lumis__light_kind *kind = kinds[0];
-    for (size_t k = 0; !kind->lights(d); k++) kind = kinds[k + 1];
-    if (!d->env && kind != &lumis__light_luminaires) /* luminaires alone may go without */
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+    for (size_t k = 0; d && !kind->lights(d); k++) kind = kinds[k + 1];
+    /* an envmap for every kind but luminaires, which may go without (escaping rays: black) */
+    if (!scene || !d || (!d->env && kind != &lumis__light_luminaires) ||
+        (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
+        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
+        return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
                            "non-negative sample counts and 0 to 1024 bounces");
     cam_frame cf;
