@@ -244,13 +244,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (!seen) r->sampler_table_bytes += li.bytes;
     }
     if (lights) { /* what lights the image: the light set's build and memory */
-        int lw = 0, lh = 0;
-        lumis_light_set_labels(lights, &lw, &lh);
-        r->sampler_build_ms = lumis_light_set_get_info(lights)->build_ms;
-        r->sampler_table_bytes = (size_t)lw * (size_t)lh * sizeof(int32_t) +
-                                 (size_t)lumis_light_set_sets(lights) *
-                                     (size_t)lumis_light_set_get_info(lights)->count *
-                                     sizeof(lumis_light);
+        r->sampler_build_ms = sr.lights_build_ms;
+        r->sampler_table_bytes = sr.lights_bytes;
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : o->lights    ? o->lights
