@@ -26,6 +26,7 @@
 #define LUMIS_LIGHTS_H
 
 #include "lumis/envmap.h"
+#include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
 
@@ -258,6 +259,55 @@ typedef struct lumis_light_set_info {
 
 /* The build's report (valid while the set lives). */
 const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
+
+/* ---- region samplers: the stratified mode ----------------------------------------------
+ * A light set's regions partition the sphere, so they can serve as strata instead of point
+ * lights: draw one direction in every region, in proportion to luminance x solid angle
+ * inside it, and weight it by radiance over its pdf.  The sum over the regions is an
+ * unbiased estimate of the direct illumination (the point lights' is not: each region's
+ * light is moved to its centroid), whose error falls as 1 / samples.  This is stratified
+ * sampling of the environment map with the light-set method choosing the strata
+ * (docs/lights.md, "Stratified mode"); the renderer's stratified light sets use it
+ * (lumis_render_desc.lights_mode). */
+
+typedef struct lumis_region_sampler lumis_region_sampler;
+
+/* One sampler per region (light) of set 0 of `set`, which must have been made from a map of
+ * env's size (env itself is retained).  Pixels of zero luminance are never drawn; a pixel
+ * that shines but belongs to no region is refused (LUMIS_ERR_INVALID_ARGUMENT: the strata
+ * must cover the map).  Cost: two passes over the pixels and one alias build per region,
+ * O(pixels); 8 bytes per pixel plus 20 per pixel of nonzero luminance. */
+lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_light_set *set,
+                                         const lumis_error_sink *errors,
+                                         lumis_region_sampler **out);
+void lumis_region_sampler_destroy(lumis_region_sampler *rs);
+
+/* Regions (== the set's lights per set). */
+int lumis_region_sampler_count(const lumis_region_sampler *rs);
+/* What region's light stands for (Wu: EnvDirect or EnvIndirect). */
+lumis_light_kind lumis_region_sampler_kind(const lumis_region_sampler *rs, int region);
+/* Sum over the region of L Omega, RGB (the light's power, in double); 0 out of range. */
+void lumis_region_sampler_power(const lumis_region_sampler *rs, int region, double power[3]);
+/* Nonzero when the region holds no pixel of nonzero luminance (nothing to draw). */
+int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region);
+
+/* A direction in region `region` from two uniform numbers in [0, 1): a pixel of the region
+ * with probability Y Omega / (its sum over the region) (an alias table: one lookup), then
+ * uniform in solid angle inside it.  pdf is per steradian within the region; radiance is
+ * the map's there.  An empty region or an index out of range gives pdf 0 (and a zero
+ * direction).  Cost: O(1), three lookups (bin, entry, radiance). */
+lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region, double u1,
+                                             double u2);
+/* Density per steradian of drawing dir with region `region`'s sampler: 0 outside it. */
+float lumis_region_sampler_pdf(const lumis_region_sampler *rs, int region, lumis_vec3 dir);
+/* The region dir lies in (-1: none), its density there in that region's sampler and the
+ * map's radiance there (either pointer may be NULL), from one pixel lookup: what the MIS
+ * weight of a BSDF-sampled direction needs. */
+float lumis_region_sampler_lookup(const lumis_region_sampler *rs, lumis_vec3 dir, int *region,
+                                  lumis_rgb *radiance);
+/* Bytes the sampler owns; wall-clock milliseconds its build took. */
+size_t lumis_region_sampler_bytes(const lumis_region_sampler *rs);
+double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
 
 /* ---- methods and parameters by name ------------------------------------------------------
  * What the lumis tool's --method / --lights and --param / --lights-param take, for a host

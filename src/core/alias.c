@@ -21,7 +21,6 @@ static void set_bin(lumis__alias *a, uint32_t k, uint32_t thresh, uint32_t alias
 lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
                                 lumis__alias_value_fn value, const void *ctx)
 {
-    const uint64_t one = (uint64_t)1 << 32;
     a->n = n;
     /* 16-byte bins, 16-byte aligned: no bin straddles two cache lines. */
     a->bin = aligned_alloc(16, (size_t)n * sizeof(lumis__alias_bin));
@@ -33,6 +32,17 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
         lumis__alias_free(a);
         return LUMIS_ERR_OUT_OF_MEMORY;
     }
+    lumis__alias_build_in(a->bin, units, work, w, n, value, ctx);
+    free(units);
+    free(work);
+    return LUMIS_OK;
+}
+
+void lumis__alias_build_in(lumis__alias_bin *bin, uint64_t *units, uint32_t *work, const double *w,
+                           uint32_t n, lumis__alias_value_fn value, const void *ctx)
+{
+    const uint64_t one = (uint64_t)1 << 32;
+    lumis__alias view = {bin, n}, *a = &view;
     lumis__quantize(w, n, (uint64_t)n << 32, units);
     const double inv_total = 1.0 / ((double)n * LUMIS__ONE32);
     for (uint32_t i = 0; i < n; i++) {
@@ -68,9 +78,6 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
         uint32_t s = work[--ns];
         set_bin(a, s, 0xffffffffu, s);
     }
-    free(units);
-    free(work);
-    return LUMIS_OK;
 }
 
 void lumis__alias_free(lumis__alias *a)

@@ -23,6 +23,13 @@ struct lumis_envmap {
 /* Takes a reference (released by lumis_envmap_destroy). */
 const lumis_envmap *lumis__envmap_retain(const lumis_envmap *env);
 
+/* A direction uniform in solid angle inside pixel (i, j) from (s, t) in [0,1)^2 (s along
+ * the azimuth, t along cos theta), rotation applied, and pulled off the pixel's edges if
+ * rounding to float would move it out: it looks pixel (i, j) up again, as every sampler's
+ * directions do (src/envmap/sampler.c).  Returns the pixel's index j w + i. */
+size_t lumis__envmap_place(const lumis_envmap *env, int i, int j, double s, double t,
+                           lumis_vec3 *dir);
+
 /* Solid angle of the pixel rectangle [x0,x1) x [y0,y1). */
 static inline double lumis__rect_solid_angle(const lumis_envmap *env, int x0, int y0, int x1,
                                              int y1)

@@ -336,6 +336,29 @@ LUMIS__INLINE size_t place(const lumis_sampler *s, const lumis__pick *p, lumis_v
     return (size_t)pj * (size_t)s->env->width + (size_t)pi;
 }
 
+/* One pixel as a rectangle of a sampler of its own: the warp and the edge handling every
+ * sampler uses, for callers that pick pixels themselves (a light set's region samplers). */
+static void no_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p)
+{
+    (void)s, (void)u1, (void)u2, (void)p;
+}
+
+static const lumis__method pixel_method = {no_pick, NULL, NULL, 0, NULL, NULL};
+
+size_t lumis__envmap_place(const lumis_envmap *env, int i, int j, double s, double t,
+                           lumis_vec3 *dir)
+{
+    lumis_sampler one;
+    memset(&one, 0, sizeof one);
+    one.m = &pixel_method;
+    one.env = env;
+    one.w = env->width;
+    one.h = env->height;
+    one.inv_w = 1.0 / env->width;
+    const lumis__pick p = {i, j, i + 1, j + 1, clamp_u(s), clamp_u(t), 0.0};
+    return place(&one, &p, dir);
+}
+
 static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
 {
     const float *q = env->pixels + 3 * pixel;

@@ -1,0 +1,405 @@
+/* Statistical tests of the region samplers (lumis_region_sampler: a light set's regions as
+ * strata), fixed seeds.  For every light-set method (median cut, variance minimisation,
+ * FHIS, TMMS, Wu with its EnvDirects and EnvIndirects, Wu with emissive pixels handed back,
+ * and Wu's masked-sampling ablations) on synthetic maps and a sky with a sun:
+ *   - each region's pdf integrates to one over the region (and is 0 outside it),
+ *   - pdf(sample()) equals the pdf returned while sampling, bit for bit, the sample lies in
+ *     its region and carries the map's radiance there,
+ *   - a chi-square test of each region's samples against its own pdf,
+ *   - the stratified estimate sum_k L(w_k) / p_k(w_k) of the map's power is unbiased (within
+ *     4 standard errors of the exact pixel sum), and the regions' powers add up to it. */
+#include "../testutil.h"
+
+#include "lumis/lights.h"
+#include "stat.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static float f_grad(int i, int j, int c)
+{
+    return 0.1f + 0.05f * (float)i + 0.02f * (float)j * (float)(c + 1);
+}
+static float f_checker(int i, int j, int c)
+{
+    (void)c;
+    return ((i / 4 + j / 4) & 1) ? 3.0f : 0.05f;
+}
+static float f_holes(int i, int j, int c)
+{
+    return (j >= 5 && j <= 7) || i % 5 == 2 ? 0.0f : (float)(1 + (i * 7 + j * 3 + c) % 5);
+}
+/* A few very bright pixels in a dim surround: Wu's emissive pixels, some far apart (so
+ * they are handed back with a small return factor). */
+static float f_spots(int i, int j, int c)
+{
+    if ((i == 5 && j == 3) || (i == 6 && j == 3) || (i == 30 && j == 10) || (i == 17 && j == 14))
+        return 400.0f + 50.0f * (float)c;
+    return 0.2f + 0.01f * (float)((i * 5 + j * 3 + c) % 7);
+}
+
+typedef struct map_case {
+    const char *name;
+    int w, h;
+    float (*f)(int, int, int);
+    float rotation;
+    int sky;
+} map_case;
+
+static const map_case maps[] = {
+    {"gradient", 48, 24, f_grad, 0, 0},    {"checker", 32, 16, f_checker, 0, 0},
+    {"holes", 20, 16, f_holes, -71.0f, 0}, {"spots", 40, 20, f_spots, 25.0f, 0},
+    {"sun sky", 64, 32, NULL, 0, 1},
+};
+enum { NMAPS = sizeof maps / sizeof maps[0] };
+
+typedef struct method_case {
+    const char *method, *params;
+    int k;
+} method_case;
+
+static const method_case methods[] = {
+    {"median-cut", NULL, 8},
+    {"median-cut", NULL, 1},
+    {"variance-min", NULL, 6},
+    {"fhis", NULL, 8},
+    {"tmms", NULL, 8},
+    {"wu", NULL, 8},
+    {"wu", "return=0.1", 8}, /* emissive pixels handed back to the EnvIndirects */
+    {"wu-is", NULL, 8},      /* seeds drawn with replacement, no masking, no k-means */
+    {"wu-is-mask", NULL, 8}, /* masked pixels, no k-means */
+    {"wu-original-cut", NULL, 5},
+};
+enum { NMETHODS = sizeof methods / sizeof methods[0] };
+
+static lumis_envmap *make_map(const map_case *mc)
+{
+    lumis_image *img = NULL;
+    if (mc->sky) {
+        lumis_sky_desc d = {0};
+        d.width = mc->w;
+        d.height = mc->h;
+        d.sun_elevation_deg = 30.0f;
+        d.sun_azimuth_deg = 100.0f;
+        assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
+    } else {
+        img = tu_image(mc->w, mc->h, mc->f);
+    }
+    lumis_envmap_desc d = {0};
+    d.pixels = img->pixels;
+    d.width = img->width;
+    d.height = img->height;
+    d.rotation_deg = mc->rotation;
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
+    lumis_image_destroy(img);
+    return env;
+}
+
+static lumis_light_set *make_set(const lumis_envmap *env, const method_case *mc)
+{
+    lumis_light_params p;
+    memset(&p, 0, sizeof p);
+    if (mc->params) assert_int_equal(lumis_light_params_parse(&p, mc->params, NULL), LUMIS_OK);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, mc->method, mc->k, 1, &p, NULL, &set), LUMIS_OK);
+    return set;
+}
+
+static lumis_region_sampler *make_regions(const lumis_envmap *env, const lumis_light_set *set)
+{
+    lumis_region_sampler *rs = NULL;
+    assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+    return rs;
+}
+
+/* Each region's pdf on an r x r grid of sub-cells per pixel (u and cos theta): the
+ * density is constant inside a pixel, so a cell's probability is pdf x its solid angle. */
+enum { SUB = 2 };
+
+static lumis_vec3 cell_dir(const lumis_envmap *env, int i, int j, int a, int b)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    double c0 = cos(PI * j / h), c1 = cos(PI * (j + 1) / h);
+    double c = c0 + (b + 0.5) / SUB * (c1 - c0);
+    return lumis_envmap_uv_to_dir(env, (float)((i + (a + 0.5) / SUB) / w), (float)(acos(c) / PI));
+}
+
+static double cell_omega(const lumis_envmap *env, int j)
+{
+    return lumis_envmap_pixel_solid_angle(env, j) / (SUB * SUB);
+}
+
+/* The cell of direction d: (pixel, a, b) flattened. */
+static size_t cell_of(const lumis_envmap *env, lumis_vec3 d)
+{
+    int w = lumis_envmap_width(env), h = lumis_envmap_height(env), i, j;
+    lumis_envmap_dir_to_pixel(env, d, &i, &j);
+    float u, v;
+    lumis_envmap_dir_to_uv(env, d, &u, &v);
+    int a = (int)((u * w - i) * SUB);
+    double y = d.y / sqrt((double)d.x * d.x + (double)d.y * d.y + (double)d.z * d.z);
+    double c0 = cos(PI * j / h), c1 = cos(PI * (j + 1) / h);
+    int b = (int)((c0 - y) / (c0 - c1) * SUB);
+    a = a < 0 ? 0 : (a >= SUB ? SUB - 1 : a);
+    b = b < 0 ? 0 : (b >= SUB ? SUB - 1 : b);
+    return (((size_t)j * w + i) * SUB + b) * SUB + a;
+}
+
+static void region_pdf_integrates_to_one(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        const int w = maps[m].w, h = maps[m].h;
+        for (int c = 0; c < NMETHODS; c++) {
+            lumis_light_set *set = make_set(env, &methods[c]);
+            lumis_region_sampler *rs = make_regions(env, set);
+            const int K = lumis_region_sampler_count(rs);
+            int lc = 0;
+            const lumis_light *lights = NULL;
+            assert_int_equal(lumis_light_set_get(set, 0, &lights, &lc), LUMIS_OK);
+            assert_int_equal(K, lc);
+            for (int k = 0; k < K; k++) {
+                double total = 0.0, outside = 0.0, pw[3];
+                /* inside a region the density is Y / (sum of Y Omega over the region) */
+                lumis_region_sampler_power(rs, k, pw);
+                const double py = 0.2126 * pw[0] + 0.7152 * pw[1] + 0.0722 * pw[2];
+                for (int j = 0; j < h; j++)
+                    for (int i = 0; i < w; i++)
+                        for (int b = 0; b < SUB; b++)
+                            for (int a = 0; a < SUB; a++) {
+                                lumis_vec3 d = cell_dir(env, i, j, a, b);
+                                int r = -2;
+                                float dens = lumis_region_sampler_lookup(rs, d, &r, NULL);
+                                double p = lumis_region_sampler_pdf(rs, k, d) * cell_omega(env, j);
+                                total += p;
+                                if (r != k) outside += p;
+                                if (r != k) continue;
+                                assert_true(dens == lumis_region_sampler_pdf(rs, k, d));
+                                const double y = lumis_luminance(lumis_envmap_eval(env, d));
+                                if (fabs(dens * py - y) > 1e-5 * y + 1e-30)
+                                    fail_msg("%s on %s, region %d: density %g x power %g != Y %g",
+                                             methods[c].method, maps[m].name, k, dens, py, y);
+                            }
+                const int empty = lumis_region_sampler_empty(rs, k);
+                if (outside != 0.0 || (!empty && fabs(total - 1.0) > 1e-4) ||
+                    (empty && total != 0.0))
+                    fail_msg("%s on %s, region %d of %d: integral %.9f (outside %g, empty %d)",
+                             methods[c].method, maps[m].name, k, K, total, outside, empty);
+                assert_int_equal(lumis_region_sampler_kind(rs, k), lights[k].kind);
+            }
+            lumis_region_sampler_destroy(rs);
+            lumis_light_set_destroy(set);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void region_pdf_of_sample_matches(void **state)
+{
+    (void)state;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 23, 0);
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        for (int c = 0; c < NMETHODS; c++) {
+            lumis_light_set *set = make_set(env, &methods[c]);
+            lumis_region_sampler *rs = make_regions(env, set);
+            for (int k = 0; k < lumis_region_sampler_count(rs); k++) {
+                if (lumis_region_sampler_empty(rs, k)) {
+                    assert_true(lumis_region_sampler_sample(rs, k, 0.5, 0.5).pdf == 0.0f);
+                    continue;
+                }
+                for (int n = 0; n < 2000; n++) {
+                    double u1 = lumis_pcg32_double(&rng), u2 = lumis_pcg32_double(&rng);
+                    if (n == 0) u1 = u2 = 0.0;
+                    if (n == 1) u1 = u2 = 0x1.fffffffffffffp-1;
+                    if (n == 2) u1 = NAN, u2 = 2.0; /* clamped in */
+                    lumis_env_sample e = lumis_region_sampler_sample(rs, k, u1, u2);
+                    int r = -2;
+                    lumis_rgb L;
+                    float p = lumis_region_sampler_lookup(rs, e.dir, &r, &L);
+                    lumis_rgb Le = lumis_envmap_eval(env, e.dir);
+                    if (!(e.pdf > 0.0f) || p != e.pdf || r != k ||
+                        lumis_region_sampler_pdf(rs, k, e.dir) != e.pdf ||
+                        memcmp(&L, &e.radiance, sizeof L) != 0 ||
+                        memcmp(&Le, &e.radiance, sizeof L) != 0)
+                        fail_msg("%s on %s, region %d, sample %d: pdf %g, pdf(dir) %g, region %d",
+                                 methods[c].method, maps[m].name, k, n, e.pdf, p, r);
+                }
+            }
+            /* Out of range and the zero vector: nothing. */
+            assert_true(lumis_region_sampler_sample(rs, -1, 0.5, 0.5).pdf == 0.0f);
+            assert_true(
+                lumis_region_sampler_sample(rs, lumis_region_sampler_count(rs), 0.5, 0.5).pdf ==
+                0.0f);
+            int r = 0;
+            assert_true(lumis_region_sampler_lookup(rs, (lumis_vec3){0, 0, 0}, &r, NULL) == 0.0f);
+            assert_int_equal(r, -1);
+            lumis_region_sampler_destroy(rs);
+            lumis_light_set_destroy(set);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+static void region_chi_square(void **state)
+{
+    (void)state;
+    /* Bonferroni over every (map, method, region) tested */
+    const double alpha = 0.01 / (NMAPS * NMETHODS * 8);
+    const int n = 20000;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        const int w = maps[m].w, h = maps[m].h;
+        const size_t cells = (size_t)w * h * SUB * SUB;
+        double *obs = malloc(cells * sizeof *obs), *expct = malloc(cells * sizeof *expct);
+        for (int c = 0; c < NMETHODS; c++) {
+            lumis_light_set *set = make_set(env, &methods[c]);
+            lumis_region_sampler *rs = make_regions(env, set);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 4000u + (uint64_t)(m * NMETHODS + c), 3);
+            for (int k = 0; k < lumis_region_sampler_count(rs); k++) {
+                if (lumis_region_sampler_empty(rs, k)) continue;
+                memset(obs, 0, cells * sizeof *obs);
+                for (int s = 0; s < n; s++) {
+                    lumis_env_sample e = lumis_region_sampler_sample(
+                        rs, k, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                    obs[cell_of(env, e.dir)] += 1.0;
+                }
+                for (int j = 0; j < h; j++)
+                    for (int i = 0; i < w; i++)
+                        for (int b = 0; b < SUB; b++)
+                            for (int a = 0; a < SUB; a++)
+                                expct[(((size_t)j * w + i) * SUB + b) * SUB + a] =
+                                    n * lumis_region_sampler_pdf(rs, k, cell_dir(env, i, j, a, b)) *
+                                    cell_omega(env, j);
+                int dof;
+                double p = stat_chi2_test(obs, expct, cells, &dof);
+                if (!(p > alpha))
+                    fail_msg("%s on %s, region %d: chi-square p = %g (< %g), dof %d",
+                             methods[c].method, maps[m].name, k, p, alpha, dof);
+            }
+            lumis_region_sampler_destroy(rs);
+            lumis_light_set_destroy(set);
+        }
+        free(obs);
+        free(expct);
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* One draw in every region, each weighted by L / p_k: the stratified estimate of the map's
+ * power sum(L Omega).  Its mean over n draws must match the exact sum. */
+static void stratified_power_is_unbiased(void **state)
+{
+    (void)state;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        const lumis_rgb exact = lumis_envmap_power(env);
+        for (int c = 0; c < NMETHODS; c++) {
+            lumis_light_set *set = make_set(env, &methods[c]);
+            lumis_region_sampler *rs = make_regions(env, set);
+            const int K = lumis_region_sampler_count(rs);
+            double sum_regions[3] = {0, 0, 0};
+            for (int k = 0; k < K; k++) {
+                double pw[3];
+                lumis_region_sampler_power(rs, k, pw);
+                for (int ch = 0; ch < 3; ch++) sum_regions[ch] += pw[ch];
+            }
+            const double ex[3] = {exact.r, exact.g, exact.b};
+            for (int ch = 0; ch < 3; ch++)
+                if (fabs(sum_regions[ch] - ex[ch]) > 1e-5 * ex[ch])
+                    fail_msg("%s on %s: the regions' power %g, the map's %g (channel %d)",
+                             methods[c].method, maps[m].name, sum_regions[ch], ex[ch], ch);
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 77, (uint64_t)(m * NMETHODS + c));
+            const int n = 4000;
+            double s[3] = {0, 0, 0}, ss[3] = {0, 0, 0};
+            for (int it = 0; it < n; it++) {
+                double est[3] = {0, 0, 0};
+                for (int k = 0; k < K; k++) {
+                    lumis_env_sample e = lumis_region_sampler_sample(
+                        rs, k, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+                    if (!(e.pdf > 0.0f)) continue;
+                    est[0] += e.radiance.r / e.pdf;
+                    est[1] += e.radiance.g / e.pdf;
+                    est[2] += e.radiance.b / e.pdf;
+                }
+                for (int ch = 0; ch < 3; ch++) {
+                    s[ch] += est[ch];
+                    ss[ch] += est[ch] * est[ch];
+                }
+            }
+            for (int ch = 0; ch < 3; ch++) {
+                const double mean = s[ch] / n, se = sqrt(fmax(ss[ch] / n - mean * mean, 0.0) / n);
+                if (fabs(mean - ex[ch]) > 4 * se + 1e-5 * ex[ch])
+                    fail_msg("%s on %s: channel %d: %.7g +- %.2g vs %.7g", methods[c].method,
+                             maps[m].name, ch, mean, se, ex[ch]);
+            }
+            lumis_region_sampler_destroy(rs);
+            lumis_light_set_destroy(set);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
+/* Wu's cases above hold what they are meant to: EnvDirects and EnvIndirects both, and
+ * (with return=0.1) emissive pixels handed back. */
+static void wu_cases_cover_both_kinds_and_returns(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_map(&maps[3]); /* spots */
+    lumis_light_set *set = make_set(env, &methods[6]);
+    const lumis_light_set_info *info = lumis_light_set_get_info(set);
+    assert_true(info->direct > 0 && info->indirect > 0);
+    assert_true(info->returned_pixels > 0);
+    lumis_region_sampler *rs = make_regions(env, set);
+    int kinds = 0;
+    for (int k = 0; k < lumis_region_sampler_count(rs); k++)
+        kinds |= 1 << lumis_region_sampler_kind(rs, k);
+    assert_int_equal(kinds, (1 << LUMIS_LIGHT_ENV_DIRECT) | (1 << LUMIS_LIGHT_ENV_INDIRECT));
+    assert_true(lumis_region_sampler_bytes(rs) > 0);
+    assert_true(lumis_region_sampler_build_ms(rs) >= 0.0);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
+/* Refusals: no map, no set, a set of another map's size. */
+static void region_sampler_refuses_mismatches(void **state)
+{
+    (void)state;
+    lumis_envmap *a = make_map(&maps[0]), *b = make_map(&maps[1]);
+    lumis_light_set *set = make_set(a, &methods[0]);
+    lumis_region_sampler *rs = (lumis_region_sampler *)1;
+    assert_int_equal(lumis_region_sampler_create(b, set, NULL, &rs), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(rs);
+    assert_int_equal(lumis_region_sampler_create(NULL, set, NULL, &rs), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_region_sampler_create(a, NULL, NULL, &rs), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_region_sampler_create(a, set, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_region_sampler_count(NULL), 0);
+    assert_true(lumis_region_sampler_empty(NULL, 0));
+    lumis_region_sampler_destroy(NULL);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(a);
+    lumis_envmap_destroy(b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(region_pdf_integrates_to_one),
+        cmocka_unit_test(region_pdf_of_sample_matches),
+        cmocka_unit_test(region_chi_square),
+        cmocka_unit_test(stratified_power_is_unbiased),
+        cmocka_unit_test(wu_cases_cover_both_kinds_and_returns),
+        cmocka_unit_test(region_sampler_refuses_mismatches),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
