@@ -66,6 +66,22 @@ typedef enum lumis_estimator {
     LUMIS_ESTIMATOR_BSDF     /* BSDF samples only */
 } lumis_estimator;
 
+/* How a light set lights a shading point (docs/lights.md, "Stratified mode"). */
+typedef enum lumis_lights_mode {
+    LUMIS_LIGHTS_POINT = 0,      /* each region as a point light at its centroid: every light
+                                    of the pixel's interleaved set, deterministic, biased (the
+                                    preview, and what the export writes) */
+    LUMIS_LIGHTS_STRATIFIED = 1, /* each region as a stratum of the map: one direction drawn
+                                    in every region per camera sample and vertex, weighted by
+                                    radiance over pdf, combined with BSDF sampling by MIS:
+                                    unbiased, error falling as 1 / samples */
+    LUMIS_LIGHTS_MODE_COUNT
+} lumis_lights_mode;
+
+/* "point", "stratified". */
+const char *lumis_lights_mode_name(lumis_lights_mode mode);
+lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out);
+
 /* ---- light-field luminaires in a scene (Lu et al.; lumis/luminaire.h) -------------------- */
 
 /* A luminaire placed in a scene: world = R (scale local) + t.  Radiance is unchanged by the
@@ -131,12 +147,20 @@ typedef struct lumis_render_desc {
      *    `estimator` (light, BSDF or MIS sampling).
      *  - a light set (lumis/lights.h): every light of the pixel's interleaved set
      *    (lumis_light_set_interleave_index), one shadow ray each, traced 16 at a time;
-     *    deterministic apart from the camera's jitter.  `sampler` and `estimator` are
-     *    then unused, and path tracing (max_bounces > 0) is refused.
+     *    deterministic apart from the camera's jitter (point mode, the default).
+     *    `sampler` is then unused; in point mode `estimator` too, and path tracing
+     *    (max_bounces > 0) is refused.
      * The set must outlive the render. */
     const lumis_light_set *light_set;
     unsigned light_kinds; /* lights of the set used: 0 == all, else a mask of bits
                              1u << lumis_light_kind (e.g. EnvDirects only) */
+    /*   With lights_mode LUMIS_LIGHTS_STRATIFIED the set's regions are strata instead:
+     *   one direction in each (the regions of light_kinds) per vertex, from `regions` (made
+     *   from this set and env; NULL: the render makes them), with `estimator` as for the
+     *   map (MIS by default: each region's pdf against the BSDF's), and path tracing
+     *   allowed.  Interleaving does not apply. */
+    lumis_lights_mode lights_mode;
+    const lumis_region_sampler *regions;
     /* - light-field luminaires: lit as lumis_luminaire_lighting says; `env` may then be NULL
      *   (camera rays that escape see black), `sampler`, `estimator` and `light_set` are
      *   unused (a light set and luminaires together are refused), and path tracing is refused.

@@ -1,5 +1,7 @@
-/* A light set as the renderer's light: every light of the pixel's interleaved set, one
- * shadow ray each, traced 16 at a time. */
+/* A light set as the renderer's light.  Point mode: every light of the pixel's interleaved
+ * set, one shadow ray each, traced 16 at a time.  Stratified mode: the set's regions as
+ * strata of the map, one direction drawn in each, combined with a BSDF sample by MIS per
+ * region (docs/lights.md, "Stratified mode"). */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
@@ -16,10 +18,16 @@ typedef struct light_soa {
     float *x, *y, *z, *r, *g, *b;
 } light_soa;
 
-/* The set's lights as the shading loop reads them: one light_soa per interleaved set. */
+/* The set's lights as the shading loop reads them: one light_soa per interleaved set; in
+ * stratified mode the region samplers and the regions lit (those of the kinds asked for
+ * that hold light). */
 typedef struct set_state {
     light_soa *soa;
     int sets;
+    const lumis_region_sampler *rs;
+    lumis_region_sampler *owned; /* made here when the render desc gave none */
+    int *strata, nstrata;
+    unsigned kinds;
 } set_state;
 
 static void soa_free(light_soa *soa, int sets)
@@ -109,6 +117,86 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return L;
 }
 
+static const char *const mode_names[] = {"point", "stratified"};
+
+const char *lumis_lights_mode_name(lumis_lights_mode mode)
+{
+    return (unsigned)mode < LUMIS_LIGHTS_MODE_COUNT ? mode_names[mode] : "unknown";
+}
+
+lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out)
+{
+    for (int k = 0; name && out && k < LUMIS_LIGHTS_MODE_COUNT; k++)
+        if (strcmp(name, mode_names[k]) == 0) {
+            *out = (lumis_lights_mode)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+/* Stratified mode: one direction in every region lit, weighted by radiance over the
+ * region's pdf, and one BSDF sample; with MIS each region is its own two-technique
+ * estimator (its pdf against the BSDF's), so the sum over regions is the direct light,
+ * unbiased.  Two numbers a region and three for the BSDF are drawn whatever is skipped. */
+static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
+{
+    const lumis_render_desc *d = c->d;
+    const set_state *st = c->state;
+    lumis_pcg32 *rng = v->rng;
+    v3 t, b, n = h->n, L = mk(0, 0, 0);
+    basis(n, &t, &b);
+    v3 wow = mul(dir, -1.0);
+    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const lumis_bsdf *m = &h->prim->material;
+    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    const int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
+              use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT,
+              mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    packet p;
+    p.rays.n = p.flushed = 0;
+    for (int q = 0; use_light && q < st->nstrata; q++) {
+        const double u1 = lumis_pcg32_double(rng), u2 = lumis_pcg32_double(rng);
+        const lumis_env_sample e = lumis_region_sampler_sample(st->rs, st->strata[q], u1, u2);
+        const v3 wi = fromf(e.dir);
+        const double cosn = dot(wi, n);
+        if (!(cosn > 0.0)) continue;
+        const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
+        const lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
+        if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+        const double w =
+            mis ? mis_weight(1, e.pdf, 1, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic) : 1.0;
+        const double k2 = w * cosn / e.pdf;
+        packet_push(&p, o, wi, INFINITY,
+                    mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
+        if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
+    }
+    *v->shadow_rays += (double)(p.rays.n + p.flushed);
+    packet_flush(c->scene, d, &p, &L);
+    if (!use_bsdf) return L;
+    const double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
+                 u2 = lumis_pcg32_double(rng);
+    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u0, u1, u2);
+    if (!(bs.pdf > 0.0f)) return L;
+    const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+    int region = -1;
+    lumis_rgb Le;
+    const float pl = lumis_region_sampler_lookup(st->rs, tof(wi), &region, &Le);
+    /* a region of another layer (Wu's split) or one without light adds nothing here */
+    if (region < 0 || !(st->kinds & (1u << lumis_region_sampler_kind(st->rs, region))) ||
+        (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f))
+        return L;
+    *v->shadow_rays += 1.0;
+    if (occluded(c->scene, d, o, wi)) return L;
+    const double w = mis ? mis_weight(1, bs.pdf, 1, pl, d->power_heuristic) : 1.0;
+    return add(L, mk(bs.weight.r * Le.r * w, bs.weight.g * Le.g * w, bs.weight.b * Le.b * w));
+}
+
+static v3 shade_any(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
+{
+    const set_state *st = c->state;
+    return st->rs ? shade_stratified(c, h, dir, v) : shade(c, h, dir, v);
+}
+
 static int lights(const lumis_render_desc *d)
 {
     return d->light_set != NULL;
@@ -117,19 +205,50 @@ static int lights(const lumis_render_desc *d)
 static void release(void *state)
 {
     set_state *st = state;
-    if (st) soa_free(st->soa, st->sets);
+    if (st) {
+        soa_free(st->soa, st->sets);
+        lumis_region_sampler_destroy(st->owned);
+        free(st->strata);
+    }
     free(st);
 }
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
     (void)scene;
-    if (d->max_bounces > 0)
+    if ((unsigned)d->lights_mode >= LUMIS_LIGHTS_MODE_COUNT)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: a light set lights direct illumination only (max_bounces "
-                           "must be 0)");
+                           "render: unknown light-set mode %d", (int)d->lights_mode);
+    const int stratified = d->lights_mode == LUMIS_LIGHTS_STRATIFIED;
+    if (d->max_bounces > 0 && !stratified)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: a light set's point lights light direct illumination only "
+                           "(max_bounces must be 0; the stratified mode path traces)");
     set_state *st = calloc(1, sizeof *st);
     *state = st;
+    if (st && stratified) {
+        const lumis_status rst =
+            d->regions ? LUMIS_OK
+                       : lumis_region_sampler_create(d->env, d->light_set, &d->errors, &st->owned);
+        if (rst != LUMIS_OK) return rst;
+        st->rs = d->regions ? d->regions : st->owned;
+        const lumis_light *l = NULL;
+        int count = 0;
+        lumis_light_set_get(d->light_set, 0, &l, &count);
+        if (lumis_region_sampler_count(st->rs) != count)
+            return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "render: the region samplers (%d regions) are not the light "
+                               "set's (%d lights)",
+                               lumis_region_sampler_count(st->rs), count);
+        st->kinds = d->light_kinds ? d->light_kinds : ~0u;
+        if (!(st->strata = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->strata)))
+            return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                               "render: light set: out of memory");
+        for (int k = 0; k < count; k++)
+            if ((st->kinds & (1u << lumis_region_sampler_kind(st->rs, k))) &&
+                !lumis_region_sampler_empty(st->rs, k))
+                st->strata[st->nstrata++] = k;
+    }
     if (!st ||
         !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets)))
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
@@ -137,5 +256,5 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
 }
 
 const lumis__light_kind lumis__light_set_kind = {
-    "light set", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
+    "light set", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade_any,
 };
