@@ -298,6 +298,11 @@ int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region);
  * direction).  Cost: O(1), three lookups (bin, entry, radiance). */
 lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region, double u1,
                                              double u2);
+/* n draws, draw k in region regions[k] from u[2k], u[2k + 1]: the same results as n calls
+ * of lumis_region_sampler_sample, with the lookups of up to 32 draws in flight at once (what
+ * a renderer drawing in every region of a shading point calls). */
+void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *regions,
+                                   const double *u, size_t n, lumis_env_sample *out);
 /* Density per steradian of drawing dir with region `region`'s sampler: 0 outside it. */
 float lumis_region_sampler_pdf(const lumis_region_sampler *rs, int region, lumis_vec3 dir);
 /* The region dir lies in (-1: none), its density there in that region's sampler and the

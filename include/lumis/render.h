@@ -276,11 +276,14 @@ typedef struct lumis_session_desc {
      * as lumis_render; light_set and light_kinds are the session's own */
     lumis_render_desc render;
     const char *lights;                      /* a light-set method by name, or NULL */
-    int lights_k;                            /* K; 0: fitted to time_budget, else 64 */
+    lumis_lights_mode lights_mode;           /* point lights (0) or strata of the map */
+    int lights_k;                            /* K; 0: point mode fits it to time_budget,
+                                                else 64; the stratified mode 64 */
     int interleave;                          /* interleaved sets; 0: the method's default */
     const lumis_light_params *lights_params; /* NULL: the method's defaults */
     int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2, 1 == none */
-    double time_budget; /* > 0: seconds of wall time; 0: render.spp samples (0 == 16) */
+    double time_budget; /* > 0: seconds of wall time; 0: render.spp samples (0 == 16).
+                           Stratified light sets fill it with passes at a fixed K. */
     double spent;       /* seconds of the budget already spent (a sampler's build) */
     int timed_spp;      /* with lights, time_budget and no K: samples per pixel; 0 == 4 */
     /* Optional: called after every pass with the samples per pixel so far. */
@@ -300,6 +303,8 @@ typedef struct lumis_session_result {
     double pilot_seconds, pilot_per_spp[2], pilot_once[2];
     int pilot_k[2], pilot_chosen;
     int retried; /* the pilots misjudged the time: rendered again with K scaled, once */
+    double regions_build_ms;    /* the stratified mode's region samplers (in prep_seconds) */
+    size_t regions_bytes;
     lumis_light_set *light_set; /* the set that lit the image (NULL: none): the caller
                                    destroys it (lumis_light_set_destroy) */
 } lumis_session_result;

@@ -217,25 +217,68 @@ static double clamp_u(double u)
     return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
 }
 
-lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region, double u1,
-                                             double u2)
+/* A batch, in stages so that the cache misses of a batch overlap instead of following one
+ * another: every bin is requested, then every draw reads its bin and requests its entry,
+ * then every direction is placed (its pixel's radiance requested), then the radiance is
+ * read.  Each result is what a draw alone gives. */
+void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *regions,
+                                   const double *u, size_t n, lumis_env_sample *out)
 {
+    enum { BATCH = 32 };
+    uint32_t entry[BATCH];
+    size_t pixel[BATCH];
+    double st[BATCH][2];
+    float density[BATCH];
+    for (size_t k0 = 0; k0 < n; k0 += BATCH) {
+        const size_t m = n - k0 < BATCH ? n - k0 : BATCH;
+        for (size_t k = 0; k < m; k++) {
+            const int r = regions[k0 + k];
+            if (lumis_region_sampler_empty(rs, r)) continue;
+            const uint32_t first = rs->start[r], cnt = rs->start[r + 1] - first;
+            uint32_t i = (uint32_t)(clamp_u(u[2 * (k0 + k)]) * cnt);
+            if (i >= cnt) i = cnt - 1;
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(rs->bin + first + i);
+#endif
+        }
+        for (size_t k = 0; k < m; k++) {
+            const int r = regions[k0 + k];
+            entry[k] = UINT32_MAX;
+            if (lumis_region_sampler_empty(rs, r)) continue;
+            const uint32_t first = rs->start[r];
+            const lumis__alias table = {rs->bin + first, rs->start[r + 1] - first};
+            entry[k] = first + lumis__alias_sample(&table, clamp_u(u[2 * (k0 + k)]),
+                                                   clamp_u(u[2 * (k0 + k) + 1]), &st[k][0],
+                                                   &st[k][1], &density[k]);
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(rs->member + entry[k]);
+#endif
+        }
+        for (size_t k = 0; k < m; k++) {
+            lumis_env_sample *o = &out[k0 + k];
+            if (entry[k] == UINT32_MAX) {
+                memset(o, 0, sizeof *o);
+                continue;
+            }
+            const uint32_t p = rs->member[entry[k]];
+            /* p / w by a multiplication; the estimate is off by at most one either way */
+            int64_t j = (int64_t)((double)p * rs->inv_w), i = (int64_t)p - j * rs->w;
+            if (i < 0) j--, i += rs->w;
+            if (i >= rs->w) j++, i -= rs->w;
+            pixel[k] = lumis__envmap_place(rs->env, (int)i, (int)j, st[k][0], st[k][1], &o->dir);
+            o->pdf = density[k];
+        }
+        for (size_t k = 0; k < m; k++)
+            if (entry[k] != UINT32_MAX) out[k0 + k].radiance = radiance(rs->env, pixel[k]);
+    }
+}
+
+lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region,
+                                             double u1, double u2)
+{
+    const double u[2] = {u1, u2};
     lumis_env_sample r;
-    memset(&r, 0, sizeof r);
-    if (lumis_region_sampler_empty(rs, region)) return r;
-    const uint32_t first = rs->start[region];
-    const lumis__alias table = {rs->bin + first, rs->start[region + 1] - first};
-    double s, t;
-    float density;
-    const uint32_t e = lumis__alias_sample(&table, clamp_u(u1), clamp_u(u2), &s, &t, &density);
-    const uint32_t pixel = rs->member[first + e];
-    /* pixel / w by a multiplication; the estimate is off by at most one either way */
-    int64_t j = (int64_t)((double)pixel * rs->inv_w), i = (int64_t)pixel - j * rs->w;
-    if (i < 0) j--, i += rs->w;
-    if (i >= rs->w) j++, i -= rs->w;
-    const size_t at = lumis__envmap_place(rs->env, (int)i, (int)j, s, t, &r.dir);
-    r.pdf = density;
-    r.radiance = radiance(rs->env, at);
+    lumis_region_sampler_sample_n(rs, &region, u, 1, &r);
     return r;
 }
 

@@ -27,6 +27,7 @@ typedef struct set_state {
     const lumis_region_sampler *rs;
     lumis_region_sampler *owned; /* made here when the render desc gave none */
     int *strata, nstrata;
+    float *cone; /* per stratum: its light's direction and -sin(extent) (-2: never below) */
     unsigned kinds;
 } set_state;
 
@@ -154,21 +155,41 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
               mis = d->estimator == LUMIS_ESTIMATOR_MIS;
     packet p;
     p.rays.n = p.flushed = 0;
-    for (int q = 0; use_light && q < st->nstrata; q++) {
-        const double u1 = lumis_pcg32_double(rng), u2 = lumis_pcg32_double(rng);
-        const lumis_env_sample e = lumis_region_sampler_sample(st->rs, st->strata[q], u1, u2);
-        const v3 wi = fromf(e.dir);
-        const double cosn = dot(wi, n);
-        if (!(cosn > 0.0)) continue;
-        const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
-        const lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
-        if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
-        const double w =
-            mis ? mis_weight(1, e.pdf, 1, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic) : 1.0;
-        const double k2 = w * cosn / e.pdf;
-        packet_push(&p, o, wi, INFINITY,
-                    mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
-        if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
+    enum { CHUNK = 64 };
+    int regions[CHUNK];
+    double u[2 * CHUNK];
+    lumis_env_sample e[CHUNK];
+    const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
+    for (int q0 = 0; use_light && q0 < st->nstrata; q0 += CHUNK) {
+        const int q1 = q0 + CHUNK < st->nstrata ? q0 + CHUNK : st->nstrata;
+        int cnt = 0;
+        for (int q = q0; q < q1; q++) {
+            /* A region whose cone lies wholly below the horizon adds exactly nothing (no
+             * BSDF here transmits): no draw. */
+            const float *cone = st->cone + 4 * q;
+            if (cone[0] * nx + cone[1] * ny + cone[2] * nz <= cone[3]) continue;
+            regions[cnt] = st->strata[q];
+            u[2 * cnt] = lumis_pcg32_double(rng);
+            u[2 * cnt + 1] = lumis_pcg32_double(rng);
+            cnt++;
+        }
+        lumis_region_sampler_sample_n(st->rs, regions, u, (size_t)cnt, e);
+        for (int q = 0; q < cnt; q++) {
+            const v3 wi = fromf(e[q].dir);
+            const double cosn = dot(wi, n);
+            if (!(cosn > 0.0)) continue;
+            const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
+            const lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
+            if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+            const double w =
+                mis ? mis_weight(1, e[q].pdf, 1, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
+                    : 1.0;
+            const double k2 = w * cosn / e[q].pdf;
+            packet_push(&p, o, wi, INFINITY,
+                        mk(f.r * e[q].radiance.r * k2, f.g * e[q].radiance.g * k2,
+                           f.b * e[q].radiance.b * k2));
+            if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
+        }
     }
     *v->shadow_rays += (double)(p.rays.n + p.flushed);
     packet_flush(c->scene, d, &p, &L);
@@ -209,6 +230,7 @@ static void release(void *state)
         soa_free(st->soa, st->sets);
         lumis_region_sampler_destroy(st->owned);
         free(st->strata);
+        free(st->cone);
     }
     free(st);
 }
@@ -241,13 +263,24 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
                                "set's (%d lights)",
                                lumis_region_sampler_count(st->rs), count);
         st->kinds = d->light_kinds ? d->light_kinds : ~0u;
-        if (!(st->strata = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->strata)))
+        st->strata = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->strata);
+        st->cone = malloc((size_t)(count > 0 ? count : 1) * 4 * sizeof *st->cone);
+        if (!st->strata || !st->cone)
             return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                                "render: light set: out of memory");
-        for (int k = 0; k < count; k++)
-            if ((st->kinds & (1u << lumis_region_sampler_kind(st->rs, k))) &&
-                !lumis_region_sampler_empty(st->rs, k))
-                st->strata[st->nstrata++] = k;
+        for (int k = 0; k < count; k++) {
+            if (!(st->kinds & (1u << lumis_region_sampler_kind(st->rs, k))) ||
+                lumis_region_sampler_empty(st->rs, k))
+                continue;
+            float *cone = st->cone + 4 * st->nstrata;
+            cone[0] = l[k].dir.x;
+            cone[1] = l[k].dir.y;
+            cone[2] = l[k].dir.z;
+            /* below the horizon when the angle to the normal is at least 90 degrees + the
+             * extent: n . dir <= -sin(extent), with a margin for the float rounding */
+            cone[3] = l[k].extent < 1.5f ? -sinf(l[k].extent) - 1e-4f : -2.0f;
+            st->strata[st->nstrata++] = k;
+        }
     }
     if (!st ||
         !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets)))

@@ -23,6 +23,7 @@ typedef struct unit {
     lumis_render_job *full, *low;
     lumis_gbuffer *g_full, *g_low;
     double join_seconds; /* the G-buffers and the upsampling: render time too */
+    int low_every_pass;  /* the low layer is a Monte Carlo estimate too (stratified) */
     lumis_error_sink errors;
 } unit;
 
@@ -41,14 +42,16 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
 {
     memset(u, 0, sizeof *u);
     u->errors = rd->errors;
+    u->low_every_pass = rd->lights_mode == LUMIS_LIGHTS_STRATIFIED;
     if (factor <= 1) return lumis_render_job_create(scene, rd, &u->full);
     lumis_render_desc direct = *rd, indirect = *rd;
     direct.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
     indirect.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
     indirect.hide_environment = 1;
     /* The low layer is lit where its G-buffer looked: at the pixels' centres, so a pixel on
-     * a silhouette is not darkened by the background it half covers.  A light set is
-     * deterministic, so one sample per pixel is the whole layer. */
+     * a silhouette is not darkened by the background it half covers.  Point lights are
+     * deterministic, so one sample per pixel is the whole layer; strata take a sample at
+     * every pass, as the full layer does. */
     indirect.pixel_centers = 1;
     indirect.progress = NULL;
     lumis_camera low = *rd->camera;
@@ -72,7 +75,8 @@ static lumis_status unit_run(unit *u, int n)
     lumis_status st = lumis_render_job_run(u->full, n);
     lumis_render_stats s;
     if (u->low) lumis_render_job_stats(u->low, &s);
-    if (st == LUMIS_OK && u->low && s.spp == 0) st = lumis_render_job_run(u->low, 1);
+    if (st == LUMIS_OK && u->low && (s.spp == 0 || u->low_every_pass))
+        st = lumis_render_job_run(u->low, u->low_every_pass ? n : 1);
     return st;
 }
 
@@ -243,13 +247,21 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: needs a finite budget >= 0, non-negative counts, a map and "
                            "a camera for a light set, and upsampling only with Wu's method");
+    if ((unsigned)s->lights_mode >= LUMIS_LIGHTS_MODE_COUNT)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "session: unknown lights mode %d",
+                           (int)s->lights_mode);
+    const int stratified = s->lights && s->lights_mode == LUMIS_LIGHTS_STRATIFIED;
     const int factor = wu ? (s->upsample ? s->upsample : 2) : 1;
-    const int k_fills_time = s->lights && s->time_budget > 0.0 && !s->lights_k;
+    /* Point lights spend the time on K; strata spend it on passes at a fixed K (their
+     * error keeps falling, so K is set for the budget's first passes, not its end). */
+    const int k_fills_time = s->lights && !stratified && s->time_budget > 0.0 && !s->lights_k;
     const int timed_spp = s->timed_spp ? s->timed_spp : 4;
     const double B = s->time_budget;
     lumis_render_desc rd = s->render;
     rd.light_set = NULL;
     rd.light_kinds = 0;
+    rd.lights_mode = stratified ? LUMIS_LIGHTS_STRATIFIED : LUMIS_LIGHTS_POINT;
+    rd.regions = NULL;
     int k = s->lights_k ? s->lights_k : 64;
     r->prep_seconds = s->spent;
     lumis_status st = LUMIS_OK;
@@ -261,6 +273,7 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     }
     double rendered = 0.0; /* render seconds of earlier attempts */
     lumis_light_set *lights = NULL;
+    lumis_region_sampler *regions = NULL;
     unit u;
     memset(&u, 0, sizeof u);
     for (int attempt = 0;; attempt++) {
@@ -269,6 +282,10 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
                                                     s->lights_params, errors, &lights)) != LUMIS_OK)
             break;
         rd.light_set = lights;
+        if (stratified &&
+            (st = lumis_region_sampler_create(rd.env, lights, errors, &regions)) != LUMIS_OK)
+            break;
+        rd.regions = regions;
         if ((st = unit_create(scene, &rd, factor, &u)) != LUMIS_OK) break;
         r->prep_seconds += now() - tg;
         /* A light set under a budget without a K: K fills the time at a fixed sample count.
@@ -298,6 +315,8 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         unit_destroy(&u);
         lumis_light_set_destroy(lights);
         lights = NULL;
+        lumis_region_sampler_destroy(regions);
+        regions = NULL;
     }
     r->upsample = factor;
     if (lights && st == LUMIS_OK) { /* what lights the image: the light set's build and memory */
@@ -309,8 +328,11 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         r->lights_bytes =
             (size_t)lw * (size_t)lh * sizeof(int32_t) +
             (size_t)lumis_light_set_sets(lights) * (size_t)li->count * sizeof(lumis_light);
+        r->regions_build_ms = lumis_region_sampler_build_ms(regions);
+        r->regions_bytes = lumis_region_sampler_bytes(regions);
     }
     unit_destroy(&u);
+    lumis_region_sampler_destroy(regions);
     if (st == LUMIS_OK && result)
         result->light_set = lights; /* the caller's now */
     else

@@ -233,6 +233,26 @@ static void region_pdf_of_sample_matches(void **state)
                                  methods[c].method, maps[m].name, k, n, e.pdf, p, r);
                 }
             }
+            /* A batch over every region (and past them) in a shuffled order, longer than
+             * one batch: the draws alone, bit for bit. */
+            {
+                enum { NB = 77 };
+                int reg[NB];
+                double ub[2 * NB];
+                lumis_env_sample batch[NB];
+                const int K = lumis_region_sampler_count(rs);
+                for (int q = 0; q < NB; q++) {
+                    reg[q] = (int)(lumis_pcg32_next(&rng) % (uint32_t)(K + 2)) - 1;
+                    ub[2 * q] = lumis_pcg32_double(&rng);
+                    ub[2 * q + 1] = lumis_pcg32_double(&rng);
+                }
+                lumis_region_sampler_sample_n(rs, reg, ub, NB, batch);
+                for (int q = 0; q < NB; q++) {
+                    lumis_env_sample one =
+                        lumis_region_sampler_sample(rs, reg[q], ub[2 * q], ub[2 * q + 1]);
+                    assert_memory_equal(&one, &batch[q], sizeof one);
+                }
+            }
             /* Out of range and the zero vector: nothing. */
             assert_true(lumis_region_sampler_sample(rs, -1, 0.5, 0.5).pdf == 0.0f);
             assert_true(

@@ -118,6 +118,12 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
              (int)s->reference.estimator * 2 + s->reference.power, s->reference.light_samples,
              s->reference.bsdf_samples, s->bounces, s->seed);
     h = fnv_str(h, buf);
+    if (s->reference.lights[0]) { /* a stratified light set: only such references extend it */
+        char params[1024];
+        lumis_light_params_format(&s->reference.lights_params, params, sizeof params);
+        snprintf(buf, sizeof buf, " lights %s %d ", s->reference.lights, s->reference.lights_k);
+        h = fnv_str(fnv_str(h, buf), params);
+    }
     const suite_scene *scene = &s->scenes[sc];
     h = scene->bytes ? tool_fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
     snprintf(out, cap, "%016llx", (unsigned long long)h);
@@ -143,6 +149,7 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         snprintf(buf, sizeof buf, " lights %s %d %d %d", m->lights, m->lights_k, m->interleave,
                  m->upsample);
         h = fnv_str(h, buf);
+        if (m->lights_mode) h = fnv_str(h, " stratified"); /* point mode's keys stay */
         char params[1024];
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */

@@ -46,6 +46,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->sampler = m->sampler;
     o->bsdf_only = m->bsdf_only;
     o->lights = m->lights[0] ? m->lights : NULL;
+    o->lights_mode = m->lights_mode;
     o->lights_k = m->lights_k;
     o->interleave = m->interleave;
     o->lights_params = m->lights_params;

@@ -227,11 +227,12 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method",        "label",        "mis", "blocks",
+static const char *const method_keys[] = {"method",       "label",    "mis",    "blocks",
                                           "light_samples", "bsdf_samples", "k",   "interleave",
-                                          "upsample",      "params",       NULL},
+                                          "upsample",      "params",   "mode",   NULL},
                          *reference_keys[] = {"method",        "label",        "mis", "blocks",
-                                              "light_samples", "bsdf_samples", "spp", NULL};
+                                              "light_samples", "bsdf_samples", "spp", "k",
+                                              "params",        "mode",         NULL};
 
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
@@ -251,9 +252,20 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (strcmp(name, "bsdf") == 0) {
         m->bsdf_only = 1;
         m->estimator = LUMIS_ESTIMATOR_BSDF;
-    } else if (tool_lights_method_known(name) && strcmp(where, "reference") != 0) {
-        /* A light set (median-cut, variance-min, wu...): every light, one shadow ray each. */
+    } else if (tool_lights_method_known(name)) {
+        /* A light set (median-cut, variance-min, wu...): every light, one shadow ray each,
+         * or its regions as strata ("mode": "stratified"). */
         bench_copy_cut(m->lights, sizeof m->lights, name);
+        const char *mode = NULL;
+        rc = opt_string(e, "mode", file, where, &mode);
+        if (rc != EXIT_OK) return rc;
+        if (mode && lumis_lights_mode_from_name(mode, &m->lights_mode) != LUMIS_OK)
+            return tool_runtime_error("%s: %s.mode: expected point or stratified", file, where);
+        /* a reference must converge to the image: point lights do not */
+        if (strcmp(where, "reference") == 0 && m->lights_mode != LUMIS_LIGHTS_STRATIFIED)
+            return tool_runtime_error("%s: reference: a light set is a reference only in "
+                                      "\"mode\": \"stratified\" (point lights are biased)",
+                                      file);
         rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
         if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
         if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
@@ -270,11 +282,13 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         if (m->upsample && !tool_lights_method_is_wu(name))
             return tool_runtime_error("%s: %s.upsample: only Wu's decomposition (wu...) has it",
                                       file, where);
-        if (mis || cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
+        if ((mis && m->lights_mode != LUMIS_LIGHTS_STRATIFIED) ||
+            cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
             cJSON_GetObjectItemCaseSensitive(e, "light_samples") ||
             cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples"))
-            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave, upsample "
-                                      "and params, not mis, blocks or sample counts",
+            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave, upsample, "
+                                      "params and mode (and mis in stratified mode), not "
+                                      "blocks or sample counts",
                                       file, where, name);
     } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
         return tool_runtime_error("%s: %s.method: unknown method '%s' (a sampler, bsdf, or a "
@@ -284,9 +298,10 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (!m->lights[0] && (cJSON_GetObjectItemCaseSensitive(e, "k") ||
                           cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
                           cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
-                          cJSON_GetObjectItemCaseSensitive(e, "params")))
-        return tool_runtime_error("%s: %s: k, interleave, upsample and params belong to light "
-                                  "sets",
+                          cJSON_GetObjectItemCaseSensitive(e, "params") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "mode")))
+        return tool_runtime_error("%s: %s: k, interleave, upsample, params and mode belong to "
+                                  "light sets",
                                   file, where);
     if (mis) {
         if (strcmp(mis, "power") == 0)

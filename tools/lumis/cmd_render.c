@@ -33,10 +33,16 @@ static const char usage[] =
     "                     ablations wu-is, wu-is-mask, wu-is-kmeans,\n"
     "                     wu-original-cut; every light of the pixel's set, one shadow ray\n"
     "                     each (docs/lights.md)\n"
-    "  --lights-k K       lights per set (default 64).  With --time and no --lights-k, K is\n"
-    "                     chosen to fill the time at 4 samples per pixel (or --spp): two\n"
-    "                     pilot renders at K = 16 and 64 fit the time (Wu's equal-time rule);\n"
-    "                     with both, passes of samples fill it\n"
+    "  --lights-mode M    point (default): each region as a point light at its centroid,\n"
+    "                     deterministic and biased (the preview, and what lumis lights\n"
+    "                     exports); stratified: each region as a stratum of the map, one\n"
+    "                     direction drawn in every region per sample, MIS with the BSDF\n"
+    "                     (--mis): unbiased, converges with --time or --spp\n"
+    "  --lights-k K       lights per set (default 64).  Point mode with --time and no\n"
+    "                     --lights-k: K is chosen to fill the time at 4 samples per pixel\n"
+    "                     (or --spp): two pilot renders at K = 16 and 64 fit the time (Wu's\n"
+    "                     equal-time rule); with both, passes of samples fill it.  The\n"
+    "                     stratified mode keeps K and fills the time with passes\n"
     "  --interleave N     interleaved light sets, the original and N-1 jittered (default 8)\n"
     "  --lights-param P   the light-set method's parameters, NAME=VALUE[,NAME=VALUE...]\n"
     "                     (repeatable; names as in lumis lights --param, docs/lights.md)\n"
@@ -89,7 +95,7 @@ int cmd_render(int argc, char **argv)
     o.argv = argv;
     const char *v, *png_only = NULL, *mis = NULL;
     const char *sampler_opt = NULL; /* --method or --blocks, if given */
-    int spp_given = 0;
+    int spp_given = 0, lights_mode_given = 0;
     for (int i = 1; i < argc; i++) {
         long x;
         double d;
@@ -115,6 +121,10 @@ int cmd_render(int argc, char **argv)
                 return tool_bad_value("render", "--lights", v, want);
             }
             o.lights = v;
+        } else if (tool_option(argc, argv, &i, "--lights-mode", &v)) {
+            if (!v || lumis_lights_mode_from_name(v, &o.lights_mode) != LUMIS_OK)
+                return tool_bad_value("render", "--lights-mode", v, "must be point or stratified");
+            lights_mode_given = 1;
         } else if (tool_option(argc, argv, &i, "--lights-k", &v)) {
             if (!tool_parse_int(v, 1, 1 << 20, &x))
                 return tool_bad_value("render", "--lights-k", v, "needs a count in [1, 2^20]");
@@ -258,9 +268,12 @@ int cmd_render(int argc, char **argv)
                                     "headlight, headlight-close)",
                                     o.scene_name);
     }
-    if (spp_given && o.time_budget > 0.0 && !o.lights)
+    const int stratified = o.lights && o.lights_mode == LUMIS_LIGHTS_STRATIFIED;
+    if (spp_given && o.time_budget > 0.0 && (!o.lights || stratified))
         return tool_usage_error("render", "give --spp or --time, not both (both go together "
-                                          "only with --lights)");
+                                          "only with --lights in point mode)");
+    if (lights_mode_given && !o.lights)
+        return tool_usage_error("render", "--lights-mode needs --lights METHOD");
     if (o.lights && o.time_budget > 0.0 && o.lights_k && spp_given)
         return tool_usage_error("render", "--lights-k K with --time fills the time with "
                                           "samples: --spp does not apply");
@@ -302,12 +315,17 @@ int cmd_render(int argc, char **argv)
             return tool_usage_error("render", "--bounces: luminaires light direct illumination "
                                               "only");
     }
-    if (o.lights && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
+    if (o.lights && !stratified && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
         return tool_usage_error("render", "--lights sums every light of a set: --method bsdf, "
-                                          "--mis, --light-samples and --bsdf-samples do not apply");
-    if (o.lights && o.rd.max_bounces > 0)
-        return tool_usage_error("render",
-                                "--lights lights direct illumination only (no --bounces)");
+                                          "--mis, --light-samples and --bsdf-samples do not apply "
+                                          "(the stratified mode takes --mis)");
+    if (stratified && (o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
+        return tool_usage_error("render", "--lights-mode stratified draws one direction in every "
+                                          "region and one BSDF sample: --method bsdf, "
+                                          "--light-samples and --bsdf-samples do not apply");
+    if (o.lights && !stratified && o.rd.max_bounces > 0)
+        return tool_usage_error("render", "--lights in point mode lights direct illumination "
+                                          "only (no --bounces; the stratified mode path traces)");
     if (mis && o.bsdf_only)
         return tool_usage_error("render",
                                 "--mis %s: --method bsdf samples the BSDF only and "

@@ -184,6 +184,7 @@ typedef struct tool_render_opts {
     lumis_sampler_desc sampler;
     int bsdf_only;
     const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
+    lumis_lights_mode lights_mode;    /* --lights-mode: point (0) or stratified */
     int lights_k, interleave;         /* its K and number of interleaved sets (0: defaults) */
     lumis_light_params lights_params; /* --lights-param (zero: the method's defaults) */
     int upsample;         /* Wu: EnvIndirects at 1/F resolution per axis (0: 2; 1: none) */

@@ -196,6 +196,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_session_desc sess = {0};
     sess.render = rd;
     sess.lights = o->lights;
+    sess.lights_mode = o->lights_mode;
     sess.lights_k = o->lights_k;
     sess.interleave = o->interleave;
     sess.lights_params = &o->lights_params;
@@ -244,8 +245,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (!seen) r->sampler_table_bytes += li.bytes;
     }
     if (lights) { /* what lights the image: the light set's build and memory */
-        r->sampler_build_ms = sr.lights_build_ms;
-        r->sampler_table_bytes = sr.lights_bytes;
+        r->sampler_build_ms = sr.lights_build_ms + sr.regions_build_ms;
+        r->sampler_table_bytes = sr.lights_bytes + sr.regions_bytes;
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : o->lights    ? o->lights
@@ -260,9 +261,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                      o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(o->lum.sequence));
         else if (lights)
-            snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms",
+            snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s",
                      o->lights, lumis_light_set_get_info(lights)->count,
-                     lumis_light_set_sets(lights), lumis_light_set_get_info(lights)->build_ms);
+                     lumis_light_set_sets(lights), lumis_light_set_get_info(lights)->build_ms,
+                     o->lights_mode == LUMIS_LIGHTS_STRATIFIED ? ", as strata" : "");
         else
             snprintf(how, sizeof how, "%s, sampler %s built in %.2f ms", tool_estimator_name(&rd),
                      method, r->sampler_build_ms);

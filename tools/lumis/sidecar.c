@@ -120,6 +120,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         const lumis_light_set_info *li = lumis_light_set_get_info(lights);
         x = cJSON_AddObjectToObject(j, "lights");
         cJSON_AddStringToObject(x, "method", o->lights);
+        cJSON_AddStringToObject(x, "mode", lumis_lights_mode_name(o->lights_mode));
         char params[1024];
         lumis_light_params_format(&o->lights_params, params, sizeof params);
         cJSON_AddStringToObject(x, "params", params);
