@@ -97,7 +97,12 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     const double scale = env->scale;
     size_t members = 0;
     for (int j = 0; j < h; j++) {
-        const double om = env->row_solid_angle[j];
+        const double om = scale * env->row_solid_angle[j];
+        /* a run of pixels of one region is summed locally: adding every pixel to the
+         * region's power in memory chains each addition on the one before */
+        double r0 = 0.0, r1 = 0.0, r2 = 0.0;
+        int32_t cur = -1;
+        uint32_t shining = 0;
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * (size_t)w + (size_t)i;
             const int32_t r = set->labels[p];
@@ -115,13 +120,30 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
                 rs->px[p].region = -1;
                 continue;
             }
-            for (int c = 0; c < 3; c++) rs->power[r][c] += scale * pix[3 * p + (size_t)c] * om;
-            if (y > 0.0f) {
-                rs->start[r + 1]++;
-                members++;
+            if (r != cur) {
+                if (cur >= 0) {
+                    rs->power[cur][0] += r0 * om;
+                    rs->power[cur][1] += r1 * om;
+                    rs->power[cur][2] += r2 * om;
+                    rs->start[cur + 1] += shining;
+                }
+                cur = r;
+                r0 = r1 = r2 = 0.0;
+                shining = 0;
             }
+            r0 += pix[3 * p];
+            r1 += pix[3 * p + 1];
+            r2 += pix[3 * p + 2];
+            shining += y > 0.0f;
+        }
+        if (cur >= 0) {
+            rs->power[cur][0] += r0 * om;
+            rs->power[cur][1] += r1 * om;
+            rs->power[cur][2] += r2 * om;
+            rs->start[cur + 1] += shining;
         }
     }
+    for (int k = 0; k < K; k++) members += rs->start[k + 1];
     uint32_t largest = 0;
     for (int k = 0; k < K; k++) {
         const uint32_t size = rs->start[k + 1];
@@ -129,36 +151,37 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
         rs->start[k + 1] = rs->start[k] + size;
     }
 
-    /* Pass 2: the entries, region by region, and their weights Y Omega. */
-    const size_t m1 = members > 0 ? members : 1;
+    /* Pass 2: the entries, region by region (scan order inside one). */
+    const size_t m1 = members > 0 ? members : 1, l1 = largest > 0 ? largest : 1u;
     rs->member = malloc(m1 * sizeof *rs->member);
     rs->bin = aligned_alloc(16, m1 * sizeof *rs->bin);
-    weight = malloc(m1 * sizeof *weight);
     cursor = malloc(((size_t)K + 1) * sizeof *cursor);
-    units = malloc((size_t)(largest > 0 ? largest : 1u) * sizeof *units);
-    work = malloc((size_t)(largest > 0 ? largest : 1u) * sizeof *work);
+    /* scratch for one region at a time: the weights, the alias build's units and work */
+    weight = malloc(l1 * sizeof *weight);
+    units = malloc(l1 * sizeof *units);
+    work = malloc(l1 * sizeof *work);
     if (!rs->member || !rs->bin || !weight || !cursor || !units || !work) goto fail;
     memcpy(cursor, rs->start, ((size_t)K + 1) * sizeof *cursor);
-    for (int j = 0; j < h; j++) {
-        const double om = env->row_solid_angle[j];
+    for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * (size_t)w + (size_t)i;
             const int32_t r = rs->px[p].region;
-            const float y = lumis__pixel_y(pix + 3 * p, scale);
-            if (r < 0 || !(y > 0.0f)) continue;
-            const uint32_t e = cursor[r]++;
-            rs->member[e] = (uint32_t)p;
-            weight[e] = (double)y * om;
+            if (r < 0 || !(lumis__pixel_y(pix + 3 * p, scale) > 0.0f)) continue;
+            rs->member[cursor[r]++] = (uint32_t)p;
         }
-    }
 
-    /* One alias table per region; each pixel keeps the density its entry stores. */
+    /* One alias table per region over the weights Y Omega of its entries; each pixel keeps
+     * the density its entry stores. */
     for (int k = 0; k < K; k++) {
         const uint32_t first = rs->start[k], size = rs->start[k + 1] - first;
         if (size == 0) continue;
+        for (uint32_t e = 0; e < size; e++) {
+            const uint32_t p = rs->member[first + e];
+            weight[e] = (double)lumis__pixel_y(pix + 3 * (size_t)p, scale) *
+                        env->row_solid_angle[p / (uint32_t)w];
+        }
         const density_ctx ctx = {rs, first};
-        lumis__alias_build_in(rs->bin + first, units, work, weight + first, size, entry_density,
-                              &ctx);
+        lumis__alias_build_in(rs->bin + first, units, work, weight, size, entry_density, &ctx);
         for (uint32_t e = 0; e < size; e++)
             rs->px[rs->member[first + e]].density = rs->bin[first + e].value;
     }
