@@ -145,6 +145,11 @@ typedef struct lumis_decomp_desc {
     /* Eq. 2: N = K G_em / (G_em + G_nem), G = L^a dw^b (L mean luminance, dw solid angle). */
     float budget_a; /* > 0; 0 == 1 */
     float budget_b; /* > 0; 0 == 0.25 */
+    /* Eq. 2 can starve a class: on an interior map it leaves a few EnvIndirects for all the
+     * room.  min_share in (0, 1] makes each class (emissive, non-emissive) get at least
+     * ceil(min_share K P_class / P) of the K lights, P_class its share of the power
+     * sum(Y Omega); 1 splits K in proportion to power.  0 == Eq. 2 alone (the paper). */
+    float min_share;
 
     /* EnvDirects. */
     float mask_scale;              /* s of the mask radius s * 4 pi / K; 0 == 0.15 */
@@ -259,6 +264,15 @@ typedef struct lumis_light_set_info {
 
 /* The build's report (valid while the set lives). */
 const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
+
+/* The irradiance (in luminance) that set 0's lights give a diffuse surface of normal
+ * `normal`, sum_k Y(power_k) max(0, n . dir_k), in *set_e, and the map's own, the
+ * integral of Y(w) max(0, n . w) over the sphere, in *map_e (exact for every pixel wholly
+ * on one side of the surface's horizon: each pixel's first moment dotted with n).  How far
+ * a set's point lights are from the map's diffuse lighting, per direction (lumis lights
+ * --irradiance).  Cost: O(pixels). */
+lumis_status lumis_light_set_irradiance(const lumis_envmap *env, const lumis_light_set *set,
+                                        lumis_vec3 normal, double *set_e, double *map_e);
 
 /* ---- region samplers: the stratified mode ----------------------------------------------
  * A light set's regions partition the sphere, so they can serve as strata instead of point

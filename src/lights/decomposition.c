@@ -673,6 +673,8 @@ static lumis_status check_desc(const lumis_decomp_desc *d, const lumis_error_sin
     else if (!(d->budget_a >= 0.0f) || !isfinite(d->budget_a) || !(d->budget_b >= 0.0f) ||
              !isfinite(d->budget_b))
         bad = "budget exponents a and b must be finite and >= 0 (0 == 1 and 1/4)";
+    else if (!(d->min_share >= 0.0f && d->min_share <= 1.0f))
+        bad = "min_share must be in [0, 1] (0 == Eq. 2 alone)";
     else if (!(d->mask_scale >= 0.0f) || !isfinite(d->mask_scale))
         bad = "mask scale s must be finite and >= 0 (0 == 0.15)";
     else if (!(d->return_factor >= 0.0f) || !isfinite(d->return_factor))
@@ -816,6 +818,14 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     info->gamma_em = g_em;
     info->gamma_nem = g_ne;
     long long N = g_em + g_ne > 0.0 ? llround(K * g_em / (g_em + g_ne)) : 0;
+    if (desc->min_share > 0.0f && e_em + e_ne > 0.0) {
+        /* each class at least min_share of its power's share of the lights */
+        const double p_em = e_em / (e_em + e_ne), q = desc->min_share;
+        const long long lo = (long long)ceil(q * K * p_em - 1e-9),
+                        hi = K - (long long)ceil(q * K * (1.0 - p_em) - 1e-9);
+        if (N < lo) N = lo;
+        if (N > hi) N = hi;
+    }
     if (m > 0 && N < 1) N = 1;            /* emissive pixels get at least one EnvDirect */
     if (n_ne > 0 && N > K - 1) N = K - 1; /* ... and the rest at least one EnvIndirect */
     if (n_ne == 0) N = K;

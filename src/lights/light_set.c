@@ -642,3 +642,43 @@ lumis_status lumis__lights_from_labels(lumis_light_set *set, const lumis__geom *
     free(d);
     return LUMIS_OK;
 }
+
+/* ---- irradiance: how faithful the point lights are to a diffuse surface ------------------ */
+
+lumis_status lumis_light_set_irradiance(const lumis_envmap *env, const lumis_light_set *set,
+                                        lumis_vec3 normal, double *set_e, double *map_e)
+{
+    const double len = sqrt((double)normal.x * normal.x + (double)normal.y * normal.y +
+                            (double)normal.z * normal.z);
+    if (!env || !set || !set_e || !map_e || !(len > 0.0) || !isfinite(len) ||
+        set->w != env->width || set->h != env->height)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    const double n[3] = {normal.x / len, normal.y / len, normal.z / len};
+    double se = 0.0;
+    for (int k = 0; k < set->count; k++) {
+        const lumis_light *l = &set->lights[k];
+        const double c = n[0] * l->dir.x + n[1] * l->dir.y + n[2] * l->dir.z;
+        if (c > 0.0) se += c * (0.2126 * l->power[0] + 0.7152 * l->power[1] + 0.0722 * l->power[2]);
+    }
+    lumis__geom g;
+    if (lumis__geom_init(&g, env) != LUMIS_OK) return LUMIS_ERR_OUT_OF_MEMORY;
+    /* the normal in the map's frame (the inverse of its rotation about +y) */
+    const double mx = g.cos_rot * n[0] + g.sin_rot * n[2], my = n[1],
+                 mz = -g.sin_rot * n[0] + g.cos_rot * n[2];
+    double me = 0.0;
+    for (int j = 0; j < g.h; j++) {
+        const float *px = env->pixels + 3 * (size_t)j * (size_t)g.w;
+        double row = 0.0;
+        for (int i = 0; i < g.w; i++) {
+            /* n . (the pixel's first moment) = the integral of n . w over the pixel */
+            const double c = g.a[j] * (mx * g.cs[i] + mz * g.cc[i]) + my * g.b[j];
+            if (c > 0.0) row += c * lumis__pixel_y(px + 3 * (size_t)i, 1.0);
+        }
+        me += row;
+    }
+    me *= g.scale;
+    lumis__geom_free(&g);
+    *set_e = se;
+    *map_e = me;
+    return LUMIS_OK;
+}

@@ -82,6 +82,8 @@ static const struct {
     {"seed", FOR_ALL, SEED, 0, "an unsigned integer"},
     {"key", FOR_TMMS, POSITIVE, PF(key), "the tone-mapping key, > 0"},
     {"bandwidth", FOR_TMMS, FRACTION, PF(bandwidth), "the range bandwidth, in (0, 1]"},
+    {"min-share", FOR_WU, FRACTION, PF(wu.min_share),
+     "each class's least share of the lights over its share of the power, in (0, 1]"},
 };
 #undef PF
 enum { PARAMS = sizeof params / sizeof params[0] };

@@ -11,7 +11,7 @@ static const char usage[] =
     "usage: lumis lights MAP --method M [-k K] [--sets N] [--param NAME=VALUE,...]\n"
     "                    [--rotate DEG]\n"
     "                    [--json OUT.json [--masks]] [--gltf OUT.gltf]\n"
-    "                    [--png OUT.png [--png-width W]]\n\n"
+    "                    [--png OUT.png [--png-width W]] [--irradiance]\n\n"
     "Turns an environment map into K directional lights whose powers add up to the map's\n"
     "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
     "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
@@ -27,7 +27,8 @@ static const char usage[] =
     "                  every method: jitter (0.1), seed (0); Wu: percentile (98),\n"
     "                  lambda (3), gamma (0.001), threshold (L_T instead of Eq. 1), a (1),\n"
     "                  b (0.25), s (0.15), mask (cap|radians), return (2),\n"
-    "                  kmeans-iterations (until no pixel moves), wv (1), wd (5), we (1);\n"
+    "                  kmeans-iterations (until no pixel moves), wv (1), wd (5), we (1),\n"
+    "                  min-share (each class's least share of the lights; docs/lights.md);\n"
     "                  tmms: key (0.18), bandwidth (0.1).  docs/lights.md says what each is\n"
     "  --rotate DEG    rotate the map about +y first\n"
     "  --json OUT      directions, power, colour and intensity, solid angle, extent, kind\n"
@@ -40,7 +41,10 @@ static const char usage[] =
     "                  to the EnvIndirects in magenta, and every light marked (red:\n"
     "                  EnvDirect, green: EnvIndirect, white: a region of the other methods)\n"
     "  --png-width W   the picture's width in pixels, height to the map's aspect (default:\n"
-    "                  the map's); borders and markers are drawn at this size\n";
+    "                  the map's); borders and markers are drawn at this size\n"
+    "  --irradiance    the diffuse irradiance the lights give a surface facing each\n"
+    "                  elevation (-90 to 90 degrees, 8 azimuths each) against the map's,\n"
+    "                  and the upper hemisphere's share of the power\n";
 
 static void put(lumis_image *img, int x, int y, const float c[3])
 {
@@ -185,10 +189,65 @@ static int write_picture(const char *path, const lumis_envmap *env, const lumis_
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }
 
+/* The lights' diffuse irradiance against the map's, by the surface normal's elevation: the
+ * mean over 8 azimuths of each, and the worst relative error among them. */
+static int print_irradiance(const lumis_envmap *env, const lumis_light_set *set)
+{
+    const double pi = 3.14159265358979323846;
+    printf("irradiance (luminance) of a diffuse surface facing elevation e, mean over 8 "
+           "azimuths:\n%9s %12s %12s %9s %9s\n",
+           "elevation", "map", "lights", "error", "worst");
+    double worst_all = 0.0;
+    for (int e = -90; e <= 90; e += 15) {
+        double ms = 0.0, ls = 0.0, worst = 0.0;
+        const int az = e == -90 || e == 90 ? 1 : 8; /* the poles face one way */
+        for (int a = 0; a < az; a++) {
+            const double el = e * pi / 180.0, phi = 2.0 * pi * a / az;
+            const lumis_vec3 n = {(float)(cos(el) * cos(phi)), (float)sin(el),
+                                  (float)(cos(el) * sin(phi))};
+            double se = 0.0, me = 0.0;
+            if (lumis_light_set_irradiance(env, set, n, &se, &me) != LUMIS_OK)
+                return tool_runtime_error("lights: --irradiance: out of memory");
+            ms += me / az;
+            ls += se / az;
+            const double err = me > 0.0 ? fabs(se / me - 1.0) : 0.0;
+            if (err > worst) worst = err;
+        }
+        if (worst > worst_all) worst_all = worst;
+        printf("%9d %12.6g %12.6g %+8.2f%% %8.2f%%\n", e, ms, ls,
+               ms > 0.0 ? 100.0 * (ls / ms - 1.0) : 0.0, 100.0 * worst);
+    }
+    /* the upper hemisphere's share of the power: the lights above the horizon, and the map's
+     * rows above it */
+    double p_set = 0.0, p_all = 0.0;
+    const lumis_light *l = NULL;
+    int count = 0;
+    lumis_light_set_get(set, 0, &l, &count);
+    for (int q = 0; q < count; q++) {
+        const double y = 0.2126 * l[q].power[0] + 0.7152 * l[q].power[1] + 0.0722 * l[q].power[2];
+        p_all += y;
+        if (l[q].dir.y > 0.0f) p_set += y;
+    }
+    const int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    double m_up = 0.0, m_all = 0.0;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            const lumis_rgb c = lumis_envmap_texel(env, i, j);
+            const double y = lumis_luminance(c) * lumis_envmap_pixel_solid_angle(env, j);
+            m_all += y;
+            if (2 * j < h) m_up += y; /* rows above the horizon (row h/2 starts below) */
+        }
+    printf("worst error %.2f%%; upper hemisphere's share of the power: lights %.1f%%, map "
+           "%.1f%%\n",
+           100.0 * worst_all, p_all > 0.0 ? 100.0 * p_set / p_all : 0.0,
+           m_all > 0.0 ? 100.0 * m_up / m_all : 0.0);
+    return EXIT_OK;
+}
+
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
-    int k = 0, sets = 0, masks = 0, png_width = 0;
+    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0;
     lumis_light_params params = {0};
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
@@ -232,6 +291,8 @@ int cmd_lights(int argc, char **argv)
             png_width = (int)x;
         } else if (strcmp(argv[i], "--masks") == 0) {
             masks = 1;
+        } else if (strcmp(argv[i], "--irradiance") == 0) {
+            irradiance = 1;
         } else if (argv[i][0] != '-' && !map) {
             map = argv[i];
         } else {
@@ -298,6 +359,7 @@ int cmd_lights(int argc, char **argv)
                                                        : "region",
                l[q].dir.x, l[q].dir.y, l[q].dir.z, l[q].power[0], l[q].power[1], l[q].power[2],
                l[q].solid_angle, l[q].extent);
+    if (irradiance && print_irradiance(env, set) != EXIT_OK) goto done;
     lumis_light_export_options eo = {0};
     eo.masks = masks;
     eo.source = map;
