@@ -278,7 +278,7 @@ typedef struct lumis_session_desc {
     const char *lights;                      /* a light-set method by name, or NULL */
     lumis_lights_mode lights_mode;           /* point lights (0) or strata of the map */
     int lights_k;                            /* K; 0: point mode fits it to time_budget,
-                                                else 64; the stratified mode 64 */
+                                                else 64; the stratified mode 32 */
     int interleave;                          /* interleaved sets; 0: the method's default */
     const lumis_light_params *lights_params; /* NULL: the method's defaults */
     int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2, 1 == none */
