@@ -30,7 +30,14 @@ static const char usage[] =
     "  --methods LIST  comma-separated (default: all seven)\n"
     "  --samples N     samples per timing run (default 1000000)\n"
     "  --runs R        timing runs and builds; medians are reported (default 5)\n"
-    "  --blocks K      kd-tree blocks (default 6144)\n";
+    "  --blocks K      kd-tree blocks (default 6144)\n"
+    "  --strata LIST   also the light sets' region samplers (the stratified mode of lumis\n"
+    "                  render --lights-mode stratified) of these light-set methods\n"
+    "                  (comma-separated, e.g. median-cut,wu), as method strata:NAME: build\n"
+    "                  = the light set's and the region samplers', a sample = a direction\n"
+    "                  drawn in one region (the regions in turn, as a render draws one in\n"
+    "                  each), rse@64 of 64 / K draws in every region\n"
+    "  --strata-k K    regions of those light sets (default 32, as lumis render)\n";
 
 enum { NNORMALS = 16, SPP = 64 };
 
@@ -164,13 +171,114 @@ static int bench_one(const lumis_envmap *env, lumis_sampler_desc d, int runs, lo
     return EXIT_OK;
 }
 
+/* rel_stderr_64 of the stratified estimator: 64 / K draws in each of the K regions, each
+ * region's variance int_R f^2 / p_R - (int_R f)^2 summed (strata are independent). */
+static double strata_rel_stderr_64(const lumis_region_sampler *rs, const quad *q,
+                                   const lumis_vec3 *normals)
+{
+    const int K = lumis_region_sampler_count(rs);
+    double *E = calloc((size_t)K * NNORMALS, sizeof(double)),
+           *M2 = calloc((size_t)K * NNORMALS, sizeof(double));
+    if (!E || !M2) {
+        free(E);
+        free(M2);
+        return NAN;
+    }
+    for (int p = 0; p < q->n; p++) {
+        int r = -1;
+        const double pdf = lumis_region_sampler_lookup(rs, q->dir[p], &r, NULL);
+        if (r < 0) continue;
+        for (int k = 0; k < NNORMALS; k++) {
+            double c = q->dir[p].x * normals[k].x + q->dir[p].y * normals[k].y +
+                       q->dir[p].z * normals[k].z;
+            if (c <= 0.0) continue;
+            double fw = q->yw[p] * c;
+            E[(size_t)r * NNORMALS + (size_t)k] += fw;
+            M2[(size_t)r * NNORMALS + (size_t)k] += pdf > 0.0 ? fw * fw / (pdf * q->om[p]) : INFINITY;
+        }
+    }
+    double acc = 0.0;
+    int used = 0;
+    for (int k = 0; k < NNORMALS; k++) {
+        double e = 0.0, var = 0.0;
+        for (int r = 0; r < K; r++) {
+            const double er = E[(size_t)r * NNORMALS + (size_t)k];
+            e += er;
+            var += fmax(M2[(size_t)r * NNORMALS + (size_t)k] - er * er, 0.0);
+        }
+        if (!(e > 0.0)) continue;
+        acc += sqrt(var * K / SPP) / e;
+        used++;
+    }
+    free(E);
+    free(M2);
+    return used ? acc / used : 0.0;
+}
+
+/* The region samplers of light-set method `method` with K regions, timed as bench_one
+ * times a sampler: draw q goes to region q mod K. */
+static int bench_strata(const lumis_envmap *env, const char *method, int K, int runs,
+                        long nsamples, const double *u, lumis_env_sample *out, const quad *q,
+                        const lumis_vec3 *normals, result *r)
+{
+    double *t = malloc(sizeof(double) * (size_t)runs);
+    int *regions = malloc(sizeof(int) * (size_t)nsamples);
+    lumis_light_set *set = NULL;
+    lumis_region_sampler *rs = NULL;
+    int rc = EXIT_RUNTIME;
+    if (!t || !regions) goto done;
+    for (int k = 0; k < runs; k++) {
+        lumis_region_sampler_destroy(rs);
+        lumis_light_set_destroy(set);
+        rs = NULL;
+        if (lumis_lights_by_name(env, method, K, 1, NULL, &tool_errors, &set) != LUMIS_OK ||
+            lumis_region_sampler_create(env, set, &tool_errors, &rs) != LUMIS_OK)
+            goto done;
+        t[k] = lumis_light_set_get_info(set)->build_ms + lumis_region_sampler_build_ms(rs);
+    }
+    r->build_ms = tool_median(t, runs);
+    r->bytes = r->total_bytes = lumis_region_sampler_bytes(rs);
+    r->blocks = lumis_region_sampler_count(rs);
+    r->alpha = 0.0;
+    const int n = lumis_region_sampler_count(rs);
+    for (long k = 0; k < nsamples; k++) regions[k] = (int)(k % n);
+    volatile float sink = 0.0f;
+    for (int k = 0; k < runs; k++) {
+        double t0 = tool_now_seconds();
+        float acc = 0.0f;
+        for (long s = 0; s < nsamples; s++)
+            acc += lumis_region_sampler_sample(rs, regions[s], u[2 * s], u[2 * s + 1]).pdf;
+        t[k] = (double)nsamples / (tool_now_seconds() - t0);
+        sink += acc;
+    }
+    r->sps = tool_median(t, runs);
+    for (int k = 0; k < runs; k++) {
+        double t0 = tool_now_seconds();
+        lumis_region_sampler_sample_n(rs, regions, u, (size_t)nsamples, out);
+        t[k] = (double)nsamples / (tool_now_seconds() - t0);
+        sink += out[nsamples - 1].pdf;
+    }
+    (void)sink;
+    r->batch_sps = tool_median(t, runs);
+    r->rse = strata_rel_stderr_64(rs, q, normals);
+    rc = isnan(r->rse) ? tool_runtime_error("bench-samplers: out of memory") : EXIT_OK;
+done:
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    free(regions);
+    free(t);
+    return rc;
+}
+
 int cmd_bench_samplers(int argc, char **argv)
 {
     const char *maps[64], *v;
     int nmaps = 0, json = 0, runs = 5, blocks = 0;
     long nsamples = 1000000;
     lumis_sampler_method methods[LUMIS_METHOD_COUNT];
-    int nmethods = 0;
+    int nmethods = 0, strata_k = 32, nstrata = 0;
+    char strata_buf[256] = "";
+    const char *strata[16];
     for (int i = 1; i < argc; i++) {
         long x;
         if (tool_is_help(argv[i])) {
@@ -189,6 +297,20 @@ int cmd_bench_samplers(int argc, char **argv)
             if (!tool_parse_int(v, 1, 1 << 24, &x))
                 return tool_usage_error("bench-samplers", "--blocks needs a count");
             blocks = (int)x;
+        } else if (tool_option(argc, argv, &i, "--strata", &v)) {
+            snprintf(strata_buf, sizeof strata_buf, "%s", v ? v : "");
+            for (char *tok = strtok(strata_buf, ","); tok; tok = strtok(NULL, ",")) {
+                if (nstrata == 16 || !tool_lights_method_known(tok))
+                    return tool_usage_error("bench-samplers",
+                                            "--strata: unknown light-set method '%s' (%s)", tok,
+                                            tool_lights_method_names());
+                strata[nstrata++] = tok;
+            }
+            if (!nstrata) return tool_usage_error("bench-samplers", "--strata needs a list");
+        } else if (tool_option(argc, argv, &i, "--strata-k", &v)) {
+            if (!tool_parse_int(v, 1, 65536, &x))
+                return tool_usage_error("bench-samplers", "--strata-k needs a count in [1, 65536]");
+            strata_k = (int)x;
         } else if (tool_option(argc, argv, &i, "--methods", &v)) {
             char buf[256];
             snprintf(buf, sizeof buf, "%s", v ? v : "");
@@ -244,6 +366,34 @@ int cmd_bench_samplers(int argc, char **argv)
         /* Inversion's tables: the yardstick of the paper's compression ratio. */
         size_t inv_bytes = 4 * ((size_t)lumis_envmap_width(env) * (size_t)lumis_envmap_height(env) +
                                 (size_t)lumis_envmap_height(env));
+        /* The light sets' region samplers asked for (--strata). */
+        for (int k = 0; k < nstrata && rc == EXIT_OK; k++) {
+            result r;
+            rc = bench_strata(env, strata[k], strata_k, runs, nsamples, u, out, &q, normals, &r);
+            if (rc != EXIT_OK) break;
+            char name[64];
+            snprintf(name, sizeof name, "strata:%s", strata[k]);
+            const double comp = (double)inv_bytes / (double)r.bytes;
+            if (json) {
+                cJSON *o = cJSON_CreateObject();
+                cJSON_AddStringToObject(o, "map", maps[mi]);
+                cJSON_AddStringToObject(o, "method", name);
+                cJSON_AddStringToObject(o, "variant", "");
+                cJSON_AddNumberToObject(o, "build_ms", r.build_ms);
+                cJSON_AddNumberToObject(o, "bytes", (double)r.bytes);
+                cJSON_AddNumberToObject(o, "total_bytes", (double)r.total_bytes);
+                cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
+                cJSON_AddNumberToObject(o, "samples_per_second", r.sps);
+                cJSON_AddNumberToObject(o, "batch_samples_per_second", r.batch_sps);
+                cJSON_AddNumberToObject(o, "rel_stderr_64", r.rse);
+                cJSON_AddNumberToObject(o, "regions", r.blocks);
+                cJSON_AddItemToArray(arr, o);
+            } else {
+                printf("%-22s %-17s %9.2f %11zu %8.1f %12.4g %12.4g %9.4f\n", maps[mi], name,
+                       r.build_ms, r.bytes, comp, r.sps, r.batch_sps, r.rse);
+                fflush(stdout);
+            }
+        }
         /* Every method, and after kdtree its literal variant (uniform in angles). */
         for (int k = 0, variant = 0; k < nmethods && rc == EXIT_OK; k += variant ? 0 : 1) {
             lumis_sampler_desc d = {0};
