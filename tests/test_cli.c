@@ -692,6 +692,86 @@ static void simd_variants_render_the_same_image(void **state)
     free(err);
 }
 
+/* --lights-mode stratified: unbiased, so it approaches the map's own image as samples grow
+ * (the point lights' image does not), with --mis and --bounces allowed, the sidecar naming
+ * the mode, and every option that does not apply refused. */
+static void render_with_stratified_light_sets(void **state)
+{
+    (void)state;
+    char a[1024];
+    snprintf(a, sizeof a,
+             "render --scene bunny-plane --env sky:64x32 --method inversion --spp 256 --size "
+             "32x24 --seed 9 -o '%s'",
+             tu_path("st-ref.exr"));
+    expect(a, 0, NULL);
+    double relmse[3];
+    static const char *const modes[3] = {"point --lights-k 8", "stratified --lights-k 8 --spp 2",
+                                         "stratified --lights-k 8 --spp 64 --mis power"};
+    for (int m = 0; m < 3; m++) {
+        snprintf(a, sizeof a,
+                 "render --scene bunny-plane --env sky:64x32 --lights median-cut --lights-mode %s "
+                 "%s --size 32x24 -o '%s'",
+                 modes[m], m == 0 ? "--spp 64" : "", tu_path("st.exr"));
+        expect(a, 0, m ? "as strata" : "light set");
+        snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("st-ref.exr"),
+                 tu_path("st.exr"));
+        char *text = NULL;
+        assert_int_equal(run(a, &text, NULL), 0);
+        cJSON *cmp = cJSON_Parse(text);
+        relmse[m] = num(cmp, "relmse");
+        cJSON_Delete(cmp);
+        free(text);
+        cJSON *j = read_json("st.json");
+        assert_string_equal(item(item(j, "lights"), "mode")->valuestring,
+                            m ? "stratified" : "point");
+        cJSON_Delete(j);
+    }
+    /* 8 point lights stay biased at 64 spp; 8 strata converge (2 spp noisy, 64 spp close) */
+    if (!(relmse[2] < relmse[1] && relmse[2] < 0.5 * relmse[0]))
+        fail_msg("relMSE: point %g, stratified at 2 spp %g, at 64 spp %g", relmse[0], relmse[1],
+                 relmse[2]);
+    /* path tracing with strata at every vertex, and --time with passes */
+    snprintf(a, sizeof a,
+             "render --scene bunny-plane --env sky:64x32 --lights wu --lights-mode stratified "
+             "--upsample 1 --bounces 1 --time 0.2 --size 16x12 -o '%s'",
+             tu_path("st.exr"));
+    expect(a, 0, "path traced");
+    cJSON *j = read_json("st.json");
+    assert_true(num(j, "spp") >= 1 && num(item(j, "lights"), "count") == 32);
+    cJSON_Delete(j);
+    expect("render --scene spheres --lights-mode stratified -o x.exr", 2,
+           "--lights-mode needs --lights");
+    expect("render --scene spheres --lights median-cut --lights-mode planar -o x.exr", 2,
+           "must be point or stratified");
+    expect("render --scene spheres --lights median-cut --lights-mode stratified --time 1 --spp 4 "
+           "-o x.exr",
+           2, "not both");
+    expect("render --scene spheres --lights median-cut --lights-mode stratified --method bsdf "
+           "-o x.exr",
+           2, "do not apply");
+    expect("render --scene spheres --lights median-cut --lights-mode stratified --light-samples 2 "
+           "-o x.exr",
+           2, "do not apply");
+    /* a bench suite takes the mode, and refuses point lights as a reference */
+    static const char suite[] =
+        "{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+        " \"methods\": [{\"method\": \"median-cut\", \"mode\": \"stratified\", \"k\": 4}],\n"
+        " \"budgets\": [{\"spp\": 1}],\n"
+        " \"reference\": {\"spp\": 8, \"method\": \"median-cut\", \"k\": 4}}\n";
+    tu_write_file(tu_path("mode-suite.json"), suite, sizeof suite - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite.json"),
+             tu_path("mode-out"));
+    expect(a, 1, "a light set is a reference only in");
+    static const char suite2[] =
+        "{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+        " \"methods\": [{\"method\": \"inversion\", \"mode\": \"stratified\"}],\n"
+        " \"budgets\": [{\"spp\": 1}]}\n";
+    tu_write_file(tu_path("mode-suite2.json"), suite2, sizeof suite2 - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite2.json"),
+             tu_path("mode-out"));
+    expect(a, 1, "mode belong to light sets");
+}
+
 static void render_with_light_sets(void **state)
 {
     (void)state;
@@ -796,6 +876,8 @@ static void render_with_light_sets(void **state)
     expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2, "do not apply");
     expect("render --scene spheres --lights median-cut --bounces 2 -o x.exr", 2,
            "direct illumination only");
+    expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2,
+           "the stratified mode takes --mis");
 }
 
 /* Rotates v by the unit quaternion q = (x, y, z, w). */
@@ -1524,6 +1606,173 @@ static void bench_survives_a_failing_item(void **state)
     free(err);
 }
 
+/* Sets the relMSE of a result file of DIR/results/ (its item key kept: still current). */
+static void set_relmse(const char *dir, const char *id, double relmse)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/results/%s.json", dir, id);
+    size_t n = 0;
+    char *text = (char *)tu_read_file(path, &n);
+    if (!text) fail_msg("no result %s", path);
+    cJSON *j = cJSON_ParseWithLength(text, n);
+    free(text);
+    cJSON *v = cJSON_GetObjectItemCaseSensitive(j, "relmse");
+    if (!cJSON_IsNumber(v)) fail_msg("%s: no relmse", path);
+    cJSON_SetNumberValue(v, relmse);
+    char *out = cJSON_Print(j);
+    tu_write_file(path, out, strlen(out));
+    cJSON_free(out);
+    cJSON_Delete(j);
+}
+
+static double json_path_number(const cJSON *o, const char *what)
+{
+    if (!cJSON_IsNumber(o)) fail_msg("results.json: %s is not a number", what);
+    return o->valuedouble;
+}
+
+/* cmocka 1.1's assert_float_equal works in float */
+#define assert_double_equal(a, b, eps)                                                             \
+    do {                                                                                           \
+        const double a_ = (a), b_ = (b);                                                           \
+        if (!(fabs(a_ - b_) <= (eps))) fail_msg("%s = %.12g, want %.12g", #a, a_, b_);             \
+    } while (0)
+
+/* The convergence analysis at equal time (two or more time budgets): the section of
+ * results.md and index.html, results.json's "convergence" object and convergence-all.svg;
+ * on hand-made relMSEs, the slopes (over all pairs and per scene), the pairs counted (an
+ * item with relMSE 0 left out), the ratios and the crossing time; no analysis, and no stale
+ * plot, with fewer than two time budgets. */
+static void bench_convergence_at_equal_time(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"conv\", \"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\", "
+        "\"bunny-plane\"],\n \"methods\": [{\"method\": \"inversion\"}, {\"method\": "
+        "\"alias\"}],\n \"budgets\": [{\"spp\": 1}, {\"time\": 0.2}, {\"time\": 0.05}, "
+        "{\"time\": 0.1}],\n \"reference\": {\"spp\": 8}, \"size\": [8, 6], \"compare\": "
+        "[[\"alias\", \"inversion\"]]}\n";
+    char dir[512], a[4096], p[4096];
+    snprintf(dir, sizeof dir, "%s", tu_path("bconv"));
+    tu_write_file(tu_path("conv.json"), suite, sizeof suite - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("conv.json"), dir);
+    expect(a, 0, "16 of 16 items");
+    assert_int_equal(tu_count_entries(dir, "convergence-all.svg"), 1);
+    /* Hand-made errors, x = t / 0.05 s (the budgets are listed out of order): inversion
+     * 0.08 / x on spheres (slope -1) and 0.02 / sqrt(x) on bunny-plane (-0.5), a geometric
+     * mean of 0.04 x^-0.75 (-0.75); alias 0.02 everywhere (slope 0) but 0 (left out) on
+     * bunny-plane at 0.2 s.  alias / inversion = 0.5 x^0.75: 1 at x = 2^(4/3), 0.126 s. */
+    static const char *const budgets[] = {"t0.05s", "t0.1s", "t0.2s"};
+    for (int k = 0; k < 3; k++) {
+        const double x = 1 << k;
+        char id[256];
+        snprintf(id, sizeof id, "sky-32x16__spheres__inversion__%s", budgets[k]);
+        set_relmse(dir, id, 0.08 / x);
+        snprintf(id, sizeof id, "sky-32x16__bunny-plane__inversion__%s", budgets[k]);
+        set_relmse(dir, id, 0.02 / sqrt(x));
+        snprintf(id, sizeof id, "sky-32x16__spheres__alias__%s", budgets[k]);
+        set_relmse(dir, id, 0.02);
+        snprintf(id, sizeof id, "sky-32x16__bunny-plane__alias__%s", budgets[k]);
+        set_relmse(dir, id, k == 2 ? 0.0 : 0.02);
+    }
+    set_relmse(dir, "sky-32x16__spheres__alias__spp1", 1e3); /* spp budgets take no part */
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", tu_path("conv.json"), dir);
+    expect(a, 0, "16 of 16 items");
+    size_t n;
+    snprintf(p, sizeof p, "%s/results.json", dir);
+    char *text = (char *)tu_read_file(p, &n);
+    cJSON *j = cJSON_ParseWithLength(text, n);
+    free(text);
+    const cJSON *conv = cJSON_GetObjectItemCaseSensitive(j, "convergence");
+    if (!cJSON_IsObject(conv)) fail_msg("results.json has no \"convergence\" object");
+    const cJSON *sec = cJSON_GetObjectItemCaseSensitive(conv, "seconds");
+    assert_int_equal(cJSON_GetArraySize(sec), 3);
+    for (int k = 0; k < 3; k++)
+        assert_double_equal(json_path_number(cJSON_GetArrayItem(sec, k), "seconds"),
+                            0.05 * (1 << k), 1e-12);
+    const cJSON *methods = cJSON_GetObjectItemCaseSensitive(conv, "methods");
+    assert_int_equal(cJSON_GetArraySize(methods), 2);
+    const cJSON *inv = cJSON_GetArrayItem(methods, 0), *ali = cJSON_GetArrayItem(methods, 1);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(inv, "method")->valuestring, "inversion");
+    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(inv, "slope"), "slope"),
+                        -0.75, 1e-9);
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(inv, "scene_slopes");
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "spheres"), "spheres"), -1.0, 1e-9);
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "bunny-plane"), "bunny-plane"), -0.5,
+        1e-9);
+    const cJSON *geo = cJSON_GetObjectItemCaseSensitive(inv, "geomean_relmse");
+    for (int k = 0; k < 3; k++)
+        assert_double_equal(json_path_number(cJSON_GetArrayItem(geo, k), "geomean"),
+                            0.04 * pow(1 << k, -0.75), 1e-12);
+    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(ali, "slope"), "slope"),
+                        0.0, 1e-9);
+    const cJSON *pairs = cJSON_GetObjectItemCaseSensitive(ali, "pairs");
+    static const int want_pairs[] = {2, 2, 1};
+    for (int k = 0; k < 3; k++)
+        assert_int_equal((int)json_path_number(cJSON_GetArrayItem(pairs, k), "pairs"),
+                         want_pairs[k]);
+    const cJSON *cmp = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(conv, "compare"), 0);
+    if (!cmp) fail_msg("results.json: no compare pair in \"convergence\"");
+    const cJSON *ratio = cJSON_GetObjectItemCaseSensitive(cmp, "ratio");
+    for (int k = 0; k < 3; k++)
+        assert_double_equal(json_path_number(cJSON_GetArrayItem(ratio, k), "ratio"),
+                            0.5 * pow(1 << k, 0.75), 1e-9);
+    const cJSON *xs = cJSON_GetObjectItemCaseSensitive(cmp, "crossings");
+    assert_int_equal(cJSON_GetArraySize(xs), 1);
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(xs, 0), "seconds"),
+                         "crossing"),
+        0.05 * pow(2, 4.0 / 3), 1e-9);
+    assert_string_equal(
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(xs, 0), "below_after")->valuestring,
+        "b");
+    cJSON_Delete(j);
+    /* results.md and index.html: the same section, with the plot */
+    snprintf(p, sizeof p, "%s/results.md", dir);
+    char *md = (char *)tu_read_file(p, &n);
+    const char *md_parts[] = {
+        "## Convergence (equal time)",
+        "| inversion | 0.04 | 0.02378 | 0.01414 | 2 | -0.75 | -1.00 | -0.50 |",
+        "| alias | 0.02 | 0.02 | 0.02 | 2, 2, 1 | 0.00 | 0.00 | 0.00 |",
+        "| alias / inversion | 0.500 | 0.841 | 1.414 | 0.126 s (alias above after) |",
+        "(convergence-all.svg)"};
+    for (int k = 0; k < 5; k++)
+        if (!strstr(md, md_parts[k])) fail_msg("results.md lacks \"%s\":\n%s", md_parts[k], md);
+    free(md);
+    snprintf(p, sizeof p, "%s/index.html", dir);
+    char *html = (char *)tu_read_file(p, &n);
+    const char *html_parts[] = {"<h2>Convergence (equal time)</h2>",
+                                "<td>alias / inversion</td><td>0.500</td>",
+                                "<img src=\"convergence-all.svg\""};
+    for (int k = 0; k < 3; k++)
+        if (!strstr(html, html_parts[k])) fail_msg("index.html lacks %s", html_parts[k]);
+    free(html);
+    snprintf(p, sizeof p, "%s/convergence-all.svg", dir);
+    char *svg = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(svg, "inversion (slope -0.75)"));
+    assert_non_null(strstr(svg, "alias (slope 0.00)"));
+    free(svg);
+    /* One time budget (the same items, so the same results): no analysis, no stale plot. */
+    static const char one[] =
+        "{\"name\": \"conv\", \"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\", "
+        "\"bunny-plane\"],\n \"methods\": [{\"method\": \"inversion\"}, {\"method\": "
+        "\"alias\"}],\n \"budgets\": [{\"spp\": 1}, {\"time\": 0.2}],\n \"reference\": "
+        "{\"spp\": 8}, \"size\": [8, 6], \"compare\": [[\"alias\", \"inversion\"]]}\n";
+    tu_write_file(tu_path("conv.json"), one, sizeof one - 1);
+    expect(a, 0, "8 of 8 items");
+    assert_int_equal(tu_count_entries(dir, "convergence-all.svg"), 0);
+    snprintf(p, sizeof p, "%s/results.md", dir);
+    md = (char *)tu_read_file(p, &n);
+    assert_null(strstr(md, "Convergence (equal time)"));
+    free(md);
+    snprintf(p, sizeof p, "%s/results.json", dir);
+    text = (char *)tu_read_file(p, &n);
+    assert_null(strstr(text, "\"convergence\""));
+    free(text);
+}
+
 static void bench_runs_resumes_shards_and_reports(void **state)
 {
     (void)state;
@@ -1721,6 +1970,7 @@ int main(void)
         cmocka_unit_test(render_sidecar_time_budget_and_scenes),
         cmocka_unit_test(outputs_never_replace_inputs_and_are_checked_first),
         cmocka_unit_test(render_with_light_sets),
+        cmocka_unit_test(render_with_stratified_light_sets),
         cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(luminaire_files_create_info_render),
@@ -1733,6 +1983,10 @@ int main(void)
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_survives_a_failing_item),
+        cmocka_unit_test(bench_convergence_at_equal_time),
     };
+    /* LUMIS_TEST_FILTER=PATTERN runs only the tests whose names match (cmocka's pattern) */
+    const char *only = getenv("LUMIS_TEST_FILTER");
+    if (only && *only) cmocka_set_test_filter(only);
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
