@@ -142,6 +142,28 @@ static void samplers_and_light_sets(void **state)
     assert_int_equal(lumis_lights_median_cut(env, &mc, &set), LUMIS_OK);
     assert_int_not_equal(lumis_light_set_get(set, 1, &l, &n), LUMIS_OK); /* one set only */
     assert_int_not_equal(lumis_light_set_get(set, -1, &l, &n), LUMIS_OK);
+    dd.variant = 0;
+    dd.min_share = 1.5f;
+    lumis_light_set *wu = NULL;
+    REFUSED(lumis_lights_decompose(env, &dd, &wu), wu);
+    double se = 0.0, me = 0.0;
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 0, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(NULL, set, (lumis_vec3){0, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 1, 0}, NULL, &me),
+                         LUMIS_OK);
+    lumis_region_sampler *rs = NULL;
+    REFUSED(lumis_region_sampler_create(env, NULL, NULL, &rs), rs);
+    assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+    double pw[3];
+    lumis_region_sampler_power(rs, 99, pw); /* out of range: nothing */
+    assert_true(pw[0] == 0.0 && pw[1] == 0.0 && pw[2] == 0.0);
+    assert_int_equal(lumis_region_sampler_kind(rs, -1), LUMIS_LIGHT_REGION);
+    assert_true(lumis_region_sampler_pdf(rs, 99, (lumis_vec3){0, 1, 0}) == 0.0f);
+    assert_true(lumis_region_sampler_lookup(NULL, (lumis_vec3){0, 1, 0}, NULL, NULL) == 0.0f);
+    assert_true(lumis_region_sampler_bytes(NULL) == 0 && lumis_region_sampler_build_ms(NULL) == 0);
+    lumis_region_sampler_destroy(rs);
     lumis_light_set_destroy(set);
     lumis_envmap_destroy(env);
     lumis_image_destroy(img);
@@ -277,6 +299,36 @@ static void renderer(void **state)
     cam.eye = (lumis_vec3){0, 0, 4};
     cam.up = (lumis_vec3){0, 0, 1}; /* parallel to the view */
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    cam.up = (lumis_vec3){0, 1, 0};
+    { /* light sets: an unknown mode, and region samplers of another set */
+        lumis_median_cut_desc mc = {0};
+        mc.count = 4;
+        lumis_light_set *set = NULL, *other = NULL;
+        assert_int_equal(lumis_lights_median_cut(env, &mc, &set), LUMIS_OK);
+        mc.count = 2;
+        assert_int_equal(lumis_lights_median_cut(env, &mc, &other), LUMIS_OK);
+        lumis_region_sampler *rs = NULL;
+        assert_int_equal(lumis_region_sampler_create(env, other, NULL, &rs), LUMIS_OK);
+        lumis_render_desc ld = d;
+        ld.light_set = set;
+        ld.lights_mode = LUMIS_LIGHTS_MODE_COUNT;
+        REFUSED(lumis_render(scene, &ld, &img, NULL), img);
+        ld.lights_mode = LUMIS_LIGHTS_STRATIFIED;
+        ld.regions = rs; /* 2 regions for a set of 4 lights */
+        REFUSED(lumis_render(scene, &ld, &img, NULL), img);
+        ld.regions = NULL;
+        assert_int_equal(lumis_render(scene, &ld, &img, NULL), LUMIS_OK);
+        lumis_image_destroy(img);
+        img = NULL;
+        lumis_session_desc sd = {0};
+        sd.render = d;
+        sd.lights = "median-cut";
+        sd.lights_mode = (lumis_lights_mode)9;
+        REFUSED(lumis_render_session(scene, &sd, &img, NULL), img);
+        lumis_region_sampler_destroy(rs);
+        lumis_light_set_destroy(set);
+        lumis_light_set_destroy(other);
+    }
     cam.up = (lumis_vec3){0, 1, 0};
     cam.width = 70000;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);

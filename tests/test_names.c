@@ -48,6 +48,8 @@ static void every_enumeration_round_trips(void **state)
                lumis_visibility_from_name);
     ROUND_TRIP(lumis_sequence, 0, LUMIS_SEQUENCE_COUNT, lumis_sequence_name,
                lumis_sequence_from_name);
+    ROUND_TRIP(lumis_lights_mode, 0, LUMIS_LIGHTS_MODE_COUNT, lumis_lights_mode_name,
+               lumis_lights_mode_from_name);
     /* 0 is "default", an alias of inversion-guided */
     ROUND_TRIP(lumis_sampler_method, 1, LUMIS_METHOD_COUNT, lumis_sampler_method_name,
                lumis_sampler_method_from_name);

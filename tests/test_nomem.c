@@ -460,6 +460,10 @@ static lumis_status op_render(void *ctx)
         d.luminaires = &lit;
     }
     if (kind == 3) d.max_bounces = 2;
+    if (kind == 4) { /* the set's regions as strata, made by the render */
+        d.light_set = in.set;
+        d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
+    }
     lumis_image *img = NULL;
     lumis_status st = lumis_render(in.scene, &d, &img, NULL);
     digest = st == LUMIS_OK ? image_digest(img) : 0;
@@ -477,8 +481,9 @@ static lumis_status op_session(void *ctx)
     s.render.sampler = in.sampler;
     s.render.spp = 2;
     s.render.threads = 1;
-    s.lights = kind == 1 ? "median-cut" : kind == 2 ? "wu" : NULL;
+    s.lights = kind == 1 ? "median-cut" : kind >= 2 ? "wu" : NULL;
     s.lights_k = kind ? 8 : 0;
+    if (kind == 3) s.lights_mode = LUMIS_LIGHTS_STRATIFIED; /* with its two layers */
     lumis_image *img = NULL;
     lumis_session_result r;
     lumis_status st = lumis_render_session(in.scene, &s, &img, &r);
@@ -563,11 +568,35 @@ static void every_sampler(void **state)
     }
 }
 
+static lumis_status op_regions(void *ctx)
+{
+    (void)ctx;
+    lumis_region_sampler *rs = NULL;
+    lumis_status st = lumis_region_sampler_create(in.env, in.set, NULL, &rs);
+    if (st == LUMIS_OK) {
+        const lumis_env_sample e = lumis_region_sampler_sample(rs, 0, 0.3, 0.6);
+        digest = (double)e.pdf + (double)lumis_region_sampler_bytes(rs);
+    }
+    lumis_region_sampler_destroy(rs);
+    return st;
+}
+
+static lumis_status op_irradiance(void *ctx)
+{
+    (void)ctx;
+    double se = 0.0, me = 0.0;
+    lumis_status st = lumis_light_set_irradiance(in.env, in.set, (lumis_vec3){0, 1, 0}, &se, &me);
+    digest = se + me;
+    return st;
+}
+
 static void every_light_set_method(void **state)
 {
     (void)state;
     static const char *const names[] = {"median cut", "variance min", "Wu", "FHIS", "TMMS"};
     for (int m = 0; m < 5; m++) each_allocation_fails(names[m], op_lights, &m);
+    each_allocation_fails("region samplers", op_regions, NULL);
+    each_allocation_fails("light set irradiance", op_irradiance, NULL);
 }
 
 static void every_image_format(void **state)
@@ -621,12 +650,14 @@ static void renders_of_every_light_kind(void **state)
     (void)state;
     each_allocation_fails("scene create", op_scene_create, NULL);
     static const char *const names[] = {"render environment MIS", "render light set",
-                                        "render luminaire", "render path tracing"};
-    for (int k = 0; k < 4; k++) each_allocation_fails(names[k], op_render, &k);
+                                        "render luminaire", "render path tracing",
+                                        "render stratified light set"};
+    for (int k = 0; k < 5; k++) each_allocation_fails(names[k], op_render, &k);
     each_allocation_fails("G-buffers + upsampling", op_upsample, NULL);
     static const char *const sessions[] = {"session: the map's sampler", "session: median cut",
-                                           "session: Wu, upsampled"};
-    for (int k = 0; k < 3; k++) each_allocation_fails(sessions[k], op_session, &k);
+                                           "session: Wu, upsampled",
+                                           "session: Wu, stratified and upsampled"};
+    for (int k = 0; k < 4; k++) each_allocation_fails(sessions[k], op_session, &k);
 }
 
 static void map_specs_and_metrics(void **state)
