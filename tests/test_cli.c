@@ -759,8 +759,7 @@ static void render_with_stratified_light_sets(void **state)
         " \"budgets\": [{\"spp\": 1}],\n"
         " \"reference\": {\"spp\": 8, \"method\": \"median-cut\", \"k\": 4}}\n";
     tu_write_file(tu_path("mode-suite.json"), suite, sizeof suite - 1);
-    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite.json"),
-             tu_path("mode-out"));
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite.json"), tu_path("mode-out"));
     expect(a, 1, "a light set is a reference only in");
     static const char suite2[] =
         "{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"

@@ -139,6 +139,21 @@ typedef struct summary {
     int n;
 } summary;
 
+/* The convergence analysis at equal time (with two or more {"time": S} budgets; spp budgets
+ * take no part): per method and time budget the geometric mean of relMSE over the (map,
+ * scene) pairs with a result (relMSE finite and > 0), and the least-squares slope of its log
+ * against log(seconds), over all pairs and per scene. */
+typedef struct bench_convergence {
+    int nt;           /* time budgets; 0: no analysis (fewer than two) */
+    int *budget;      /* [nt]: their indices in the suite, by increasing seconds */
+    double *seconds;  /* [nt] */
+    double *geomean;  /* [method * nt + k]; NAN where no pair has a result */
+    int *pairs;       /* [method * nt + k]: the pairs counted */
+    double *slope;    /* [method]; NAN with fewer than two budgets that have a geomean */
+    double *sc_geo;   /* [(scene * nmethods + method) * nt + k]: over that scene's maps */
+    double *sc_slope; /* [scene * nmethods + method] */
+} bench_convergence;
+
 /* Everything the report's writers share. */
 typedef struct bench_report {
     const suite *s;
@@ -147,6 +162,7 @@ typedef struct bench_report {
     summary *sum; /* per budget, then method */
     int n, found; /* items, items with a current result */
     char machine[400], cmd[4096], date[64];
+    bench_convergence conv; /* set by bench_report_load */
 } bench_report;
 
 /* Loads the results DIR holds and summarises them; prints errors itself.  Exit code; on
@@ -179,6 +195,28 @@ int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
 
+/* The least-squares slope of y against x over the n points where both are finite; NAN
+ * when fewer than two such points have distinct x. */
+double bench_loglog_slope(const double *x, const double *y, int n);
+/* Where curve a crosses curve b, both sampled at the n increasing times t (NAN: no value):
+ * between consecutive times that have both values and where the sign of log(a / b)
+ * changes, by linear interpolation of log(a / b) against log(t) (through times where
+ * a == b: at them, the geometric middle of several; touching without a change of sign is no
+ * crossing).  Writes up to cap crossing times to at[] and, for each, after[]: 1 when a is
+ * below b after it, 0 when above.  Returns the number of crossings; with none, *order says
+ * -1 (a below b, or equal, at every time that has both), 1 (above), 2 (equal at every
+ * one), 0 (no time has both). */
+int bench_crossings(const double *t, const double *a, const double *b, int n, double *at,
+                    int *after, int cap, int *order);
+/* Computes r->conv from r->res (bench_report_load calls it); frees with the report. */
+int bench_convergence_compute(bench_report *r);
+/* The section "Convergence (equal time)": slopes, geometric means, and per compare pair the
+ * ratio per budget and the crossing times; with the plot (nothing without the analysis). */
+void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r);
+/* The file name of the plot of all pairs: convergence-all.svg, unless a scene is labelled
+ * "all" (its own plot has that name): convergence-all-scenes.svg. */
+const char *bench_convergence_svg_name(const suite *s);
+
 /* A metric as the tables show it ("–" for none, "∞"). */
 void bench_fmt_metric(char *buf, size_t cap, double v, int metric);
 /* Writes a text built in a FILE* (tmpfile) atomically to path, and closes f. */
@@ -188,6 +226,10 @@ int bench_commit_tmp(FILE *f, const char *path);
 
 /* The convergence plot of scene sc (no file, and no stale one, when nothing is plotted). */
 int bench_write_svg(const char *path, const suite *s, const result *res, int sc);
+/* DIR/<bench_convergence_svg_name>: the geometric mean of relMSE over all pairs against the
+ * time budget, log-log, one line per method with its slope in the legend (no file, and no
+ * stale one, without the analysis).  bench_write_html writes it. */
+int bench_write_convergence_svg(const bench_report *r);
 int bench_write_html(const bench_report *r, const char *path);
 
 /* ---- merging (bench_merge.c) --------------------------------------------------------------- */
