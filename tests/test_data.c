@@ -154,7 +154,8 @@ static void min_share_feeds_the_envindirects_of_a_hall(void **state)
         for (int share = 0; share < 2; share++) {
             lumis_light_params p;
             memset(&p, 0, sizeof p);
-            if (share) assert_int_equal(lumis_light_params_parse(&p, "min-share=1", NULL), LUMIS_OK);
+            if (share)
+                assert_int_equal(lumis_light_params_parse(&p, "min-share=1", NULL), LUMIS_OK);
             lumis_light_set *set = NULL;
             assert_int_equal(lumis_lights_by_name(env, "wu", 64, 1, &p, NULL, &set), LUMIS_OK);
             const lumis_light_set_info *info = lumis_light_set_get_info(set);

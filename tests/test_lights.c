@@ -1236,6 +1236,52 @@ static void eq2_budget_from_the_pixels(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* min_share: each class gets at least ceil(q K P_class / P) lights, clamped before Eq. 2's
+ * own clamps; q = 1 is the split by power.  On the sky (a sun and a dome), every q from 0.25
+ * to 1 gives the budget that formula predicts from the pixels. */
+static void min_share_floors_each_class_by_power(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(128, 64, sky_pixel, 0.0f, 0.0f);
+    long double e[2] = {0, 0};
+    double base_n = 0.0;
+    for (int v = 0; v < 5; v++) {
+        static const float q[5] = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f};
+        lumis_decomp_desc d = {0};
+        d.count = 48;
+        d.sets = 1;
+        d.seed = 1;
+        d.min_share = q[v];
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        const lumis_light_set_info *info = lumis_light_set_get_info(set);
+        if (v == 0) {
+            for (int j = 0; j < 64; j++)
+                for (int i = 0; i < 128; i++) {
+                    const double y = pixel_y(env, i, j),
+                                 om = lumis_envmap_pixel_solid_angle(env, j);
+                    e[y > info->threshold] += (long double)y * om;
+                }
+            base_n = info->budget;
+        } else {
+            const double p_em = (double)(e[1] / (e[0] + e[1]));
+            long long lo = (long long)ceil(q[v] * 48 * p_em - 1e-9),
+                      hi = 48 - (long long)ceil(q[v] * 48 * (1 - p_em) - 1e-9);
+            long long N = (long long)base_n;
+            N = N < lo ? lo : (N > hi ? hi : N);
+            N = N < 1 ? 1 : (N > 47 ? 47 : N);
+            N = N > info->emissive_pixels ? info->emissive_pixels : N;
+            if (info->budget != (int)N)
+                fail_msg("min_share %g: budget %d, want %lld (Eq. 2 alone %g, P_em/P %.4f)", q[v],
+                         info->budget, N, base_n, p_em);
+        }
+        lumis_light_set_destroy(set);
+    }
+    /* the sky's sun holds most of its power, Eq. 2 gives it few lights: q = 1 must move it */
+    assert_true((double)(e[1] / (e[0] + e[1])) * 48 > base_n + 2);
+    lumis_envmap_destroy(env);
+}
+
 /* The light tree splits a node across its longer side (in radians), at the middle: the
  * whole 256 x 128 map (2 pi wide, pi high) splits into its left and right halves, each of
  * those (pi by pi at the equator) again across x. */
@@ -1710,6 +1756,7 @@ int main(void)
         cmocka_unit_test(eq3_terms_each_steer_the_cut),
         cmocka_unit_test(envdirect_seeds_follow_energy),
         cmocka_unit_test(eq2_budget_from_the_pixels),
+        cmocka_unit_test(min_share_floors_each_class_by_power),
         cmocka_unit_test(the_cut_splits_the_longer_side_in_the_middle),
         cmocka_unit_test(eq3_is_invariant_to_the_maps_scale),
         cmocka_unit_test(envdirect_seeds_weigh_solid_angle),

@@ -302,8 +302,8 @@ typedef struct lumis_session_result {
     /* With lights, time_budget and no K: the pilots that chose K. */
     double pilot_seconds, pilot_per_spp[2], pilot_once[2];
     int pilot_k[2], pilot_chosen;
-    int retried; /* the pilots misjudged the time: rendered again with K scaled, once */
-    double regions_build_ms;    /* the stratified mode's region samplers (in prep_seconds) */
+    int retried;             /* the pilots misjudged the time: rendered again with K scaled, once */
+    double regions_build_ms; /* the stratified mode's region samplers (in prep_seconds) */
     size_t regions_bytes;
     lumis_light_set *light_set; /* the set that lit the image (NULL: none): the caller
                                    destroys it (lumis_light_set_destroy) */

@@ -296,8 +296,8 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
     }
 }
 
-lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region,
-                                             double u1, double u2)
+lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region, double u1,
+                                             double u2)
 {
     const double u[2] = {u1, u2};
     lumis_env_sample r;

@@ -227,9 +227,9 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method",       "label",    "mis",    "blocks",
-                                          "light_samples", "bsdf_samples", "k",   "interleave",
-                                          "upsample",      "params",   "mode",   NULL},
+static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
+                                          "light_samples", "bsdf_samples", "k",    "interleave",
+                                          "upsample",      "params",       "mode", NULL},
                          *reference_keys[] = {"method",        "label",        "mis", "blocks",
                                               "light_samples", "bsdf_samples", "spp", "k",
                                               "params",        "mode",         NULL};

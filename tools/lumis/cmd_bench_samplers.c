@@ -194,7 +194,8 @@ static double strata_rel_stderr_64(const lumis_region_sampler *rs, const quad *q
             if (c <= 0.0) continue;
             double fw = q->yw[p] * c;
             E[(size_t)r * NNORMALS + (size_t)k] += fw;
-            M2[(size_t)r * NNORMALS + (size_t)k] += pdf > 0.0 ? fw * fw / (pdf * q->om[p]) : INFINITY;
+            M2[(size_t)r * NNORMALS + (size_t)k] +=
+                pdf > 0.0 ? fw * fw / (pdf * q->om[p]) : INFINITY;
         }
     }
     double acc = 0.0;
@@ -217,8 +218,8 @@ static double strata_rel_stderr_64(const lumis_region_sampler *rs, const quad *q
 
 /* The region samplers of light-set method `method` with K regions, timed as bench_one
  * times a sampler: draw q goes to region q mod K. */
-static int bench_strata(const lumis_envmap *env, const char *method, int K, int runs,
-                        long nsamples, const double *u, lumis_env_sample *out, const quad *q,
+static int bench_strata(const lumis_envmap *env, const char *method, int K, int runs, long nsamples,
+                        const double *u, lumis_env_sample *out, const quad *q,
                         const lumis_vec3 *normals, result *r)
 {
     double *t = malloc(sizeof(double) * (size_t)runs);
