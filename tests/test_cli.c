@@ -375,6 +375,26 @@ static void bench_samplers_reports_every_method(void **state)
         assert_true(num(o, "samples_per_second") > 0.0);
     }
     cJSON_Delete(arr);
+    /* --strata: the light sets' region samplers beside the map's */
+    assert_int_equal(run("bench-samplers studio:64x32 --json --samples 2000 --runs 1 --methods "
+                         "inversion --strata median-cut,wu --strata-k 6",
+                         &out, NULL),
+                     0);
+    arr = cJSON_Parse(out);
+    free(out);
+    assert_int_equal(cJSON_GetArraySize(arr), 3);
+    const cJSON *st = cJSON_GetArrayItem(arr, 0);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(st, "method")->valuestring,
+                        "strata:median-cut");
+    assert_true(num(st, "regions") == 6 && num(st, "bytes") > 0 &&
+                num(st, "batch_samples_per_second") > 0);
+    /* one draw in each of 6 equal-power strata: below importance sampling's error */
+    const double rse_strata = num(st, "rel_stderr_64"),
+                 rse_inv = num(cJSON_GetArrayItem(arr, 2), "rel_stderr_64");
+    if (!(rse_strata > 0.0 && rse_strata < rse_inv))
+        fail_msg("rse@64: strata %g, inversion %g", rse_strata, rse_inv);
+    cJSON_Delete(arr);
+    expect("bench-samplers sky:16x8 --strata cut", 2, "unknown light-set method");
 }
 
 static void render_writes_the_same_image_on_any_thread_count(void **state)
