@@ -148,7 +148,8 @@ typedef struct lumis_decomp_desc {
     /* Eq. 2 can starve a class: on an interior map it leaves a few EnvIndirects for all the
      * room.  min_share in (0, 1] makes each class (emissive, non-emissive) get at least
      * ceil(min_share K P_class / P) of the K lights, P_class its share of the power
-     * sum(Y Omega); 1 splits K in proportion to power.  0 == Eq. 2 alone (the paper). */
+     * sum(Y Omega); 1 splits K in proportion to power (when rounding up makes the two
+     * floors exceed K, the non-emissive class's wins).  0 == Eq. 2 alone (the paper). */
     float min_share;
 
     /* EnvDirects. */
