@@ -1535,7 +1535,7 @@ static void bench_runs_light_sets(void **state)
          "only Wu's decomposition"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"wu\", \"mis\": \"power\"}], \"budgets\": [{\"spp\": 1}]}",
-         "not mis, blocks or sample counts"},
+         "(and mis in stratified mode), not blocks"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"alias\", \"k\": 8}], \"budgets\": [{\"spp\": 1}]}",
          "belong to light sets"},
