@@ -27,7 +27,7 @@ vg() { # NAME ARGS...: one run under memcheck
     fi
 }
 R=(--size 12x9 --spp 1 --threads 2 --quiet --no-sidecar)
-echo "memcheck: renders (environment map with MIS, every light set, Wu with upsampling)"
+echo "memcheck: renders (environment map with MIS, every light set, Wu with upsampling, strata)"
 vg env-mis render --scene spheres --env sky:64x32 "${R[@]}" -o "$tmp/a.exr"
 vg env-mis-power render --scene bunny-plane --env sky:64x32 --mis power "${R[@]}" -o "$tmp/a.exr"
 for m in median-cut variance-min fhis tmms; do
@@ -36,6 +36,11 @@ for m in median-cut variance-min fhis tmms; do
 done
 vg lights-wu-upsample render --scene wu-diffuse --env sky:128x64 --lights wu --lights-k 24 \
     --upsample 2 "${R[@]}" -o "$tmp/a.exr"
+# the stratified mode: region samplers, batched draws, MIS per region, Wu's two layers
+vg lights-stratified render --scene bunny-plane --env sky:64x32 --lights median-cut \
+    --lights-mode stratified --lights-k 12 "${R[@]}" -o "$tmp/a.exr"
+vg lights-wu-stratified render --scene wu-glossy --env sky:128x64 --lights wu \
+    --lights-mode stratified --lights-k 24 --upsample 2 "${R[@]}" -o "$tmp/a.exr"
 echo "memcheck: the headlight luminaire, each visibility (a small luminaire made natively)"
 "$L" luminaire create "$tmp/lum.json" --preset small >/dev/null
 for v in exact approx shadowmap none; do
