@@ -753,11 +753,12 @@ static void render_with_stratified_light_sets(void **state)
     /* path tracing with strata at every vertex, and --time with passes */
     snprintf(a, sizeof a,
              "render --scene bunny-plane --env sky:64x32 --lights wu --lights-mode stratified "
-             "--upsample 1 --bounces 1 --time 0.2 --size 16x12 -o '%s'",
+             "--bounces 1 --time 0.2 --size 16x12 -o '%s'",
              tu_path("st.exr"));
     expect(a, 0, "path traced");
     cJSON *j = read_json("st.json");
     assert_true(num(j, "spp") >= 1 && num(item(j, "lights"), "count") == 32);
+    assert_true(num(item(j, "lights"), "upsample") == 1); /* strata: no filter by default */
     cJSON_Delete(j);
     expect("render --scene spheres --lights-mode stratified -o x.exr", 2,
            "--lights-mode needs --lights");

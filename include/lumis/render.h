@@ -281,7 +281,8 @@ typedef struct lumis_session_desc {
                                                 else 64; the stratified mode 32 */
     int interleave;                          /* interleaved sets; 0: the method's default */
     const lumis_light_params *lights_params; /* NULL: the method's defaults */
-    int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2, 1 == none */
+    int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2 (point mode)
+                           or 1 (stratified: upsampling is a bias), 1 == none */
     double time_budget; /* > 0: seconds of wall time; 0: render.spp samples (0 == 16).
                            Stratified light sets fill it with passes at a fixed K. */
     double spent;       /* seconds of the budget already spent (a sampler's build) */

@@ -251,7 +251,9 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "session: unknown lights mode %d",
                            (int)s->lights_mode);
     const int stratified = s->lights && s->lights_mode == LUMIS_LIGHTS_STRATIFIED;
-    const int factor = wu ? (s->upsample ? s->upsample : 2) : 1;
+    /* the joint-bilateral filter is a bias: strata, which converge, go without it unless
+     * asked */
+    const int factor = wu ? (s->upsample ? s->upsample : stratified ? 1 : 2) : 1;
     /* Point lights spend the time on K; strata spend it on passes at a fixed K (their
      * error keeps falling, so K is set for the budget's first passes, not its end). */
     const int k_fills_time = s->lights && !stratified && s->time_budget > 0.0 && !s->lights_k;
