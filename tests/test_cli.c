@@ -491,6 +491,20 @@ static const cJSON *item(const cJSON *o, const char *key)
     return v;
 }
 
+/* relMSE of the test folder's image `test` against its `ref`, by lumis compare. */
+static double relmse_between(const char *ref, const char *test)
+{
+    char a[2048], *text = NULL;
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path(ref), tu_path(test));
+    assert_int_equal(run(a, &text, NULL), 0);
+    cJSON *cmp = cJSON_Parse(text);
+    assert_non_null(cmp);
+    const double v = num(cmp, "relmse");
+    cJSON_Delete(cmp);
+    free(text);
+    return v;
+}
+
 /* The sidecar describes the run; --time renders progressive passes; the built-in
  * bunny-plane needs no files; path tracing is labelled; instances in scene files. */
 static void render_sidecar_time_budget_and_scenes(void **state)
@@ -733,14 +747,7 @@ static void render_with_stratified_light_sets(void **state)
                  "%s --size 32x24 -o '%s'",
                  modes[m], m == 0 ? "--spp 64" : "", tu_path("st.exr"));
         expect(a, 0, m ? "as strata" : "light set");
-        snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("st-ref.exr"),
-                 tu_path("st.exr"));
-        char *text = NULL;
-        assert_int_equal(run(a, &text, NULL), 0);
-        cJSON *cmp = cJSON_Parse(text);
-        relmse[m] = num(cmp, "relmse");
-        cJSON_Delete(cmp);
-        free(text);
+        relmse[m] = relmse_between("st-ref.exr", "st.exr");
         cJSON *j = read_json("st.json");
         assert_string_equal(item(item(j, "lights"), "mode")->valuestring,
                             m ? "stratified" : "point");
@@ -774,22 +781,19 @@ static void render_with_stratified_light_sets(void **state)
            "-o x.exr",
            2, "do not apply");
     /* a bench suite takes the mode, and refuses point lights as a reference */
-    static const char suite[] =
-        "{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
-        " \"methods\": [{\"method\": \"median-cut\", \"mode\": \"stratified\", \"k\": 4}],\n"
-        " \"budgets\": [{\"spp\": 1}],\n"
-        " \"reference\": {\"spp\": 8, \"method\": \"median-cut\", \"k\": 4}}\n";
-    tu_write_file(tu_path("mode-suite.json"), suite, sizeof suite - 1);
-    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite.json"), tu_path("mode-out"));
-    expect(a, 1, "a light set is a reference only in");
-    static const char suite2[] =
-        "{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
-        " \"methods\": [{\"method\": \"inversion\", \"mode\": \"stratified\"}],\n"
-        " \"budgets\": [{\"spp\": 1}]}\n";
-    tu_write_file(tu_path("mode-suite2.json"), suite2, sizeof suite2 - 1);
-    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("mode-suite2.json"),
-             tu_path("mode-out"));
-    expect(a, 1, "mode belong to light sets");
+    static const bad_file suites[] = {
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"median-cut\", \"mode\": \"stratified\", \"k\": 4}],\n"
+         " \"budgets\": [{\"spp\": 1}],\n"
+         " \"reference\": {\"spp\": 8, \"method\": \"median-cut\", \"k\": 4}}\n",
+         "a light set is a reference only in"},
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"inversion\", \"mode\": \"stratified\"}],\n"
+         " \"budgets\": [{\"spp\": 1}]}\n",
+         "mode belong to light sets"},
+    };
+    snprintf(a, sizeof a, "--out '%s'", tu_path("mode-out"));
+    expect_bad_files("bench", "mode-suite.json", a, suites, 2);
 }
 
 static void render_with_light_sets(void **state)
@@ -827,15 +831,7 @@ static void render_with_light_sets(void **state)
                  "--size 64x48 -o '%s'",
                  f, tu_path(out));
         expect(a, 0, "light set wu");
-        snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("wu-ref.exr"),
-                 tu_path(out));
-        char *text = NULL;
-        assert_int_equal(run(a, &text, NULL), 0);
-        cJSON *cmp = cJSON_Parse(text);
-        assert_non_null(cmp);
-        relmse[f] = num(cmp, "relmse");
-        cJSON_Delete(cmp);
-        free(text);
+        relmse[f] = relmse_between("wu-ref.exr", out);
         snprintf(out, sizeof out, "wu%d.json", f);
         cJSON *j = read_json(out);
         assert_true(num(item(j, "lights"), "upsample") == f);

@@ -29,10 +29,9 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
         v3 Ld = kind->shade(c, &hh, dir, v);
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
         if (depth >= d->max_bounces) break;
-        v3 t, b, n = hh.n;
-        basis(n, &t, &b);
-        v3 wow = mul(dir, -1.0);
-        lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+        const shading_frame fr = shading_frame_at(&hh, dir);
+        const v3 t = fr.t, b = fr.b, n = fr.n;
+        const lumis_vec3 wo = fr.wo;
         double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
                u2 = lumis_pcg32_double(rng);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u0, u1, u2);
@@ -40,9 +39,8 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
         beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);
         if (beta.x == 0.0 && beta.y == 0.0 && beta.z == 0.0) break;
         dir = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
-        v3 org = add(hh.p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(hh.p, hh.p)))));
         *bounce += 1.0;
-        if (!intersect(c->scene, org, dir, &hh)) break;
+        if (!intersect(c->scene, fr.org, dir, &hh)) break;
     }
     return L;
 }

@@ -23,13 +23,11 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const env_state *st = c->state;
     lumis_pcg32 *rng = v->rng;
     double *shadow_rays = v->shadow_rays;
-    v3 t, b, n = h->n, L = mk(0, 0, 0);
-    basis(n, &t, &b);
-    v3 wow = mul(dir, -1.0);
-    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const shading_frame fr = shading_frame_at(h, dir);
+    const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
+    const lumis_vec3 wo = fr.wo;
+    v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    double scale = 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)));
-    v3 org = add(h->p, mul(n, scale));
     int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
         use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT;
     int mis = d->estimator == LUMIS_ESTIMATOR_MIS;

@@ -232,12 +232,10 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     lumis_pcg32 *rng = v->rng;
     lum_scratch *sc = v->scratch;
     double *shadow_rays = v->shadow_rays;
-    v3 t, b, n = h->n;
-    basis(n, &t, &b);
-    v3 wow = mul(dir, -1.0);
-    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const shading_frame fr = shading_frame_at(h, dir);
+    const v3 t = fr.t, b = fr.b, n = fr.n, o = fr.org;
+    const lumis_vec3 wo = fr.wo;
     const lumis_bsdf *mat = &h->prim->material;
-    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
     v3 L = mk(0, 0, 0);
     for (int i = 0; i < ll->count; i++) {
         const lum_inst *li = &st->lum[i];

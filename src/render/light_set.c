@@ -82,16 +82,14 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const set_state *st = c->state;
     const light_soa *ls = &st->soa[lumis_light_set_interleave_index(st->sets, v->px, v->py)];
     double *shadow_rays = v->shadow_rays;
-    v3 t, b, n = h->n;
-    basis(n, &t, &b);
-    v3 wow = mul(dir, -1.0);
-    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const shading_frame sf = shading_frame_at(h, dir);
+    const v3 t = sf.t, b = sf.b, n = sf.n, o = sf.org;
+    const lumis_vec3 wo = sf.wo;
     const lumis_bsdf *m = &h->prim->material;
     const int lambert = m->type == LUMIS_BSDF_LAMBERT;
     const float kr = m->diffuse.r * (float)(1.0 / LUMIS_PI),
                 kg = m->diffuse.g * (float)(1.0 / LUMIS_PI),
                 kb = m->diffuse.b * (float)(1.0 / LUMIS_PI);
-    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
     v3 L = mk(0, 0, 0);
     packet p;
@@ -144,12 +142,11 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     const lumis_render_desc *d = c->d;
     const set_state *st = c->state;
     lumis_pcg32 *rng = v->rng;
-    v3 t, b, n = h->n, L = mk(0, 0, 0);
-    basis(n, &t, &b);
-    v3 wow = mul(dir, -1.0);
-    lumis_vec3 wo = tof(mk(dot(wow, t), dot(wow, b), dot(wow, n)));
+    const shading_frame fr = shading_frame_at(h, dir);
+    const v3 t = fr.t, b = fr.b, n = fr.n, o = fr.org;
+    const lumis_vec3 wo = fr.wo;
+    v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    const v3 o = add(h->p, mul(n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
     const int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
               use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT,
               mis = d->estimator == LUMIS_ESTIMATOR_MIS;

@@ -15,6 +15,7 @@
 #include "scene.h"
 #include "vec.h"
 
+#include <math.h>
 #include <stdint.h>
 
 static inline double mis_weight(double nf, double pf, double ng, double pg, int power)
@@ -25,6 +26,26 @@ static inline double mis_weight(double nf, double pf, double ng, double pg, int 
         b *= b;
     }
     return a + b > 0.0 ? a / (a + b) : 0.0;
+}
+
+/* The frame a point is shaded in: its normal n and tangents t, b, the direction towards
+ * the eye in that frame (what the BSDFs take), the world direction of the frame's local
+ * direction (x, y, z) is x t + y b + z n, and the origin of its shadow and continuation
+ * rays, lifted off the surface in proportion to the point's distance from the origin. */
+typedef struct shading_frame {
+    v3 n, t, b, org;
+    lumis_vec3 wo;
+} shading_frame;
+
+static inline shading_frame shading_frame_at(const hit *h, v3 dir)
+{
+    shading_frame f;
+    f.n = h->n;
+    basis(f.n, &f.t, &f.b);
+    const v3 wow = mul(dir, -1.0);
+    f.wo = tof(mk(dot(wow, f.t), dot(wow, f.b), dot(wow, f.n)));
+    f.org = add(h->p, mul(f.n, 1e-4 * fmax(1.0, sqrt(dot(h->p, h->p)))));
+    return f;
 }
 
 /* What a shading point is lit in: the scene, the render's settings and the light kind's

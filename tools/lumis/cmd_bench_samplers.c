@@ -271,6 +271,41 @@ done:
     return rc;
 }
 
+/* One row: a JSON object added to arr, or (arr NULL) a line of the table.  count_key names
+ * the result's blocks (the kd-tree's) or regions (the strata's); a method without tables
+ * (uniform) has no compression to speak of. */
+static void report_row(cJSON *arr, const char *map, const char *name, const char *variant,
+                       const result *r, size_t inv_bytes, const char *count_key)
+{
+    const double comp = r->bytes ? (double)inv_bytes / (double)r->bytes : 0.0;
+    if (arr) {
+        cJSON *o = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "map", map);
+        cJSON_AddStringToObject(o, "method", name);
+        cJSON_AddStringToObject(o, "variant", variant);
+        cJSON_AddNumberToObject(o, "build_ms", r->build_ms);
+        cJSON_AddNumberToObject(o, "bytes", (double)r->bytes);
+        cJSON_AddNumberToObject(o, "total_bytes", (double)r->total_bytes);
+        if (r->bytes)
+            cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
+        else
+            cJSON_AddNullToObject(o, "compression_vs_inversion");
+        cJSON_AddNumberToObject(o, "samples_per_second", r->sps);
+        cJSON_AddNumberToObject(o, "batch_samples_per_second", r->batch_sps);
+        cJSON_AddNumberToObject(o, "rel_stderr_64", r->rse);
+        cJSON_AddNumberToObject(o, count_key, r->blocks);
+        if (strcmp(count_key, "blocks") == 0) cJSON_AddNumberToObject(o, "alpha", r->alpha);
+        cJSON_AddItemToArray(arr, o);
+        return;
+    }
+    char label[96], comp_text[32];
+    snprintf(label, sizeof label, "%s%s", name, *variant ? " (angles)" : "");
+    snprintf(comp_text, sizeof comp_text, r->bytes ? "%.1f" : "-", comp);
+    printf("%-22s %-17s %9.2f %11zu %8s %12.4g %12.4g %9.4f\n", map, label, r->build_ms, r->bytes,
+           comp_text, r->sps, r->batch_sps, r->rse);
+    fflush(stdout);
+}
+
 int cmd_bench_samplers(int argc, char **argv)
 {
     const char *maps[64], *v;
@@ -374,26 +409,7 @@ int cmd_bench_samplers(int argc, char **argv)
             if (rc != EXIT_OK) break;
             char name[64];
             snprintf(name, sizeof name, "strata:%s", strata[k]);
-            const double comp = (double)inv_bytes / (double)r.bytes;
-            if (json) {
-                cJSON *o = cJSON_CreateObject();
-                cJSON_AddStringToObject(o, "map", maps[mi]);
-                cJSON_AddStringToObject(o, "method", name);
-                cJSON_AddStringToObject(o, "variant", "");
-                cJSON_AddNumberToObject(o, "build_ms", r.build_ms);
-                cJSON_AddNumberToObject(o, "bytes", (double)r.bytes);
-                cJSON_AddNumberToObject(o, "total_bytes", (double)r.total_bytes);
-                cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
-                cJSON_AddNumberToObject(o, "samples_per_second", r.sps);
-                cJSON_AddNumberToObject(o, "batch_samples_per_second", r.batch_sps);
-                cJSON_AddNumberToObject(o, "rel_stderr_64", r.rse);
-                cJSON_AddNumberToObject(o, "regions", r.blocks);
-                cJSON_AddItemToArray(arr, o);
-            } else {
-                printf("%-22s %-17s %9.2f %11zu %8.1f %12.4g %12.4g %9.4f\n", maps[mi], name,
-                       r.build_ms, r.bytes, comp, r.sps, r.batch_sps, r.rse);
-                fflush(stdout);
-            }
+            report_row(arr, maps[mi], name, "", &r, inv_bytes, "regions");
         }
         /* Every method, and after kdtree its literal variant (uniform in angles). */
         for (int k = 0, variant = 0; k < nmethods && rc == EXIT_OK; k += variant ? 0 : 1) {
@@ -404,36 +420,8 @@ int cmd_bench_samplers(int argc, char **argv)
             result r;
             rc = bench_one(env, d, runs, nsamples, u, out, &q, normals, &r);
             if (rc != EXIT_OK) break;
-            /* A method without tables (uniform) has no compression to speak of. */
-            double comp = r.bytes ? (double)inv_bytes / (double)r.bytes : 0.0;
-            const char *name = lumis_sampler_method_name(methods[k]);
-            if (json) {
-                cJSON *o = cJSON_CreateObject();
-                cJSON_AddStringToObject(o, "map", maps[mi]);
-                cJSON_AddStringToObject(o, "method", name);
-                cJSON_AddStringToObject(o, "variant", variant ? "uniform-angles" : "");
-                cJSON_AddNumberToObject(o, "build_ms", r.build_ms);
-                cJSON_AddNumberToObject(o, "bytes", (double)r.bytes);
-                cJSON_AddNumberToObject(o, "total_bytes", (double)r.total_bytes);
-                if (r.bytes)
-                    cJSON_AddNumberToObject(o, "compression_vs_inversion", comp);
-                else
-                    cJSON_AddNullToObject(o, "compression_vs_inversion");
-                cJSON_AddNumberToObject(o, "samples_per_second", r.sps);
-                cJSON_AddNumberToObject(o, "batch_samples_per_second", r.batch_sps);
-                cJSON_AddNumberToObject(o, "rel_stderr_64", r.rse);
-                cJSON_AddNumberToObject(o, "blocks", r.blocks);
-                cJSON_AddNumberToObject(o, "alpha", r.alpha);
-                cJSON_AddItemToArray(arr, o);
-            } else {
-                char label[64];
-                snprintf(label, sizeof label, "%s%s", name, variant ? " (angles)" : "");
-                char comp_text[32];
-                snprintf(comp_text, sizeof comp_text, r.bytes ? "%.1f" : "-", comp);
-                printf("%-22s %-17s %9.2f %11zu %8s %12.4g %12.4g %9.4f\n", maps[mi], label,
-                       r.build_ms, r.bytes, comp_text, r.sps, r.batch_sps, r.rse);
-                fflush(stdout);
-            }
+            report_row(arr, maps[mi], lumis_sampler_method_name(methods[k]),
+                       variant ? "uniform-angles" : "", &r, inv_bytes, "blocks");
             variant = methods[k] == LUMIS_METHOD_KDTREE && !variant;
         }
         quad_free(&q);
