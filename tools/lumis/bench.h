@@ -195,6 +195,19 @@ int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
 
+/* The tables' markup (bench_tables.c), Markdown or HTML: a heading, a paragraph, a table's
+ * start and end, one row of n cells (a rule under the header in Markdown; the cells are
+ * labels and numbers: nothing in them needs escaping). */
+void bench_heading(FILE *f, bench_markup mk, const char *text);
+void bench_paragraph(FILE *f, bench_markup mk, const char *text);
+void bench_table_begin(FILE *f, bench_markup mk);
+void bench_table_row(FILE *f, bench_markup mk, int header, int n, char cells[][4200]);
+void bench_table_end(FILE *f, bench_markup mk);
+/* The index of the method labelled `label`, -1 for none. */
+int bench_method_index(const suite *s, const char *label);
+
+/* ---- the convergence analysis (bench_convergence.c) --------------------------------------- */
+
 /* The least-squares slope of y against x over the n points where both are finite; NAN
  * when fewer than two such points have distinct x. */
 double bench_loglog_slope(const double *x, const double *y, int n);
@@ -210,6 +223,9 @@ int bench_crossings(const double *t, const double *a, const double *b, int n, do
                     int *after, int cap, int *order);
 /* Computes r->conv from r->res (bench_report_load calls it); frees with the report. */
 int bench_convergence_compute(bench_report *r);
+void bench_convergence_free(bench_convergence *c);
+/* The "convergence" object of results.json (nothing without the analysis). */
+void bench_json_convergence(struct cJSON *j, const bench_report *r);
 /* The section "Convergence (equal time)": slopes, geometric means, and per compare pair the
  * ratio per budget and the crossing times; with the plot (nothing without the analysis). */
 void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r);

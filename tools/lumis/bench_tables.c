@@ -1,6 +1,7 @@
 /* lumis bench: the report's results (every item's result file, summarised per budget and
  * method: means and average ranks) and its tables: results.csv, results.json and
- * results.md (with the pairwise comparisons and the per-map table). */
+ * results.md (with the pairwise comparisons and the per-map table; the convergence
+ * analysis is bench_convergence.c's), and the tables' markup. */
 #include "bench.h"
 
 #include <cJSON.h>
@@ -121,7 +122,7 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
     free(rank_n);
 }
 
-static int method_index(const suite *s, const char *label)
+int bench_method_index(const suite *s, const char *label)
 {
     for (int k = 0; k < s->nmethods; k++)
         if (strcmp(s->methods[k].label, label) == 0) return k;
@@ -146,7 +147,7 @@ static void machine_facts(char *out, size_t cap)
 
 /* One row of a table, in Markdown ("| a | b |", a rule under the header) or HTML.  The
  * cells are labels and numbers: nothing in them needs escaping. */
-static void table_row(FILE *f, bench_markup mk, int header, int n, char cells[][4200])
+void bench_table_row(FILE *f, bench_markup mk, int header, int n, char cells[][4200])
 {
     if (mk == BENCH_HTML) {
         fputs("<tr>", f);
@@ -163,22 +164,22 @@ static void table_row(FILE *f, bench_markup mk, int header, int n, char cells[][
     fputs("\n", f);
 }
 
-static void heading(FILE *f, bench_markup mk, const char *text)
+void bench_heading(FILE *f, bench_markup mk, const char *text)
 {
     fprintf(f, mk == BENCH_HTML ? "<h2>%s</h2>\n" : "\n## %s\n\n", text);
 }
 
-static void table_end(FILE *f, bench_markup mk)
+void bench_table_end(FILE *f, bench_markup mk)
 {
     if (mk == BENCH_HTML) fputs("</table>\n", f);
 }
 
-static void table_begin(FILE *f, bench_markup mk)
+void bench_table_begin(FILE *f, bench_markup mk)
 {
     if (mk == BENCH_HTML) fputs("<table>\n", f);
 }
 
-static void paragraph(FILE *f, bench_markup mk, const char *text)
+void bench_paragraph(FILE *f, bench_markup mk, const char *text)
 {
     fprintf(f, mk == BENCH_HTML ? "<p>%s</p>\n" : "\n%s\n", text);
 }
@@ -187,19 +188,20 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
 {
     char cells[6][4200], text[1024];
     for (int c = 0; c < s->ncompare; c++) {
-        int a = method_index(s, s->compare[c][0]), bm = method_index(s, s->compare[c][1]);
+        int a = bench_method_index(s, s->compare[c][0]),
+            bm = bench_method_index(s, s->compare[c][1]);
         if (a < 0 || bm < 0) continue;
         const char *la = s->methods[a].label, *lb = s->methods[bm].label;
         snprintf(text, sizeof text, "%s against %s", la, lb);
-        heading(f, mk, text);
-        table_begin(f, mk);
+        bench_heading(f, mk, text);
+        bench_table_begin(f, mk);
         snprintf(cells[0], sizeof cells[0], "budget");
         snprintf(cells[1], sizeof cells[1], "pairs");
         snprintf(cells[2], sizeof cells[2], "%s better (relMSE)", la);
         snprintf(cells[3], sizeof cells[3], "relMSE ratio %s/%s (geometric mean)", la, lb);
         snprintf(cells[4], sizeof cells[4], "%s better (FLIP-LDR)", la);
         snprintf(cells[5], sizeof cells[5], "%s loses on (relMSE ratio)", la);
-        table_row(f, mk, 1, 6, cells);
+        bench_table_row(f, mk, 1, 6, cells);
         for (int b = 0; b < s->nbudgets; b++) {
             int pairs = 0, wins = 0, flip_wins = 0, flip_pairs = 0;
             double logsum = 0;
@@ -232,11 +234,11 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
             snprintf(cells[3], sizeof cells[3], "%.3f", exp(logsum / pairs));
             snprintf(cells[4], sizeof cells[4], "%d of %d", flip_wins, flip_pairs);
             snprintf(cells[5], sizeof cells[5], "%s", losses[0] ? losses : "none");
-            table_row(f, mk, 0, 6, cells);
+            bench_table_row(f, mk, 0, 6, cells);
         }
-        table_end(f, mk);
+        bench_table_end(f, mk);
         snprintf(text, sizeof text, "A ratio below 1 means %s has the smaller error.", la);
-        paragraph(f, mk, text);
+        bench_paragraph(f, mk, text);
         /* Memory: the sampling tables, averaged over every item of the two methods. */
         double ta = 0, tb = 0;
         int na = 0, nb = 0;
@@ -253,355 +255,8 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
                      la, ta / na, lb, tb / nb, la,
                      ta / na <= tb / nb ? tb / ta * na / nb : ta / tb * nb / na,
                      ta / na <= tb / nb ? "smaller" : "larger");
-            paragraph(f, mk, text);
+            bench_paragraph(f, mk, text);
         }
-    }
-}
-
-/* ---- the convergence analysis at equal time --------------------------------------------- */
-
-double bench_loglog_slope(const double *x, const double *y, int n)
-{
-    double sx = 0, sy = 0;
-    int m = 0;
-    for (int k = 0; k < n; k++)
-        if (isfinite(x[k]) && isfinite(y[k])) sx += x[k], sy += y[k], m++;
-    if (m < 2) return NAN;
-    const double mx = sx / m, my = sy / m;
-    double sxx = 0, sxy = 0;
-    for (int k = 0; k < n; k++)
-        if (isfinite(x[k]) && isfinite(y[k])) {
-            sxx += (x[k] - mx) * (x[k] - mx);
-            sxy += (x[k] - mx) * (y[k] - my);
-        }
-    return sxx > 0 ? sxy / sxx : NAN;
-}
-
-int bench_crossings(const double *t, const double *a, const double *b, int n, double *at,
-                    int *after, int cap, int *order)
-{
-    int found = 0, valid = 0, prev = -1, zero0 = -1, zero1 = -1, below = 0, above = 0;
-    double dprev = 0;
-    for (int k = 0; k < n; k++) {
-        if (!(t[k] > 0 && a[k] > 0 && b[k] > 0 && isfinite(a[k]) && isfinite(b[k]))) continue;
-        valid++;
-        const double d = log(a[k] / b[k]);
-        if (d == 0) { /* equal here: a crossing if the sign differs on either side */
-            if (zero0 < 0) zero0 = k;
-            zero1 = k;
-            continue;
-        }
-        below += d < 0;
-        above += d > 0;
-        if (prev >= 0 && (dprev < 0) != (d < 0) && found < cap) {
-            if (zero0 >= 0) /* through equality: at the times it was equal (their middle) */
-                at[found] = sqrt(t[zero0] * t[zero1]);
-            else {
-                const double lt0 = log(t[prev]), lt1 = log(t[k]);
-                at[found] = exp(lt0 + (0 - dprev) / (d - dprev) * (lt1 - lt0));
-            }
-            after[found++] = d < 0;
-        }
-        prev = k;
-        dprev = d;
-        zero0 = zero1 = -1;
-    }
-    *order = found || !valid ? 0 : below && !above ? -1 : above && !below ? 1 : 2;
-    return found;
-}
-
-static void bench_convergence_free(bench_convergence *c)
-{
-    free(c->budget);
-    free(c->seconds);
-    free(c->geomean);
-    free(c->pairs);
-    free(c->slope);
-    free(c->sc_geo);
-    free(c->sc_slope);
-    memset(c, 0, sizeof *c);
-}
-
-int bench_convergence_compute(bench_report *r)
-{
-    const suite *s = r->s;
-    bench_convergence *c = &r->conv;
-    memset(c, 0, sizeof *c);
-    int nt = 0;
-    for (int b = 0; b < s->nbudgets; b++) nt += !s->budgets[b].spp && s->budgets[b].seconds > 0;
-    if (nt < 2) return EXIT_OK;
-    const size_t nme = (size_t)s->nmethods, nsc = (size_t)s->nscenes;
-    c->budget = calloc((size_t)nt, sizeof *c->budget);
-    c->seconds = calloc((size_t)nt, sizeof *c->seconds);
-    c->geomean = calloc(nme * (size_t)nt, sizeof *c->geomean);
-    c->pairs = calloc(nme * (size_t)nt, sizeof *c->pairs);
-    c->slope = calloc(nme, sizeof *c->slope);
-    c->sc_geo = calloc(nsc * nme * (size_t)nt, sizeof *c->sc_geo);
-    c->sc_slope = calloc(nsc * nme, sizeof *c->sc_slope);
-    double *logt = calloc((size_t)nt, sizeof *logt), *logg = calloc((size_t)nt, sizeof *logg);
-    if (!c->budget || !c->seconds || !c->geomean || !c->pairs || !c->slope || !c->sc_geo ||
-        !c->sc_slope || !logt || !logg) {
-        bench_convergence_free(c);
-        free(logt);
-        free(logg);
-        return tool_runtime_error("bench: out of memory");
-    }
-    c->nt = nt;
-    nt = 0;
-    for (int b = 0; b < s->nbudgets; b++)
-        if (!s->budgets[b].spp && s->budgets[b].seconds > 0) {
-            int k = nt++; /* insertion by increasing seconds */
-            while (k > 0 && s->budgets[c->budget[k - 1]].seconds > s->budgets[b].seconds) {
-                c->budget[k] = c->budget[k - 1];
-                k--;
-            }
-            c->budget[k] = b;
-        }
-    for (int k = 0; k < nt; k++) {
-        c->seconds[k] = s->budgets[c->budget[k]].seconds;
-        logt[k] = log(c->seconds[k]);
-    }
-    /* scene -1: every pair; otherwise that scene's maps */
-    for (int sc = -1; sc < s->nscenes; sc++)
-        for (int me = 0; me < s->nmethods; me++) {
-            double *geo = sc < 0 ? c->geomean + (size_t)me * nt
-                                 : c->sc_geo + ((size_t)sc * nme + (size_t)me) * nt;
-            for (int k = 0; k < nt; k++) {
-                double sum = 0;
-                int n = 0;
-                for (int m = 0; m < s->nmaps; m++)
-                    for (int sc2 = sc < 0 ? 0 : sc; sc2 < (sc < 0 ? s->nscenes : sc + 1); sc2++) {
-                        const result *x = &r->res[bench_idx(s, m, sc2, me, c->budget[k])];
-                        const double v = x->v[M_RELMSE];
-                        if (!x->present || !(v > 0) || !isfinite(v)) continue;
-                        sum += log(v);
-                        n++;
-                    }
-                geo[k] = n ? exp(sum / n) : NAN;
-                logg[k] = n ? sum / n : NAN;
-                if (sc < 0) c->pairs[(size_t)me * nt + k] = n;
-            }
-            const double slope = bench_loglog_slope(logt, logg, nt);
-            if (sc < 0)
-                c->slope[me] = slope;
-            else
-                c->sc_slope[(size_t)sc * nme + (size_t)me] = slope;
-        }
-    free(logt);
-    free(logg);
-    return EXIT_OK;
-}
-
-const char *bench_convergence_svg_name(const suite *s)
-{
-    for (int sc = 0; sc < s->nscenes; sc++)
-        if (strcmp(s->scenes[sc].label, "all") == 0) return "convergence-all-scenes.svg";
-    return "convergence-all.svg";
-}
-
-static void fmt_slope(char *buf, size_t cap, double v)
-{
-    if (isfinite(v))
-        snprintf(buf, cap, "%.2f", fabs(v) < 0.005 ? 0.0 : v); /* no "-0.00" */
-    else
-        snprintf(buf, cap, "–");
-}
-
-/* The crossings of compare pair c as text: times in seconds, or the order at every budget. */
-static void crossing_text(char *out, size_t cap, const bench_report *r, int a, int b)
-{
-    const bench_convergence *c = &r->conv;
-    const suite *s = r->s;
-    const char *la = s->methods[a].label, *lb = s->methods[b].label;
-    double at[64];
-    int after[64], order;
-    int n = bench_crossings(c->seconds, c->geomean + (size_t)a * c->nt,
-                            c->geomean + (size_t)b * c->nt, c->nt, at, after, 64, &order);
-    out[0] = '\0';
-    if (!n) {
-        if (order == 2)
-            snprintf(out, cap, "%s equal to %s at every budget", la, lb);
-        else if (order)
-            snprintf(out, cap, "%s %s %s at every budget", la, order < 0 ? "below" : "above", lb);
-        else
-            snprintf(out, cap, "–");
-        return;
-    }
-    for (int k = 0; k < n; k++) {
-        size_t len = strlen(out);
-        snprintf(out + len, cap - len, "%s%.3g s (%s %s after)", k ? "; " : "", at[k], la,
-                 after[k] ? "below" : "above");
-    }
-}
-
-void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r)
-{
-    const bench_convergence *c = &r->conv;
-    const suite *s = r->s;
-    if (c->nt < 2) return;
-    const int nt = c->nt, ncol = 1 + nt + 2 + (s->nscenes > 1 ? s->nscenes : 0);
-    char(*cells)[4200] = calloc((size_t)(ncol > nt + 2 ? ncol : nt + 2), sizeof *cells);
-    if (!cells) return;
-    char text[2048];
-    heading(f, mk, "Convergence (equal time)");
-    snprintf(text, sizeof text,
-             "Per time budget, the geometric mean of relMSE over the (map, scene) pairs that "
-             "have a result (pairs: how many, per budget); slope: of log(relMSE) against "
-             "log(seconds), least squares over the budgets, over all pairs%s. A consistent "
-             "Monte Carlo estimator has slope −1; a biased one flattens towards 0 as its bias "
-             "dominates the error.%s",
-             s->nscenes > 1 ? " and per scene (the geometric mean over its maps)" : "",
-             s->nbudgets > nt ? " Budgets in samples take no part." : "");
-    if (mk == BENCH_MD) /* straight under the heading */
-        fprintf(f, "%s\n\n", text);
-    else
-        paragraph(f, mk, text);
-    table_begin(f, mk);
-    snprintf(cells[0], sizeof cells[0], "method");
-    for (int k = 0; k < nt; k++)
-        snprintf(cells[1 + k], sizeof cells[0], "%s", s->budgets[c->budget[k]].label);
-    snprintf(cells[1 + nt], sizeof cells[0], "pairs");
-    snprintf(cells[2 + nt], sizeof cells[0], "slope");
-    for (int sc = 0; s->nscenes > 1 && sc < s->nscenes; sc++)
-        snprintf(cells[3 + nt + sc], sizeof cells[0], "slope %s", s->scenes[sc].label);
-    table_row(f, mk, 1, ncol, cells);
-    for (int me = 0; me < s->nmethods; me++) {
-        const double *geo = c->geomean + (size_t)me * nt;
-        const int *pairs = c->pairs + (size_t)me * nt;
-        snprintf(cells[0], sizeof cells[0], "%s", s->methods[me].label);
-        int same = 1;
-        for (int k = 0; k < nt; k++) {
-            bench_fmt_metric(cells[1 + k], sizeof cells[0], geo[k], M_RELMSE);
-            same &= pairs[k] == pairs[0];
-        }
-        cells[1 + nt][0] = '\0';
-        for (int k = 0; k < (same ? 1 : nt); k++) {
-            size_t len = strlen(cells[1 + nt]);
-            snprintf(cells[1 + nt] + len, sizeof cells[0] - len, "%s%d", k ? ", " : "", pairs[k]);
-        }
-        fmt_slope(cells[2 + nt], sizeof cells[0], c->slope[me]);
-        for (int sc = 0; s->nscenes > 1 && sc < s->nscenes; sc++)
-            fmt_slope(cells[3 + nt + sc], sizeof cells[0],
-                      c->sc_slope[(size_t)sc * s->nmethods + (size_t)me]);
-        table_row(f, mk, 0, ncol, cells);
-    }
-    table_end(f, mk);
-    int npairs = 0;
-    for (int p = 0; p < s->ncompare; p++)
-        npairs += method_index(s, s->compare[p][0]) >= 0 && method_index(s, s->compare[p][1]) >= 0;
-    if (npairs) {
-        paragraph(f, mk,
-                  "Compared pairs: the ratio of the geometric means, first / second, per budget "
-                  "(below 1: the first has the smaller error), and where the first's curve "
-                  "crosses the second's (log-log interpolation between budgets).");
-        if (mk == BENCH_MD) fputs("\n", f);
-        table_begin(f, mk);
-        snprintf(cells[0], sizeof cells[0], "pair");
-        for (int k = 0; k < nt; k++)
-            snprintf(cells[1 + k], sizeof cells[0], "%s", s->budgets[c->budget[k]].label);
-        snprintf(cells[1 + nt], sizeof cells[0], "crossing");
-        table_row(f, mk, 1, nt + 2, cells);
-        for (int p = 0; p < s->ncompare; p++) {
-            int a = method_index(s, s->compare[p][0]), b = method_index(s, s->compare[p][1]);
-            if (a < 0 || b < 0) continue;
-            snprintf(cells[0], sizeof cells[0], "%s / %s", s->methods[a].label,
-                     s->methods[b].label);
-            for (int k = 0; k < nt; k++) {
-                double ga = c->geomean[(size_t)a * nt + k], gb = c->geomean[(size_t)b * nt + k];
-                if (isfinite(ga / gb))
-                    snprintf(cells[1 + k], sizeof cells[0], "%.3f", ga / gb);
-                else
-                    snprintf(cells[1 + k], sizeof cells[0], "–");
-            }
-            crossing_text(cells[1 + nt], sizeof cells[0], r, a, b);
-            table_row(f, mk, 0, nt + 2, cells);
-        }
-        table_end(f, mk);
-    }
-    /* the plot, when there is one (bench_write_convergence_svg draws none without a value) */
-    int plotted = 0;
-    for (int k = 0; k < s->nmethods * nt; k++) plotted |= isfinite(c->geomean[k]);
-    const char *svg = bench_convergence_svg_name(s);
-    if (plotted) {
-        if (mk == BENCH_HTML)
-            fprintf(f,
-                    "<p><img src=\"%s\" alt=\"convergence: geometric mean of relMSE over all "
-                    "pairs against the time budget\" width=\"640\"></p>\n",
-                    svg);
-        else
-            fprintf(f, "\n![convergence: geometric mean of relMSE against the time budget](%s)\n",
-                    svg);
-    }
-    free(cells);
-}
-
-static cJSON *json_num_or_null(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
-}
-
-/* results.json's "convergence" object. */
-static void json_convergence(cJSON *j, const bench_report *r)
-{
-    const bench_convergence *c = &r->conv;
-    const suite *s = r->s;
-    if (c->nt < 2) return;
-    const int nt = c->nt;
-    cJSON *o = cJSON_AddObjectToObject(j, "convergence");
-    cJSON *lab = cJSON_AddArrayToObject(o, "budgets");
-    cJSON *sec = cJSON_AddArrayToObject(o, "seconds");
-    for (int k = 0; k < nt; k++) {
-        cJSON_AddItemToArray(lab, cJSON_CreateString(s->budgets[c->budget[k]].label));
-        cJSON_AddItemToArray(sec, cJSON_CreateNumber(c->seconds[k]));
-    }
-    cJSON *methods = cJSON_AddArrayToObject(o, "methods");
-    for (int me = 0; me < s->nmethods; me++) {
-        cJSON *m = cJSON_CreateObject();
-        cJSON_AddStringToObject(m, "method", s->methods[me].label);
-        cJSON *ms = cJSON_AddArrayToObject(m, "seconds");
-        cJSON *g = cJSON_AddArrayToObject(m, "geomean_relmse");
-        cJSON *n = cJSON_AddArrayToObject(m, "pairs");
-        for (int k = 0; k < nt; k++) {
-            cJSON_AddItemToArray(ms, cJSON_CreateNumber(c->seconds[k]));
-            cJSON_AddItemToArray(g, json_num_or_null(c->geomean[(size_t)me * nt + k]));
-            cJSON_AddItemToArray(n, cJSON_CreateNumber(c->pairs[(size_t)me * nt + k]));
-        }
-        cJSON_AddItemToObject(m, "slope", json_num_or_null(c->slope[me]));
-        cJSON *ss = cJSON_AddObjectToObject(m, "scene_slopes");
-        for (int sc = 0; sc < s->nscenes; sc++)
-            cJSON_AddItemToObject(ss, s->scenes[sc].label,
-                                  json_num_or_null(c->sc_slope[(size_t)sc * s->nmethods + me]));
-        cJSON_AddItemToArray(methods, m);
-    }
-    cJSON *cmp = cJSON_AddArrayToObject(o, "compare");
-    for (int p = 0; p < s->ncompare; p++) {
-        int a = method_index(s, s->compare[p][0]), b = method_index(s, s->compare[p][1]);
-        if (a < 0 || b < 0) continue;
-        cJSON *e = cJSON_CreateObject();
-        cJSON_AddStringToObject(e, "a", s->methods[a].label);
-        cJSON_AddStringToObject(e, "b", s->methods[b].label);
-        cJSON *ratio = cJSON_AddArrayToObject(e, "ratio");
-        for (int k = 0; k < nt; k++)
-            cJSON_AddItemToArray(ratio, json_num_or_null(c->geomean[(size_t)a * nt + k] /
-                                                         c->geomean[(size_t)b * nt + k]));
-        double at[64];
-        int after[64], order;
-        int n = bench_crossings(c->seconds, c->geomean + (size_t)a * nt,
-                                c->geomean + (size_t)b * nt, nt, at, after, 64, &order);
-        cJSON_AddStringToObject(e, "order",
-                                n            ? "crosses"
-                                : order < 0  ? "below"
-                                : order == 1 ? "above"
-                                : order == 2 ? "equal"
-                                             : "none");
-        cJSON *xs = cJSON_AddArrayToObject(e, "crossings");
-        for (int k = 0; k < n; k++) {
-            cJSON *x = cJSON_CreateObject();
-            cJSON_AddNumberToObject(x, "seconds", at[k]);
-            cJSON_AddStringToObject(x, "below_after", after[k] ? "a" : "b");
-            cJSON_AddItemToArray(xs, x);
-        }
-        cJSON_AddItemToArray(cmp, e);
     }
 }
 
@@ -665,14 +320,14 @@ void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report 
         mk == BENCH_HTML ? "<strong>" : "**", mk == BENCH_HTML ? "</strong>" : "**", s->ref_spp,
         BENCH_REF_FACTOR, n, r->found, most, mk == BENCH_HTML ? "<code>" : "`",
         mk == BENCH_HTML ? "</code>" : "`", BENCH_REF_FACTOR * most);
-    paragraph(f, mk, text);
+    bench_paragraph(f, mk, text);
     if (mk == BENCH_MD) fputs("\n", f);
-    table_begin(f, mk);
+    bench_table_begin(f, mk);
     snprintf(cells[0], sizeof cells[0], "budget");
     snprintf(cells[1], sizeof cells[1], "method");
     snprintf(cells[2], sizeof cells[2], "items");
     snprintf(cells[3], sizeof cells[3], "most spp");
-    table_row(f, mk, 1, 4, cells);
+    bench_table_row(f, mk, 1, 4, cells);
     for (int b = 0; b < s->nbudgets; b++)
         for (int me = 0; me < s->nmethods; me++) {
             int bm = bench_noisy_reference(r, b, me, &most);
@@ -681,9 +336,9 @@ void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report 
             snprintf(cells[1], sizeof cells[1], "%s", s->methods[me].label);
             snprintf(cells[2], sizeof cells[2], "%d", bm);
             snprintf(cells[3], sizeof cells[3], "%d", most);
-            table_row(f, mk, 0, 4, cells);
+            bench_table_row(f, mk, 0, 4, cells);
         }
-    table_end(f, mk);
+    bench_table_end(f, mk);
 }
 
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res)
@@ -691,15 +346,15 @@ void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result 
     int lb = s->nbudgets - 1;
     char text[256];
     snprintf(text, sizeof text, "relMSE per map and scene (budget %s)", s->budgets[lb].label);
-    heading(f, mk, text);
+    bench_heading(f, mk, text);
     char(*cells)[4200] = calloc((size_t)s->nmethods + 2, sizeof *cells);
     if (!cells) return;
-    table_begin(f, mk);
+    bench_table_begin(f, mk);
     snprintf(cells[0], sizeof cells[0], "map");
     snprintf(cells[1], sizeof cells[1], "scene");
     for (int me = 0; me < s->nmethods; me++)
         snprintf(cells[2 + me], sizeof cells[0], "%s", s->methods[me].label);
-    table_row(f, mk, 1, s->nmethods + 2, cells);
+    bench_table_row(f, mk, 1, s->nmethods + 2, cells);
     for (int m = 0; m < s->nmaps; m++)
         for (int sc = 0; sc < s->nscenes; sc++) {
             snprintf(cells[0], sizeof cells[0], "%s", s->maps[m].label);
@@ -709,9 +364,9 @@ void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result 
                 bench_fmt_metric(cells[2 + me], sizeof cells[0],
                                  cell->present ? cell->v[M_RELMSE] : NAN, M_RELMSE);
             }
-            table_row(f, mk, 0, s->nmethods + 2, cells);
+            bench_table_row(f, mk, 0, s->nmethods + 2, cells);
         }
-    table_end(f, mk);
+    bench_table_end(f, mk);
     free(cells);
 }
 
@@ -851,7 +506,7 @@ int bench_write_json(const bench_report *r, const char *path)
             }
             cJSON_AddItemToArray(jsum, o);
         }
-    json_convergence(j, r);
+    bench_json_convergence(j, r);
     int rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
