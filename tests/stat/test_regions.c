@@ -46,14 +46,16 @@ typedef struct map_case {
     const char *name;
     int w, h;
     float (*f)(int, int, int);
-    float rotation;
+    float rotation, scale;
     int sky;
 } map_case;
 
 static const map_case maps[] = {
-    {"gradient", 48, 24, f_grad, 0, 0},    {"checker", 32, 16, f_checker, 0, 0},
-    {"holes", 20, 16, f_holes, -71.0f, 0}, {"spots", 40, 20, f_spots, 25.0f, 0},
-    {"sun sky", 64, 32, NULL, 0, 1},
+    {"gradient", 48, 24, f_grad, 0, 0, 0},
+    {"checker", 32, 16, f_checker, 0, 0, 0},
+    {"holes", 20, 16, f_holes, -71.0f, 0, 0},
+    {"spots", 40, 20, f_spots, 25.0f, 0.5f, 0}, /* rotated and scaled */
+    {"sun sky", 64, 32, NULL, 0, 0, 1},
 };
 enum { NMAPS = sizeof maps / sizeof maps[0] };
 
@@ -94,6 +96,7 @@ static lumis_envmap *make_map(const map_case *mc)
     d.width = img->width;
     d.height = img->height;
     d.rotation_deg = mc->rotation;
+    d.scale = mc->scale; /* 0: 1 */
     lumis_envmap *env = NULL;
     assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
     lumis_image_destroy(img);
