@@ -150,6 +150,14 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     const int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
               use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT,
               mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    /* Seen from below its surface a BSDF reflects nothing, and its sampling draws nothing. */
+    if (!(wo.z > 0.0f)) return L;
+    /* A Lambertian surface: f and the BSDF's pdf without a call per draw (the values
+     * lumis_bsdf_eval and lumis_bsdf_pdf give: albedo / pi, cos / pi). */
+    const int lambert = m->type == LUMIS_BSDF_LAMBERT;
+    const lumis_rgb kd = {(float)(m->diffuse.r * (1.0 / LUMIS_PI)),
+                          (float)(m->diffuse.g * (1.0 / LUMIS_PI)),
+                          (float)(m->diffuse.b * (1.0 / LUMIS_PI))};
     packet p;
     p.rays.n = p.flushed = 0;
     enum { CHUNK = 64 };
@@ -176,11 +184,13 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             const double cosn = dot(wi, n);
             if (!(cosn > 0.0)) continue;
             const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
-            const lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
+            if (lambert && !(wil.z > 0.0f)) continue;
+            const lumis_rgb f = lambert ? kd : lumis_bsdf_eval(m, wo, wil);
             if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
-            const double w =
-                mis ? mis_weight(1, e[q].pdf, 1, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
-                    : 1.0;
+            const float pb = !mis      ? 0.0f
+                             : lambert ? (float)(wil.z / LUMIS_PI)
+                                       : lumis_bsdf_pdf(m, wo, wil);
+            const double w = mis ? mis_weight(1, e[q].pdf, 1, pb, d->power_heuristic) : 1.0;
             const double k2 = w * cosn / e[q].pdf;
             packet_push(&p, o, wi, INFINITY,
                         mk(f.r * e[q].radiance.r * k2, f.g * e[q].radiance.g * k2,

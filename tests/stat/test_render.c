@@ -404,6 +404,32 @@ static void estimators_agree_and_threads_do_not_matter(void **state)
     for (int e = 1; e < 3; e++)
         if (fabs(means[e] - means[0]) > 0.03 * means[0])
             fail_msg("estimator %d: mean %g vs MIS %g", e, means[e], means[0]);
+    /* A light set's strata on the glossy sphere (the BSDF evaluated and its pdf in the MIS
+     * weights, not Lambert's shortcut) estimate the same image. */
+    {
+        lumis_light_set *set = NULL;
+        assert_int_equal(lumis_lights_by_name(env, "median-cut", 16, 0, NULL, NULL, &set),
+                         LUMIS_OK);
+        for (int power = 0; power < 2; power++) {
+            lumis_render_desc d = {0};
+            d.camera = &cam;
+            d.env = env;
+            d.light_set = set;
+            d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
+            d.power_heuristic = power;
+            d.spp = 128;
+            d.seed = 21;
+            lumis_image *img = NULL;
+            assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+            double sum = 0;
+            for (int k = 0; k < 24 * 24; k++) sum += img->pixels[3 * k + 1];
+            if (fabs(sum / (24 * 24) - means[0]) > 0.02 * means[0])
+                fail_msg("strata (%s heuristic): mean %g vs MIS %g", power ? "power" : "balance",
+                         sum / (24 * 24), means[0]);
+            lumis_image_destroy(img);
+        }
+        lumis_light_set_destroy(set);
+    }
     lumis_image_destroy(a);
     lumis_scene_destroy(s);
     lumis_envmap_destroy(env);
