@@ -195,7 +195,7 @@ int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
 
-/* The tables' markup (bench_tables.c), Markdown or HTML: a heading, a paragraph, a table's
+/* The tables' markup (bench_markup.c), Markdown or HTML: a heading, a paragraph, a table's
  * start and end, one row of n cells (a rule under the header in Markdown; the cells are
  * labels and numbers: nothing in them needs escaping). */
 void bench_heading(FILE *f, bench_markup mk, const char *text);

@@ -1,7 +1,7 @@
 /* lumis bench: the report's results (every item's result file, summarised per budget and
  * method: means and average ranks) and its tables: results.csv, results.json and
  * results.md (with the pairwise comparisons and the per-map table; the convergence
- * analysis is bench_convergence.c's), and the tables' markup. */
+ * analysis is bench_convergence.c's, the markup bench_markup.c's). */
 #include "bench.h"
 
 #include <cJSON.h>
@@ -122,13 +122,6 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
     free(rank_n);
 }
 
-int bench_method_index(const suite *s, const char *label)
-{
-    for (int k = 0; k < s->nmethods; k++)
-        if (strcmp(s->methods[k].label, label) == 0) return k;
-    return -1;
-}
-
 static void machine_facts(char *out, size_t cap)
 {
     char model[256] = "unknown CPU";
@@ -143,45 +136,6 @@ static void machine_facts(char *out, size_t cap)
         }
     if (f) fclose(f);
     snprintf(out, cap, "%s, %ld cores", model, sysconf(_SC_NPROCESSORS_ONLN));
-}
-
-/* One row of a table, in Markdown ("| a | b |", a rule under the header) or HTML.  The
- * cells are labels and numbers: nothing in them needs escaping. */
-void bench_table_row(FILE *f, bench_markup mk, int header, int n, char cells[][4200])
-{
-    if (mk == BENCH_HTML) {
-        fputs("<tr>", f);
-        for (int k = 0; k < n; k++) fprintf(f, header ? "<th>%s</th>" : "<td>%s</td>", cells[k]);
-        fputs("</tr>\n", f);
-        return;
-    }
-    fputs("|", f);
-    for (int k = 0; k < n; k++) fprintf(f, " %s |", cells[k]);
-    fputs("\n", f);
-    if (!header) return;
-    fputs("|", f);
-    for (int k = 0; k < n; k++) fputs("---|", f);
-    fputs("\n", f);
-}
-
-void bench_heading(FILE *f, bench_markup mk, const char *text)
-{
-    fprintf(f, mk == BENCH_HTML ? "<h2>%s</h2>\n" : "\n## %s\n\n", text);
-}
-
-void bench_table_end(FILE *f, bench_markup mk)
-{
-    if (mk == BENCH_HTML) fputs("</table>\n", f);
-}
-
-void bench_table_begin(FILE *f, bench_markup mk)
-{
-    if (mk == BENCH_HTML) fputs("<table>\n", f);
-}
-
-void bench_paragraph(FILE *f, bench_markup mk, const char *text)
-{
-    fprintf(f, mk == BENCH_HTML ? "<p>%s</p>\n" : "\n%s\n", text);
 }
 
 void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const result *res)
@@ -383,18 +337,6 @@ int bench_commit_tmp(FILE *f, const char *path)
     free(text);
     fclose(f);
     return rc;
-}
-
-void bench_fmt_metric(char *buf, size_t cap, double v, int metric)
-{
-    if (isnan(v))
-        snprintf(buf, cap, "–");
-    else if (isinf(v))
-        snprintf(buf, cap, "∞");
-    else if (metric == M_PSNR)
-        snprintf(buf, cap, "%.2f", v);
-    else
-        snprintf(buf, cap, "%.4g", v);
 }
 
 int bench_report_load(bench_report *r, const suite *s, const char *out, int argc, char **argv)
