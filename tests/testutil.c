@@ -92,6 +92,32 @@ lumis_image *tu_image(int w, int h, float (*f)(int i, int j, int c))
     return img;
 }
 
+lumis_envmap *tu_envmap(int w, int h, float (*f)(int i, int j, int c), float rotation_deg,
+                        float scale)
+{
+    lumis_image *img = NULL;
+    if (f) {
+        img = tu_image(w, h, f);
+    } else { /* a sky with a sun */
+        lumis_sky_desc d = {0};
+        d.width = w;
+        d.height = h;
+        d.sun_elevation_deg = 30.0f;
+        d.sun_azimuth_deg = 100.0f;
+        assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
+    }
+    lumis_envmap_desc d = {0};
+    d.pixels = img->pixels;
+    d.width = img->width;
+    d.height = img->height;
+    d.rotation_deg = rotation_deg;
+    d.scale = scale;
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
+    lumis_image_destroy(img);
+    return env;
+}
+
 static char *slurp_and_remove(const char *path)
 {
     size_t n;

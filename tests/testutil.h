@@ -35,6 +35,10 @@ void tu_sink_init(tu_sink *s);
 
 /* A w x h image whose pixels are f(i, j, c). */
 lumis_image *tu_image(int w, int h, float (*f)(int i, int j, int c));
+/* An envmap of w x h pixels f(i, j, c) (NULL: a sky with a sun 30 degrees up at azimuth
+ * 100), rotated and scaled (0: 1). */
+lumis_envmap *tu_envmap(int w, int h, float (*f)(int i, int j, int c), float rotation_deg,
+                        float scale);
 
 /* Runs a shell command, capturing stdout and stderr into malloc'ed strings (may be NULL
  * pointers to skip); returns the exit status, or -1 if it could not run. */

@@ -77,26 +77,7 @@ enum { NMAPS = sizeof maps / sizeof maps[0] };
 
 static lumis_envmap *make_map(const map_case *mc)
 {
-    lumis_image *img = NULL;
-    if (mc->sky) {
-        lumis_sky_desc d = {0};
-        d.width = mc->w;
-        d.height = mc->h;
-        d.sun_elevation_deg = 30.0f;
-        d.sun_azimuth_deg = 100.0f;
-        assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
-    } else {
-        img = tu_image(mc->w, mc->h, mc->f);
-    }
-    lumis_envmap_desc d = {0};
-    d.pixels = img->pixels;
-    d.width = img->width;
-    d.height = img->height;
-    d.rotation_deg = mc->rotation;
-    lumis_envmap *env = NULL;
-    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
-    lumis_image_destroy(img);
-    return env;
+    return tu_envmap(mc->w, mc->h, mc->sky ? NULL : mc->f, mc->rotation, 0.0f);
 }
 
 /* ---- configurations ------------------------------------------------------------------ */
