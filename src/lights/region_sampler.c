@@ -90,59 +90,35 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     uint32_t *work = NULL, *cursor = NULL;
     lumis_status st = LUMIS_ERR_OUT_OF_MEMORY;
     if (!rs->px || !rs->start || !rs->power || !rs->kind) goto fail;
-    for (int k = 0; k < K; k++) rs->kind[k] = set->lights[k].kind;
+    /* a region's power is its light's (the set's sum of L Omega over the region) */
+    for (int k = 0; k < K; k++) {
+        rs->kind[k] = set->lights[k].kind;
+        for (int c = 0; c < 3; c++) rs->power[k][c] = set->lights[k].power[c];
+    }
 
-    /* Pass 1: each pixel's region, the regions' sizes (pixels that shine) and powers. */
+    /* Pass 1: each pixel's region, and the regions' sizes (pixels that shine). */
     const float *pix = env->pixels;
     const double scale = env->scale;
     size_t members = 0;
-    for (int j = 0; j < h; j++) {
-        const double om = scale * env->row_solid_angle[j];
-        /* a run of pixels of one region is summed locally: adding every pixel to the
-         * region's power in memory chains each addition on the one before */
-        double r0 = 0.0, r1 = 0.0, r2 = 0.0;
-        int32_t cur = -1;
-        uint32_t shining = 0;
+    for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * (size_t)w + (size_t)i;
             const int32_t r = set->labels[p];
-            const float y = lumis__pixel_y(pix + 3 * p, scale);
+            const int shines = lumis__pixel_y(pix + 3 * p, scale) > 0.0f;
             rs->px[p].region = r;
             rs->px[p].density = 0.0f;
-            if (r < 0 || r >= K) {
-                if (y > 0.0f) {
-                    st = lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                                     "region sampler: pixel (%d, %d) shines but belongs to no "
-                                     "region",
-                                     i, j);
-                    goto fail;
-                }
-                rs->px[p].region = -1;
+            if (r >= 0 && r < K) {
+                rs->start[r + 1] += (uint32_t)shines;
                 continue;
             }
-            if (r != cur) {
-                if (cur >= 0) {
-                    rs->power[cur][0] += r0 * om;
-                    rs->power[cur][1] += r1 * om;
-                    rs->power[cur][2] += r2 * om;
-                    rs->start[cur + 1] += shining;
-                }
-                cur = r;
-                r0 = r1 = r2 = 0.0;
-                shining = 0;
+            if (shines) {
+                st = lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                                 "region sampler: pixel (%d, %d) shines but belongs to no region",
+                                 i, j);
+                goto fail;
             }
-            r0 += pix[3 * p];
-            r1 += pix[3 * p + 1];
-            r2 += pix[3 * p + 2];
-            shining += y > 0.0f;
+            rs->px[p].region = -1;
         }
-        if (cur >= 0) {
-            rs->power[cur][0] += r0 * om;
-            rs->power[cur][1] += r1 * om;
-            rs->power[cur][2] += r2 * om;
-            rs->start[cur + 1] += shining;
-        }
-    }
     for (int k = 0; k < K; k++) members += rs->start[k + 1];
     uint32_t largest = 0;
     for (int k = 0; k < K; k++) {
