@@ -136,7 +136,8 @@ lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *ou
 /* Stratified mode: one direction in every region lit, weighted by radiance over the
  * region's pdf, and one BSDF sample; with MIS each region is its own two-technique
  * estimator (its pdf against the BSDF's), so the sum over regions is the direct light,
- * unbiased.  Two numbers a region and three for the BSDF are drawn whatever is skipped. */
+ * unbiased.  Two numbers are drawn for each region above the horizon, three for the
+ * BSDF. */
 static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
@@ -289,8 +290,10 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
             st->strata[st->nstrata++] = k;
         }
     }
+    /* the point lights' arrays: point mode only */
     if (!st ||
-        !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets)))
+        (!stratified &&
+         !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets))))
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
     return LUMIS_OK;
 }
