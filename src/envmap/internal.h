@@ -23,6 +23,21 @@ struct lumis_envmap {
 /* Takes a reference (released by lumis_envmap_destroy). */
 const lumis_envmap *lumis__envmap_retain(const lumis_envmap *env);
 
+/* Radiance of pixel index j w + i, scale applied (what eval() returns for its directions). */
+static inline lumis_rgb lumis__envmap_radiance(const lumis_envmap *env, size_t pixel)
+{
+    const float *q = env->pixels + 3 * pixel;
+    lumis_rgb c = {q[0] * env->scale, q[1] * env->scale, q[2] * env->scale};
+    return c;
+}
+
+/* A sampler's uniform number clamped into [0, 1) (a float generator rounding up to 1,
+ * NaN). */
+static inline double lumis__clamp_u(double u)
+{
+    return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
+}
+
 /* A direction uniform in solid angle inside pixel (i, j) from (s, t) in [0,1)^2 (s along
  * the azimuth, t along cos theta), rotation applied, and pulled off the pixel's edges if
  * rounding to float would move it out: it looks pixel (i, j) up again, as every sampler's

@@ -240,12 +240,6 @@ LUMIS__INLINE float final_pdf(const lumis_sampler *s, double density, lumis_vec3
     return density < FLT_MAX ? (float)density : FLT_MAX;
 }
 
-/* Inputs outside [0, 1) (a float generator rounding up to 1, NaN) are clamped in. */
-static double clamp_u(double u)
-{
-    return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
-}
-
 /* Rounding a direction to float moves it by about 1e-7 radians (the warp's own error is
  * 2e-9); a point at least this far (in radians, or in cos theta, which changes no faster)
  * from every edge of its pixel is certain to look up that pixel again. */
@@ -355,25 +349,18 @@ size_t lumis__envmap_place(const lumis_envmap *env, int i, int j, double s, doub
     one.w = env->width;
     one.h = env->height;
     one.inv_w = 1.0 / env->width;
-    const lumis__pick p = {i, j, i + 1, j + 1, clamp_u(s), clamp_u(t), 0.0};
+    const lumis__pick p = {i, j, i + 1, j + 1, lumis__clamp_u(s), lumis__clamp_u(t), 0.0};
     return place(&one, &p, dir);
-}
-
-static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
-{
-    const float *q = env->pixels + 3 * pixel;
-    lumis_rgb c = {q[0] * env->scale, q[1] * env->scale, q[2] * env->scale};
-    return c;
 }
 
 lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)
 {
     lumis__pick p;
-    s->m->pick(s, clamp_u(u1), clamp_u(u2), &p);
+    s->m->pick(s, lumis__clamp_u(u1), lumis__clamp_u(u2), &p);
     lumis_env_sample r;
     size_t pixel = place(s, &p, &r.dir);
     r.pdf = final_pdf(s, p.density, r.dir);
-    r.radiance = radiance(s->env, pixel);
+    r.radiance = lumis__envmap_radiance(s->env, pixel);
     return r;
 }
 
@@ -389,7 +376,7 @@ void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
     double uc[2 * BATCH];
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         size_t m = n - k0 < BATCH ? n - k0 : BATCH;
-        for (size_t k = 0; k < 2 * m; k++) uc[k] = clamp_u(u[2 * k0 + k]);
+        for (size_t k = 0; k < 2 * m; k++) uc[k] = lumis__clamp_u(u[2 * k0 + k]);
         if (s->m->pick_n)
             s->m->pick_n(s, uc, (int)m, p);
         else
@@ -402,7 +389,7 @@ void lumis_sampler_sample_n(const lumis_sampler *s, const double *u, size_t n,
         }
         for (size_t k = 0; k < m; k++) {
             out[k0 + k].pdf = final_pdf(s, p[k].density, out[k0 + k].dir);
-            out[k0 + k].radiance = radiance(s->env, pixel[k]);
+            out[k0 + k].radiance = lumis__envmap_radiance(s->env, pixel[k]);
         }
     }
 }

@@ -204,18 +204,6 @@ int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region)
     return !rs || region < 0 || region >= rs->count || rs->start[region] == rs->start[region + 1];
 }
 
-static lumis_rgb radiance(const lumis_envmap *env, size_t pixel)
-{
-    const float *q = env->pixels + 3 * pixel;
-    lumis_rgb c = {q[0] * env->scale, q[1] * env->scale, q[2] * env->scale};
-    return c;
-}
-
-static double clamp_u(double u)
-{
-    return u >= 0.0 ? (u < 1.0 ? u : 0x1.fffffffffffffp-1) : 0.0;
-}
-
 /* A batch, in stages so that the cache misses of a batch overlap instead of following one
  * another: every bin is requested, then every draw reads its bin and requests its entry,
  * then every direction is placed (its pixel's radiance requested), then the radiance is
@@ -234,7 +222,7 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
             const int r = regions[k0 + k];
             if (lumis_region_sampler_empty(rs, r)) continue;
             const uint32_t first = rs->start[r], cnt = rs->start[r + 1] - first;
-            uint32_t i = (uint32_t)(clamp_u(u[2 * (k0 + k)]) * cnt);
+            uint32_t i = (uint32_t)(lumis__clamp_u(u[2 * (k0 + k)]) * cnt);
             if (i >= cnt) i = cnt - 1;
 #if defined(__GNUC__) || defined(__clang__)
             __builtin_prefetch(rs->bin + first + i);
@@ -246,8 +234,8 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
             if (lumis_region_sampler_empty(rs, r)) continue;
             const uint32_t first = rs->start[r];
             const lumis__alias table = {rs->bin + first, rs->start[r + 1] - first};
-            entry[k] = first + lumis__alias_sample(&table, clamp_u(u[2 * (k0 + k)]),
-                                                   clamp_u(u[2 * (k0 + k) + 1]), &st[k][0],
+            entry[k] = first + lumis__alias_sample(&table, lumis__clamp_u(u[2 * (k0 + k)]),
+                                                   lumis__clamp_u(u[2 * (k0 + k) + 1]), &st[k][0],
                                                    &st[k][1], &density[k]);
 #if defined(__GNUC__) || defined(__clang__)
             __builtin_prefetch(rs->member + entry[k]);
@@ -268,7 +256,8 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
             o->pdf = density[k];
         }
         for (size_t k = 0; k < m; k++)
-            if (entry[k] != UINT32_MAX) out[k0 + k].radiance = radiance(rs->env, pixel[k]);
+            if (entry[k] != UINT32_MAX)
+                out[k0 + k].radiance = lumis__envmap_radiance(rs->env, pixel[k]);
     }
 }
 
@@ -293,7 +282,7 @@ float lumis_region_sampler_lookup(const lumis_region_sampler *rs, lumis_vec3 dir
     lumis_envmap_dir_to_pixel(rs->env, dir, &i, &j);
     const size_t p = (size_t)j * (size_t)rs->w + (size_t)i;
     if (region) *region = rs->px[p].region;
-    if (radiance_out) *radiance_out = radiance(rs->env, p);
+    if (radiance_out) *radiance_out = lumis__envmap_radiance(rs->env, p);
     return rs->px[p].density;
 }
 
