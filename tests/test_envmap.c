@@ -8,19 +8,6 @@
 
 #define PI 3.14159265358979323846
 
-static lumis_envmap *make_env(const lumis_image *img, float rotation, float scale)
-{
-    lumis_envmap_desc d = {0};
-    d.pixels = img->pixels;
-    d.width = img->width;
-    d.height = img->height;
-    d.rotation_deg = rotation;
-    d.scale = scale;
-    lumis_envmap *env = NULL;
-    assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
-    return env;
-}
-
 static float f_const(int i, int j, int c)
 {
     (void)i, (void)j, (void)c;
@@ -63,7 +50,7 @@ static void pixel_direction_pixel_round_trip(void **state)
         for (size_t r = 0; r < 3; r++) {
             int w = sizes[s][0], h = sizes[s][1];
             lumis_image *img = tu_image(w, h, f_index);
-            lumis_envmap *env = make_env(img, rotations[r], 0.0f);
+            lumis_envmap *env = tu_envmap_of(img, rotations[r], 0.0f);
             for (int j = 0; j < h; j++)
                 for (int i = 0; i < w; i++) {
                     /* Centre and points near the corners of the pixel. */
@@ -98,7 +85,7 @@ static void rotation_turns_the_map_about_y(void **state)
 {
     (void)state;
     lumis_image *img = tu_image(36, 18, f_index);
-    lumis_envmap *plain = make_env(img, 0.0f, 0.0f), *rot = make_env(img, 90.0f, 0.0f);
+    lumis_envmap *plain = tu_envmap_of(img, 0.0f, 0.0f), *rot = tu_envmap_of(img, 90.0f, 0.0f);
     /* Rotating the map by +90 degrees moves what was at +x to +z. */
     lumis_vec3 px = {1, 0.2f, 0}, pz = {0, 0.2f, 1};
     lumis_rgb a = lumis_envmap_eval(plain, px), b = lumis_envmap_eval(rot, pz);
@@ -134,7 +121,7 @@ static void power_per_channel_and_texels(void **state)
     (void)state;
     const int w = 12, h = 5;
     lumis_image *img = tu_image(w, h, f_index);
-    lumis_envmap *env = make_env(img, 0.0f, 2.0f);
+    lumis_envmap *env = tu_envmap_of(img, 0.0f, 2.0f);
     double want[3] = {0, 0, 0};
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++)
@@ -164,7 +151,7 @@ static void power_is_radiance_times_solid_angle(void **state)
 {
     (void)state;
     lumis_image *img = tu_image(40, 20, f_const);
-    lumis_envmap *env = make_env(img, 10.0f, 3.0f);
+    lumis_envmap *env = tu_envmap_of(img, 10.0f, 3.0f);
     lumis_rgb p = lumis_envmap_power(env);
     assert_true(fabs(p.r - 3.0 * 2.0 * 4.0 * PI) < 1e-4);
     lumis_rgb c = lumis_envmap_eval(env, (lumis_vec3){0.3f, -0.4f, 0.5f});
@@ -189,7 +176,7 @@ static void bad_pixels_are_replaced_and_counted(void **state)
 {
     (void)state;
     lumis_image *img = tu_image(4, 2, f_bad);
-    lumis_envmap *env = make_env(img, 0.0f, 0.0f);
+    lumis_envmap *env = tu_envmap_of(img, 0.0f, 0.0f);
     lumis_replaced r = lumis_envmap_replaced(env);
     assert_int_equal(r.nan, 1);
     assert_int_equal(r.inf, 1);
@@ -249,7 +236,7 @@ static void stats_of_special_maps(void **state)
     hot_i = 5;
     hot_j = 3;
     lumis_image *img = tu_image(20, 10, f_hot);
-    lumis_envmap *env = make_env(img, 0.0f, 0.0f);
+    lumis_envmap *env = tu_envmap_of(img, 0.0f, 0.0f);
     lumis_envmap_stats s;
     assert_int_equal(lumis_envmap_stats_compute(env, &s), LUMIS_OK);
     assert_true(fabs(s.top1_share - 1.0) < 1e-6 && fabs(s.top01_share - 1.0) < 1e-6);
@@ -261,7 +248,7 @@ static void stats_of_special_maps(void **state)
 
     /* A black map: zero power is not an error, and nothing divides by it. */
     img = tu_image(8, 4, f_black);
-    env = make_env(img, 0.0f, 0.0f);
+    env = tu_envmap_of(img, 0.0f, 0.0f);
     assert_int_equal(lumis_envmap_stats_compute(env, &s), LUMIS_OK);
     assert_true(s.power == 0.0 && s.top1_share == 0.0 && s.dynamic_range == 0.0);
     assert_int_equal(s.black_pixels, 32);
@@ -270,7 +257,7 @@ static void stats_of_special_maps(void **state)
 
     /* 1x1: one pixel is the whole sphere. */
     img = tu_image(1, 1, f_const);
-    env = make_env(img, 0.0f, 0.0f);
+    env = tu_envmap_of(img, 0.0f, 0.0f);
     assert_int_equal(lumis_envmap_stats_compute(env, &s), LUMIS_OK);
     assert_true(fabs(s.power - 2.0 * 4 * PI) < 1e-6 && fabs(s.top01_share - 1.0) < 1e-6);
     lumis_rgb c = lumis_envmap_eval(env, (lumis_vec3){0, -1, 0});
@@ -296,7 +283,7 @@ static void top_shares_match_a_full_sort(void **state)
     (void)state;
     int w = 300, h = 150;
     lumis_image *img = tu_image(w, h, f_ramp);
-    lumis_envmap *env = make_env(img, 0.0f, 0.0f);
+    lumis_envmap *env = tu_envmap_of(img, 0.0f, 0.0f);
     lumis_envmap_stats s;
     assert_int_equal(lumis_envmap_stats_compute(env, &s), LUMIS_OK);
     double *yw = malloc(sizeof(double) * (size_t)(w * h)), total = 0.0;

@@ -106,6 +106,13 @@ lumis_envmap *tu_envmap(int w, int h, float (*f)(int i, int j, int c), float rot
         d.sun_azimuth_deg = 100.0f;
         assert_int_equal(lumis_sky_create(&d, &img), LUMIS_OK);
     }
+    lumis_envmap *env = tu_envmap_of(img, rotation_deg, scale);
+    lumis_image_destroy(img);
+    return env;
+}
+
+lumis_envmap *tu_envmap_of(const lumis_image *img, float rotation_deg, float scale)
+{
     lumis_envmap_desc d = {0};
     d.pixels = img->pixels;
     d.width = img->width;
@@ -114,7 +121,6 @@ lumis_envmap *tu_envmap(int w, int h, float (*f)(int i, int j, int c), float rot
     d.scale = scale;
     lumis_envmap *env = NULL;
     assert_int_equal(lumis_envmap_create(&d, &env), LUMIS_OK);
-    lumis_image_destroy(img);
     return env;
 }
 

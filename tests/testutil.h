@@ -39,6 +39,8 @@ lumis_image *tu_image(int w, int h, float (*f)(int i, int j, int c));
  * 100), rotated and scaled (0: 1). */
 lumis_envmap *tu_envmap(int w, int h, float (*f)(int i, int j, int c), float rotation_deg,
                         float scale);
+/* An envmap of img's pixels (copied), rotated and scaled (0: 1). */
+lumis_envmap *tu_envmap_of(const lumis_image *img, float rotation_deg, float scale);
 
 /* Runs a shell command, capturing stdout and stderr into malloc'ed strings (may be NULL
  * pointers to skip); returns the exit status, or -1 if it could not run. */
