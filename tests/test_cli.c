@@ -913,7 +913,7 @@ static void render_with_luminaires(void **state)
     assert_string_equal(item(l, "strategy")->valuestring, "uniform");
     assert_true(num(l, "count") == 1 && num(l, "budget") == 8 && num(l, "k_max") == 4);
     assert_string_equal(item(l, "visibility")->valuestring, "approx");
-    assert_string_equal(item(l, "sequence")->valuestring, "halton");
+    assert_string_equal(item(j, "sequence")->valuestring, "halton");
     assert_string_equal(item(j, "estimator")->valuestring, "luminaire");
     assert_true(cJSON_IsNull(item(j, "environment")));
     assert_true(num(l, "bytes") > 99 * 256 * 256 * 12.0); /* the car preset's images */
@@ -925,7 +925,7 @@ static void render_with_luminaires(void **state)
     expect("render --scene headlight --lum-strategy best -o x.exr", 2, "--lum-strategy");
     expect("render --scene headlight --lum-budget 0 -o x.exr", 2, "--lum-budget");
     expect("render --scene headlight --visibility maybe -o x.exr", 2, "--visibility");
-    expect("render --scene headlight --sequence sobol -o x.exr", 2, "--sequence");
+    expect("render --scene headlight --sequence owen -o x.exr", 2, "--sequence");
     /* an option given twice: refused (the first was silently ignored) */
     expect("render --scene spheres -o a.exr -o b.exr", 2, "-o given twice");
     expect("sample sky:16x8 --method inversion -n 2 --seed=1 --seed 2", 2, "--seed given twice");

@@ -6,6 +6,8 @@
 #ifndef LUMIS_RNG_H
 #define LUMIS_RNG_H
 
+#include "lumis/status.h"
+
 #include <stddef.h>
 #include <stdint.h>
 
@@ -73,6 +75,73 @@ static inline double lumis_halton(unsigned dimension, uint64_t index)
 {
     return lumis_radical_inverse(dimension, index);
 }
+
+
+/* ---- (0,2) sequences: Sobol' and progressive multi-jittered points -------------------------
+ * Both give, at every prefix of 2^m points, a (0,m,2)-net: each of the m + 1 grids of 2^m
+ * equal rectangles (2^a x 2^(m-a) cells) holds exactly one point (docs/sampling.md). */
+
+/* Reverses the 32 bits of v (bit 0 becomes bit 31). */
+static inline uint32_t lumis_reverse_bits32(uint32_t v)
+{
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+/* Component dimension (0 or 1) of point index of Sobol's sequence, as 32 fractional
+ * bits: dimension 0 is van der Corput's (the index's bits reversed), dimension 1 the
+ * generator of the polynomial x + 1 (Pascal's matrix mod 2).  Together: a (0,2)-sequence.
+ * Any other dimension returns 0. */
+static inline uint32_t lumis_sobol02_bits(uint32_t index, unsigned dimension)
+{
+    if (dimension == 0) return lumis_reverse_bits32(index);
+    if (dimension != 1) return 0u;
+    /* column b of Pascal's matrix: v_{b+1} = v_b ^ (v_b >> 1), v_0 = 1/2 */
+    uint32_t y = 0u;
+    for (uint32_t v = 1u << 31; index; index >>= 1, v ^= v >> 1)
+        if (index & 1u) y ^= v;
+    return y;
+}
+
+/* Owen's nested uniform scrambling of the 32-bit fraction v in base 2 (Burley 2020, the
+ * hash-based form): bit i (from the top) is flipped by a pseudo-random function of the
+ * seed and the bits above it.  A permutation of [0, 2^32) that maps every aligned block of
+ * 2^k values onto another one (so nets stay nets), and makes each point uniform. */
+uint32_t lumis_owen_scramble(uint32_t v, uint32_t seed);
+
+/* Point index of the Owen-scrambled (0,2) Sobol' sequence, in [0, 1)^2: dimension d
+ * scrambled with its own seed drawn from seed.  Any prefix of 2^m points of one seed is a
+ * (0,m,2)-net; over seeds each point is uniform (the estimate is unbiased). */
+void lumis_sobol02(uint32_t index, uint64_t seed, double u[2]);
+
+/* Morton (z-order) code of (x, y): their bits interleaved, x's in the even places. */
+static inline uint64_t lumis_morton2(uint32_t x, uint32_t y)
+{
+    uint64_t v[2] = {x, y};
+    for (int k = 0; k < 2; k++) {
+        uint64_t a = v[k];
+        a = (a | (a << 16)) & 0x0000ffff0000ffffull;
+        a = (a | (a << 8)) & 0x00ff00ff00ff00ffull;
+        a = (a | (a << 4)) & 0x0f0f0f0f0f0f0f0full;
+        a = (a | (a << 2)) & 0x3333333333333333ull;
+        a = (a | (a << 1)) & 0x5555555555555555ull;
+        v[k] = a;
+    }
+    return v[0] | (v[1] << 1);
+}
+
+/* A progressive multi-jittered (0,2) sequence (Christensen, Kensler and Kilpatrick 2018):
+ * n points (n a power of two, 1 to 2^20) written to xy as 32-bit fractions (x, y pairs),
+ * each prefix of 2^m points a (0,m,2)-net that is also jittered in the 2^m strata of each
+ * axis.  Built by doubling: each new point goes to the sub-quadrant of its cell the rule
+ * of the paper leaves free, at a position drawn uniformly among those that keep every
+ * elementary interval filled once.  Deterministic in seed; O(n^1.5) time, O(n log n)
+ * scratch.  Returns LUMIS_ERR_INVALID_ARGUMENT for a bad n or a NULL xy, and
+ * LUMIS_ERR_OUT_OF_MEMORY. */
+lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy);
 
 #ifdef __cplusplus
 }

@@ -16,7 +16,6 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
                        const lumis__vertex *v, double *bounce)
 {
     const lumis_render_desc *d = c->d;
-    lumis_pcg32 *rng = v->rng;
     hit hh;
     if (!intersect(c->scene, eye, dir, &hh)) {
         if (d->hide_environment || !d->env) return mk(0, 0, 0);
@@ -32,9 +31,9 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
         const shading_frame fr = shading_frame_at(&hh, dir);
         const v3 t = fr.t, b = fr.b, n = fr.n;
         const lumis_vec3 wo = fr.wo;
-        double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
-               u2 = lumis_pcg32_double(rng);
-        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u0, u1, u2);
+        double u[3];
+        seq_bsdf(v->seq, seq_take_n(v->seq, 2), 0, 1, u);
+        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u[0], u[1], u[2]);
         if (!(bs.pdf > 0.0f)) break;
         beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);
         if (beta.x == 0.0 && beta.y == 0.0 && beta.z == 0.0) break;

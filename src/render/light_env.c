@@ -21,7 +21,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
     const env_state *st = c->state;
-    lumis_pcg32 *rng = v->rng;
+    lumis__stream *seq = v->seq;
+    /* two dimensions: the light samples' points, the BSDF samples' (a lobe and a point) */
+    const uint32_t dl = seq_take(seq), db = seq_take_n(seq, 2);
     double *shadow_rays = v->shadow_rays;
     const shading_frame fr = shading_frame_at(h, dir);
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
@@ -32,8 +34,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT;
     int mis = d->estimator == LUMIS_ESTIMATOR_MIS;
     for (int k = 0; use_light && k < st->nl; k++) {
-        double u1 = lumis_pcg32_double(rng), u2 = lumis_pcg32_double(rng);
-        lumis_env_sample e = lumis_sampler_sample(d->sampler, u1, u2);
+        double u[2];
+        seq_2d(seq, dl, (uint32_t)k, (uint32_t)st->nl, u);
+        lumis_env_sample e = lumis_sampler_sample(d->sampler, u[0], u[1]);
         v3 wi = fromf(e.dir);
         double cosn = dot(wi, n);
         if (!(cosn > 0.0) || !(e.pdf > 0.0f)) continue;
@@ -49,9 +52,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
     }
     for (int k = 0; use_bsdf && k < st->nb; k++) {
-        double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
-               u2 = lumis_pcg32_double(rng);
-        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u0, u1, u2);
+        double u[3];
+        seq_bsdf(seq, db, (uint32_t)k, (uint32_t)st->nb, u);
+        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
         if (!(bs.pdf > 0.0f)) continue;
         v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
         *shadow_rays += 1.0;

@@ -56,7 +56,6 @@ typedef struct lum_state {
 } lum_state;
 
 static const char *const visibility_names[] = {"exact", "approx", "none", "shadowmap"};
-static const char *const sequence_names[] = {"pcg", "halton"};
 
 const char *lumis_visibility_name(lumis_visibility v)
 {
@@ -68,21 +67,6 @@ lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out)
     for (int k = 0; name && out && k < LUMIS_VISIBILITY_COUNT; k++)
         if (strcmp(name, visibility_names[k]) == 0) {
             *out = (lumis_visibility)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
-
-const char *lumis_sequence_name(lumis_sequence q)
-{
-    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? sequence_names[q] : "unknown";
-}
-
-lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
-{
-    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
-        if (strcmp(name, sequence_names[k]) == 0) {
-            *out = (lumis_sequence)k;
             return LUMIS_OK;
         }
     return LUMIS_ERR_INVALID_ARGUMENT;
@@ -198,27 +182,23 @@ static lumis_status lum_shadow_maps(const lumis_scene *scene, lum_inst *li, int 
     return LUMIS_OK;
 }
 
-/* The luminaire samplers' random numbers (lumis_luminaire_query.fill).  PCG32: the pixel's
- * generator.  Halton: sample j of camera sample k at index k capacity + 1 + j of
- * dimensions 0 and 1, rotated per pixel (Cranley-Patterson). */
+/* The luminaire samplers' numbers (lumis_luminaire_query.fill): PCG32, the camera
+ * sample's stream in order; any other sequence, point j of the capacity's worth of one
+ * dimension per instance (index k capacity + j). */
 static void fill_pcg(void *rng, double *u, int n)
 {
     lumis_pcg32_fill_doubles(rng, u, (size_t)n);
 }
 
-typedef struct halton_pairs {
-    uint64_t next; /* index of the next pair */
-    double r0, r1; /* the pixel's rotation */
-} halton_pairs;
+typedef struct seq_pairs {
+    lumis__stream *seq;
+    uint32_t dim, next, n;
+} seq_pairs;
 
-static void fill_halton(void *state, double *u, int n)
+static void fill_seq(void *state, double *u, int n)
 {
-    halton_pairs *h = state;
-    for (int j = 0; j < n; j += 2, h->next++) {
-        const double u0 = lumis_halton(0, h->next) + h->r0, u1 = lumis_halton(1, h->next) + h->r1;
-        u[j] = u0 >= 1.0 ? u0 - 1.0 : u0;
-        u[j + 1] = u1 >= 1.0 ? u1 - 1.0 : u1;
-    }
+    seq_pairs *p = state;
+    for (int j = 0; j < n; j += 2, p->next++) seq_2d(p->seq, p->dim, p->next, p->n, u + j);
 }
 
 /* Every placed luminaire at h: its samples (lumis_luminaire_sample_point) times the BSDF and
@@ -228,8 +208,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const lumis_render_desc *d = c->d;
     const lum_state *st = c->state;
     const lumis_luminaire_lighting *ll = &st->lighting;
-    const int px = v->px, py = v->py, k = v->k;
-    lumis_pcg32 *rng = v->rng;
+    const int k = v->k;
+    lumis__stream *seq = v->seq;
+    const uint32_t dim0 = seq_take_n(seq, (uint32_t)ll->count); /* one per instance */
     lum_scratch *sc = v->scratch;
     double *shadow_rays = v->shadow_rays;
     const shading_frame fr = shading_frame_at(h, dir);
@@ -245,7 +226,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         q.p = tof(pl);
         if (!(q.p.z > 0.0f)) continue; /* behind U: no light */
         int count = 0;
-        halton_pairs hp;
+        seq_pairs sp = {seq, dim0 + (uint32_t)i, 0, (uint32_t)li->capacity};
         if (q.strategy == LUMIS_LUM_GLOBAL) {
             /* The same points on S for every shading point: drawn once per camera sample
              * (global_draws), finished here. */
@@ -254,20 +235,14 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
                                               st->global + slot * (size_t)st->capacity,
                                               st->global_n[slot], sc->s, &count) != LUMIS_OK)
                 continue;
-        } else if (ll->sequence == LUMIS_SEQUENCE_HALTON) {
-            lumis_pcg32 g; /* a rotation per pixel and instance, the same for every k */
-            lumis_pcg32_seed(&g, mix64(d->seed ^ 0x51ed27u ^ ((uint64_t)i << 40)),
-                             (uint64_t)py * 0x10000u + (uint64_t)px);
-            hp.r0 = lumis_pcg32_double(&g);
-            hp.r1 = lumis_pcg32_double(&g);
-            hp.next = (uint64_t)k * (uint64_t)li->capacity + 1;
-            q.fill = fill_halton;
-            q.fill_ctx = &hp;
+        } else if (seq->q->kind != LUMIS_SEQUENCE_PCG) {
+            q.fill = fill_seq;
+            q.fill_ctx = &sp;
         } else {
             /* Only the numbers the point's samples use (there are often far fewer samples
              * than the capacity reserved for the worst point). */
             q.fill = fill_pcg;
-            q.fill_ctx = rng;
+            q.fill_ctx = &seq->rng;
         }
         if (q.strategy != LUMIS_LUM_GLOBAL &&
             lumis_luminaire_sample_point(li->lum, &q, NULL, li->capacity, sc->s, &count) !=

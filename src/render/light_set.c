@@ -142,7 +142,10 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
 {
     const lumis_render_desc *d = c->d;
     const set_state *st = c->state;
-    lumis_pcg32 *rng = v->rng;
+    lumis__stream *seq = v->seq;
+    /* a dimension per stratum (taken whether or not it is drawn, so the layout does not
+     * depend on the normal), then the BSDF sample's two */
+    const uint32_t d0 = seq_take_n(seq, (uint32_t)st->nstrata), db = seq_take_n(seq, 2);
     const shading_frame fr = shading_frame_at(h, dir);
     const v3 t = fr.t, b = fr.b, n = fr.n, o = fr.org;
     const lumis_vec3 wo = fr.wo;
@@ -175,8 +178,7 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             const float *cone = st->cone + 4 * q;
             if (cone[0] * nx + cone[1] * ny + cone[2] * nz <= cone[3]) continue;
             regions[cnt] = st->strata[q];
-            u[2 * cnt] = lumis_pcg32_double(rng);
-            u[2 * cnt + 1] = lumis_pcg32_double(rng);
+            seq_2d(seq, d0 + (uint32_t)q, 0, 1, u + 2 * cnt);
             cnt++;
         }
         lumis_region_sampler_sample_n(st->rs, regions, u, (size_t)cnt, e);
@@ -202,9 +204,9 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     *v->shadow_rays += (double)(p.rays.n + p.flushed);
     packet_flush(c->scene, d, &p, &L);
     if (!use_bsdf) return L;
-    const double u0 = lumis_pcg32_double(rng), u1 = lumis_pcg32_double(rng),
-                 u2 = lumis_pcg32_double(rng);
-    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u0, u1, u2);
+    double ub[3];
+    seq_bsdf(seq, db, 0, 1, ub);
+    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, ub[0], ub[1], ub[2]);
     if (!(bs.pdf > 0.0f)) return L;
     const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
     int region = -1;

@@ -1,15 +1,17 @@
 /* The evaluation renderer: an Embree scene (meshes used more than once are instanced), a
  * pinhole camera, and direct illumination from the environment map with light, BSDF or
  * multiple importance sampling; optionally path tracing on top of it.
- * Determinism: sample k of pixel p draws from PCG32 stream p started at a hash of (seed, k),
- * so the image depends on the seed and the sample count, never on how tiles are spread
- * over threads or samples over passes. */
+ * Determinism: sample k of pixel p takes its numbers from the render's sequence at (p, k)
+ * (sequence.h; PCG32: stream p started at a hash of (seed, k)), so the image depends on the
+ * seed and the sample count, never on how tiles are spread over threads or samples over
+ * passes. */
 #include "lumis/render.h"
 #include "lumis/rng.h"
 
 #include "../core/internal.h"
 #include "internal.h"
 #include "camera.h"
+#include "sequence.h"
 #include "shade.h"
 
 #include <embree3/rtcore.h>
@@ -31,6 +33,7 @@ struct lumis_render_job {
     double *sum; /* 3 per pixel: the sum of every sample so far, in sample order */
     const lumis__light_kind *kind;
     void *state; /* the kind's (its prepare) */
+    lumis__seq seq;
     lumis_render_stats stats;
 };
 
@@ -43,6 +46,7 @@ void lumis_render_job_destroy(lumis_render_job *job)
 {
     if (!job) return;
     free(job->sum);
+    lumis__seq_release(&job->seq);
     if (job->kind) job->kind->release(job->state);
     free(job);
 }
@@ -71,6 +75,11 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         lumis_render_job_destroy(job);
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
                            cam.width, cam.height);
+    }
+    const lumis_status qst = lumis__seq_init(&job->seq, d, d->spp);
+    if (qst != LUMIS_OK) {
+        lumis_render_job_destroy(job);
+        return qst;
     }
     job->kind = kind;
     const lumis_status kst = kind->prepare(scene, d, &job->state);
@@ -139,20 +148,20 @@ lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
                 const int x1 = x0 + TILE < w ? x0 + TILE : w, y1 = y0 + TILE < h ? y0 + TILE : h;
                 for (int y = y0; y < y1; y++)
                     for (int x = x0; x < x1; x++) {
-                        const uint64_t pixel = (uint64_t)y * (uint64_t)w + (uint64_t)x;
-                        double *acc = job->sum + 3 * pixel;
+                        double *acc = job->sum + 3 * ((size_t)y * (size_t)w + (size_t)x);
                         v3 a = mk(acc[0], acc[1], acc[2]);
                         for (int k = k0; k < k1; k++) {
-                            /* Sample k of this pixel has its own stream: passes cannot change it.
-                             */
-                            lumis_pcg32 rng;
-                            lumis_pcg32_seed(&rng, mix64(d->seed ^ mix64((uint64_t)k + 1)), pixel);
-                            double jx = lumis_pcg32_double(&rng), jy = lumis_pcg32_double(&rng);
-                            if (d->pixel_centers) jx = jy = 0.5;
-                            double sx = (x + jx) / w * 2.0 - 1.0;
-                            double sy = 1.0 - (y + jy) / h * 2.0; /* row 0 on top */
+                            /* Sample k of this pixel has its own numbers: passes cannot
+                             * change them. */
+                            lumis__stream seq;
+                            lumis__stream_start(&seq, &job->seq, x, y, w, k);
+                            double j[2];
+                            seq_2d(&seq, seq_take(&seq), 0, 1, j);
+                            if (d->pixel_centers) j[0] = j[1] = 0.5;
+                            double sx = (x + j[0]) / w * 2.0 - 1.0;
+                            double sy = 1.0 - (y + j[1]) / h * 2.0; /* row 0 on top */
                             v3 dir = camera_dir(&job->cf, sx, sy);
-                            const lumis__vertex v = {x, y, k, &rng, scratch, &shadow};
+                            const lumis__vertex v = {x, y, k, &seq, scratch, &shadow};
                             a = add(a, lumis__trace_sample(&c, job->kind, job->cf.eye, dir, &v,
                                                            &bounce));
                         }

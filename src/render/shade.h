@@ -12,6 +12,7 @@
 #include "lumis/rng.h"
 
 #include "packet.h"
+#include "sequence.h"
 #include "scene.h"
 #include "vec.h"
 
@@ -59,7 +60,7 @@ typedef struct ctx {
 /* One camera sample's vertex as a light kind sees it. */
 typedef struct lumis__vertex {
     int px, py, k;       /* the pixel and the camera sample */
-    lumis_pcg32 *rng;    /* the sample's stream (light and BSDF numbers) */
+    lumis__stream *seq;  /* the sample's numbers (sequence.h) */
     void *scratch;       /* the kind's per-thread buffers (thread_begin), or NULL */
     double *shadow_rays; /* add the shadow rays traced */
 } lumis__vertex;

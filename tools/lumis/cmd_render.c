@@ -63,7 +63,10 @@ static const char usage[] =
     "                     ray per basis cell, averaged over each function's cells),\n"
     "                     shadowmap (the same cells read from 256x256 depth maps rendered\n"
     "                     once, as the paper) or none\n"
-    "  --sequence Q       the samples' numbers: pcg (default) or halton\n"
+    "  --sequence Q       where every number comes from (docs/sampling.md): pcg\n"
+    "                     (independent, default), halton, stratified, sobol (Owen-scrambled,\n"
+    "                     progressive), zsobol (the same in z-order: blue-noise error at the\n"
+    "                     --spp given) or pmj02\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
@@ -177,9 +180,9 @@ int cmd_render(int argc, char **argv)
                 return tool_bad_value("render", "--visibility", v,
                                       "must be exact, approx, shadowmap or none");
         } else if (tool_option(argc, argv, &i, "--sequence", &v)) {
-            o.lum_option = "--sequence";
-            if (!v || lumis_sequence_from_name(v, &o.lum.sequence) != LUMIS_OK)
-                return tool_bad_value("render", "--sequence", v, "must be pcg or halton");
+            if (!v || lumis_sequence_from_name(v, &o.rd.sequence) != LUMIS_OK)
+                return tool_bad_value("render", "--sequence", v,
+                                      "must be pcg, halton, stratified, sobol, zsobol or pmj02");
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)

@@ -93,7 +93,6 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddStringToObject(x, "search", lumis_luminaire_search_name(ll->search));
         cJSON_AddNumberToObject(x, "depth", ll->depth);
         cJSON_AddStringToObject(x, "visibility", lumis_visibility_name(ll->visibility));
-        cJSON_AddStringToObject(x, "sequence", lumis_sequence_name(ll->sequence));
         cJSON_AddNumberToObject(x, "bytes", (double)r->sampler_table_bytes);
         /* Samples evaluated, not the budget: a point draws at least one per image with
          * energy in its box, and the global strategy one per image with any. */
@@ -164,6 +163,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     cJSON_AddNumberToObject(j, "spp", s->spp);
     cJSON_AddNumberToObject(j, "passes", s->passes);
     cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
+    cJSON_AddStringToObject(j, "sequence", lumis_sequence_name(o->rd.sequence));
     cJSON_AddNumberToObject(j, "threads", s->threads);
     { /* the code paths this CPU ran: a result is reproduced with the same ones */
         const char *embree = getenv("LUMIS_EMBREE_CONFIG");

@@ -1,0 +1,212 @@
+/* The renderer's sample sequences (sequence.h): PCG32, Halton, jittered strata,
+ * Owen-scrambled Sobol' (per pixel, or in z-order across pixels) and pmj02 tables.
+ * Why each randomisation keeps the estimate unbiased and the nets nets: docs/sampling.md. */
+#include "sequence.h"
+
+#include "../core/internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const names[] = {"pcg", "halton", "stratified", "sobol", "zsobol", "pmj02"};
+
+const char *lumis_sequence_name(lumis_sequence q)
+{
+    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? names[q] : "unknown";
+}
+
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
+{
+    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
+        if (strcmp(name, names[k]) == 0) {
+            *out = (lumis_sequence)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+static inline uint64_t mix(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+static int ceil_log2(uint64_t n)
+{
+    int l = 0;
+    while (l < 63 && (1ull << l) < n) l++;
+    return l;
+}
+
+lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int planned_spp)
+{
+    q->kind = d->sequence;
+    /* the luminaires' own choice (before the render had sequences) stands with PCG32 */
+    if (q->kind == LUMIS_SEQUENCE_PCG && d->luminaires && d->luminaires->count > 0 &&
+        (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
+        q->kind = d->luminaires->sequence;
+    q->seed = d->seed;
+    q->log2n = ceil_log2(planned_spp > 0 ? (uint64_t)planned_spp : 1u << 16);
+    q->pmj = NULL;
+    if ((unsigned)q->kind >= LUMIS_SEQUENCE_COUNT)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT, "render: unknown sequence %d",
+                           (int)q->kind);
+    if (q->kind != LUMIS_SEQUENCE_PMJ02) return LUMIS_OK;
+    q->pmj = malloc(sizeof *q->pmj * 2 * LUMIS__PMJ_POINTS * LUMIS__PMJ_PATTERNS);
+    if (!q->pmj)
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: pmj02 tables: out of memory");
+    for (size_t p = 0; p < LUMIS__PMJ_PATTERNS; p++) {
+        /* the tables depend on the pattern only, not the seed: the seed scrambles them */
+        const lumis_status st = lumis_pmj02_generate(
+            LUMIS__PMJ_POINTS, 0x706d6a30ull + p, q->pmj + 2 * (size_t)LUMIS__PMJ_POINTS * p);
+        if (st != LUMIS_OK) {
+            lumis__seq_release(q);
+            return lumis__fail(&d->errors, st, "render: pmj02 tables: %s", lumis_status_string(st));
+        }
+    }
+    return LUMIS_OK;
+}
+
+void lumis__seq_release(lumis__seq *q)
+{
+    free(q->pmj);
+    q->pmj = NULL;
+}
+
+void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, int width, int k)
+{
+    const uint64_t pixel = (uint64_t)y * (uint64_t)width + (uint64_t)x;
+    s->q = q;
+    s->k = (uint32_t)k;
+    s->dim = 0;
+    /* PCG32: sample k of this pixel has its own stream, so passes cannot change it (the
+     * renderer's numbers before the sequences, bit for bit) */
+    lumis_pcg32_seed(&s->rng, mix(q->seed ^ mix((uint64_t)k + 1)), pixel);
+    s->pixel = mix(q->seed ^ mix(pixel + 0x5eed));
+    s->morton = lumis_morton2((uint32_t)x, (uint32_t)y);
+}
+
+/* A bijection of [0, 2^bits) keyed by key: odd multiplications, xor-shifts and an addition,
+ * each invertible modulo 2^bits. */
+static uint32_t permute(uint32_t i, uint32_t bits, uint64_t key)
+{
+    if (bits == 0) return 0;
+    const uint32_t mask = bits >= 32 ? 0xffffffffu : (1u << bits) - 1u;
+    const uint32_t sh = bits / 2 + 1;
+    uint32_t x = i & mask;
+    x = (x + (uint32_t)key) & mask;
+    x = (x * (((uint32_t)(key >> 32)) | 1u)) & mask;
+    x ^= x >> sh;
+    x = (x * 0x2c1b3c6du) & mask;
+    x ^= x >> sh;
+    x = (x + (uint32_t)(key >> 40)) & mask;
+    x = (x * 0x297a2d39u) & mask;
+    x ^= x >> sh;
+    return x;
+}
+
+/* Owen's scrambling of the 64-bit index I in base 2 from the top: bit i flipped by a
+ * function of the seed and the bits above it, so the 2^k consecutive indices of an aligned
+ * block go to an aligned block, permuted.  (The reversed index hashed as
+ * lumis_owen_scramble does, with 64-bit even constants.) */
+static uint64_t index_scramble(uint64_t I, uint64_t seed)
+{
+    uint64_t x = ((uint64_t)lumis_reverse_bits32((uint32_t)I) << 32) |
+                 lumis_reverse_bits32((uint32_t)(I >> 32));
+    x += seed;
+    x ^= x * 0x9e3779b97f4a7c16ull;
+    x ^= x * 0xbf58476d1ce4e5b8ull;
+    x ^= x * 0x94d049bb133111eaull;
+    x ^= x * 0xd6e8feb86659fd92ull;
+    return ((uint64_t)lumis_reverse_bits32((uint32_t)x) << 32) |
+           lumis_reverse_bits32((uint32_t)(x >> 32));
+}
+
+static inline double frac32(uint32_t v)
+{
+    return v * 0x1p-32;
+}
+
+void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
+                      double u[2])
+{
+    const lumis__seq *q = s->q;
+    const uint64_t idx = (uint64_t)s->k * n + j;
+    switch (q->kind) {
+    case LUMIS_SEQUENCE_HALTON: {
+        /* dimensions 2 dim and 2 dim + 1 of Halton's sequence (past 32: the first again),
+         * rotated per pixel and dimension (Cranley-Patterson) */
+        const uint64_t h = mix(s->pixel ^ mix(dim + 0x4a17));
+        const unsigned b = (2u * dim) % LUMIS_HALTON_MAX_DIMENSION;
+        const double v0 = lumis_halton(b, idx + 1) + frac32((uint32_t)h),
+                     v1 = lumis_halton(b + 1, idx + 1) + frac32((uint32_t)(h >> 32));
+        u[0] = v0 >= 1.0 ? v0 - 1.0 : v0;
+        u[1] = v1 >= 1.0 ? v1 - 1.0 : v1;
+        return;
+    }
+    case LUMIS_SEQUENCE_STRATIFIED: {
+        /* the planned n spp points as 2^L strata (a 2^ceil(L/2) x 2^floor(L/2) grid, or L
+         * strata of [0, 1)), visited in an order drawn per pixel and dimension, jittered;
+         * each further block of 2^L points is a new such set */
+        const uint32_t L = (uint32_t)(q->log2n + ceil_log2(n));
+        const uint64_t block = L >= 32 ? 0 : idx >> L;
+        const uint64_t key = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x57a7));
+        const uint32_t st = permute((uint32_t)idx, L, key);
+        const uint64_t jit = mix(key ^ idx);
+        if (one_d) {
+            u[0] = ((double)st + frac32((uint32_t)jit)) * ldexp(1.0, -(int)L);
+            u[1] = 0.0;
+            return;
+        }
+        const uint32_t lx = (L + 1) / 2, ly = L / 2;
+        u[0] = ((double)(st & ((1u << lx) - 1u)) + frac32((uint32_t)jit)) * ldexp(1.0, -(int)lx);
+        u[1] = ((double)(st >> lx) + frac32((uint32_t)(jit >> 32))) * ldexp(1.0, -(int)ly);
+        return;
+    }
+    case LUMIS_SEQUENCE_SOBOL: {
+        /* per pixel and dimension: the index shuffled (an aligned block stays one), then
+         * each coordinate Owen-scrambled (Burley 2020) */
+        const uint64_t h = mix(s->pixel ^ mix(dim + 0x50b0));
+        const uint32_t i = lumis_owen_scramble((uint32_t)idx, (uint32_t)(h >> 32) ^ 0x9e3779b9u);
+        const uint64_t g = mix(h);
+        u[0] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g));
+        u[1] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)));
+        return;
+    }
+    case LUMIS_SEQUENCE_ZSOBOL: {
+        /* pbrt-v4's ZSobol idea: pixel p's planned 2^L points are indices p 2^L .. of one
+         * sequence in z-order, so neighbouring pixels share the nets of their union (blue
+         * noise across the screen); the index is Owen-scrambled per dimension, the same
+         * scramble for all pixels.  Past the plan, each further block of 2^L points is
+         * scrambled afresh. */
+        const uint32_t L = (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
+        const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
+        const uint64_t seed = mix(q->seed ^ mix(((uint64_t)dim << 24) + block + 0x250b));
+        const uint64_t I = index_scramble((s->morton << L) | within, seed);
+        /* the points depend on the index's low 32 bits: the high ones pick the scramble */
+        const uint64_t g = mix(seed ^ (I >> 32));
+        const uint32_t i = (uint32_t)I;
+        u[0] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g));
+        u[1] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)));
+        return;
+    }
+    case LUMIS_SEQUENCE_PMJ02: {
+        /* table dim mod P (then the next ones, one per 2^10 points), xor-shifted per pixel
+         * and dimension (a digital shift: nets stay nets, each point uniform) */
+        const uint64_t block = idx >> LUMIS__PMJ_LOG2;
+        const uint32_t p = (uint32_t)((dim + 7u * block) % LUMIS__PMJ_PATTERNS);
+        const uint32_t *t = q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS +
+                                          (size_t)(idx & (LUMIS__PMJ_POINTS - 1)));
+        const uint64_t h = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x9302));
+        u[0] = frac32(t[0] ^ (uint32_t)h);
+        u[1] = frac32(t[1] ^ (uint32_t)(h >> 32));
+        return;
+    }
+    default: /* PCG32 (seq_2d and seq_1d do not come here for it) */
+        u[0] = lumis_pcg32_double(&s->rng);
+        u[1] = one_d ? 0.0 : lumis_pcg32_double(&s->rng);
+        return;
+    }
+}
