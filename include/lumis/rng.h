@@ -76,7 +76,6 @@ static inline double lumis_halton(unsigned dimension, uint64_t index)
     return lumis_radical_inverse(dimension, index);
 }
 
-
 /* ---- (0,2) sequences: Sobol' and progressive multi-jittered points -------------------------
  * Both give, at every prefix of 2^m points, a (0,m,2)-net: each of the m + 1 grids of 2^m
  * equal rectangles (2^a x 2^(m-a) cells) holds exactly one point (docs/sampling.md). */

@@ -67,8 +67,8 @@ static void occupy(pmj_grid *g, uint32_t X, uint32_t Y)
 /* Adds point i at a position uniform among those of sub-quadrant (sx, sy) (the cell of
  * side 2^-h at (cx, cy), halves sx, sy) that fill no occupied interval of level m.
  * Returns 0 when none is left. */
-static int place(pmj_grid *g, uint32_t *xy, uint32_t i, int h, uint32_t cx, uint32_t cy,
-                 int sx, int sy, lumis_pcg32 *rng, uint32_t *cand)
+static int place(pmj_grid *g, uint32_t *xy, uint32_t i, int h, uint32_t cx, uint32_t cy, int sx,
+                 int sy, lumis_pcg32 *rng, uint32_t *cand)
 {
     const int m = g->m, r = m - (h + 1); /* strata of level m per sub-quadrant: 2^r */
     const uint32_t x0 = ((cx << 1) | (uint32_t)sx) << r, y0 = ((cy << 1) | (uint32_t)sy) << r;
@@ -135,6 +135,11 @@ lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy)
     lumis_pcg32_seed(&rng, mix(seed), 0x706d6a3032ull);
     xy[0] = lumis_pcg32_next(&rng);
     xy[1] = lumis_pcg32_next(&rng);
+    if (n == 1) {
+        free(g.cell);
+        free(cand);
+        return LUMIS_OK;
+    }
     for (uint32_t have = 1; have < n;) {
         g.m = 0;
         while ((1u << g.m) < 2 * have) g.m++;

@@ -56,11 +56,12 @@ lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int plan
     if (q->kind != LUMIS_SEQUENCE_PMJ02) return LUMIS_OK;
     q->pmj = malloc(sizeof *q->pmj * 2 * LUMIS__PMJ_POINTS * LUMIS__PMJ_PATTERNS);
     if (!q->pmj)
-        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: pmj02 tables: out of memory");
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                           "render: pmj02 tables: out of memory");
     for (size_t p = 0; p < LUMIS__PMJ_PATTERNS; p++) {
         /* the tables depend on the pattern only, not the seed: the seed scrambles them */
-        const lumis_status st = lumis_pmj02_generate(
-            LUMIS__PMJ_POINTS, 0x706d6a30ull + p, q->pmj + 2 * (size_t)LUMIS__PMJ_POINTS * p);
+        const lumis_status st = lumis_pmj02_generate(LUMIS__PMJ_POINTS, 0x706d6a30ull + p,
+                                                     q->pmj + 2 * (size_t)LUMIS__PMJ_POINTS * p);
         if (st != LUMIS_OK) {
             lumis__seq_release(q);
             return lumis__fail(&d->errors, st, "render: pmj02 tables: %s", lumis_status_string(st));
@@ -124,9 +125,19 @@ static uint64_t index_scramble(uint64_t I, uint64_t seed)
            lumis_reverse_bits32((uint32_t)(x >> 32));
 }
 
-static inline double frac32(uint32_t v)
+/* A 32-bit fraction as a double with 21 random bits below it (jitter inside the finest
+ * cell: nets stay nets).  The samplers read more than 32 bits of a number: the alias
+ * tables take the column and a 32-bit coin from one number and place the direction with
+ * what is left, which must still be uniform. */
+static inline double frac53(uint32_t v, uint64_t random)
 {
-    return v * 0x1p-32;
+    return (double)(((uint64_t)v << 21) | (random >> 43)) * 0x1p-53;
+}
+
+/* 53 random bits as a double in [0, 1). */
+static inline double unit53(uint64_t random)
+{
+    return (double)(random >> 11) * 0x1p-53;
 }
 
 void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
@@ -140,8 +151,8 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * rotated per pixel and dimension (Cranley-Patterson) */
         const uint64_t h = mix(s->pixel ^ mix(dim + 0x4a17));
         const unsigned b = (2u * dim) % LUMIS_HALTON_MAX_DIMENSION;
-        const double v0 = lumis_halton(b, idx + 1) + frac32((uint32_t)h),
-                     v1 = lumis_halton(b + 1, idx + 1) + frac32((uint32_t)(h >> 32));
+        const double v0 = lumis_halton(b, idx + 1) + unit53(h),
+                     v1 = lumis_halton(b + 1, idx + 1) + unit53(mix(h));
         u[0] = v0 >= 1.0 ? v0 - 1.0 : v0;
         u[1] = v1 >= 1.0 ? v1 - 1.0 : v1;
         return;
@@ -156,13 +167,13 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint32_t st = permute((uint32_t)idx, L, key);
         const uint64_t jit = mix(key ^ idx);
         if (one_d) {
-            u[0] = ((double)st + frac32((uint32_t)jit)) * ldexp(1.0, -(int)L);
+            u[0] = ((double)st + unit53(jit)) * ldexp(1.0, -(int)L);
             u[1] = 0.0;
             return;
         }
         const uint32_t lx = (L + 1) / 2, ly = L / 2;
-        u[0] = ((double)(st & ((1u << lx) - 1u)) + frac32((uint32_t)jit)) * ldexp(1.0, -(int)lx);
-        u[1] = ((double)(st >> lx) + frac32((uint32_t)(jit >> 32))) * ldexp(1.0, -(int)ly);
+        u[0] = ((double)(st & ((1u << lx) - 1u)) + unit53(jit)) * ldexp(1.0, -(int)lx);
+        u[1] = ((double)(st >> lx) + unit53(mix(jit))) * ldexp(1.0, -(int)ly);
         return;
     }
     case LUMIS_SEQUENCE_SOBOL: {
@@ -170,9 +181,10 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * each coordinate Owen-scrambled (Burley 2020) */
         const uint64_t h = mix(s->pixel ^ mix(dim + 0x50b0));
         const uint32_t i = lumis_owen_scramble((uint32_t)idx, (uint32_t)(h >> 32) ^ 0x9e3779b9u);
-        const uint64_t g = mix(h);
-        u[0] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g));
-        u[1] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)));
+        const uint64_t g = mix(h), low = mix(g ^ idx);
+        u[0] = frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g), low);
+        u[1] =
+            frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)), low << 21);
         return;
     }
     case LUMIS_SEQUENCE_ZSOBOL: {
@@ -181,15 +193,21 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * noise across the screen); the index is Owen-scrambled per dimension, the same
          * scramble for all pixels.  Past the plan, each further block of 2^L points is
          * scrambled afresh. */
-        const uint32_t L = (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
+        const uint32_t L =
+            (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
         const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
         const uint64_t seed = mix(q->seed ^ mix(((uint64_t)dim << 24) + block + 0x250b));
         const uint64_t I = index_scramble((s->morton << L) | within, seed);
-        /* the points depend on the index's low 32 bits: the high ones pick the scramble */
-        const uint64_t g = mix(seed ^ (I >> 32));
+        /* The output's scramble is drawn per tile of 8 x 8 pixels (64 aligned blocks: the
+         * nets blue noise needs stay whole), so one image averages over many scrambles
+         * rather than showing one scramble's error in every pixel.  (The points depend on
+         * the index's low 32 bits; the tile index also covers the higher ones.) */
+        const uint64_t g = mix(seed ^ (I >> (L + 6)));
         const uint32_t i = (uint32_t)I;
-        u[0] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g));
-        u[1] = frac32(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)));
+        const uint64_t low = mix(g ^ I);
+        u[0] = frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g), low);
+        u[1] =
+            frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)), low << 21);
         return;
     }
     case LUMIS_SEQUENCE_PMJ02: {
@@ -197,11 +215,12 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * and dimension (a digital shift: nets stay nets, each point uniform) */
         const uint64_t block = idx >> LUMIS__PMJ_LOG2;
         const uint32_t p = (uint32_t)((dim + 7u * block) % LUMIS__PMJ_PATTERNS);
-        const uint32_t *t = q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS +
-                                          (size_t)(idx & (LUMIS__PMJ_POINTS - 1)));
+        const uint32_t *t =
+            q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS + (size_t)(idx & (LUMIS__PMJ_POINTS - 1)));
         const uint64_t h = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x9302));
-        u[0] = frac32(t[0] ^ (uint32_t)h);
-        u[1] = frac32(t[1] ^ (uint32_t)(h >> 32));
+        const uint64_t low = mix(h ^ idx);
+        u[0] = frac53(t[0] ^ (uint32_t)h, low);
+        u[1] = frac53(t[1] ^ (uint32_t)(h >> 32), low << 21);
         return;
     }
     default: /* PCG32 (seq_2d and seq_1d do not come here for it) */

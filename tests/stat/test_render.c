@@ -293,6 +293,21 @@ static void exact_irradiance(void **state)
             render(s, env, LUMIS_METHOD_INVERSION, LUMIS_ESTIMATOR_MIS, 64, 100u + (unsigned)r, 0);
     check_irradiance(imgs, RUNS, env, 0.7, "inversion + MIS");
     for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+    /* Every sample sequence converges to the same irradiance (its randomisations, the
+     * seeds, make the runs independent), with two light samples per camera sample so that
+     * the points j of n of one dimension are used too. */
+    for (int q = LUMIS_SEQUENCE_HALTON; q < LUMIS_SEQUENCE_COUNT; q++) {
+        lumis_render_desc base = {0};
+        base.sequence = (lumis_sequence)q;
+        base.light_samples = 2;
+        for (int r = 0; r < RUNS; r++)
+            imgs[r] = render_with(s, env, LUMIS_METHOD_INVERSION, LUMIS_ESTIMATOR_MIS, 16,
+                                  300u + (unsigned)r, 0, &base);
+        char what[64];
+        snprintf(what, sizeof what, "inversion + MIS, %s", lumis_sequence_name((lumis_sequence)q));
+        check_irradiance(imgs, RUNS, env, 0.7, what);
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+    }
     lumis_scene_destroy(s);
     lumis_envmap_destroy(env);
 }
@@ -313,11 +328,15 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
         int k, split;
         lumis_estimator est;
         int power;
+        lumis_sequence seq; /* a dimension per region */
     } cases[] = {
-        {"median-cut", 8, 0, LUMIS_ESTIMATOR_MIS, 0},
-        {"wu", 12, 1, LUMIS_ESTIMATOR_MIS, 0},
-        {"variance-min", 5, 0, LUMIS_ESTIMATOR_LIGHT, 0},
-        {"tmms", 8, 0, LUMIS_ESTIMATOR_MIS, 1},
+        {"median-cut", 8, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PCG},
+        {"wu", 12, 1, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PCG},
+        {"variance-min", 5, 0, LUMIS_ESTIMATOR_LIGHT, 0, LUMIS_SEQUENCE_PCG},
+        {"tmms", 8, 0, LUMIS_ESTIMATOR_MIS, 1, LUMIS_SEQUENCE_PCG},
+        {"median-cut", 8, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_SOBOL},
+        {"wu", 12, 1, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_ZSOBOL},
+        {"fhis", 16, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PMJ02},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         lumis_light_set *set = NULL;
@@ -339,6 +358,7 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
             d.regions = r % 2 ? rs : NULL; /* made by the render, or given */
             d.estimator = cases[c].est;
             d.power_heuristic = cases[c].power;
+            d.sequence = cases[c].seq;
             d.spp = 16;
             d.seed = 500u + (unsigned)r;
             lumis_render_stats st;
@@ -355,8 +375,8 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
             }
         }
         char what[64];
-        snprintf(what, sizeof what, "stratified %s (estimator %d)", cases[c].method,
-                 (int)cases[c].est);
+        snprintf(what, sizeof what, "stratified %s (estimator %d, %s)", cases[c].method,
+                 (int)cases[c].est, lumis_sequence_name(cases[c].seq));
         check_irradiance(imgs, RUNS, env, 0.7, what);
         for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
         lumis_region_sampler_destroy(rs);
@@ -389,6 +409,21 @@ static void estimators_agree_and_threads_do_not_matter(void **state)
     lumis_image *b = render(s, env, LUMIS_METHOD_KDTREE, LUMIS_ESTIMATOR_MIS, 8, 7, 2);
     assert_memory_equal(a->pixels, b->pixels, sizeof(float) * 24 * 24 * 3); /* bit for bit */
     lumis_image_destroy(b);
+    /* and with every sequence, path traced (the bounces' dimensions too) */
+    for (int q = 0; q < LUMIS_SEQUENCE_COUNT; q++) {
+        lumis_render_desc base = {0};
+        base.sequence = (lumis_sequence)q;
+        base.max_bounces = 2;
+        lumis_image *one = render_with(s, env, LUMIS_METHOD_KDTREE, LUMIS_ESTIMATOR_MIS, 4, 7, 1,
+                                       &base),
+                    *two = render_with(s, env, LUMIS_METHOD_KDTREE, LUMIS_ESTIMATOR_MIS, 4, 7, 2,
+                                       &base);
+        if (memcmp(one->pixels, two->pixels, sizeof(float) * 24 * 24 * 3) != 0)
+            fail_msg("%s: the image depends on the threads",
+                     lumis_sequence_name((lumis_sequence)q));
+        lumis_image_destroy(one);
+        lumis_image_destroy(two);
+    }
     /* Light-only, BSDF-only and MIS estimate the same image: compare means over the frame. */
     double means[3];
     const lumis_estimator ests[3] = {LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_LIGHT,
@@ -435,7 +470,8 @@ static void estimators_agree_and_threads_do_not_matter(void **state)
     lumis_envmap_destroy(env);
 }
 
-/* Passes: any split of the samples gives the image of one pass, bit for bit. */
+/* Passes: any split of the samples gives the image of one pass, bit for bit, with every
+ * sample sequence (the planned count is the job's desc spp). */
 static void passes_do_not_change_the_image(void **state)
 {
     (void)state;
@@ -444,30 +480,33 @@ static void passes_do_not_change_the_image(void **state)
     lumis_sampler_desc sd = {0};
     lumis_sampler *smp = NULL;
     assert_int_equal(lumis_sampler_create(env, &sd, &smp), LUMIS_OK);
-    lumis_render_desc d = {0};
-    d.camera = &cam;
-    d.env = env;
-    d.sampler = smp;
-    d.spp = 8;
-    d.seed = 3;
-    lumis_image *one = NULL;
-    assert_int_equal(lumis_render(s, &d, &one, NULL), LUMIS_OK);
-    lumis_render_job *job = NULL;
-    assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_OK);
-    const int split[4] = {1, 2, 1, 4};
-    for (int k = 0; k < 4; k++) assert_int_equal(lumis_render_job_run(job, split[k]), LUMIS_OK);
-    lumis_render_stats st;
-    lumis_render_job_stats(job, &st);
-    assert_int_equal(st.spp, 8);
-    assert_int_equal(st.passes, 4);
-    assert_true(st.camera_rays == 24.0 * 24 * 8);
-    lumis_image *many = NULL;
-    assert_int_equal(lumis_render_job_image(job, &many), LUMIS_OK);
-    assert_memory_equal(one->pixels, many->pixels, sizeof(float) * 24 * 24 * 3);
-    assert_int_equal(lumis_render_job_run(job, 0), LUMIS_ERR_INVALID_ARGUMENT);
-    lumis_render_job_destroy(job);
-    lumis_image_destroy(one);
-    lumis_image_destroy(many);
+    for (int q = 0; q < LUMIS_SEQUENCE_COUNT; q++) {
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.env = env;
+        d.sampler = smp;
+        d.spp = 8;
+        d.seed = 3;
+        d.sequence = (lumis_sequence)q;
+        lumis_image *one = NULL;
+        assert_int_equal(lumis_render(s, &d, &one, NULL), LUMIS_OK);
+        lumis_render_job *job = NULL;
+        assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_OK);
+        const int split[4] = {1, 2, 1, 4};
+        for (int k = 0; k < 4; k++) assert_int_equal(lumis_render_job_run(job, split[k]), LUMIS_OK);
+        lumis_render_stats st;
+        lumis_render_job_stats(job, &st);
+        assert_int_equal(st.spp, 8);
+        assert_int_equal(st.passes, 4);
+        assert_true(st.camera_rays == 24.0 * 24 * 8);
+        lumis_image *many = NULL;
+        assert_int_equal(lumis_render_job_image(job, &many), LUMIS_OK);
+        assert_memory_equal(one->pixels, many->pixels, sizeof(float) * 24 * 24 * 3);
+        assert_int_equal(lumis_render_job_run(job, 0), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_render_job_destroy(job);
+        lumis_image_destroy(one);
+        lumis_image_destroy(many);
+    }
     lumis_sampler_destroy(smp);
     lumis_scene_destroy(s);
     lumis_envmap_destroy(env);

@@ -1,0 +1,370 @@
+/* The sample sequences (lumis/rng.h's (0,2) building blocks, the renderer's sequences in
+ * src/render/sequence.h): the stratification each promises, unbiasedness over its
+ * randomisations, convergence rates on analytic integrands, and blue noise across pixels
+ * for zsobol.  Every check fails for the independent sequence or for a broken variant. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "lumis/render.h"
+#include "lumis/rng.h"
+#include "render/sequence.h"
+
+/* 1 when the n points (x, y 32-bit fractions, stride 2) are a (0,m,2)-net, n = 2^m: each
+ * of the m + 1 grids of 2^a x 2^(m-a) cells holds one point in every cell. */
+static int is_net(const uint32_t *xy, uint32_t n)
+{
+    int m = 0;
+    while ((1u << m) < n) m++;
+    unsigned char *seen = malloc(n);
+    assert_non_null(seen);
+    int ok = 1;
+    for (int a = 0; a <= m && ok; a++) {
+        memset(seen, 0, n);
+        for (uint32_t i = 0; i < n && ok; i++) {
+            const uint32_t X = m ? xy[2 * i] >> (32 - m) : 0, Y = m ? xy[2 * i + 1] >> (32 - m) : 0;
+            const size_t c = ((size_t)(Y >> a) << a) | (X >> (m - a));
+            if (seen[c]++) ok = 0;
+        }
+    }
+    free(seen);
+    return ok;
+}
+
+static void sobol02_prefixes_and_blocks_are_nets(void **state)
+{
+    (void)state;
+    enum { N = 1 << 14 };
+    uint32_t *xy = malloc(sizeof *xy * 2 * N);
+    assert_non_null(xy);
+    for (uint32_t seed = 0; seed < 4; seed++) {
+        const uint32_t s0 = 0x1234567u * seed + 1, s1 = 0x7654321u * seed + 3;
+        for (uint32_t i = 0; i < N; i++) {
+            const uint32_t b0 = lumis_sobol02_bits(i, 0), b1 = lumis_sobol02_bits(i, 1);
+            xy[2 * i] = seed ? lumis_owen_scramble(b0, s0) : b0;
+            xy[2 * i + 1] = seed ? lumis_owen_scramble(b1, s1) : b1;
+        }
+        for (uint32_t n = 1; n <= N; n *= 2)
+            if (!is_net(xy, n)) fail_msg("seed %u: the first %u points are not a net", seed, n);
+        /* any aligned block, not only prefixes (what the index shuffle relies on) */
+        for (uint32_t n = 2; n <= N / 4; n *= 8)
+            for (uint32_t b = 1; b < N / n; b += 3)
+                if (!is_net(xy + 2 * (size_t)b * n, n))
+                    fail_msg("seed %u: block %u of %u points is not a net", seed, b, n);
+    }
+    /* the double form agrees with the bits */
+    double u[2];
+    lumis_sobol02(5, 0, u);
+    assert_true(u[0] >= 0.0 && u[0] < 1.0 && u[1] >= 0.0 && u[1] < 1.0);
+    assert_int_equal(lumis_sobol02_bits(3, 2), 0);
+    free(xy);
+}
+
+static void owen_scrambling_permutes_aligned_blocks(void **state)
+{
+    (void)state;
+    /* values sharing their top k bits share them after scrambling (the scramble of digit i
+     * depends only on the digits above it), and a block's values stay distinct */
+    lumis_pcg32 g;
+    lumis_pcg32_seed(&g, 5, 1);
+    for (int t = 0; t < 2000; t++) {
+        const uint32_t v = lumis_pcg32_next(&g), w = lumis_pcg32_next(&g),
+                       seed = lumis_pcg32_next(&g);
+        const int k = (int)(lumis_pcg32_next(&g) % 31) + 1;
+        const uint32_t top = ~0u << (32 - k);
+        const uint32_t w2 = (v & top) | (w & ~top);
+        assert_int_equal(lumis_owen_scramble(v, seed) & top, lumis_owen_scramble(w2, seed) & top);
+    }
+    enum { B = 1 << 12 };
+    unsigned char *seen = calloc(B, 1);
+    assert_non_null(seen);
+    const uint32_t base = 0xabc00000u;
+    uint32_t out_top = lumis_owen_scramble(base, 99u) & ~(uint32_t)(B - 1) << 8;
+    for (uint32_t i = 0; i < B; i++) {
+        const uint32_t o = lumis_owen_scramble(base | (i << 8), 99u);
+        assert_int_equal(o & ~(uint32_t)(B - 1) << 8, out_top);
+        const uint32_t slot = (o >> 8) & (B - 1);
+        assert_int_equal(seen[slot], 0);
+        seen[slot] = 1;
+    }
+    free(seen);
+    /* the top bit is flipped for about half the seeds: the scramble is random */
+    int flips = 0;
+    for (uint32_t s = 0; s < 1000; s++)
+        flips += (int)(lumis_owen_scramble(0, s * 2654435761u) >> 31);
+    assert_true(flips > 420 && flips < 580);
+}
+
+static void pmj02_prefixes_are_nets(void **state)
+{
+    (void)state;
+    enum { N = 4096 };
+    uint32_t *xy = malloc(sizeof *xy * 2 * N), *again = malloc(sizeof *again * 2 * N);
+    assert_non_null(xy);
+    assert_non_null(again);
+    for (uint64_t seed = 0; seed < 6; seed++) {
+        assert_int_equal(lumis_pmj02_generate(N, seed, xy), LUMIS_OK);
+        for (uint32_t n = 1; n <= N; n *= 2)
+            if (!is_net(xy, n))
+                fail_msg("seed %u: the first %u points are not a net", (unsigned)seed, n);
+    }
+    /* deterministic in the seed, different across seeds */
+    assert_int_equal(lumis_pmj02_generate(N, 5, again), LUMIS_OK);
+    assert_memory_equal(xy, again, sizeof *xy * 2 * N);
+    assert_int_equal(lumis_pmj02_generate(N, 6, again), LUMIS_OK);
+    assert_memory_not_equal(xy, again, sizeof *xy * 2 * N);
+    assert_int_equal(lumis_pmj02_generate(1, 0, xy), LUMIS_OK);
+    assert_int_equal(lumis_pmj02_generate(0, 0, xy), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_pmj02_generate(48, 0, xy), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_pmj02_generate((1u << 20) * 2, 0, xy), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_pmj02_generate(4, 0, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    free(xy);
+    free(again);
+}
+
+/* ---- the renderer's sequences ------------------------------------------------------------ */
+
+static lumis__seq make_seq(lumis_sequence kind, uint64_t seed, int spp)
+{
+    lumis_render_desc d = {0};
+    d.sequence = kind;
+    d.seed = seed;
+    lumis__seq q;
+    assert_int_equal(lumis__seq_init(&q, &d, spp), LUMIS_OK);
+    return q;
+}
+
+/* Point k of dimension dim of pixel (x, y), the n = 1 way (sample k of the pixel). */
+static void point(const lumis__seq *q, int x, int y, int k, uint32_t dim, int one_d, double u[2])
+{
+    lumis__stream s;
+    lumis__stream_start(&s, q, x, y, 64, k);
+    if (q->kind == LUMIS_SEQUENCE_PCG) {
+        /* PCG ignores dimensions: the numbers come in order */
+        for (uint32_t d = 0; d < dim; d++)
+            (void)lumis_pcg32_double(&s.rng), (void)lumis_pcg32_double(&s.rng);
+        u[0] = lumis_pcg32_double(&s.rng);
+        u[1] = lumis_pcg32_double(&s.rng);
+        return;
+    }
+    lumis__seq_point(&s, dim, 0, 1, one_d, u);
+}
+
+static double f_smooth(double x, double y)
+{
+    return exp(-(x * x + y * y)) * (1.0 + 0.5 * cos(3.0 * x * y));
+}
+
+static double f_disk(double x, double y)
+{
+    return (x - 0.45) * (x - 0.45) + (y - 0.4) * (y - 0.4) < 0.3 * 0.3 ? 1.0 : 0.0;
+}
+
+static double exact_of(double (*f)(double, double))
+{
+    /* midpoint rule on a 2048^2 grid (the disk's boundary error: ~1e-7) */
+    enum { G = 2048 };
+    double s = 0.0;
+    for (int j = 0; j < G; j++)
+        for (int i = 0; i < G; i++) s += f((i + 0.5) / G, (j + 0.5) / G);
+    return s / ((double)G * G);
+}
+
+/* Least-squares slope of log(MSE) against log(N), N = 16 .. 4096 points of one pixel's
+ * sequence (the first N camera samples), MSE over 64 pixels (64 randomisations). */
+static double mse_slope(lumis_sequence kind, uint32_t dim, double (*f)(double, double),
+                        double exact)
+{
+    enum { PIXELS = 64, NMAX = 4096 };
+    lumis__seq q = make_seq(kind, 11, 0);
+    double lx[9], ly[9];
+    int c = 0;
+    double *sum = calloc(PIXELS, sizeof *sum);
+    assert_non_null(sum);
+    int next = 16;
+    for (int k = 0; k < NMAX; k++) {
+        for (int p = 0; p < PIXELS; p++) {
+            double u[2];
+            point(&q, p % 8, p / 8, k, dim, 0, u);
+            sum[p] += f(u[0], u[1]);
+        }
+        if (k + 1 == next) {
+            double mse = 0.0;
+            for (int p = 0; p < PIXELS; p++) {
+                const double e = sum[p] / next - exact;
+                mse += e * e / PIXELS;
+            }
+            lx[c] = log((double)next);
+            ly[c] = log(mse);
+            c++;
+            next *= 2;
+        }
+    }
+    free(sum);
+    lumis__seq_release(&q);
+    double mx = 0, my = 0;
+    for (int i = 0; i < c; i++) mx += lx[i] / c, my += ly[i] / c;
+    double sxy = 0, sxx = 0;
+    for (int i = 0; i < c; i++)
+        sxy += (lx[i] - mx) * (ly[i] - my), sxx += (lx[i] - mx) * (lx[i] - mx);
+    return sxy / sxx;
+}
+
+static void sequences_converge_faster_than_independent_numbers(void **state)
+{
+    (void)state;
+    const double es = exact_of(f_smooth), ed = exact_of(f_disk);
+    const lumis_sequence qmc[3] = {LUMIS_SEQUENCE_SOBOL, LUMIS_SEQUENCE_ZSOBOL,
+                                   LUMIS_SEQUENCE_PMJ02};
+    for (int i = 0; i < 3; i++)
+        for (uint32_t dim = 0; dim < 40; dim += 13) { /* past pmj02's 32 tables too */
+            const double s = mse_slope(qmc[i], dim, f_smooth, es),
+                         d = mse_slope(qmc[i], dim, f_disk, ed);
+            print_message("%-6s dim %2u: MSE slope %.2f (smooth), %.2f (disk)\n",
+                          lumis_sequence_name(qmc[i]), dim, s, d);
+            if (s > -1.5)
+                fail_msg("%s dim %u: smooth slope %.2f > -1.5", lumis_sequence_name(qmc[i]), dim,
+                         s);
+            if (d > -1.25)
+                fail_msg("%s dim %u: disk slope %.2f > -1.25", lumis_sequence_name(qmc[i]), dim, d);
+        }
+    /* the reference: independent numbers fall as 1 / N, and the test sees it */
+    const double p = mse_slope(LUMIS_SEQUENCE_PCG, 0, f_smooth, es);
+    print_message("pcg   : MSE slope %.2f (smooth)\n", p);
+    assert_true(p > -1.2 && p < -0.8);
+}
+
+/* Over the randomisations (pixels, seeds) every sequence's estimate is the integral: the
+ * mean of 16-point estimates of the disk over 2048 randomisations within 4 standard errors,
+ * in 2D, in 1D, for n points per camera sample, past 32 dimensions, and in the bits below
+ * a number's top 32 (32-bit points with nothing below them biased the alias tables). */
+static void every_sequence_is_unbiased(void **state)
+{
+    (void)state;
+    const double ed = exact_of(f_disk);
+    for (int kind = 0; kind < LUMIS_SEQUENCE_COUNT; kind++)
+        for (int variant = 0; variant < 5; variant++) {
+            enum { R = 2048, N = 16 };
+            lumis__seq q = make_seq((lumis_sequence)kind, 3, N);
+            const uint32_t dim = variant == 3 ? 45 : (uint32_t)variant;
+            double s = 0, s2 = 0;
+            for (int r = 0; r < R; r++) {
+                double est = 0;
+                for (int k = 0; k < N; k++) {
+                    lumis__stream st;
+                    lumis__stream_start(&st, &q, r % 64, r / 64, 64, variant == 2 ? 1 : k);
+                    double u[2];
+                    if (variant == 4) { /* the bits below the top 32 (what an alias
+                                           table's draw places the direction with) */
+                        seq_2d(&st, 2, 0, 1, u);
+                        const double y = u[1] * 0x1p32;
+                        est += (y - floor(y)) * 2.0 * ed;
+                    } else if (variant == 1) { /* 1D: the integral of x^2 */
+                        u[0] = seq_1d(&st, dim, 0, 1);
+                        est += u[0] * u[0] * 3.0 * ed; /* scaled to share the check */
+                    } else if (variant == 2) {         /* 16 points of camera sample 1 */
+                        seq_2d(&st, dim, (uint32_t)k, N, u);
+                        est += f_disk(u[0], u[1]);
+                    } else {
+                        seq_2d(&st, dim, 0, 1, u);
+                        est += f_disk(u[0], u[1]);
+                    }
+                }
+                est /= N;
+                s += est;
+                s2 += est * est;
+            }
+            const double mean = s / R, se = sqrt(fmax(s2 / R - mean * mean, 1e-12) / (R - 1));
+            if (fabs(mean - ed) > 4.0 * se + 1e-9)
+                fail_msg("%s variant %d: mean %.6f, exact %.6f (%.1f standard errors)",
+                         lumis_sequence_name((lumis_sequence)kind), variant, mean, ed,
+                         (mean - ed) / se);
+            lumis__seq_release(&q);
+        }
+}
+
+/* The error of a pixel's 4-sample estimate of a smooth integrand across a 64 x 64 screen:
+ * zsobol's 2 x 2 neighbours share the nets of their 16 samples, so averaging 2 x 2 blocks
+ * cancels most of it (blue noise: the error's power is at high frequencies); per-pixel
+ * scrambling leaves white noise (the block mean keeps 1/4 of the variance). */
+static double block_variance_ratio(lumis_sequence kind)
+{
+    enum { W = 64, N = 4 };
+    lumis__seq q = make_seq(kind, 5, N);
+    static double e[W * W];
+    double mean = 0;
+    for (int y = 0; y < W; y++)
+        for (int x = 0; x < W; x++) {
+            double est = 0;
+            for (int k = 0; k < N; k++) {
+                lumis__stream st;
+                lumis__stream_start(&st, &q, x, y, W, k);
+                double u[2];
+                seq_2d(&st, 1, 0, 1, u);
+                est += f_smooth(u[0], u[1]);
+            }
+            e[y * W + x] = est / N;
+            mean += est / N / (W * W);
+        }
+    double v = 0, vb = 0;
+    for (int k = 0; k < W * W; k++) v += (e[k] - mean) * (e[k] - mean) / (W * W);
+    for (int y = 0; y < W; y += 2)
+        for (int x = 0; x < W; x += 2) {
+            const double b =
+                (e[y * W + x] + e[y * W + x + 1] + e[(y + 1) * W + x] + e[(y + 1) * W + x + 1]) /
+                    4 -
+                mean;
+            vb += b * b / (W * W / 4);
+        }
+    lumis__seq_release(&q);
+    return vb / v;
+}
+
+static void zsobol_moves_error_to_high_frequencies(void **state)
+{
+    (void)state;
+    const double z = block_variance_ratio(LUMIS_SEQUENCE_ZSOBOL),
+                 s = block_variance_ratio(LUMIS_SEQUENCE_SOBOL),
+                 p = block_variance_ratio(LUMIS_SEQUENCE_PCG);
+    print_message("2x2 block variance / pixel variance: zsobol %.3f, sobol %.3f, pcg %.3f\n", z, s,
+                  p);
+    assert_true(s > 0.18 && s < 0.32); /* white */
+    assert_true(p > 0.18 && p < 0.32);
+    assert_true(z < 0.3 * s);
+}
+
+static void names_and_bad_kinds(void **state)
+{
+    (void)state;
+    lumis_render_desc d = {0};
+    d.sequence = LUMIS_SEQUENCE_COUNT;
+    lumis__seq q;
+    assert_int_equal(lumis__seq_init(&q, &d, 4), LUMIS_ERR_INVALID_ARGUMENT);
+    for (int k = 0; k < LUMIS_SEQUENCE_COUNT; k++) {
+        lumis_sequence back;
+        assert_int_equal(lumis_sequence_from_name(lumis_sequence_name((lumis_sequence)k), &back),
+                         LUMIS_OK);
+        assert_int_equal(back, k);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(sobol02_prefixes_and_blocks_are_nets),
+        cmocka_unit_test(owen_scrambling_permutes_aligned_blocks),
+        cmocka_unit_test(pmj02_prefixes_are_nets),
+        cmocka_unit_test(sequences_converge_faster_than_independent_numbers),
+        cmocka_unit_test(every_sequence_is_unbiased),
+        cmocka_unit_test(zsobol_moves_error_to_high_frequencies),
+        cmocka_unit_test(names_and_bad_kinds),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
