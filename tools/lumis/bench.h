@@ -42,6 +42,7 @@ typedef struct suite_method {
     lumis_lights_mode lights_mode;      /* "mode": point (default) or stratified */
     int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
     lumis_light_params lights_params;   /* "params": the light-set method's parameters */
+    lumis_sequence sequence;            /* "sequence": the render's numbers (default pcg) */
 } suite_method;
 
 typedef struct suite_budget {

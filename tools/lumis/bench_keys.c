@@ -124,6 +124,10 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
         snprintf(buf, sizeof buf, " lights %s %d ", s->reference.lights, s->reference.lights_k);
         h = fnv_str(fnv_str(h, buf), params);
     }
+    if (s->reference.sequence) { /* PCG32's keys stay as they were */
+        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(s->reference.sequence));
+        h = fnv_str(h, buf);
+    }
     const suite_scene *scene = &s->scenes[sc];
     h = scene->bytes ? tool_fnv(h, scene->bytes, scene->nbytes) : fnv_str(h, scene->spec);
     snprintf(out, cap, "%016llx", (unsigned long long)h);
@@ -153,6 +157,10 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         char params[1024];
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
+    }
+    if (m->sequence) { /* PCG32's keys stay as they were */
+        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(m->sequence));
+        h = fnv_str(h, buf);
     }
     snprintf(out, cap, "%016llx", (unsigned long long)h);
 }

@@ -56,6 +56,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->rd.light_samples = m->light_samples;
     o->rd.bsdf_samples = m->bsdf_samples;
     o->rd.seed = s->seed;
+    o->rd.sequence = m->sequence;
     o->rd.threads = c->threads;
     o->rd.max_bounces = s->bounces;
     o->width = s->width;

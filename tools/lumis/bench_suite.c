@@ -229,10 +229,11 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
 
 static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
                                           "light_samples", "bsdf_samples", "k",    "interleave",
-                                          "upsample",      "params",       "mode", NULL},
+                                          "upsample",      "params",       "mode", "sequence",
+                                          NULL},
                          *reference_keys[] = {"method",        "label",        "mis", "blocks",
                                               "light_samples", "bsdf_samples", "spp", "k",
-                                              "params",        "mode",         NULL};
+                                              "params",        "mode",         "sequence", NULL};
 
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
@@ -245,7 +246,13 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (rc == EXIT_OK) rc = opt_string(e, "method", file, where, &name);
     if (rc == EXIT_OK) rc = opt_string(e, "label", file, where, &label);
     if (rc == EXIT_OK) rc = opt_string(e, "mis", file, where, &mis);
+    const char *seq = NULL;
+    if (rc == EXIT_OK) rc = opt_string(e, "sequence", file, where, &seq);
     if (rc != EXIT_OK) return rc;
+    if (seq && lumis_sequence_from_name(seq, &m->sequence) != LUMIS_OK)
+        return tool_runtime_error("%s: %s.sequence: expected pcg, halton, stratified, sobol, "
+                                  "zsobol or pmj02",
+                                  file, where);
     if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,
                                   where);
