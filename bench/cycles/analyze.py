@@ -5,7 +5,12 @@ second, and the spp and seconds at which relMSE reaches 0.01 and 0.001 (linear
 interpolation in log-log between the two measured points that bracket the target; past
 the last point, extrapolated along the fitted slope and marked with '*').
 
-    python3 bench/cycles/analyze.py [bench/cycles/cycles.csv] [--pixels 19200]
+The measured relMSE against a reference of R spp is the test's own error plus the
+reference's.  With --ref-spp R the last column also gives the slope after subtracting an
+estimate of the reference's share, r = m(N) (N/R) / (1 + N/R) at the largest N measured
+(its error taken as falling like 1/spp between N and R).
+
+    python3 bench/cycles/analyze.py [bench/cycles/cycles.csv] [--pixels 19200] [--ref-spp R]
 """
 import csv
 import math
@@ -41,6 +46,11 @@ def crossing(rows, target, slope):
 def main():
     args = sys.argv[1:]
     pixels = 160 * 120
+    ref_spp = None
+    if "--ref-spp" in args:
+        k = args.index("--ref-spp")
+        ref_spp = int(args[k + 1])
+        del args[k : k + 2]
     if "--pixels" in args:
         k = args.index("--pixels")
         pixels = int(args[k + 1])
@@ -54,8 +64,9 @@ def main():
                 {"spp": int(r["spp"]), "seconds": float(r["seconds"]),
                  "relmse": float(r["relmse"])})
     print("| map | renderer | sequence | slope (spp 4-1024) | spp/s (at 1024 spp) | "
-          "samples/s | spp @ 0.01 | s @ 0.01 | spp @ 0.001 | s @ 0.001 |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "samples/s | spp @ 0.01 | s @ 0.01 | spp @ 0.001 | s @ 0.001 |"
+          + (" ref share r | slope, r removed |" if ref_spp else ""))
+    print("|---|---|---|---|---|---|---|---|---|---|" + ("---|---|" if ref_spp else ""))
     for (m, ren, seq), rows in groups.items():
         rows.sort(key=lambda r: r["spp"])
         sel = [r for r in rows if 4 <= r["spp"] <= 1024]
@@ -67,8 +78,15 @@ def main():
             spp, sec, ext = crossing(rows, t, slope)
             star = "*" if ext else ""
             cells += ["%.0f%s" % (spp, star), "%.3g%s" % (sec, star)]
-        print("| %s | %s | %s | %.3f | %.0f | %.3g | %s |" % (
-            m, ren, seq, slope, sps, sps * pixels, " | ".join(cells)))
+        extra = ""
+        if ref_spp:
+            q = top["spp"] / ref_spp
+            r = top["relmse"] * q / (1.0 + q)
+            sc, _ = fit([math.log(x["spp"]) for x in sel],
+                        [math.log(x["relmse"] - r) for x in sel])
+            extra = " %.3g | %.3f |" % (r, sc)
+        print("| %s | %s | %s | %.3f | %.0f | %.3g | %s |%s" % (
+            m, ren, seq, slope, sps, sps * pixels, " | ".join(cells), extra))
 
 
 main()

@@ -211,16 +211,26 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         return;
     }
     case LUMIS_SEQUENCE_PMJ02: {
-        /* table dim mod P (then the next ones, one per 2^10 points), xor-shifted per pixel
-         * and dimension (a digital shift: nets stay nets, each point uniform) */
+        /* Table dim mod P (then the next ones, one per 2^10 points).  The tables share
+         * their construction's rules (point N + i is point i's partner), so index k of two
+         * tables is the same point up to the scrambles: the pairs of dimensions would be
+         * degenerate in 4D (the error of a product of two dimensions stopped falling at
+         * 256 samples).  So the points of each doubling [2^j, 2^(j+1)) come in an order
+         * drawn per pixel and dimension (every power-of-two prefix keeps its set: nets stay
+         * nets), and each coordinate is Owen-scrambled per pixel and dimension. */
         const uint64_t block = idx >> LUMIS__PMJ_LOG2;
         const uint32_t p = (uint32_t)((dim + 7u * block) % LUMIS__PMJ_PATTERNS);
-        const uint32_t *t =
-            q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS + (size_t)(idx & (LUMIS__PMJ_POINTS - 1)));
         const uint64_t h = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x9302));
+        uint32_t i = (uint32_t)(idx & (LUMIS__PMJ_POINTS - 1));
+        if (i > 1) {
+            uint32_t level = 31;
+            while (!(i >> level)) level--;
+            i = (1u << level) | permute(i - (1u << level), level, mix(h + level));
+        }
+        const uint32_t *t = q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS + i);
         const uint64_t low = mix(h ^ idx);
-        u[0] = frac53(t[0] ^ (uint32_t)h, low);
-        u[1] = frac53(t[1] ^ (uint32_t)(h >> 32), low << 21);
+        u[0] = frac53(lumis_owen_scramble(t[0], (uint32_t)h), low);
+        u[1] = frac53(lumis_owen_scramble(t[1], (uint32_t)(h >> 32)), low << 21);
         return;
     }
     default: /* PCG32 (seq_2d and seq_1d do not come here for it) */

@@ -340,6 +340,52 @@ static void zsobol_moves_error_to_high_frequencies(void **state)
     assert_true(z < 0.3 * s);
 }
 
+/* Two dimensions of one camera sample together: a 4D integrand (a discontinuity across
+ * both) must keep converging.  (pmj02's tables share their construction, so index k of
+ * two tables is nearly the same point: paired as they are, the error stopped falling at
+ * 256 samples, until the order of each doubling was drawn per pixel and dimension.) */
+static double f4(const double *a, const double *b)
+{
+    return (a[0] + b[0] < 1.0 ? 1.0 : 0.0) * (a[1] * b[1] > 0.2 ? 1.0 : 0.3);
+}
+
+static void pairs_of_dimensions_keep_converging(void **state)
+{
+    (void)state;
+    for (int kind = LUMIS_SEQUENCE_HALTON; kind < LUMIS_SEQUENCE_COUNT; kind++) {
+        enum { W = 16 };
+        double var[2];
+        for (int c = 0; c < 2; c++) {
+            const int n = c ? 1024 : 64;
+            lumis__seq q = make_seq((lumis_sequence)kind, 5, n);
+            double s1 = 0, s2 = 0;
+            for (int p = 0; p < W * W; p++) {
+                double e = 0;
+                for (int k = 0; k < n; k++) {
+                    lumis__stream st;
+                    lumis__stream_start(&st, &q, p % W, p / W, W, k);
+                    double a[2], b[2];
+                    seq_2d(&st, 1, 0, 1, a);
+                    seq_2d(&st, 2, 0, 1, b);
+                    e += f4(a, b);
+                }
+                e /= n;
+                s1 += e;
+                s2 += e * e;
+            }
+            const double m = s1 / (W * W);
+            var[c] = s2 / (W * W) - m * m;
+            lumis__seq_release(&q);
+        }
+        print_message("%-10s 4D variance: %.3g at 64, %.3g at 1024 samples\n",
+                      lumis_sequence_name((lumis_sequence)kind), var[0], var[1]);
+        /* 16 times the samples: independent numbers divide it by 16, nets by more */
+        if (!(var[1] < var[0] / 12.0))
+            fail_msg("%s: 4D variance %.3g at 64 samples, %.3g at 1024",
+                     lumis_sequence_name((lumis_sequence)kind), var[0], var[1]);
+    }
+}
+
 static void names_and_bad_kinds(void **state)
 {
     (void)state;
@@ -364,6 +410,7 @@ int main(void)
         cmocka_unit_test(sequences_converge_faster_than_independent_numbers),
         cmocka_unit_test(every_sequence_is_unbiased),
         cmocka_unit_test(zsobol_moves_error_to_high_frequencies),
+        cmocka_unit_test(pairs_of_dimensions_keep_converging),
         cmocka_unit_test(names_and_bad_kinds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
