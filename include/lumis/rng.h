@@ -83,11 +83,19 @@ static inline double lumis_halton(unsigned dimension, uint64_t index)
 /* Reverses the 32 bits of v (bit 0 becomes bit 31). */
 static inline uint32_t lumis_reverse_bits32(uint32_t v)
 {
-    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
-    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
-    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+#if defined(__clang__)
+    return __builtin_bitreverse32(v);
+#else
+#if defined(__GNUC__)
+    v = __builtin_bswap32(v);
+#else
     v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
-    return (v >> 16) | (v << 16);
+    v = (v >> 16) | (v << 16);
+#endif
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    return ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+#endif
 }
 
 /* Component dimension (0 or 1) of point index of Sobol's sequence, as 32 fractional
@@ -105,11 +113,28 @@ static inline uint32_t lumis_sobol02_bits(uint32_t index, unsigned dimension)
     return y;
 }
 
+/* The permutation behind Owen scrambling, on reversed bits (Laine and Karras 2011, with
+ * Burley's 2020 constants): bit i of the result is bit i of x flipped by a pseudo-random
+ * function of the seed and bits 0 .. i - 1.  (Adding the seed and x ^= x * (even constant)
+ * each change bit i as a function of bits 0 .. i only.) */
+static inline uint32_t lumis_owen_permute_reversed(uint32_t x, uint32_t seed)
+{
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
 /* Owen's nested uniform scrambling of the 32-bit fraction v in base 2 (Burley 2020, the
  * hash-based form): bit i (from the top) is flipped by a pseudo-random function of the
  * seed and the bits above it.  A permutation of [0, 2^32) that maps every aligned block of
  * 2^k values onto another one (so nets stay nets), and makes each point uniform. */
-uint32_t lumis_owen_scramble(uint32_t v, uint32_t seed);
+static inline uint32_t lumis_owen_scramble(uint32_t v, uint32_t seed)
+{
+    return lumis_reverse_bits32(lumis_owen_permute_reversed(lumis_reverse_bits32(v), seed));
+}
 
 /* Point index of the Owen-scrambled (0,2) Sobol' sequence, in [0, 1)^2: dimension d
  * scrambled with its own seed drawn from seed.  Any prefix of 2^m points of one seed is a

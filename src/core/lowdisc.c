@@ -14,21 +14,6 @@ static uint64_t mix(uint64_t z)
     return z ^ (z >> 31);
 }
 
-uint32_t lumis_owen_scramble(uint32_t v, uint32_t seed)
-{
-    /* Reversed, bit i of v is a digit whose flip may depend on the digits below it only:
-     * adding the seed and x ^= x * (even constant) each change bit i as a function of bits
-     * 0..i, so both are such permutations (Laine and Karras 2011; the constants are
-     * Burley's 2020). */
-    uint32_t x = lumis_reverse_bits32(v);
-    x += seed;
-    x ^= x * 0x6c50b47cu;
-    x ^= x * 0xb82f1e52u;
-    x ^= x * 0xc7afe638u;
-    x ^= x * 0x8d22f6e6u;
-    return lumis_reverse_bits32(x);
-}
-
 void lumis_sobol02(uint32_t index, uint64_t seed, double u[2])
 {
     const uint64_t h = mix(seed);

@@ -48,8 +48,12 @@ lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int plan
         (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
         q->kind = d->luminaires->sequence;
     q->seed = d->seed;
+    q->key = mix(d->seed + 0x5eed);
     q->log2n = ceil_log2(planned_spp > 0 ? (uint64_t)planned_spp : 1u << 16);
     q->pmj = NULL;
+    for (int b = 0; b < 4; b++)
+        for (uint32_t x = 0; x < 256; x++)
+            q->sobol1[b][x] = lumis_reverse_bits32(lumis_sobol02_bits(x << (8 * b), 1));
     if ((unsigned)q->kind >= LUMIS_SEQUENCE_COUNT)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT, "render: unknown sequence %d",
                            (int)q->kind);
@@ -84,9 +88,10 @@ void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, in
     s->dim = 0;
     /* PCG32: sample k of this pixel has its own stream, so passes cannot change it (the
      * renderer's numbers before the sequences, bit for bit) */
-    lumis_pcg32_seed(&s->rng, mix(q->seed ^ mix((uint64_t)k + 1)), pixel);
-    s->pixel = mix(q->seed ^ mix(pixel + 0x5eed));
-    s->morton = lumis_morton2((uint32_t)x, (uint32_t)y);
+    if (q->kind == LUMIS_SEQUENCE_PCG)
+        lumis_pcg32_seed(&s->rng, mix(q->seed ^ mix((uint64_t)k + 1)), pixel);
+    s->pixel = mix(q->key ^ (pixel * 0x9e3779b97f4a7c15ull));
+    s->morton = q->kind == LUMIS_SEQUENCE_ZSOBOL ? lumis_morton2((uint32_t)x, (uint32_t)y) : 0;
 }
 
 /* A bijection of [0, 2^bits) keyed by key: odd multiplications, xor-shifts and an addition,
@@ -140,6 +145,19 @@ static inline double unit53(uint64_t random)
     return (double)(random >> 11) * 0x1p-53;
 }
 
+/* Point i of the (0,2) Sobol' sequence, each coordinate Owen-scrambled with its seed, with
+ * random bits below: owen(sobol0(i)) = reverse(permute(i)) (dimension 0 is i reversed), and
+ * dimension 1 reversed is read from q's byte tables. */
+static inline void sobol_point(const lumis__seq *q, uint32_t i, uint32_t s0, uint32_t s1,
+                               uint64_t low, int one_d, double u[2])
+{
+    u[0] = frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(i, s0)), low);
+    if (one_d) return;
+    const uint32_t r = q->sobol1[0][i & 255u] ^ q->sobol1[1][(i >> 8) & 255u] ^
+                       q->sobol1[2][(i >> 16) & 255u] ^ q->sobol1[3][i >> 24];
+    u[1] = frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(r, s1)), low << 21);
+}
+
 void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
                       double u[2])
 {
@@ -177,14 +195,14 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         return;
     }
     case LUMIS_SEQUENCE_SOBOL: {
-        /* per pixel and dimension: the index shuffled (an aligned block stays one), then
-         * each coordinate Owen-scrambled (Burley 2020) */
-        const uint64_t h = mix(s->pixel ^ mix(dim + 0x50b0));
-        const uint32_t i = lumis_owen_scramble((uint32_t)idx, (uint32_t)(h >> 32) ^ 0x9e3779b9u);
-        const uint64_t g = mix(h), low = mix(g ^ idx);
-        u[0] = frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g), low);
-        u[1] =
-            frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)), low << 21);
+        /* per pixel and dimension: the index shuffled by Owen scrambling (an aligned block
+         * stays one, so prefixes stay nets), then each coordinate Owen-scrambled (Burley
+         * 2020); one hash gives the three seeds, a multiplication the bits below */
+        const uint64_t h = mix(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
+        const uint32_t i = lumis_reverse_bits32(
+            lumis_owen_permute_reversed(lumis_reverse_bits32((uint32_t)idx), (uint32_t)h));
+        sobol_point(q, i, (uint32_t)(h >> 32), (uint32_t)((h * 0xd6e8feb86659fd93ull) >> 32),
+                    (h + idx) * 0x9e3779b97f4a7c15ull, one_d, u);
         return;
     }
     case LUMIS_SEQUENCE_ZSOBOL: {
@@ -203,11 +221,8 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * rather than showing one scramble's error in every pixel.  (The points depend on
          * the index's low 32 bits; the tile index also covers the higher ones.) */
         const uint64_t g = mix(seed ^ (I >> (L + 6)));
-        const uint32_t i = (uint32_t)I;
-        const uint64_t low = mix(g ^ I);
-        u[0] = frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 0), (uint32_t)g), low);
-        u[1] =
-            frac53(lumis_owen_scramble(lumis_sobol02_bits(i, 1), (uint32_t)(g >> 32)), low << 21);
+        sobol_point(q, (uint32_t)I, (uint32_t)g, (uint32_t)(g >> 32),
+                    (g + I) * 0x9e3779b97f4a7c15ull, one_d, u);
         return;
     }
     case LUMIS_SEQUENCE_PMJ02: {

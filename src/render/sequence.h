@@ -21,9 +21,12 @@
  * zsobol: 2^log2n), and pmj02's tables. */
 typedef struct lumis__seq {
     lumis_sequence kind;
-    uint64_t seed;
+    uint64_t seed, key; /* key: the seed hashed */
     int log2n;
     uint32_t *pmj; /* pmj02: LUMIS__PMJ_PATTERNS tables of LUMIS__PMJ_POINTS (x, y) */
+    /* Sobol's dimension 1, bits reversed, a byte of the index at a time: the xor of the
+     * reversed columns of the byte's set bits (sobol, zsobol) */
+    uint32_t sobol1[4][256];
 } lumis__seq;
 
 enum { LUMIS__PMJ_PATTERNS = 32, LUMIS__PMJ_LOG2 = 10, LUMIS__PMJ_POINTS = 1 << LUMIS__PMJ_LOG2 };
