@@ -340,6 +340,39 @@ static void zsobol_moves_error_to_high_frequencies(void **state)
     assert_true(z < 0.3 * s);
 }
 
+/* What the renderer hands a pixel is still a net: the first 2^m camera samples of one
+ * dimension of one pixel (sobol, zsobol, pmj02; past pmj02's 32 tables too), and the 2^m
+ * points j of one camera sample (n = 2^m per camera sample). */
+static void render_streams_are_nets(void **state)
+{
+    (void)state;
+    enum { N = 1024 };
+    static uint32_t xy[2 * N];
+    const lumis_sequence kinds[3] = {LUMIS_SEQUENCE_SOBOL, LUMIS_SEQUENCE_ZSOBOL,
+                                     LUMIS_SEQUENCE_PMJ02};
+    for (int c = 0; c < 3; c++)
+        for (int per_sample = 0; per_sample < 2; per_sample++) {
+            lumis__seq q = make_seq(kinds[c], 9, 0);
+            for (uint32_t dim = 0; dim < 40; dim += 7)
+                for (int pixel = 0; pixel < 3; pixel++) {
+                    for (uint32_t k = 0; k < N; k++) {
+                        lumis__stream st;
+                        lumis__stream_start(&st, &q, 5 + pixel, 3, 64, per_sample ? 7 : (int)k);
+                        double u[2];
+                        seq_2d(&st, dim, per_sample ? k : 0, per_sample ? N : 1, u);
+                        xy[2 * k] = (uint32_t)(u[0] * 0x1p32);
+                        xy[2 * k + 1] = (uint32_t)(u[1] * 0x1p32);
+                    }
+                    for (uint32_t n = 1; n <= N; n *= 2)
+                        if (!is_net(xy, n))
+                            fail_msg("%s dim %u pixel %d%s: the first %u points are not a net",
+                                     lumis_sequence_name(kinds[c]), dim, pixel,
+                                     per_sample ? " (points of one camera sample)" : "", n);
+                }
+            lumis__seq_release(&q);
+        }
+}
+
 /* Two dimensions of one camera sample together: a 4D integrand (a discontinuity across
  * both) must keep converging.  (pmj02's tables share their construction, so index k of
  * two tables is nearly the same point: paired as they are, the error stopped falling at
@@ -411,6 +444,7 @@ int main(void)
         cmocka_unit_test(every_sequence_is_unbiased),
         cmocka_unit_test(zsobol_moves_error_to_high_frequencies),
         cmocka_unit_test(pairs_of_dimensions_keep_converging),
+        cmocka_unit_test(render_streams_are_nets),
         cmocka_unit_test(names_and_bad_kinds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
