@@ -460,7 +460,7 @@ begin "bench: --merge DIR into the same DIR"
 cp "$FIX/suite.json" s.json
 "$L" bench s.json --out o --threads 1 >/dev/null 2>&1
 snap; run any "\$L bench s.json --out o --merge o --threads 1"
-end o/results.csv o/results.json o/results.md o/index.html o/convergence-spheres.svg o/flip-legend.png
+end o/results.csv o/results.json o/results.md o/index.html o/convergence-spheres.svg o/convergence-spp.svg o/flip-legend.png
 
 begin "sample: stdout appended to the input map (>> m.pfm)"
 cp "$FIX/map.pfm" m.pfm

@@ -1789,6 +1789,148 @@ static void bench_convergence_at_equal_time(void **state)
     free(text);
 }
 
+/* Reads DIR/results.json (the caller frees it with cJSON_Delete). */
+static cJSON *read_results_json(const char *dir)
+{
+    char p[4096];
+    size_t n = 0;
+    snprintf(p, sizeof p, "%s/results.json", dir);
+    char *text = (char *)tu_read_file(p, &n);
+    if (!text) fail_msg("no %s", p);
+    cJSON *j = cJSON_ParseWithLength(text, n);
+    free(text);
+    if (!j) fail_msg("%s: malformed JSON", p);
+    return j;
+}
+
+/* The same analysis over the spp budgets (two or more of them): the section "Convergence
+ * (equal samples)" of results.md and index.html, results.json's "convergence_spp" (its
+ * arrays named "spp") and convergence-spp.svg; finite slopes on the rendered errors, then on
+ * hand-made ones the slopes against log(spp), the ratios and the crossing in spp.  The one
+ * time budget takes no part and makes no equal-time analysis; with one spp budget left, no
+ * analysis and no stale plot. */
+static void bench_convergence_at_equal_samples(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"convspp\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\", "
+        "\"bunny-plane\"],\n \"methods\": [{\"method\": \"inversion\"}, {\"method\": "
+        "\"alias\"}],\n \"budgets\": [{\"spp\": 4}, {\"time\": 0.02}, {\"spp\": 1}, "
+        "{\"spp\": 2}],\n \"reference\": {\"spp\": 8}, \"size\": [8, 6], \"compare\": "
+        "[[\"alias\", \"inversion\"]]}\n";
+    char dir[512], a[4096], p[4096];
+    snprintf(dir, sizeof dir, "%s", tu_path("bconvspp"));
+    tu_write_file(tu_path("convspp.json"), suite, sizeof suite - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("convspp.json"), dir);
+    expect(a, 0, "16 of 16 items");
+    assert_int_equal(tu_count_entries(dir, "convergence-spp.svg"), 1);
+    assert_int_equal(tu_count_entries(dir, "convergence-all.svg"), 0);
+    /* the rendered errors: a finite slope for every method, over all pairs and per scene */
+    cJSON *j = read_results_json(dir);
+    assert_null(cJSON_GetObjectItemCaseSensitive(j, "convergence"));
+    const cJSON *conv = cJSON_GetObjectItemCaseSensitive(j, "convergence_spp");
+    if (!cJSON_IsObject(conv)) fail_msg("results.json has no \"convergence_spp\" object");
+    const cJSON *me;
+    cJSON_ArrayForEach(me, cJSON_GetObjectItemCaseSensitive(conv, "methods"))
+    {
+        const char *label = cJSON_GetObjectItemCaseSensitive(me, "method")->valuestring;
+        if (!isfinite(json_path_number(cJSON_GetObjectItemCaseSensitive(me, "slope"), "slope")))
+            fail_msg("%s: slope not finite", label);
+        const cJSON *ss;
+        cJSON_ArrayForEach(ss, cJSON_GetObjectItemCaseSensitive(me, "scene_slopes"))
+        {
+            if (!isfinite(json_path_number(ss, "scene slope")))
+                fail_msg("%s: scene slope %s not finite", label, ss->string);
+        }
+    }
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(conv, "methods")), 2);
+    cJSON_Delete(j);
+    /* Hand-made errors, x = spp (listed out of order): inversion 0.08 / x on spheres (slope
+     * -1) and 0.02 / sqrt(x) on bunny-plane (-0.5), a geometric mean of 0.04 x^-0.75; alias
+     * 0.02 (slope 0).  alias / inversion = 0.5 x^0.75: 1 at x = 2^(4/3), 2.52 spp. */
+    for (int k = 0; k < 3; k++) {
+        const double x = 1 << k;
+        char id[256];
+        snprintf(id, sizeof id, "sky-16x8__spheres__inversion__spp%d", 1 << k);
+        set_relmse(dir, id, 0.08 / x);
+        snprintf(id, sizeof id, "sky-16x8__bunny-plane__inversion__spp%d", 1 << k);
+        set_relmse(dir, id, 0.02 / sqrt(x));
+        snprintf(id, sizeof id, "sky-16x8__spheres__alias__spp%d", 1 << k);
+        set_relmse(dir, id, 0.02);
+        snprintf(id, sizeof id, "sky-16x8__bunny-plane__alias__spp%d", 1 << k);
+        set_relmse(dir, id, 0.02);
+    }
+    set_relmse(dir, "sky-16x8__spheres__alias__t0.02s", 1e3); /* time budgets take no part */
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", tu_path("convspp.json"), dir);
+    expect(a, 0, "16 of 16 items");
+    j = read_results_json(dir);
+    conv = cJSON_GetObjectItemCaseSensitive(j, "convergence_spp");
+    if (!cJSON_IsObject(conv)) fail_msg("results.json has no \"convergence_spp\" object");
+    assert_null(cJSON_GetObjectItemCaseSensitive(conv, "seconds"));
+    const cJSON *spp = cJSON_GetObjectItemCaseSensitive(conv, "spp");
+    assert_int_equal(cJSON_GetArraySize(spp), 3);
+    for (int k = 0; k < 3; k++)
+        assert_double_equal(json_path_number(cJSON_GetArrayItem(spp, k), "spp"), 1 << k, 0);
+    const cJSON *inv = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(conv, "methods"), 0);
+    assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(inv, "spp")), 3);
+    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(inv, "slope"), "slope"),
+                        -0.75, 1e-9);
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(inv, "scene_slopes");
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "spheres"), "spheres"), -1.0, 1e-9);
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "bunny-plane"), "bunny-plane"), -0.5,
+        1e-9);
+    const cJSON *cmp = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(conv, "compare"), 0);
+    if (!cmp) fail_msg("results.json: no compare pair in \"convergence_spp\"");
+    const cJSON *x0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(cmp, "crossings"), 0);
+    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(x0, "spp"), "crossing"),
+                        pow(2, 4.0 / 3), 1e-9);
+    cJSON_Delete(j);
+    size_t n;
+    snprintf(p, sizeof p, "%s/results.md", dir);
+    char *md = (char *)tu_read_file(p, &n);
+    const char *md_parts[] = {
+        "## Convergence (equal samples)",
+        "against log(spp)",
+        "Budgets in time take no part.",
+        "| method | spp1 | spp2 | spp4 | pairs | slope | slope spheres | slope bunny-plane |",
+        "| inversion | 0.04 | 0.02378 | 0.01414 | 2 | -0.75 | -1.00 | -0.50 |",
+        "| alias | 0.02 | 0.02 | 0.02 | 2 | 0.00 | 0.00 | 0.00 |",
+        "| alias / inversion | 0.500 | 0.841 | 1.414 | 2.52 spp (alias above after) |",
+        "(convergence-spp.svg)"};
+    for (int k = 0; k < 8; k++)
+        if (!strstr(md, md_parts[k])) fail_msg("results.md lacks \"%s\":\n%s", md_parts[k], md);
+    assert_null(strstr(md, "Convergence (equal time)"));
+    free(md);
+    snprintf(p, sizeof p, "%s/index.html", dir);
+    char *html = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(html, "<h2>Convergence (equal samples)</h2>"));
+    assert_non_null(strstr(html, "<img src=\"convergence-spp.svg\""));
+    free(html);
+    snprintf(p, sizeof p, "%s/convergence-spp.svg", dir);
+    char *svg = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(svg, "inversion (slope -0.75)"));
+    assert_non_null(strstr(svg, "samples per pixel (log)"));
+    free(svg);
+    /* One spp budget (the same items): no analysis, no stale plot. */
+    static const char one[] =
+        "{\"name\": \"convspp\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\", "
+        "\"bunny-plane\"],\n \"methods\": [{\"method\": \"inversion\"}, {\"method\": "
+        "\"alias\"}],\n \"budgets\": [{\"spp\": 4}, {\"time\": 0.02}],\n \"reference\": "
+        "{\"spp\": 8}, \"size\": [8, 6], \"compare\": [[\"alias\", \"inversion\"]]}\n";
+    tu_write_file(tu_path("convspp.json"), one, sizeof one - 1);
+    expect(a, 0, "8 of 8 items");
+    assert_int_equal(tu_count_entries(dir, "convergence-spp.svg"), 0);
+    snprintf(p, sizeof p, "%s/results.md", dir);
+    md = (char *)tu_read_file(p, &n);
+    assert_null(strstr(md, "Convergence (equal samples)"));
+    free(md);
+    j = read_results_json(dir);
+    assert_null(cJSON_GetObjectItemCaseSensitive(j, "convergence_spp"));
+    cJSON_Delete(j);
+}
+
 static void bench_runs_resumes_shards_and_reports(void **state)
 {
     (void)state;
@@ -2000,6 +2142,7 @@ int main(void)
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_survives_a_failing_item),
         cmocka_unit_test(bench_convergence_at_equal_time),
+        cmocka_unit_test(bench_convergence_at_equal_samples),
     };
     /* LUMIS_TEST_FILTER=PATTERN runs only the tests whose names match (cmocka's pattern) */
     const char *only = getenv("LUMIS_TEST_FILTER");

@@ -42,7 +42,7 @@ typedef struct suite_method {
     lumis_lights_mode lights_mode;      /* "mode": point (default) or stratified */
     int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
     lumis_light_params lights_params;   /* "params": the light-set method's parameters */
-    lumis_sequence sequence;            /* "sequence": the render's numbers (default pcg) */
+    lumis_sequence sequence;            /* "sequence": the render's numbers (default sobol) */
 } suite_method;
 
 typedef struct suite_budget {
@@ -140,14 +140,38 @@ typedef struct summary {
     int n;
 } summary;
 
-/* The convergence analysis at equal time (with two or more {"time": S} budgets; spp budgets
- * take no part): per method and time budget the geometric mean of relMSE over the (map,
- * scene) pairs with a result (relMSE finite and > 0), and the least-squares slope of its log
- * against log(seconds), over all pairs and per scene. */
+/* The axes of the convergence analyses: the time budgets ({"time": S}: equal time) and the
+ * sample budgets ({"spp": N}: equal samples); each axis is analysed on its own, the other's
+ * budgets take no part. */
+typedef enum bench_axis { BENCH_TIME, BENCH_SPP, BENCH_NAXES } bench_axis;
+
+/* How the report names an axis (bench_axes[axis]). */
+typedef struct bench_axis_words {
+    const char *title;   /* the section's heading: "Convergence (equal time)" */
+    const char *budget;  /* "time budget" */
+    const char *log_x;   /* what the slope is against: "log(seconds)" */
+    const char *others;  /* the other axis' budgets: " Budgets in samples take no part." */
+    const char *note;    /* more of the section's paragraph, or "" */
+    const char *unit;    /* after a value of x (a crossing, an axis' tick): " s" */
+    const char *json;    /* results.json's object: "convergence" */
+    const char *x_key;   /* its arrays of x, and a crossing's: "seconds" */
+    const char *scene;   /* a scene labelled so has its plot named as the axis' would be: "all" */
+    const char *svg;     /* the axis' plot (bench_convergence_svg_name): "convergence-all.svg" */
+    const char *svg_alt; /* its name when a scene is labelled .scene: "...-all-scenes.svg" */
+    const char *x_title; /* the plot's title, after "... vs ": "time budget, equal time" */
+    const char *x_name;  /* the plot's x axis: "time budget (log)" */
+} bench_axis_words;
+extern const bench_axis_words bench_axes[BENCH_NAXES];
+
+/* The convergence analysis along one axis (with two or more budgets on it): per method and
+ * budget the geometric mean of relMSE over the (map, scene) pairs with a result (relMSE
+ * finite and > 0), and the least-squares slope of its log against log(x), x the budget's
+ * seconds or samples per pixel, over all pairs and per scene. */
 typedef struct bench_convergence {
-    int nt;           /* time budgets; 0: no analysis (fewer than two) */
-    int *budget;      /* [nt]: their indices in the suite, by increasing seconds */
-    double *seconds;  /* [nt] */
+    bench_axis axis;  /* BENCH_TIME or BENCH_SPP */
+    int nt;           /* budgets on the axis; 0: no analysis (fewer than two) */
+    int *budget;      /* [nt]: their indices in the suite, by increasing x */
+    double *x;        /* [nt]: their seconds (BENCH_TIME) or samples per pixel (BENCH_SPP) */
     double *geomean;  /* [method * nt + k]; NAN where no pair has a result */
     int *pairs;       /* [method * nt + k]: the pairs counted */
     double *slope;    /* [method]; NAN with fewer than two budgets that have a geomean */
@@ -163,7 +187,7 @@ typedef struct bench_report {
     summary *sum; /* per budget, then method */
     int n, found; /* items, items with a current result */
     char machine[400], cmd[4096], date[64];
-    bench_convergence conv; /* set by bench_report_load */
+    bench_convergence conv[BENCH_NAXES]; /* per axis, set by bench_report_load */
 } bench_report;
 
 /* Loads the results DIR holds and summarises them; prints errors itself.  Exit code; on
@@ -222,17 +246,22 @@ double bench_loglog_slope(const double *x, const double *y, int n);
  * one), 0 (no time has both). */
 int bench_crossings(const double *t, const double *a, const double *b, int n, double *at,
                     int *after, int cap, int *order);
-/* Computes r->conv from r->res (bench_report_load calls it); frees with the report. */
+/* Computes r->conv[] from r->res, both axes (bench_report_load calls it); frees with the
+ * report. */
 int bench_convergence_compute(bench_report *r);
 void bench_convergence_free(bench_convergence *c);
-/* The "convergence" object of results.json (nothing without the analysis). */
-void bench_json_convergence(struct cJSON *j, const bench_report *r);
-/* The section "Convergence (equal time)": slopes, geometric means, and per compare pair the
- * ratio per budget and the crossing times; with the plot (nothing without the analysis). */
-void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r);
-/* The file name of the plot of all pairs: convergence-all.svg, unless a scene is labelled
- * "all" (its own plot has that name): convergence-all-scenes.svg. */
-const char *bench_convergence_svg_name(const suite *s);
+/* The analysis c's object of results.json, named bench_axes[c->axis].json: "convergence"
+ * (time) or "convergence_spp" (nothing without the analysis). */
+void bench_json_convergence(struct cJSON *j, const bench_report *r, const bench_convergence *c);
+/* The section "Convergence (equal time)" or "Convergence (equal samples)": slopes,
+ * geometric means, and per compare pair the ratio per budget and the crossings (in seconds
+ * or samples per pixel); with the plot (nothing without the analysis). */
+void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r,
+                             const bench_convergence *c);
+/* The file name of an axis' plot of all pairs: convergence-all.svg (time) and
+ * convergence-spp.svg (samples), unless a scene has that label (its own plot has that
+ * name): convergence-all-scenes.svg, convergence-spp-scenes.svg. */
+const char *bench_convergence_svg_name(const suite *s, bench_axis axis);
 
 /* A metric as the tables show it ("–" for none, "∞"). */
 void bench_fmt_metric(char *buf, size_t cap, double v, int metric);
@@ -244,9 +273,9 @@ int bench_commit_tmp(FILE *f, const char *path);
 /* The convergence plot of scene sc (no file, and no stale one, when nothing is plotted). */
 int bench_write_svg(const char *path, const suite *s, const result *res, int sc);
 /* DIR/<bench_convergence_svg_name>: the geometric mean of relMSE over all pairs against the
- * time budget, log-log, one line per method with its slope in the legend (no file, and no
- * stale one, without the analysis).  bench_write_html writes it. */
-int bench_write_convergence_svg(const bench_report *r);
+ * budget of c's axis, log-log, one line per method with its slope in the legend (no file, and
+ * no stale one, without the analysis).  bench_write_html writes both axes'. */
+int bench_write_convergence_svg(const bench_report *r, const bench_convergence *c);
 int bench_write_html(const bench_report *r, const char *path);
 
 /* ---- merging (bench_merge.c) --------------------------------------------------------------- */

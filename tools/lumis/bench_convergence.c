@@ -1,6 +1,7 @@
-/* lumis bench: the convergence analysis of a report with two or more time budgets: the
- * geometric mean of relMSE per method and budget, the log-log slopes, and where the compare
- * pairs' curves cross (results.md, index.html, results.json, convergence-all.svg). */
+/* lumis bench: the convergence analyses of a report, one per axis with two or more budgets
+ * on it (time budgets: equal time; spp budgets: equal samples): the geometric mean of
+ * relMSE per method and budget, the log-log slopes, and where the compare pairs' curves
+ * cross (results.md, index.html, results.json, convergence-all.svg, convergence-spp.svg). */
 #include "bench.h"
 
 #include <cJSON.h>
@@ -8,7 +9,38 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- the convergence analysis at equal time --------------------------------------------- */
+/* ---- the convergence analyses ------------------------------------------------------------ */
+
+const bench_axis_words bench_axes[BENCH_NAXES] = {
+    [BENCH_TIME] = {.title = "Convergence (equal time)",
+                    .budget = "time budget",
+                    .log_x = "log(seconds)",
+                    .others = " Budgets in samples take no part.",
+                    .note = "",
+                    .unit = " s",
+                    .json = "convergence",
+                    .x_key = "seconds",
+                    .scene = "all",
+                    .svg = "convergence-all.svg",
+                    .svg_alt = "convergence-all-scenes.svg",
+                    .x_title = "time budget, equal time",
+                    .x_name = "time budget (log)"},
+    [BENCH_SPP] = {.title = "Convergence (equal samples)",
+                   .budget = "sample budget",
+                   .log_x = "log(spp)",
+                   .others = " Budgets in time take no part.",
+                   .note = " At equal samples a method's cost per sample is left out: the "
+                           "ratios and crossings compare the error of a sample, not of a "
+                           "second.",
+                   .unit = " spp",
+                   .json = "convergence_spp",
+                   .x_key = "spp",
+                   .scene = "spp",
+                   .svg = "convergence-spp.svg",
+                   .svg_alt = "convergence-spp-scenes.svg",
+                   .x_title = "samples per pixel, equal samples",
+                   .x_name = "samples per pixel (log)"},
+};
 
 double bench_loglog_slope(const double *x, const double *y, int n)
 {
@@ -63,7 +95,7 @@ int bench_crossings(const double *t, const double *a, const double *b, int n, do
 void bench_convergence_free(bench_convergence *c)
 {
     free(c->budget);
-    free(c->seconds);
+    free(c->x);
     free(c->geomean);
     free(c->pairs);
     free(c->slope);
@@ -72,24 +104,32 @@ void bench_convergence_free(bench_convergence *c)
     memset(c, 0, sizeof *c);
 }
 
-int bench_convergence_compute(bench_report *r)
+/* The budget's place on the axis: its seconds or samples per pixel, 0 when it is not on it. */
+static double axis_x(const suite_budget *b, bench_axis axis)
+{
+    if (axis == BENCH_SPP) return b->spp > 0 ? b->spp : 0;
+    return !b->spp && b->seconds > 0 ? b->seconds : 0;
+}
+
+/* The analysis along one axis (c->nt = 0 with fewer than two budgets on it). */
+static int convergence_compute(bench_report *r, bench_axis axis, bench_convergence *c)
 {
     const suite *s = r->s;
-    bench_convergence *c = &r->conv;
     memset(c, 0, sizeof *c);
+    c->axis = axis;
     int nt = 0;
-    for (int b = 0; b < s->nbudgets; b++) nt += !s->budgets[b].spp && s->budgets[b].seconds > 0;
+    for (int b = 0; b < s->nbudgets; b++) nt += axis_x(&s->budgets[b], axis) > 0;
     if (nt < 2) return EXIT_OK;
     const size_t nme = (size_t)s->nmethods, nsc = (size_t)s->nscenes;
     c->budget = calloc((size_t)nt, sizeof *c->budget);
-    c->seconds = calloc((size_t)nt, sizeof *c->seconds);
+    c->x = calloc((size_t)nt, sizeof *c->x);
     c->geomean = calloc(nme * (size_t)nt, sizeof *c->geomean);
     c->pairs = calloc(nme * (size_t)nt, sizeof *c->pairs);
     c->slope = calloc(nme, sizeof *c->slope);
     c->sc_geo = calloc(nsc * nme * (size_t)nt, sizeof *c->sc_geo);
     c->sc_slope = calloc(nsc * nme, sizeof *c->sc_slope);
     double *logt = calloc((size_t)nt, sizeof *logt), *logg = calloc((size_t)nt, sizeof *logg);
-    if (!c->budget || !c->seconds || !c->geomean || !c->pairs || !c->slope || !c->sc_geo ||
+    if (!c->budget || !c->x || !c->geomean || !c->pairs || !c->slope || !c->sc_geo ||
         !c->sc_slope || !logt || !logg) {
         bench_convergence_free(c);
         free(logt);
@@ -98,18 +138,19 @@ int bench_convergence_compute(bench_report *r)
     }
     c->nt = nt;
     nt = 0;
-    for (int b = 0; b < s->nbudgets; b++)
-        if (!s->budgets[b].spp && s->budgets[b].seconds > 0) {
-            int k = nt++; /* insertion by increasing seconds */
-            while (k > 0 && s->budgets[c->budget[k - 1]].seconds > s->budgets[b].seconds) {
-                c->budget[k] = c->budget[k - 1];
-                k--;
-            }
-            c->budget[k] = b;
+    for (int b = 0; b < s->nbudgets; b++) {
+        const double x = axis_x(&s->budgets[b], axis);
+        if (!(x > 0)) continue;
+        int k = nt++; /* insertion by increasing x */
+        while (k > 0 && axis_x(&s->budgets[c->budget[k - 1]], axis) > x) {
+            c->budget[k] = c->budget[k - 1];
+            k--;
         }
+        c->budget[k] = b;
+    }
     for (int k = 0; k < nt; k++) {
-        c->seconds[k] = s->budgets[c->budget[k]].seconds;
-        logt[k] = log(c->seconds[k]);
+        c->x[k] = axis_x(&s->budgets[c->budget[k]], axis);
+        logt[k] = log(c->x[k]);
     }
     /* scene -1: every pair; otherwise that scene's maps */
     for (int sc = -1; sc < s->nscenes; sc++)
@@ -142,11 +183,20 @@ int bench_convergence_compute(bench_report *r)
     return EXIT_OK;
 }
 
-const char *bench_convergence_svg_name(const suite *s)
+int bench_convergence_compute(bench_report *r)
 {
+    for (int axis = 0; axis < BENCH_NAXES; axis++)
+        if (convergence_compute(r, (bench_axis)axis, &r->conv[axis]) != EXIT_OK)
+            return EXIT_RUNTIME; /* bench_report_free frees the others */
+    return EXIT_OK;
+}
+
+const char *bench_convergence_svg_name(const suite *s, bench_axis axis)
+{
+    const bench_axis_words *w = &bench_axes[axis];
     for (int sc = 0; sc < s->nscenes; sc++)
-        if (strcmp(s->scenes[sc].label, "all") == 0) return "convergence-all-scenes.svg";
-    return "convergence-all.svg";
+        if (strcmp(s->scenes[sc].label, w->scene) == 0) return w->svg_alt;
+    return w->svg;
 }
 
 static void fmt_slope(char *buf, size_t cap, double v)
@@ -157,16 +207,17 @@ static void fmt_slope(char *buf, size_t cap, double v)
         snprintf(buf, cap, "–");
 }
 
-/* The crossings of compare pair c as text: times in seconds, or the order at every budget. */
-static void crossing_text(char *out, size_t cap, const bench_report *r, int a, int b)
+/* The crossings of methods a and b as text: in seconds or samples per pixel, or the order at
+ * every budget. */
+static void crossing_text(char *out, size_t cap, const bench_report *r, const bench_convergence *c,
+                          int a, int b)
 {
-    const bench_convergence *c = &r->conv;
     const suite *s = r->s;
     const char *la = s->methods[a].label, *lb = s->methods[b].label;
     double at[64];
     int after[64], order;
-    int n = bench_crossings(c->seconds, c->geomean + (size_t)a * c->nt,
-                            c->geomean + (size_t)b * c->nt, c->nt, at, after, 64, &order);
+    int n = bench_crossings(c->x, c->geomean + (size_t)a * c->nt, c->geomean + (size_t)b * c->nt,
+                            c->nt, at, after, 64, &order);
     out[0] = '\0';
     if (!n) {
         if (order == 2)
@@ -179,29 +230,31 @@ static void crossing_text(char *out, size_t cap, const bench_report *r, int a, i
     }
     for (int k = 0; k < n; k++) {
         size_t len = strlen(out);
-        snprintf(out + len, cap - len, "%s%.3g s (%s %s after)", k ? "; " : "", at[k], la,
-                 after[k] ? "below" : "above");
+        snprintf(out + len, cap - len, "%s%.3g%s (%s %s after)", k ? "; " : "", at[k],
+                 bench_axes[c->axis].unit, la, after[k] ? "below" : "above");
     }
 }
 
-void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r)
+void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r,
+                             const bench_convergence *c)
 {
-    const bench_convergence *c = &r->conv;
     const suite *s = r->s;
+    const bench_axis_words *w = &bench_axes[c->axis];
     if (c->nt < 2) return;
     const int nt = c->nt, ncol = 1 + nt + 2 + (s->nscenes > 1 ? s->nscenes : 0);
     char(*cells)[4200] = calloc((size_t)(ncol > nt + 2 ? ncol : nt + 2), sizeof *cells);
     if (!cells) return;
     char text[2048];
-    bench_heading(f, mk, "Convergence (equal time)");
+    bench_heading(f, mk, w->title);
     snprintf(text, sizeof text,
-             "Per time budget, the geometric mean of relMSE over the (map, scene) pairs that "
+             "Per %s, the geometric mean of relMSE over the (map, scene) pairs that "
              "have a result (pairs: how many, per budget); slope: of log(relMSE) against "
-             "log(seconds), least squares over the budgets, over all pairs%s. A consistent "
+             "%s, least squares over the budgets, over all pairs%s. A consistent "
              "Monte Carlo estimator has slope −1; a biased one flattens towards 0 as its bias "
-             "dominates the error.%s",
+             "dominates the error.%s%s",
+             w->budget, w->log_x,
              s->nscenes > 1 ? " and per scene (the geometric mean over its maps)" : "",
-             s->nbudgets > nt ? " Budgets in samples take no part." : "");
+             s->nbudgets > nt ? w->others : "", w->note);
     if (mk == BENCH_MD) /* straight under the heading */
         fprintf(f, "%s\n\n", text);
     else
@@ -266,7 +319,7 @@ void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r)
                 else
                     snprintf(cells[1 + k], sizeof cells[0], "–");
             }
-            crossing_text(cells[1 + nt], sizeof cells[0], r, a, b);
+            crossing_text(cells[1 + nt], sizeof cells[0], r, c, a, b);
             bench_table_row(f, mk, 0, nt + 2, cells);
         }
         bench_table_end(f, mk);
@@ -274,15 +327,15 @@ void bench_write_convergence(FILE *f, bench_markup mk, const bench_report *r)
     /* the plot, when there is one (bench_write_convergence_svg draws none without a value) */
     int plotted = 0;
     for (int k = 0; k < s->nmethods * nt; k++) plotted |= isfinite(c->geomean[k]);
-    const char *svg = bench_convergence_svg_name(s);
+    const char *svg = bench_convergence_svg_name(s, c->axis);
     if (plotted) {
         if (mk == BENCH_HTML)
             fprintf(f,
                     "<p><img src=\"%s\" alt=\"convergence: geometric mean of relMSE over all "
-                    "pairs against the time budget\" width=\"640\"></p>\n",
-                    svg);
+                    "pairs against the %s\" width=\"640\"></p>\n",
+                    svg, w->budget);
         else
-            fprintf(f, "\n![convergence: geometric mean of relMSE against the time budget](%s)\n",
+            fprintf(f, "\n![convergence: geometric mean of relMSE against the %s](%s)\n", w->budget,
                     svg);
     }
     free(cells);
@@ -293,29 +346,30 @@ static cJSON *json_num_or_null(double v)
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
 }
 
-/* results.json's "convergence" object. */
-void bench_json_convergence(cJSON *j, const bench_report *r)
+/* results.json's "convergence" (time) or "convergence_spp" object: the same keys, but
+ * "spp" wherever the time's has "seconds". */
+void bench_json_convergence(cJSON *j, const bench_report *r, const bench_convergence *c)
 {
-    const bench_convergence *c = &r->conv;
     const suite *s = r->s;
+    const bench_axis_words *w = &bench_axes[c->axis];
     if (c->nt < 2) return;
     const int nt = c->nt;
-    cJSON *o = cJSON_AddObjectToObject(j, "convergence");
+    cJSON *o = cJSON_AddObjectToObject(j, w->json);
     cJSON *lab = cJSON_AddArrayToObject(o, "budgets");
-    cJSON *sec = cJSON_AddArrayToObject(o, "seconds");
+    cJSON *xs = cJSON_AddArrayToObject(o, w->x_key);
     for (int k = 0; k < nt; k++) {
         cJSON_AddItemToArray(lab, cJSON_CreateString(s->budgets[c->budget[k]].label));
-        cJSON_AddItemToArray(sec, cJSON_CreateNumber(c->seconds[k]));
+        cJSON_AddItemToArray(xs, cJSON_CreateNumber(c->x[k]));
     }
     cJSON *methods = cJSON_AddArrayToObject(o, "methods");
     for (int me = 0; me < s->nmethods; me++) {
         cJSON *m = cJSON_CreateObject();
         cJSON_AddStringToObject(m, "method", s->methods[me].label);
-        cJSON *ms = cJSON_AddArrayToObject(m, "seconds");
+        cJSON *ms = cJSON_AddArrayToObject(m, w->x_key);
         cJSON *g = cJSON_AddArrayToObject(m, "geomean_relmse");
         cJSON *n = cJSON_AddArrayToObject(m, "pairs");
         for (int k = 0; k < nt; k++) {
-            cJSON_AddItemToArray(ms, cJSON_CreateNumber(c->seconds[k]));
+            cJSON_AddItemToArray(ms, cJSON_CreateNumber(c->x[k]));
             cJSON_AddItemToArray(g, json_num_or_null(c->geomean[(size_t)me * nt + k]));
             cJSON_AddItemToArray(n, cJSON_CreateNumber(c->pairs[(size_t)me * nt + k]));
         }
@@ -340,20 +394,20 @@ void bench_json_convergence(cJSON *j, const bench_report *r)
                                                          c->geomean[(size_t)b * nt + k]));
         double at[64];
         int after[64], order;
-        int n = bench_crossings(c->seconds, c->geomean + (size_t)a * nt,
-                                c->geomean + (size_t)b * nt, nt, at, after, 64, &order);
+        int n = bench_crossings(c->x, c->geomean + (size_t)a * nt, c->geomean + (size_t)b * nt, nt,
+                                at, after, 64, &order);
         cJSON_AddStringToObject(e, "order",
                                 n            ? "crosses"
                                 : order < 0  ? "below"
                                 : order == 1 ? "above"
                                 : order == 2 ? "equal"
                                              : "none");
-        cJSON *xs = cJSON_AddArrayToObject(e, "crossings");
+        cJSON *cross = cJSON_AddArrayToObject(e, "crossings");
         for (int k = 0; k < n; k++) {
             cJSON *x = cJSON_CreateObject();
-            cJSON_AddNumberToObject(x, "seconds", at[k]);
+            cJSON_AddNumberToObject(x, w->x_key, at[k]);
             cJSON_AddStringToObject(x, "below_after", after[k] ? "a" : "b");
-            cJSON_AddItemToArray(xs, x);
+            cJSON_AddItemToArray(cross, x);
         }
         cJSON_AddItemToArray(cmp, e);
     }

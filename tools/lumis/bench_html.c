@@ -1,6 +1,7 @@
 /* lumis bench: index.html, a page that needs no script and opens from the file system:
  * the tables, the plots and the image grid.  It writes the assets it shows that no other
- * writer does: the FLIP colour scale and the equal-time convergence plot. */
+ * writer does: the FLIP colour scale and the convergence plots of all pairs (equal time,
+ * equal samples). */
 #include "bench.h"
 
 #include <math.h>
@@ -62,7 +63,8 @@ int bench_write_html(const bench_report *r, const char *path)
     char file[8800];
     snprintf(file, sizeof file, "%s/flip-legend.png", out);
     if (write_flip_legend(file) != EXIT_OK) return EXIT_RUNTIME;
-    if (bench_write_convergence_svg(r) != EXIT_OK) return EXIT_RUNTIME;
+    for (int axis = 0; axis < BENCH_NAXES; axis++)
+        if (bench_write_convergence_svg(r, &r->conv[axis]) != EXIT_OK) return EXIT_RUNTIME;
     FILE *h = tmpfile();
     if (!h) return tool_runtime_error("bench: cannot write a temporary file");
     fprintf(h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>lumis "
@@ -122,7 +124,8 @@ int bench_write_html(const bench_report *r, const char *path)
         fprintf(h, "</table>\n");
     }
     bench_write_comparisons(h, BENCH_HTML, s, res);
-    bench_write_convergence(h, BENCH_HTML, r);
+    for (int axis = 0; axis < BENCH_NAXES; axis++)
+        bench_write_convergence(h, BENCH_HTML, r, &r->conv[axis]);
     bench_write_per_map(h, BENCH_HTML, s, res);
     fprintf(h, "<h2>Convergence</h2>\n");
     for (int sc = 0; sc < s->nscenes; sc++) {

@@ -1,6 +1,6 @@
 /* lumis bench: convergence plots (SVG, no dependency): relMSE against render time,
- * log-log, one line per method through its budgets, one plot per scene; and the equal-time
- * analysis' plot (geometric means over all pairs against the time budget). */
+ * log-log, one line per method through its budgets, one plot per scene; and the convergence
+ * analyses' plots (geometric means over all pairs against the time or sample budget). */
 #include "bench.h"
 
 #include <math.h>
@@ -127,14 +127,14 @@ int bench_write_svg(const char *path, const suite *s, const result *res, int sc)
     return rc;
 }
 
-/* The geometric mean of relMSE over all pairs against the time budget, one line per method
- * with its slope in the legend. */
-int bench_write_convergence_svg(const bench_report *r)
+/* The geometric mean of relMSE over all pairs against the budget of c's axis, one line per
+ * method with its slope in the legend. */
+int bench_write_convergence_svg(const bench_report *r, const bench_convergence *c)
 {
     const suite *s = r->s;
-    const bench_convergence *c = &r->conv;
-    char path[8800];
-    snprintf(path, sizeof path, "%s/%s", r->out, bench_convergence_svg_name(s));
+    const bench_axis_words *w = &bench_axes[c->axis];
+    char path[8800], title[200];
+    snprintf(path, sizeof path, "%s/%s", r->out, bench_convergence_svg_name(s, c->axis));
     if (c->nt < 2) { /* no analysis: no plot, and no stale one */
         unlink(path);
         return EXIT_OK;
@@ -158,12 +158,12 @@ int bench_write_convergence_svg(const bench_report *r)
         lp[me] = labels[me];
         for (int k = 0; k < nt; k++) {
             const double g = c->geomean[(size_t)me * nt + k];
-            px[2 * (me * nt + k)] = log10(c->seconds[k]);
+            px[2 * (me * nt + k)] = log10(c->x[k]);
             px[2 * (me * nt + k) + 1] = g > 0 && isfinite(g) ? log10(g) : NAN;
         }
     }
-    int rc = write_loglog(path, "relMSE (geometric mean over all pairs) vs time budget, equal time",
-                          " s", "time budget (log)", "relMSE (log)", s->nmethods, lp, px, nt);
+    snprintf(title, sizeof title, "relMSE (geometric mean over all pairs) vs %s", w->x_title);
+    int rc = write_loglog(path, title, w->unit, w->x_name, "relMSE (log)", s->nmethods, lp, px, nt);
     free(px);
     free(labels);
     free(lp);

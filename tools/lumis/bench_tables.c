@@ -1,7 +1,8 @@
 /* lumis bench: the report's results (every item's result file, summarised per budget and
  * method: means and average ranks) and its tables: results.csv, results.json and
  * results.md (with the pairwise comparisons and the per-map table; the convergence
- * analysis is bench_convergence.c's, the markup bench_markup.c's). */
+ * analyses, at equal time and at equal samples, are bench_convergence.c's, the markup
+ * bench_markup.c's). */
 #include "bench.h"
 
 #include <cJSON.h>
@@ -372,7 +373,7 @@ void bench_report_free(bench_report *r)
 {
     free(r->res);
     free(r->sum);
-    bench_convergence_free(&r->conv);
+    for (int axis = 0; axis < BENCH_NAXES; axis++) bench_convergence_free(&r->conv[axis]);
     r->res = NULL;
     r->sum = NULL;
 }
@@ -448,7 +449,7 @@ int bench_write_json(const bench_report *r, const char *path)
             }
             cJSON_AddItemToArray(jsum, o);
         }
-    bench_json_convergence(j, r);
+    for (int axis = 0; axis < BENCH_NAXES; axis++) bench_json_convergence(j, r, &r->conv[axis]);
     int rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
@@ -520,7 +521,8 @@ int bench_write_md(const bench_report *r, const char *path)
         }
     }
     bench_write_comparisons(md, BENCH_MD, s, res);
-    bench_write_convergence(md, BENCH_MD, r);
+    for (int axis = 0; axis < BENCH_NAXES; axis++)
+        bench_write_convergence(md, BENCH_MD, r, &r->conv[axis]);
     bench_write_per_map(md, BENCH_MD, s, res);
     return bench_commit_tmp(md, path);
 }
