@@ -83,7 +83,8 @@ int main(int argc, char **argv)
         } else if (!strcmp(a, "--size") && i + 1 < argc) {
             if (!bench_parse_size(argv[++i], &w, &h)) return bench_usage_error("bad --size");
         } else if (!strcmp(a, "--runs") && i + 1 < argc) {
-            if (!bench_parse_int(argv[++i], 4, 10000, &runs)) return bench_usage_error("bad --runs");
+            if (!bench_parse_int(argv[++i], 4, 10000, &runs))
+                return bench_usage_error("bad --runs");
         } else if (!strcmp(a, "--map") && i + 1 < argc) {
             map = argv[++i];
         } else if (!strcmp(a, "--json")) {

@@ -113,29 +113,34 @@ typedef enum lumis_visibility {
  * coordinate of one of these, in a fixed layout of dimensions.  All are unbiased, and give
  * the same image whatever the threads, tiles and passes. */
 typedef enum lumis_sequence {
-    LUMIS_SEQUENCE_PCG = 0,    /* independent numbers: PCG32, a stream per pixel and camera
-                                  sample (error falls as 1 / samples) */
-    LUMIS_SEQUENCE_HALTON,     /* Halton, two prime bases per dimension, rotated per pixel
-                                  and dimension (Cranley-Patterson) */
-    LUMIS_SEQUENCE_STRATIFIED, /* jittered strata of the planned sample count, in an order
-                                  drawn per pixel and dimension (not progressive: more
-                                  samples than planned start a new set) */
-    LUMIS_SEQUENCE_SOBOL,      /* Owen-scrambled (0,2) Sobol' points, scrambled per pixel
-                                  and dimension (Burley 2020): progressive */
-    LUMIS_SEQUENCE_ZSOBOL,     /* the same, with pixels in z-order along one sequence per
-                                  dimension (pbrt-v4's ZSobol): blue-noise error across the
-                                  screen at the planned count */
-    LUMIS_SEQUENCE_PMJ02,      /* progressive multi-jittered (0,2) tables (Christensen et
-                                  al. 2018), xor-scrambled per pixel and dimension */
+    LUMIS_SEQUENCE_DEFAULT = 0, /* the library's choice: sobol (docs/sampling.md says why) */
+    LUMIS_SEQUENCE_PCG,         /* independent numbers: PCG32, a stream per pixel and camera
+                                   sample (error falls as 1 / samples; the renderer's only
+                                   numbers before sequences) */
+    LUMIS_SEQUENCE_HALTON,      /* Halton, two prime bases per dimension, rotated per pixel
+                                   and dimension (Cranley-Patterson) */
+    LUMIS_SEQUENCE_STRATIFIED,  /* jittered strata of the planned sample count, in an order
+                                   drawn per pixel and dimension (not progressive: more
+                                   samples than planned start a new set) */
+    LUMIS_SEQUENCE_SOBOL,       /* Owen-scrambled (0,2) Sobol' points, scrambled per pixel
+                                   and dimension (Burley 2020): progressive */
+    LUMIS_SEQUENCE_ZSOBOL,      /* the same, with pixels in z-order along one sequence per
+                                   dimension (pbrt-v4's ZSobol): blue-noise error across the
+                                   screen at the planned count */
+    LUMIS_SEQUENCE_PMJ02,       /* progressive multi-jittered (0,2) tables (Christensen et
+                                   al. 2018), xor-scrambled per pixel and dimension */
     LUMIS_SEQUENCE_COUNT
 } lumis_sequence;
 
-/* "exact", "approx", "none", "shadowmap"; "pcg", "halton", "stratified", "sobol",
- * "zsobol", "pmj02". */
+/* "exact", "approx", "none", "shadowmap"; "default", "pcg", "halton", "stratified",
+ * "sobol", "zsobol", "pmj02". */
 const char *lumis_visibility_name(lumis_visibility visibility);
 lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
 const char *lumis_sequence_name(lumis_sequence sequence);
 lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+/* The sequence a render uses for q: q itself, or for LUMIS_SEQUENCE_DEFAULT the library's
+ * choice (LUMIS_SEQUENCE_SOBOL). */
+lumis_sequence lumis_sequence_resolve(lumis_sequence q);
 
 /* Luminaires as the renderer's lights: every camera sample's hit is lit by each instance with
  * lumis_luminaire_sample_point (budget samples shared among its images) and the material's
@@ -149,8 +154,8 @@ typedef struct lumis_luminaire_lighting {
     lumis_luminaire_search search;     /* 0 == the library's default */
     int depth;                         /* search depth; 0 == exact */
     lumis_visibility visibility;       /* 0 == exact */
-    lumis_sequence sequence;           /* the luminaires' numbers when the render's sequence
-                                          is PCG32 (0 == PCG32; else the render's) */
+    lumis_sequence sequence;           /* 0 == the render's; else the whole render's when
+                                          the render's is 0 (the former luminaire option) */
 } lumis_luminaire_lighting;
 
 typedef struct lumis_render_desc {
@@ -193,7 +198,7 @@ typedef struct lumis_render_desc {
     int light_samples;       /* light samples per camera sample; 0 == 1 */
     int bsdf_samples;        /* BSDF samples per camera sample; 0 == 1 */
     unsigned long long seed; /* the image depends on it, never on threads */
-    lumis_sequence sequence; /* where the numbers come from; 0 == PCG32 */
+    lumis_sequence sequence; /* where the numbers come from; 0 == sobol */
     int threads;             /* 0 == all cores */
     /* 0: direct illumination from the environment (the evaluation mode).  N > 0: path
      * tracing with up to N indirect bounces; every vertex gets the direct estimator above

@@ -9,11 +9,17 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const names[] = {"pcg", "halton", "stratified", "sobol", "zsobol", "pmj02"};
+static const char *const names[] = {"default", "pcg",    "halton", "stratified",
+                                    "sobol",   "zsobol", "pmj02"};
 
 const char *lumis_sequence_name(lumis_sequence q)
 {
     return (unsigned)q < LUMIS_SEQUENCE_COUNT ? names[q] : "unknown";
+}
+
+lumis_sequence lumis_sequence_resolve(lumis_sequence q)
+{
+    return q == LUMIS_SEQUENCE_DEFAULT ? LUMIS_SEQUENCE_SOBOL : q;
 }
 
 lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
@@ -43,8 +49,8 @@ static int ceil_log2(uint64_t n)
 lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int planned_spp)
 {
     q->kind = d->sequence;
-    /* the luminaires' own choice (before the render had sequences) stands with PCG32 */
-    if (q->kind == LUMIS_SEQUENCE_PCG && d->luminaires && d->luminaires->count > 0 &&
+    /* the luminaires' own choice (before the render had sequences) stands with the default */
+    if (q->kind == LUMIS_SEQUENCE_DEFAULT && d->luminaires && d->luminaires->count > 0 &&
         (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
         q->kind = d->luminaires->sequence;
     q->seed = d->seed;
@@ -57,6 +63,7 @@ lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int plan
     if ((unsigned)q->kind >= LUMIS_SEQUENCE_COUNT)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT, "render: unknown sequence %d",
                            (int)q->kind);
+    q->kind = lumis_sequence_resolve(q->kind);
     if (q->kind != LUMIS_SEQUENCE_PMJ02) return LUMIS_OK;
     q->pmj = malloc(sizeof *q->pmj * 2 * LUMIS__PMJ_POINTS * LUMIS__PMJ_PATTERNS);
     if (!q->pmj)

@@ -291,12 +291,12 @@ static void exact_irradiance(void **state)
     for (int r = 0; r < RUNS; r++)
         imgs[r] =
             render(s, env, LUMIS_METHOD_INVERSION, LUMIS_ESTIMATOR_MIS, 64, 100u + (unsigned)r, 0);
-    check_irradiance(imgs, RUNS, env, 0.7, "inversion + MIS");
+    check_irradiance(imgs, RUNS, env, 0.7, "inversion + MIS (the default sequence)");
     for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
     /* Every sample sequence converges to the same irradiance (its randomisations, the
      * seeds, make the runs independent), with two light samples per camera sample so that
      * the points j of n of one dimension are used too. */
-    for (int q = LUMIS_SEQUENCE_HALTON; q < LUMIS_SEQUENCE_COUNT; q++) {
+    for (int q = LUMIS_SEQUENCE_PCG; q < LUMIS_SEQUENCE_COUNT; q++) {
         lumis_render_desc base = {0};
         base.sequence = (lumis_sequence)q;
         base.light_samples = 2;
@@ -428,13 +428,17 @@ static void estimators_agree_and_threads_do_not_matter(void **state)
     double means[3];
     const lumis_estimator ests[3] = {LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_LIGHT,
                                      LUMIS_ESTIMATOR_BSDF};
+    /* BSDF sampling of the sun is heavy-tailed: one 256-spp render of it strays by 4 % (with
+     * any sequence), so each mean is over 8 seeds. */
     for (int e = 0; e < 3; e++) {
-        lumis_image *img =
-            render(s, env, LUMIS_METHOD_INVERSION, ests[e], 256, 9u + (unsigned)e, 0);
         double sum = 0;
-        for (int k = 0; k < 24 * 24; k++) sum += img->pixels[3 * k + 1];
-        means[e] = sum / (24 * 24);
-        lumis_image_destroy(img);
+        for (unsigned r = 0; r < 8; r++) {
+            lumis_image *img =
+                render(s, env, LUMIS_METHOD_INVERSION, ests[e], 256, 9u + 8u * (unsigned)e + r, 0);
+            for (int k = 0; k < 24 * 24; k++) sum += img->pixels[3 * k + 1];
+            lumis_image_destroy(img);
+        }
+        means[e] = sum / (24 * 24 * 8);
     }
     for (int e = 1; e < 3; e++)
         if (fabs(means[e] - means[0]) > 0.03 * means[0])

@@ -124,8 +124,9 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
         snprintf(buf, sizeof buf, " lights %s %d ", s->reference.lights, s->reference.lights_k);
         h = fnv_str(fnv_str(h, buf), params);
     }
-    if (s->reference.sequence) { /* PCG32's keys stay as they were */
-        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(s->reference.sequence));
+    const lumis_sequence rq = lumis_sequence_resolve(s->reference.sequence);
+    if (rq != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
+        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(rq));
         h = fnv_str(h, buf);
     }
     const suite_scene *scene = &s->scenes[sc];
@@ -158,8 +159,9 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
-    if (m->sequence) { /* PCG32's keys stay as they were */
-        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(m->sequence));
+    const lumis_sequence q = lumis_sequence_resolve(m->sequence);
+    if (q != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
+        snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(q));
         h = fnv_str(h, buf);
     }
     snprintf(out, cap, "%016llx", (unsigned long long)h);

@@ -227,12 +227,13 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
-                                          "light_samples", "bsdf_samples", "k",    "interleave",
-                                          "upsample",      "params",       "mode", "sequence",
+static const char *const method_keys[] = {"method", "label",         "mis",
+                                          "blocks", "light_samples", "bsdf_samples",
+                                          "k",      "interleave",    "upsample",
+                                          "params", "mode",          "sequence",
                                           NULL},
-                         *reference_keys[] = {"method",        "label",        "mis", "blocks",
-                                              "light_samples", "bsdf_samples", "spp", "k",
+                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
+                                              "light_samples", "bsdf_samples", "spp",      "k",
                                               "params",        "mode",         "sequence", NULL};
 
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
@@ -250,8 +251,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (rc == EXIT_OK) rc = opt_string(e, "sequence", file, where, &seq);
     if (rc != EXIT_OK) return rc;
     if (seq && lumis_sequence_from_name(seq, &m->sequence) != LUMIS_OK)
-        return tool_runtime_error("%s: %s.sequence: expected pcg, halton, stratified, sobol, "
-                                  "zsobol or pmj02",
+        return tool_runtime_error("%s: %s.sequence: expected sobol, zsobol, pmj02, halton, "
+                                  "stratified, pcg or default",
                                   file, where);
     if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,

@@ -63,10 +63,10 @@ static const char usage[] =
     "                     ray per basis cell, averaged over each function's cells),\n"
     "                     shadowmap (the same cells read from 256x256 depth maps rendered\n"
     "                     once, as the paper) or none\n"
-    "  --sequence Q       where every number comes from (docs/sampling.md): pcg\n"
-    "                     (independent, default), halton, stratified, sobol (Owen-scrambled,\n"
-    "                     progressive), zsobol (the same in z-order: blue-noise error at the\n"
-    "                     --spp given) or pmj02\n"
+    "  --sequence Q       where every number comes from (docs/sampling.md): sobol\n"
+    "                     (Owen-scrambled (0,2) points, progressive; the default), zsobol\n"
+    "                     (the same in z-order: blue-noise error at the --spp given), pmj02,\n"
+    "                     halton, stratified, or pcg (independent numbers)\n"
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
@@ -182,7 +182,8 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--sequence", &v)) {
             if (!v || lumis_sequence_from_name(v, &o.rd.sequence) != LUMIS_OK)
                 return tool_bad_value("render", "--sequence", v,
-                                      "must be pcg, halton, stratified, sobol, zsobol or pmj02");
+                                      "must be sobol, zsobol, pmj02, halton, stratified, pcg or "
+                                      "default");
         } else if (tool_option(argc, argv, &i, "--mis", &v)) {
             mis = v;
             if (v && strcmp(v, "balance") == 0)

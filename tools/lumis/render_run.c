@@ -259,7 +259,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
             snprintf(how, sizeof how, "%d luminaire%s: %s, K = %d, %s visibility, %s",
                      file->luminaire_count, file->luminaire_count > 1 ? "s" : "", method,
                      o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
-                     lumis_sequence_name(o->rd.sequence));
+                     lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
         else if (lights)
             snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s",
                      o->lights, lumis_light_set_get_info(lights)->count,

@@ -163,7 +163,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     cJSON_AddNumberToObject(j, "spp", s->spp);
     cJSON_AddNumberToObject(j, "passes", s->passes);
     cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
-    cJSON_AddStringToObject(j, "sequence", lumis_sequence_name(o->rd.sequence));
+    cJSON_AddStringToObject(j, "sequence",
+                            lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
     cJSON_AddNumberToObject(j, "threads", s->threads);
     { /* the code paths this CPU ran: a result is reproduced with the same ones */
         const char *embree = getenv("LUMIS_EMBREE_CONFIG");
