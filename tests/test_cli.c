@@ -397,6 +397,9 @@ static void bench_samplers_reports_every_method(void **state)
     expect("bench-samplers sky:16x8 --strata cut", 2, "unknown light-set method");
 }
 
+static cJSON *read_json(const char *name);
+static const cJSON *item(const cJSON *o, const char *key);
+
 static void render_writes_the_same_image_on_any_thread_count(void **state)
 {
     (void)state;
@@ -417,6 +420,35 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     free(a1);
     free(a2);
     expect("render -o x.exr", 2, "give one scene");
+    /* Every sequence renders the same image on any thread count, and the sidecar names the
+     * one used (sobol by default, as "default" does). */
+    static const char *const seqs[] = {"",           "default", "pcg",  "halton",
+                                       "stratified", "zsobol",  "pmj02"};
+    for (size_t q = 0; q < sizeof seqs / sizeof seqs[0]; q++)
+        for (int t = 1; t <= 2; t++) {
+            char name[32];
+            snprintf(name, sizeof name, "q%d.pfm", t);
+            snprintf(a, sizeof a,
+                     "render --scene bunny-plane --env sky:64x32 --spp 3 --size 40x30 --threads %d "
+                     "%s%s -o '%s'",
+                     t, *seqs[q] ? "--sequence " : "", seqs[q], tu_path(name));
+            expect(a, 0, "rendered 40x30");
+            if (t == 1) {
+                cJSON *j = read_json("q1.json");
+                const char *want = !*seqs[q] || !strcmp(seqs[q], "default") ? "sobol" : seqs[q];
+                assert_string_equal(item(j, "sequence")->valuestring, want);
+                cJSON_Delete(j);
+                continue;
+            }
+            a1 = tu_read_file(tu_path("q1.pfm"), &n1);
+            a2 = tu_read_file(tu_path("q2.pfm"), &n2);
+            assert_true(n1 == n2 && n1 > 40 * 30 * 12);
+            if (memcmp(a1, a2, n1) != 0)
+                fail_msg("--sequence %s: threads change the image", seqs[q]);
+            free(a1);
+            free(a2);
+        }
+    expect("render --scene spheres --sequence sobel -o x.exr", 2, "must be sobol, zsobol");
     /* A scene file: a sphere, a plane and an OBJ mesh, resolved next to the file. */
     const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
     tu_write_file(tu_path("quad.obj"), obj, sizeof obj - 1);
