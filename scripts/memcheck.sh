@@ -30,6 +30,10 @@ R=(--size 12x9 --spp 1 --threads 2 --quiet --no-sidecar)
 echo "memcheck: renders (environment map with MIS, every light set, Wu with upsampling, strata)"
 vg env-mis render --scene spheres --env sky:64x32 "${R[@]}" -o "$tmp/a.exr"
 vg env-mis-power render --scene bunny-plane --env sky:64x32 --mis power "${R[@]}" -o "$tmp/a.exr"
+for q in pcg halton stratified zsobol pmj02; do # (sobol: the default, every other run)
+    vg "sequence-$q" render --scene bunny-plane --env sky:64x32 --bounces 1 --sequence "$q" \
+        "${R[@]}" -o "$tmp/a.exr"
+done
 for m in median-cut variance-min fhis tmms; do
     vg "lights-$m" render --scene spheres --env sky:64x32 --lights "$m" --lights-k 20 "${R[@]}" \
         -o "$tmp/a.exr"

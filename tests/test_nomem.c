@@ -460,6 +460,7 @@ static lumis_status op_render(void *ctx)
         d.luminaires = &lit;
     }
     if (kind == 3) d.max_bounces = 2;
+    if (kind == 5) d.sequence = LUMIS_SEQUENCE_PMJ02; /* its tables */
     if (kind == 4) { /* the set's regions as strata, made by the render */
         d.light_set = in.set;
         d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
@@ -649,10 +650,13 @@ static void renders_of_every_light_kind(void **state)
 {
     (void)state;
     each_allocation_fails("scene create", op_scene_create, NULL);
-    static const char *const names[] = {"render environment MIS", "render light set",
-                                        "render luminaire", "render path tracing",
-                                        "render stratified light set"};
-    for (int k = 0; k < 5; k++) each_allocation_fails(names[k], op_render, &k);
+    static const char *const names[] = {"render environment MIS",
+                                        "render light set",
+                                        "render luminaire",
+                                        "render path tracing",
+                                        "render stratified light set",
+                                        "render pmj02"};
+    for (int k = 0; k < 6; k++) each_allocation_fails(names[k], op_render, &k);
     each_allocation_fails("G-buffers + upsampling", op_upsample, NULL);
     static const char *const sessions[] = {"session: the map's sampler", "session: median cut",
                                            "session: Wu, upsampled",
