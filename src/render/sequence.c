@@ -223,11 +223,9 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
         const uint64_t seed = mix(q->seed ^ mix(((uint64_t)dim << 24) + block + 0x250b));
         const uint64_t I = index_scramble((s->morton << L) | within, seed);
-        /* The output's scramble is drawn per tile of 8 x 8 pixels (64 aligned blocks: the
-         * nets blue noise needs stay whole), so one image averages over many scrambles
-         * rather than showing one scramble's error in every pixel.  (The points depend on
-         * the index's low 32 bits; the tile index also covers the higher ones.) */
-        const uint64_t g = mix(seed ^ (I >> (L + 6)));
+        /* the coordinates' scramble too is one per dimension, as pbrt's (the points depend
+         * on the index's low 32 bits) */
+        const uint64_t g = mix(seed);
         sobol_point(q, (uint32_t)I, (uint32_t)g, (uint32_t)(g >> 32),
                     (g + I) * 0x9e3779b97f4a7c15ull, one_d, u);
         return;
