@@ -124,17 +124,29 @@ static uint32_t permute(uint32_t i, uint32_t bits, uint64_t key)
  * function of the seed and the bits above it, so the 2^k consecutive indices of an aligned
  * block go to an aligned block, permuted.  (The reversed index hashed as
  * lumis_owen_scramble does, with 64-bit even constants.) */
+static inline uint64_t reverse64(uint64_t v)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    v = __builtin_bswap64(v);
+#else
+    v = ((v >> 8) & 0x00ff00ff00ff00ffull) | ((v & 0x00ff00ff00ff00ffull) << 8);
+    v = ((v >> 16) & 0x0000ffff0000ffffull) | ((v & 0x0000ffff0000ffffull) << 16);
+    v = (v >> 32) | (v << 32);
+#endif
+    v = ((v >> 4) & 0x0f0f0f0f0f0f0f0full) | ((v & 0x0f0f0f0f0f0f0f0full) << 4);
+    v = ((v >> 2) & 0x3333333333333333ull) | ((v & 0x3333333333333333ull) << 2);
+    return ((v >> 1) & 0x5555555555555555ull) | ((v & 0x5555555555555555ull) << 1);
+}
+
 static uint64_t index_scramble(uint64_t I, uint64_t seed)
 {
-    uint64_t x = ((uint64_t)lumis_reverse_bits32((uint32_t)I) << 32) |
-                 lumis_reverse_bits32((uint32_t)(I >> 32));
+    uint64_t x = reverse64(I);
     x += seed;
     x ^= x * 0x9e3779b97f4a7c16ull;
     x ^= x * 0xbf58476d1ce4e5b8ull;
     x ^= x * 0x94d049bb133111eaull;
     x ^= x * 0xd6e8feb86659fd92ull;
-    return ((uint64_t)lumis_reverse_bits32((uint32_t)x) << 32) |
-           lumis_reverse_bits32((uint32_t)(x >> 32));
+    return reverse64(x);
 }
 
 /* A 32-bit fraction as a double with 21 random bits below it (jitter inside the finest
@@ -221,11 +233,12 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint32_t L =
             (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
         const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
-        const uint64_t seed = mix(q->seed ^ mix(((uint64_t)dim << 24) + block + 0x250b));
+        const uint64_t seed =
+            mix(q->key ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + (block << 40) + 0x250b));
         const uint64_t I = index_scramble((s->morton << L) | within, seed);
         /* the coordinates' scramble too is one per dimension, as pbrt's (the points depend
          * on the index's low 32 bits) */
-        const uint64_t g = mix(seed);
+        const uint64_t g = seed * 0xd6e8feb86659fd93ull;
         sobol_point(q, (uint32_t)I, (uint32_t)g, (uint32_t)(g >> 32),
                     (g + I) * 0x9e3779b97f4a7c15ull, one_d, u);
         return;
