@@ -32,13 +32,6 @@ lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
     return LUMIS_ERR_INVALID_ARGUMENT;
 }
 
-static inline uint64_t mix(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 static int ceil_log2(uint64_t n)
 {
     int l = 0;
@@ -54,7 +47,7 @@ lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int plan
         (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
         q->kind = d->luminaires->sequence;
     q->seed = d->seed;
-    q->key = mix(d->seed + 0x5eed);
+    q->key = lumis__seq_mix(d->seed + 0x5eed);
     q->log2n = ceil_log2(planned_spp > 0 ? (uint64_t)planned_spp : 1u << 16);
     q->pmj = NULL;
     for (int b = 0; b < 4; b++)
@@ -96,8 +89,8 @@ void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, in
     /* PCG32: sample k of this pixel has its own stream, so passes cannot change it (the
      * renderer's numbers before the sequences, bit for bit) */
     if (q->kind == LUMIS_SEQUENCE_PCG)
-        lumis_pcg32_seed(&s->rng, mix(q->seed ^ mix((uint64_t)k + 1)), pixel);
-    s->pixel = mix(q->key ^ (pixel * 0x9e3779b97f4a7c15ull));
+        lumis_pcg32_seed(&s->rng, lumis__seq_mix(q->seed ^ lumis__seq_mix((uint64_t)k + 1)), pixel);
+    s->pixel = lumis__seq_mix(q->key ^ (pixel * 0x9e3779b97f4a7c15ull));
     s->morton = q->kind == LUMIS_SEQUENCE_ZSOBOL ? lumis_morton2((uint32_t)x, (uint32_t)y) : 0;
 }
 
@@ -149,32 +142,10 @@ static uint64_t index_scramble(uint64_t I, uint64_t seed)
     return reverse64(x);
 }
 
-/* A 32-bit fraction as a double with 21 random bits below it (jitter inside the finest
- * cell: nets stay nets).  The samplers read more than 32 bits of a number: the alias
- * tables take the column and a 32-bit coin from one number and place the direction with
- * what is left, which must still be uniform. */
-static inline double frac53(uint32_t v, uint64_t random)
-{
-    return (double)(((uint64_t)v << 21) | (random >> 43)) * 0x1p-53;
-}
-
 /* 53 random bits as a double in [0, 1). */
 static inline double unit53(uint64_t random)
 {
     return (double)(random >> 11) * 0x1p-53;
-}
-
-/* Point i of the (0,2) Sobol' sequence, each coordinate Owen-scrambled with its seed, with
- * random bits below: owen(sobol0(i)) = reverse(permute(i)) (dimension 0 is i reversed), and
- * dimension 1 reversed is read from q's byte tables. */
-static inline void sobol_point(const lumis__seq *q, uint32_t i, uint32_t s0, uint32_t s1,
-                               uint64_t low, int one_d, double u[2])
-{
-    u[0] = frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(i, s0)), low);
-    if (one_d) return;
-    const uint32_t r = q->sobol1[0][i & 255u] ^ q->sobol1[1][(i >> 8) & 255u] ^
-                       q->sobol1[2][(i >> 16) & 255u] ^ q->sobol1[3][i >> 24];
-    u[1] = frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(r, s1)), low << 21);
 }
 
 void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
@@ -186,10 +157,10 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
     case LUMIS_SEQUENCE_HALTON: {
         /* dimensions 2 dim and 2 dim + 1 of Halton's sequence (past 32: the first again),
          * rotated per pixel and dimension (Cranley-Patterson) */
-        const uint64_t h = mix(s->pixel ^ mix(dim + 0x4a17));
+        const uint64_t h = lumis__seq_mix(s->pixel ^ lumis__seq_mix(dim + 0x4a17));
         const unsigned b = (2u * dim) % LUMIS_HALTON_MAX_DIMENSION;
         const double v0 = lumis_halton(b, idx + 1) + unit53(h),
-                     v1 = lumis_halton(b + 1, idx + 1) + unit53(mix(h));
+                     v1 = lumis_halton(b + 1, idx + 1) + unit53(lumis__seq_mix(h));
         u[0] = v0 >= 1.0 ? v0 - 1.0 : v0;
         u[1] = v1 >= 1.0 ? v1 - 1.0 : v1;
         return;
@@ -200,9 +171,10 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * each further block of 2^L points is a new such set */
         const uint32_t L = (uint32_t)(q->log2n + ceil_log2(n));
         const uint64_t block = L >= 32 ? 0 : idx >> L;
-        const uint64_t key = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x57a7));
+        const uint64_t key =
+            lumis__seq_mix(s->pixel ^ lumis__seq_mix(((uint64_t)dim << 24) + block + 0x57a7));
         const uint32_t st = permute((uint32_t)idx, L, key);
-        const uint64_t jit = mix(key ^ idx);
+        const uint64_t jit = lumis__seq_mix(key ^ idx);
         if (one_d) {
             u[0] = ((double)st + unit53(jit)) * ldexp(1.0, -(int)L);
             u[1] = 0.0;
@@ -210,20 +182,12 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         }
         const uint32_t lx = (L + 1) / 2, ly = L / 2;
         u[0] = ((double)(st & ((1u << lx) - 1u)) + unit53(jit)) * ldexp(1.0, -(int)lx);
-        u[1] = ((double)(st >> lx) + unit53(mix(jit))) * ldexp(1.0, -(int)ly);
+        u[1] = ((double)(st >> lx) + unit53(lumis__seq_mix(jit))) * ldexp(1.0, -(int)ly);
         return;
     }
-    case LUMIS_SEQUENCE_SOBOL: {
-        /* per pixel and dimension: the index shuffled by Owen scrambling (an aligned block
-         * stays one, so prefixes stay nets), then each coordinate Owen-scrambled (Burley
-         * 2020); one hash gives the three seeds, a multiplication the bits below */
-        const uint64_t h = mix(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
-        const uint32_t i = lumis_reverse_bits32(
-            lumis_owen_permute_reversed(lumis_reverse_bits32((uint32_t)idx), (uint32_t)h));
-        sobol_point(q, i, (uint32_t)(h >> 32), (uint32_t)((h * 0xd6e8feb86659fd93ull) >> 32),
-                    (h + idx) * 0x9e3779b97f4a7c15ull, one_d, u);
+    case LUMIS_SEQUENCE_SOBOL: /* seq_2d and seq_1d do not come here for it */
+        lumis__seq_sobol(s, dim, idx, one_d, u);
         return;
-    }
     case LUMIS_SEQUENCE_ZSOBOL: {
         /* pbrt-v4's ZSobol idea: pixel p's planned 2^L points are indices p 2^L .. of one
          * sequence in z-order, so neighbouring pixels share the nets of their union (blue
@@ -233,14 +197,14 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint32_t L =
             (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
         const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
-        const uint64_t seed =
-            mix(q->key ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + (block << 40) + 0x250b));
+        const uint64_t seed = lumis__seq_mix(
+            q->key ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + (block << 40) + 0x250b));
         const uint64_t I = index_scramble((s->morton << L) | within, seed);
         /* the coordinates' scramble too is one per dimension, as pbrt's (the points depend
          * on the index's low 32 bits) */
         const uint64_t g = seed * 0xd6e8feb86659fd93ull;
-        sobol_point(q, (uint32_t)I, (uint32_t)g, (uint32_t)(g >> 32),
-                    (g + I) * 0x9e3779b97f4a7c15ull, one_d, u);
+        lumis__sobol_point(q, (uint32_t)I, (uint32_t)g, (uint32_t)(g >> 32),
+                           (g + I) * 0x9e3779b97f4a7c15ull, one_d, u);
         return;
     }
     case LUMIS_SEQUENCE_PMJ02: {
@@ -253,17 +217,18 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
          * nets), and each coordinate is Owen-scrambled per pixel and dimension. */
         const uint64_t block = idx >> LUMIS__PMJ_LOG2;
         const uint32_t p = (uint32_t)((dim + 7u * block) % LUMIS__PMJ_PATTERNS);
-        const uint64_t h = mix(s->pixel ^ mix(((uint64_t)dim << 24) + block + 0x9302));
+        const uint64_t h =
+            lumis__seq_mix(s->pixel ^ lumis__seq_mix(((uint64_t)dim << 24) + block + 0x9302));
         uint32_t i = (uint32_t)(idx & (LUMIS__PMJ_POINTS - 1));
         if (i > 1) {
             uint32_t level = 31;
             while (!(i >> level)) level--;
-            i = (1u << level) | permute(i - (1u << level), level, mix(h + level));
+            i = (1u << level) | permute(i - (1u << level), level, lumis__seq_mix(h + level));
         }
         const uint32_t *t = q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS + i);
-        const uint64_t low = mix(h ^ idx);
-        u[0] = frac53(lumis_owen_scramble(t[0], (uint32_t)h), low);
-        u[1] = frac53(lumis_owen_scramble(t[1], (uint32_t)(h >> 32)), low << 21);
+        const uint64_t low = lumis__seq_mix(h ^ idx);
+        u[0] = lumis__seq_frac53(lumis_owen_scramble(t[0], (uint32_t)h), low);
+        u[1] = lumis__seq_frac53(lumis_owen_scramble(t[1], (uint32_t)(h >> 32)), low << 21);
         return;
     }
     default: /* PCG32 (seq_2d and seq_1d do not come here for it) */

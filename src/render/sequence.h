@@ -53,6 +53,50 @@ void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, in
 void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
                       double u[2]);
 
+/* splitmix64's finaliser: a hash of 64 bits. */
+static inline uint64_t lumis__seq_mix(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* A 32-bit fraction as a double with 21 random bits below it (jitter inside the finest
+ * cell: nets stay nets).  The samplers read more than 32 bits of a number: the alias
+ * tables take the column and a 32-bit coin from one number and place the direction with
+ * what is left, which must still be uniform. */
+static inline double lumis__seq_frac53(uint32_t v, uint64_t random)
+{
+    return (double)(((uint64_t)v << 21) | (random >> 43)) * 0x1p-53;
+}
+
+/* Point i of the (0,2) Sobol' sequence, each coordinate Owen-scrambled with its seed, with
+ * random bits below: owen(sobol0(i)) = reverse(permute(i)) (dimension 0 is i reversed), and
+ * dimension 1 reversed is read from q's byte tables. */
+static inline void lumis__sobol_point(const lumis__seq *q, uint32_t i, uint32_t s0, uint32_t s1,
+                                      uint64_t low, int one_d, double u[2])
+{
+    u[0] = lumis__seq_frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(i, s0)), low);
+    if (one_d) return;
+    const uint32_t r = q->sobol1[0][i & 255u] ^ q->sobol1[1][(i >> 8) & 255u] ^
+                       q->sobol1[2][(i >> 16) & 255u] ^ q->sobol1[3][i >> 24];
+    u[1] = lumis__seq_frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(r, s1)), low << 21);
+}
+
+/* sobol (the default), inline: per pixel and dimension the index shuffled by Owen
+ * scrambling (an aligned block stays one, so prefixes stay nets), then each coordinate
+ * Owen-scrambled (Burley 2020); one hash gives the three seeds, a multiplication the bits
+ * below. */
+static inline void lumis__seq_sobol(const lumis__stream *s, uint32_t dim, uint64_t idx, int one_d,
+                                    double u[2])
+{
+    const uint64_t h = lumis__seq_mix(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
+    const uint32_t i = lumis_reverse_bits32(
+        lumis_owen_permute_reversed(lumis_reverse_bits32((uint32_t)idx), (uint32_t)h));
+    lumis__sobol_point(s->q, i, (uint32_t)(h >> 32), (uint32_t)((h * 0xd6e8feb86659fd93ull) >> 32),
+                       (h + idx) * 0x9e3779b97f4a7c15ull, one_d, u);
+}
+
 /* The next dimension. */
 static inline uint32_t seq_take(lumis__stream *s)
 {
@@ -64,6 +108,8 @@ static inline void seq_2d(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n
     if (s->q->kind == LUMIS_SEQUENCE_PCG) {
         u[0] = lumis_pcg32_double(&s->rng);
         u[1] = lumis_pcg32_double(&s->rng);
+    } else if (s->q->kind == LUMIS_SEQUENCE_SOBOL) {
+        lumis__seq_sobol(s, dim, (uint64_t)s->k * n + j, 0, u);
     } else {
         lumis__seq_point(s, dim, j, n, 0, u);
     }
@@ -73,7 +119,10 @@ static inline double seq_1d(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t
 {
     if (s->q->kind == LUMIS_SEQUENCE_PCG) return lumis_pcg32_double(&s->rng);
     double u[2];
-    lumis__seq_point(s, dim, j, n, 1, u);
+    if (s->q->kind == LUMIS_SEQUENCE_SOBOL)
+        lumis__seq_sobol(s, dim, (uint64_t)s->k * n + j, 1, u);
+    else
+        lumis__seq_point(s, dim, j, n, 1, u);
     return u[0];
 }
 
