@@ -32,7 +32,7 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
         const v3 t = fr.t, b = fr.b, n = fr.n;
         const lumis_vec3 wo = fr.wo;
         double u[3];
-        seq_bsdf(v->seq, seq_take_n(v->seq, 2), 0, 1, u);
+        seq_bsdf(v->seq, &hh.prim->material, seq_take_n(v->seq, 2), 0, 1, u);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u[0], u[1], u[2]);
         if (!(bs.pdf > 0.0f)) break;
         beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);

@@ -53,7 +53,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     }
     for (int k = 0; use_bsdf && k < st->nb; k++) {
         double u[3];
-        seq_bsdf(seq, db, (uint32_t)k, (uint32_t)st->nb, u);
+        seq_bsdf(seq, m, db, (uint32_t)k, (uint32_t)st->nb, u);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
         if (!(bs.pdf > 0.0f)) continue;
         v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));

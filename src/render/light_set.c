@@ -205,7 +205,7 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     packet_flush(c->scene, d, &p, &L);
     if (!use_bsdf) return L;
     double ub[3];
-    seq_bsdf(seq, db, 0, 1, ub);
+    seq_bsdf(seq, m, db, 0, 1, ub);
     const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, ub[0], ub[1], ub[2]);
     if (!(bs.pdf > 0.0f)) return L;
     const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));

@@ -12,6 +12,7 @@
 #ifndef LUMIS_RENDER_SEQUENCE_H
 #define LUMIS_RENDER_SEQUENCE_H
 
+#include "lumis/bsdf.h"
 #include "lumis/render.h"
 #include "lumis/rng.h"
 
@@ -91,8 +92,11 @@ static inline void lumis__seq_sobol(const lumis__stream *s, uint32_t dim, uint64
                                     double u[2])
 {
     const uint64_t h = lumis__seq_mix(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
-    const uint32_t i = lumis_reverse_bits32(
-        lumis_owen_permute_reversed(lumis_reverse_bits32((uint32_t)idx), (uint32_t)h));
+    /* dimension 0 keeps its order: two dimensions are decorrelated when either is
+     * shuffled */
+    const uint32_t i = dim == 0 ? (uint32_t)idx
+                                : lumis_reverse_bits32(lumis_owen_permute_reversed(
+                                      lumis_reverse_bits32((uint32_t)idx), (uint32_t)h));
     lumis__sobol_point(s->q, i, (uint32_t)(h >> 32), (uint32_t)((h * 0xd6e8feb86659fd93ull) >> 32),
                        (h + idx) * 0x9e3779b97f4a7c15ull, one_d, u);
 }
@@ -135,10 +139,14 @@ static inline uint32_t seq_take_n(lumis__stream *s, uint32_t n)
 }
 
 /* Point j of n of a BSDF sample's three numbers (lobe choice, then the direction's 2D
- * point), in the two dimensions from dim (seq_take_n(s, 2)). */
-static inline void seq_bsdf(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, double u[3])
+ * point), in the two dimensions from dim (seq_take_n(s, 2)).  A BSDF of one lobe
+ * (Lambert's, a conductor's) reads no lobe number: unless the numbers come in order
+ * (PCG32), none is made (0.5). */
+static inline void seq_bsdf(lumis__stream *s, const lumis_bsdf *b, uint32_t dim, uint32_t j,
+                            uint32_t n, double u[3])
 {
-    u[0] = seq_1d(s, dim, j, n);
+    const int one_lobe = b->type == LUMIS_BSDF_LAMBERT || b->type == LUMIS_BSDF_GGX_CONDUCTOR;
+    u[0] = one_lobe && s->q->kind != LUMIS_SEQUENCE_PCG ? 0.5 : seq_1d(s, dim, j, n);
     seq_2d(s, dim + 1, j, n, u + 1);
 }
 
