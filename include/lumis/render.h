@@ -16,6 +16,7 @@
 #include "lumis/io.h"
 #include "lumis/lights.h"
 #include "lumis/luminaire.h"
+#include "lumis/rng.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -108,39 +109,11 @@ typedef enum lumis_visibility {
     LUMIS_VISIBILITY_COUNT
 } lumis_visibility;
 
-/* Where a render's numbers come from (docs/sampling.md): every number a camera sample uses
- * (the camera's jitter, light and BSDF samples, luminaire and light-set draws) is a
- * coordinate of one of these, in a fixed layout of dimensions.  All are unbiased, and give
- * the same image whatever the threads, tiles and passes. */
-typedef enum lumis_sequence {
-    LUMIS_SEQUENCE_DEFAULT = 0, /* the library's choice: sobol (docs/sampling.md says why) */
-    LUMIS_SEQUENCE_PCG,         /* independent numbers: PCG32, a stream per pixel and camera
-                                   sample (error falls as 1 / samples; the renderer's only
-                                   numbers before sequences) */
-    LUMIS_SEQUENCE_HALTON,      /* Halton, two prime bases per dimension, rotated per pixel
-                                   and dimension (Cranley-Patterson) */
-    LUMIS_SEQUENCE_STRATIFIED,  /* jittered strata of the planned sample count, in an order
-                                   drawn per pixel and dimension (not progressive: more
-                                   samples than planned start a new set) */
-    LUMIS_SEQUENCE_SOBOL,       /* Owen-scrambled (0,2) Sobol' points, scrambled per pixel
-                                   and dimension (Burley 2020): progressive */
-    LUMIS_SEQUENCE_ZSOBOL,      /* the same, with pixels in z-order along one sequence per
-                                   dimension (pbrt-v4's ZSobol): blue-noise error across the
-                                   screen at the planned count */
-    LUMIS_SEQUENCE_PMJ02,       /* progressive multi-jittered (0,2) tables (Christensen et
-                                   al. 2018), xor-scrambled per pixel and dimension */
-    LUMIS_SEQUENCE_COUNT
-} lumis_sequence;
+/* Where a render's numbers come from: lumis_sequence (lumis/rng.h, docs/sampling.md). */
 
-/* "exact", "approx", "none", "shadowmap"; "default", "pcg", "halton", "stratified",
- * "sobol", "zsobol", "pmj02". */
+/* "exact", "approx", "none", "shadowmap". */
 const char *lumis_visibility_name(lumis_visibility visibility);
 lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
-const char *lumis_sequence_name(lumis_sequence sequence);
-lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
-/* The sequence a render uses for q: q itself, or for LUMIS_SEQUENCE_DEFAULT the library's
- * choice (LUMIS_SEQUENCE_SOBOL). */
-lumis_sequence lumis_sequence_resolve(lumis_sequence q);
 
 /* Luminaires as the renderer's lights: every camera sample's hit is lit by each instance with
  * lumis_luminaire_sample_point (budget samples shared among its images) and the material's

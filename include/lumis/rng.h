@@ -76,6 +76,38 @@ static inline double lumis_halton(unsigned dimension, uint64_t index)
     return lumis_radical_inverse(dimension, index);
 }
 
+/* ---- the renderer's sample sequences (lumis-render; docs/sampling.md) ----------------------
+ * Where a render's numbers come from: every number a camera sample uses (the camera's
+ * jitter, light and BSDF samples, luminaire and light-set draws) is a coordinate of one of
+ * these, in a fixed layout of dimensions.  All are unbiased, and give the same image
+ * whatever the threads, tiles and passes. */
+typedef enum lumis_sequence {
+    LUMIS_SEQUENCE_DEFAULT = 0, /* the library's choice: sobol (docs/sampling.md says why) */
+    LUMIS_SEQUENCE_PCG,         /* independent numbers: PCG32, a stream per pixel and camera
+                                   sample (error falls as 1 / samples; the renderer's only
+                                   numbers before sequences) */
+    LUMIS_SEQUENCE_HALTON,      /* Halton, two prime bases per dimension, rotated per pixel
+                                   and dimension (Cranley-Patterson) */
+    LUMIS_SEQUENCE_STRATIFIED,  /* jittered strata of the planned sample count, in an order
+                                   drawn per pixel and dimension (not progressive: more
+                                   samples than planned start a new set) */
+    LUMIS_SEQUENCE_SOBOL,       /* Owen-scrambled (0,2) Sobol' points, scrambled per pixel
+                                   and dimension (Burley 2020): progressive */
+    LUMIS_SEQUENCE_ZSOBOL,      /* the same, with pixels in z-order along one sequence per
+                                   dimension (pbrt-v4's ZSobol): blue-noise error across the
+                                   screen at the planned count */
+    LUMIS_SEQUENCE_PMJ02,       /* progressive multi-jittered (0,2) tables (Christensen et
+                                   al. 2018), xor-scrambled per pixel and dimension */
+    LUMIS_SEQUENCE_COUNT
+} lumis_sequence;
+
+/* "default", "pcg", "halton", "stratified", "sobol", "zsobol", "pmj02". */
+const char *lumis_sequence_name(lumis_sequence sequence);
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+/* The sequence a render uses for q: q itself, or for LUMIS_SEQUENCE_DEFAULT the library's
+ * choice (LUMIS_SEQUENCE_SOBOL). */
+lumis_sequence lumis_sequence_resolve(lumis_sequence q);
+
 /* ---- (0,2) sequences: Sobol' and progressive multi-jittered points -------------------------
  * Both give, at every prefix of 2^m points, a (0,m,2)-net: each of the m + 1 grids of 2^m
  * equal rectangles (2^a x 2^(m-a) cells) holds exactly one point (docs/sampling.md). */

@@ -6,8 +6,31 @@
 #include <stdlib.h>
 #include <string.h>
 
+static const char *const sequence_names[] = {"default", "pcg",    "halton", "stratified",
+                                             "sobol",   "zsobol", "pmj02"};
+
+const char *lumis_sequence_name(lumis_sequence q)
+{
+    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? sequence_names[q] : "unknown";
+}
+
+lumis_sequence lumis_sequence_resolve(lumis_sequence q)
+{
+    return q == LUMIS_SEQUENCE_DEFAULT ? LUMIS_SEQUENCE_SOBOL : q;
+}
+
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
+{
+    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
+        if (strcmp(name, sequence_names[k]) == 0) {
+            *out = (lumis_sequence)k;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
 /* splitmix64's finaliser: a seed's bits spread over all 64. */
-static uint64_t mix(uint64_t z)
+static uint64_t seed_mix(uint64_t z)
 {
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
@@ -16,7 +39,7 @@ static uint64_t mix(uint64_t z)
 
 void lumis_sobol02(uint32_t index, uint64_t seed, double u[2])
 {
-    const uint64_t h = mix(seed);
+    const uint64_t h = seed_mix(seed);
     u[0] = lumis_owen_scramble(lumis_sobol02_bits(index, 0), (uint32_t)h) * 0x1p-32;
     u[1] = lumis_owen_scramble(lumis_sobol02_bits(index, 1), (uint32_t)(h >> 32)) * 0x1p-32;
 }
@@ -30,43 +53,43 @@ typedef struct pmj_grid {
     uint8_t *cell; /* (m + 1) 2^m */
 } pmj_grid;
 
-static size_t cell_of(const pmj_grid *g, int a, uint32_t X, uint32_t Y)
+static size_t pmj_cell(const pmj_grid *g, int a, uint32_t X, uint32_t Y)
 {
     /* X, Y: the point's stratum at resolution 2^m on each axis */
     const int m = g->m;
     return ((size_t)a << m) + (((size_t)(Y >> a) << a) | (X >> (m - a)));
 }
 
-static int free_everywhere(const pmj_grid *g, uint32_t X, uint32_t Y)
+static int pmj_free(const pmj_grid *g, uint32_t X, uint32_t Y)
 {
     for (int a = 0; a <= g->m; a++)
-        if (g->cell[cell_of(g, a, X, Y)]) return 0;
+        if (g->cell[pmj_cell(g, a, X, Y)]) return 0;
     return 1;
 }
 
-static void occupy(pmj_grid *g, uint32_t X, uint32_t Y)
+static void pmj_occupy(pmj_grid *g, uint32_t X, uint32_t Y)
 {
-    for (int a = 0; a <= g->m; a++) g->cell[cell_of(g, a, X, Y)] = 1;
+    for (int a = 0; a <= g->m; a++) g->cell[pmj_cell(g, a, X, Y)] = 1;
 }
 
 /* Adds point i at a position uniform among those of sub-quadrant (sx, sy) (the cell of
  * side 2^-h at (cx, cy), halves sx, sy) that fill no occupied interval of level m.
  * Returns 0 when none is left. */
-static int place(pmj_grid *g, uint32_t *xy, uint32_t i, int h, uint32_t cx, uint32_t cy, int sx,
-                 int sy, lumis_pcg32 *rng, uint32_t *cand)
+static int pmj_place(pmj_grid *g, uint32_t *xy, uint32_t i, int h, uint32_t cx, uint32_t cy, int sx,
+                     int sy, lumis_pcg32 *rng, uint32_t *cand)
 {
     const int m = g->m, r = m - (h + 1); /* strata of level m per sub-quadrant: 2^r */
     const uint32_t x0 = ((cx << 1) | (uint32_t)sx) << r, y0 = ((cy << 1) | (uint32_t)sy) << r;
     uint32_t count = 0;
     for (uint32_t X = x0; X < x0 + (1u << r); X++) {
-        if (g->cell[cell_of(g, m, X, 0)]) continue; /* the column is taken */
+        if (g->cell[pmj_cell(g, m, X, 0)]) continue; /* the column is taken */
         for (uint32_t Y = y0; Y < y0 + (1u << r); Y++)
-            if (free_everywhere(g, X, Y)) cand[count++] = (X << 16) ^ Y;
+            if (pmj_free(g, X, Y)) cand[count++] = (X << 16) ^ Y;
     }
     if (count == 0) return 0;
     const uint32_t c = cand[lumis_pcg32_bounded(rng, count)];
     const uint32_t X = c >> 16, Y = c & 0xffffu;
-    occupy(g, X, Y);
+    pmj_occupy(g, X, Y);
     /* uniform inside the chosen cell of the finest grid (the jitter) */
     const uint32_t low = m < 32 ? (1u << (32 - m)) - 1u : 0u;
     xy[2 * i] = (X << (32 - m)) | (lumis_pcg32_next(rng) & low);
@@ -78,11 +101,12 @@ static int place(pmj_grid *g, uint32_t *xy, uint32_t i, int h, uint32_t cx, uint
  * each point's partner goes to the sub-quadrant diagonally opposite its own in its cell of
  * the 2^k grid; with n = 2 4^k each cell of that grid holds two points on one diagonal,
  * and its two new points take the other diagonal, which one where drawn at random. */
-static int extend(pmj_grid *g, uint32_t *xy, uint32_t n, lumis_pcg32 *rng, uint32_t *cand)
+static int pmj_extend(pmj_grid *g, uint32_t *xy, uint32_t n, lumis_pcg32 *rng, uint32_t *cand)
 {
     memset(g->cell, 0, ((size_t)g->m + 1) << g->m);
     const int m = g->m;
-    for (uint32_t i = 0; i < n; i++) occupy(g, xy[2 * i] >> (32 - m), xy[2 * i + 1] >> (32 - m));
+    for (uint32_t i = 0; i < n; i++)
+        pmj_occupy(g, xy[2 * i] >> (32 - m), xy[2 * i + 1] >> (32 - m));
     int k = 0;
     while ((1u << (2 * (k + 1))) <= n) k++;
     const int even = (1u << (2 * k)) == n; /* n = 4^k, else n = 2 4^k */
@@ -92,12 +116,12 @@ static int extend(pmj_grid *g, uint32_t *xy, uint32_t n, lumis_pcg32 *rng, uint3
         const uint32_t cx = k ? x >> (32 - k) : 0u, cy = k ? y >> (32 - k) : 0u;
         const int sx = (int)((x >> (31 - k)) & 1u), sy = (int)((y >> (31 - k)) & 1u);
         if (even) {
-            if (!place(g, xy, n + i, k, cx, cy, !sx, !sy, rng, cand)) return 0;
+            if (!pmj_place(g, xy, n + i, k, cx, cy, !sx, !sy, rng, cand)) return 0;
         } else {
             const int flip = (int)(lumis_pcg32_next(rng) & 1u);
             const uint32_t a = n + i, b = n + half + i;
-            if (!place(g, xy, flip ? b : a, k, cx, cy, sx, !sy, rng, cand) ||
-                !place(g, xy, flip ? a : b, k, cx, cy, !sx, sy, rng, cand))
+            if (!pmj_place(g, xy, flip ? b : a, k, cx, cy, sx, !sy, rng, cand) ||
+                !pmj_place(g, xy, flip ? a : b, k, cx, cy, !sx, sy, rng, cand))
                 return 0;
         }
     }
@@ -117,7 +141,7 @@ lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy)
         return LUMIS_ERR_OUT_OF_MEMORY;
     }
     lumis_pcg32 rng;
-    lumis_pcg32_seed(&rng, mix(seed), 0x706d6a3032ull);
+    lumis_pcg32_seed(&rng, seed_mix(seed), 0x706d6a3032ull);
     xy[0] = lumis_pcg32_next(&rng);
     xy[1] = lumis_pcg32_next(&rng);
     if (n == 1) {
@@ -131,7 +155,8 @@ lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy)
         /* A greedy choice can leave a new point no free position; the doubling is then
          * drawn again (the first `have` points stay). */
         int ok = 0;
-        for (int attempt = 0; attempt < 64 && !ok; attempt++) ok = extend(&g, xy, have, &rng, cand);
+        for (int attempt = 0; attempt < 64 && !ok; attempt++)
+            ok = pmj_extend(&g, xy, have, &rng, cand);
         if (!ok) break;
         have *= 2;
         if (have == n) {

@@ -76,7 +76,12 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
                            cam.width, cam.height);
     }
-    const lumis_status qst = lumis__seq_init(&job->seq, d, d->spp);
+    /* the luminaires' own choice (before the render had sequences) stands with the default */
+    lumis_sequence seq = d->sequence;
+    if (seq == LUMIS_SEQUENCE_DEFAULT && d->luminaires && d->luminaires->count > 0 &&
+        (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
+        seq = d->luminaires->sequence;
+    const lumis_status qst = lumis__seq_init(&job->seq, seq, d->seed, d->spp, &d->errors);
     if (qst != LUMIS_OK) {
         lumis_render_job_destroy(job);
         return qst;

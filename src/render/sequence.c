@@ -9,29 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const names[] = {"default", "pcg",    "halton", "stratified",
-                                    "sobol",   "zsobol", "pmj02"};
-
-const char *lumis_sequence_name(lumis_sequence q)
-{
-    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? names[q] : "unknown";
-}
-
-lumis_sequence lumis_sequence_resolve(lumis_sequence q)
-{
-    return q == LUMIS_SEQUENCE_DEFAULT ? LUMIS_SEQUENCE_SOBOL : q;
-}
-
-lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
-{
-    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
-        if (strcmp(name, names[k]) == 0) {
-            *out = (lumis_sequence)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
-
 static int ceil_log2(uint64_t n)
 {
     int l = 0;
@@ -39,36 +16,32 @@ static int ceil_log2(uint64_t n)
     return l;
 }
 
-lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int planned_spp)
+lumis_status lumis__seq_init(lumis__seq *q, lumis_sequence kind, uint64_t seed, int planned_spp,
+                             const lumis_error_sink *errors)
 {
-    q->kind = d->sequence;
-    /* the luminaires' own choice (before the render had sequences) stands with the default */
-    if (q->kind == LUMIS_SEQUENCE_DEFAULT && d->luminaires && d->luminaires->count > 0 &&
-        (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
-        q->kind = d->luminaires->sequence;
-    q->seed = d->seed;
-    q->key = lumis__seq_mix(d->seed + 0x5eed);
+    q->kind = kind;
+    q->seed = seed;
+    q->key = lumis__seq_mix(seed + 0x5eed);
     q->log2n = ceil_log2(planned_spp > 0 ? (uint64_t)planned_spp : 1u << 16);
     q->pmj = NULL;
     for (int b = 0; b < 4; b++)
         for (uint32_t x = 0; x < 256; x++)
             q->sobol1[b][x] = lumis_reverse_bits32(lumis_sobol02_bits(x << (8 * b), 1));
     if ((unsigned)q->kind >= LUMIS_SEQUENCE_COUNT)
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT, "render: unknown sequence %d",
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "render: unknown sequence %d",
                            (int)q->kind);
     q->kind = lumis_sequence_resolve(q->kind);
     if (q->kind != LUMIS_SEQUENCE_PMJ02) return LUMIS_OK;
     q->pmj = malloc(sizeof *q->pmj * 2 * LUMIS__PMJ_POINTS * LUMIS__PMJ_PATTERNS);
     if (!q->pmj)
-        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
-                           "render: pmj02 tables: out of memory");
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "render: pmj02 tables: out of memory");
     for (size_t p = 0; p < LUMIS__PMJ_PATTERNS; p++) {
         /* the tables depend on the pattern only, not the seed: the seed scrambles them */
         const lumis_status st = lumis_pmj02_generate(LUMIS__PMJ_POINTS, 0x706d6a30ull + p,
                                                      q->pmj + 2 * (size_t)LUMIS__PMJ_POINTS * p);
         if (st != LUMIS_OK) {
             lumis__seq_release(q);
-            return lumis__fail(&d->errors, st, "render: pmj02 tables: %s", lumis_status_string(st));
+            return lumis__fail(errors, st, "render: pmj02 tables: %s", lumis_status_string(st));
         }
     }
     return LUMIS_OK;

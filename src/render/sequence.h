@@ -13,8 +13,8 @@
 #define LUMIS_RENDER_SEQUENCE_H
 
 #include "lumis/bsdf.h"
-#include "lumis/render.h"
 #include "lumis/rng.h"
+#include "lumis/status.h"
 
 #include <stdint.h>
 
@@ -32,9 +32,11 @@ typedef struct lumis__seq {
 
 enum { LUMIS__PMJ_PATTERNS = 32, LUMIS__PMJ_LOG2 = 10, LUMIS__PMJ_POINTS = 1 << LUMIS__PMJ_LOG2 };
 
-/* Makes q for d (its sequence, seed and spp; 0: plan for 2^16 samples).  pmj02 generates
- * its tables here (about 23 ms on one core). */
-lumis_status lumis__seq_init(lumis__seq *q, const lumis_render_desc *d, int planned_spp);
+/* Makes q for a render's sequence (LUMIS_SEQUENCE_DEFAULT: the library's choice) and seed,
+ * planned for planned_spp samples per pixel (0: 2^16).  pmj02 generates its tables here
+ * (about 23 ms on one core).  errors: an optional sink. */
+lumis_status lumis__seq_init(lumis__seq *q, lumis_sequence kind, uint64_t seed, int planned_spp,
+                             const lumis_error_sink *errors);
 void lumis__seq_release(lumis__seq *q);
 
 /* One camera sample's stream. */

@@ -133,11 +133,8 @@ static void pmj02_prefixes_are_nets(void **state)
 
 static lumis__seq make_seq(lumis_sequence kind, uint64_t seed, int spp)
 {
-    lumis_render_desc d = {0};
-    d.sequence = kind;
-    d.seed = seed;
     lumis__seq q;
-    assert_int_equal(lumis__seq_init(&q, &d, spp), LUMIS_OK);
+    assert_int_equal(lumis__seq_init(&q, kind, seed, spp, NULL), LUMIS_OK);
     return q;
 }
 
@@ -469,10 +466,9 @@ static void pairs_of_dimensions_keep_converging(void **state)
 static void names_and_bad_kinds(void **state)
 {
     (void)state;
-    lumis_render_desc d = {0};
-    d.sequence = LUMIS_SEQUENCE_COUNT;
     lumis__seq q;
-    assert_int_equal(lumis__seq_init(&q, &d, 4), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis__seq_init(&q, LUMIS_SEQUENCE_COUNT, 1, 4, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
     for (int k = 0; k < LUMIS_SEQUENCE_COUNT; k++) {
         lumis_sequence back;
         assert_int_equal(lumis_sequence_from_name(lumis_sequence_name((lumis_sequence)k), &back),
