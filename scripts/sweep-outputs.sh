@@ -244,7 +244,10 @@ if command -v cc >/dev/null 2>&1; then
     cat >"$T/hook.c" <<'EOF'
 #define _GNU_SOURCE
 #include <dlfcn.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <stdarg.h>
+#include <sys/types.h>
 #include <stdlib.h>
 #include <string.h>
 /* SWEEP_HOOK=mkstemp|mkdtemp|rename, SWEEP_MATCH=substring of the path (the new name for
@@ -269,6 +272,33 @@ int mkstemp(char *t)
     int fd = real(t);
     if (fd >= 0 && hit("mkstemp", t)) fire();
     return fd;
+}
+/* lumis makes its temporaries by open(O_CREAT | O_EXCL) on a name it registered first (the
+ * signal handler must know the name before the file exists): "mkstemp" hooks that too */
+static int excl_open(const char *sym, const char *path, int flags, mode_t mode)
+{
+    static int (*real[2])(const char *, int, ...);
+    const int k = strcmp(sym, "open") != 0;
+    if (!real[k]) real[k] = (int (*)(const char *, int, ...))dlsym(RTLD_NEXT, sym);
+    int fd = real[k](path, flags, mode);
+    if (fd >= 0 && (flags & O_CREAT) && (flags & O_EXCL) && hit("mkstemp", path)) fire();
+    return fd;
+}
+int open(const char *path, int flags, ...)
+{
+    va_list ap;
+    va_start(ap, flags);
+    mode_t mode = (flags & O_CREAT) ? (mode_t)va_arg(ap, int) : 0;
+    va_end(ap);
+    return excl_open("open", path, flags, mode);
+}
+int open64(const char *path, int flags, ...)
+{
+    va_list ap;
+    va_start(ap, flags);
+    mode_t mode = (flags & O_CREAT) ? (mode_t)va_arg(ap, int) : 0;
+    va_end(ap);
+    return excl_open("open64", path, flags, mode);
 }
 char *mkdtemp(char *t)
 {

@@ -8,6 +8,7 @@
 #include "../core/internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <signal.h>
 #include <stdatomic.h>
@@ -15,6 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 /* The temporary files being written, so that an interrupted program can remove them
@@ -269,12 +271,37 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     af->tmp_path[dir_len] = '.';
     memcpy(af->tmp_path + dir_len + 1, path + dir_len, len - dir_len);
     memcpy(af->tmp_path + len + 1, ".XXXXXX", 8);
-    /* No signal between creating the file and registering it: the handler must see it. */
-    sigset_t was;
-    lumis__signals_block(&was);
-    fd = mkstemp(af->tmp_path);
-    if (fd >= 0) lumis__atomic_track(af->tmp_path);
-    lumis__signals_restore(&was);
+    /* The name is registered before the file exists, so a signal's handler finds it
+     * whichever thread it runs in: blocking signals covers this thread only, and a
+     * render's worker threads take them too (a SIGTERM handled by one of them between
+     * mkstemp and the registration left the file, 1 run in 4 of the output sweep's timed
+     * case on a loaded machine).  The handler may then unlink a name not yet made:
+     * harmless. */
+    char *suffix = af->tmp_path + len + 2;
+    static _Atomic unsigned long long names_made;
+    for (unsigned attempt = 0;; attempt++) {
+        static const char chars[] =
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+        struct timespec ts;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        unsigned long long h = ((unsigned long long)getpid() << 32) ^
+                               (unsigned long long)ts.tv_nsec ^
+                               (atomic_fetch_add(&names_made, 1) * 0x9e3779b97f4a7c15ull);
+        for (int c = 0; c < 6; c++) {
+            h = (h ^ (h >> 31)) * 0xbf58476d1ce4e5b9ull;
+            suffix[c] = chars[(h >> 40) % 62];
+        }
+        sigset_t was;
+        lumis__signals_block(&was);
+        lumis__atomic_track(af->tmp_path);
+        lumis__signals_restore(&was);
+        fd = open(af->tmp_path, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+        if (fd >= 0) break;
+        const int e = errno;
+        lumis__atomic_untrack(af->tmp_path);
+        errno = e;
+        if (e != EEXIST || attempt >= 100) break;
+    }
     if (fd < 0) {
         int e = errno;
         free(af->tmp_path);
@@ -284,7 +311,7 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
         return lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot create a file there: %s", af->path,
                            strerror(e));
     }
-    /* mkstemp makes the file private (0600); an image is an ordinary output. */
+    /* made private (0600), whatever the umask; an image is an ordinary output */
     (void)fchmod(fd, 0644);
     af->f = fdopen(fd, "wb");
     if (!af->f) {
