@@ -537,6 +537,72 @@ static double relmse_between(const char *ref, const char *test)
     return v;
 }
 
+/* A render split by passes: each share renders the whole render's samples of its range
+ * (with zsobol too, whose sequence is planned for the whole count), and lumis merge joins
+ * them into the whole render's image (up to float rounding), with the samples, passes and
+ * times summed; shares that are not one render's, missing or repeated are refused. */
+static void render_passes_and_merge(void **state)
+{
+    (void)state;
+    static const char *const seqs[] = {"sobol", "zsobol", "pcg"};
+    char a[2048];
+    for (int q = 0; q < 3; q++) {
+        const char *base = "render --scene bunny-plane --env sky:64x32 --size 40x30 --spp 7";
+        snprintf(a, sizeof a, "%s --sequence %s --threads 2 -o '%s'", base, seqs[q],
+                 tu_path("whole.exr"));
+        expect(a, 0, "rendered 40x30");
+        for (int i = 0; i < 3; i++) {
+            char name[32];
+            snprintf(name, sizeof name, "share%d.exr", i);
+            snprintf(a, sizeof a, "%s --sequence %s --passes %d/3 --threads 1 -o '%s'", base,
+                     seqs[q], i, tu_path(name));
+            expect(a, 0, "rendered 40x30");
+        }
+        cJSON *j = read_json("share1.json");
+        const cJSON *sh = item(j, "share");
+        /* share 1 of 3 of 7 samples: samples 2 .. 3 */
+        assert_true(num(sh, "index") == 1 && num(sh, "count") == 3 && num(sh, "spp_total") == 7);
+        assert_true(num(sh, "first_sample") == 2 && num(j, "spp") == 2);
+        cJSON_Delete(j);
+        snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share2.exr"),
+                 tu_path("share0.exr"), tu_path("share1.exr"), tu_path("merged.exr"));
+        expect(a, 0, "merged 3 shares of 7 samples");
+        const double e = relmse_between("whole.exr", "merged.exr");
+        if (!(e < 1e-12))
+            fail_msg("%s: merged shares differ from the whole render: relMSE %g", seqs[q], e);
+        j = read_json("merged.json");
+        assert_true(num(j, "spp") == 7 && num(j, "passes") == 3);
+        assert_true(cJSON_IsNull(item(j, "share")));
+        assert_int_equal(cJSON_GetArraySize(item(j, "merged_from")), 3);
+        cJSON_Delete(j);
+    }
+    /* a share rendered with another seed: not one render's */
+    snprintf(a, sizeof a,
+             "render --scene bunny-plane --env sky:64x32 --size 40x30 --spp 7 --sequence pcg "
+             "--passes 1/3 --seed 9 -o '%s'",
+             tu_path("other.exr"));
+    expect(a, 0, "rendered 40x30");
+    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+             tu_path("other.exr"), tu_path("share2.exr"), tu_path("m.exr"));
+    expect(a, 1, "differ in \"seed\"");
+    snprintf(a, sizeof a, "merge '%s' '%s' -o '%s'", tu_path("share0.exr"), tu_path("share2.exr"),
+             tu_path("m.exr"));
+    expect(a, 1, "missing: 1");
+    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+             tu_path("share0.exr"), tu_path("share1.exr"), tu_path("m.exr"));
+    expect(a, 1, "given twice");
+    snprintf(a, sizeof a, "merge '%s' -o '%s'", tu_path("whole.exr"), tu_path("m.exr"));
+    expect(a, 1, "is not a share");
+    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+             tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.exr"));
+    expect(a, 2, "would replace");
+    expect("merge -o m.exr", 2, "no shares");
+    expect("render --scene spheres --spp 8 --passes 3/3 -o x.exr", 2, "0 <= I < N");
+    expect("render --scene spheres --spp 8 --passes 1 -o x.exr", 2, "--passes");
+    expect("render --scene spheres --time 1 --passes 0/2 -o x.exr", 2, "not a time budget");
+    expect("render --scene spheres --spp 2 --passes 0/3 -o x.exr", 2, "more shares than");
+}
+
 /* The sidecar describes the run; --time renders progressive passes; the built-in
  * bunny-plane needs no files; path tracing is labelled; instances in scene files. */
 static void render_sidecar_time_budget_and_scenes(void **state)
@@ -2163,6 +2229,7 @@ int main(void)
         cmocka_unit_test(render_with_stratified_light_sets),
         cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
+        cmocka_unit_test(render_passes_and_merge),
         cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(acquired_presets_are_cached),
         cmocka_unit_test(lights_export_parses_back),

@@ -350,6 +350,31 @@ static void renderer(void **state)
     d.estimator = (lumis_estimator)9;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
     d.estimator = LUMIS_ESTIMATOR_MIS;
+    /* a share's first sample: not negative, and the samples numbered below 2^30 */
+    d.first_sample = -1;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.first_sample = 1 << 30;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.first_sample = (1 << 30) - 1; /* the job is made, but its 2 samples do not fit */
+    d.spp = 2;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.spp = 1; /* the last sample that fits */
+    assert_int_equal(lumis_render(scene, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    img = NULL;
+    d.first_sample = 0;
+    d.sequence = LUMIS_SEQUENCE_COUNT;
+    REFUSED(lumis_render(scene, &d, &img, NULL), img);
+    d.sequence = LUMIS_SEQUENCE_DEFAULT;
+    { /* a session's share is samples, never a time budget */
+        lumis_session_desc sd = {0};
+        sd.render = d;
+        sd.share_spp = -1;
+        REFUSED(lumis_render_session(scene, &sd, &img, NULL), img);
+        sd.share_spp = 2;
+        sd.time_budget = 1.0;
+        REFUSED(lumis_render_session(scene, &sd, &img, NULL), img);
+    }
     lumis_render_job *job = NULL;
     REFUSED(lumis_render_job_create(scene, NULL, &job), job);
     assert_int_not_equal(lumis_render_job_run(NULL, 1), LUMIS_OK);

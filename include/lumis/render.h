@@ -172,7 +172,12 @@ typedef struct lumis_render_desc {
     int bsdf_samples;        /* BSDF samples per camera sample; 0 == 1 */
     unsigned long long seed; /* the image depends on it, never on threads */
     lumis_sequence sequence; /* where the numbers come from; 0 == sobol */
-    int threads;             /* 0 == all cores */
+    /* The index of the first camera sample a job draws (0: the first).  A share of a render
+     * split by passes over several machines (lumis render --passes I/N) numbers its samples
+     * as the whole render does, so sample k is the same whichever machine draws it; spp
+     * stays the whole render's count (the sequence is planned for it). */
+    int first_sample;
+    int threads; /* 0 == all cores */
     /* 0: direct illumination from the environment (the evaluation mode).  N > 0: path
      * tracing with up to N indirect bounces; every vertex gets the direct estimator above
      * and the path continues by BSDF sampling (global illumination, for references). */
@@ -283,6 +288,10 @@ typedef struct lumis_session_desc {
                            Stratified light sets fill it with passes at a fixed K. */
     double spent;       /* seconds of the budget already spent (a sampler's build) */
     int timed_spp;      /* with lights, time_budget and no K: samples per pixel; 0 == 4 */
+    /* > 0: render only this many samples, a share of the render.spp of the whole render
+     * starting at render.first_sample (no time budget); lumis_render_merge-like averaging
+     * of the shares weighted by their counts gives the whole render's image. */
+    int share_spp;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);
     void *pass_done_user;

@@ -61,10 +61,12 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
     /* an envmap for every kind but luminaires, which may go without (escaping rays: black) */
     if (!scene || !d || (!d->env && kind != &lumis__light_luminaires) ||
         (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
-        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024)
+        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024 || d->first_sample < 0 ||
+        d->first_sample >= (1 << 30))
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
-                           "non-negative sample counts and 0 to 1024 bounces");
+                           "non-negative sample counts (a first sample below 2^30) and 0 to "
+                           "1024 bounces");
     cam_frame cf;
     lumis_status cst = lumis__camera_frame(d->camera, &d->errors, &cf);
     if (cst != LUMIS_OK) return cst;
@@ -104,14 +106,14 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 lumis_status lumis_render_job_run(lumis_render_job *job, int samples)
 {
     if (!job) return LUMIS_ERR_INVALID_ARGUMENT;
-    if (samples < 1 || samples > (1 << 30) - job->stats.spp)
+    if (samples < 1 || samples > (1 << 30) - job->d.first_sample - job->stats.spp)
         return lumis__fail(&job->d.errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: %d more samples per pixel is out of range", samples);
     const lumis_render_desc *d = &job->d;
     const lumis__light_kind *kind = job->kind;
     ctx c = {job->scene, d, job->state};
     const int threads = d->threads > 0 ? d->threads : omp_get_max_threads();
-    const int w = job->cam.width, h = job->cam.height, first = job->stats.spp;
+    const int w = job->cam.width, h = job->cam.height, first = job->d.first_sample + job->stats.spp;
     const int tx = (w + TILE - 1) / TILE, ty = (h + TILE - 1) / TILE, tiles = tx * ty;
     double shadow = 0.0, bounce = 0.0, lum_samples = 0.0, t0 = omp_get_wtime();
     int done = 0, failed = 0;

@@ -250,6 +250,10 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     if ((unsigned)s->lights_mode >= LUMIS_LIGHTS_MODE_COUNT)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "session: unknown lights mode %d",
                            (int)s->lights_mode);
+    if (s->share_spp < 0 || (s->share_spp > 0 && s->time_budget > 0.0))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: a share of a render is a number of samples (share_spp "
+                           ">= 0), not a time budget");
     const int stratified = s->lights && s->lights_mode == LUMIS_LIGHTS_STRATIFIED;
     /* the joint-bilateral filter is a bias: strata, which converge, go without it unless
      * asked */
@@ -296,7 +300,9 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         const double left = B - r->prep_seconds - rendered;
         st = k_fills_time ? unit_run(&u, rd.spp ? rd.spp : timed_spp)
              : B > 0.0    ? run_timed(&u, left, s)
-                          : unit_run(&u, rd.spp ? rd.spp : 16);
+                          : unit_run(&u, s->share_spp ? s->share_spp
+                                         : rd.spp     ? rd.spp
+                                                      : 16);
         if (st == LUMIS_OK) st = unit_image(&u, out);
         unit_stats(&u, &r->stats);
         const double T = r->stats.seconds;

@@ -70,6 +70,9 @@ static const char usage[] =
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
+    "  --passes I/N       render share I (0 to N - 1) of the --spp samples split in N: the\n"
+    "                     whole render's samples k = I spp/N ... (I+1) spp/N - 1, the same\n"
+    "                     whichever machine draws them; lumis merge joins the shares\n"
     "  --time S           instead of --spp: progressive passes until S seconds of rendering\n"
     "                     (equal-time comparisons; the samples reached are reported)\n"
     "  --bounces N        path tracing with up to N indirect bounces (default 0: direct\n"
@@ -207,6 +210,21 @@ int cmd_render(int argc, char **argv)
                 return tool_bad_value("render", "--spp", v, "needs a count in [1, 2^20]");
             o.rd.spp = (int)x;
             spp_given = 1;
+        } else if (tool_option(argc, argv, &i, "--passes", &v)) {
+            long a = -1, b = -1;
+            const char *slash = v ? strchr(v, '/') : NULL;
+            char head[32];
+            if (slash && (size_t)(slash - v) < sizeof head) {
+                memcpy(head, v, (size_t)(slash - v));
+                head[slash - v] = '\0';
+            }
+            if (!slash || (size_t)(slash - v) >= sizeof head ||
+                !tool_parse_int(head, 0, 1 << 20, &a) ||
+                !tool_parse_int(slash + 1, 1, 1 << 20, &b) || a >= b)
+                return tool_bad_value("render", "--passes", v,
+                                      "needs I/N, 0 <= I < N (share I of N)");
+            o.pass_index = (int)a;
+            o.passes = (int)b;
         } else if (tool_option(argc, argv, &i, "--time", &v)) {
             if (!tool_parse_double(v, &d) || !(d > 0.0) || d > 1e6)
                 return tool_bad_value("render", "--time", v, "needs seconds, more than 0");
@@ -277,6 +295,12 @@ int cmd_render(int argc, char **argv)
     if (spp_given && o.time_budget > 0.0 && (!o.lights || stratified))
         return tool_usage_error("render", "give --spp or --time, not both (both go together "
                                           "only with --lights in point mode)");
+    if (o.passes && o.time_budget > 0.0)
+        return tool_usage_error("render", "--passes splits a number of samples (--spp), not a "
+                                          "time budget");
+    if (o.passes > (o.rd.spp ? o.rd.spp : 16))
+        return tool_usage_error("render", "--passes %d/%d: more shares than the %d samples",
+                                o.pass_index, o.passes, o.rd.spp ? o.rd.spp : 16);
     if (lights_mode_given && !o.lights)
         return tool_usage_error("render", "--lights-mode needs --lights METHOD");
     if (o.lights && o.time_budget > 0.0 && o.lights_k && spp_given)

@@ -153,6 +153,7 @@ int cmd_pdf(int argc, char **argv);
 int cmd_bench_samplers(int argc, char **argv);
 int cmd_render(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_merge(int argc, char **argv);
 int cmd_lights(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 
@@ -195,6 +196,7 @@ typedef struct tool_render_opts {
     const char *luminaire;  /* --luminaire: replaces every luminaire of the scene (a manifest
                                or preset:NAME); NULL: the scene's own */
     double time_budget;     /* > 0: progressive passes until this much render time */
+    int pass_index, passes; /* --passes I/N (passes 0: the whole render) */
     int width, height;      /* 0: the scene's camera */
     const char *out, *png;  /* out NULL: nothing written */
     const char *sidecar;    /* NULL: OUT.json; "": none */

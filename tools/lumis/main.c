@@ -21,6 +21,7 @@ static const tool_command commands[] = {
     {"lights", "an environment map as K directional lights: JSON, glTF, a picture", cmd_lights},
     {"luminaire", "light-field luminaires: create one by simulated acquisition, inspect, render",
      cmd_luminaire},
+    {"merge", "join the shares of a render split by passes (render --passes I/N)", cmd_merge},
     {"compare", "image metrics: RMSE, relMSE, PSNR, CIELAB, LDR- and HDR-FLIP; error maps",
      cmd_compare},
     {"bench", "run a benchmark suite: renders, references, metrics, tables, plots, HTML",

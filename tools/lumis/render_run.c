@@ -204,6 +204,12 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     sess.time_budget = o->time_budget;
     sess.spent = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
     sess.timed_spp = TOOL_LIGHTS_TIMED_SPP;
+    if (o->passes) { /* share I of N: the whole render's samples first .. first + n - 1 */
+        const long long total = rd.spp ? rd.spp : 16;
+        sess.render.spp = (int)total;
+        sess.render.first_sample = (int)(total * o->pass_index / o->passes);
+        sess.share_spp = (int)(total * (o->pass_index + 1) / o->passes) - sess.render.first_sample;
+    }
     sess.pass_done = on_pass;
     sess.pass_done_user = &pg;
     lumis_session_result sr;
