@@ -427,6 +427,17 @@ begin "compare: --map m.png --diff d/../m.png (one new file twice)"
 cp "$FIX/map.pfm" r.pfm; cp "$FIX/test.pfm" t.pfm; mkdir d
 snap; run usage "\$L compare r.pfm t.pfm --map m.png --diff d/../m.png"; end
 
+shares() { # two shares of one render (lumis render --passes), with their sidecars
+    "$L" render --scene spheres --size 8x6 --spp 2 --passes 0/2 --quiet -o s0.exr >/dev/null 2>&1
+    "$L" render --scene spheres --size 8x6 --spp 2 --passes 1/2 --quiet -o s1.exr >/dev/null 2>&1
+}
+# (-o s0.pfm and -o s1.hdr: their default sidecars are the shares' s0.json and s1.json)
+for spec in "-o ./s0.exr" "-o d/../s1.exr" "-o hl.exr" "-o sl.exr" "-o s0.pfm" "-o s1.hdr"; do
+    begin "merge: $spec onto a share or its sidecar"
+    shares; mkdir d; ln s0.exr hl.exr; ln -s s1.exr sl.exr
+    snap; run usage "\$L merge s0.exr s1.exr $spec"; end
+done
+
 begin "luminaire render: default sidecar of -o lum.exr is the manifest"
 lum; snap; run usage "\$L luminaire render lum.json $R -o lum.exr"; end
 

@@ -596,6 +596,10 @@ static void render_passes_and_merge(void **state)
     snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
              tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.exr"));
     expect(a, 2, "would replace");
+    /* the default sidecar of -o share1.pfm is share 1's own */
+    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+             tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.pfm"));
+    expect(a, 2, "would replace the share's sidecar");
     expect("merge -o m.exr", 2, "no shares");
     expect("render --scene spheres --spp 8 --passes 3/3 -o x.exr", 2, "0 <= I < N");
     expect("render --scene spheres --spp 8 --passes 1 -o x.exr", 2, "--passes");

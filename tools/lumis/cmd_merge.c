@@ -74,8 +74,8 @@ int cmd_merge(int argc, char **argv)
         } else if (strcmp(argv[i], "--no-sidecar") == 0) {
             sidecar = 0;
         } else if (argv[i][0] != '-') {
-            if (n == TOOL_FILES_MAX - 1)
-                return tool_usage_error("merge", "at most %d shares", TOOL_FILES_MAX - 1);
+            if (n == TOOL_FILES_MAX / 2 - 1)
+                return tool_usage_error("merge", "at most %d shares", TOOL_FILES_MAX / 2 - 1);
             in[n++] = argv[i];
         } else {
             return tool_usage_error("merge", "unknown argument '%s'", argv[i]);
@@ -86,7 +86,12 @@ int cmd_merge(int argc, char **argv)
     char side_out[4096];
     tool_sidecar_path(out, side_out, sizeof side_out);
     tool_files files = {0};
-    for (int k = 0; k < n; k++) tool_files_input(&files, "share", in[k]);
+    static char side_in[TOOL_FILES_MAX][4096]; /* the shares' sidecars: inputs too */
+    for (int k = 0; k < n; k++) {
+        tool_sidecar_path(in[k], side_in[k], sizeof side_in[k]);
+        tool_files_input(&files, "share", in[k]);
+        tool_files_input(&files, "share's sidecar", side_in[k]);
+    }
     tool_files_output(&files, "-o", out, TOOL_OUT_LINEAR);
     if (sidecar) tool_files_output(&files, "sidecar", side_out, TOOL_OUT_FILE);
     int rc = tool_files_check("merge", &files);
@@ -113,8 +118,8 @@ int cmd_merge(int argc, char **argv)
         }
         const double idx = num(p, "index"), cnt = num(p, "count"), tot = num(p, "spp_total"),
                      spp = num(side[k], "spp");
-        if (!(cnt >= 1 && cnt <= TOOL_FILES_MAX - 1 && idx >= 0 && idx < cnt && idx == floor(idx) &&
-              spp > 0 && tot >= cnt)) {
+        if (!(cnt >= 1 && cnt <= TOOL_FILES_MAX / 2 - 1 && idx >= 0 && idx < cnt &&
+              idx == floor(idx) && spp > 0 && tot >= cnt)) {
             rc = tool_runtime_error("merge: %s: a sidecar's \"share\" that makes no sense", in[k]);
             break;
         }
