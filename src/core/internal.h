@@ -5,6 +5,7 @@
 #include "lumis/status.h"
 
 #include <stddef.h>
+#include <stdint.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -44,6 +45,15 @@ enum { LUMIS__SIMD_BASELINE = 0, LUMIS__SIMD_AVX2 = 1, LUMIS__SIMD_AVX512 = 2 };
 int lumis__simd_level(void);
 /* Tests: every later call runs `level` (capped at the CPU's); -1 returns to LUMIS_SIMD. */
 void lumis__simd_force(int level);
+
+/* splitmix64's finaliser: every bit of z spread over all 64 (seeds and hashes of the
+ * sequences, PCG32 start states). */
+static inline uint64_t lumis__mix64(uint64_t z)
+{
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
 
 static inline int lumis__clampi(int x, int lo, int hi)
 {

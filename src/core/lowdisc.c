@@ -3,6 +3,8 @@
  * Derivations and the tests that pin each property: docs/sampling.md. */
 #include "lumis/rng.h"
 
+#include "internal.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,17 +31,9 @@ lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
     return LUMIS_ERR_INVALID_ARGUMENT;
 }
 
-/* splitmix64's finaliser: a seed's bits spread over all 64. */
-static uint64_t seed_mix(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 void lumis_sobol02(uint32_t index, uint64_t seed, double u[2])
 {
-    const uint64_t h = seed_mix(seed);
+    const uint64_t h = lumis__mix64(seed);
     u[0] = lumis_owen_scramble(lumis_sobol02_bits(index, 0), (uint32_t)h) * 0x1p-32;
     u[1] = lumis_owen_scramble(lumis_sobol02_bits(index, 1), (uint32_t)(h >> 32)) * 0x1p-32;
 }
@@ -141,7 +135,7 @@ lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy)
         return LUMIS_ERR_OUT_OF_MEMORY;
     }
     lumis_pcg32 rng;
-    lumis_pcg32_seed(&rng, seed_mix(seed), 0x706d6a3032ull);
+    lumis_pcg32_seed(&rng, lumis__mix64(seed), 0x706d6a3032ull);
     xy[0] = lumis_pcg32_next(&rng);
     xy[1] = lumis_pcg32_next(&rng);
     if (n == 1) {

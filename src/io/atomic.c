@@ -288,7 +288,7 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
                                (unsigned long long)ts.tv_nsec ^
                                (atomic_fetch_add(&names_made, 1) * 0x9e3779b97f4a7c15ull);
         for (int c = 0; c < 6; c++) {
-            h = (h ^ (h >> 31)) * 0xbf58476d1ce4e5b9ull;
+            h = lumis__mix64(h);
             suffix[c] = chars[(h >> 40) % 62];
         }
         sigset_t was;

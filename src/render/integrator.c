@@ -2,7 +2,6 @@
  * the light kind (shade.h), and with max_bounces > 0 the same at every further vertex of a
  * BSDF-sampled path. */
 #include "lumis/render.h"
-#include "lumis/rng.h"
 
 #include "shade.h"
 

@@ -416,7 +416,8 @@ static lumis_status global_draws(const lumis_luminaire_lighting *ll, const lum_i
             const lum_inst *li = &lum[i];
             const size_t slot = (size_t)(k - k0) * (size_t)ll->count + (size_t)i;
             lumis_pcg32 g;
-            lumis_pcg32_seed(&g, mix64(seed ^ mix64((uint64_t)k + 1)), 0x9e3779b9u + (uint64_t)i);
+            lumis_pcg32_seed(&g, lumis__mix64(seed ^ lumis__mix64((uint64_t)k + 1)),
+                             0x9e3779b9u + (uint64_t)i);
             for (int j = 0; j < 2 * li->capacity; j++) u[j] = lumis_pcg32_double(&g);
             lumis_status st = lumis_luminaire_global_draw(li->lum, &li->query, u, li->capacity,
                                                           out + slot * (size_t)capacity, &n[slot]);

@@ -21,7 +21,7 @@ lumis_status lumis__seq_init(lumis__seq *q, lumis_sequence kind, uint64_t seed, 
 {
     q->kind = kind;
     q->seed = seed;
-    q->key = lumis__seq_mix(seed + 0x5eed);
+    q->key = lumis__mix64(seed + 0x5eed);
     q->log2n = ceil_log2(planned_spp > 0 ? (uint64_t)planned_spp : 1u << 16);
     q->pmj = NULL;
     for (int b = 0; b < 4; b++)
@@ -62,8 +62,8 @@ void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, in
     /* PCG32: sample k of this pixel has its own stream, so passes cannot change it (the
      * renderer's numbers before the sequences, bit for bit) */
     if (q->kind == LUMIS_SEQUENCE_PCG)
-        lumis_pcg32_seed(&s->rng, lumis__seq_mix(q->seed ^ lumis__seq_mix((uint64_t)k + 1)), pixel);
-    s->pixel = lumis__seq_mix(q->key ^ (pixel * 0x9e3779b97f4a7c15ull));
+        lumis_pcg32_seed(&s->rng, lumis__mix64(q->seed ^ lumis__mix64((uint64_t)k + 1)), pixel);
+    s->pixel = lumis__mix64(q->key ^ (pixel * 0x9e3779b97f4a7c15ull));
     s->morton = q->kind == LUMIS_SEQUENCE_ZSOBOL ? lumis_morton2((uint32_t)x, (uint32_t)y) : 0;
 }
 
@@ -130,10 +130,10 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
     case LUMIS_SEQUENCE_HALTON: {
         /* dimensions 2 dim and 2 dim + 1 of Halton's sequence (past 32: the first again),
          * rotated per pixel and dimension (Cranley-Patterson) */
-        const uint64_t h = lumis__seq_mix(s->pixel ^ lumis__seq_mix(dim + 0x4a17));
+        const uint64_t h = lumis__mix64(s->pixel ^ lumis__mix64(dim + 0x4a17));
         const unsigned b = (2u * dim) % LUMIS_HALTON_MAX_DIMENSION;
         const double v0 = lumis_halton(b, idx + 1) + unit53(h),
-                     v1 = lumis_halton(b + 1, idx + 1) + unit53(lumis__seq_mix(h));
+                     v1 = lumis_halton(b + 1, idx + 1) + unit53(lumis__mix64(h));
         u[0] = v0 >= 1.0 ? v0 - 1.0 : v0;
         u[1] = v1 >= 1.0 ? v1 - 1.0 : v1;
         return;
@@ -145,9 +145,9 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint32_t L = (uint32_t)(q->log2n + ceil_log2(n));
         const uint64_t block = L >= 32 ? 0 : idx >> L;
         const uint64_t key =
-            lumis__seq_mix(s->pixel ^ lumis__seq_mix(((uint64_t)dim << 24) + block + 0x57a7));
+            lumis__mix64(s->pixel ^ lumis__mix64(((uint64_t)dim << 24) + block + 0x57a7));
         const uint32_t st = permute((uint32_t)idx, L, key);
-        const uint64_t jit = lumis__seq_mix(key ^ idx);
+        const uint64_t jit = lumis__mix64(key ^ idx);
         if (one_d) {
             u[0] = ((double)st + unit53(jit)) * ldexp(1.0, -(int)L);
             u[1] = 0.0;
@@ -155,7 +155,7 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         }
         const uint32_t lx = (L + 1) / 2, ly = L / 2;
         u[0] = ((double)(st & ((1u << lx) - 1u)) + unit53(jit)) * ldexp(1.0, -(int)lx);
-        u[1] = ((double)(st >> lx) + unit53(lumis__seq_mix(jit))) * ldexp(1.0, -(int)ly);
+        u[1] = ((double)(st >> lx) + unit53(lumis__mix64(jit))) * ldexp(1.0, -(int)ly);
         return;
     }
     case LUMIS_SEQUENCE_SOBOL: /* seq_2d and seq_1d do not come here for it */
@@ -170,8 +170,8 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint32_t L =
             (uint32_t)(q->log2n + ceil_log2(n)) < 30 ? (uint32_t)(q->log2n + ceil_log2(n)) : 30;
         const uint64_t block = idx >> L, within = idx & ((1ull << L) - 1u);
-        const uint64_t seed = lumis__seq_mix(
-            q->key ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + (block << 40) + 0x250b));
+        const uint64_t seed =
+            lumis__mix64(q->key ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + (block << 40) + 0x250b));
         const uint64_t I = index_scramble((s->morton << L) | within, seed);
         /* the coordinates' scramble too is one per dimension, as pbrt's (the points depend
          * on the index's low 32 bits) */
@@ -191,15 +191,15 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         const uint64_t block = idx >> LUMIS__PMJ_LOG2;
         const uint32_t p = (uint32_t)((dim + 7u * block) % LUMIS__PMJ_PATTERNS);
         const uint64_t h =
-            lumis__seq_mix(s->pixel ^ lumis__seq_mix(((uint64_t)dim << 24) + block + 0x9302));
+            lumis__mix64(s->pixel ^ lumis__mix64(((uint64_t)dim << 24) + block + 0x9302));
         uint32_t i = (uint32_t)(idx & (LUMIS__PMJ_POINTS - 1));
         if (i > 1) {
             uint32_t level = 31;
             while (!(i >> level)) level--;
-            i = (1u << level) | permute(i - (1u << level), level, lumis__seq_mix(h + level));
+            i = (1u << level) | permute(i - (1u << level), level, lumis__mix64(h + level));
         }
         const uint32_t *t = q->pmj + 2 * ((size_t)p * LUMIS__PMJ_POINTS + i);
-        const uint64_t low = lumis__seq_mix(h ^ idx);
+        const uint64_t low = lumis__mix64(h ^ idx);
         u[0] = lumis__seq_frac53(lumis_owen_scramble(t[0], (uint32_t)h), low);
         u[1] = lumis__seq_frac53(lumis_owen_scramble(t[1], (uint32_t)(h >> 32)), low << 21);
         return;

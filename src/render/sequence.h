@@ -16,6 +16,8 @@
 #include "lumis/rng.h"
 #include "lumis/status.h"
 
+#include "../core/internal.h"
+
 #include <stdint.h>
 
 /* A render's sequence: its kind, seed, the samples per pixel it plans for (stratified and
@@ -56,14 +58,6 @@ void lumis__stream_start(lumis__stream *s, const lumis__seq *q, int x, int y, in
 void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, int one_d,
                       double u[2]);
 
-/* splitmix64's finaliser: a hash of 64 bits. */
-static inline uint64_t lumis__seq_mix(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 /* A 32-bit fraction as a double with 21 random bits below it (jitter inside the finest
  * cell: nets stay nets).  The samplers read more than 32 bits of a number: the alias
  * tables take the column and a 32-bit coin from one number and place the direction with
@@ -93,7 +87,7 @@ static inline void lumis__sobol_point(const lumis__seq *q, uint32_t i, uint32_t 
 static inline void lumis__seq_sobol(const lumis__stream *s, uint32_t dim, uint64_t idx, int one_d,
                                     double u[2])
 {
-    const uint64_t h = lumis__seq_mix(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
+    const uint64_t h = lumis__mix64(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
     /* dimension 0 keeps its order: two dimensions are decorrelated when either is
      * shuffled */
     const uint32_t i = dim == 0 ? (uint32_t)idx

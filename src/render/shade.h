@@ -125,14 +125,6 @@ static inline void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
     lumis__packet_push(&p->rays, of, df, tfar);
 }
 
-/* splitmix64's finaliser: decorrelates (seed, sample) pairs into PCG start states. */
-static inline uint64_t mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
 /* ---- the integrator (integrator.c) ---- */
 
 /* One camera sample from eye along dir: what the kind lights at its first hit, and along a
