@@ -26,6 +26,11 @@ double bench_now(void);
 /* The "model name" of the first CPU in /proc/cpuinfo, or "unknown". */
 void bench_cpu_model(char *out, size_t cap);
 
+/* The map to work on (bench_map.c, which needs lumis-io): the file `map` resized to w x h,
+ * or (map NULL) the procedural sky at w x h.  0, or bench_fail's exit code. */
+struct lumis_envmap;
+int bench_load_map(const char *map, int w, int h, struct lumis_envmap **env);
+
 /* qsort comparator for doubles. */
 int bench_cmp_double(const void *a, const void *b);
 

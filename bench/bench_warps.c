@@ -93,32 +93,9 @@ int main(int argc, char **argv)
             return bench_usage_error("unknown or incomplete option '%s'", a);
         }
     }
-    lumis_image *img = NULL;
-    lumis_status st;
-    if (map) {
-        lumis_image *src = NULL;
-        if ((st = lumis_image_read(map, NULL, &src, NULL)) != LUMIS_OK)
-            return bench_fail("%s: %s", map, lumis_status_string(st));
-        if ((st = lumis_image_create(w, h, &img)) == LUMIS_OK)
-            st = lumis_equirect_resize(src->pixels, src->width, src->height, img->pixels, w, h);
-        lumis_image_destroy(src);
-        if (st != LUMIS_OK) {
-            lumis_image_destroy(img);
-            return bench_fail("cannot resize %s: %s", map, lumis_status_string(st));
-        }
-    } else {
-        lumis_sky_desc sd = {0};
-        sd.width = w;
-        sd.height = h;
-        sd.sun_elevation_deg = 35.0f;
-        sd.sun_azimuth_deg = 60.0f;
-        if ((st = lumis_sky_create(&sd, &img)) != LUMIS_OK)
-            return bench_fail("lumis_sky_create: %s", lumis_status_string(st));
-    }
     lumis_envmap *env = NULL;
-    st = lumis_envmap_from_image(img, &env);
-    lumis_image_destroy(img);
-    if (st != LUMIS_OK) return bench_fail("lumis_envmap_from_image: %s", lumis_status_string(st));
+    if (bench_load_map(map, w, h, &env) != 0) return 1;
+    lumis_status st;
     enum { NMAX = 16 << (LEVELS - 1) };
     uint32_t *pmj = malloc(sizeof *pmj * 2 * NMAX);
     double(*est)[LEVELS][NORMALS] = malloc(sizeof *est * (size_t)runs);
