@@ -289,8 +289,8 @@ typedef struct lumis_session_desc {
     double spent;       /* seconds of the budget already spent (a sampler's build) */
     int timed_spp;      /* with lights, time_budget and no K: samples per pixel; 0 == 4 */
     /* > 0: render only this many samples, a share of the render.spp of the whole render
-     * starting at render.first_sample (no time budget); lumis_render_merge-like averaging
-     * of the shares weighted by their counts gives the whole render's image. */
+     * starting at render.first_sample (no time budget); the shares' images weighted by
+     * their counts average to the whole render's (the tool's `lumis merge`). */
     int share_spp;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);

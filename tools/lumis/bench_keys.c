@@ -46,29 +46,6 @@ static uint64_t reference_basis(void)
     return fnv_str(h, LUMIS_VERSION_STRING);
 }
 
-/* The whole of a file; NULL if it cannot be opened (*oom = 0: it then hashes by name and
- * fails later, with its name, where it is loaded) or memory is short (*oom = 1). */
-static unsigned char *read_all(const char *path, size_t *n, int *oom)
-{
-    *n = 0;
-    *oom = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    size_t cap = 1 << 16;
-    unsigned char *buf = malloc(cap);
-    for (size_t got; buf && (got = fread(buf + *n, 1, cap - *n, f)) > 0;) {
-        *n += got;
-        if (*n == cap) {
-            unsigned char *grown = realloc(buf, cap *= 2);
-            if (!grown) free(buf);
-            buf = grown;
-        }
-    }
-    fclose(f);
-    *oom = buf == NULL;
-    return buf;
-}
-
 int bench_read_inputs(suite *s, int keep_maps)
 {
     const uint64_t basis = reference_basis();
@@ -86,7 +63,7 @@ int bench_read_inputs(suite *s, int keep_maps)
             continue;
         }
         int oom;
-        unsigned char *b = read_all(map->spec, &map->nbytes, &oom);
+        unsigned char *b = tool_read_file(map->spec, &map->nbytes, &oom);
         if (oom) return tool_runtime_error("bench: out of memory reading %s", map->spec);
         map->hash = b ? tool_fnv(basis, b, map->nbytes) : fnv_str(basis, map->spec);
         if (keep_maps)
@@ -97,7 +74,7 @@ int bench_read_inputs(suite *s, int keep_maps)
     for (int k = 0; k < s->nscenes; k++) {
         suite_scene *sc = &s->scenes[k];
         int oom;
-        if (sc->is_file) sc->bytes = read_all(sc->spec, &sc->nbytes, &oom);
+        if (sc->is_file) sc->bytes = tool_read_file(sc->spec, &sc->nbytes, &oom);
         if (sc->is_file && oom)
             return tool_runtime_error("bench: out of memory reading %s", sc->spec);
     }

@@ -32,21 +32,10 @@ static const char *const same_keys[] = {
 static cJSON *read_sidecar(const char *image, char *path, size_t cap)
 {
     tool_sidecar_path(image, path, cap);
-    size_t n = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    char *text = NULL;
     size_t len = 0;
-    for (;;) {
-        char *t = realloc(text, len + 65536 + 1);
-        if (!t) break;
-        text = t;
-        n = fread(text + len, 1, 65536, f);
-        len += n;
-        if (n < 65536) break;
-    }
-    fclose(f);
-    cJSON *j = text ? cJSON_ParseWithLength(text, len) : NULL;
+    int oom = 0;
+    unsigned char *text = tool_read_file(path, &len, &oom);
+    cJSON *j = text ? cJSON_ParseWithLength((const char *)text, len) : NULL;
     free(text);
     return j;
 }

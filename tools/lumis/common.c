@@ -160,3 +160,24 @@ int tool_make_dir(const char *path)
     if (mkdir(buf, 0755) == 0 || errno == EEXIST) return EXIT_OK;
     return tool_runtime_error("%s: cannot create folder: %s", path, strerror(errno));
 }
+
+unsigned char *tool_read_file(const char *path, size_t *n, int *oom)
+{
+    *n = 0;
+    *oom = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    size_t cap = 1 << 16;
+    unsigned char *buf = malloc(cap);
+    for (size_t got; buf && (got = fread(buf + *n, 1, cap - *n, f)) > 0;) {
+        *n += got;
+        if (*n == cap) {
+            unsigned char *grown = realloc(buf, cap *= 2);
+            if (!grown) free(buf);
+            buf = grown;
+        }
+    }
+    fclose(f);
+    *oom = buf == NULL;
+    return buf;
+}

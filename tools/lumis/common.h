@@ -126,6 +126,10 @@ void tool_files_output(tool_files *f, const char *what, const char *path, tool_o
 /* Records count inputs at once (the paths are borrowed until tool_files_check). */
 void tool_files_input_list(tool_files *f, const char *what, const char *const *paths, int count);
 
+/* The whole of a file (free it); NULL if it cannot be opened (*oom = 0) or memory is short
+ * (*oom = 1). */
+unsigned char *tool_read_file(const char *path, size_t *n, int *oom);
+
 /* Usage error (exit 2, naming both paths) unless every output has an extension of its kind,
  * a directory that exists and can be written, and is neither an input nor another output.
  * Same file: by device and inode when both exist, else by resolved directory and name. */
@@ -255,6 +259,9 @@ void tool_on_progress(void *user, int done, int total);
  * work (exit 2), then renders.  Returns an exit code; prints errors, a progress bar (stderr is a
  * terminal) and, unless quiet, a summary line. */
 int tool_render(const tool_render_opts *o, tool_render_result *r);
+/* The samples of o's share (--passes I/N): the whole render's total, the share's first
+ * sample and count (without --passes: 0 and all of them). */
+void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count);
 
 struct cJSON;
 

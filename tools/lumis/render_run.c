@@ -24,6 +24,14 @@ static void on_pass(void *user, int spp)
     ((progress *)user)->spp_done = spp;
 }
 
+void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count)
+{
+    const long long t = o->rd.spp ? o->rd.spp : 16;
+    *total = (int)t;
+    *first = o->passes ? (int)(t * o->pass_index / o->passes) : 0;
+    *count = o->passes ? (int)(t * (o->pass_index + 1) / o->passes) - *first : (int)t;
+}
+
 int tool_render(const tool_render_opts *o, tool_render_result *r)
 {
     memset(r, 0, sizeof *r);
@@ -205,10 +213,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     sess.spent = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
     sess.timed_spp = TOOL_LIGHTS_TIMED_SPP;
     if (o->passes) { /* share I of N: the whole render's samples first .. first + n - 1 */
-        const long long total = rd.spp ? rd.spp : 16;
-        sess.render.spp = (int)total;
-        sess.render.first_sample = (int)(total * o->pass_index / o->passes);
-        sess.share_spp = (int)(total * (o->pass_index + 1) / o->passes) - sess.render.first_sample;
+        tool_share_range(o, &sess.render.spp, &sess.render.first_sample, &sess.share_spp);
     }
     sess.pass_done = on_pass;
     sess.pass_done_user = &pg;

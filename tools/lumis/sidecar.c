@@ -162,12 +162,13 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     }
     cJSON_AddNumberToObject(j, "spp", s->spp);
     if (o->passes) { /* a share of a render split by passes (lumis merge joins them) */
-        const long long total = o->rd.spp ? o->rd.spp : 16;
+        int total, first, count;
+        tool_share_range(o, &total, &first, &count);
         cJSON *p = cJSON_AddObjectToObject(j, "share");
         cJSON_AddNumberToObject(p, "index", o->pass_index);
         cJSON_AddNumberToObject(p, "count", o->passes);
-        cJSON_AddNumberToObject(p, "first_sample", (double)(total * o->pass_index / o->passes));
-        cJSON_AddNumberToObject(p, "spp_total", (double)total);
+        cJSON_AddNumberToObject(p, "first_sample", first);
+        cJSON_AddNumberToObject(p, "spp_total", total);
     } else {
         cJSON_AddNullToObject(j, "share");
     }
