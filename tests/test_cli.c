@@ -1756,6 +1756,57 @@ static double json_path_number(const cJSON *o, const char *what)
         if (!(fabs(a_ - b_) <= (eps))) fail_msg("%s = %.12g, want %.12g", #a, a_, b_);             \
     } while (0)
 
+/* Reads DIR/results.json (the caller frees it with cJSON_Delete). */
+static cJSON *read_results_json(const char *dir)
+{
+    char p[4096];
+    size_t n = 0;
+    snprintf(p, sizeof p, "%s/results.json", dir);
+    char *text = (char *)tu_read_file(p, &n);
+    if (!text) fail_msg("no %s", p);
+    cJSON *j = cJSON_ParseWithLength(text, n);
+    free(text);
+    if (!j) fail_msg("%s: malformed JSON", p);
+    return j;
+}
+
+/* Hand-made errors of the convergence tests' suites (two scenes, inversion and alias, three
+ * budgets whose x = 1, 2, 4 are labelled budgets[k]): inversion 0.08 / x on spheres (slope
+ * -1) and 0.02 / sqrt(x) on bunny-plane (-0.5), a geometric mean of 0.04 x^-0.75 (-0.75);
+ * alias 0.02 everywhere (slope 0), but 0 (left out) on bunny-plane at the last budget when
+ * alias_gap.  alias / inversion = 0.5 x^0.75: 1 at x = 2^(4/3). */
+static void set_convergence_errors(const char *dir, const char *map, const char *const budgets[3],
+                                   int alias_gap)
+{
+    for (int k = 0; k < 3; k++) {
+        const double x = 1 << k;
+        char id[256];
+        snprintf(id, sizeof id, "%s__spheres__inversion__%s", map, budgets[k]);
+        set_relmse(dir, id, 0.08 / x);
+        snprintf(id, sizeof id, "%s__bunny-plane__inversion__%s", map, budgets[k]);
+        set_relmse(dir, id, 0.02 / sqrt(x));
+        snprintf(id, sizeof id, "%s__spheres__alias__%s", map, budgets[k]);
+        set_relmse(dir, id, 0.02);
+        snprintf(id, sizeof id, "%s__bunny-plane__alias__%s", map, budgets[k]);
+        set_relmse(dir, id, alias_gap && k == 2 ? 0.0 : 0.02);
+    }
+}
+
+/* inversion's slopes in a convergence object made of set_convergence_errors' errors: -0.75
+ * over all pairs, -1 on spheres, -0.5 on bunny-plane. */
+static void check_inversion_slopes(const cJSON *inv)
+{
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(inv, "method")->valuestring, "inversion");
+    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(inv, "slope"), "slope"),
+                        -0.75, 1e-9);
+    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(inv, "scene_slopes");
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "spheres"), "spheres"), -1.0, 1e-9);
+    assert_double_equal(
+        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "bunny-plane"), "bunny-plane"), -0.5,
+        1e-9);
+}
+
 /* The convergence analysis at equal time (two or more time budgets): the section of
  * results.md and index.html, results.json's "convergence" object and convergence-all.svg;
  * on hand-made relMSEs, the slopes (over all pairs and per scene), the pairs counted (an
@@ -1776,31 +1827,15 @@ static void bench_convergence_at_equal_time(void **state)
     snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("conv.json"), dir);
     expect(a, 0, "16 of 16 items");
     assert_int_equal(tu_count_entries(dir, "convergence-all.svg"), 1);
-    /* Hand-made errors, x = t / 0.05 s (the budgets are listed out of order): inversion
-     * 0.08 / x on spheres (slope -1) and 0.02 / sqrt(x) on bunny-plane (-0.5), a geometric
-     * mean of 0.04 x^-0.75 (-0.75); alias 0.02 everywhere (slope 0) but 0 (left out) on
-     * bunny-plane at 0.2 s.  alias / inversion = 0.5 x^0.75: 1 at x = 2^(4/3), 0.126 s. */
+    /* Hand-made errors (set_convergence_errors), x = t / 0.05 s (the budgets are listed out
+     * of order), alias's left out at 0.2 s on bunny-plane: the crossing at 0.05 2^(4/3) s. */
     static const char *const budgets[] = {"t0.05s", "t0.1s", "t0.2s"};
-    for (int k = 0; k < 3; k++) {
-        const double x = 1 << k;
-        char id[256];
-        snprintf(id, sizeof id, "sky-32x16__spheres__inversion__%s", budgets[k]);
-        set_relmse(dir, id, 0.08 / x);
-        snprintf(id, sizeof id, "sky-32x16__bunny-plane__inversion__%s", budgets[k]);
-        set_relmse(dir, id, 0.02 / sqrt(x));
-        snprintf(id, sizeof id, "sky-32x16__spheres__alias__%s", budgets[k]);
-        set_relmse(dir, id, 0.02);
-        snprintf(id, sizeof id, "sky-32x16__bunny-plane__alias__%s", budgets[k]);
-        set_relmse(dir, id, k == 2 ? 0.0 : 0.02);
-    }
+    set_convergence_errors(dir, "sky-32x16", budgets, 1);
     set_relmse(dir, "sky-32x16__spheres__alias__spp1", 1e3); /* spp budgets take no part */
     snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", tu_path("conv.json"), dir);
     expect(a, 0, "16 of 16 items");
     size_t n;
-    snprintf(p, sizeof p, "%s/results.json", dir);
-    char *text = (char *)tu_read_file(p, &n);
-    cJSON *j = cJSON_ParseWithLength(text, n);
-    free(text);
+    cJSON *j = read_results_json(dir);
     const cJSON *conv = cJSON_GetObjectItemCaseSensitive(j, "convergence");
     if (!cJSON_IsObject(conv)) fail_msg("results.json has no \"convergence\" object");
     const cJSON *sec = cJSON_GetObjectItemCaseSensitive(conv, "seconds");
@@ -1811,15 +1846,7 @@ static void bench_convergence_at_equal_time(void **state)
     const cJSON *methods = cJSON_GetObjectItemCaseSensitive(conv, "methods");
     assert_int_equal(cJSON_GetArraySize(methods), 2);
     const cJSON *inv = cJSON_GetArrayItem(methods, 0), *ali = cJSON_GetArrayItem(methods, 1);
-    assert_string_equal(cJSON_GetObjectItemCaseSensitive(inv, "method")->valuestring, "inversion");
-    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(inv, "slope"), "slope"),
-                        -0.75, 1e-9);
-    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(inv, "scene_slopes");
-    assert_double_equal(
-        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "spheres"), "spheres"), -1.0, 1e-9);
-    assert_double_equal(
-        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "bunny-plane"), "bunny-plane"), -0.5,
-        1e-9);
+    check_inversion_slopes(inv);
     const cJSON *geo = cJSON_GetObjectItemCaseSensitive(inv, "geomean_relmse");
     for (int k = 0; k < 3; k++)
         assert_double_equal(json_path_number(cJSON_GetArrayItem(geo, k), "geomean"),
@@ -1885,24 +1912,9 @@ static void bench_convergence_at_equal_time(void **state)
     md = (char *)tu_read_file(p, &n);
     assert_null(strstr(md, "Convergence (equal time)"));
     free(md);
-    snprintf(p, sizeof p, "%s/results.json", dir);
-    text = (char *)tu_read_file(p, &n);
-    assert_null(strstr(text, "\"convergence\""));
-    free(text);
-}
-
-/* Reads DIR/results.json (the caller frees it with cJSON_Delete). */
-static cJSON *read_results_json(const char *dir)
-{
-    char p[4096];
-    size_t n = 0;
-    snprintf(p, sizeof p, "%s/results.json", dir);
-    char *text = (char *)tu_read_file(p, &n);
-    if (!text) fail_msg("no %s", p);
-    cJSON *j = cJSON_ParseWithLength(text, n);
-    free(text);
-    if (!j) fail_msg("%s: malformed JSON", p);
-    return j;
+    j = read_results_json(dir);
+    assert_null(cJSON_GetObjectItemCaseSensitive(j, "convergence"));
+    cJSON_Delete(j);
 }
 
 /* The same analysis over the spp budgets (two or more of them): the section "Convergence
@@ -1947,21 +1959,10 @@ static void bench_convergence_at_equal_samples(void **state)
     }
     assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(conv, "methods")), 2);
     cJSON_Delete(j);
-    /* Hand-made errors, x = spp (listed out of order): inversion 0.08 / x on spheres (slope
-     * -1) and 0.02 / sqrt(x) on bunny-plane (-0.5), a geometric mean of 0.04 x^-0.75; alias
-     * 0.02 (slope 0).  alias / inversion = 0.5 x^0.75: 1 at x = 2^(4/3), 2.52 spp. */
-    for (int k = 0; k < 3; k++) {
-        const double x = 1 << k;
-        char id[256];
-        snprintf(id, sizeof id, "sky-16x8__spheres__inversion__spp%d", 1 << k);
-        set_relmse(dir, id, 0.08 / x);
-        snprintf(id, sizeof id, "sky-16x8__bunny-plane__inversion__spp%d", 1 << k);
-        set_relmse(dir, id, 0.02 / sqrt(x));
-        snprintf(id, sizeof id, "sky-16x8__spheres__alias__spp%d", 1 << k);
-        set_relmse(dir, id, 0.02);
-        snprintf(id, sizeof id, "sky-16x8__bunny-plane__alias__spp%d", 1 << k);
-        set_relmse(dir, id, 0.02);
-    }
+    /* Hand-made errors (set_convergence_errors), x = spp (listed out of order): the
+     * crossing at 2^(4/3) = 2.52 spp. */
+    static const char *const budgets[] = {"spp1", "spp2", "spp4"};
+    set_convergence_errors(dir, "sky-16x8", budgets, 0);
     set_relmse(dir, "sky-16x8__spheres__alias__t0.02s", 1e3); /* time budgets take no part */
     snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", tu_path("convspp.json"), dir);
     expect(a, 0, "16 of 16 items");
@@ -1975,14 +1976,7 @@ static void bench_convergence_at_equal_samples(void **state)
         assert_double_equal(json_path_number(cJSON_GetArrayItem(spp, k), "spp"), 1 << k, 0);
     const cJSON *inv = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(conv, "methods"), 0);
     assert_int_equal(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(inv, "spp")), 3);
-    assert_double_equal(json_path_number(cJSON_GetObjectItemCaseSensitive(inv, "slope"), "slope"),
-                        -0.75, 1e-9);
-    const cJSON *ss = cJSON_GetObjectItemCaseSensitive(inv, "scene_slopes");
-    assert_double_equal(
-        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "spheres"), "spheres"), -1.0, 1e-9);
-    assert_double_equal(
-        json_path_number(cJSON_GetObjectItemCaseSensitive(ss, "bunny-plane"), "bunny-plane"), -0.5,
-        1e-9);
+    check_inversion_slopes(inv);
     const cJSON *cmp = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(conv, "compare"), 0);
     if (!cmp) fail_msg("results.json: no compare pair in \"convergence_spp\"");
     const cJSON *x0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(cmp, "crossings"), 0);

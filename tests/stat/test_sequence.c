@@ -325,7 +325,8 @@ static double block_variance_ratio(lumis_sequence kind)
 }
 
 /* The correlation, over 48 seeds, between the errors of 16-sample disk estimates of
- * pixels in different 8 x 8 tiles, averaged over 28 pairs of 8 such pixels. */
+ * pixels 8 apart (in different 8 x 8 blocks of the z-order), averaged over 28 pairs of 8
+ * such pixels. */
 static double far_error_correlation(lumis_sequence kind)
 {
     enum { SEEDS = 48, PIX = 8, N = 16 };
@@ -378,8 +379,7 @@ static void zsobol_moves_error_to_high_frequencies(void **state)
      * every pixel: only the index's z-order part tells them apart) */
     const double cz = far_error_correlation(LUMIS_SEQUENCE_ZSOBOL),
                  cs = far_error_correlation(LUMIS_SEQUENCE_SOBOL);
-    print_message("error correlation of pixels in different tiles: zsobol %.3f, sobol %.3f\n", cz,
-                  cs);
+    print_message("error correlation of pixels 8 apart: zsobol %.3f, sobol %.3f\n", cz, cs);
     assert_true(fabs(cs) < 0.1);
     assert_true(fabs(cz) < 0.1);
 }
