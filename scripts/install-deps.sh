@@ -5,10 +5,11 @@ set -euo pipefail
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
       libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3)
 DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr)
+SLURM=(slurm-wlm munge)
 
 usage() {
     cat <<EOF
-Usage: $(basename "$0") [--dev] [--data-tools] [--help]
+Usage: $(basename "$0") [--dev] [--slurm] [--data-tools] [--help]
 
 Install with apt-get the Debian packages that are missing:
   ${BASE[*]}
@@ -18,6 +19,8 @@ Install with apt-get the Debian packages that are missing:
                 chromium for the screenshot test of 'lumis bench' reports,
                 valgrind for the memcheck stage, scripts/memcheck.sh,
                 gcovr for 'make coverage')
+  --slurm       also ${SLURM[*]}, for CI's cluster stage: a one-node Slurm
+                (scripts/slurm-local.sh) runs a suite as job arrays (docs/cluster.md)
   --data-tools  also nodejs and npm (unless the node and npm commands already exist),
                 which scripts/fetch-data.sh needs only when no local copy of the
                 test data (../shared/data) exists
@@ -32,6 +35,7 @@ WANT=("${BASE[@]}")
 for arg in "$@"; do
     case "$arg" in
         --dev) WANT+=("${DEV[@]}") ;;
+        --slurm) WANT+=("${SLURM[@]}") ;;
         # By command, not package: some node packages (e.g. NodeSource's nodejs) bundle npm
         # and conflict with Debian's npm package.
         --data-tools)

@@ -101,6 +101,17 @@ struct cJSON *bench_load_item(const suite *s, const char *out, const item *it);
 int bench_item_done(const suite *s, const char *out, const item *it);
 /* Whether item k belongs to shard shard_i of shard_n. */
 int bench_in_shard(const suite *s, int k, long shard_i, long shard_n);
+/* Whether any item of the (map, scene) pair is not done: the pair needs its reference. */
+int bench_pair_needed(const suite *s, const char *out, int m, int sc);
+
+/* References, checked rather than only present: DIR/refs/KEY.exr reads and has the suite's
+ * size.  And the share I of P of a reference split by passes (DIR/refs/parts/KEY.pass-I-of-P
+ * .exr): it reads, has the size, and its sidecar says it is that share. */
+void bench_reference_path(const suite *s, const char *out, int m, int sc, char *exr, size_t cap);
+void bench_reference_part_path(const suite *s, const char *out, int m, int sc, long i, long p,
+                               char *exr, size_t cap);
+int bench_reference_ok(const suite *s, const char *out, int m, int sc);
+int bench_reference_part_ok(const suite *s, const char *out, int m, int sc, long i, long p);
 
 /* ---- running (bench_run.c) ---------------------------------------------------------------- */
 
@@ -108,7 +119,8 @@ typedef struct bench_run_opts {
     const char *out;
     int threads; /* --threads: per render; 0: every core for references, cores / jobs for items */
     long jobs, shard_i, shard_n;
-    int argc; /* the command line, for the sidecars */
+    int items_only; /* --items-only: render no reference (a missing one is an error) */
+    int argc;       /* the command line, for the sidecars */
     char **argv;
 } bench_run_opts;
 
@@ -118,6 +130,14 @@ typedef struct bench_run_opts {
 /* Exit code; *failed_items: the items whose process failed (recorded in DIR/failures/: the
  * run went on without them, and returns EXIT_RUNTIME). */
 int bench_run(suite *s, const bench_run_opts *o, int *failed_items);
+/* --reference-task T with --reference-passes P: share T % P of the reference of pair T / P
+ * (pairs ordered map, then scene), into its part file, unless the reference or that part is
+ * done, or no item of the pair needs it.  Exit code. */
+int bench_render_reference_part(suite *s, const bench_run_opts *o, long task, long passes);
+/* --merge-references with --reference-passes P: every needed reference that is not done is
+ * merged from its P parts (lumis merge), with its preview, and the parts removed.  A
+ * reference whose parts are not all there is an error that names them.  Exit code. */
+int bench_merge_references(suite *s, const char *out, long passes);
 
 int bench_file_exists(const char *path);
 
@@ -277,6 +297,35 @@ int bench_write_svg(const char *path, const suite *s, const result *res, int sc)
  * no stale one, without the analysis).  bench_write_html writes both axes'. */
 int bench_write_convergence_svg(const bench_report *r, const bench_convergence *c);
 int bench_write_html(const bench_report *r, const char *path);
+
+/* ---- Slurm (bench_slurm.c) ---------------------------------------------------------------- */
+
+#define BENCH_SLURM_EXTRA_MAX 16
+#define BENCH_REF_PASSES_MAX  TOOL_MERGE_MAX /* --reference-passes: shares lumis merge joins */
+
+typedef struct bench_slurm_opts {
+    long tasks;       /* --tasks: the items' array tasks (shards); 0: one per (map, scene) pair */
+    long ref_passes;  /* --reference-passes: the tasks each reference is split into */
+    long cpus;        /* --cpus: cores per items task (its render threads) */
+    long ref_cpus;    /* --reference-cpus: cores per reference task (0: as --cpus) */
+    long max_running; /* --max-running: tasks of an array at once (0: no limit) */
+    int exclusive;    /* --exclusive: an items task has its node to itself */
+    int submit;       /* 0 (--no-submit): write the scripts only */
+    const char *partition, *time_limit;
+    const char *extra[BENCH_SLURM_EXTRA_MAX]; /* --sbatch OPTION, repeatable */
+    int nextra;
+} bench_slurm_opts;
+
+/* lumis bench SUITE --slurm: what is not done yet (references' parts, their merge, the shards
+ * with items left, the report) as sbatch scripts in DIR/slurm/, with DIR/slurm/submit.sh
+ * that submits them as job arrays chained by dependencies; runs it unless !o->submit.
+ * Exit code. */
+int bench_slurm(const suite *s, const char *suite_path, const char *out, const bench_slurm_opts *o);
+/* The report job's account of what the array tasks left undone (after bench --report-only
+ * --tasks N --reference-passes P): per items task, its items not done; per pair, a missing
+ * reference.  Written to DIR/slurm/status.txt and stderr.  Returns the number of items
+ * not done. */
+int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_passes);
 
 /* ---- merging (bench_merge.c) --------------------------------------------------------------- */
 

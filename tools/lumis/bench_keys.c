@@ -158,7 +158,12 @@ cJSON *bench_load_item(const suite *s, const char *out, const item *it)
     char key[32];
     bench_item_key(s, it, key, sizeof key);
     const cJSON *k = cJSON_GetObjectItemCaseSensitive(j, "item_key");
-    if (!cJSON_IsString(k) || strcmp(k->valuestring, key) != 0) {
+    /* a result is whole when it has its key and its numbers (it is written last, atomically,
+     * so anything less was not written by this tool) */
+    const cJSON *spp = cJSON_GetObjectItemCaseSensitive(j, "spp"),
+                *rel = cJSON_GetObjectItemCaseSensitive(j, "relmse");
+    if (!cJSON_IsString(k) || strcmp(k->valuestring, key) != 0 || !cJSON_IsNumber(spp) ||
+        spp->valuedouble < 1 || !cJSON_IsNumber(rel)) {
         cJSON_Delete(j);
         return NULL;
     }
@@ -179,4 +184,68 @@ int bench_in_shard(const suite *s, int k, long shard_i, long shard_n)
     const int pairs = s->nmaps * s->nscenes;
     if (pairs >= shard_n) return (k / (s->nmethods * s->nbudgets)) % shard_n == shard_i;
     return k % shard_n == shard_i;
+}
+
+int bench_pair_needed(const suite *s, const char *out, int m, int sc)
+{
+    for (int me = 0; me < s->nmethods; me++)
+        for (int b = 0; b < s->nbudgets; b++) {
+            item it = bench_item_at(s, bench_idx(s, m, sc, me, b));
+            if (!bench_item_done(s, out, &it)) return 1;
+        }
+    return 0;
+}
+
+void bench_reference_path(const suite *s, const char *out, int m, int sc, char *exr, size_t cap)
+{
+    char key[32];
+    bench_reference_key(s, m, sc, key, sizeof key);
+    snprintf(exr, cap, "%s/refs/%s.exr", out, key);
+}
+
+void bench_reference_part_path(const suite *s, const char *out, int m, int sc, long i, long p,
+                               char *exr, size_t cap)
+{
+    char key[32];
+    bench_reference_key(s, m, sc, key, sizeof key);
+    snprintf(exr, cap, "%s/refs/parts/%s.pass-%ld-of-%ld.exr", out, key, i, p);
+}
+
+/* path reads (quietly) as an image of the suite's size (any, without "size": the scene's
+ * camera's). */
+static int image_ok(const suite *s, const char *path)
+{
+    lumis_image *img = NULL;
+    const int ok = lumis_image_read(path, NULL, &img, NULL) == LUMIS_OK &&
+                   (s->width == 0 || (img->width == s->width && img->height == s->height));
+    lumis_image_destroy(img);
+    return ok;
+}
+
+int bench_reference_ok(const suite *s, const char *out, int m, int sc)
+{
+    char exr[8800];
+    bench_reference_path(s, out, m, sc, exr, sizeof exr);
+    return image_ok(s, exr);
+}
+
+int bench_reference_part_ok(const suite *s, const char *out, int m, int sc, long i, long p)
+{
+    char exr[8800], side[8900];
+    bench_reference_part_path(s, out, m, sc, i, p, exr, sizeof exr);
+    tool_sidecar_path(exr, side, sizeof side);
+    size_t len = 0;
+    int oom = 0;
+    unsigned char *text = tool_read_file(side, &len, &oom);
+    cJSON *j = text ? cJSON_ParseWithLength((const char *)text, len) : NULL;
+    free(text);
+    const cJSON *sh = cJSON_GetObjectItemCaseSensitive(j, "share");
+    const cJSON *idx = cJSON_GetObjectItemCaseSensitive(sh, "index"),
+                *cnt = cJSON_GetObjectItemCaseSensitive(sh, "count"),
+                *tot = cJSON_GetObjectItemCaseSensitive(sh, "spp_total");
+    const int ok = cJSON_IsNumber(idx) && idx->valuedouble == (double)i && cJSON_IsNumber(cnt) &&
+                   cnt->valuedouble == (double)p && cJSON_IsNumber(tot) &&
+                   tot->valuedouble == (double)s->ref_spp && image_ok(s, exr);
+    cJSON_Delete(j);
+    return ok;
 }

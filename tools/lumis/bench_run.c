@@ -68,42 +68,59 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->png_options.tonemap = LUMIS_TONEMAP_ACES;
 }
 
-static int ensure_reference(const run_ctx *c, int m, int sc, char *exr, size_t cap)
+/* The reference's preview, from its image (with the suite's current settings). */
+static int write_reference_preview(const suite *s, const char *png, const lumis_image *img)
+{
+    lumis_write_options wo = {0};
+    wo.tonemap = LUMIS_TONEMAP_ACES;
+    wo.exposure_ev = s->preview_auto ? tool_auto_exposure(img) : s->preview_ev;
+    return tool_write_image(png, img, &wo) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+}
+
+/* Renders the reference of (m, sc) into exr, or its share pass_i of passes (passes 0: the
+ * whole of it), with its preview png (NULL: none). */
+static int render_reference(const run_ctx *c, int m, int sc, int pass_i, int passes,
+                            const char *exr, const char *png)
 {
     const suite *s = c->s;
-    char key[32], png[8800];
-    bench_reference_key(s, m, sc, key, sizeof key);
-    snprintf(exr, cap, "%s/refs/%s.exr", c->out, key);
-    snprintf(png, sizeof png, "%s/refs/%s.png", c->out, key);
-    if (bench_file_exists(exr)) { /* cached; its preview follows the suite's current settings */
-        lumis_image *img = NULL;
-        if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
-        lumis_write_options wo = {0};
-        wo.tonemap = LUMIS_TONEMAP_ACES;
-        wo.exposure_ev = s->preview_auto ? tool_auto_exposure(img) : s->preview_ev;
-        int rc = tool_write_image(png, img, &wo) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
-        lumis_image_destroy(img);
-        return rc;
-    }
     item it = {m, sc, 0, 0, ""};
     tool_render_opts o;
     fill_render_opts(c, &it, &s->reference, &o);
     o.rd.spp = s->ref_spp;
     o.rd.seed = s->seed + 0x5eedull; /* independent of every test image */
+    o.pass_index = pass_i;
+    o.passes = passes;
     o.out = exr;
-    o.png = png;
-    fprintf(stderr, "lumis bench: reference %s / %s: %d spp ...\n", s->maps[m].label,
-            s->scenes[sc].label, s->ref_spp);
-    if (s->preview_auto) o.png = NULL; /* written below, once the exposure is known */
+    o.png = NULL; /* written below, once the exposure is known */
+    if (passes)
+        fprintf(stderr, "lumis bench: reference %s / %s: share %d of %d of %d spp ...\n",
+                s->maps[m].label, s->scenes[sc].label, pass_i, passes, s->ref_spp);
+    else
+        fprintf(stderr, "lumis bench: reference %s / %s: %d spp ...\n", s->maps[m].label,
+                s->scenes[sc].label, s->ref_spp);
     tool_render_result r;
     int rc = tool_render(&o, &r);
-    if (rc == EXIT_OK && s->preview_auto) {
-        lumis_write_options wo = o.png_options;
-        wo.exposure_ev = tool_auto_exposure(r.image);
-        if (tool_write_image(png, r.image, &wo) != LUMIS_OK) rc = EXIT_RUNTIME;
-    }
+    if (rc == EXIT_OK && png) rc = write_reference_preview(s, png, r.image);
     lumis_image_destroy(r.image);
     return rc;
+}
+
+static int ensure_reference(const run_ctx *c, int m, int sc)
+{
+    const suite *s = c->s;
+    char exr[8800], png[8900];
+    bench_reference_path(s, c->out, m, sc, exr, sizeof exr);
+    snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
+    /* cached when it reads and has the size (a file that does not is rendered again); its
+     * preview follows the suite's current settings */
+    if (bench_reference_ok(s, c->out, m, sc)) {
+        lumis_image *img = NULL;
+        if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+        const int rc = write_reference_preview(s, png, img);
+        lumis_image_destroy(img);
+        return rc;
+    }
+    return render_reference(c, m, sc, 0, 0, exr, png);
 }
 
 static int run_item(const run_ctx *c, const item *it, int index, int total)
@@ -114,7 +131,7 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     if (bench_item_done(s, c->out, it)) return EXIT_OK; /* resumed: done before */
     char key[32];
     bench_reference_key(s, it->map, it->scene, key, sizeof key);
-    snprintf(ref_exr, sizeof ref_exr, "%s/refs/%s.exr", c->out, key);
+    bench_reference_path(s, c->out, it->map, it->scene, ref_exr, sizeof ref_exr);
     snprintf(exr, sizeof exr, "%s/renders/%s.exr", c->out, it->id);
     snprintf(png, sizeof png, "%s/previews/%s.png", c->out, it->id);
     snprintf(flip_png, sizeof flip_png, "%s/previews/%s-flip.png", c->out, it->id);
@@ -336,8 +353,17 @@ int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
                     need = it.map == m && it.scene == sc &&
                            bench_in_shard(s, k, shard_i, shard_n) && !bench_item_done(s, out, &it);
                 }
-                char ref[8800];
-                if (need) rc = ensure_reference(&rc_all, m, sc, ref, sizeof ref);
+                if (need && o->items_only && !bench_reference_ok(s, out, m, sc)) {
+                    char exr[8800];
+                    bench_reference_path(s, out, m, sc, exr, sizeof exr);
+                    rc = tool_runtime_error(
+                        "bench: --items-only: the reference of %s / %s (%s) is missing or does "
+                        "not read: render the references first (bench --slurm chains their "
+                        "jobs before the items')",
+                        s->maps[m].label, s->scenes[sc].label, exr);
+                } else if (need) {
+                    rc = ensure_reference(&rc_all, m, sc);
+                }
             }
         fflush(NULL);
         _exit(rc);
@@ -417,4 +443,120 @@ int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
         if (s->maps[m].first == m) lumis_image_destroy(images[m]);
     free(images);
     return rc;
+}
+
+/* Decodes the one map m needs (as bench_run does), for a reference task. */
+static int load_one_map(suite *s, int m, lumis_image ***images)
+{
+    *images = calloc((size_t)s->nmaps, sizeof **images);
+    unsigned char *need = calloc((size_t)s->nmaps, 1);
+    if (!*images || !need) {
+        free(need);
+        return tool_runtime_error("bench: out of memory");
+    }
+    need[s->maps[m].first] = 1;
+    const int rc = load_maps(s, need, *images);
+    free(need);
+    return rc;
+}
+
+static void free_maps(const suite *s, lumis_image **images)
+{
+    for (int m = 0; images && m < s->nmaps; m++)
+        if (s->maps[m].first == m) lumis_image_destroy(images[m]);
+    free(images);
+}
+
+int bench_render_reference_part(suite *s, const bench_run_opts *o, long task, long passes)
+{
+    const long pairs = (long)s->nmaps * s->nscenes;
+    if (task < 0 || task >= pairs * passes)
+        return tool_runtime_error("bench: --reference-task %ld: the suite has %ld references of "
+                                  "%ld shares, tasks 0 to %ld",
+                                  task, pairs, passes, pairs * passes - 1);
+    const int pair = (int)(task / passes), pass_i = (int)(task % passes);
+    const int m = pair / s->nscenes, sc = pair % s->nscenes;
+    if (!bench_pair_needed(s, o->out, m, sc) || bench_reference_ok(s, o->out, m, sc)) {
+        fprintf(stderr, "lumis bench: reference %s / %s: done or not needed\n", s->maps[m].label,
+                s->scenes[sc].label);
+        return EXIT_OK;
+    }
+    if (bench_reference_part_ok(s, o->out, m, sc, pass_i, passes)) {
+        fprintf(stderr, "lumis bench: reference %s / %s: share %d of %ld done before\n",
+                s->maps[m].label, s->scenes[sc].label, pass_i, passes);
+        return EXIT_OK;
+    }
+    char dir[8800], exr[8800];
+    snprintf(dir, sizeof dir, "%s/refs/parts", o->out);
+    if (tool_make_dir(dir) != EXIT_OK) return EXIT_RUNTIME;
+    bench_reference_part_path(s, o->out, m, sc, pass_i, passes, exr, sizeof exr);
+    lumis_image **images = NULL;
+    int rc = load_one_map(s, m, &images);
+    if (rc == EXIT_OK) {
+        run_ctx c = {s, o->out, images, o->threads, o->argc, o->argv};
+        rc = render_reference(&c, m, sc, pass_i, (int)passes, exr, NULL);
+    }
+    free_maps(s, images);
+    return rc;
+}
+
+int bench_merge_references(suite *s, const char *out, long passes)
+{
+    if (passes < 1 || passes > BENCH_REF_PASSES_MAX)
+        return tool_runtime_error("bench: 1 to %d reference passes", BENCH_REF_PASSES_MAX);
+    char(*parts)[8800] = malloc((size_t)passes * sizeof *parts);
+    const char **in = malloc((size_t)passes * sizeof *in);
+    if (!parts || !in) {
+        free(parts);
+        free(in);
+        return tool_runtime_error("bench: out of memory");
+    }
+    int rc = EXIT_OK, merged = 0, missing = 0;
+    for (int m = 0; m < s->nmaps; m++)
+        for (int sc = 0; sc < s->nscenes; sc++) {
+            if (!bench_pair_needed(s, out, m, sc) || bench_reference_ok(s, out, m, sc)) continue;
+            char absent[512] = "";
+            for (long i = 0; i < passes; i++) {
+                bench_reference_part_path(s, out, m, sc, i, passes, parts[i], sizeof parts[i]);
+                in[i] = parts[i];
+                if (!bench_reference_part_ok(s, out, m, sc, i, passes))
+                    snprintf(absent + strlen(absent), sizeof absent - strlen(absent), "%s%ld",
+                             *absent ? ", " : "", i);
+            }
+            if (*absent) {
+                tool_runtime_error("bench: the reference of %s / %s lacks its shares %s of %ld "
+                                   "(their tasks failed or did not run: see the references' "
+                                   "logs); resubmit with the same bench --slurm command",
+                                   s->maps[m].label, s->scenes[sc].label, absent, passes);
+                missing++;
+                continue;
+            }
+            char exr[8800], side[8900], png[8900];
+            bench_reference_path(s, out, m, sc, exr, sizeof exr);
+            tool_sidecar_path(exr, side, sizeof side);
+            snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
+            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1);
+            lumis_image *img = NULL;
+            if (mrc == EXIT_OK && tool_load_image(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
+            if (mrc == EXIT_OK) mrc = write_reference_preview(s, png, img);
+            lumis_image_destroy(img);
+            if (mrc != EXIT_OK) {
+                rc = EXIT_RUNTIME;
+                continue;
+            }
+            merged++;
+            fprintf(stderr, "lumis bench: reference %s / %s: merged its %ld shares\n",
+                    s->maps[m].label, s->scenes[sc].label, passes);
+            for (long i = 0; i < passes; i++) { /* the reference has them now */
+                char ps[8900];
+                tool_sidecar_path(parts[i], ps, sizeof ps);
+                unlink(parts[i]);
+                unlink(ps);
+            }
+        }
+    free(parts);
+    free(in);
+    fprintf(stderr, "lumis bench: merged %d reference%s%s\n", merged, merged == 1 ? "" : "s",
+            missing ? "; some lack shares (above)" : "");
+    return missing ? EXIT_RUNTIME : rc;
 }

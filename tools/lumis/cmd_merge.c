@@ -63,8 +63,8 @@ int cmd_merge(int argc, char **argv)
         } else if (strcmp(argv[i], "--no-sidecar") == 0) {
             sidecar = 0;
         } else if (argv[i][0] != '-') {
-            if (n == TOOL_FILES_MAX / 2 - 1)
-                return tool_usage_error("merge", "at most %d shares", TOOL_FILES_MAX / 2 - 1);
+            if (n == TOOL_MERGE_MAX)
+                return tool_usage_error("merge", "at most %d shares", TOOL_MERGE_MAX);
             in[n++] = argv[i];
         } else {
             return tool_usage_error("merge", "unknown argument '%s'", argv[i]);
@@ -86,6 +86,15 @@ int cmd_merge(int argc, char **argv)
     int rc = tool_files_check("merge", &files);
     if (rc != EXIT_OK) return rc;
 
+    return tool_merge_shares(in, n, out, sidecar ? side_out : NULL, 0);
+}
+
+int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
+                      int quiet)
+{
+    if (n < 1 || n > TOOL_MERGE_MAX)
+        return tool_runtime_error("merge: 1 to %d shares, not %d", TOOL_MERGE_MAX, n);
+    int rc = EXIT_OK;
     cJSON *side[TOOL_FILES_MAX] = {0};
     lumis_image *img[TOOL_FILES_MAX] = {0};
     int count = 0, seen[TOOL_FILES_MAX] = {0};
@@ -107,8 +116,8 @@ int cmd_merge(int argc, char **argv)
         }
         const double idx = num(p, "index"), cnt = num(p, "count"), tot = num(p, "spp_total"),
                      spp = num(side[k], "spp");
-        if (!(cnt >= 1 && cnt <= TOOL_FILES_MAX / 2 - 1 && idx >= 0 && idx < cnt &&
-              idx == floor(idx) && spp > 0 && tot >= cnt)) {
+        if (!(cnt >= 1 && cnt <= TOOL_MERGE_MAX && idx >= 0 && idx < cnt && idx == floor(idx) &&
+              spp > 0 && tot >= cnt)) {
             rc = tool_runtime_error("merge: %s: a sidecar's \"share\" that makes no sense", in[k]);
             break;
         }
@@ -175,7 +184,7 @@ int cmd_merge(int argc, char **argv)
         }
         if (tool_write_image(out, merged, NULL) != LUMIS_OK) rc = EXIT_RUNTIME;
     }
-    if (rc == EXIT_OK && sidecar) {
+    if (rc == EXIT_OK && side_out) {
         /* the first share's sidecar: all the samples, the passes and times summed, no
          * share */
         cJSON *j = cJSON_Duplicate(side[0], 1);
@@ -198,7 +207,7 @@ int cmd_merge(int argc, char **argv)
         if (tool_write_json(side_out, j) != EXIT_OK) rc = EXIT_RUNTIME;
         cJSON_Delete(j);
     }
-    if (rc == EXIT_OK)
+    if (rc == EXIT_OK && !quiet)
         fprintf(stderr, "merged %d shares of %.0f samples into %s (%d x %d)\n", n, total, out,
                 merged->width, merged->height);
     lumis_image_destroy(merged);

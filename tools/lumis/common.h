@@ -103,6 +103,8 @@ typedef enum tool_output_kind {
 } tool_output_kind;
 
 enum { TOOL_FILES_MAX = 32 };
+/* The shares lumis merge joins at most (each share and its sidecar are inputs). */
+enum { TOOL_MERGE_MAX = TOOL_FILES_MAX / 2 - 1 };
 
 /* The files a command reads and writes. */
 typedef struct tool_files {
@@ -262,6 +264,12 @@ int tool_render(const tool_render_opts *o, tool_render_result *r);
 /* The samples of o's share (--passes I/N): the whole render's total, the share's first
  * sample and count (without --passes: 0 and all of them). */
 void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count);
+/* lumis merge (cmd_merge.c): joins the n shares in[] of one render (each with its sidecar)
+ * into out, each share's mean weighted by its samples; side_out: the merged sidecar (NULL:
+ * none).  Checks that they are every share of one render, each once.  Prints errors (and,
+ * unless quiet, a line of what it merged).  Exit code. */
+int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
+                      int quiet);
 
 struct cJSON;
 
