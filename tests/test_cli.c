@@ -2209,6 +2209,204 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     free(png);
 }
 
+/* The text of DIR/NAME (freed by the caller), failing the test when it is missing. */
+static char *read_in(const char *dir, const char *name)
+{
+    char p[4096];
+    snprintf(p, sizeof p, "%s/%s", dir, name);
+    size_t n = 0;
+    char *t = (char *)tu_read_file(p, &n);
+    if (!t) fail_msg("%s is missing", p);
+    return t;
+}
+
+static void expect_in(const char *dir, const char *name, const char *part)
+{
+    char *t = read_in(dir, name);
+    if (!strstr(t, part)) fail_msg("%s/%s lacks \"%s\":\n%s", dir, name, part, t);
+    free(t);
+}
+
+static void expect_not_in(const char *dir, const char *name, const char *part)
+{
+    char *t = read_in(dir, name);
+    if (strstr(t, part)) fail_msg("%s/%s has \"%s\":\n%s", dir, name, part, t);
+    free(t);
+}
+
+/* bench --slurm without a Slurm: the scripts it writes, and the task modes its jobs run
+ * (each run by hand here, as the tasks would), through a share that fails, a killed task,
+ * a damaged result and a damaged reference.  scripts/ci-slurm.sh runs them on a real Slurm. */
+static void bench_runs_as_slurm_job_arrays(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"cl\", \"maps\": [\"sky:16x8\", \"studio:16x8\"], \"scenes\": "
+        "[\"spheres\"], \"methods\": [{\"method\": \"inversion\"}, {\"method\": \"bsdf\", \"mis\": "
+        "\"none\"}], \"budgets\": [{\"spp\": 1}, {\"spp\": 4}], \"reference\": {\"spp\": 16}, "
+        "\"size\": [8, 4]}";
+    tu_write_file(tu_path("cl.json"), suite, strlen(suite));
+    char s[1024], a[4096];
+    snprintf(s, sizeof s, "bench '%s' --out '%s'", tu_path("cl.json"), tu_path("cl"));
+    const char *d = tu_path("cl");
+    char sd[1024];
+    snprintf(sd, sizeof sd, "%s/slurm", d);
+    /* The plan: 2 references in 2 shares each, 3 items tasks (8 items, round robin). */
+    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
+    expect(a, 0, "4 reference shares in 2 references, 3 of 3 items tasks (8 of 8 items left)");
+    expect_in(sd, "submit.sh", "refs=$(job --array=0-3 ");
+    expect_in(sd, "submit.sh", "--dependency=afterany:$refs ");
+    expect_in(sd, "submit.sh",
+              "items=$(job --dependency=afterok:$merge --kill-on-invalid-dep=yes --array=0-2 ");
+    expect_in(sd, "submit.sh", "report=$(job --dependency=afterany:$items ");
+    expect_in(sd, "items.sbatch", "#SBATCH --cpus-per-task=1\n");
+    expect_in(sd, "items.sbatch",
+              "--shard \"$SLURM_ARRAY_TASK_ID/3\" --items-only --jobs 1 --threads 1\n");
+    expect_in(sd, "references.sbatch",
+              "--reference-task \"$SLURM_ARRAY_TASK_ID\" --reference-passes 2 --threads 1\n");
+    expect_in(sd, "merge-references.sbatch", "--merge-references --reference-passes 2\n");
+    expect_in(sd, "report.sbatch", "--report-only --tasks 3 --reference-passes 2\n");
+    expect_in(sd, "resubmit.sh", " --slurm --tasks 3 --reference-passes 2 --cpus 1 ");
+    expect_not_in(sd, "items.sbatch", "--exclusive");
+    /* Without sbatch on PATH: the scripts are written, and the error says so. */
+    snprintf(a, sizeof a, "env PATH=/nowhere '%s' %s --slurm --tasks 3", LUMIS_CLI, s);
+    char *out = NULL, *err = NULL;
+    assert_int_equal(tu_run(a, &out, &err), 1);
+    assert_non_null(strstr(err, "sbatch is not on PATH"));
+    free(out);
+    free(err);
+    /* Items before their references: an error, nothing rendered. */
+    snprintf(a, sizeof a, "%s --shard 0/3 --items-only", s);
+    expect(a, 1, "is missing or does not read: render the references first");
+    /* Three of the four reference shares; the merge joins the complete one and names the
+     * missing share of the other. */
+    for (int t = 0; t < 3; t++) {
+        snprintf(a, sizeof a, "%s --reference-task %d --reference-passes 2", s, t);
+        expect(a, 0, "of 16 spp ...");
+    }
+    snprintf(a, sizeof a, "%s --reference-task 0 --reference-passes 2", s);
+    expect(a, 0, "share 0 of 2 done before");
+    snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
+    expect(a, 1, "the reference of studio-16x8 / spheres lacks its shares 1 of 2");
+    expect(a, 1, "merged 0 references"); /* sky's is done: not merged again */
+    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
+    expect(a, 0, "1 reference share in 1 reference, 3 of 3 items tasks");
+    expect_in(sd, "submit.sh", "refs=$(job --array=3 ");
+    snprintf(a, sizeof a, "%s --reference-task 3 --reference-passes 2", s);
+    expect(a, 0, "share 1 of 2 of 16 spp");
+    snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
+    expect(a, 0, "studio-16x8 / spheres: merged its 2 shares");
+    char parts[1024];
+    snprintf(parts, sizeof parts, "%s/refs/parts", d);
+    assert_int_equal(tu_count_entries(parts, ".exr"), 0); /* the merged reference has them */
+    snprintf(a, sizeof a, "%s --reference-task 0 --reference-passes 2", s);
+    expect(a, 0, "done or not needed");
+    /* Two of the three items tasks; the third is "killed": the report job's run lists it
+     * and fails. */
+    for (int t = 0; t < 2; t++) {
+        snprintf(a, sizeof a, "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
+        expect(a, 0, "done\n");
+    }
+    snprintf(a, sizeof a, "%s --report-only --tasks 3 --reference-passes 2", s);
+    expect(a, 1, "items task 2 of 3: 2 of its 2 items not done");
+    expect_in(sd, "status.txt", "2 of 8 items not done (1 of 3 items tasks, 0 references)");
+    /* Outputs are checked, not only present: a result without its metrics and a reference
+     * that does not read are redone. */
+    char *r0 = read_in(d, "results/sky-16x8__spheres__inversion__spp1.json");
+    char *ref = strstr(r0, "\"reference\":");
+    assert_non_null(ref);
+    char key[17] = {0}, refpath[1024];
+    memcpy(key, strchr(ref + 12, '"') + 1, 16);
+    /* the item's own key, its metrics but relMSE (as a writer cut short would leave it) */
+    char *rel0 = strstr(r0, "\"relmse\":");
+    assert_non_null(rel0);
+    rel0[6] = 'X';
+    char rp[1024];
+    snprintf(rp, sizeof rp, "%s/results/sky-16x8__spheres__inversion__spp1.json", d);
+    tu_write_file(rp, r0, strlen(r0));
+    free(r0);
+    snprintf(refpath, sizeof refpath, "%s/refs/%s.exr", d, key);
+    tu_write_file(refpath, "v/1\x01", 4); /* an EXR's magic, and nothing else */
+    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
+    expect(a, 0, "2 reference shares in 1 reference, 2 of 3 items tasks (3 of 8 items left)");
+    expect_in(sd, "submit.sh", "--array=0,2 ");
+    expect_in(sd, "submit.sh", "refs=$(job --array=0-1 ");
+    for (int t = 0; t < 2; t++) {
+        snprintf(a, sizeof a, "%s --reference-task %d --reference-passes 2", s, t);
+        expect(a, 0, NULL);
+    }
+    snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
+    expect(a, 0, "merged 1 reference");
+    for (int t = 0; t < 3; t += 2) {
+        snprintf(a, sizeof a, "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
+        expect(a, 0, NULL);
+    }
+    snprintf(a, sizeof a, "%s --report-only --tasks 3 --reference-passes 2", s);
+    expect(a, 0, "all 8 items done");
+    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3", s);
+    expect(a, 0, "every item is done: nothing submitted");
+    /* The same suite on one machine: the same renders (equal samples are deterministic),
+     * and references equal up to float rounding. */
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("cl.json"), tu_path("cl1"));
+    expect(a, 0, "8 of 8 items");
+    static const char *const ids[] = {"sky-16x8__spheres__inversion__spp4",
+                                      "studio-16x8__spheres__bsdf__spp1"};
+    for (int k = 0; k < 2; k++) {
+        char n[256];
+        snprintf(n, sizeof n, "renders/%s.exr", ids[k]);
+        size_t la = 0, lb = 0;
+        char pa[1024], pb[1024];
+        snprintf(pa, sizeof pa, "%s/%s", d, n);
+        snprintf(pb, sizeof pb, "%s/%s", tu_path("cl1"), n);
+        unsigned char *x = tu_read_file(pa, &la), *y = tu_read_file(pb, &lb);
+        assert_true(x && y && la == lb && memcmp(x, y, la) == 0);
+        free(x);
+        free(y);
+    }
+    char ra[1024], rb[1024];
+    snprintf(ra, sizeof ra, "%s/refs/%s.exr", tu_path("cl1"), key);
+    snprintf(rb, sizeof rb, "%s/refs/%s.exr", d, key);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json", ra, rb);
+    assert_int_equal(run(a, &out, &err), 0);
+    cJSON *j = cJSON_Parse(out);
+    const cJSON *rel = cJSON_GetObjectItemCaseSensitive(j, "relmse");
+    assert_true(cJSON_IsNumber(rel) && rel->valuedouble < 1e-10);
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    /* Every sbatch option reaches every job; --sbatch takes its option after '='. */
+    snprintf(a, sizeof a,
+             "%s --slurm --no-submit --tasks 2 --exclusive --cpus 2 --reference-cpus 4 "
+             "--max-running 3 --partition short --time-limit 1:00:00 --sbatch=--account=proj",
+             s);
+    expect(a, 0, NULL);
+    expect_in(sd, "items.sbatch",
+              "#SBATCH --cpus-per-task=2\n#SBATCH --exclusive\n"
+              "#SBATCH --partition=short\n#SBATCH --time=1:00:00\n"
+              "#SBATCH --account=proj\n");
+    expect_in(sd, "items.sbatch", "--items-only --jobs 1 --threads 2\n");
+    expect_in(sd, "references.sbatch", "#SBATCH --cpus-per-task=4\n#SBATCH --partition=short");
+    expect_not_in(sd, "references.sbatch", "--exclusive");
+    expect_in(sd, "resubmit.sh",
+              "--max-running 3 --exclusive --partition 'short' --time-limit "
+              "'1:00:00' '--sbatch=--account=proj'");
+    /* Usage errors, before any work. */
+    static const char *const usage[][2] = {
+        {"--cpus 2", "--cpus: only with --slurm"},
+        {"--slurm --shard 0/2", "not with --slurm"},
+        {"--slurm --report-only", "one at a time"},
+        {"--slurm --sbatch account", "--sbatch=--account=NAME"},
+        {"--slurm --reference-passes 16", "--reference-passes needs a count in [1, 15]"},
+        {"--tasks 2", "--tasks: only with --slurm or --report-only"},
+    };
+    for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {
+        snprintf(a, sizeof a, "%s %s", s, usage[k][0]);
+        expect(a, 2, usage[k][1]);
+    }
+    snprintf(a, sizeof a, "%s --reference-task 4 --reference-passes 2", s);
+    expect(a, 1, "tasks 0 to 3");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2237,6 +2435,7 @@ int main(void)
         cmocka_unit_test(replaced_values_are_reported),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
+        cmocka_unit_test(bench_runs_as_slurm_job_arrays),
         cmocka_unit_test(bench_survives_a_failing_item),
         cmocka_unit_test(bench_convergence_at_equal_time),
         cmocka_unit_test(bench_convergence_at_equal_samples),

@@ -352,7 +352,10 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
                 "%d of %ld items tasks (%d of %d items left); scripts in %s\n",
                 s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, N,
                 left, nitems, dir);
-        if (!o->submit) {
+        if (!nref && !nmerge && !nshard) {
+            fprintf(stderr, "lumis bench: every item is done: nothing submitted (--report-only "
+                            "rewrites the report)\n");
+        } else if (!o->submit) {
             fprintf(stderr, "lumis bench: --no-submit: submit them with: sh %s\n", path);
         } else if (!have_sbatch()) {
             rc = tool_runtime_error("bench: --slurm: sbatch is not on PATH (is this a Slurm "

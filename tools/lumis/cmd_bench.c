@@ -294,7 +294,9 @@ int cmd_bench(int argc, char **argv)
     if (rc == EXIT_OK && report_only && so.tasks &&
         bench_slurm_status(&s, out, so.tasks, so.ref_passes) > 0)
         rc = EXIT_RUNTIME;
-    if (rc == EXIT_OK && sharded)
+    if (rc == EXIT_OK && sharded && items_only)
+        fprintf(stderr, "lumis bench: shard %ld/%ld done\n", shard_i, shard_n);
+    else if (rc == EXIT_OK && sharded)
         fprintf(stderr,
                 "lumis bench: shard %ld/%ld done; join the shards with: lumis bench %s --out DIR "
                 "--merge SHARD_DIR...\n",
