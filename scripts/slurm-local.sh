@@ -46,6 +46,11 @@ stop)
     # the jobs first (slurmd's steps), then the daemons
     if [[ -f $conf && -f $dir/slurmctld.pid ]]; then
         SLURM_CONF=$conf timeout 10 scancel --full --quiet --user="$(id -un)" 2>/dev/null || true
+        # until the jobs' processes are gone (slurmd kills them; KillWait is 5 s)
+        for _ in $(seq 30); do
+            [[ -z $(SLURM_CONF=$conf timeout 5 squeue -h -t R,CG 2>/dev/null) ]] && break
+            sleep 0.5
+        done
     fi
     stop_pidfile "$dir/slurmd.pid"
     stop_pidfile "$dir/slurmctld.pid"
@@ -77,7 +82,7 @@ start)
     echo "$mdir" >"$dir/munge-dir"
     cat >"$conf" <<EOF
 ClusterName=lumis-ci
-SlurmctldHost=$node
+SlurmctldHost=$node(127.0.0.1)
 SlurmUser=root
 SlurmctldPidFile=$dir/slurmctld.pid
 SlurmdPidFile=$dir/slurmd.pid
@@ -102,7 +107,7 @@ SlurmdTimeout=60
 InactiveLimit=0
 KillWait=5
 MinJobAge=3600
-NodeName=$node CPUs=$cpus RealMemory=$mem State=UNKNOWN
+NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem State=UNKNOWN
 PartitionName=ci Nodes=$node Default=YES MaxTime=INFINITE State=UP
 EOF
     # munged: its own socket and pid file in DIR, so a machine's own munge is untouched
