@@ -21,6 +21,9 @@
 #include <time.h>
 #include <unistd.h>
 
+/* Slurm's default MaxArraySize is 1001: indices 0 to 1000. */
+#define BENCH_SLURM_ARRAY_MAX 1000
+
 /* A growing string. */
 typedef struct text {
     char *s;
@@ -99,9 +102,12 @@ static void put_header(text *t, const bench_slurm_opts *o, const char *slurm_dir
     for (int k = 0; k < o->nextra; k++) put(t, "#SBATCH %s\n", o->extra[k]);
 }
 
-/* The start of a job's command: exec LUMIS bench SUITE --out DIR */
+/* The start of a job's command (after a line in its log naming the node): exec LUMIS bench
+ * SUITE --out DIR */
 static void put_command(text *t, const char *exe, const char *suite, const char *out)
 {
+    put(t, "echo \"lumis bench: job ${SLURM_JOB_ID:-?} task ${SLURM_ARRAY_TASK_ID:--} on "
+           "$(hostname)\" >&2\n");
     put(t, "exec ");
     put_quoted(t, exe);
     put(t, " bench ");
@@ -352,6 +358,14 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
                 "%d of %ld items tasks (%d of %d items left); scripts in %s\n",
                 s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, N,
                 left, nitems, dir);
+        int top = nref ? ref_tasks[nref - 1] : 0; /* the highest array index */
+        if (nshard && item_tasks[nshard - 1] > top) top = item_tasks[nshard - 1];
+        if (top > BENCH_SLURM_ARRAY_MAX)
+            fprintf(stderr,
+                    "lumis bench: warning: array indices up to %d: Slurm's default MaxArraySize "
+                    "(%d) refuses indices above %d; if sbatch does, use fewer --reference-passes "
+                    "or --tasks (scontrol show config | grep MaxArraySize says the cluster's)\n",
+                    top, BENCH_SLURM_ARRAY_MAX + 1, BENCH_SLURM_ARRAY_MAX);
         if (!nref && !nmerge && !nshard) {
             fprintf(stderr, "lumis bench: every item is done: nothing submitted (--report-only "
                             "rewrites the report)\n");
