@@ -16,6 +16,7 @@
 
 #include "lumis/image.h"
 #include "lumis/luminaire.h"
+#include "lumis/photometry.h"
 #include "lumis/status.h"
 
 #include <stddef.h>
@@ -257,6 +258,43 @@ typedef struct lumis_luminaire_write_options {
  * luminaire is atomic per file only (docs/formats.md).  options may be NULL. */
 lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
                                    const lumis_luminaire_write_options *options);
+
+/* ---- photometric files ---------------------------------------------------------------- */
+
+/* IES LM-63 (1986, 1991, 1995, 2002 and 2019 headers, [MORE] lines, TILT=NONE and
+ * TILT=INCLUDE, photometric types C, B and A, every horizontal symmetry) and EULUMDAT
+ * (.ldt: symmetry indicators 0 to 4, several lamp sets, the luminous area), told apart by
+ * their content.  Intensities in candela: IES's values times its candela multiplier and
+ * ballast factor (and, before LM-63-2002, its ballast-lamp factor); EULUMDAT's cd/klm
+ * times the first lamp set's flux / 1000 and its conversion factor.  Sizes in metres.
+ * Every failure names the file, the line and the field (docs/photometric.md). */
+typedef enum lumis_photometric_format {
+    LUMIS_PHOTOMETRIC_IES = 1,
+    LUMIS_PHOTOMETRIC_LDT = 2
+} lumis_photometric_format;
+
+typedef struct lumis_photometric_file {
+    lumis_photometric *model;
+    lumis_photometric_format format;
+    char standard[64]; /* "IESNA:LM-63-2002", "LM-63-1986" (no version line), "EULUMDAT" */
+    /* IES's keywords [MANUFAC], [LUMINAIRE], [LUMCAT], [LAMP], [TEST] ([MORE] lines
+     * joined); EULUMDAT's company, luminaire name and number, first lamp type, report */
+    char manufacturer[256], luminaire[256], catalog[256], lamp[256], test[256];
+    int lamps;              /* IES: < 0 for absolute photometry; EULUMDAT: set 1's */
+    double lumens_per_lamp; /* as the file says (IES: -1 for absolute photometry) */
+    double input_watts;
+    int lamp_sets; /* EULUMDAT's n (IES: 0) */
+    /* TILT=INCLUDE: the table, read and checked; not applied (docs/photometric.md) */
+    int tilt, tilt_geometry, ntilt;
+    double *tilt_deg, *tilt_factor;
+} lumis_photometric_file;
+
+lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
+                                    lumis_photometric_file **out);
+lumis_status lumis_photometric_read_memory(const void *data, size_t size, const char *name,
+                                           const lumis_error_sink *errors,
+                                           lumis_photometric_file **out);
+void lumis_photometric_file_destroy(lumis_photometric_file *f);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 #include "lumis/lights.h"
 #include "lumis/luminaire.h"
 #include "lumis/metrics.h"
+#include "lumis/photometry.h"
 #include "lumis/rng.h"
 #include "lumis/sampler.h"
 #include "lumis/sky.h"

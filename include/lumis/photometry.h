@@ -1,0 +1,131 @@
+/* lumis/photometry.h - a luminaire's far-field photometry: luminous intensity (candela)
+ * tabulated over two angles, as IES LM-63 and EULUMDAT files give it (their readers are in
+ * lumis/io.h: lumis_photometric_read).  docs/photometric.md has the conventions.
+ *
+ * Frame: the luminaire's own.  Its aim (photometric zero for type C, the photometric
+ * centre for types A and B) is -z; +x is the C0 direction (type C) and "up" (types A, B);
+ * +y is C90 (type C, counter-clockwise seen from above) and the lateral axis (A, B).
+ *
+ *   type C: planes around the vertical axis.  gamma from -z (nadir, 0) to +z (180), C
+ *           counter-clockwise from +x:   d = (sin g cos C, sin g sin C, -cos g)
+ *   type B: planes around the lateral axis y.  V turns the plane (towards +x),
+ *           H lies in it (towards +y):    d = (cos H sin V, sin H, -cos H cos V)
+ *   type A: planes around the vertical axis x.  H turns the plane (towards +y),
+ *           V lies in it (towards +x):    d = (sin V, cos V sin H, -cos V cos H)
+ *
+ * Interpolation (the convention: Cycles and pbrt-v4 differ from each other): bilinear in
+ * the two angles, in degrees, on the table as the file gives it, after its symmetry maps a
+ * direction into the table's range; zero outside the vertical range (a downlight's 0-90
+ * table gives nothing upwards) and behind types A and B (|H| or |V| > 90).  The flux is
+ * the exact integral of that interpolant over the sphere. */
+#ifndef LUMIS_PHOTOMETRY_H
+#define LUMIS_PHOTOMETRY_H
+
+#include "lumis/status.h"
+#include "lumis/types.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum lumis_photometric_type {
+    LUMIS_PHOTOMETRIC_C = 1, /* IES's codes */
+    LUMIS_PHOTOMETRIC_B = 2,
+    LUMIS_PHOTOMETRIC_A = 3
+} lumis_photometric_type;
+
+/* How the horizontal angles cover the luminaire (from their first and last). */
+typedef enum lumis_photometric_symmetry {
+    LUMIS_SYMMETRY_NONE = 0,   /* C: 0 to 360 (or to less: wraps); A, B: H -90 to 90 */
+    LUMIS_SYMMETRY_ROTATIONAL, /* C: one plane */
+    LUMIS_SYMMETRY_C0_C180,    /* C: 0 to 180, mirrored about the C0-C180 plane */
+    LUMIS_SYMMETRY_C90_C270,   /* C: 90 to 270, mirrored about the C90-C270 plane */
+    LUMIS_SYMMETRY_QUADRANT,   /* C: 0 to 90, about both planes */
+    LUMIS_SYMMETRY_LATERAL     /* A, B: H 0 to 90, mirrored to -H */
+} lumis_photometric_symmetry;
+
+/* The emitting shape (IES: from the signs of width, length and height; EULUMDAT: the
+ * luminous area). */
+typedef enum lumis_photometric_shape {
+    LUMIS_SHAPE_POINT = 0, /* all sizes zero */
+    LUMIS_SHAPE_RECTANGLE, /* width (y) x length (x), height (z) 0: a flat opening */
+    LUMIS_SHAPE_BOX,       /* width x length x height */
+    LUMIS_SHAPE_DISK,      /* diameter = width, height 0 */
+    LUMIS_SHAPE_CYLINDER,  /* vertical: diameter = width, height */
+    LUMIS_SHAPE_SPHERE,    /* diameter = width */
+    LUMIS_SHAPE_OTHER      /* a combination the format allows but lumis does not model */
+} lumis_photometric_shape;
+
+/* A table as a reader (or a program) gives it.  The arrays are copied by create. */
+typedef struct lumis_photometric_desc {
+    lumis_photometric_type type;
+    int nv, nh;              /* vertical and horizontal angles, >= 1 each (nv >= 2) */
+    const double *v_deg;     /* [nv], strictly increasing */
+    const double *h_deg;     /* [nh], strictly increasing */
+    const double *candela;   /* [nh * nv]: for each horizontal angle, its nv values, >= 0 */
+    double multiplier;       /* applied to every value (0 is taken as 1) */
+    double lamp_lumens;      /* the file's rated lumens of its lamps, in all; <= 0: absolute
+                                photometry (none given) */
+    double luminaire_lumens; /* the file's luminaire flux when it says one (EULUMDAT: lamps'
+                                flux x LOR); <= 0: none */
+    lumis_photometric_shape shape;
+    double width, length, height; /* metres, >= 0 */
+} lumis_photometric_desc;
+
+typedef struct lumis_photometric lumis_photometric;
+
+/* Checks the table (angle ranges a symmetry can cover, increasing angles, finite
+ * non-negative values; errors name the field) and makes the model.  errors may be NULL. */
+lumis_status lumis_photometric_create(const lumis_photometric_desc *desc,
+                                      const lumis_error_sink *errors, lumis_photometric **out);
+void lumis_photometric_destroy(lumis_photometric *p);
+
+/* Luminous intensity (cd, multiplier applied) towards the unit direction d, in the
+ * luminaire's frame. */
+double lumis_photometric_intensity(const lumis_photometric *p, lumis_vec3 d);
+/* The same at the table's own angles (degrees; type C: h = C, v = gamma). */
+double lumis_photometric_intensity_at(const lumis_photometric *p, double h_deg, double v_deg);
+/* The unit direction of angles (h, v), and back (angles in the table's conventions:
+ * C in [0, 360), gamma in [0, 180]; A, B: H and V in [-180, 180]). */
+lumis_vec3 lumis_photometric_direction(lumis_photometric_type type, double h_deg, double v_deg);
+void lumis_photometric_angles(lumis_photometric_type type, lumis_vec3 d, double *h_deg,
+                              double *v_deg);
+
+/* The intensity in principal plane k at signed angle t (degrees, -180 to 180), as a polar
+ * plot draws it.  Type C: k 0 is the C0-C180 plane (t >= 0 on C0, t < 0 on C180, |t| =
+ * gamma), k 1 the C90-C270 plane.  Types A, B: k 0 is the plane V = 0 (t = H), k 1 the
+ * plane H = 0 (t = V); both pass through the aim, t = 0. */
+double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, double t_deg);
+
+typedef struct lumis_photometric_info {
+    lumis_photometric_type type;
+    lumis_photometric_symmetry symmetry;
+    lumis_photometric_shape shape;
+    double width, length, height;
+    int nv, nh;
+    double v_first, v_last, h_first, h_last;
+    double flux;             /* lm: the exact integral of the interpolated table */
+    double lamp_lumens;      /* as given (<= 0: absolute photometry) */
+    double luminaire_lumens; /* as given (<= 0: none) */
+    double max_candela;
+    double max_h, max_v; /* where the table peaks */
+    /* Beam (50 %) and field (10 %) angles in the two principal planes (type C: C0-C180 and
+     * C90-C270; A, B: the planes V = 0 and H = 0, through the aim): the full width, in
+     * degrees, of the region around the plane's peak where the intensity stays at or above
+     * that share of the plane's peak.  0 for a plane without light. */
+    double beam_deg[2], field_deg[2];
+    double downward_fraction; /* of the flux below the horizontal plane (z < 0) */
+} lumis_photometric_info;
+
+lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info);
+
+/* The names: "C", "B", "A"; "none", "rotational", "C0-C180", "C90-C270", "quadrant",
+ * "lateral"; "point", "rectangle", "box", "disk", "cylinder", "sphere", "other". */
+const char *lumis_photometric_type_name(lumis_photometric_type t);
+const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s);
+const char *lumis_photometric_shape_name(lumis_photometric_shape s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,612 @@
+/* Photometric files: IES LM-63 (1986, 1991, 1995, 2002, 2019) and EULUMDAT (.ldt), told
+ * apart by their content, read into one model (lumis/photometry.h).  Every failure names
+ * the file, the line and the field.  docs/photometric.md has what is read and how. */
+#include "lumis/io.h"
+
+#include "../core/internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_FILE   ((size_t)64 << 20) /* bytes */
+#define MAX_VALUES 10000000           /* candela values in one table */
+#define MAX_ANGLES 100000
+
+/* ---- lines and numbers ------------------------------------------------------------------ */
+
+typedef struct text {
+    const char *name;
+    const lumis_error_sink *errors;
+    char *buf;   /* a copy, NUL-terminated, lines split in place */
+    char **line; /* the start of each line */
+    int nlines;
+} text;
+
+static void text_free(text *t)
+{
+    free(t->buf);
+    free(t->line);
+}
+
+/* Copies data and splits it into lines (LF, CR LF or CR). */
+static lumis_status text_split(text *t, const void *data, size_t size)
+{
+    t->buf = malloc(size + 1);
+    size_t cap = 64;
+    t->line = malloc(cap * sizeof *t->line);
+    if (!t->buf || !t->line)
+        return lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", t->name);
+    memcpy(t->buf, data, size);
+    t->buf[size] = '\0';
+    for (size_t k = 0; k < size; k++)
+        if (t->buf[k] == '\0') t->buf[k] = ' '; /* a NUL ends no line of text */
+    char *p = t->buf;
+    if ((unsigned char)p[0] == 0xEF && (unsigned char)p[1] == 0xBB && (unsigned char)p[2] == 0xBF)
+        p += 3; /* UTF-8's byte-order mark */
+    while (*p || p == t->buf) {
+        if ((size_t)t->nlines == cap) {
+            char **g = realloc(t->line, (cap *= 2) * sizeof *g);
+            if (!g)
+                return lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                                   t->name);
+            t->line = g;
+        }
+        t->line[t->nlines++] = p;
+        char *e = p + strcspn(p, "\r\n");
+        if (!*e) break;
+        const int crlf = e[0] == '\r' && e[1] == '\n';
+        *e = '\0';
+        p = e + 1 + crlf;
+    }
+    return LUMIS_OK;
+}
+
+/* A cursor over the numbers of lines from a given one on (IES: after TILT=; separators:
+ * blanks and commas). */
+typedef struct cursor {
+    text *t;
+    int line; /* 0-based */
+    char *p;
+} cursor;
+
+/* The next token's start, or NULL at the end of the text (cursor on its line). */
+static char *next_token(cursor *c)
+{
+    while (c->line < c->t->nlines) {
+        if (!c->p) c->p = c->t->line[c->line];
+        while (*c->p && (isspace((unsigned char)*c->p) || *c->p == ',')) c->p++;
+        if (*c->p) return c->p;
+        c->line++;
+        c->p = NULL;
+    }
+    return NULL;
+}
+
+/* Reads one number for `field`; its line in *at (1-based).  Errors: the end of the file,
+ * or a token that is not a number. */
+static lumis_status read_number(cursor *c, const char *field, double *v, int *at)
+{
+    char *s = next_token(c);
+    if (!s)
+        return lumis__fail(c->t->errors, LUMIS_ERR_TRUNCATED, "%s: the file ends before %s",
+                           c->t->name, field);
+    char *end;
+    errno = 0;
+    const double x = strtod(s, &end);
+    const size_t len = strcspn(s, " \t\v\f,");
+    if (end == s || (size_t)(end - s) != len || errno == ERANGE || !isfinite(x))
+        return lumis__fail(c->t->errors, LUMIS_ERR_CORRUPT, "%s:%d: %s: '%.*s' is not a number",
+                           c->t->name, c->line + 1, field, (int)(len < 40 ? len : 40), s);
+    if (at) *at = c->line + 1;
+    c->p = end;
+    *v = x;
+    return LUMIS_OK;
+}
+
+static lumis_status read_count(cursor *c, const char *field, int lo, int hi, int *v)
+{
+    double x;
+    int at = 0;
+    lumis_status st = read_number(c, field, &x, &at);
+    if (st != LUMIS_OK) return st;
+    if (x != floor(x) || x < lo || x > hi)
+        return lumis__fail(c->t->errors, LUMIS_ERR_BAD_DIMENSIONS,
+                           "%s:%d: %s: %g: expected a whole number from %d to %d", c->t->name, at,
+                           field, x, lo, hi);
+    *v = (int)x;
+    return LUMIS_OK;
+}
+
+/* n angles, increasing; errors name the line of the culprit. */
+static lumis_status read_angles(cursor *c, const char *field, int n, double *a)
+{
+    for (int k = 0; k < n; k++) {
+        int at = 0;
+        lumis_status st = read_number(c, field, &a[k], &at);
+        if (st != LUMIS_OK) return st;
+        if (k > 0 && !(a[k] > a[k - 1]))
+            return lumis__fail(c->t->errors, LUMIS_ERR_CORRUPT,
+                               "%s:%d: %s: %g after %g: the angles must increase (angle %d of %d)",
+                               c->t->name, at, field, a[k], a[k - 1], k + 1, n);
+    }
+    return LUMIS_OK;
+}
+
+/* Copies a text field, trimmed. */
+static void copy_field(char *dst, size_t cap, const char *src)
+{
+    while (isspace((unsigned char)*src)) src++;
+    size_t n = strlen(src);
+    while (n > 0 && isspace((unsigned char)src[n - 1])) n--;
+    if (n >= cap) n = cap - 1;
+    memcpy(dst, src, n);
+    dst[n] = '\0';
+}
+
+static void append_field(char *dst, size_t cap, const char *src)
+{
+    const size_t have = strlen(dst);
+    if (have + 2 >= cap) return;
+    if (have) dst[have] = ' ', dst[have + 1] = '\0';
+    copy_field(dst + strlen(dst), cap - strlen(dst), src);
+}
+
+/* ---- IES LM-63 ---------------------------------------------------------------------------- */
+
+static int starts_with(const char *s, const char *prefix)
+{
+    while (isspace((unsigned char)*s)) s++;
+    return strncmp(s, prefix, strlen(prefix)) == 0;
+}
+
+/* The line where TILT= is, or -1. */
+static int tilt_line(const text *t)
+{
+    for (int k = 0; k < t->nlines; k++)
+        if (starts_with(t->line[k], "TILT=") || starts_with(t->line[k], "TILT =")) return k;
+    return -1;
+}
+
+static lumis_status read_ies(text *t, lumis_photometric_file *f)
+{
+    int first = 0, year = 1986;
+    const char *l0 = t->line[0];
+    while (isspace((unsigned char)*l0)) l0++;
+    if (strncmp(l0, "IESNA", 5) == 0 || strncmp(l0, "IES:", 4) == 0) {
+        copy_field(f->standard, sizeof f->standard, l0);
+        const char *y = strstr(l0, "LM-63-");
+        year = y ? atoi(y + 6) : 1991; /* IESNA91 */
+        if (year > 0 && year < 100) year += 1900;
+        first = 1;
+    } else {
+        snprintf(f->standard, sizeof f->standard, "LM-63-1986");
+    }
+    const int tl = tilt_line(t);
+    if (tl < 0)
+        return lumis__fail(t->errors, LUMIS_ERR_BAD_HEADER,
+                           "%s: no TILT= line: not an IES LM-63 file (it ends after %d lines)",
+                           t->name, t->nlines);
+    /* keywords: [KEY] value, [MORE] continuing the one before */
+    char *last = NULL;
+    size_t last_cap = 0;
+    for (int k = first; k < tl; k++) {
+        const char *s = t->line[k];
+        while (isspace((unsigned char)*s)) s++;
+        if (*s != '[') continue; /* 1986's free text */
+        const char *e = strchr(s, ']');
+        if (!e) continue;
+        const size_t n = (size_t)(e - s - 1);
+        struct {
+            const char *key;
+            char *dst;
+            size_t cap;
+        } const keys[] = {{"MANUFAC", f->manufacturer, sizeof f->manufacturer},
+                          {"LUMINAIRE", f->luminaire, sizeof f->luminaire},
+                          {"LUMCAT", f->catalog, sizeof f->catalog},
+                          {"LAMP", f->lamp, sizeof f->lamp},
+                          {"TEST", f->test, sizeof f->test}};
+        if (n == 4 && strncmp(s + 1, "MORE", 4) == 0) {
+            if (last) append_field(last, last_cap, e + 1);
+            continue;
+        }
+        last = NULL;
+        for (size_t q = 0; q < sizeof keys / sizeof keys[0]; q++)
+            if (strlen(keys[q].key) == n && strncmp(s + 1, keys[q].key, n) == 0) {
+                copy_field(keys[q].dst, keys[q].cap, e + 1);
+                last = keys[q].dst;
+                last_cap = keys[q].cap;
+            }
+    }
+    /* TILT=NONE, INCLUDE or a file name */
+    const char *tv = strchr(t->line[tl], '=') + 1;
+    while (isspace((unsigned char)*tv)) tv++;
+    cursor c = {t, tl + 1, NULL};
+    lumis_status st = LUMIS_OK;
+    if (strncmp(tv, "NONE", 4) == 0) {
+        f->tilt = 0;
+    } else if (strncmp(tv, "INCLUDE", 7) == 0) {
+        f->tilt = 1;
+        st = read_count(&c, "TILT's lamp-to-luminaire geometry", 1, 3, &f->tilt_geometry);
+        if (st == LUMIS_OK)
+            st =
+                read_count(&c, "TILT's number of angle and factor pairs", 1, MAX_ANGLES, &f->ntilt);
+        if (st == LUMIS_OK) {
+            f->tilt_deg = malloc(sizeof(double) * (size_t)f->ntilt);
+            f->tilt_factor = malloc(sizeof(double) * (size_t)f->ntilt);
+            if (!f->tilt_deg || !f->tilt_factor)
+                return lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                                   t->name);
+            st = read_angles(&c, "TILT's angles", f->ntilt, f->tilt_deg);
+        }
+        for (int k = 0; k < f->ntilt && st == LUMIS_OK; k++) {
+            int at = 0;
+            st = read_number(&c, "TILT's multiplying factors", &f->tilt_factor[k], &at);
+            if (st == LUMIS_OK && f->tilt_factor[k] < 0)
+                st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                                 "%s:%d: TILT's multiplying factor %d is %g: expected >= 0",
+                                 t->name, at, k + 1, f->tilt_factor[k]);
+        }
+    } else {
+        return lumis__fail(t->errors, LUMIS_ERR_UNSUPPORTED,
+                           "%s:%d: TILT=%.60s: a tilt table in another file is not read "
+                           "(put it in this one with TILT=INCLUDE)",
+                           t->name, tl + 1, tv);
+    }
+    if (st != LUMIS_OK) return st;
+    /* the two lines of numbers */
+    double lumens = 0, mult = 0, w = 0, len = 0, h = 0, ballast = 0, factor = 0;
+    int type = 0, units = 0, nv = 0, nh = 0;
+    st = read_count(&c, "the number of lamps", -1000000, 1000000, &f->lamps);
+    if (st == LUMIS_OK) st = read_number(&c, "the lumens per lamp", &lumens, NULL);
+    if (st == LUMIS_OK) st = read_number(&c, "the candela multiplier", &mult, NULL);
+    if (st == LUMIS_OK) st = read_count(&c, "the number of vertical angles", 2, MAX_ANGLES, &nv);
+    if (st == LUMIS_OK) st = read_count(&c, "the number of horizontal angles", 1, MAX_ANGLES, &nh);
+    if (st == LUMIS_OK) st = read_count(&c, "the photometric type (1 C, 2 B, 3 A)", 1, 3, &type);
+    if (st == LUMIS_OK) st = read_count(&c, "the units type (1 feet, 2 metres)", 1, 2, &units);
+    if (st == LUMIS_OK) st = read_number(&c, "the luminous width", &w, NULL);
+    if (st == LUMIS_OK) st = read_number(&c, "the luminous length", &len, NULL);
+    if (st == LUMIS_OK) st = read_number(&c, "the luminous height", &h, NULL);
+    if (st == LUMIS_OK) st = read_number(&c, "the ballast factor", &ballast, NULL);
+    if (st == LUMIS_OK)
+        st = read_number(&c,
+                         year >= 2019   ? "the file generation type"
+                         : year >= 2002 ? "the future-use field"
+                                        : "the ballast-lamp photometric factor",
+                         &factor, NULL);
+    if (st == LUMIS_OK) st = read_number(&c, "the input watts", &f->input_watts, NULL);
+    if (st != LUMIS_OK) return st;
+    if ((double)nv * nh > MAX_VALUES)
+        return lumis__fail(t->errors, LUMIS_ERR_TOO_LARGE,
+                           "%s: %d x %d candela values: more than %d", t->name, nv, nh, MAX_VALUES);
+    if (mult < 0 || ballast < 0 || factor < 0)
+        return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                           "%s: a negative multiplier (candela %g, ballast %g, factor %g)", t->name,
+                           mult, ballast, factor);
+    double *v = malloc(sizeof(double) * (size_t)nv), *hz = malloc(sizeof(double) * (size_t)nh);
+    double *cd = malloc(sizeof(double) * (size_t)nv * (size_t)nh);
+    if (!v || !hz || !cd)
+        st = lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", t->name);
+    if (st == LUMIS_OK) st = read_angles(&c, "the vertical angles", nv, v);
+    if (st == LUMIS_OK) st = read_angles(&c, "the horizontal angles", nh, hz);
+    for (int k = 0; k < nv * nh && st == LUMIS_OK; k++) {
+        char field[96];
+        snprintf(field, sizeof field, "candela value %d of %d x %d", k + 1, nh, nv);
+        int at = 0;
+        st = read_number(&c, field, &cd[k], &at);
+        if (st == LUMIS_OK && cd[k] < 0)
+            st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                             "%s:%d: %s is %g: candela cannot be negative", t->name, at, field,
+                             cd[k]);
+    }
+    if (st == LUMIS_OK && next_token(&c))
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s:%d: more values after the %d x %d candela values the counts give",
+                         t->name, c.line + 1, nh, nv);
+    if (st == LUMIS_OK) {
+        const double unit = units == 1 ? 0.3048 : 1.0;
+        lumis_photometric_desc d = {0};
+        d.type = (lumis_photometric_type)type;
+        d.nv = nv;
+        d.nh = nh;
+        d.v_deg = v;
+        d.h_deg = hz;
+        d.candela = cd;
+        /* the ballast factor always; the ballast-lamp factor of files before 2002 (later its
+         * place holds a reserved field, then the file generation type) */
+        d.multiplier = (mult == 0 ? 1.0 : mult) * (ballast == 0 ? 1.0 : ballast) *
+                       (year < 2002 && factor != 0 ? factor : 1.0);
+        d.lamp_lumens = lumens > 0 ? lumens * fabs((double)f->lamps) : -1.0;
+        f->lumens_per_lamp = lumens;
+        /* the shape from the signs of the sizes (LM-63-2002, table 1) */
+        d.width = fabs(w) * unit;
+        d.length = fabs(len) * unit;
+        d.height = fabs(h) * unit;
+        if (w == 0 && len == 0 && h == 0)
+            d.shape = LUMIS_SHAPE_POINT;
+        else if (w > 0 && len > 0)
+            d.shape = h > 0 ? LUMIS_SHAPE_BOX : h == 0 ? LUMIS_SHAPE_RECTANGLE : LUMIS_SHAPE_OTHER;
+        else if (w < 0 && len < 0 && w == len && h == 0)
+            d.shape = LUMIS_SHAPE_DISK;
+        else if (w < 0 && len < 0 && w == len && h < 0 && h == w)
+            d.shape = LUMIS_SHAPE_SPHERE;
+        else if (w < 0 && len < 0 && w == len && h > 0)
+            d.shape = LUMIS_SHAPE_CYLINDER;
+        else
+            d.shape = LUMIS_SHAPE_OTHER;
+        st = lumis_photometric_create(&d, t->errors, &f->model);
+    }
+    free(v);
+    free(hz);
+    free(cd);
+    return st;
+}
+
+/* ---- EULUMDAT ------------------------------------------------------------------------------ */
+
+/* Line k (0-based) as a number for field; errors name it. */
+static lumis_status ldt_number(text *t, int k, const char *field, double *v)
+{
+    if (k >= t->nlines)
+        return lumis__fail(t->errors, LUMIS_ERR_TRUNCATED, "%s: the file ends before line %d (%s)",
+                           t->name, k + 1, field);
+    cursor c = {t, k, NULL};
+    c.p = t->line[k];
+    /* one number per line: the cursor must not run on into the next line */
+    char *s = c.p;
+    while (*s && isspace((unsigned char)*s)) s++;
+    if (!*s)
+        return lumis__fail(t->errors, LUMIS_ERR_CORRUPT, "%s:%d: %s: an empty line", t->name, k + 1,
+                           field);
+    for (char *q = s; *q; q++)
+        if (*q == ',') *q = '.'; /* decimal commas are common in EULUMDAT */
+    return read_number(&c, field, v, NULL);
+}
+
+static lumis_status ldt_count(text *t, int k, const char *field, int lo, int hi, int *v)
+{
+    double x;
+    lumis_status st = ldt_number(t, k, field, &x);
+    if (st != LUMIS_OK) return st;
+    if (x != floor(x) || x < lo || x > hi)
+        return lumis__fail(t->errors, LUMIS_ERR_BAD_DIMENSIONS,
+                           "%s:%d: %s: %g: expected a whole number from %d to %d", t->name, k + 1,
+                           field, x, lo, hi);
+    *v = (int)x;
+    return LUMIS_OK;
+}
+
+static lumis_status read_ldt(text *t, lumis_photometric_file *f)
+{
+    snprintf(f->standard, sizeof f->standard, "EULUMDAT");
+    int ityp = 0, isym = 0, mc = 0, ng = 0, nsets = 0;
+    double dims[9], dff, lor, conv, tilt;
+    lumis_status st = ldt_count(t, 1, "the type indicator Ityp", 0, 3, &ityp);
+    if (st == LUMIS_OK) st = ldt_count(t, 2, "the symmetry indicator Isym", 0, 4, &isym);
+    if (st == LUMIS_OK) st = ldt_count(t, 3, "the number of C-planes Mc", 1, 3600, &mc);
+    if (st == LUMIS_OK) st = ldt_count(t, 5, "the intensities per C-plane Ng", 2, 3600, &ng);
+    if (st != LUMIS_OK) return st;
+    if (t->nlines < 26)
+        return lumis__fail(t->errors, LUMIS_ERR_TRUNCATED,
+                           "%s: %d lines: EULUMDAT's header alone has 26", t->name, t->nlines);
+    copy_field(f->manufacturer, sizeof f->manufacturer, t->line[0]);
+    copy_field(f->test, sizeof f->test, t->line[7]);
+    copy_field(f->luminaire, sizeof f->luminaire, t->line[8]);
+    copy_field(f->catalog, sizeof f->catalog, t->line[9]);
+    static const char *const dim_names[9] = {"the luminaire's length (mm)",
+                                             "the luminaire's width (mm)",
+                                             "the luminaire's height (mm)",
+                                             "the luminous area's length (mm)",
+                                             "the luminous area's width (mm)",
+                                             "the luminous area's height at C0 (mm)",
+                                             "the luminous area's height at C90 (mm)",
+                                             "the luminous area's height at C180 (mm)",
+                                             "the luminous area's height at C270 (mm)"};
+    for (int k = 0; k < 9 && st == LUMIS_OK; k++) {
+        st = ldt_number(t, 12 + k, dim_names[k], &dims[k]);
+        if (st == LUMIS_OK && dims[k] < 0)
+            st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT, "%s:%d: %s is %g: expected >= 0",
+                             t->name, 13 + k, dim_names[k], dims[k]);
+    }
+    if (st == LUMIS_OK) st = ldt_number(t, 21, "the downward flux fraction DFF (%)", &dff);
+    if (st == LUMIS_OK) st = ldt_number(t, 22, "the light output ratio LORL (%)", &lor);
+    if (st == LUMIS_OK) st = ldt_number(t, 23, "the conversion factor for intensities", &conv);
+    if (st == LUMIS_OK) st = ldt_number(t, 24, "the tilt during measurement", &tilt);
+    if (st == LUMIS_OK) st = ldt_count(t, 25, "the number of lamp sets n", 1, 100, &nsets);
+    if (st != LUMIS_OK) return st;
+    f->lamp_sets = nsets;
+    /* per set: number of lamps, type, total flux, colour temperature, CRI, watts; the first
+     * set is the one the intensities are given for */
+    const int base = 26;
+    double lamps = 0, flux = 0, watts = 0;
+    st = ldt_number(t, base, "the number of lamps of set 1", &lamps);
+    if (st == LUMIS_OK && base + nsets < t->nlines)
+        copy_field(f->lamp, sizeof f->lamp, t->line[base + nsets]);
+    if (st == LUMIS_OK)
+        st = ldt_number(t, base + 2 * nsets, "the lamps' total flux of set 1 (lm)", &flux);
+    if (st == LUMIS_OK) st = ldt_number(t, base + 5 * nsets, "the wattage of set 1 (W)", &watts);
+    if (st == LUMIS_OK && !(flux > 0))
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s:%d: the lamps' total flux of set 1 is %g lm: the intensities are per "
+                         "1000 lm of it, so it must be > 0",
+                         t->name, base + 2 * nsets + 1, flux);
+    if (st != LUMIS_OK) return st;
+    f->lamps = (int)lamps;
+    f->lumens_per_lamp = lamps != 0 ? flux / fabs(lamps) : flux;
+    f->input_watts = watts;
+    /* then the numbers: 10 direct ratios, Mc C angles, Ng gamma angles, the intensities */
+    cursor c = {t, base + 6 * nsets, NULL};
+    for (int k = c.line; k < t->nlines; k++)
+        for (char *q = t->line[k]; *q; q++)
+            if (*q == ',') *q = '.';
+    double dr;
+    for (int k = 0; k < 10 && st == LUMIS_OK; k++)
+        st = read_number(&c, "the direct ratios", &dr, NULL);
+    double *cang = malloc(sizeof(double) * (size_t)mc), *g = malloc(sizeof(double) * (size_t)ng);
+    int planes = isym == 0 ? mc : isym == 1 ? 1 : isym == 4 ? mc / 4 + 1 : mc / 2 + 1;
+    double *cd = malloc(sizeof(double) * (size_t)planes * (size_t)ng);
+    if (!cang || !g || !cd)
+        st = lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", t->name);
+    if (st == LUMIS_OK) st = read_angles(&c, "the C-plane angles", mc, cang);
+    if (st == LUMIS_OK) st = read_angles(&c, "the gamma angles", ng, g);
+    if (st == LUMIS_OK && (isym == 2 || isym == 3 || isym == 4) && mc % (isym == 4 ? 4 : 2) != 0)
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s: symmetry %d with %d C-planes: their number must divide by %d",
+                         t->name, isym, mc, isym == 4 ? 4 : 2);
+    for (int k = 0; k < planes * ng && st == LUMIS_OK; k++) {
+        char field[96];
+        snprintf(field, sizeof field, "intensity %d of %d x %d (cd/klm)", k + 1, planes, ng);
+        int at = 0;
+        st = read_number(&c, field, &cd[k], &at);
+        if (st == LUMIS_OK && cd[k] < 0)
+            st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                             "%s:%d: %s is %g: intensities cannot be negative", t->name, at, field,
+                             cd[k]);
+    }
+    if (st == LUMIS_OK && next_token(&c))
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s:%d: more values after the %d x %d intensities symmetry %d gives",
+                         t->name, c.line + 1, planes, ng, isym);
+    if (st == LUMIS_OK) {
+        /* the C angles of the planes given: all, C0 alone, C0-C180, C90-C270 or C0-C90 */
+        const int from = isym == 3 ? mc / 4 : 0;
+        double hz0 = 0;
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = ng;
+        d.nh = planes;
+        d.v_deg = g;
+        d.h_deg = isym == 1 ? &hz0 : cang + from;
+        if (isym == 3 && from + planes > mc)
+            st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT, "%s: too few C-planes for symmetry 3",
+                             t->name);
+        d.candela = cd;
+        d.multiplier = flux / 1000.0 * (conv > 0 ? conv : 1.0);
+        d.lamp_lumens = flux;
+        d.luminaire_lumens = lor > 0 ? flux * lor / 100.0 : -1.0;
+        /* the luminous area: length along C0 (x), width along C90 (y); width 0: round */
+        const double lum_len = dims[3] / 1000.0, lum_w = dims[4] / 1000.0;
+        double hmax = 0;
+        for (int k = 5; k < 9; k++) hmax = dims[k] > hmax ? dims[k] : hmax;
+        d.length = lum_len;
+        d.width = lum_w > 0 ? lum_w : lum_len;
+        d.height = hmax / 1000.0;
+        d.shape = lum_len == 0                 ? LUMIS_SHAPE_POINT
+                  : lum_w == 0 && d.height > 0 ? LUMIS_SHAPE_CYLINDER
+                  : lum_w == 0                 ? LUMIS_SHAPE_DISK
+                  : d.height > 0               ? LUMIS_SHAPE_BOX
+                                               : LUMIS_SHAPE_RECTANGLE;
+        if (st == LUMIS_OK) st = lumis_photometric_create(&d, t->errors, &f->model);
+    }
+    free(cang);
+    free(g);
+    free(cd);
+    return st;
+}
+
+/* ---- the entry points --------------------------------------------------------------------- */
+
+void lumis_photometric_file_destroy(lumis_photometric_file *f)
+{
+    if (!f) return;
+    lumis_photometric_destroy(f->model);
+    free(f->tilt_deg);
+    free(f->tilt_factor);
+    free(f);
+}
+
+/* Whether the text looks like EULUMDAT: Ityp and Isym in range on lines 2 and 3, and
+ * enough lines. */
+static int looks_ldt(const text *t)
+{
+    if (t->nlines < 26) return 0;
+    char *e1, *e2;
+    const long ityp = strtol(t->line[1], &e1, 10), isym = strtol(t->line[2], &e2, 10);
+    while (isspace((unsigned char)*e1)) e1++;
+    while (isspace((unsigned char)*e2)) e2++;
+    return e1 != t->line[1] && !*e1 && e2 != t->line[2] && !*e2 && ityp >= 0 && ityp <= 3 &&
+           isym >= 0 && isym <= 4;
+}
+
+lumis_status lumis_photometric_read_memory(const void *data, size_t size, const char *name,
+                                           const lumis_error_sink *errors,
+                                           lumis_photometric_file **out)
+{
+    if (out) *out = NULL;
+    if (!name) name = "<memory>";
+    if (!out || (!data && size))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "%s: no data", name);
+    if (size == 0) return lumis__fail(errors, LUMIS_ERR_EMPTY_FILE, "%s: the file is empty", name);
+    if (size > MAX_FILE)
+        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE,
+                           "%s: %zu bytes: photometric files of "
+                           "more than %zu MB are not read",
+                           name, size, MAX_FILE >> 20);
+    text t = {name, errors, NULL, NULL, 0};
+    lumis_photometric_file *f = calloc(1, sizeof *f);
+    lumis_status st = f ? text_split(&t, data, size)
+                        : lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
+    if (st == LUMIS_OK) {
+        const char *l0 = t.line[0];
+        while (isspace((unsigned char)*l0)) l0++;
+        if (strncmp(l0, "IES", 3) == 0 || tilt_line(&t) >= 0) {
+            f->format = LUMIS_PHOTOMETRIC_IES;
+            st = read_ies(&t, f);
+        } else if (looks_ldt(&t)) {
+            f->format = LUMIS_PHOTOMETRIC_LDT;
+            st = read_ldt(&t, f);
+        } else {
+            st = lumis__fail(errors, LUMIS_ERR_UNKNOWN_FORMAT,
+                             "%s: not a photometric file: neither IES LM-63 (a TILT= line) nor "
+                             "EULUMDAT (type and symmetry indicators on lines 2 and 3)",
+                             name);
+        }
+    }
+    text_free(&t);
+    if (st != LUMIS_OK) {
+        lumis_photometric_file_destroy(f);
+        return st;
+    }
+    *out = f;
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
+                                    lumis_photometric_file **out)
+{
+    if (out) *out = NULL;
+    if (!path || !out) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no path");
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
+    size_t cap = 1 << 16, n = 0;
+    unsigned char *buf = malloc(cap);
+    lumis_status st = buf ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+    for (size_t got; st == LUMIS_OK && (got = fread(buf + n, 1, cap - n, fp)) > 0;) {
+        n += got;
+        if (n > MAX_FILE) {
+            st = LUMIS_ERR_TOO_LARGE;
+            break;
+        }
+        if (n == cap) {
+            unsigned char *g = realloc(buf, cap *= 2);
+            if (!g)
+                st = LUMIS_ERR_OUT_OF_MEMORY;
+            else
+                buf = g;
+        }
+    }
+    if (st == LUMIS_OK && ferror(fp)) st = LUMIS_ERR_READ;
+    fclose(fp);
+    if (st == LUMIS_OK)
+        st = lumis_photometric_read_memory(buf, n, path, errors, out);
+    else
+        st = lumis__fail(errors, st, "%s: %s", path,
+                         st == LUMIS_ERR_TOO_LARGE ? "larger than 64 MB: not a photometric file"
+                         : st == LUMIS_ERR_READ    ? "read error"
+                                                   : "out of memory");
+    free(buf);
+    return st;
+}

@@ -1,0 +1,462 @@
+/* A luminaire's far-field photometry (lumis/photometry.h): the table, its symmetry, the
+ * bilinear interpolation convention, and the exact flux of that interpolant.  The
+ * derivations are in docs/photometric.md. */
+#include "lumis/photometry.h"
+
+#include "../core/internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DEG (LUMIS_PI / 180.0)
+
+struct lumis_photometric {
+    lumis_photometric_type type;
+    lumis_photometric_symmetry sym;
+    int v_mirror; /* A, B: V from 0 to 90, mirrored to -V */
+    int nv, nh;
+    double *v, *h, *cd;          /* cd[i * nv + j]: at h[i], v[j], multiplier applied */
+    lumis_photometric_desc desc; /* the sizes and lumens (its arrays are not kept) */
+};
+
+/* ---- names ---------------------------------------------------------------------------- */
+
+const char *lumis_photometric_type_name(lumis_photometric_type t)
+{
+    return t == LUMIS_PHOTOMETRIC_C   ? "C"
+           : t == LUMIS_PHOTOMETRIC_B ? "B"
+           : t == LUMIS_PHOTOMETRIC_A ? "A"
+                                      : "unknown";
+}
+
+const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s)
+{
+    static const char *const names[] = {"none",     "rotational", "C0-C180",
+                                        "C90-C270", "quadrant",   "lateral"};
+    return (unsigned)s < sizeof names / sizeof names[0] ? names[s] : "unknown";
+}
+
+const char *lumis_photometric_shape_name(lumis_photometric_shape s)
+{
+    static const char *const names[] = {"point",    "rectangle", "box",  "disk",
+                                        "cylinder", "sphere",    "other"};
+    return (unsigned)s < sizeof names / sizeof names[0] ? names[s] : "unknown";
+}
+
+/* ---- directions and angles ------------------------------------------------------------- */
+
+lumis_vec3 lumis_photometric_direction(lumis_photometric_type type, double h_deg, double v_deg)
+{
+    const double h = h_deg * DEG, v = v_deg * DEG;
+    lumis_vec3 d;
+    if (type == LUMIS_PHOTOMETRIC_B) {
+        d.x = (float)(cos(h) * sin(v));
+        d.y = (float)sin(h);
+        d.z = (float)(-cos(h) * cos(v));
+    } else if (type == LUMIS_PHOTOMETRIC_A) {
+        d.x = (float)sin(v);
+        d.y = (float)(cos(v) * sin(h));
+        d.z = (float)(-cos(v) * cos(h));
+    } else {
+        d.x = (float)(sin(v) * cos(h));
+        d.y = (float)(sin(v) * sin(h));
+        d.z = (float)-cos(v);
+    }
+    return d;
+}
+
+static double clamp1(double x)
+{
+    return x < -1.0 ? -1.0 : (x > 1.0 ? 1.0 : x);
+}
+
+void lumis_photometric_angles(lumis_photometric_type type, lumis_vec3 d, double *h_deg,
+                              double *v_deg)
+{
+    const double x = d.x, y = d.y, z = d.z;
+    if (type == LUMIS_PHOTOMETRIC_B) {
+        *h_deg = asin(clamp1(y)) / DEG;
+        *v_deg = atan2(x, -z) / DEG;
+    } else if (type == LUMIS_PHOTOMETRIC_A) {
+        *v_deg = asin(clamp1(x)) / DEG;
+        *h_deg = atan2(y, -z) / DEG;
+    } else {
+        *v_deg = acos(clamp1(-z)) / DEG;
+        double c = atan2(y, x) / DEG;
+        if (c < 0) c += 360.0;
+        if (c >= 360.0) c = 0.0;
+        *h_deg = c;
+    }
+}
+
+/* ---- creation ----------------------------------------------------------------------------- */
+
+static lumis_status check_angles(const double *a, int n, const char *what,
+                                 const lumis_error_sink *errors)
+{
+    for (int k = 0; k < n; k++) {
+        if (!isfinite(a[k]))
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT, "%s angle %d is not a number", what,
+                               k + 1);
+        if (k > 0 && !(a[k] > a[k - 1]))
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "%s angles do not increase: %g after %g (angle %d)", what, a[k],
+                               a[k - 1], k + 1);
+    }
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
+                                      const lumis_error_sink *errors, lumis_photometric **out)
+{
+    if (out) *out = NULL;
+    if (!d || !out || !d->v_deg || !d->h_deg || !d->candela)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "photometric: no table");
+    if (d->type != LUMIS_PHOTOMETRIC_A && d->type != LUMIS_PHOTOMETRIC_B &&
+        d->type != LUMIS_PHOTOMETRIC_C)
+        return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                           "photometric type %d: expected 1 (C), 2 (B) or 3 (A)", (int)d->type);
+    if (d->nv < 2 || d->nh < 1 || d->nv > 100000 || d->nh > 100000)
+        return lumis__fail(errors, LUMIS_ERR_BAD_DIMENSIONS,
+                           "%d vertical and %d horizontal angles: expected 2 to 100000 and 1 to "
+                           "100000",
+                           d->nv, d->nh);
+    lumis_status st = check_angles(d->v_deg, d->nv, "vertical", errors);
+    if (st == LUMIS_OK) st = check_angles(d->h_deg, d->nh, "horizontal", errors);
+    if (st != LUMIS_OK) return st;
+    const double mult = d->multiplier == 0.0 ? 1.0 : d->multiplier;
+    if (!isfinite(mult) || mult < 0)
+        return lumis__fail(errors, LUMIS_ERR_CORRUPT, "candela multiplier %g: expected >= 0", mult);
+    const double v0 = d->v_deg[0], vl = d->v_deg[d->nv - 1], h0 = d->h_deg[0],
+                 hl = d->h_deg[d->nh - 1];
+    lumis_photometric_symmetry sym = LUMIS_SYMMETRY_NONE;
+    int v_mirror = 0;
+    if (d->type == LUMIS_PHOTOMETRIC_C) {
+        if (v0 < 0 || vl > 180)
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "vertical angles from %g to %g: type C's lie in 0 to 180", v0, vl);
+        if (d->nh == 1)
+            sym = LUMIS_SYMMETRY_ROTATIONAL;
+        else if (h0 == 0 && hl == 90)
+            sym = LUMIS_SYMMETRY_QUADRANT;
+        else if (h0 == 0 && hl == 180)
+            sym = LUMIS_SYMMETRY_C0_C180;
+        else if (h0 == 90 && hl == 270)
+            sym = LUMIS_SYMMETRY_C90_C270;
+        else if (h0 == 0 && hl > 180 && hl <= 360)
+            sym = LUMIS_SYMMETRY_NONE;
+        else
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "horizontal angles from %g to %g: type C's cover 0 alone, 0-90, "
+                               "0-180, 90-270 or 0-360",
+                               h0, hl);
+    } else {
+        if (d->nh == 1 || !((h0 == 0 || h0 == -90) && hl == 90))
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "horizontal angles from %g to %g: type %s's cover -90-90 or 0-90",
+                               h0, hl, lumis_photometric_type_name(d->type));
+        if (!((v0 == 0 || v0 == -90) && vl == 90))
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "vertical angles from %g to %g: type %s's cover -90-90 or 0-90", v0,
+                               vl, lumis_photometric_type_name(d->type));
+        sym = h0 == 0 ? LUMIS_SYMMETRY_LATERAL : LUMIS_SYMMETRY_NONE;
+        v_mirror = v0 == 0;
+    }
+    const size_t n = (size_t)d->nv * (size_t)d->nh;
+    for (size_t k = 0; k < n; k++)
+        if (!isfinite(d->candela[k]) || d->candela[k] < 0)
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "candela value %zu (horizontal angle %g, vertical %g) is %g: "
+                               "expected a number >= 0",
+                               k + 1, d->h_deg[k / (size_t)d->nv], d->v_deg[k % (size_t)d->nv],
+                               d->candela[k]);
+    const double sizes[3] = {d->width, d->length, d->height};
+    for (int k = 0; k < 3; k++)
+        if (!isfinite(sizes[k]) || sizes[k] < 0)
+            return lumis__fail(errors, LUMIS_ERR_CORRUPT,
+                               "luminous %s %g: expected a size >= 0 in metres",
+                               k == 0   ? "width"
+                               : k == 1 ? "length"
+                                        : "height",
+                               sizes[k]);
+    lumis_photometric *p = calloc(1, sizeof *p);
+    if (p) {
+        p->v = malloc(sizeof(double) * (size_t)d->nv);
+        p->h = malloc(sizeof(double) * (size_t)d->nh);
+        p->cd = malloc(sizeof(double) * n);
+    }
+    if (!p || !p->v || !p->h || !p->cd) {
+        lumis_photometric_destroy(p);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "photometric: out of memory");
+    }
+    memcpy(p->v, d->v_deg, sizeof(double) * (size_t)d->nv);
+    memcpy(p->h, d->h_deg, sizeof(double) * (size_t)d->nh);
+    for (size_t k = 0; k < n; k++) p->cd[k] = d->candela[k] * mult;
+    p->type = d->type;
+    p->sym = sym;
+    p->v_mirror = v_mirror;
+    p->nv = d->nv;
+    p->nh = d->nh;
+    p->desc = *d;
+    p->desc.v_deg = p->desc.h_deg = p->desc.candela = NULL;
+    p->desc.multiplier = mult;
+    *out = p;
+    return LUMIS_OK;
+}
+
+void lumis_photometric_destroy(lumis_photometric *p)
+{
+    if (!p) return;
+    free(p->v);
+    free(p->h);
+    free(p->cd);
+    free(p);
+}
+
+/* ---- evaluation --------------------------------------------------------------------------- */
+
+/* The index i with a[i] <= x <= a[i + 1] (n >= 2, a[0] <= x <= a[n - 1]). */
+static int bracket(const double *a, int n, double x)
+{
+    int lo = 0, hi = n - 1;
+    while (hi - lo > 1) {
+        const int mid = (lo + hi) / 2;
+        if (a[mid] <= x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Linear in v along horizontal row i; 0 outside the vertical range. */
+static double along_v(const lumis_photometric *p, int i, double v)
+{
+    const double *a = p->v;
+    if (v < a[0] || v > a[p->nv - 1]) return 0.0;
+    const int j = bracket(a, p->nv, v);
+    const double t = (v - a[j]) / (a[j + 1] - a[j]);
+    const double *row = p->cd + (size_t)i * (size_t)p->nv;
+    return row[j] + (row[j + 1] - row[j]) * t;
+}
+
+double lumis_photometric_intensity_at(const lumis_photometric *p, double h, double v)
+{
+    if (!p || !isfinite(h) || !isfinite(v)) return 0.0;
+    if (p->type == LUMIS_PHOTOMETRIC_C) {
+        double c = fmod(h, 360.0);
+        if (c < 0) c += 360.0;
+        switch (p->sym) {
+        case LUMIS_SYMMETRY_ROTATIONAL:
+            return along_v(p, 0, v);
+        case LUMIS_SYMMETRY_QUADRANT:
+            if (c > 180) c = 360 - c;
+            if (c > 90) c = 180 - c;
+            break;
+        case LUMIS_SYMMETRY_C0_C180:
+            if (c > 180) c = 360 - c;
+            break;
+        case LUMIS_SYMMETRY_C90_C270:
+            if (c < 90)
+                c = 180 - c;
+            else if (c > 270)
+                c = 540 - c;
+            break;
+        default:
+            break;
+        }
+        const double hl = p->h[p->nh - 1];
+        if (c > hl) { /* a full table that stops short of 360: wrap to its first plane */
+            const double t = (c - hl) / (360.0 - hl + p->h[0]);
+            const double a = along_v(p, p->nh - 1, v), b = along_v(p, 0, v);
+            return a + (b - a) * t;
+        }
+        h = c;
+    } else {
+        if (fabs(h) > 90 || fabs(v) > 90) return 0.0; /* behind the luminaire */
+        if (p->sym == LUMIS_SYMMETRY_LATERAL) h = fabs(h);
+        if (p->v_mirror) v = fabs(v);
+    }
+    if (h < p->h[0] || h > p->h[p->nh - 1]) return 0.0;
+    const int i = bracket(p->h, p->nh, h);
+    const double t = (h - p->h[i]) / (p->h[i + 1] - p->h[i]);
+    const double a = along_v(p, i, v), b = along_v(p, i + 1, v);
+    return a + (b - a) * t;
+}
+
+double lumis_photometric_intensity(const lumis_photometric *p, lumis_vec3 d)
+{
+    if (!p) return 0.0;
+    double h, v;
+    lumis_photometric_angles(p->type, d, &h, &v);
+    return lumis_photometric_intensity_at(p, h, v);
+}
+
+/* ---- the flux ----------------------------------------------------------------------------- */
+
+/* The integral over [a0, a1] (radians) of the linear function from x to y times sin. */
+static double f_sin(double a0, double a1, double x, double y)
+{
+    const double w = a1 - a0;
+    return x * (cos(a0) - cos(a1)) + (y - x) / w * (sin(a1) - sin(a0) - w * cos(a1));
+}
+
+/* The same times cos. */
+static double f_cos(double a0, double a1, double x, double y)
+{
+    const double w = a1 - a0;
+    return x * (sin(a1) - sin(a0)) + (y - x) / w * (w * sin(a1) + cos(a1) - cos(a0));
+}
+
+/* The bilinear cell between horizontal angles h0, h1 and vertical v0, v1 (degrees), with
+ * the values at its corners (iHV), integrated against the solid angle.  vmax clips the
+ * vertical extent (type C: the part below it, for the downward flux). */
+static double cell(const lumis_photometric *p, double h0, double h1, double v0, double v1,
+                   double i00, double i01, double i10, double i11, double vmax)
+{
+    if (v0 >= vmax) return 0.0;
+    if (v1 > vmax) { /* the part below vmax: the values at vmax on the cell's edges */
+        const double t = (vmax - v0) / (v1 - v0);
+        i01 = i00 + (i01 - i00) * t;
+        i11 = i10 + (i11 - i10) * t;
+        v1 = vmax;
+    }
+    const double H0 = h0 * DEG, H1 = h1 * DEG, V0 = v0 * DEG, V1 = v1 * DEG;
+    if (p->type == LUMIS_PHOTOMETRIC_C)
+        return (H1 - H0) / 2 * (f_sin(V0, V1, i00, i01) + f_sin(V0, V1, i10, i11));
+    if (p->type == LUMIS_PHOTOMETRIC_A)
+        return (H1 - H0) / 2 * (f_cos(V0, V1, i00, i01) + f_cos(V0, V1, i10, i11));
+    return (V1 - V0) / 2 * (f_cos(H0, H1, i00, i10) + f_cos(H0, H1, i01, i11));
+}
+
+/* The integral over the sphere of the interpolated table (vmax: type C's part with gamma
+ * below vmax degrees; 180 or more: all of it). */
+static double flux_below(const lumis_photometric *p, double vmax)
+{
+    const int nv = p->nv;
+    double sum = 0.0;
+    const double *cd = p->cd;
+    if (p->type == LUMIS_PHOTOMETRIC_C && p->sym == LUMIS_SYMMETRY_ROTATIONAL) {
+        for (int j = 0; j + 1 < nv; j++)
+            sum += cell(p, 0, 360, p->v[j], p->v[j + 1], cd[j], cd[j + 1], cd[j], cd[j + 1], vmax);
+        return sum;
+    }
+    for (int i = 0; i + 1 < p->nh; i++)
+        for (int j = 0; j + 1 < nv; j++) {
+            const double *a = cd + (size_t)i * (size_t)nv, *b = a + nv;
+            sum += cell(p, p->h[i], p->h[i + 1], p->v[j], p->v[j + 1], a[j], a[j + 1], b[j],
+                        b[j + 1], vmax);
+        }
+    double mult = 1.0;
+    switch (p->sym) {
+    case LUMIS_SYMMETRY_QUADRANT:
+        mult = 4.0;
+        break;
+    case LUMIS_SYMMETRY_C0_C180:
+    case LUMIS_SYMMETRY_C90_C270:
+    case LUMIS_SYMMETRY_LATERAL:
+        mult = 2.0;
+        break;
+    default:
+        break;
+    }
+    if (p->v_mirror) mult *= 2.0;
+    const double hl = p->h[p->nh - 1];
+    if (p->type == LUMIS_PHOTOMETRIC_C && p->sym == LUMIS_SYMMETRY_NONE && hl < 360.0) {
+        const double *a = cd + (size_t)(p->nh - 1) * (size_t)nv, *b = cd; /* the wrap to 360 */
+        for (int j = 0; j + 1 < nv; j++)
+            sum += cell(p, hl, 360.0 + p->h[0], p->v[j], p->v[j + 1], a[j], a[j + 1], b[j],
+                        b[j + 1], vmax);
+    }
+    return sum * mult;
+}
+
+/* ---- info ------------------------------------------------------------------------------- */
+
+double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, double t)
+{
+    if (!p) return 0.0;
+    if (p->type == LUMIS_PHOTOMETRIC_C) {
+        const double c = k == 0 ? (t >= 0 ? 0.0 : 180.0) : (t >= 0 ? 90.0 : 270.0);
+        return lumis_photometric_intensity_at(p, c, fabs(t));
+    }
+    return k == 0 ? lumis_photometric_intensity_at(p, t, 0.0)
+                  : lumis_photometric_intensity_at(p, 0.0, t);
+}
+
+/* The full width around the plane's peak where the intensity stays >= share x the peak. */
+static double spread(const lumis_photometric *p, int k, double share)
+{
+    const double step = 0.05;
+    const int n = (int)(360.0 / step);
+    double peak = 0.0, tp = 0.0;
+    for (int s = 0; s <= n; s++) {
+        const double t = -180.0 + s * step, i = lumis_photometric_plane_intensity(p, k, t);
+        if (i > peak) {
+            peak = i;
+            tp = t;
+        }
+    }
+    if (!(peak > 0)) return 0.0;
+    const double level = share * peak;
+    double edge[2];
+    for (int side = 0; side < 2; side++) {
+        const double dir = side ? 1.0 : -1.0;
+        double t = tp, prev = peak;
+        edge[side] = tp + dir * 180.0;
+        for (int s = 1; s <= n; s++) {
+            const double u = tp + dir * s * step;
+            if (u < -180.0 || u > 180.0) {
+                edge[side] = u - dir * step;
+                break;
+            }
+            const double i = lumis_photometric_plane_intensity(p, k, u);
+            if (i < level) { /* the crossing, linear between the last two steps */
+                edge[side] = t + dir * step * (prev - level) / (prev - i);
+                break;
+            }
+            t = u;
+            prev = i;
+        }
+    }
+    return edge[1] - edge[0];
+}
+
+lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info)
+{
+    if (!p || !info) return LUMIS_ERR_INVALID_ARGUMENT;
+    memset(info, 0, sizeof *info);
+    info->type = p->type;
+    info->symmetry = p->sym;
+    info->shape = p->desc.shape;
+    info->width = p->desc.width;
+    info->length = p->desc.length;
+    info->height = p->desc.height;
+    info->nv = p->nv;
+    info->nh = p->nh;
+    info->v_first = p->v[0];
+    info->v_last = p->v[p->nv - 1];
+    info->h_first = p->h[0];
+    info->h_last = p->h[p->nh - 1];
+    info->lamp_lumens = p->desc.lamp_lumens;
+    info->luminaire_lumens = p->desc.luminaire_lumens;
+    info->flux = flux_below(p, 1e9);
+    info->downward_fraction = p->type != LUMIS_PHOTOMETRIC_C ? 1.0
+                              : info->flux > 0               ? flux_below(p, 90.0) / info->flux
+                                                             : 0.0;
+    for (int i = 0; i < p->nh; i++)
+        for (int j = 0; j < p->nv; j++) {
+            const double c = p->cd[(size_t)i * (size_t)p->nv + (size_t)j];
+            if (c > info->max_candela) {
+                info->max_candela = c;
+                info->max_h = p->h[i];
+                info->max_v = p->v[j];
+            }
+        }
+    for (int k = 0; k < 2; k++) {
+        info->beam_deg[k] = spread(p, k, 0.5);
+        info->field_deg[k] = spread(p, k, 0.1);
+    }
+    return LUMIS_OK;
+}

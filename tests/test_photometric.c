@@ -1,0 +1,488 @@
+/* Photometric files (lumis/io.h) and the far-field model (lumis/photometry.h): every IES
+ * header year, TILT=INCLUDE, types C, B and A, every symmetry form giving the same
+ * intensities, EULUMDAT's five symmetries and lamp sets, the exact flux of the interpolant
+ * against analytic distributions, beam and field angles, and every malformed file named by
+ * its line and field.  The files come from tests/photometric_gen.c. */
+#include "photometric_gen.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static lumis_photometric_file *read_text(const char *text, size_t n, tu_sink *sink)
+{
+    lumis_photometric_file *f = NULL;
+    const lumis_status st = lumis_photometric_read_memory(text, n, "t.ies", &sink->sink, &f);
+    if (st != LUMIS_OK) fail_msg("read: %s: %s", lumis_status_name(st), sink->last);
+    return f;
+}
+
+static lumis_photometric_file *read_ies(const pg_ies_spec *s)
+{
+    size_t n = 0;
+    char *text = pg_ies(s, &n);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = read_text(text, n, &sink);
+    free(text);
+    return f;
+}
+
+static lumis_photometric_info info_of(const lumis_photometric_file *f)
+{
+    lumis_photometric_info in;
+    assert_int_equal(lumis_photometric_get_info(f->model, &in), LUMIS_OK);
+    return in;
+}
+
+/* A pseudo-random unit direction (deterministic). */
+static lumis_vec3 direction(unsigned k)
+{
+    const double u = fmod(k * 0.6180339887498949, 1.0), v = fmod(k * 0.7548776662466927, 1.0);
+    const double z = 1 - 2 * u, r = sqrt(fmax(0.0, 1 - z * z)), phi = 2 * PI * v;
+    lumis_vec3 d = {(float)(r * cos(phi)), (float)(r * sin(phi)), (float)z};
+    return d;
+}
+
+/* The flux of the interpolated table is the analytic flux to the grid's O(h^2). */
+static void flux_matches_analytic_distributions(void **state)
+{
+    (void)state;
+    const struct {
+        pg_dist d;
+        double a;
+        int nh;
+        double h1;
+    } cases[] = {{PG_LAMBERT, 0, 1, 0},   {PG_SPOT, 8, 1, 0},      {PG_SPOT, 50, 1, 0},
+                 {PG_BATWING, 2, 1, 0},   {PG_ROAD, 0.8, 73, 360}, {PG_QUAD, 0.9, 19, 90},
+                 {PG_QUAD, 0.9, 37, 180}, {PG_QUAD, 0.9, 73, 360}};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        pg_ies_spec s = {cases[k].d,  cases[k].a, "IESNA:LM-63-2002", 1, 181, 0, 90,
+                         cases[k].nh, 0,          cases[k].h1,        0, 0,   0, 0,
+                         0,           2};
+        lumis_photometric_file *f = read_ies(&s);
+        const lumis_photometric_info in = info_of(f);
+        const double want = pg_flux(cases[k].d, cases[k].a);
+        if (fabs(in.flux / want - 1) > 5e-4) /* the grid's O(h^2): 0.5 degrees */
+            fail_msg("case %zu: flux %.6g, analytic %.6g", k, in.flux, want);
+        assert_true(fabs(in.downward_fraction - 1) < 1e-12);
+        assert_true(fabs(in.lamp_lumens - 1000) < 1e-9);
+        lumis_photometric_file_destroy(f);
+    }
+    /* A 0-180 table of a downlight: the same flux, all of it downward. */
+    pg_ies_spec s = {PG_LAMBERT, 0, "IESNA:LM-63-1995", 1, 361, 0, 180, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *f = read_ies(&s);
+    lumis_photometric_info in = info_of(f);
+    assert_true(fabs(in.flux / (PI * 1000) - 1) < 2e-4);
+    assert_true(fabs(in.downward_fraction - 1) < 1e-9);
+    lumis_photometric_file_destroy(f);
+    /* An uplight (90-180, the distribution mirrored): nothing downward. */
+    s.v0 = 90;
+    s.v1 = 180;
+    s.nv = 91;
+    f = read_ies(&s); /* intensities of g in 90-180: zero for this downlight */
+    in = info_of(f);
+    assert_true(in.flux < 1e-9 && in.downward_fraction == 0); /* cos 90 degrees: 6e-17 */
+    lumis_photometric_file_destroy(f);
+}
+
+/* The exact integral: a table of two angles is integrated as its bilinear interpolant, which
+ * a fine quadrature of lumis_photometric_intensity reproduces. */
+static void flux_is_the_interpolants_integral(void **state)
+{
+    (void)state;
+    for (int type = 1; type <= 3; type++) {
+        pg_ies_spec s = {PG_SPOT,
+                         3,
+                         "IESNA:LM-63-2002",
+                         type,
+                         7,
+                         type == 1 ? 0 : -90,
+                         90,
+                         5,
+                         type == 1 ? 0 : -90,
+                         type == 1 ? 360 : 90,
+                         1,
+                         0,
+                         0,
+                         0,
+                         0,
+                         2};
+        lumis_photometric_file *f = read_ies(&s);
+        const lumis_photometric_info in = info_of(f);
+        /* midpoint rule over the sphere in (phi, z) */
+        const int n = 1000;
+        double sum = 0;
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < 2 * n; j++) {
+                const double z = -1 + 2 * (i + 0.5) / n, phi = 2 * PI * (j + 0.5) / (2 * n);
+                const double r = sqrt(1 - z * z);
+                lumis_vec3 d = {(float)(r * cos(phi)), (float)(r * sin(phi)), (float)z};
+                sum += lumis_photometric_intensity(f->model, d);
+            }
+        const double quad = sum * 4 * PI / (2.0 * n * n);
+        if (fabs(quad / in.flux - 1) > 2e-3)
+            fail_msg("type %d: flux %.6g, quadrature %.6g", type, in.flux, quad);
+        lumis_photometric_file_destroy(f);
+    }
+}
+
+/* One distribution in every horizontal form type C allows: the same intensity everywhere. */
+static void symmetry_forms_agree(void **state)
+{
+    (void)state;
+    const double forms[][3] = {
+        {0, 90, 19}, {0, 180, 37}, {90, 270, 37}, {0, 360, 73}, {0, 355, 72}};
+    lumis_photometric_file *f[5];
+    const lumis_photometric_symmetry want[5] = {LUMIS_SYMMETRY_QUADRANT, LUMIS_SYMMETRY_C0_C180,
+                                                LUMIS_SYMMETRY_C90_C270, LUMIS_SYMMETRY_NONE,
+                                                LUMIS_SYMMETRY_NONE};
+    for (int k = 0; k < 5; k++) {
+        pg_ies_spec s = {PG_QUAD,
+                         0.9,
+                         "IESNA:LM-63-2002",
+                         1,
+                         91,
+                         0,
+                         90,
+                         (int)forms[k][2],
+                         forms[k][0],
+                         forms[k][1],
+                         2.0,
+                         0,
+                         0,
+                         0,
+                         0,
+                         2};
+        f[k] = read_ies(&s);
+        assert_int_equal(info_of(f[k]).symmetry, want[k]);
+    }
+    for (unsigned q = 0; q < 2000; q++) {
+        const lumis_vec3 d = direction(q);
+        const double a = lumis_photometric_intensity(f[3]->model, d);
+        for (int k = 0; k < 5; k++) {
+            const double b = lumis_photometric_intensity(f[k]->model, d);
+            if (fabs(a - b) > 1e-9 * fmax(1, a))
+                fail_msg("form %d at (%g %g %g): %.12g against %.12g", k, d.x, d.y, d.z, b, a);
+        }
+        assert_true(d.z < 0 || a == 0); /* a downlight's table: nothing upwards */
+    }
+    /* the multiplier is applied: 2 x the analytic peak straight down */
+    assert_true(fabs(lumis_photometric_intensity_at(f[0]->model, 0, 0) - 1000) < 1e-9);
+    for (int k = 0; k < 5; k++) lumis_photometric_file_destroy(f[k]);
+}
+
+/* Rotational symmetry ignores C; a road light's C-dependence is read the right way round
+ * (C counter-clockwise from +x). */
+static void angles_and_directions(void **state)
+{
+    (void)state;
+    pg_ies_spec s = {PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 91, 0, 90, 73, 0, 360, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *f = read_ies(&s);
+    const lumis_vec3 px = lumis_photometric_direction(LUMIS_PHOTOMETRIC_C, 0, 60),
+                     py = lumis_photometric_direction(LUMIS_PHOTOMETRIC_C, 90, 60);
+    assert_true(px.x > 0.8 && fabs(px.y) < 1e-6 && px.z < 0);
+    assert_true(py.y > 0.8 && fabs(py.x) < 1e-6);
+    const double ix = lumis_photometric_intensity(f->model, px);
+    assert_true(fabs(ix - pg_intensity(PG_ROAD, 0.8, 0, 60)) < 1e-6 * ix);
+    for (int type = 1; type <= 3; type++)
+        for (unsigned q = 0; q < 200; q++) {
+            const lumis_vec3 d = direction(q);
+            double h, v;
+            lumis_photometric_angles((lumis_photometric_type)type, d, &h, &v);
+            const lumis_vec3 e = lumis_photometric_direction((lumis_photometric_type)type, h, v);
+            assert_true(fabs(d.x - e.x) + fabs(d.y - e.y) + fabs(d.z - e.z) < 1e-5);
+        }
+    /* types A and B: the aim is -z, and nothing goes backwards */
+    for (int type = 2; type <= 3; type++) {
+        pg_ies_spec b = {
+            PG_AIMED, 0, "IESNA:LM-63-2002", type, 19, -90, 90, 19, -90, 90, 0, 0, 0, 0, 0, 2};
+        lumis_photometric_file *g = read_ies(&b);
+        const lumis_vec3 down = {0, 0, -1}, up = {0, 0, 1}, side = {0.6f, 0, -0.8f};
+        assert_true(fabs(lumis_photometric_intensity(g->model, down) - 1000) < 1e-6);
+        assert_true(lumis_photometric_intensity(g->model, up) == 0);
+        assert_true(fabs(lumis_photometric_intensity(g->model, side) - 800) < 15);
+        /* the aimed cosine's flux, pi I0, to the 10-degree grid's accuracy */
+        const double flux = info_of(g).flux;
+        if (fabs(flux / (PI * 1000) - 1) > 0.01) fail_msg("type %d: flux %g", type, flux);
+        lumis_photometric_file_destroy(g);
+    }
+    lumis_photometric_file_destroy(f);
+}
+
+/* Every header year reads to the same table; [MORE] joins; TILT=INCLUDE is read; sizes
+ * and shapes from the signs; feet become metres. */
+static void ies_versions_keywords_tilt_and_shapes(void **state)
+{
+    (void)state;
+    const char *firsts[] = {NULL, "IESNA91", "IESNA:LM-63-1995", "IESNA:LM-63-2002",
+                            "IES:LM-63-2019"};
+    double flux0 = 0;
+    for (int k = 0; k < 5; k++) {
+        pg_ies_spec s = {PG_SPOT, 4, firsts[k], 1, 46, 0, 90, 1, 0, 0, 0, k == 2, 0, 0, 0, 2};
+        lumis_photometric_file *f = read_ies(&s);
+        const lumis_photometric_info in = info_of(f);
+        if (k == 0) flux0 = in.flux;
+        assert_true(fabs(in.flux - flux0) < 1e-9 * flux0);
+        assert_string_equal(f->manufacturer, "lumis tests");
+        assert_string_equal(f->luminaire, "analytic 1 continued here");
+        assert_string_equal(f->standard, k == 0 ? "LM-63-1986" : firsts[k]);
+        assert_int_equal(f->tilt, k == 2);
+        if (k == 2) {
+            assert_int_equal(f->ntilt, 3);
+            assert_int_equal(f->tilt_geometry, 1);
+            assert_true(f->tilt_deg[2] == 90 && f->tilt_factor[1] == 0.95);
+        }
+        lumis_photometric_file_destroy(f);
+    }
+    const struct {
+        double w, l, h;
+        int units;
+        lumis_photometric_shape shape;
+        double size;
+    } shapes[] = {{0, 0, 0, 2, LUMIS_SHAPE_POINT, 0},
+                  {0.5, 1.2, 0, 2, LUMIS_SHAPE_RECTANGLE, 0.5},
+                  {0.5, 1.2, 0.1, 2, LUMIS_SHAPE_BOX, 0.5},
+                  {-0.3, -0.3, 0, 2, LUMIS_SHAPE_DISK, 0.3},
+                  {-0.3, -0.3, -0.3, 2, LUMIS_SHAPE_SPHERE, 0.3},
+                  {-0.3, -0.3, 0.5, 2, LUMIS_SHAPE_CYLINDER, 0.3},
+                  {1, 1, 0, 1, LUMIS_SHAPE_RECTANGLE, 0.3048},
+                  {-0.2, 0.4, 0, 2, LUMIS_SHAPE_OTHER, 0.2}};
+    for (size_t k = 0; k < sizeof shapes / sizeof shapes[0]; k++) {
+        pg_ies_spec s = {
+            PG_LAMBERT,  0,           "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, shapes[k].w,
+            shapes[k].l, shapes[k].h, shapes[k].units};
+        lumis_photometric_file *f = read_ies(&s);
+        const lumis_photometric_info in = info_of(f);
+        assert_int_equal(in.shape, shapes[k].shape);
+        assert_true(fabs(in.width - shapes[k].size) < 1e-12);
+        lumis_photometric_file_destroy(f);
+    }
+}
+
+/* EULUMDAT: each symmetry indicator, several lamp sets (the first scales the intensities),
+ * decimal commas; the same intensities as the full table. */
+static void ldt_symmetries_and_lamp_sets(void **state)
+{
+    (void)state;
+    lumis_photometric_file *f[5];
+    for (int isym = 0; isym <= 4; isym++) {
+        size_t n = 0;
+        const pg_dist d = isym == 1 ? PG_SPOT : PG_QUAD;
+        char *text = pg_ldt(d, isym == 1 ? 6 : 0.9, isym, 24, 37, isym == 2 ? 3 : 1, &n);
+        tu_sink sink;
+        tu_sink_init(&sink);
+        f[isym] = read_text(text, n, &sink);
+        free(text);
+        assert_int_equal(f[isym]->format, LUMIS_PHOTOMETRIC_LDT);
+        assert_int_equal(f[isym]->lamp_sets, isym == 2 ? 3 : 1);
+        const lumis_photometric_info in = info_of(f[isym]);
+        assert_true(fabs(in.lamp_lumens - 1000) < 1e-9);
+        assert_true(fabs(in.luminaire_lumens - 800) < 1e-9); /* LORL 80 % */
+        assert_int_equal(in.shape, LUMIS_SHAPE_DISK);
+        assert_true(fabs(in.width - 0.5) < 1e-12);
+        const double want = isym == 1 ? pg_flux(PG_SPOT, 6) : pg_flux(PG_QUAD, 0.9);
+        if (fabs(in.flux / want - 1) > 0.02)
+            fail_msg("Isym %d: flux %g, want %g", isym, in.flux, want);
+    }
+    for (unsigned q = 0; q < 1000; q++) {
+        const lumis_vec3 d = direction(q);
+        const double a = lumis_photometric_intensity(f[0]->model, d);
+        for (int isym = 2; isym <= 4; isym++) {
+            const double b = lumis_photometric_intensity(f[isym]->model, d);
+            if (fabs(a - b) > 1e-9 * fmax(1, a))
+                fail_msg("Isym %d: %.12g against %.12g", isym, b, a);
+        }
+    }
+    for (int k = 0; k < 5; k++) lumis_photometric_file_destroy(f[k]);
+    /* a decimal comma */
+    size_t n = 0;
+    char *text = pg_ldt(PG_LAMBERT, 0, 1, 24, 19, 1, &n);
+    char *lor = strstr(text, "\n80\n");
+    assert_non_null(lor);
+    char *fixed = malloc(n + 4);
+    memcpy(fixed, text, (size_t)(lor - text));
+    memcpy(fixed + (lor - text), "\n80,0\n", 6);
+    memcpy(fixed + (lor - text) + 6, lor + 4, n - (size_t)(lor - text) - 4);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *g = read_text(fixed, n + 2, &sink);
+    assert_true(fabs(info_of(g).luminaire_lumens - 800) < 1e-9);
+    lumis_photometric_file_destroy(g);
+    free(fixed);
+    free(text);
+}
+
+/* Beam (50 %) and field (10 %) angles of cos^n: 2 acos(share^(1/n)). */
+static void beam_and_field_angles(void **state)
+{
+    (void)state;
+    const double ns[] = {1, 4, 20, 80};
+    for (int k = 0; k < 4; k++) {
+        pg_ies_spec s = {PG_SPOT, ns[k], "IESNA:LM-63-2002", 1, 721, 0, 180, 1, 0, 0, 0, 0, 0, 0,
+                         0,       2};
+        lumis_photometric_file *f = read_ies(&s);
+        const lumis_photometric_info in = info_of(f);
+        const double beam = 2 * acos(pow(0.5, 1 / ns[k])) * 180 / PI,
+                     field = 2 * acos(pow(0.1, 1 / ns[k])) * 180 / PI;
+        for (int p = 0; p < 2; p++) {
+            if (fabs(in.beam_deg[p] - beam) > 0.1 || fabs(in.field_deg[p] - field) > 0.1)
+                fail_msg("n %g plane %d: beam %g (want %g), field %g (want %g)", ns[k], p,
+                         in.beam_deg[p], beam, in.field_deg[p], field);
+        }
+        assert_true(in.max_candela == 1000 && in.max_v == 0);
+        lumis_photometric_file_destroy(f);
+    }
+    /* a batwing peaks off the axis: its beam spans both peaks */
+    pg_ies_spec s = {PG_BATWING, 3, "IESNA:LM-63-2002", 1, 181, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *f = read_ies(&s);
+    const lumis_photometric_info in = info_of(f);
+    assert_true(in.max_v > 30 && in.max_v < 60);
+    assert_true(in.beam_deg[0] > 60 && in.beam_deg[0] < 180);
+    lumis_photometric_file_destroy(f);
+}
+
+typedef struct bad_case {
+    const char *from, *to; /* replace the first `from` of a good file by `to` */
+    lumis_status status;
+    const char *message;
+} bad_case;
+
+/* A good IES file with one change. */
+static char *edited(const char *good, const char *from, const char *to, size_t *n)
+{
+    const char *at = strstr(good, from);
+    if (!at) fail_msg("'%s' is not in the file", from);
+    const size_t a = (size_t)(at - good), lf = strlen(from), lt = strlen(to);
+    *n = strlen(good) - lf + lt;
+    char *s = malloc(*n + 1);
+    memcpy(s, good, a);
+    memcpy(s + a, to, lt);
+    memcpy(s + a + lt, at + lf, strlen(good) - a - lf + 1);
+    return s;
+}
+
+static void malformed_files_name_line_and_field(void **state)
+{
+    (void)state;
+    static const char good[] = "IESNA:LM-63-2002\n"       /* 1 */
+                               "[MANUFAC] x\n"            /* 2 */
+                               "TILT=NONE\n"              /* 3 */
+                               "1 1000 1 3 2 1 2 0 0 0\n" /* 4 */
+                               "1 1 10\n"                 /* 5 */
+                               "0 45 90\n"                /* 6 */
+                               "0 90\n"                   /* 7 */
+                               "100 80 10\n"              /* 8 */
+                               "100 60 5\n";              /* 9 */
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = read_text(good, strlen(good), &sink);
+    assert_int_equal(info_of(f).symmetry, LUMIS_SYMMETRY_QUADRANT);
+    lumis_photometric_file_destroy(f);
+    const bad_case bad[] = {
+        {"0 45 90\n", "0 60 45\n", LUMIS_ERR_CORRUPT, "t.ies:6: the vertical angles: 45 after 60"},
+        {"0 90\n", "0 -90\n", LUMIS_ERR_CORRUPT, "t.ies:7: the horizontal angles: -90 after 0"},
+        {"100 60 5\n", "100 60\n", LUMIS_ERR_TRUNCATED,
+         "the file ends before candela value 6 of 2 x 3"},
+        {"100 60 5\n", "100 60 5 7\n", LUMIS_ERR_CORRUPT, "t.ies:9: more values after the 2 x 3"},
+        {"100 80 10\n", "100 -80 10\n", LUMIS_ERR_CORRUPT,
+         "t.ies:8: candela value 2 of 2 x 3 is -80"},
+        {"1 1000 1 3 2", "1 1000 1 3.5 2", LUMIS_ERR_BAD_DIMENSIONS,
+         "t.ies:4: the number of vertical angles: 3.5"},
+        {"1 1000 1 3 2 1 2", "1 1000 1 3 2 4 2", LUMIS_ERR_BAD_DIMENSIONS,
+         "the photometric type (1 C, 2 B, 3 A): 4"},
+        {"1 1000 1 3 2 1 2", "1 1000 1 3 2 1 3", LUMIS_ERR_BAD_DIMENSIONS, "the units type"},
+        {"1 1000 1", "1 lots 1", LUMIS_ERR_CORRUPT,
+         "t.ies:4: the lumens per lamp: 'lots' is not a number"},
+        {"TILT=NONE", "TILT=lamp.tlt", LUMIS_ERR_UNSUPPORTED, "t.ies:3: TILT=lamp.tlt"},
+        {"TILT=NONE", "TILT=INCLUDE\n1\n2\n0 90\n1 -1", LUMIS_ERR_CORRUPT,
+         "TILT's multiplying factor 2 is -1"},
+        {"TILT=NONE\n", "", LUMIS_ERR_BAD_HEADER, "no TILT= line"},
+        {"0 90\n", "0 45\n", LUMIS_ERR_CORRUPT, "horizontal angles from 0 to 45"},
+        {"0 45 90\n", "0 45 190\n", LUMIS_ERR_CORRUPT, "vertical angles from 0 to 190"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        size_t n = 0;
+        char *text = edited(good, bad[k].from, bad[k].to, &n);
+        tu_sink_init(&sink);
+        lumis_photometric_file *g = NULL;
+        const lumis_status st = lumis_photometric_read_memory(text, n, "t.ies", &sink.sink, &g);
+        if (st != bad[k].status || !strstr(sink.last, bad[k].message))
+            fail_msg("case %zu: %s \"%s\", want %s \"%s\"", k, lumis_status_name(st), sink.last,
+                     lumis_status_name(bad[k].status), bad[k].message);
+        assert_null(g);
+        free(text);
+    }
+    /* not photometric at all */
+    const char *others[] = {"\x89PNG\r\n\x1a\n....", "hello\nworld\n",
+                            "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n"};
+    for (int k = 0; k < 3; k++) {
+        tu_sink_init(&sink);
+        lumis_photometric_file *g = NULL;
+        assert_int_equal(
+            lumis_photometric_read_memory(others[k], strlen(others[k]), "x", &sink.sink, &g),
+            LUMIS_ERR_UNKNOWN_FORMAT);
+        assert_non_null(strstr(sink.last, "not a photometric file"));
+    }
+    tu_sink_init(&sink);
+    lumis_photometric_file *g = NULL;
+    assert_int_equal(lumis_photometric_read_memory("", 0, "x", &sink.sink, &g),
+                     LUMIS_ERR_EMPTY_FILE);
+    assert_int_equal(lumis_photometric_read(tu_path("none.ies"), &sink.sink, &g), LUMIS_ERR_OPEN);
+    /* EULUMDAT: a short file, a bad symmetry, counts that disagree */
+    size_t n = 0;
+    char *ldt = pg_ldt(PG_LAMBERT, 0, 1, 24, 19, 1, &n);
+    const bad_case lbad[] = {
+        {"lumis tests\n1\n1\n", "lumis tests\n1\n7\n", LUMIS_ERR_UNKNOWN_FORMAT,
+         "not a photometric file"},
+        {"\n24\n15\n19\n", "\n24\n15\n1\n", LUMIS_ERR_BAD_DIMENSIONS,
+         "t.ies:6: the intensities per C-plane Ng: 1"},
+        {"\n100\n80\n1\n", "\n100\n80\nx\n", LUMIS_ERR_CORRUPT, "t.ies:24: the conversion factor"},
+        {"\n3000\n", "\n3000\n", LUMIS_OK, ""},
+    };
+    for (size_t k = 0; k < sizeof lbad / sizeof lbad[0]; k++) {
+        size_t m = 0;
+        char *text = edited(ldt, lbad[k].from, lbad[k].to, &m);
+        tu_sink_init(&sink);
+        lumis_photometric_file *h = NULL;
+        const lumis_status st = lumis_photometric_read_memory(text, m, "t.ies", &sink.sink, &h);
+        if (st != lbad[k].status || !strstr(sink.last, lbad[k].message))
+            fail_msg("ldt case %zu: %s \"%s\", want %s \"%s\"", k, lumis_status_name(st), sink.last,
+                     lumis_status_name(lbad[k].status), lbad[k].message);
+        lumis_photometric_file_destroy(h);
+        free(text);
+    }
+    /* the last intensity missing; one too many */
+    tu_sink_init(&sink);
+    lumis_photometric_file *h = NULL;
+    assert_int_equal(lumis_photometric_read_memory(ldt, n - 2, "t.ldt", &sink.sink, &h),
+                     LUMIS_ERR_TRUNCATED);
+    assert_non_null(strstr(sink.last, "the file ends before intensity 19 of 1 x 19"));
+    char *more = malloc(n + 3);
+    memcpy(more, ldt, n);
+    memcpy(more + n, "7\n", 3);
+    assert_int_equal(lumis_photometric_read_memory(more, n + 2, "t.ldt", &sink.sink, &h),
+                     LUMIS_ERR_CORRUPT);
+    assert_non_null(strstr(sink.last, "more values after the 1 x 19 intensities"));
+    free(more);
+    free(ldt);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(flux_matches_analytic_distributions),
+        cmocka_unit_test(flux_is_the_interpolants_integral),
+        cmocka_unit_test(symmetry_forms_agree),
+        cmocka_unit_test(angles_and_directions),
+        cmocka_unit_test(ies_versions_keywords_tilt_and_shapes),
+        cmocka_unit_test(ldt_symmetries_and_lamp_sets),
+        cmocka_unit_test(beam_and_field_angles),
+        cmocka_unit_test(malformed_files_name_line_and_field),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
