@@ -10,7 +10,7 @@ COVERAGE_MIN_BRANCH ?= 85
 # must not break their build.  `make WERROR=ON` turns it on anywhere.
 WERROR       ?= $(if $(CI),ON,OFF)
 BUILD_TYPE   ?= RelWithDebInfo
-FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire
+FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire fuzz_ies fuzz_ldt
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 

@@ -2,9 +2,12 @@
  * all made from a small procedural sky (16 x 8): EXR in several compressions, half and
  * float, scanline and tiled; Radiance HDR; PFM in both byte orders; PNG; DIR/scene, JSON
  * scene files; and DIR/luminaire, luminaire manifests (one written by lumis_luminaire_write
- * into DIR/luminaire-files/, outside the corpus, which libFuzzer reads recursively). */
+ * into DIR/luminaire-files/, outside the corpus, which libFuzzer reads recursively); DIR/ies
+ * and DIR/ldt, photometric files of analytic distributions (tests/photometric_gen.c) in
+ * every header year, type and symmetry form. */
 #include "lumis/io.h"
 #include "lumis/lumis.h"
+#include "photometric_gen.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -103,6 +106,63 @@ static int write_luminaire_seeds(const char *dir)
     return failed | (n == 0) | write_text(path, text, n);
 }
 
+/* Photometric seeds: IES in every header year, types C, B and A, each horizontal form,
+ * TILT=INCLUDE, every shape; EULUMDAT with every symmetry indicator. */
+static int write_photometric_seeds(const char *dir)
+{
+    static const char *const firsts[] = {NULL, "IESNA91", "IESNA:LM-63-1995", "IESNA:LM-63-2002",
+                                         "IES:LM-63-2019"};
+    static const double forms[][3] = {
+        {0, 0, 1}, {0, 90, 4}, {0, 180, 5}, {90, 270, 5}, {0, 360, 9}};
+    int failed = 0, k = 0;
+    char path[4200];
+    for (int y = 0; y < 5; y++)
+        for (int h = 0; h < 5; h++) {
+            pg_ies_spec s = {PG_QUAD,
+                             0.5,
+                             firsts[y],
+                             1,
+                             7,
+                             0,
+                             90,
+                             (int)forms[h][2],
+                             forms[h][0],
+                             forms[h][1],
+                             1,
+                             (y + h) % 3 == 0,
+                             h == 1 ? -0.3 : 0.5,
+                             h == 1 ? -0.3 : 0.6,
+                             0,
+                             1 + y % 2};
+            size_t n = 0;
+            char *text = pg_ies(&s, &n);
+            snprintf(path, sizeof path, "%s/ies/seed%d.ies", dir, k++);
+            failed |= !text || write_text(path, text, n);
+            free(text);
+        }
+    for (int type = 2; type <= 3; type++) {
+        pg_ies_spec s = {PG_AIMED, 0, "IESNA:LM-63-2002",
+                         type,     7, type == 2 ? -90 : 0,
+                         90,       7, -90,
+                         90,       1, 0,
+                         0,        0, 0,
+                         2};
+        size_t n = 0;
+        char *text = pg_ies(&s, &n);
+        snprintf(path, sizeof path, "%s/ies/seed%d.ies", dir, k++);
+        failed |= !text || write_text(path, text, n);
+        free(text);
+    }
+    for (int isym = 0; isym <= 4; isym++) {
+        size_t n = 0;
+        char *text = pg_ldt(PG_QUAD, 0.5, isym, 8, 7, 1 + isym % 2, &n);
+        snprintf(path, sizeof path, "%s/ldt/seed%d.ldt", dir, isym);
+        failed |= !text || write_text(path, text, n);
+        free(text);
+    }
+    return failed;
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2) {
@@ -111,7 +171,7 @@ int main(int argc, char **argv)
     }
     const char *dir = argv[1];
     static const char *const subs[] = {
-        "exr", "hdr", "pfm", "png", "scene", "luminaire", "luminaire-files"};
+        "exr", "hdr", "pfm", "png", "scene", "luminaire", "luminaire-files", "ies", "ldt"};
     char path[4096];
     if (make_dir(dir)) return 1;
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++) {
@@ -197,9 +257,11 @@ int main(int argc, char **argv)
     }
 
     failed |= write_luminaire_seeds(dir);
+    failed |= write_photometric_seeds(dir);
 
     lumis_image_destroy(sky);
     if (!failed)
-        printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,png,scene,luminaire}\n", dir);
+        printf("fuzz_make_corpus: seeds written to %s/{exr,hdr,pfm,png,scene,luminaire,ies,ldt}\n",
+               dir);
     return failed ? 1 : 0;
 }

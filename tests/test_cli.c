@@ -1,5 +1,6 @@
 /* The lumis executable: exit codes (0 ok, 1 runtime, 2 usage), messages that name the
  * file and the reason, and the documented output of each subcommand. */
+#include "photometric_gen.h"
 #include "testutil.h"
 
 #include <cJSON.h>
@@ -2407,6 +2408,71 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     expect(a, 1, "tasks 0 to 3");
 }
 
+/* lumis info on photometric files: the fixture, the flux against the file's lumens, the
+ * beam angles, JSON, the polar plot; errors name the line; outputs never replace inputs. */
+static void info_reads_photometric_files(void **state)
+{
+    (void)state;
+    pg_ies_spec s = {PG_SPOT, 10, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.1, -0.1,
+                     0,       2};
+    size_t n = 0;
+    char *text = pg_ies(&s, &n);
+    tu_write_file(tu_path("spot.ies"), text, n);
+    free(text);
+    char a[4096], *out = NULL, *err = NULL;
+    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("spot.ies"), tu_path("spot.svg"));
+    assert_int_equal(run(a, &out, &err), 0);
+    /* 2 pi 1000 / 11 = 571.2 lm analytically; the 1-degree table's interpolant 571.34 */
+    const char *parts[] = {"photometric type C, symmetry rotational",
+                           "fixture: lumis tests",
+                           "flux: 571.3",
+                           "lamp lumens: 1000 lm (the table's is -42.87 %)",
+                           "C0-C180: beam angle (50 %) 42.",
+                           "luminous shape: disk, width 0.1 m",
+                           "downward: 100.0 %"};
+    for (int k = 0; k < 7; k++)
+        if (!strstr(out, parts[k])) fail_msg("info lacks \"%s\":\n%s", parts[k], out);
+    free(out);
+    free(err);
+    size_t svg_n = 0;
+    char *svg = (char *)tu_read_file(tu_path("spot.svg"), &svg_n);
+    assert_non_null(svg);
+    assert_non_null(strstr(svg, "<svg"));
+    assert_non_null(strstr(svg, "C0-C180: beam 42."));
+    assert_int_equal((int)(strstr(svg, "<polyline") != NULL), 1);
+    free(svg);
+    snprintf(a, sizeof a, "info '%s' --json", tu_path("spot.ies"));
+    assert_int_equal(run(a, &out, &err), 0);
+    cJSON *j = cJSON_Parse(out);
+    assert_non_null(j);
+    const cJSON *flux = cJSON_GetObjectItemCaseSensitive(j, "flux");
+    assert_true(cJSON_IsNumber(flux) && fabs(flux->valuedouble - 571.3) < 0.1);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "symmetry")->valuestring, "rotational");
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    /* EULUMDAT: the luminaire flux (lamps x LOR) is the file's own */
+    text = pg_ldt(PG_LAMBERT, 0, 2, 24, 37, 2, &n);
+    tu_write_file(tu_path("down.LDT"), text, n);
+    free(text);
+    snprintf(a, sizeof a, "info '%s'", tu_path("down.LDT"));
+    assert_int_equal(run(a, &out, &err), 0);
+    assert_non_null(strstr(out, "EULUMDAT, photometric type C, symmetry C0-C180"));
+    assert_non_null(strstr(out, "luminaire flux (lamps x LOR): 800 lm"));
+    free(out);
+    free(err);
+    /* errors: the line and the field; the plot never replaces the file */
+    tu_write_file(tu_path("bad.ies"),
+                  "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 0\n0 -5\n", 61);
+    snprintf(a, sizeof a, "info '%s'", tu_path("bad.ies"));
+    expect(a, 1, "bad.ies:5: the vertical angles: -5 after 0");
+    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("spot.ies"), tu_path("spot.ies"));
+    expect(a, 2, NULL);
+    snprintf(a, sizeof a, "info '%s' --svg '%s'", LUMIS_SOURCE_DIR "/tests/data/grey-y.exr",
+             tu_path("x.svg"));
+    expect(a, 2, "--svg: only for a photometric file");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2436,6 +2502,7 @@ int main(void)
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),
+        cmocka_unit_test(info_reads_photometric_files),
         cmocka_unit_test(bench_survives_a_failing_item),
         cmocka_unit_test(bench_convergence_at_equal_time),
         cmocka_unit_test(bench_convergence_at_equal_samples),

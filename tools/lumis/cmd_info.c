@@ -1,4 +1,5 @@
-/* lumis info FILE [--json]: statistics of an environment map. */
+/* lumis info FILE [--json]: statistics of an environment map, or (FILE.ies, FILE.ldt) of a
+ * photometric file, with its polar plot (--svg). */
 #include "common.h"
 
 #include <cJSON.h>
@@ -6,7 +7,8 @@
 #include <string.h>
 
 static const char usage[] =
-    "usage: lumis info MAP [--json]\n\n"
+    "usage: lumis info MAP [--json]\n"
+    "       lumis info FILE.ies|FILE.ldt [--json] [--svg OUT.svg]\n\n"
     "Prints resolution, min/avg/max luminance, dynamic range, the share of power in the\n"
     "brightest 1 % and 0.1 % of pixels, total power and replaced-value counts.\n"
     "MAP is an .exr, .hdr or .pfm file, or sky[:WxH] / studio[:WxH].\n\n"
@@ -19,11 +21,21 @@ static const char usage[] =
     "options:\n"
     "  --json   print one JSON object (keys: file, format, width, height, min_luminance,\n"
     "           avg_luminance, max_luminance, dynamic_range, power, power_rgb, top1_share,\n"
-    "           top01_share, replaced, replaced_nan, replaced_inf, replaced_negative)\n";
+    "           top01_share, replaced, replaced_nan, replaced_inf, replaced_negative)\n\n"
+    "A photometric file (IES LM-63 or EULUMDAT, by its extension; docs/photometric.md):\n"
+    "the fixture, the table, the luminous shape, the flux integrated from the table and the\n"
+    "file's own lumens with their difference, the peak, the beam (50 %%) and field (10 %%)\n"
+    "angles of the two principal planes (C0-C180 and C90-C270), the downward share.\n"
+    "  --svg OUT.svg   a polar plot of the two planes (candela; 0 degrees down)\n"
+    "  --json          one object (keys: file, format, standard, manufacturer, luminaire,\n"
+    "                  catalog, lamp, type, symmetry, vertical_angles, horizontal_angles,\n"
+    "                  shape, size_m, flux, lamp_lumens, luminaire_lumens, flux_difference,\n"
+    "                  max_candela, max_at_deg, beam_deg, field_deg, downward_fraction,\n"
+    "                  tilt_included)\n";
 
 int cmd_info(int argc, char **argv)
 {
-    const char *file = NULL;
+    const char *file = NULL, *svg = NULL, *v;
     int json = 0;
     for (int i = 1; i < argc; i++) {
         if (tool_is_help(argv[i])) {
@@ -31,6 +43,9 @@ int cmd_info(int argc, char **argv)
             return EXIT_OK;
         } else if (strcmp(argv[i], "--json") == 0) {
             json = 1;
+        } else if (tool_option(argc, argv, &i, "--svg", &v)) {
+            if (!v || !*v) return tool_usage_error("info", "--svg needs a file");
+            svg = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return tool_usage_error("info", "unknown option '%s'", argv[i]);
         } else if (!file) {
@@ -40,6 +55,14 @@ int cmd_info(int argc, char **argv)
         }
     }
     if (!file) return tool_usage_error("info", "no map given");
+    if (tool_is_photometric_path(file)) {
+        tool_files files = {0};
+        tool_files_input(&files, "file", file);
+        if (svg) tool_files_output(&files, "--svg", svg, TOOL_OUT_FILE);
+        const int rc = tool_files_check("info", &files);
+        return rc != EXIT_OK ? rc : tool_photometric_info(file, json, svg);
+    }
+    if (svg) return tool_usage_error("info", "--svg: only for a photometric file (.ies, .ldt)");
     lumis_image *image = NULL;
     lumis_read_info info;
     if (tool_load_image(file, &image, &info) != LUMIS_OK) return EXIT_RUNTIME;

@@ -264,6 +264,11 @@ int tool_render(const tool_render_opts *o, tool_render_result *r);
 /* The samples of o's share (--passes I/N): the whole render's total, the share's first
  * sample and count (without --passes: 0 and all of them). */
 void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count);
+/* lumis info of a photometric file (info_photometric.c): printed, or as JSON; with svg, its
+ * polar plot written there.  Exit code. */
+int tool_photometric_info(const char *path, int json, const char *svg);
+/* Whether path names a photometric file by its extension (.ies, .ldt, any case). */
+int tool_is_photometric_path(const char *path);
 /* lumis merge (cmd_merge.c): joins the n shares in[] of one render (each with its sidecar)
  * into out, each share's mean weighted by its samples; side_out: the merged sidecar (NULL:
  * none).  Checks that they are every share of one render, each once.  Prints errors (and,

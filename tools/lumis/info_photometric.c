@@ -1,0 +1,230 @@
+/* lumis info FILE.ies|FILE.ldt [--json] [--svg OUT.svg]: a photometric file's fixture, its
+ * flux from the table against the file's lumens, beam and field angles, and a polar plot of
+ * its two principal planes, as photometric tools draw it. */
+#include "common.h"
+
+#include <cJSON.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* The planes' names for the file's type. */
+static const char *plane_name(lumis_photometric_type t, int k)
+{
+    if (t == LUMIS_PHOTOMETRIC_C) return k == 0 ? "C0-C180" : "C90-C270";
+    return k == 0 ? "V=0 (H)" : "H=0 (V)";
+}
+
+/* A growing text (the SVG). */
+typedef struct svg_text {
+    char *s;
+    size_t n, cap;
+} svg_text;
+
+static void add(svg_text *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void add(svg_text *t, const char *fmt, ...)
+{
+    char tmp[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    const int k = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (k < 0 || !t) return;
+    if (t->n + (size_t)k + 1 > t->cap) {
+        const size_t cap = (t->cap + (size_t)k + 1) * 2;
+        char *g = realloc(t->s, cap);
+        if (!g) return;
+        t->s = g;
+        t->cap = cap;
+    }
+    memcpy(t->s + t->n, tmp, (size_t)k + 1);
+    t->n += (size_t)k;
+}
+
+/* The polar plot: nadir (the aim) down, one curve per principal plane, the radius linear
+ * in candela up to a round value above the peak. */
+static int write_svg(const char *path, const char *title, const lumis_photometric *p,
+                     const lumis_photometric_info *in)
+{
+    const double cx = 260, cy = 250, R = 200;
+    double peak = 0;
+    for (int k = 0; k < 2; k++)
+        for (int s = 0; s <= 3600; s++) {
+            const double i = lumis_photometric_plane_intensity(p, k, -180.0 + s * 0.1);
+            if (i > peak) peak = i;
+        }
+    /* a round scale: 1, 2 or 5 times a power of ten, at or above the peak */
+    double top = 1;
+    if (peak > 0) {
+        const double e = pow(10, floor(log10(peak)));
+        top = peak <= e ? e : peak <= 2 * e ? 2 * e : peak <= 5 * e ? 5 * e : 10 * e;
+    }
+    svg_text t = {0};
+    add(&t, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"520\" height=\"540\" "
+            "viewBox=\"0 0 520 540\" font-family=\"sans-serif\" font-size=\"11\">\n");
+    add(&t, "<rect width=\"520\" height=\"540\" fill=\"white\"/>\n");
+    for (int r = 1; r <= 4; r++) {
+        add(&t, "<circle cx=\"%g\" cy=\"%g\" r=\"%g\" fill=\"none\" stroke=\"#ccc\"/>\n", cx, cy,
+            R * r / 4);
+        add(&t, "<text x=\"%g\" y=\"%g\" fill=\"#666\">%g cd</text>\n", cx + 3, cy - R * r / 4 - 2,
+            top * r / 4);
+    }
+    for (int a = 0; a < 360; a += 30) {
+        const double rad = a * PI / 180, x = cx + R * sin(rad), y = cy + R * cos(rad);
+        add(&t, "<line x1=\"%g\" y1=\"%g\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", cx, cy, x,
+            y);
+        const int shown = a <= 180 ? a : 360 - a;
+        add(&t, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" fill=\"#666\">%d°</text>\n",
+            cx + (R + 14) * sin(rad), cy + (R + 14) * cos(rad) + 4, shown);
+    }
+    static const char *const style[2] = {"stroke=\"#c0392b\" stroke-width=\"2\"",
+                                         "stroke=\"#2471a3\" stroke-width=\"2\" "
+                                         "stroke-dasharray=\"6 4\""};
+    for (int k = 0; k < 2; k++) {
+        add(&t, "<polyline fill=\"none\" %s points=\"", style[k]);
+        for (int s = 0; s <= 720; s++) {
+            const double a = -180.0 + s * 0.5, rad = a * PI / 180;
+            const double r = R * lumis_photometric_plane_intensity(p, k, a) / top;
+            /* t >= 0 (C0, C90; +H, +V) to the right */
+            add(&t, "%.1f,%.1f ", cx + r * sin(rad), cy + r * cos(rad));
+        }
+        add(&t, "\"/>\n");
+    }
+    add(&t, "<text x=\"10\" y=\"18\" font-size=\"13\">%s</text>\n", title);
+    for (int k = 0; k < 2; k++) {
+        add(&t, "<line x1=\"20\" y1=\"%d\" x2=\"50\" y2=\"%d\" %s/>\n", 485 + 18 * k, 485 + 18 * k,
+            style[k]);
+        add(&t, "<text x=\"56\" y=\"%d\">%s: beam %.1f°, field %.1f°</text>\n", 489 + 18 * k,
+            plane_name(in->type, k), in->beam_deg[k], in->field_deg[k]);
+    }
+    add(&t, "<text x=\"300\" y=\"489\">%.0f lm, peak %.0f cd</text>\n", in->flux, in->max_candela);
+    add(&t, "<text x=\"300\" y=\"507\" fill=\"#666\">0° down (the aim)</text>\n</svg>\n");
+    const int rc =
+        t.s && lumis_write_text(path, t.s, t.n, &tool_errors) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
+    free(t.s);
+    return rc;
+}
+
+/* XML's five special characters out of a title. */
+static void xml_escape(char *out, size_t cap, const char *in)
+{
+    size_t n = 0;
+    for (; *in && n + 7 < cap; in++) {
+        const char *e = *in == '&'    ? "&amp;"
+                        : *in == '<'  ? "&lt;"
+                        : *in == '>'  ? "&gt;"
+                        : *in == '"'  ? "&quot;"
+                        : *in == '\'' ? "&#39;"
+                                      : NULL;
+        if (e) {
+            memcpy(out + n, e, strlen(e));
+            n += strlen(e);
+        } else {
+            out[n++] = *in;
+        }
+    }
+    out[n] = '\0';
+}
+
+int tool_photometric_info(const char *path, int json, const char *svg)
+{
+    lumis_photometric_file *f = NULL;
+    if (lumis_photometric_read(path, &tool_errors, &f) != LUMIS_OK) return EXIT_RUNTIME;
+    lumis_photometric_info in;
+    lumis_photometric_get_info(f->model, &in);
+    /* the file's own lumens to compare with: EULUMDAT's luminaire flux (lamps x LOR) when
+     * given, else the lamps' (IES: relative photometry) */
+    const double own = in.luminaire_lumens > 0 ? in.luminaire_lumens : in.lamp_lumens;
+    const char *own_what = in.luminaire_lumens > 0 ? "luminaire flux (lamps x LOR)" : "lamp lumens";
+    const double diff = own > 0 ? in.flux / own - 1 : NAN;
+    int rc = EXIT_OK;
+    if (json) {
+        cJSON *j = cJSON_CreateObject();
+        cJSON_AddStringToObject(j, "file", path);
+        cJSON_AddStringToObject(j, "format", f->format == LUMIS_PHOTOMETRIC_IES ? "ies" : "ldt");
+        cJSON_AddStringToObject(j, "standard", f->standard);
+        cJSON_AddStringToObject(j, "manufacturer", f->manufacturer);
+        cJSON_AddStringToObject(j, "luminaire", f->luminaire);
+        cJSON_AddStringToObject(j, "catalog", f->catalog);
+        cJSON_AddStringToObject(j, "lamp", f->lamp);
+        cJSON_AddStringToObject(j, "type", lumis_photometric_type_name(in.type));
+        cJSON_AddStringToObject(j, "symmetry", lumis_photometric_symmetry_name(in.symmetry));
+        cJSON_AddNumberToObject(j, "vertical_angles", in.nv);
+        cJSON_AddNumberToObject(j, "horizontal_angles", in.nh);
+        cJSON_AddStringToObject(j, "shape", lumis_photometric_shape_name(in.shape));
+        double size[3] = {in.width, in.length, in.height};
+        cJSON_AddItemToObject(j, "size_m", cJSON_CreateDoubleArray(size, 3));
+        cJSON_AddNumberToObject(j, "flux", in.flux);
+        if (in.lamp_lumens > 0)
+            cJSON_AddNumberToObject(j, "lamp_lumens", in.lamp_lumens);
+        else
+            cJSON_AddNullToObject(j, "lamp_lumens");
+        if (in.luminaire_lumens > 0)
+            cJSON_AddNumberToObject(j, "luminaire_lumens", in.luminaire_lumens);
+        else
+            cJSON_AddNullToObject(j, "luminaire_lumens");
+        if (isfinite(diff))
+            cJSON_AddNumberToObject(j, "flux_difference", diff);
+        else
+            cJSON_AddNullToObject(j, "flux_difference");
+        cJSON_AddNumberToObject(j, "max_candela", in.max_candela);
+        double at[2] = {in.max_h, in.max_v};
+        cJSON_AddItemToObject(j, "max_at_deg", cJSON_CreateDoubleArray(at, 2));
+        cJSON_AddItemToObject(j, "beam_deg", cJSON_CreateDoubleArray(in.beam_deg, 2));
+        cJSON_AddItemToObject(j, "field_deg", cJSON_CreateDoubleArray(in.field_deg, 2));
+        cJSON_AddNumberToObject(j, "downward_fraction", in.downward_fraction);
+        cJSON_AddBoolToObject(j, "tilt_included", f->tilt);
+        char *text = cJSON_Print(j);
+        if (text) printf("%s\n", text);
+        free(text);
+        cJSON_Delete(j);
+    } else {
+        printf("%s: %s, photometric type %s, symmetry %s\n", path, f->standard,
+               lumis_photometric_type_name(in.type), lumis_photometric_symmetry_name(in.symmetry));
+        if (f->manufacturer[0] || f->luminaire[0])
+            printf("  fixture: %s%s%s%s%s\n", f->manufacturer, f->luminaire[0] ? ", " : "",
+                   f->luminaire, f->catalog[0] ? ", catalogue " : "", f->catalog);
+        if (f->lamp[0]) printf("  lamp: %s\n", f->lamp);
+        printf("  table: %d vertical angles (%g to %g), %d horizontal (%g to %g)\n", in.nv,
+               in.v_first, in.v_last, in.nh, in.h_first, in.h_last);
+        printf("  luminous shape: %s", lumis_photometric_shape_name(in.shape));
+        if (in.shape != LUMIS_SHAPE_POINT)
+            printf(", width %.4g m, length %.4g m, height %.4g m", in.width, in.length, in.height);
+        printf("\n  flux: %.6g lm from the table", in.flux);
+        if (own > 0)
+            printf("; the file's %s: %.6g lm (the table's is %+.2f %%)", own_what, own, 100 * diff);
+        else
+            printf("; the file gives no lumens (absolute photometry)");
+        printf("\n  peak: %.6g cd at %s %g, %s %g\n", in.max_candela,
+               in.type == LUMIS_PHOTOMETRIC_C ? "C" : "H", in.max_h,
+               in.type == LUMIS_PHOTOMETRIC_C ? "gamma" : "V", in.max_v);
+        for (int k = 0; k < 2; k++)
+            printf("  %s: beam angle (50 %%) %.1f deg, field angle (10 %%) %.1f deg\n",
+                   plane_name(in.type, k), in.beam_deg[k], in.field_deg[k]);
+        printf("  downward: %.1f %% of the flux\n", 100 * in.downward_fraction);
+        if (f->tilt)
+            printf("  tilt: TILT=INCLUDE with %d angles, read but not applied\n", f->ntilt);
+    }
+    if (svg) {
+        char title[1200], esc[2400];
+        snprintf(title, sizeof title, "%s%s%s", f->luminaire[0] ? f->luminaire : path,
+                 f->manufacturer[0] ? " - " : "", f->manufacturer);
+        xml_escape(esc, sizeof esc, title);
+        rc = write_svg(svg, esc, f->model, &in);
+        if (rc == EXIT_OK && !json) printf("  polar plot: %s\n", svg);
+    }
+    lumis_photometric_file_destroy(f);
+    return rc;
+}
+
+int tool_is_photometric_path(const char *path)
+{
+    const char *dot = path ? strrchr(path, '.') : NULL;
+    if (!dot || strchr(dot, '/')) return 0;
+    char ext[8] = {0};
+    for (int k = 0; k < 7 && dot[k + 1]; k++) ext[k] = (char)(dot[k + 1] | 0x20);
+    return strcmp(ext, "ies") == 0 || strcmp(ext, "ldt") == 0;
+}
