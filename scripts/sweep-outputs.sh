@@ -503,6 +503,14 @@ cp "$FIX/suite.json" s.json
 snap; run any "\$L bench s.json --out o --merge o --threads 1"
 end o/results.csv o/results.json o/results.md o/index.html o/convergence-spheres.svg o/convergence-spp.svg o/flip-legend.png
 
+begin "bench --slurm: a job script that links to the suite"
+cp "$FIX/suite.json" s.json; mkdir -p o/slurm; ln -s ../../s.json o/slurm/items.sbatch
+snap; run usage "\$L bench s.json --out o --slurm --no-submit"; end
+
+begin "info: --svg onto the photometric file through d/../"
+printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n100 0\n' >f.ies; mkdir d
+snap; run usage "\$L info f.ies --svg d/../f.ies"; end
+
 begin "sample: stdout appended to the input map (>> m.pfm)"
 cp "$FIX/map.pfm" m.pfm
 snap; run any "\$L sample m.pfm --method inversion -n 2 >> m.pfm"

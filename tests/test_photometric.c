@@ -443,6 +443,9 @@ static void malformed_files_name_line_and_field(void **state)
          "t.ies:6: the intensities per C-plane Ng: 1"},
         {"\n100\n80\n1\n", "\n100\n80\nx\n", LUMIS_ERR_CORRUPT, "t.ies:24: the conversion factor"},
         {"\n3000\n", "\n3000\n", LUMIS_OK, ""},
+        /* found by fuzz_ldt: a count past int's range */
+        {"\n1\n1\nLED 1\n", "\n1\n2e53\nLED 1\n", LUMIS_ERR_BAD_DIMENSIONS,
+         "the number of lamps of set 1: 2e+53"},
     };
     for (size_t k = 0; k < sizeof lbad / sizeof lbad[0]; k++) {
         size_t m = 0;

@@ -421,8 +421,9 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
     /* per set: number of lamps, type, total flux, colour temperature, CRI, watts; the first
      * set is the one the intensities are given for */
     const int base = 26;
-    double lamps = 0, flux = 0, watts = 0;
-    st = ldt_number(t, base, "the number of lamps of set 1", &lamps);
+    double flux = 0, watts = 0;
+    int lamps = 0; /* negative: absolute photometry (LEDs) */
+    st = ldt_count(t, base, "the number of lamps of set 1", -1000000, 1000000, &lamps);
     if (st == LUMIS_OK && base + nsets < t->nlines)
         copy_field(f->lamp, sizeof f->lamp, t->line[base + nsets]);
     if (st == LUMIS_OK)
@@ -434,8 +435,8 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
                          "1000 lm of it, so it must be > 0",
                          t->name, base + 2 * nsets + 1, flux);
     if (st != LUMIS_OK) return st;
-    f->lamps = (int)lamps;
-    f->lumens_per_lamp = lamps != 0 ? flux / fabs(lamps) : flux;
+    f->lamps = lamps;
+    f->lumens_per_lamp = lamps != 0 ? flux / abs(lamps) : flux;
     f->input_watts = watts;
     /* then the numbers: 10 direct ratios, Mc C angles, Ng gamma angles, the intensities */
     cursor c = {t, base + 6 * nsets, NULL};

@@ -215,7 +215,20 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
         left += mine;
     }
 
-    /* the job scripts (the same on every run: the arrays' indices go on sbatch's line) */
+    /* the job scripts (the same on every run: the arrays' indices go on sbatch's line):
+     * outputs, none of which may be (or link to) the suite */
+    static const char *const names[] = {"references.sbatch", "merge-references.sbatch",
+                                        "items.sbatch",      "report.sbatch",
+                                        "resubmit.sh",       "submit.sh",
+                                        "jobs.txt"};
+    char outs[7][9000];
+    tool_files files = {0};
+    tool_files_input(&files, "suite", suite_path);
+    for (int k = 0; k < 7; k++) {
+        snprintf(outs[k], sizeof outs[k], "%s/%s", dir, names[k]);
+        tool_files_output(&files, "--slurm's script", outs[k], TOOL_OUT_FILE);
+    }
+    if (rc == EXIT_OK) rc = tool_files_check("bench", &files);
     text t = {0};
     char path[9000];
     if (rc == EXIT_OK) {
