@@ -97,6 +97,20 @@ void lumis_photometric_angles(lumis_photometric_type type, lumis_vec3 d, double 
  * plane H = 0 (t = V); both pass through the aim, t = 0. */
 double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, double t_deg);
 
+/* Sampling in proportion to intensity: a direction (luminaire frame) from two numbers in
+ * [0, 1), with its pdf per steradian, I(d) / flux up to the 2^-32 quantisation of the
+ * cells' probabilities (the pdf returned is the one realised, exactly).  The table's cells
+ * are chosen by an inversion table in proportion to their exact flux, a symmetry image at
+ * random, then a point inside from the cell's interpolant by inverting its marginal (the
+ * edge times sin or cos, Newton in a bisection's bracket) and its linear conditional
+ * (docs/photometric.md).  A black table: LUMIS_ERR_INVALID_ARGUMENT, pdf 0. */
+lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, double u1,
+                                      lumis_vec3 *d, double *pdf);
+/* The pdf per steradian the sampler draws d with (0 where the table gives no light). */
+double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
+/* The flux (lm): lumis_photometric_info.flux without the rest of the info. */
+double lumis_photometric_flux(const lumis_photometric *p);
+
 typedef struct lumis_photometric_info {
     lumis_photometric_type type;
     lumis_photometric_symmetry symmetry;

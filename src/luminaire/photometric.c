@@ -3,6 +3,7 @@
  * derivations are in docs/photometric.md. */
 #include "lumis/photometry.h"
 
+#include "../core/distrib.h"
 #include "../core/internal.h"
 
 #include <math.h>
@@ -18,6 +19,15 @@ struct lumis_photometric {
     int nv, nh;
     double *v, *h, *cd;          /* cd[i * nv + j]: at h[i], v[j], multiplier applied */
     lumis_photometric_desc desc; /* the sizes and lumens (its arrays are not kept) */
+    /* Sampling: the table's cells c = i (nv - 1) + j, [h_i, h_i+1] x [v_j, v_j+1], with the
+     * wrap cells (i = nh - 1) when a full type C table stops short of 360, or the v
+     * intervals of a rotational table; each chosen in proportion to its flux, then one of
+     * its nrep replicas (the symmetry's images) at random, then a point inside from its
+     * interpolant, exactly. */
+    int ncells, nrep;
+    double *cell_flux; /* [ncells]: the cell's own flux (one replica) */
+    lumis__cdf cdf;
+    double flux; /* all replicas of all cells */
 };
 
 /* ---- names ---------------------------------------------------------------------------- */
@@ -106,6 +116,8 @@ static lumis_status check_angles(const double *a, int n, const char *what,
     }
     return LUMIS_OK;
 }
+
+static lumis_status build_sampling(lumis_photometric *p);
 
 lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
                                       const lumis_error_sink *errors, lumis_photometric **out)
@@ -201,6 +213,11 @@ lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
     p->desc = *d;
     p->desc.v_deg = p->desc.h_deg = p->desc.candela = NULL;
     p->desc.multiplier = mult;
+    st = build_sampling(p);
+    if (st != LUMIS_OK) {
+        lumis_photometric_destroy(p);
+        return lumis__fail(errors, st, "photometric: out of memory");
+    }
     *out = p;
     return LUMIS_OK;
 }
@@ -208,6 +225,8 @@ lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
 void lumis_photometric_destroy(lumis_photometric *p)
 {
     if (!p) return;
+    free(p->cell_flux);
+    lumis__cdf_free(&p->cdf);
     free(p->v);
     free(p->h);
     free(p->cd);
@@ -241,15 +260,23 @@ static double along_v(const lumis_photometric *p, int i, double v)
     return row[j] + (row[j + 1] - row[j]) * t;
 }
 
-double lumis_photometric_intensity_at(const lumis_photometric *p, double h, double v)
+/* Where angles (h, v) fall in the table: its cell (as the sampler numbers them) and the
+ * interpolated intensity there.  Returns 0 (and *cell -1) outside the table's light. */
+static double locate(const lumis_photometric *p, double h, double v, int *cell)
 {
-    if (!p || !isfinite(h) || !isfinite(v)) return 0.0;
+    *cell = -1;
+    if (!isfinite(h) || !isfinite(v)) return 0.0;
+    const int nv = p->nv;
     if (p->type == LUMIS_PHOTOMETRIC_C) {
+        if (v < p->v[0] || v > p->v[nv - 1]) return 0.0;
+        const int j = bracket(p->v, nv, v);
+        if (p->sym == LUMIS_SYMMETRY_ROTATIONAL) {
+            *cell = j;
+            return along_v(p, 0, v);
+        }
         double c = fmod(h, 360.0);
         if (c < 0) c += 360.0;
         switch (p->sym) {
-        case LUMIS_SYMMETRY_ROTATIONAL:
-            return along_v(p, 0, v);
         case LUMIS_SYMMETRY_QUADRANT:
             if (c > 180) c = 360 - c;
             if (c > 90) c = 180 - c;
@@ -270,6 +297,7 @@ double lumis_photometric_intensity_at(const lumis_photometric *p, double h, doub
         if (c > hl) { /* a full table that stops short of 360: wrap to its first plane */
             const double t = (c - hl) / (360.0 - hl + p->h[0]);
             const double a = along_v(p, p->nh - 1, v), b = along_v(p, 0, v);
+            *cell = (p->nh - 1) * (nv - 1) + j;
             return a + (b - a) * t;
         }
         h = c;
@@ -277,12 +305,20 @@ double lumis_photometric_intensity_at(const lumis_photometric *p, double h, doub
         if (fabs(h) > 90 || fabs(v) > 90) return 0.0; /* behind the luminaire */
         if (p->sym == LUMIS_SYMMETRY_LATERAL) h = fabs(h);
         if (p->v_mirror) v = fabs(v);
+        if (v < p->v[0] || v > p->v[nv - 1]) return 0.0;
     }
     if (h < p->h[0] || h > p->h[p->nh - 1]) return 0.0;
-    const int i = bracket(p->h, p->nh, h);
+    const int i = bracket(p->h, p->nh, h), j = bracket(p->v, nv, v);
     const double t = (h - p->h[i]) / (p->h[i + 1] - p->h[i]);
     const double a = along_v(p, i, v), b = along_v(p, i + 1, v);
+    *cell = i * (nv - 1) + j;
     return a + (b - a) * t;
+}
+
+double lumis_photometric_intensity_at(const lumis_photometric *p, double h, double v)
+{
+    int cell;
+    return p ? locate(p, h, v, &cell) : 0.0;
 }
 
 double lumis_photometric_intensity(const lumis_photometric *p, lumis_vec3 d)
@@ -459,4 +495,171 @@ lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photom
         info->field_deg[k] = spread(p, k, 0.1);
     }
     return LUMIS_OK;
+}
+
+/* ---- sampling in proportion to intensity ------------------------------------------------ */
+
+/* Cell c's angles (degrees) and corner values (iHV: at h0 or h1, v0 or v1). */
+static void cell_corners(const lumis_photometric *p, int c, double *h0, double *h1, double *v0,
+                         double *v1, double i[4])
+{
+    const int nv = p->nv;
+    const int ci = p->sym == LUMIS_SYMMETRY_ROTATIONAL ? 0 : c / (nv - 1), j = c % (nv - 1);
+    *v0 = p->v[j];
+    *v1 = p->v[j + 1];
+    const double *a, *b;
+    if (p->sym == LUMIS_SYMMETRY_ROTATIONAL) {
+        *h0 = 0;
+        *h1 = 360;
+        a = b = p->cd;
+    } else if (ci == p->nh - 1) { /* the wrap cell */
+        *h0 = p->h[p->nh - 1];
+        *h1 = 360.0 + p->h[0];
+        a = p->cd + (size_t)ci * (size_t)nv;
+        b = p->cd;
+    } else {
+        *h0 = p->h[ci];
+        *h1 = p->h[ci + 1];
+        a = p->cd + (size_t)ci * (size_t)nv;
+        b = a + nv;
+    }
+    i[0] = a[j];     /* h0 v0 */
+    i[1] = a[j + 1]; /* h0 v1 */
+    i[2] = b[j];     /* h1 v0 */
+    i[3] = b[j + 1]; /* h1 v1 */
+}
+
+static lumis_status build_sampling(lumis_photometric *p)
+{
+    const int nv = p->nv;
+    const int wrap =
+        p->type == LUMIS_PHOTOMETRIC_C && p->sym == LUMIS_SYMMETRY_NONE && p->h[p->nh - 1] < 360.0;
+    p->ncells = p->sym == LUMIS_SYMMETRY_ROTATIONAL ? nv - 1 : (p->nh - 1 + wrap) * (nv - 1);
+    p->nrep = p->sym == LUMIS_SYMMETRY_QUADRANT ? 4
+              : p->sym == LUMIS_SYMMETRY_C0_C180 || p->sym == LUMIS_SYMMETRY_C90_C270 ||
+                      p->sym == LUMIS_SYMMETRY_LATERAL
+                  ? 2
+                  : 1;
+    if (p->v_mirror) p->nrep *= 2;
+    p->cell_flux = malloc(sizeof(double) * (size_t)(p->ncells > 0 ? p->ncells : 1));
+    if (!p->cell_flux) return LUMIS_ERR_OUT_OF_MEMORY;
+    p->flux = 0.0;
+    for (int c = 0; c < p->ncells; c++) {
+        double h0, h1, v0, v1, i[4];
+        cell_corners(p, c, &h0, &h1, &v0, &v1, i);
+        p->cell_flux[c] = cell(p, h0, h1, v0, v1, i[0], i[1], i[2], i[3], 1e9);
+        if (!(p->cell_flux[c] > 0)) p->cell_flux[c] = 0.0; /* rounding below zero */
+        p->flux += p->cell_flux[c] * p->nrep;
+    }
+    if (!(p->flux > 0)) return LUMIS_OK; /* a black table: nothing to sample */
+    return lumis__cdf_build(&p->cdf, p->cell_flux, (uint32_t)p->ncells, 1);
+}
+
+/* The x in [x0, x1] (radians) where the integral from x0 of (A + B (x - x0)) w(x), w = sin
+ * (use_sin) or cos, reaches the share u of its whole: Newton's steps kept inside a
+ * bisection's bracket. */
+static double invert_edge(int use_sin, double x0, double x1, double A, double B, double u)
+{
+    const double w = x1 - x0;
+    /* G(x) over [x0, x] */
+#define G(x)                                                                                       \
+    (use_sin ? A * (cos(x0) - cos(x)) + B * (sin(x) - sin(x0) - ((x)-x0) * cos(x))                 \
+             : A * (sin(x) - sin(x0)) + B * (((x)-x0) * sin(x) + cos(x) - cos(x0)))
+    const double target = u * G(x1);
+    double lo = x0, hi = x1, x = x0 + u * w;
+    for (int it = 0; it < 60; it++) {
+        const double g = G(x) - target;
+        if (g > 0)
+            hi = x;
+        else
+            lo = x;
+        const double dens = (A + B * (x - x0)) * (use_sin ? sin(x) : cos(x));
+        double next = dens > 0 ? x - g / dens : 0.5 * (lo + hi);
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (fabs(next - x) < 1e-13 * (1 + fabs(x))) return next;
+        x = next;
+    }
+#undef G
+    return x;
+}
+
+/* The s in [0, 1) with density proportional to a + (b - a) s at the share u. */
+static double invert_linear(double a, double b, double u)
+{
+    const double d = b - a;
+    if (fabs(d) <= 1e-9 * fabs(a + b)) return u;
+    const double s = (-a + sqrt(fmax(0.0, a * a + u * (b * b - a * a)))) / d;
+    return s < 0 ? 0 : s > 1 ? 1 : s;
+}
+
+double lumis_photometric_flux(const lumis_photometric *p)
+{
+    return p ? p->flux : 0.0;
+}
+
+double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d)
+{
+    if (!p || !(p->flux > 0)) return 0.0;
+    double h, v;
+    lumis_photometric_angles(p->type, d, &h, &v);
+    int c;
+    const double I = locate(p, h, v, &c);
+    if (c < 0 || !(p->cell_flux[c] > 0)) return 0.0;
+    return lumis__cdf_prob(&p->cdf, (uint32_t)c) / p->nrep * I / p->cell_flux[c];
+}
+
+lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, double u1,
+                                      lumis_vec3 *dir, double *pdf)
+{
+    if (!p || !dir || !pdf) return LUMIS_ERR_INVALID_ARGUMENT;
+    *pdf = 0.0;
+    if (!(p->flux > 0)) return LUMIS_ERR_INVALID_ARGUMENT; /* a black table */
+    double frac = 0.0;
+    const int c = (int)lumis__cdf_sample(&p->cdf, u0, &frac);
+    int r = (int)(frac * p->nrep);
+    if (r >= p->nrep) r = p->nrep - 1;
+    frac = frac * p->nrep - r; /* the rest of u0, for the cell's first coordinate */
+    double h0, h1, v0, v1, i[4];
+    cell_corners(p, c, &h0, &h1, &v0, &v1, i);
+    const double H0 = h0 * DEG, H1 = h1 * DEG, V0 = v0 * DEG, V1 = v1 * DEG;
+    double h, v;
+    if (p->type == LUMIS_PHOTOMETRIC_B) { /* the weight cos H: H first, then V given H */
+        const double A = 0.5 * (i[0] + i[1]), B = (0.5 * (i[2] + i[3]) - A) / (H1 - H0);
+        const double x = invert_edge(0, H0, H1, A, B, frac), t = (x - H0) / (H1 - H0);
+        const double a = i[0] + (i[2] - i[0]) * t, b = i[1] + (i[3] - i[1]) * t;
+        h = x / DEG;
+        v = v0 + (v1 - v0) * invert_linear(a, b, u1);
+    } else { /* C (sin) and A (cos): the weight is on the vertical angle */
+        const double A = 0.5 * (i[0] + i[2]), B = (0.5 * (i[1] + i[3]) - A) / (V1 - V0);
+        const double x = invert_edge(p->type == LUMIS_PHOTOMETRIC_C, V0, V1, A, B, frac);
+        const double t = (x - V0) / (V1 - V0);
+        const double a = i[0] + (i[1] - i[0]) * t, b = i[2] + (i[3] - i[2]) * t;
+        v = x / DEG;
+        h = h0 + (h1 - h0) * invert_linear(a, b, u1);
+    }
+    /* the replica: the symmetry's image r of the table's cell */
+    if (p->type == LUMIS_PHOTOMETRIC_C) {
+        switch (p->sym) {
+        case LUMIS_SYMMETRY_QUADRANT:
+            h = r == 1 ? 180 - h : r == 2 ? 180 + h : r == 3 ? 360 - h : h;
+            break;
+        case LUMIS_SYMMETRY_C0_C180:
+            h = r ? 360 - h : h;
+            break;
+        case LUMIS_SYMMETRY_C90_C270:
+            h = r ? 180 - h : h;
+            break;
+        default:
+            break;
+        }
+    } else {
+        int bit = 0;
+        if (p->sym == LUMIS_SYMMETRY_LATERAL && ((r >> bit++) & 1)) h = -h;
+        if (p->v_mirror && ((r >> bit) & 1)) v = -v;
+    }
+    *dir = lumis_photometric_direction(p->type, h, v);
+    int cc;
+    const double I = locate(p, h, v, &cc);
+    *pdf = lumis__cdf_prob(&p->cdf, (uint32_t)c) / p->nrep * I / p->cell_flux[c];
+    return *pdf > 0 ? LUMIS_OK : LUMIS_ERR_INVALID_ARGUMENT;
 }
