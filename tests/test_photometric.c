@@ -383,6 +383,30 @@ static void malformed_files_name_line_and_field(void **state)
     lumis_photometric_file *f = read_text(good, strlen(good), &sink);
     assert_int_equal(info_of(f).symmetry, LUMIS_SYMMETRY_QUADRANT);
     lumis_photometric_file_destroy(f);
+    /* the ballast factor scales the candela; the ballast-lamp factor too before 2002, and
+     * not from 2002 on (a reserved field, then the file generation type) */
+    const struct {
+        const char *first, *line5;
+        double peak;
+    } factors[] = {{"IESNA:LM-63-2002", "0.5 1 10\n", 50},
+                   {"IESNA:LM-63-2002", "1 0.8 10\n", 100},
+                   {"IES:LM-63-2019", "1 1.00001 10\n", 100},
+                   {"IESNA:LM-63-1995", "1 0.8 10\n", 80},
+                   {"IESNA:LM-63-1995", "0.5 0.8 10\n", 40}};
+    for (size_t k = 0; k < sizeof factors / sizeof factors[0]; k++) {
+        size_t n1 = 0, n2 = 0;
+        char *a = edited(good, "IESNA:LM-63-2002", factors[k].first, &n1);
+        char *b = edited(a, "1 1 10\n", factors[k].line5, &n2);
+        tu_sink_init(&sink);
+        lumis_photometric_file *g = read_text(b, n2, &sink);
+        const double peak = info_of(g).max_candela;
+        if (fabs(peak - factors[k].peak) > 1e-9)
+            fail_msg("%s with \"%s\": peak %g, want %g", factors[k].first, factors[k].line5, peak,
+                     factors[k].peak);
+        lumis_photometric_file_destroy(g);
+        free(a);
+        free(b);
+    }
     const bad_case bad[] = {
         {"0 45 90\n", "0 60 45\n", LUMIS_ERR_CORRUPT, "t.ies:6: the vertical angles: 45 after 60"},
         {"0 90\n", "0 -90\n", LUMIS_ERR_CORRUPT, "t.ies:7: the horizontal angles: -90 after 0"},

@@ -16,6 +16,7 @@
 #include "lumis/io.h"
 #include "lumis/lights.h"
 #include "lumis/luminaire.h"
+#include "lumis/photometry.h"
 #include "lumis/rng.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
@@ -131,6 +132,34 @@ typedef struct lumis_luminaire_lighting {
                                           the render's is 0 (the former luminaire option) */
 } lumis_luminaire_lighting;
 
+/* ---- photometric fixtures in a scene (IES, EULUMDAT; lumis/photometry.h) --------------- */
+
+/* A fixture's far-field table placed in a scene: world = R local + t, its aim (local -z)
+ * R (0, 0, -1).  As a point at t; or, with `area` and a disk or rectangle luminous shape,
+ * as that flat opening (centred at t, facing the aim) whose every point emits the table's
+ * distribution: radiance I(d) / (A cos) towards d, zero behind the opening.  White light:
+ * the render's three channels are candela times the multiplier. */
+typedef struct lumis_photometric_instance {
+    const lumis_photometric *photometric;
+    lumis_rigid placement; /* R a proper rotation; all zeros == identity */
+    double multiplier;     /* >= 0; 0 == 1 */
+    int area;              /* nonzero: the luminous shape (disk, rectangle), else a point */
+} lumis_photometric_instance;
+
+/* Photometric fixtures as the renderer's lights: at every vertex each is sampled
+ * light_samples times (a point: its one direction; an opening: points on it by area, with
+ * the BSDF's samples and MIS as `estimator` says), one shadow ray each.  The instances and
+ * their models must outlive the render. */
+typedef struct lumis_photometric_lighting {
+    const lumis_photometric_instance *instances;
+    int count;
+} lumis_photometric_lighting;
+
+/* The rotation that aims local -z along `aim` (a direction), with local +x (C0) turned
+ * `roll_deg` about the aim from the world axis closest to perpendicular to it among +x and
+ * +z.  LUMIS_ERR_INVALID_ARGUMENT for a zero or non-finite aim. */
+lumis_status lumis_photometric_aim(lumis_vec3 aim, double roll_deg, double R[9]);
+
 typedef struct lumis_render_desc {
     const lumis_camera *camera;
     const lumis_envmap *env;      /* seen by camera rays that escape, and sampled below (may be
@@ -160,6 +189,11 @@ typedef struct lumis_render_desc {
      *   unused (a light set and luminaires together are refused), and path tracing is refused.
      *   NULL or count 0: not this kind. */
     const lumis_luminaire_lighting *luminaires;
+    /* - photometric fixtures: lit as lumis_photometric_lighting says (checked after the
+     *   luminaires, before a light set); `env` may be NULL (escaping rays see black);
+     *   `sampler` and `light_set` are unused; path tracing allowed (each vertex gets the
+     *   fixtures' direct light).  NULL or count 0: not this kind. */
+    const lumis_photometric_lighting *photometric;
     int hide_environment; /* nonzero: camera rays that escape see black (a layer that is
                              added to another which shows the map) */
     int pixel_centers;    /* nonzero: every camera ray through its pixel's centre (a layer
@@ -358,6 +392,10 @@ typedef struct lumis_scene_file {
     /* Luminaires the file lists, those of intensity 0 (left out of `luminaires`) included:
      * a scene that lists some is lit by its luminaires, even when all of them are black. */
     int luminaires_listed;
+    /* Placed photometric fixtures ("photometric": [...]; the file owns their models).  A
+     * scene with fixtures (and no luminaires) is lit by them (lumis_photometric_lighting). */
+    lumis_photometric_instance *photometrics;
+    int photometric_count;
 } lumis_scene_file;
 
 typedef struct lumis_scene_read_options {
@@ -406,6 +444,8 @@ const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
 /* The luminaire files a scene file read (resolved paths, or "preset:NAME"), index 0 up; NULL
  * past the last. */
 const char *lumis_scene_file_luminaire_path(const lumis_scene_file *file, int index);
+/* The photometric file of fixture `index` (resolved against the scene's folder), or NULL. */
+const char *lumis_scene_file_photometric_path(const lumis_scene_file *file, int index);
 /* The built-in names, NULL-terminated. */
 const char *const *lumis_scene_builtin_names(void);
 /* 1 when the built-in scene `name` is lit by luminaires (headlight, headlight-close), so a

@@ -98,7 +98,8 @@ static lumis_status read_number(cursor *c, const char *field, double *v, int *at
     errno = 0;
     const double x = strtod(s, &end);
     const size_t len = strcspn(s, " \t\v\f,");
-    if (end == s || (size_t)(end - s) != len || errno == ERANGE || !isfinite(x))
+    /* an underflow (a denormal, or below it) is a number: tiny, or 0 */
+    if (end == s || (size_t)(end - s) != len || (errno == ERANGE && fabs(x) >= 1.0) || !isfinite(x))
         return lumis__fail(c->t->errors, LUMIS_ERR_CORRUPT, "%s:%d: %s: '%.*s' is not a number",
                            c->t->name, c->line + 1, field, (int)(len < 40 ? len : 40), s);
     if (at) *at = c->line + 1;

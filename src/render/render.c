@@ -39,8 +39,8 @@ struct lumis_render_job {
 
 /* The light kinds, the first whose lights() says so lighting a render (the environment map
  * last: it takes every render the others do not). */
-static const lumis__light_kind *const kinds[] = {&lumis__light_luminaires, &lumis__light_set_kind,
-                                                 &lumis__light_env};
+static const lumis__light_kind *const kinds[] = {
+    &lumis__light_luminaires, &lumis__light_photometric, &lumis__light_set_kind, &lumis__light_env};
 
 void lumis_render_job_destroy(lumis_render_job *job)
 {
@@ -58,8 +58,10 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
     *out = NULL;
     const lumis__light_kind *kind = kinds[0];
     for (size_t k = 0; d && !kind->lights(d); k++) kind = kinds[k + 1];
-    /* an envmap for every kind but luminaires, which may go without (escaping rays: black) */
-    if (!scene || !d || (!d->env && kind != &lumis__light_luminaires) ||
+    /* an envmap for every kind but luminaires and fixtures, which may go without (escaping
+     * rays: black) */
+    if (!scene || !d ||
+        (!d->env && kind != &lumis__light_luminaires && kind != &lumis__light_photometric) ||
         (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
         d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024 || d->first_sample < 0 ||
         d->first_sample >= (1 << 30))

@@ -3,6 +3,7 @@
  *   environment map  light_env.c        light, BSDF or MIS sampling of the map
  *   light set        light_set.c        every light of the pixel's interleaved set
  *   luminaires       light_luminaire.c  Lu et al.'s strategies, visibility modes, sequences
+ *   photometric      light_photometric.c  IES / EULUMDAT fixtures: points, or openings with MIS
  * The job (render.c) prepares the kind a render asks for and calls its shade function at
  * every vertex. */
 #ifndef LUMIS_RENDER_SHADE_H
@@ -88,9 +89,10 @@ typedef struct lumis__light_kind {
     v3 (*shade)(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v);
 } lumis__light_kind;
 
-extern const lumis__light_kind lumis__light_env;        /* light_env.c */
-extern const lumis__light_kind lumis__light_set_kind;   /* light_set.c */
-extern const lumis__light_kind lumis__light_luminaires; /* light_luminaire.c */
+extern const lumis__light_kind lumis__light_env;         /* light_env.c */
+extern const lumis__light_kind lumis__light_set_kind;    /* light_set.c */
+extern const lumis__light_kind lumis__light_luminaires;  /* light_luminaire.c */
+extern const lumis__light_kind lumis__light_photometric; /* light_photometric.c */
 
 enum { PACKET = LUMIS__PACKET };
 
