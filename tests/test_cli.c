@@ -2473,6 +2473,85 @@ static void info_reads_photometric_files(void **state)
     expect(a, 2, "--svg: only for a photometric file");
 }
 
+/* Scene files place photometric fixtures: rendered, recorded in the sidecar, their files
+ * inputs no output may replace; every malformed entry named by its JSON path. */
+static void render_places_photometric_fixtures(void **state)
+{
+    (void)state;
+    pg_ies_spec s = {PG_SPOT, 4, "IESNA:LM-63-2002", 1, 46, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2, 0, 2};
+    size_t n = 0;
+    char *text = pg_ies(&s, &n);
+    tu_write_file(tu_path("fx.ies"), text, n);
+    free(text);
+    static const char scene[] =
+        "{\"camera\": {\"eye\": [0, 3, 4], \"look_at\": [0, 0, 0], \"width\": 24, \"height\": 16},"
+        " \"environment\": {\"map\": \"sky:16x8\"},"
+        " \"objects\": [{\"type\": \"plane\", \"point\": [0, 0, 0], \"normal\": [0, 1, 0], "
+        "\"size\": 10,"
+        " \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}],"
+        " \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 2, 0]},"
+        " {\"file\": \"fx.ies\", \"position\": [1, 2, 0], \"aim\": [2, 0, 0], \"roll_deg\": 10,"
+        " \"multiplier\": 0.5, \"area\": true}]}";
+    tu_write_file(tu_path("fx.json"), scene, strlen(scene));
+    char a[4096], *out = NULL, *err = NULL;
+    /* -o fx.exr: its sidecar fx.json would replace the scene: refused before any work */
+    snprintf(a, sizeof a, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("fx.exr"));
+    expect(a, 2, NULL);
+    snprintf(a, sizeof a, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("lit.exr"));
+    assert_int_equal(run(a, &out, &err), 0);
+    assert_non_null(strstr(err, "the scene's environment (sky:16x8) is ignored"));
+    assert_non_null(strstr(err, "2 photometric fixtures"));
+    free(out);
+    free(err);
+    size_t sn = 0;
+    char *side;
+    side = (char *)tu_read_file(tu_path("lit.json"), &sn);
+    assert_non_null(side);
+    cJSON *j = cJSON_Parse(side);
+    free(side);
+    const cJSON *fx = cJSON_GetObjectItemCaseSensitive(j, "photometric");
+    assert_true(cJSON_IsArray(fx) && cJSON_GetArraySize(fx) == 2);
+    assert_string_equal(
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(fx, 1), "model")->valuestring,
+        "opening");
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "method")->valuestring, "photometric");
+    assert_true(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "photometric_files")) == 1);
+    cJSON_Delete(j);
+    /* the image is lit, and --env does not apply */
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_read(tu_path("lit.exr"), NULL, &img, NULL), LUMIS_OK);
+    double sum = 0;
+    for (int k = 0; k < 3 * img->width * img->height; k++) sum += img->pixels[k];
+    assert_true(sum > 0);
+    lumis_image_destroy(img);
+    snprintf(a, sizeof a, "render '%s' --env sky -o '%s'", tu_path("fx.json"), tu_path("x.exr"));
+    expect(a, 2, "--env: the scene is lit by its photometric fixtures, not by a map");
+    snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("fx.json"), tu_path("fx.ies"));
+    expect(a, 2, NULL);
+    /* malformed fixtures, named by their JSON path */
+    static const char *const bad[][2] = {
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"none.ies\", \"position\": [0, 1, 0]}]}",
+         "photometric[0].file: cannot read photometric file"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"aim\": [0, 1, 0]}]}",
+         "photometric[0].aim: expected a point other than the position"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\"}]}",
+         "photometric[0].position: expected an array of 3 numbers (missing)"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"area\": 1}]}",
+         "photometric[0].area: expected true or false"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"colour\": 1}]}",
+         "photometric[0].colour"},
+        {"{\"objects\": [], \"photometric\": {}}", "photometric: expected an array"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        tu_write_file(tu_path("bad-fx.json"), bad[k][0], strlen(bad[k][0]));
+        snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("bad-fx.json"), tu_path("y.exr"));
+        expect(a, 1, bad[k][1]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -2503,6 +2582,7 @@ int main(void)
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),
         cmocka_unit_test(info_reads_photometric_files),
+        cmocka_unit_test(render_places_photometric_fixtures),
         cmocka_unit_test(bench_survives_a_failing_item),
         cmocka_unit_test(bench_convergence_at_equal_time),
         cmocka_unit_test(bench_convergence_at_equal_samples),

@@ -33,6 +33,10 @@ typedef struct file_private {
     lumis_luminaire **owned; /* the luminaires the instances point to, each once */
     char **owned_paths;      /* the file (or preset) each was read from; NULL: none */
     int owned_count, luminaire_cap;
+    /* photometric files the fixtures point to, each read once, and their paths */
+    lumis_photometric_file **pfiles;
+    char **ppaths;
+    int pfile_count;
 } file_private;
 
 lumis_scene_file *lumis__scene_file_new(void)
@@ -61,6 +65,13 @@ void lumis_scene_file_destroy(lumis_scene_file *f)
     free(fp->owned);
     free(fp->owned_paths);
     free(f->luminaires);
+    for (int k = 0; k < fp->pfile_count; k++) {
+        lumis_photometric_file_destroy(fp->pfiles[k]);
+        free(fp->ppaths[k]);
+    }
+    free(fp->pfiles);
+    free(fp->ppaths);
+    free(f->photometrics);
     lumis_image_destroy(f->env_image);
     free(f);
 }
@@ -674,6 +685,101 @@ static lumis_status parse_luminaire(const parser *p, const cJSON *j, int k)
     return lumis__scene_file_add_luminaire(p->f, owned, full, &in);
 }
 
+const char *lumis_scene_file_photometric_path(const lumis_scene_file *f, int index)
+{
+    const file_private *fp = (const file_private *)f;
+    return f && index >= 0 && index < fp->pfile_count ? fp->ppaths[index] : NULL;
+}
+
+/* The photometric file read from path (read now, once per file), or NULL with st set. */
+static lumis_photometric_file *photometric_file(const parser *p, const char *path, lumis_status *st)
+{
+    file_private *fp = (file_private *)p->f;
+    for (int k = 0; k < fp->pfile_count; k++)
+        if (strcmp(fp->ppaths[k], path) == 0) return fp->pfiles[k];
+    if (fp->pfile_count % 8 == 0) {
+        lumis_photometric_file **g = realloc(fp->pfiles, (size_t)(fp->pfile_count + 8) * sizeof *g);
+        char **h = g ? realloc(fp->ppaths, (size_t)(fp->pfile_count + 8) * sizeof *h) : NULL;
+        if (g) fp->pfiles = g;
+        if (h) fp->ppaths = h;
+        if (!g || !h) {
+            *st = LUMIS_ERR_OUT_OF_MEMORY;
+            return NULL;
+        }
+    }
+    char *copy = malloc(strlen(path) + 1);
+    if (!copy) {
+        *st = LUMIS_ERR_OUT_OF_MEMORY;
+        return NULL;
+    }
+    strcpy(copy, path);
+    lumis_photometric_file *pf = NULL;
+    *st = lumis_photometric_read(path, p->errors, &pf);
+    if (*st != LUMIS_OK) {
+        free(copy);
+        return NULL;
+    }
+    fp->ppaths[fp->pfile_count] = copy;
+    fp->pfiles[fp->pfile_count++] = pf;
+    return pf;
+}
+
+/* photometric[k]: {"file": "fixture.ies" | "fixture.ldt", "position": [x, y, z], "aim":
+ * [x, y, z] (a point it aims at; default straight down, -y), "roll_deg", "multiplier",
+ * "area" (true: the file's disk or rectangle opening, else a point)}. */
+static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
+{
+    char path[64], at[256];
+    snprintf(path, sizeof path, "photometric[%d]", k);
+    if (!cJSON_IsObject(j))
+        return bad(p, path, "an object with file, position, aim, roll_deg, multiplier, area");
+    static const char *const keys[] = {"file",       "position", "aim", "roll_deg",
+                                       "multiplier", "area",     NULL};
+    lumis_status st = check_keys(p, j, path, keys);
+    if (st != LUMIS_OK) return st;
+    const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
+    join(at, sizeof at, path, "file");
+    if (!cJSON_IsString(file) || !file->valuestring[0])
+        return bad(p, at, "a photometric file (IES .ies or EULUMDAT .ldt)");
+    float pos[3] = {0, 0, 0}, aim[3];
+    double roll = 0.0, mult = 1.0;
+    if ((st = get_vec3(p, j, "position", path, 1, pos)) != LUMIS_OK) return st;
+    aim[0] = pos[0];
+    aim[1] = pos[1] - 1.0f;
+    aim[2] = pos[2];
+    if ((st = get_vec3(p, j, "aim", path, 0, aim)) != LUMIS_OK) return st;
+    if ((st = get_number(p, j, "roll_deg", path, -36000.0, 36000.0, &roll)) != LUMIS_OK) return st;
+    if ((st = get_number(p, j, "multiplier", path, 0.0, 1e30, &mult)) != LUMIS_OK) return st;
+    const cJSON *area = cJSON_GetObjectItemCaseSensitive(j, "area");
+    join(at, sizeof at, path, "area");
+    if (area && !cJSON_IsBool(area)) return bad(p, at, "true or false");
+    lumis_photometric_instance in;
+    memset(&in, 0, sizeof in);
+    const lumis_vec3 dir = {aim[0] - pos[0], aim[1] - pos[1], aim[2] - pos[2]};
+    join(at, sizeof at, path, "aim");
+    if (lumis_photometric_aim(dir, roll, in.placement.r) != LUMIS_OK)
+        return bad(p, at, "a point other than the position");
+    for (int a = 0; a < 3; a++) in.placement.t[a] = pos[a];
+    in.multiplier = mult;
+    in.area = cJSON_IsTrue(area);
+    if (mult == 0.0 || !p->allow_files) return LUMIS_OK; /* black; the fuzzer reads nothing */
+    char full[4096];
+    const char *name = file->valuestring;
+    snprintf(full, sizeof full, "%s%s", name[0] == '/' ? "" : p->dir, name);
+    lumis_photometric_file *pf = photometric_file(p, full, &st);
+    if (!pf)
+        return lumis__fail(p->errors, st, "%s: %s.file: cannot read photometric file %s", p->file,
+                           path, full);
+    in.photometric = pf->model;
+    lumis_scene_file *f = p->f;
+    lumis_photometric_instance *g =
+        realloc(f->photometrics, (size_t)(f->photometric_count + 1) * sizeof *g);
+    if (!g) return lumis__fail(p->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", p->file);
+    f->photometrics = g;
+    f->photometrics[f->photometric_count++] = in;
+    return LUMIS_OK;
+}
+
 static lumis_status parse_with(const char *text, size_t n, const char *name, const char *dir,
                                int allow_files, const lumis_error_sink *errors,
                                const lumis_scene_read_options *options, lumis_scene_file **out);
@@ -759,7 +865,8 @@ static lumis_status parse_with(const char *text, size_t n, const char *name, con
     p.f = f;
     lumis_status st = f ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     if (st == LUMIS_OK && !cJSON_IsObject(root)) st = bad(&p, "(top level)", "an object");
-    static const char *const root_keys[] = {"camera", "environment", "objects", "luminaires", NULL};
+    static const char *const root_keys[] = {"camera",     "environment", "objects",
+                                            "luminaires", "photometric", NULL};
     static const char *const camera_keys[] = {"eye",   "look_at", "up", "fov_deg",
                                               "width", "height",  NULL};
     static const char *const env_keys[] = {"map", "rotation_deg", "scale", NULL};
@@ -840,6 +947,16 @@ static lumis_status parse_with(const char *text, size_t n, const char *name, con
                 st = parse_luminaire(&p, cJSON_GetArrayItem(lums, k), k);
                 f->luminaires_listed++;
             }
+    }
+    if (st == LUMIS_OK) {
+        const cJSON *fx = cJSON_GetObjectItemCaseSensitive(root, "photometric");
+        if (fx && !cJSON_IsArray(fx))
+            st = bad(&p, "photometric", "an array of photometric fixtures");
+        else if (fx && cJSON_GetArraySize(fx) > 4096)
+            st = bad(&p, "photometric", "at most 4096 fixtures");
+        else
+            for (int k = 0; fx && k < cJSON_GetArraySize(fx) && st == LUMIS_OK; k++)
+                st = parse_photometric(&p, cJSON_GetArrayItem(fx, k), k);
     }
     cJSON_Delete(root);
     if (st != LUMIS_OK) {

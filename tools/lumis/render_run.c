@@ -58,8 +58,10 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         return EXIT_RUNTIME;
     }
     const char *cmd = o->cmd ? o->cmd : "render";
-    /* A scene with luminaires is lit by them alone; its camera rays that escape see black. */
+    /* A scene with luminaires is lit by them alone; its camera rays that escape see black.
+     * So is a scene with photometric fixtures (and no luminaires): it is self-lit. */
     const int lum = file->luminaire_count > 0;
+    const int fixtures = !lum && file->photometric_count > 0, self_lit = lum || fixtures;
     if (!lum && file->luminaires_listed > 0) { /* not the default sky instead */
         lumis_scene_file_destroy(file);
         lumis_luminaire_destroy(replacement);
@@ -68,19 +70,27 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                   "by a map)",
                                   o->scene_path ? o->scene_path : o->scene_name);
     }
-    if (lum && file->env_map[0])
+    if (self_lit && file->env_map[0])
         fprintf(stderr,
                 "lumis: warning: %s: the scene's environment (%s) is ignored: a scene with "
+                "%s is lit by them alone\n",
+                o->scene_path ? o->scene_path : o->scene_name, file->env_map,
+                lum ? "luminaires" : "photometric fixtures");
+    if (lum && file->photometric_count > 0)
+        fprintf(stderr,
+                "lumis: warning: %s: its %d photometric fixture%s are ignored: a scene with "
                 "luminaires is lit by them alone\n",
-                o->scene_path ? o->scene_path : o->scene_name, file->env_map);
+                o->scene_path ? o->scene_path : o->scene_name, file->photometric_count,
+                file->photometric_count == 1 ? "" : "s");
     const char *clash = o->envspec     ? "--env"
                         : o->lights    ? "--lights"
                         : o->bsdf_only ? "--method bsdf"
                                        : NULL;
-    if (lum && clash) {
+    if (self_lit && clash) {
         lumis_scene_file_destroy(file);
         lumis_luminaire_destroy(replacement);
-        return tool_usage_error(cmd, "%s: the scene is lit by its luminaires, not by a map", clash);
+        return tool_usage_error(cmd, "%s: the scene is lit by its %s, not by a map", clash,
+                                lum ? "luminaires" : "photometric fixtures");
     }
     if (!lum && o->lum_option) {
         lumis_scene_file_destroy(file);
@@ -96,7 +106,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                 "headlight)",
                                 o->luminaire);
     }
-    const char *envspec = lum          ? NULL
+    const char *envspec = self_lit     ? NULL
                           : o->envspec ? o->envspec
                                        : (file->env_map[0] ? file->env_map : "sky");
     char sidecar[4096] = "";
@@ -125,6 +135,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
             nmans++;
         }
     }
+    for (int k = 0; lumis_scene_file_photometric_path(file, k); k++)
+        tool_files_input(&files, "photometric file", lumis_scene_file_photometric_path(file, k));
     if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0) {
         tool_files_input(&files, "luminaire", o->luminaire);
         if (nmans < TOOL_FILES_MAX &&
@@ -156,19 +168,19 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene *scene = NULL;
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
-    if (!lum && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
+    if (!self_lit && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
         r->env_replaced = file->env_info.replaced;
         tool_warn_replaced(envspec, r->env_replaced);
-    } else if (!lum && preloaded) { /* the caller's (lumis bench): it warned when it read it */
+    } else if (!self_lit && preloaded) { /* the caller's (lumis bench): it warned when it read it */
         r->env_replaced = o->env_image_replaced;
     }
-    if (!lum &&
+    if (!self_lit &&
         tool_make_envmap(envspec, preloaded, rotation, scale, &env, &r->env_replaced) != LUMIS_OK)
         goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
     /* A light set or luminaires light the scene by themselves: no sampler is built. */
-    if (!lum && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
+    if (!self_lit && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = tool_now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
     double t1 = tool_now_seconds();
@@ -193,6 +205,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lighting.instances = file->luminaires;
     lighting.count = file->luminaire_count;
     rd.luminaires = lum ? &lighting : NULL;
+    const lumis_photometric_lighting fixture_lighting = {file->photometrics,
+                                                         file->photometric_count};
+    rd.photometric = fixtures ? &fixture_lighting : NULL;
     if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
     if (pg.enabled) {
         rd.progress = tool_on_progress;
@@ -260,6 +275,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         r->sampler_table_bytes = sr.lights_bytes + sr.regions_bytes;
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
+                         : fixtures     ? "photometric"
                          : o->lights    ? o->lights
                          : o->bsdf_only ? "bsdf"
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
@@ -271,6 +287,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                      file->luminaire_count, file->luminaire_count > 1 ? "s" : "", method,
                      o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
+        else if (fixtures)
+            snprintf(how, sizeof how, "%d photometric fixture%s, %s", file->photometric_count,
+                     file->photometric_count > 1 ? "s" : "", tool_estimator_name(&rd));
         else if (lights)
             snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s",
                      o->lights, lumis_light_set_get_info(lights)->count,

@@ -36,7 +36,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                        const lumis_scene_file *file, const lumis_camera *cam,
                        const tool_render_result *r)
 {
-    const int objects = file->object_count, lum = rd->luminaires != NULL;
+    const int objects = file->object_count, lum = rd->luminaires != NULL,
+              fixtures = rd->photometric != NULL;
     const lumis_render_stats *s = &r->stats;
     cJSON *j = cJSON_CreateObject(), *x;
     char cmd[8192] = "lumis";
@@ -53,6 +54,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                  o->rd.max_bounces);
     else if (lum)
         snprintf(label, sizeof label, "direct illumination from light-field luminaires");
+    else if (fixtures)
+        snprintf(label, sizeof label, "direct illumination from photometric fixtures");
     else
         snprintf(label, sizeof label, "direct illumination from the environment");
     cJSON_AddStringToObject(j, "label", label);
@@ -75,6 +78,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     }
     cJSON_AddStringToObject(j, "method",
                             lum         ? lumis_luminaire_strategy_name(rd->luminaires->strategy)
+                            : fixtures  ? "photometric"
                             : o->lights ? o->lights
                             : o->bsdf_only
                                 ? "bsdf"
@@ -83,6 +87,28 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                             lum      ? "luminaire"
                             : lights ? "light set"
                                      : tool_estimator_name(rd));
+    if (fixtures) { /* every fixture: its file, placement, multiplier, model and flux */
+        cJSON *arr = cJSON_AddArrayToObject(j, "photometric");
+        for (int k = 0; k < rd->photometric->count; k++) {
+            const lumis_photometric_instance *in = &rd->photometric->instances[k];
+            lumis_photometric_info pi;
+            lumis_photometric_get_info(in->photometric, &pi);
+            cJSON *e = cJSON_CreateObject();
+            cJSON_AddItemToObject(e, "position", cJSON_CreateDoubleArray(in->placement.t, 3));
+            cJSON_AddItemToObject(e, "rotation", cJSON_CreateDoubleArray(in->placement.r, 9));
+            cJSON_AddNumberToObject(e, "multiplier", in->multiplier == 0 ? 1.0 : in->multiplier);
+            cJSON_AddStringToObject(e, "model", in->area ? "opening" : "point");
+            cJSON_AddStringToObject(e, "shape", lumis_photometric_shape_name(pi.shape));
+            cJSON_AddNumberToObject(e, "flux", pi.flux);
+            cJSON_AddItemToArray(arr, e);
+        }
+        cJSON *files = cJSON_AddArrayToObject(j, "photometric_files");
+        for (int q = 0; lumis_scene_file_photometric_path(file, q); q++)
+            cJSON_AddItemToArray(files,
+                                 cJSON_CreateString(lumis_scene_file_photometric_path(file, q)));
+    } else {
+        cJSON_AddNullToObject(j, "photometric");
+    }
     if (lum) {
         const lumis_luminaire_lighting *ll = rd->luminaires;
         x = cJSON_AddObjectToObject(j, "luminaires");
