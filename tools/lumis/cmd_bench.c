@@ -52,7 +52,7 @@ static const char usage[] =
     "                   option, e.g. --sbatch=--account=NAME; repeatable): for every job\n"
     "  --no-submit      write the scripts and DIR/slurm/submit.sh, submit nothing\n"
     "The jobs run these (each usable alone):\n"
-    "  --reference-task T    share T %% P of the reference of (map, scene) pair T / P\n"
+    "  --reference-task T    share T % P of the reference of (map, scene) pair T / P\n"
     "  --merge-references    join the references' shares (with --reference-passes P)\n"
     "  --items-only     render no reference (a missing one is an error), with --shard\n"
     "  --report-only --tasks N   the report, then DIR/slurm/status.txt: exit 1 if any item\n"

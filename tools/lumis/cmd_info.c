@@ -24,7 +24,7 @@ static const char usage[] =
     "           top01_share, replaced, replaced_nan, replaced_inf, replaced_negative)\n\n"
     "A photometric file (IES LM-63 or EULUMDAT, by its extension; docs/photometric.md):\n"
     "the fixture, the table, the luminous shape, the flux integrated from the table and the\n"
-    "file's own lumens with their difference, the peak, the beam (50 %%) and field (10 %%)\n"
+    "file's own lumens with their difference, the peak, the beam (50 %) and field (10 %)\n"
     "angles of the two principal planes (C0-C180 and C90-C270), the downward share.\n"
     "  --svg OUT.svg   a polar plot of the two planes (candela; 0 degrees down)\n"
     "  --json          one object (keys: file, format, standard, manufacturer, luminaire,\n"
