@@ -499,6 +499,65 @@ static void malformed_files_name_line_and_field(void **state)
     free(ldt);
 }
 
+/* The near field: a Lambertian disk (I = I0 cos, radiance I0 / A everywhere) gives on its
+ * axis E = I0 / (R^2 + D^2), the point I0 / D^2; its light field (lumis_luminaire_from_
+ * photometric) gives the disk's irradiance too; a file without an opening has no light
+ * field. */
+static void near_field_and_light_field(void **state)
+{
+    (void)state;
+    pg_ies_spec s = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2,
+                     0,          2};
+    lumis_photometric_file *f = read_ies(&s);
+    const double R = 0.1, I0 = 1000;
+    const double Ds[] = {0.05, 0.2, 0.5, 2.0};
+    lumis_photometric_light_field lf = {0};
+    lf.width = lf.height = 96;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, &sink.sink, &lum), LUMIS_OK);
+    lumis_luminaire_info li;
+    lumis_luminaire_get_info(lum, &li);
+    assert_int_equal(li.images, 81);
+    for (int k = 0; k < 4; k++) {
+        const double D = Ds[k];
+        const lumis_vec3 x = {0, 0, (float)-D}, n = {0, 0, 1}; /* below, facing up */
+        double near = 0, point = 0;
+        assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 0, &near), LUMIS_OK);
+        assert_int_equal(lumis_photometric_irradiance(f->model, 0, x, n, 0, &point), LUMIS_OK);
+        const double want = I0 / (R * R + D * D);
+        if (fabs(near / want - 1) > 1e-4) fail_msg("D %g: near field %g, exact %g", D, near, want);
+        assert_true(fabs(point - I0 / (D * D)) < 1e-6 * point); /* x is a float */
+        /* the light field's frame: light towards +z */
+        const lumis_vec3 xl = {0, 0, (float)D}, nl = {0, 0, -1};
+        lumis_rgb e;
+        assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
+        if (fabs(e.g / want - 1) > 0.03) fail_msg("D %g: light field %g, exact %g", D, e.g, want);
+    }
+    /* off the axis too, against the opening's quadrature */
+    const lumis_vec3 x = {0.3f, -0.2f, -0.4f}, n = {0, 0, 1}, xl = {0.3f, 0.2f, 0.4f},
+                     nl = {0, 0, -1};
+    double near = 0;
+    lumis_rgb e;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 0, &near), LUMIS_OK);
+    assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
+    if (fabs(e.g / near - 1) > 0.03) fail_msg("off axis: light field %g, near field %g", e.g, near);
+    lumis_luminaire_destroy(lum);
+    lumis_photometric_file_destroy(f);
+    /* a point source: no opening, no light field, and a clear error */
+    pg_ies_spec pt = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    f = read_ies(&pt);
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, &sink.sink, &lum),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "the file's luminous shape is a point"));
+    double E = 0;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, xl, nl, 0, &E),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_file_destroy(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -510,6 +569,7 @@ int main(void)
         cmocka_unit_test(ldt_symmetries_and_lamp_sets),
         cmocka_unit_test(beam_and_field_angles),
         cmocka_unit_test(malformed_files_name_line_and_field),
+        cmocka_unit_test(near_field_and_light_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -21,6 +21,7 @@
 #ifndef LUMIS_PHOTOMETRY_H
 #define LUMIS_PHOTOMETRY_H
 
+#include "lumis/luminaire.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
 
@@ -132,6 +133,42 @@ typedef struct lumis_photometric_info {
 } lumis_photometric_info;
 
 lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info);
+
+/* ---- the near field --------------------------------------------------------------------
+ *
+ * A fixture's luminous opening (its file's disk or rectangle, in the plane z = 0 of its frame,
+ * facing the aim -z) whose every point emits the table's distribution: radiance I(d) /
+ * (A cos) towards d, nothing behind it.  Far away it is the point; close, it is not. */
+
+/* Illuminance at x (the fixture's frame) on a surface of normal n (towards the fixture for
+ * light to arrive): the point's, I(x / |x|) cos / |x|^2 (opening 0), or the opening's, the
+ * mean of that law over the opening's points (opening 1; Gauss-Legendre on panels x panels
+ * pieces of order 6, 0 == 16; LUMIS_ERR_INVALID_ARGUMENT for a file without a disk or
+ * rectangle). */
+lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int opening, lumis_vec3 x,
+                                          lumis_vec3 n, int panels, double *E);
+
+/* The two-plane light field (lumis/luminaire.h) of the opening, so that Lu et al.'s
+ * restricted sampling applies to a real fixture.  The luminaire's frame is the fixture's
+ * turned half a turn about x: U the opening (z = 0), light towards +z = the aim.  Image m
+ * holds the radiance from basis centre m, I(d) / (A cos), in the model's convention (times
+ * hx hy cos^4 / delta^2: lumis_luminaire_radiance) and times the share of its cell the
+ * opening covers (scaled so that the shares' area is the opening's); S covers directions up
+ * to max_angle from every point of the bases' supports (the flux beyond it is lost). */
+typedef struct lumis_photometric_light_field {
+    int grid[2];                 /* bases across the opening (0: 9 along the longer side, the other
+                                    in proportion, at least 3) */
+    int width, height;           /* pixels per image (0: 128 x 128) */
+    double delta;                /* U to S (0: the opening's larger size) */
+    double max_angle_deg;        /* the directions S covers (0: 80) */
+    lumis_luminaire_basis basis; /* 0: quadratic */
+    int supersample;             /* samples per pixel per axis (0: 2) */
+} lumis_photometric_light_field;
+
+lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
+                                              const lumis_photometric_light_field *desc,
+                                              const lumis_error_sink *errors,
+                                              lumis_luminaire **out);
 
 /* The names: "C", "B", "A"; "none", "rotational", "C0-C180", "C90-C270", "quadrant",
  * "lateral"; "point", "rectangle", "box", "disk", "cylinder", "sphere", "other". */

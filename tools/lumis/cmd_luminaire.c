@@ -3,6 +3,7 @@
  * the headlight scenes. */
 #include "common.h"
 
+#include "lumis/io.h"
 #include "lumis/luminaire.h"
 
 #include <cJSON.h>
@@ -11,6 +12,8 @@
 
 static const char usage[] =
     "usage: lumis luminaire create OUT.json [--preset P] [--basis B] [--format F]\n"
+    "       lumis luminaire create OUT.json --from FILE.ies|FILE.ldt [--grid WxH] [--size WxH]\n"
+    "                              [--delta D] [--max-angle DEG] [--basis B] [--format F]\n"
     "       lumis luminaire info LUMINAIRE [--json]\n"
     "       lumis luminaire render LUMINAIRE [SCENE.json | --scene NAME] [render options]\n"
     "                              -o OUT.exr\n\n"
@@ -24,6 +27,13 @@ static const char usage[] =
     "                 sizes of Lu et al.'s Table 1, or small (5x4 of 24x20, for tests)\n"
     "  --basis B      quadratic (Goesele et al., default) or bspline\n"
     "  --format F     exr (default) or pfm images\n"
+    "  --from FILE    instead of a preset: the light field of a photometric file's luminous\n"
+    "                 opening (a disk or a rectangle), every point of which emits the file's\n"
+    "                 distribution (docs/photometric.md, \"Near field\"); in metres\n"
+    "  --grid WxH     its basis functions (default 9 along the longer side)\n"
+    "  --size WxH     pixels per image (default 128x128)\n"
+    "  --delta D      distance from the opening to the image plane (default its size)\n"
+    "  --max-angle A  directions the images cover, in degrees from the aim (default 80)\n"
     "info     images, grid, delta, basis, units, total power, memory, and the time to read\n"
     "         it and to precompute its tables (the median of 3 builds)\n"
     "  --json         print one JSON object (keys: file, units, images, grid, width, height,\n"
@@ -34,6 +44,21 @@ static const char usage[] =
     "         where the scene places it.  Every option of lumis render applies (--lum-*,\n"
     "         --visibility, --sequence, --spp, --time, --size, -o, --png ...).\n";
 
+/* "WxH", each in [1, max]. */
+static int parse_wxh(const char *v, long max, int out[2])
+{
+    const char *x = v ? strchr(v, 'x') : NULL;
+    char first[32];
+    if (!x || (size_t)(x - v) >= sizeof first) return 0;
+    memcpy(first, v, (size_t)(x - v));
+    first[x - v] = '\0';
+    long a = 0, b = 0;
+    if (!tool_parse_int(first, 1, max, &a) || !tool_parse_int(x + 1, 1, max, &b)) return 0;
+    out[0] = (int)a;
+    out[1] = (int)b;
+    return 1;
+}
+
 static int create(int argc, char **argv)
 {
     const char *out = NULL, *v;
@@ -41,8 +66,33 @@ static int create(int argc, char **argv)
     lumis_luminaire_basis basis = LUMIS_BASIS_QUADRATIC;
     lumis_luminaire_write_options wo = {0};
     wo.image_format = LUMIS_FORMAT_EXR;
+    const char *from = NULL, *preset_given = NULL;
+    lumis_photometric_light_field lf = {0};
     for (int i = 2; i < argc; i++) {
-        if (tool_option(argc, argv, &i, "--preset", &v)) {
+        if (tool_option(argc, argv, &i, "--from", &v)) {
+            if (!v || !*v) return tool_bad_value("luminaire create", "--from", v, "needs a file");
+            from = v;
+        } else if (tool_option(argc, argv, &i, "--grid", &v)) {
+            if (!parse_wxh(v, 256, lf.grid))
+                return tool_bad_value("luminaire create", "--grid", v,
+                                      "must be WxH, each 1 to 256 (1024 in all)");
+        } else if (tool_option(argc, argv, &i, "--size", &v)) {
+            int wh[2];
+            if (!parse_wxh(v, 16384, wh))
+                return tool_bad_value("luminaire create", "--size", v,
+                                      "must be WxH, each 1 to 16384");
+            lf.width = wh[0];
+            lf.height = wh[1];
+        } else if (tool_option(argc, argv, &i, "--delta", &v)) {
+            if (!tool_parse_double(v, &lf.delta) || !(lf.delta > 0) || lf.delta > 1e6)
+                return tool_bad_value("luminaire create", "--delta", v, "must be a distance > 0");
+        } else if (tool_option(argc, argv, &i, "--max-angle", &v)) {
+            if (!tool_parse_double(v, &lf.max_angle_deg) || !(lf.max_angle_deg > 0) ||
+                !(lf.max_angle_deg < 90))
+                return tool_bad_value("luminaire create", "--max-angle", v,
+                                      "must be degrees between 0 and 90");
+        } else if (tool_option(argc, argv, &i, "--preset", &v)) {
+            preset_given = v;
             if (!v || lumis_luminaire_preset_from_name(v, &preset) != LUMIS_OK)
                 return tool_bad_value("luminaire create", "--preset", v,
                                       "must be car, bike or small");
@@ -69,10 +119,41 @@ static int create(int argc, char **argv)
     if (n < 5 || strcmp(out + n - 5, ".json") != 0)
         return tool_usage_error("luminaire create", "the manifest must end in .json (got '%s')",
                                 out);
+    if (from && preset_given)
+        return tool_usage_error("luminaire create", "--from and --preset: one or the other");
+    if (!from && (lf.grid[0] || lf.width || lf.delta > 0 || lf.max_angle_deg > 0))
+        return tool_usage_error("luminaire create",
+                                "--grid, --size, --delta and --max-angle: only with --from");
     tool_files files = {0};
     tool_files_output(&files, "manifest", out, TOOL_OUT_FILE);
+    if (from) tool_files_input(&files, "photometric file", from);
     int rc = tool_files_check("luminaire create", &files);
     if (rc != EXIT_OK) return rc;
+    if (from) {
+        lumis_photometric_file *pf = NULL;
+        if (lumis_photometric_read(from, &tool_errors, &pf) != LUMIS_OK) return EXIT_RUNTIME;
+        lf.basis = basis;
+        double t0 = tool_now_seconds();
+        lumis_luminaire *lum = NULL;
+        const lumis_status bs =
+            lumis_luminaire_from_photometric(pf->model, &lf, &tool_errors, &lum);
+        lumis_photometric_file_destroy(pf);
+        if (bs != LUMIS_OK) return EXIT_RUNTIME;
+        const double t1 = tool_now_seconds();
+        wo.errors = tool_errors;
+        wo.units = "m";
+        const lumis_status ws = lumis_luminaire_write(out, lum, &wo);
+        lumis_luminaire_info info;
+        lumis_luminaire_get_info(lum, &info);
+        lumis_luminaire_destroy(lum);
+        if (ws != LUMIS_OK) return EXIT_RUNTIME;
+        fprintf(stderr,
+                "lumis: the light field of %s: %d x %d images of %d x %d, delta %.4g m, built in "
+                "%.2f s; wrote %s and its images in %.2f s\n",
+                from, info.grid[0], info.grid[1], info.width, info.height, info.delta, t1 - t0, out,
+                tool_now_seconds() - t1);
+        return EXIT_OK;
+    }
     fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",
             lumis_luminaire_preset_name(preset));
     double t0 = tool_now_seconds();
