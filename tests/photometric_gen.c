@@ -27,6 +27,8 @@ double pg_intensity(pg_dist d, double a, double c_deg, double g_deg)
         return I0 * cg * (1 + a * sg * cos(c));
     case PG_QUAD:
         return I0 * cg * (1 + a * sg * cos(c) * cos(c));
+    case PG_LINEAR:
+        return I0 * cg * (1 + a * sg * sg * sin(c) * sin(c));
     default:
         return 0.0;
     }
@@ -45,6 +47,8 @@ double pg_flux(pg_dist d, double a)
         return 2 * PI * I0 * (0.5 + a / 4);
     case PG_QUAD:
         return PI * I0 * (1 + a / 3); /* the cos^2 C term: pi x int cos g sin^2 g */
+    case PG_LINEAR:
+        return PI * I0 * (1 + a / 4); /* the sin^2 C term: pi x int cos g sin^3 g */
     default:
         return 0.0;
     }

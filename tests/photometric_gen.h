@@ -11,7 +11,9 @@ typedef enum pg_dist {
     PG_BATWING, /* I0 cos g (1 + a sin^2 g), a = param: flux 2 pi I0 (1/2 + a/4) */
     PG_ROAD,    /* I0 cos g (1 + b sin g cos C) (type C, no symmetry), b = param <= 1: pi I0 */
     PG_QUAD,    /* I0 cos g (1 + b sin g cos^2 C) (symmetric about both planes): pi I0 (1 + b/3) */
-    PG_AIMED    /* types A, B: I0 times the cosine to the aim (front hemisphere): pi I0 */
+    PG_AIMED,   /* types A, B: I0 times the cosine to the aim (front hemisphere): pi I0 */
+    PG_LINEAR   /* I0 cos g (1 + b sin^2 g sin^2 C), wider across C90 and smooth at the aim
+                   (a linear fixture): pi I0 (1 + b/4) */
 } pg_dist;
 
 /* Intensity (cd, I0 = 1000) in the luminaire frame's angles: type C (C, gamma); for

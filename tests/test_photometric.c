@@ -59,7 +59,7 @@ static void flux_matches_analytic_distributions(void **state)
         double h1;
     } cases[] = {{PG_LAMBERT, 0, 1, 0},   {PG_SPOT, 8, 1, 0},      {PG_SPOT, 50, 1, 0},
                  {PG_BATWING, 2, 1, 0},   {PG_ROAD, 0.8, 73, 360}, {PG_QUAD, 0.9, 19, 90},
-                 {PG_QUAD, 0.9, 37, 180}, {PG_QUAD, 0.9, 73, 360}};
+                 {PG_QUAD, 0.9, 37, 180}, {PG_QUAD, 0.9, 73, 360}, {PG_LINEAR, 1.5, 19, 90}};
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         pg_ies_spec s = {cases[k].d,  cases[k].a, "IESNA:LM-63-2002", 1, 181, 0, 90,
                          cases[k].nh, 0,          cases[k].h1,        0, 0,   0, 0,

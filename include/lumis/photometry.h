@@ -111,6 +111,9 @@ lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, dou
 double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
 /* The flux (lm): lumis_photometric_info.flux without the rest of the info. */
 double lumis_photometric_flux(const lumis_photometric *p);
+/* Type C: the flux within gamma_deg of the aim, exactly (the cells cut at gamma); types A
+ * and B: all of it (their light lies in front). */
+double lumis_photometric_flux_within(const lumis_photometric *p, double gamma_deg);
 
 typedef struct lumis_photometric_info {
     lumis_photometric_type type;

@@ -663,3 +663,10 @@ lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, dou
     *pdf = lumis__cdf_prob(&p->cdf, (uint32_t)c) / p->nrep * I / p->cell_flux[c];
     return *pdf > 0 ? LUMIS_OK : LUMIS_ERR_INVALID_ARGUMENT;
 }
+
+double lumis_photometric_flux_within(const lumis_photometric *p, double gamma_deg)
+{
+    if (!p) return 0.0;
+    if (p->type != LUMIS_PHOTOMETRIC_C) return p->flux; /* A, B: all of it lies in front */
+    return flux_below(p, gamma_deg);
+}

@@ -139,7 +139,21 @@ lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
         H = Lx >= Ly ? (other < 3 ? 3 : other) : 9;
     }
     const int width = d->width > 0 ? d->width : 128, height = d->height > 0 ? d->height : 128;
-    const double theta = (d->max_angle_deg > 0 ? d->max_angle_deg : 80.0) * LUMIS_PI / 180.0;
+    double theta_deg = d->max_angle_deg;
+    if (!(theta_deg > 0)) { /* where 99.9 % of the flux is, with a margin: S's pixels go to
+                               the beam, not to the dark (a narrow spot got 4 across it) */
+        const double total = lumis_photometric_flux(p);
+        double lo = 0, hi = 180;
+        for (int it = 0; it < 40; it++) {
+            const double mid = 0.5 * (lo + hi);
+            if (lumis_photometric_flux_within(p, mid) >= 0.999 * total)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        theta_deg = hi + 5.0 < 80.0 ? hi + 5.0 : 80.0;
+    }
+    const double theta = theta_deg * LUMIS_PI / 180.0;
     const double delta = d->delta > 0 ? d->delta : (Lx > Ly ? Lx : Ly);
     const int ss = d->supersample > 0 ? d->supersample : 2;
     if (W > 256 || H > 256 || W * H > 1024 || width > 16384 || height > 16384 ||
