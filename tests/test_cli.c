@@ -2471,6 +2471,35 @@ static void info_reads_photometric_files(void **state)
     snprintf(a, sizeof a, "info '%s' --svg '%s'", LUMIS_SOURCE_DIR "/tests/data/grey-y.exr",
              tu_path("x.svg"));
     expect(a, 2, "--svg: only for a photometric file");
+    /* luminaire create --from: the opening's light field, read back; its errors */
+    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --grid 5x5 --size 32x32",
+             tu_path("spot-lf.json"), tu_path("spot.ies"));
+    expect(a, 0, "5 x 5 images of 32 x 32");
+    snprintf(a, sizeof a, "luminaire info '%s' --json", tu_path("spot-lf.json"));
+    assert_int_equal(run(a, &out, &err), 0);
+    j = cJSON_Parse(out);
+    const cJSON *tp = cJSON_GetObjectItemCaseSensitive(j, "total_power");
+    /* the table's flux, all of it within the images' 99.9 % cone */
+    assert_true(cJSON_IsNumber(tp) && fabs(tp->valuedouble / 571.34 - 1) < 2e-3);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "units")->valuestring, "m");
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --preset car", tu_path("y.json"),
+             tu_path("spot.ies"));
+    expect(a, 2, "--from and --preset: one or the other");
+    snprintf(a, sizeof a, "luminaire create '%s' --grid 3x3", tu_path("y.json"));
+    expect(a, 2, "only with --from");
+    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --max-angle 95", tu_path("y.json"),
+             tu_path("spot.ies"));
+    expect(a, 2, "--max-angle");
+    pg_ies_spec pt = {PG_SPOT, 10, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    text = pg_ies(&pt, &n);
+    tu_write_file(tu_path("point.ies"), text, n);
+    free(text);
+    snprintf(a, sizeof a, "luminaire create '%s' --from '%s'", tu_path("y.json"),
+             tu_path("point.ies"));
+    expect(a, 1, "the file's luminous shape is a point");
 }
 
 /* Scene files place photometric fixtures: rendered, recorded in the sidecar, their files
