@@ -51,6 +51,12 @@ for v in exact approx shadowmap none; do
     vg "luminaire-$v" render --scene headlight --luminaire "$tmp/lum.json" --visibility "$v" \
         --lum-budget 8 "${R[@]}" -o "$tmp/a.exr"
 done
+echo "memcheck: photometric files and fixtures (points and openings, MIS), their light field"
+P="$(cd "$(dirname "$0")/.." && pwd)/docs/examples/photometric"
+vg photometric-info info "$P/road-asymmetric.ies" --svg "$tmp/p.svg"
+vg photometric-fixtures render "$P/fixtures.json" "${R[@]}" -o "$tmp/a.exr"
+vg photometric-light-field luminaire create "$tmp/lf.json" --from "$P/spot-cos10.ies" \
+    --grid 3x3 --size 16x16
 echo "memcheck: every sampler"
 for m in inversion inversion-guided alias kdtree kdtree-exact hierarchical uniform; do
     vg "sample-$m" sample sky:64x32 --method "$m" -n 200

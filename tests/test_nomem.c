@@ -17,8 +17,10 @@
 
 #include <cmocka.h>
 
+#include "lumis/io.h"
 #include "lumis/lumis.h"
 #include "lumis/render.h"
+#include "photometric_gen.h"
 #include "testutil.h"
 
 void *__real_malloc(size_t size);
@@ -664,6 +666,74 @@ static void renders_of_every_light_kind(void **state)
     for (int k = 0; k < 4; k++) each_allocation_fails(sessions[k], op_session, &k);
 }
 
+/* A photometric file (an IES of a 20 cm disk's road light) read, described, sampled and
+ * made a light field; then rendered as a point and as its opening. */
+static char *ies_text;
+static size_t ies_size;
+
+static lumis_status op_photometric(void *ctx)
+{
+    (void)ctx;
+    lumis_photometric_file *f = NULL;
+    lumis_status st = lumis_photometric_read_memory(ies_text, ies_size, "road.ies", NULL, &f);
+    lumis_photometric_info info;
+    if (st == LUMIS_OK) st = lumis_photometric_get_info(f->model, &info);
+    lumis_vec3 d;
+    double pdf = 0;
+    if (st == LUMIS_OK) st = lumis_photometric_sample(f->model, 0.3, 0.6, &d, &pdf);
+    lumis_luminaire *lum = NULL;
+    lumis_photometric_light_field lf = {0};
+    lf.grid[0] = lf.grid[1] = 2;
+    lf.width = lf.height = 6;
+    if (st == LUMIS_OK) st = lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum);
+    lumis_luminaire_info li;
+    if (st == LUMIS_OK) lumis_luminaire_get_info(lum, &li);
+    digest = st == LUMIS_OK ? info.flux + pdf + li.total_power : 0;
+    lumis_luminaire_destroy(lum);
+    lumis_photometric_file_destroy(f);
+    return st;
+}
+
+static lumis_status op_render_photometric(void *ctx)
+{
+    lumis_photometric_file *f = NULL;
+    lumis_status st = lumis_photometric_read_memory(ies_text, ies_size, "road.ies", NULL, &f);
+    if (st != LUMIS_OK) return st;
+    lumis_photometric_instance inst = {0};
+    inst.photometric = f->model;
+    inst.placement = lumis_rigid_identity();
+    inst.placement.t[1] = 3;
+    inst.area = *(const int *)ctx;
+    const lumis_photometric_lighting lit = {&inst, 1};
+    lumis_render_desc d = {0};
+    d.camera = &tiny_cam;
+    d.photometric = &lit;
+    d.spp = 2;
+    d.threads = 1;
+    d.seed = 7;
+    lumis_image *img = NULL;
+    st = lumis_render(in.scene, &d, &img, NULL);
+    digest = st == LUMIS_OK ? image_digest(img) : 0;
+    lumis_image_destroy(img);
+    lumis_photometric_file_destroy(f);
+    return st;
+}
+
+static void photometric_files_and_fixtures(void **state)
+{
+    (void)state;
+    const pg_ies_spec s = {
+        PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 10, 0, 90, 5, 0, 360, 0, 1, -0.2, -0.2,
+        0,       2}; /* TILT=INCLUDE too */
+    ies_text = pg_ies(&s, &ies_size);
+    each_allocation_fails("photometric read, info, sample, light field", op_photometric, NULL);
+    int area = 0;
+    each_allocation_fails("render photometric point", op_render_photometric, &area);
+    area = 1;
+    each_allocation_fails("render photometric opening", op_render_photometric, &area);
+    free(ies_text);
+}
+
 static void map_specs_and_metrics(void **state)
 {
     (void)state;
@@ -683,6 +753,7 @@ int main(void)
         cmocka_unit_test(scene_file),
         cmocka_unit_test(renders_of_every_light_kind),
         cmocka_unit_test(map_specs_and_metrics),
+        cmocka_unit_test(photometric_files_and_fixtures),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
