@@ -53,6 +53,13 @@ static void every_enumeration_round_trips(void **state)
     /* 0 is "default", an alias of inversion-guided */
     ROUND_TRIP(lumis_sampler_method, 1, LUMIS_METHOD_COUNT, lumis_sampler_method_name,
                lumis_sampler_method_from_name);
+    /* photometric types are IES's codes, 1 to 3 */
+    ROUND_TRIP(lumis_photometric_type, 1, 4, lumis_photometric_type_name,
+               lumis_photometric_type_from_name);
+    ROUND_TRIP(lumis_photometric_symmetry, 0, LUMIS_SYMMETRY_LATERAL + 1,
+               lumis_photometric_symmetry_name, lumis_photometric_symmetry_from_name);
+    ROUND_TRIP(lumis_photometric_shape, 0, LUMIS_SHAPE_OTHER + 1, lumis_photometric_shape_name,
+               lumis_photometric_shape_from_name);
 }
 
 static void format_and_status_names(void **state)

@@ -178,6 +178,11 @@ lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
 const char *lumis_photometric_type_name(lumis_photometric_type t);
 const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s);
 const char *lumis_photometric_shape_name(lumis_photometric_shape s);
+/* And back (LUMIS_ERR_INVALID_ARGUMENT for an unknown name or NULL; *out unchanged). */
+lumis_status lumis_photometric_type_from_name(const char *name, lumis_photometric_type *out);
+lumis_status lumis_photometric_symmetry_from_name(const char *name,
+                                                  lumis_photometric_symmetry *out);
+lumis_status lumis_photometric_shape_from_name(const char *name, lumis_photometric_shape *out);
 
 #ifdef __cplusplus
 }

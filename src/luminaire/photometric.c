@@ -54,6 +54,58 @@ const char *lumis_photometric_shape_name(lumis_photometric_shape s)
     return (unsigned)s < sizeof names / sizeof names[0] ? names[s] : "unknown";
 }
 
+/* The value in [first, count) whose name is `name`. */
+static lumis_status from_name(const char *name, int first, int count, const char *(*fn)(int),
+                              int *out)
+{
+    if (!name) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (int v = first; v < count; v++)
+        if (strcmp(fn(v), name) == 0) {
+            *out = v;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+static const char *type_name(int v)
+{
+    return lumis_photometric_type_name((lumis_photometric_type)v);
+}
+static const char *symmetry_name(int v)
+{
+    return lumis_photometric_symmetry_name((lumis_photometric_symmetry)v);
+}
+static const char *shape_name(int v)
+{
+    return lumis_photometric_shape_name((lumis_photometric_shape)v);
+}
+
+lumis_status lumis_photometric_type_from_name(const char *name, lumis_photometric_type *out)
+{
+    int v;
+    const lumis_status st = out ? from_name(name, 1, 4, type_name, &v) : LUMIS_ERR_INVALID_ARGUMENT;
+    if (st == LUMIS_OK) *out = (lumis_photometric_type)v;
+    return st;
+}
+
+lumis_status lumis_photometric_symmetry_from_name(const char *name, lumis_photometric_symmetry *out)
+{
+    int v;
+    const lumis_status st = out ? from_name(name, 0, LUMIS_SYMMETRY_LATERAL + 1, symmetry_name, &v)
+                                : LUMIS_ERR_INVALID_ARGUMENT;
+    if (st == LUMIS_OK) *out = (lumis_photometric_symmetry)v;
+    return st;
+}
+
+lumis_status lumis_photometric_shape_from_name(const char *name, lumis_photometric_shape *out)
+{
+    int v;
+    const lumis_status st = out ? from_name(name, 0, LUMIS_SHAPE_OTHER + 1, shape_name, &v)
+                                : LUMIS_ERR_INVALID_ARGUMENT;
+    if (st == LUMIS_OK) *out = (lumis_photometric_shape)v;
+    return st;
+}
+
 /* ---- directions and angles ------------------------------------------------------------- */
 
 lumis_vec3 lumis_photometric_direction(lumis_photometric_type type, double h_deg, double v_deg)
