@@ -2557,6 +2557,41 @@ static void render_places_photometric_fixtures(void **state)
     expect(a, 2, "--env: the scene is lit by its photometric fixtures, not by a map");
     snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("fx.json"), tu_path("fx.ies"));
     expect(a, 2, NULL);
+    /* --fixture: one fixture lights a built-in scene instead of its map */
+    snprintf(a, sizeof a,
+             "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+             "--fixture-multiplier 2 --fixture-area --size 16x12 --spp 2 -o '%s'",
+             tu_path("fx.ies"), tu_path("cli.exr"));
+    expect(a, 0, "1 photometric fixture");
+    side = (char *)tu_read_file(tu_path("cli.json"), &sn);
+    assert_non_null(side);
+    j = cJSON_Parse(side);
+    free(side);
+    fx = cJSON_GetObjectItemCaseSensitive(j, "photometric");
+    assert_true(cJSON_IsArray(fx) && cJSON_GetArraySize(fx) == 1);
+    const cJSON *e0 = cJSON_GetArrayItem(fx, 0);
+    assert_true(cJSON_GetObjectItemCaseSensitive(e0, "multiplier")->valuedouble == 2.0);
+    assert_string_equal(cJSON_GetObjectItemCaseSensitive(e0, "model")->valuestring, "opening");
+    assert_string_equal(
+        cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "photometric_files"), 0)
+            ->valuestring,
+        tu_path("fx.ies"));
+    cJSON_Delete(j);
+    static const char *const usage[][2] = {
+        {"--fixture '%s'", "needs --fixture-at X,Y,Z"},
+        {"--fixture-at 0,1,0", "need --fixture FILE"},
+        {"--fixture '%s' --fixture-at 0,1", "--fixture-at"},
+        {"--fixture '%s' --fixture-at 0,1,0 --fixture-aim 0,1,0",
+         "a point other than --fixture-at"},
+        {"--fixture '%s' --fixture-at 0,1,0 --env sky", "--fixture lights the scene by itself"},
+        {"--fixture '%s' --fixture-at 0,1,0 --fixture-multiplier -1", "--fixture-multiplier"},
+    };
+    for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {
+        char opts[1024];
+        snprintf(opts, sizeof opts, usage[k][0], tu_path("fx.ies"));
+        snprintf(a, sizeof a, "render --scene spheres %s -o '%s'", opts, tu_path("u.exr"));
+        expect(a, 2, usage[k][1]);
+    }
     /* malformed fixtures, named by their JSON path */
     static const char *const bad[][2] = {
         {"{\"objects\": [], \"photometric\": [{\"file\": \"none.ies\", \"position\": [0, 1, 0]}]}",

@@ -4,6 +4,8 @@
 
 #include "lumis/render.h"
 
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 static const char usage[] =
@@ -49,6 +51,13 @@ static const char usage[] =
     "  --upsample F       Wu: EnvIndirects at 1/F resolution per axis, joint-bilateral\n"
     "                     upsampled and added to the EnvDirects (default 2; 1: 'Ours w/o U';\n"
     "                     the stratified mode's default is 1: the upsampling is a bias)\n"
+    "  --fixture FILE     light the scene by a photometric fixture (IES or EULUMDAT;\n"
+    "                     docs/photometric.md) instead of its map or its own fixtures:\n"
+    "  --fixture-at X,Y,Z     where it is (required with --fixture)\n"
+    "  --fixture-aim X,Y,Z    a point it aims at (default straight down, -y)\n"
+    "  --fixture-roll DEG     turned about its aim (default 0)\n"
+    "  --fixture-multiplier M its candela times M (default 1)\n"
+    "  --fixture-area         its luminous opening (a disk or rectangle), not a point\n"
     "  --luminaire L      replace every luminaire of the scene by L (a manifest written by\n"
     "                     lumis luminaire create, or preset:car|bike|small)\n"
     "  --lum-strategy S   scenes with luminaires (headlight, headlight-close, or a scene file\n"
@@ -89,6 +98,18 @@ static const char usage[] =
     "  --sidecar PATH     where the JSON sidecar goes (default: OUT with .json);\n"
     "                     --no-sidecar writes none\n"
     "  --quiet            no progress bar and no summary line\n";
+
+/* "X,Y,Z": three finite numbers within [-1e30, 1e30]. */
+static int parse_triple(const char *v, double out[3])
+{
+    if (!v) return 0;
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", v);
+    char *save = NULL, *tok = strtok_r(buf, ",", &save);
+    for (int k = 0; k < 3; k++, tok = strtok_r(NULL, ",", &save))
+        if (!tok || !tool_parse_double(tok, &out[k]) || fabs(out[k]) > 1e30) return 0;
+    return tok == NULL;
+}
 
 int cmd_render(int argc, char **argv)
 {
@@ -148,6 +169,26 @@ int cmd_render(int argc, char **argv)
             if (!tool_parse_int(v, 1, 16, &x))
                 return tool_bad_value("render", "--upsample", v, "needs a factor in [1, 16]");
             o.upsample = (int)x;
+        } else if (tool_option(argc, argv, &i, "--fixture", &v)) {
+            if (!v || !*v) return tool_bad_value("render", "--fixture", v, "needs a file");
+            o.fixture = v;
+        } else if (tool_option(argc, argv, &i, "--fixture-at", &v)) {
+            if (!parse_triple(v, o.fixture_at))
+                return tool_bad_value("render", "--fixture-at", v, "needs X,Y,Z (three numbers)");
+            o.fixture_at_given = 1;
+        } else if (tool_option(argc, argv, &i, "--fixture-aim", &v)) {
+            if (!parse_triple(v, o.fixture_aim))
+                return tool_bad_value("render", "--fixture-aim", v, "needs X,Y,Z (three numbers)");
+            o.fixture_aim_given = 1;
+        } else if (tool_option(argc, argv, &i, "--fixture-roll", &v)) {
+            if (!tool_parse_double(v, &o.fixture_roll) || fabs(o.fixture_roll) > 36000)
+                return tool_bad_value("render", "--fixture-roll", v, "needs degrees");
+        } else if (tool_option(argc, argv, &i, "--fixture-multiplier", &v)) {
+            if (!tool_parse_double(v, &o.fixture_multiplier) || !(o.fixture_multiplier > 0) ||
+                o.fixture_multiplier > 1e30)
+                return tool_bad_value("render", "--fixture-multiplier", v, "needs a number > 0");
+        } else if (strcmp(argv[i], "--fixture-area") == 0) {
+            o.fixture_area = 1;
         } else if (tool_option(argc, argv, &i, "--luminaire", &v)) {
             if (!v) return tool_bad_value("render", "--luminaire", v, "needs a manifest or preset");
             o.luminaire = v;
@@ -360,6 +401,17 @@ int cmd_render(int argc, char **argv)
                                 "--mis %s: --method bsdf samples the BSDF only and "
                                 "combines nothing",
                                 mis);
+    const int fixture_opt = o.fixture_at_given || o.fixture_aim_given || o.fixture_area ||
+                            o.fixture_roll != 0 || o.fixture_multiplier != 0;
+    if (fixture_opt && !o.fixture)
+        return tool_usage_error("render", "--fixture-at, -aim, -roll, -multiplier and -area "
+                                          "need --fixture FILE");
+    if (o.fixture && !o.fixture_at_given)
+        return tool_usage_error("render", "--fixture %s needs --fixture-at X,Y,Z", o.fixture);
+    if (o.fixture && (o.lights || o.envspec || o.bsdf_only || o.luminaire))
+        return tool_usage_error("render",
+                                "--fixture lights the scene by itself: not with --lights, --env, "
+                                "--method bsdf or --luminaire");
     tool_render_result r;
     int rc = tool_render(&o, &r);
     lumis_image_destroy(r.image);

@@ -61,7 +61,17 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     /* A scene with luminaires is lit by them alone; its camera rays that escape see black.
      * So is a scene with photometric fixtures (and no luminaires): it is self-lit. */
     const int lum = file->luminaire_count > 0;
-    const int fixtures = !lum && file->photometric_count > 0, self_lit = lum || fixtures;
+    /* --fixture: one fixture instead of the scene's own lights */
+    lumis_photometric_file *cli_fixture = NULL;
+    lumis_photometric_instance cli_instance;
+    memset(&cli_instance, 0, sizeof cli_instance);
+    if (o->fixture && lum) {
+        lumis_scene_file_destroy(file);
+        lumis_luminaire_destroy(replacement);
+        return tool_usage_error(cmd, "--fixture: the scene is lit by its luminaires");
+    }
+    const int fixtures = !lum && (file->photometric_count > 0 || o->fixture),
+              self_lit = lum || fixtures;
     if (!lum && file->luminaires_listed > 0) { /* not the default sky instead */
         lumis_scene_file_destroy(file);
         lumis_luminaire_destroy(replacement);
@@ -135,8 +145,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
             nmans++;
         }
     }
-    for (int k = 0; lumis_scene_file_photometric_path(file, k); k++)
+    for (int k = 0; !o->fixture && lumis_scene_file_photometric_path(file, k); k++)
         tool_files_input(&files, "photometric file", lumis_scene_file_photometric_path(file, k));
+    if (o->fixture) tool_files_input(&files, "--fixture", o->fixture);
     if (o->luminaire && strncmp(o->luminaire, "preset:", 7) != 0) {
         tool_files_input(&files, "luminaire", o->luminaire);
         if (nmans < TOOL_FILES_MAX &&
@@ -205,8 +216,25 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lighting.instances = file->luminaires;
     lighting.count = file->luminaire_count;
     rd.luminaires = lum ? &lighting : NULL;
-    const lumis_photometric_lighting fixture_lighting = {file->photometrics,
-                                                         file->photometric_count};
+    lumis_photometric_lighting fixture_lighting = {file->photometrics, file->photometric_count};
+    if (o->fixture) {
+        if (lumis_photometric_read(o->fixture, &tool_errors, &cli_fixture) != LUMIS_OK) goto done;
+        const lumis_vec3 aim = {
+            (float)(o->fixture_aim_given ? o->fixture_aim[0] - o->fixture_at[0] : 0),
+            (float)(o->fixture_aim_given ? o->fixture_aim[1] - o->fixture_at[1] : -1),
+            (float)(o->fixture_aim_given ? o->fixture_aim[2] - o->fixture_at[2] : 0)};
+        if (lumis_photometric_aim(aim, o->fixture_roll, cli_instance.placement.r) != LUMIS_OK) {
+            tool_usage_error(cmd, "--fixture-aim: a point other than --fixture-at");
+            rc = EXIT_USAGE;
+            goto done;
+        }
+        for (int a = 0; a < 3; a++) cli_instance.placement.t[a] = o->fixture_at[a];
+        cli_instance.photometric = cli_fixture->model;
+        cli_instance.multiplier = o->fixture_multiplier;
+        cli_instance.area = o->fixture_area;
+        fixture_lighting.instances = &cli_instance;
+        fixture_lighting.count = 1;
+    }
     rd.photometric = fixtures ? &fixture_lighting : NULL;
     if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
     if (pg.enabled) {
@@ -288,8 +316,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                      o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
         else if (fixtures)
-            snprintf(how, sizeof how, "%d photometric fixture%s, %s", file->photometric_count,
-                     file->photometric_count > 1 ? "s" : "", tool_estimator_name(&rd));
+            snprintf(how, sizeof how, "%d photometric fixture%s, %s", rd.photometric->count,
+                     rd.photometric->count > 1 ? "s" : "", tool_estimator_name(&rd));
         else if (lights)
             snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s",
                      o->lights, lumis_light_set_get_info(lights)->count,
@@ -322,6 +350,7 @@ done:
     }
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
+    lumis_photometric_file_destroy(cli_fixture);
     lumis_luminaire_destroy(replacement);
     lumis_sampler_destroy(smp);
     lumis_light_set_destroy(lights);

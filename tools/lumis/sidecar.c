@@ -103,7 +103,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
             cJSON_AddItemToArray(arr, e);
         }
         cJSON *files = cJSON_AddArrayToObject(j, "photometric_files");
-        for (int q = 0; lumis_scene_file_photometric_path(file, q); q++)
+        if (o->fixture) cJSON_AddItemToArray(files, cJSON_CreateString(o->fixture));
+        for (int q = 0; !o->fixture && lumis_scene_file_photometric_path(file, q); q++)
             cJSON_AddItemToArray(files,
                                  cJSON_CreateString(lumis_scene_file_photometric_path(file, q)));
     } else {
