@@ -511,6 +511,11 @@ begin "info: --svg onto the photometric file through d/../"
 printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n100 0\n' >f.ies; mkdir d
 snap; run usage "\$L info f.ies --svg d/../f.ies"; end
 
+begin "render: --fixture's file as the sidecar of -o f.exr"
+printf 'IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 0\n0 90\n0\n100 0\n' >f.ies
+cp f.ies f.json
+snap; run usage "\$L render --scene spheres $R --fixture f.json --fixture-at 0,2,0 -o f.exr"; end
+
 begin "sample: stdout appended to the input map (>> m.pfm)"
 cp "$FIX/map.pfm" m.pfm
 snap; run any "\$L sample m.pfm --method inversion -n 2 >> m.pfm"
