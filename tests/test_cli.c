@@ -2520,7 +2520,8 @@ static void render_places_photometric_fixtures(void **state)
         " \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}],"
         " \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 2, 0]},"
         " {\"file\": \"fx.ies\", \"position\": [1, 2, 0], \"aim\": [2, 0, 0], \"roll_deg\": 10,"
-        " \"multiplier\": 0.5, \"area\": true}]}";
+        " \"multiplier\": 0.5, \"area\": true},"
+        " {\"file\": \"none.ies\", \"position\": [0, 2, 0], \"multiplier\": 0}]}";
     tu_write_file(tu_path("fx.json"), scene, strlen(scene));
     char a[4096], *out = NULL, *err = NULL;
     /* -o fx.exr: its sidecar fx.json would replace the scene: refused before any work */

@@ -558,6 +558,232 @@ static void near_field_and_light_field(void **state)
     lumis_photometric_file_destroy(f);
 }
 
+/* Every argument check of the model and its sampler, and the names' edges. */
+static void model_refuses_bad_tables(void **state)
+{
+    (void)state;
+    const double v[3] = {0, 45, 90}, h[2] = {0, 90}, cd[6] = {1, 2, 3, 4, 5, 6};
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = 3;
+    d.nh = 2;
+    d.v_deg = v;
+    d.h_deg = h;
+    d.candela = cd;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    lumis_photometric_destroy(p);
+    tu_sink sink;
+    /* one edit of the good table at a time */
+    lumis_photometric_desc e;
+    const double bad_v[3] = {0, NAN, 90}, neg_cd[6] = {1, -2, 3, 4, 5, 6};
+    const double hv_ab[2] = {-90, 90}, v_ab[3] = {-90, 0, 90}, v_ab_bad[3] = {-45, 0, 90};
+    const double h_bad[2] = {0, 45}, v_up[3] = {0, 90, 190};
+    struct {
+        lumis_photometric_desc d;
+        lumis_status st;
+        const char *msg;
+    } bad[16];
+    int nb = 0;
+#define BAD(field_edit, status, text)                                                              \
+    do {                                                                                           \
+        e = d;                                                                                     \
+        field_edit;                                                                                \
+        bad[nb].d = e;                                                                             \
+        bad[nb].st = status;                                                                       \
+        bad[nb].msg = text;                                                                        \
+        nb++;                                                                                      \
+    } while (0)
+    BAD(e.type = (lumis_photometric_type)7, LUMIS_ERR_CORRUPT, "photometric type 7");
+    BAD(e.nv = 1, LUMIS_ERR_BAD_DIMENSIONS, "vertical and");
+    BAD(e.v_deg = bad_v, LUMIS_ERR_CORRUPT, "vertical angle 2 is not a number");
+    BAD(e.candela = neg_cd, LUMIS_ERR_CORRUPT, "candela value 2");
+    BAD(e.multiplier = -1, LUMIS_ERR_CORRUPT, "candela multiplier -1");
+    BAD(e.width = -1, LUMIS_ERR_CORRUPT, "luminous width -1");
+    BAD(e.height = INFINITY, LUMIS_ERR_CORRUPT, "luminous height");
+    BAD(e.h_deg = h_bad, LUMIS_ERR_CORRUPT, "horizontal angles from 0 to 45");
+    BAD(e.v_deg = v_up, LUMIS_ERR_CORRUPT, "vertical angles from 0 to 190");
+    BAD((e.type = LUMIS_PHOTOMETRIC_B, e.h_deg = h_bad), LUMIS_ERR_CORRUPT, "type B's cover");
+    BAD((e.type = LUMIS_PHOTOMETRIC_A, e.h_deg = hv_ab, e.v_deg = v_ab_bad), LUMIS_ERR_CORRUPT,
+        "vertical angles from -45 to 90");
+    BAD((e.type = LUMIS_PHOTOMETRIC_A, e.nh = 1), LUMIS_ERR_CORRUPT, "type A's cover");
+    BAD(e.candela = NULL, LUMIS_ERR_INVALID_ARGUMENT, "no table");
+    for (int k = 0; k < nb; k++) {
+        tu_sink_init(&sink);
+        p = (lumis_photometric *)&sink; /* overwritten with NULL on failure */
+        const lumis_status st = lumis_photometric_create(&bad[k].d, &sink.sink, &p);
+        if (st != bad[k].st || !strstr(sink.last, bad[k].msg))
+            fail_msg("case %d: %s \"%s\", want %s \"%s\"", k, lumis_status_name(st), sink.last,
+                     lumis_status_name(bad[k].st), bad[k].msg);
+        assert_null(p);
+    }
+    (void)v_ab;
+    assert_int_equal(lumis_photometric_create(NULL, NULL, &p), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_create(&d, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* NULL and non-finite arguments of the queries */
+    const lumis_vec3 down = {0, 0, -1};
+    assert_true(lumis_photometric_intensity(NULL, down) == 0);
+    assert_true(lumis_photometric_pdf(NULL, down) == 0);
+    assert_true(lumis_photometric_flux(NULL) == 0 && lumis_photometric_flux_within(NULL, 10) == 0);
+    assert_true(lumis_photometric_plane_intensity(NULL, 0, 0) == 0);
+    assert_int_equal(lumis_photometric_get_info(NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    double pdf;
+    lumis_vec3 dir;
+    assert_int_equal(lumis_photometric_sample(NULL, 0, 0, &dir, &pdf), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    assert_true(lumis_photometric_intensity_at(p, NAN, 10) == 0);
+    assert_true(lumis_photometric_intensity_at(p, 10, 95) == 0); /* above the table */
+    assert_true(lumis_photometric_flux_within(p, 45) < lumis_photometric_flux(p));
+    double E;
+    assert_int_equal(lumis_photometric_irradiance(NULL, 0, down, down, 0, &E),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_from_photometric(NULL, NULL, NULL, &lum),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_destroy(p);
+    lumis_photometric_destroy(NULL);
+    lumis_photometric_file_destroy(NULL);
+    /* names out of range, from_name with NULL */
+    assert_string_equal(lumis_photometric_type_name((lumis_photometric_type)9), "unknown");
+    assert_string_equal(lumis_photometric_symmetry_name((lumis_photometric_symmetry)9), "unknown");
+    assert_string_equal(lumis_photometric_shape_name((lumis_photometric_shape)9), "unknown");
+    assert_int_equal(lumis_photometric_type_from_name("C", NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_symmetry_from_name("none", NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_shape_from_name("disk", NULL), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+/* A rectangle's near field and light field; a B-spline light field; the light field's
+ * argument checks. */
+static void rectangle_near_and_light_fields(void **state)
+{
+    (void)state;
+    /* a Lambertian 0.4 x 0.2 rectangle: on its axis at D, a closed form for a uniform
+     * rectangle is long; the quadrature against a brute-force sum instead */
+    pg_ies_spec s = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, 0.2, 0.4,
+                     0,          2};
+    lumis_photometric_file *f = read_ies(&s);
+    const lumis_vec3 x = {0.1f, 0.05f, -0.3f}, n = {0, 0, 1};
+    double E = 0, brute = 0;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 0, &E), LUMIS_OK);
+    const int N = 400;
+    for (int i = 0; i < N; i++)
+        for (int j = 0; j < N; j++) {
+            const double yx = 0.4 * ((i + 0.5) / N - 0.5), yy = 0.2 * ((j + 0.5) / N - 0.5);
+            const double w[3] = {x.x - yx, x.y - yy, x.z},
+                         d2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+            const double d = sqrt(d2), cz = -w[2] / d; /* Lambertian: I = I0 cos */
+            brute += 1000.0 * cz * cz / d2;
+        }
+    brute /= (double)N * N;
+    if (fabs(E / brute - 1) > 1e-4) fail_msg("rectangle near field %g, brute force %g", E, brute);
+    lumis_photometric_light_field lf = {0};
+    lf.basis = LUMIS_BASIS_BSPLINE;
+    lf.width = lf.height = 64;
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum), LUMIS_OK);
+    lumis_luminaire_info li;
+    lumis_luminaire_get_info(lum, &li);
+    assert_int_equal(li.grid[0], 9); /* along the length (x), 5 across */
+    assert_int_equal(li.grid[1], 5);
+    const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {0, 0, -1};
+    lumis_rgb e;
+    assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
+    if (fabs(e.g / E - 1) > 0.05) fail_msg("rectangle light field %g, near field %g", e.g, E);
+    lumis_luminaire_destroy(lum);
+    lumis_photometric_light_field badlf = {0};
+    badlf.grid[0] = 300;
+    badlf.grid[1] = 2;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, &sink.sink, &lum),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "grid 300 x 2"));
+    lumis_photometric_file_destroy(f);
+}
+
+/* The readers' less travelled roads: a byte-order mark and CR line ends, a NUL in the text,
+ * commas between numbers, absolute photometry, a file read from disk, an IES without its
+ * version line found by TILT=; EULUMDAT's header errors. */
+static void readers_less_travelled(void **state)
+{
+    (void)state;
+    static const char ies[] = "\xEF\xBB\xBF[TEST] t\r[LUMCAT] cat-1\r[LAMP] lamp\r[OTHER] x\r"
+                              "TILT=NONE\r1,-1,1,2,1,1,2,0,0,0\r1 1 10\r0,90\r0\r100,0\r";
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = read_text(ies, sizeof ies - 1, &sink);
+    assert_string_equal(f->standard, "LM-63-1986");
+    assert_string_equal(f->catalog, "cat-1");
+    assert_string_equal(f->lamp, "lamp");
+    assert_true(info_of(f).lamp_lumens <= 0); /* -1: absolute photometry */
+    lumis_photometric_file_destroy(f);
+    char with_nul[sizeof ies];
+    memcpy(with_nul, ies, sizeof ies);
+    with_nul[5] = '\0'; /* inside [TEST]'s line: read as a blank */
+    f = read_text(with_nul, sizeof ies - 1, &sink);
+    lumis_photometric_file_destroy(f);
+    tu_write_file(tu_path("disk.ies"), ies, sizeof ies - 1);
+    assert_int_equal(lumis_photometric_read(tu_path("disk.ies"), &sink.sink, &f), LUMIS_OK);
+    lumis_photometric_file_destroy(f);
+    assert_int_equal(lumis_photometric_read(NULL, &sink.sink, &f), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_read_memory(NULL, 4, "x", &sink.sink, &f),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    /* TILT=INCLUDE's errors */
+    static const char *const tilts[][2] = {
+        {"TILT=INCLUDE\r4\r", "TILT's lamp-to-luminaire geometry: 4"},
+        {"TILT=INCLUDE\r1\r0\r", "TILT's number of angle and factor pairs: 0"},
+        {"TILT=INCLUDE\r1\r2\r0 -1\r", "TILT's angles: -1 after 0"},
+    };
+    for (int k = 0; k < 3; k++) {
+        size_t n = 0;
+        char *t = edited(ies, "TILT=NONE\r", tilts[k][0], &n);
+        tu_sink_init(&sink);
+        lumis_photometric_file *g = NULL;
+        lumis_photometric_read_memory(t, n, "t.ies", &sink.sink, &g);
+        if (!strstr(sink.last, tilts[k][1])) fail_msg("tilt %d: \"%s\"", k, sink.last);
+        assert_null(g);
+        free(t);
+    }
+    /* EULUMDAT: sizes, symmetry that does not divide, flux 0, a short header */
+    size_t n = 0;
+    char *ldt = pg_ldt(PG_LAMBERT, 0, 2, 24, 19, 1, &n);
+    const struct {
+        const char *from, *to, *msg;
+    } lbad[] = {
+        {"600\n600\n100\n500\n", "600\n-600\n100\n500\n", "the luminaire's width (mm) is -600"},
+        {"\nLED 1\n1000\n", "\nLED 1\n0\n", "the lamps' total flux of set 1 is 0 lm"},
+        {"\n0.5\n0.5\n", "\n0.5\nx\n", "the direct ratios: 'x' is not a number"},
+    };
+    for (int k = 0; k < 3; k++) {
+        size_t m = 0;
+        char *t = edited(ldt, lbad[k].from, lbad[k].to, &m);
+        tu_sink_init(&sink);
+        lumis_photometric_file *g = NULL;
+        lumis_photometric_read_memory(t, m, "t.ldt", &sink.sink, &g);
+        if (!strstr(sink.last, lbad[k].msg)) fail_msg("ldt %d: \"%s\"", k, sink.last);
+        assert_null(g);
+        free(t);
+    }
+    /* symmetry 4 needs a number of C-planes divisible by 4 */
+    size_t m4 = 0;
+    char *l4 = pg_ldt(PG_LAMBERT, 0, 4, 18, 19, 1, &m4);
+    tu_sink_init(&sink);
+    lumis_photometric_file *g4 = NULL;
+    lumis_photometric_read_memory(l4, m4, "t.ldt", &sink.sink, &g4);
+    assert_null(g4);
+    assert_non_null(strstr(sink.last, "symmetry 4 with 18 C-planes"));
+    free(l4);
+    /* the header cut after line 26: type and symmetry read, then too few lines */
+    char *nl = ldt;
+    for (int k = 0; k < 20; k++) nl = strchr(nl, '\n') + 1;
+    tu_sink_init(&sink);
+    lumis_photometric_file *g = NULL;
+    lumis_photometric_read_memory(ldt, (size_t)(nl - ldt), "t.ldt", &sink.sink, &g);
+    assert_null(g);
+    free(ldt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -570,6 +796,9 @@ int main(void)
         cmocka_unit_test(beam_and_field_angles),
         cmocka_unit_test(malformed_files_name_line_and_field),
         cmocka_unit_test(near_field_and_light_field),
+        cmocka_unit_test(model_refuses_bad_tables),
+        cmocka_unit_test(rectangle_near_and_light_fields),
+        cmocka_unit_test(readers_less_travelled),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

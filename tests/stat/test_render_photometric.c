@@ -315,6 +315,89 @@ static void an_opening_is_unbiased_and_far_away_a_point(void **state)
     lumis_photometric_file_destroy(f);
 }
 
+/* A rectangular opening's estimators agree (the power heuristic too); a point is lit the
+ * same whatever the estimator (no BSDF sample can find it); what prepare refuses. */
+static void rectangles_estimators_and_refusals(void **state)
+{
+    (void)state;
+    pg_ies_spec spec = {PG_BATWING, 2, "IESNA:LM-63-2002", 1, 46, 0, 90, 1, 0, 0, 0, 0, 0.2, 0.4,
+                        0,          2};
+    lumis_photometric_file *f = load(&spec);
+    lumis_scene *s = floor_scene(0);
+    lumis_photometric_instance in = {0};
+    in.photometric = f->model;
+    in.area = 1;
+    in.placement.t[2] = 0.3;
+    double m[3], se[3];
+    const lumis_estimator ests[3] = {LUMIS_ESTIMATOR_LIGHT, LUMIS_ESTIMATOR_BSDF,
+                                     LUMIS_ESTIMATOR_MIS};
+    for (int k = 0; k < 3; k++) image_mean(s, &in, ests[k], 64, 8, 1, &m[k], &se[k]);
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++)
+            if (fabs(m[a] - m[b]) > 4 * sqrt(se[a] * se[a] + se[b] * se[b]) + 1e-4 * m[a])
+                fail_msg("rectangle: estimators %d and %d: %g +- %g against %g +- %g", a, b, m[a],
+                         se[a], m[b], se[b]);
+    /* the power heuristic, two light and two BSDF samples */
+    {
+        lumis_photometric_lighting pl = {&in, 1};
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.photometric = &pl;
+        d.spp = 64;
+        d.power_heuristic = 1;
+        d.light_samples = 2;
+        d.bsdf_samples = 2;
+        d.pixel_centers = 1;
+        d.threads = 1;
+        double sum = 0;
+        int count = 0;
+        for (int r = 0; r < 4; r++) {
+            d.seed = 900 + (unsigned long long)r;
+            lumis_image *img = NULL;
+            assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+            for (int y = 0; y < H; y++)
+                for (int x = 0; x < W; x++)
+                    if (abs(2 * x + 1 - W) < 2 && abs(2 * y + 1 - H) < 2) {
+                        sum += px(img, x, y);
+                        count++;
+                    }
+            lumis_image_destroy(img);
+        }
+        const double mp = sum / count;
+        if (fabs(mp - m[2]) > 4 * se[2] + 0.02 * m[2])
+            fail_msg("power heuristic %g, balance %g +- %g", mp, m[2], se[2]);
+    }
+    /* a point: the same image whatever the estimator */
+    in.area = 0;
+    lumis_image *a = render(s, &in, 1, 1, LUMIS_ESTIMATOR_LIGHT, 1, 5);
+    lumis_image *b = render(s, &in, 1, 1, LUMIS_ESTIMATOR_BSDF, 1, 5);
+    for (int k = 0; k < 3 * W * H; k++) assert_true(a->pixels[k] == b->pixels[k]);
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    /* refusals: no table, a reflection, a negative multiplier, no fixture and no map */
+    lumis_photometric_instance bad = in;
+    lumis_photometric_lighting pl = {&bad, 1};
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.photometric = &pl;
+    d.spp = 1;
+    lumis_image *img = NULL;
+    bad.photometric = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = in;
+    bad.placement.r[0] = -1;
+    bad.placement.r[4] = bad.placement.r[8] = 1;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = in;
+    bad.multiplier = -2;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    pl.count = 0; /* not this kind: the map's, and there is none */
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    lumis_scene_destroy(s);
+    lumis_photometric_file_destroy(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -322,6 +405,7 @@ int main(void)
         cmocka_unit_test(rotational_symmetry_gives_a_symmetric_image),
         cmocka_unit_test(aim_and_shadows),
         cmocka_unit_test(an_opening_is_unbiased_and_far_away_a_point),
+        cmocka_unit_test(rectangles_estimators_and_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
