@@ -784,6 +784,81 @@ static void readers_less_travelled(void **state)
     free(ldt);
 }
 
+/* EULUMDAT's luminous area as each shape, its conversion factor, absolute photometry (a
+ * negative lamp count), a negative intensity, decimal commas among the numbers. */
+static void ldt_shapes_factors_and_values(void **state)
+{
+    (void)state;
+    size_t n = 0;
+    char *ldt = pg_ldt(PG_LAMBERT, 0, 1, 24, 19, 1, &n);
+    /* lines 13-21: luminaire 600 x 600 x 100, luminous 500 x 0 (round), heights 0 */
+    const struct {
+        const char *to;
+        lumis_photometric_shape shape;
+    } shapes[] = {
+        {"600\n600\n100\n500\n300\n0\n0\n0\n0\n", LUMIS_SHAPE_RECTANGLE},
+        {"600\n600\n100\n500\n300\n20\n20\n20\n20\n", LUMIS_SHAPE_BOX},
+        {"600\n600\n100\n500\n0\n40\n40\n40\n40\n", LUMIS_SHAPE_CYLINDER},
+        {"600\n600\n100\n0\n0\n0\n0\n0\n0\n", LUMIS_SHAPE_POINT},
+    };
+    for (int k = 0; k < 4; k++) {
+        size_t m = 0;
+        char *t = edited(ldt, "600\n600\n100\n500\n0\n0\n0\n0\n0\n", shapes[k].to, &m);
+        tu_sink sink;
+        tu_sink_init(&sink);
+        lumis_photometric_file *f = read_text(t, m, &sink);
+        assert_int_equal(info_of(f).shape, shapes[k].shape);
+        lumis_photometric_file_destroy(f);
+        free(t);
+    }
+    /* the conversion factor doubles every intensity; a negative lamp count reads */
+    size_t m = 0;
+    char *t = edited(ldt, "\n100\n80\n1\n0\n1\n1\n", "\n100\n80\n2\n0\n1\n-1\n", &m);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = read_text(t, m, &sink);
+    assert_true(fabs(info_of(f).max_candela - 2000) < 1e-9);
+    assert_int_equal(f->lamps, -1);
+    lumis_photometric_file_destroy(f);
+    free(t);
+    /* a decimal comma among the numbers; a negative intensity */
+    t = edited(ldt, "\n0.5\n0.5\n", "\n0,5\n0.5\n", &m);
+    tu_sink_init(&sink);
+    f = read_text(t, m, &sink);
+    lumis_photometric_file_destroy(f);
+    free(t);
+    const char *last = ldt + n - 2; /* the last intensity: "0\n" at gamma 180 */
+    while (last > ldt && last[-1] != '\n') last--;
+    char *neg = malloc(n + 2);
+    memcpy(neg, ldt, (size_t)(last - ldt));
+    memcpy(neg + (last - ldt), "-3\n", 3);
+    tu_sink_init(&sink);
+    f = NULL;
+    assert_int_equal(
+        lumis_photometric_read_memory(neg, (size_t)(last - ldt) + 3, "t.ldt", &sink.sink, &f),
+        LUMIS_ERR_CORRUPT);
+    assert_non_null(strstr(sink.last, "intensities cannot be negative"));
+    free(neg);
+    free(ldt);
+    /* IES shapes the format allows but lumis does not model, and a sphere's sizes */
+    pg_ies_spec sp = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, -0.3, -0.4,
+                      0,          2};
+    f = read_ies(&sp);
+    assert_int_equal(info_of(f).shape, LUMIS_SHAPE_OTHER);
+    lumis_photometric_file_destroy(f);
+    sp.width = sp.length = -0.3;
+    sp.height = -0.2;
+    f = read_ies(&sp);
+    assert_int_equal(info_of(f).shape, LUMIS_SHAPE_OTHER);
+    lumis_photometric_file_destroy(f);
+    sp.width = 0.3;
+    sp.length = 0.3;
+    sp.height = -0.1;
+    f = read_ies(&sp);
+    assert_int_equal(info_of(f).shape, LUMIS_SHAPE_OTHER);
+    lumis_photometric_file_destroy(f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -799,6 +874,7 @@ int main(void)
         cmocka_unit_test(model_refuses_bad_tables),
         cmocka_unit_test(rectangle_near_and_light_fields),
         cmocka_unit_test(readers_less_travelled),
+        cmocka_unit_test(ldt_shapes_factors_and_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
