@@ -181,3 +181,13 @@ unsigned char *tool_read_file(const char *path, size_t *n, int *oom)
     *oom = buf == NULL;
     return buf;
 }
+
+/* The samples of o's share (render --passes I/N): with render_run.c and sidecar.c both
+ * asking, it lives below them. */
+void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count)
+{
+    const long long t = o->rd.spp ? o->rd.spp : 16;
+    *total = (int)t;
+    *first = o->passes ? (int)(t * o->pass_index / o->passes) : 0;
+    *count = o->passes ? (int)(t * (o->pass_index + 1) / o->passes) - *first : (int)t;
+}

@@ -24,14 +24,6 @@ static void on_pass(void *user, int spp)
     ((progress *)user)->spp_done = spp;
 }
 
-void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count)
-{
-    const long long t = o->rd.spp ? o->rd.spp : 16;
-    *total = (int)t;
-    *first = o->passes ? (int)(t * o->pass_index / o->passes) : 0;
-    *count = o->passes ? (int)(t * (o->pass_index + 1) / o->passes) - *first : (int)t;
-}
-
 int tool_render(const tool_render_opts *o, tool_render_result *r)
 {
     memset(r, 0, sizeof *r);
