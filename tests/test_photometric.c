@@ -583,7 +583,7 @@ static void model_refuses_bad_tables(void **state)
         lumis_photometric_desc d;
         lumis_status st;
         const char *msg;
-    } bad[16];
+    } bad[32];
     int nb = 0;
 #define BAD(field_edit, status, text)                                                              \
     do {                                                                                           \
@@ -608,6 +608,20 @@ static void model_refuses_bad_tables(void **state)
         "vertical angles from -45 to 90");
     BAD((e.type = LUMIS_PHOTOMETRIC_A, e.nh = 1), LUMIS_ERR_CORRUPT, "type A's cover");
     BAD(e.candela = NULL, LUMIS_ERR_INVALID_ARGUMENT, "no table");
+    BAD(e.v_deg = NULL, LUMIS_ERR_INVALID_ARGUMENT, "no table");
+    BAD(e.h_deg = NULL, LUMIS_ERR_INVALID_ARGUMENT, "no table");
+    BAD(e.nh = 0, LUMIS_ERR_BAD_DIMENSIONS, "0 horizontal angles");
+    BAD(e.nv = 200000, LUMIS_ERR_BAD_DIMENSIONS, "200000 vertical");
+    BAD(e.multiplier = NAN, LUMIS_ERR_CORRUPT, "candela multiplier nan");
+    BAD(e.length = -3, LUMIS_ERR_CORRUPT, "luminous length -3");
+    const double h_90_180[2] = {90, 180}, h_0_400[2] = {0, 400}, h_m90_45[2] = {-90, 45},
+                 v_m90_45[3] = {-90, 0, 45}, v_m10[3] = {-10, 0, 90};
+    BAD(e.h_deg = h_90_180, LUMIS_ERR_CORRUPT, "horizontal angles from 90 to 180");
+    BAD(e.h_deg = h_0_400, LUMIS_ERR_CORRUPT, "horizontal angles from 0 to 400");
+    BAD(e.v_deg = v_m10, LUMIS_ERR_CORRUPT, "vertical angles from -10 to 90");
+    BAD((e.type = LUMIS_PHOTOMETRIC_B, e.h_deg = h_m90_45), LUMIS_ERR_CORRUPT, "type B's cover");
+    BAD((e.type = LUMIS_PHOTOMETRIC_B, e.h_deg = hv_ab, e.v_deg = v_m90_45), LUMIS_ERR_CORRUPT,
+        "vertical angles from -90 to 45");
     for (int k = 0; k < nb; k++) {
         tu_sink_init(&sink);
         p = (lumis_photometric *)&sink; /* overwritten with NULL on failure */
@@ -617,7 +631,6 @@ static void model_refuses_bad_tables(void **state)
                      lumis_status_name(bad[k].st), bad[k].msg);
         assert_null(p);
     }
-    (void)v_ab;
     assert_int_equal(lumis_photometric_create(NULL, NULL, &p), LUMIS_ERR_INVALID_ARGUMENT);
     assert_int_equal(lumis_photometric_create(&d, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     /* NULL and non-finite arguments of the queries */
@@ -640,6 +653,32 @@ static void model_refuses_bad_tables(void **state)
     lumis_luminaire *lum = NULL;
     assert_int_equal(lumis_luminaire_from_photometric(NULL, NULL, NULL, &lum),
                      LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_info info;
+    assert_int_equal(lumis_photometric_get_info(p, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_sample(p, 0.5, 0.5, NULL, &pdf), LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_destroy(p);
+    /* a black table: no flux, no beam, no downward share */
+    const double black[6] = {0, 0, 0, 0, 0, 0};
+    e = d;
+    e.candela = black;
+    assert_int_equal(lumis_photometric_create(&e, NULL, &p), LUMIS_OK);
+    assert_int_equal(lumis_photometric_get_info(p, &info), LUMIS_OK);
+    assert_true(info.flux == 0 && info.beam_deg[0] == 0 && info.downward_fraction == 0);
+    lumis_photometric_destroy(p);
+    /* type A: all of its flux lies in front */
+    const double cd9[9] = {1, 2, 1, 2, 3, 2, 1, 2, 1};
+    e = d;
+    e.type = LUMIS_PHOTOMETRIC_A;
+    e.nh = 3;
+    e.nv = 3;
+    const double h3[3] = {-90, 0, 90};
+    e.h_deg = h3;
+    e.v_deg = v_ab;
+    e.candela = cd9;
+    assert_int_equal(lumis_photometric_create(&e, NULL, &p), LUMIS_OK);
+    assert_true(lumis_photometric_flux_within(p, 10) == lumis_photometric_flux(p));
+    assert_int_equal(lumis_photometric_get_info(p, &info), LUMIS_OK);
+    assert_true(info.downward_fraction == 1.0);
     lumis_photometric_destroy(p);
     lumis_photometric_destroy(NULL);
     lumis_photometric_file_destroy(NULL);
@@ -699,6 +738,26 @@ static void rectangle_near_and_light_fields(void **state)
     assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, &sink.sink, &lum),
                      LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "grid 300 x 2"));
+    const struct {
+        int g0, g1, w;
+        double angle;
+        int ss;
+    } bads[] = {{40, 40, 0, 0, 0}, {0, 0, 20000, 0, 0}, {0, 0, 0, 95, 0}, {0, 0, 0, 0, 20}};
+    for (int k = 0; k < 4; k++) {
+        badlf = (lumis_photometric_light_field){
+            {bads[k].g0, bads[k].g1}, bads[k].w, bads[k].w, 0, bads[k].angle,
+            LUMIS_BASIS_DEFAULT,      bads[k].ss};
+        assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, NULL, &lum),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+    }
+    /* behind the opening, or facing away: no light from the opening */
+    const lumis_vec3 above = {0, 0, 0.5f}, away = {0, 0, -1};
+    double z = 1;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, above, nl, 0, &z), LUMIS_OK);
+    assert_true(z == 0);
+    z = 1;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, away, 4, &z), LUMIS_OK);
+    assert_true(z == 0);
     lumis_photometric_file_destroy(f);
 }
 
