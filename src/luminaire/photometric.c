@@ -32,78 +32,64 @@ struct lumis_photometric {
 
 /* ---- names ---------------------------------------------------------------------------- */
 
+/* Indexed by the enumerations' values (type: IES's codes 1 to 3; 0 has none). */
+static const char *const type_names[] = {NULL, "C", "B", "A"};
+static const char *const symmetry_names[] = {"none",     "rotational", "C0-C180",
+                                             "C90-C270", "quadrant",   "lateral"};
+static const char *const shape_names[] = {"point",    "rectangle", "box",  "disk",
+                                          "cylinder", "sphere",    "other"};
+#define NAMES(a) ((int)(sizeof a / sizeof a[0]))
+
+static const char *name_of(const char *const *names, int n, int v)
+{
+    return v >= 0 && v < n && names[v] ? names[v] : "unknown";
+}
+
+/* The index of `name` in names (-1: none; NULL entries never match). */
+static int index_of(const char *const *names, int n, const char *name)
+{
+    for (int v = 0; name && v < n; v++)
+        if (names[v] && strcmp(names[v], name) == 0) return v;
+    return -1;
+}
+
 const char *lumis_photometric_type_name(lumis_photometric_type t)
 {
-    return t == LUMIS_PHOTOMETRIC_C   ? "C"
-           : t == LUMIS_PHOTOMETRIC_B ? "B"
-           : t == LUMIS_PHOTOMETRIC_A ? "A"
-                                      : "unknown";
+    return name_of(type_names, NAMES(type_names), (int)t);
 }
 
 const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s)
 {
-    static const char *const names[] = {"none",     "rotational", "C0-C180",
-                                        "C90-C270", "quadrant",   "lateral"};
-    return (unsigned)s < sizeof names / sizeof names[0] ? names[s] : "unknown";
+    return name_of(symmetry_names, NAMES(symmetry_names), (int)s);
 }
 
 const char *lumis_photometric_shape_name(lumis_photometric_shape s)
 {
-    static const char *const names[] = {"point",    "rectangle", "box",  "disk",
-                                        "cylinder", "sphere",    "other"};
-    return (unsigned)s < sizeof names / sizeof names[0] ? names[s] : "unknown";
-}
-
-/* The value in [first, count) whose name is `name`. */
-static lumis_status from_name(const char *name, int first, int count, const char *(*fn)(int),
-                              int *out)
-{
-    if (!name) return LUMIS_ERR_INVALID_ARGUMENT;
-    for (int v = first; v < count; v++)
-        if (strcmp(fn(v), name) == 0) {
-            *out = v;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
-
-static const char *type_name(int v)
-{
-    return lumis_photometric_type_name((lumis_photometric_type)v);
-}
-static const char *symmetry_name(int v)
-{
-    return lumis_photometric_symmetry_name((lumis_photometric_symmetry)v);
-}
-static const char *shape_name(int v)
-{
-    return lumis_photometric_shape_name((lumis_photometric_shape)v);
+    return name_of(shape_names, NAMES(shape_names), (int)s);
 }
 
 lumis_status lumis_photometric_type_from_name(const char *name, lumis_photometric_type *out)
 {
-    int v;
-    const lumis_status st = out ? from_name(name, 1, 4, type_name, &v) : LUMIS_ERR_INVALID_ARGUMENT;
-    if (st == LUMIS_OK) *out = (lumis_photometric_type)v;
-    return st;
+    const int v = index_of(type_names, NAMES(type_names), name);
+    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = (lumis_photometric_type)v;
+    return LUMIS_OK;
 }
 
 lumis_status lumis_photometric_symmetry_from_name(const char *name, lumis_photometric_symmetry *out)
 {
-    int v;
-    const lumis_status st = out ? from_name(name, 0, LUMIS_SYMMETRY_LATERAL + 1, symmetry_name, &v)
-                                : LUMIS_ERR_INVALID_ARGUMENT;
-    if (st == LUMIS_OK) *out = (lumis_photometric_symmetry)v;
-    return st;
+    const int v = index_of(symmetry_names, NAMES(symmetry_names), name);
+    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = (lumis_photometric_symmetry)v;
+    return LUMIS_OK;
 }
 
 lumis_status lumis_photometric_shape_from_name(const char *name, lumis_photometric_shape *out)
 {
-    int v;
-    const lumis_status st = out ? from_name(name, 0, LUMIS_SHAPE_OTHER + 1, shape_name, &v)
-                                : LUMIS_ERR_INVALID_ARGUMENT;
-    if (st == LUMIS_OK) *out = (lumis_photometric_shape)v;
-    return st;
+    const int v = index_of(shape_names, NAMES(shape_names), name);
+    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = (lumis_photometric_shape)v;
+    return LUMIS_OK;
 }
 
 /* ---- directions and angles ------------------------------------------------------------- */
