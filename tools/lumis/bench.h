@@ -285,8 +285,6 @@ const char *bench_convergence_svg_name(const suite *s, bench_axis axis);
 
 /* A metric as the tables show it ("–" for none, "∞"). */
 void bench_fmt_metric(char *buf, size_t cap, double v, int metric);
-/* Writes a text built in a FILE* (tmpfile) atomically to path, and closes f. */
-int bench_commit_tmp(FILE *f, const char *path);
 
 /* ---- the report: plots and page (bench_svg.c, bench_html.c) ------------------------------ */
 

@@ -170,5 +170,5 @@ int bench_write_html(const bench_report *r, const char *path)
             fprintf(h, "</div>\n");
         }
     fprintf(h, "</body></html>\n");
-    return bench_commit_tmp(h, path);
+    return tool_commit_tmp(h, path);
 }

@@ -14,7 +14,6 @@
 #include "bench.h"
 
 #include <errno.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
@@ -24,100 +23,61 @@
 /* Slurm's default MaxArraySize is 1001: indices 0 to 1000. */
 #define BENCH_SLURM_ARRAY_MAX 1000
 
-/* A growing string. */
-typedef struct text {
-    char *s;
-    size_t n, cap;
-    int oom;
-} text;
-
-static void put(text *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void put(text *t, const char *fmt, ...)
-{
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        const int k =
-            t->oom ? 0 : vsnprintf(t->s ? t->s + t->n : NULL, t->s ? t->cap - t->n : 0, fmt, ap);
-        va_end(ap);
-        if (t->oom || k < 0) return;
-        if (t->s && t->n + (size_t)k < t->cap) {
-            t->n += (size_t)k;
-            return;
-        }
-        const size_t cap = (t->cap + (size_t)k + 1) * 2;
-        char *g = realloc(t->s, cap);
-        if (!g) {
-            t->oom = 1;
-            return;
-        }
-        t->s = g;
-        t->cap = cap;
-    }
-}
-
 /* s as one word of sh: in single quotes, each ' as '\''. */
-static void put_quoted(text *t, const char *s)
+static void put_quoted(FILE *t, const char *s)
 {
-    put(t, "'");
+    fprintf(t, "'");
     for (const char *c = s; *c; c++)
         if (*c == '\'')
-            put(t, "'\\''");
+            fprintf(t, "'\\''");
         else
-            put(t, "%c", *c);
-    put(t, "'");
+            fprintf(t, "%c", *c);
+    fprintf(t, "'");
 }
 
 /* The indices as sbatch's --array list: runs as "A-B", joined by commas. */
-static void put_array(text *t, const int *idx, int n, long max_running)
+static void put_array(FILE *t, const int *idx, int n, long max_running)
 {
     for (int i = 0; i < n;) {
         int j = i;
         while (j + 1 < n && idx[j + 1] == idx[j] + 1) j++;
-        put(t, "%s%d", i ? "," : "", idx[i]);
-        if (j > i) put(t, "-%d", idx[j]);
+        fprintf(t, "%s%d", i ? "," : "", idx[i]);
+        if (j > i) fprintf(t, "-%d", idx[j]);
         i = j + 1;
     }
-    if (max_running > 0) put(t, "%%%ld", max_running);
-}
-
-static int write_text(const char *path, const text *t)
-{
-    if (t->oom) return tool_runtime_error("bench: out of memory");
-    return lumis_write_text(path, t->s ? t->s : "", t->n, &tool_errors) == LUMIS_OK ? EXIT_OK
-                                                                                    : EXIT_RUNTIME;
+    if (max_running > 0) fprintf(t, "%%%ld", max_running);
 }
 
 /* The #SBATCH lines every job has. */
-static void put_header(text *t, const bench_slurm_opts *o, const char *slurm_dir,
+static void put_header(FILE *t, const bench_slurm_opts *o, const char *slurm_dir,
                        const char *suite_name, const char *job, int array, long cpus, int exclusive)
 {
-    put(t, "#!/bin/sh\n");
-    put(t, "#SBATCH --job-name=lumis-%s-%s\n", suite_name, job);
-    put(t, "#SBATCH --output=%s/logs/%s-%s.out\n", slurm_dir, job, array ? "%A_%a" : "%j");
-    put(t, "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=%ld\n", cpus);
-    if (exclusive) put(t, "#SBATCH --exclusive\n");
-    if (o->partition) put(t, "#SBATCH --partition=%s\n", o->partition);
-    if (o->time_limit) put(t, "#SBATCH --time=%s\n", o->time_limit);
-    for (int k = 0; k < o->nextra; k++) put(t, "#SBATCH %s\n", o->extra[k]);
+    fprintf(t, "#!/bin/sh\n");
+    fprintf(t, "#SBATCH --job-name=lumis-%s-%s\n", suite_name, job);
+    fprintf(t, "#SBATCH --output=%s/logs/%s-%s.out\n", slurm_dir, job, array ? "%A_%a" : "%j");
+    fprintf(t, "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=%ld\n", cpus);
+    if (exclusive) fprintf(t, "#SBATCH --exclusive\n");
+    if (o->partition) fprintf(t, "#SBATCH --partition=%s\n", o->partition);
+    if (o->time_limit) fprintf(t, "#SBATCH --time=%s\n", o->time_limit);
+    for (int k = 0; k < o->nextra; k++) fprintf(t, "#SBATCH %s\n", o->extra[k]);
 }
 
 /* The start of a job's command (after a line in its log naming the node): exec LUMIS bench
  * SUITE --out DIR */
-static void put_command(text *t, const char *exe, const char *suite, const char *out)
+static void put_command(FILE *t, const char *exe, const char *suite, const char *out)
 {
-    put(t, "echo \"lumis bench: job ${SLURM_JOB_ID:-?} task ${SLURM_ARRAY_TASK_ID:--} on "
-           "$(hostname)\" >&2\n");
-    put(t, "exec ");
+    fprintf(t, "echo \"lumis bench: job ${SLURM_JOB_ID:-?} task ${SLURM_ARRAY_TASK_ID:--} on "
+               "$(hostname)\" >&2\n");
+    fprintf(t, "exec ");
     put_quoted(t, exe);
-    put(t, " bench ");
+    fprintf(t, " bench ");
     put_quoted(t, suite);
-    put(t, " --out ");
+    fprintf(t, " --out ");
     put_quoted(t, out);
 }
 
 /* A job script's path, DIR/slurm/NAME.sbatch, as a word of sh. */
-static void put_script(text *t, const char *slurm_dir, const char *name)
+static void put_script(FILE *t, const char *slurm_dir, const char *name)
 {
     char p[9000];
     snprintf(p, sizeof p, "%s/%s.sbatch", slurm_dir, name);
@@ -169,6 +129,26 @@ static long items_tasks(const suite *s, long tasks)
     return tasks < n ? tasks : n;
 }
 
+/* Items of shard k of N not done; *mine: the shard's items. */
+static int shard_left(const suite *s, const char *out, long k, long N, int *mine)
+{
+    int left = 0;
+    *mine = 0;
+    for (int i = 0; i < bench_nitems(s); i++) {
+        if (!bench_in_shard(s, i, k, N)) continue;
+        (*mine)++;
+        item it = bench_item_at(s, i);
+        left += !bench_item_done(s, out, &it);
+    }
+    return left;
+}
+
+/* Whether the (map, scene) pair's reference is needed and not done. */
+static int reference_missing(const suite *s, const char *out, int m, int sc)
+{
+    return bench_pair_needed(s, out, m, sc) && !bench_reference_ok(s, out, m, sc);
+}
+
 int bench_slurm(const suite *s, const char *suite_path, const char *out, const bench_slurm_opts *o)
 {
     const long P = o->ref_passes, N = items_tasks(s, o->tasks);
@@ -197,22 +177,17 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
     if (!ref_tasks || !item_tasks) rc = tool_runtime_error("bench: out of memory");
     for (int pair = 0; pair < npairs && rc == EXIT_OK; pair++) {
         const int m = pair / s->nscenes, sc = pair % s->nscenes;
-        if (!bench_pair_needed(s, out_abs, m, sc) || bench_reference_ok(s, out_abs, m, sc))
-            continue;
+        if (!reference_missing(s, out_abs, m, sc)) continue;
         nmerge++;
         for (long i = 0; i < P; i++)
             if (!bench_reference_part_ok(s, out_abs, m, sc, i, P))
                 ref_tasks[nref++] = (int)(pair * P + i);
     }
-    for (long t = 0; t < N && rc == EXIT_OK; t++) {
+    for (long k = 0; k < N && rc == EXIT_OK; k++) {
         int mine = 0;
-        for (int k = 0; k < nitems; k++) {
-            if (!bench_in_shard(s, k, t, N)) continue;
-            item it = bench_item_at(s, k);
-            mine += !bench_item_done(s, out_abs, &it);
-        }
-        if (mine) item_tasks[nshard++] = (int)t;
-        left += mine;
+        const int missing = shard_left(s, out_abs, k, N, &mine);
+        if (missing) item_tasks[nshard++] = (int)k;
+        left += missing;
     }
 
     /* the job scripts (the same on every run: the arrays' indices go on sbatch's line):
@@ -229,142 +204,137 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
         tool_files_output(&files, "--slurm's script", outs[k], TOOL_OUT_FILE);
     }
     if (rc == EXIT_OK) rc = tool_files_check("bench", &files);
-    text t = {0};
-    char path[9000];
+    FILE *t = NULL; /* each script built in a temporary file, then written atomically */
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
     if (rc == EXIT_OK) {
-        put_header(&t, o, dir, s->name, "references", 1, rcpus, 0);
-        put(&t, "# task T: share T %% %ld of the reference of (map, scene) pair T / %ld\n", P, P);
-        put_command(&t, exe, suite_abs, out_abs);
-        put(&t, " --reference-task \"$SLURM_ARRAY_TASK_ID\" --reference-passes %ld --threads %ld\n",
-            P, rcpus);
-        snprintf(path, sizeof path, "%s/references.sbatch", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        put_header(t, o, dir, s->name, "references", 1, rcpus, 0);
+        fprintf(t, "# task T: share T %% %ld of the reference of (map, scene) pair T / %ld\n", P,
+                P);
+        put_command(t, exe, suite_abs, out_abs);
+        fprintf(t,
+                " --reference-task \"$SLURM_ARRAY_TASK_ID\" --reference-passes %ld --threads %ld\n",
+                P, rcpus);
+        rc = tool_commit_tmp(t, outs[0]);
     }
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
     if (rc == EXIT_OK) {
-        put_header(&t, o, dir, s->name, "merge-references", 0, 1, 0);
-        put_command(&t, exe, suite_abs, out_abs);
-        put(&t, " --merge-references --reference-passes %ld\n", P);
-        snprintf(path, sizeof path, "%s/merge-references.sbatch", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        put_header(t, o, dir, s->name, "merge-references", 0, 1, 0);
+        put_command(t, exe, suite_abs, out_abs);
+        fprintf(t, " --merge-references --reference-passes %ld\n", P);
+        rc = tool_commit_tmp(t, outs[1]);
     }
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
     if (rc == EXIT_OK) {
-        put_header(&t, o, dir, s->name, "items", 1, o->cpus, o->exclusive);
-        put(&t,
-            "# task I: the items of shard I of %ld, one at a time on its %ld core%s (equal "
-            "time needs them to itself)\n",
-            N, o->cpus, o->cpus == 1 ? "" : "s");
-        put_command(&t, exe, suite_abs, out_abs);
-        put(&t, " --shard \"$SLURM_ARRAY_TASK_ID/%ld\" --items-only --jobs 1 --threads %ld\n", N,
-            o->cpus);
-        snprintf(path, sizeof path, "%s/items.sbatch", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        put_header(t, o, dir, s->name, "items", 1, o->cpus, o->exclusive);
+        fprintf(t,
+                "# task I: the items of shard I of %ld, one at a time on its %ld core%s (equal "
+                "time needs them to itself)\n",
+                N, o->cpus, o->cpus == 1 ? "" : "s");
+        put_command(t, exe, suite_abs, out_abs);
+        fprintf(t, " --shard \"$SLURM_ARRAY_TASK_ID/%ld\" --items-only --jobs 1 --threads %ld\n", N,
+                o->cpus);
+        rc = tool_commit_tmp(t, outs[2]);
     }
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
     if (rc == EXIT_OK) {
-        put_header(&t, o, dir, s->name, "report", 0, 1, 0);
-        put_command(&t, exe, suite_abs, out_abs);
-        put(&t, " --report-only --tasks %ld --reference-passes %ld\n", N, P);
-        snprintf(path, sizeof path, "%s/report.sbatch", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        put_header(t, o, dir, s->name, "report", 0, 1, 0);
+        put_command(t, exe, suite_abs, out_abs);
+        fprintf(t, " --report-only --tasks %ld --reference-passes %ld\n", N, P);
+        rc = tool_commit_tmp(t, outs[3]);
     }
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
     /* resubmit.sh: this command again, from where it was run */
     if (rc == EXIT_OK) {
-        put(&t,
-            "#!/bin/sh\n# Submits what is not done yet of suite %s (lumis bench --slurm "
-            "makes its plan from the outputs)\ncd ",
-            s->name);
-        put_quoted(&t, cwd);
-        put(&t, " || exit 1\nexec ");
-        put_quoted(&t, exe);
-        put(&t, " bench ");
-        put_quoted(&t, suite_path);
-        put(&t, " --out ");
-        put_quoted(&t, out);
-        put(&t, " --slurm --tasks %ld --reference-passes %ld --cpus %ld --reference-cpus %ld", N, P,
-            o->cpus, rcpus);
-        if (o->max_running > 0) put(&t, " --max-running %ld", o->max_running);
-        if (o->exclusive) put(&t, " --exclusive");
+        fprintf(t,
+                "#!/bin/sh\n# Submits what is not done yet of suite %s (lumis bench --slurm "
+                "makes its plan from the outputs)\ncd ",
+                s->name);
+        put_quoted(t, cwd);
+        fprintf(t, " || exit 1\nexec ");
+        put_quoted(t, exe);
+        fprintf(t, " bench ");
+        put_quoted(t, suite_path);
+        fprintf(t, " --out ");
+        put_quoted(t, out);
+        fprintf(t, " --slurm --tasks %ld --reference-passes %ld --cpus %ld --reference-cpus %ld", N,
+                P, o->cpus, rcpus);
+        if (o->max_running > 0) fprintf(t, " --max-running %ld", o->max_running);
+        if (o->exclusive) fprintf(t, " --exclusive");
         if (o->partition) {
-            put(&t, " --partition ");
-            put_quoted(&t, o->partition);
+            fprintf(t, " --partition ");
+            put_quoted(t, o->partition);
         }
         if (o->time_limit) {
-            put(&t, " --time-limit ");
-            put_quoted(&t, o->time_limit);
+            fprintf(t, " --time-limit ");
+            put_quoted(t, o->time_limit);
         }
         for (int k = 0; k < o->nextra; k++) {
             char opt[4200];
             snprintf(opt, sizeof opt, "--sbatch=%s", o->extra[k]);
-            put(&t, " ");
-            put_quoted(&t, opt);
+            fprintf(t, " ");
+            put_quoted(t, opt);
         }
-        put(&t, " \"$@\"\n");
-        snprintf(path, sizeof path, "%s/resubmit.sh", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        fprintf(t, " \"$@\"\n");
+        rc = tool_commit_tmp(t, outs[4]);
     }
+    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
 
     /* submit.sh: this plan's sbatch commands, chained */
-    char jobs[9000];
-    snprintf(jobs, sizeof jobs, "%s/jobs.txt", dir);
+    const char *jobs = outs[6];
     if (rc == EXIT_OK) {
         char date[64];
         const time_t now = time(NULL);
         strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S", localtime(&now));
-        put(&t,
+        fprintf(
+            t,
             "#!/bin/sh\n# Written by lumis bench --slurm on %s for suite %s: what is not done.\n"
             "# %d reference share%s (%d reference%s to merge), %d of %ld items tasks (%d item%s "
             "left).\nset -e\n: > ",
             date, s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, N,
             left, left == 1 ? "" : "s");
-        put_quoted(&t, jobs);
-        put(&t, "\njob() { id=$(sbatch --parsable \"$@\"); id=${id%%%%;*}; echo \"$id\"; }\n");
+        put_quoted(t, jobs);
+        fprintf(t, "\njob() { id=$(sbatch --parsable \"$@\"); id=${id%%%%;*}; echo \"$id\"; }\n");
         const char *after = "";
         if (nref) {
-            put(&t, "refs=$(job --array=");
-            put_array(&t, ref_tasks, nref, o->max_running);
-            put(&t, " ");
-            put_script(&t, dir, "references");
-            put(&t, ")\necho \"references $refs\" >> ");
-            put_quoted(&t, jobs);
-            put(&t, "\n");
+            fprintf(t, "refs=$(job --array=");
+            put_array(t, ref_tasks, nref, o->max_running);
+            fprintf(t, " ");
+            put_script(t, dir, "references");
+            fprintf(t, ")\necho \"references $refs\" >> ");
+            put_quoted(t, jobs);
+            fprintf(t, "\n");
             after = "--dependency=afterany:$refs ";
         }
         if (nmerge) {
-            put(&t, "merge=$(job %s", after);
-            put_script(&t, dir, "merge-references");
-            put(&t, ")\necho \"merge-references $merge\" >> ");
-            put_quoted(&t, jobs);
-            put(&t, "\n");
+            fprintf(t, "merge=$(job %s", after);
+            put_script(t, dir, "merge-references");
+            fprintf(t, ")\necho \"merge-references $merge\" >> ");
+            put_quoted(t, jobs);
+            fprintf(t, "\n");
             after = "--dependency=afterok:$merge --kill-on-invalid-dep=yes ";
         }
         if (nshard) {
-            put(&t, "items=$(job %s--array=", after);
-            put_array(&t, item_tasks, nshard, o->max_running);
-            put(&t, " ");
-            put_script(&t, dir, "items");
-            put(&t, ")\necho \"items $items\" >> ");
-            put_quoted(&t, jobs);
-            put(&t, "\n");
+            fprintf(t, "items=$(job %s--array=", after);
+            put_array(t, item_tasks, nshard, o->max_running);
+            fprintf(t, " ");
+            put_script(t, dir, "items");
+            fprintf(t, ")\necho \"items $items\" >> ");
+            put_quoted(t, jobs);
+            fprintf(t, "\n");
             after = "--dependency=afterany:$items ";
         } else if (nmerge) {
             after = "--dependency=afterany:$merge ";
         }
-        put(&t, "report=$(job %s", after);
-        put_script(&t, dir, "report");
-        put(&t, ")\necho \"report $report\" >> ");
-        put_quoted(&t, jobs);
-        put(&t, "\ncat ");
-        put_quoted(&t, jobs);
-        put(&t, "\n");
-        snprintf(path, sizeof path, "%s/submit.sh", dir);
-        rc = write_text(path, &t);
-        t.n = 0;
+        fprintf(t, "report=$(job %s", after);
+        put_script(t, dir, "report");
+        fprintf(t, ")\necho \"report $report\" >> ");
+        put_quoted(t, jobs);
+        fprintf(t, "\ncat ");
+        put_quoted(t, jobs);
+        fprintf(t, "\n");
+        rc = tool_commit_tmp(t, outs[5]);
     }
-    free(t.s);
+    const char *submit = outs[5];
     if (rc == EXIT_OK) {
         fprintf(stderr,
                 "lumis bench: suite %s as Slurm jobs: %d reference share%s in %d reference%s, "
@@ -383,13 +353,13 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
             fprintf(stderr, "lumis bench: every item is done: nothing submitted (--report-only "
                             "rewrites the report)\n");
         } else if (!o->submit) {
-            fprintf(stderr, "lumis bench: --no-submit: submit them with: sh %s\n", path);
+            fprintf(stderr, "lumis bench: --no-submit: submit them with: sh %s\n", submit);
         } else if (!have_sbatch()) {
             rc = tool_runtime_error("bench: --slurm: sbatch is not on PATH (is this a Slurm "
                                     "login node?); the scripts are written: sh %s submits them",
-                                    path);
+                                    submit);
         } else {
-            rc = run_sh(path);
+            rc = run_sh(submit);
             if (rc == EXIT_OK)
                 fprintf(stderr,
                         "lumis bench: submitted (job ids above and in %s); the report job writes "
@@ -409,45 +379,49 @@ int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_pas
 {
     const long N = items_tasks(s, tasks);
     const int nitems = bench_nitems(s);
-    text t = {0};
+    FILE *t = tmpfile();
+    if (!t) {
+        tool_runtime_error("bench: no temporary file");
+        return nitems;
+    }
     int left = 0, bad_tasks = 0, bad_refs = 0;
     for (long k = 0; k < N; k++) {
-        int mine = 0, missing = 0;
-        for (int i = 0; i < nitems; i++) {
-            if (!bench_in_shard(s, i, k, N)) continue;
-            mine++;
-            item it = bench_item_at(s, i);
-            missing += !bench_item_done(s, out, &it);
-        }
+        int mine = 0;
+        const int missing = shard_left(s, out, k, N, &mine);
         if (!missing) continue;
         left += missing;
         bad_tasks++;
-        put(&t,
-            "items task %ld of %ld: %d of its %d items not done (its log: %s/slurm/logs/"
-            "items-*_%ld.out)\n",
-            k, N, missing, mine, out, k);
+        fprintf(t,
+                "items task %ld of %ld: %d of its %d items not done (its log: %s/slurm/logs/"
+                "items-*_%ld.out)\n",
+                k, N, missing, mine, out, k);
     }
     for (int m = 0; m < s->nmaps; m++)
         for (int sc = 0; sc < s->nscenes; sc++) {
-            if (!bench_pair_needed(s, out, m, sc) || bench_reference_ok(s, out, m, sc)) continue;
+            if (!reference_missing(s, out, m, sc)) continue;
             bad_refs++;
             const long pair = (long)m * s->nscenes + sc;
-            put(&t, "reference %s / %s missing (references tasks %ld to %ld)\n", s->maps[m].label,
-                s->scenes[sc].label, pair * ref_passes, pair * ref_passes + ref_passes - 1);
+            fprintf(t, "reference %s / %s missing (references tasks %ld to %ld)\n",
+                    s->maps[m].label, s->scenes[sc].label, pair * ref_passes,
+                    pair * ref_passes + ref_passes - 1);
         }
     if (left)
-        put(&t,
-            "%d of %d items not done (%d of %ld items tasks, %d reference%s); submit them "
-            "alone with: sh %s/slurm/resubmit.sh\n",
-            left, nitems, bad_tasks, N, bad_refs, bad_refs == 1 ? "" : "s", out);
+        fprintf(t,
+                "%d of %d items not done (%d of %ld items tasks, %d reference%s); submit them "
+                "alone with: sh %s/slurm/resubmit.sh\n",
+                left, nitems, bad_tasks, N, bad_refs, bad_refs == 1 ? "" : "s", out);
     else
-        put(&t, "all %d items done\n", nitems);
-    char path[8800];
-    snprintf(path, sizeof path, "%s/slurm/status.txt", out);
-    char dir[8800];
+        fprintf(t, "all %d items done\n", nitems);
+    /* on stderr too (the report job's log), then written */
+    fputs("lumis bench: ", stderr);
+    rewind(t);
+    for (int c; (c = fgetc(t)) != EOF;) fputc(c, stderr);
+    char dir[8800], path[8900];
     snprintf(dir, sizeof dir, "%s/slurm", out);
-    if (tool_make_dir(dir) == EXIT_OK && write_text(path, &t) == EXIT_OK)
-        fprintf(stderr, "lumis bench: %s", t.s ? t.s : "");
-    free(t.s);
+    snprintf(path, sizeof path, "%s/status.txt", dir);
+    if (tool_make_dir(dir) == EXIT_OK)
+        tool_commit_tmp(t, path);
+    else
+        fclose(t);
     return left;
 }

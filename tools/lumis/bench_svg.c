@@ -87,7 +87,7 @@ static int write_loglog(const char *path, const char *title, const char *xunit, 
 #undef X
 #undef Y
     fprintf(f, "</svg>\n");
-    return bench_commit_tmp(f, path);
+    return tool_commit_tmp(f, path);
 }
 
 /* relMSE (mean over maps) against render time (mean over maps), log-log, per scene. */

@@ -325,21 +325,6 @@ void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result 
     free(cells);
 }
 
-/* Writes a text built in a FILE* (tmpfile) atomically to path. */
-int bench_commit_tmp(FILE *f, const char *path)
-{
-    long n = ftell(f);
-    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
-    rewind(f);
-    int rc = EXIT_RUNTIME;
-    if (text && fread(text, 1, (size_t)n, f) == (size_t)n &&
-        lumis_write_text(path, text, (size_t)n, &tool_errors) == LUMIS_OK)
-        rc = EXIT_OK;
-    free(text);
-    fclose(f);
-    return rc;
-}
-
 int bench_report_load(bench_report *r, const suite *s, const char *out, int argc, char **argv)
 {
     memset(r, 0, sizeof *r);
@@ -397,7 +382,7 @@ int bench_write_csv(const bench_report *r, const char *path)
         for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%.9g", res[k].v[m]);
         fprintf(f, "\n");
     }
-    return bench_commit_tmp(f, path);
+    return tool_commit_tmp(f, path);
 }
 
 int bench_write_json(const bench_report *r, const char *path)
@@ -524,5 +509,5 @@ int bench_write_md(const bench_report *r, const char *path)
     for (int axis = 0; axis < BENCH_NAXES; axis++)
         bench_write_convergence(md, BENCH_MD, r, &r->conv[axis]);
     bench_write_per_map(md, BENCH_MD, s, res);
-    return bench_commit_tmp(md, path);
+    return tool_commit_tmp(md, path);
 }

@@ -191,3 +191,18 @@ void tool_share_range(const tool_render_opts *o, int *total, int *first, int *co
     *first = o->passes ? (int)(t * o->pass_index / o->passes) : 0;
     *count = o->passes ? (int)(t * (o->pass_index + 1) / o->passes) - *first : (int)t;
 }
+
+int tool_commit_tmp(FILE *f, const char *path)
+{
+    if (!f) return tool_runtime_error("%s: cannot make a temporary file", path);
+    long n = ftell(f);
+    char *text = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    rewind(f);
+    int rc = EXIT_RUNTIME;
+    if (text && fread(text, 1, (size_t)n, f) == (size_t)n &&
+        lumis_write_text(path, text, (size_t)n, &tool_errors) == LUMIS_OK)
+        rc = EXIT_OK;
+    free(text);
+    fclose(f);
+    return rc;
+}

@@ -270,6 +270,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r);
 /* The samples of o's share (--passes I/N): the whole render's total, the share's first
  * sample and count (without --passes: 0 and all of them). */
 void tool_share_range(const tool_render_opts *o, int *total, int *first, int *count);
+/* Writes a text built in a FILE* (tmpfile(); NULL: an error) atomically to path, and
+ * closes f.  Exit code. */
+int tool_commit_tmp(FILE *f, const char *path);
 /* lumis info of a photometric file (info_photometric.c): printed, or as JSON; with svg, its
  * polar plot written there.  Exit code. */
 int tool_photometric_info(const char *path, int json, const char *svg);
