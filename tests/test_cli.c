@@ -2441,6 +2441,19 @@ static void info_reads_photometric_files(void **state)
     assert_non_null(strstr(svg, "C0-C180: beam 42."));
     assert_int_equal((int)(strstr(svg, "<polyline") != NULL), 1);
     free(svg);
+    /* a title with markup's special characters stays text */
+    size_t tn = 0;
+    char *spot = (char *)tu_read_file(tu_path("spot.ies"), &tn);
+    char *lum = strstr(spot, "[LUMINAIRE] analytic");
+    assert_non_null(lum);
+    memcpy(lum + 12, "a<b&c\"d", 8);
+    tu_write_file(tu_path("markup.ies"), spot, tn);
+    free(spot);
+    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("markup.ies"), tu_path("markup.svg"));
+    expect(a, 0, NULL);
+    svg = (char *)tu_read_file(tu_path("markup.svg"), &svg_n);
+    assert_non_null(strstr(svg, ">a&lt;b&amp;c&quot;d"));
+    free(svg);
     snprintf(a, sizeof a, "info '%s' --json", tu_path("spot.ies"));
     assert_int_equal(run(a, &out, &err), 0);
     cJSON *j = cJSON_Parse(out);

@@ -7,22 +7,6 @@
 #include <math.h>
 #include <stdio.h>
 
-static void html_escape(FILE *f, const char *s)
-{
-    for (; *s; s++) {
-        if (*s == '<')
-            fputs("&lt;", f);
-        else if (*s == '>')
-            fputs("&gt;", f);
-        else if (*s == '&')
-            fputs("&amp;", f);
-        else if (*s == '"')
-            fputs("&quot;", f);
-        else
-            fputc(*s, f);
-    }
-}
-
 /* The FLIP maps' colour scale, drawn by the same colour map as the maps themselves:
  * DIR/flip-legend.png, 256 x 1 pixels from 0 to 1. */
 static int write_flip_legend(const char *path)
@@ -69,7 +53,7 @@ int bench_write_html(const bench_report *r, const char *path)
     if (!h) return tool_runtime_error("bench: cannot write a temporary file");
     fprintf(h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>lumis "
                "bench: ");
-    html_escape(h, s->name);
+    tool_markup_escape(h, s->name);
     fprintf(h, "</title>\n<style>body{font-family:sans-serif;margin:24px;max-width:1400px}"
                "table{border-collapse:collapse;margin:8px 0 20px}td,th{border:1px solid #ccc;"
                "padding:3px 8px;text-align:right}th{background:#f3f3f3}td:first-child,"
@@ -79,11 +63,11 @@ int bench_write_html(const bench_report *r, const char *path)
                ".grid{margin-bottom:16px}.warn{background:#fff4e0;border-left:4px solid #e69500;"
                "padding:6px 10px}"
                "</style></head><body>\n<h1>lumis bench: ");
-    html_escape(h, s->name);
+    tool_markup_escape(h, s->name);
     fprintf(h, "</h1>\n<p>");
-    html_escape(h, s->description);
+    tool_markup_escape(h, s->description);
     fprintf(h, "</p>\n<p>Command: <code>");
-    html_escape(h, r->cmd);
+    tool_markup_escape(h, r->cmd);
     fprintf(h,
             "</code><br>lumis %s, %s, %s. %d of %d items. Reference: %d spp. Errors "
             "against the reference; lower is better except PSNR. Details: "

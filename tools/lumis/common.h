@@ -273,6 +273,8 @@ void tool_share_range(const tool_render_opts *o, int *total, int *first, int *co
 /* Writes a text built in a FILE* (tmpfile(); NULL: an error) atomically to path, and
  * closes f.  Exit code. */
 int tool_commit_tmp(FILE *f, const char *path);
+/* s written to f with HTML's and SVG's special characters (< > & ") as entities. */
+void tool_markup_escape(FILE *f, const char *s);
 /* lumis info of a photometric file (info_photometric.c): printed, or as JSON; with svg, its
  * polar plot written there.  Exit code. */
 int tool_photometric_info(const char *path, int json, const char *svg);

@@ -5,7 +5,6 @@
 
 #include <cJSON.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,115 +17,63 @@ static const char *plane_name(lumis_photometric_type t, int k)
     return k == 0 ? "V=0 (H)" : "H=0 (V)";
 }
 
-/* A growing text (the SVG). */
-typedef struct svg_text {
-    char *s;
-    size_t n, cap;
-} svg_text;
-
-static void add(svg_text *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void add(svg_text *t, const char *fmt, ...)
-{
-    char tmp[1024];
-    va_list ap;
-    va_start(ap, fmt);
-    const int k = vsnprintf(tmp, sizeof tmp, fmt, ap);
-    va_end(ap);
-    if (k < 0 || !t) return;
-    if (t->n + (size_t)k + 1 > t->cap) {
-        const size_t cap = (t->cap + (size_t)k + 1) * 2;
-        char *g = realloc(t->s, cap);
-        if (!g) return;
-        t->s = g;
-        t->cap = cap;
-    }
-    memcpy(t->s + t->n, tmp, (size_t)k + 1);
-    t->n += (size_t)k;
-}
-
 /* The polar plot: nadir (the aim) down, one curve per principal plane, the radius linear
  * in candela up to a round value above the peak. */
 static int write_svg(const char *path, const char *title, const lumis_photometric *p,
                      const lumis_photometric_info *in)
 {
-    const double cx = 260, cy = 250, R = 200;
-    double peak = 0;
-    for (int k = 0; k < 2; k++)
-        for (int s = 0; s <= 3600; s++) {
-            const double i = lumis_photometric_plane_intensity(p, k, -180.0 + s * 0.1);
-            if (i > peak) peak = i;
-        }
+    const double cx = 260, cy = 250, R = 200, peak = in->max_candela;
     /* a round scale: 1, 2 or 5 times a power of ten, at or above the peak */
     double top = 1;
     if (peak > 0) {
         const double e = pow(10, floor(log10(peak)));
         top = peak <= e ? e : peak <= 2 * e ? 2 * e : peak <= 5 * e ? 5 * e : 10 * e;
     }
-    svg_text t = {0};
-    add(&t, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"520\" height=\"540\" "
-            "viewBox=\"0 0 520 540\" font-family=\"sans-serif\" font-size=\"11\">\n");
-    add(&t, "<rect width=\"520\" height=\"540\" fill=\"white\"/>\n");
+    FILE *t = tmpfile();
+    if (!t) return tool_runtime_error("%s: no temporary file", path);
+    fprintf(t, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"520\" height=\"540\" "
+               "viewBox=\"0 0 520 540\" font-family=\"sans-serif\" font-size=\"11\">\n");
+    fprintf(t, "<rect width=\"520\" height=\"540\" fill=\"white\"/>\n");
     for (int r = 1; r <= 4; r++) {
-        add(&t, "<circle cx=\"%g\" cy=\"%g\" r=\"%g\" fill=\"none\" stroke=\"#ccc\"/>\n", cx, cy,
-            R * r / 4);
-        add(&t, "<text x=\"%g\" y=\"%g\" fill=\"#666\">%g cd</text>\n", cx + 3, cy - R * r / 4 - 2,
-            top * r / 4);
+        fprintf(t, "<circle cx=\"%g\" cy=\"%g\" r=\"%g\" fill=\"none\" stroke=\"#ccc\"/>\n", cx, cy,
+                R * r / 4);
+        fprintf(t, "<text x=\"%g\" y=\"%g\" fill=\"#666\">%g cd</text>\n", cx + 3,
+                cy - R * r / 4 - 2, top * r / 4);
     }
     for (int a = 0; a < 360; a += 30) {
         const double rad = a * PI / 180, x = cx + R * sin(rad), y = cy + R * cos(rad);
-        add(&t, "<line x1=\"%g\" y1=\"%g\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", cx, cy, x,
-            y);
+        fprintf(t, "<line x1=\"%g\" y1=\"%g\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", cx, cy,
+                x, y);
         const int shown = a <= 180 ? a : 360 - a;
-        add(&t, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" fill=\"#666\">%d°</text>\n",
-            cx + (R + 14) * sin(rad), cy + (R + 14) * cos(rad) + 4, shown);
+        fprintf(t, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" fill=\"#666\">%d°</text>\n",
+                cx + (R + 14) * sin(rad), cy + (R + 14) * cos(rad) + 4, shown);
     }
     static const char *const style[2] = {"stroke=\"#c0392b\" stroke-width=\"2\"",
                                          "stroke=\"#2471a3\" stroke-width=\"2\" "
                                          "stroke-dasharray=\"6 4\""};
     for (int k = 0; k < 2; k++) {
-        add(&t, "<polyline fill=\"none\" %s points=\"", style[k]);
+        fprintf(t, "<polyline fill=\"none\" %s points=\"", style[k]);
         for (int s = 0; s <= 720; s++) {
             const double a = -180.0 + s * 0.5, rad = a * PI / 180;
             const double r = R * lumis_photometric_plane_intensity(p, k, a) / top;
             /* t >= 0 (C0, C90; +H, +V) to the right */
-            add(&t, "%.1f,%.1f ", cx + r * sin(rad), cy + r * cos(rad));
+            fprintf(t, "%.1f,%.1f ", cx + r * sin(rad), cy + r * cos(rad));
         }
-        add(&t, "\"/>\n");
+        fprintf(t, "\"/>\n");
     }
-    add(&t, "<text x=\"10\" y=\"18\" font-size=\"13\">%s</text>\n", title);
+    fputs("<text x=\"10\" y=\"18\" font-size=\"13\">", t);
+    tool_markup_escape(t, title);
+    fputs("</text>\n", t);
     for (int k = 0; k < 2; k++) {
-        add(&t, "<line x1=\"20\" y1=\"%d\" x2=\"50\" y2=\"%d\" %s/>\n", 485 + 18 * k, 485 + 18 * k,
-            style[k]);
-        add(&t, "<text x=\"56\" y=\"%d\">%s: beam %.1f°, field %.1f°</text>\n", 489 + 18 * k,
-            plane_name(in->type, k), in->beam_deg[k], in->field_deg[k]);
+        fprintf(t, "<line x1=\"20\" y1=\"%d\" x2=\"50\" y2=\"%d\" %s/>\n", 485 + 18 * k,
+                485 + 18 * k, style[k]);
+        fprintf(t, "<text x=\"56\" y=\"%d\">%s: beam %.1f°, field %.1f°</text>\n", 489 + 18 * k,
+                plane_name(in->type, k), in->beam_deg[k], in->field_deg[k]);
     }
-    add(&t, "<text x=\"300\" y=\"489\">%.0f lm, peak %.0f cd</text>\n", in->flux, in->max_candela);
-    add(&t, "<text x=\"300\" y=\"507\" fill=\"#666\">0° down (the aim)</text>\n</svg>\n");
-    const int rc =
-        t.s && lumis_write_text(path, t.s, t.n, &tool_errors) == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
-    free(t.s);
-    return rc;
-}
-
-/* XML's five special characters out of a title. */
-static void xml_escape(char *out, size_t cap, const char *in)
-{
-    size_t n = 0;
-    for (; *in && n + 7 < cap; in++) {
-        const char *e = *in == '&'    ? "&amp;"
-                        : *in == '<'  ? "&lt;"
-                        : *in == '>'  ? "&gt;"
-                        : *in == '"'  ? "&quot;"
-                        : *in == '\'' ? "&#39;"
-                                      : NULL;
-        if (e) {
-            memcpy(out + n, e, strlen(e));
-            n += strlen(e);
-        } else {
-            out[n++] = *in;
-        }
-    }
-    out[n] = '\0';
+    fprintf(t, "<text x=\"300\" y=\"489\">%.0f lm, peak %.0f cd</text>\n", in->flux,
+            in->max_candela);
+    fprintf(t, "<text x=\"300\" y=\"507\" fill=\"#666\">0° down (the aim)</text>\n</svg>\n");
+    return tool_commit_tmp(t, path);
 }
 
 int tool_photometric_info(const char *path, int json, const char *svg)
@@ -209,11 +156,10 @@ int tool_photometric_info(const char *path, int json, const char *svg)
             printf("  tilt: TILT=INCLUDE with %d angles, read but not applied\n", f->ntilt);
     }
     if (svg) {
-        char title[1200], esc[2400];
+        char title[1200];
         snprintf(title, sizeof title, "%s%s%s", f->luminaire[0] ? f->luminaire : path,
                  f->manufacturer[0] ? " - " : "", f->manufacturer);
-        xml_escape(esc, sizeof esc, title);
-        rc = write_svg(svg, esc, f->model, &in);
+        rc = write_svg(svg, title, f->model, &in);
         if (rc == EXIT_OK && !json) printf("  polar plot: %s\n", svg);
     }
     lumis_photometric_file_destroy(f);
