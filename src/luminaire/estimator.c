@@ -410,7 +410,7 @@ lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *s, int count, l
 /* ---- reference irradiance by quadrature -------------------------------------------- */
 
 /* Gauss-Legendre nodes and weights on [0, 1], orders 1..8. */
-static void gauss(int order, double *x, double *w)
+void lumis__gauss01(int order, double *x, double *w)
 {
     static const double n2[] = {0.5773502691896257}, w2[] = {1.0};
     static const double n3[] = {0.0, 0.7745966692414834},
@@ -480,7 +480,7 @@ lumis_status lumis_luminaire_irradiance(const lumis_luminaire *l, lumis_vec3 p, 
     if (order <= 0) order = 4;
     if (order > 8) order = 8;
     double gx[8], gw[8];
-    gauss(order, gx, gw);
+    lumis__gauss01(order, gx, gw);
     const double px = p.x, py = p.y, pz = p.z, d = l->delta;
     const double nl = sqrt((double)nrm.x * nrm.x + (double)nrm.y * nrm.y + (double)nrm.z * nrm.z);
     if (!(nl > 0.0)) return LUMIS_ERR_INVALID_ARGUMENT;

@@ -45,6 +45,11 @@ struct lumis_luminaire {
 
 /* A box on S in pixel coordinates (x in [0, w], y in [0, h]); empty if !(x0 < x1 && y0 <
  * y1). */
+/* Gauss-Legendre nodes x[] on [0, 1] and weights w[] summing to 1, `order` of each (1 to 8;
+ * another order gives 4): the quadratures of lumis_luminaire_irradiance and of a
+ * photometric opening's near field. */
+void lumis__gauss01(int order, double *x, double *w);
+
 typedef struct lumis__box {
     double x0, x1, y0, y1;
 } lumis__box;

@@ -6,47 +6,11 @@
 #include "lumis/photometry.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Gauss-Legendre nodes and weights on [-1, 1] for orders 1 to 8 (the tables' halves). */
-static void gauss(int n, double *x, double *w)
-{
-    static const double xs[8][4] = {
-        {0},
-        {0.5773502691896257},
-        {0, 0.7745966692414834},
-        {0.3399810435848563, 0.8611363115940526},
-        {0, 0.5384693101056831, 0.9061798459386640},
-        {0.2386191860831969, 0.6612093864662645, 0.9324695142031521},
-        {0, 0.4058451513773972, 0.7415311855993945, 0.9491079123427585},
-        {0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363}};
-    static const double ws[8][4] = {
-        {2},
-        {1},
-        {0.8888888888888888, 0.5555555555555556},
-        {0.6521451548625461, 0.3478548451374538},
-        {0.5688888888888889, 0.4786286704993665, 0.2369268850561891},
-        {0.4679139345726910, 0.3607615730481386, 0.1713244923791704},
-        {0.4179591836734694, 0.3818300505051189, 0.2797053914892766, 0.1294849661688697},
-        {0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763}};
-    const int k = n - 1, half = (n + 1) / 2, odd = n % 2;
-    for (int i = 0; i < half; i++) {
-        const double xi = xs[k][i], wi = ws[k][i];
-        if (odd && i == 0) {
-            x[n / 2] = 0.0;
-            w[n / 2] = wi;
-            continue;
-        }
-        const int j = odd ? i - 1 : i;
-        x[n / 2 + odd + j] = xi;
-        w[n / 2 + odd + j] = wi;
-        x[n / 2 - 1 - j] = -xi;
-        w[n / 2 - 1 - j] = wi;
-    }
-}
 
 /* The point law from a point y of the opening (z = 0) to the receiver (x, n): the table's
  * intensity towards x, over d^2, times the receiver's cosine; 0 behind the receiver and,
@@ -83,8 +47,8 @@ lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int openin
         return LUMIS_ERR_INVALID_ARGUMENT;
     if (panels <= 0) panels = 16;
     enum { ORDER = 6 };
-    double gx[ORDER], gw[ORDER];
-    gauss(ORDER, gx, gw);
+    double gx[ORDER], gw[ORDER]; /* on [0, 1], weights summing to 1 */
+    lumis__gauss01(ORDER, gx, gw);
     double sum = 0.0;
     if (disk) { /* polar: r in panels rings, phi in 4 panels per ring */
         const double R = 0.5 * in.width;
@@ -92,10 +56,10 @@ lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int openin
             for (int b = 0; b < 4 * panels; b++)
                 for (int i = 0; i < ORDER; i++)
                     for (int j = 0; j < ORDER; j++) {
-                        const double r = R * (a + 0.5 + 0.5 * gx[i]) / panels;
-                        const double phi = 2 * LUMIS_PI * (b + 0.5 + 0.5 * gx[j]) / (4 * panels);
+                        const double r = R * (a + gx[i]) / panels;
+                        const double phi = 2 * LUMIS_PI * (b + gx[j]) / (4 * panels);
                         const double y[2] = {r * cos(phi), r * sin(phi)};
-                        const double jac = r * (R / panels) * (2 * LUMIS_PI / (4 * panels)) / 4;
+                        const double jac = r * (R / panels) * (2 * LUMIS_PI / (4 * panels));
                         sum += gw[i] * gw[j] * jac * point_law(p, y, x, n, 1);
                     }
         *E = sum / (LUMIS_PI * R * R);
@@ -105,9 +69,9 @@ lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int openin
             for (int b = 0; b < panels; b++)
                 for (int i = 0; i < ORDER; i++)
                     for (int j = 0; j < ORDER; j++) {
-                        const double y[2] = {L * ((a + 0.5 + 0.5 * gx[i]) / panels - 0.5),
-                                             Wd * ((b + 0.5 + 0.5 * gx[j]) / panels - 0.5)};
-                        sum += gw[i] * gw[j] * 0.25 * point_law(p, y, x, n, 1);
+                        const double y[2] = {L * ((a + gx[i]) / panels - 0.5),
+                                             Wd * ((b + gx[j]) / panels - 0.5)};
+                        sum += gw[i] * gw[j] * point_law(p, y, x, n, 1);
                     }
         *E = sum / ((double)panels * panels); /* the mean over the opening */
     }
