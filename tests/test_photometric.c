@@ -786,6 +786,8 @@ static void readers_less_travelled(void **state)
     assert_int_equal(lumis_photometric_read(tu_path("disk.ies"), &sink.sink, &f), LUMIS_OK);
     lumis_photometric_file_destroy(f);
     assert_int_equal(lumis_photometric_read(NULL, &sink.sink, &f), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_read(tu_tmpdir(), &sink.sink, &f), LUMIS_ERR_OPEN);
+    assert_non_null(strstr(sink.last, "not a regular file"));
     assert_int_equal(lumis_photometric_read_memory(NULL, 4, "x", &sink.sink, &f),
                      LUMIS_ERR_INVALID_ARGUMENT);
     /* TILT=INCLUDE's errors */

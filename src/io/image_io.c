@@ -122,6 +122,43 @@ lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_f
     return finish_read(read_dispatch(data, size, format, &ctx, out), out, ctx.info);
 }
 
+lumis_status lumis__read_whole(const char *path, size_t max, const char *what,
+                               const lumis_error_sink *errors, char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    if (!path) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no %s path given", what);
+    FILE *f = fopen(path, "rb");
+    if (!f) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
+    struct stat sb;
+    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        fclose(f);
+        return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: not a regular file", path);
+    }
+    if ((unsigned long long)sb.st_size > max) {
+        fclose(f);
+        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE, "%s: %lld bytes: too large for a %s", path,
+                           (long long)sb.st_size, what);
+    }
+    const size_t n = (size_t)sb.st_size;
+    char *text = malloc(n + 1);
+    if (!text) {
+        fclose(f);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    }
+    const size_t got = fread(text, 1, n, f);
+    const int bad = ferror(f);
+    fclose(f);
+    if (bad || got != n) {
+        free(text);
+        return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", path);
+    }
+    text[n] = '\0';
+    *data = text;
+    *size = n;
+    return LUMIS_OK;
+}
+
 lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
                               lumis_image **out, lumis_read_info *info)
 {

@@ -35,6 +35,11 @@ lumis_status lumis__png_read(const unsigned char *data, size_t size, const lumis
 lumis_status lumis__exr_read(const unsigned char *data, size_t size, const lumis__read_ctx *ctx,
                              lumis_image **out);
 
+/* A regular file of at most max bytes, read whole into *data (NUL-terminated, the caller
+ * frees it); what names the kind of file in messages ("luminaire manifest"). */
+lumis_status lumis__read_whole(const char *path, size_t max, const char *what,
+                               const lumis_error_sink *errors, char **data, size_t *size);
+
 lumis_status lumis__hdr_write(FILE *f, const lumis_image *image);
 lumis_status lumis__pfm_write(FILE *f, const lumis_image *image, int big_endian);
 lumis_status lumis__png_write(FILE *f, const lumis_image *image, float exposure_ev,

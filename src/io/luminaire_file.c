@@ -377,34 +377,11 @@ lumis_status lumis_luminaire_manifest_read(const char *manifest_path,
     const lumis_error_sink *errors = options ? &options->errors : NULL;
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    if (!manifest_path)
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no manifest path given");
-    FILE *f = fopen(manifest_path, "rb");
-    if (!f) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", manifest_path, strerror(errno));
-    struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
-        return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: not a regular file", manifest_path);
-    }
-    if (sb.st_size > MAX_MANIFEST) {
-        fclose(f);
-        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE,
-                           "%s: %lld bytes: too large for a luminaire manifest", manifest_path,
-                           (long long)sb.st_size);
-    }
-    size_t n = (size_t)sb.st_size;
-    char *text = malloc(n + 1);
-    if (!text) {
-        fclose(f);
-        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", manifest_path);
-    }
-    size_t got = fread(text, 1, n, f);
-    int bad = ferror(f);
-    fclose(f);
-    if (bad || got != n) {
-        free(text);
-        return lumis__fail(errors, LUMIS_ERR_READ, "%s: read error", manifest_path);
-    }
+    char *text = NULL;
+    size_t n = 0;
+    const lumis_status rst =
+        lumis__read_whole(manifest_path, MAX_MANIFEST, "luminaire manifest", errors, &text, &n);
+    if (rst != LUMIS_OK) return rst;
     char *dir = dir_of(manifest_path);
     lumis_status st =
         dir ? lumis_luminaire_manifest_parse(text, n, manifest_path, dir, options, out)

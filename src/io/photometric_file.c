@@ -4,6 +4,7 @@
 #include "lumis/io.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -580,35 +581,11 @@ lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *er
                                     lumis_photometric_file **out)
 {
     if (out) *out = NULL;
-    if (!path || !out) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no path");
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
-    size_t cap = 1 << 16, n = 0;
-    unsigned char *buf = malloc(cap);
-    lumis_status st = buf ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
-    for (size_t got; st == LUMIS_OK && (got = fread(buf + n, 1, cap - n, fp)) > 0;) {
-        n += got;
-        if (n > MAX_FILE) {
-            st = LUMIS_ERR_TOO_LARGE;
-            break;
-        }
-        if (n == cap) {
-            unsigned char *g = realloc(buf, cap *= 2);
-            if (!g)
-                st = LUMIS_ERR_OUT_OF_MEMORY;
-            else
-                buf = g;
-        }
-    }
-    if (st == LUMIS_OK && ferror(fp)) st = LUMIS_ERR_READ;
-    fclose(fp);
-    if (st == LUMIS_OK)
-        st = lumis_photometric_read_memory(buf, n, path, errors, out);
-    else
-        st = lumis__fail(errors, st, "%s: %s", path,
-                         st == LUMIS_ERR_TOO_LARGE ? "larger than 64 MB: not a photometric file"
-                         : st == LUMIS_ERR_READ    ? "read error"
-                                                   : "out of memory");
-    free(buf);
+    if (!out) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no output");
+    char *data = NULL;
+    size_t n = 0;
+    lumis_status st = lumis__read_whole(path, MAX_FILE, "photometric file", errors, &data, &n);
+    if (st == LUMIS_OK) st = lumis_photometric_read_memory(data, n, path, errors, out);
+    free(data);
     return st;
 }
