@@ -27,7 +27,8 @@ struct lumis_photometric {
     int ncells, nrep;
     double *cell_flux; /* [ncells]: the cell's own flux (one replica) */
     lumis__cdf cdf;
-    double flux; /* all replicas of all cells */
+    double flux;                 /* all replicas of all cells */
+    lumis_photometric_info info; /* lumis_photometric_get_info's, computed at creation */
 };
 
 /* ---- names ---------------------------------------------------------------------------- */
@@ -156,6 +157,7 @@ static lumis_status check_angles(const double *a, int n, const char *what,
 }
 
 static lumis_status build_sampling(lumis_photometric *p);
+static void compute_info(const lumis_photometric *p, lumis_photometric_info *info);
 
 lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
                                       const lumis_error_sink *errors, lumis_photometric **out)
@@ -256,6 +258,7 @@ lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
         lumis_photometric_destroy(p);
         return lumis__fail(errors, st, "photometric: out of memory");
     }
+    compute_info(p, &p->info);
     *out = p;
     return LUMIS_OK;
 }
@@ -497,9 +500,10 @@ static double spread(const lumis_photometric *p, int k, double share)
     return edge[1] - edge[0];
 }
 
-lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info)
+/* The info, once, at creation (its beam scans cost thousands of lookups: not for every
+ * caller that wants the shape). */
+static void compute_info(const lumis_photometric *p, lumis_photometric_info *info)
 {
-    if (!p || !info) return LUMIS_ERR_INVALID_ARGUMENT;
     memset(info, 0, sizeof *info);
     info->type = p->type;
     info->symmetry = p->sym;
@@ -515,7 +519,7 @@ lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photom
     info->h_last = p->h[p->nh - 1];
     info->lamp_lumens = p->desc.lamp_lumens;
     info->luminaire_lumens = p->desc.luminaire_lumens;
-    info->flux = flux_below(p, 1e9);
+    info->flux = p->flux; /* the sampler's cells', summed at creation */
     info->downward_fraction = p->type != LUMIS_PHOTOMETRIC_C ? 1.0
                               : info->flux > 0               ? flux_below(p, 90.0) / info->flux
                                                              : 0.0;
@@ -532,6 +536,12 @@ lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photom
         info->beam_deg[k] = spread(p, k, 0.5);
         info->field_deg[k] = spread(p, k, 0.1);
     }
+}
+
+lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info)
+{
+    if (!p || !info) return LUMIS_ERR_INVALID_ARGUMENT;
+    *info = p->info;
     return LUMIS_OK;
 }
 
