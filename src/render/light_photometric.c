@@ -40,11 +40,9 @@ static v3 to_local(const fixture *f, v3 w)
               r[2] * w.x + r[5] * w.y + r[8] * w.z);
 }
 
-/* The table's intensity towards the world direction e (from the fixture), multiplier
- * applied. */
-static double intensity(const fixture *f, v3 e)
+/* The table's intensity towards l (from the fixture, in its frame), multiplier applied. */
+static double intensity(const fixture *f, v3 l)
 {
-    const v3 l = to_local(f, e);
     const lumis_vec3 d = {(float)l.x, (float)l.y, (float)l.z};
     return f->mult * lumis_photometric_intensity(f->p, d);
 }
@@ -62,9 +60,9 @@ static void opening_point(const fixture *f, const double u[2], double *x, double
     }
 }
 
-/* Where the ray org + s wi meets the opening, if it does from its front (s > 0): *s and the
- * cosine at the opening (between -wi and the aim). */
-static int hit_opening(const fixture *f, v3 org, v3 wi, double *s, double *cos_l)
+/* Where the ray org + s wi meets the opening, if it does from its front (s > 0): *s, and
+ * wi in the fixture's frame (its z: the cosine at the opening, between -wi and the aim). */
+static int hit_opening(const fixture *f, v3 org, v3 wi, double *s, v3 *wl)
 {
     const v3 o = to_local(f, sub(org, mk(f->t[0], f->t[1], f->t[2]))), w = to_local(f, wi);
     /* the front: the side the aim (-z) points to, so the ray travels towards +z */
@@ -74,7 +72,7 @@ static int hit_opening(const fixture *f, v3 org, v3 wi, double *s, double *cos_l
                                     : fabs(x) <= f->hx && fabs(y) <= f->hy;
     if (!inside) return 0;
     *s = t;
-    *cos_l = w.z;
+    *wl = w;
     return 1;
 }
 
@@ -113,11 +111,11 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             const v3 wi = mul(w, 1.0 / dist);
             const double cos_s = dot(wi, n);
             if (!(cos_s > 0.0)) continue;
-            const v3 e = mul(wi, -1.0); /* from the fixture to the point */
+            const v3 el = to_local(f, mul(wi, -1.0)); /* from the fixture to the point */
             double weight = 1.0;
             const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cos_s));
             if (f->area) { /* the opening's front only; MIS with the BSDF's density */
-                const double cos_l = to_local(f, e).z * -1.0;
+                const double cos_l = -el.z;
                 if (!(cos_l > 0.0)) continue;
                 if (mis && st->nb > 0) {
                     const double pl_sa = d2 / (f->A * cos_l);
@@ -125,7 +123,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
                                         d->power_heuristic);
                 }
             }
-            const double I = intensity(f, e);
+            const double I = intensity(f, el);
             if (!(I > 0.0)) continue;
             const lumis_rgb fb = lumis_bsdf_eval(m, wo, wil);
             if (fb.r == 0.0f && fb.g == 0.0f && fb.b == 0.0f) continue;
@@ -143,9 +141,10 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
             if (!(bs.pdf > 0.0f)) continue;
             const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
-            double s, cos_l;
-            if (!hit_opening(f, org, wi, &s, &cos_l)) continue;
-            const double I = intensity(f, mul(wi, -1.0));
+            double s;
+            v3 wl;
+            if (!hit_opening(f, org, wi, &s, &wl)) continue;
+            const double cos_l = wl.z, I = intensity(f, mul(wl, -1.0));
             if (!(I > 0.0)) continue;
             const double Le = I / (f->A * cos_l);
             double weight = 1.0;
