@@ -366,6 +366,25 @@ static char *edited(const char *good, const char *from, const char *to, size_t *
     return s;
 }
 
+/* good with its first `from` replaced by `to`, read: the status `want`, with a message that
+ * holds msg; a failed read makes no file. */
+static void expect_edit(const char *good, const char *from, const char *to, lumis_status want,
+                        const char *msg)
+{
+    size_t n = 0;
+    char *text = edited(good, from, to, &n);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = NULL;
+    const lumis_status st = lumis_photometric_read_memory(text, n, "t.ies", &sink.sink, &f);
+    if (st != want || !strstr(sink.last, msg))
+        fail_msg("'%s' -> '%s': %s \"%s\", want %s \"%s\"", from, to, lumis_status_name(st),
+                 sink.last, lumis_status_name(want), msg);
+    if (st != LUMIS_OK) assert_null(f);
+    lumis_photometric_file_destroy(f);
+    free(text);
+}
+
 static void malformed_files_name_line_and_field(void **state)
 {
     (void)state;
@@ -429,18 +448,8 @@ static void malformed_files_name_line_and_field(void **state)
         {"0 90\n", "0 45\n", LUMIS_ERR_CORRUPT, "horizontal angles from 0 to 45"},
         {"0 45 90\n", "0 45 190\n", LUMIS_ERR_CORRUPT, "vertical angles from 0 to 190"},
     };
-    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
-        size_t n = 0;
-        char *text = edited(good, bad[k].from, bad[k].to, &n);
-        tu_sink_init(&sink);
-        lumis_photometric_file *g = NULL;
-        const lumis_status st = lumis_photometric_read_memory(text, n, "t.ies", &sink.sink, &g);
-        if (st != bad[k].status || !strstr(sink.last, bad[k].message))
-            fail_msg("case %zu: %s \"%s\", want %s \"%s\"", k, lumis_status_name(st), sink.last,
-                     lumis_status_name(bad[k].status), bad[k].message);
-        assert_null(g);
-        free(text);
-    }
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+        expect_edit(good, bad[k].from, bad[k].to, bad[k].status, bad[k].message);
     /* not photometric at all */
     const char *others[] = {"\x89PNG\r\n\x1a\n....", "hello\nworld\n",
                             "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n"};
@@ -471,18 +480,8 @@ static void malformed_files_name_line_and_field(void **state)
         {"\n1\n1\nLED 1\n", "\n1\n2e53\nLED 1\n", LUMIS_ERR_BAD_DIMENSIONS,
          "the number of lamps of set 1: 2e+53"},
     };
-    for (size_t k = 0; k < sizeof lbad / sizeof lbad[0]; k++) {
-        size_t m = 0;
-        char *text = edited(ldt, lbad[k].from, lbad[k].to, &m);
-        tu_sink_init(&sink);
-        lumis_photometric_file *h = NULL;
-        const lumis_status st = lumis_photometric_read_memory(text, m, "t.ies", &sink.sink, &h);
-        if (st != lbad[k].status || !strstr(sink.last, lbad[k].message))
-            fail_msg("ldt case %zu: %s \"%s\", want %s \"%s\"", k, lumis_status_name(st), sink.last,
-                     lumis_status_name(lbad[k].status), lbad[k].message);
-        lumis_photometric_file_destroy(h);
-        free(text);
-    }
+    for (size_t k = 0; k < sizeof lbad / sizeof lbad[0]; k++)
+        expect_edit(ldt, lbad[k].from, lbad[k].to, lbad[k].status, lbad[k].message);
     /* the last intensity missing; one too many */
     tu_sink_init(&sink);
     lumis_photometric_file *h = NULL;
@@ -791,41 +790,21 @@ static void readers_less_travelled(void **state)
     assert_int_equal(lumis_photometric_read_memory(NULL, 4, "x", &sink.sink, &f),
                      LUMIS_ERR_INVALID_ARGUMENT);
     /* TILT=INCLUDE's errors */
-    static const char *const tilts[][2] = {
-        {"TILT=INCLUDE\r4\r", "TILT's lamp-to-luminaire geometry: 4"},
-        {"TILT=INCLUDE\r1\r0\r", "TILT's number of angle and factor pairs: 0"},
-        {"TILT=INCLUDE\r1\r2\r0 -1\r", "TILT's angles: -1 after 0"},
-    };
-    for (int k = 0; k < 3; k++) {
-        size_t n = 0;
-        char *t = edited(ies, "TILT=NONE\r", tilts[k][0], &n);
-        tu_sink_init(&sink);
-        lumis_photometric_file *g = NULL;
-        lumis_photometric_read_memory(t, n, "t.ies", &sink.sink, &g);
-        if (!strstr(sink.last, tilts[k][1])) fail_msg("tilt %d: \"%s\"", k, sink.last);
-        assert_null(g);
-        free(t);
-    }
+    expect_edit(ies, "TILT=NONE\r", "TILT=INCLUDE\r4\r", LUMIS_ERR_BAD_DIMENSIONS,
+                "TILT's lamp-to-luminaire geometry: 4");
+    expect_edit(ies, "TILT=NONE\r", "TILT=INCLUDE\r1\r0\r", LUMIS_ERR_BAD_DIMENSIONS,
+                "TILT's number of angle and factor pairs: 0");
+    expect_edit(ies, "TILT=NONE\r", "TILT=INCLUDE\r1\r2\r0 -1\r", LUMIS_ERR_CORRUPT,
+                "TILT's angles: -1 after 0");
     /* EULUMDAT: sizes, symmetry that does not divide, flux 0, a short header */
     size_t n = 0;
     char *ldt = pg_ldt(PG_LAMBERT, 0, 2, 24, 19, 1, &n);
-    const struct {
-        const char *from, *to, *msg;
-    } lbad[] = {
-        {"600\n600\n100\n500\n", "600\n-600\n100\n500\n", "the luminaire's width (mm) is -600"},
-        {"\nLED 1\n1000\n", "\nLED 1\n0\n", "the lamps' total flux of set 1 is 0 lm"},
-        {"\n0.5\n0.5\n", "\n0.5\nx\n", "the direct ratios: 'x' is not a number"},
-    };
-    for (int k = 0; k < 3; k++) {
-        size_t m = 0;
-        char *t = edited(ldt, lbad[k].from, lbad[k].to, &m);
-        tu_sink_init(&sink);
-        lumis_photometric_file *g = NULL;
-        lumis_photometric_read_memory(t, m, "t.ldt", &sink.sink, &g);
-        if (!strstr(sink.last, lbad[k].msg)) fail_msg("ldt %d: \"%s\"", k, sink.last);
-        assert_null(g);
-        free(t);
-    }
+    expect_edit(ldt, "600\n600\n100\n500\n", "600\n-600\n100\n500\n", LUMIS_ERR_CORRUPT,
+                "the luminaire's width (mm) is -600");
+    expect_edit(ldt, "\nLED 1\n1000\n", "\nLED 1\n0\n", LUMIS_ERR_CORRUPT,
+                "the lamps' total flux of set 1 is 0 lm");
+    expect_edit(ldt, "\n0.5\n0.5\n", "\n0.5\nx\n", LUMIS_ERR_CORRUPT,
+                "the direct ratios: 'x' is not a number");
     /* symmetry 4 needs a number of C-planes divisible by 4 */
     size_t m4 = 0;
     char *l4 = pg_ldt(PG_LAMBERT, 0, 4, 18, 19, 1, &m4);
