@@ -129,24 +129,41 @@ static long items_tasks(const suite *s, long tasks)
     return tasks < n ? tasks : n;
 }
 
+/* Whether each item is done, read once (each check reads the item's result file; the plan
+ * asks per pair and per shard). NULL: out of memory. */
+static unsigned char *items_done(const suite *s, const char *out)
+{
+    const int n = bench_nitems(s);
+    unsigned char *done = malloc((size_t)n + 1);
+    for (int k = 0; done && k < n; k++) {
+        item it = bench_item_at(s, k);
+        done[k] = (unsigned char)bench_item_done(s, out, &it);
+    }
+    return done;
+}
+
 /* Items of shard k of N not done; *mine: the shard's items. */
-static int shard_left(const suite *s, const char *out, long k, long N, int *mine)
+static int shard_left(const suite *s, const unsigned char *done, long k, long N, int *mine)
 {
     int left = 0;
     *mine = 0;
-    for (int i = 0; i < bench_nitems(s); i++) {
-        if (!bench_in_shard(s, i, k, N)) continue;
-        (*mine)++;
-        item it = bench_item_at(s, i);
-        left += !bench_item_done(s, out, &it);
-    }
+    for (int i = 0; i < bench_nitems(s); i++)
+        if (bench_in_shard(s, i, k, N)) {
+            (*mine)++;
+            left += !done[i];
+        }
     return left;
 }
 
-/* Whether the (map, scene) pair's reference is needed and not done. */
-static int reference_missing(const suite *s, const char *out, int m, int sc)
+/* Whether the (map, scene) pair's reference is needed (an item of the pair, contiguous in
+ * the items' order, is not done) and not done. */
+static int reference_missing(const suite *s, const char *out, const unsigned char *done, int m,
+                             int sc)
 {
-    return bench_pair_needed(s, out, m, sc) && !bench_reference_ok(s, out, m, sc);
+    const int per = s->nmethods * s->nbudgets, first = bench_idx(s, m, sc, 0, 0);
+    int needed = 0;
+    for (int k = first; k < first + per && !needed; k++) needed = !done[k];
+    return needed && !bench_reference_ok(s, out, m, sc);
 }
 
 int bench_slurm(const suite *s, const char *suite_path, const char *out, const bench_slurm_opts *o)
@@ -174,10 +191,11 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
     int *ref_tasks = malloc(sizeof(int) * (size_t)npairs * (size_t)P + 1);
     int *item_tasks = malloc(sizeof(int) * (size_t)N + 1);
     int nref = 0, nmerge = 0, nshard = 0, left = 0;
-    if (!ref_tasks || !item_tasks) rc = tool_runtime_error("bench: out of memory");
+    unsigned char *done = items_done(s, out_abs);
+    if (!ref_tasks || !item_tasks || !done) rc = tool_runtime_error("bench: out of memory");
     for (int pair = 0; pair < npairs && rc == EXIT_OK; pair++) {
         const int m = pair / s->nscenes, sc = pair % s->nscenes;
-        if (!reference_missing(s, out_abs, m, sc)) continue;
+        if (!reference_missing(s, out_abs, done, m, sc)) continue;
         nmerge++;
         for (long i = 0; i < P; i++)
             if (!bench_reference_part_ok(s, out_abs, m, sc, i, P))
@@ -185,7 +203,7 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
     }
     for (long k = 0; k < N && rc == EXIT_OK; k++) {
         int mine = 0;
-        const int missing = shard_left(s, out_abs, k, N, &mine);
+        const int missing = shard_left(s, done, k, N, &mine);
         if (missing) item_tasks[nshard++] = (int)k;
         left += missing;
     }
@@ -368,6 +386,7 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
                         jobs, out_abs, dir, dir);
         }
     }
+    free(done);
     free(ref_tasks);
     free(item_tasks);
     free(suite_abs);
@@ -380,14 +399,17 @@ int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_pas
     const long N = items_tasks(s, tasks);
     const int nitems = bench_nitems(s);
     FILE *t = tmpfile();
-    if (!t) {
-        tool_runtime_error("bench: no temporary file");
+    unsigned char *done = items_done(s, out);
+    if (!t || !done) {
+        tool_runtime_error("bench: no temporary file, or out of memory");
+        if (t) fclose(t);
+        free(done);
         return nitems;
     }
     int left = 0, bad_tasks = 0, bad_refs = 0;
     for (long k = 0; k < N; k++) {
         int mine = 0;
-        const int missing = shard_left(s, out, k, N, &mine);
+        const int missing = shard_left(s, done, k, N, &mine);
         if (!missing) continue;
         left += missing;
         bad_tasks++;
@@ -398,7 +420,7 @@ int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_pas
     }
     for (int m = 0; m < s->nmaps; m++)
         for (int sc = 0; sc < s->nscenes; sc++) {
-            if (!reference_missing(s, out, m, sc)) continue;
+            if (!reference_missing(s, out, done, m, sc)) continue;
             bad_refs++;
             const long pair = (long)m * s->nscenes + sc;
             fprintf(t, "reference %s / %s missing (references tasks %ld to %ld)\n",
@@ -423,5 +445,6 @@ int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_pas
         tool_commit_tmp(t, path);
     else
         fclose(t);
+    free(done);
     return left;
 }
