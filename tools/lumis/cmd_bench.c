@@ -233,7 +233,7 @@ int cmd_bench(int argc, char **argv)
     if (sharded && (merging || report_only))
         return tool_usage_error("bench", "--shard renders; --merge and --report-only report");
     const int modes = slurm + items_only + merge_refs + (ref_task >= 0) + report_only + merging;
-    if (modes > 1 && !(items_only && modes == 1))
+    if (modes > 1)
         return tool_usage_error("bench", "--slurm, --reference-task, --merge-references, "
                                          "--items-only, --report-only and --merge are ways to "
                                          "run: one at a time");
