@@ -1179,7 +1179,54 @@ static void luminaire_files_create_info_render(void **state)
     expect("luminaire create out.txt", 2, ".json");
     expect("luminaire create x.json --preset lamp", 2, "--preset");
     expect("luminaire info /nonexistent/lamp.json", 1, "lamp.json");
-    expect("luminaire frobnicate", 2, "create, info or render");
+    expect("luminaire frobnicate", 2, "create, info, predict or render");
+    /* predict: per band, each strategy's numbers; the best is the least work */
+    out = NULL;
+    assert_int_equal(run("luminaire predict preset:small --distance 2,40 --bands 2 --probes 64 "
+                         "--json",
+                         &out, NULL),
+                     0);
+    cJSON *pj = cJSON_Parse(out);
+    free(out);
+    assert_non_null(pj);
+    const cJSON *bands = item(pj, "bands");
+    assert_int_equal(cJSON_GetArraySize(bands), 2);
+    const cJSON *b0 = cJSON_GetArrayItem(bands, 0);
+    assert_true(num(b0, "probes_lit") > 32);
+    assert_true(num(b0, "energy_share") > 0.0 && num(b0, "energy_share") < 1.0);
+    const char *names[3] = {"restricted", "uniform", "global"};
+    double least = 1e300;
+    const char *best = NULL;
+    for (int k = 0; k < 3; k++) {
+        const cJSON *sj = item(b0, names[k]);
+        const double work = num(sj, "variance") * num(sj, "ns");
+        assert_true(work > 0.0);
+        if (work < least) least = work, best = names[k];
+        /* global's ratio to itself is 1 */
+        if (k == 2) assert_true(fabs(num(sj, "time_ratio") - 1.0) < 1e-12);
+    }
+    assert_string_equal(cJSON_GetStringValue(item(b0, "best")), best);
+    cJSON_Delete(pj);
+    assert_int_equal(run("luminaire predict preset:small --distance 5", &out, NULL), 0);
+    assert_non_null(strstr(out, "restricted: samples"));
+    free(out);
+    expect("luminaire predict preset:small --distance 4,2", 2, "--distance");
+    expect("luminaire predict preset:small --bands 0", 2, "--bands");
+    expect("luminaire predict", 2, "no luminaire");
+    /* auto: the render says what it chose and why, and it is one of the three */
+    snprintf(a, sizeof a,
+             "render --scene headlight --luminaire preset:small --lum-strategy auto --spp 1 "
+             "--size 32x20 -o '%s'",
+             tu_path("auto.exr"));
+    expect(a, 0, "auto: ");
+    cJSON *aj = read_json("auto.json");
+    const cJSON *lj = item(aj, "luminaires");
+    assert_string_equal(cJSON_GetStringValue(item(lj, "strategy")), "auto");
+    const char *chosen = cJSON_GetStringValue(item(lj, "chosen"));
+    assert_true(!strcmp(chosen, "restricted") || !strcmp(chosen, "uniform") ||
+                !strcmp(chosen, "global"));
+    assert_true(num(item(lj, "prediction"), "probes_lit") > 0);
+    cJSON_Delete(aj);
     expect("render --scene spheres --luminaire preset:small -o x.exr", 1, "places no luminaire");
 }
 

@@ -29,6 +29,7 @@
 #include "lumis/types.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -134,6 +135,9 @@ typedef enum lumis_luminaire_strategy {
     LUMIS_LUM_UNIFORM,              /* baseline: uniform over the projected box */
     LUMIS_LUM_GLOBAL,               /* baseline: global CDFs, no restriction, the same
                                        samples for every point */
+    LUMIS_LUM_AUTO,                 /* renders only: per placed luminaire, the strategy
+                                       lumis_luminaire_predict expects fastest at equal
+                                       error (the samplers refuse it) */
     LUMIS_LUM_STRATEGY_COUNT
 } lumis_luminaire_strategy;
 
@@ -145,7 +149,7 @@ typedef enum lumis_luminaire_search {
     LUMIS_LUM_SEARCH_COUNT
 } lumis_luminaire_search;
 
-/* "restricted", "uniform", "global"; "secant", "binary". */
+/* "restricted", "uniform", "global", "auto"; "secant", "binary". */
 const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy strategy);
 lumis_status lumis_luminaire_strategy_from_name(const char *name, lumis_luminaire_strategy *out);
 const char *lumis_luminaire_search_name(lumis_luminaire_search search);
@@ -262,6 +266,92 @@ double lumis_luminaire_pdf(const lumis_luminaire *lum, const lumis_luminaire_que
  * strategy, exact search): the inverse warp.  LUMIS_ERR_INVALID_ARGUMENT outside the box. */
 lumis_status lumis_luminaire_invert(const lumis_luminaire *lum, const lumis_luminaire_query *q,
                                     int m, double sx, double sy, double *u1, double *u2);
+
+/* ---- which strategy pays: a prediction ------------------------------------------------
+ *
+ * For a set of probe points (where a scene's surfaces will be shaded), the variance of each
+ * strategy's estimate of I(p) and its cost, hence the time each needs for an equal mean
+ * squared error, from the luminaire's tables alone (no scene, no render): docs/luminaire.md,
+ * "Which strategy pays".  Per probe and per image m whose box holds energy, a few pilot
+ * samples of the restricted and uniform samplers give the first and second moments of the
+ * one-sample estimate; the global strategy's moments follow exactly from the restricted
+ * ones (its pdf is the restricted one times units(box) / units(image)); the balance gives
+ * each strategy's K_m.  The costs are a linear model in nanoseconds (shading points,
+ * images with energy, draws, shadow rays) whose defaults were measured on the machine
+ * this was written on (lumis_luminaire_costs_default). */
+
+/* A point where the scene is shaded: luminaire frame, n its surface normal (need not be
+ * unit; light from behind it is not counted). */
+typedef struct lumis_luminaire_probe {
+    lumis_vec3 p, n;
+} lumis_luminaire_probe;
+
+/* The cost model, nanoseconds.  A point sampled with the restricted or uniform strategy
+ * costs camera + image x (images with energy in their box) + draw x samples + ray x
+ * (samples with energy); a global sample costs global + ray x (its chance of energy); the
+ * global draws and the camera ray are shared by many samples (its best budget is large). */
+typedef struct lumis_luminaire_costs {
+    double camera;     /* per shading point: its camera ray, hit and frame */
+    double image;      /* per image with energy in its box: A_m(p), balance, the box's prep */
+    double restricted; /* per restricted draw: the 2D inversion, direction, radiance */
+    double uniform;    /* per uniform draw */
+    double global;     /* per global sample finished at a point */
+    double ray;        /* per shadow ray, with the BSDF's evaluation */
+} lumis_luminaire_costs;
+
+/* The defaults (docs/luminaire.md, "Which strategy pays", how they were measured). */
+lumis_luminaire_costs lumis_luminaire_costs_default(void);
+
+typedef struct lumis_luminaire_predict_desc {
+    const lumis_luminaire_probe *probes; /* required */
+    int probe_count;                     /* 1 to 1 << 20 */
+    int budget;                          /* K of the restricted and uniform strategies; 0 == 32 */
+    int k_max;                           /* their cap; 0 == none */
+    int pilot;                           /* pilot samples per image per probe, rounded down
+                                            to a square (a jittered grid); 0 == 16 */
+    uint64_t seed;                       /* of the pilot samples */
+    const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
+    lumis_error_sink errors;
+} lumis_luminaire_predict_desc;
+
+/* One strategy's prediction, means over the lit probes. */
+typedef struct lumis_luminaire_strategy_prediction {
+    double samples;  /* samples a point evaluates (global: 1, a sample) */
+    double rays;     /* of them with energy: shadow rays */
+    double variance; /* of that point's estimate of I(p) (luminance, the tables' units);
+                        a mean of variances, as a mean squared error weighs pixels (a
+                        relative one would let a beam's dimmest edge decide) */
+    double ns;       /* predicted nanoseconds per point (global: per sample) */
+    double work;     /* variance x ns: proportional to the time for a given MSE */
+    double time_ratio;   /* global's work / this work: how many times less time than
+                            global this strategy needs for an equal error */
+    double sample_ratio; /* the same for samples */
+} lumis_luminaire_strategy_prediction;
+
+typedef struct lumis_luminaire_prediction {
+    lumis_luminaire_strategy_prediction restricted, uniform, global;
+    lumis_luminaire_strategy best; /* restricted, uniform or global: the least work */
+    double energy_share;           /* mean share of global samples with energy at a probe */
+    double distance[3];            /* of the lit probes from the luminaire's origin: min,
+                                      median, max */
+    int probes_lit;                /* probes with I(p) > 0 (the others are ignored) */
+    int images_lit;                /* mean images with energy in their box at a lit probe */
+} lumis_luminaire_prediction;
+
+/* Fills *out, or fails with LUMIS_ERR_INVALID_ARGUMENT.  With no lit probe, every number
+ * is 0 and best is LUMIS_LUM_RESTRICTED (the paper's).
+ * Cost: probes x images with energy x 2 pilot draws (about 60 ms for 256 probes of the
+ * car preset); deterministic for a seed; allocates a double per probe. */
+lumis_status lumis_luminaire_predict(const lumis_luminaire *lum,
+                                     const lumis_luminaire_predict_desc *desc,
+                                     lumis_luminaire_prediction *out);
+
+/* n probes lit by the luminaire at distances in [dmin, dmax] (luminaire units, from a point
+ * of U, log-uniform), facing it: along rays from U through S drawn in proportion to the
+ * light's power, as a scene's surfaces in the beam would be.  dmin > 0, dmax >= dmin.
+ * Deterministic for a seed. */
+lumis_status lumis_luminaire_probes(const lumis_luminaire *lum, double dmin, double dmax,
+                                    uint64_t seed, int n, lumis_luminaire_probe *out);
 
 /* Irradiance I(p) on a surface of normal n (need not be unit) by deterministic quadrature:
  * over S, per image, on pieces cut at pixel edges and at the basis' knots (Gauss-Legendre

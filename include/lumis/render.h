@@ -124,7 +124,8 @@ typedef struct lumis_luminaire_lighting {
     int count;
     int budget;                        /* K per instance per camera sample; 0 == 32 */
     int k_max;                         /* most samples for one image; 0 == no cap */
-    lumis_luminaire_strategy strategy; /* 0 == restricted (Lu et al.) */
+    lumis_luminaire_strategy strategy; /* 0 == restricted (Lu et al.); LUMIS_LUM_AUTO:
+                                          per instance, lumis_render_luminaire_strategies */
     lumis_luminaire_search search;     /* 0 == the library's default */
     int depth;                         /* search depth; 0 == exact */
     lumis_visibility visibility;       /* 0 == exact */
@@ -245,6 +246,18 @@ typedef struct lumis_render_stats {
  * NULL.  The same as a job run once with desc->spp samples. */
 lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
                           lumis_image **out, lumis_render_stats *stats);
+
+/* The strategy each placed luminaire of d->luminaires is sampled with (out: count
+ * entries): the lighting's own, or with LUMIS_LUM_AUTO the best of lumis_luminaire_predict
+ * at the points the render will shade (the first hits of 20 x 12 camera rays through
+ * pixel centres, in the instance's frame), at the lighting's budget and cap, 16 pilot
+ * samples per image.  predictions
+ * (count entries, may be NULL) receives each prediction (zeros unless auto).  What the
+ * render does itself; deterministic.  Cost with auto: some 15 ms per luminaire (car preset). */
+lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
+                                               const lumis_render_desc *d,
+                                               lumis_luminaire_strategy *out,
+                                               lumis_luminaire_prediction *predictions);
 
 /* Progressive rendering: a job accumulates passes; lumis_render_job_run(job, n) adds n
  * samples per pixel.  Sample k of a pixel is the same whichever pass draws it, so 16

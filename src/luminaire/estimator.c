@@ -8,7 +8,7 @@
 #include <string.h>
 
 static const char *const strategy_names[LUMIS_LUM_STRATEGY_COUNT] = {"default", "restricted",
-                                                                     "uniform", "global"};
+                                                                     "uniform", "global", "auto"};
 static const char *const search_names[LUMIS_LUM_SEARCH_COUNT] = {"default", "secant", "binary"};
 
 const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy s)
@@ -238,7 +238,7 @@ static lumis_status sample_point(const lumis_luminaire *l, const lumis_luminaire
     if (!count) return LUMIS_ERR_INVALID_ARGUMENT;
     *count = 0;
     if (!l || !q || (capacity > 0 && ((!u && !q->fill) || !out)) ||
-        (unsigned)q->strategy >= (unsigned)LUMIS_LUM_STRATEGY_COUNT ||
+        (unsigned)q->strategy >= (unsigned)LUMIS_LUM_AUTO ||
         (unsigned)q->search >= (unsigned)LUMIS_LUM_SEARCH_COUNT)
         return LUMIS_ERR_INVALID_ARGUMENT;
     const lumis__where where = lumis__lum_where(l, q->p.z);

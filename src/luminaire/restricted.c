@@ -567,7 +567,8 @@ static int on_s_support(const lumis_luminaire *l, const lumis_luminaire_query *q
 lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_luminaire_query *q,
                                           int m, double u1, double u2, lumis_luminaire_sample *out)
 {
-    if (!l || !q || !out || m < 0 || m >= l->m) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!l || !q || !out || m < 0 || m >= l->m || (unsigned)q->strategy >= LUMIS_LUM_AUTO)
+        return LUMIS_ERR_INVALID_ARGUMENT;
     const lumis__where where = lumis__lum_where(l, q->p.z);
     if (where == LUMIS__BEHIND) return LUMIS_ERR_INVALID_ARGUMENT;
     if (where == LUMIS__ON_S && q->strategy != LUMIS_LUM_GLOBAL) {
@@ -595,7 +596,7 @@ lumis_status lumis_luminaire_sample_image(const lumis_luminaire *l, const lumis_
 double lumis_luminaire_pdf(const lumis_luminaire *l, const lumis_luminaire_query *q, int m,
                            double sx, double sy)
 {
-    if (!l || !q || m < 0 || m >= l->m) return 0.0;
+    if (!l || !q || m < 0 || m >= l->m || (unsigned)q->strategy >= LUMIS_LUM_AUTO) return 0.0;
     const lumis__where where = lumis__lum_where(l, q->p.z);
     if (where == LUMIS__BEHIND) return 0.0;
     if (where == LUMIS__ON_S && q->strategy != LUMIS_LUM_GLOBAL) {
@@ -618,7 +619,8 @@ double lumis_luminaire_pdf(const lumis_luminaire *l, const lumis_luminaire_query
 lumis_status lumis_luminaire_invert(const lumis_luminaire *l, const lumis_luminaire_query *q, int m,
                                     double sx, double sy, double *u1, double *u2)
 {
-    if (!l || !q || !u1 || !u2 || m < 0 || m >= l->m) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!l || !q || !u1 || !u2 || m < 0 || m >= l->m || (unsigned)q->strategy >= LUMIS_LUM_AUTO)
+        return LUMIS_ERR_INVALID_ARGUMENT;
     if (lumis__lum_where(l, q->p.z) != LUMIS__FRONT && q->strategy != LUMIS_LUM_GLOBAL)
         return LUMIS_ERR_INVALID_ARGUMENT;
     lumis__box b;

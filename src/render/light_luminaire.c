@@ -4,6 +4,7 @@
 #include "lumis/render.h"
 
 #include "../core/internal.h"
+#include "camera.h"
 #include "shade.h"
 
 #include <math.h>
@@ -318,9 +319,91 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return L;
 }
 
+/* ---- auto: the strategy predicted fastest --------------------------------------------- */
+
+#define AUTO_COLS 20
+#define AUTO_ROWS 12
+
+/* The points the render will shade: the first hits of AUTO_COLS x AUTO_ROWS camera rays
+ * through pixel centres, world frame (n facing the camera).  Returns how many. */
+static int auto_hits(const lumis_scene *scene, const cam_frame *cf, v3 *p, v3 *n)
+{
+    int k = 0;
+    for (int y = 0; y < AUTO_ROWS; y++)
+        for (int x = 0; x < AUTO_COLS; x++) {
+            hit h;
+            const v3 dir = camera_dir(cf, (x + 0.5) / AUTO_COLS * 2.0 - 1.0,
+                                      1.0 - (y + 0.5) / AUTO_ROWS * 2.0);
+            if (!intersect(scene, cf->eye, dir, &h)) continue;
+            p[k] = h.p;
+            n[k++] = h.n;
+        }
+    return k;
+}
+
+lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
+                                               const lumis_render_desc *d,
+                                               lumis_luminaire_strategy *out,
+                                               lumis_luminaire_prediction *predictions)
+{
+    if (!scene || !d || !d->luminaires || !out || d->luminaires->count < 0 ||
+        (d->luminaires->count > 0 && !d->luminaires->instances))
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_luminaire_lighting *ll = d->luminaires;
+    for (int i = 0; i < ll->count; i++) {
+        out[i] = ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : ll->strategy;
+        if (predictions) memset(&predictions[i], 0, sizeof predictions[i]);
+    }
+    if (ll->strategy != LUMIS_LUM_AUTO || ll->count == 0) return LUMIS_OK;
+    cam_frame cf;
+    lumis_status st = lumis__camera_frame(d->camera, &d->errors, &cf);
+    if (st != LUMIS_OK) return st;
+    static const int cells = AUTO_COLS * AUTO_ROWS;
+    v3 *hp = malloc(sizeof *hp * (size_t)cells * 2);
+    lumis_luminaire_probe *pr = malloc(sizeof *pr * (size_t)cells);
+    if (!hp || !pr) {
+        free(hp);
+        free(pr);
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: auto strategy: out of memory");
+    }
+    v3 *hn = hp + cells;
+    const int nh = auto_hits(scene, &cf, hp, hn);
+    for (int i = 0; i < ll->count && st == LUMIS_OK; i++) {
+        const lumis_luminaire_instance *in = &ll->instances[i];
+        lumis_rigid x = in->placement;
+        int zero = 1;
+        for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
+        if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
+        const double inv = 1.0 / (in->scale == 0.0 ? 1.0 : in->scale);
+        out[i] = LUMIS_LUM_RESTRICTED; /* nothing in view: the paper's */
+        if (!in->luminaire || nh == 0) continue;
+        for (int k = 0; k < nh; k++) {
+            pr[k].p = tof(mul(rot_apply_t(x.r, sub(hp[k], mk(x.t[0], x.t[1], x.t[2]))), inv));
+            pr[k].n = tof(rot_apply_t(x.r, hn[k]));
+        }
+        lumis_luminaire_predict_desc pd = {0};
+        pd.probes = pr;
+        pd.probe_count = nh;
+        pd.budget = ll->budget;
+        pd.k_max = ll->k_max;
+        pd.pilot = 16;
+        pd.seed = (uint64_t)0x6175746f + (uint64_t)i;
+        pd.errors = d->errors;
+        lumis_luminaire_prediction p;
+        st = lumis_luminaire_predict(in->luminaire, &pd, &p);
+        if (st != LUMIS_OK) break;
+        if (p.probes_lit) out[i] = p.best;
+        if (predictions) predictions[i] = p;
+    }
+    free(hp);
+    free(pr);
+    return st;
+}
+
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
-static lumis_status lum_prepare(const lumis_render_desc *d, lum_inst **lum, int *capacity,
-                                uint32_t *dims, size_t *most_cells)
+static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_desc *d,
+                                lum_inst **lum, int *capacity, uint32_t *dims,
+                                size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     const lumis_error_sink *errors = &d->errors;
@@ -402,7 +485,14 @@ static lumis_status lum_prepare(const lumis_render_desc *d, lum_inst **lum, int 
                 }
         }
     }
-    return LUMIS_OK;
+    if (ll->strategy != LUMIS_LUM_AUTO) return LUMIS_OK;
+    lumis_luminaire_strategy *chosen = malloc(sizeof *chosen * (size_t)ll->count);
+    if (!chosen)
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "render: luminaires: out of memory");
+    const lumis_status st = lumis_render_luminaire_strategies(scene, d, chosen, NULL);
+    for (int i = 0; st == LUMIS_OK && i < ll->count; i++) (*lum)[i].query.strategy = chosen[i];
+    free(chosen);
+    return st;
 }
 
 /* The global strategy's draws of camera samples k0 .. k1 - 1, every instance: a stream per
@@ -415,6 +505,8 @@ static lumis_status global_draws(const lumis_luminaire_lighting *ll, const lum_i
         for (int i = 0; i < ll->count; i++) {
             const lum_inst *li = &lum[i];
             const size_t slot = (size_t)(k - k0) * (size_t)ll->count + (size_t)i;
+            n[slot] = 0;
+            if (li->query.strategy != LUMIS_LUM_GLOBAL) continue; /* auto chose another */
             lumis_pcg32 g;
             lumis_pcg32_seed(&g, lumis__mix64(seed ^ lumis__mix64((uint64_t)k + 1)),
                              0x9e3779b9u + (uint64_t)i);
@@ -456,7 +548,7 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
     if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
     st->lighting = *d->luminaires; /* what release reads to free the shadow maps */
     st->errors = d->errors;
-    lumis_status lst = lum_prepare(d, &st->lum, &st->capacity, &st->dims, &st->cells);
+    lumis_status lst = lum_prepare(scene, d, &st->lum, &st->capacity, &st->dims, &st->cells);
     for (int i = 0; lst == LUMIS_OK && d->luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
                     i < d->luminaires->count;
          i++)
@@ -472,7 +564,10 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
 static lumis_status run_begin(void *state, int samples, int *chunk)
 {
     lum_state *st = state;
-    if (st->lighting.strategy != LUMIS_LUM_GLOBAL) return LUMIS_OK;
+    int global = 0;
+    for (int i = 0; i < st->lighting.count; i++)
+        global |= st->lum[i].query.strategy == LUMIS_LUM_GLOBAL;
+    if (!global) return LUMIS_OK;
     const size_t per_k = (size_t)st->lighting.count * (size_t)st->capacity * sizeof *st->global;
     int n = (int)((size_t)(64 << 20) / per_k);
     n = n < 1 ? 1 : n > samples ? samples : n;

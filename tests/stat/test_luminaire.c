@@ -417,6 +417,68 @@ static void estimator_mean_equals_quadrature(void **state)
     }
 }
 
+/* lumis_luminaire_predict's variance of each strategy at a probe against the variance of
+ * lumis_luminaire_sample_point's estimates measured there: restricted and uniform at the
+ * probe's budget, global per sample (the measured variance at K = 480 times K, whose
+ * counts are proportional to the images' power within rounding). */
+static void prediction_matches_measured_variance(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 77);
+    enum { PROBES = 6, T = 3000, KG = 480 };
+    lumis_luminaire_probe probes[PROBES];
+    assert_int_equal(lumis_luminaire_probes(f.lum, 1.5, 6.0, 5, PROBES, probes), LUMIS_OK);
+    const int cap = lumis_luminaire_capacity(f.lum, KG);
+    lumis_luminaire_sample *s = malloc((size_t)cap * sizeof *s);
+    double *u = malloc((size_t)cap * 2 * sizeof(double));
+    int checked = 0;
+    for (int k = 0; k < PROBES; k++) {
+        lumis_luminaire_predict_desc d = {0};
+        d.probes = &probes[k];
+        d.probe_count = 1;
+        d.budget = 24;
+        d.pilot = 1024;
+        d.seed = 9;
+        lumis_luminaire_prediction p;
+        assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p), LUMIS_OK);
+        if (!p.probes_lit) continue;
+        const lumis_luminaire_strategy_prediction *sp[3] = {&p.restricted, &p.uniform,
+                                                            &p.global};
+        for (int st = 0; st < 3; st++) {
+            lumis_luminaire_query q = {0};
+            q.p = probes[k].p;
+            q.budget = st == 2 ? KG : 24;
+            q.strategy = st == 0 ? LUMIS_LUM_RESTRICTED : st == 1 ? LUMIS_LUM_UNIFORM
+                                                                  : LUMIS_LUM_GLOBAL;
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 31, (uint64_t)(k * 4 + st));
+            double s1 = 0.0, s2 = 0.0, n_sum = 0.0;
+            for (int t = 0; t < T; t++) {
+                for (int j = 0; j < 2 * cap; j++) u[j] = lumis_pcg32_double(&rng);
+                int n;
+                assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, cap, s, &n), LUMIS_OK);
+                const double e = lum3(lumis_luminaire_estimate(s, n, probes[k].n));
+                s1 += e;
+                s2 += e * e;
+                n_sum += n;
+            }
+            const double mean = s1 / T, var = fmax(s2 / T - mean * mean, 0.0) * (st == 2 ? KG : 1);
+            printf("probe %d %-10s samples %5.1f/%5.1f variance predicted %.4g measured %.4g "
+                   "(%.3f)\n",
+                   k, lumis_luminaire_strategy_name(q.strategy), sp[st]->samples,
+                   st == 2 ? 1.0 : n_sum / T, sp[st]->variance, var, sp[st]->variance / var);
+            /* T estimates give the variance to some 5-10 %; the pilot's moments as well */
+            assert_true(sp[st]->variance > 0.75 * var && sp[st]->variance < 1.33 * var);
+            if (st < 2) assert_true(fabs(sp[st]->samples - n_sum / T) < 1e-9);
+        }
+        checked++;
+    }
+    assert_true(checked >= PROBES - 1);
+    free(s);
+    free(u);
+    free_fixture(&f);
+}
+
 /* Quadrature over S (the library's) against a dense midpoint rule over U of
  * L(u -> p) cos_u cos_p / r^2 with L from lumis_luminaire_radiance. */
 static void quadrature_over_s_matches_quadrature_over_u(void **state)
@@ -1017,6 +1079,7 @@ int main(void)
         cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
         cmocka_unit_test(estimator_mean_equals_quadrature),
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
+        cmocka_unit_test(prediction_matches_measured_variance),
         cmocka_unit_test(sample_point_edge_cases),
         cmocka_unit_test(sample_point_draws_what_sample_image_draws),
         cmocka_unit_test(numbers_on_demand_match_the_array),

@@ -15,6 +15,8 @@ static const char usage[] =
     "       lumis luminaire create OUT.json --from FILE.ies|FILE.ldt [--grid WxH] [--size WxH]\n"
     "                              [--delta D] [--max-angle DEG] [--basis B] [--format F]\n"
     "       lumis luminaire info LUMINAIRE [--json]\n"
+    "       lumis luminaire predict LUMINAIRE [--distance A,B] [--bands N] [--budget K]\n"
+    "                              [--kmax K] [--probes N] [--pilot P] [--seed S] [--json]\n"
     "       lumis luminaire render LUMINAIRE [SCENE.json | --scene NAME] [render options]\n"
     "                              -o OUT.exr\n\n"
     "Light-field luminaires (Goesele et al.'s two-plane model, sampled as Lu et al.: docs/\n"
@@ -39,6 +41,17 @@ static const char usage[] =
     "  --json         print one JSON object (keys: file, units, images, grid, width, height,\n"
     "                 delta, basis, pixel, total_power, bytes, replaced, read_seconds,\n"
     "                 precompute_ms)\n"
+    "predict  which sampling strategy pays (docs/luminaire.md, \"Which strategy pays\"): for\n"
+    "         points lit by the luminaire at distances A to B from it, facing it, the relative\n"
+    "         variance and the predicted time of restricted, uniform and global sampling, and how\n"
+    "         many times less time than global each needs for an equal error (xglob)\n"
+    "  --distance A,B  in the luminaire's units (default 2 to 50 times its delta)\n"
+    "  --bands N       split the range in N bands, evenly in log distance (default 1)\n"
+    "  --budget K      samples per point, restricted and uniform (default 32); --kmax their cap\n"
+    "  --probes N      points per band (default 256); --pilot P pilot samples per image (16)\n"
+    "  --json          one JSON object: file, budget, k_max, probes, and per band: distance,\n"
+    "                  probes_lit, energy_share, images_lit, best, and for restricted, uniform\n"
+    "                  and global: samples, rays, variance, ns, time_ratio, sample_ratio\n"
     "render   'lumis render --luminaire LUMINAIRE', in the built-in scene headlight unless a\n"
     "         scene is given: every luminaire of the scene is replaced by LUMINAIRE, kept\n"
     "         where the scene places it.  Every option of lumis render applies (--lum-*,\n"
@@ -273,6 +286,7 @@ int cmd_luminaire(int argc, char **argv)
         }
     if (strcmp(argv[1], "create") == 0) return create(argc, argv);
     if (strcmp(argv[1], "info") == 0) return info(argc, argv);
+    if (strcmp(argv[1], "predict") == 0) return tool_luminaire_predict(argc, argv);
     if (strcmp(argv[1], "render") == 0) {
         if (argc < 3 || argv[2][0] == '-')
             return tool_usage_error("luminaire render", "no luminaire given");
@@ -294,5 +308,5 @@ int cmd_luminaire(int argc, char **argv)
         free(a);
         return rc;
     }
-    return tool_usage_error("luminaire", "unknown action '%s' (create, info or render)", argv[1]);
+    return tool_usage_error("luminaire", "unknown action '%s' (create, info, predict or render)", argv[1]);
 }

@@ -150,6 +150,8 @@ void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text,
 /* The subcommands. */
 int cmd_info(int argc, char **argv);
 int cmd_luminaire(int argc, char **argv);
+/* lumis luminaire predict (luminaire_predict.c). */
+int tool_luminaire_predict(int argc, char **argv);
 int cmd_convert(int argc, char **argv);
 int cmd_sky(int argc, char **argv);
 int cmd_studio(int argc, char **argv);
@@ -236,6 +238,10 @@ typedef struct tool_render_result {
      * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
     double prep_seconds, budget_used_seconds;
     lumis_replaced env_replaced; /* the map's values its reader replaced by 0 */
+    /* --lum-strategy auto: the strategy of each luminaire, comma-separated (the first 32),
+     * and the prediction that chose the first one's */
+    char lum_chosen[400];
+    lumis_luminaire_prediction lum_prediction;
 } tool_render_result;
 
 /* Samples per pixel of a light set rendered to a time budget (--lights with --time): the

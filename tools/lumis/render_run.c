@@ -294,6 +294,23 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         r->sampler_build_ms = sr.lights_build_ms + sr.regions_build_ms;
         r->sampler_table_bytes = sr.lights_bytes + sr.regions_bytes;
     }
+    if (lum && o->lum.strategy == LUMIS_LUM_AUTO) {
+        /* what the render chose (the same deterministic prediction), for the sidecar */
+        const int n = file->luminaire_count < 32 ? file->luminaire_count : 32;
+        lumis_luminaire_strategy chosen[32];
+        lumis_luminaire_prediction pred[32];
+        lumis_luminaire_lighting first = lighting;
+        first.count = n;
+        rd.luminaires = &first;
+        st = lumis_render_luminaire_strategies(scene, &rd, chosen, pred);
+        rd.luminaires = &lighting;
+        if (st != LUMIS_OK) goto done;
+        r->lum_prediction = pred[0];
+        size_t used = 0;
+        for (int k = 0; k < n && used + 12 < sizeof r->lum_chosen; k++)
+            used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used, "%s%s",
+                                     k ? "," : "", lumis_luminaire_strategy_name(chosen[k]));
+    }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : fixtures     ? "photometric"
                          : o->lights    ? o->lights
@@ -301,10 +318,13 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {
         double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
-        char how[160];
+        char how[640];
+        char auto_how[440];
+        snprintf(auto_how, sizeof auto_how, "auto: %s", r->lum_chosen);
         if (lum)
             snprintf(how, sizeof how, "%d luminaire%s: %s, K = %d, %s visibility, %s",
-                     file->luminaire_count, file->luminaire_count > 1 ? "s" : "", method,
+                     file->luminaire_count, file->luminaire_count > 1 ? "s" : "",
+                     r->lum_chosen[0] ? auto_how : method,
                      o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
         else if (fixtures)

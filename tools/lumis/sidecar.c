@@ -115,6 +115,17 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         x = cJSON_AddObjectToObject(j, "luminaires");
         cJSON_AddNumberToObject(x, "count", ll->count);
         cJSON_AddStringToObject(x, "strategy", lumis_luminaire_strategy_name(ll->strategy));
+        if (r->lum_chosen[0]) { /* auto: what it chose, and why (the first luminaire's) */
+            cJSON_AddStringToObject(x, "chosen", r->lum_chosen);
+            const lumis_luminaire_prediction *p = &r->lum_prediction;
+            cJSON *pj = cJSON_AddObjectToObject(x, "prediction");
+            cJSON_AddNumberToObject(pj, "probes_lit", p->probes_lit);
+            cJSON_AddNumberToObject(pj, "energy_share", p->energy_share);
+            cJSON_AddNumberToObject(pj, "restricted_time_ratio", p->restricted.time_ratio);
+            cJSON_AddNumberToObject(pj, "uniform_time_ratio", p->uniform.time_ratio);
+            cJSON_AddNumberToObject(pj, "restricted_sample_ratio", p->restricted.sample_ratio);
+            cJSON_AddNumberToObject(pj, "uniform_sample_ratio", p->uniform.sample_ratio);
+        }
         cJSON_AddNumberToObject(x, "budget", ll->budget ? ll->budget : 32);
         cJSON_AddNumberToObject(x, "k_max", ll->k_max);
         cJSON_AddStringToObject(x, "search", lumis_luminaire_search_name(ll->search));

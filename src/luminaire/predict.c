@@ -1,0 +1,257 @@
+/* Which luminaire strategy pays: each strategy's relative variance at probe points and its
+ * cost, from the luminaire's tables (docs/luminaire.md, "Which strategy pays").
+ *
+ * At a probe p and for image m whose box B holds energy, X = Y(radiance) max(0, n.dir) /
+ * pdf_omega is the one-sample estimate of image m's share I_m of the irradiance.  Pilot
+ * draws of the restricted and the uniform samplers give E[X] = I_m and E[X^2] for each.
+ * The global sampler draws image m's points by its whole table: its density is the
+ * restricted one times units(B) / units(image) inside B and its samples outside B carry
+ * nothing, so its second moment is E_r[X^2] units(image) / units(B), exactly, with no
+ * pilot of its own (which would mostly miss B).  With K_m samples of image m, a point's
+ * estimate has variance sum_m (E[X^2] - I_m^2) / K_m. */
+#include "internal.h"
+
+#include "lumis/rng.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+lumis_luminaire_costs lumis_luminaire_costs_default(void)
+{
+    /* Measured on the 2-core AMD EPYC VM this was written on, one thread, from render
+     * times of the headlight scene (car preset, 128 x 80, 4 spp) with K = 8 and 128 and
+     * visibility exact and none: docs/luminaire.md, "Which strategy pays". */
+    lumis_luminaire_costs c = {.camera = 300.0,
+                               .image = 45.0,
+                               .restricted = 54.0,
+                               .uniform = 35.0,
+                               .global = 10.5,
+                               .ray = 28.0};
+    return c;
+}
+
+static double luma(lumis_rgb c)
+{
+    return 0.2126 * (double)c.r + 0.7152 * (double)c.g + 0.0722 * (double)c.b;
+}
+
+/* The one-sample estimate of image m at probe pr for pilot numbers (u1, u2); 0 when the
+ * sampler has nothing there. */
+static double estimate_one(const lumis_luminaire *l, lumis_luminaire_query *q, int m, lumis_vec3 n,
+                           double u1, double u2)
+{
+    lumis_luminaire_sample s;
+    if (lumis_luminaire_sample_image(l, q, m, u1, u2, &s) != LUMIS_OK) return 0.0;
+    const double c = (double)n.x * s.dir.x + (double)n.y * s.dir.y + (double)n.z * s.dir.z;
+    return c > 0.0 ? luma(s.radiance) * c * (double)s.weight : 0.0;
+}
+
+/* Moments of one probe, per strategy: its estimate's variance and samples, with energy. */
+typedef struct probe_moments {
+    double i;                      /* I(p), luminance */
+    double var[3], samples[3], rays[3]; /* restricted, uniform, global (per sample) */
+    double share;                  /* global: chance a sample has energy at p */
+    int images;                    /* images with energy in their box */
+} probe_moments;
+
+/* Moments at probe k; 0 if p is not lit (I(p) == 0, behind U or on S). */
+static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
+                    const double *image_units, double power, int k, probe_moments *pm)
+{
+    const lumis_luminaire_probe *pr = &d->probes[k];
+    if (lumis__lum_where(l, pr->p.z) != LUMIS__FRONT) return 0;
+    const double nl = sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y +
+                           (double)pr->n.z * pr->n.z);
+    if (!(nl > 0.0) || !isfinite(nl)) return 0;
+    const lumis_vec3 n = {(float)(pr->n.x / nl), (float)(pr->n.y / nl), (float)(pr->n.z / nl)};
+    double mass[LUMIS__LUM_MAX_IMAGES], mu[LUMIS__LUM_MAX_IMAGES], m2[2][LUMIS__LUM_MAX_IMAGES],
+        nz[2][LUMIS__LUM_MAX_IMAGES];
+    int counts[LUMIS__LUM_MAX_IMAGES];
+    lumis_luminaire_masses(l, pr->p, mass);
+    const int side = (int)sqrt((double)(d->pilot > 0 ? d->pilot : 16) + 0.5),
+              pilot = (side < 1 ? 1 : side) * (side < 1 ? 1 : side);
+    lumis_pcg32 g;
+    lumis_pcg32_seed(&g, d->seed, 2u * (uint64_t)k + 1u);
+    lumis_luminaire_query q;
+    memset(&q, 0, sizeof q);
+    q.p = pr->p;
+    memset(pm, 0, sizeof *pm);
+    for (int m = 0; m < l->m; m++) {
+        mu[m] = m2[0][m] = m2[1][m] = nz[0][m] = nz[1][m] = 0.0;
+        if (!(mass[m] > 0.0)) continue;
+        pm->images++;
+        double s1 = 0.0;
+        for (int t = 0; t < pilot; t++) {
+            /* jittered: one draw per cell of a side x side grid */
+            const double u1 = ((t % side) + lumis_pcg32_double(&g)) / side,
+                         u2 = ((t / side) + lumis_pcg32_double(&g)) / side;
+            for (int st = 0; st < 2; st++) {
+                q.strategy = st == 0 ? LUMIS_LUM_RESTRICTED : LUMIS_LUM_UNIFORM;
+                const double x = estimate_one(l, &q, m, n, u1, u2);
+                m2[st][m] += x * x;
+                nz[st][m] += x > 0.0;
+                if (st == 0) s1 += x;
+            }
+        }
+        mu[m] = s1 / pilot;
+        m2[0][m] /= pilot;
+        m2[1][m] /= pilot;
+        nz[0][m] /= pilot;
+        nz[1][m] /= pilot;
+        pm->i += mu[m];
+    }
+    if (!(pm->i > 0.0)) return 0;
+    /* restricted and uniform: the same balance over A_m(p) */
+    lumis_luminaire_balance(mass, l->m, d->budget > 0 ? d->budget : 32, d->k_max, counts);
+    for (int m = 0; m < l->m; m++) {
+        if (!counts[m]) continue;
+        for (int st = 0; st < 2; st++) {
+            pm->var[st] += fmax(m2[st][m] - mu[m] * mu[m], 0.0) / counts[m];
+            pm->samples[st] += counts[m];
+            pm->rays[st] += counts[m] * nz[st][m];
+        }
+        /* global, per sample: image m drawn with chance power_m / power, its points by
+         * the whole image's units */
+        const double pi = l->power[m] / power, frac = mass[m] / l->unit[m] / image_units[m];
+        if (!(pi > 0.0) || !(frac > 0.0)) continue;
+        pm->var[2] += fmax(m2[0][m] / frac - mu[m] * mu[m], 0.0) / pi;
+        pm->rays[2] += pi * frac * nz[0][m];
+        pm->share += pi * frac;
+    }
+    pm->samples[2] = 1.0;
+    return 1;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
+                                     const lumis_luminaire_predict_desc *d,
+                                     lumis_luminaire_prediction *out)
+{
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    out->best = LUMIS_LUM_RESTRICTED;
+    if (!l || !d) return LUMIS_ERR_INVALID_ARGUMENT;
+    if (!d->probes || d->probe_count < 1 || d->probe_count > (1 << 20) || d->budget < 0 ||
+        d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "luminaire prediction: needs 1 to 2^20 probes, budget 0 to 65536, "
+                           "k_max >= 0 and 0 to 4096 pilot samples");
+    const lumis_luminaire_costs c = d->costs ? *d->costs : lumis_luminaire_costs_default();
+    if (!(c.camera >= 0.0 && c.image >= 0.0 && c.restricted > 0.0 && c.uniform > 0.0 &&
+          c.global > 0.0 && c.ray >= 0.0) ||
+        !isfinite(c.camera + c.image + c.restricted + c.uniform + c.global + c.ray))
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "luminaire prediction: costs must be finite, draws > 0, the rest >= 0");
+    double image_units[LUMIS__LUM_MAX_IMAGES], power = 0.0;
+    for (int m = 0; m < l->m; m++) {
+        const lumis__box whole = {0.0, (double)l->w, 0.0, (double)l->h};
+        image_units[m] = l->unit[m] > 0.0 ? lumis__lum_box_units(l, m, &whole) : 0.0;
+        if (l->unit[m] > 0.0) power += l->power[m];
+    }
+    if (!(power > 0.0)) return LUMIS_OK;
+    /* sums over the lit probes: variance, samples, rays, ns, per strategy */
+    double rv[3] = {0}, ns[3] = {0}, smp[3] = {0}, ray[3] = {0}, share = 0.0, images = 0.0;
+    double *dist = malloc(sizeof *dist * (size_t)d->probe_count);
+    if (!dist)
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                           "luminaire prediction: out of memory");
+    int lit = 0;
+    for (int k = 0; k < d->probe_count; k++) {
+        probe_moments pm;
+        if (!probe_at(l, d, image_units, power, k, &pm)) continue;
+        lit++;
+        for (int st = 0; st < 3; st++) {
+            rv[st] += pm.var[st];
+            smp[st] += pm.samples[st];
+            ray[st] += pm.rays[st];
+        }
+        ns[0] += c.camera + c.image * pm.images + c.restricted * pm.samples[0] + c.ray * pm.rays[0];
+        ns[1] += c.camera + c.image * pm.images + c.uniform * pm.samples[1] + c.ray * pm.rays[1];
+        ns[2] += c.global + c.ray * pm.rays[2];
+        share += pm.share;
+        images += pm.images;
+        const lumis_vec3 p = d->probes[k].p;
+        dist[lit - 1] = sqrt((double)p.x * p.x + (double)p.y * p.y + (double)p.z * p.z);
+    }
+    if (lit) {
+        qsort(dist, (size_t)lit, sizeof *dist, cmp_double);
+        out->distance[0] = dist[0];
+        out->distance[1] = dist[lit / 2];
+        out->distance[2] = dist[lit - 1];
+    }
+    free(dist);
+    if (!lit) return LUMIS_OK;
+    lumis_luminaire_strategy_prediction *sp[3] = {&out->restricted, &out->uniform, &out->global};
+    for (int st = 0; st < 3; st++) {
+        sp[st]->samples = smp[st] / lit;
+        sp[st]->rays = ray[st] / lit;
+        sp[st]->variance = rv[st] / lit;
+        sp[st]->ns = ns[st] / lit;
+        sp[st]->work = sp[st]->variance * sp[st]->ns;
+    }
+    double best = HUGE_VAL;
+    for (int st = 0; st < 3; st++) {
+        sp[st]->time_ratio = sp[st]->work > 0.0 ? out->global.work / sp[st]->work : 0.0;
+        const double sv = sp[st]->variance * sp[st]->samples;
+        sp[st]->sample_ratio = sv > 0.0 ? out->global.variance / sv : 0.0;
+        if (sp[st]->work > 0.0 && sp[st]->work < best) {
+            best = sp[st]->work;
+            out->best = st == 0 ? LUMIS_LUM_RESTRICTED : st == 1 ? LUMIS_LUM_UNIFORM : LUMIS_LUM_GLOBAL;
+        }
+    }
+    out->energy_share = share / lit;
+    out->images_lit = (int)(images / lit + 0.5);
+    out->probes_lit = lit;
+    return LUMIS_OK;
+}
+
+lumis_status lumis_luminaire_probes(const lumis_luminaire *l, double dmin, double dmax,
+                                    uint64_t seed, int n, lumis_luminaire_probe *out)
+{
+    if (!l || !out || n < 1 || !(dmin > 0.0) || !(dmax >= dmin) || !isfinite(dmax))
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    double power = 0.0;
+    for (int m = 0; m < l->m; m++) power += l->unit[m] > 0.0 ? l->power[m] : 0.0;
+    if (!(power > 0.0)) return LUMIS_ERR_INVALID_ARGUMENT;
+    lumis_pcg32 g;
+    lumis_pcg32_seed(&g, seed, 0x70726f6265ull);
+    lumis_luminaire_query q;
+    memset(&q, 0, sizeof q);
+    q.strategy = LUMIS_LUM_GLOBAL;
+    q.p.z = (float)(3.0 * l->delta); /* any point in front: the global draw ignores it */
+    for (int k = 0; k < n; k++) {
+        /* image m in proportion to its power, u uniform on its support, s by its table */
+        double t = lumis_pcg32_double(&g) * power;
+        int m = 0;
+        while (m < l->m - 1 && (l->unit[m] <= 0.0 || t >= l->power[m])) {
+            if (l->unit[m] > 0.0) t -= l->power[m];
+            m++;
+        }
+        double cx, cy;
+        lumis__lum_center(l, m, &cx, &cy);
+        const double ux = cx + (2.0 * lumis_pcg32_double(&g) - 1.0) * l->radius * l->hx,
+                     uy = cy + (2.0 * lumis_pcg32_double(&g) - 1.0) * l->radius * l->hy;
+        lumis_luminaire_sample s;
+        const double u1 = lumis_pcg32_double(&g), u2 = lumis_pcg32_double(&g);
+        double dx = 0.0, dy = 0.0;
+        if (lumis_luminaire_sample_image(l, &q, m, u1, u2, &s) == LUMIS_OK) {
+            dx = s.s[0] - ux;
+            dy = s.s[1] - uy;
+        }
+        const double len = sqrt(dx * dx + dy * dy + l->delta * l->delta);
+        const double dir[3] = {dx / len, dy / len, l->delta / len};
+        const double r = dmin * pow(dmax / dmin, lumis_pcg32_double(&g));
+        out[k].p.x = (float)(ux + r * dir[0]);
+        out[k].p.y = (float)(uy + r * dir[1]);
+        out[k].p.z = (float)(r * dir[2]);
+        out[k].n.x = (float)-dir[0];
+        out[k].n.y = (float)-dir[1];
+        out[k].n.z = (float)-dir[2];
+    }
+    return LUMIS_OK;
+}
