@@ -287,12 +287,14 @@ typedef struct lumis_luminaire_probe {
 } lumis_luminaire_probe;
 
 /* The cost model, nanoseconds.  A point sampled with the restricted or uniform strategy
- * costs camera + image x (images with energy in their box) + draw x samples + ray x
+ * costs camera + image_* x (images with energy in their box) + draw x samples + ray x
  * (samples with energy); a global sample costs global + ray x (its chance of energy); the
  * global draws and the camera ray are shared by many samples (its best budget is large). */
 typedef struct lumis_luminaire_costs {
     double camera;     /* per shading point: its camera ray, hit and frame */
-    double image;      /* per image with energy in its box: A_m(p), balance, the box's prep */
+    double image_restricted; /* per image with energy in its box: A_m(p), the balance,
+                                the box's preparation (its marginal's ends) */
+    double image_uniform;    /* the same for the uniform strategy */
     double restricted; /* per restricted draw: the 2D inversion, direction, radiance */
     double uniform;    /* per uniform draw */
     double global;     /* per global sample finished at a point */
@@ -310,6 +312,13 @@ typedef struct lumis_luminaire_predict_desc {
     int pilot;                           /* pilot samples per image per probe, rounded down
                                             to a square (a jittered grid); 0 == 16 */
     uint64_t seed;                       /* of the pilot samples */
+    /* 0 or 1: a point's samples are independent (PCG32).  n > 1: sample j of a point is
+     * one of a stratified set over n camera samples, as the (0,2) sequences give (sobol,
+     * zsobol, pmj02, stratified): the restricted and uniform variances are then scaled by
+     * g(n) = r^(log4 n) >= 1 / n, r the share of a one-sample variance that stratifying
+     * the pilot's grid 2 x 2 leaves (a power law through 1 and 4 strata, extrapolated).
+     * The global strategy's shared draws stay independent. */
+    int strata;
     const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
     lumis_error_sink errors;
 } lumis_luminaire_predict_desc;

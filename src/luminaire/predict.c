@@ -22,7 +22,8 @@ lumis_luminaire_costs lumis_luminaire_costs_default(void)
      * times of the headlight scene (car preset, 128 x 80, 4 spp) with K = 8 and 128 and
      * visibility exact and none: docs/luminaire.md, "Which strategy pays". */
     lumis_luminaire_costs c = {.camera = 300.0,
-                               .image = 45.0,
+                               .image_restricted = 50.0,
+                               .image_uniform = 36.0,
                                .restricted = 54.0,
                                .uniform = 35.0,
                                .global = 10.5,
@@ -35,24 +36,41 @@ static double luma(lumis_rgb c)
     return 0.2126 * (double)c.r + 0.7152 * (double)c.g + 0.0722 * (double)c.b;
 }
 
-/* The one-sample estimate of image m at probe pr for pilot numbers (u1, u2); 0 when the
- * sampler has nothing there. */
-static double estimate_one(const lumis_luminaire *l, lumis_luminaire_query *q, int m, lumis_vec3 n,
-                           double u1, double u2)
+/* The one-sample estimate of image m from a prepared draw: Y(radiance) max(0, n.dir) /
+ * pdf_omega. */
+static double estimate_one(const lumis_luminaire *l, const lumis__prep *pr, lumis_vec3 p,
+                           lumis_vec3 n, double u1, double u2)
 {
+    double x, y, pdf;
+    int i, j;
+    lumis__lum_draw_prepared(l, pr, u1, u2, &x, &y, &i, &j, &pdf);
     lumis_luminaire_sample s;
-    if (lumis_luminaire_sample_image(l, q, m, u1, u2, &s) != LUMIS_OK) return 0.0;
+    const int m = pr->m;
+    lumis__lum_finish_s(l, p.x, p.y, p.z, p.z / (p.z - l->delta), m, m % l->gw, m / l->gw,
+                        l->rgb + (size_t)m * (size_t)l->w * (size_t)l->h * 3, x, y, i, j, pdf, 1,
+                        &s);
     const double c = (double)n.x * s.dir.x + (double)n.y * s.dir.y + (double)n.z * s.dir.z;
     return c > 0.0 ? luma(s.radiance) * c * (double)s.weight : 0.0;
 }
 
 /* Moments of one probe, per strategy: its estimate's variance and samples, with energy. */
 typedef struct probe_moments {
-    double i;                      /* I(p), luminance */
+    double i;                           /* I(p), luminance */
     double var[3], samples[3], rays[3]; /* restricted, uniform, global (per sample) */
-    double share;                  /* global: chance a sample has energy at p */
-    int images;                    /* images with energy in their box */
+    double share;                       /* global: chance a sample has energy at p */
+    int images;                         /* images with energy in their box */
 } probe_moments;
+
+/* The factor stratification over n draws multiplies a one-sample variance by: g(n) =
+ * r^(log4 n), r the within-stratum variance of a 2 x 2 grid over the whole (measured by
+ * the pilot), at least 1 / n. */
+static double strata_factor(double var, double within, int n)
+{
+    if (n <= 1 || !(var > 0.0)) return 1.0;
+    const double r = fmin(fmax(within / var, 0.0), 1.0);
+    const double g = pow(r, log((double)n) / log(4.0));
+    return fmax(g, 1.0 / n);
+}
 
 /* Moments at probe k; 0 if p is not lit (I(p) == 0, behind U or on S). */
 static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
@@ -64,40 +82,63 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
                            (double)pr->n.z * pr->n.z);
     if (!(nl > 0.0) || !isfinite(nl)) return 0;
     const lumis_vec3 n = {(float)(pr->n.x / nl), (float)(pr->n.y / nl), (float)(pr->n.z / nl)};
-    double mass[LUMIS__LUM_MAX_IMAGES], mu[LUMIS__LUM_MAX_IMAGES], m2[2][LUMIS__LUM_MAX_IMAGES],
-        nz[2][LUMIS__LUM_MAX_IMAGES];
+    double mass[LUMIS__LUM_MAX_IMAGES], mu[LUMIS__LUM_MAX_IMAGES], var[2][LUMIS__LUM_MAX_IMAGES],
+        nz[2][LUMIS__LUM_MAX_IMAGES], m2r[LUMIS__LUM_MAX_IMAGES];
     int counts[LUMIS__LUM_MAX_IMAGES];
     lumis_luminaire_masses(l, pr->p, mass);
-    const int side = (int)sqrt((double)(d->pilot > 0 ? d->pilot : 16) + 0.5),
-              pilot = (side < 1 ? 1 : side) * (side < 1 ? 1 : side);
+    /* the pilot: a jittered side x side grid, side even so that 2 x 2 blocks of cells tile
+     * it (their within-block variance is what stratification leaves) */
+    int side = (int)sqrt((double)(d->pilot > 0 ? d->pilot : 16) + 0.5);
+    side = side < 2 ? 2 : side - side % 2;
+    const int pilot = side * side, half = side / 2;
     lumis_pcg32 g;
     lumis_pcg32_seed(&g, d->seed, 2u * (uint64_t)k + 1u);
-    lumis_luminaire_query q;
-    memset(&q, 0, sizeof q);
-    q.p = pr->p;
     memset(pm, 0, sizeof *pm);
+    double xs[2][64 * 64];
     for (int m = 0; m < l->m; m++) {
-        mu[m] = m2[0][m] = m2[1][m] = nz[0][m] = nz[1][m] = 0.0;
-        if (!(mass[m] > 0.0)) continue;
+        mu[m] = var[0][m] = var[1][m] = nz[0][m] = nz[1][m] = m2r[m] = 0.0;
+        lumis__box b;
+        if (!(mass[m] > 0.0) || !lumis__lum_box(l, m, pr->p.x, pr->p.y, pr->p.z, &b)) continue;
+        const double units = mass[m] / l->unit[m];
+        lumis__prep prep[2];
+        lumis__lum_prepare(l, m, &b, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0, &prep[0]);
+        lumis__lum_prepare(l, m, &b, units, LUMIS_LUM_UNIFORM, LUMIS_LUM_BINARY, 0, &prep[1]);
         pm->images++;
-        double s1 = 0.0;
         for (int t = 0; t < pilot; t++) {
-            /* jittered: one draw per cell of a side x side grid */
-            const double u1 = ((t % side) + lumis_pcg32_double(&g)) / side,
-                         u2 = ((t / side) + lumis_pcg32_double(&g)) / side;
-            for (int st = 0; st < 2; st++) {
-                q.strategy = st == 0 ? LUMIS_LUM_RESTRICTED : LUMIS_LUM_UNIFORM;
-                const double x = estimate_one(l, &q, m, n, u1, u2);
-                m2[st][m] += x * x;
-                nz[st][m] += x > 0.0;
-                if (st == 0) s1 += x;
+            const int cx = t % side, cy = t / side;
+            const double u1 = (cx + lumis_pcg32_double(&g)) / side,
+                         u2 = (cy + lumis_pcg32_double(&g)) / side;
+            for (int st = 0; st < 2; st++) xs[st][t] = estimate_one(l, &prep[st], pr->p, n, u1, u2);
+        }
+        for (int st = 0; st < 2; st++) {
+            double s1 = 0.0, s2 = 0.0, within = 0.0;
+            for (int t = 0; t < pilot; t++) {
+                s1 += xs[st][t];
+                s2 += xs[st][t] * xs[st][t];
+                nz[st][m] += xs[st][t] > 0.0;
+            }
+            /* within each 2 x 2 block of strata (half x half cells): its sample variance */
+            for (int by = 0; by < 2; by++)
+                for (int bx = 0; bx < 2; bx++) {
+                    double b1 = 0.0, b2 = 0.0;
+                    for (int cy = by * half; cy < (by + 1) * half; cy++)
+                        for (int cx = bx * half; cx < (bx + 1) * half; cx++) {
+                            const double x = xs[st][cy * side + cx];
+                            b1 += x;
+                            b2 += x * x;
+                        }
+                    const int c = half * half;
+                    within += c > 1 ? fmax(b2 - b1 * b1 / c, 0.0) / (c - 1) : 0.0;
+                }
+            within /= 4.0;
+            const double mean = s1 / pilot, v = fmax(s2 / pilot - mean * mean, 0.0);
+            var[st][m] = v * strata_factor(v, within, d->strata);
+            nz[st][m] /= pilot;
+            if (st == 0) {
+                mu[m] = mean;
+                m2r[m] = s2 / pilot;
             }
         }
-        mu[m] = s1 / pilot;
-        m2[0][m] /= pilot;
-        m2[1][m] /= pilot;
-        nz[0][m] /= pilot;
-        nz[1][m] /= pilot;
         pm->i += mu[m];
     }
     if (!(pm->i > 0.0)) return 0;
@@ -106,15 +147,15 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
     for (int m = 0; m < l->m; m++) {
         if (!counts[m]) continue;
         for (int st = 0; st < 2; st++) {
-            pm->var[st] += fmax(m2[st][m] - mu[m] * mu[m], 0.0) / counts[m];
+            pm->var[st] += var[st][m] / counts[m];
             pm->samples[st] += counts[m];
             pm->rays[st] += counts[m] * nz[st][m];
         }
         /* global, per sample: image m drawn with chance power_m / power, its points by
-         * the whole image's units */
+         * the whole image's units; independent draws (shared by every point) */
         const double pi = l->power[m] / power, frac = mass[m] / l->unit[m] / image_units[m];
         if (!(pi > 0.0) || !(frac > 0.0)) continue;
-        pm->var[2] += fmax(m2[0][m] / frac - mu[m] * mu[m], 0.0) / pi;
+        pm->var[2] += fmax(m2r[m] / frac - mu[m] * mu[m], 0.0) / pi;
         pm->rays[2] += pi * frac * nz[0][m];
         pm->share += pi * frac;
     }
@@ -137,14 +178,15 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     out->best = LUMIS_LUM_RESTRICTED;
     if (!l || !d) return LUMIS_ERR_INVALID_ARGUMENT;
     if (!d->probes || d->probe_count < 1 || d->probe_count > (1 << 20) || d->budget < 0 ||
-        d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096)
+        d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096 || d->strata < 0)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire prediction: needs 1 to 2^20 probes, budget 0 to 65536, "
                            "k_max >= 0 and 0 to 4096 pilot samples");
     const lumis_luminaire_costs c = d->costs ? *d->costs : lumis_luminaire_costs_default();
-    if (!(c.camera >= 0.0 && c.image >= 0.0 && c.restricted > 0.0 && c.uniform > 0.0 &&
-          c.global > 0.0 && c.ray >= 0.0) ||
-        !isfinite(c.camera + c.image + c.restricted + c.uniform + c.global + c.ray))
+    if (!(c.camera >= 0.0 && c.image_restricted >= 0.0 && c.image_uniform >= 0.0 &&
+          c.restricted > 0.0 && c.uniform > 0.0 && c.global > 0.0 && c.ray >= 0.0) ||
+        !isfinite(c.camera + c.image_restricted + c.image_uniform + c.restricted + c.uniform +
+                  c.global + c.ray))
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire prediction: costs must be finite, draws > 0, the rest >= 0");
     double image_units[LUMIS__LUM_MAX_IMAGES], power = 0.0;
@@ -170,8 +212,10 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
             smp[st] += pm.samples[st];
             ray[st] += pm.rays[st];
         }
-        ns[0] += c.camera + c.image * pm.images + c.restricted * pm.samples[0] + c.ray * pm.rays[0];
-        ns[1] += c.camera + c.image * pm.images + c.uniform * pm.samples[1] + c.ray * pm.rays[1];
+        ns[0] += c.camera + c.image_restricted * pm.images + c.restricted * pm.samples[0] +
+                 c.ray * pm.rays[0];
+        ns[1] += c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
+                 c.ray * pm.rays[1];
         ns[2] += c.global + c.ray * pm.rays[2];
         share += pm.share;
         images += pm.images;

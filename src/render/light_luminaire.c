@@ -387,6 +387,12 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
         pd.budget = ll->budget;
         pd.k_max = ll->k_max;
         pd.pilot = 16;
+        /* (0,2) sequences stratify a sample slot over the camera samples */
+        const lumis_sequence q = lumis_sequence_resolve(
+            d->sequence != LUMIS_SEQUENCE_DEFAULT ? d->sequence : ll->sequence);
+        pd.strata = q == LUMIS_SEQUENCE_PCG || q == LUMIS_SEQUENCE_HALTON ? 1
+                    : d->spp > 0                                           ? d->spp
+                                                                           : 16;
         pd.seed = (uint64_t)0x6175746f + (uint64_t)i;
         pd.errors = d->errors;
         lumis_luminaire_prediction p;

@@ -471,6 +471,44 @@ static void prediction_matches_measured_variance(void **state)
             assert_true(sp[st]->variance > 0.75 * var && sp[st]->variance < 1.33 * var);
             if (st < 2) assert_true(fabs(sp[st]->samples - n_sum / T) < 1e-9);
         }
+        /* Stratified over 4 camera samples (each sample slot's 4 draws one per quadrant of
+         * [0, 1)^2, as a (0,2) sequence's first 4 points): the mean of 4 estimates against
+         * the prediction with strata = 4. */
+        d.strata = 4;
+        lumis_luminaire_prediction p4;
+        assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p4), LUMIS_OK);
+        for (int st = 0; st < 2; st++) {
+            lumis_luminaire_query q = {0};
+            q.p = probes[k].p;
+            q.budget = 24;
+            q.strategy = st == 0 ? LUMIS_LUM_RESTRICTED : LUMIS_LUM_UNIFORM;
+            lumis_pcg32 rng;
+            lumis_pcg32_seed(&rng, 37, (uint64_t)(k * 4 + st));
+            double s1 = 0.0, s2 = 0.0;
+            for (int t = 0; t < T; t++) {
+                double mean4 = 0.0;
+                for (int c = 0; c < 4; c++) {
+                    for (int j = 0; j < cap; j++) {
+                        u[2 * j] = ((c & 1) + lumis_pcg32_double(&rng)) / 2.0;
+                        u[2 * j + 1] = ((c >> 1) + lumis_pcg32_double(&rng)) / 2.0;
+                    }
+                    int n;
+                    assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, cap, s, &n),
+                                     LUMIS_OK);
+                    mean4 += 0.25 * lum3(lumis_luminaire_estimate(s, n, probes[k].n));
+                }
+                s1 += mean4;
+                s2 += mean4 * mean4;
+            }
+            const double mean = s1 / T, var = 4.0 * fmax(s2 / T - mean * mean, 0.0);
+            const double pv = st == 0 ? p4.restricted.variance : p4.uniform.variance,
+                         iv = st == 0 ? p.restricted.variance : p.uniform.variance;
+            printf("probe %d %-10s 4 strata: variance predicted %.4g measured %.4g (%.3f); "
+                   "independent %.4g\n",
+                   k, lumis_luminaire_strategy_name(q.strategy), pv, var, pv / var, iv);
+            assert_true(pv <= iv && pv >= 0.25 * iv);
+            assert_true(pv > 0.7 * var && pv < 1.4 * var);
+        }
         checked++;
     }
     assert_true(checked >= PROBES - 1);
