@@ -309,15 +309,16 @@ typedef struct lumis_luminaire_predict_desc {
     int probe_count;                     /* 1 to 1 << 20 */
     int budget;                          /* K of the restricted and uniform strategies; 0 == 32 */
     int k_max;                           /* their cap; 0 == none */
-    int pilot;                           /* pilot samples per image per probe, rounded down
-                                            to a square (a jittered grid); 0 == 16 */
+    int pilot;                           /* pilot samples per image per probe (<= 4096):
+                                            a jittered grid of the largest square <= it, or
+                                            with strata, max(2, pilot / n') nets; 0 == 16 */
     uint64_t seed;                       /* of the pilot samples */
     /* 0 or 1: a point's samples are independent (PCG32).  n > 1: sample j of a point is
-     * one of a stratified set over n camera samples, as the (0,2) sequences give (sobol,
-     * zsobol, pmj02, stratified): the restricted and uniform variances are then scaled by
-     * g(n) = r^(log4 n) >= 1 / n, r the share of a one-sample variance that stratifying
-     * the pilot's grid 2 x 2 leaves (a power law through 1 and 4 strata, extrapolated).
-     * The global strategy's shared draws stay independent. */
+     * one of a (0,2) sequence's points over n camera samples (sobol, zsobol, pmj02,
+     * stratified): the restricted and uniform variances are then those of the mean of
+     * Owen-scrambled (0,2) nets of n' points (n' the largest power of two <= min(n, 16)),
+     * measured by pilot nets, times n'; beyond 16 extrapolated as a power law in the
+     * points, at least 1 / n.  The global strategy's shared draws stay independent. */
     int strata;
     const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
     lumis_error_sink errors;

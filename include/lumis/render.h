@@ -251,12 +251,16 @@ lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *des
  * entries): the lighting's own, or with LUMIS_LUM_AUTO the best of lumis_luminaire_predict
  * at the points the render will shade (the first hits of 20 x 12 camera rays through
  * pixel centres, in the instance's frame), at the lighting's budget and cap, 16 pilot
- * samples per image.  predictions
- * (count entries, may be NULL) receives each prediction (zeros unless auto).  What the
- * render does itself; deterministic.  Cost with auto: some 15 ms per luminaire (car preset). */
+ * samples per image, stratified as the render's sequence and spp stratify.  budgets (may
+ * be NULL): each one's K, the lighting's; but a luminaire auto gives the global strategy
+ * gets at least 20 camera rays' worth of draws per camera sample (its best: the model
+ * counts no camera ray per global sample), e.g. 512 on the presets.  predictions (may be
+ * NULL): each prediction (zeros unless auto).  What the render does itself;
+ * deterministic.  Cost with auto: some 10 to 70 ms per luminaire, counted before the
+ * first sample. */
 lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
                                                const lumis_render_desc *d,
-                                               lumis_luminaire_strategy *out,
+                                               lumis_luminaire_strategy *out, int *budgets,
                                                lumis_luminaire_prediction *predictions);
 
 /* Progressive rendering: a job accumulates passes; lumis_render_job_run(job, n) adds n

@@ -61,17 +61,6 @@ typedef struct probe_moments {
     int images;                         /* images with energy in their box */
 } probe_moments;
 
-/* The factor stratification over n draws multiplies a one-sample variance by: g(n) =
- * r^(log4 n), r the within-stratum variance of a 2 x 2 grid over the whole (measured by
- * the pilot), at least 1 / n. */
-static double strata_factor(double var, double within, int n)
-{
-    if (n <= 1 || !(var > 0.0)) return 1.0;
-    const double r = fmin(fmax(within / var, 0.0), 1.0);
-    const double g = pow(r, log((double)n) / log(4.0));
-    return fmax(g, 1.0 / n);
-}
-
 /* Moments at probe k; 0 if p is not lit (I(p) == 0, behind U or on S). */
 static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
                     const double *image_units, double power, int k, probe_moments *pm)
@@ -86,15 +75,21 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
         nz[2][LUMIS__LUM_MAX_IMAGES], m2r[LUMIS__LUM_MAX_IMAGES];
     int counts[LUMIS__LUM_MAX_IMAGES];
     lumis_luminaire_masses(l, pr->p, mass);
-    /* the pilot: a jittered side x side grid, side even so that 2 x 2 blocks of cells tile
-     * it (their within-block variance is what stratification leaves) */
-    int side = (int)sqrt((double)(d->pilot > 0 ? d->pilot : 16) + 0.5);
-    side = side < 2 ? 2 : side - side % 2;
-    const int pilot = side * side, half = side / 2;
+    /* The pilot.  Independent samples (strata <= 1): a jittered side x side grid, for the
+     * moments.  Stratified (strata n > 1): `reps` Owen-scrambled (0,2) nets of n' points,
+     * n' the largest power of two <= min(n, 16), the layout a (0,2) sequence gives a sample
+     * slot over n' camera samples: the variance of their means is the stratified variance
+     * (beyond 16, a power law from 1 to n' points extrapolates it, at least 1 / n). */
+    const int want = d->pilot > 0 ? d->pilot : 16;
+    int side = (int)sqrt((double)want + 0.5), net = 1;
+    side = side < 1 ? 1 : side;
+    while (d->strata > 1 && net * 2 <= d->strata && net < 16) net *= 2;
+    const int reps = net > 1 ? (want / net < 2 ? 2 : want / net) : 1;
+    const int pilot = net > 1 ? reps * net : side * side;
     lumis_pcg32 g;
     lumis_pcg32_seed(&g, d->seed, 2u * (uint64_t)k + 1u);
     memset(pm, 0, sizeof *pm);
-    double xs[2][64 * 64];
+    double xs[2][4096];
     for (int m = 0; m < l->m; m++) {
         mu[m] = var[0][m] = var[1][m] = nz[0][m] = nz[1][m] = m2r[m] = 0.0;
         lumis__box b;
@@ -104,35 +99,45 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
         lumis__lum_prepare(l, m, &b, units, LUMIS_LUM_RESTRICTED, LUMIS_LUM_BINARY, 0, &prep[0]);
         lumis__lum_prepare(l, m, &b, units, LUMIS_LUM_UNIFORM, LUMIS_LUM_BINARY, 0, &prep[1]);
         pm->images++;
+        uint64_t scramble = 0;
         for (int t = 0; t < pilot; t++) {
-            const int cx = t % side, cy = t / side;
-            const double u1 = (cx + lumis_pcg32_double(&g)) / side,
-                         u2 = (cy + lumis_pcg32_double(&g)) / side;
-            for (int st = 0; st < 2; st++) xs[st][t] = estimate_one(l, &prep[st], pr->p, n, u1, u2);
+            double u[2];
+            if (net > 1) {
+                if (t % net == 0)
+                    scramble = (uint64_t)lumis_pcg32_next(&g) << 32 | lumis_pcg32_next(&g);
+                lumis_sobol02((uint32_t)(t % net), scramble, u);
+            } else {
+                u[0] = ((t % side) + lumis_pcg32_double(&g)) / side;
+                u[1] = ((t / side) + lumis_pcg32_double(&g)) / side;
+            }
+            for (int st = 0; st < 2; st++)
+                xs[st][t] = estimate_one(l, &prep[st], pr->p, n, u[0], u[1]);
         }
         for (int st = 0; st < 2; st++) {
-            double s1 = 0.0, s2 = 0.0, within = 0.0;
+            double s1 = 0.0, s2 = 0.0, r1 = 0.0, r2 = 0.0;
             for (int t = 0; t < pilot; t++) {
                 s1 += xs[st][t];
                 s2 += xs[st][t] * xs[st][t];
                 nz[st][m] += xs[st][t] > 0.0;
             }
-            /* within each 2 x 2 block of strata (half x half cells): its sample variance */
-            for (int by = 0; by < 2; by++)
-                for (int bx = 0; bx < 2; bx++) {
-                    double b1 = 0.0, b2 = 0.0;
-                    for (int cy = by * half; cy < (by + 1) * half; cy++)
-                        for (int cx = bx * half; cx < (bx + 1) * half; cx++) {
-                            const double x = xs[st][cy * side + cx];
-                            b1 += x;
-                            b2 += x * x;
-                        }
-                    const int c = half * half;
-                    within += c > 1 ? fmax(b2 - b1 * b1 / c, 0.0) / (c - 1) : 0.0;
-                }
-            within /= 4.0;
             const double mean = s1 / pilot, v = fmax(s2 / pilot - mean * mean, 0.0);
-            var[st][m] = v * strata_factor(v, within, d->strata);
+            var[st][m] = v;
+            if (net > 1) { /* the spread of the nets' means: n' times their variance */
+                for (int r = 0; r < reps; r++) {
+                    double mr = 0.0;
+                    for (int i = 0; i < net; i++) mr += xs[st][r * net + i];
+                    mr /= net;
+                    r1 += mr;
+                    r2 += mr * mr;
+                }
+                const double vn = net * fmax(r2 - r1 * r1 / reps, 0.0) / (reps - 1);
+                var[st][m] = vn;
+                if (d->strata > net && v > 0.0) {
+                    const double ratio = fmin(vn / v, 1.0);
+                    const double gx = pow(ratio, log((double)d->strata) / log((double)net));
+                    var[st][m] = v * fmax(gx, 1.0 / d->strata);
+                }
+            }
             nz[st][m] /= pilot;
             if (st == 0) {
                 mu[m] = mean;

@@ -341,9 +341,20 @@ static int auto_hits(const lumis_scene *scene, const cam_frame *cf, v3 *p, v3 *n
     return k;
 }
 
+/* auto's budget for a luminaire it gives the global strategy: the model's global costs no
+ * camera ray per sample, so the draws of a camera sample must outweigh its ray some 20
+ * times (K a power of two at least the lighting's). */
+static int auto_global_budget(int budget, const lumis_luminaire_prediction *p)
+{
+    const lumis_luminaire_costs c = lumis_luminaire_costs_default();
+    int k = budget > 0 ? budget : 32;
+    while (k < 65536 && p->global.ns > 0.0 && k * p->global.ns < 20.0 * c.camera) k *= 2;
+    return k;
+}
+
 lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
                                                const lumis_render_desc *d,
-                                               lumis_luminaire_strategy *out,
+                                               lumis_luminaire_strategy *out, int *budgets,
                                                lumis_luminaire_prediction *predictions)
 {
     if (!scene || !d || !d->luminaires || !out || d->luminaires->count < 0 ||
@@ -352,6 +363,7 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
     const lumis_luminaire_lighting *ll = d->luminaires;
     for (int i = 0; i < ll->count; i++) {
         out[i] = ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : ll->strategy;
+        if (budgets) budgets[i] = ll->budget ? ll->budget : 32;
         if (predictions) memset(&predictions[i], 0, sizeof predictions[i]);
     }
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count == 0) return LUMIS_OK;
@@ -399,6 +411,7 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
         st = lumis_luminaire_predict(in->luminaire, &pd, &p);
         if (st != LUMIS_OK) break;
         if (p.probes_lit) out[i] = p.best;
+        if (budgets && out[i] == LUMIS_LUM_GLOBAL) budgets[i] = auto_global_budget(ll->budget, &p);
         if (predictions) predictions[i] = p;
     }
     free(hp);
@@ -407,9 +420,10 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
 }
 
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
-static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_desc *d,
-                                lum_inst **lum, int *capacity, uint32_t *dims,
-                                size_t *most_cells)
+static lumis_status lum_prepare_as(const lumis_render_desc *d,
+                                   const lumis_luminaire_strategy *chosen, const int *budgets,
+                                   lum_inst **lum, int *capacity, uint32_t *dims,
+                                   size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     const lumis_error_sink *errors = &d->errors;
@@ -447,9 +461,9 @@ static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_des
         li->scale = scale;
         li->inv_scale = 1.0 / scale;
         li->intensity = intensity;
-        li->query.budget = ll->budget ? ll->budget : 32;
+        li->query.budget = budgets ? budgets[i] : ll->budget ? ll->budget : 32;
         li->query.k_max = ll->k_max;
-        li->query.strategy = ll->strategy;
+        li->query.strategy = chosen ? chosen[i] : ll->strategy;
         li->query.search = ll->search;
         li->query.depth = ll->depth;
         li->capacity = lumis_luminaire_capacity(in->luminaire, li->query.budget);
@@ -491,13 +505,28 @@ static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_des
                 }
         }
     }
-    if (ll->strategy != LUMIS_LUM_AUTO) return LUMIS_OK;
+    return LUMIS_OK;
+}
+
+/* Checks the luminaire lighting and lays out one lum_inst per placed luminaire, each with
+ * the strategy (and budget) auto chose for it. */
+static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_desc *d,
+                                lum_inst **lum, int *capacity, uint32_t *dims,
+                                size_t *most_cells)
+{
+    const lumis_luminaire_lighting *ll = d->luminaires;
+    if (ll->strategy != LUMIS_LUM_AUTO || ll->count <= 0 || ll->count > 4096 || !ll->instances)
+        return lum_prepare_as(d, NULL, NULL, lum, capacity, dims, most_cells);
     lumis_luminaire_strategy *chosen = malloc(sizeof *chosen * (size_t)ll->count);
-    if (!chosen)
-        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "render: luminaires: out of memory");
-    const lumis_status st = lumis_render_luminaire_strategies(scene, d, chosen, NULL);
-    for (int i = 0; st == LUMIS_OK && i < ll->count; i++) (*lum)[i].query.strategy = chosen[i];
+    int *budgets = malloc(sizeof *budgets * (size_t)ll->count);
+    lumis_status st = chosen && budgets ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st != LUMIS_OK)
+        lumis__fail(&d->errors, st, "render: luminaires: out of memory");
+    else
+        st = lumis_render_luminaire_strategies(scene, d, chosen, budgets, NULL);
+    if (st == LUMIS_OK) st = lum_prepare_as(d, chosen, budgets, lum, capacity, dims, most_cells);
     free(chosen);
+    free(budgets);
     return st;
 }
 

@@ -471,9 +471,9 @@ static void prediction_matches_measured_variance(void **state)
             assert_true(sp[st]->variance > 0.75 * var && sp[st]->variance < 1.33 * var);
             if (st < 2) assert_true(fabs(sp[st]->samples - n_sum / T) < 1e-9);
         }
-        /* Stratified over 4 camera samples (each sample slot's 4 draws one per quadrant of
-         * [0, 1)^2, as a (0,2) sequence's first 4 points): the mean of 4 estimates against
-         * the prediction with strata = 4. */
+        /* Over 4 camera samples of a (0,2) sequence (each sample slot's 4 draws an
+         * Owen-scrambled (0,2) net of its own): the mean of 4 estimates against the
+         * prediction with strata = 4. */
         d.strata = 4;
         lumis_luminaire_prediction p4;
         assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p4), LUMIS_OK);
@@ -485,13 +485,13 @@ static void prediction_matches_measured_variance(void **state)
             lumis_pcg32 rng;
             lumis_pcg32_seed(&rng, 37, (uint64_t)(k * 4 + st));
             double s1 = 0.0, s2 = 0.0;
+            uint64_t *scr = malloc(sizeof *scr * (size_t)cap);
             for (int t = 0; t < T; t++) {
                 double mean4 = 0.0;
+                for (int j = 0; j < cap; j++)
+                    scr[j] = (uint64_t)lumis_pcg32_next(&rng) << 32 | lumis_pcg32_next(&rng);
                 for (int c = 0; c < 4; c++) {
-                    for (int j = 0; j < cap; j++) {
-                        u[2 * j] = ((c & 1) + lumis_pcg32_double(&rng)) / 2.0;
-                        u[2 * j + 1] = ((c >> 1) + lumis_pcg32_double(&rng)) / 2.0;
-                    }
+                    for (int j = 0; j < cap; j++) lumis_sobol02((uint32_t)c, scr[j], u + 2 * j);
                     int n;
                     assert_int_equal(lumis_luminaire_sample_point(f.lum, &q, u, cap, s, &n),
                                      LUMIS_OK);
@@ -500,6 +500,7 @@ static void prediction_matches_measured_variance(void **state)
                 s1 += mean4;
                 s2 += mean4 * mean4;
             }
+            free(scr);
             const double mean = s1 / T, var = 4.0 * fmax(s2 / T - mean * mean, 0.0);
             const double pv = st == 0 ? p4.restricted.variance : p4.uniform.variance,
                          iv = st == 0 ? p.restricted.variance : p.uniform.variance;

@@ -241,6 +241,7 @@ typedef struct tool_render_result {
     /* --lum-strategy auto: the strategy of each luminaire, comma-separated (the first 32),
      * and the prediction that chose the first one's */
     char lum_chosen[400];
+    char lum_budgets[200]; /* their K (auto gives a global one more: render.h) */
     lumis_luminaire_prediction lum_prediction;
 } tool_render_result;
 

@@ -298,11 +298,12 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         /* what the render chose (the same deterministic prediction), for the sidecar */
         const int n = file->luminaire_count < 32 ? file->luminaire_count : 32;
         lumis_luminaire_strategy chosen[32];
+        int budgets[32];
         lumis_luminaire_prediction pred[32];
         lumis_luminaire_lighting first = lighting;
         first.count = n;
         rd.luminaires = &first;
-        st = lumis_render_luminaire_strategies(scene, &rd, chosen, pred);
+        st = lumis_render_luminaire_strategies(scene, &rd, chosen, budgets, pred);
         rd.luminaires = &lighting;
         if (st != LUMIS_OK) goto done;
         r->lum_prediction = pred[0];
@@ -310,6 +311,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         for (int k = 0; k < n && used + 12 < sizeof r->lum_chosen; k++)
             used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used, "%s%s",
                                      k ? "," : "", lumis_luminaire_strategy_name(chosen[k]));
+        for (int k = 0, u2 = 0; k < n && u2 + 8 < (int)sizeof r->lum_budgets; k++)
+            u2 += snprintf(r->lum_budgets + u2, sizeof r->lum_budgets - (size_t)u2, "%s%d",
+                           k ? "," : "", budgets[k]);
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : fixtures     ? "photometric"
@@ -318,14 +322,16 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {
         double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
-        char how[640];
-        char auto_how[440];
-        snprintf(auto_how, sizeof auto_how, "auto: %s", r->lum_chosen);
+        char how[1024], budget[220];
+        if (r->lum_chosen[0]) /* auto: per luminaire */
+            snprintf(budget, sizeof budget, "%s", r->lum_budgets);
+        else
+            snprintf(budget, sizeof budget, "%d", o->lum.budget ? o->lum.budget : 32);
         if (lum)
-            snprintf(how, sizeof how, "%d luminaire%s: %s, K = %d, %s visibility, %s",
+            snprintf(how, sizeof how, "%d luminaire%s: %s%s, K = %s, %s visibility, %s",
                      file->luminaire_count, file->luminaire_count > 1 ? "s" : "",
-                     r->lum_chosen[0] ? auto_how : method,
-                     o->lum.budget ? o->lum.budget : 32, lumis_visibility_name(o->lum.visibility),
+                     r->lum_chosen[0] ? "auto: " : "", r->lum_chosen[0] ? r->lum_chosen : method,
+                     budget, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
         else if (fixtures)
             snprintf(how, sizeof how, "%d photometric fixture%s, %s", rd.photometric->count,

@@ -117,6 +117,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddStringToObject(x, "strategy", lumis_luminaire_strategy_name(ll->strategy));
         if (r->lum_chosen[0]) { /* auto: what it chose, and why (the first luminaire's) */
             cJSON_AddStringToObject(x, "chosen", r->lum_chosen);
+            cJSON_AddStringToObject(x, "chosen_budgets", r->lum_budgets);
             const lumis_luminaire_prediction *p = &r->lum_prediction;
             cJSON *pj = cJSON_AddObjectToObject(x, "prediction");
             cJSON_AddNumberToObject(pj, "probes_lit", p->probes_lit);
