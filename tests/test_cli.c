@@ -2545,6 +2545,48 @@ static void info_reads_photometric_files(void **state)
     cJSON_Delete(j);
     free(out);
     free(err);
+    /* auto in bands of distance: a floor under the spot far away, a plate near it.  Each
+     * point takes its band's strategy with the same numbers, so every pixel equals, bit for
+     * bit, the same pixel of a render with one of the bands' strategies (but pixels whose
+     * samples straddle the edge). */
+    static const char bands_scene[] =
+                  "{\"camera\": {\"eye\": [2.0, 1.5, 2.5], \"look_at\": [0, -2.0, 0], "
+                  "\"fov_deg\": 70, \"width\": 64, \"height\": 40},\n"
+                  " \"objects\": [{\"type\": \"plane\", \"point\": [0.3, -0.3, 0], \"normal\": "
+                  "[0, 1, 0], \"size\": 0.6, \"material\": {\"type\": \"lambert\", \"albedo\": "
+                  "[0.7, 0.7, 0.7]}},\n"
+                  "  {\"type\": \"plane\", \"point\": [0, -5, 0], \"normal\": [0, 1, 0], \"size\": "
+                  "40, \"material\": {\"type\": \"lambert\", \"albedo\": [0.7, 0.7, 0.7]}}],\n"
+                  " \"luminaires\": [{\"file\": \"spot-lf.json\", \"transform\": {\"rotate_deg\": "
+                  "[90, 0, 0]}}]}\n";
+    tu_write_file(tu_path("bands.json"), bands_scene, strlen(bands_scene));
+    const char *band_runs[3][2] = {{"auto --lum-auto-bands", "bands-auto.exr"},
+                                   {"restricted", "bands-r.exr"},
+                                   {"uniform", "bands-u.exr"}};
+    lumis_image *bimg[3] = {NULL, NULL, NULL};
+    for (int k = 0; k < 3; k++) {
+        snprintf(a, sizeof a, "render '%s' --sequence pcg --spp 2 --lum-strategy %s -o '%s'",
+                 tu_path("bands.json"), band_runs[k][0], tu_path(band_runs[k][1]));
+        expect(a, 0, k == 0 ? "auto: restricted to " : NULL);
+        assert_int_equal(lumis_image_read(tu_path(band_runs[k][1]), NULL, &bimg[k], NULL),
+                         LUMIS_OK);
+    }
+    int same[2] = {0, 0}, lit = 0;
+    for (int q = 0; q < bimg[0]->width * bimg[0]->height; q++) {
+        const float *p0 = bimg[0]->pixels + 3 * q;
+        if (!(p0[0] + p0[1] + p0[2] > 0.0f)) continue;
+        lit++;
+        for (int k = 0; k < 2; k++)
+            same[k] += !memcmp(p0, bimg[k + 1]->pixels + 3 * q, 3 * sizeof(float));
+    }
+    printf("bands: %d lit pixels, %d as restricted, %d as uniform\n", lit, same[0], same[1]);
+    assert_true(same[0] > 0 && same[1] > 0 && same[0] + same[1] >= 0.95 * lit);
+    for (int k = 0; k < 3; k++) lumis_image_destroy(bimg[k]);
+    cJSON *bj = read_json("bands-auto.json");
+    const cJSON *bl = item(bj, "luminaires");
+    assert_string_equal(cJSON_GetStringValue(item(bl, "chosen_budgets")), "32+32");
+    assert_true(num(bl, "band_gain") > 1.1);
+    cJSON_Delete(bj);
     snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --preset car", tu_path("y.json"),
              tu_path("spot.ies"));
     expect(a, 2, "--from and --preset: one or the other");

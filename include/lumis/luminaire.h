@@ -280,6 +280,8 @@ lumis_status lumis_luminaire_invert(const lumis_luminaire *lum, const lumis_lumi
  * images with energy, draws, shadow rays) whose defaults were measured on the machine
  * this was written on (lumis_luminaire_costs_default). */
 
+#define LUMIS_LUM_MAX_BANDS 4
+
 /* A point where the scene is shaded: luminaire frame, n its surface normal (need not be
  * unit; light from behind it is not counted). */
 typedef struct lumis_luminaire_probe {
@@ -321,6 +323,10 @@ typedef struct lumis_luminaire_predict_desc {
      * points, at least 1 / n.  The global strategy's shared draws stay independent. */
     int strata;
     const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
+    /* Optional bands of distance from the luminaire's origin: band b holds the probes with
+     * band_edges[b - 1] <= |p| < band_edges[b] (edges increasing); 0 or 1 == one band. */
+    int bands;
+    double band_edges[LUMIS_LUM_MAX_BANDS - 1];
     lumis_error_sink errors;
 } lumis_luminaire_predict_desc;
 
@@ -338,6 +344,13 @@ typedef struct lumis_luminaire_strategy_prediction {
     double sample_ratio; /* the same for samples */
 } lumis_luminaire_strategy_prediction;
 
+/* One band's means over its lit probes, per strategy (restricted, uniform, global; the
+ * global's per sample), as in lumis_luminaire_strategy_prediction. */
+typedef struct lumis_luminaire_band {
+    int probes_lit;
+    double variance[3], ns[3];
+} lumis_luminaire_band;
+
 typedef struct lumis_luminaire_prediction {
     lumis_luminaire_strategy_prediction restricted, uniform, global;
     lumis_luminaire_strategy best; /* restricted, uniform or global: the least work */
@@ -346,6 +359,8 @@ typedef struct lumis_luminaire_prediction {
                                       median, max */
     int probes_lit;                /* probes with I(p) > 0 (the others are ignored) */
     int images_lit;                /* mean images with energy in their box at a lit probe */
+    int bands;                     /* the descriptor's (at least 1) */
+    lumis_luminaire_band band[LUMIS_LUM_MAX_BANDS];
 } lumis_luminaire_prediction;
 
 /* Fills *out, or fails with LUMIS_ERR_INVALID_ARGUMENT.  With no lit probe, every number

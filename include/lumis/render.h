@@ -125,12 +125,15 @@ typedef struct lumis_luminaire_lighting {
     int budget;                        /* K per instance per camera sample; 0 == 32 */
     int k_max;                         /* most samples for one image; 0 == no cap */
     lumis_luminaire_strategy strategy; /* 0 == restricted (Lu et al.); LUMIS_LUM_AUTO:
-                                          per instance, lumis_render_luminaire_strategies */
+                                          per instance, lumis_render_luminaire_choices */
     lumis_luminaire_search search;     /* 0 == the library's default */
     int depth;                         /* search depth; 0 == exact */
     lumis_visibility visibility;       /* 0 == exact */
     lumis_sequence sequence;           /* 0 == the render's; else the whole render's when
                                           the render's is 0 (the former luminaire option) */
+    int auto_bands; /* with LUMIS_LUM_AUTO, nonzero: a band of distance may take its own
+                       strategy (lumis_render_luminaire_choices); off by default, since a
+                       band's choice also applies to what no probe saw in it */
 } lumis_luminaire_lighting;
 
 /* ---- photometric fixtures in a scene (IES, EULUMDAT; lumis/photometry.h) --------------- */
@@ -247,21 +250,33 @@ typedef struct lumis_render_stats {
 lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
                           lumis_image **out, lumis_render_stats *stats);
 
-/* The strategy each placed luminaire of d->luminaires is sampled with (out: count
- * entries): the lighting's own, or with LUMIS_LUM_AUTO the best of lumis_luminaire_predict
- * at the points the render will shade (the first hits of 20 x 12 camera rays through
- * pixel centres, in the instance's frame), at the lighting's budget and cap, 16 pilot
- * samples per image, stratified as the render's sequence and spp stratify.  budgets (may
- * be NULL): each one's K, the lighting's; but a luminaire auto gives the global strategy
- * gets at least 20 camera rays' worth of draws per camera sample (its best: the model
- * counts no camera ray per global sample), e.g. 512 on the presets.  predictions (may be
- * NULL): each prediction (zeros unless auto).  What the render does itself;
- * deterministic.  Cost with auto: some 10 to 70 ms per luminaire, counted before the
- * first sample. */
-lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
-                                               const lumis_render_desc *d,
-                                               lumis_luminaire_strategy *out, int *budgets,
-                                               lumis_luminaire_prediction *predictions);
+/* How one placed luminaire is sampled: by distance from its origin (in its own units),
+ * band b from edge[b - 1] to edge[b] with strategy[b] at budget[b] per camera sample. */
+typedef struct lumis_luminaire_choice {
+    int bands; /* 1 to LUMIS_LUM_MAX_BANDS */
+    double edge[LUMIS_LUM_MAX_BANDS - 1];
+    lumis_luminaire_strategy strategy[LUMIS_LUM_MAX_BANDS];
+    int budget[LUMIS_LUM_MAX_BANDS];
+    double band_gain; /* predicted: the best single strategy's work over the best banded
+                         assignment's (>= 1; what bands would gain, taken or not) */
+    lumis_luminaire_prediction prediction; /* over every probe, in bands (zeros unless auto) */
+} lumis_luminaire_choice;
+
+/* How each placed luminaire of d->luminaires is sampled (out: count entries): the
+ * lighting's strategy and budget, one band; or with LUMIS_LUM_AUTO, from
+ * lumis_luminaire_predict at the points the render will shade (the first hits of 20 x 12
+ * camera rays through pixel centres, in the instance's frame), at the lighting's budget
+ * and cap, 16 pilot samples per image, stratified as the render's sequence and spp
+ * stratify, in up to 4 bands of distance (equal probe counts, at least 48 each).  Every
+ * assignment of strategies to bands is scored by (mean variance) x (mean ns) per camera
+ * sample; one strategy for all unless ll->auto_bands is set and bands predict 10 % less
+ * work (band_gain is then their predicted gain even when not taken).  A luminaire (or band)
+ * auto samples globally gets at least 20 camera rays' worth of draws per camera sample
+ * (its best: the model counts no camera ray per global sample), e.g. 1024 on the presets.
+ * What the render does itself; deterministic.  Cost with auto: some 10 to 70 ms per
+ * luminaire, counted before the first sample. */
+lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumis_render_desc *d,
+                                            lumis_luminaire_choice *out);
 
 /* Progressive rendering: a job accumulates passes; lumis_render_job_run(job, n) adds n
  * samples per pixel.  Sample k of a pixel is the same whichever pass draws it, so 16

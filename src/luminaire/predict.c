@@ -183,10 +183,16 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     out->best = LUMIS_LUM_RESTRICTED;
     if (!l || !d) return LUMIS_ERR_INVALID_ARGUMENT;
     if (!d->probes || d->probe_count < 1 || d->probe_count > (1 << 20) || d->budget < 0 ||
-        d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096 || d->strata < 0)
+        d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096 || d->strata < 0 ||
+        d->bands < 0 || d->bands > LUMIS_LUM_MAX_BANDS)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire prediction: needs 1 to 2^20 probes, budget 0 to 65536, "
-                           "k_max >= 0 and 0 to 4096 pilot samples");
+                           "k_max >= 0, 0 to 4096 pilot samples and 0 to 4 bands");
+    const int bands = d->bands > 1 ? d->bands : 1;
+    for (int b = 1; b + 1 < bands; b++)
+        if (!(d->band_edges[b] > d->band_edges[b - 1]))
+            return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "luminaire prediction: band edges must increase");
     const lumis_luminaire_costs c = d->costs ? *d->costs : lumis_luminaire_costs_default();
     if (!(c.camera >= 0.0 && c.image_restricted >= 0.0 && c.image_uniform >= 0.0 &&
           c.restricted > 0.0 && c.uniform > 0.0 && c.global > 0.0 && c.ray >= 0.0) ||
@@ -208,10 +214,23 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                            "luminaire prediction: out of memory");
     int lit = 0;
+    out->bands = bands;
     for (int k = 0; k < d->probe_count; k++) {
         probe_moments pm;
         if (!probe_at(l, d, image_units, power, k, &pm)) continue;
         lit++;
+        const lumis_vec3 q = d->probes[k].p;
+        const double r = sqrt((double)q.x * q.x + (double)q.y * q.y + (double)q.z * q.z);
+        int b = 0;
+        while (b + 1 < bands && r >= d->band_edges[b]) b++;
+        lumis_luminaire_band *bd = &out->band[b];
+        bd->probes_lit++;
+        for (int st = 0; st < 3; st++) bd->variance[st] += pm.var[st];
+        bd->ns[0] += c.camera + c.image_restricted * pm.images + c.restricted * pm.samples[0] +
+                     c.ray * pm.rays[0];
+        bd->ns[1] += c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
+                     c.ray * pm.rays[1];
+        bd->ns[2] += c.global + c.ray * pm.rays[2];
         for (int st = 0; st < 3; st++) {
             rv[st] += pm.var[st];
             smp[st] += pm.samples[st];
@@ -235,6 +254,11 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     }
     free(dist);
     if (!lit) return LUMIS_OK;
+    for (int b = 0; b < bands; b++)
+        for (int st = 0; st < 3 && out->band[b].probes_lit; st++) {
+            out->band[b].variance[st] /= out->band[b].probes_lit;
+            out->band[b].ns[st] /= out->band[b].probes_lit;
+        }
     lumis_luminaire_strategy_prediction *sp[3] = {&out->restricted, &out->uniform, &out->global};
     for (int st = 0; st < 3; st++) {
         sp[st]->samples = smp[st] / lit;

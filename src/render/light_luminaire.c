@@ -16,7 +16,15 @@
 typedef struct lum_inst {
     const lumis_luminaire *lum;
     double r[9], t[3], scale, inv_scale, intensity;
-    lumis_luminaire_query query;
+    lumis_luminaire_query query; /* the lighting's search, depth and cap */
+    /* The strategy and budget by distance from the luminaire's origin (its units): band b
+     * from edge[b - 1] to edge[b]; one band unless auto chose more. */
+    int bands;
+    double edge[LUMIS_LUM_MAX_BANDS - 1];
+    lumis_luminaire_strategy strategy[LUMIS_LUM_MAX_BANDS];
+    int budget[LUMIS_LUM_MAX_BANDS];
+    int global;       /* a band samples globally: gquery's draws, once per camera sample */
+    lumis_luminaire_query gquery;
     int capacity;     /* samples lumis_luminaire_sample_point may return */
     int grid[2];      /* W, H */
     int span;         /* cells of the visibility grid a basis function covers per axis */
@@ -243,6 +251,13 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             mul(rot_apply_t(li->r, sub(h->p, mk(li->t[0], li->t[1], li->t[2]))), li->inv_scale);
         q.p = tof(pl);
         if (!(q.p.z > 0.0f)) continue; /* behind U: no light */
+        int band = 0;
+        if (li->bands > 1) {
+            const double r = sqrt(dot(pl, pl));
+            while (band + 1 < li->bands && r >= li->edge[band]) band++;
+        }
+        q.strategy = li->strategy[band];
+        q.budget = li->budget[band];
         int count = 0;
         seq_pairs sp = {seq, idim, 0, (uint32_t)li->capacity, per_sample};
         if (q.strategy == LUMIS_LUM_GLOBAL) {
@@ -344,27 +359,116 @@ static int auto_hits(const lumis_scene *scene, const cam_frame *cf, v3 *p, v3 *n
 /* auto's budget for a luminaire it gives the global strategy: the model's global costs no
  * camera ray per sample, so the draws of a camera sample must outweigh its ray some 20
  * times (K a power of two at least the lighting's). */
-static int auto_global_budget(int budget, const lumis_luminaire_prediction *p)
+static int auto_global_budget(int budget, double global_ns)
 {
     const lumis_luminaire_costs c = lumis_luminaire_costs_default();
     int k = budget > 0 ? budget : 32;
-    while (k < 65536 && p->global.ns > 0.0 && k * p->global.ns < 20.0 * c.camera) k *= 2;
+    while (k < 65536 && global_ns > 0.0 && k * global_ns < 20.0 * c.camera) k *= 2;
     return k;
 }
 
-lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
-                                               const lumis_render_desc *d,
-                                               lumis_luminaire_strategy *out, int *budgets,
-                                               lumis_luminaire_prediction *predictions)
+static int cmp_dist(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Bands of equal probe counts (at least 48 probes in front of U each, at most
+ * LUMIS_LUM_MAX_BANDS): their edges into pd.  dist: scratch, one per probe. */
+static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
+                       lumis_luminaire_predict_desc *pd)
+{
+    int m = 0;
+    for (int k = 0; k < n; k++)
+        if (pr[k].p.z > 0.0f)
+            dist[m++] = sqrt((double)pr[k].p.x * pr[k].p.x + (double)pr[k].p.y * pr[k].p.y +
+                             (double)pr[k].p.z * pr[k].p.z);
+    qsort(dist, (size_t)m, sizeof *dist, cmp_dist);
+    int bands = m / 48 < LUMIS_LUM_MAX_BANDS ? m / 48 : LUMIS_LUM_MAX_BANDS;
+    for (; bands > 1; bands--) { /* equal quantiles (a flat scene): fewer bands */
+        int ok = 1;
+        for (int b = 0; b + 1 < bands; b++) {
+            pd->band_edges[b] = dist[(size_t)(b + 1) * (size_t)m / (size_t)bands];
+            if (b > 0 && !(pd->band_edges[b] > pd->band_edges[b - 1])) ok = 0;
+        }
+        if (ok) break;
+    }
+    pd->bands = bands < 1 ? 1 : bands;
+}
+
+/* The choice from a banded prediction: every assignment of strategies to bands, each at
+ * its budget per camera sample (global at auto_global_budget, its camera ray charged),
+ * scored by (mean variance) x (mean ns) over the lit probes; more than one band only if
+ * allowed and that beats the best single strategy by 10 %. */
+static void auto_choose(const lumis_luminaire_prediction *p, int budget, const double *edges,
+                        int allow_bands, lumis_luminaire_choice *c)
+{
+    const double camera = lumis_luminaire_costs_default().camera;
+    const int k = budget > 0 ? budget : 32, kg = auto_global_budget(budget, p->global.ns);
+    const int nb = p->bands > 1 ? p->bands : 1;
+    double v[LUMIS_LUM_MAX_BANDS][3], cost[LUMIS_LUM_MAX_BANDS][3], w[LUMIS_LUM_MAX_BANDS];
+    for (int b = 0; b < nb; b++) {
+        const lumis_luminaire_band *bd = &p->band[b];
+        w[b] = p->probes_lit ? (double)bd->probes_lit / p->probes_lit : 0.0;
+        for (int st = 0; st < 2; st++) v[b][st] = bd->variance[st], cost[b][st] = bd->ns[st];
+        v[b][2] = bd->variance[2] / kg;
+        cost[b][2] = kg * bd->ns[2] + camera;
+    }
+    static const lumis_luminaire_strategy names[3] = {LUMIS_LUM_RESTRICTED, LUMIS_LUM_UNIFORM,
+                                                      LUMIS_LUM_GLOBAL};
+    int policies = 1;
+    for (int b = 0; b < nb; b++) policies *= 3;
+    double best = HUGE_VAL, single = HUGE_VAL;
+    int best_pol = 0, single_pol = 0;
+    for (int pol = 0; pol < policies; pol++) {
+        double sv = 0.0, sc = 0.0;
+        int uniform_pol = 1, x = pol;
+        for (int b = 0; b < nb; b++, x /= 3) {
+            sv += w[b] * v[b][x % 3];
+            sc += w[b] * cost[b][x % 3];
+            uniform_pol &= x % 3 == pol % 3;
+        }
+        const double work = sv * sc;
+        if (work < best) best = work, best_pol = pol;
+        if (uniform_pol && work < single) single = work, single_pol = pol;
+    }
+    const int pol = allow_bands && nb > 1 && best < 0.9 * single ? best_pol : single_pol;
+    c->band_gain = single / best;
+    /* the assignment; a band without lit probes takes its neighbour's strategy, and
+     * adjacent bands of one strategy merge */
+    int dig[LUMIS_LUM_MAX_BANDS], known = -1;
+    for (int b = 0, x = pol; b < nb; b++, x /= 3) dig[b] = x % 3;
+    for (int b = 0; b < nb; b++)
+        if (w[b] > 0.0) {
+            known = dig[b];
+            break;
+        }
+    for (int b = 0; b < nb; b++) dig[b] = w[b] > 0.0 ? (known = dig[b]) : known;
+    c->bands = 0;
+    for (int b = 0; b < nb; b++) {
+        const lumis_luminaire_strategy s = names[dig[b] < 0 ? 0 : dig[b]];
+        if (c->bands > 0 && s == c->strategy[c->bands - 1]) continue;
+        if (c->bands > 0) c->edge[c->bands - 1] = edges[b - 1];
+        c->strategy[c->bands] = s;
+        c->budget[c->bands] = s == LUMIS_LUM_GLOBAL ? kg : k;
+        c->bands++;
+    }
+}
+
+lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumis_render_desc *d,
+                                            lumis_luminaire_choice *out)
 {
     if (!scene || !d || !d->luminaires || !out || d->luminaires->count < 0 ||
         (d->luminaires->count > 0 && !d->luminaires->instances))
         return LUMIS_ERR_INVALID_ARGUMENT;
     const lumis_luminaire_lighting *ll = d->luminaires;
     for (int i = 0; i < ll->count; i++) {
-        out[i] = ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : ll->strategy;
-        if (budgets) budgets[i] = ll->budget ? ll->budget : 32;
-        if (predictions) memset(&predictions[i], 0, sizeof predictions[i]);
+        memset(&out[i], 0, sizeof out[i]);
+        out[i].bands = 1;
+        out[i].strategy[0] =
+            ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : ll->strategy;
+        out[i].budget[0] = ll->budget ? ll->budget : 32;
+        out[i].band_gain = 1.0;
     }
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count == 0) return LUMIS_OK;
     cam_frame cf;
@@ -372,10 +476,12 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
     if (st != LUMIS_OK) return st;
     static const int cells = AUTO_COLS * AUTO_ROWS;
     v3 *hp = malloc(sizeof *hp * (size_t)cells * 2);
+    double *dist = malloc(sizeof *dist * (size_t)cells);
     lumis_luminaire_probe *pr = malloc(sizeof *pr * (size_t)cells);
-    if (!hp || !pr) {
+    if (!hp || !pr || !dist) {
         free(hp);
         free(pr);
+        free(dist);
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: auto strategy: out of memory");
     }
     v3 *hn = hp + cells;
@@ -387,7 +493,7 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
         for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
         if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
         const double inv = 1.0 / (in->scale == 0.0 ? 1.0 : in->scale);
-        out[i] = LUMIS_LUM_RESTRICTED; /* nothing in view: the paper's */
+        out[i].strategy[0] = LUMIS_LUM_RESTRICTED; /* nothing in view: the paper's */
         if (!in->luminaire || nh == 0) continue;
         for (int k = 0; k < nh; k++) {
             pr[k].p = tof(mul(rot_apply_t(x.r, sub(hp[k], mk(x.t[0], x.t[1], x.t[2]))), inv));
@@ -407,23 +513,22 @@ lumis_status lumis_render_luminaire_strategies(const lumis_scene *scene,
                                                                            : 16;
         pd.seed = (uint64_t)0x6175746f + (uint64_t)i;
         pd.errors = d->errors;
-        lumis_luminaire_prediction p;
-        st = lumis_luminaire_predict(in->luminaire, &pd, &p);
-        if (st != LUMIS_OK) break;
-        if (p.probes_lit) out[i] = p.best;
-        if (budgets && out[i] == LUMIS_LUM_GLOBAL) budgets[i] = auto_global_budget(ll->budget, &p);
-        if (predictions) predictions[i] = p;
+        auto_bands(pr, nh, dist, &pd);
+        lumis_luminaire_prediction *p = &out[i].prediction;
+        st = lumis_luminaire_predict(in->luminaire, &pd, p);
+        if (st != LUMIS_OK || !p->probes_lit) continue;
+        auto_choose(p, ll->budget, pd.band_edges, ll->auto_bands, &out[i]);
     }
     free(hp);
     free(pr);
+    free(dist);
     return st;
 }
 
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
 static lumis_status lum_prepare_as(const lumis_render_desc *d,
-                                   const lumis_luminaire_strategy *chosen, const int *budgets,
-                                   lum_inst **lum, int *capacity, uint32_t *dims,
-                                   size_t *most_cells)
+                                   const lumis_luminaire_choice *chosen, lum_inst **lum,
+                                   int *capacity, uint32_t *dims, size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     const lumis_error_sink *errors = &d->errors;
@@ -461,12 +566,32 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d,
         li->scale = scale;
         li->inv_scale = 1.0 / scale;
         li->intensity = intensity;
-        li->query.budget = budgets ? budgets[i] : ll->budget ? ll->budget : 32;
+        li->query.budget = ll->budget ? ll->budget : 32;
         li->query.k_max = ll->k_max;
-        li->query.strategy = chosen ? chosen[i] : ll->strategy;
+        li->query.strategy = ll->strategy;
         li->query.search = ll->search;
         li->query.depth = ll->depth;
-        li->capacity = lumis_luminaire_capacity(in->luminaire, li->query.budget);
+        li->bands = 1;
+        li->strategy[0] = ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED
+                                                                     : ll->strategy;
+        li->budget[0] = li->query.budget;
+        if (chosen) {
+            li->bands = chosen[i].bands;
+            memcpy(li->edge, chosen[i].edge, sizeof li->edge);
+            memcpy(li->strategy, chosen[i].strategy, sizeof li->strategy);
+            memcpy(li->budget, chosen[i].budget, sizeof li->budget);
+        }
+        li->capacity = 0;
+        for (int b = 0; b < li->bands; b++) {
+            const int cap = lumis_luminaire_capacity(in->luminaire, li->budget[b]);
+            if (cap > li->capacity) li->capacity = cap;
+            if (li->strategy[b] == LUMIS_LUM_GLOBAL) {
+                li->global = 1;
+                li->gquery = li->query;
+                li->gquery.strategy = LUMIS_LUM_GLOBAL;
+                li->gquery.budget = li->budget[b];
+            }
+        }
         lumis_luminaire_desc ld;
         lumis_luminaire_get_desc(in->luminaire, &ld);
         /* The visibility grid: cells of the basis grid's size, so that Phi_m covers span x
@@ -516,17 +641,15 @@ static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_des
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count <= 0 || ll->count > 4096 || !ll->instances)
-        return lum_prepare_as(d, NULL, NULL, lum, capacity, dims, most_cells);
-    lumis_luminaire_strategy *chosen = malloc(sizeof *chosen * (size_t)ll->count);
-    int *budgets = malloc(sizeof *budgets * (size_t)ll->count);
-    lumis_status st = chosen && budgets ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
+        return lum_prepare_as(d, NULL, lum, capacity, dims, most_cells);
+    lumis_luminaire_choice *chosen = malloc(sizeof *chosen * (size_t)ll->count);
+    lumis_status st = chosen ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     if (st != LUMIS_OK)
         lumis__fail(&d->errors, st, "render: luminaires: out of memory");
     else
-        st = lumis_render_luminaire_strategies(scene, d, chosen, budgets, NULL);
-    if (st == LUMIS_OK) st = lum_prepare_as(d, chosen, budgets, lum, capacity, dims, most_cells);
+        st = lumis_render_luminaire_choices(scene, d, chosen);
+    if (st == LUMIS_OK) st = lum_prepare_as(d, chosen, lum, capacity, dims, most_cells);
     free(chosen);
-    free(budgets);
     return st;
 }
 
@@ -541,12 +664,12 @@ static lumis_status global_draws(const lumis_luminaire_lighting *ll, const lum_i
             const lum_inst *li = &lum[i];
             const size_t slot = (size_t)(k - k0) * (size_t)ll->count + (size_t)i;
             n[slot] = 0;
-            if (li->query.strategy != LUMIS_LUM_GLOBAL) continue; /* auto chose another */
+            if (!li->global) continue; /* no band of it samples globally */
             lumis_pcg32 g;
             lumis_pcg32_seed(&g, lumis__mix64(seed ^ lumis__mix64((uint64_t)k + 1)),
                              0x9e3779b9u + (uint64_t)i);
             for (int j = 0; j < 2 * li->capacity; j++) u[j] = lumis_pcg32_double(&g);
-            lumis_status st = lumis_luminaire_global_draw(li->lum, &li->query, u, li->capacity,
+            lumis_status st = lumis_luminaire_global_draw(li->lum, &li->gquery, u, li->capacity,
                                                           out + slot * (size_t)capacity, &n[slot]);
             if (st != LUMIS_OK) return st;
         }
@@ -601,7 +724,7 @@ static lumis_status run_begin(void *state, int samples, int *chunk)
     lum_state *st = state;
     int global = 0;
     for (int i = 0; i < st->lighting.count; i++)
-        global |= st->lum[i].query.strategy == LUMIS_LUM_GLOBAL;
+        global |= st->lum[i].global;
     if (!global) return LUMIS_OK;
     const size_t per_k = (size_t)st->lighting.count * (size_t)st->capacity * sizeof *st->global;
     int n = (int)((size_t)(64 << 20) / per_k);

@@ -66,6 +66,9 @@ static const char usage[] =
     "                     for every point) or auto (per luminaire, the one predicted\n"
     "                     fastest at equal error from the points in view: 'lumis luminaire\n"
     "                     predict'); docs/luminaire.md\n"
+    "  --lum-auto-bands   with auto: a band of distance may take its own strategy when that\n"
+    "                     is predicted to pay 10% (off: it also applies to what the probes\n"
+    "                     missed; docs/results/lu-strategy)\n"
     "  --lum-budget K     luminaire samples per camera sample, shared among images (32)\n"
     "  --lum-kmax N       at most N samples for one image (default: no cap)\n"
     "  --lum-search S     CDF inversion: secant (the paper's) or binary\n"
@@ -198,7 +201,10 @@ int cmd_render(int argc, char **argv)
             o.lum_option = "--lum-strategy";
             if (!v || lumis_luminaire_strategy_from_name(v, &o.lum.strategy) != LUMIS_OK)
                 return tool_bad_value("render", "--lum-strategy", v,
-                                      "must be restricted, uniform or global");
+                                      "must be restricted, uniform, global or auto");
+        } else if (strcmp(argv[i], "--lum-auto-bands") == 0) {
+            o.lum_option = "--lum-auto-bands";
+            o.lum.auto_bands = 1;
         } else if (tool_option(argc, argv, &i, "--lum-budget", &v)) {
             o.lum_option = "--lum-budget";
             if (!tool_parse_int(v, 1, 65536, &x))

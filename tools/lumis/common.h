@@ -238,11 +238,11 @@ typedef struct tool_render_result {
      * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
     double prep_seconds, budget_used_seconds;
     lumis_replaced env_replaced; /* the map's values its reader replaced by 0 */
-    /* --lum-strategy auto: the strategy of each luminaire, comma-separated (the first 32),
-     * and the prediction that chose the first one's */
-    char lum_chosen[400];
-    char lum_budgets[200]; /* their K (auto gives a global one more: render.h) */
-    lumis_luminaire_prediction lum_prediction;
+    /* --lum-strategy auto: the strategy of each luminaire, comma-separated (the first 32;
+     * "uniform to 0.52 + global" in bands of distance), and the first one's choice */
+    char lum_chosen[640];
+    char lum_budgets[320]; /* their K (auto gives a global one more: render.h) */
+    lumis_luminaire_choice lum_choice;
 } tool_render_result;
 
 /* Samples per pixel of a light set rendered to a time budget (--lights with --time): the

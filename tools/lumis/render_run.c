@@ -297,23 +297,38 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (lum && o->lum.strategy == LUMIS_LUM_AUTO) {
         /* what the render chose (the same deterministic prediction), for the sidecar */
         const int n = file->luminaire_count < 32 ? file->luminaire_count : 32;
-        lumis_luminaire_strategy chosen[32];
-        int budgets[32];
-        lumis_luminaire_prediction pred[32];
+        lumis_luminaire_choice *chosen = malloc(sizeof *chosen * 32);
+        if (!chosen) {
+            tool_runtime_error("out of memory");
+            goto done;
+        }
         lumis_luminaire_lighting first = lighting;
         first.count = n;
         rd.luminaires = &first;
-        st = lumis_render_luminaire_strategies(scene, &rd, chosen, budgets, pred);
+        st = lumis_render_luminaire_choices(scene, &rd, chosen);
         rd.luminaires = &lighting;
-        if (st != LUMIS_OK) goto done;
-        r->lum_prediction = pred[0];
-        size_t used = 0;
-        for (int k = 0; k < n && used + 12 < sizeof r->lum_chosen; k++)
-            used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used, "%s%s",
-                                     k ? "," : "", lumis_luminaire_strategy_name(chosen[k]));
-        for (int k = 0, u2 = 0; k < n && u2 + 8 < (int)sizeof r->lum_budgets; k++)
-            u2 += snprintf(r->lum_budgets + u2, sizeof r->lum_budgets - (size_t)u2, "%s%d",
-                           k ? "," : "", budgets[k]);
+        if (st != LUMIS_OK) {
+            free(chosen);
+            goto done;
+        }
+        r->lum_choice = chosen[0];
+        size_t used = 0, ub = 0;
+        for (int k = 0; k < n && used + 80 < sizeof r->lum_chosen && ub + 40 < sizeof r->lum_budgets;
+             k++) {
+            const lumis_luminaire_choice *c = &chosen[k];
+            for (int b = 0; b < c->bands; b++) {
+                /* "uniform" or, in bands, "uniform to 0.52 + global" */
+                used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used, "%s%s",
+                                         b ? " + " : k ? "," : "",
+                                         lumis_luminaire_strategy_name(c->strategy[b]));
+                if (b + 1 < c->bands)
+                    used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used,
+                                             " to %.4g", c->edge[b]);
+                ub += (size_t)snprintf(r->lum_budgets + ub, sizeof r->lum_budgets - ub, "%s%d",
+                                       b ? "+" : k ? "," : "", c->budget[b]);
+            }
+        }
+        free(chosen);
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : fixtures     ? "photometric"
@@ -322,7 +337,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                         : lumis_sampler_method_name(lumis_sampler_get_method(smp));
     if (!o->quiet) {
         double rays = r->stats.camera_rays + r->stats.shadow_rays + r->stats.bounce_rays;
-        char how[1024], budget[220];
+        char how[1400], budget[340];
         if (r->lum_chosen[0]) /* auto: per luminaire */
             snprintf(budget, sizeof budget, "%s", r->lum_budgets);
         else

@@ -118,7 +118,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         if (r->lum_chosen[0]) { /* auto: what it chose, and why (the first luminaire's) */
             cJSON_AddStringToObject(x, "chosen", r->lum_chosen);
             cJSON_AddStringToObject(x, "chosen_budgets", r->lum_budgets);
-            const lumis_luminaire_prediction *p = &r->lum_prediction;
+            const lumis_luminaire_prediction *p = &r->lum_choice.prediction;
+            cJSON_AddNumberToObject(x, "band_gain", r->lum_choice.band_gain);
             cJSON *pj = cJSON_AddObjectToObject(x, "prediction");
             cJSON_AddNumberToObject(pj, "probes_lit", p->probes_lit);
             cJSON_AddNumberToObject(pj, "energy_share", p->energy_share);
