@@ -323,6 +323,12 @@ typedef struct lumis_luminaire_predict_desc {
      * points, at least 1 / n.  The global strategy's shared draws stay independent. */
     int strata;
     const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
+    /* 0: every probe counts once.  n > 0 (fewer than the probes): n of them are drawn in
+     * proportion to q = (proxy^2 / its sum + 1 / probes) / 2, proxy a one-point estimate of
+     * I(p) per box, and weighted 1 / (n q): the means stay unbiased, and the bright few
+     * points that dominate a mean squared error are not missed (a small lit object the size
+     * of a few probes decided a scene: docs/results/lu-strategy). */
+    int select;
     /* Optional bands of distance from the luminaire's origin: band b holds the probes with
      * band_edges[b - 1] <= |p| < band_edges[b] (edges increasing); 0 or 1 == one band. */
     int bands;
@@ -348,6 +354,7 @@ typedef struct lumis_luminaire_strategy_prediction {
  * global's per sample), as in lumis_luminaire_strategy_prediction. */
 typedef struct lumis_luminaire_band {
     int probes_lit;
+    double share; /* of the lit probes' weight */
     double variance[3], ns[3];
 } lumis_luminaire_band;
 
@@ -357,7 +364,9 @@ typedef struct lumis_luminaire_prediction {
     double energy_share;           /* mean share of global samples with energy at a probe */
     double distance[3];            /* of the lit probes from the luminaire's origin: min,
                                       median, max */
-    int probes_lit;                /* probes with I(p) > 0 (the others are ignored) */
+    int probes_lit;                /* probes evaluated with I(p) > 0 (the others are
+                                      ignored); the means below are over them, weighted
+                                      when the descriptor selects */
     int images_lit;                /* mean images with energy in their box at a lit probe */
     int bands;                     /* the descriptor's (at least 1) */
     lumis_luminaire_band band[LUMIS_LUM_MAX_BANDS];

@@ -264,10 +264,11 @@ typedef struct lumis_luminaire_choice {
 
 /* How each placed luminaire of d->luminaires is sampled (out: count entries): the
  * lighting's strategy and budget, one band; or with LUMIS_LUM_AUTO, from
- * lumis_luminaire_predict at the points the render will shade (the first hits of 20 x 12
- * camera rays through pixel centres, in the instance's frame), at the lighting's budget
- * and cap, 16 pilot samples per image, stratified as the render's sequence and spp
- * stratify, in up to 4 bands of distance (equal probe counts, at least 48 each).  Every
+ * lumis_luminaire_predict at the points the render will shade (the first hits of 96 x 60
+ * camera rays through pixel centres, in the instance's frame, of which 240 are selected by
+ * their brightness), at the lighting's budget and cap, 16 pilot samples per image,
+ * stratified as the render's sequence and spp stratify, in up to 4 bands of distance
+ * (equal counts of the probes, at least 288 each).  Every
  * assignment of strategies to bands is scored by (mean variance) x (mean ns) per camera
  * sample; one strategy for all unless ll->auto_bands is set and bands predict 10 % less
  * work (band_gain is then their predicted gain even when not taken).  A luminaire (or band)

@@ -168,6 +168,74 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
     return 1;
 }
 
+/* A proxy of I(p), for choosing probes: each image's A_m(p) times the geometry at its
+ * box's centre (one quadrature point: the support's centre on U, Phi = 1). */
+static double probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe *pr)
+{
+    const lumis_vec3 p = pr->p;
+    if (lumis__lum_where(l, p.z) != LUMIS__FRONT) return 0.0;
+    const double nl = sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y +
+                           (double)pr->n.z * pr->n.z);
+    if (!(nl > 0.0) || !isfinite(nl)) return 0.0;
+    double mass[LUMIS__LUM_MAX_IMAGES], sum = 0.0;
+    lumis_luminaire_masses(l, p, mass);
+    for (int m = 0; m < l->m; m++) {
+        lumis__box b;
+        if (!(mass[m] > 0.0) || !lumis__lum_box(l, m, p.x, p.y, p.z, &b)) continue;
+        const double sx = l->sx0 + 0.5 * (b.x0 + b.x1) * l->dx,
+                     sy = l->sy0 + 0.5 * (b.y0 + b.y1) * l->dy;
+        const double wx = sx - p.x, wy = sy - p.y, wz = l->delta - p.z;
+        const double r2 = wx * wx + wy * wy + wz * wz, r = sqrt(r2);
+        const double cn = ((double)pr->n.x * wx + (double)pr->n.y * wy + (double)pr->n.z * wz) /
+                          (nl * r);
+        if (!(cn > 0.0) || !(r > 0.0)) continue;
+        double cx, cy;
+        lumis__lum_center(l, m, &cx, &cy);
+        const double e2 = (sx - cx) * (sx - cx) + (sy - cy) * (sy - cy) + l->delta * l->delta;
+        sum += mass[m] * e2 * e2 * l->psi_scale * cn * fabs(wz) / (r2 * r);
+    }
+    return sum;
+}
+
+/* `select` probes drawn systematically in proportion to q_k = (proxy_k^2 / sum + 1 / n) / 2
+ * over the n probes in front of U (the variance of a point goes as I(p)^2; the uniform half
+ * keeps every region's chance), each weighted 1 / (select q_k).  Returns how many (0: none
+ * in front). */
+static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
+                         int *idx, double *wt)
+{
+    const int n = d->probe_count;
+    double *q = malloc(sizeof *q * (size_t)n);
+    if (!q) return -1;
+    double s2 = 0.0;
+    int front = 0;
+    for (int k = 0; k < n; k++) {
+        const double x = probe_proxy(l, &d->probes[k]);
+        q[k] = lumis__lum_where(l, d->probes[k].p.z) == LUMIS__FRONT ? x * x : -1.0;
+        if (q[k] >= 0.0) s2 += q[k], front++;
+    }
+    if (!front) {
+        free(q);
+        return 0;
+    }
+    for (int k = 0; k < n; k++)
+        q[k] = q[k] < 0.0 ? 0.0 : 0.5 * (s2 > 0.0 ? q[k] / s2 : 1.0 / front) + 0.5 / front;
+    lumis_pcg32 g;
+    lumis_pcg32_seed(&g, d->seed, 0x73656c656374ull);
+    const double u0 = lumis_pcg32_double(&g);
+    double acc = 0.0;
+    int k = 0, got = 0;
+    for (int j = 0; j < d->select; j++) {
+        const double t = (j + u0) / d->select;
+        while (k < n - 1 && (q[k] == 0.0 || acc + q[k] <= t)) acc += q[k++];
+        if (q[k] == 0.0) break;
+        idx[got] = k;
+        wt[got++] = 1.0 / (d->select * q[k]);
+    }
+    free(q);
+    return got;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     const double x = *(const double *)a, y = *(const double *)b;
@@ -207,42 +275,54 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         if (l->unit[m] > 0.0) power += l->power[m];
     }
     if (!(power > 0.0)) return LUMIS_OK;
-    /* sums over the lit probes: variance, samples, rays, ns, per strategy */
-    double rv[3] = {0}, ns[3] = {0}, smp[3] = {0}, ray[3] = {0}, share = 0.0, images = 0.0;
+    /* which probes, and their weights: every one (1), or `select` of them by a proxy */
+    const int sel = d->select > 0 && d->select < d->probe_count;
+    int n_eval = d->probe_count;
+    int *idx = sel ? malloc(sizeof *idx * (size_t)d->select) : NULL;
+    double *wt = sel ? malloc(sizeof *wt * (size_t)d->select) : NULL;
     double *dist = malloc(sizeof *dist * (size_t)d->probe_count);
-    if (!dist)
+    if (sel && idx && wt && dist) n_eval = select_probes(l, d, idx, wt);
+    if (!dist || (sel && (!idx || !wt || n_eval < 0))) {
+        free(idx);
+        free(wt);
+        free(dist);
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                            "luminaire prediction: out of memory");
+    }
+    /* weighted sums over the lit probes: variance, samples, rays, ns, per strategy */
+    double rv[3] = {0}, ns[3] = {0}, smp[3] = {0}, ray[3] = {0}, share = 0.0, images = 0.0;
+    double litw = 0.0, bandw[LUMIS_LUM_MAX_BANDS] = {0};
     int lit = 0;
     out->bands = bands;
-    for (int k = 0; k < d->probe_count; k++) {
+    for (int e = 0; e < n_eval; e++) {
+        const int k = sel ? idx[e] : e;
+        const double w = sel ? wt[e] : 1.0;
         probe_moments pm;
         if (!probe_at(l, d, image_units, power, k, &pm)) continue;
         lit++;
+        litw += w;
         const lumis_vec3 q = d->probes[k].p;
         const double r = sqrt((double)q.x * q.x + (double)q.y * q.y + (double)q.z * q.z);
         int b = 0;
         while (b + 1 < bands && r >= d->band_edges[b]) b++;
+        const double cost[3] = {c.camera + c.image_restricted * pm.images +
+                                    c.restricted * pm.samples[0] + c.ray * pm.rays[0],
+                                c.camera + c.image_uniform * pm.images +
+                                    c.uniform * pm.samples[1] + c.ray * pm.rays[1],
+                                c.global + c.ray * pm.rays[2]};
         lumis_luminaire_band *bd = &out->band[b];
         bd->probes_lit++;
-        for (int st = 0; st < 3; st++) bd->variance[st] += pm.var[st];
-        bd->ns[0] += c.camera + c.image_restricted * pm.images + c.restricted * pm.samples[0] +
-                     c.ray * pm.rays[0];
-        bd->ns[1] += c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
-                     c.ray * pm.rays[1];
-        bd->ns[2] += c.global + c.ray * pm.rays[2];
+        bandw[b] += w;
         for (int st = 0; st < 3; st++) {
-            rv[st] += pm.var[st];
-            smp[st] += pm.samples[st];
-            ray[st] += pm.rays[st];
+            bd->variance[st] += w * pm.var[st];
+            bd->ns[st] += w * cost[st];
+            rv[st] += w * pm.var[st];
+            smp[st] += w * pm.samples[st];
+            ray[st] += w * pm.rays[st];
+            ns[st] += w * cost[st];
         }
-        ns[0] += c.camera + c.image_restricted * pm.images + c.restricted * pm.samples[0] +
-                 c.ray * pm.rays[0];
-        ns[1] += c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
-                 c.ray * pm.rays[1];
-        ns[2] += c.global + c.ray * pm.rays[2];
-        share += pm.share;
-        images += pm.images;
+        share += w * pm.share;
+        images += w * pm.images;
         const lumis_vec3 p = d->probes[k].p;
         dist[lit - 1] = sqrt((double)p.x * p.x + (double)p.y * p.y + (double)p.z * p.z);
     }
@@ -253,18 +333,22 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         out->distance[2] = dist[lit - 1];
     }
     free(dist);
+    free(idx);
+    free(wt);
     if (!lit) return LUMIS_OK;
-    for (int b = 0; b < bands; b++)
-        for (int st = 0; st < 3 && out->band[b].probes_lit; st++) {
-            out->band[b].variance[st] /= out->band[b].probes_lit;
-            out->band[b].ns[st] /= out->band[b].probes_lit;
+    for (int b = 0; b < bands; b++) {
+        out->band[b].share = bandw[b] / litw;
+        for (int st = 0; st < 3 && bandw[b] > 0.0; st++) {
+            out->band[b].variance[st] /= bandw[b];
+            out->band[b].ns[st] /= bandw[b];
         }
+    }
     lumis_luminaire_strategy_prediction *sp[3] = {&out->restricted, &out->uniform, &out->global};
     for (int st = 0; st < 3; st++) {
-        sp[st]->samples = smp[st] / lit;
-        sp[st]->rays = ray[st] / lit;
-        sp[st]->variance = rv[st] / lit;
-        sp[st]->ns = ns[st] / lit;
+        sp[st]->samples = smp[st] / litw;
+        sp[st]->rays = ray[st] / litw;
+        sp[st]->variance = rv[st] / litw;
+        sp[st]->ns = ns[st] / litw;
         sp[st]->work = sp[st]->variance * sp[st]->ns;
     }
     double best = HUGE_VAL;
@@ -277,8 +361,8 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
             out->best = st == 0 ? LUMIS_LUM_RESTRICTED : st == 1 ? LUMIS_LUM_UNIFORM : LUMIS_LUM_GLOBAL;
         }
     }
-    out->energy_share = share / lit;
-    out->images_lit = (int)(images / lit + 0.5);
+    out->energy_share = share / litw;
+    out->images_lit = (int)(images / litw + 0.5);
     out->probes_lit = lit;
     return LUMIS_OK;
 }

@@ -336,8 +336,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 
 /* ---- auto: the strategy predicted fastest --------------------------------------------- */
 
-#define AUTO_COLS 20
-#define AUTO_ROWS 12
+#define AUTO_COLS 96
+#define AUTO_ROWS 60
+#define AUTO_SELECT 240
 
 /* The points the render will shade: the first hits of AUTO_COLS x AUTO_ROWS camera rays
  * through pixel centres, world frame (n facing the camera).  Returns how many. */
@@ -373,7 +374,7 @@ static int cmp_dist(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Bands of equal probe counts (at least 48 probes in front of U each, at most
+/* Bands of equal probe counts (at least 288 probes in front of U each, at most
  * LUMIS_LUM_MAX_BANDS): their edges into pd.  dist: scratch, one per probe. */
 static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
                        lumis_luminaire_predict_desc *pd)
@@ -384,7 +385,7 @@ static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
             dist[m++] = sqrt((double)pr[k].p.x * pr[k].p.x + (double)pr[k].p.y * pr[k].p.y +
                              (double)pr[k].p.z * pr[k].p.z);
     qsort(dist, (size_t)m, sizeof *dist, cmp_dist);
-    int bands = m / 48 < LUMIS_LUM_MAX_BANDS ? m / 48 : LUMIS_LUM_MAX_BANDS;
+    int bands = m / 288 < LUMIS_LUM_MAX_BANDS ? m / 288 : LUMIS_LUM_MAX_BANDS;
     for (; bands > 1; bands--) { /* equal quantiles (a flat scene): fewer bands */
         int ok = 1;
         for (int b = 0; b + 1 < bands; b++) {
@@ -409,7 +410,7 @@ static void auto_choose(const lumis_luminaire_prediction *p, int budget, const d
     double v[LUMIS_LUM_MAX_BANDS][3], cost[LUMIS_LUM_MAX_BANDS][3], w[LUMIS_LUM_MAX_BANDS];
     for (int b = 0; b < nb; b++) {
         const lumis_luminaire_band *bd = &p->band[b];
-        w[b] = p->probes_lit ? (double)bd->probes_lit / p->probes_lit : 0.0;
+        w[b] = bd->share;
         for (int st = 0; st < 2; st++) v[b][st] = bd->variance[st], cost[b][st] = bd->ns[st];
         v[b][2] = bd->variance[2] / kg;
         cost[b][2] = kg * bd->ns[2] + camera;
@@ -505,6 +506,7 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         pd.budget = ll->budget;
         pd.k_max = ll->k_max;
         pd.pilot = 16;
+        pd.select = AUTO_SELECT;
         /* (0,2) sequences stratify a sample slot over the camera samples */
         const lumis_sequence q = lumis_sequence_resolve(
             d->sequence != LUMIS_SEQUENCE_DEFAULT ? d->sequence : ll->sequence);

@@ -80,6 +80,29 @@ def floor_scene(fixture, c):
     return path
 
 
+def plate_scene(fixture):
+    """The fixture's light field aimed down at a plate 1.5 sizes below it, half in the beam,
+    and a floor 50 sizes below: two distances in one view, for the bands of auto."""
+    lf = os.path.join(args.out, "lf", fixture + ".json")
+    if not os.path.exists(lf):
+        run([args.lumis, "luminaire", "create", lf, "--from",
+             os.path.join(FIXTURES, fixture + ".ies")])
+    z = SIZE[fixture]
+    lam = {"type": "lambert", "albedo": [0.7, 0.7, 0.7]}
+    scene = {"camera": {"eye": [20 * z, 15 * z, 25 * z], "look_at": [0, -20 * z, 0], "up": [0, 1, 0],
+                        "fov_deg": 70, "width": 192, "height": 120},
+             "objects": [{"type": "plane", "point": [3 * z, -1.5 * z, 0], "normal": [0, 1, 0],
+                          "size": 6 * z, "material": lam},
+                         {"type": "plane", "point": [0, -50 * z, 0], "normal": [0, 1, 0],
+                          "size": 400 * z, "material": lam}],
+             "luminaires": [{"file": os.path.join("..", "lf", fixture + ".json"),
+                             "transform": {"rotate_deg": [90, 0, 0]}}]}
+    path = os.path.join(args.out, "scenes", f"{fixture}-plate.json")
+    with open(path, "w") as f:
+        json.dump(scene, f, indent=1)
+    return path
+
+
 cases = [("car / headlight", ["--scene", "headlight"]),
          ("car / headlight-close", ["--scene", "headlight-close"]),
          ("bike / headlight", ["--scene", "headlight", "--luminaire", "preset:bike"]),
@@ -87,6 +110,9 @@ cases = [("car / headlight", ["--scene", "headlight"]),
 for fx in args.fixtures.split(","):
     for c in (float(v) for v in args.heights.split(",")):
         cases.append((f"{fx} / {c:g} sizes", [floor_scene(fx, c)]))
+BANDS = [f"{fx} / plate and floor" for fx in ("narrow-spot", "wide-flood")]
+for fx in ("narrow-spot", "wide-flood"):
+    cases.append((f"{fx} / plate and floor", [plate_scene(fx)]))
 cases = [c for c in cases if args.only in c[0]]
 
 
@@ -114,7 +140,8 @@ def measure(tag, opts):
     return {"variance": var, "seconds": t, "work": var * t,
             "prep_seconds": sum(s["timings"]["prep_seconds"] for s in sides) / len(sides),
             "samples_per_pixel": lum["samples_per_pixel"],
-            "chosen": lum.get("chosen"), "prediction": lum.get("prediction")}
+            "chosen": lum.get("chosen"), "prediction": lum.get("prediction"),
+            "band_gain": lum.get("band_gain")}
 
 
 def slug(s):
@@ -131,6 +158,10 @@ for name, scene in cases:
                          ("global", args.global_budget), ("auto", args.budget)):
             m[strat] = measure(f"{slug(name)}-{seq}-{strat}-k{k}",
                                base + ["--lum-strategy", strat, "--lum-budget", str(k)])
+        if name in BANDS:
+            m["auto-bands"] = measure(f"{slug(name)}-{seq}-auto-bands-k{args.budget}",
+                                      base + ["--lum-strategy", "auto", "--lum-auto-bands",
+                                              "--lum-budget", str(args.budget)])
         if m["global"]["work"] <= 0:
             print("   nothing lit: skipped", file=sys.stderr)
             continue
@@ -148,6 +179,10 @@ for name, scene in cases:
         row["auto_over_best"] = m["auto"]["work"] / m[best]["work"]
         # auto's own choice against the best, its prediction's time left out: the choice alone
         row["choice_over_best"] = m[row["chosen"]]["work"] / m[best]["work"]
+        if "auto-bands" in m:
+            row["bands_chosen"] = m["auto-bands"]["chosen"]
+            row["band_gain_predicted"] = m["auto-bands"]["band_gain"]
+            row["bands_over_best"] = m["auto-bands"]["work"] / m[best]["work"]
         results.append(row)
 
 with open(os.path.join(args.out, "results.json"), "w") as f:
@@ -176,6 +211,14 @@ for r in results:
               f"{ratio_cell(r['uniform_sample_predicted'], r['uniform_sample_measured'])} | "
               f"{r['runs']['auto']['prep_seconds']:.3f} | {r['runs']['restricted']['seconds']:.3f} | "
               f"{r['runs']['global']['seconds']:.3f} |")
+md.append("")
+md.append("| case | seq | auto chose | auto / best | with --lum-auto-bands | predicted gain of "
+          "bands | measured: bands / best |")
+md.append("|---|---|---|---|---|---|---|")
+for r in results:
+    if "bands_chosen" in r:
+        md.append(f"| {r['case']} | {r['sequence']} | {r['chosen']} | {r['auto_over_best']:.2f} | "
+                  f"{r['bands_chosen']} | {r['band_gain_predicted']:.2f} | {r['bands_over_best']:.2f} |")
 text = "\n".join(md) + "\n"
 with open(os.path.join(args.out, "tables.md"), "w") as f:
     f.write(text)
