@@ -2552,10 +2552,10 @@ static void info_reads_photometric_files(void **state)
     static const char bands_scene[] =
                   "{\"camera\": {\"eye\": [2.0, 1.5, 2.5], \"look_at\": [0, -2.0, 0], "
                   "\"fov_deg\": 70, \"width\": 64, \"height\": 40},\n"
-                  " \"objects\": [{\"type\": \"plane\", \"point\": [0.3, -0.3, 0], \"normal\": "
-                  "[0, 1, 0], \"size\": 0.6, \"material\": {\"type\": \"lambert\", \"albedo\": "
+                  " \"objects\": [{\"type\": \"plane\", \"point\": [0.3, -0.2, 0], \"normal\": "
+                  "[0, 1, 0], \"size\": 0.4, \"material\": {\"type\": \"lambert\", \"albedo\": "
                   "[0.7, 0.7, 0.7]}},\n"
-                  "  {\"type\": \"plane\", \"point\": [0, -5, 0], \"normal\": [0, 1, 0], \"size\": "
+                  "  {\"type\": \"plane\", \"point\": [0, -8, 0], \"normal\": [0, 1, 0], \"size\": "
                   "40, \"material\": {\"type\": \"lambert\", \"albedo\": [0.7, 0.7, 0.7]}}],\n"
                   " \"luminaires\": [{\"file\": \"spot-lf.json\", \"transform\": {\"rotate_deg\": "
                   "[90, 0, 0]}}]}\n";

@@ -452,7 +452,7 @@ static lumis_status op_render(void *ctx)
     lumis_luminaire_instance inst = {0};
     lumis_luminaire_lighting lit = {0};
     if (kind == 1) d.light_set = in.set;
-    if (kind == 2) {
+    if (kind == 2 || kind == 6) {
         inst.luminaire = in.lum;
         inst.placement = lumis_rigid_identity();
         inst.placement.t[1] = 3;
@@ -460,6 +460,10 @@ static lumis_status op_render(void *ctx)
         lit.count = 1;
         lit.budget = 4;
         d.luminaires = &lit;
+        if (kind == 6) { /* auto: the prediction, its probes' selection, bands */
+            lit.strategy = LUMIS_LUM_AUTO;
+            lit.auto_bands = 1;
+        }
     }
     if (kind == 3) d.max_bounces = 2;
     if (kind == 5) d.sequence = LUMIS_SEQUENCE_PMJ02; /* its tables */
@@ -657,8 +661,9 @@ static void renders_of_every_light_kind(void **state)
                                         "render luminaire",
                                         "render path tracing",
                                         "render stratified light set",
-                                        "render pmj02"};
-    for (int k = 0; k < 6; k++) each_allocation_fails(names[k], op_render, &k);
+                                        "render pmj02",
+                                        "render luminaire, auto"};
+    for (int k = 0; k < 7; k++) each_allocation_fails(names[k], op_render, &k);
     each_allocation_fails("G-buffers + upsampling", op_upsample, NULL);
     static const char *const sessions[] = {"session: the map's sampler", "session: median cut",
                                            "session: Wu, upsampled",
