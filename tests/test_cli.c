@@ -2550,15 +2550,15 @@ static void info_reads_photometric_files(void **state)
      * bit, the same pixel of a render with one of the bands' strategies (but pixels whose
      * samples straddle the edge). */
     static const char bands_scene[] =
-                  "{\"camera\": {\"eye\": [2.0, 1.5, 2.5], \"look_at\": [0, -2.0, 0], "
-                  "\"fov_deg\": 70, \"width\": 64, \"height\": 40},\n"
-                  " \"objects\": [{\"type\": \"plane\", \"point\": [0.3, -0.2, 0], \"normal\": "
-                  "[0, 1, 0], \"size\": 0.4, \"material\": {\"type\": \"lambert\", \"albedo\": "
-                  "[0.7, 0.7, 0.7]}},\n"
-                  "  {\"type\": \"plane\", \"point\": [0, -8, 0], \"normal\": [0, 1, 0], \"size\": "
-                  "40, \"material\": {\"type\": \"lambert\", \"albedo\": [0.7, 0.7, 0.7]}}],\n"
-                  " \"luminaires\": [{\"file\": \"spot-lf.json\", \"transform\": {\"rotate_deg\": "
-                  "[90, 0, 0]}}]}\n";
+        "{\"camera\": {\"eye\": [2.0, 1.5, 2.5], \"look_at\": [0, -2.0, 0], "
+        "\"fov_deg\": 70, \"width\": 64, \"height\": 40},\n"
+        " \"objects\": [{\"type\": \"plane\", \"point\": [0.3, -0.2, 0], \"normal\": "
+        "[0, 1, 0], \"size\": 0.4, \"material\": {\"type\": \"lambert\", \"albedo\": "
+        "[0.7, 0.7, 0.7]}},\n"
+        "  {\"type\": \"plane\", \"point\": [0, -8, 0], \"normal\": [0, 1, 0], \"size\": "
+        "40, \"material\": {\"type\": \"lambert\", \"albedo\": [0.7, 0.7, 0.7]}}],\n"
+        " \"luminaires\": [{\"file\": \"spot-lf.json\", \"transform\": {\"rotate_deg\": "
+        "[90, 0, 0]}}]}\n";
     tu_write_file(tu_path("bands.json"), bands_scene, strlen(bands_scene));
     const char *band_runs[3][2] = {{"auto --lum-auto-bands", "bands-auto.exr"},
                                    {"restricted", "bands-r.exr"},

@@ -293,14 +293,14 @@ typedef struct lumis_luminaire_probe {
  * (samples with energy); a global sample costs global + ray x (its chance of energy); the
  * global draws and the camera ray are shared by many samples (its best budget is large). */
 typedef struct lumis_luminaire_costs {
-    double camera;     /* per shading point: its camera ray, hit and frame */
+    double camera;           /* per shading point: its camera ray, hit and frame */
     double image_restricted; /* per image with energy in its box: A_m(p), the balance,
                                 the box's preparation (its marginal's ends) */
     double image_uniform;    /* the same for the uniform strategy */
-    double restricted; /* per restricted draw: the 2D inversion, direction, radiance */
-    double uniform;    /* per uniform draw */
-    double global;     /* per global sample finished at a point */
-    double ray;        /* per shadow ray, with the BSDF's evaluation */
+    double restricted;       /* per restricted draw: the 2D inversion, direction, radiance */
+    double uniform;          /* per uniform draw */
+    double global;           /* per global sample finished at a point */
+    double ray;              /* per shadow ray, with the BSDF's evaluation */
 } lumis_luminaire_costs;
 
 /* The defaults (docs/luminaire.md, "Which strategy pays", how they were measured). */
@@ -322,7 +322,7 @@ typedef struct lumis_luminaire_predict_desc {
      * measured by pilot nets, times n'; beyond 16 extrapolated as a power law in the
      * points, at least 1 / n.  The global strategy's shared draws stay independent. */
     int strata;
-    const lumis_luminaire_costs *costs;  /* NULL == lumis_luminaire_costs_default() */
+    const lumis_luminaire_costs *costs; /* NULL == lumis_luminaire_costs_default() */
     /* 0: every probe counts once.  n > 0 (fewer than the probes): n of them are drawn in
      * proportion to q = (proxy^2 / its sum + 1 / probes) / 2, proxy a one-point estimate of
      * I(p) per box, and weighted 1 / (n q): the means stay unbiased, and the bright few
@@ -338,13 +338,13 @@ typedef struct lumis_luminaire_predict_desc {
 
 /* One strategy's prediction, means over the lit probes. */
 typedef struct lumis_luminaire_strategy_prediction {
-    double samples;  /* samples a point evaluates (global: 1, a sample) */
-    double rays;     /* of them with energy: shadow rays */
-    double variance; /* of that point's estimate of I(p) (luminance, the tables' units);
-                        a mean of variances, as a mean squared error weighs pixels (a
-                        relative one would let a beam's dimmest edge decide) */
-    double ns;       /* predicted nanoseconds per point (global: per sample) */
-    double work;     /* variance x ns: proportional to the time for a given MSE */
+    double samples;      /* samples a point evaluates (global: 1, a sample) */
+    double rays;         /* of them with energy: shadow rays */
+    double variance;     /* of that point's estimate of I(p) (luminance, the tables' units);
+                            a mean of variances, as a mean squared error weighs pixels (a
+                            relative one would let a beam's dimmest edge decide) */
+    double ns;           /* predicted nanoseconds per point (global: per sample) */
+    double work;         /* variance x ns: proportional to the time for a given MSE */
     double time_ratio;   /* global's work / this work: how many times less time than
                             global this strategy needs for an equal error */
     double sample_ratio; /* the same for samples */

@@ -67,8 +67,8 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
 {
     const lumis_luminaire_probe *pr = &d->probes[k];
     if (lumis__lum_where(l, pr->p.z) != LUMIS__FRONT) return 0;
-    const double nl = sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y +
-                           (double)pr->n.z * pr->n.z);
+    const double nl =
+        sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y + (double)pr->n.z * pr->n.z);
     if (!(nl > 0.0) || !isfinite(nl)) return 0;
     const lumis_vec3 n = {(float)(pr->n.x / nl), (float)(pr->n.y / nl), (float)(pr->n.z / nl)};
     double mass[LUMIS__LUM_MAX_IMAGES], mu[LUMIS__LUM_MAX_IMAGES], var[2][LUMIS__LUM_MAX_IMAGES],
@@ -174,8 +174,8 @@ static double probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe 
 {
     const lumis_vec3 p = pr->p;
     if (lumis__lum_where(l, p.z) != LUMIS__FRONT) return 0.0;
-    const double nl = sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y +
-                           (double)pr->n.z * pr->n.z);
+    const double nl =
+        sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y + (double)pr->n.z * pr->n.z);
     if (!(nl > 0.0) || !isfinite(nl)) return 0.0;
     double mass[LUMIS__LUM_MAX_IMAGES], sum = 0.0;
     lumis_luminaire_masses(l, p, mass);
@@ -186,8 +186,8 @@ static double probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe 
                      sy = l->sy0 + 0.5 * (b.y0 + b.y1) * l->dy;
         const double wx = sx - p.x, wy = sy - p.y, wz = l->delta - p.z;
         const double r2 = wx * wx + wy * wy + wz * wz, r = sqrt(r2);
-        const double cn = ((double)pr->n.x * wx + (double)pr->n.y * wy + (double)pr->n.z * wz) /
-                          (nl * r);
+        const double cn =
+            ((double)pr->n.x * wx + (double)pr->n.y * wy + (double)pr->n.z * wz) / (nl * r);
         if (!(cn > 0.0) || !(r > 0.0)) continue;
         double cx, cy;
         lumis__lum_center(l, m, &cx, &cy);
@@ -201,8 +201,8 @@ static double probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe 
  * over the n probes in front of U (the variance of a point goes as I(p)^2; the uniform half
  * keeps every region's chance), each weighted 1 / (select q_k).  Returns how many (0: none
  * in front). */
-static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
-                         int *idx, double *wt)
+static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d, int *idx,
+                         double *wt)
 {
     const int n = d->probe_count;
     double *q = malloc(sizeof *q * (size_t)n);
@@ -307,8 +307,8 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         while (b + 1 < bands && r >= d->band_edges[b]) b++;
         const double cost[3] = {c.camera + c.image_restricted * pm.images +
                                     c.restricted * pm.samples[0] + c.ray * pm.rays[0],
-                                c.camera + c.image_uniform * pm.images +
-                                    c.uniform * pm.samples[1] + c.ray * pm.rays[1],
+                                c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
+                                    c.ray * pm.rays[1],
                                 c.global + c.ray * pm.rays[2]};
         lumis_luminaire_band *bd = &out->band[b];
         bd->probes_lit++;
@@ -358,7 +358,9 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         sp[st]->sample_ratio = sv > 0.0 ? out->global.variance / sv : 0.0;
         if (sp[st]->work > 0.0 && sp[st]->work < best) {
             best = sp[st]->work;
-            out->best = st == 0 ? LUMIS_LUM_RESTRICTED : st == 1 ? LUMIS_LUM_UNIFORM : LUMIS_LUM_GLOBAL;
+            out->best = st == 0   ? LUMIS_LUM_RESTRICTED
+                        : st == 1 ? LUMIS_LUM_UNIFORM
+                                  : LUMIS_LUM_GLOBAL;
         }
     }
     out->energy_share = share / litw;

@@ -23,7 +23,7 @@ typedef struct lum_inst {
     double edge[LUMIS_LUM_MAX_BANDS - 1];
     lumis_luminaire_strategy strategy[LUMIS_LUM_MAX_BANDS];
     int budget[LUMIS_LUM_MAX_BANDS];
-    int global;       /* a band samples globally: gquery's draws, once per camera sample */
+    int global; /* a band samples globally: gquery's draws, once per camera sample */
     lumis_luminaire_query gquery;
     int capacity;     /* samples lumis_luminaire_sample_point may return */
     int grid[2];      /* W, H */
@@ -336,8 +336,8 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 
 /* ---- auto: the strategy predicted fastest --------------------------------------------- */
 
-#define AUTO_COLS 96
-#define AUTO_ROWS 60
+#define AUTO_COLS   96
+#define AUTO_ROWS   60
 #define AUTO_SELECT 240
 
 /* The points the render will shade: the first hits of AUTO_COLS x AUTO_ROWS camera rays
@@ -483,7 +483,8 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         free(hp);
         free(pr);
         free(dist);
-        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: auto strategy: out of memory");
+        return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                           "render: auto strategy: out of memory");
     }
     v3 *hn = hp + cells;
     const int nh = auto_hits(scene, &cf, hp, hn);
@@ -511,8 +512,8 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         const lumis_sequence q = lumis_sequence_resolve(
             d->sequence != LUMIS_SEQUENCE_DEFAULT ? d->sequence : ll->sequence);
         pd.strata = q == LUMIS_SEQUENCE_PCG || q == LUMIS_SEQUENCE_HALTON ? 1
-                    : d->spp > 0                                           ? d->spp
-                                                                           : 16;
+                    : d->spp > 0                                          ? d->spp
+                                                                          : 16;
         pd.seed = (uint64_t)0x6175746f + (uint64_t)i;
         pd.errors = d->errors;
         auto_bands(pr, nh, dist, &pd);
@@ -528,9 +529,9 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
 }
 
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire. */
-static lumis_status lum_prepare_as(const lumis_render_desc *d,
-                                   const lumis_luminaire_choice *chosen, lum_inst **lum,
-                                   int *capacity, uint32_t *dims, size_t *most_cells)
+static lumis_status lum_prepare_as(const lumis_render_desc *d, const lumis_luminaire_choice *chosen,
+                                   lum_inst **lum, int *capacity, uint32_t *dims,
+                                   size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     const lumis_error_sink *errors = &d->errors;
@@ -574,8 +575,8 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d,
         li->query.search = ll->search;
         li->query.depth = ll->depth;
         li->bands = 1;
-        li->strategy[0] = ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED
-                                                                     : ll->strategy;
+        li->strategy[0] =
+            ll->strategy == LUMIS_LUM_STRATEGY_DEFAULT ? LUMIS_LUM_RESTRICTED : ll->strategy;
         li->budget[0] = li->query.budget;
         if (chosen) {
             li->bands = chosen[i].bands;
@@ -638,8 +639,7 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d,
 /* Checks the luminaire lighting and lays out one lum_inst per placed luminaire, each with
  * the strategy (and budget) auto chose for it. */
 static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_desc *d,
-                                lum_inst **lum, int *capacity, uint32_t *dims,
-                                size_t *most_cells)
+                                lum_inst **lum, int *capacity, uint32_t *dims, size_t *most_cells)
 {
     const lumis_luminaire_lighting *ll = d->luminaires;
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count <= 0 || ll->count > 4096 || !ll->instances)
@@ -725,8 +725,7 @@ static lumis_status run_begin(void *state, int samples, int *chunk)
 {
     lum_state *st = state;
     int global = 0;
-    for (int i = 0; i < st->lighting.count; i++)
-        global |= st->lum[i].global;
+    for (int i = 0; i < st->lighting.count; i++) global |= st->lum[i].global;
     if (!global) return LUMIS_OK;
     const size_t per_k = (size_t)st->lighting.count * (size_t)st->capacity * sizeof *st->global;
     int n = (int)((size_t)(64 << 20) / per_k);

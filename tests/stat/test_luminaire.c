@@ -442,14 +442,14 @@ static void prediction_matches_measured_variance(void **state)
         lumis_luminaire_prediction p;
         assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p), LUMIS_OK);
         if (!p.probes_lit) continue;
-        const lumis_luminaire_strategy_prediction *sp[3] = {&p.restricted, &p.uniform,
-                                                            &p.global};
+        const lumis_luminaire_strategy_prediction *sp[3] = {&p.restricted, &p.uniform, &p.global};
         for (int st = 0; st < 3; st++) {
             lumis_luminaire_query q = {0};
             q.p = probes[k].p;
             q.budget = st == 2 ? KG : 24;
-            q.strategy = st == 0 ? LUMIS_LUM_RESTRICTED : st == 1 ? LUMIS_LUM_UNIFORM
-                                                                  : LUMIS_LUM_GLOBAL;
+            q.strategy = st == 0   ? LUMIS_LUM_RESTRICTED
+                         : st == 1 ? LUMIS_LUM_UNIFORM
+                                   : LUMIS_LUM_GLOBAL;
             lumis_pcg32 rng;
             lumis_pcg32_seed(&rng, 31, (uint64_t)(k * 4 + st));
             double s1 = 0.0, s2 = 0.0, n_sum = 0.0;

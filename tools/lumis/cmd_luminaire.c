@@ -308,5 +308,6 @@ int cmd_luminaire(int argc, char **argv)
         free(a);
         return rc;
     }
-    return tool_usage_error("luminaire", "unknown action '%s' (create, info, predict or render)", argv[1]);
+    return tool_usage_error("luminaire", "unknown action '%s' (create, info, predict or render)",
+                            argv[1]);
 }

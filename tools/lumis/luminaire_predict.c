@@ -96,8 +96,8 @@ int tool_luminaire_predict(int argc, char **argv)
     }
     if (!json)
         printf("%-17s %6s %7s | %28s | %28s | %20s | %s\n", "distance", "energy", "images",
-               "restricted: samples ns xglob", "uniform:    samples ns xglob",
-               "global: var/smp ns", "best");
+               "restricted: samples ns xglob", "uniform:    samples ns xglob", "global: var/smp ns",
+               "best");
     int rc = EXIT_OK;
     for (int b = 0; b < bands && rc == EXIT_OK; b++) {
         const double r = range[1] / range[0];
@@ -111,8 +111,8 @@ int tool_luminaire_predict(int argc, char **argv)
         d.pilot = (int)pilot;
         d.seed = (uint64_t)seed;
         lumis_luminaire_prediction p;
-        lumis_status st = lumis_luminaire_probes(lum, d0, d1, (uint64_t)seed + (uint64_t)b,
-                                                 (int)probes, pr);
+        lumis_status st =
+            lumis_luminaire_probes(lum, d0, d1, (uint64_t)seed + (uint64_t)b, (int)probes, pr);
         if (st == LUMIS_OK) st = lumis_luminaire_predict(lum, &d, &p);
         if (st != LUMIS_OK) {
             rc = tool_runtime_error("%s: prediction failed: %s", file, lumis_status_string(st));
@@ -149,8 +149,10 @@ int tool_luminaire_predict(int argc, char **argv)
         arr = NULL;
         char *text = cJSON_PrintUnformatted(j);
         cJSON_Delete(j);
-        if (text) puts(text);
-        else rc = tool_runtime_error("out of memory");
+        if (text)
+            puts(text);
+        else
+            rc = tool_runtime_error("out of memory");
         free(text);
     }
     cJSON_Delete(arr);

@@ -313,19 +313,24 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         }
         r->lum_choice = chosen[0];
         size_t used = 0, ub = 0;
-        for (int k = 0; k < n && used + 80 < sizeof r->lum_chosen && ub + 40 < sizeof r->lum_budgets;
-             k++) {
+        for (int k = 0;
+             k < n && used + 80 < sizeof r->lum_chosen && ub + 40 < sizeof r->lum_budgets; k++) {
             const lumis_luminaire_choice *c = &chosen[k];
             for (int b = 0; b < c->bands; b++) {
                 /* "uniform" or, in bands, "uniform to 0.52 + global" */
                 used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used, "%s%s",
-                                         b ? " + " : k ? "," : "",
+                                         b   ? " + "
+                                         : k ? ","
+                                             : "",
                                          lumis_luminaire_strategy_name(c->strategy[b]));
                 if (b + 1 < c->bands)
                     used += (size_t)snprintf(r->lum_chosen + used, sizeof r->lum_chosen - used,
                                              " to %.4g", c->edge[b]);
                 ub += (size_t)snprintf(r->lum_budgets + ub, sizeof r->lum_budgets - ub, "%s%d",
-                                       b ? "+" : k ? "," : "", c->budget[b]);
+                                       b   ? "+"
+                                       : k ? ","
+                                           : "",
+                                       c->budget[b]);
             }
         }
         free(chosen);
