@@ -57,6 +57,10 @@ vg photometric-info info "$P/road-asymmetric.ies" --svg "$tmp/p.svg"
 vg photometric-fixtures render "$P/fixtures.json" "${R[@]}" -o "$tmp/a.exr"
 vg photometric-light-field luminaire create "$tmp/lf.json" --from "$P/spot-cos10.ies" \
     --grid 3x3 --size 16x16
+echo "memcheck: which strategy pays (the prediction, auto with bands)"
+vg luminaire-predict luminaire predict "$tmp/lf.json" --distance 0.2,2 --bands 2 --probes 32
+vg luminaire-auto render --scene headlight --luminaire "$tmp/lum.json" --lum-strategy auto \
+    --lum-auto-bands --lum-budget 8 "${R[@]}" -o "$tmp/a.exr"
 echo "memcheck: every sampler"
 for m in inversion inversion-guided alias kdtree kdtree-exact hierarchical uniform; do
     vg "sample-$m" sample sky:64x32 --method "$m" -n 200

@@ -146,7 +146,7 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
         }
         pm->i += mu[m];
     }
-    if (!(pm->i > 0.0)) return 0;
+    if (!pm->images) return 0; /* no box with energy: not lit */
     /* restricted and uniform: the same balance over A_m(p) */
     lumis_luminaire_balance(mass, l->m, d->budget > 0 ? d->budget : 32, d->k_max, counts);
     for (int m = 0; m < l->m; m++) {
@@ -168,58 +168,94 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
     return 1;
 }
 
-/* A proxy of I(p), for choosing probes: each image's A_m(p) times the geometry at its
- * box's centre (one quadrature point: the support's centre on U, Phi = 1). */
-static double probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe *pr)
+/* Proxies of a probe's variances, for choosing probes.  Per image, a one-point estimate
+ * of I_m(p): A_m(p) times the geometry at its box's centre (the support's centre on U,
+ * Phi = 1).  Then out[0] = I(p)^2, which the restricted and uniform variances go as, and
+ * out[1] = sum_m I_m^2 units(image) / (units(box) pi_m), which the global one goes as
+ * (it grows as the box's share of the image falls).  *lit: a box holds energy. */
+static void probe_proxy(const lumis_luminaire *l, const lumis_luminaire_probe *pr,
+                        const double *image_units, double power, int *lit, double out[2])
 {
     const lumis_vec3 p = pr->p;
-    if (lumis__lum_where(l, p.z) != LUMIS__FRONT) return 0.0;
+    *lit = 0;
+    out[0] = out[1] = 0.0;
+    if (lumis__lum_where(l, p.z) != LUMIS__FRONT) return;
     const double nl =
         sqrt((double)pr->n.x * pr->n.x + (double)pr->n.y * pr->n.y + (double)pr->n.z * pr->n.z);
-    if (!(nl > 0.0) || !isfinite(nl)) return 0.0;
+    if (!(nl > 0.0) || !isfinite(nl)) return;
     double mass[LUMIS__LUM_MAX_IMAGES], sum = 0.0;
     lumis_luminaire_masses(l, p, mass);
+    /* between U and S the light comes from the far side of s (t < 0) */
+    const double side = p.z > l->delta ? 1.0 : -1.0;
     for (int m = 0; m < l->m; m++) {
         lumis__box b;
         if (!(mass[m] > 0.0) || !lumis__lum_box(l, m, p.x, p.y, p.z, &b)) continue;
+        *lit = 1;
         const double sx = l->sx0 + 0.5 * (b.x0 + b.x1) * l->dx,
                      sy = l->sy0 + 0.5 * (b.y0 + b.y1) * l->dy;
         const double wx = sx - p.x, wy = sy - p.y, wz = l->delta - p.z;
         const double r2 = wx * wx + wy * wy + wz * wz, r = sqrt(r2);
         const double cn =
-            ((double)pr->n.x * wx + (double)pr->n.y * wy + (double)pr->n.z * wz) / (nl * r);
+            side * ((double)pr->n.x * wx + (double)pr->n.y * wy + (double)pr->n.z * wz) / (nl * r);
         if (!(cn > 0.0) || !(r > 0.0)) continue;
         double cx, cy;
         lumis__lum_center(l, m, &cx, &cy);
         const double e2 = (sx - cx) * (sx - cx) + (sy - cy) * (sy - cy) + l->delta * l->delta;
-        sum += mass[m] * e2 * e2 * l->psi_scale * cn * fabs(wz) / (r2 * r);
+        const double im = mass[m] * e2 * e2 * l->psi_scale * cn * fabs(wz) / (r2 * r);
+        const double frac = mass[m] / l->unit[m] / image_units[m], pi = l->power[m] / power;
+        sum += im;
+        if (frac > 0.0 && pi > 0.0) out[1] += im * im / (frac * pi);
     }
-    return sum;
+    out[0] = sum * sum;
 }
 
-/* `select` probes drawn systematically in proportion to q_k = (proxy_k^2 / sum + 1 / n) / 2
- * over the n probes in front of U (the variance of a point goes as I(p)^2; the uniform half
- * keeps every region's chance), each weighted 1 / (select q_k).  Returns how many (0: none
- * in front). */
-static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d, int *idx,
-                         double *wt)
+static int band_of(const lumis_luminaire_predict_desc *d, int bands, lumis_vec3 p)
+{
+    const double r = sqrt((double)p.x * p.x + (double)p.y * p.y + (double)p.z * p.z);
+    int b = 0;
+    while (b + 1 < bands && r >= d->band_edges[b]) b++;
+    return b;
+}
+
+/* `select` of the n lit probes (a box with energy), drawn systematically in proportion to
+ * q_k = (a_k / sum a + g_k / sum g + 1 / n) / 3, a and g the proxies of I(p)^2 and of the
+ * global variance (the few bright points, and the few the global strategy hardly reaches,
+ * dominate the mean variances; the uniform third keeps every region's chance), each
+ * weighted 1 / (select q_k).  Counts the lit probes per band: the denominators of the
+ * means (Horvitz-Thompson; dividing by the weights' sum instead biased the means by 5-8 %,
+ * weights and variances being correlated).  Returns how many were drawn, -1 out of
+ * memory. */
+static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
+                         const double *image_units, double power, int bands, int *idx,
+                         double *wt, double *lit_band)
 {
     const int n = d->probe_count;
-    double *q = malloc(sizeof *q * (size_t)n);
+    double *q = malloc(sizeof *q * (size_t)n * 2);
     if (!q) return -1;
-    double s2 = 0.0;
+    double *g2 = q + n, sa = 0.0, sg = 0.0;
     int front = 0;
     for (int k = 0; k < n; k++) {
-        const double x = probe_proxy(l, &d->probes[k]);
-        q[k] = lumis__lum_where(l, d->probes[k].p.z) == LUMIS__FRONT ? x * x : -1.0;
-        if (q[k] >= 0.0) s2 += q[k], front++;
+        int lit;
+        double x[2];
+        probe_proxy(l, &d->probes[k], image_units, power, &lit, x);
+        q[k] = lit ? x[0] : -1.0;
+        g2[k] = x[1];
+        if (lit) {
+            sa += x[0];
+            sg += x[1];
+            front++;
+            lit_band[band_of(d, bands, d->probes[k].p)] += 1.0;
+        }
     }
     if (!front) {
         free(q);
         return 0;
     }
     for (int k = 0; k < n; k++)
-        q[k] = q[k] < 0.0 ? 0.0 : 0.5 * (s2 > 0.0 ? q[k] / s2 : 1.0 / front) + 0.5 / front;
+        q[k] = q[k] < 0.0 ? 0.0
+                          : ((sa > 0.0 ? q[k] / sa : 1.0 / front) +
+                             (sg > 0.0 ? g2[k] / sg : 1.0 / front) + 1.0 / front) /
+                                3.0;
     lumis_pcg32 g;
     lumis_pcg32_seed(&g, d->seed, 0x73656c656374ull);
     const double u0 = lumis_pcg32_double(&g);
@@ -281,7 +317,9 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     int *idx = sel ? malloc(sizeof *idx * (size_t)d->select) : NULL;
     double *wt = sel ? malloc(sizeof *wt * (size_t)d->select) : NULL;
     double *dist = malloc(sizeof *dist * (size_t)d->probe_count);
-    if (sel && idx && wt && dist) n_eval = select_probes(l, d, idx, wt);
+    double known[LUMIS_LUM_MAX_BANDS] = {0};
+    if (sel && idx && wt && dist)
+        n_eval = select_probes(l, d, image_units, power, bands, idx, wt, known);
     if (!dist || (sel && (!idx || !wt || n_eval < 0))) {
         free(idx);
         free(wt);
@@ -301,10 +339,7 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         if (!probe_at(l, d, image_units, power, k, &pm)) continue;
         lit++;
         litw += w;
-        const lumis_vec3 q = d->probes[k].p;
-        const double r = sqrt((double)q.x * q.x + (double)q.y * q.y + (double)q.z * q.z);
-        int b = 0;
-        while (b + 1 < bands && r >= d->band_edges[b]) b++;
+        const int b = band_of(d, bands, d->probes[k].p);
         const double cost[3] = {c.camera + c.image_restricted * pm.images +
                                     c.restricted * pm.samples[0] + c.ray * pm.rays[0],
                                 c.camera + c.image_uniform * pm.images + c.uniform * pm.samples[1] +
@@ -336,6 +371,11 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     free(idx);
     free(wt);
     if (!lit) return LUMIS_OK;
+    if (sel) { /* Horvitz-Thompson: the sums over the count they estimate */
+        litw = 0.0;
+        for (int b = 0; b < bands; b++) litw += bandw[b] = known[b];
+        if (!(litw > 0.0)) return LUMIS_OK;
+    }
     for (int b = 0; b < bands; b++) {
         out->band[b].share = bandw[b] / litw;
         for (int st = 0; st < 3 && bandw[b] > 0.0; st++) {

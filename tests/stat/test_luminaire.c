@@ -518,6 +518,60 @@ static void prediction_matches_measured_variance(void **state)
     free_fixture(&f);
 }
 
+/* Probes selected by their proxies (desc.select) and weighted by the inverse of their
+ * chance give the means every probe gives: unbiased over seeds, and one draw of 96 of 480
+ * within its noise. */
+static void selected_probes_predict_the_same_means(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 78);
+    enum { N = 480 };
+    lumis_luminaire_probe *probes = malloc(sizeof *probes * N);
+    assert_int_equal(lumis_luminaire_probes(f.lum, 1.2, 12.0, 6, N, probes), LUMIS_OK);
+    lumis_luminaire_predict_desc d = {0};
+    d.probes = probes;
+    d.probe_count = N;
+    d.budget = 16;
+    d.seed = 4;
+    lumis_luminaire_prediction all, sel;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, &all), LUMIS_OK);
+    d.select = 96;
+    {
+        double acc[3] = {0};
+        for (int sd = 0; sd < 40; sd++) {
+            d.seed = 100 + (uint64_t)sd;
+            lumis_luminaire_prediction al;
+            d.select = 0;
+            assert_int_equal(lumis_luminaire_predict(f.lum, &d, &al), LUMIS_OK);
+            d.select = 96;
+            assert_int_equal(lumis_luminaire_predict(f.lum, &d, &sel), LUMIS_OK);
+            acc[0] += sel.restricted.variance / al.restricted.variance;
+            acc[1] += sel.uniform.variance / al.uniform.variance;
+            acc[2] += sel.global.variance / al.global.variance;
+        }
+        /* unbiased: over 40 draws of the selection (and of the pilots, the same for both),
+         * the mean ratio is 1 */
+        printf("selected over all, mean of 40 seeds: %.3f %.3f %.3f\n", acc[0] / 40,
+               acc[1] / 40, acc[2] / 40);
+        for (int st = 0; st < 3; st++) assert_true(fabs(acc[st] / 40 - 1.0) < 0.05);
+        d.seed = 4;
+    }
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, &sel), LUMIS_OK);
+    assert_true(all.probes_lit > 400 && sel.probes_lit > 80 && sel.probes_lit <= 96);
+    const lumis_luminaire_strategy_prediction *a[3] = {&all.restricted, &all.uniform, &all.global},
+                                              *b[3] = {&sel.restricted, &sel.uniform, &sel.global};
+    for (int st = 0; st < 3; st++) {
+        printf("strategy %d: variance %.4g selected %.4g (%.3f), ns %.4g selected %.4g\n", st,
+               a[st]->variance, b[st]->variance, b[st]->variance / a[st]->variance, a[st]->ns,
+               b[st]->ns);
+        assert_true(b[st]->variance > 0.75 * a[st]->variance &&
+                    b[st]->variance < 1.33 * a[st]->variance);
+        assert_true(fabs(b[st]->ns / a[st]->ns - 1.0) < 0.15);
+    }
+    free(probes);
+    free_fixture(&f);
+}
+
 /* Quadrature over S (the library's) against a dense midpoint rule over U of
  * L(u -> p) cos_u cos_p / r^2 with L from lumis_luminaire_radiance. */
 static void quadrature_over_s_matches_quadrature_over_u(void **state)
@@ -1119,6 +1173,7 @@ int main(void)
         cmocka_unit_test(estimator_mean_equals_quadrature),
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(prediction_matches_measured_variance),
+        cmocka_unit_test(selected_probes_predict_the_same_means),
         cmocka_unit_test(sample_point_edge_cases),
         cmocka_unit_test(sample_point_draws_what_sample_image_draws),
         cmocka_unit_test(numbers_on_demand_match_the_array),
