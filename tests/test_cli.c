@@ -1216,7 +1216,7 @@ static void luminaire_files_create_info_render(void **state)
     /* auto: the render says what it chose and why, and it is one of the three */
     snprintf(a, sizeof a,
              "render --scene headlight --luminaire preset:small --lum-strategy auto --spp 1 "
-             "--size 32x20 -o '%s'",
+             "--size 32x20 --pixel-centers -o '%s'",
              tu_path("auto.exr"));
     expect(a, 0, "auto: ");
     cJSON *aj = read_json("auto.json");
@@ -1226,6 +1226,7 @@ static void luminaire_files_create_info_render(void **state)
     assert_true(!strcmp(chosen, "restricted") || !strcmp(chosen, "uniform") ||
                 !strcmp(chosen, "global"));
     assert_true(num(item(lj, "prediction"), "probes_lit") > 0);
+    assert_true(cJSON_IsTrue(item(aj, "pixel_centers")));
     cJSON_Delete(aj);
     expect("render --scene spheres --luminaire preset:small -o x.exr", 1, "places no luminaire");
 }

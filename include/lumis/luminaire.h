@@ -323,11 +323,11 @@ typedef struct lumis_luminaire_predict_desc {
      * points, at least 1 / n.  The global strategy's shared draws stay independent. */
     int strata;
     const lumis_luminaire_costs *costs; /* NULL == lumis_luminaire_costs_default() */
-    /* 0: every probe counts once.  n > 0 (fewer than the probes): n of them are drawn in
-     * proportion to q = (proxy^2 / its sum + 1 / probes) / 2, proxy a one-point estimate of
-     * I(p) per box, and weighted 1 / (n q): the means stay unbiased, and the bright few
-     * points that dominate a mean squared error are not missed (a small lit object the size
-     * of a few probes decided a scene: docs/results/lu-strategy). */
+    /* 0: every probe counts once.  n > 0 (fewer than the probes): n of the lit ones are
+     * drawn in proportion to q = (a / sum a + g / sum g + 1 / lit) / 3, a and g one-point
+     * proxies of I(p)^2 and of the global variance, each weighted 1 / (n q), the sums
+     * divided by the lit count: the means stay unbiased, and the few points that dominate
+     * them are not missed (a small lit object decided a scene: docs/results/lu-strategy). */
     int select;
     /* Optional bands of distance from the luminaire's origin: band b holds the probes with
      * band_edges[b - 1] <= |p| < band_edges[b] (edges increasing); 0 or 1 == one band. */
@@ -364,9 +364,9 @@ typedef struct lumis_luminaire_prediction {
     double energy_share;           /* mean share of global samples with energy at a probe */
     double distance[3];            /* of the lit probes from the luminaire's origin: min,
                                       median, max */
-    int probes_lit;                /* probes evaluated with I(p) > 0 (the others are
-                                      ignored); the means below are over them, weighted
-                                      when the descriptor selects */
+    int probes_lit;                /* probes evaluated with energy in some box (the
+                                      others are ignored); the means are over the lit
+                                      probes (estimated from those drawn, with select) */
     int images_lit;                /* mean images with energy in their box at a lit probe */
     int bands;                     /* the descriptor's (at least 1) */
     lumis_luminaire_band band[LUMIS_LUM_MAX_BANDS];

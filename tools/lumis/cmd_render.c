@@ -84,6 +84,8 @@ static const char usage[] =
     "  --light-samples N  light samples per camera sample (default 1)\n"
     "  --bsdf-samples N   BSDF samples per camera sample (default 1)\n"
     "  --spp N            camera samples per pixel (default 16)\n"
+    "  --pixel-centers    every camera ray through its pixel's centre (no anti-aliasing):\n"
+    "                     the noise left is the lights' alone\n"
     "  --passes I/N       render share I (0 to N - 1) of the --spp samples split in N: the\n"
     "                     whole render's samples k = I spp/N ... (I+1) spp/N - 1, the same\n"
     "                     whichever machine draws them; lumis merge joins the shares\n"
@@ -308,6 +310,8 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--sidecar", &v)) {
             if (!v || !*v) return tool_bad_value("render", "--sidecar", v, "needs a path");
             o.sidecar = v;
+        } else if (strcmp(argv[i], "--pixel-centers") == 0) {
+            o.rd.pixel_centers = 1;
         } else if (strcmp(argv[i], "--no-sidecar") == 0) {
             o.sidecar = "";
         } else if (strcmp(argv[i], "--quiet") == 0) {

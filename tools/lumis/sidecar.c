@@ -214,6 +214,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     }
     cJSON_AddNumberToObject(j, "passes", s->passes);
     cJSON_AddNumberToObject(j, "seed", (double)o->rd.seed);
+    cJSON_AddBoolToObject(j, "pixel_centers", o->rd.pixel_centers != 0);
     cJSON_AddStringToObject(j, "sequence",
                             lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
     cJSON_AddNumberToObject(j, "threads", s->threads);

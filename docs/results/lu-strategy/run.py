@@ -179,6 +179,12 @@ for name, scene in cases:
         row["auto_over_best"] = m["auto"]["work"] / m[best]["work"]
         # auto's own choice against the best, its prediction's time left out: the choice alone
         row["choice_over_best"] = m[row["chosen"]]["work"] / m[best]["work"]
+        if name in BANDS:  # the lights' noise alone: every camera ray through its pixel's centre
+            for strat, k in (("uniform", args.budget), ("global", args.global_budget)):
+                m[strat + "-centers"] = measure(
+                    f"{slug(name)}-{seq}-{strat}-centers-k{k}",
+                    base + ["--lum-strategy", strat, "--lum-budget", str(k), "--pixel-centers"])
+            row["uniform_centers_measured"] = m["global-centers"]["work"] / m["uniform-centers"]["work"]
         if "auto-bands" in m:
             row["bands_chosen"] = m["auto-bands"]["chosen"]
             row["band_gain_predicted"] = m["auto-bands"]["band_gain"]
@@ -213,12 +219,13 @@ for r in results:
               f"{r['runs']['global']['seconds']:.3f} |")
 md.append("")
 md.append("| case | seq | auto chose | auto / best | with --lum-auto-bands | predicted gain of "
-          "bands | measured: bands / best |")
-md.append("|---|---|---|---|---|---|---|")
+          "bands | measured: bands / best | uniform: predicted / measured with --pixel-centers |")
+md.append("|---|---|---|---|---|---|---|---|")
 for r in results:
     if "bands_chosen" in r:
         md.append(f"| {r['case']} | {r['sequence']} | {r['chosen']} | {r['auto_over_best']:.2f} | "
-                  f"{r['bands_chosen']} | {r['band_gain_predicted']:.2f} | {r['bands_over_best']:.2f} |")
+                  f"{r['bands_chosen']} | {r['band_gain_predicted']:.2f} | {r['bands_over_best']:.2f} | "
+                  f"{ratio_cell(r['uniform_predicted'], r['uniform_centers_measured'])} |")
 text = "\n".join(md) + "\n"
 with open(os.path.join(args.out, "tables.md"), "w") as f:
     f.write(text)
