@@ -226,8 +226,8 @@ static int band_of(const lumis_luminaire_predict_desc *d, int bands, lumis_vec3 
  * weights and variances being correlated).  Returns how many were drawn, -1 out of
  * memory. */
 static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
-                         const double *image_units, double power, int bands, int *idx,
-                         double *wt, double *lit_band)
+                         const double *image_units, double power, int bands, int *idx, double *wt,
+                         double *lit_band)
 {
     const int n = d->probe_count;
     double *q = malloc(sizeof *q * (size_t)n * 2);
@@ -288,10 +288,11 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
     if (!l || !d) return LUMIS_ERR_INVALID_ARGUMENT;
     if (!d->probes || d->probe_count < 1 || d->probe_count > (1 << 20) || d->budget < 0 ||
         d->budget > 65536 || d->k_max < 0 || d->pilot < 0 || d->pilot > 4096 || d->strata < 0 ||
-        d->bands < 0 || d->bands > LUMIS_LUM_MAX_BANDS)
+        d->select < 0 || d->bands < 0 || d->bands > LUMIS_LUM_MAX_BANDS)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire prediction: needs 1 to 2^20 probes, budget 0 to 65536, "
-                           "k_max >= 0, 0 to 4096 pilot samples and 0 to 4 bands");
+                           "k_max, strata and select >= 0, 0 to 4096 pilot samples and 0 to 4 "
+                           "bands");
     const int bands = d->bands > 1 ? d->bands : 1;
     for (int b = 1; b + 1 < bands; b++)
         if (!(d->band_edges[b] > d->band_edges[b - 1]))

@@ -551,8 +551,8 @@ static void selected_probes_predict_the_same_means(void **state)
         }
         /* unbiased: over 40 draws of the selection (and of the pilots, the same for both),
          * the mean ratio is 1 */
-        printf("selected over all, mean of 40 seeds: %.3f %.3f %.3f\n", acc[0] / 40,
-               acc[1] / 40, acc[2] / 40);
+        printf("selected over all, mean of 40 seeds: %.3f %.3f %.3f\n", acc[0] / 40, acc[1] / 40,
+               acc[2] / 40);
         for (int st = 0; st < 3; st++) assert_true(fabs(acc[st] / 40 - 1.0) < 0.05);
         d.seed = 4;
     }
@@ -569,6 +569,106 @@ static void selected_probes_predict_the_same_means(void **state)
         assert_true(fabs(b[st]->ns / a[st]->ns - 1.0) < 0.15);
     }
     free(probes);
+    free_fixture(&f);
+}
+
+/* The prediction's arguments, bands and edge cases: clear refusals, bands that add up to
+ * the whole, nothing lit behind U, costs that change the choice. */
+static void prediction_arguments_and_bands(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 79);
+    enum { N = 96 };
+    lumis_luminaire_probe probes[N];
+    assert_int_equal(lumis_luminaire_probes(f.lum, 1.5, 20.0, 8, N, probes), LUMIS_OK);
+    lumis_luminaire_probe bad[1];
+    assert_int_equal(lumis_luminaire_probes(NULL, 1, 2, 1, 1, bad), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_probes(f.lum, 0, 2, 1, 1, bad), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_probes(f.lum, 3, 2, 1, 1, bad), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_probes(f.lum, 1, 2, 1, 0, bad), LUMIS_ERR_INVALID_ARGUMENT);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    const char *msg = sink.last;
+    lumis_luminaire_predict_desc d = {0};
+    d.probes = probes;
+    d.probe_count = N;
+    d.errors = sink.sink;
+    lumis_luminaire_prediction p;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_predict(NULL, &d, &p), LUMIS_ERR_INVALID_ARGUMENT);
+    const struct {
+        int field, value;
+    } refusals[] = {{0, 0}, {1, -1}, {2, 5}, {3, -1}, {4, 5000}, {5, -2}};
+    for (size_t k = 0; k < sizeof refusals / sizeof refusals[0]; k++) {
+        lumis_luminaire_predict_desc e = d;
+        int *fields[] = {&e.probe_count, &e.budget, &e.bands, &e.k_max, &e.pilot, &e.select};
+        *fields[refusals[k].field] = refusals[k].value;
+        sink.last[0] = '\0';
+        assert_int_equal(lumis_luminaire_predict(f.lum, &e, &p), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(msg, "luminaire prediction"));
+        assert_int_equal(p.best, LUMIS_LUM_RESTRICTED);
+    }
+    lumis_luminaire_predict_desc e = d;
+    e.bands = 3;
+    e.band_edges[0] = 5.0;
+    e.band_edges[1] = 4.0;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &e, &p), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(msg, "band edges must increase"));
+    lumis_luminaire_costs costs = lumis_luminaire_costs_default();
+    costs.global = 0.0;
+    e = d;
+    e.costs = &costs;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &e, &p), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(msg, "costs"));
+    /* bands: their shares add to 1 and their means, weighted, are the whole's */
+    lumis_luminaire_prediction whole, banded;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, &whole), LUMIS_OK);
+    e = d;
+    e.bands = 3;
+    e.band_edges[0] = 3.0;
+    e.band_edges[1] = 8.0;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &e, &banded), LUMIS_OK);
+    assert_int_equal(banded.bands, 3);
+    double share = 0.0, var[3] = {0}, ns[3] = {0};
+    int lit = 0;
+    for (int b = 0; b < 3; b++) {
+        assert_true(banded.band[b].probes_lit > 0);
+        lit += banded.band[b].probes_lit;
+        share += banded.band[b].share;
+        for (int st = 0; st < 3; st++) {
+            var[st] += banded.band[b].share * banded.band[b].variance[st];
+            ns[st] += banded.band[b].share * banded.band[b].ns[st];
+        }
+    }
+    assert_int_equal(lit, whole.probes_lit);
+    assert_true(fabs(share - 1.0) < 1e-12);
+    assert_true(fabs(var[0] / whole.restricted.variance - 1.0) < 1e-9);
+    assert_true(fabs(var[2] / whole.global.variance - 1.0) < 1e-9);
+    assert_true(fabs(ns[1] / whole.uniform.ns - 1.0) < 1e-9);
+    assert_true(whole.distance[0] <= whole.distance[1] && whole.distance[1] <= whole.distance[2]);
+    /* from the origin; a probe is 1.5 to 20 from its point of U, within 1.1 of the origin */
+    assert_true(whole.distance[0] > 0.4 && whole.distance[2] < 21.1);
+    /* global's own ratio is 1; restricted and uniform made dearer by more than global's
+     * variance exceeds theirs (~10^7 on these noise images) lose */
+    assert_true(fabs(whole.global.time_ratio - 1.0) < 1e-12);
+    assert_int_equal(whole.best, LUMIS_LUM_RESTRICTED);
+    costs = lumis_luminaire_costs_default();
+    costs.camera *= 1e9;
+    costs.uniform *= 1e9;
+    costs.restricted *= 1e9;
+    e = d;
+    e.costs = &costs;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &e, &p), LUMIS_OK);
+    assert_int_equal(p.best, LUMIS_LUM_GLOBAL);
+    /* behind U: nothing lit, every number 0 */
+    for (int k = 0; k < N; k++) probes[k].p.z = -probes[k].p.z;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p), LUMIS_OK);
+    assert_int_equal(p.probes_lit, 0);
+    assert_true(p.restricted.variance == 0.0 && p.global.ns == 0.0);
+    assert_int_equal(p.best, LUMIS_LUM_RESTRICTED);
+    d.select = 10;
+    assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p), LUMIS_OK);
+    assert_int_equal(p.probes_lit, 0);
     free_fixture(&f);
 }
 
@@ -1174,6 +1274,7 @@ int main(void)
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(prediction_matches_measured_variance),
         cmocka_unit_test(selected_probes_predict_the_same_means),
+        cmocka_unit_test(prediction_arguments_and_bands),
         cmocka_unit_test(sample_point_edge_cases),
         cmocka_unit_test(sample_point_draws_what_sample_image_draws),
         cmocka_unit_test(numbers_on_demand_match_the_array),
