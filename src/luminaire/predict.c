@@ -1,5 +1,5 @@
-/* Which luminaire strategy pays: each strategy's relative variance at probe points and its
- * cost, from the luminaire's tables (docs/luminaire.md, "Which strategy pays").
+/* Which luminaire strategy pays: each strategy's variance at probe points and its cost,
+ * from the luminaire's tables (docs/luminaire.md, "Which strategy pays").
  *
  * At a probe p and for image m whose box B holds energy, X = Y(radiance) max(0, n.dir) /
  * pdf_omega is the one-sample estimate of image m's share I_m of the irradiance.  Pilot

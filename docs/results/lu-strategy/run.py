@@ -37,7 +37,8 @@ ap.add_argument("--seeds", type=int, default=2)
 ap.add_argument("--sequences", default="pcg,sobol")
 ap.add_argument("--fixtures", default="narrow-spot,wide-flood,batwing-street,linear")
 ap.add_argument("--heights", default="1.5,5,15,50", help="in units of the fixture's size")
-ap.add_argument("--only", default="", help="run only the cases whose name contains this")
+ap.add_argument("--only", default="", help="run only the cases whose name contains one of "
+                "these (comma-separated)")
 args = ap.parse_args()
 HERE = os.path.dirname(os.path.abspath(__file__))
 FIXTURES = os.path.join(HERE, "..", "photometric", "fixtures")
@@ -113,7 +114,7 @@ for fx in args.fixtures.split(","):
 BANDS = [f"{fx} / plate and floor" for fx in ("narrow-spot", "wide-flood")]
 for fx in ("narrow-spot", "wide-flood"):
     cases.append((f"{fx} / plate and floor", [plate_scene(fx)]))
-cases = [c for c in cases if args.only in c[0]]
+cases = [c for c in cases if any(o in c[0] for o in args.only.split(","))]
 
 
 def render(tag, opts, seed):
