@@ -1211,6 +1211,9 @@ static void luminaire_files_create_info_render(void **state)
     assert_non_null(strstr(out, "restricted: samples"));
     free(out);
     expect("luminaire predict preset:small --distance 4,2", 2, "--distance");
+    expect("luminaire predict preset:small --probes 16 --costs 300,25,23,50,30,10.5,7", 0, NULL);
+    expect("luminaire predict preset:small --costs 300,25,23,0,30,10.5,7", 2, "--costs");
+    expect("luminaire predict preset:small --costs 1,2,3", 2, "--costs");
     expect("luminaire predict preset:small --bands 0", 2, "--bands");
     expect("luminaire predict", 2, "no luminaire");
     /* auto: the render says what it chose and why, and it is one of the three */
@@ -1228,6 +1231,19 @@ static void luminaire_files_create_info_render(void **state)
     assert_true(num(item(lj, "prediction"), "probes_lit") > 0);
     assert_true(cJSON_IsTrue(item(aj, "pixel_centers")));
     cJSON_Delete(aj);
+    /* its cost model given: recorded with the prediction */
+    snprintf(a, sizeof a,
+             "render --scene headlight --luminaire preset:small --lum-strategy auto --spp 1 "
+             "--size 32x20 --lum-costs 300,25,23,50,30,10.5,7 -o '%s'",
+             tu_path("auto.exr"));
+    expect(a, 0, "auto: ");
+    aj = read_json("auto.json");
+    const cJSON *costs = item(item(item(aj, "luminaires"), "prediction"), "costs");
+    assert_int_equal(cJSON_GetArraySize(costs), 7);
+    assert_true(cJSON_GetArrayItem(costs, 6)->valuedouble == 7.0);
+    cJSON_Delete(aj);
+    expect("render --scene headlight --lum-strategy auto --lum-costs 1,2 -o x.exr", 2,
+           "--lum-costs");
     expect("render --scene spheres --luminaire preset:small -o x.exr", 1, "places no luminaire");
 }
 

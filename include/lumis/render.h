@@ -134,6 +134,8 @@ typedef struct lumis_luminaire_lighting {
     int auto_bands; /* with LUMIS_LUM_AUTO, nonzero: a band of distance may take its own
                        strategy (lumis_render_luminaire_choices); off by default, since a
                        band's choice also applies to what no probe saw in it */
+    const lumis_luminaire_costs *auto_costs; /* with LUMIS_LUM_AUTO: the cost model (NULL ==
+                                                lumis_luminaire_costs_default()) */
 } lumis_luminaire_lighting;
 
 /* ---- photometric fixtures in a scene (IES, EULUMDAT; lumis/photometry.h) --------------- */

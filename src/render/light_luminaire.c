@@ -360,11 +360,10 @@ static int auto_hits(const lumis_scene *scene, const cam_frame *cf, v3 *p, v3 *n
 /* auto's budget for a luminaire it gives the global strategy: the model's global costs no
  * camera ray per sample, so the draws of a camera sample must outweigh its ray some 20
  * times (K a power of two at least the lighting's). */
-static int auto_global_budget(int budget, double global_ns)
+static int auto_global_budget(int budget, double global_ns, double camera_ns)
 {
-    const lumis_luminaire_costs c = lumis_luminaire_costs_default();
     int k = budget > 0 ? budget : 32;
-    while (k < 65536 && global_ns > 0.0 && k * global_ns < 20.0 * c.camera) k *= 2;
+    while (k < 65536 && global_ns > 0.0 && k * global_ns < 20.0 * camera_ns) k *= 2;
     return k;
 }
 
@@ -402,10 +401,9 @@ static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
  * scored by (mean variance) x (mean ns) over the lit probes; more than one band only if
  * allowed and that beats the best single strategy by 10 %. */
 static void auto_choose(const lumis_luminaire_prediction *p, int budget, const double *edges,
-                        int allow_bands, lumis_luminaire_choice *c)
+                        int allow_bands, double camera, lumis_luminaire_choice *c)
 {
-    const double camera = lumis_luminaire_costs_default().camera;
-    const int k = budget > 0 ? budget : 32, kg = auto_global_budget(budget, p->global.ns);
+    const int k = budget > 0 ? budget : 32, kg = auto_global_budget(budget, p->global.ns, camera);
     const int nb = p->bands > 1 ? p->bands : 1;
     double v[LUMIS_LUM_MAX_BANDS][3], cost[LUMIS_LUM_MAX_BANDS][3], w[LUMIS_LUM_MAX_BANDS];
     for (int b = 0; b < nb; b++) {
@@ -472,6 +470,8 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         out[i].band_gain = 1.0;
     }
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count == 0) return LUMIS_OK;
+    const lumis_luminaire_costs costs =
+        ll->auto_costs ? *ll->auto_costs : lumis_luminaire_costs_default();
     cam_frame cf;
     lumis_status st = lumis__camera_frame(d->camera, &d->errors, &cf);
     if (st != LUMIS_OK) return st;
@@ -508,6 +508,7 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         pd.k_max = ll->k_max;
         pd.pilot = 16;
         pd.select = AUTO_SELECT;
+        pd.costs = &costs;
         /* (0,2) sequences stratify a sample slot over the camera samples */
         const lumis_sequence q = lumis_sequence_resolve(
             d->sequence != LUMIS_SEQUENCE_DEFAULT ? d->sequence : ll->sequence);
@@ -520,7 +521,7 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         lumis_luminaire_prediction *p = &out[i].prediction;
         st = lumis_luminaire_predict(in->luminaire, &pd, p);
         if (st != LUMIS_OK || !p->probes_lit) continue;
-        auto_choose(p, ll->budget, pd.band_edges, ll->auto_bands, &out[i]);
+        auto_choose(p, ll->budget, pd.band_edges, ll->auto_bands, costs.camera, &out[i]);
     }
     free(hp);
     free(pr);

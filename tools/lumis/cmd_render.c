@@ -69,6 +69,9 @@ static const char usage[] =
     "  --lum-auto-bands   with auto: a band of distance may take its own strategy when that\n"
     "                     is predicted to pay 10% (off: it also applies to what the probes\n"
     "                     missed; docs/results/lu-strategy)\n"
+    "  --lum-costs C,IR,IU,R,U,G,RAY  with auto: the cost model in ns (camera ray, per\n"
+    "                     image restricted and uniform, per draw restricted, uniform and\n"
+    "                     global, per shadow ray; default measured on headlight)\n"
     "  --lum-budget K     luminaire samples per camera sample, shared among images (32)\n"
     "  --lum-kmax N       at most N samples for one image (default: no cap)\n"
     "  --lum-search S     CDF inversion: secant (the paper's) or binary\n"
@@ -207,6 +210,11 @@ int cmd_render(int argc, char **argv)
         } else if (strcmp(argv[i], "--lum-auto-bands") == 0) {
             o.lum_option = "--lum-auto-bands";
             o.lum.auto_bands = 1;
+        } else if (tool_option(argc, argv, &i, "--lum-costs", &v)) {
+            o.lum_option = "--lum-costs";
+            if (!v || !tool_parse_costs(v, &o.lum_costs))
+                return tool_bad_value("render", "--lum-costs", v, TOOL_COSTS_HELP);
+            o.lum_costs_given = 1;
         } else if (tool_option(argc, argv, &i, "--lum-budget", &v)) {
             o.lum_option = "--lum-budget";
             if (!tool_parse_int(v, 1, 65536, &x))

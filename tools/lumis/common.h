@@ -152,6 +152,10 @@ int cmd_info(int argc, char **argv);
 int cmd_luminaire(int argc, char **argv);
 /* lumis luminaire predict (luminaire_predict.c). */
 int tool_luminaire_predict(int argc, char **argv);
+/* "CAMERA,IMAGE_R,IMAGE_U,RESTRICTED,UNIFORM,GLOBAL,RAY" (nanoseconds, lumis_luminaire_costs'
+ * order) into *out; 0 if malformed or refused by the model (draws > 0, the rest >= 0). */
+int tool_parse_costs(const char *v, lumis_luminaire_costs *out);
+#define TOOL_COSTS_HELP "CAMERA,IMAGE_R,IMAGE_U,RESTRICTED,UNIFORM,GLOBAL,RAY in ns"
 int cmd_convert(int argc, char **argv);
 int cmd_sky(int argc, char **argv);
 int cmd_studio(int argc, char **argv);
@@ -200,6 +204,8 @@ typedef struct tool_render_opts {
     lumis_render_desc rd; /* estimator, heuristic, counts, seed, threads, bounces */
     /* Scenes with luminaires: how they are sampled (the instances come from the scene). */
     lumis_luminaire_lighting lum;
+    lumis_luminaire_costs lum_costs; /* --lum-costs (lum.auto_costs points here when given) */
+    int lum_costs_given;
     const char *lum_option; /* the first --lum-* / --visibility / --sequence option given */
     /* --fixture FILE: a photometric fixture lights the scene instead of its own lights (map,
      * fixtures), at --fixture-at (required), aimed at --fixture-aim (default straight down,

@@ -27,6 +27,34 @@ static int parse_range(const char *v, double out[2])
     return out[0] > 0.0 && out[1] >= out[0] && isfinite(out[1]);
 }
 
+int tool_parse_costs(const char *v, lumis_luminaire_costs *out)
+{
+    double x[7];
+    int n = 0;
+    const char *p = v;
+    while (p && n < 7) {
+        char part[64];
+        const char *comma = strchr(p, ',');
+        const size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        if (len == 0 || len >= sizeof part) return 0;
+        memcpy(part, p, len);
+        part[len] = '\0';
+        if (!tool_parse_double(part, &x[n++])) return 0;
+        p = comma ? comma + 1 : NULL;
+    }
+    if (n != 7 || p) return 0;
+    for (int k = 0; k < 7; k++)
+        if (!isfinite(x[k]) || x[k] < 0.0 || ((k >= 3 && k <= 5) && !(x[k] > 0.0))) return 0;
+    out->camera = x[0];
+    out->image_restricted = x[1];
+    out->image_uniform = x[2];
+    out->restricted = x[3];
+    out->uniform = x[4];
+    out->global = x[5];
+    out->ray = x[6];
+    return 1;
+}
+
 static cJSON *strategy_json(const lumis_luminaire_strategy_prediction *s)
 {
     cJSON *o = cJSON_CreateObject();
@@ -45,6 +73,7 @@ int tool_luminaire_predict(int argc, char **argv)
     double range[2] = {0.0, 0.0};
     long budget = 32, kmax = 0, probes = 256, pilot = 16, bands = 1, seed = 1;
     int json = 0;
+    lumis_luminaire_costs costs = lumis_luminaire_costs_default();
     for (int i = 2; i < argc; i++) {
         const char *v = NULL;
         if (strcmp(argv[i], "--json") == 0) {
@@ -68,6 +97,9 @@ int tool_luminaire_predict(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--bands", &v)) {
             if (!v || !tool_parse_int(v, 1, 64, &bands))
                 return tool_bad_value("luminaire predict", "--bands", v, "1 to 64");
+        } else if (tool_option(argc, argv, &i, "--costs", &v)) {
+            if (!v || !tool_parse_costs(v, &costs))
+                return tool_bad_value("luminaire predict", "--costs", v, TOOL_COSTS_HELP);
         } else if (tool_option(argc, argv, &i, "--seed", &v)) {
             if (!v || !tool_parse_int(v, 0, 2147483647L, &seed))
                 return tool_bad_value("luminaire predict", "--seed", v, "0 to 2147483647");
@@ -110,6 +142,7 @@ int tool_luminaire_predict(int argc, char **argv)
         d.k_max = (int)kmax;
         d.pilot = (int)pilot;
         d.seed = (uint64_t)seed;
+        d.costs = &costs;
         lumis_luminaire_prediction p;
         lumis_status st =
             lumis_luminaire_probes(lum, d0, d1, (uint64_t)seed + (uint64_t)b, (int)probes, pr);

@@ -206,6 +206,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         file->luminaires[k].luminaire = replacement;
     lumis_luminaire_lighting lighting = o->lum;
     lighting.instances = file->luminaires;
+    lighting.auto_costs = o->lum_costs_given ? &o->lum_costs : NULL;
     lighting.count = file->luminaire_count;
     rd.luminaires = lum ? &lighting : NULL;
     lumis_photometric_lighting fixture_lighting = {file->photometrics, file->photometric_count};

@@ -127,6 +127,12 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
             cJSON_AddNumberToObject(pj, "uniform_time_ratio", p->uniform.time_ratio);
             cJSON_AddNumberToObject(pj, "restricted_sample_ratio", p->restricted.sample_ratio);
             cJSON_AddNumberToObject(pj, "uniform_sample_ratio", p->uniform.sample_ratio);
+            const lumis_luminaire_costs c =
+                o->lum_costs_given ? o->lum_costs : lumis_luminaire_costs_default();
+            const double cv[7] = {c.camera,     c.image_restricted, c.image_uniform,
+                                  c.restricted, c.uniform,          c.global,
+                                  c.ray};
+            cJSON_AddItemToObject(pj, "costs", cJSON_CreateDoubleArray(cv, 7));
         }
         cJSON_AddNumberToObject(x, "budget", ll->budget ? ll->budget : 32);
         cJSON_AddNumberToObject(x, "k_max", ll->k_max);
