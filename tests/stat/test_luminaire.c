@@ -553,7 +553,9 @@ static void selected_probes_predict_the_same_means(void **state)
          * the mean ratio is 1 */
         printf("selected over all, mean of 40 seeds: %.3f %.3f %.3f\n", acc[0] / 40, acc[1] / 40,
                acc[2] / 40);
-        for (int st = 0; st < 3; st++) assert_true(fabs(acc[st] / 40 - 1.0) < 0.05);
+        /* (Horvitz-Thompson: within 0.4 %; dividing by the weights' sum instead is off by
+         * 1.4-2.2 % here, and caught) */
+        for (int st = 0; st < 3; st++) assert_true(fabs(acc[st] / 40 - 1.0) < 0.012);
         d.seed = 4;
     }
     assert_int_equal(lumis_luminaire_predict(f.lum, &d, &sel), LUMIS_OK);
