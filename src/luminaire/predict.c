@@ -223,8 +223,8 @@ static int band_of(const lumis_luminaire_predict_desc *d, int bands, lumis_vec3 
  * dominate the mean variances; the uniform third keeps every region's chance), each
  * weighted 1 / (select q_k).  Counts the lit probes per band: the denominators of the
  * means (Horvitz-Thompson; dividing by the weights' sum instead biased them by 1-2 %, 5-8 %
- * with an I^2 proxy alone, weights and variances being correlated).  Returns how many were drawn, -1 out of
- * memory. */
+ * with an I^2 proxy alone, weights and variances being correlated).  Returns how many were drawn,
+ * -1 out of memory. */
 static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict_desc *d,
                          const double *image_units, double power, int bands, int *idx, double *wt,
                          double *lit_band)
