@@ -42,6 +42,23 @@ int tool_parse_double(const char *s, double *out)
     return 1;
 }
 
+int tool_parse_doubles(const char *s, double *out, int max)
+{
+    int n = 0;
+    for (const char *p = s; p && n < max; n++) {
+        char part[64];
+        const char *comma = strchr(p, ',');
+        const size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        if (len == 0 || len >= sizeof part) return 0;
+        memcpy(part, p, len);
+        part[len] = '\0';
+        if (!tool_parse_double(part, &out[n])) return 0;
+        p = comma ? comma + 1 : NULL;
+        if (!p) return n + 1;
+    }
+    return 0; /* NULL, or more than max numbers */
+}
+
 int tool_parse_int(const char *s, long lo, long hi, long *out)
 {
     if (!s || !*s) return 0;

@@ -10,6 +10,8 @@ int tool_option(int argc, char **argv, int *i, const char *name, const char **va
 /* Parsers returning 0 on malformed or out-of-range input. */
 int tool_parse_double(const char *s, double *out);
 int tool_parse_int(const char *s, long lo, long hi, long *out);
+/* "A,B,...": 1 to max finite numbers, no empty part; returns how many (0: malformed). */
+int tool_parse_doubles(const char *s, double *out, int max);
 /* An unsigned 64-bit integer in `base` (0: 0x.. and 0.. prefixes too); no sign, no blanks,
  * nothing after it, not out of range. */
 int tool_parse_u64(const char *s, int base, unsigned long long *out);

@@ -112,13 +112,8 @@ static const char usage[] =
 /* "X,Y,Z": three finite numbers within [-1e30, 1e30]. */
 static int parse_triple(const char *v, double out[3])
 {
-    if (!v) return 0;
-    char buf[256];
-    snprintf(buf, sizeof buf, "%s", v);
-    char *save = NULL, *tok = strtok_r(buf, ",", &save);
-    for (int k = 0; k < 3; k++, tok = strtok_r(NULL, ",", &save))
-        if (!tok || !tool_parse_double(tok, &out[k]) || fabs(out[k]) > 1e30) return 0;
-    return tok == NULL;
+    if (tool_parse_doubles(v, out, 3) != 3) return 0;
+    return fabs(out[0]) <= 1e30 && fabs(out[1]) <= 1e30 && fabs(out[2]) <= 1e30;
 }
 
 int cmd_render(int argc, char **argv)

@@ -12,39 +12,17 @@
 /* "A,B" or "A" (then B = A), 0 < A <= B. */
 static int parse_range(const char *v, double out[2])
 {
-    const char *comma = v ? strchr(v, ',') : NULL;
-    char first[64];
-    if (!v) return 0;
-    if (comma) {
-        if ((size_t)(comma - v) >= sizeof first) return 0;
-        memcpy(first, v, (size_t)(comma - v));
-        first[comma - v] = '\0';
-        if (!tool_parse_double(first, &out[0]) || !tool_parse_double(comma + 1, &out[1])) return 0;
-    } else {
-        if (!tool_parse_double(v, &out[0])) return 0;
-        out[1] = out[0];
-    }
-    return out[0] > 0.0 && out[1] >= out[0] && isfinite(out[1]);
+    const int n = tool_parse_doubles(v, out, 2);
+    if (n == 1) out[1] = out[0];
+    return n > 0 && out[0] > 0.0 && out[1] >= out[0];
 }
 
 int tool_parse_costs(const char *v, lumis_luminaire_costs *out)
 {
     double x[7];
-    int n = 0;
-    const char *p = v;
-    while (p && n < 7) {
-        char part[64];
-        const char *comma = strchr(p, ',');
-        const size_t len = comma ? (size_t)(comma - p) : strlen(p);
-        if (len == 0 || len >= sizeof part) return 0;
-        memcpy(part, p, len);
-        part[len] = '\0';
-        if (!tool_parse_double(part, &x[n++])) return 0;
-        p = comma ? comma + 1 : NULL;
-    }
-    if (n != 7 || p) return 0;
-    for (int k = 0; k < 7; k++)
-        if (!isfinite(x[k]) || x[k] < 0.0 || ((k >= 3 && k <= 5) && !(x[k] > 0.0))) return 0;
+    if (tool_parse_doubles(v, x, 7) != 7) return 0;
+    for (int k = 0; k < 7; k++) /* the draws (3, 4, 5) > 0, the rest >= 0 */
+        if (x[k] < 0.0 || ((k >= 3 && k <= 5) && !(x[k] > 0.0))) return 0;
     out->camera = x[0];
     out->image_restricted = x[1];
     out->image_uniform = x[2];
