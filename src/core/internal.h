@@ -80,4 +80,11 @@ static inline double lumis__maxsel(double a, double b)
 #endif
 }
 
+/* qsort's comparison of doubles, ascending. */
+static inline int lumis__cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 #endif

@@ -55,7 +55,6 @@ static double estimate_one(const lumis_luminaire *l, const lumis__prep *pr, lumi
 
 /* Moments of one probe, per strategy: its estimate's variance and samples, with energy. */
 typedef struct probe_moments {
-    double i;                           /* I(p), luminance */
     double var[3], samples[3], rays[3]; /* restricted, uniform, global (per sample) */
     double share;                       /* global: chance a sample has energy at p */
     int images;                         /* images with energy in their box */
@@ -144,7 +143,6 @@ static int probe_at(const lumis_luminaire *l, const lumis_luminaire_predict_desc
                 m2r[m] = s2 / pilot;
             }
         }
-        pm->i += mu[m];
     }
     if (!pm->images) return 0; /* no box with energy: not lit */
     /* restricted and uniform: the same balance over A_m(p) */
@@ -272,12 +270,6 @@ static int select_probes(const lumis_luminaire *l, const lumis_luminaire_predict
     return got;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
                                      const lumis_luminaire_predict_desc *d,
                                      lumis_luminaire_prediction *out)
@@ -363,7 +355,7 @@ lumis_status lumis_luminaire_predict(const lumis_luminaire *l,
         dist[lit - 1] = sqrt((double)p.x * p.x + (double)p.y * p.y + (double)p.z * p.z);
     }
     if (lit) {
-        qsort(dist, (size_t)lit, sizeof *dist, cmp_double);
+        qsort(dist, (size_t)lit, sizeof *dist, lumis__cmp_double);
         out->distance[0] = dist[0];
         out->distance[1] = dist[lit / 2];
         out->distance[2] = dist[lit - 1];
