@@ -136,6 +136,10 @@ typedef struct lumis_luminaire_lighting {
                        band's choice also applies to what no probe saw in it */
     const lumis_luminaire_costs *auto_costs; /* with LUMIS_LUM_AUTO: the cost model (NULL ==
                                                 lumis_luminaire_costs_default()) */
+    /* NULL, or count entries: with LUMIS_LUM_AUTO the render writes there, as it prepares,
+     * how it samples each luminaire (what lumis_render_luminaire_choices returns: the
+     * caller need not predict again to report it). */
+    struct lumis_luminaire_choice *chosen;
 } lumis_luminaire_lighting;
 
 /* ---- photometric fixtures in a scene (IES, EULUMDAT; lumis/photometry.h) --------------- */

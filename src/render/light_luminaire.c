@@ -334,6 +334,18 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return L;
 }
 
+/* An instance's placement with its defaults: an all-zero rotation is the identity, scale
+ * 0 is 1 (*scale). */
+static lumis_rigid instance_placement(const lumis_luminaire_instance *in, double *scale)
+{
+    lumis_rigid x = in->placement;
+    int zero = 1;
+    for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
+    if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
+    *scale = in->scale == 0.0 ? 1.0 : in->scale;
+    return x;
+}
+
 /* ---- auto: the strategy predicted fastest --------------------------------------------- */
 
 #define AUTO_COLS   96
@@ -367,12 +379,6 @@ static int auto_global_budget(int budget, double global_ns, double camera_ns)
     return k;
 }
 
-static int cmp_dist(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* Bands of equal probe counts (at least 288 probes in front of U each, at most
  * LUMIS_LUM_MAX_BANDS): their edges into pd.  dist: scratch, one per probe. */
 static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
@@ -383,7 +389,7 @@ static void auto_bands(const lumis_luminaire_probe *pr, int n, double *dist,
         if (pr[k].p.z > 0.0f)
             dist[m++] = sqrt((double)pr[k].p.x * pr[k].p.x + (double)pr[k].p.y * pr[k].p.y +
                              (double)pr[k].p.z * pr[k].p.z);
-    qsort(dist, (size_t)m, sizeof *dist, cmp_dist);
+    qsort(dist, (size_t)m, sizeof *dist, lumis__cmp_double);
     int bands = m / 288 < LUMIS_LUM_MAX_BANDS ? m / 288 : LUMIS_LUM_MAX_BANDS;
     for (; bands > 1; bands--) { /* equal quantiles (a flat scene): fewer bands */
         int ok = 1;
@@ -490,11 +496,9 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
     const int nh = auto_hits(scene, &cf, hp, hn);
     for (int i = 0; i < ll->count && st == LUMIS_OK; i++) {
         const lumis_luminaire_instance *in = &ll->instances[i];
-        lumis_rigid x = in->placement;
-        int zero = 1;
-        for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
-        if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
-        const double inv = 1.0 / (in->scale == 0.0 ? 1.0 : in->scale);
+        double scale;
+        const lumis_rigid x = instance_placement(in, &scale);
+        const double inv = 1.0 / scale;
         out[i].strategy[0] = LUMIS_LUM_RESTRICTED; /* nothing in view: the paper's */
         if (!in->luminaire || nh == 0) continue;
         for (int k = 0; k < nh; k++) {
@@ -551,11 +555,8 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d, const lumis_lumin
     for (int i = 0; i < ll->count; i++) {
         const lumis_luminaire_instance *in = &ll->instances[i];
         lum_inst *li = &(*lum)[i];
-        lumis_rigid x = in->placement;
-        int zero = 1;
-        for (int k = 0; k < 9; k++) zero &= x.r[k] == 0.0;
-        if (zero) memcpy(x.r, lumis_rigid_identity().r, sizeof x.r);
-        const double scale = in->scale == 0.0 ? 1.0 : in->scale;
+        double scale;
+        const lumis_rigid x = instance_placement(in, &scale);
         const double intensity = in->intensity == 0.0f ? 1.0 : in->intensity;
         if (!in->luminaire || lumis_rigid_check(&x) != LUMIS_OK || !(scale > 0.0) ||
             !isfinite(scale) || !(intensity >= 0.0) || !isfinite(intensity) ||
@@ -645,14 +646,16 @@ static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_des
     const lumis_luminaire_lighting *ll = d->luminaires;
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count <= 0 || ll->count > 4096 || !ll->instances)
         return lum_prepare_as(d, NULL, lum, capacity, dims, most_cells);
-    lumis_luminaire_choice *chosen = malloc(sizeof *chosen * (size_t)ll->count);
+    /* into the caller's array when it gave one */
+    lumis_luminaire_choice *own = ll->chosen ? NULL : malloc(sizeof *own * (size_t)ll->count);
+    lumis_luminaire_choice *chosen = ll->chosen ? ll->chosen : own;
     lumis_status st = chosen ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
     if (st != LUMIS_OK)
         lumis__fail(&d->errors, st, "render: luminaires: out of memory");
     else
         st = lumis_render_luminaire_choices(scene, d, chosen);
     if (st == LUMIS_OK) st = lum_prepare_as(d, chosen, lum, capacity, dims, most_cells);
-    free(chosen);
+    free(own);
     return st;
 }
 

@@ -55,6 +55,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const int lum = file->luminaire_count > 0;
     /* --fixture: one fixture instead of the scene's own lights */
     lumis_photometric_file *cli_fixture = NULL;
+    lumis_luminaire_choice *chosen = NULL; /* auto: what the render chose, per luminaire */
     lumis_photometric_instance cli_instance;
     memset(&cli_instance, 0, sizeof cli_instance);
     if (o->fixture && lum) {
@@ -207,6 +208,13 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_luminaire_lighting lighting = o->lum;
     lighting.instances = file->luminaires;
     lighting.auto_costs = o->lum_costs_given ? &o->lum_costs : NULL;
+    if (lum && o->lum.strategy == LUMIS_LUM_AUTO && file->luminaire_count > 0) {
+        if (!(chosen = calloc((size_t)file->luminaire_count, sizeof *chosen))) {
+            tool_runtime_error("out of memory");
+            goto done;
+        }
+        lighting.chosen = chosen;
+    }
     lighting.count = file->luminaire_count;
     rd.luminaires = lum ? &lighting : NULL;
     lumis_photometric_lighting fixture_lighting = {file->photometrics, file->photometric_count};
@@ -295,23 +303,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         r->sampler_build_ms = sr.lights_build_ms + sr.regions_build_ms;
         r->sampler_table_bytes = sr.lights_bytes + sr.regions_bytes;
     }
-    if (lum && o->lum.strategy == LUMIS_LUM_AUTO) {
-        /* what the render chose (the same deterministic prediction), for the sidecar */
+    if (lum && o->lum.strategy == LUMIS_LUM_AUTO && chosen) {
+        /* what the render chose, for the summary and the sidecar (the first 32) */
         const int n = file->luminaire_count < 32 ? file->luminaire_count : 32;
-        lumis_luminaire_choice *chosen = malloc(sizeof *chosen * 32);
-        if (!chosen) {
-            tool_runtime_error("out of memory");
-            goto done;
-        }
-        lumis_luminaire_lighting first = lighting;
-        first.count = n;
-        rd.luminaires = &first;
-        st = lumis_render_luminaire_choices(scene, &rd, chosen);
-        rd.luminaires = &lighting;
-        if (st != LUMIS_OK) {
-            free(chosen);
-            goto done;
-        }
         r->lum_choice = chosen[0];
         size_t used = 0, ub = 0;
         for (int k = 0;
@@ -334,7 +328,6 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                        c->budget[b]);
             }
         }
-        free(chosen);
     }
     const char *method = lum            ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : fixtures     ? "photometric"
@@ -390,6 +383,7 @@ done:
     lumis_scene_destroy(scene);
     lumis_scene_file_destroy(file);
     lumis_photometric_file_destroy(cli_fixture);
+    free(chosen);
     lumis_luminaire_destroy(replacement);
     lumis_sampler_destroy(smp);
     lumis_light_set_destroy(lights);
