@@ -76,6 +76,19 @@ static int parse_wxh(const char *v, long max, int out[2])
     return 1;
 }
 
+/* Writes a built luminaire (units: its lengths'), fills *info and destroys it. */
+static lumis_status write_and_destroy(const char *out, lumis_luminaire *lum,
+                                      lumis_luminaire_write_options *wo, const char *units,
+                                      lumis_luminaire_info *info)
+{
+    wo->errors = tool_errors;
+    wo->units = units;
+    const lumis_status st = lumis_luminaire_write(out, lum, wo);
+    lumis_luminaire_get_info(lum, info);
+    lumis_luminaire_destroy(lum);
+    return st;
+}
+
 static int create(int argc, char **argv)
 {
     const char *out = NULL, *v;
@@ -157,13 +170,8 @@ static int create(int argc, char **argv)
         lumis_photometric_file_destroy(pf);
         if (bs != LUMIS_OK) return EXIT_RUNTIME;
         const double t1 = tool_now_seconds();
-        wo.errors = tool_errors;
-        wo.units = "m";
-        const lumis_status ws = lumis_luminaire_write(out, lum, &wo);
         lumis_luminaire_info info;
-        lumis_luminaire_get_info(lum, &info);
-        lumis_luminaire_destroy(lum);
-        if (ws != LUMIS_OK) return EXIT_RUNTIME;
+        if (write_and_destroy(out, lum, &wo, "m", &info) != LUMIS_OK) return EXIT_RUNTIME;
         fprintf(stderr,
                 "lumis: the light field of %s: %d x %d images of %d x %d, delta %.4g m, built in "
                 "%.2f s; wrote %s and its images in %.2f s\n",
@@ -178,13 +186,8 @@ static int create(int argc, char **argv)
     if (lumis_luminaire_preset_create(preset, basis, &tool_errors, &lum) != LUMIS_OK)
         return EXIT_RUNTIME;
     double t1 = tool_now_seconds();
-    wo.errors = tool_errors;
-    wo.units = "mm";
-    lumis_status st = lumis_luminaire_write(out, lum, &wo);
     lumis_luminaire_info info;
-    lumis_luminaire_get_info(lum, &info);
-    lumis_luminaire_destroy(lum);
-    if (st != LUMIS_OK) return EXIT_RUNTIME;
+    if (write_and_destroy(out, lum, &wo, "mm", &info) != LUMIS_OK) return EXIT_RUNTIME;
     fprintf(stderr,
             "lumis: acquired %d images of %d x %d in %.2f s; wrote %s and its images (%s) in "
             "%.2f s\n",
