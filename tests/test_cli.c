@@ -1230,7 +1230,20 @@ static void luminaire_files_create_info_render(void **state)
                 !strcmp(chosen, "global"));
     assert_true(num(item(lj, "prediction"), "probes_lit") > 0);
     assert_true(cJSON_IsTrue(item(aj, "pixel_centers")));
+    /* the render is the chosen strategy's at the chosen budget, bit for bit */
+    char fixed[2048];
+    snprintf(fixed, sizeof fixed,
+             "render --scene headlight --luminaire preset:small --lum-strategy %s --lum-budget %s "
+             "--spp 1 --size 32x20 --pixel-centers -o '%s'",
+             chosen, cJSON_GetStringValue(item(lj, "chosen_budgets")), tu_path("fixed.exr"));
+    expect(fixed, 0, NULL);
     cJSON_Delete(aj);
+    lumis_image *ai = NULL, *fi = NULL;
+    assert_int_equal(lumis_image_read(tu_path("auto.exr"), NULL, &ai, NULL), LUMIS_OK);
+    assert_int_equal(lumis_image_read(tu_path("fixed.exr"), NULL, &fi, NULL), LUMIS_OK);
+    assert_memory_equal(ai->pixels, fi->pixels, sizeof(float) * 3 * 32 * 20);
+    lumis_image_destroy(ai);
+    lumis_image_destroy(fi);
     /* its cost model given: recorded with the prediction */
     snprintf(a, sizeof a,
              "render --scene headlight --luminaire preset:small --lum-strategy auto --spp 1 "
