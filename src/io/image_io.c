@@ -6,11 +6,13 @@
 #include "../core/internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char *const compression_names[LUMIS_EXR_COMPRESSION_COUNT] = {
     "zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
@@ -128,12 +130,19 @@ lumis_status lumis__read_whole(const char *path, size_t max, const char *what,
     *data = NULL;
     *size = 0;
     if (!path) return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "no %s path given", what);
-    FILE *f = fopen(path, "rb");
-    if (!f) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
+    /* opened without blocking: a FIFO or a device would otherwise wait for a writer
+     * before fstat could refuse it */
+    const int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0) return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
     struct stat sb;
-    if (fstat(fileno(f), &sb) != 0 || !S_ISREG(sb.st_mode)) {
-        fclose(f);
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        close(fd);
         return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: not a regular file", path);
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        close(fd);
+        return lumis__fail(errors, LUMIS_ERR_OPEN, "%s: %s", path, strerror(errno));
     }
     if ((unsigned long long)sb.st_size > max) {
         fclose(f);
