@@ -93,15 +93,15 @@ char *pg_ies(const pg_ies_spec *s, size_t *size)
         put(&b, "TILT=INCLUDE\r\n1\r\n3\r\n0 45 90\r\n1.0 0.95 0.9\r\n");
     else
         put(&b, "TILT=NONE\r\n");
-    put(&b, "1 1000 %g %d %d %d %d %g %g %g\r\n1.0 1.0 50\r\n", s->multiplier, s->nv, s->nh,
-        s->type, s->units, s->width, s->length, s->height);
+    const double m = s->multiplier == 0 ? 1 : s->multiplier;
+    put(&b, "1 1000 %g %d %d %d %d %g %g %g\r\n1.0 1.0 50\r\n", m, s->nv, s->nh, s->type, s->units,
+        s->width, s->length, s->height);
     for (int j = 0; j < s->nv; j++)
         put(&b, "%.10g%s", s->v0 + (s->v1 - s->v0) * j / (s->nv - 1), j % 10 == 9 ? "\r\n" : " ");
     put(&b, "\r\n");
     for (int i = 0; i < s->nh; i++)
         put(&b, "%.10g ", s->nh == 1 ? s->h0 : s->h0 + (s->h1 - s->h0) * i / (s->nh - 1));
     put(&b, "\r\n");
-    const double m = s->multiplier == 0 ? 1 : s->multiplier;
     for (int i = 0; i < s->nh; i++) {
         const double h = s->nh == 1 ? s->h0 : s->h0 + (s->h1 - s->h0) * i / (s->nh - 1);
         for (int j = 0; j < s->nv; j++) {
@@ -123,12 +123,9 @@ char *pg_ldt(pg_dist d, double a, int isym, int mc, int ng, int nsets, size_t *s
     put(&b, "report 1\nanalytic %d\nnumber 1\nfile.ldt\n2026-11-26\n", (int)d);
     put(&b, "600\n600\n100\n500\n0\n0\n0\n0\n0\n"); /* a 500 mm round luminous area */
     put(&b, "100\n80\n1\n0\n%d\n", nsets);
-    for (int k = 0; k < nsets; k++) put(&b, "1\n");
-    for (int k = 0; k < nsets; k++) put(&b, "LED %d\n", k + 1);
-    for (int k = 0; k < nsets; k++) put(&b, "%d\n", k == 0 ? 1000 : 2000);
-    for (int k = 0; k < nsets; k++) put(&b, "3000\n");
-    for (int k = 0; k < nsets; k++) put(&b, "80\n");
-    for (int k = 0; k < nsets; k++) put(&b, "20\n");
+    /* set by set: lamps, type, flux, colour temperature, colour rendering, watts */
+    for (int k = 0; k < nsets; k++)
+        put(&b, "%d\nLED %d\n%d\n3000\n80\n%d\n", k + 1, k + 1, k == 0 ? 1000 : 2000, 20 + k);
     for (int k = 0; k < 10; k++) put(&b, "0.5\n");
     for (int k = 0; k < mc; k++) put(&b, "%.10g\n", 360.0 * k / mc);
     for (int k = 0; k < ng; k++) put(&b, "%.10g\n", 180.0 * k / (ng - 1));

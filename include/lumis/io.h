@@ -287,7 +287,15 @@ typedef struct lumis_photometric_file {
     /* TILT=INCLUDE: the table, read and checked; not applied (docs/photometric.md) */
     int tilt, tilt_geometry, ntilt;
     double *tilt_deg, *tilt_factor;
+    /* Empty, or what a reader of the file should be told although it was read: the
+     * table's flux more than LUMIS_PHOTOMETRIC_FLUX_TOLERANCE off the flux the file
+     * declares (EULUMDAT: the first lamp set's flux x LOR). */
+    char warning[512];
 } lumis_photometric_file;
+
+/* The share by which a table's flux may differ from its file's declared flux before the
+ * reader warns (real files agree to 0.2 %). */
+#define LUMIS_PHOTOMETRIC_FLUX_TOLERANCE 0.02
 
 lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
                                     lumis_photometric_file **out);

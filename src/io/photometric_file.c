@@ -46,9 +46,11 @@ static lumis_status text_split(text *t, const void *data, size_t size)
     for (size_t k = 0; k < size; k++)
         if (t->buf[k] == '\0') t->buf[k] = ' '; /* a NUL ends no line of text */
     char *p = t->buf;
-    if ((unsigned char)p[0] == 0xEF && (unsigned char)p[1] == 0xBB && (unsigned char)p[2] == 0xBF)
+    if (size >= 3 && (unsigned char)p[0] == 0xEF && (unsigned char)p[1] == 0xBB &&
+        (unsigned char)p[2] == 0xBF)
         p += 3; /* UTF-8's byte-order mark */
-    while (*p || p == t->buf) {
+    const char *start = p;
+    while (*p || p == start) { /* at least one line, if only an empty one */
         if ((size_t)t->nlines == cap) {
             char **g = realloc(t->line, (cap *= 2) * sizeof *g);
             if (!g)
@@ -97,8 +99,11 @@ static lumis_status read_number(cursor *c, const char *field, double *v, int *at
                            c->t->name, field);
     char *end;
     errno = 0;
-    const double x = strtod(s, &end);
     const size_t len = strcspn(s, " \t\v\f,");
+    /* decimal numbers only: strtod would also take hex, "inf" and "nan" */
+    const int decimal = strspn(s, "0123456789+-.eE") == len;
+    const double x = decimal ? strtod(s, &end) : 0.0;
+    if (!decimal) end = s;
     /* an underflow (a denormal, or below it) is a number: tiny, or 0 */
     if (end == s || (size_t)(end - s) != len || (errno == ERANGE && fabs(x) >= 1.0) || !isfinite(x))
         return lumis__fail(c->t->errors, LUMIS_ERR_CORRUPT, "%s:%d: %s: '%.*s' is not a number",
@@ -138,15 +143,64 @@ static lumis_status read_angles(cursor *c, const char *field, int n, double *a)
     return LUMIS_OK;
 }
 
-/* Copies a text field, trimmed. */
+/* The length of the valid UTF-8 sequence at s (1 to 4), or 0 if there is none. */
+static int utf8_length(const unsigned char *s)
+{
+    if (s[0] < 0x80) return 1;
+    int n = s[0] >= 0xC2 && s[0] <= 0xDF   ? 2
+            : s[0] >= 0xE0 && s[0] <= 0xEF ? 3
+            : s[0] >= 0xF0 && s[0] <= 0xF4 ? 4
+                                           : 0;
+    for (int k = 1; k < n; k++)
+        if ((s[k] & 0xC0) != 0x80) return 0;
+    if (n == 3 && ((s[0] == 0xE0 && s[1] < 0xA0) || (s[0] == 0xED && s[1] >= 0xA0))) return 0;
+    if (n == 4 && ((s[0] == 0xF0 && s[1] < 0x90) || (s[0] == 0xF4 && s[1] >= 0x90))) return 0;
+    return n;
+}
+
+static int utf8_valid(const char *s)
+{
+    for (const unsigned char *p = (const unsigned char *)s; *p;) {
+        const int n = utf8_length(p);
+        if (!n) return 0;
+        p += n;
+    }
+    return 1;
+}
+
+/* Copies a text field, trimmed, as UTF-8: a field that is not valid UTF-8 is read as
+ * Latin-1 (the single bytes of older files' degree signs and non-breaking spaces), C1
+ * bytes become U+FFFD, and control characters blanks, so that JSON and XML written from
+ * it are always valid.  Never cuts a character in two. */
 static void copy_field(char *dst, size_t cap, const char *src)
 {
     while (isspace((unsigned char)*src)) src++;
-    size_t n = strlen(src);
-    while (n > 0 && isspace((unsigned char)src[n - 1])) n--;
-    if (n >= cap) n = cap - 1;
-    memcpy(dst, src, n);
-    dst[n] = '\0';
+    const int latin1 = !utf8_valid(src);
+    size_t o = 0;
+    for (const unsigned char *p = (const unsigned char *)src; *p;) {
+        unsigned char enc[4];
+        int n = 1, used = 1;
+        if (*p < 0x20 || *p == 0x7F) {
+            enc[0] = ' ';
+        } else if (*p < 0x80) {
+            enc[0] = *p;
+        } else if (!latin1) {
+            n = used = utf8_length(p);
+            memcpy(enc, p, (size_t)n);
+        } else if (*p < 0xA0) { /* U+FFFD */
+            enc[0] = 0xEF, enc[1] = 0xBF, enc[2] = 0xBD, n = 3;
+        } else {
+            enc[0] = (unsigned char)(0xC0 | (*p >> 6)),
+            enc[1] = (unsigned char)(0x80 | (*p & 0x3F));
+            n = 2;
+        }
+        if (o + (size_t)n >= cap) break;
+        memcpy(dst + o, enc, (size_t)n);
+        o += (size_t)n;
+        p += used;
+    }
+    while (o > 0 && isspace((unsigned char)dst[o - 1])) o--;
+    dst[o] = '\0';
 }
 
 static void append_field(char *dst, size_t cap, const char *src)
@@ -157,12 +211,57 @@ static void append_field(char *dst, size_t cap, const char *src)
     copy_field(dst + strlen(dst), cap - strlen(dst), src);
 }
 
+/* The model's own checks (the angle ranges a symmetry covers, ...) know no file: their
+ * messages get the file's name and the line of its horizontal angles. */
+typedef struct named_sink {
+    const lumis_error_sink *inner;
+    const char *name;
+    int line;
+} named_sink;
+
+static void named_message(void *user, lumis_status status, const char *message)
+{
+    const named_sink *n = user;
+    if (!n->inner || !n->inner->fn) return;
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s:%d: %s", n->name, n->line, message);
+    n->inner->fn(n->inner->user, status, buf);
+}
+
+static lumis_status create_model(const text *t, int line, const lumis_photometric_desc *d,
+                                 lumis_photometric **out)
+{
+    named_sink n = {t->errors, t->name, line};
+    const lumis_error_sink sink = {named_message, &n};
+    return lumis_photometric_create(d, &sink, out);
+}
+
+/* A table of zeros lights nothing: refused, not rendered black. */
+static lumis_status check_light(const text *t, const double *cd, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (cd[k] > 0) return LUMIS_OK;
+    return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                       "%s: every one of its %zu intensity values is 0: the file gives no light",
+                       t->name, n);
+}
+
 /* ---- IES LM-63 ---------------------------------------------------------------------------- */
 
 static int starts_with(const char *s, const char *prefix)
 {
     while (isspace((unsigned char)*s)) s++;
     return strncmp(s, prefix, strlen(prefix)) == 0;
+}
+
+/* Whether s is the word w, with nothing but blanks after it ("NONEXYZ" is not "NONE"). */
+static int is_word(const char *s, const char *w)
+{
+    const size_t n = strlen(w);
+    if (strncmp(s, w, n) != 0) return 0;
+    for (s += n; *s; s++)
+        if (!isspace((unsigned char)*s)) return 0;
+    return 1;
 }
 
 /* The line where TILT= is, or -1. */
@@ -228,9 +327,9 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
     while (isspace((unsigned char)*tv)) tv++;
     cursor c = {t, tl + 1, NULL};
     lumis_status st = LUMIS_OK;
-    if (strncmp(tv, "NONE", 4) == 0) {
+    if (is_word(tv, "NONE")) {
         f->tilt = 0;
-    } else if (strncmp(tv, "INCLUDE", 7) == 0) {
+    } else if (is_word(tv, "INCLUDE")) {
         f->tilt = 1;
         st = read_count(&c, "TILT's lamp-to-luminaire geometry", 1, 3, &f->tilt_geometry);
         if (st == LUMIS_OK)
@@ -263,8 +362,9 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
     double lumens = 0, mult = 0, w = 0, len = 0, h = 0, ballast = 0, factor = 0;
     int type = 0, units = 0, nv = 0, nh = 0;
     st = read_count(&c, "the number of lamps", -1000000, 1000000, &f->lamps);
-    if (st == LUMIS_OK) st = read_number(&c, "the lumens per lamp", &lumens, NULL);
-    if (st == LUMIS_OK) st = read_number(&c, "the candela multiplier", &mult, NULL);
+    int lumens_at = 0, factors_at = 0;
+    if (st == LUMIS_OK) st = read_number(&c, "the lumens per lamp", &lumens, &lumens_at);
+    if (st == LUMIS_OK) st = read_number(&c, "the candela multiplier", &mult, &factors_at);
     if (st == LUMIS_OK) st = read_count(&c, "the number of vertical angles", 2, MAX_ANGLES, &nv);
     if (st == LUMIS_OK) st = read_count(&c, "the number of horizontal angles", 1, MAX_ANGLES, &nh);
     if (st == LUMIS_OK) st = read_count(&c, "the photometric type (1 C, 2 B, 3 A)", 1, 3, &type);
@@ -284,15 +384,31 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
     if ((double)nv * nh > MAX_VALUES)
         return lumis__fail(t->errors, LUMIS_ERR_TOO_LARGE,
                            "%s: %d x %d candela values: more than %d", t->name, nv, nh, MAX_VALUES);
-    if (mult < 0 || ballast < 0 || factor < 0)
+    /* a factor of 0 would make the fixture black, a negative one is meaningless: neither is
+     * quietly taken as 1 */
+    if (!(mult > 0))
         return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
-                           "%s: a negative multiplier (candela %g, ballast %g, factor %g)", t->name,
-                           mult, ballast, factor);
+                           "%s:%d: the candela multiplier is %g: expected > 0", t->name, factors_at,
+                           mult);
+    if (!(ballast > 0))
+        return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                           "%s: the ballast factor is %g: expected > 0", t->name, ballast);
+    if (year < 2002 && !(factor > 0))
+        return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                           "%s: the ballast-lamp photometric factor is %g: expected > 0", t->name,
+                           factor);
+    if (lumens < 0 && lumens != -1)
+        return lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                           "%s:%d: the lumens per lamp is %g: expected > 0, or -1 for absolute "
+                           "photometry",
+                           t->name, lumens_at, lumens);
     double *v = malloc(sizeof(double) * (size_t)nv), *hz = malloc(sizeof(double) * (size_t)nh);
     double *cd = malloc(sizeof(double) * (size_t)nv * (size_t)nh);
     if (!v || !hz || !cd)
         st = lumis__fail(t->errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", t->name);
     if (st == LUMIS_OK) st = read_angles(&c, "the vertical angles", nv, v);
+    int h_at = 0;
+    if (st == LUMIS_OK && next_token(&c)) h_at = c.line + 1;
     if (st == LUMIS_OK) st = read_angles(&c, "the horizontal angles", nh, hz);
     for (int k = 0; k < nv * nh && st == LUMIS_OK; k++) {
         char field[96];
@@ -308,6 +424,7 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
                          "%s:%d: more values after the %d x %d candela values the counts give",
                          t->name, c.line + 1, nh, nv);
+    if (st == LUMIS_OK) st = check_light(t, cd, (size_t)nv * (size_t)nh);
     if (st == LUMIS_OK) {
         const double unit = units == 1 ? 0.3048 : 1.0;
         lumis_photometric_desc d = {0};
@@ -319,8 +436,7 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
         d.candela = cd;
         /* the ballast factor always; the ballast-lamp factor of files before 2002 (later its
          * place holds a reserved field, then the file generation type) */
-        d.multiplier = (mult == 0 ? 1.0 : mult) * (ballast == 0 ? 1.0 : ballast) *
-                       (year < 2002 && factor != 0 ? factor : 1.0);
+        d.multiplier = mult * ballast * (year < 2002 ? factor : 1.0);
         d.lamp_lumens = lumens > 0 ? lumens * fabs((double)f->lamps) : -1.0;
         f->lumens_per_lamp = lumens;
         /* the shape from the signs of the sizes (LM-63-2002, table 1) */
@@ -333,13 +449,16 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
             d.shape = h > 0 ? LUMIS_SHAPE_BOX : h == 0 ? LUMIS_SHAPE_RECTANGLE : LUMIS_SHAPE_OTHER;
         else if (w < 0 && len < 0 && w == len && h == 0)
             d.shape = LUMIS_SHAPE_DISK;
-        else if (w < 0 && len < 0 && w == len && h < 0 && h == w)
+        else if (w < 0 && len == 0 && h >= 0) { /* LM-63-1995's round opening */
+            d.shape = h > 0 ? LUMIS_SHAPE_CYLINDER : LUMIS_SHAPE_DISK;
+            d.length = d.width; /* a diameter, as in 2002's form */
+        } else if (w < 0 && len < 0 && w == len && h < 0 && h == w)
             d.shape = LUMIS_SHAPE_SPHERE;
         else if (w < 0 && len < 0 && w == len && h > 0)
             d.shape = LUMIS_SHAPE_CYLINDER;
         else
             d.shape = LUMIS_SHAPE_OTHER;
-        st = lumis_photometric_create(&d, t->errors, &f->model);
+        st = create_model(t, h_at, &d, &f->model);
     }
     free(v);
     free(hz);
@@ -381,6 +500,23 @@ static lumis_status ldt_count(text *t, int k, const char *field, int lo, int hi,
     return LUMIS_OK;
 }
 
+/* A table whose flux disagrees with the file's own declared luminaire flux (EULUMDAT: the
+ * first set's lamp flux x LOR) is most often read wrongly, or written so: said in the
+ * file's warning, for every program that reads it to show. */
+static void declared_flux_check(lumis_photometric_file *f, const text *t, double declared)
+{
+    const char *name = t->name;
+    lumis_photometric_info info;
+    if (!(declared > 0) || lumis_photometric_get_info(f->model, &info) != LUMIS_OK) return;
+    const double off = info.flux / declared - 1.0;
+    if (fabs(off) > LUMIS_PHOTOMETRIC_FLUX_TOLERANCE)
+        snprintf(f->warning, sizeof f->warning,
+                 "%s: the table's flux, %.6g lm, is %+.1f %% off the %.6g lm the file declares "
+                 "(lamp flux x LOR): the file may be written or read wrongly",
+                 name, info.flux, 100.0 * off, declared);
+    if (f->warning[0]) lumis__fail(t->errors, LUMIS_OK, "%s", f->warning); /* a warning */
+}
+
 static lumis_status read_ldt(text *t, lumis_photometric_file *f)
 {
     snprintf(f->standard, sizeof f->standard, "EULUMDAT");
@@ -419,29 +555,52 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
     if (st == LUMIS_OK) st = ldt_number(t, 24, "the tilt during measurement", &tilt);
     if (st == LUMIS_OK) st = ldt_count(t, 25, "the number of lamp sets n", 1, 100, &nsets);
     if (st != LUMIS_OK) return st;
+    if (st == LUMIS_OK && !(conv > 0))
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s:24: the conversion factor for intensities is %g: expected > 0",
+                         t->name, conv);
+    if (st != LUMIS_OK) return st;
     f->lamp_sets = nsets;
-    /* per set: number of lamps, type, total flux, colour temperature, CRI, watts; the first
-     * set is the one the intensities are given for */
+    /* Set by set, six lines each: number of lamps, type, total flux, colour temperature,
+     * colour rendering, wattage (the format's items 26a-f; real files with 2 and 3 sets
+     * agree).  The intensities are given for the first set. */
     const int base = 26;
     double flux = 0, watts = 0;
     int lamps = 0; /* negative: absolute photometry (LEDs) */
-    st = ldt_count(t, base, "the number of lamps of set 1", -1000000, 1000000, &lamps);
-    if (st == LUMIS_OK && base + nsets < t->nlines)
-        copy_field(f->lamp, sizeof f->lamp, t->line[base + nsets]);
-    if (st == LUMIS_OK)
-        st = ldt_number(t, base + 2 * nsets, "the lamps' total flux of set 1 (lm)", &flux);
-    if (st == LUMIS_OK) st = ldt_number(t, base + 5 * nsets, "the wattage of set 1 (W)", &watts);
+    for (int set = 0; set < nsets && st == LUMIS_OK; set++) {
+        const int at = base + 6 * set;
+        char field[96];
+        int n = 0;
+        double lm = 0, w = 0;
+        snprintf(field, sizeof field, "the number of lamps of set %d", set + 1);
+        st = ldt_count(t, at, field, -1000000, 1000000, &n);
+        if (st == LUMIS_OK) {
+            snprintf(field, sizeof field, "the lamps' total flux of set %d (lm)", set + 1);
+            st = ldt_number(t, at + 2, field, &lm);
+        }
+        if (st == LUMIS_OK) {
+            snprintf(field, sizeof field, "the wattage of set %d (W)", set + 1);
+            st = ldt_number(t, at + 5, field, &w);
+        }
+        if (st == LUMIS_OK && set == 0) {
+            lamps = n;
+            flux = lm;
+            watts = w;
+            copy_field(f->lamp, sizeof f->lamp, t->line[at + 1]);
+        }
+    }
     if (st == LUMIS_OK && !(flux > 0))
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
                          "%s:%d: the lamps' total flux of set 1 is %g lm: the intensities are per "
                          "1000 lm of it, so it must be > 0",
-                         t->name, base + 2 * nsets + 1, flux);
+                         t->name, base + 3, flux);
     if (st != LUMIS_OK) return st;
     f->lamps = lamps;
     f->lumens_per_lamp = lamps != 0 ? flux / abs(lamps) : flux;
     f->input_watts = watts;
     /* then the numbers: 10 direct ratios, Mc C angles, Ng gamma angles, the intensities */
     cursor c = {t, base + 6 * nsets, NULL};
+    const int c_at = c.line + 10 + 1; /* after the 10 direct ratios, one a line */
     for (int k = c.line; k < t->nlines; k++)
         for (char *q = t->line[k]; *q; q++)
             if (*q == ',') *q = '.';
@@ -457,8 +616,20 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
     if (st == LUMIS_OK) st = read_angles(&c, "the gamma angles", ng, g);
     if (st == LUMIS_OK && (isym == 2 || isym == 3 || isym == 4) && mc % (isym == 4 ? 4 : 2) != 0)
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
-                         "%s: symmetry %d with %d C-planes: their number must divide by %d",
+                         "%s:4: symmetry %d with %d C-planes: their number must divide by %d",
                          t->name, isym, mc, isym == 4 ? 4 : 2);
+    /* the planes the intensities are given for must be the ones the symmetry names */
+    const int from = isym == 3 ? mc / 4 : 0;
+    static const double range[5][2] = {{0, 0}, {0, 0}, {0, 180}, {90, 270}, {0, 90}};
+    if (st == LUMIS_OK && isym >= 2 &&
+        (from + planes > mc || cang[from] != range[isym][0] ||
+         cang[from + planes - 1] != range[isym][1]))
+        st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
+                         "%s:%d: symmetry %d gives the planes C%g to C%g, but its %d C-planes "
+                         "put C%g to C%g there",
+                         t->name, c_at, isym, range[isym][0], range[isym][1], mc,
+                         cang[from < mc ? from : mc - 1],
+                         cang[from + planes - 1 < mc ? from + planes - 1 : mc - 1]);
     for (int k = 0; k < planes * ng && st == LUMIS_OK; k++) {
         char field[96];
         snprintf(field, sizeof field, "intensity %d of %d x %d (cd/klm)", k + 1, planes, ng);
@@ -473,9 +644,9 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
                          "%s:%d: more values after the %d x %d intensities symmetry %d gives",
                          t->name, c.line + 1, planes, ng, isym);
+    if (st == LUMIS_OK) st = check_light(t, cd, (size_t)planes * (size_t)ng);
     if (st == LUMIS_OK) {
         /* the C angles of the planes given: all, C0 alone, C0-C180, C90-C270 or C0-C90 */
-        const int from = isym == 3 ? mc / 4 : 0;
         double hz0 = 0;
         lumis_photometric_desc d = {0};
         d.type = LUMIS_PHOTOMETRIC_C;
@@ -483,11 +654,8 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
         d.nh = planes;
         d.v_deg = g;
         d.h_deg = isym == 1 ? &hz0 : cang + from;
-        if (isym == 3 && from + planes > mc)
-            st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT, "%s: too few C-planes for symmetry 3",
-                             t->name);
         d.candela = cd;
-        d.multiplier = flux / 1000.0 * (conv > 0 ? conv : 1.0);
+        d.multiplier = flux / 1000.0 * conv;
         d.lamp_lumens = flux;
         d.luminaire_lumens = lor > 0 ? flux * lor / 100.0 : -1.0;
         /* the luminous area: length along C0 (x), width along C90 (y); width 0: round */
@@ -502,7 +670,8 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
                   : lum_w == 0                 ? LUMIS_SHAPE_DISK
                   : d.height > 0               ? LUMIS_SHAPE_BOX
                                                : LUMIS_SHAPE_RECTANGLE;
-        if (st == LUMIS_OK) st = lumis_photometric_create(&d, t->errors, &f->model);
+        st = create_model(t, c_at, &d, &f->model);
+        if (st == LUMIS_OK) declared_flux_check(f, t, d.luminaire_lumens);
     }
     free(cang);
     free(g);

@@ -244,7 +244,19 @@ lumis_status lumis_photometric_create(const lumis_photometric_desc *d,
     }
     memcpy(p->v, d->v_deg, sizeof(double) * (size_t)d->nv);
     memcpy(p->h, d->h_deg, sizeof(double) * (size_t)d->nh);
-    for (size_t k = 0; k < n; k++) p->cd[k] = d->candela[k] * mult;
+    double peak = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        p->cd[k] = d->candela[k] * mult;
+        peak = p->cd[k] > peak ? p->cd[k] : peak;
+    }
+    /* values times the multiplier, or their flux, beyond a double: no model, rather than
+     * a flux of inf (or 0, and NaN downstream) */
+    if (!isfinite(peak) || peak > 1e250) {
+        lumis_photometric_destroy(p);
+        return lumis__fail(errors, LUMIS_ERR_TOO_LARGE,
+                           "the candela values x the multiplier %g overflow (more than 1e250 cd)",
+                           mult);
+    }
     p->type = d->type;
     p->sym = sym;
     p->v_mirror = v_mirror;
@@ -462,42 +474,64 @@ double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, doub
                   : lumis_photometric_intensity_at(p, 0.0, t);
 }
 
-/* The full width around the plane's peak where the intensity stays >= share x the peak. */
-static double spread(const lumis_photometric *p, int k, double share)
+/* Plane k's intensity at t degrees, t anywhere on the circle (it wraps). */
+static double on_circle(const lumis_photometric *p, int k, double t)
 {
-    const double step = 0.05;
-    const int n = (int)(360.0 / step);
-    double peak = 0.0, tp = 0.0;
-    for (int s = 0; s <= n; s++) {
-        const double t = -180.0 + s * step, i = lumis_photometric_plane_intensity(p, k, t);
-        if (i > peak) {
+    t -= 360.0 * floor((t + 180.0) / 360.0); /* into [-180, 180) */
+    return lumis_photometric_plane_intensity(p, k, t);
+}
+
+/* Plane k's peak: where the interpolant peaks, at one of the table's angles as the plane
+ * meets them (both signs), else on a fine scan; the one nearest the aim on ties. */
+static double plane_peak(const lumis_photometric *p, int k, double *at)
+{
+    double peak = -1.0, tp = 0.0;
+    const int c = p->type == LUMIS_PHOTOMETRIC_C;
+    const double *a = c || k == 1 ? p->v : p->h;
+    const int n = c || k == 1 ? p->nv : p->nh;
+    for (int s = 0; s <= 7200 + 2 * n; s++) {
+        const double t = s <= 7200 ? -180.0 + s * 0.05 : (s % 2 ? 1 : -1) * a[(s - 7201) / 2];
+        const double i = on_circle(p, k, t);
+        if (i > peak || (i == peak && (fabs(t) < fabs(tp) || (fabs(t) == fabs(tp) && t > tp)))) {
             peak = i;
             tp = t;
         }
     }
+    *at = tp;
+    return peak;
+}
+
+/* The full width of the arc around the plane's peak where the intensity stays >= share x
+ * the peak, on the whole circle of the plane (an uplight's beam spans the zenith): 0.05°
+ * steps, each crossing then bisected on the interpolant; 360 when the whole circle is
+ * lit that much. */
+static double spread(const lumis_photometric *p, int k, double share)
+{
+    const double step = 0.05;
+    double tp;
+    const double peak = plane_peak(p, k, &tp);
     if (!(peak > 0)) return 0.0;
     const double level = share * peak;
-    double edge[2];
+    double reach[2];
     for (int side = 0; side < 2; side++) {
         const double dir = side ? 1.0 : -1.0;
-        double t = tp, prev = peak;
-        edge[side] = tp + dir * 180.0;
-        for (int s = 1; s <= n; s++) {
-            const double u = tp + dir * s * step;
-            if (u < -180.0 || u > 180.0) {
-                edge[side] = u - dir * step;
-                break;
+        reach[side] = 360.0;
+        for (int s = 1; s * step <= 360.0; s++) {
+            if (on_circle(p, k, tp + dir * s * step) >= level) continue;
+            double lo = (s - 1) * step, hi = s * step; /* lit at lo, not at hi */
+            for (int b = 0; b < 48; b++) {
+                const double mid = 0.5 * (lo + hi);
+                if (on_circle(p, k, tp + dir * mid) >= level)
+                    lo = mid;
+                else
+                    hi = mid;
             }
-            const double i = lumis_photometric_plane_intensity(p, k, u);
-            if (i < level) { /* the crossing, linear between the last two steps */
-                edge[side] = t + dir * step * (prev - level) / (prev - i);
-                break;
-            }
-            t = u;
-            prev = i;
+            reach[side] = 0.5 * (lo + hi);
+            break;
         }
     }
-    return edge[1] - edge[0];
+    const double width = reach[0] + reach[1];
+    return width < 360.0 ? width : 360.0;
 }
 
 /* The info, once, at creation (its beam scans cost thousands of lookups: not for every

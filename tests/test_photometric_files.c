@@ -1,0 +1,332 @@
+/* Photometric files as manufacturers write them (issue 34): EULUMDAT lamp sets read set by
+ * set, the declared flux checked, Latin-1 headers made UTF-8, LM-63-1995's round opening,
+ * beam and field angles over the whole circle (uplights, direct/indirect lobes), and the
+ * inputs that used to crash, hang or succeed silently: a lone byte-order mark, hex and
+ * "inf" numbers, TILT=NONEXYZ, factors <= 0, overflowing candela, a table of zeros,
+ * symmetries that name planes the file does not give, a FIFO.  Each expected value is a
+ * closed form or the file's own text, not lumis's output. */
+#include "photometric_gen.h"
+#include "testutil.h"
+
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define PI 3.14159265358979323846
+
+/* Reads text as file "t.ies" (any format); the status, and the file in *out on success. */
+static lumis_status try_read(const char *text, size_t n, tu_sink *sink,
+                             lumis_photometric_file **out)
+{
+    tu_sink_init(sink);
+    return lumis_photometric_read_memory(text, n, "t.ies", &sink->sink, out);
+}
+
+/* The text with the first occurrence of `from` replaced by `to` (malloc'd). */
+static char *replaced(const char *text, const char *from, const char *to)
+{
+    const char *at = strstr(text, from);
+    if (!at) fail_msg("'%s' is not in the generated file", from);
+    const size_t n = strlen(text), a = (size_t)(at - text), f = strlen(from), t = strlen(to);
+    char *out = malloc(n - f + t + 1);
+    memcpy(out, text, a);
+    memcpy(out + a, to, t);
+    memcpy(out + a + t, at + f, n - a - f + 1);
+    return out;
+}
+
+/* Expects a refusal with `status` whose message contains `needle`. */
+static void refused(const char *text, lumis_status status, const char *needle)
+{
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    const lumis_status st = try_read(text, strlen(text), &sink, &f);
+    if (st != status || !strstr(sink.last, needle))
+        fail_msg("want %s with '%s', got %s: '%s'", lumis_status_name(status), needle,
+                 lumis_status_name(st), sink.last);
+    assert_null(f);
+}
+
+static char *ies_text(const pg_ies_spec *s)
+{
+    size_t n = 0;
+    char *t = pg_ies(s, &n);
+    return t;
+}
+
+static const pg_ies_spec lambert = {
+    PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 19, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+
+/* EULUMDAT: six lines per lamp set, set by set; set 1's lamps, type, flux and watts. */
+static void ldt_lamp_sets_set_by_set(void **state)
+{
+    (void)state;
+    for (int nsets = 1; nsets <= 3; nsets++) {
+        size_t n = 0;
+        char *text = pg_ldt(PG_SPOT, 6, 1, 24, 37, nsets, &n);
+        tu_sink sink;
+        lumis_photometric_file *f = NULL;
+        if (try_read(text, n, &sink, &f) != LUMIS_OK) fail_msg("%d sets: %s", nsets, sink.last);
+        assert_int_equal(f->lamp_sets, nsets);
+        assert_int_equal(f->lamps, 1);
+        assert_string_equal(f->lamp, "LED 1");
+        assert_true(f->input_watts == 20.0);
+        lumis_photometric_info in;
+        lumis_photometric_get_info(f->model, &in);
+        /* set 1's 1000 lm: cd/klm = cd; set 2's 2000 lm would double it */
+        assert_true(fabs(in.max_candela - pg_intensity(PG_SPOT, 6, 0, 0)) < 1e-6);
+        assert_true(fabs(in.lamp_lumens - 1000) < 1e-12);
+        lumis_photometric_file_destroy(f);
+        free(text);
+    }
+    /* text where set 2's number of lamps belongs */
+    size_t n = 0;
+    char *text = pg_ldt(PG_SPOT, 6, 1, 24, 37, 2, &n);
+    char *bad = replaced(text, "\n2\nLED 2\n", "\nLED\nLED 2\n");
+    refused(bad, LUMIS_ERR_CORRUPT,
+            "t.ies:33: the number of lamps of set 2: 'LED' is not a number");
+    free(bad);
+    free(text);
+}
+
+/* A flux more than 2 % off the file's declared lamp flux x LOR is said, as a warning (the
+ * read succeeds); one that agrees is not. */
+static void ldt_declared_flux_is_checked(void **state)
+{
+    (void)state;
+    size_t n = 0;
+    char *text = pg_ldt(PG_LAMBERT, 0, 1, 24, 181, 1, &n);
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    assert_int_equal(try_read(text, n, &sink, &f), LUMIS_OK);
+    /* I0 cos over the lower hemisphere: pi I0 lm of the 1000 declared x 80 % */
+    const double flux = pg_flux(PG_LAMBERT, 0);
+    assert_true(fabs(flux - 800) > 16);
+    assert_non_null(strstr(f->warning, "off the 800 lm the file declares"));
+    assert_int_equal(sink.status, LUMIS_OK);
+    assert_non_null(strstr(sink.last, "declares"));
+    lumis_photometric_file_destroy(f);
+    /* the LOR the table really has */
+    char lor[32];
+    snprintf(lor, sizeof lor, "\n%.6f\n", 100.0 * flux / 1000.0);
+    char *good = replaced(text, "\n80\n", lor);
+    assert_int_equal(try_read(good, strlen(good), &sink, &f), LUMIS_OK);
+    assert_string_equal(f->warning, "");
+    assert_int_equal(sink.count, 0);
+    lumis_photometric_file_destroy(f);
+    free(good);
+    free(text);
+}
+
+/* Latin-1 bytes in a header become UTF-8; control characters blanks. */
+static void latin1_headers_become_utf8(void **state)
+{
+    (void)state;
+    char *text = ies_text(&lambert);
+    char *l1 = replaced(text, "[LUMINAIRE] analytic 0", "[LUMINAIRE] Spot 30\xb0\xa0\x01wide");
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    assert_int_equal(try_read(l1, strlen(l1), &sink, &f), LUMIS_OK);
+    assert_string_equal(f->luminaire, "Spot 30\xc2\xb0\xc2\xa0 wide continued here");
+    lumis_photometric_file_destroy(f);
+    /* valid UTF-8 is kept as it is */
+    char *u8 = replaced(text, "[LUMINAIRE] analytic 0", "[LUMINAIRE] Spot 30\xc2\xb0");
+    assert_int_equal(try_read(u8, strlen(u8), &sink, &f), LUMIS_OK);
+    assert_string_equal(f->luminaire, "Spot 30\xc2\xb0 continued here");
+    lumis_photometric_file_destroy(f);
+    free(u8);
+    free(l1);
+    free(text);
+}
+
+/* LM-63-1995's round opening: negative width, zero length. */
+static void ies_1995_round_opening(void **state)
+{
+    (void)state;
+    pg_ies_spec s = lambert;
+    s.first_line = "IESNA:LM-63-1995";
+    s.width = -0.4;
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    char *text = ies_text(&s);
+    assert_int_equal(try_read(text, strlen(text), &sink, &f), LUMIS_OK);
+    lumis_photometric_info in;
+    lumis_photometric_get_info(f->model, &in);
+    assert_int_equal(in.shape, LUMIS_SHAPE_DISK);
+    assert_true(fabs(in.width - 0.4) < 1e-12 && fabs(in.length - 0.4) < 1e-12);
+    lumis_photometric_file_destroy(f);
+    free(text);
+}
+
+/* A rotationally symmetric table of f(gamma) at 0.25 degrees. */
+static lumis_photometric *rotational(double (*fn)(double g))
+{
+    enum { N = 721 };
+    double v[N], cd[N], h = 0;
+    for (int j = 0; j < N; j++) {
+        v[j] = 0.25 * j;
+        cd[j] = fn(v[j] * PI / 180);
+    }
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = N;
+    d.nh = 1;
+    d.v_deg = v;
+    d.h_deg = &h;
+    d.candela = cd;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    return p;
+}
+
+static double up8(double g)
+{
+    return cos(g) < 0 ? pow(-cos(g), 8) : 0.0;
+}
+static double down_up(double g) /* a pendant: cos^4 down, twice as strong cos^4 up */
+{
+    return pow(fabs(cos(g)), 4) * (cos(g) < 0 ? 2.0 : 1.0);
+}
+static double wide(double g)
+{
+    return 1 + 0.5 * cos(g);
+} /* 0.5 to 1.5: lit all round */
+
+/* Beam and field angles on the whole circle of each plane: an uplight's beam spans the
+ * zenith; a pendant's widths are its stronger, upward lobe's; a lamp lit all round gets
+ * 360 where every direction is above the share. */
+static void beam_and_field_over_the_whole_circle(void **state)
+{
+    (void)state;
+    const struct {
+        double (*fn)(double);
+        double beam, field;
+    } cases[] = {
+        {up8, 2 * acos(pow(0.5, 1.0 / 8)), 2 * acos(pow(0.1, 1.0 / 8))},
+        /* the upper lobe: 2 cos^4 >= share x 2 */
+        {down_up, 2 * acos(pow(0.5, 0.25)), 2 * acos(pow(0.1, 0.25))},
+        /* 1 + cos/2 >= 0.75: gamma <= 120 (both sides); >= 0.15 everywhere */
+        {wide, 2 * 2 * PI / 3, 2 * PI},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        lumis_photometric *p = rotational(cases[k].fn);
+        lumis_photometric_info in;
+        lumis_photometric_get_info(p, &in);
+        for (int plane = 0; plane < 2; plane++) {
+            const double beam = cases[k].beam * 180 / PI, field = cases[k].field * 180 / PI;
+            if (fabs(in.beam_deg[plane] - beam) > 0.1 || fabs(in.field_deg[plane] - field) > 0.1)
+                fail_msg("case %zu plane %d: beam %.3f field %.3f, want %.3f %.3f", k, plane,
+                         in.beam_deg[plane], in.field_deg[plane], beam, field);
+        }
+        lumis_photometric_destroy(p);
+    }
+}
+
+/* Inputs that crashed, hung or were read as something they are not. */
+static void bad_inputs_are_refused(void **state)
+{
+    (void)state;
+    /* a lone byte-order mark, and with line ends after it */
+    const char *boms[] = {"\xef\xbb\xbf", "\xef\xbb\xbf\r", "\xef\xbb\xbf\r\n", "\xef\xbb\xbf\n\n"};
+    for (size_t k = 0; k < 4; k++) refused(boms[k], LUMIS_ERR_UNKNOWN_FORMAT, "not a photometric");
+    char *text = ies_text(&lambert);
+    char *t;
+    /* numbers as C reads them but the formats do not write them */
+    t = replaced(text, "\r\n1.0 1.0 50\r\n", "\r\n1.0 1.0 0x32\r\n");
+    refused(t, LUMIS_ERR_CORRUPT, "the input watts: '0x32' is not a number");
+    free(t);
+    t = replaced(text, "\r\n1.0 1.0 50\r\n", "\r\n1.0 inf 50\r\n");
+    refused(t, LUMIS_ERR_CORRUPT, "'inf' is not a number");
+    free(t);
+    /* TILT=NONEXYZ names a tilt file, not NONE */
+    t = replaced(text, "TILT=NONE", "TILT=NONEXYZ");
+    refused(t, LUMIS_ERR_UNSUPPORTED, "TILT=NONEXYZ: a tilt table in another file");
+    free(t);
+    /* factors <= 0 are not taken as 1 */
+    t = replaced(text, "1 1000 1 ", "1 1000 0 ");
+    refused(t, LUMIS_ERR_CORRUPT, "t.ies:8: the candela multiplier is 0: expected > 0");
+    free(t);
+    t = replaced(text, "\r\n1.0 1.0 50\r\n", "\r\n0 1.0 50\r\n");
+    refused(t, LUMIS_ERR_CORRUPT, "the ballast factor is 0");
+    free(t);
+    /* negative lumens other than -1 (absolute photometry) */
+    t = replaced(text, "1 1000 1 ", "1 -5 1 ");
+    refused(t, LUMIS_ERR_CORRUPT, "the lumens per lamp is -5: expected > 0, or -1");
+    free(t);
+    t = replaced(text, "1 1000 1 ", "1 -1 1 ");
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    assert_int_equal(try_read(t, strlen(t), &sink, &f), LUMIS_OK);
+    lumis_photometric_info in;
+    lumis_photometric_get_info(f->model, &in);
+    assert_true(in.lamp_lumens <= 0);
+    lumis_photometric_file_destroy(f);
+    free(t);
+    /* candela x multiplier beyond a double */
+    t = replaced(text, "1 1000 1 ", "1 1000 1e300 ");
+    refused(t, LUMIS_ERR_TOO_LARGE, "overflow");
+    free(t);
+    /* symmetry errors of the model name the file and the line of the angles */
+    pg_ies_spec s = lambert;
+    s.nh = 3;
+    s.h1 = 45;
+    char *q = ies_text(&s);
+    refused(q, LUMIS_ERR_CORRUPT, "t.ies:12: horizontal angles from 0 to 45");
+    free(q);
+    free(text);
+    /* a table of zeros */
+    pg_ies_spec z = lambert;
+    z.v0 = 95; /* the Lambertian is 0 above the horizon */
+    z.v1 = 180;
+    q = ies_text(&z);
+    refused(q, LUMIS_ERR_CORRUPT, "every one of its 19 intensity values is 0");
+    free(q);
+    /* EULUMDAT: symmetry 3 (C90-C270) with two planes, C0 and C180 */
+    size_t n = 0;
+    char *ldt = pg_ldt(PG_LAMBERT, 0, 2, 2, 19, 1, &n);
+    char *s3 = replaced(ldt, "\n2\n2\n", "\n3\n2\n");
+    refused(s3, LUMIS_ERR_CORRUPT, "symmetry 3 gives the planes C90 to C270");
+    free(s3);
+    /* conversion factor 0 */
+    char *c0 = replaced(ldt, "\n80\n1\n", "\n80\n0\n");
+    refused(c0, LUMIS_ERR_CORRUPT, "t.ies:24: the conversion factor for intensities is 0");
+    free(c0);
+    free(ldt);
+}
+
+/* A FIFO is refused at once, not waited on. */
+static void fifo_is_refused(void **state)
+{
+    (void)state;
+    char path[] = "/tmp/lumis-fifo-XXXXXX";
+    char *dir = mkdtemp(path);
+    assert_non_null(dir);
+    char fifo[64];
+    snprintf(fifo, sizeof fifo, "%s/f.ies", dir);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_photometric_file *f = NULL;
+    assert_int_equal(lumis_photometric_read(fifo, &sink.sink, &f), LUMIS_ERR_OPEN);
+    assert_non_null(strstr(sink.last, "not a regular file"));
+    unlink(fifo);
+    rmdir(dir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(ldt_lamp_sets_set_by_set),
+        cmocka_unit_test(ldt_declared_flux_is_checked),
+        cmocka_unit_test(latin1_headers_become_utf8),
+        cmocka_unit_test(ies_1995_round_opening),
+        cmocka_unit_test(beam_and_field_over_the_whole_circle),
+        cmocka_unit_test(bad_inputs_are_refused),
+        cmocka_unit_test(fifo_is_refused),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
