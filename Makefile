@@ -55,6 +55,9 @@ fuzz: deps
 	  -DLUMIS_BUILD_TESTS=OFF -DLUMIS_BUILD_BENCH=OFF
 	cmake --build build-fuzz -j$(JOBS)
 	build-fuzz/fuzz/fuzz_make_corpus build-fuzz/corpus
+	@# the real files of the test corpus too (tests/data/photometric/README.md)
+	@for f in tests/data/photometric/*.ies tests/data/photometric/*.ldt; do \
+	  [ -f "$$f" ] && cp "$$f" "build-fuzz/corpus/$${f##*.}/real-$${f##*/}" || true; done
 	@for f in $(FUZZERS); do fmt=$${f#fuzz_}; log=build-fuzz/$$f.log; \
 	  mkdir -p build-fuzz/artifacts/$$fmt; echo "== $$f: $(FUZZ_SECONDS) s (log: $$log)"; \
 	  if build-fuzz/fuzz/$$f build-fuzz/corpus/$$fmt -max_total_time=$(FUZZ_SECONDS) \

@@ -106,8 +106,51 @@ static int write_luminaire_seeds(const char *dir)
     return failed | (n == 0) | write_text(path, text, n);
 }
 
+/* text's line ends as `eol` ("\n", "\r" or "\r\n"), after a UTF-8 byte-order mark if bom,
+ * written to path: the forms real files come in (a lone BOM crashed the readers once). */
+static int write_variant(const char *path, const char *text, size_t n, const char *eol, int bom)
+{
+    char *out = malloc(2 * n + 4);
+    if (!out) return 1;
+    size_t o = 0;
+    if (bom) memcpy(out, "\xef\xbb\xbf", 3), o = 3;
+    for (size_t k = 0; k < n; k++) {
+        if (text[k] == '\r' && k + 1 < n && text[k + 1] == '\n') continue;
+        if (text[k] == '\n' || text[k] == '\r') {
+            memcpy(out + o, eol, strlen(eol));
+            o += strlen(eol);
+        } else {
+            out[o++] = text[k];
+        }
+    }
+    const int failed = write_text(path, out, o);
+    free(out);
+    return failed;
+}
+
+/* Each line-end form of text, with and without a BOM, as DIR/SUB/NAME-VARIANT.EXT. */
+static int write_variants(const char *dir, const char *sub, const char *name, const char *text,
+                          size_t n)
+{
+    static const char *const eols[] = {"\n", "\r", "\r\n"};
+    static const char *const tags[] = {"lf", "cr", "crlf"};
+    int failed = 0;
+    char path[4200];
+    for (int e = 0; e < 3; e++)
+        for (int bom = 0; bom < 2; bom++) {
+            snprintf(path, sizeof path, "%s/%s/%s-%s%s.%s", dir, sub, name, tags[e],
+                     bom ? "-bom" : "", sub);
+            failed |= write_variant(path, text, n, eols[e], bom);
+        }
+    snprintf(path, sizeof path, "%s/%s/%s-bom-only.%s", dir, sub, name, sub);
+    failed |= write_text(path, "\xef\xbb\xbf", 3);
+    return failed;
+}
+
 /* Photometric seeds: IES in every header year, types C, B and A, each horizontal form,
- * TILT=INCLUDE, every shape; EULUMDAT with every symmetry indicator. */
+ * TILT=INCLUDE, every shape; EULUMDAT with every symmetry indicator; each line-end form
+ * with and without a BOM, and a Latin-1 header.  The Makefile adds the real files of
+ * tests/data/photometric/. */
 static int write_photometric_seeds(const char *dir)
 {
     static const char *const firsts[] = {NULL, "IESNA91", "IESNA:LM-63-1995", "IESNA:LM-63-2002",
@@ -158,8 +201,20 @@ static int write_photometric_seeds(const char *dir)
         char *text = pg_ldt(PG_QUAD, 0.5, isym, 8, 7, 1 + isym % 2, &n);
         snprintf(path, sizeof path, "%s/ldt/seed%d.ldt", dir, isym);
         failed |= !text || write_text(path, text, n);
+        if (text && isym == 2) failed |= write_variants(dir, "ldt", "forms", text, n);
         free(text);
     }
+    pg_ies_spec s = {PG_SPOT, 4, "IESNA:LM-63-1995", 1, 7, 0, 90, 1, 0, 0, 1, 0, -0.3, 0, 0, 2};
+    size_t n = 0;
+    char *text = pg_ies(&s, &n);
+    failed |= !text || write_variants(dir, "ies", "forms", text, n);
+    char *deg = text ? strstr(text, "[LAMP] none") : NULL;
+    if (deg) {
+        memcpy(deg, "[LAMP] 30\xb0 ", 11); /* a Latin-1 degree sign, as older files have */
+        snprintf(path, sizeof path, "%s/ies/latin1.ies", dir);
+        failed |= write_text(path, text, n);
+    }
+    free(text);
     return failed;
 }
 
