@@ -110,15 +110,18 @@ static void ldt_declared_flux_is_checked(void **state)
     assert_int_equal(sink.status, LUMIS_OK);
     assert_non_null(strstr(sink.last, "declares"));
     lumis_photometric_file_destroy(f);
-    /* the LOR the table really has */
-    char lor[32];
-    snprintf(lor, sizeof lor, "\n%.6f\n", 100.0 * flux / 1000.0);
-    char *good = replaced(text, "\n80\n", lor);
-    assert_int_equal(try_read(good, strlen(good), &sink, &f), LUMIS_OK);
-    assert_string_equal(f->warning, "");
-    assert_int_equal(sink.count, 0);
-    lumis_photometric_file_destroy(f);
-    free(good);
+    /* the LOR the table really has, 1 % off it (silent) and 5 % off it (said) */
+    const double offs[] = {1.0, 1.01, 0.99, 1.05, 0.95};
+    for (int k = 0; k < 5; k++) {
+        char lor[32];
+        snprintf(lor, sizeof lor, "\n%.6f\n", 100.0 * flux / 1000.0 * offs[k]);
+        char *patched = replaced(text, "\n80\n", lor);
+        assert_int_equal(try_read(patched, strlen(patched), &sink, &f), LUMIS_OK);
+        if ((f->warning[0] != 0) != (k >= 3) || sink.count != (k >= 3))
+            fail_msg("declared x %g: warning '%s' (%d messages)", offs[k], f->warning, sink.count);
+        lumis_photometric_file_destroy(f);
+        free(patched);
+    }
     free(text);
 }
 
@@ -245,6 +248,18 @@ static void bad_inputs_are_refused(void **state)
     /* TILT=NONEXYZ names a tilt file, not NONE */
     t = replaced(text, "TILT=NONE", "TILT=NONEXYZ");
     refused(t, LUMIS_ERR_UNSUPPORTED, "TILT=NONEXYZ: a tilt table in another file");
+    free(t);
+    /* an end mark after the table is not a value; a number is */
+    size_t len = strlen(text);
+    t = malloc(len + 16);
+    memcpy(t, text, len);
+    memcpy(t + len, "END\r\n\x1a", 7);
+    tu_sink es;
+    lumis_photometric_file *ef = NULL;
+    if (try_read(t, len + 6, &es, &ef) != LUMIS_OK) fail_msg("END ^Z: %s", es.last);
+    lumis_photometric_file_destroy(ef);
+    memcpy(t + len, "END 5\r\n", 8);
+    refused(t, LUMIS_ERR_CORRUPT, "more values after the 1 x 19 candela values");
     free(t);
     /* factors <= 0 are not taken as 1 */
     t = replaced(text, "1 1000 1 ", "1 1000 0 ");

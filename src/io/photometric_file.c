@@ -89,6 +89,19 @@ static char *next_token(cursor *c)
     return NULL;
 }
 
+/* Whether anything but an end mark follows the table: some writers end their files with
+ * a line "END" and DOS's end-of-file byte (^Z), which are not values. */
+static int trailing_value(cursor *c)
+{
+    for (char *s; (s = next_token(c)) != NULL;) {
+        const size_t len = strcspn(s, " \t\v\f,");
+        const int end_mark = (len == 3 && strncmp(s, "END", 3) == 0) || strspn(s, "\x1a") == len;
+        if (!end_mark) return 1;
+        c->p = s + len;
+    }
+    return 0;
+}
+
 /* Reads one number for `field`; its line in *at (1-based).  Errors: the end of the file,
  * or a token that is not a number. */
 static lumis_status read_number(cursor *c, const char *field, double *v, int *at)
@@ -420,7 +433,7 @@ static lumis_status read_ies(text *t, lumis_photometric_file *f)
                              "%s:%d: %s is %g: candela cannot be negative", t->name, at, field,
                              cd[k]);
     }
-    if (st == LUMIS_OK && next_token(&c))
+    if (st == LUMIS_OK && trailing_value(&c))
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
                          "%s:%d: more values after the %d x %d candela values the counts give",
                          t->name, c.line + 1, nh, nv);
@@ -640,7 +653,7 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
                              "%s:%d: %s is %g: intensities cannot be negative", t->name, at, field,
                              cd[k]);
     }
-    if (st == LUMIS_OK && next_token(&c))
+    if (st == LUMIS_OK && trailing_value(&c))
         st = lumis__fail(t->errors, LUMIS_ERR_CORRUPT,
                          "%s:%d: more values after the %d x %d intensities symmetry %d gives",
                          t->name, c.line + 1, planes, ng, isym);
