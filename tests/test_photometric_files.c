@@ -93,7 +93,7 @@ static void ldt_lamp_sets_set_by_set(void **state)
     free(text);
 }
 
-/* A flux more than 2 % off the file's declared lamp flux x LOR is said, as a warning (the
+/* A flux more than 3 % off the file's declared lamp flux x LOR is said, as a warning (the
  * read succeeds); one that agrees is not. */
 static void ldt_declared_flux_is_checked(void **state)
 {

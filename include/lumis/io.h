@@ -294,8 +294,8 @@ typedef struct lumis_photometric_file {
 } lumis_photometric_file;
 
 /* The share by which a table's flux may differ from its file's declared flux before the
- * reader warns (real files agree to 0.2 %). */
-#define LUMIS_PHOTOMETRIC_FLUX_TOLERANCE 0.02
+ * reader warns (manufacturers' files of the test corpus agree to 0.1-2.4 %). */
+#define LUMIS_PHOTOMETRIC_FLUX_TOLERANCE 0.03
 
 lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
                                     lumis_photometric_file **out);
