@@ -710,7 +710,7 @@ static void aimed_fixtures_over_a_floor(void **state)
     flood_a.type = 3;
     lumis_photometric_file *f[3] = {load(&road), load(&flood_b), load(&flood_a)};
     lumis_scene *s = yfloor();
-    const double tilts[] = {15, 40, 64.2, 75};
+    const double tilts[] = {15, 40, 64, 75}; /* 64 to 64.5: the old jump at 64.16 */
     const double azimuths[] = {0, 90, 210};
     const double rolls[] = {0, 30};
     double worst[3] = {0, 0, 0};
