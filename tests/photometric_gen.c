@@ -15,6 +15,8 @@ double pg_intensity(pg_dist d, double a, double c_deg, double g_deg)
 {
     const double g = g_deg * DEG, c = c_deg * DEG, cg = cos(g), sg = sin(g);
     if (d == PG_AIMED) return cg > 0 ? I0 * cg : 0.0; /* g: the angle to the aim */
+    if (d == PG_FLOOD)                                /* (c, g) = (H, V) */
+        return fabs(c_deg) <= 90 && fabs(g_deg) <= 90 ? I0 * cos(c) * pow(fabs(cg), a) : 0.0;
     if (cg <= 0) return 0.0;
     switch (d) {
     case PG_LAMBERT:
@@ -106,8 +108,9 @@ char *pg_ies(const pg_ies_spec *s, size_t *size)
         const double h = s->nh == 1 ? s->h0 : s->h0 + (s->h1 - s->h0) * i / (s->nh - 1);
         for (int j = 0; j < s->nv; j++) {
             const double v = s->v0 + (s->v1 - s->v0) * j / (s->nv - 1);
-            const double I = s->type == 1 ? pg_intensity(s->dist, s->param, h, v)
-                                          : pg_intensity(PG_AIMED, 0, 0, aim_angle(s->type, h, v));
+            const double I = s->type == 1 || s->dist == PG_FLOOD
+                                 ? pg_intensity(s->dist, s->param, h, v)
+                                 : pg_intensity(PG_AIMED, 0, 0, aim_angle(s->type, h, v));
             put(&b, "%.10g%s", I / m, j % 8 == 7 ? "\r\n" : " ");
         }
         put(&b, "\r\n");

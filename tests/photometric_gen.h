@@ -12,13 +12,16 @@ typedef enum pg_dist {
     PG_ROAD,    /* I0 cos g (1 + b sin g cos C) (type C, no symmetry), b = param <= 1: pi I0 */
     PG_QUAD,    /* I0 cos g (1 + b sin g cos^2 C) (symmetric about both planes): pi I0 (1 + b/3) */
     PG_AIMED,   /* types A, B: I0 times the cosine to the aim (front hemisphere): pi I0 */
-    PG_LINEAR   /* I0 cos g (1 + b sin^2 g sin^2 C), wider across C90 and smooth at the aim
+    PG_LINEAR,  /* I0 cos g (1 + b sin^2 g sin^2 C), wider across C90 and smooth at the aim
                    (a linear fixture): pi I0 (1 + b/4) */
+    PG_FLOOD    /* types A, B: I0 cos H cos^n V, n = param (|H|, |V| <= 90): a floodlight
+                   wide across (H, towards the lateral axis y), narrow up and down (V,
+                   towards its top x); its flux depends on the type (pg_flux: 0) */
 } pg_dist;
 
 /* Intensity (cd, I0 = 1000) in the luminaire frame's angles: type C (C, gamma); for
  * PG_AIMED the cosine of the angle to -z whatever the angles' type (the caller passes the
- * direction's z). */
+ * direction's z); for PG_FLOOD the table's own (H, V) of type A or B. */
 double pg_intensity(pg_dist d, double param, double c_deg, double g_deg);
 double pg_flux(pg_dist d, double param);
 

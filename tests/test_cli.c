@@ -2651,7 +2651,7 @@ static void render_places_photometric_fixtures(void **state)
         "\"size\": 10,"
         " \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}],"
         " \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 2, 0]},"
-        " {\"file\": \"fx.ies\", \"position\": [1, 2, 0], \"aim\": [2, 0, 0], \"roll_deg\": 10,"
+        " {\"file\": \"fx.ies\", \"position\": [1, 2, 0], \"aim\": [2, 0, 0], \"up\": [0, 0, 1],"
         " \"multiplier\": 0.5, \"area\": true},"
         " {\"file\": \"none.ies\", \"position\": [0, 2, 0], \"multiplier\": 0}]}";
     tu_write_file(tu_path("fx.json"), scene, strlen(scene));
@@ -2676,6 +2676,12 @@ static void render_places_photometric_fixtures(void **state)
     assert_string_equal(
         cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(fx, 1), "model")->valuestring,
         "opening");
+    { /* "up" perpendicular to the aim is the fixture's local +x (the rotation's first column) */
+        const cJSON *r = cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(fx, 1), "rotation");
+        assert_true(fabs(cJSON_GetArrayItem(r, 0)->valuedouble) < 1e-6 &&
+                    fabs(cJSON_GetArrayItem(r, 3)->valuedouble) < 1e-6 &&
+                    fabs(cJSON_GetArrayItem(r, 6)->valuedouble - 1) < 1e-6);
+    }
     assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "method")->valuestring, "photometric");
     assert_true(cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "photometric_files")) == 1);
     cJSON_Delete(j);
@@ -2705,10 +2711,37 @@ static void render_places_photometric_fixtures(void **state)
     const cJSON *e0 = cJSON_GetArrayItem(fx, 0);
     assert_true(cJSON_GetObjectItemCaseSensitive(e0, "multiplier")->valuedouble == 2.0);
     assert_string_equal(cJSON_GetObjectItemCaseSensitive(e0, "model")->valuestring, "opening");
+    { /* type C aimed at (0, -3, -1): C0 stays +x (tilted from hanging towards -z) */
+        const cJSON *r = cJSON_GetObjectItemCaseSensitive(e0, "rotation");
+        assert_true(fabs(cJSON_GetArrayItem(r, 0)->valuedouble - 1) < 1e-6);
+    }
     assert_string_equal(
         cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "photometric_files"), 0)
             ->valuestring,
         tu_path("fx.ies"));
+    cJSON_Delete(j);
+    /* a type B floodlight aimed the same way hangs on a yoke: its top (+x) above the aim, its
+     * lateral axis (+y) horizontal */
+    pg_ies_spec sb = {PG_FLOOD, 8, "IESNA:LM-63-2002", 2, 19, -90, 90, 19, -90, 90, 0, 0, 0, 0,
+                      0,        2};
+    text = pg_ies(&sb, &n);
+    tu_write_file(tu_path("fxb.ies"), text, n);
+    free(text);
+    snprintf(a, sizeof a,
+             "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+             "--size 16x12 --spp 1 -o '%s'",
+             tu_path("fxb.ies"), tu_path("clib.exr"));
+    expect(a, 0, "1 photometric fixture");
+    side = (char *)tu_read_file(tu_path("clib.json"), &sn);
+    assert_non_null(side);
+    j = cJSON_Parse(side);
+    free(side);
+    {
+        const cJSON *r = cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "photometric"), 0), "rotation");
+        assert_true(fabs(cJSON_GetArrayItem(r, 3)->valuedouble - 1 / sqrt(10.0)) < 1e-6 &&
+                    fabs(cJSON_GetArrayItem(r, 4)->valuedouble) < 1e-9);
+    }
     cJSON_Delete(j);
     static const char *const usage[][2] = {
         {"--fixture '%s'", "needs --fixture-at X,Y,Z"},
@@ -2718,6 +2751,10 @@ static void render_places_photometric_fixtures(void **state)
          "a point other than --fixture-at"},
         {"--fixture '%s' --fixture-at 0,1,0 --env sky", "--fixture lights the scene by itself"},
         {"--fixture '%s' --fixture-at 0,1,0 --fixture-multiplier -1", "--fixture-multiplier"},
+        {"--fixture '%s' --fixture-at 0,1,0 --fixture-up 0,1", "--fixture-up"},
+        {"--fixture '%s' --fixture-at 0,1,0 --fixture-up 0,2,0",
+         "--fixture-up: a direction not along the aim"},
+        {"--fixture-up 1,0,0", "need --fixture FILE"},
     };
     for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {
         char opts[1024];
@@ -2741,6 +2778,15 @@ static void render_places_photometric_fixtures(void **state)
          "\"colour\": 1}]}",
          "photometric[0].colour"},
         {"{\"objects\": [], \"photometric\": {}}", "photometric: expected an array"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"up\": [0, -2, 0]}]}",
+         "photometric[0].up: expected a direction not along the aim"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"aim\": [3, 1, 0], \"c0\": [-1, 0, 0]}]}",
+         "photometric[0].c0: expected a direction not along the aim"},
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"up\": [1, 0, 0], \"c0\": [1, 0, 0]}]}",
+         "photometric[0].c0: expected up or c0, not both"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         tu_write_file(tu_path("bad-fx.json"), bad[k][0], strlen(bad[k][0]));

@@ -4,7 +4,9 @@
  *
  * Frame: the luminaire's own.  Its aim (photometric zero for type C, the photometric
  * centre for types A and B) is -z; +x is the C0 direction (type C) and "up" (types A, B);
- * +y is C90 (type C, counter-clockwise seen from above) and the lateral axis (A, B).
+ * +y is C90 (type C, counter-clockwise seen from above) and the lateral axis (A, B).  A
+ * scene places it by a rotation from lumis_photometric_orient (lumis/render.h): a type C
+ * fixture hangs (C0 +x), a type A or B one sits on a yoke (its top above the aim).
  *
  *   type C: planes around the vertical axis.  gamma from -z (nadir, 0) to +z (180), C
  *           counter-clockwise from +x:   d = (sin g cos C, sin g sin C, -cos g)

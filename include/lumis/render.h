@@ -165,10 +165,26 @@ typedef struct lumis_photometric_lighting {
     int count;
 } lumis_photometric_lighting;
 
-/* The rotation that aims local -z along `aim` (a direction), with local +x (C0) turned
- * `roll_deg` about the aim from the world axis closest to perpendicular to it among +x and
- * +z.  LUMIS_ERR_INVALID_ARGUMENT for a zero or non-finite aim. */
-lumis_status lumis_photometric_aim(lumis_vec3 aim, double roll_deg, double R[9]);
+/* A fixture's rotation (world = R local, row-major) for a file of photometric `type`: local
+ * -z along `aim` (a direction), local +x (C0 for type C; the fixture's top for types A and
+ * B: lumis/photometry.h) chosen as follows, then turned `roll_deg` about the aim (+x towards
+ * +y: counter-clockwise seen from behind the fixture).  With a = aim / |aim|:
+ *  - `up` given: +x = up made perpendicular to the aim, (u - (u.a) a) / |...|.
+ *  - type C: the hanging pose (aim -y, C0 +x, C90 -z) turned by the smallest rotation that
+ *    takes -y to a (about (-a.z, 0, a.x)): C0 = (1 - a.x^2 / (1 - a.y), a.x,
+ *    -a.x a.z / (1 - a.y)).  Continuous in the aim except at straight up (+y), where the
+ *    frame is the half turn about x: C0 +x, C90 +z.
+ *  - types A, B: a yoke.  The lateral axis (local +y) is horizontal, (a.z, 0, -a.x) / h with
+ *    h = sqrt(a.x^2 + a.z^2), and +x (up) points above the aim, so a horizontal beam stays
+ *    horizontal however the fixture is panned and tilted.  Continuous except at straight
+ *    up and down (h < 1e-9): there +x is world +x.
+ * Turning the aim and `up` about any axis turns R with them; without `up` so does any turn
+ * of a floodlight (A, B) about y, while a type C fixture keeps its C0 as it tilts
+ * (docs/photometric.md, "Aiming a fixture", has the figure).  LUMIS_ERR_INVALID_ARGUMENT
+ * (R unchanged) for an unknown type, a zero or non-finite aim or roll, or an `up` that is
+ * zero, not finite or within 1e-6 (sine) of the aim's line. */
+lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
+                                      const lumis_vec3 *up, double roll_deg, double R[9]);
 
 typedef struct lumis_render_desc {
     const lumis_camera *camera;

@@ -231,19 +231,46 @@ const lumis__light_kind lumis__light_photometric = {
     "photometric fixtures", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
 };
 
-lumis_status lumis_photometric_aim(lumis_vec3 aim, double roll_deg, double R[9])
+/* The frame docs/photometric.md ("Aiming a fixture") states: local -z along the aim; local
+ * +x from `up` when given (projected perpendicular to the aim), else by the type: type C
+ * the hanging pose (aim -y, C0 +x) turned by the smallest rotation taking -y to the aim;
+ * types A and B a yoke (up: world +y made perpendicular to the aim, the lateral axis
+ * horizontal); then rolled about the aim. */
+lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
+                                      const lumis_vec3 *up, double roll_deg, double R[9])
 {
+    if (type != LUMIS_PHOTOMETRIC_A && type != LUMIS_PHOTOMETRIC_B && type != LUMIS_PHOTOMETRIC_C)
+        return LUMIS_ERR_INVALID_ARGUMENT;
     v3 a = fromf(aim);
     const double len = sqrt(dot(a, a));
     if (!(len > 0.0) || !isfinite(len) || !isfinite(roll_deg)) return LUMIS_ERR_INVALID_ARGUMENT;
     a = mul(a, 1.0 / len);
     const v3 z = mul(a, -1.0); /* local +z */
-    /* local +x: the world axis (+x, else +z) made perpendicular to the aim, then rolled */
-    v3 ref = fabs(a.x) < 0.9 ? mk(1, 0, 0) : mk(0, 0, 1);
-    v3 x = norm(sub(ref, mul(z, dot(ref, z))));
-    v3 y = cross(z, x);
+    /* the aim's horizontal length: below 1e-9 (5.7e-8 degrees) it is vertical */
+    const double h2 = a.x * a.x + a.z * a.z, h = sqrt(h2);
+    v3 x;
+    if (up) { /* as close to `up` as the aim allows */
+        const v3 u = fromf(*up);
+        const double ul = sqrt(dot(u, u));
+        if (!(ul > 0.0) || !isfinite(ul)) return LUMIS_ERR_INVALID_ARGUMENT;
+        x = sub(u, mul(a, dot(u, a)));
+        if (!(sqrt(dot(x, x)) > 1e-6 * ul)) return LUMIS_ERR_INVALID_ARGUMENT;
+    } else if (type == LUMIS_PHOTOMETRIC_C) {
+        /* +x under the rotation about (-a.z, 0, a.x) by acos(-a.y): 1 - a.y written as
+         * h^2 / (1 + a.y) above the horizon, where the difference would cancel */
+        const double d = a.y <= 0.0 ? 1.0 - a.y : h2 / (1.0 + a.y);
+        x = a.y > 0.0 && h <= 1e-9 ? mk(1, 0, 0) /* straight up: the half turn about x */
+                                   : mk(1.0 - a.x * a.x / d, a.x, -a.x * a.z / d);
+    } else if (h > 1e-9) { /* a yoke: the lateral axis horizontal, up towards +y */
+        const v3 lateral = mk(a.z / h, 0.0, -a.x / h);
+        x = cross(lateral, z);
+    } else {
+        x = mk(1, 0, 0); /* straight up or down: the top towards +x */
+    }
+    x = norm(sub(x, mul(z, dot(x, z))));
+    const v3 y = cross(z, x);
     const double rr = roll_deg * LUMIS_PI / 180.0, cr = cos(rr), sr = sin(rr);
-    const v3 xr = add(mul(x, cr), mul(y, sr)), yr = cross(z, xr);
+    const v3 xr = norm(add(mul(x, cr), mul(y, sr))), yr = cross(z, xr);
     /* columns x, y, z: world = R local */
     R[0] = xr.x, R[1] = yr.x, R[2] = z.x;
     R[3] = xr.y, R[4] = yr.y, R[5] = z.y;

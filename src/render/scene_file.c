@@ -725,16 +725,18 @@ static lumis_photometric_file *photometric_file(const parser *p, const char *pat
 }
 
 /* photometric[k]: {"file": "fixture.ies" | "fixture.ldt", "position": [x, y, z], "aim":
- * [x, y, z] (a point it aims at; default straight down, -y), "roll_deg", "multiplier",
- * "area" (true: the file's disk or rectangle opening, else a point)}. */
+ * [x, y, z] (a point it aims at; default straight down, -y), "up" or "c0" (a direction
+ * for local +x: the fixture's top, C0 for type C; default by the file's type:
+ * lumis_photometric_orient), "roll_deg", "multiplier", "area" (true: the file's disk or
+ * rectangle opening, else a point)}. */
 static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
 {
     char path[64], at[256];
     snprintf(path, sizeof path, "photometric[%d]", k);
     if (!cJSON_IsObject(j))
-        return bad(p, path, "an object with file, position, aim, roll_deg, multiplier, area");
-    static const char *const keys[] = {"file",       "position", "aim", "roll_deg",
-                                       "multiplier", "area",     NULL};
+        return bad(p, path, "an object with file, position, aim, up, roll_deg, multiplier, area");
+    static const char *const keys[] = {"file",     "position",   "aim",  "up", "c0",
+                                       "roll_deg", "multiplier", "area", NULL};
     lumis_status st = check_keys(p, j, path, keys);
     if (st != LUMIS_OK) return st;
     const cJSON *file = cJSON_GetObjectItemCaseSensitive(j, "file");
@@ -748,6 +750,15 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
     aim[1] = pos[1] - 1.0f;
     aim[2] = pos[2];
     if ((st = get_vec3(p, j, "aim", path, 0, aim)) != LUMIS_OK) return st;
+    /* local +x: "up" (a floodlight's top) and "c0" (a downlight's C0) are one field */
+    const char *up_key = cJSON_GetObjectItemCaseSensitive(j, "c0") ? "c0" : "up";
+    if (cJSON_GetObjectItemCaseSensitive(j, "c0") && cJSON_GetObjectItemCaseSensitive(j, "up")) {
+        join(at, sizeof at, path, "c0");
+        return bad(p, at, "up or c0, not both (the same direction: the fixture's local +x)");
+    }
+    float upv[3];
+    int has_up = cJSON_GetObjectItemCaseSensitive(j, up_key) != NULL;
+    if ((st = get_vec3(p, j, up_key, path, 0, upv)) != LUMIS_OK) return st;
     if ((st = get_number(p, j, "roll_deg", path, -36000.0, 36000.0, &roll)) != LUMIS_OK) return st;
     if ((st = get_number(p, j, "multiplier", path, 0.0, 1e30, &mult)) != LUMIS_OK) return st;
     const cJSON *area = cJSON_GetObjectItemCaseSensitive(j, "area");
@@ -756,9 +767,18 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
     lumis_photometric_instance in;
     memset(&in, 0, sizeof in);
     const lumis_vec3 dir = {aim[0] - pos[0], aim[1] - pos[1], aim[2] - pos[2]};
+    const lumis_vec3 up = {upv[0], upv[1], upv[2]}, *up_or_null = has_up ? &up : NULL;
     join(at, sizeof at, path, "aim");
-    if (lumis_photometric_aim(dir, roll, in.placement.r) != LUMIS_OK)
+    /* checked before the file is read (its type chooses the frame: not read by the
+     * fuzzer): what is refused does not depend on the type */
+    if (lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, dir, NULL, roll, in.placement.r) != LUMIS_OK)
         return bad(p, at, "a point other than the position");
+    join(at, sizeof at, path, up_key);
+    if (lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, dir, up_or_null, roll, in.placement.r) !=
+        LUMIS_OK)
+        return bad(p, at,
+                   "a direction not along the aim (the fixture's local +x is made "
+                   "perpendicular to the aim)");
     for (int a = 0; a < 3; a++) in.placement.t[a] = pos[a];
     in.multiplier = mult;
     in.area = cJSON_IsTrue(area);
@@ -771,6 +791,11 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
         return lumis__fail(p->errors, st, "%s: %s.file: cannot read photometric file %s", p->file,
                            path, full);
     in.photometric = pf->model;
+    lumis_photometric_info info;
+    lumis_photometric_get_info(pf->model, &info);
+    if ((st = lumis_photometric_orient(info.type, dir, up_or_null, roll, in.placement.r)) !=
+        LUMIS_OK)
+        return lumis__fail(p->errors, st, "%s: %s: cannot orient the fixture", p->file, path);
     lumis_scene_file *f = p->f;
     lumis_photometric_instance *g =
         realloc(f->photometrics, (size_t)(f->photometric_count + 1) * sizeof *g);

@@ -160,7 +160,7 @@ static void rotational_symmetry_gives_a_symmetric_image(void **state)
     lumis_photometric_file_destroy(f);
 }
 
-/* lumis_photometric_aim: a narrow spot aimed at a point of the floor lights it most; its
+/* lumis_photometric_orient: a narrow spot aimed at a point of the floor lights it most; its
  * frame is a proper rotation; an occluder casts a shadow the light does not reach. */
 static void aim_and_shadows(void **state)
 {
@@ -174,11 +174,13 @@ static void aim_and_shadows(void **state)
     in.placement.t[2] = 2.0;
     const double target[2] = {1.2, -0.8};
     const lumis_vec3 aim = {(float)(target[0] + 1.0), (float)target[1], -2.0f};
-    assert_int_equal(lumis_photometric_aim(aim, 30.0, in.placement.r), LUMIS_OK);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, aim, NULL, 30.0, in.placement.r),
+                     LUMIS_OK);
     assert_int_equal(lumis_rigid_check(&in.placement), LUMIS_OK);
     const lumis_vec3 zero = {0, 0, 0};
     double unused[9];
-    assert_int_equal(lumis_photometric_aim(zero, 0, unused), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, zero, NULL, 0, unused),
+                     LUMIS_ERR_INVALID_ARGUMENT);
     lumis_image *img = render(s, &in, 1, 1, LUMIS_ESTIMATOR_MIS, 1, 1);
     int bx = 0, by = 0;
     for (int y = 0; y < H; y++)
@@ -199,7 +201,9 @@ static void aim_and_shadows(void **state)
     lumis_photometric_instance tilted = in;
     tilted.photometric = rf->model;
     const lumis_vec3 aim2 = {0.5f, -0.3f, -1.0f};
-    assert_int_equal(lumis_photometric_aim(aim2, 40.0, tilted.placement.r), LUMIS_OK);
+    assert_int_equal(
+        lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, aim2, NULL, 40.0, tilted.placement.r),
+        LUMIS_OK);
     img = render(s, &tilted, 1, 1, LUMIS_ESTIMATOR_MIS, 1, 1);
     const double *R = tilted.placement.r, *T = tilted.placement.t;
     for (int y = 0; y < H; y++)
@@ -397,6 +401,453 @@ static void rectangles_estimators_and_refusals(void **state)
     lumis_photometric_file_destroy(f);
 }
 
+/* ---- aiming (lumis_photometric_orient) --------------------------------------------------- */
+
+static const lumis_photometric_type types[3] = {LUMIS_PHOTOMETRIC_C, LUMIS_PHOTOMETRIC_B,
+                                                LUMIS_PHOTOMETRIC_A};
+
+/* The unit aim tilted t degrees from straight down towards azimuth p (p 0: +x, 90: +z). */
+static lumis_vec3 tilted_aim(double t_deg, double p_deg)
+{
+    const double t = t_deg * PI / 180, p = p_deg * PI / 180;
+    return (lumis_vec3){(float)(sin(t) * cos(p)), (float)-cos(t), (float)(sin(t) * sin(p))};
+}
+
+static void orient(lumis_photometric_type type, lumis_vec3 aim, const lumis_vec3 *up, double roll,
+                   double R[9])
+{
+    if (lumis_photometric_orient(type, aim, up, roll, R) != LUMIS_OK)
+        fail_msg("orient type %d (%g, %g, %g) roll %g refused", (int)type, aim.x, aim.y, aim.z,
+                 roll);
+}
+
+/* R is a proper rotation (orthonormal, det +1) that takes local -z to the unit `aim`. */
+static void assert_frame(const double R[9], lumis_vec3 aim)
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            const double d = R[i] * R[j] + R[3 + i] * R[3 + j] + R[6 + i] * R[6 + j];
+            if (fabs(d - (i == j)) > 1e-12) fail_msg("columns %d, %d: dot %g", i, j, d);
+        }
+    const double det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) +
+                       R[2] * (R[3] * R[7] - R[4] * R[6]);
+    if (fabs(det - 1) > 1e-12) fail_msg("det %g", det);
+    const double n = sqrt((double)aim.x * aim.x + (double)aim.y * aim.y + (double)aim.z * aim.z);
+    if (fabs(-R[2] - aim.x / n) + fabs(-R[5] - aim.y / n) + fabs(-R[8] - aim.z / n) > 1e-12)
+        fail_msg("R (0, 0, -1) = (%g, %g, %g), aim (%g, %g, %g)", -R[2], -R[5], -R[8], aim.x, aim.y,
+                 aim.z);
+}
+
+static double frame_distance(const double A[9], const double B[9])
+{
+    double m = 0;
+    for (int k = 0; k < 9; k++) m = fmax(m, fabs(A[k] - B[k]));
+    return m;
+}
+
+/* Ry(theta) M, theta about +y (theta -90: +x to +z). */
+static void turn_y(double theta_deg, const double M[9], double out[9])
+{
+    const double t = theta_deg * PI / 180, c = cos(t), s = sin(t);
+    for (int j = 0; j < 3; j++) {
+        out[j] = c * M[j] + s * M[6 + j];
+        out[3 + j] = M[3 + j];
+        out[6 + j] = -s * M[j] + c * M[6 + j];
+    }
+}
+
+static lumis_vec3 turn_y_vec(double theta_deg, lumis_vec3 v)
+{
+    const double t = theta_deg * PI / 180, c = cos(t), s = sin(t);
+    return (lumis_vec3){(float)(c * v.x + s * v.z), v.y, (float)(-s * v.x + c * v.z)};
+}
+
+/* The frame of every type: a proper rotation taking -z to the aim; continuous along tilts
+ * from straight down to nearly straight up in many azimuths, along azimuths at many tilts
+ * (across the ~64 degrees where the old frame jumped a quarter turn) and along rolls, a
+ * step of 0.25 degrees moving it by O(step); defined straight up and down; `up` honoured and
+ * refused along the aim; a floodlight's yoke keeps its lateral axis horizontal and turns
+ * with a turn about y; a downlight keeps its C0 as it tilts, so that tilted towards +z it
+ * is tilted towards +x and turned about y up to a quarter roll. */
+static void orientation_is_a_continuous_explicit_frame(void **state)
+{
+    (void)state;
+    const double step = 0.25, rad = step * PI / 180;
+    const double azimuths[] = {0, 30, 90, 135, 200, 270, 333};
+    const double rolls[] = {0, 37, -120};
+    for (int ty = 0; ty < 3; ty++)
+        for (int r = 0; r < 3; r++) {
+            for (int ia = 0; ia < 7; ia++) { /* along tilts */
+                double prev[9], R[9];
+                for (int k = 0; k <= 4 * 179; k++) {
+                    const double t = k * step;
+                    if (types[ty] != LUMIS_PHOTOMETRIC_C && k == 0) continue; /* the yoke's pole */
+                    const lumis_vec3 a = tilted_aim(t, azimuths[ia]);
+                    orient(types[ty], a, NULL, rolls[r], R);
+                    assert_frame(R, a);
+                    if (k > 1 && frame_distance(R, prev) > 2.5 * rad)
+                        fail_msg("type %d, azimuth %g, roll %g: tilt %g to %g moves the frame "
+                                 "by %g",
+                                 (int)types[ty], azimuths[ia], rolls[r], t - step, t,
+                                 frame_distance(R, prev));
+                    memcpy(prev, R, sizeof R);
+                }
+            }
+            const double tilts[] = {0.5, 10, 45, 64, 64.2, 65, 90, 120, 170, 179.5};
+            for (int it = 0; it < 10; it++) { /* along azimuths */
+                double prev[9], R[9];
+                for (int k = 0; k <= 4 * 360; k++) {
+                    const lumis_vec3 a = tilted_aim(tilts[it], k * step);
+                    orient(types[ty], a, NULL, rolls[r], R);
+                    assert_frame(R, a);
+                    if (k > 0 && frame_distance(R, prev) > 2.5 * rad)
+                        fail_msg("type %d, tilt %g, roll %g: azimuth %g to %g moves the frame "
+                                 "by %g",
+                                 (int)types[ty], tilts[it], rolls[r], (k - 1) * step, k * step,
+                                 frame_distance(R, prev));
+                    memcpy(prev, R, sizeof R);
+                }
+            }
+        }
+    /* along rolls */
+    for (int ty = 0; ty < 3; ty++) {
+        double prev[9], R[9];
+        const lumis_vec3 a = tilted_aim(64.1, 0);
+        for (int k = 0; k <= 4 * 360; k++) {
+            orient(types[ty], a, NULL, k * step - 180, R);
+            assert_frame(R, a);
+            if (k > 0) assert_true(frame_distance(R, prev) <= 1.01 * rad);
+            memcpy(prev, R, sizeof R);
+        }
+    }
+    /* straight down and up: defined, C0 (or the top) +x; a type C fixture hangs with C90 -z */
+    const lumis_vec3 down = {0, -1, 0}, upward = {0, 2, 0};
+    const double hang[9] = {1, 0, 0, 0, 0, 1, 0, -1, 0}, flip[9] = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+    for (int ty = 0; ty < 3; ty++) {
+        double R[9];
+        orient(types[ty], down, NULL, 0, R);
+        assert_true(frame_distance(R, hang) < 1e-15);
+        orient(types[ty], upward, NULL, 0, R);
+        assert_true(frame_distance(R, flip) < 1e-15);
+        /* nearly straight up, still a rotation */
+        const lumis_vec3 near_up = {1e-7f, 1, -3e-8f};
+        orient(types[ty], near_up, NULL, 10, R);
+        assert_frame(R, near_up);
+    }
+    /* type C: C0 stays +x tilting towards +z; follows the tilt towards +x */
+    {
+        double R[9];
+        orient(LUMIS_PHOTOMETRIC_C, tilted_aim(15, 90), NULL, 0, R);
+        assert_true(fabs(R[0] - 1) < 1e-12);
+        orient(LUMIS_PHOTOMETRIC_C, tilted_aim(15, 0), NULL, 0, R);
+        assert_true(fabs(R[0] - cos(15 * PI / 180)) < 1e-7 &&
+                    fabs(R[3] - sin(15 * PI / 180)) < 1e-7);
+    }
+    /* rotations of each other about y: the whole aim turned; a floodlight as it is, a
+     * downlight with its C0 (`up`) turned too, or rolled a quarter turn back */
+    for (int ty = 0; ty < 3; ty++)
+        for (int k = 0; k < 12; k++) {
+            const double t = 3 + 14.5 * k, p = 17.0 * k - 40, turn = k == 0 ? -90 : 31.0 * k;
+            const lumis_vec3 a = tilted_aim(t, p), b = turn_y_vec(turn, a);
+            const lumis_vec3 u = {0.3f, 0.9f, -0.2f}, ub = turn_y_vec(turn, u);
+            double Ra[9], Rb[9], Rt[9];
+            orient(types[ty], a, &u, 25, Ra);
+            orient(types[ty], b, &ub, 25, Rb);
+            turn_y(turn, Ra, Rt);
+            assert_true(frame_distance(Rt, Rb) < 1e-6);
+            orient(types[ty], a, NULL, 25, Ra);
+            turn_y(turn, Ra, Rt);
+            if (types[ty] != LUMIS_PHOTOMETRIC_C) {
+                orient(types[ty], b, NULL, 25, Rb);
+                if (frame_distance(Rt, Rb) > 1e-6)
+                    fail_msg("type %d: tilt %g azimuth %g turned %g: %g", (int)types[ty], t, p,
+                             turn, frame_distance(Rt, Rb));
+            } else {
+                orient(types[ty], b, NULL, 25 + turn, Rb);
+                if (frame_distance(Rt, Rb) > 1e-6)
+                    fail_msg("type C: tilt %g azimuth %g turned %g: %g", t, p, turn,
+                             frame_distance(Rt, Rb));
+            }
+        }
+    { /* the case: 15 degrees towards +x and towards +z */
+        double Rx[9], Rz[9], Rt[9];
+        orient(LUMIS_PHOTOMETRIC_C, tilted_aim(15, 0), NULL, 0, Rx);
+        orient(LUMIS_PHOTOMETRIC_C, tilted_aim(15, 90), NULL, -90, Rz);
+        turn_y(-90, Rx, Rt);
+        assert_true(frame_distance(Rt, Rz) < 1e-6);
+        orient(LUMIS_PHOTOMETRIC_C, tilted_aim(15, 90), NULL, 0, Rz); /* not without the roll */
+        assert_true(frame_distance(Rt, Rz) > 0.9);
+    }
+    /* the yoke: lateral axis horizontal, the top above the aim, for any aim but the poles */
+    for (int k = 1; k < 180; k += 7)
+        for (int ty = 1; ty < 3; ty++) {
+            double R[9];
+            orient(types[ty], tilted_aim(k, 11.0 * k), NULL, 0, R);
+            assert_true(fabs(R[4]) < 1e-12 && R[3] > 0);
+        }
+    /* `up`: local +x as close to it as the aim allows */
+    {
+        const lumis_vec3 a = tilted_aim(40, 70), u = {0.2f, 0.3f, 0.9f};
+        double R[9];
+        orient(LUMIS_PHOTOMETRIC_B, a, &u, 0, R);
+        assert_frame(R, a);
+        const double ua = (u.x * -R[2] + u.y * -R[5] + u.z * -R[8]);
+        double px[3] = {u.x + ua * R[2], u.y + ua * R[5], u.z + ua * R[8]};
+        const double n = sqrt(px[0] * px[0] + px[1] * px[1] + px[2] * px[2]);
+        assert_true(fabs(px[0] / n - R[0]) + fabs(px[1] / n - R[3]) + fabs(px[2] / n - R[6]) <
+                    1e-7);
+        /* perpendicular to the aim already: exactly it */
+        const lumis_vec3 z = {0, 0, 1};
+        orient(LUMIS_PHOTOMETRIC_C, down, &z, 0, R);
+        assert_true(fabs(R[6] - 1) < 1e-15);
+    }
+    /* refusals */
+    double R[9];
+    const lumis_vec3 zero = {0, 0, 0}, along = {0, -3, 0}, against = {1e-8f, 1, 0},
+                     nan3 = {NAN, 0, 0};
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, down, &along, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_A, down, &against, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_B, down, &zero, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_B, down, &nan3, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, nan3, NULL, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient(LUMIS_PHOTOMETRIC_C, down, NULL, NAN, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient((lumis_photometric_type)0, down, NULL, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_orient((lumis_photometric_type)4, down, NULL, 0, R),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+}
+
+/* ---- aimed fixtures over a floor (y up) ------------------------------------------------- */
+
+#define N 33 /* odd: the centre pixel looks straight down at the origin */
+
+/* The floor y = 0 (white Lambertian), seen straight down from (0, 6, 0) over 90 degrees:
+ * pixel (i, j) is the floor point (X, Z) = 6 (2 (i + 1/2) / N - 1, 2 (j + 1/2) / N - 1). */
+static lumis_scene *yfloor(void)
+{
+    lumis_object o;
+    memset(&o, 0, sizeof o);
+    o.type = LUMIS_OBJECT_PLANE;
+    o.normal = (lumis_vec3){0, 1, 0};
+    o.size = 100.0f;
+    o.material.type = LUMIS_BSDF_LAMBERT;
+    o.material.diffuse = (lumis_rgb){1, 1, 1};
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(&o, 1, NULL, &s), LUMIS_OK);
+    return s;
+}
+
+static lumis_image *render_above(const lumis_scene *s, const lumis_photometric_instance *in)
+{
+    static const lumis_camera top = {{0, 6, 0}, {0, 0, 0}, {0, 0, -1}, 90.0f, N, N};
+    lumis_photometric_lighting pl = {in, 1};
+    lumis_render_desc d = {0};
+    d.camera = &top;
+    d.photometric = &pl;
+    d.spp = 1;
+    d.pixel_centers = 1;
+    d.threads = 1;
+    lumis_image *img = NULL;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    if (lumis_render(s, &d, &img, NULL) != LUMIS_OK) fail_msg("render: %s", sink.last);
+    return img;
+}
+
+static double at(const lumis_image *img, int i, int j)
+{
+    return img->pixels[3 * (j * N + i) + 1];
+}
+
+/* The fixture at height h above the origin, aimed by lumis_photometric_orient. */
+static lumis_image *aimed(const lumis_scene *s, const lumis_photometric *p, double h,
+                          lumis_vec3 aim, const lumis_vec3 *up, double roll)
+{
+    lumis_photometric_info info;
+    lumis_photometric_get_info(p, &info);
+    lumis_photometric_instance in = {0};
+    in.photometric = p;
+    in.placement.t[1] = h;
+    orient(info.type, aim, up, roll, in.placement.r);
+    return render_above(s, &in);
+}
+
+/* sum |a - b| / sum a over the image */
+static double image_change(const lumis_image *a, const lumis_image *b)
+{
+    double num = 0, den = 0;
+    for (int k = 0; k < N * N; k++) {
+        num += fabs(a->pixels[3 * k + 1] - b->pixels[3 * k + 1]);
+        den += a->pixels[3 * k + 1];
+    }
+    return num / den;
+}
+
+/* An asymmetric road light (type C) and floodlights wide across and narrow up and down
+ * (types B and A) over a floor, rendered at many tilts, azimuths and rolls:
+ *  - continuity: half a degree more tilt, azimuth or roll changes the image by little, and an
+ *    eighth of a degree by about a quarter of that (O(step)), across the tilt of ~64 degrees
+ *    where the old frame turned a quarter turn;
+ *  - rotation: the fixture turned about y as a whole (aim, and a type C's C0 by its roll)
+ *    gives the image turned, pixel by pixel;
+ *  - the inverse-square law: at twice the height, the floor at twice the offset from the
+ *    foot is lit a quarter as much (same directions, twice the distance), pixel by pixel. */
+static void aimed_fixtures_over_a_floor(void **state)
+{
+    (void)state;
+    pg_ies_spec road = {PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 91, 0, 90, 73, 0, 360, 0, 0, 0, 0,
+                        0,       2};
+    pg_ies_spec flood_b = {
+        PG_FLOOD, 30, "IESNA:LM-63-2002", 2, 181, -90, 90, 181, -90, 90, 0, 0, 0, 0, 0, 2};
+    pg_ies_spec flood_a = flood_b;
+    flood_a.type = 3;
+    lumis_photometric_file *f[3] = {load(&road), load(&flood_b), load(&flood_a)};
+    lumis_scene *s = yfloor();
+    const double tilts[] = {15, 40, 64, 75}; /* 64 to 64.5: the old jump at 64.16 */
+    const double azimuths[] = {0, 90, 210};
+    const double rolls[] = {0, 30};
+    double worst[3] = {0, 0, 0};
+    for (int q = 0; q < 3; q++) {
+        const lumis_photometric *p = f[q]->model;
+        for (int it = 0; it < 4; it++)
+            for (int ia = 0; ia < 3; ia++)
+                for (int ir = 0; ir < 2; ir++) {
+                    const double t = tilts[it], az = azimuths[ia], ro = rolls[ir];
+                    lumis_image *base = aimed(s, p, 1.5, tilted_aim(t, az), NULL, ro);
+                    lumis_image *moved[3][2];
+                    const double dd[2] = {0.5, 0.125};
+                    for (int k = 0; k < 2; k++) {
+                        moved[0][k] = aimed(s, p, 1.5, tilted_aim(t + dd[k], az), NULL, ro);
+                        moved[1][k] = aimed(s, p, 1.5, tilted_aim(t, az + dd[k]), NULL, ro);
+                        moved[2][k] = aimed(s, p, 1.5, tilted_aim(t, az), NULL, ro + dd[k]);
+                    }
+                    for (int m = 0; m < 3; m++) {
+                        const double big = image_change(base, moved[m][0]),
+                                     small = image_change(base, moved[m][1]);
+                        worst[q] = fmax(worst[q], big);
+                        if (!(big < 0.06) || !(small < 0.35 * big + 1e-5))
+                            fail_msg("fixture %d, tilt %g azimuth %g roll %g, change %d: "
+                                     "0.5 degrees %g, 0.125 degrees %g",
+                                     q, t, az, ro, m, big, small);
+                        lumis_image_destroy(moved[m][0]);
+                        lumis_image_destroy(moved[m][1]);
+                    }
+                    /* turned a quarter turn about y: aim towards az + 90 (x to z), a type C
+                     * rolled back a quarter turn; pixel (i, j) goes to (N - 1 - j, i) */
+                    lumis_image *turned =
+                        aimed(s, p, 1.5, tilted_aim(t, az + 90), NULL, q == 0 ? ro - 90 : ro);
+                    double peak = 0;
+                    for (int k = 0; k < N * N; k++) peak = fmax(peak, base->pixels[3 * k + 1]);
+                    for (int j = 0; j < N; j++)
+                        for (int i = 0; i < N; i++)
+                            if (fabs(at(turned, N - 1 - j, i) - at(base, i, j)) > 1e-4 * peak)
+                                fail_msg("fixture %d, tilt %g azimuth %g: turned (%d, %d) %g, "
+                                         "not %g",
+                                         q, t, az, i, j, at(turned, N - 1 - j, i), at(base, i, j));
+                    lumis_image_destroy(turned);
+                    /* twice as high: (16 + k, 16 + m) at h is (16 + 2k, 16 + 2m) at 2h */
+                    lumis_image *high = aimed(s, p, 3.0, tilted_aim(t, az), NULL, ro);
+                    for (int m = -8; m <= 8; m++)
+                        for (int k = -8; k <= 8; k++) {
+                            const double e1 = at(base, 16 + k, 16 + m),
+                                         e2 = at(high, 16 + 2 * k, 16 + 2 * m);
+                            if (fabs(4 * e2 - e1) > 1e-4 * e1 + 1e-6 * peak)
+                                fail_msg("fixture %d, tilt %g azimuth %g roll %g: (%d, %d) at "
+                                         "1.5 m %g, at 3 m %g",
+                                         q, t, az, ro, k, m, e1, e2);
+                        }
+                    lumis_image_destroy(high);
+                    lumis_image_destroy(base);
+                }
+    }
+    print_message("worst change of the image for half a degree: road %.4f, B %.4f, A %.4f\n",
+                  worst[0], worst[1], worst[2]);
+    /* straight below: E = I(0) / h^2 */
+    for (int q = 0; q < 3; q++) {
+        const lumis_vec3 down = {0, -1, 0}, ax = {0, 0, -1};
+        lumis_image *a = aimed(s, f[q]->model, 1.5, down, NULL, 0),
+                    *b = aimed(s, f[q]->model, 3.0, down, NULL, 0);
+        const double I0 = lumis_photometric_intensity(f[q]->model, ax);
+        assert_true(fabs(at(a, 16, 16) / (I0 / (1.5 * 1.5) / PI) - 1) < 1e-5);
+        assert_true(fabs(at(a, 16, 16) / at(b, 16, 16) - 4) < 1e-4);
+        lumis_image_destroy(a);
+        lumis_image_destroy(b);
+    }
+    lumis_scene_destroy(s);
+    for (int q = 0; q < 3; q++) lumis_photometric_file_destroy(f[q]);
+}
+
+/* World illuminance at x on a surface of normal n from a fixture placed by R at t (the point
+ * model, lumis_photometric_irradiance in its frame). */
+static double world_irradiance(const lumis_photometric *p, const double R[9], const double t[3],
+                               const double x[3], const double n[3])
+{
+    const double w[3] = {x[0] - t[0], x[1] - t[1], x[2] - t[2]};
+    lumis_vec3 xl, nl;
+    xl.x = (float)(R[0] * w[0] + R[3] * w[1] + R[6] * w[2]);
+    xl.y = (float)(R[1] * w[0] + R[4] * w[1] + R[7] * w[2]);
+    xl.z = (float)(R[2] * w[0] + R[5] * w[1] + R[8] * w[2]);
+    nl.x = (float)(R[0] * n[0] + R[3] * n[1] + R[6] * n[2]);
+    nl.y = (float)(R[1] * n[0] + R[4] * n[1] + R[7] * n[2]);
+    nl.z = (float)(R[2] * n[0] + R[5] * n[1] + R[8] * n[2]);
+    double E = 0;
+    assert_int_equal(lumis_photometric_irradiance(p, 0, xl, nl, 0, &E), LUMIS_OK);
+    return E;
+}
+
+/* A floodlight (types B and A) wide across (cos H) and narrow up and down (cos^30 V: a 25
+ * degree beam), panned to many azimuths (towards +x, +z and between) and tilted up and down,
+ * lights a wall facing it in a horizontal band: 1.5 m beside the aimed point on the wall
+ * 5 m away it gives more than 70 % of the aimed point's light, 1.5 m above or below less
+ * than 35 %.  Lying on its side (as the old frame laid it unless it was aimed towards +x), it
+ * would be the other way round. */
+static void floodlights_light_a_horizontal_band(void **state)
+{
+    (void)state;
+    for (int type = 2; type <= 3; type++) {
+        pg_ies_spec flood = {
+            PG_FLOOD, 30, "IESNA:LM-63-2002", type, 181, -90, 90, 181, -90, 90, 0, 0, 0, 0, 0, 2};
+        lumis_photometric_file *f = load(&flood);
+        const lumis_photometric *p = f->model;
+        lumis_photometric_info info;
+        lumis_photometric_get_info(p, &info);
+        assert_int_equal((int)info.type, type == 2 ? LUMIS_PHOTOMETRIC_B : LUMIS_PHOTOMETRIC_A);
+        for (int ia = 0; ia < 8; ia++)
+            for (int ie = 0; ie < 3; ie++) {
+                const double pan = 45.0 * ia * PI / 180, el = (-20.0 + 20 * ie) * PI / 180;
+                /* the aim, its horizontal direction h and the wall's horizontal tangent s */
+                const double h[3] = {cos(pan), 0, sin(pan)}, sd[3] = {-sin(pan), 0, cos(pan)};
+                const double a[3] = {cos(el) * h[0], sin(el), cos(el) * h[2]};
+                const double t[3] = {0, 3, 0}, D = 5;
+                double R[9];
+                orient(info.type, (lumis_vec3){(float)a[0], (float)a[1], (float)a[2]}, NULL, 0, R);
+                /* the wall: the plane through t + D h facing back, n = -h; the aimed point
+                 * on it c = t + (D / cos el) a */
+                const double n[3] = {-h[0], 0, -h[2]}, L = D / cos(el);
+                const double c[3] = {t[0] + L * a[0], t[1] + L * a[1], t[2] + L * a[2]};
+                const double side[3] = {c[0] + 1.5 * sd[0], c[1], c[2] + 1.5 * sd[2]},
+                             above[3] = {c[0], c[1] + 1.5, c[2]},
+                             below[3] = {c[0], c[1] - 1.5, c[2]};
+                const double Ec = world_irradiance(p, R, t, c, n),
+                             Es = world_irradiance(p, R, t, side, n),
+                             Ea = world_irradiance(p, R, t, above, n),
+                             Eb = world_irradiance(p, R, t, below, n);
+                if (!(Ec > 0) || !(Es > 0.7 * Ec) || !(Ea < 0.35 * Ec) || !(Eb < 0.35 * Ec))
+                    fail_msg("type %d panned %g tilted %g: centre %g, beside %g, above %g, "
+                             "below %g",
+                             type, pan * 180 / PI, el * 180 / PI, Ec, Es, Ea, Eb);
+            }
+        lumis_photometric_file_destroy(f);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -405,6 +856,9 @@ int main(void)
         cmocka_unit_test(aim_and_shadows),
         cmocka_unit_test(an_opening_is_unbiased_and_far_away_a_point),
         cmocka_unit_test(rectangles_estimators_and_refusals),
+        cmocka_unit_test(orientation_is_a_continuous_explicit_frame),
+        cmocka_unit_test(aimed_fixtures_over_a_floor),
+        cmocka_unit_test(floodlights_light_a_horizontal_band),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

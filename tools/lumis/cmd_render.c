@@ -55,6 +55,9 @@ static const char usage[] =
     "                     docs/photometric.md) instead of its map or its own fixtures:\n"
     "  --fixture-at X,Y,Z     where it is (required with --fixture)\n"
     "  --fixture-aim X,Y,Z    a point it aims at (default straight down, -y)\n"
+    "  --fixture-up X,Y,Z     where its local +x points, made perpendicular to the aim\n"
+    "                         (C0 of type C, the top of types A, B; default: type C\n"
+    "                         tilted from hanging with C0 +x, A and B on a yoke)\n"
     "  --fixture-roll DEG     turned about its aim (default 0)\n"
     "  --fixture-multiplier M its candela times M (default 1)\n"
     "  --fixture-area         its luminous opening (a disk or rectangle), not a point\n"
@@ -185,6 +188,10 @@ int cmd_render(int argc, char **argv)
             if (!parse_triple(v, o.fixture_aim))
                 return tool_bad_value("render", "--fixture-aim", v, "needs X,Y,Z (three numbers)");
             o.fixture_aim_given = 1;
+        } else if (tool_option(argc, argv, &i, "--fixture-up", &v)) {
+            if (!parse_triple(v, o.fixture_up))
+                return tool_bad_value("render", "--fixture-up", v, "needs X,Y,Z (three numbers)");
+            o.fixture_up_given = 1;
         } else if (tool_option(argc, argv, &i, "--fixture-roll", &v)) {
             if (!tool_parse_double(v, &o.fixture_roll) || fabs(o.fixture_roll) > 36000)
                 return tool_bad_value("render", "--fixture-roll", v, "needs degrees");
@@ -416,10 +423,10 @@ int cmd_render(int argc, char **argv)
                                 "--mis %s: --method bsdf samples the BSDF only and "
                                 "combines nothing",
                                 mis);
-    const int fixture_opt = o.fixture_at_given || o.fixture_aim_given || o.fixture_area ||
-                            o.fixture_roll != 0 || o.fixture_multiplier != 0;
+    const int fixture_opt = o.fixture_at_given || o.fixture_aim_given || o.fixture_up_given ||
+                            o.fixture_area || o.fixture_roll != 0 || o.fixture_multiplier != 0;
     if (fixture_opt && !o.fixture)
-        return tool_usage_error("render", "--fixture-at, -aim, -roll, -multiplier and -area "
+        return tool_usage_error("render", "--fixture-at, -aim, -up, -roll, -multiplier and -area "
                                           "need --fixture FILE");
     if (o.fixture && !o.fixture_at_given)
         return tool_usage_error("render", "--fixture %s needs --fixture-at X,Y,Z", o.fixture);

@@ -209,10 +209,11 @@ typedef struct tool_render_opts {
     const char *lum_option; /* the first --lum-* / --visibility / --sequence option given */
     /* --fixture FILE: a photometric fixture lights the scene instead of its own lights (map,
      * fixtures), at --fixture-at (required), aimed at --fixture-aim (default straight down,
-     * -y), rolled, scaled, as its opening with --fixture-area */
+     * -y), its local +x towards --fixture-up, rolled, scaled, as its opening with
+     * --fixture-area */
     const char *fixture;
-    double fixture_at[3], fixture_aim[3], fixture_roll, fixture_multiplier;
-    int fixture_at_given, fixture_aim_given, fixture_area;
+    double fixture_at[3], fixture_aim[3], fixture_up[3], fixture_roll, fixture_multiplier;
+    int fixture_at_given, fixture_aim_given, fixture_up_given, fixture_area;
     const char *luminaire;  /* --luminaire: replaces every luminaire of the scene (a manifest
                                or preset:NAME); NULL: the scene's own */
     double time_budget;     /* > 0: progressive passes until this much render time */

@@ -224,8 +224,20 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
             (float)(o->fixture_aim_given ? o->fixture_aim[0] - o->fixture_at[0] : 0),
             (float)(o->fixture_aim_given ? o->fixture_aim[1] - o->fixture_at[1] : -1),
             (float)(o->fixture_aim_given ? o->fixture_aim[2] - o->fixture_at[2] : 0)};
-        if (lumis_photometric_aim(aim, o->fixture_roll, cli_instance.placement.r) != LUMIS_OK) {
+        const lumis_vec3 up = {(float)o->fixture_up[0], (float)o->fixture_up[1],
+                               (float)o->fixture_up[2]};
+        lumis_photometric_info info;
+        lumis_photometric_get_info(cli_fixture->model, &info);
+        if (lumis_photometric_orient(info.type, aim, NULL, o->fixture_roll,
+                                     cli_instance.placement.r) != LUMIS_OK) {
             tool_usage_error(cmd, "--fixture-aim: a point other than --fixture-at");
+            rc = EXIT_USAGE;
+            goto done;
+        }
+        if (o->fixture_up_given && lumis_photometric_orient(info.type, aim, &up, o->fixture_roll,
+                                                            cli_instance.placement.r) != LUMIS_OK) {
+            tool_usage_error(cmd, "--fixture-up: a direction not along the aim (the fixture's "
+                                  "local +x is made perpendicular to the aim)");
             rc = EXIT_USAGE;
             goto done;
         }
