@@ -2631,7 +2631,7 @@ static void info_reads_photometric_files(void **state)
     free(text);
     snprintf(a, sizeof a, "luminaire create '%s' --from '%s'", tu_path("y.json"),
              tu_path("point.ies"));
-    expect(a, 1, "the file's luminous shape is a point");
+    expect(a, 1, "the file's luminous shape is \"point\"");
 }
 
 /* Scene files place photometric fixtures: rendered, recorded in the sidecar, their files
@@ -2652,8 +2652,7 @@ static void render_places_photometric_fixtures(void **state)
         " \"material\": {\"type\": \"lambert\", \"albedo\": [0.5, 0.5, 0.5]}}],"
         " \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 2, 0]},"
         " {\"file\": \"fx.ies\", \"position\": [1, 2, 0], \"aim\": [2, 0, 0], \"up\": [0, 0, 1],"
-        " \"multiplier\": 0.5, \"area\": true},"
-        " {\"file\": \"none.ies\", \"position\": [0, 2, 0], \"multiplier\": 0}]}";
+        " \"multiplier\": 0.5, \"area\": true}]}";
     tu_write_file(tu_path("fx.json"), scene, strlen(scene));
     char a[4096], *out = NULL, *err = NULL;
     /* -o fx.exr: its sidecar fx.json would replace the scene: refused before any work */
@@ -2787,12 +2786,28 @@ static void render_places_photometric_fixtures(void **state)
         {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
          "\"up\": [1, 0, 0], \"c0\": [1, 0, 0]}]}",
          "photometric[0].c0: expected up or c0, not both"},
+        /* a dark fixture, or none, once left the scene to the default sky, exit 0 */
+        {"{\"objects\": [], \"photometric\": [{\"file\": \"fx.ies\", \"position\": [0, 1, 0], "
+         "\"multiplier\": 0}]}",
+         "photometric[0].multiplier: expected a number > 0"},
+        {"{\"objects\": [], \"photometric\": []}", "photometric: expected at least one fixture"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         tu_write_file(tu_path("bad-fx.json"), bad[k][0], strlen(bad[k][0]));
         snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("bad-fx.json"), tu_path("y.exr"));
         expect(a, 1, bad[k][1]);
     }
+    /* an opening the area model lacks is refused, not rendered as a point */
+    pg_ies_spec pt = s;
+    pt.width = pt.length = 0;
+    text = pg_ies(&pt, &n);
+    tu_write_file(tu_path("pt.ies"), text, n);
+    free(text);
+    snprintf(a, sizeof a,
+             "render --scene spheres --fixture '%s' --fixture-at 0,1,0 --fixture-area --size 8x6 "
+             "--spp 1 -o '%s'",
+             tu_path("pt.ies"), tu_path("pt.exr"));
+    expect(a, 1, "luminous shape is \"point\": the opening (area) model");
 }
 
 int main(void)

@@ -313,6 +313,49 @@ static void bad_inputs_are_refused(void **state)
     free(ldt);
 }
 
+/* TILT=INCLUDE applied: the generator's table gives 1, 0.95 and 0.9 at 0, 45 and 90
+ * degrees of tilt; type C tilts from hanging, types A and B from level. */
+static void tilt_factors_by_aim(void **state)
+{
+    (void)state;
+    pg_ies_spec s = lambert;
+    s.tilt_include = 1;
+    char *text = ies_text(&s);
+    tu_sink sink;
+    lumis_photometric_file *f = NULL;
+    assert_int_equal(try_read(text, strlen(text), &sink, &f), LUMIS_OK);
+    const double r = sqrt(0.5), t225 = tan(22.5 * PI / 180);
+    const struct {
+        lumis_photometric_type type;
+        lumis_vec3 aim;
+        double want;
+    } cases[] = {
+        {LUMIS_PHOTOMETRIC_C, {0, -3, 0}, 1.0},
+        {LUMIS_PHOTOMETRIC_C, {r, -r, 0}, 0.95},
+        {LUMIS_PHOTOMETRIC_C, {0, -1, (float)t225}, 0.975},
+        {LUMIS_PHOTOMETRIC_C, {0, 0, 2}, 0.9},
+        {LUMIS_PHOTOMETRIC_C, {0, 1, 0}, 0.9},
+        {LUMIS_PHOTOMETRIC_B, {0, 0, -1}, 1.0},
+        {LUMIS_PHOTOMETRIC_B, {0, r, r}, 0.95},
+        {LUMIS_PHOTOMETRIC_A, {0, -1, 0}, 0.9},
+        {LUMIS_PHOTOMETRIC_C, {0, 0, 0}, 1.0},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const double got = lumis_photometric_tilt_factor(f, cases[k].type, cases[k].aim);
+        if (fabs(got - cases[k].want) > 1e-6)
+            fail_msg("case %zu: factor %.9f, want %.9f", k, got, cases[k].want);
+    }
+    lumis_photometric_file_destroy(f);
+    free(text);
+    /* without a table: 1 */
+    text = ies_text(&lambert);
+    assert_int_equal(try_read(text, strlen(text), &sink, &f), LUMIS_OK);
+    const lumis_vec3 side = {1, 0, 0};
+    assert_true(lumis_photometric_tilt_factor(f, LUMIS_PHOTOMETRIC_C, side) == 1.0);
+    lumis_photometric_file_destroy(f);
+    free(text);
+}
+
 /* A FIFO is refused at once, not waited on. */
 static void fifo_is_refused(void **state)
 {
@@ -341,6 +384,7 @@ int main(void)
         cmocka_unit_test(ies_1995_round_opening),
         cmocka_unit_test(beam_and_field_over_the_whole_circle),
         cmocka_unit_test(bad_inputs_are_refused),
+        cmocka_unit_test(tilt_factors_by_aim),
         cmocka_unit_test(fifo_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

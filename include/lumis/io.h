@@ -284,7 +284,8 @@ typedef struct lumis_photometric_file {
     double lumens_per_lamp; /* as the file says (IES: -1 for absolute photometry) */
     double input_watts;
     int lamp_sets; /* EULUMDAT's n (IES: 0) */
-    /* TILT=INCLUDE: the table, read and checked; not applied (docs/photometric.md) */
+    /* TILT=INCLUDE: the table, read and checked; lumis_photometric_tilt_factor gives its
+     * factor at a fixture's aim (scene files and --fixture apply it) */
     int tilt, tilt_geometry, ntilt;
     double *tilt_deg, *tilt_factor;
     /* Empty, or what a reader of the file should be told although it was read: the
@@ -299,6 +300,15 @@ typedef struct lumis_photometric_file {
 
 lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
                                     lumis_photometric_file **out);
+
+/* The factor a TILT=INCLUDE table gives a fixture aimed along `aim` (any length; world y
+ * up): LM-63's multiplying factor at the fixture's tilt from the pose it was measured in,
+ * linear between the table's angles and held beyond its ends.  Type C is measured hanging
+ * (aim straight down): its tilt is the aim's angle from -y, 0 to 180 degrees; types A
+ * and B are measured aimed level: their tilt is the aim's angle above or below the
+ * horizon, 0 to 90.  1 for TILT=NONE, a NULL file or a zero aim. */
+double lumis_photometric_tilt_factor(const lumis_photometric_file *f, lumis_photometric_type type,
+                                     lumis_vec3 aim);
 lumis_status lumis_photometric_read_memory(const void *data, size_t size, const char *name,
                                            const lumis_error_sink *errors,
                                            lumis_photometric_file **out);

@@ -694,6 +694,23 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
 
 /* ---- the entry points --------------------------------------------------------------------- */
 
+double lumis_photometric_tilt_factor(const lumis_photometric_file *f, lumis_photometric_type type,
+                                     lumis_vec3 aim)
+{
+    const double len = sqrt((double)aim.x * aim.x + (double)aim.y * aim.y + (double)aim.z * aim.z);
+    if (!f || !f->tilt || f->ntilt < 1 || !(len > 0) || !isfinite(len)) return 1.0;
+    const double y = fmax(-1.0, fmin(1.0, aim.y / len));
+    const double t = type == LUMIS_PHOTOMETRIC_C ? acos(-y) * 180.0 / LUMIS_PI
+                                                 : asin(fabs(y)) * 180.0 / LUMIS_PI;
+    const double *a = f->tilt_deg, *m = f->tilt_factor;
+    const int n = f->ntilt;
+    if (t <= a[0]) return m[0];
+    if (t >= a[n - 1]) return m[n - 1];
+    int k = 0;
+    while (k + 2 < n && a[k + 1] <= t) k++;
+    return m[k] + (m[k + 1] - m[k]) * (t - a[k]) / (a[k + 1] - a[k]);
+}
+
 void lumis_photometric_file_destroy(lumis_photometric_file *f)
 {
     if (!f) return;

@@ -91,8 +91,9 @@ lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
     const int disk = in.shape == LUMIS_SHAPE_DISK;
     if (!(disk || in.shape == LUMIS_SHAPE_RECTANGLE) || !(in.width > 0) || !(disk || in.length > 0))
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "light field: the file's luminous shape is a %s: a light field needs "
-                           "its opening, a disk or a rectangle of non-zero size",
+                           "light field: the file's luminous shape is \"%s\": a light field needs "
+                           "its opening, a disk or a rectangle of non-zero size (box, cylinder "
+                           "and sphere openings are not modelled)",
                            lumis_photometric_shape_name(in.shape));
     const double Lx = disk ? in.width : in.length, Ly = in.width; /* extents on U */
     int W = d->grid[0], H = d->grid[1];

@@ -221,6 +221,12 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
             f->hx = 0.5 * info.length;
             f->hy = 0.5 * info.width;
             f->A = info.length * info.width;
+        } else if (in->area) { /* not quietly a point */
+            return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "render: photometric fixture %d: its file's luminous shape is "
+                               "\"%s\": the opening (area) model takes a disk or a rectangle of "
+                               "non-zero size; render it as a point (no area)",
+                               q, lumis_photometric_shape_name(info.shape));
         }
         st->any_area |= f->area != 0;
     }

@@ -761,6 +761,10 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
     if ((st = get_vec3(p, j, up_key, path, 0, upv)) != LUMIS_OK) return st;
     if ((st = get_number(p, j, "roll_deg", path, -36000.0, 36000.0, &roll)) != LUMIS_OK) return st;
     if ((st = get_number(p, j, "multiplier", path, 0.0, 1e30, &mult)) != LUMIS_OK) return st;
+    if (!(mult > 0)) { /* a dark fixture once left the scene to the default sky */
+        join(at, sizeof at, path, "multiplier");
+        return bad(p, at, "a number > 0 (to switch a fixture off, leave it out)");
+    }
     const cJSON *area = cJSON_GetObjectItemCaseSensitive(j, "area");
     join(at, sizeof at, path, "area");
     if (area && !cJSON_IsBool(area)) return bad(p, at, "true or false");
@@ -782,7 +786,7 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
     for (int a = 0; a < 3; a++) in.placement.t[a] = pos[a];
     in.multiplier = mult;
     in.area = cJSON_IsTrue(area);
-    if (mult == 0.0 || !p->allow_files) return LUMIS_OK; /* black; the fuzzer reads nothing */
+    if (!p->allow_files) return LUMIS_OK; /* the fuzzer reads no file */
     char full[4096];
     const char *name = file->valuestring;
     snprintf(full, sizeof full, "%s%s", name[0] == '/' ? "" : p->dir, name);
@@ -796,6 +800,7 @@ static lumis_status parse_photometric(const parser *p, const cJSON *j, int k)
     if ((st = lumis_photometric_orient(info.type, dir, up_or_null, roll, in.placement.r)) !=
         LUMIS_OK)
         return lumis__fail(p->errors, st, "%s: %s: cannot orient the fixture", p->file, path);
+    in.multiplier *= lumis_photometric_tilt_factor(pf, info.type, dir);
     lumis_scene_file *f = p->f;
     lumis_photometric_instance *g =
         realloc(f->photometrics, (size_t)(f->photometric_count + 1) * sizeof *g);
@@ -979,6 +984,8 @@ static lumis_status parse_with(const char *text, size_t n, const char *name, con
             st = bad(&p, "photometric", "an array of photometric fixtures");
         else if (fx && cJSON_GetArraySize(fx) > 4096)
             st = bad(&p, "photometric", "at most 4096 fixtures");
+        else if (fx && cJSON_GetArraySize(fx) == 0) /* else the default sky lights it */
+            st = bad(&p, "photometric", "at least one fixture (or no \"photometric\" key)");
         else
             for (int k = 0; fx && k < cJSON_GetArraySize(fx) && st == LUMIS_OK; k++)
                 st = parse_photometric(&p, cJSON_GetArrayItem(fx, k), k);

@@ -243,7 +243,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         }
         for (int a = 0; a < 3; a++) cli_instance.placement.t[a] = o->fixture_at[a];
         cli_instance.photometric = cli_fixture->model;
-        cli_instance.multiplier = o->fixture_multiplier;
+        /* LM-63's lamp-tilt factor at this aim (1 without TILT=INCLUDE) */
+        cli_instance.multiplier = (o->fixture_multiplier > 0 ? o->fixture_multiplier : 1.0) *
+                                  lumis_photometric_tilt_factor(cli_fixture, info.type, aim);
         cli_instance.area = o->fixture_area;
         fixture_lighting.instances = &cli_instance;
         fixture_lighting.count = 1;
