@@ -819,10 +819,12 @@ lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0, doub
 }
 
 /* TM-15-11 Addendum A, Table A-1 (IES, 2011): the maximum zonal lumens of ratings 0 to 4
- * (5 is anything above).  The thresholds as published in the Table A-1 reproductions of the
- * IDA-IES Model Lighting Ordinance's user's guide and of manufacturers' BUG pages; the
- * glare table is A-1's (types I to IV; TM-15-11 gives type V and quadrilateral symmetric
- * luminaires their own FH limits, which lumis does not apply). */
+ * (5 is anything above).  No copy of the table itself was at hand when this was written: the
+ * values are the widely reproduced ones (manufacturers' BUG pages, the IDA-IES Model
+ * Lighting Ordinance's user's guide); the B and U rows agree with the eulumdat-rs crate's
+ * bug_rating.rs, whose G rows differ (FH/BH 10, 180, 600, ...; not these).  The
+ * glare rows are A-1's for every luminaire: TM-15-11 gives type V and square ones their
+ * own forward-high limits, which lumis does not apply. */
 static const double bug_b[3][5] = {{110, 500, 1000, 2500, 5000},   /* BL */
                                    {220, 1000, 2500, 5000, 8500},  /* BM */
                                    {110, 500, 1000, 2500, 5000}};  /* BH */

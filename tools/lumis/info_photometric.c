@@ -216,14 +216,14 @@ int tool_photometric_info(const char *path, int json, const char *svg)
         if (in.shape != LUMIS_SHAPE_POINT)
             printf(", width %.4g m, length %.4g m, height %.4g m", in.width, in.length, in.height);
         printf("\n  flux: %.6g lm from the table", in.flux);
-        if (own > 0)
+        if (in.luminaire_lumens > 0) /* a check: the two should agree */
             printf("; the file's %s: %.6g lm (the table's is %+.2f %%)", own_what, own, 100 * diff);
+        else if (own > 0) /* the lamps': their ratio is the light output ratio, below */
+            printf("; the file's %s: %.6g lm", own_what, own);
         else
             printf("; the file gives no lumens (absolute photometry)");
         printf("\n");
-        if (rt.lor > 0)
-            printf("  light output ratio: %.1f %% of the lamps' %.6g lm\n", 100 * rt.lor,
-                   in.lamp_lumens);
+        if (rt.lor > 0) printf("  light output ratio: %.1f %%\n", 100 * rt.lor);
         if (rt.efficacy > 0)
             printf("  efficacy: %.1f lm/W at %.6g W\n", rt.efficacy, f->input_watts);
         printf("  peak: %.6g cd at %s %g, %s %g\n", in.max_candela, type_c ? "C" : "H", in.max_h,
