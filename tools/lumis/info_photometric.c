@@ -181,7 +181,11 @@ int tool_photometric_info(const char *path, int json, const char *svg)
         cJSON_AddItemToObject(j, "nema_type", cJSON_CreateIntArray(rt.nema, 2));
         if (type_c) {
             cJSON_AddItemToObject(j, "zonal_lm", cJSON_CreateDoubleArray(rt.zonal_lm, 6));
-            cJSON_AddItemToObject(j, "cie_flux_code", cJSON_CreateIntArray(rt.cie_flux_code, 5));
+            cJSON *code = cJSON_AddArrayToObject(j, "cie_flux_code"); /* null: undefined */
+            for (int k = 0; k < 5; k++)
+                cJSON_AddItemToArray(code, rt.cie_flux_code[k] >= 0
+                                               ? cJSON_CreateNumber(rt.cie_flux_code[k])
+                                               : cJSON_CreateNull());
             const lumis_photometric_lcs *z = &rt.lcs;
             const double zones[10] = {z->fl, z->fm, z->fh,  z->fvh, z->bl,
                                       z->bm, z->bh, z->bvh, z->ul,  z->uh};
