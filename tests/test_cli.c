@@ -2500,14 +2500,19 @@ static void info_reads_photometric_files(void **state)
     snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("spot.ies"), tu_path("spot.svg"));
     assert_int_equal(run(a, &out, &err), 0);
     /* 2 pi 1000 / 11 = 571.2 lm analytically; the 1-degree table's interpolant 571.34 */
-    const char *parts[] = {"photometric type C, symmetry rotational",
-                           "fixture: lumis tests",
-                           "flux: 571.3",
-                           "lamp lumens: 1000 lm (the table's is -42.87 %)",
-                           "C0-C180: beam angle (50 %) 42.",
-                           "luminous shape: disk, width 0.1 m",
-                           "downward: 100.0 %"};
-    for (int k = 0; k < 7; k++)
+    const char *parts[] = {"photometric type C, symmetry rotational", "fixture: lumis tests",
+                           "flux: 571.3", "lamp lumens: 1000 lm\n",
+                           "C0-C180: beam angle (50 %) 42.", "luminous shape: disk, width 0.1 m",
+                           "downward: 100.0 %",
+                           /* the ratings: flux / 1000 lm, flux / 50 W, a 74.8 deg field; N1 =
+                              100 (1 - 0.75^11) = 95.8; the zones 227 lm on each side below 30
+                              deg (B1), nothing above 80 (G0) or 90 (U0) */
+                           "light output ratio: 57.1 %\n", "efficacy: 11.4 lm/W at 50 W",
+                           "field angle (10 %) 74.8 deg, NEMA 5",
+                           "zonal lumens: 0-30 453.8, 30-60 117.2, 60-90 0.3, 90-120 0.0",
+                           "CIE flux code: 96 100 100 100 57", "BUG rating (TM-15-11): B1 U0 G0",
+                           "lm back BL 226.9 BM 58.6"};
+    for (int k = 0; k < (int)(sizeof parts / sizeof parts[0]); k++)
         if (!strstr(out, parts[k])) fail_msg("info lacks \"%s\":\n%s", parts[k], out);
     free(out);
     free(err);
@@ -2538,9 +2543,57 @@ static void info_reads_photometric_files(void **state)
     const cJSON *flux = cJSON_GetObjectItemCaseSensitive(j, "flux");
     assert_true(cJSON_IsNumber(flux) && fabs(flux->valuedouble - 571.3) < 0.1);
     assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "symmetry")->valuestring, "rotational");
+    const cJSON *lor = cJSON_GetObjectItemCaseSensitive(j, "light_output_ratio");
+    assert_true(cJSON_IsNumber(lor) && fabs(lor->valuedouble * 1000 - flux->valuedouble) < 1e-9);
+    const cJSON *eff = cJSON_GetObjectItemCaseSensitive(j, "efficacy_lm_per_w");
+    assert_true(cJSON_IsNumber(eff) && fabs(eff->valuedouble * 50 - flux->valuedouble) < 1e-9);
+    const cJSON *code = cJSON_GetObjectItemCaseSensitive(j, "cie_flux_code");
+    assert_true(cJSON_IsArray(code) && cJSON_GetArraySize(code) == 5);
+    assert_int_equal(cJSON_GetArrayItem(code, 0)->valueint, 96);
+    const cJSON *zonal = cJSON_GetObjectItemCaseSensitive(j, "zonal_lm");
+    assert_true(cJSON_IsArray(zonal) && cJSON_GetArraySize(zonal) == 6);
+    double zsum = 0;
+    for (int k = 0; k < 6; k++) zsum += cJSON_GetArrayItem(zonal, k)->valuedouble;
+    assert_true(fabs(zsum - flux->valuedouble) < 1e-9 * flux->valuedouble);
+    const cJSON *bug = cJSON_GetObjectItemCaseSensitive(j, "bug");
+    assert_int_equal(cJSON_GetObjectItemCaseSensitive(bug, "B")->valueint, 1);
+    assert_int_equal(cJSON_GetObjectItemCaseSensitive(bug, "G")->valueint, 0);
+    const cJSON *zl = cJSON_GetObjectItemCaseSensitive(bug, "zones_lm");
+    assert_true(fabs(cJSON_GetObjectItemCaseSensitive(zl, "FL")->valuedouble - 226.9) < 0.1);
+    const cJSON *nema = cJSON_GetObjectItemCaseSensitive(j, "nema_type");
+    assert_int_equal(cJSON_GetArrayItem(nema, 1)->valueint, 5);
     cJSON_Delete(j);
     free(out);
     free(err);
+    /* a title longer than the plot is wide wraps onto a second line, still escaped, and
+     * ends in an ellipsis; the plot moves down to make room */
+    char *spot2 = (char *)tu_read_file(tu_path("spot.ies"), &tn);
+    lum = strstr(spot2, "[MORE] continued here");
+    assert_non_null(lum);
+    char longer[8192];
+    snprintf(longer, sizeof longer, "%.*s[MORE] %s%s", (int)(lum - spot2), spot2,
+             "with a very long description of its optics & housing, as manufacturers write "
+             "them, spread over several [MORE] lines that no plot title can hold whole",
+             lum + strlen("[MORE] continued here"));
+    free(spot2);
+    tu_write_file(tu_path("long.ies"), longer, strlen(longer));
+    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("long.ies"), tu_path("long.svg"));
+    expect(a, 0, NULL);
+    svg = (char *)tu_read_file(tu_path("long.svg"), &svg_n);
+    assert_non_null(strstr(svg, "height=\"556\""));
+    const char *l1 = strstr(svg, "<text x=\"10\" y=\"18\" font-size=\"13\">");
+    const char *l2 = strstr(svg, "<text x=\"10\" y=\"34\" font-size=\"13\">");
+    assert_non_null(l1);
+    assert_non_null(l2);
+    l1 = strchr(l1, '>') + 1;
+    l2 = strchr(l2, '>') + 1;
+    const char *e1 = strstr(l1, "</text>"), *e2 = strstr(l2, "</text>");
+    /* 68 characters, broken at a space */
+    const char *want1 = "analytic 1 with a very long description of its optics &amp; housing, as";
+    assert_true(e1 - l1 == (long)strlen(want1) && strncmp(l1, want1, strlen(want1)) == 0);
+    assert_true(e2 - l2 <= 67 + 3 && strncmp(e2 - 3, "…", 3) == 0);
+    assert_null(strstr(svg, "hold whole"));
+    free(svg);
     /* EULUMDAT: the luminaire flux (lamps x LOR) is the file's own */
     text = pg_ldt(PG_LAMBERT, 0, 2, 24, 37, 2, &n);
     tu_write_file(tu_path("down.LDT"), text, n);
@@ -2549,6 +2602,25 @@ static void info_reads_photometric_files(void **state)
     assert_int_equal(run(a, &out, &err), 0);
     assert_non_null(strstr(out, "EULUMDAT, photometric type C, symmetry C0-C180"));
     assert_non_null(strstr(out, "luminaire flux (lamps x LOR): 800 lm"));
+    assert_non_null(strstr(out, "efficacy:")); /* EULUMDAT's lamp set watts */
+    /* the generator's 1000 cd at nadir per 1000 lamp lumens: pi x 1000 lm from the table */
+    assert_non_null(strstr(out, "light output ratio: 314.0 %"));
+    free(out);
+    free(err);
+    /* a floodlight (type B): its light lies in front, whichever way it is aimed; no zones
+     * or ratings of type C's */
+    pg_ies_spec fl = {PG_AIMED, 0, "IESNA:LM-63-2002", 2, 37, -90, 90, 37, -90, 90, 1, 0, 0, 0,
+                      0,        2};
+    text = pg_ies(&fl, &n);
+    tu_write_file(tu_path("flood.ies"), text, n);
+    free(text);
+    snprintf(a, sizeof a, "info '%s'", tu_path("flood.ies"));
+    assert_int_equal(run(a, &out, &err), 0);
+    assert_non_null(strstr(out, "front: 100.0 % of the flux"));
+    assert_null(strstr(out, "downward"));
+    assert_null(strstr(out, "BUG"));
+    assert_non_null(strstr(out, "V=0 (H): beam angle"));
+    assert_non_null(strstr(out, ", NEMA 7"));
     free(out);
     free(err);
     /* errors: the line and the field; the plot never replaces the file */

@@ -899,6 +899,355 @@ static void ldt_shapes_factors_and_values(void **state)
     lumis_photometric_file_destroy(f);
 }
 
+/* ---- zonal flux and the designer's ratings ------------------------------------------------ */
+
+/* A midpoint quadrature of the model's own intensity over [v0, v1] x [h0, h1] (the table's
+ * angles; type C weighs by sin gamma), written apart from the cells' closed forms. */
+static double zonal_quadrature(const lumis_photometric *p, lumis_photometric_type type, double v0,
+                               double v1, double h0, double h1)
+{
+    const int nv = 600, nh = 600;
+    const double dv = (v1 - v0) / nv, dh = (h1 - h0) / nh;
+    double sum = 0;
+    for (int j = 0; j < nv; j++) {
+        const double v = v0 + (j + 0.5) * dv;
+        for (int i = 0; i < nh; i++) {
+            const double h = h0 + (i + 0.5) * dh;
+            const double w = type == LUMIS_PHOTOMETRIC_C   ? sin(v * PI / 180)
+                             : type == LUMIS_PHOTOMETRIC_A ? cos(v * PI / 180)
+                                                           : cos(h * PI / 180);
+            sum += lumis_photometric_intensity_at(p, h, v) * w;
+        }
+    }
+    return sum * dv * dh * (PI / 180) * (PI / 180);
+}
+
+static double zonal(const lumis_photometric *p, double v0, double v1, double h0, double h1)
+{
+    double lm = -1;
+    assert_int_equal(lumis_photometric_zonal(p, v0, v1, h0, h1, &lm), LUMIS_OK);
+    return lm;
+}
+
+/* The zonal flux: the closed forms of a Lambertian and a cos^n spot; the interpolant's own
+ * integral (a quadrature) on coarse asymmetric tables of every type; every symmetry form of
+ * one table giving the same zones; splits that add up to the whole. */
+static void zonal_flux_is_exact(void **state)
+{
+    (void)state;
+    /* Lambertian: pi I0 (sin^2 g1 - sin^2 g0) over the whole circle */
+    pg_ies_spec s = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 181, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *f = read_ies(&s);
+    const double band[][2] = {{0, 30}, {12.3, 41.4}, {30, 60}, {60, 90}, {77.7, 90}};
+    for (int k = 0; k < 5; k++) {
+        const double g0 = band[k][0] * PI / 180, g1 = band[k][1] * PI / 180;
+        const double want = PI * 1000 * (pow(sin(g1), 2) - pow(sin(g0), 2));
+        const double got = zonal(f->model, band[k][0], band[k][1], 0, 360);
+        if (fabs(got / want - 1) > 5e-4) fail_msg("Lambert %d: %.6g, want %.6g", k, got, want);
+        /* a C range of a rotational table: its share of the circle, wherever it lies */
+        const double part = zonal(f->model, band[k][0], band[k][1], -50, 70);
+        assert_true(fabs(part / got - 120.0 / 360) < 1e-12);
+    }
+    /* the band's edges off the grid: the same as the flux within gamma */
+    assert_true(fabs(zonal(f->model, 0, 41.37, 0, 360) -
+                     lumis_photometric_flux_within(f->model, 41.37)) < 1e-9);
+    assert_true(fabs(zonal(f->model, 0, 180, 0, 720) - lumis_photometric_flux(f->model)) < 1e-9);
+    lumis_photometric_file_destroy(f);
+    /* cos^n: 2 pi I0 (cos^(n+1) g0 - cos^(n+1) g1) / (n + 1) */
+    pg_ies_spec sp = {PG_SPOT, 8, "IESNA:LM-63-2002", 1, 181, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    f = read_ies(&sp);
+    for (int k = 0; k < 5; k++) {
+        const double g0 = band[k][0] * PI / 180, g1 = band[k][1] * PI / 180;
+        const double want = 2 * PI * 1000 * (pow(cos(g0), 9) - pow(cos(g1), 9)) / 9;
+        const double got = zonal(f->model, band[k][0], band[k][1], 0, 360);
+        if (fabs(got - want) > 5e-4 * pg_flux(PG_SPOT, 8))
+            fail_msg("spot %d: %.6g, want %.6g", k, got, want);
+    }
+    lumis_photometric_file_destroy(f);
+    /* coarse asymmetric tables of types C, B, A: the zonal flux is the interpolant's
+     * integral, ranges cutting through cells (type C: across C0, and wider than the table) */
+    for (int type = 1; type <= 3; type++) {
+        pg_ies_spec c = {type == 1 ? PG_ROAD : PG_AIMED,
+                         0.8,
+                         "IESNA:LM-63-2002",
+                         type,
+                         7,
+                         type == 1 ? 0 : -90,
+                         type == 1 ? 180 : 90,
+                         9,
+                         type == 1 ? 0 : -90,
+                         type == 1 ? 320 : 90,
+                         1,
+                         0,
+                         0,
+                         0,
+                         0,
+                         2};
+        f = read_ies(&c);
+        const double rc[][4] = {{5, 77, -40, 61}, {33, 150, 100, 355}, {0, 13, -17, 44}};
+        const double rab[][4] = {{5, 77, -40, 61}, {33, 85, -85, 12}, {-80, 13, -17, 44}};
+        const double(*r)[4] = type == 1 ? rc : rab;
+        for (int k = 0; k < 3; k++) {
+            const double v0 = r[k][0], v1 = r[k][1];
+            const double got = zonal(f->model, v0, v1, r[k][2], r[k][3]);
+            double want;
+            if (type == 1 && r[k][2] < 0) /* the quadrature in the table's range */
+                want = zonal_quadrature(f->model, LUMIS_PHOTOMETRIC_C, v0, v1, r[k][2] + 360, 360) +
+                       zonal_quadrature(f->model, LUMIS_PHOTOMETRIC_C, v0, v1, 0, r[k][3]);
+            else
+                want = zonal_quadrature(f->model, (lumis_photometric_type)type, v0, v1, r[k][2],
+                                        r[k][3]);
+            if (!(got > 0) || fabs(got / want - 1) > 2e-4)
+                fail_msg("type %d range %d: %.8g, quadrature %.8g", type, k, got, want);
+        }
+        /* splits add up to the whole */
+        const double whole = lumis_photometric_flux(f->model);
+        const double lo = type == 1 ? 0 : -90, hi = type == 1 ? 180 : 90;
+        const double hlo = type == 1 ? -30 : -90, hhi = type == 1 ? 330 : 90;
+        double sum = 0;
+        for (int a = 0; a < 4; a++)
+            for (int b = 0; b < 5; b++)
+                sum += zonal(f->model, lo + (hi - lo) * a / 4.0 + (a ? 0.37 : 0),
+                             a == 3 ? hi : lo + (hi - lo) * (a + 1) / 4.0 + 0.37,
+                             hlo + (hhi - hlo) * b / 5.0, hlo + (hhi - hlo) * (b + 1) / 5.0);
+        if (fabs(sum / whole - 1) > 1e-12)
+            fail_msg("type %d: splits %.15g, whole %.15g", type, sum, whole);
+        lumis_photometric_file_destroy(f);
+    }
+    /* one table in the five EULUMDAT symmetry forms: the same zones, to rounding */
+    lumis_photometric_file *form[5];
+    for (int isym = 0; isym <= 4; isym++) {
+        size_t n = 0;
+        char *text = pg_ldt(PG_QUAD, 0.9, isym, 24, 37, 1, &n);
+        tu_sink sink;
+        tu_sink_init(&sink);
+        form[isym] = read_text(text, n, &sink);
+        free(text);
+    }
+    const double r[][4] = {
+        {0, 90, -40, 70}, {10, 50, 20, 130}, {35, 80, 170, 260}, {0, 180, 300, 400}};
+    for (int k = 0; k < 4; k++) {
+        const double want = zonal(form[0]->model, r[k][0], r[k][1], r[k][2], r[k][3]);
+        assert_true(want > 0);
+        for (int isym = 2; isym <= 4; isym++) {
+            const double got = zonal(form[isym]->model, r[k][0], r[k][1], r[k][2], r[k][3]);
+            if (fabs(got / want - 1) > 1e-12)
+                fail_msg("Isym %d range %d: %.15g against %.15g", isym, k, got, want);
+        }
+    }
+    for (int isym = 0; isym <= 4; isym++) lumis_photometric_file_destroy(form[isym]);
+    /* types A and B mirrored to -H and -V: the full table's zones */
+    for (int type = 2; type <= 3; type++) {
+        pg_ies_spec full = {
+            PG_AIMED, 0, "IESNA:LM-63-2002", type, 19, -90, 90, 19, -90, 90, 1, 0, 0, 0, 0, 2};
+        pg_ies_spec half = full;
+        half.nv = 10;
+        half.v0 = 0;
+        half.nh = 10;
+        half.h0 = 0;
+        lumis_photometric_file *a = read_ies(&full), *b = read_ies(&half);
+        const double want = zonal(a->model, -10, 70, -60, 20);
+        const double got = zonal(b->model, -10, 70, -60, 20);
+        if (fabs(got / want - 1) > 1e-12) fail_msg("type %d: %.15g against %.15g", type, got, want);
+        lumis_photometric_file_destroy(a);
+        lumis_photometric_file_destroy(b);
+    }
+    double lm = 5;
+    assert_int_equal(lumis_photometric_zonal(NULL, 0, 90, 0, 360, &lm), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_true(lm == 0);
+    f = read_ies(&s);
+    assert_int_equal(lumis_photometric_zonal(f->model, 60, 30, 0, 360, &lm),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_zonal(f->model, 0, 30, 10, 0, &lm),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_zonal(f->model, 0, NAN, 0, 360, &lm),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_zonal(f->model, 0, 30, 0, 360, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_file_destroy(f);
+}
+
+/* A road light throwing across the street (C90): I0 cos g (1 + b sin g sin C).  Its forward
+ * (C 0-180) and back zones have closed forms: I0 [pi/2 (sin^2 g1 - sin^2 g0) +- 2b/3 (sin^3
+ * g1 - sin^3 g0)]. */
+static void street_side_is_forward(void **state)
+{
+    (void)state;
+    enum { NV = 181, NH = 181 };
+    static double v[NV], h[NH], cd[NH * NV];
+    const double b = 0.8;
+    for (int j = 0; j < NV; j++) v[j] = 0.5 * j;
+    for (int i = 0; i < NH; i++) h[i] = 2.0 * i;
+    for (int i = 0; i < NH; i++)
+        for (int j = 0; j < NV; j++) {
+            const double g = v[j] * PI / 180, c = h[i] * PI / 180;
+            cd[i * NV + j] = 1000 * cos(g) * (1 + b * sin(g) * sin(c));
+        }
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = NV;
+    d.nh = NH;
+    d.v_deg = v;
+    d.h_deg = h;
+    d.candela = cd;
+    d.lamp_lumens = 4000;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    lumis_photometric_ratings r;
+    assert_int_equal(lumis_photometric_get_ratings(p, 40, &r), LUMIS_OK);
+    const double edge[5] = {0, 30, 60, 80, 90};
+    const double fwd[4] = {r.lcs.fl, r.lcs.fm, r.lcs.fh, r.lcs.fvh};
+    const double back[4] = {r.lcs.bl, r.lcs.bm, r.lcs.bh, r.lcs.bvh};
+    for (int k = 0; k < 4; k++) {
+        const double s0 = sin(edge[k] * PI / 180), s1 = sin(edge[k + 1] * PI / 180);
+        const double even = 1000 * PI / 2 * (s1 * s1 - s0 * s0);
+        const double odd = 1000 * 2 * b / 3 * (s1 * s1 * s1 - s0 * s0 * s0);
+        if (fabs(fwd[k] - (even + odd)) > 2e-4 * PI * 1000 ||
+            fabs(back[k] - (even - odd)) > 2e-4 * PI * 1000)
+            fail_msg("zone %d: forward %.6g back %.6g, want %.6g and %.6g", k, fwd[k], back[k],
+                     even + odd, even - odd);
+    }
+    assert_true(fwd[0] > back[0] && fwd[3] > back[3]); /* the street side is C90's */
+    assert_true(r.lcs.ul == 0 && r.lcs.uh == 0);
+    /* every zone together is the flux */
+    const double all = r.lcs.fl + r.lcs.fm + r.lcs.fh + r.lcs.fvh + r.lcs.bl + r.lcs.bm + r.lcs.bh +
+                       r.lcs.bvh + r.lcs.ul + r.lcs.uh;
+    assert_true(fabs(all / lumis_photometric_flux(p) - 1) < 1e-12);
+    /* BL 392.7 - 418.9 x 1/8 = 340.3 (B1), BM 785.4 - 418.9 x (0.650 - 0.125) = 565.5 (B1),
+     * BH 345.3 - 418.9 x (0.955 - 0.650) = 217.4 (B1); FH 345.3 + 127.8 = 473.1 (G0), FVH
+     * 47.4 + 418.9 x (1 - 0.955) = 66.2 (G1), BVH 28.5 (G1); no uplight */
+    assert_int_equal(r.bug[0], 1);
+    assert_int_equal(r.bug[1], 0);
+    assert_int_equal(r.bug[2], 1);
+    assert_true(fabs(r.lor - lumis_photometric_flux(p) / 4000) < 1e-15);
+    assert_true(fabs(r.efficacy - lumis_photometric_flux(p) / 40) < 1e-12);
+    lumis_photometric_destroy(p);
+}
+
+/* TM-15-11's thresholds: at each maximum the lower rating, just above it the next. */
+static void bug_ratings_at_their_thresholds(void **state)
+{
+    (void)state;
+    lumis_photometric_lcs z = {0};
+    int bug[3];
+#define RATE(edit, B, U, G)                                                                        \
+    do {                                                                                           \
+        lumis_photometric_lcs t = z;                                                               \
+        edit;                                                                                      \
+        assert_int_equal(lumis_photometric_bug(&t, bug), LUMIS_OK);                                \
+        if (bug[0] != (B) || bug[1] != (U) || bug[2] != (G))                                       \
+            fail_msg("%s: B%d U%d G%d, want B%d U%d G%d", #edit, bug[0], bug[1], bug[2], B, U, G); \
+    } while (0)
+    RATE((void)0, 0, 0, 0);
+    RATE(t.bl = 110, 0, 0, 0);
+    RATE(t.bl = 110.001, 1, 0, 0);
+    RATE(t.bm = 220, 0, 0, 0);
+    RATE(t.bm = 220.001, 1, 0, 0);
+    RATE(t.bm = 8500, 4, 0, 0);
+    RATE(t.bm = 8500.01, 5, 0, 0);
+    RATE(t.bl = 2500, 3, 0, 0);
+    RATE(t.bh = 110, 0, 0, 0);     /* BH counts for B and G alike */
+    RATE(t.bh = 110.001, 1, 0, 1); /* G1 at BH's 500 */
+    RATE(t.bh = 5000, 4, 0, 4);
+    RATE(t.bh = 5000.1, 5, 0, 5);
+    RATE(t.ul = 1e-9, 0, 1, 0); /* U0 is no uplight at all */
+    RATE(t.uh = 10, 0, 1, 0);
+    RATE(t.uh = 10.001, 0, 2, 0);
+    RATE(t.ul = 1000, 0, 4, 0);
+    RATE(t.ul = 1000.1, 0, 5, 0);
+    RATE(t.fvh = 10, 0, 0, 0);
+    RATE(t.fvh = 10.001, 0, 0, 1);
+    RATE(t.bvh = 750, 0, 0, 4);
+    RATE(t.bvh = 750.1, 0, 0, 5);
+    RATE(t.fh = 660, 0, 0, 0);
+    RATE(t.fh = 660.1, 0, 0, 1);
+    RATE(t.fh = 12000, 0, 0, 4);
+    RATE(t.fh = 12000.1, 0, 0, 5);
+    RATE((t.fh = 1800, t.fvh = 150), 0, 0, 2); /* the worst zone decides */
+    RATE((t.fl = 1e6, t.fm = 1e6), 0, 0, 0);   /* forward low and mid are the task's light */
+#undef RATE
+    assert_int_equal(lumis_photometric_bug(NULL, bug), LUMIS_ERR_INVALID_ARGUMENT);
+    /* NEMA beam types at their edges */
+    const double spread[] = {NAN, 0,  9.99,  10,  18,  18.01,  29, 29.01,
+                             46,  70, 70.01, 100, 130, 130.01, 180};
+    const int type[] = {0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 5, 5, 6, 7, 7};
+    for (int k = 0; k < (int)(sizeof type / sizeof type[0]); k++)
+        if (lumis_photometric_nema_type(spread[k]) != type[k])
+            fail_msg("NEMA %g: %d, want %d", spread[k], lumis_photometric_nema_type(spread[k]),
+                     type[k]);
+}
+
+/* The ratings of generated files: a Lambertian's CIE flux code (N1 = 100 sin^2 41.4 =
+ * 43.75, N2 75, N3 93.75, N4 100) and its BUG; LOR and efficacy from the file's lamp lumens
+ * and watts; absolute photometry without an LOR; floodlights with NEMA types only. */
+static void ratings_of_files(void **state)
+{
+    (void)state;
+    pg_ies_spec s = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 181, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *f = read_ies(&s);
+    assert_true(fabs(f->input_watts - 50) < 1e-12);
+    lumis_photometric_ratings r;
+    assert_int_equal(lumis_photometric_get_ratings(f->model, f->input_watts, &r), LUMIS_OK);
+    const int code[5] = {44, 75, 94, 100, 314}; /* flux pi x 1000 from 1000 lamp lumens */
+    for (int k = 0; k < 5; k++)
+        if (r.cie_flux_code[k] != code[k])
+            fail_msg("N%d %d, want %d", k + 1, r.cie_flux_code[k], code[k]);
+    /* zones: pi I0 (sin^2 g1 - sin^2 g0): 785.4, 1570.8, 785.4, then nothing */
+    const double zone[6] = {PI * 250, PI * 500, PI * 250, 0, 0, 0};
+    for (int k = 0; k < 6; k++)
+        if (fabs(r.zonal_lm[k] - zone[k]) > 2e-4 * PI * 1000)
+            fail_msg("zone %d: %.6g, want %.6g", k, r.zonal_lm[k], zone[k]);
+    /* half of each in front: FL = BL 392.7 (B1), BM 785.4 (B1), BH 345.3 (B1); FVH 47.4
+     * (G1), FH 345.3; U0 (the table stops at 90) */
+    assert_int_equal(r.bug[0], 1);
+    assert_int_equal(r.bug[1], 0);
+    assert_int_equal(r.bug[2], 1);
+    assert_true(fabs(r.lcs.fvh - PI * 500 * (1 - pow(sin(80 * PI / 180), 2))) < 0.5);
+    const double flux = lumis_photometric_flux(f->model);
+    assert_true(fabs(r.lor - flux / 1000) < 1e-15);
+    assert_true(fabs(r.efficacy - flux / 50) < 1e-12);
+    assert_int_equal(r.nema[0], 7); /* a field angle of 2 acos 0.1 = 168.5 deg */
+    lumis_photometric_file_destroy(f);
+    /* U0 is no light above the horizontal at all: the same table to 180, whose cos 90 deg
+     * = 6e-14 cd at 90 leaves 1e-15 lm above it, is U1 */
+    s.nv = 361;
+    s.v1 = 180;
+    f = read_ies(&s);
+    assert_int_equal(lumis_photometric_get_ratings(f->model, f->input_watts, &r), LUMIS_OK);
+    assert_true(r.lcs.ul > 0 && r.lcs.ul < 1e-9 && r.lcs.uh == 0);
+    assert_int_equal(r.bug[1], 1);
+    lumis_photometric_file_destroy(f);
+    /* absolute photometry: no lamp lumens, so no LOR and no N5; no watts, no efficacy */
+    size_t n = 0;
+    char *text = pg_ies(&s, &n);
+    char *at = strstr(text, "\r\n1 1000 ");
+    assert_non_null(at);
+    memcpy(at + 2, "1   -1 ", 7);
+    char *w = strstr(text, "1.0 1.0 50");
+    memcpy(w, "1.0 1.0  0", 10);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    f = read_text(text, n, &sink);
+    free(text);
+    assert_int_equal(lumis_photometric_get_ratings(f->model, f->input_watts, &r), LUMIS_OK);
+    assert_true(r.lor == 0 && r.efficacy == 0);
+    assert_int_equal(r.cie_flux_code[4], -1);
+    assert_int_equal(r.cie_flux_code[0], 44);
+    lumis_photometric_file_destroy(f);
+    /* a floodlight: LOR and the NEMA types of its two planes; the rest is type C's */
+    pg_ies_spec b = {PG_SPOT, 0, "IESNA:LM-63-2002", 2, 181, -90, 90, 181, -90, 90, 1, 0, 0, 0,
+                     0,       2};
+    f = read_ies(&b);
+    assert_int_equal(lumis_photometric_get_ratings(f->model, 0, &r), LUMIS_OK);
+    assert_int_equal(r.nema[0], 7);
+    assert_int_equal(r.nema[1], 7);
+    for (int k = 0; k < 5; k++) assert_int_equal(r.cie_flux_code[k], -1);
+    for (int k = 0; k < 3; k++) assert_int_equal(r.bug[k], -1);
+    assert_true(r.zonal_lm[0] == 0);
+    lumis_photometric_file_destroy(f);
+    assert_int_equal(lumis_photometric_get_ratings(NULL, 0, &r), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -915,6 +1264,10 @@ int main(void)
         cmocka_unit_test(rectangle_near_and_light_fields),
         cmocka_unit_test(readers_less_travelled),
         cmocka_unit_test(ldt_shapes_factors_and_values),
+        cmocka_unit_test(zonal_flux_is_exact),
+        cmocka_unit_test(street_side_is_forward),
+        cmocka_unit_test(bug_ratings_at_their_thresholds),
+        cmocka_unit_test(ratings_of_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -139,6 +139,62 @@ typedef struct lumis_photometric_info {
 
 lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info);
 
+/* The flux (lm) of the interpolated table within vertical angles [v0, v1] and horizontal
+ * angles [h0, h1], exactly: every symmetry image of every cell cut at the range's edges (a
+ * cut bilinear cell is bilinear) and integrated in closed form, as the flux is.  Angles in
+ * degrees, the table's own: type C gamma (v) and C (h), the C range taken round the circle
+ * (h0 <= h1, wider than 360 counts as 360: -90 to 90 is C270 through C0 to C90); types A
+ * and B V and H (their light lies within -90 to 90).  LUMIS_ERR_INVALID_ARGUMENT for NULL,
+ * a reversed or a non-finite range. */
+lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0_deg, double v1_deg,
+                                     double h0_deg, double h1_deg, double *lm);
+
+/* IES TM-15-11's luminaire classification system: the lumens (lm) in its ten secondary
+ * solid angles.  Forward is the street side, C 0 to 180 (LM-63 type C: C90 points across the
+ * street, C0 along it), back C 180 to 360; low is gamma 0-30, mid 30-60, high 60-80, very
+ * high 80-90; uplight low 90-100, high 100-180. */
+typedef struct lumis_photometric_lcs {
+    double fl, fm, fh, fvh; /* forward low, mid, high, very high */
+    double bl, bm, bh, bvh; /* back */
+    double ul, uh;          /* uplight low, high */
+} lumis_photometric_lcs;
+
+/* What a lighting designer reads off a photometric file beyond lumis_photometric_info
+ * (docs/photometric.md has each definition and its source).  Computed on demand by
+ * lumis_photometric_get_ratings: a few passes over the table's cells. */
+typedef struct lumis_photometric_ratings {
+    double lor;      /* light output ratio: the table's flux / the lamps' rated lumens
+                        (relative photometry; an EULUMDAT file states its own); 0: absolute
+                        photometry (no lamp lumens) */
+    double efficacy; /* lm/W: the table's flux / the input watts; 0: no watts given */
+    /* NEMA FL 11 beam type of the field angle (10 % of the peak, info.field_deg) in each
+     * principal plane: 1 (10-18 deg), 2 (to 29), 3 (to 46), 4 (to 70), 5 (to 100), 6 (to
+     * 130), 7 (over 130); 0 under 10 deg or no light.  A floodlight's (types A, B) are
+     * horizontal x vertical; for type C they are the C0-C180 and C90-C270 planes'. */
+    int nema[2];
+    /* Type C only (types A and B: zonal 0, the codes and ratings -1). */
+    double zonal_lm[6];   /* lm in gamma 0-30, 30-60, 60-90, 90-120, 120-150, 150-180 */
+    int cie_flux_code[5]; /* CIE 52: N1, N2, N3 = 100 x the flux within 41.4, 60, 75.5 deg of
+                             nadir (cones of pi/2, pi, 3 pi/2 sr) / the downward flux; N4 =
+                             100 x downward / all; N5 = 100 x LOR; rounded.  -1: undefined
+                             (N1-N3 without downward flux, N5 for absolute photometry) */
+    lumis_photometric_lcs lcs;
+    int bug[3]; /* TM-15-11 backlight, uplight and glare ratings, 0 to 5: lumis_photometric_bug */
+} lumis_photometric_ratings;
+
+/* The ratings of the model; input_watts from the file (lumis_photometric_file.input_watts;
+ * <= 0: none). */
+lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double input_watts,
+                                           lumis_photometric_ratings *out);
+
+/* The BUG rating of TM-15-11 Addendum A's Table A-1 from the zone lumens: each of B, U and G
+ * is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH; U: UL,
+ * UH; G: FVH, BVH, FH, BH), 5 above them all. */
+lumis_status lumis_photometric_bug(const lumis_photometric_lcs *lcs, int bug[3]);
+
+/* The NEMA beam type (1 to 7; 0 under 10 deg) of a beam spread in degrees. */
+int lumis_photometric_nema_type(double spread_deg);
+
 /* ---- the near field --------------------------------------------------------------------
  *
  * A fixture's luminous opening (its file's disk or rectangle, in the plane z = 0 of its frame,

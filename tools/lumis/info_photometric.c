@@ -17,12 +17,50 @@ static const char *plane_name(lumis_photometric_type t, int k)
     return k == 0 ? "V=0 (H)" : "H=0 (V)";
 }
 
+/* The number of bytes of s's first n characters (UTF-8 code points; all of s if shorter). */
+static size_t utf8_prefix(const char *s, int n)
+{
+    size_t b = 0;
+    for (int k = 0; s[b] && k < n; k++) do
+            b++;
+        while ((s[b] & 0xC0) == 0x80);
+    return b;
+}
+
+/* The title in at most two lines of at most `width` characters, broken at a space where one
+ * lies in the line's second half; what still does not fit ends in an ellipsis.  Returns the
+ * number of lines. */
+static int wrap_title(const char *s, int width, char line[2][1200])
+{
+    int n = 0;
+    while (*s && n < 2) {
+        while (*s == ' ') s++;
+        size_t b = utf8_prefix(s, width);
+        const int last = n == 1;
+        if (s[b] && last) b = utf8_prefix(s, width - 1); /* room for the ellipsis */
+        if (s[b] && s[b] != ' ') { /* break at the last space, if not too early */
+            size_t sp = b;
+            while (sp > 0 && s[sp] != ' ') sp--;
+            if (sp > utf8_prefix(s, width / 2)) b = sp;
+        }
+        snprintf(line[n], 1200, "%.*s%s", (int)b, s, last && s[b] ? "…" : "");
+        s += b;
+        n++;
+    }
+    return n;
+}
+
 /* The polar plot: nadir (the aim) down, one curve per principal plane, the radius linear
- * in candela up to a round value above the peak. */
+ * in candela up to a round value above the peak; a title too long for one line wraps onto a
+ * second, the plot moving down to make room. */
 static int write_svg(const char *path, const char *title, const lumis_photometric *p,
                      const lumis_photometric_info *in)
 {
-    const double cx = 260, cy = 250, R = 200, peak = in->max_candela;
+    char line[2][1200] = {{0}};
+    /* 13 px sans-serif averages about 7 px a character: 68 fit the 500 px */
+    const int lines = wrap_title(title, 68, line);
+    const int dy = lines > 1 ? 16 : 0, W = 520, H = 540 + dy;
+    const double cx = 260, cy = 250 + dy, R = 200, peak = in->max_candela;
     /* a round scale: 1, 2 or 5 times a power of ten, at or above the peak */
     double top = 1;
     if (peak > 0) {
@@ -31,9 +69,11 @@ static int write_svg(const char *path, const char *title, const lumis_photometri
     }
     FILE *t = tmpfile();
     if (!t) return tool_runtime_error("%s: no temporary file", path);
-    fprintf(t, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"520\" height=\"540\" "
-               "viewBox=\"0 0 520 540\" font-family=\"sans-serif\" font-size=\"11\">\n");
-    fprintf(t, "<rect width=\"520\" height=\"540\" fill=\"white\"/>\n");
+    fprintf(t,
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+            "viewBox=\"0 0 %d %d\" font-family=\"sans-serif\" font-size=\"11\">\n",
+            W, H, W, H);
+    fprintf(t, "<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n", W, H);
     for (int r = 1; r <= 4; r++) {
         fprintf(t, "<circle cx=\"%g\" cy=\"%g\" r=\"%g\" fill=\"none\" stroke=\"#ccc\"/>\n", cx, cy,
                 R * r / 4);
@@ -61,18 +101,21 @@ static int write_svg(const char *path, const char *title, const lumis_photometri
         }
         fprintf(t, "\"/>\n");
     }
-    fputs("<text x=\"10\" y=\"18\" font-size=\"13\">", t);
-    tool_markup_escape(t, title);
-    fputs("</text>\n", t);
-    for (int k = 0; k < 2; k++) {
-        fprintf(t, "<line x1=\"20\" y1=\"%d\" x2=\"50\" y2=\"%d\" %s/>\n", 485 + 18 * k,
-                485 + 18 * k, style[k]);
-        fprintf(t, "<text x=\"56\" y=\"%d\">%s: beam %.1f°, field %.1f°</text>\n", 489 + 18 * k,
-                plane_name(in->type, k), in->beam_deg[k], in->field_deg[k]);
+    for (int k = 0; k < lines; k++) {
+        fprintf(t, "<text x=\"10\" y=\"%d\" font-size=\"13\">", 18 + 16 * k);
+        tool_markup_escape(t, line[k]);
+        fputs("</text>\n", t);
     }
-    fprintf(t, "<text x=\"300\" y=\"489\">%.0f lm, peak %.0f cd</text>\n", in->flux,
+    for (int k = 0; k < 2; k++) {
+        fprintf(t, "<line x1=\"20\" y1=\"%d\" x2=\"50\" y2=\"%d\" %s/>\n", 485 + dy + 18 * k,
+                485 + dy + 18 * k, style[k]);
+        fprintf(t, "<text x=\"56\" y=\"%d\">%s: beam %.1f°, field %.1f°</text>\n",
+                489 + dy + 18 * k, plane_name(in->type, k), in->beam_deg[k], in->field_deg[k]);
+    }
+    fprintf(t, "<text x=\"300\" y=\"%d\">%.0f lm, peak %.0f cd</text>\n", 489 + dy, in->flux,
             in->max_candela);
-    fprintf(t, "<text x=\"300\" y=\"507\" fill=\"#666\">0° down (the aim)</text>\n</svg>\n");
+    fprintf(t, "<text x=\"300\" y=\"%d\" fill=\"#666\">0° down (the aim)</text>\n</svg>\n",
+            507 + dy);
     return tool_commit_tmp(t, path);
 }
 
@@ -87,6 +130,9 @@ int tool_photometric_info(const char *path, int json, const char *svg)
     const double own = in.luminaire_lumens > 0 ? in.luminaire_lumens : in.lamp_lumens;
     const char *own_what = in.luminaire_lumens > 0 ? "luminaire flux (lamps x LOR)" : "lamp lumens";
     const double diff = own > 0 ? in.flux / own - 1 : NAN;
+    lumis_photometric_ratings rt;
+    lumis_photometric_get_ratings(f->model, f->input_watts, &rt);
+    const int type_c = in.type == LUMIS_PHOTOMETRIC_C;
     int rc = EXIT_OK;
     if (json) {
         cJSON *j = cJSON_CreateObject();
@@ -123,7 +169,44 @@ int tool_photometric_info(const char *path, int json, const char *svg)
         cJSON_AddItemToObject(j, "beam_deg", cJSON_CreateDoubleArray(in.beam_deg, 2));
         cJSON_AddItemToObject(j, "field_deg", cJSON_CreateDoubleArray(in.field_deg, 2));
         cJSON_AddNumberToObject(j, "downward_fraction", in.downward_fraction);
+        if (rt.lor > 0)
+            cJSON_AddNumberToObject(j, "light_output_ratio", rt.lor);
+        else
+            cJSON_AddNullToObject(j, "light_output_ratio");
+        cJSON_AddNumberToObject(j, "input_watts", f->input_watts);
+        if (rt.efficacy > 0)
+            cJSON_AddNumberToObject(j, "efficacy_lm_per_w", rt.efficacy);
+        else
+            cJSON_AddNullToObject(j, "efficacy_lm_per_w");
+        cJSON_AddItemToObject(j, "nema_type", cJSON_CreateIntArray(rt.nema, 2));
+        if (type_c) {
+            cJSON_AddItemToObject(j, "zonal_lm", cJSON_CreateDoubleArray(rt.zonal_lm, 6));
+            cJSON *code = cJSON_AddArrayToObject(j, "cie_flux_code"); /* null: undefined */
+            for (int k = 0; k < 5; k++)
+                cJSON_AddItemToArray(code, rt.cie_flux_code[k] >= 0
+                                               ? cJSON_CreateNumber(rt.cie_flux_code[k])
+                                               : cJSON_CreateNull());
+            const lumis_photometric_lcs *z = &rt.lcs;
+            const double zones[10] = {z->fl, z->fm, z->fh,  z->fvh, z->bl,
+                                      z->bm, z->bh, z->bvh, z->ul,  z->uh};
+            static const char *const zone_names[10] = {"FL", "FM", "FH",  "FVH", "BL",
+                                                       "BM", "BH", "BVH", "UL",  "UH"};
+            cJSON *bug = cJSON_AddObjectToObject(j, "bug");
+            cJSON_AddNumberToObject(bug, "B", rt.bug[0]);
+            cJSON_AddNumberToObject(bug, "U", rt.bug[1]);
+            cJSON_AddNumberToObject(bug, "G", rt.bug[2]);
+            cJSON *zl = cJSON_AddObjectToObject(bug, "zones_lm");
+            for (int k = 0; k < 10; k++) cJSON_AddNumberToObject(zl, zone_names[k], zones[k]);
+        } else {
+            cJSON_AddNullToObject(j, "zonal_lm");
+            cJSON_AddNullToObject(j, "cie_flux_code");
+            cJSON_AddNullToObject(j, "bug");
+        }
         cJSON_AddBoolToObject(j, "tilt_included", f->tilt);
+        if (f->warning[0])
+            cJSON_AddStringToObject(j, "warning", f->warning);
+        else
+            cJSON_AddNullToObject(j, "warning");
         char *text = cJSON_Print(j);
         if (text) printf("%s\n", text);
         free(text);
@@ -141,19 +224,50 @@ int tool_photometric_info(const char *path, int json, const char *svg)
         if (in.shape != LUMIS_SHAPE_POINT)
             printf(", width %.4g m, length %.4g m, height %.4g m", in.width, in.length, in.height);
         printf("\n  flux: %.6g lm from the table", in.flux);
-        if (own > 0)
+        if (in.luminaire_lumens > 0) /* a check: the two should agree */
             printf("; the file's %s: %.6g lm (the table's is %+.2f %%)", own_what, own, 100 * diff);
+        else if (own > 0) /* the lamps': their ratio is the light output ratio, below */
+            printf("; the file's %s: %.6g lm", own_what, own);
         else
             printf("; the file gives no lumens (absolute photometry)");
-        printf("\n  peak: %.6g cd at %s %g, %s %g\n", in.max_candela,
-               in.type == LUMIS_PHOTOMETRIC_C ? "C" : "H", in.max_h,
-               in.type == LUMIS_PHOTOMETRIC_C ? "gamma" : "V", in.max_v);
-        for (int k = 0; k < 2; k++)
-            printf("  %s: beam angle (50 %%) %.1f deg, field angle (10 %%) %.1f deg\n",
+        printf("\n");
+        if (rt.lor > 0) printf("  light output ratio: %.1f %%\n", 100 * rt.lor);
+        if (rt.efficacy > 0)
+            printf("  efficacy: %.1f lm/W at %.6g W\n", rt.efficacy, f->input_watts);
+        printf("  peak: %.6g cd at %s %g, %s %g\n", in.max_candela, type_c ? "C" : "H", in.max_h,
+               type_c ? "gamma" : "V", in.max_v);
+        for (int k = 0; k < 2; k++) {
+            printf("  %s: beam angle (50 %%) %.1f deg, field angle (10 %%) %.1f deg",
                    plane_name(in.type, k), in.beam_deg[k], in.field_deg[k]);
-        printf("  downward: %.1f %% of the flux\n", 100 * in.downward_fraction);
+            if (rt.nema[k] > 0) printf(", NEMA %d", rt.nema[k]);
+            printf("\n");
+        }
+        /* a floodlight's light all lies in front of it, whichever way it is aimed */
+        printf("  %s: %.1f %% of the flux\n", type_c ? "downward" : "front",
+               100 * in.downward_fraction);
+        if (type_c) {
+            printf("  zonal lumens:");
+            for (int k = 0; k < 6; k++)
+                printf("%s %d-%d %.1f", k ? "," : "", 30 * k, 30 * k + 30, rt.zonal_lm[k]);
+            printf("\n  CIE flux code:");
+            for (int k = 0; k < 5; k++) {
+                if (rt.cie_flux_code[k] >= 0)
+                    printf(" %d", rt.cie_flux_code[k]);
+                else
+                    printf(" -");
+            }
+            const lumis_photometric_lcs *z = &rt.lcs;
+            printf("\n  BUG rating (TM-15-11): B%d U%d G%d, the street side C0-C180 through C90\n"
+                   "    lm back BL %.1f BM %.1f BH %.1f BVH %.1f, forward FL %.1f FM %.1f FH %.1f "
+                   "FVH %.1f, up UL %.1f UH %.1f\n",
+                   rt.bug[0], rt.bug[1], rt.bug[2], z->bl, z->bm, z->bh, z->bvh, z->fl, z->fm,
+                   z->fh, z->fvh, z->ul, z->uh);
+        }
         if (f->tilt)
-            printf("  tilt: TILT=INCLUDE with %d angles, read but not applied\n", f->ntilt);
+            printf("  tilt: TILT=INCLUDE with %d angles (%g to %g deg, factors %g to %g), "
+                   "applied by each placed fixture's tilt\n",
+                   f->ntilt, f->tilt_deg[0], f->tilt_deg[f->ntilt - 1], f->tilt_factor[0],
+                   f->tilt_factor[f->ntilt - 1]);
     }
     if (svg) {
         char title[1200];
