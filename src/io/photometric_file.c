@@ -669,7 +669,7 @@ static lumis_status read_ldt(text *t, lumis_photometric_file *f)
         d.h_deg = isym == 1 ? &hz0 : cang + from;
         d.candela = cd;
         d.multiplier = flux / 1000.0 * conv;
-        d.lamp_lumens = flux;
+        d.lamp_lumens = lamps < 0 ? -1.0 : flux; /* absolute photometry: no lamp lumens */
         d.luminaire_lumens = lor > 0 ? flux * lor / 100.0 : -1.0;
         /* the luminous area: length along C0 (x), width along C90 (y); width 0: round */
         const double lum_len = dims[3] / 1000.0, lum_w = dims[4] / 1000.0;

@@ -357,8 +357,8 @@ def h_breaks(t):
     """The angles where the interpolant may bend, around the whole horizontal circle."""
     if t.type == "C":
         hs = t.h
-        if t.sym == "rotational":
-            return [0.0, 360.0]
+        if t.sym == "rotational":  # the zones' edges still cut it (a half is half the flux)
+            return [0.0, 90.0, 180.0, 270.0, 360.0]
         imgs = []
         for h in hs:
             if t.sym == "quadrant":
