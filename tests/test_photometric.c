@@ -1067,10 +1067,10 @@ static void zonal_flux_is_exact(void **state)
     lumis_photometric_file_destroy(f);
 }
 
-/* A road light throwing across the street (C90): I0 cos g (1 + b sin g sin C).  Its forward
- * (C 0-180) and back zones have closed forms: I0 [pi/2 (sin^2 g1 - sin^2 g0) +- 2b/3 (sin^3
- * g1 - sin^3 g0)]. */
-static void street_side_is_forward(void **state)
+/* A road light throwing towards C0: I0 cos g (1 + b sin g cos C).  Its forward (C 270-90,
+ * through C0, as TM-15 defines it) and back zones have closed forms: I0 [pi/2 (sin^2 g1 -
+ * sin^2 g0) +- 2b/3 (sin^3 g1 - sin^3 g0)]. */
+static void forward_is_centred_on_c0(void **state)
 {
     (void)state;
     enum { NV = 181, NH = 181 };
@@ -1081,7 +1081,7 @@ static void street_side_is_forward(void **state)
     for (int i = 0; i < NH; i++)
         for (int j = 0; j < NV; j++) {
             const double g = v[j] * PI / 180, c = h[i] * PI / 180;
-            cd[i * NV + j] = 1000 * cos(g) * (1 + b * sin(g) * sin(c));
+            cd[i * NV + j] = 1000 * cos(g) * (1 + b * sin(g) * cos(c));
         }
     lumis_photometric_desc d = {0};
     d.type = LUMIS_PHOTOMETRIC_C;
@@ -1107,7 +1107,7 @@ static void street_side_is_forward(void **state)
             fail_msg("zone %d: forward %.6g back %.6g, want %.6g and %.6g", k, fwd[k], back[k],
                      even + odd, even - odd);
     }
-    assert_true(fwd[0] > back[0] && fwd[3] > back[3]); /* the street side is C90's */
+    assert_true(fwd[0] > back[0] && fwd[3] > back[3]); /* forward is C0's half */
     assert_true(r.lcs.ul == 0 && r.lcs.uh == 0);
     /* every zone together is the flux */
     const double all = r.lcs.fl + r.lcs.fm + r.lcs.fh + r.lcs.fvh + r.lcs.bl + r.lcs.bm + r.lcs.bh +
@@ -1265,7 +1265,7 @@ int main(void)
         cmocka_unit_test(readers_less_travelled),
         cmocka_unit_test(ldt_shapes_factors_and_values),
         cmocka_unit_test(zonal_flux_is_exact),
-        cmocka_unit_test(street_side_is_forward),
+        cmocka_unit_test(forward_is_centred_on_c0),
         cmocka_unit_test(bug_ratings_at_their_thresholds),
         cmocka_unit_test(ratings_of_files),
     };

@@ -150,9 +150,9 @@ lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0_deg, 
                                      double h0_deg, double h1_deg, double *lm);
 
 /* IES TM-15-11's luminaire classification system: the lumens (lm) in its ten secondary
- * solid angles.  Forward is the street side, C 0 to 180 (LM-63 type C: C90 points across the
- * street, C0 along it), back C 180 to 360; low is gamma 0-30, mid 30-60, high 60-80, very
- * high 80-90; uplight low 90-100, high 100-180. */
+ * solid angles.  Forward is TM-15's "270 to 90 degrees horizontal", the half through C0
+ * (the corpus's one file that states its rating agrees), back C 90 to 270; low is gamma 0-30, mid
+ * 30-60, high 60-80, very high 80-90; uplight low 90-100, high 100-180. */
 typedef struct lumis_photometric_lcs {
     double fl, fm, fh, fvh; /* forward low, mid, high, very high */
     double bl, bm, bh, bvh; /* back */

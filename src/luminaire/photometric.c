@@ -939,8 +939,9 @@ lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double in
     double *fwd[4] = {&r->lcs.fl, &r->lcs.fm, &r->lcs.fh, &r->lcs.fvh};
     double *back[4] = {&r->lcs.bl, &r->lcs.bm, &r->lcs.bh, &r->lcs.bvh};
     for (int k = 0; k < 4; k++) {
-        *fwd[k] = zone(p, band[k], band[k + 1], 0, 180);
-        *back[k] = zone(p, band[k], band[k + 1], 180, 360);
+        /* TM-15's forward light lies from 270 to 90 degrees horizontal, through C0 */
+        *fwd[k] = zone(p, band[k], band[k + 1], -90, 90);
+        *back[k] = zone(p, band[k], band[k + 1], 90, 270);
     }
     r->lcs.ul = zone(p, 90, 100, 0, 360);
     r->lcs.uh = zone(p, 100, 180, 0, 360);

@@ -257,7 +257,7 @@ int tool_photometric_info(const char *path, int json, const char *svg)
                     printf(" -");
             }
             const lumis_photometric_lcs *z = &rt.lcs;
-            printf("\n  BUG rating (TM-15-11): B%d U%d G%d, the street side C0-C180 through C90\n"
+            printf("\n  BUG rating (TM-15-11): B%d U%d G%d, forward C270-C90 through C0\n"
                    "    lm back BL %.1f BM %.1f BH %.1f BVH %.1f, forward FL %.1f FM %.1f FH %.1f "
                    "FVH %.1f, up UL %.1f UH %.1f\n",
                    rt.bug[0], rt.bug[1], rt.bug[2], z->bl, z->bm, z->bh, z->bvh, z->fl, z->fm,
