@@ -145,15 +145,17 @@ typedef struct lumis_luminaire_lighting {
 /* ---- photometric fixtures in a scene (IES, EULUMDAT; lumis/photometry.h) --------------- */
 
 /* A fixture's far-field table placed in a scene: world = R local + t, its aim (local -z)
- * R (0, 0, -1).  As a point at t; or, with `area` and a disk or rectangle luminous shape,
- * as that flat opening (centred at t, facing the aim) whose every point emits the table's
- * distribution: radiance I(d) / (A cos) towards d, zero behind the opening.  White light:
+ * R (0, 0, -1).  As a point at t; or, with `area`, as the file's luminous opening centred at
+ * t: a flat disk or rectangle facing the aim (radiance I(d) / (A cos) towards d, zero
+ * behind it), or a solid box, vertical cylinder or sphere (every surface point emits
+ * I(d) / A_proj(d), A_proj the area the solid shows towards d), so that far away each is
+ * the point; lumis_render refuses `area` for a point or an "other" shape.  White light:
  * the render's three channels are candela times the multiplier. */
 typedef struct lumis_photometric_instance {
     const lumis_photometric *photometric;
     lumis_rigid placement; /* R a proper rotation; all zeros == identity */
     double multiplier;     /* >= 0; 0 == 1 */
-    int area;              /* nonzero: the luminous shape (disk, rectangle), else a point */
+    int area;              /* nonzero: the luminous opening, else a point */
 } lumis_photometric_instance;
 
 /* Photometric fixtures as the renderer's lights: at every vertex each is sampled

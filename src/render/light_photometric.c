@@ -1,8 +1,10 @@
 /* Photometric fixtures as lights (lumis_photometric_lighting): a far-field table placed as a
- * point, or as its flat luminous opening (a disk or a rectangle facing the aim) whose every
- * point emits the table's distribution.  A point is sampled by its one direction (a delta:
- * no BSDF sample can find it); an opening by points on it, uniform by area, combined with
- * BSDF samples that hit it by MIS.  Derivations: docs/photometric.md. */
+ * point, or as its luminous opening: a flat one (a disk or a rectangle facing the aim) or a
+ * solid one (a box, a vertical cylinder, a sphere), whose every surface point emits the
+ * table's intensity over the area the opening shows that way.  A point is sampled by its
+ * one direction (a delta: no BSDF sample can find it); an opening by points on it (a solid's
+ * faces in proportion to the area they show the shading point), combined with BSDF samples
+ * that hit it by MIS.  Derivations: docs/photometric.md. */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
@@ -12,13 +14,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The opening's kinds: flat ones facing the aim (emitting nothing behind them), and solid
+ * ones (a box, a vertical cylinder, a sphere, centred on the fixture's position) whose every
+ * surface point emits L(d) = I(d) / A_proj(d) towards d, A_proj the solid's area seen from
+ * d: so the intensity of the whole is I(d) in every direction (docs/photometric.md). */
+enum { POINT = 0, DISK, RECT, BOX, CYLINDER, SPHERE };
+
 typedef struct fixture {
     const lumis_photometric *p;
     double r[9], t[3]; /* local to world: world = r local + t (row-major) */
     double mult;
-    int area;              /* 0: a point; 1: a disk; 2: a rectangle */
-    double hx, hy, radius; /* the rectangle's half length (x) and width (y); the disk's radius */
-    double A;              /* the opening's area */
+    int area; /* POINT, DISK, ... */
+    /* half extents along x (length), y (width) and z (height); the radius (disk, cylinder,
+     * sphere) */
+    double hx, hy, hz, radius;
+    double A; /* the flat opening's area; a solid's surface area */
 } fixture;
 
 typedef struct photometric_state {
@@ -47,32 +57,222 @@ static double intensity(const fixture *f, v3 l)
     return f->mult * lumis_photometric_intensity(f->p, d);
 }
 
-/* A point of the opening from two numbers, uniform by area (local z = 0). */
-static void opening_point(const fixture *f, const double u[2], double *x, double *y)
+/* The opening's area seen from the unit direction d (its frame): a flat one's from its front
+ * only. */
+static double projected_area(const fixture *f, v3 d)
 {
-    if (f->area == 1) { /* the disk: r = R sqrt(u0), phi = 2 pi u1 */
-        const double rr = f->radius * sqrt(u[0]), phi = 2.0 * LUMIS_PI * u[1];
-        *x = rr * cos(phi);
-        *y = rr * sin(phi);
-    } else {
-        *x = (2.0 * u[0] - 1.0) * f->hx;
-        *y = (2.0 * u[1] - 1.0) * f->hy;
+    switch (f->area) {
+    case DISK:
+    case RECT:
+        return d.z < 0.0 ? -d.z * f->A : 0.0;
+    case BOX:
+        return 4.0 *
+               (f->hy * f->hz * fabs(d.x) + f->hx * f->hz * fabs(d.y) + f->hx * f->hy * fabs(d.z));
+    case CYLINDER:
+        return LUMIS_PI * f->radius * f->radius * fabs(d.z) +
+               4.0 * f->radius * f->hz * sqrt(fmax(0.0, 1.0 - d.z * d.z));
+    default: /* SPHERE */
+        return LUMIS_PI * f->radius * f->radius;
     }
 }
 
-/* Where the ray org + s wi meets the opening, if it does from its front (s > 0): *s, and
- * wi in the fixture's frame (its z: the cosine at the opening, between -wi and the aim). */
-static int hit_opening(const fixture *f, v3 org, v3 wi, double *s, v3 *wl)
+/* The radiance a surface point of normal n sends towards the unit direction d (both in the
+ * fixture's frame), multiplier applied; 0 behind the surface. */
+static double radiance(const fixture *f, v3 d, v3 n)
 {
-    const v3 o = to_local(f, sub(org, mk(f->t[0], f->t[1], f->t[2]))), w = to_local(f, wi);
-    /* the front: the side the aim (-z) points to, so the ray travels towards +z */
-    if (!(w.z > 0.0) || !(o.z < 0.0)) return 0;
-    const double t = -o.z / w.z, x = o.x + t * w.x, y = o.y + t * w.y;
-    const int inside = f->area == 1 ? x * x + y * y <= f->radius * f->radius
-                                    : fabs(x) <= f->hx && fabs(y) <= f->hy;
-    if (!inside) return 0;
-    *s = t;
-    *wl = w;
+    if (!(dot(d, n) > 0.0)) return 0.0;
+    const double a = projected_area(f, d);
+    return a > 0.0 ? intensity(f, d) / a : 0.0;
+}
+
+/* The solid's faces as a point of the shading point xl (local) may choose them: each face's
+ * weight is its area seen from the centre's direction to xl (0 for faces turned away, which
+ * xl cannot see); a curved side's is its projected area.  w[] per face, their sum returned. */
+static double face_weights(const fixture *f, v3 xl, double w[6])
+{
+    const double len = sqrt(dot(xl, xl));
+    const v3 c = len > 0.0 ? mul(xl, 1.0 / len) : mk(0, 0, -1);
+    double sum = 0.0;
+    if (f->area == BOX) {
+        const double a[3] = {4.0 * f->hy * f->hz, 4.0 * f->hx * f->hz, 4.0 * f->hx * f->hy};
+        const double cc[3] = {c.x, c.y, c.z};
+        for (int k = 0; k < 3; k++) {
+            w[2 * k] = a[k] * fmax(0.0, cc[k]);      /* the face at +h */
+            w[2 * k + 1] = a[k] * fmax(0.0, -cc[k]); /* at -h */
+            sum += w[2 * k] + w[2 * k + 1];
+        }
+    } else { /* CYLINDER: top, bottom, side */
+        const double cap = LUMIS_PI * f->radius * f->radius;
+        w[0] = cap * fmax(0.0, c.z);
+        w[1] = cap * fmax(0.0, -c.z);
+        w[2] = 4.0 * f->radius * f->hz * sqrt(fmax(0.0, 1.0 - c.z * c.z));
+        sum = w[0] + w[1] + w[2];
+    }
+    return sum;
+}
+
+/* A point of the opening for the shading point xl (local), from two numbers: the point, its
+ * outward normal and the density per unit area it was chosen with.  Flat openings and the
+ * sphere uniformly by area; a box's or a cylinder's face by face_weights, then uniformly on
+ * it.  0 when xl sees none of it. */
+static int opening_sample(const fixture *f, v3 xl, const double u_in[2], v3 *y, v3 *n,
+                          double *pdf_area)
+{
+    double u[2] = {u_in[0], u_in[1]};
+    if (f->area == DISK || f->area == RECT) {
+        if (f->area == DISK) { /* r = R sqrt(u0), phi = 2 pi u1 */
+            const double rr = f->radius * sqrt(u[0]), phi = 2.0 * LUMIS_PI * u[1];
+            *y = mk(rr * cos(phi), rr * sin(phi), 0.0);
+        } else {
+            *y = mk((2.0 * u[0] - 1.0) * f->hx, (2.0 * u[1] - 1.0) * f->hy, 0.0);
+        }
+        *n = mk(0, 0, -1);
+        *pdf_area = 1.0 / f->A;
+        return 1;
+    }
+    if (f->area == SPHERE) { /* uniform on the sphere */
+        const double z = 1.0 - 2.0 * u[0], rr = sqrt(fmax(0.0, 1.0 - z * z));
+        const double phi = 2.0 * LUMIS_PI * u[1];
+        *n = mk(rr * cos(phi), rr * sin(phi), z);
+        *y = mul(*n, f->radius);
+        *pdf_area = 1.0 / f->A;
+        return 1;
+    }
+    double w[6];
+    const double sum = face_weights(f, xl, w);
+    if (!(sum > 0.0)) return 0;
+    const int faces = f->area == BOX ? 6 : 3;
+    int last = faces - 1, k = 0;
+    while (w[last] == 0.0) last--; /* sum > 0: some face has weight */
+    double acc = 0.0, t = u[0] * sum;
+    while (k < last && (w[k] == 0.0 || t >= acc + w[k])) acc += w[k++];
+    u[0] = fmin(fmax((t - acc) / w[k], 0.0), 0x1.fffffffffffffp-1); /* reused within the face */
+    const double a = 2.0 * u[0] - 1.0, b = 2.0 * u[1] - 1.0;
+    double face_area;
+    if (f->area == BOX) {
+        const double sgn = k % 2 ? -1.0 : 1.0;
+        if (k / 2 == 0) {
+            *y = mk(sgn * f->hx, a * f->hy, b * f->hz);
+            *n = mk(sgn, 0, 0);
+            face_area = 4.0 * f->hy * f->hz;
+        } else if (k / 2 == 1) {
+            *y = mk(a * f->hx, sgn * f->hy, b * f->hz);
+            *n = mk(0, sgn, 0);
+            face_area = 4.0 * f->hx * f->hz;
+        } else {
+            *y = mk(a * f->hx, b * f->hy, sgn * f->hz);
+            *n = mk(0, 0, sgn);
+            face_area = 4.0 * f->hx * f->hy;
+        }
+    } else if (k < 2) { /* a cap: uniform on the disk */
+        const double sgn = k ? -1.0 : 1.0, rr = f->radius * sqrt(u[0]), phi = 2.0 * LUMIS_PI * u[1];
+        *y = mk(rr * cos(phi), rr * sin(phi), sgn * f->hz);
+        *n = mk(0, 0, sgn);
+        face_area = LUMIS_PI * f->radius * f->radius;
+    } else { /* the side: uniform in angle and height */
+        const double phi = 2.0 * LUMIS_PI * u[0];
+        *n = mk(cos(phi), sin(phi), 0.0);
+        *y = mk(f->radius * n->x, f->radius * n->y, b * f->hz);
+        face_area = 4.0 * LUMIS_PI * f->radius * f->hz;
+    }
+    *pdf_area = w[k] / (sum * face_area);
+    return 1;
+}
+
+/* The density per unit area opening_sample gives the point of normal n (a face's, for the
+ * shading point xl). */
+static double opening_pdf_area(const fixture *f, v3 xl, v3 n)
+{
+    if (f->area != BOX && f->area != CYLINDER) return 1.0 / f->A;
+    double w[6];
+    const double sum = face_weights(f, xl, w);
+    if (!(sum > 0.0)) return 0.0;
+    if (f->area == BOX) {
+        const int axis = fabs(n.x) > 0.5 ? 0 : fabs(n.y) > 0.5 ? 1 : 2;
+        const double nc = axis == 0 ? n.x : axis == 1 ? n.y : n.z;
+        const int k = 2 * axis + (nc < 0.0);
+        const double face_area = axis == 0   ? 4.0 * f->hy * f->hz
+                                 : axis == 1 ? 4.0 * f->hx * f->hz
+                                             : 4.0 * f->hx * f->hy;
+        return w[k] / (sum * face_area);
+    }
+    if (fabs(n.z) > 0.5) return w[n.z > 0.0 ? 0 : 1] / (sum * LUMIS_PI * f->radius * f->radius);
+    return w[2] / (sum * 4.0 * LUMIS_PI * f->radius * f->hz);
+}
+
+/* Where the ray o + s w (local) first enters the opening from outside, from its front: *s
+ * and the surface's outward normal there. */
+static int opening_hit(const fixture *f, v3 o, v3 w, double *s, v3 *n)
+{
+    if (f->area == DISK || f->area == RECT) {
+        /* the front: the side the aim (-z) points to, so the ray travels towards +z */
+        if (!(w.z > 0.0) || !(o.z < 0.0)) return 0;
+        const double t = -o.z / w.z, x = o.x + t * w.x, y = o.y + t * w.y;
+        const int inside = f->area == DISK ? x * x + y * y <= f->radius * f->radius
+                                           : fabs(x) <= f->hx && fabs(y) <= f->hy;
+        if (!inside) return 0;
+        *s = t;
+        *n = mk(0, 0, -1);
+        return 1;
+    }
+    if (f->area == SPHERE) {
+        const double b = dot(o, w), c = dot(o, o) - f->radius * f->radius, disc = b * b - c;
+        if (!(c > 0.0) || !(disc >= 0.0)) return 0; /* from outside only */
+        const double t = -b - sqrt(disc);
+        if (!(t > 0.0)) return 0;
+        *s = t;
+        *n = mul(add(o, mul(w, t)), 1.0 / f->radius);
+        return 1;
+    }
+    if (f->area == BOX) { /* slabs: the entry is the largest near distance */
+        const double oo[3] = {o.x, o.y, o.z}, ww[3] = {w.x, w.y, w.z},
+                     hh[3] = {f->hx, f->hy, f->hz};
+        double tin = -INFINITY, tout = INFINITY;
+        int axis = -1;
+        for (int k = 0; k < 3; k++) {
+            if (ww[k] == 0.0) {
+                if (fabs(oo[k]) > hh[k]) return 0;
+                continue;
+            }
+            double t0 = (-hh[k] - oo[k]) / ww[k], t1 = (hh[k] - oo[k]) / ww[k];
+            if (t0 > t1) {
+                const double tmp = t0;
+                t0 = t1;
+                t1 = tmp;
+            }
+            if (t0 > tin) tin = t0, axis = k;
+            if (t1 < tout) tout = t1;
+        }
+        if (axis < 0 || !(tin > 0.0) || !(tin <= tout)) return 0;
+        *s = tin;
+        const double sgn = ww[axis] > 0.0 ? -1.0 : 1.0;
+        *n = mk(axis == 0 ? sgn : 0, axis == 1 ? sgn : 0, axis == 2 ? sgn : 0);
+        return 1;
+    }
+    /* CYLINDER: the side (x^2 + y^2 = r^2, |z| <= hz) or a cap, whichever comes first */
+    double best = INFINITY;
+    v3 bn = mk(0, 0, 0);
+    const double a = w.x * w.x + w.y * w.y, b = o.x * w.x + o.y * w.y,
+                 c = o.x * o.x + o.y * o.y - f->radius * f->radius;
+    if (a > 0.0 && c > 0.0 && b * b - a * c >= 0.0) {
+        const double t = (-b - sqrt(b * b - a * c)) / a, z = o.z + t * w.z;
+        if (t > 0.0 && fabs(z) <= f->hz) {
+            best = t;
+            bn = mk((o.x + t * w.x) / f->radius, (o.y + t * w.y) / f->radius, 0.0);
+        }
+    }
+    for (int cap = 0; cap < 2; cap++) {
+        const double zc = cap ? -f->hz : f->hz, sgn = cap ? -1.0 : 1.0;
+        if (!(sgn * o.z > f->hz) || !(sgn * w.z < 0.0)) continue; /* outside, heading in */
+        const double t = (zc - o.z) / w.z, x = o.x + t * w.x, y = o.y + t * w.y;
+        if (t > 0.0 && t < best && x * x + y * y <= f->radius * f->radius) {
+            best = t;
+            bn = mk(0, 0, sgn);
+        }
+    }
+    if (!isfinite(best)) return 0;
+    *s = best;
+    *n = bn;
     return 1;
 }
 
@@ -96,13 +296,16 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const uint32_t total = (uint32_t)(st->count * st->nl);
     for (int q = 0; q < st->count; q++) {
         const fixture *f = &st->f[q];
+        const v3 centre = mk(f->t[0], f->t[1], f->t[2]);
+        const v3 xl = to_local(f, sub(h->p, centre)); /* the surface point, fixture's frame */
         /* a point is found by its light sample alone, whatever the estimator */
         const int nl = f->area ? (use_light ? st->nl : 0) : st->nl;
         for (int k = 0; k < nl; k++) {
-            double u[2] = {0.5, 0.5}, x = 0, y = 0;
+            double u[2] = {0.5, 0.5}, pdf_area = 0.0;
             seq_2d(seq, dl, (uint32_t)(q * st->nl + k), total, u);
-            if (f->area) opening_point(f, u, &x, &y);
-            const v3 pl = add(to_world(f, x, y, 0.0), mk(f->t[0], f->t[1], f->t[2]));
+            v3 yl = mk(0, 0, 0), nrm = mk(0, 0, -1);
+            if (f->area && !opening_sample(f, xl, u, &yl, &nrm, &pdf_area)) continue;
+            const v3 pl = add(to_world(f, yl.x, yl.y, yl.z), centre);
             /* the geometry from the surface point itself; the shadow ray from the lifted
              * origin (its lift would otherwise bias d^2 by about lift / d) */
             const v3 w = sub(pl, h->p), ws = sub(pl, org);
@@ -112,29 +315,30 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             const double cos_s = dot(wi, n);
             if (!(cos_s > 0.0)) continue;
             const v3 el = to_local(f, mul(wi, -1.0)); /* from the fixture to the point */
-            double weight = 1.0;
+            double weight = 1.0, I;
             const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cos_s));
-            if (f->area) { /* the opening's front only; MIS with the BSDF's density */
-                const double cos_l = -el.z;
+            if (f->area) { /* L cos_l / pdf_area: a flat opening's I / (A cos_l) x cos_l x A */
+                const double cos_l = dot(el, nrm);
                 if (!(cos_l > 0.0)) continue;
-                if (mis && st->nb > 0) {
-                    const double pl_sa = d2 / (f->A * cos_l);
-                    weight = mis_weight(st->nl, pl_sa, st->nb, lumis_bsdf_pdf(m, wo, wil),
-                                        d->power_heuristic);
-                }
+                I = radiance(f, el, nrm) * cos_l / pdf_area;
+                if (mis && st->nb > 0)
+                    weight = mis_weight(st->nl, pdf_area * d2 / cos_l, st->nb,
+                                        lumis_bsdf_pdf(m, wo, wil), d->power_heuristic);
+            } else {
+                I = intensity(f, el);
             }
-            const double I = intensity(f, el);
             if (!(I > 0.0)) continue;
             const lumis_rgb fb = lumis_bsdf_eval(m, wo, wil);
             if (fb.r == 0.0f && fb.g == 0.0f && fb.b == 0.0f) continue;
-            /* E = I cos_s / d^2 for a point; for an opening the area pdf 1/A cancels the
-             * radiance's 1/A and cos_l: the same expression at the sampled point */
+            /* E = I cos_s / d^2 for a point; for an opening the area pdf cancels the
+             * radiance's 1 / A_proj and cos_l: the same expression at the sampled point */
             const double k2 = weight * I * cos_s / (d2 * st->nl);
             packet_push(&p, org, mul(ws, 1.0 / dist_s), (float)(dist_s * (1.0 - 1e-4)),
                         mk(fb.r * k2, fb.g * k2, fb.b * k2));
             if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
         }
         if (!f->area || !use_bsdf) continue;
+        const v3 ol = to_local(f, sub(org, centre));
         for (int k = 0; k < st->nb; k++) { /* BSDF samples that find the opening */
             double u[3];
             seq_bsdf(seq, m, db, (uint32_t)(q * st->nb + k), (uint32_t)(st->count * st->nb), u);
@@ -142,15 +346,17 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             if (!(bs.pdf > 0.0f)) continue;
             const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
             double s;
-            v3 wl;
-            if (!hit_opening(f, org, wi, &s, &wl)) continue;
-            const double cos_l = wl.z, I = intensity(f, mul(wl, -1.0));
-            if (!(I > 0.0)) continue;
-            const double Le = I / (f->A * cos_l);
+            v3 nrm;
+            const v3 wl = to_local(f, wi);
+            if (!opening_hit(f, ol, wl, &s, &nrm)) continue;
+            const v3 el = mul(wl, -1.0); /* emitted back along the ray */
+            const double cos_l = dot(el, nrm), Le = radiance(f, el, nrm);
+            if (!(Le > 0.0) || !(cos_l > 0.0)) continue;
             double weight = 1.0;
             if (mis && st->nl > 0)
                 weight =
-                    mis_weight(st->nb, bs.pdf, st->nl, s * s / (f->A * cos_l), d->power_heuristic);
+                    mis_weight(st->nb, bs.pdf, st->nl, opening_pdf_area(f, xl, nrm) * s * s / cos_l,
+                               d->power_heuristic);
             const double k2 = weight * Le / st->nb;
             packet_push(&p, org, wi, (float)(s * (1.0 - 1e-4)),
                         mk(bs.weight.r * k2, bs.weight.g * k2, bs.weight.b * k2));
@@ -211,23 +417,51 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
         f->mult = in->multiplier == 0.0 ? 1.0 : in->multiplier;
         lumis_photometric_info info;
         lumis_photometric_get_info(f->p, &info);
-        if (in->area && info.shape == LUMIS_SHAPE_DISK && info.width > 0) {
-            f->area = 1;
-            f->radius = 0.5 * info.width;
-            f->A = LUMIS_PI * f->radius * f->radius;
-        } else if (in->area && info.shape == LUMIS_SHAPE_RECTANGLE && info.width > 0 &&
-                   info.length > 0) {
-            f->area = 2;
-            f->hx = 0.5 * info.length;
-            f->hy = 0.5 * info.width;
-            f->A = info.length * info.width;
-        } else if (in->area) { /* not quietly a point */
+        const double W = info.width, Ln = info.length, Hh = info.height;
+        f->radius = 0.5 * W;
+        f->hx = 0.5 * Ln;
+        f->hy = 0.5 * W;
+        f->hz = 0.5 * Hh;
+        int ok = 1;
+        if (in->area) switch (info.shape) {
+            case LUMIS_SHAPE_DISK:
+                f->area = DISK;
+                f->A = LUMIS_PI * f->radius * f->radius;
+                ok = W > 0;
+                break;
+            case LUMIS_SHAPE_RECTANGLE:
+                f->area = RECT;
+                f->A = Ln * W;
+                ok = W > 0 && Ln > 0;
+                break;
+            case LUMIS_SHAPE_BOX:
+                f->area = BOX;
+                f->A = 2.0 * (Ln * W + Ln * Hh + W * Hh);
+                ok = W > 0 && Ln > 0 && Hh > 0;
+                break;
+            case LUMIS_SHAPE_CYLINDER:
+                f->area = CYLINDER;
+                f->A = 2.0 * LUMIS_PI * f->radius * f->radius + LUMIS_PI * W * Hh;
+                ok = W > 0 && Hh > 0;
+                break;
+            case LUMIS_SHAPE_SPHERE:
+                f->area = SPHERE;
+                f->A = 4.0 * LUMIS_PI * f->radius * f->radius;
+                ok = W > 0;
+                break;
+            default:
+                ok = 0;
+            }
+        if (!ok || !isfinite(f->A)) /* not quietly a point */
             return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                                "render: photometric fixture %d: its file's luminous shape is "
-                               "\"%s\": the opening (area) model takes a disk or a rectangle of "
-                               "non-zero size; render it as a point (no area)",
-                               q, lumis_photometric_shape_name(info.shape));
-        }
+                               "\"%s\"%s: the opening (area) model takes a disk, a rectangle, a "
+                               "box, a cylinder or a sphere of non-zero size; render it as a "
+                               "point (no area)",
+                               q, lumis_photometric_shape_name(info.shape),
+                               info.shape == LUMIS_SHAPE_POINT || info.shape == LUMIS_SHAPE_OTHER
+                                   ? ""
+                                   : " with a zero size");
         st->any_area |= f->area != 0;
     }
     return LUMIS_OK;
