@@ -334,6 +334,8 @@ def generate(ci, path, rel, args, lines=None):
                                           ci.TypeKind.INCOMPLETEARRAY)
 
     def mutate_node(c, kind, children, parent, func, ret_type, skip_consts, s, e):
+        if skip_consts:
+            return  # inside a table
         if kind in (K.BINARY_OPERATOR, K.COMPOUND_ASSIGNMENT_OPERATOR) and len(children) == 2:
             lhs, rhs = children
             t = op_token_between(lhs, rhs)
@@ -362,8 +364,6 @@ def generate(ci, path, rel, args, lines=None):
                     add('unary', [(last[0], last[1], INCDEC[last[3]])], last[0],
                         '%s -> %s' % (last[3], INCDEC[last[3]]), func)
             return
-        if skip_consts:
-            return  # inside a table
         if kind in (K.INTEGER_LITERAL, K.FLOATING_LITERAL):
             t = toks.at(s)
             if t is None or t[1] != e or t[2] != 'LITERAL':
@@ -715,7 +715,7 @@ def sample(mutants, per_line, total, seed):
         bylines.setdefault((m['file'], m['line']), []).append(m)
     kept = []
     for key in sorted(bylines):
-        lst = bylines[key]
+        lst = sorted(bylines[key], key=lambda m: m['id'])
         if per_line and len(lst) > per_line:
             lst = sorted(random.Random('%d:%s:%d' % (seed, key[0], key[1])).sample(lst, per_line),
                          key=lambda m: m['id'])
