@@ -4,6 +4,11 @@ PREFIX       ?= /usr/local
 FUZZ_SECONDS ?= 30
 FUZZ_SEED    ?= 0
 JOBS         ?= $(shell nproc)
+# make mutate-diff / mutate-gen (scripts/mutagen.py)
+BASE          ?= auto
+MUTATE_BUDGET ?= 0
+MUTATE_SAMPLE ?= 100
+MUTATE_ARGS   ?=
 # make coverage fails below this branch coverage of src/ (percent)
 COVERAGE_MIN_BRANCH ?= 85
 # -Werror for developers and CI (CI=true), not for users: a newer compiler's new warning
@@ -14,10 +19,13 @@ FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire fu
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
-.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean mutate coverage
+.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean mutate coverage \
+        mutate-diff mutate-gen
 
 help:
-	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage"
+	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage mutate-diff mutate-gen"
+	@echo "  make mutate-diff BASE=auto|last-landing|REV MUTATE_BUDGET=seconds (0: none)"
+	@echo "  make mutate-gen MUTATE_SAMPLE=$(MUTATE_SAMPLE) (0: every mutant of src/, days)"
 	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
 	@echo "  make install PREFIX=$(PREFIX)"
 
@@ -71,6 +79,17 @@ fuzz: deps
 mutate: deps
 	scripts/mutate.sh $(MODULES)
 
+# Generated mutants (scripts/mutagen.py, needs python3-clang-14: scripts/install-deps.sh --dev):
+# mutants made from the AST of the lines changed since BASE (committed or not), each run against
+# its module's tests; survivors reported with file and line, not failing (tests/mutants/README.md).
+# BASE=auto: the merge base with main, or HEAD~1 on main; last-landing: what CI uses.
+# mutate-gen: all of src/, a fixed sample of MUTATE_SAMPLE mutants (its score in the README).
+mutate-diff: deps
+	nice -n 10 scripts/mutagen.py diff --base $(BASE) --budget $(MUTATE_BUDGET) $(MUTATE_ARGS)
+
+mutate-gen: deps
+	nice -n 10 scripts/mutagen.py all --sample $(MUTATE_SAMPLE) --budget $(MUTATE_BUDGET) $(MUTATE_ARGS)
+
 # Line, function and branch coverage of src/ over the whole suite (gcov + gcovr): a summary,
 # the public functions no test calls, and an HTML report in build-coverage/coverage/.
 # gcovr's parser trips on the negative branch counts that parallel runs can leave in .gcda
@@ -111,4 +130,4 @@ install: release
 	cmake --install build-release --prefix $(PREFIX)
 
 clean:
-	rm -rf build build-release build-asan build-fuzz build-mutate build-coverage
+	rm -rf build build-release build-asan build-fuzz build-mutate build-mutgen build-coverage

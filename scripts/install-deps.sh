@@ -4,7 +4,7 @@ set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
       libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3)
-DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr)
+DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr python3-clang-14)
 SLURM=(slurm-wlm munge)
 
 usage() {
@@ -18,7 +18,8 @@ Install with apt-get the Debian packages that are missing:
                 (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check',
                 chromium for the screenshot test of 'lumis bench' reports,
                 valgrind for the memcheck stage, scripts/memcheck.sh,
-                gcovr for 'make coverage')
+                gcovr for 'make coverage',
+                python3-clang-14 for 'make mutate-diff' and 'make mutate-gen')
   --slurm       also ${SLURM[*]}, for CI's cluster stage: a one-node Slurm
                 (scripts/slurm-local.sh) runs a suite as job arrays (docs/cluster.md)
   --data-tools  also nodejs and npm (unless the node and npm commands already exist),

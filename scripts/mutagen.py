@@ -686,16 +686,26 @@ class Runner:
             os.utime(p)  # a header: whatever includes it is rebuilt
         os.remove(self.marker)
 
-    def run_one(self, m, tests):
+    def run_one(self, m, tests, deadline=None):
+        """killed, timeout, survived or uncompilable; "not run" when DEADLINE (the time
+        budget's end) came first: a mutant cut short is neither killed nor survived."""
         p, orig, st = self.apply(m)
         t0 = time.monotonic()
+        left = lambda: (deadline - time.monotonic()) if deadline else 1e9  # noqa: E731
         try:
             for t in tests:
-                ok, _o = self.cmake_build([t], timeout=900)
+                if left() <= 0:
+                    return 'not run', None, time.monotonic() - t0
+                ok, out = self.cmake_build([t], timeout=max(1, min(900, left())))
                 if not ok:
-                    return 'uncompilable', None, time.monotonic() - t0
-                res, _dt = self.run_test(t, min(self.opt.max_timeout, max(
-                    self.opt.min_timeout, self.opt.timeout_factor * self.normal[t])))
+                    return ('not run' if left() <= 0 else 'uncompilable'), None, \
+                        time.monotonic() - t0
+                limit = min(self.opt.max_timeout, max(
+                    self.opt.min_timeout, self.opt.timeout_factor * self.normal[t]))
+                avail = max(1, left())
+                res, _dt = self.run_test(t, min(limit, avail))
+                if res == 'timeout' and avail < limit:  # the budget's end, not the test's
+                    return 'not run', None, time.monotonic() - t0
                 if res == 'fail':
                     return 'killed', t, time.monotonic() - t0
                 if res == 'timeout':
@@ -899,8 +909,12 @@ def cmd_run(opt, ci):
             m['status'] = 'not run'
             res['counts']['not_run'] += 1
             continue
-        status, by, dt = runner.run_one(m, m['tests'])
+        status, by, dt = runner.run_one(m, m['tests'], budget_end)
         m['status'], m['killed_by'], m['seconds'] = status, by, round(dt, 1)
+        if status == 'not run':
+            res['counts']['not_run'] += 1
+            print('  [%d/%d] not run: the time budget ended during it' % (i + 1, len(sel)))
+            continue
         res['counts'][status] += 1
         res['run'] += 1
         avg = dt if avg is None else 0.8 * avg + 0.2 * dt
