@@ -60,6 +60,9 @@ MODULE_TESTS = {
     'src/render': ['test_render', 'test_bsdf', 'test_sequence', 'test_render_luminaire',
                    'test_render_photometric'],
 }
+# and for every directory: the edges of every public function (absurd arguments) and an
+# allocation failure at every allocation of the libraries (4 s together)
+EVERY_MODULE = ['test_edges', 'test_nomem']
 
 BINOP = {'+': '-', '-': '+', '*': '/', '/': '*', '<': '<=', '<=': '<', '>': '>=', '>=': '>',
          '==': '!=', '!=': '==', '&&': '||', '||': '&&', '&': '|', '|': '&', '<<': '>>',
@@ -68,6 +71,8 @@ COMPOUND = {'+=': '-=', '-=': '+=', '*=': '/=', '/=': '*='}
 UNARY_DROP = ('-', '!', '~')
 INCDEC = {'++': '--', '--': '++'}
 NO_DELETE = re.compile(r'^(free|.*_destroy|.*_free)$')
+# their arguments swapped give the same value: an equivalent mutant, not generated
+COMMUTATIVE = {'fmin', 'fmax', 'fminf', 'fmaxf', 'fminl', 'fmaxl', 'hypot', 'hypotf'}
 TABLE = 16  # initializer lists longer than this are tables: their numbers are not mutated
 
 
@@ -377,6 +382,8 @@ def generate(ci, path, rel, args, lines=None):
                 add('const', [(s, e, r)], s, '%s -> %s' % (t[3], r), func)
             return
         if kind == K.CALL_EXPR:
+            if c.spelling in COMMUTATIVE:
+                return
             argl = list(c.get_arguments())
             for a, b in zip(argl, argl[1:]):
                 if a.type.get_canonical().spelling != b.type.get_canonical().spelling:
@@ -531,6 +538,7 @@ def tests_for(rel, curated):
     base = MODULE_TESTS.get(d)
     if base is None:
         return []
+    base = base + [t for t in EVERY_MODULE if t not in base]
     first = [t for t in curated.get(rel, []) if t in base or t.startswith('test_')]
     return first + [t for t in base if t not in first]
 
@@ -843,7 +851,14 @@ def cmd_run(opt, ci):
     t_start = time.monotonic()
     _OPT_DIR[0] = opt.dir
     runner = Runner(opt)
-    if opt.mode == 'diff':
+    if opt.rerun:
+        with open(opt.rerun) as f:
+            old = json.load(f)
+        rerun = [m for m in old['mutants'] if m.get('status') == 'survived']
+        lines_by_file = None
+        files = sorted({m['file'] for m in rerun})
+        what = 'the survivors of %s (%s)' % (opt.rerun, old['what'])
+    elif opt.mode == 'diff':
         base = resolve_base(opt.base)
         lines_by_file = changed_lines(base)
         rev = git('rev-parse', '--short', base).stdout.strip() or base
@@ -856,8 +871,9 @@ def cmd_run(opt, ci):
     files = [f for f in files if os.path.dirname(f) in MODULE_TESTS and
              (not opt.only or any(f.startswith(o) for o in opt.only.split(',')))]
     os.makedirs(runner.dir, exist_ok=True)
-    out_json = os.path.join(runner.dir, 'report-%s.json' % opt.mode)
-    out_md = os.path.join(runner.dir, 'report-%s.md' % opt.mode)
+    name = 'rerun' if opt.rerun else opt.mode
+    out_json = os.path.join(runner.dir, 'report-%s.json' % name)
+    out_md = os.path.join(runner.dir, 'report-%s.md' % name)
     res = {'what': what, 'date': time.strftime('%Y-%m-%d'), 'generated': 0, 'lines': 0,
            'files': len(files), 'selected': 0, 'run': 0, 'seconds': 0.0, 'mutants': [],
            'counts': dict(killed=0, timeout=0, survived=0, uncompilable=0, not_run=0),
@@ -870,7 +886,19 @@ def cmd_run(opt, ci):
     runner.log('%s: %d files' % (what, len(files)))
     runner.sync()
     runner.configure()
-    mutants = make_mutants(ci, runner.compdb, files, lines_by_file)
+    if opt.rerun:
+        mutants = []
+        for m in rerun:  # the same bytes must still be where the edits go
+            with open(os.path.join(ROOT, m['file']), 'rb') as f:
+                src = f.read()
+            a0, b0 = m['edits'][0][0], m['edits'][-1][1]
+            if src[a0:b0].decode('utf-8', 'replace') == m['original']:
+                mutants.append({k: v for k, v in m.items()
+                                if k not in ('status', 'killed_by', 'seconds', 'tests')})
+            else:
+                runner.log('%s: stale (its file changed), left out' % m['id'])
+    else:
+        mutants = make_mutants(ci, runner.compdb, files, lines_by_file)
     res['generated'] = len(mutants)
     res['lines'] = len({(m['file'], m['line']) for m in mutants})
     sel = sample(mutants, opt.per_line, opt.sample, opt.seed)
@@ -961,6 +989,8 @@ def main():
         p.add_argument('--max-timeout', type=float, default=600.0)
         p.add_argument('--fail-on-survivor', action='store_true')
         p.add_argument('--dry-run', action='store_true', help='list the selected mutants, run none')
+        p.add_argument('--rerun', metavar='REPORT.json',
+                       help='run again the survivors of a report (after new tests)')
     p = sub.add_parser('list')
     p.add_argument('files', nargs='+')
     p.add_argument('--args', default='', help='compiler flags (default -std=c11)')

@@ -1,5 +1,6 @@
 /* The generator's own test (tests/mutants/test_mutagen.py): each construct below gives
  * the mutants listed in expected.txt, and the ones marked "none" give none. */
+#include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 
@@ -12,6 +13,7 @@ _Static_assert(sizeof(int) >= 2, "none: a static assertion");
 typedef struct { float m[3]; } box; /* none: an array's size */
 
 static float lerp(float a, float b, float t) { return a + t * (b - a); }
+static float top(float a, float b) { return fmaxf(a, b); } /* no swap: fmaxf commutes */
 
 static void clear(int *p, size_t n)
 {
