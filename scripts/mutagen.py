@@ -920,6 +920,8 @@ def cmd_run(opt, ci):
     cur = curated_tests()
     for m in sel:
         m['tests'] = tests_for(m['file'], cur)
+        if opt.tests:
+            m['tests'] = [t for t in m['tests'] if t in opt.tests.split(',')]
     needed = sorted({t for m in sel for t in m['tests']})
     runner.log('building and timing the unmutated tests: %s' % ' '.join(needed))
     runner.baseline(needed)
@@ -989,6 +991,7 @@ def main():
         p.add_argument('--max-timeout', type=float, default=600.0)
         p.add_argument('--fail-on-survivor', action='store_true')
         p.add_argument('--dry-run', action='store_true', help='list the selected mutants, run none')
+        p.add_argument('--tests', help='comma-separated: run only these of each file\'s tests')
         p.add_argument('--rerun', metavar='REPORT.json',
                        help='run again the survivors of a report (after new tests)')
     p = sub.add_parser('list')
