@@ -22,8 +22,8 @@ mutants come from the AST's nodes and tokens, never from the text alone:
   cond     if (c) -> if (1) and if (0)
 
 Nothing inside a macro expansion, a static assertion, an array declarator's size or a
-table's initializer (more than 16 values) is mutated; calls to free and *_destroy are not
-deleted (a leak is the sanitizers' job).  A mutant is applied to a copy of the sources
+table's initializer (more than 16 values) is mutated; calls to free, *_destroy, fclose and
+close are not deleted (a leak is the sanitizers' job), nor __builtin_prefetch (a hint).  A mutant is applied to a copy of the sources
 (build-mutgen/tree), the module's test programs are rebuilt in build-mutgen/build and run
 until one fails (killed), each under a timeout of 10x its unmutated time (timeout, counted
 as killed), or none does (survived).  A mutant that does not compile is "uncompilable",
@@ -70,7 +70,8 @@ BINOP = {'+': '-', '-': '+', '*': '/', '/': '*', '<': '<=', '<=': '<', '>': '>='
 COMPOUND = {'+=': '-=', '-=': '+=', '*=': '/=', '/=': '*='}
 UNARY_DROP = ('-', '!', '~')
 INCDEC = {'++': '--', '--': '++'}
-NO_DELETE = re.compile(r'^(free|.*_destroy|.*_free)$')
+# deleting these leaks (a sanitizer's or memcheck's find) or changes no result (a hint)
+NO_DELETE = re.compile(r'^(free|.*_destroy|.*_free|fclose|close|closedir|__builtin_prefetch)$')
 # their arguments swapped give the same value: an equivalent mutant, not generated
 COMMUTATIVE = {'fmin', 'fmax', 'fminf', 'fmaxf', 'fminl', 'fmaxl', 'hypot', 'hypotf'}
 TABLE = 16  # initializer lists longer than this are tables: their numbers are not mutated
