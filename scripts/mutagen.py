@@ -270,6 +270,9 @@ def generate(ci, path, rel, args, lines=None):
 
     def add(op, edits, anchor, desc, func):
         edits = sorted(edits)
+        line = bisect.bisect_left(nl, anchor) + 1
+        if lines is not None and line not in lines:
+            return
         for (a, b, _r) in edits:
             if in_macro(a, b):
                 return
@@ -277,9 +280,6 @@ def generate(ci, path, rel, args, lines=None):
         for (a, b, r) in reversed(edits):
             new = new[:a] + r.encode() + new[b:]
         if new == src:
-            return
-        line = bisect.bisect_left(nl, anchor) + 1
-        if lines is not None and line not in lines:
             return
         a0, b0 = edits[0][0], edits[-1][1]
         mutants.append({
