@@ -73,7 +73,9 @@ INCDEC = {'++': '--', '--': '++'}
 # deleting these leaks (a sanitizer's or memcheck's find) or changes no result (a hint)
 NO_DELETE = re.compile(r'^(free|.*_destroy|.*_free|fclose|close|closedir|__builtin_prefetch)$')
 # their arguments swapped give the same value: an equivalent mutant, not generated
-COMMUTATIVE = {'fmin', 'fmax', 'fminf', 'fmaxf', 'fminl', 'fmaxl', 'hypot', 'hypotf'}
+# (libm's, and the project's vector helpers: src/render/vec.h, src/lights/env_direct.c)
+COMMUTATIVE = {'fmin', 'fmax', 'fminf', 'fmaxf', 'fminl', 'fmaxl', 'hypot', 'hypotf',
+               'dot', 'dot3', 'add'}
 TABLE = 16  # initializer lists longer than this are tables: their numbers are not mutated
 
 
