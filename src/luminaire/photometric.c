@@ -335,7 +335,7 @@ static double locate(const lumis_photometric *p, double h, double v, int *cell)
             if (c > 90) c = 180 - c;
             break;
         case LUMIS_SYMMETRY_C0_C180:
-            if (c > 180) c = 360 - c;
+            if (c > 180) c = 360 - c; /* the mirror image, not the half turn */
             break;
         case LUMIS_SYMMETRY_C90_C270:
             if (c < 90)

@@ -290,6 +290,37 @@ static void grouped_draws_match_single_draws(void **state)
 
 /* ---- balancing ----------------------------------------------------------------------------- */
 
+/* The header's promise at and below the floor: a budget of 0 or less still gives every lit
+ * image one sample (masses 1 0 2 3: counts 1 0 1 1, sum 3), and budgets of 1, 16, 17 and
+ * 64 over 17 lit images spend max(budget, 17) (issue 37: the curated list called the
+ * mutant that broke this equivalent). */
+static void balance_floor_below_the_lit_images(void **state)
+{
+    (void)state;
+    const double mass[4] = {1, 0, 2, 3};
+    for (int budget = -5; budget <= 3; budget++) {
+        int counts[4] = {9, 9, 9, 9};
+        const int sum = lumis_luminaire_balance(mass, 4, budget, 0, counts);
+        if (sum != 3 || counts[0] != 1 || counts[1] != 0 || counts[2] != 1 || counts[3] != 1)
+            fail_msg("budget %d: sum %d, counts %d %d %d %d", budget, sum, counts[0], counts[1],
+                     counts[2], counts[3]);
+    }
+    double m17[17];
+    for (int i = 0; i < 17; i++) m17[i] = 1.0 + i % 5;
+    const int budgets[4] = {1, 16, 17, 64};
+    for (int b = 0; b < 4; b++) {
+        int c[17], total = 0;
+        const int sum = lumis_luminaire_balance(m17, 17, budgets[b], 0, c);
+        for (int i = 0; i < 17; i++) {
+            assert_true(c[i] >= 1);
+            total += c[i];
+        }
+        const int want = budgets[b] > 17 ? budgets[b] : 17;
+        if (sum != want || total != want)
+            fail_msg("budget %d: sum %d (counts %d), want %d", budgets[b], sum, total, want);
+    }
+}
+
 static void balancing_keeps_every_image_and_spends_the_budget(void **state)
 {
     (void)state;
@@ -1272,6 +1303,7 @@ int main(void)
         cmocka_unit_test(secant_search_matches_binary_search),
         cmocka_unit_test(grouped_draws_match_single_draws),
         cmocka_unit_test(balancing_keeps_every_image_and_spends_the_budget),
+        cmocka_unit_test(balance_floor_below_the_lit_images),
         cmocka_unit_test(estimator_mean_equals_quadrature),
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(prediction_matches_measured_variance),
