@@ -896,6 +896,44 @@ static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* A map ten times as bright gives the same lights, each ten times as powerful: no method may
+ * depend on the map's absolute level (issue 37: TMMS's log average over 2 pi instead of
+ * 4 pi kept every estimator agreeing, and only this invariance sees it).  Wu's split
+ * uses a relative threshold here; an absolute one is the caller's to scale. */
+static void every_method_is_invariant_to_the_maps_brightness(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_mc, build_vm, build_wu_cut_only, build_fhis, build_tmms};
+    static const char *const names[] = {"median cut", "variance min", "wu (cut)", "fhis", "tmms"};
+    lumis_envmap *a = make_env(61, 31, sky_pixel, 73.0f, 1.0f);
+    lumis_envmap *b = make_env(61, 31, sky_pixel, 73.0f, 10.0f);
+    for (size_t f = 0; f < sizeof fns / sizeof fns[0]; f++) {
+        lumis_light_set *sa = NULL, *sb = NULL;
+        assert_int_equal(fns[f](a, 12, &sa), LUMIS_OK);
+        assert_int_equal(fns[f](b, 12, &sb), LUMIS_OK);
+        const lumis_light *la, *lb;
+        int na, nb;
+        assert_int_equal(lumis_light_set_get(sa, 0, &la, &na), LUMIS_OK);
+        assert_int_equal(lumis_light_set_get(sb, 0, &lb, &nb), LUMIS_OK);
+        if (na != nb) fail_msg("%s: %d lights, then %d", names[f], na, nb);
+        for (int k = 0; k < na; k++) {
+            const double dd = fabs(la[k].dir.x - lb[k].dir.x) + fabs(la[k].dir.y - lb[k].dir.y) +
+                              fabs(la[k].dir.z - lb[k].dir.z);
+            if (dd > 1e-5 || la[k].pixels != lb[k].pixels)
+                fail_msg("%s: light %d moved (%d against %d pixels)", names[f], k, la[k].pixels,
+                         lb[k].pixels);
+            for (int c = 0; c < 3; c++)
+                if (fabs(lb[k].power[c] - 10 * la[k].power[c]) > 1e-6 * fabs(lb[k].power[c]))
+                    fail_msg("%s: light %d channel %d: %g, then %g (x10 expected)", names[f], k, c,
+                             la[k].power[c], lb[k].power[c]);
+        }
+        lumis_light_set_destroy(sa);
+        lumis_light_set_destroy(sb);
+    }
+    lumis_envmap_destroy(a);
+    lumis_envmap_destroy(b);
+}
+
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
 {
     (void)state;
@@ -1778,6 +1816,7 @@ int main(void)
         cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
+        cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(one_light_per_pixel_is_exact),
         cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
         cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),
