@@ -213,12 +213,13 @@ static void check_irradiance(lumis_image *const *imgs, int runs, const lumis_env
 {
     enum { CELLS = 64 * 32 * 16 };
     assert_int_equal(lumis_envmap_width(env), 64);
-    /* Every sub-cell of the map: its direction and L * solid angle. */
-    static double cell[CELLS][4];
+    /* Every sub-cell of the map: its direction and L * solid angle, per channel: the map is
+     * coloured, its channels not in proportion (a sample that mixes them up must show). */
+    static double cell[CELLS][6];
     for (int j = 0, q = 0; j < 32; j++)
         for (int i = 0; i < 64; i++) {
-            double L = lumis_envmap_texel(env, i, j).g,
-                   om = lumis_envmap_pixel_solid_angle(env, j) / 16;
+            const lumis_rgb tx = lumis_envmap_texel(env, i, j);
+            const double om = lumis_envmap_pixel_solid_angle(env, j) / 16;
             for (int b = 0; b < 4; b++)
                 for (int a = 0; a < 4; a++, q++) {
                     double c0 = cos(PI * j / 32), c1 = cos(PI * (j + 1) / 32);
@@ -228,43 +229,51 @@ static void check_irradiance(lumis_image *const *imgs, int runs, const lumis_env
                     cell[q][0] = d.x;
                     cell[q][1] = d.y;
                     cell[q][2] = d.z;
-                    cell[q][3] = L * om;
+                    cell[q][3] = tx.r * om;
+                    cell[q][4] = tx.g * om;
+                    cell[q][5] = tx.b * om;
                 }
         }
     int checked = 0;
-    double zsum = 0.0;
+    double zsum[3] = {0, 0, 0};
     for (int y = 1; y < 24; y += 3)
         for (int x = 1; x < 24; x += 3) {
             if (!on_sphere(x, y)) continue;
-            double E = 0.0;
+            double E[3] = {0, 0, 0};
             for (int sub = 0; sub < 16; sub++) {
                 double n[3];
                 assert_true(sphere_normal(x + (sub % 4 + 0.5) / 4, y + (sub / 4 + 0.5) / 4, n));
                 for (int q = 0; q < CELLS; q++) {
                     double c = cell[q][0] * n[0] + cell[q][1] * n[1] + cell[q][2] * n[2];
-                    if (c > 0) E += cell[q][3] * c / 16;
+                    if (c > 0)
+                        for (int ch = 0; ch < 3; ch++) E[ch] += cell[q][3 + ch] * c / 16;
                 }
             }
-            double want = albedo / PI * E, sum = 0, sum2 = 0;
-            for (int r = 0; r < runs; r++) {
-                double v = imgs[r]->pixels[3 * (y * 24 + x) + 1];
-                sum += v;
-                sum2 += v * v;
+            for (int ch = 0; ch < 3; ch++) {
+                double want = albedo / PI * E[ch], sum = 0, sum2 = 0;
+                for (int r = 0; r < runs; r++) {
+                    double v = imgs[r]->pixels[3 * (y * 24 + x) + ch];
+                    sum += v;
+                    sum2 += v * v;
+                }
+                double mean = sum / runs,
+                       se = sqrt(fmax(sum2 / runs - mean * mean, 0) / (runs - 1));
+                double z = (mean - want) / fmax(se, 1e-3 * want);
+                /* About 40 pixels: 4.5 standard errors each (Student t, 31 degrees of freedom:
+                 * p ~ 1e-4 per pixel), and the sum of their z scores within 3.5 sqrt(n), which
+                 * catches a bias of a few tenths of a percent shared by every pixel. */
+                if (fabs(z) > 4.5)
+                    fail_msg("%s: pixel (%d, %d) channel %d: %g +- %g, exact %g (z = %.2f)", what,
+                             x, y, ch, mean, se, want, z);
+                zsum[ch] += z;
             }
-            double mean = sum / runs, se = sqrt(fmax(sum2 / runs - mean * mean, 0) / (runs - 1));
-            double z = (mean - want) / fmax(se, 1e-3 * want);
-            /* About 40 pixels: 4.5 standard errors each (Student t, 31 degrees of freedom:
-             * p ~ 1e-4 per pixel), and the sum of their z scores within 3.5 sqrt(n), which
-             * catches a bias of a few tenths of a percent shared by every pixel. */
-            if (fabs(z) > 4.5)
-                fail_msg("%s: pixel (%d, %d): %g +- %g, exact %g (z = %.2f)", what, x, y, mean, se,
-                         want, z);
-            zsum += z;
             checked++;
         }
     assert_true(checked > 20);
-    if (fabs(zsum) > 3.5 * sqrt(checked))
-        fail_msg("%s: pixels share a bias: sum of z = %.2f over %d pixels", what, zsum, checked);
+    for (int ch = 0; ch < 3; ch++)
+        if (fabs(zsum[ch]) > 3.5 * sqrt(checked))
+            fail_msg("%s: pixels share a bias in channel %d: sum of z = %.2f over %d pixels", what,
+                     ch, zsum[ch], checked);
 }
 
 static lumis_envmap *studio_map(void)
@@ -273,6 +282,14 @@ static lumis_envmap *studio_map(void)
     sd.width = 64;
     lumis_image *map = NULL;
     assert_int_equal(lumis_studio_create(&sd, &map), LUMIS_OK);
+    /* coloured, and not uniformly: red grows with u, blue with v, so that no channel is a
+     * multiple of another (grey data hides colour bugs) */
+    for (int j = 0; j < map->height; j++)
+        for (int i = 0; i < map->width; i++) {
+            float *px = map->pixels + 3 * ((size_t)j * (size_t)map->width + (size_t)i);
+            px[0] *= 0.4f + 1.2f * (float)i / (float)map->width;
+            px[2] *= 0.3f + 1.4f * (float)j / (float)map->height;
+        }
     return env_of(map);
 }
 
