@@ -777,6 +777,32 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
     expect(a, 2, "unknown extension (use .png)");
     expect("sky -o /nonexistent/sky.png", 2, "/nonexistent does not exist");
     expect("studio -o studio.txt", 2, "unknown extension");
+    /* A sidecar replaces only a sidecar: `lights --json mylights.json` then `render -o
+     * mylights.exr` once replaced the light list, exit 0, no message. */
+    snprintf(a, sizeof a, "lights sky:32x16 --method median-cut -k 2 --json '%s'",
+             tu_path("io-mine.json"));
+    expect(a, 0, NULL);
+    size_t n0 = 0, n1 = 0;
+    unsigned char *before = tu_read_file(tu_path("io-mine.json"), &n0);
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --size 8x6 --spp 1 -o '%s'",
+             tu_path("io-mine.exr"));
+    expect(a, 2, "the sidecar");
+    expect(a, 2, "io-mine.json would replace a file that is not a lumis sidecar");
+    expect(a, 2, "--sidecar PATH");
+    unsigned char *after = tu_read_file(tu_path("io-mine.json"), &n1);
+    assert_true(n0 == n1 && memcmp(before, after, n0) == 0);
+    free(before);
+    free(after);
+    assert_false(exists(tu_path("io-mine.exr")));
+    /* ... and a render's own sidecar is replaced by the next render; the summary names
+     * every file written */
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --size 8x6 --spp 1 -o '%s'",
+             tu_path("io-own.exr"));
+    expect(a, 0, NULL);
+    char want[1024];
+    snprintf(want, sizeof want, "wrote %s, sidecar %s", tu_path("io-own.exr"),
+             tu_path("io-own.json"));
+    expect(a, 0, want);
 }
 
 /* --lights renders with a light set: the sidecar names it, its K and its sets; options that

@@ -154,7 +154,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
     tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
-    tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
+    tool_files_sidecar(&files, sidecar, "--sidecar PATH (or none: --no-sidecar)");
     int rc = tool_files_check(cmd, &files);
     for (int k = 0; k < nmans; k++) lumis_luminaire_manifest_destroy(mans[k]);
     if (rc != EXIT_OK) {
@@ -389,6 +389,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (sidecar[0])
         rc = tool_write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name,
                                 envspec, env, smp, lights, file, &cam, r);
+    if (rc == EXIT_OK && !o->quiet && o->out) /* every file written, the sidecar's too */
+        fprintf(stderr, "lumis: wrote %s%s%s%s%s\n", o->out, o->png ? ", " : "",
+                o->png ? o->png : "", sidecar[0] ? ", sidecar " : "", sidecar);
 done:
     if (rc != EXIT_OK) {
         lumis_image_destroy(r->image);
