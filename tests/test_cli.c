@@ -1647,6 +1647,36 @@ static void compare_prints_every_metric(void **state)
     assert_true(num(j, "psnr_peak") > 0.1 && num(j, "psnr_peak") <= 1.0);
     assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(j, "flip_hdr")));
     cJSON_Delete(j);
+    /* The default exposure is auto (as the bench's): the reference's mean luminance to 0.18,
+     * where EV 0 clamps a render under the sky almost everywhere; that warns. */
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("c16.exr"),
+             tu_path("c1.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    j = cJSON_Parse(out);
+    free(out);
+    assert_true(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(j, "exposure_auto")));
+    const double auto_ev = num(j, "exposure_ev"), auto_lab = num(j, "lab_delta_e");
+    assert_true(auto_ev < -2 && num(j, "clamped_fraction") < 0.05);
+    cJSON_Delete(j);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip --exposure auto",
+             tu_path("c16.exr"), tu_path("c1.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    j = cJSON_Parse(out);
+    free(out);
+    assert_true(num(j, "exposure_ev") == auto_ev && num(j, "lab_delta_e") == auto_lab);
+    cJSON_Delete(j);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip --exposure 0", tu_path("c16.exr"),
+             tu_path("c1.exr"));
+    char *err = NULL;
+    assert_int_equal(run(a, &out, &err), 0);
+    j = cJSON_Parse(out);
+    assert_true(num(j, "clamped_fraction") > 0.5 && num(j, "lab_delta_e") < auto_lab);
+    assert_non_null(strstr(err, "of the pixels clamp at 1"));
+    assert_non_null(strstr(err, "--exposure auto"));
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    expect("compare a.exr b.exr --exposure bright", 2, "--exposure needs 'auto' or stops");
     expect("compare a.exr", 2, "needs REF and TEST");
     snprintf(a, sizeof a,
              "render --scene spheres --env sky:32x16 --size 10x10 --spp 1 --quiet -o '%s'",
