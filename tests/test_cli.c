@@ -1354,7 +1354,36 @@ static void lights_export_parses_back(void **state)
         cJSON_Delete(j);
         cJSON_Delete(g);
     }
-    expect("lights sky:16x8", 2, "--method M is required");
+    /* No --method: median cut (docs/lights.md, "Which method for which goal"). */
+    char *out = NULL;
+    assert_int_equal(run("lights sky:16x8 -k 4", &out, NULL), 0);
+    assert_non_null(strstr(out, "4 lights by median-cut"));
+    free(out);
+    /* --above-ground: the sky's lights below the horizon go into the nearest above; the
+     * total power stays, the folded share is printed and the files record it. */
+    snprintf(a, sizeof a, "lights sky:64x32 -k 16 --json '%s'", tu_path("ag0.json"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "lights sky:64x32 -k 16 --above-ground --json '%s'", tu_path("ag1.json"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    assert_non_null(strstr(out, "lights below the horizon folded into the nearest above"));
+    assert_non_null(strstr(out, "% of the power"));
+    free(out);
+    cJSON *j0 = read_json("ag0.json"), *j1 = read_json("ag1.json");
+    const cJSON *l0 = item(j0, "lights"), *l1 = item(j1, "lights");
+    assert_true(cJSON_GetArraySize(l1) < cJSON_GetArraySize(l0));
+    double p0[3] = {0, 0, 0}, p1[3] = {0, 0, 0};
+    for (int k = 0; k < cJSON_GetArraySize(l0); k++)
+        for (int c = 0; c < 3; c++)
+            p0[c] += cJSON_GetArrayItem(item(cJSON_GetArrayItem(l0, k), "power"), c)->valuedouble;
+    for (int k = 0; k < cJSON_GetArraySize(l1); k++) {
+        const cJSON *l = cJSON_GetArrayItem(l1, k);
+        assert_true(cJSON_GetArrayItem(item(l, "dir"), 1)->valuedouble > 0.0);
+        for (int c = 0; c < 3; c++) p1[c] += cJSON_GetArrayItem(item(l, "power"), c)->valuedouble;
+    }
+    for (int c = 0; c < 3; c++) assert_true(fabs(p1[c] - p0[c]) <= 1e-9 * p0[c]);
+    assert_string_equal(item(j1, "parameters")->valuestring, "above-ground");
+    cJSON_Delete(j0);
+    cJSON_Delete(j1);
     expect("lights sky:16x8 --method kmeans", 2, "--method must be one of");
     expect("lights sky:16x8 --method wu -k 0", 2, "-k needs a count");
     expect("lights sky:16x8 --method wu --masks", 2, "--masks goes with --json");
