@@ -2876,6 +2876,25 @@ static void render_places_photometric_fixtures(void **state)
             ->valuestring,
         tu_path("fx.ies"));
     cJSON_Delete(j);
+    { /* a fixture that lights nothing the camera sees: a black image, with a hint; a lit one
+       * has none */
+        char *err = NULL;
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,-50,0 --fixture-aim "
+                 "0,-100,0 --size 16x12 --spp 1 --quiet -o '%s'",
+                 tu_path("fx.ies"), tu_path("dark.exr"));
+        assert_int_equal(run(a, NULL, &err), 0);
+        assert_non_null(strstr(err, "the image is black"));
+        assert_non_null(strstr(err, "--fixture-aim"));
+        free(err);
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+                 "--size 16x12 --spp 1 --quiet -o '%s'",
+                 tu_path("fx.ies"), tu_path("notdark.exr"));
+        assert_int_equal(run(a, NULL, &err), 0);
+        assert_null(strstr(err, "black"));
+        free(err);
+    }
     /* a type B floodlight aimed the same way hangs on a yoke: its top (+x) above the aim, its
      * lateral axis (+y) horizontal */
     pg_ies_spec sb = {PG_FLOOD, 8, "IESNA:LM-63-2002", 2, 19, -90, 90, 19, -90, 90, 0, 0, 0, 0,
