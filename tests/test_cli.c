@@ -2894,6 +2894,11 @@ static void render_places_photometric_fixtures(void **state)
         assert_int_equal(run(a, NULL, &err), 0);
         assert_null(strstr(err, "black"));
         free(err);
+        /* a photometric file given for a light-field luminaire: pointed at lumis info, not
+         * "malformed JSON" */
+        snprintf(a, sizeof a, "luminaire info '%s'", tu_path("fx.ies"));
+        expect(a, 1, "is a photometric file (IES or EULUMDAT), not a light-field luminaire");
+        expect(a, 1, "'lumis info ");
     }
     /* a type B floodlight aimed the same way hangs on a yoke: its top (+x) above the aim, its
      * lateral axis (+y) horizontal */
