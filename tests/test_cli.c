@@ -396,6 +396,30 @@ static void bench_samplers_reports_every_method(void **state)
         fail_msg("rse@64: strata %g, inversion %g", rse_strata, rse_inv);
     cJSON_Delete(arr);
     expect("bench-samplers sky:16x8 --strata cut", 2, "unknown light-set method");
+    /* Text: the columns fit a long path, the methods asked for and no others, the JSON's
+     * name for the error column, and a verdict that says which wins and by how much. */
+    char a[2048], *err = NULL;
+    snprintf(a, sizeof a, "sky --size 32x16 -o '%s'", tu_path("a-rather-long-map-name-here.pfm"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "bench-samplers '%s' --methods inversion,kdtree --samples 500 --runs 1",
+             tu_path("a-rather-long-map-name-here.pfm"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    assert_null(strstr(out, "angles"));
+    assert_non_null(strstr(out, "rel_stderr_64"));
+    assert_non_null(strstr(out, "verdict (lower is better): lowest error at 64 samples: "));
+    assert_non_null(strstr(out, "x the error"));
+    const char *row = strstr(out, "\n") + 1, *k = strstr(row, " kdtree");
+    const int method_col = (int)(strstr(out, " method") - out),
+              row_col = (int)(row[0] ? strstr(row, " inversion") - row : -1);
+    assert_int_equal(method_col, row_col); /* the method column lines up with its header */
+    assert_non_null(k);
+    free(out);
+    /* a map that does not load: its error, and no header before it */
+    assert_int_equal(run("bench-samplers nope.exr --runs 1 --samples 10", &out, &err), 1);
+    assert_string_equal(out, "");
+    assert_non_null(strstr(err, "nope.exr"));
+    free(out);
+    free(err);
 }
 
 static cJSON *read_json(const char *name);
