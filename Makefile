@@ -34,7 +34,11 @@ release: deps
 	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) >/dev/null
 	cmake --build build-release -j$(JOBS)
 
-run: build
+# run and install build the executable and its libraries only: the tests and benchmarks
+# take minutes more on a small machine.
+run: deps
+	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
+	cmake --build build -j$(JOBS) --target lumis-cli
 	./build/lumis demo
 
 test: build
@@ -105,9 +109,10 @@ bench: build
 
 # The optimised Release build (-O3, no debug information) is what a user installs; it is
 # reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
-install: release
-	cmake -S . -B build-release -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
-	cmake --build build-release -j$(JOBS)
+install: deps
+	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) \
+	  -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
+	cmake --build build-release -j$(JOBS) --target lumis-cli
 	cmake --install build-release --prefix $(PREFIX)
 
 clean:

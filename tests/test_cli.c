@@ -396,6 +396,30 @@ static void bench_samplers_reports_every_method(void **state)
         fail_msg("rse@64: strata %g, inversion %g", rse_strata, rse_inv);
     cJSON_Delete(arr);
     expect("bench-samplers sky:16x8 --strata cut", 2, "unknown light-set method");
+    /* Text: the columns fit a long path, the methods asked for and no others, the JSON's
+     * name for the error column, and a verdict that says which wins and by how much. */
+    char a[2048], *err = NULL;
+    snprintf(a, sizeof a, "sky --size 32x16 -o '%s'", tu_path("a-rather-long-map-name-here.pfm"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "bench-samplers '%s' --methods inversion,kdtree --samples 500 --runs 1",
+             tu_path("a-rather-long-map-name-here.pfm"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    assert_null(strstr(out, "angles"));
+    assert_non_null(strstr(out, "rel_stderr_64"));
+    assert_non_null(strstr(out, "verdict (lower is better): lowest error at 64 samples: "));
+    assert_non_null(strstr(out, "x the error"));
+    const char *row = strstr(out, "\n") + 1, *k = strstr(row, " kdtree");
+    const int method_col = (int)(strstr(out, " method") - out),
+              row_col = (int)(row[0] ? strstr(row, " inversion") - row : -1);
+    assert_int_equal(method_col, row_col); /* the method column lines up with its header */
+    assert_non_null(k);
+    free(out);
+    /* a map that does not load: its error, and no header before it */
+    assert_int_equal(run("bench-samplers nope.exr --runs 1 --samples 10", &out, &err), 1);
+    assert_string_equal(out, "");
+    assert_non_null(strstr(err, "nope.exr"));
+    free(out);
+    free(err);
 }
 
 static cJSON *read_json(const char *name);
@@ -777,6 +801,32 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
     expect(a, 2, "unknown extension (use .png)");
     expect("sky -o /nonexistent/sky.png", 2, "/nonexistent does not exist");
     expect("studio -o studio.txt", 2, "unknown extension");
+    /* A sidecar replaces only a sidecar: `lights --json mylights.json` then `render -o
+     * mylights.exr` once replaced the light list, exit 0, no message. */
+    snprintf(a, sizeof a, "lights sky:32x16 --method median-cut -k 2 --json '%s'",
+             tu_path("io-mine.json"));
+    expect(a, 0, NULL);
+    size_t n0 = 0, n1 = 0;
+    unsigned char *before = tu_read_file(tu_path("io-mine.json"), &n0);
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --size 8x6 --spp 1 -o '%s'",
+             tu_path("io-mine.exr"));
+    expect(a, 2, "the sidecar");
+    expect(a, 2, "io-mine.json would replace a file that is not a lumis sidecar");
+    expect(a, 2, "--sidecar PATH");
+    unsigned char *after = tu_read_file(tu_path("io-mine.json"), &n1);
+    assert_true(n0 == n1 && memcmp(before, after, n0) == 0);
+    free(before);
+    free(after);
+    assert_false(exists(tu_path("io-mine.exr")));
+    /* ... and a render's own sidecar is replaced by the next render; the summary names
+     * every file written */
+    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --size 8x6 --spp 1 -o '%s'",
+             tu_path("io-own.exr"));
+    expect(a, 0, NULL);
+    char want[1024];
+    snprintf(want, sizeof want, "wrote %s, sidecar %s", tu_path("io-own.exr"),
+             tu_path("io-own.json"));
+    expect(a, 0, want);
 }
 
 /* --lights renders with a light set: the sidecar names it, its K and its sets; options that
@@ -1328,7 +1378,36 @@ static void lights_export_parses_back(void **state)
         cJSON_Delete(j);
         cJSON_Delete(g);
     }
-    expect("lights sky:16x8", 2, "--method M is required");
+    /* No --method: median cut (docs/lights.md, "Which method for which goal"). */
+    char *out = NULL;
+    assert_int_equal(run("lights sky:16x8 -k 4", &out, NULL), 0);
+    assert_non_null(strstr(out, "4 lights by median-cut"));
+    free(out);
+    /* --above-ground: the sky's lights below the horizon go into the nearest above; the
+     * total power stays, the folded share is printed and the files record it. */
+    snprintf(a, sizeof a, "lights sky:64x32 -k 16 --json '%s'", tu_path("ag0.json"));
+    expect(a, 0, NULL);
+    snprintf(a, sizeof a, "lights sky:64x32 -k 16 --above-ground --json '%s'", tu_path("ag1.json"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    assert_non_null(strstr(out, "lights below the horizon folded into the nearest above"));
+    assert_non_null(strstr(out, "% of the power"));
+    free(out);
+    cJSON *j0 = read_json("ag0.json"), *j1 = read_json("ag1.json");
+    const cJSON *l0 = item(j0, "lights"), *l1 = item(j1, "lights");
+    assert_true(cJSON_GetArraySize(l1) < cJSON_GetArraySize(l0));
+    double p0[3] = {0, 0, 0}, p1[3] = {0, 0, 0};
+    for (int k = 0; k < cJSON_GetArraySize(l0); k++)
+        for (int c = 0; c < 3; c++)
+            p0[c] += cJSON_GetArrayItem(item(cJSON_GetArrayItem(l0, k), "power"), c)->valuedouble;
+    for (int k = 0; k < cJSON_GetArraySize(l1); k++) {
+        const cJSON *l = cJSON_GetArrayItem(l1, k);
+        assert_true(cJSON_GetArrayItem(item(l, "dir"), 1)->valuedouble > 0.0);
+        for (int c = 0; c < 3; c++) p1[c] += cJSON_GetArrayItem(item(l, "power"), c)->valuedouble;
+    }
+    for (int c = 0; c < 3; c++) assert_true(fabs(p1[c] - p0[c]) <= 1e-9 * p0[c]);
+    assert_string_equal(item(j1, "parameters")->valuestring, "above-ground");
+    cJSON_Delete(j0);
+    cJSON_Delete(j1);
     expect("lights sky:16x8 --method kmeans", 2, "--method must be one of");
     expect("lights sky:16x8 --method wu -k 0", 2, "-k needs a count");
     expect("lights sky:16x8 --method wu --masks", 2, "--masks goes with --json");
@@ -1621,6 +1700,36 @@ static void compare_prints_every_metric(void **state)
     assert_true(num(j, "psnr_peak") > 0.1 && num(j, "psnr_peak") <= 1.0);
     assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(j, "flip_hdr")));
     cJSON_Delete(j);
+    /* The default exposure is auto (as the bench's): the reference's mean luminance to 0.18,
+     * where EV 0 clamps a render under the sky almost everywhere; that warns. */
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("c16.exr"),
+             tu_path("c1.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    j = cJSON_Parse(out);
+    free(out);
+    assert_true(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(j, "exposure_auto")));
+    const double auto_ev = num(j, "exposure_ev"), auto_lab = num(j, "lab_delta_e");
+    assert_true(auto_ev < -2 && num(j, "clamped_fraction") < 0.05);
+    cJSON_Delete(j);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip --exposure auto",
+             tu_path("c16.exr"), tu_path("c1.exr"));
+    assert_int_equal(run(a, &out, NULL), 0);
+    j = cJSON_Parse(out);
+    free(out);
+    assert_true(num(j, "exposure_ev") == auto_ev && num(j, "lab_delta_e") == auto_lab);
+    cJSON_Delete(j);
+    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip --exposure 0", tu_path("c16.exr"),
+             tu_path("c1.exr"));
+    char *err = NULL;
+    assert_int_equal(run(a, &out, &err), 0);
+    j = cJSON_Parse(out);
+    assert_true(num(j, "clamped_fraction") > 0.5 && num(j, "lab_delta_e") < auto_lab);
+    assert_non_null(strstr(err, "of the pixels clamp at 1"));
+    assert_non_null(strstr(err, "--exposure auto"));
+    cJSON_Delete(j);
+    free(out);
+    free(err);
+    expect("compare a.exr b.exr --exposure bright", 2, "--exposure needs 'auto' or stops");
     expect("compare a.exr", 2, "needs REF and TEST");
     snprintf(a, sizeof a,
              "render --scene spheres --env sky:32x16 --size 10x10 --spp 1 --quiet -o '%s'",
@@ -2791,6 +2900,30 @@ static void render_places_photometric_fixtures(void **state)
             ->valuestring,
         tu_path("fx.ies"));
     cJSON_Delete(j);
+    { /* a fixture that lights nothing the camera sees: a black image, with a hint; a lit one
+       * has none */
+        char *err = NULL;
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,-50,0 --fixture-aim "
+                 "0,-100,0 --size 16x12 --spp 1 --quiet -o '%s'",
+                 tu_path("fx.ies"), tu_path("dark.exr"));
+        assert_int_equal(run(a, NULL, &err), 0);
+        assert_non_null(strstr(err, "the image is black"));
+        assert_non_null(strstr(err, "--fixture-aim"));
+        free(err);
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+                 "--size 16x12 --spp 1 --quiet -o '%s'",
+                 tu_path("fx.ies"), tu_path("notdark.exr"));
+        assert_int_equal(run(a, NULL, &err), 0);
+        assert_null(strstr(err, "black"));
+        free(err);
+        /* a photometric file given for a light-field luminaire: pointed at lumis info, not
+         * "malformed JSON" */
+        snprintf(a, sizeof a, "luminaire info '%s'", tu_path("fx.ies"));
+        expect(a, 1, "is a photometric file (IES or EULUMDAT), not a light-field luminaire");
+        expect(a, 1, "'lumis info ");
+    }
     /* a type B floodlight aimed the same way hangs on a yoke: its top (+x) above the aim, its
      * lateral axis (+y) horizontal */
     pg_ies_spec sb = {PG_FLOOD, 8, "IESNA:LM-63-2002", 2, 19, -90, 90, 19, -90, 90, 0, 0, 0, 0,

@@ -1701,6 +1701,87 @@ static void malformed_options_are_refused(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Folding the lights below the ground into the nearest ones above: none left below, every
+ * region still labelled and inside its light's cone, the power of each light what brute force
+ * says (its own plus the folded lights nearest to it), the total unchanged, and the report's
+ * folded power that of the lights that went. */
+static void fold_below_conserves_power_into_the_nearest_light(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(64, 32, sky_pixel, 30.0f, 1.0f);
+    for (int method = 0; method < 2; method++) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(method ? build_wu(env, 16, &set) : build_mc(env, 16, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        lumis_light before[16];
+        assert_true(n <= 16);
+        memcpy(before, L, sizeof *L * (size_t)n);
+        /* brute force: each light's power after the fold, in the order the kept ones stay */
+        double want[16][3] = {{0}}, moved[3] = {0, 0, 0};
+        int kept = 0, slot[16];
+        for (int k = 0; k < n; k++) slot[k] = before[k].dir.y > 0.0f ? kept++ : -1;
+        assert_true(kept > 0 && kept < n); /* the map's floor makes lights below */
+        for (int k = 0; k < n; k++) {
+            int to = k;
+            if (slot[k] < 0) {
+                double best = -2.0;
+                for (int q = 0; q < n; q++) {
+                    const double c = (double)before[k].dir.x * before[q].dir.x +
+                                     (double)before[k].dir.y * before[q].dir.y +
+                                     (double)before[k].dir.z * before[q].dir.z;
+                    if (slot[q] >= 0 && c > best) best = c, to = q;
+                }
+                for (int c = 0; c < 3; c++) moved[c] += before[k].power[c];
+            }
+            for (int c = 0; c < 3; c++) want[slot[to]][c] += before[k].power[c];
+        }
+        lumis_light_fold r;
+        const lumis_vec3 up = {0.0f, 2.0f, 0.0f}; /* any length */
+        assert_int_equal(lumis_light_set_fold_below(set, up, NULL, &r), LUMIS_OK);
+        assert_int_equal(r.kept, kept);
+        assert_int_equal(r.folded, n - kept);
+        assert_int_equal(lumis_light_set_get_info(set)->count, kept);
+        check_set(set, env); /* labels, cones, sets, the map's power */
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        assert_int_equal(n, kept);
+        double total = 0.0, y_moved = 0.2126 * moved[0] + 0.7152 * moved[1] + 0.0722 * moved[2];
+        for (int k = 0; k < n; k++) {
+            assert_true(L[k].dir.y > 0.0f);
+            for (int c = 0; c < 3; c++)
+                assert_true(fabs(L[k].power[c] - want[k][c]) <= 1e-12 * want[k][c]);
+            total += 0.2126 * L[k].power[0] + 0.7152 * L[k].power[1] + 0.0722 * L[k].power[2];
+        }
+        for (int c = 0; c < 3; c++) assert_true(fabs(r.power[c] - moved[c]) <= 1e-12 * moved[c]);
+        assert_true(r.share > 0.0 && fabs(r.share - y_moved / total) < 1e-12);
+        if (method) { /* Wu's kinds are counted again */
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            int d = 0;
+            for (int k = 0; k < n; k++) d += L[k].kind == LUMIS_LIGHT_ENV_DIRECT;
+            assert_int_equal(info->direct, d);
+            assert_int_equal(info->indirect, n - d);
+        }
+        /* nothing above the opposite plane now: refused, the set unchanged */
+        tu_sink sink;
+        tu_sink_init(&sink);
+        const lumis_vec3 down = {0.0f, -1.0f, 0.0f}, zero = {0.0f, 0.0f, 0.0f};
+        assert_int_equal(lumis_light_set_fold_below(set, down, &sink.sink, &r),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(sink.last, "above the plane"));
+        assert_int_equal(lumis_light_set_fold_below(set, zero, NULL, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_light_set_fold_below(NULL, up, NULL, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_light_set_get_info(set)->count, kept);
+        /* folding again changes nothing */
+        assert_int_equal(lumis_light_set_fold_below(set, up, NULL, &r), LUMIS_OK);
+        assert_true(r.folded == 0 && r.kept == kept && r.share == 0.0);
+        lumis_light_set_destroy(set);
+    }
+    lumis_envmap_destroy(env);
+}
+
 static void interleave_pattern_covers_every_set(void **state)
 {
     (void)state;
@@ -1809,6 +1890,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_method_conserves_power),
+        cmocka_unit_test(fold_below_conserves_power_into_the_nearest_light),
         cmocka_unit_test(wu_on_tiled_maps_conserves_power),
         cmocka_unit_test(median_cut_regions_have_equal_energy),
         cmocka_unit_test(variance_min_splits_minimise_the_summed_variance),

@@ -82,7 +82,7 @@ int cmd_merge(int argc, char **argv)
         tool_files_input(&files, "share's sidecar", side_in[k]);
     }
     tool_files_output(&files, "-o", out, TOOL_OUT_LINEAR);
-    if (sidecar) tool_files_output(&files, "sidecar", side_out, TOOL_OUT_FILE);
+    if (sidecar) tool_files_sidecar(&files, side_out, "--no-sidecar, or another OUT");
     int rc = tool_files_check("merge", &files);
     if (rc != EXIT_OK) return rc;
 
@@ -208,8 +208,9 @@ int tool_merge_shares(const char *const *in, int n, const char *out, const char 
         cJSON_Delete(j);
     }
     if (rc == EXIT_OK && !quiet)
-        fprintf(stderr, "merged %d shares of %.0f samples into %s (%d x %d)\n", n, total, out,
-                merged->width, merged->height);
+        fprintf(stderr, "merged %d shares of %.0f samples into %s (%d x %d)%s%s\n", n, total, out,
+                merged->width, merged->height, side_out ? ", sidecar " : "",
+                side_out ? side_out : "");
     lumis_image_destroy(merged);
     for (int k = 0; k < n; k++) {
         cJSON_Delete(side[k]);

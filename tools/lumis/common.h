@@ -99,7 +99,8 @@ typedef enum tool_output_kind {
     TOOL_OUT_IMAGE,  /* .exr .hdr .pfm .png */
     TOOL_OUT_LINEAR, /* .exr .hdr .pfm: linear values */
     TOOL_OUT_PNG,    /* .png */
-    TOOL_OUT_DIR     /* a directory, made if missing (its parent must exist) */
+    TOOL_OUT_DIR,    /* a directory, made if missing (its parent must exist) */
+    TOOL_OUT_SIDECAR /* a render's JSON sidecar: replaces only an earlier sidecar */
 } tool_output_kind;
 
 enum { TOOL_FILES_MAX = 32 };
@@ -112,6 +113,7 @@ typedef struct tool_files {
     struct {
         const char *what, *path;
         tool_output_kind kind;
+        const char *hint; /* TOOL_OUT_SIDECAR: the options that choose another path */
     } in[TOOL_FILES_MAX], out[TOOL_FILES_MAX];
     int n_lists; /* inputs by the list: a luminaire's images (borrowed until the check) */
     struct {
@@ -125,6 +127,13 @@ typedef struct tool_files {
  * or empty paths are ignored. */
 void tool_files_input(tool_files *f, const char *what, const char *path);
 void tool_files_output(tool_files *f, const char *what, const char *path, tool_output_kind kind);
+/* Records a sidecar output: it may replace an earlier sidecar (tool_is_sidecar) or an empty
+ * file, nothing else; hint names the options that choose another path ("--sidecar PATH or
+ * --no-sidecar"). */
+void tool_files_sidecar(tool_files *f, const char *path, const char *hint);
+/* Nonzero when path holds a lumis sidecar: a JSON object with "lumis_version", "command"
+ * and "outputs", as tool_write_sidecar writes it. */
+int tool_is_sidecar(const char *path);
 /* Records count inputs at once (the paths are borrowed until tool_files_check). */
 void tool_files_input_list(tool_files *f, const char *what, const char *const *paths, int count);
 
@@ -133,7 +142,8 @@ void tool_files_input_list(tool_files *f, const char *what, const char *const *p
 unsigned char *tool_read_file(const char *path, size_t *n, int *oom);
 
 /* Usage error (exit 2, naming both paths) unless every output has an extension of its kind,
- * a directory that exists and can be written, and is neither an input nor another output.
+ * a directory that exists and can be written, and is neither an input nor another output;
+ * a sidecar may replace only a sidecar.
  * Same file: by device and inode when both exist, else by resolved directory and name. */
 int tool_files_check(const char *cmd, const tool_files *f);
 int tool_same_file(const char *a, const char *b);

@@ -170,6 +170,25 @@ lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
         }
         return load_preset(spec, preset, out);
     }
+    /* A manifest is JSON; a file that is not, but reads as IES or EULUMDAT, is a fixture:
+     * point at the commands that take one rather than report "malformed JSON". */
+    FILE *fp = fopen(spec, "rb");
+    int c = EOF;
+    if (fp) {
+        do c = fgetc(fp);
+        while (c == ' ' || c == '\t' || c == '\r' || c == '\n');
+        fclose(fp);
+    }
+    lumis_photometric_file *pf = NULL;
+    if (c != EOF && c != '{' && lumis_photometric_read(spec, NULL, &pf) == LUMIS_OK) {
+        lumis_photometric_file_destroy(pf);
+        tool_runtime_error("%s is a photometric file (IES or EULUMDAT), not a light-field "
+                           "luminaire: 'lumis info %s' describes it, a scene file or render "
+                           "--fixture places it, and 'lumis luminaire create OUT.json --from "
+                           "%s' makes its light field",
+                           spec, spec, spec);
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    }
     lumis_luminaire_read_options ro = {0};
     ro.errors = tool_errors;
     return lumis_luminaire_read(spec, &ro, out);

@@ -154,7 +154,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
     tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
-    tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
+    tool_files_sidecar(&files, sidecar, "--sidecar PATH (or none: --no-sidecar)");
     int rc = tool_files_check(cmd, &files);
     for (int k = 0; k < nmans; k++) lumis_luminaire_manifest_destroy(mans[k]);
     if (rc != EXIT_OK) {
@@ -389,6 +389,36 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     if (sidecar[0])
         rc = tool_write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name,
                                 envspec, env, smp, lights, file, &cam, r);
+    if (rc == EXIT_OK && fixtures && r->image) {
+        /* A black image needs a hint, not exit 0 alone.  "Black": no pixel within 1e-9 of the
+         * brightest fixture's peak candela (a diffuse surface 100 m away with albedo 0.01
+         * is 3e-7 of it, in cd/m^2), which leaves the tails of a beam aimed away. */
+        double peak = 0.0, ymax = 0.0;
+        for (int k = 0; k < rd.photometric->count; k++) {
+            const lumis_photometric_instance *in = &rd.photometric->instances[k];
+            lumis_photometric_info pi;
+            lumis_photometric_get_info(in->photometric, &pi);
+            const double c = pi.max_candela * (in->multiplier == 0 ? 1.0 : in->multiplier);
+            peak = c > peak ? c : peak;
+        }
+        const size_t n = (size_t)r->image->width * (size_t)r->image->height;
+        for (size_t p = 0; p < n; p++) {
+            const float *q = r->image->pixels + 3 * p;
+            const double y = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+            ymax = y > ymax ? y : ymax;
+        }
+        if (!(ymax > 1e-9 * peak))
+            fprintf(stderr,
+                    "lumis: warning: the image is black (brightest pixel %.3g cd/m^2 under %.3g "
+                    "cd at the fixture's peak): the photometric fixture%s light%s nothing the "
+                    "camera sees; check --fixture-at and --fixture-aim (or the scene's "
+                    "positions, in metres) and the beam\n",
+                    ymax, peak, rd.photometric->count > 1 ? "s" : "",
+                    rd.photometric->count > 1 ? "" : "s");
+    }
+    if (rc == EXIT_OK && !o->quiet && o->out) /* every file written, the sidecar's too */
+        fprintf(stderr, "lumis: wrote %s%s%s%s%s\n", o->out, o->png ? ", " : "",
+                o->png ? o->png : "", sidecar[0] ? ", sidecar " : "", sidecar);
 done:
     if (rc != EXIT_OK) {
         lumis_image_destroy(r->image);
