@@ -1604,7 +1604,9 @@ static void replaced_values_are_reported(void **state)
     tu_write_file(map, pfm, (size_t)hn + sizeof px);
     char m[512], a[2048];
     snprintf(m, sizeof m, "%s", map);
-    const char *warn = "3 channel values replaced by 0 (NaN 1, Inf 1, negative 1)";
+    /* PFM's first row is the bottom one: value 7 is pixel (2, 3) */
+    const char *warn = "3 channel values replaced by 0 (NaN 1, Inf 1, negative 1, the worst -2 at "
+                       "pixel (2, 3)";
     snprintf(a, sizeof a, "render --scene spheres --env '%s' --size 8x6 --spp 1 --quiet -o '%s'", m,
              tu_path("nan-r.exr"));
     expect(a, 0, warn);
@@ -1648,6 +1650,58 @@ static void replaced_values_are_reported(void **state)
     assert_true(num(item(c, "environment"), "replaced") == 3);
     cJSON_Delete(c);
     free(side);
+}
+
+/* Writes a w x h PFM of px (rows top first) to the test folder as name; its path. */
+static const char *write_pfm(const char *name, const float *px, int w, int h)
+{
+    const size_t bytes = (size_t)w * (size_t)h * 3 * sizeof(float);
+    char *pfm = malloc(64 + bytes);
+    const int hn = snprintf(pfm, 64, "PF\n%d %d\n-1.0\n", w, h);
+    /* PFM stores the bottom row first */
+    for (int y = 0; y < h; y++)
+        memcpy(pfm + hn + (size_t)(h - 1 - y) * (size_t)w * 3 * sizeof(float),
+               px + (size_t)y * (size_t)w * 3, (size_t)w * 3 * sizeof(float));
+    const char *path = tu_path(name);
+    tu_write_file(path, pfm, (size_t)hn + bytes);
+    free(pfm);
+    return path;
+}
+
+/* What real HDRIs hold: compression noise (a few tiny negatives) is a note that LUMIS_NOTES=0
+ * silences; a broken cluster (a pure-blue spike among large negatives) is a warning naming
+ * the worst value's pixel and the spike's. */
+static void replaced_noise_is_a_note_and_spikes_are_named(void **state)
+{
+    (void)state;
+    enum { MW = 32, MH = 16 };
+    static float px[MW * MH * 3];
+    for (int k = 0; k < MW * MH * 3; k++) px[k] = 0.8f + 0.1f * (float)(k % 5);
+    px[3 * (5 * MW + 7) + 2] = -1e-4f; /* noise */
+    px[3 * (9 * MW + 20) + 0] = -3e-4f;
+    char a[2048], m[512];
+    snprintf(m, sizeof m, "%s", write_pfm("noise.pfm", px, MW, MH));
+    snprintf(a, sizeof a, "info '%s'", m);
+    expect(a, 0, "lumis: note: ");
+    expect(a, 0, "2 small negative values (down to -0.0003");
+    char *out = NULL, *err = NULL;
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "LUMIS_NOTES=0 '%s' info '%s'", LUMIS_CLI, m);
+    assert_int_equal(tu_run(cmd, &out, &err), 0);
+    if (strstr(err, "negative")) fail_msg("LUMIS_NOTES=0 still notes: %s", err);
+    free(out);
+    free(err);
+    /* a blue spike at (12, 6) among ringing negatives */
+    const int sx = 12, sy = 6;
+    px[3 * (sy * MW + sx) + 0] = 0;
+    px[3 * (sy * MW + sx) + 1] = 0;
+    px[3 * (sy * MW + sx) + 2] = 15000;
+    px[3 * (sy * MW + sx - 1) + 0] = -2300;
+    px[3 * ((sy + 1) * MW + sx) + 1] = -40;
+    snprintf(m, sizeof m, "%s", write_pfm("spike.pfm", px, MW, MH));
+    snprintf(a, sizeof a, "info '%s'", m);
+    expect(a, 0, "the worst -2300 at pixel (11, 6)");
+    expect(a, 0, "pixel (12, 6) = (0, 0, 1.5e+04) is a saturated spike");
 }
 
 static void compare_prints_every_metric(void **state)
@@ -3041,6 +3095,7 @@ int main(void)
         cmocka_unit_test(lights_picture_marks_emissive_pixels),
         cmocka_unit_test(compare_prints_every_metric),
         cmocka_unit_test(replaced_values_are_reported),
+        cmocka_unit_test(replaced_noise_is_a_note_and_spikes_are_named),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),

@@ -210,7 +210,7 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
                 ro.errors = tool_errors;
                 st = lumis_image_read_memory(map->bytes, map->nbytes, LUMIS_FORMAT_AUTO, map->spec,
                                              &ro, &images[m], &info);
-                if (st == LUMIS_OK) tool_warn_replaced(map->spec, info.replaced);
+                if (st == LUMIS_OK) tool_warn_replaced(map->spec, info.replaced, images[m]);
             } else { /* a procedural spec, or a file that would not open (named by the error) */
                 st = tool_load_image(map->spec, &images[m], &info); /* warns itself */
             }

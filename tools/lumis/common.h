@@ -47,8 +47,10 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
 uint64_t tool_fnv(uint64_t h, const void *data, size_t n);
 /* mkdir -p; prints the error.  Exit code. */
 int tool_make_dir(const char *path);
-/* Prints a warning naming what (a file or spec) when r counts replaced values. */
-void tool_warn_replaced(const char *what, lumis_replaced r);
+/* Prints what was replaced in the map what (a file or spec): tiny negatives as a note
+ * (LUMIS_NOTES=0 silences it), the rest as a warning naming the worst pixel; and img's
+ * saturated spikes, by pixel (img may be NULL). */
+void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *img);
 
 /* Light-set methods by name (lumis_lights_method_from_name): known, Wu's (any wu...), and
  * the names joined for a message. */

@@ -174,7 +174,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
     if (!self_lit && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
         r->env_replaced = file->env_info.replaced;
-        tool_warn_replaced(envspec, r->env_replaced);
+        tool_warn_replaced(envspec, r->env_replaced, preloaded);
     } else if (!self_lit && preloaded) { /* the caller's (lumis bench): it warned when it read it */
         r->env_replaced = o->env_image_replaced;
     }
