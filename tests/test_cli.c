@@ -221,6 +221,14 @@ static void demo_writes_the_sky_and_its_info(void **state)
     assert_int_equal(run(a, &out, NULL), 0);
     assert_non_null(strstr(out, "top 1% share"));
     assert_non_null(strstr(out, "inversion left, kd-tree right"));
+    /* the table (and the picture's label) give the time each render took, not its budget */
+    double used_printed[2] = {0, 0};
+    const char *row = strstr(out, "\n  inversion ");
+    assert_non_null(row);
+    assert_int_equal(sscanf(row, " inversion %*d %*f %lf", &used_printed[0]), 1);
+    row = strstr(out, "\n  kdtree ");
+    assert_non_null(row);
+    assert_int_equal(sscanf(row, " kdtree %*d %*f %lf", &used_printed[1]), 1);
     free(out);
     const char *files[] = {"sky.exr",
                            "sky.png",
@@ -245,6 +253,10 @@ static void demo_writes_the_sky_and_its_info(void **state)
         assert_non_null(j);
         assert_true(num(j, "time_budget_seconds") == 0.3);
         assert_true(num(j, "spp") >= 1);
+        const double used =
+            num(cJSON_GetObjectItemCaseSensitive(j, "timings"), "budget_used_seconds");
+        if (!(fabs(used - used_printed[k]) <= 0.0005))
+            fail_msg("%s: %g s used, the demo printed %g s", methods[k], used, used_printed[k]);
         assert_string_equal(cJSON_GetObjectItemCaseSensitive(j, "method")->valuestring, methods[k]);
         cJSON_Delete(j);
         free(text);
