@@ -1706,7 +1706,8 @@ static void bench_runs_light_sets(void **state)
         "\"wd=4\"},\n"
         "             {\"method\": \"median-cut\", \"label\": \"mc\", \"interleave\": 2}],\n"
         " \"budgets\": [{\"spp\": 2}, {\"time\": 0.15}],\n"
-        " \"reference\": {\"spp\": 64, \"method\": \"inversion\"}, \"size\": [48, 36]}\n";
+        " \"reference\": {\"spp\": 64, \"method\": \"variance-min\", \"mode\": "
+        "\"stratified\", \"k\": 8},\n \"size\": [48, 36]}\n";
     tu_write_file(tu_path("lights-suite.json"), suite, sizeof suite - 1);
     char a[4096], *err = NULL;
     snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("lights-suite.json"), tu_path("bl"));
@@ -1720,7 +1721,40 @@ static void bench_runs_light_sets(void **state)
     char *csv = (char *)tu_read_file(p, &n);
     assert_non_null(strstr(csv, ",wu,"));
     assert_non_null(strstr(csv, ",mc,"));
+    /* Every item's time used (prep and every attempt: a light set whose K was refitted
+     * renders twice), its attempts, and contention: wall and CPU seconds, the CPU share. */
+    assert_non_null(strstr(csv,
+                           ",flip_hdr,used_seconds,attempts,wall_seconds,cpu_seconds,cpu_share,"
+                           "contention\n"));
+    int contended = 0;
+    {
+        char *save = NULL, *line = strtok_r(csv, "\n", &save);
+        while ((line = strtok_r(NULL, "\n", &save))) {
+            double v[21];
+            const char *f = line;
+            for (int c = 0; c < 21; c++) {
+                v[c] = c >= 4 ? atof(f) : 0.0;
+                f = strchr(f, ',');
+                if (!f && c < 20) fail_msg("a row of %d columns: %s", c + 1, line);
+                if (f) f++;
+            }
+            /* used = prep + render for one attempt, more for two */
+            const double used = v[15], attempts = v[16], once = v[5] + v[6];
+            if (attempts == 1 ? !(fabs(used - once) <= 1e-5 * once + 1e-6)
+                              : !(attempts == 2 && used > once))
+                fail_msg("used %g s in %g attempts, render + prep %g s: %s", used, attempts, once,
+                         line);
+            assert_true(v[17] > 0.0 && v[18] > 0.0 && v[19] > 0.0);
+            contended += v[20] == 1.0;
+        }
+    }
     free(csv);
+    /* results.md names the reference's method as it is, and warns of contention */
+    snprintf(p, sizeof p, "%s/results.md", tu_path("bl"));
+    char *md = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(md, "reference: 64 spp, light set variance-min, stratified, K = 8;"));
+    assert_true((strstr(md, "**Warning: contention.**") != NULL) == (contended > 0));
+    free(md);
     /* A method's params are part of its items' keys: changing them re-renders those items
      * (Wu's two budgets) and no other. */
     char *edited = strdup(suite);
