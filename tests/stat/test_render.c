@@ -1514,8 +1514,8 @@ static void render_session_budget_holds(void **state)
     /* the budget's parts are disjoint spans of the session's wall time (the G-buffers are
      * render time, not preparation too) */
     if (!(r.budget_used_seconds - sess.spent <= r.wall_seconds + 1e-6))
-        fail_msg("budget used %g s (%g s the caller's) in a session of %g s",
-                 r.budget_used_seconds, sess.spent, r.wall_seconds);
+        fail_msg("budget used %g s (%g s the caller's) in a session of %g s", r.budget_used_seconds,
+                 sess.spent, r.wall_seconds);
     /* one thread's CPU time is at most its wall time */
     assert_int_equal(r.threads_busy, 1);
     assert_true(r.cpu_share > 0.0 && r.cpu_share <= 1.05);
@@ -1533,7 +1533,9 @@ static void render_session_budget_holds(void **state)
     sess.render.camera = &cam;
     sess.time_budget = 0.5;
     assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);
-    if (r.lights_k != 128) fail_msg("K = %d (pilots %d: %d %d %d, predicted %g s)", r.lights_k, r.pilot_count, r.pilot_k[0], r.pilot_k[1], r.pilot_k[2], r.pilot_predicted);
+    if (r.lights_k != 128)
+        fail_msg("K = %d (pilots %d: %d %d %d, predicted %g s)", r.lights_k, r.pilot_count,
+                 r.pilot_k[0], r.pilot_k[1], r.pilot_k[2], r.pilot_predicted);
     assert_int_equal(r.k_limit, LUMIS_K_LIMIT_NONE);
     assert_int_equal(r.spp_planned, 4);
     assert_int_equal(r.stats.spp, 4);
