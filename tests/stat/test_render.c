@@ -1468,7 +1468,7 @@ static void render_session_equals_its_parts(void **state)
     sess.time_budget = 0.2;
     sess.spent = 0.01;
     assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
-    assert_true(r.pilot_k[0] == 16 && r.pilot_k[1] == 64 && r.lights_k >= 1);
+    assert_true(r.pilot_count >= 1 && r.pilot_k[0] == 4 && r.lights_k >= 1);
     assert_true(r.prep_seconds >= 0.01 && r.budget_used_seconds > r.prep_seconds);
     assert_true(r.budget_used_seconds >= r.prep_seconds + r.stats.seconds - 1e-9);
     lumis_light_set_destroy(r.light_set);
@@ -1492,12 +1492,84 @@ static void render_session_equals_its_parts(void **state)
     lumis_scene_destroy(s);
 }
 
+/* A light set's K fitted to a budget (issue 35): the pilots, the floor of K, the plan's
+ * samples and the time's accounting, on budgets that cannot and that can afford the floor. */
+static void render_session_budget_holds(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    lumis_image *sky = NULL;
+    lumis_sky_desc sd = {0};
+    sd.width = 64;
+    sd.height = 32;
+    assert_int_equal(lumis_sky_create(&sd, &sky), LUMIS_OK);
+    lumis_envmap *env = env_of(sky);
+    /* 320 x 240 for 10 ms on one thread: K = 4 at 4 spp costs more on any CPU */
+    lumis_camera big = cam;
+    big.width = 320;
+    big.height = 240;
+    lumis_session_desc sess = {0};
+    sess.render.camera = &big;
+    sess.render.env = env;
+    sess.render.threads = 1;
+    sess.lights = "wu";
+    sess.time_budget = 0.01;
+    sess.spent = 0.001; /* the caller's: in the budget, not in the session's wall time */
+    lumis_session_result r;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);
+    assert_int_equal(r.k_floor, 4);
+    assert_true(r.pilot_count >= 1 && r.pilot_k[0] == 4);
+    /* never under the floor unsaid: fewer samples first, down to one; then fewer lights */
+    assert_true(r.k_limit != LUMIS_K_LIMIT_NONE);
+    if (r.k_limit == LUMIS_K_LIMIT_FEWER_SPP)
+        assert_true(r.lights_k >= 4 && r.spp_planned < 4);
+    else
+        assert_true(r.spp_planned == 1 && r.lights_k >= 1 &&
+                    (r.lights_k < 4 || r.k_limit == LUMIS_K_LIMIT_OVER_BUDGET));
+    assert_true(r.stats.spp >= 1 && r.stats.spp <= r.spp_planned);
+    /* the budget's parts are disjoint spans of the session's wall time (the G-buffers are
+     * render time, not preparation too) */
+    if (!(r.budget_used_seconds - sess.spent <= r.wall_seconds + 1e-6))
+        fail_msg("budget used %g s (%g s the caller's) in a session of %g s", r.budget_used_seconds,
+                 sess.spent, r.wall_seconds);
+    /* one thread's CPU time is at most its wall time */
+    assert_int_equal(r.threads_busy, 1);
+    assert_true(r.cpu_share > 0.0 && r.cpu_share <= 1.05);
+    assert_true(r.cpu_seconds > 0.0 && r.render_wall_seconds > 0.0);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(img);
+    /* A map of 128 pixels caps K at 128, which a generous budget affords at once: the
+     * render keeps its plan's samples and leaves the rest of the budget unspent. */
+    lumis_image *small = NULL;
+    sd.width = 16;
+    sd.height = 8;
+    assert_int_equal(lumis_sky_create(&sd, &small), LUMIS_OK);
+    lumis_envmap *env_small = env_of(small);
+    sess.render.env = env_small;
+    sess.render.camera = &cam;
+    sess.time_budget = 0.5;
+    assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);
+    if (r.lights_k != 128)
+        fail_msg("K = %d (pilots %d: %d %d %d, predicted %g s)", r.lights_k, r.pilot_count,
+                 r.pilot_k[0], r.pilot_k[1], r.pilot_k[2], r.pilot_predicted);
+    assert_int_equal(r.k_limit, LUMIS_K_LIMIT_NONE);
+    assert_int_equal(r.spp_planned, 4);
+    assert_int_equal(r.stats.spp, 4);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(img);
+    lumis_envmap_destroy(env_small);
+    lumis_envmap_destroy(env);
+    lumis_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
         cmocka_unit_test(render_session_equals_its_parts),
+        cmocka_unit_test(render_session_budget_holds),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
         cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
         cmocka_unit_test(light_set_shades_glossy_surfaces_with_their_bsdf),
@@ -1515,5 +1587,7 @@ int main(void)
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),
     };
+    /* LUMIS_TEST_FILTER=render_session* runs the tests of that name alone */
+    if (getenv("LUMIS_TEST_FILTER")) cmocka_set_test_filter(getenv("LUMIS_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

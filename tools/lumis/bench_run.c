@@ -171,6 +171,17 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         cJSON_AddNumberToObject(j, "render_seconds", r.stats.seconds);
         /* inside an equal-time item's budget: tables, light sets, K's pilots */
         cJSON_AddNumberToObject(j, "prep_seconds", r.prep_seconds);
+        /* what the item used: prep and every attempt's render (point lights whose pilots
+         * misjudged the time render twice; render_seconds is the image's attempt alone) */
+        cJSON_AddNumberToObject(j, "used_seconds",
+                                b->seconds > 0.0 ? r.budget_used_seconds
+                                                 : r.prep_seconds + r.stats.seconds);
+        cJSON_AddNumberToObject(j, "attempts", r.lights_retried ? 2 : 1);
+        /* contention: the session's wall and CPU time, the render threads' CPU share */
+        cJSON_AddNumberToObject(j, "wall_seconds", r.wall_seconds);
+        cJSON_AddNumberToObject(j, "cpu_seconds", r.cpu_seconds);
+        cJSON_AddNumberToObject(j, "cpu_share", r.cpu_share);
+        cJSON_AddBoolToObject(j, "contention", r.contended);
         /* BSDF sampling builds no light sampler worth counting (the CLI makes one anyway). */
         const int bsdf = s->methods[it->method].bsdf_only;
         cJSON_AddNumberToObject(j, "sampler_build_ms", bsdf ? 0.0 : r.sampler_build_ms);
@@ -181,8 +192,9 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         tool_metrics_json(&m, j);
         rc = tool_write_json(result, j); /* last: its existence marks the item done */
         cJSON_Delete(j);
-        fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f\n", index + 1,
-                total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr);
+        fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f%s\n", index + 1,
+                total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr,
+                r.contended ? " (contention: the cores were shared)" : "");
     }
     free(map);
     lumis_image_destroy(ref);

@@ -248,11 +248,22 @@ typedef struct tool_render_result {
     double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
     size_t sampler_table_bytes;
     int upsample; /* the factor used (1: none) */
-    /* --lights with --time: the pilot renders that chose K (0 seconds: none ran). */
-    double lights_pilot_seconds, lights_pilot_per_spp[2], lights_pilot_once[2];
+    /* --lights with --time: the pilot renders that chose K (0 seconds: none ran), and the
+     * session's account of it (lumis_session_result: k_floor, spp_planned, k_limit ...). */
+    double lights_pilot_seconds, lights_pilot_per_spp[LUMIS_SESSION_PILOTS],
+        lights_pilot_once[LUMIS_SESSION_PILOTS];
     double lights_pilot_chosen; /* K the pilots chose, before any re-render */
-    int lights_pilot_k[2];
+    int lights_pilot_k[LUMIS_SESSION_PILOTS], lights_pilot_count;
+    double lights_pilot_scale, lights_pilot_predicted;
+    int lights_k_floor, lights_spp_planned;
+    lumis_k_limit lights_k_limit;
     int lights_retried; /* the pilots misjudged: rendered again with K scaled */
+    /* Contention (lumis_session_result): the session's wall and CPU seconds, and over its
+     * render passes the CPU share of the busy threads' wall time. */
+    double wall_seconds, cpu_seconds, render_wall_seconds, render_cpu_seconds, cpu_share;
+    int threads_busy;
+    int contended;  /* cpu_share below TOOL_CONTENTION_SHARE: warned */
+    int prep_heavy; /* --time: prep_seconds above TOOL_PREP_WARN_SHARE of it: warned */
     /* Equal wall time: seconds before the first sample (sampler tables, light-set generation
      * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
     double prep_seconds, budget_used_seconds;
@@ -268,6 +279,15 @@ typedef struct tool_render_result {
  * budget goes to the number of lights. */
 #define TOOL_LIGHTS_TIMED_SPP 4
 
+/* A timed render whose threads got less than this share of their wall time as CPU time
+ * waited for cores (another process ran on them): the CLI warns, the sidecar and the bench
+ * report say so.  Idle, a render's passes measure 0.95-1.0; one thread sharing its core with
+ * one busy process, about 0.5. */
+#define TOOL_CONTENTION_SHARE 0.8
+/* A --time render that spent more than this share of its budget before its first sample
+ * (tables, light sets, K's pilots) warns: the method's preparation is then what is compared. */
+#define TOOL_PREP_WARN_SHARE 0.3
+
 /* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */
 void tool_sidecar_path(const char *out, char *buf, size_t cap);
 /* The sidecar of a render (sidecar.c): every setting, timing and count.  Exit code. */
@@ -278,6 +298,10 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                        const tool_render_result *r);
 /* "bsdf", "light" or "mis". */
 const char *tool_estimator_name(const lumis_render_desc *d);
+/* Why K fitted to --time is what it is (r->lights_k_limit), in words; "" when it is what
+ * the pilots fitted at the planned samples. */
+void tool_k_limit_text(const tool_render_opts *o, const tool_render_result *r, char *buf,
+                       size_t cap);
 
 /* The progress bar (progress.c): on stderr when it is a terminal; budget > 0: by time. */
 typedef struct progress {

@@ -282,13 +282,30 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     r->prep_seconds = sr.prep_seconds;
     r->budget_used_seconds = sr.budget_used_seconds;
     r->lights_pilot_seconds = sr.pilot_seconds;
-    for (int p = 0; p < 2; p++) {
+    for (int p = 0; p < LUMIS_SESSION_PILOTS; p++) {
         r->lights_pilot_k[p] = sr.pilot_k[p];
         r->lights_pilot_per_spp[p] = sr.pilot_per_spp[p];
         r->lights_pilot_once[p] = sr.pilot_once[p];
     }
+    r->lights_pilot_count = sr.pilot_count;
     r->lights_pilot_chosen = sr.pilot_chosen;
+    r->lights_pilot_scale = sr.pilot_scale;
+    r->lights_pilot_predicted = sr.pilot_predicted;
+    r->lights_k_floor = sr.k_floor;
+    r->lights_spp_planned = sr.spp_planned;
+    r->lights_k_limit = sr.k_limit;
     r->lights_retried = sr.retried;
+    r->wall_seconds = sr.wall_seconds;
+    r->cpu_seconds = sr.cpu_seconds;
+    r->render_wall_seconds = sr.render_wall_seconds;
+    r->render_cpu_seconds = sr.render_cpu_seconds;
+    r->cpu_share = sr.cpu_share;
+    r->threads_busy = sr.threads_busy;
+    /* A timed render compares methods by what their time bought: threads that waited for
+     * a core bought less (measured over passes long enough to tell). */
+    r->contended = o->time_budget > 0.0 && sr.render_wall_seconds >= 0.05 && sr.cpu_share > 0.0 &&
+                   sr.cpu_share < TOOL_CONTENTION_SHARE;
+    r->prep_heavy = o->time_budget > 0.0 && sr.prep_seconds > TOOL_PREP_WARN_SHARE * o->time_budget;
     const int factor = sr.upsample;
     r->upsample = factor;
     pg.spp_done = r->stats.spp;
@@ -381,10 +398,42 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (o->time_budget > 0.0)
             fprintf(stderr,
                     "lumis: time budget %.3g s: %.3f s before the first sample (tables, light "
-                    "sets, K's pilots) + %.3f s rendering = %.3f s\n",
+                    "sets, K's pilots) + %.3f s rendering = %.3f s; CPU %.3f s over %.3f s wall "
+                    "(%.0f %% of %d thread%s)\n",
                     o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
-                    r->budget_used_seconds);
+                    r->budget_used_seconds, r->cpu_seconds, r->wall_seconds, 100.0 * r->cpu_share,
+                    r->threads_busy, r->threads_busy == 1 ? "" : "s");
+        if (r->lights_pilot_count > 0) {
+            char why[320] = "";
+            tool_k_limit_text(o, r, why, sizeof why);
+            fprintf(stderr,
+                    "lumis: K = %d at %d spp, from %d pilot%s at 1/%.0f of the pixels (%.3f s, "
+                    "predicted render %.3f s)%s%s\n",
+                    (int)r->lights_pilot_chosen, r->lights_spp_planned, r->lights_pilot_count,
+                    r->lights_pilot_count == 1 ? "" : "s", r->lights_pilot_scale,
+                    r->lights_pilot_seconds, r->lights_pilot_predicted, why[0] ? ": " : "", why);
+        }
     }
+    /* Warnings, quiet or not: a timed result that is not what its budget says. */
+    if (r->prep_heavy)
+        fprintf(stderr,
+                "lumis: warning: %.3f s of the %.3g s budget (%.0f %%, over %.0f %%) went before "
+                "the first sample (tables, light sets, K's pilots)\n",
+                r->prep_seconds, o->time_budget, 100.0 * r->prep_seconds / o->time_budget,
+                100.0 * TOOL_PREP_WARN_SHARE);
+    if (r->lights_k_limit == LUMIS_K_LIMIT_BELOW_FLOOR ||
+        r->lights_k_limit == LUMIS_K_LIMIT_OVER_BUDGET) {
+        char why[320];
+        tool_k_limit_text(o, r, why, sizeof why);
+        fprintf(stderr, "lumis: warning: %s\n", why);
+    }
+    if (r->contended)
+        fprintf(stderr,
+                "lumis: warning: contention: the render's %d thread%s had %.0f %% of their "
+                "wall time on a CPU (%.3f s CPU over %.3f s): other processes shared the cores, "
+                "and the %.3g s budget bought less than on an idle machine\n",
+                r->threads_busy, r->threads_busy == 1 ? "" : "s", 100.0 * r->cpu_share,
+                r->render_cpu_seconds, r->render_wall_seconds, o->time_budget);
     rc = EXIT_OK;
     if (sidecar[0])
         rc = tool_write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name,
