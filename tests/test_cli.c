@@ -2857,9 +2857,26 @@ static void info_reads_photometric_files(void **state)
              tu_path("x.svg"));
     expect(a, 2, "--svg: only for a photometric file");
     /* luminaire create --from: the opening's light field, read back; its errors */
-    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --grid 5x5 --size 32x32",
+    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --grid 5x5 --size 32x32 --delta 0.1",
              tu_path("spot-lf.json"), tu_path("spot.ies"));
-    expect(a, 0, "5 x 5 images of 32 x 32");
+    expect(a, 0, "5 x 5 images of "); /* --size is about: whole pixels per basis spacing */
+    expect(a, 0, "is the far-field point (lumis_photometric_beyond); together ");
+    expect(a, 0, "lumis: far-field error ");
+    /* the manifest records what the field carries and the error it reached */
+    {
+        size_t mn = 0;
+        char *mt = (char *)tu_read_file(tu_path("spot-lf.json"), &mn);
+        cJSON *mj = mt ? cJSON_ParseWithLength(mt, mn) : NULL;
+        const cJSON *ph = cJSON_GetObjectItemCaseSensitive(mj, "photometric");
+        const cJSON *res = cJSON_GetObjectItemCaseSensitive(ph, "residual");
+        const cJSON *lf = cJSON_GetObjectItemCaseSensitive(ph, "light_field_lm");
+        const cJSON *rf = cJSON_GetObjectItemCaseSensitive(res, "flux_lm");
+        const cJSON *fe = cJSON_GetObjectItemCaseSensitive(ph, "far_field_error");
+        assert_true(cJSON_IsNumber(lf) && cJSON_IsNumber(rf) && cJSON_IsNumber(fe));
+        assert_true(fabs((lf->valuedouble + rf->valuedouble) / 571.34 - 1) < 1e-3);
+        cJSON_Delete(mj);
+        free(mt);
+    }
     snprintf(a, sizeof a, "luminaire info '%s' --json", tu_path("spot-lf.json"));
     assert_int_equal(run(a, &out, &err), 0);
     j = cJSON_Parse(out);

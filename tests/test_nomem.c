@@ -690,7 +690,7 @@ static lumis_status op_photometric(void *ctx)
     lumis_photometric_light_field lf = {0};
     lf.grid[0] = lf.grid[1] = 2;
     lf.width = lf.height = 6;
-    if (st == LUMIS_OK) st = lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum);
+    if (st == LUMIS_OK) st = lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum, NULL);
     lumis_luminaire_info li;
     if (st == LUMIS_OK) lumis_luminaire_get_info(lum, &li);
     digest = st == LUMIS_OK ? info.flux + pdf + li.total_power : 0;
