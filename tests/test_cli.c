@@ -1,9 +1,11 @@
+#define _XOPEN_SOURCE 700 /* realpath */
 /* The lumis executable: exit codes (0 ok, 1 runtime, 2 usage), messages that name the
  * file and the reason, and the documented output of each subcommand. */
 #include "photometric_gen.h"
 #include "testutil.h"
 
 #include <cJSON.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -2485,6 +2487,308 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     expect(a, 1, "tasks 0 to 3");
 }
 
+/* The paths below are a test folder's and short: snprintf's bounds are there for safety */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-truncation"
+#endif
+/* s as one word of sh (the test's own quoting, for the commands it runs). */
+static void sh_word(char *buf, size_t cap, const char *s)
+{
+    size_t n = 0;
+    buf[n++] = '\'';
+    for (; *s && n + 5 < cap; s++) {
+        if (*s == '\'') {
+            memcpy(buf + n, "'\\''", 4);
+            n += 4;
+        } else {
+            buf[n++] = *s;
+        }
+    }
+    buf[n++] = '\'';
+    buf[n] = '\0';
+}
+
+/* The arguments of a script's #SBATCH lines as Slurm's sbatch reads them (its
+ * _get_argument: backslash escapes any byte, '...' and "..." quote, an unquoted # ends the
+ * line; each line on its own), joined by \036 after each.  NULL if a quote is unmatched. */
+static char *sbatch_args(const char *script)
+{
+    char *out = calloc(strlen(script) * 2 + 2, 1);
+    size_t n = 0;
+    for (const char *line = script; line && *line;) {
+        const char *end = strchr(line, '\n');
+        if (!end) end = line + strlen(line);
+        if (strncmp(line, "#SBATCH", 7) == 0) {
+            const char *p = line + 7;
+            for (;;) {
+                while (p < end && isspace((unsigned char)*p)) p++;
+                if (p >= end || *p == '#') break;
+                char q = 0;
+                int esc = 0, any = 0;
+                while (p < end && (q || !isspace((unsigned char)*p))) {
+                    if (esc) {
+                        esc = 0;
+                    } else if (*p == '\\') {
+                        esc = 1;
+                        p++;
+                        continue;
+                    } else if (q) {
+                        if (*p == q) {
+                            q = 0;
+                            p++;
+                            continue;
+                        }
+                    } else if (*p == '"' || *p == '\'') {
+                        q = *p++;
+                        continue;
+                    } else if (*p == '#') {
+                        break;
+                    }
+                    out[n++] = *p++;
+                    any = 1;
+                }
+                if (q) {
+                    free(out);
+                    return NULL;
+                }
+                if (any) out[n++] = '\036';
+                if (p < end && *p == '#') break;
+            }
+        }
+        line = *end ? end + 1 : NULL;
+    }
+    return out;
+}
+
+/* Whether list (words each ended by \036) holds word. */
+static int has_word(const char *list, const char *word)
+{
+    const size_t n = strlen(word);
+    for (const char *p = list; p && *p;) {
+        const char *e = strchr(p, '\036');
+        if (!e) break;
+        if ((size_t)(e - p) == n && memcmp(p, word, n) == 0) return 1;
+        p = e + 1;
+    }
+    return 0;
+}
+
+/* bench --slurm with hostile values (the output folder, the partition, the time limit,
+ * --sbatch options): every value written into a script is quoted for its context (a word
+ * of sh; an #SBATCH line, which is not one; a Slurm filename pattern) or refused with a
+ * message naming it.  Each accepted script passes sh -n, its #SBATCH lines read back (as
+ * Slurm reads them) as the values given, and run with a stub sbatch and lumis' exec
+ * recorded: the arguments arrive whole, and nothing else runs (no file PWNED appears). */
+static void slurm_scripts_survive_hostile_names(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"ho\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"], \"methods\": "
+        "[{\"method\": \"inversion\"}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"spp\": 2}, "
+        "\"size\": [8, 4]}";
+    char root[8192], a[65536], w[8192], w2[8192], w3[8192], p[8192];
+    snprintf(root, sizeof root, "%s/hostile", tu_tmpdir());
+    mkdir(root, 0755);
+    /* stubs: sbatch records its arguments and answers a job id; REC records exec's */
+    char stubs[8192], log[8192], rec[8192];
+    snprintf(stubs, sizeof stubs, "%s/stubs", root);
+    mkdir(stubs, 0755);
+    snprintf(log, sizeof log, "%s/sbatch.log", root);
+    snprintf(rec, sizeof rec, "%s/stubs/rec", root);
+    static const char record[] = "#!/bin/sh\nfor a; do printf '%s\\037' \"$a\"; done >> \"$LOG\"\n"
+                                 "printf '\\036' >> \"$LOG\"\necho 42\n";
+    snprintf(p, sizeof p, "%s/sbatch", stubs);
+    tu_write_file(p, record, strlen(record));
+    chmod(p, 0755);
+    snprintf(p, sizeof p, "%s/srun", stubs);
+    tu_write_file(p, record, strlen(record));
+    chmod(p, 0755);
+    tu_write_file(rec, record, strlen(record));
+    chmod(rec, 0755);
+    static const char *const hostile[] = {
+        "nl\nid > PWNED\n#",  "cr\rtouch PWNED",  "$(touch PWNED)",    "`touch PWNED`",
+        "qu'ote",             "dq\"uote",         "back\\slash",       "semi;touch PWNED",
+        "ha#sh",              "pct%A%j%%x",       "-lead",             "sp ace  x",
+        "bytes\xff\xfe\x80",  "tab\tx",           "amp&touch PWNED&",  "gt>PWNED",
+    };
+    const size_t nh = sizeof hostile / sizeof *hostile;
+    /* where each value goes: the folder (--out), --partition, --time-limit, --sbatch= */
+    for (int where = 0; where < 4; where++)
+        for (size_t k = 0; k < nh; k++) {
+            const char *v = hostile[k];
+            char out[8192], rel[8192], opt[8192] = "", spath[8192];
+            if (where == 0) /* a folder and a suite named so, given relative to root */
+                snprintf(rel, sizeof rel, "%s", v);
+            else
+                snprintf(rel, sizeof rel, "o%d-%zu", where, k);
+            snprintf(out, sizeof out, "%s/%s", root, rel);
+            snprintf(spath, sizeof spath, "%s/%s.json", root, rel);
+            tu_write_file(spath, suite, strlen(suite));
+            snprintf(spath, sizeof spath, "./%s.json", rel);
+            char value[8192];
+            if (where == 3)
+                snprintf(value, sizeof value, "--comment=%s", v);
+            else
+                snprintf(value, sizeof value, "%s", v);
+            if (where == 1) {
+                sh_word(w, sizeof w, value);
+                snprintf(opt, sizeof opt, "--partition %s", w);
+            } else if (where == 2) {
+                sh_word(w, sizeof w, value);
+                snprintf(opt, sizeof opt, "--time-limit %s", w);
+            } else if (where == 3) {
+                char o2[8192];
+                snprintf(o2, sizeof o2, "--sbatch=%s", value);
+                sh_word(w, sizeof w, o2);
+                snprintf(opt, sizeof opt, "%s", w);
+            }
+            mkdir(out, 0755);
+            sh_word(w, sizeof w, spath);
+            sh_word(w2, sizeof w2, rel);
+            sh_word(w3, sizeof w3, root);
+            snprintf(a, sizeof a, "cd %s && '%s' bench %s --out %s --slurm --no-submit --tasks 1 %s",
+                     w3, LUMIS_CLI, w, w2, opt);
+            char *e = NULL;
+            const int rc = tu_run(a, NULL, &e);
+            const int control = strpbrk(v, "\n\r\t") != NULL;
+            if (rc == 2) { /* refused: it must say which value, and why */
+                if (!control && !(where == 0 && strchr(v, '\\')))
+                    fail_msg("bench --slurm refused %d '%s': %s", where, v, e);
+                if (!strstr(e, where == 0   ? "--out"
+                               : where == 1 ? "--partition"
+                               : where == 2 ? "--time-limit"
+                                            : "--sbatch"))
+                    fail_msg("the refusal of '%s' does not name its option: %s", v, e);
+                free(e);
+                continue;
+            }
+            if (rc != 0) fail_msg("bench --slurm with '%s' (%d): exit %d: %s", v, where, rc, e);
+            free(e);
+            char real[8192];
+            size_t ln = 0;
+            assert_non_null(realpath(out, real));
+            static const char *const scripts[] = {"references.sbatch", "merge-references.sbatch",
+                                                  "items.sbatch", "report.sbatch", "submit.sh",
+                                                  "resubmit.sh"};
+            for (int q = 0; q < 6; q++) {
+                char sp[8192];
+                snprintf(sp, sizeof sp, "%s/slurm/%s", real, scripts[q]);
+                sh_word(w, sizeof w, sp);
+                snprintf(a, sizeof a, "sh -n %s", w);
+                if (tu_run(a, NULL, &e) != 0) fail_msg("sh -n %s: %s", sp, e);
+                free(e);
+                if (q >= 4) continue;
+                /* run, its exec recorded: lumis gets the suite and the folder whole */
+                char *text = (char *)tu_read_file(sp, &ln);
+                char copy[8192];
+                snprintf(copy, sizeof copy, "%s/run.sh", root);
+                char *ex = strstr(text, "\nexec ");
+                assert_non_null(ex);
+                const size_t head = (size_t)(ex - text) + 1;
+                FILE *f = fopen(copy, "wb");
+                fwrite(text, 1, head, f);
+                fprintf(f, "\"$REC\" %s", ex + 6);
+                fclose(f);
+                unlink(log);
+                sh_word(w, sizeof w, root);
+                sh_word(w2, sizeof w2, log);
+                sh_word(w3, sizeof w3, rec);
+                snprintf(a, sizeof a,
+                         "cd %s && LOG=%s REC=%s SLURM_ARRAY_TASK_ID=0 SLURM_JOB_ID=7 sh run.sh", w,
+                         w2, w3);
+                const int src = tu_run(a, NULL, &e);
+                snprintf(p, sizeof p, "%s/PWNED", root);
+                if (access(p, F_OK) == 0)
+                    fail_msg("%s ('%s', %d) ran a command: PWNED written", sp, v, where);
+                if (src != 0) fail_msg("%s: %s", sp, e);
+                free(e);
+                char *got = (char *)tu_read_file(log, &ln);
+                assert_non_null(got);
+                char want[8192], lumis_real[8192], suite_real[8192];
+                assert_non_null(realpath(LUMIS_CLI, lumis_real));
+                snprintf(p, sizeof p, "%s/%s.json", root, rel);
+                assert_non_null(realpath(p, suite_real));
+                snprintf(want, sizeof want, "%s\037bench\037%s\037--out\037%s\037", lumis_real,
+                         suite_real, real);
+                if (strncmp(got, want, strlen(want)) != 0)
+                    fail_msg("%s: exec got\n%s\nnot\n%s", sp, got, want);
+                /* the #SBATCH lines as Slurm reads them */
+                free(got);
+                char *args = sbatch_args(text);
+                if (!args) fail_msg("%s: an unmatched quote in an #SBATCH line", sp);
+                char pat[8192];
+                size_t m = 0;
+                for (const char *c = real; *c && m + 3 < sizeof pat; c++) { /* % is %% there */
+                    pat[m++] = *c;
+                    if (*c == '%') pat[m++] = '%';
+                }
+                pat[m] = '\0';
+                static const char *const job[] = {"references", "merge-references", "items",
+                                                  "report"};
+                snprintf(want, sizeof want, "--output=%s/slurm/logs/%s-%s.out", pat, job[q],
+                         q == 0 || q == 2 ? "%A_%a" : "%j");
+                if (!has_word(args, want)) fail_msg("%s: no #SBATCH %s in\n%s", sp, want, text);
+                if (where == 1) snprintf(want, sizeof want, "--partition=%s", value);
+                if (where == 2) snprintf(want, sizeof want, "--time=%s", value);
+                if (where == 3) snprintf(want, sizeof want, "%s", value);
+                if (where > 0 && !has_word(args, want))
+                    fail_msg("%s: no #SBATCH %s in\n%s", sp, want, text);
+                int nargs = 0;
+                for (const char *c = args; *c; c++) nargs += *c == '\036';
+                if (nargs != 4 + (where > 0)) /* name, output, ntasks, cpus, the value */
+                    fail_msg("%s: %d #SBATCH arguments:\n%s", sp, nargs, text);
+                free(args);
+                free(text);
+            }
+            /* submit.sh with a stub sbatch: four jobs, each its script's path whole */
+            unlink(log);
+            char sub[8192];
+            snprintf(sub, sizeof sub, "%s/slurm/submit.sh", real);
+            sh_word(w, sizeof w, root);
+            sh_word(w2, sizeof w2, log);
+            sh_word(w3, sizeof w3, stubs);
+            char w4[8192];
+            sh_word(w4, sizeof w4, sub);
+            snprintf(a, sizeof a, "cd %s && LOG=%s PATH=%s:\"$PATH\" sh %s", w, w2, w3, w4);
+            if (tu_run(a, NULL, &e) != 0) fail_msg("%s: %s", sub, e);
+            free(e);
+            char *got = (char *)tu_read_file(log, &ln);
+            assert_non_null(got);
+            static const char *const jobs[] = {"references", "merge-references", "items",
+                                               "report"};
+            const char *c = got;
+            for (int q = 0; q < 4; q++) {
+                char want[8192];
+                snprintf(want, sizeof want, "\037%s/slurm/%s.sbatch\037\036", real, jobs[q]);
+                const char *hit = strstr(c, want);
+                if (!hit) fail_msg("%s: sbatch did not get %s.sbatch whole:\n%s", sub, jobs[q], got);
+                c = hit + strlen(want);
+            }
+            if (*c) fail_msg("%s: more than four sbatch calls:\n%s", sub, got);
+            free(got);
+            /* resubmit.sh: the same command again (submitting through the stub) */
+            snprintf(sub, sizeof sub, "%s/slurm/resubmit.sh", real);
+            sh_word(w4, sizeof w4, sub);
+            unlink(log);
+            snprintf(a, sizeof a, "cd %s && LOG=%s PATH=%s:\"$PATH\" sh %s", w, w2, w3, w4);
+            if (tu_run(a, NULL, &e) != 0) fail_msg("%s: %s", sub, e);
+            if (!strstr(e, "submitted")) fail_msg("%s: %s", sub, e);
+            free(e);
+            snprintf(p, sizeof p, "%s/PWNED", root);
+            if (access(p, F_OK) == 0) fail_msg("'%s' (%d) ran a command: PWNED written", v, where);
+            if (control) fail_msg("a control character was written into a script: '%s'", v);
+        }
+    snprintf(a, sizeof a, "find '%s' -name PWNED | grep -q . && exit 1; exit 0", tu_tmpdir());
+    char *e = NULL;
+    if (tu_run(a, NULL, &e) != 0) fail_msg("a hostile name ran a command: PWNED was written");
+    free(e);
+}
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
 /* lumis info on photometric files: the fixture, the flux against the file's lumens, the
  * beam angles, JSON, the polar plot; errors name the line; outputs never replace inputs. */
 static void info_reads_photometric_files(void **state)
@@ -2911,6 +3215,7 @@ int main(void)
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),
+        cmocka_unit_test(slurm_scripts_survive_hostile_names),
         cmocka_unit_test(info_reads_photometric_files),
         cmocka_unit_test(render_places_photometric_fixtures),
         cmocka_unit_test(bench_survives_a_failing_item),
