@@ -2607,10 +2607,22 @@ static void slurm_scripts_survive_hostile_names(void **state)
     tu_write_file(rec, record, strlen(record));
     chmod(rec, 0755);
     static const char *const hostile[] = {
-        "nl\nid > PWNED\n#",  "cr\rtouch PWNED",  "$(touch PWNED)",    "`touch PWNED`",
-        "qu'ote",             "dq\"uote",         "back\\slash",       "semi;touch PWNED",
-        "ha#sh",              "pct%A%j%%x",       "-lead",             "sp ace  x",
-        "bytes\xff\xfe\x80",  "tab\tx",           "amp&touch PWNED&",  "gt>PWNED",
+        "nl\nid > PWNED\n#",
+        "cr\rtouch PWNED",
+        "$(touch PWNED)",
+        "`touch PWNED`",
+        "qu'ote",
+        "dq\"uote",
+        "back\\slash",
+        "semi;touch PWNED",
+        "ha#sh",
+        "pct%A%j%%x",
+        "-lead",
+        "sp ace  x",
+        "bytes\xff\xfe\x80",
+        "tab\tx",
+        "amp&touch PWNED&",
+        "gt>PWNED",
     };
     const size_t nh = sizeof hostile / sizeof *hostile;
     /* where each value goes: the folder (--out), --partition, --time-limit, --sbatch= */
@@ -2647,8 +2659,9 @@ static void slurm_scripts_survive_hostile_names(void **state)
             sh_word(w, sizeof w, spath);
             sh_word(w2, sizeof w2, rel);
             sh_word(w3, sizeof w3, root);
-            snprintf(a, sizeof a, "cd %s && '%s' bench %s --out %s --slurm --no-submit --tasks 1 %s",
-                     w3, LUMIS_CLI, w, w2, opt);
+            snprintf(a, sizeof a,
+                     "cd %s && '%s' bench %s --out %s --slurm --no-submit --tasks 1 %s", w3,
+                     LUMIS_CLI, w, w2, opt);
             char *e = NULL;
             const int rc = tu_run(a, NULL, &e);
             const int control = strpbrk(v, "\n\r\t") != NULL;
@@ -2669,8 +2682,8 @@ static void slurm_scripts_survive_hostile_names(void **state)
             size_t ln = 0;
             assert_non_null(realpath(out, real));
             static const char *const scripts[] = {"references.sbatch", "merge-references.sbatch",
-                                                  "items.sbatch", "report.sbatch", "submit.sh",
-                                                  "resubmit.sh"};
+                                                  "items.sbatch",      "report.sbatch",
+                                                  "submit.sh",         "resubmit.sh"};
             for (int q = 0; q < 6; q++) {
                 char sp[8192];
                 snprintf(sp, sizeof sp, "%s/slurm/%s", real, scripts[q]);
@@ -2755,14 +2768,14 @@ static void slurm_scripts_survive_hostile_names(void **state)
             free(e);
             char *got = (char *)tu_read_file(log, &ln);
             assert_non_null(got);
-            static const char *const jobs[] = {"references", "merge-references", "items",
-                                               "report"};
+            static const char *const jobs[] = {"references", "merge-references", "items", "report"};
             const char *c = got;
             for (int q = 0; q < 4; q++) {
                 char want[8192];
                 snprintf(want, sizeof want, "\037%s/slurm/%s.sbatch\037\036", real, jobs[q]);
                 const char *hit = strstr(c, want);
-                if (!hit) fail_msg("%s: sbatch did not get %s.sbatch whole:\n%s", sub, jobs[q], got);
+                if (!hit)
+                    fail_msg("%s: sbatch did not get %s.sbatch whole:\n%s", sub, jobs[q], got);
                 c = hit + strlen(want);
             }
             if (*c) fail_msg("%s: more than four sbatch calls:\n%s", sub, got);
