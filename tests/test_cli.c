@@ -610,6 +610,236 @@ static void render_passes_and_merge(void **state)
     expect("render --scene spheres --spp 2 --passes 0/3 -o x.exr", 2, "more shares than");
 }
 
+/* Test folders' paths are short: snprintf's bounds are there for safety */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wformat-truncation"
+#endif
+/* Every light kind and render mode, split by render --passes into N shares for N in
+ * {2, 3, 7, 16, 40} and joined by lumis merge, gives the one-machine render's image up to
+ * float rounding: environment maps with each sampler, MIS heuristic and BSDF sampling,
+ * light sets (point and stratified), Wu with and without upsampling, luminaires with each
+ * strategy and visibility, photometric points and openings, path tracing, and each sample
+ * sequence (one per mode, in turn). 16x12 pixels at 40 spp; shares two at a time; the
+ * luminaire is preset:small (5x4 images of 24x20). */
+static void merged_shares_equal_one_render_for_every_light_kind(void **state)
+{
+    (void)state;
+    static const char *const modes[] = {
+        "--scene spheres --env sky:32x16 --method inversion",
+        "--scene spheres --env sky:32x16 --method inversion-guided",
+        "--scene spheres --env sky:32x16 --method alias",
+        "--scene spheres --env sky:32x16 --method kdtree",
+        "--scene spheres --env sky:32x16 --method kdtree-exact",
+        "--scene spheres --env sky:32x16 --method hierarchical",
+        "--scene spheres --env sky:32x16 --method uniform",
+        "--scene spheres --env sky:32x16 --method alias --mis power",
+        "--scene spheres --env sky:32x16 --method alias --mis none",
+        "--scene spheres --env sky:32x16 --method bsdf",
+        "--scene spheres --env sky:32x16 --lights median-cut --lights-k 8",
+        "--scene spheres --env sky:32x16 --lights median-cut --lights-mode stratified "
+        "--lights-k 8",
+        "--scene spheres --env sky:32x16 --lights wu --lights-k 8",
+        "--scene spheres --env sky:32x16 --lights wu --lights-k 8 --upsample 2",
+        "--scene headlight --luminaire preset:small --lum-strategy restricted",
+        "--scene headlight --luminaire preset:small --lum-strategy uniform",
+        "--scene headlight --luminaire preset:small --lum-strategy global",
+        "--scene headlight --luminaire preset:small --lum-strategy auto",
+        "--scene headlight --luminaire preset:small --visibility approx",
+        "--scene headlight --luminaire preset:small --visibility shadowmap",
+        "--scene headlight --luminaire preset:small --visibility none",
+        "--scene spheres --fixture '" LUMIS_SOURCE_DIR
+        "/tests/data/photometric/luxcore_asa_15m_r2.ies' --fixture-at 0,3,1",
+        "--scene spheres --fixture '" LUMIS_SOURCE_DIR
+        "/tests/data/photometric/luxcore_asa_15m_r2.ies' --fixture-at 0,3,1 --fixture-area",
+        "--scene spheres --env sky:32x16 --method inversion --bounces 2",
+    };
+    static const char *const seqs[] = {"sobol", "zsobol", "pmj02", "halton", "stratified", "pcg"};
+    static const int splits[] = {2, 3, 7, 16, 40};
+    char a[8192], dir[1024];
+    snprintf(dir, sizeof dir, "%s/prop", tu_tmpdir());
+    mkdir(dir, 0755);
+    for (size_t m = 0; m < sizeof modes / sizeof *modes; m++) {
+        char args[2048];
+        snprintf(args, sizeof args, "render %s --sequence %s --size 16x12 --spp 40 --quiet",
+                 modes[m], seqs[m % 6]);
+        snprintf(a, sizeof a, "%s --threads 2 -o '%s/whole.exr'", args, dir);
+        expect(a, 0, NULL);
+        /* shadow maps (256x256 per cell, built by every share): 2, 3 and 7 shares only */
+        const size_t nsplits = strstr(modes[m], "shadowmap") ? 3 : sizeof splits / sizeof *splits;
+        for (size_t s = 0; s < nsplits; s++) {
+            const int n = splits[s];
+            snprintf(a, sizeof a,
+                     "(rm -f '%s'/p*; i=0; while [ $i -lt %d ]; do echo $i; i=$((i+1)); done | "
+                     "xargs -P 2 -I @ '%s' %s --threads 1 --passes @/%d -o '%s/p@.exr')",
+                     dir, n, LUMIS_CLI, args, n, dir);
+            char *err = NULL;
+            if (tu_run(a, NULL, &err) != 0) fail_msg("%s, %d shares: %s", modes[m], n, err);
+            free(err);
+            snprintf(a, sizeof a, "merge '%s'/p*.exr -o '%s/merged.exr'", dir, dir);
+            char want[64];
+            snprintf(want, sizeof want, "merged %d shares of 40 samples", n);
+            expect(a, 0, want);
+            char w[1100], t[1100];
+            snprintf(w, sizeof w, "prop/whole.exr");
+            snprintf(t, sizeof t, "prop/merged.exr");
+            const double e = relmse_between(w, t);
+            if (!(e < 1e-10))
+                fail_msg("%s (%s), %d shares: merged relMSE %g against one render", modes[m],
+                         seqs[m % 6], n, e);
+        }
+    }
+}
+
+/* Sets field (a top-level key, or "share.KEY") of a share's sidecar NAME.json to the JSON
+ * value text. */
+static void edit_sidecar(const char *name, const char *field, const char *text)
+{
+    char p[1024];
+    snprintf(p, sizeof p, "%s.json", name);
+    cJSON *j = read_json(p);
+    assert_non_null(j);
+    cJSON *o = j;
+    const char *dot = strchr(field, '.');
+    if (dot) {
+        char head[64];
+        snprintf(head, sizeof head, "%.*s", (int)(dot - field), field);
+        o = cJSON_GetObjectItemCaseSensitive(j, head);
+        field = dot + 1;
+    }
+    cJSON_ReplaceItemInObjectCaseSensitive(o, field, cJSON_Parse(text));
+    char *s = cJSON_Print(j);
+    tu_write_file(tu_path(p), s, strlen(s));
+    free(s);
+    cJSON_Delete(j);
+}
+
+/* Renders share i of n of args to NAMEi.exr (and .json). */
+static void render_share(const char *args, int i, int n, const char *name)
+{
+    char a[4096];
+    snprintf(a, sizeof a, "render %s --passes %d/%d --quiet -o '%s%d.exr'", args, i, n,
+             tu_path(name), i);
+    expect(a, 0, NULL);
+}
+
+/* lumis merge refuses shares that are not one render's, or whose sidecars were edited,
+ * naming the share and the field: another --pixel-centers, fixture multiplier, fixture file
+ * content or position (the render key), sample counts that do not follow from the share's
+ * index (3, 1, 2 for 2, 2, 2; fractions), a render key edited, a share with NaN pixels
+ * (unless --allow-replaced); a subset of a 16-way split names its missing shares. */
+static void merge_refuses_doctored_shares(void **state)
+{
+    (void)state;
+    const char *ls = "--scene spheres --env sky:32x16 --lights median-cut --lights-k 8 "
+                     "--size 16x12 --spp 6";
+    char a[8192], b[2048];
+    for (int i = 0; i < 3; i++) render_share(ls, i, 3, "ls");
+    const char *ms = "merge '%s' '%s' '%s' -o '%s'";
+#define MERGE3(x0, x1, x2)                                                                         \
+    snprintf(a, sizeof a, ms, tu_path(x0), tu_path(x1), tu_path(x2), tu_path("m.exr"))
+    MERGE3("ls0.exr", "ls1.exr", "ls2.exr");
+    expect(a, 0, "merged 3 shares of 6 samples");
+    /* --pixel-centers: another render */
+    snprintf(b, sizeof b, "%s --pixel-centers", ls);
+    render_share(b, 1, 3, "pc");
+    MERGE3("ls0.exr", "pc1.exr", "ls2.exr");
+    expect(a, 1, "pc1.exr is not a share of the render of");
+    expect(a, 1, "differ in \"pixel_centers\" (true against false)");
+    /* the same sidecar edited by hand (its key left): the field is named */
+    tu_write_file(tu_path("ed1.exr"), "", 0);
+    snprintf(a, sizeof a, "cp '%s' '%s' && cp '%s' '%s'", tu_path("ls1.exr"), tu_path("ed1.exr"),
+             tu_path("ls1.json"), tu_path("ed1.json"));
+    assert_int_equal(tu_run(a, NULL, NULL), 0);
+    edit_sidecar("ed1", "pixel_centers", "true");
+    MERGE3("ls0.exr", "ed1.exr", "ls2.exr");
+    expect(a, 1, "differ in \"pixel_centers\"");
+    MERGE3("ed1.exr", "ls0.exr", "ls2.exr"); /* first: its key does not match its fields */
+    expect(a, 1, "ed1.exr: its \"render_key\"");
+    /* sample counts: 3, 1, 2 (the same total) and a fraction */
+    edit_sidecar("ed1", "pixel_centers", "false");
+    edit_sidecar("ed1", "spp", "1");
+    MERGE3("ls0.exr", "ed1.exr", "ls2.exr");
+    expect(a, 1,
+           "ed1.exr: share 1 of 3 of 6 samples holds samples 2 to 3 (2), its sidecar says "
+           "\"spp\" 1");
+    edit_sidecar("ed1", "spp", "2.5");
+    MERGE3("ls0.exr", "ed1.exr", "ls2.exr");
+    expect(a, 1, "\"spp\" 2.5");
+    edit_sidecar("ed1", "spp", "2");
+    edit_sidecar("ed1", "share.spp_total", "6.5");
+    MERGE3("ls0.exr", "ed1.exr", "ls2.exr");
+    expect(a, 1, "ed1.exr: \"share\" says 3 shares of 6.5 samples");
+    edit_sidecar("ed1", "share.spp_total", "6");
+    edit_sidecar("ed1", "render_key", "\"0123456789abcdef\"");
+    MERGE3("ls0.exr", "ed1.exr", "ls2.exr");
+    expect(a, 1, "ed1.exr: its \"render_key\" 0123456789abcdef is not the key of its fields");
+    /* fixtures: another multiplier, position, or file content under the same name */
+    const char *ies = LUMIS_SOURCE_DIR "/tests/data/photometric/luxcore_asa_15m_r2.ies";
+    snprintf(a, sizeof a, "cp '%s' '%s'", ies, tu_path("fx.ies"));
+    assert_int_equal(tu_run(a, NULL, NULL), 0);
+    snprintf(b, sizeof b, "--scene spheres --fixture '%s' --fixture-at 0,3,1 --size 16x12 --spp 4",
+             tu_path("fx.ies"));
+    for (int i = 0; i < 3; i++) render_share(b, i, 3, "fx");
+    char c[4096];
+    snprintf(c, sizeof c, "%s --fixture-multiplier 2", b);
+    render_share(c, 1, 3, "fm");
+    MERGE3("fx0.exr", "fm1.exr", "fx2.exr");
+    expect(a, 1, "differ in \"photometric\"");
+    snprintf(c, sizeof c,
+             "--scene spheres --fixture '%s' --fixture-at 0,3,1.5 --size 16x12 --spp 4",
+             tu_path("fx.ies"));
+    render_share(c, 1, 3, "fp");
+    MERGE3("fx0.exr", "fp1.exr", "fx2.exr");
+    expect(a, 1, "differ in \"photometric\"");
+    snprintf(a, sizeof a, "(printf '\\n' >> '%s')", tu_path("fx.ies")); /* same name, new bytes */
+    assert_int_equal(tu_run(a, NULL, NULL), 0);
+    render_share(b, 1, 3, "fc");
+    MERGE3("fx0.exr", "fc1.exr", "fx2.exr");
+    expect(a, 1, "differ in \"inputs\"");
+    /* a share with a NaN pixel: refused unless asked */
+    snprintf(b, sizeof b, "%s --sequence pcg", ls);
+    for (int i = 0; i < 3; i++) {
+        snprintf(a, sizeof a, "render %s --passes %d/3 --quiet -o '%s%d.pfm'", b, i, tu_path("nan"),
+                 i);
+        expect(a, 0, NULL);
+    }
+    size_t len = 0;
+    unsigned char *pfm = tu_read_file(tu_path("nan1.pfm"), &len);
+    const float nan = NAN;
+    memcpy(pfm + len - 4, &nan, 4); /* the last value (a PFM's data ends the file) */
+    tu_write_file(tu_path("nan1.pfm"), pfm, len);
+    free(pfm);
+    snprintf(a, sizeof a, ms, tu_path("nan0.pfm"), tu_path("nan1.pfm"), tu_path("nan2.pfm"),
+             tu_path("m.exr"));
+    expect(a, 1, "nan1.pfm: share 1 has 1 pixel values that are not finite");
+    snprintf(a + strlen(a), sizeof a - strlen(a), " --allow-replaced");
+    expect(a, 0, "merged 3 shares");
+    /* 16 shares (more than the 15 merge took), 14 of them given: the missing are named */
+    const char *ls32 = "--scene spheres --env sky:32x16 --lights median-cut --lights-k 8 "
+                       "--size 16x12 --spp 32";
+    for (int i = 0; i < 16; i++) render_share(ls32, i, 16, "sx");
+    snprintf(a, sizeof a, "merge");
+    for (int i = 0; i < 16; i++)
+        if (i != 3 && i != 9)
+            snprintf(a + strlen(a), sizeof a - strlen(a), " '%s%d.exr'", tu_path("sx"), i);
+    snprintf(a + strlen(a), sizeof a - strlen(a), " -o '%s'", tu_path("m.exr"));
+    expect(a, 1, "14 of the 16 shares given; missing: 3, 9");
+    /* all 16, listed in a file */
+    char list[8192] = "";
+    for (int i = 15; i >= 0; i--)
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%d.exr\n", tu_path("sx"), i);
+    tu_write_file(tu_path("list.txt"), list, strlen(list));
+    snprintf(a, sizeof a, "merge --shares-from '%s' -o '%s'", tu_path("list.txt"),
+             tu_path("m.exr"));
+    expect(a, 0, "merged 16 shares of 32 samples");
+#undef MERGE3
+}
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
 /* The sidecar describes the run; --time renders progressive passes; the built-in
  * bunny-plane needs no files; path tracing is labelled; instances in scene files. */
 static void render_sidecar_time_budget_and_scenes(void **state)
@@ -2476,7 +2706,7 @@ static void bench_runs_as_slurm_job_arrays(void **state)
         {"--slurm --shard 0/2", "not with --slurm"},
         {"--slurm --report-only", "one at a time"},
         {"--slurm --sbatch account", "--sbatch=--account=NAME"},
-        {"--slurm --reference-passes 16", "--reference-passes needs a count in [1, 15]"},
+        {"--slurm --reference-passes 0", "--reference-passes needs a count in [1, 1048576]"},
         {"--tasks 2", "--tasks: only with --slurm or --report-only"},
     };
     for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {
@@ -3218,6 +3448,8 @@ int main(void)
         cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
         cmocka_unit_test(render_passes_and_merge),
+        cmocka_unit_test(merged_shares_equal_one_render_for_every_light_kind),
+        cmocka_unit_test(merge_refuses_doctored_shares),
         cmocka_unit_test(luminaire_files_create_info_render),
         cmocka_unit_test(acquired_presets_are_cached),
         cmocka_unit_test(lights_export_parses_back),

@@ -504,7 +504,8 @@ int bench_merge_references(suite *s, const char *out, long passes)
 {
     if (passes < 1 || passes > BENCH_REF_PASSES_MAX)
         return tool_runtime_error("bench: 1 to %d reference passes", BENCH_REF_PASSES_MAX);
-    char(*parts)[8800] = malloc((size_t)passes * sizeof *parts);
+    /* a path per share, each its own length: P may be large */
+    char **parts = calloc((size_t)passes, sizeof *parts);
     const char **in = malloc((size_t)passes * sizeof *in);
     if (!parts || !in) {
         free(parts);
@@ -517,12 +518,20 @@ int bench_merge_references(suite *s, const char *out, long passes)
             if (!bench_pair_needed(s, out, m, sc) || bench_reference_ok(s, out, m, sc)) continue;
             char absent[512] = "";
             for (long i = 0; i < passes; i++) {
-                bench_reference_part_path(s, out, m, sc, i, passes, parts[i], sizeof parts[i]);
+                char part[8800];
+                bench_reference_part_path(s, out, m, sc, i, passes, part, sizeof part);
+                free(parts[i]);
+                if (!(parts[i] = malloc(strlen(part) + 1))) {
+                    rc = tool_runtime_error("bench: out of memory");
+                    break;
+                }
+                strcpy(parts[i], part);
                 in[i] = parts[i];
                 if (!bench_reference_part_ok(s, out, m, sc, i, passes))
                     snprintf(absent + strlen(absent), sizeof absent - strlen(absent), "%s%ld",
                              *absent ? ", " : "", i);
             }
+            if (rc != EXIT_OK) break;
             if (*absent) {
                 tool_runtime_error("bench: the reference of %s / %s lacks its shares %s of %ld "
                                    "(their tasks failed or did not run: see the references' "
@@ -535,7 +544,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
             bench_reference_path(s, out, m, sc, exr, sizeof exr);
             tool_sidecar_path(exr, side, sizeof side);
             snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
-            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1);
+            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1, 0);
             lumis_image *img = NULL;
             if (mrc == EXIT_OK && tool_load_image(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
             if (mrc == EXIT_OK) mrc = write_reference_preview(s, png, img);
@@ -554,6 +563,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
                 unlink(ps);
             }
         }
+    for (long i = 0; i < passes; i++) free(parts[i]);
     free(parts);
     free(in);
     fprintf(stderr, "lumis bench: merged %d reference%s%s\n", merged, merged == 1 ? "" : "s",

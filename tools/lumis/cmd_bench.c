@@ -42,7 +42,7 @@ static const char usage[] =
     "                   writes the tables and DIR/slurm/status.txt (what is missing); the\n"
     "                   scripts are in DIR/slurm/.  Run it again to resubmit what failed alone\n"
     "  --tasks N        the items' tasks (shards; default: one per (map, scene) pair)\n"
-    "  --reference-passes P  each reference split into P tasks (1 to 15; default 1), merged\n"
+    "  --reference-passes P  each reference split into P tasks (default 1), merged\n"
     "                   as lumis merge does (equal to one render up to float rounding)\n"
     "  --cpus C         cores of an items task, its render threads (default 1)\n"
     "  --reference-cpus C  cores of a reference task (default: as --cpus)\n"
