@@ -38,14 +38,17 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->scene_path = sc->spec;
     else
         o->scene_name = sc->spec;
-    o->envspec = s->maps[it->map].spec;
-    o->env_image = c->images[it->map];
+    /* a built-in scene lit by its luminaire (headlight): the map and the method's light set
+     * or BSDF-only choice change nothing there (docs/bench.md), and render refuses them */
+    const int self_lit = !sc->is_file && lumis_scene_builtin_luminaire_spec(sc->spec) != NULL;
+    o->envspec = self_lit ? NULL : s->maps[it->map].spec;
+    o->env_image = self_lit ? NULL : c->images[it->map];
     o->env_image_replaced = s->maps[it->map].replaced;
     o->rotation_deg = s->maps[it->map].rotation_deg;
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
-    o->bsdf_only = m->bsdf_only;
-    o->lights = m->lights[0] ? m->lights : NULL;
+    o->bsdf_only = self_lit ? 0 : m->bsdf_only;
+    o->lights = m->lights[0] && !self_lit ? m->lights : NULL;
     o->lights_mode = m->lights_mode;
     o->lights_k = m->lights_k;
     o->interleave = m->interleave;
