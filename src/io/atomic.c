@@ -339,26 +339,22 @@ int lumis__durable(void)
  * system that cannot sync a folder (EINVAL: some network and FUSE ones) is let be. */
 static lumis_status sync_folder(const char *dest, const char *shown, const lumis_error_sink *errors)
 {
+    /* no allocation: the file is in place by now, and an out-of-memory failure here would
+     * report a finished write as failed */
+    char dir[PATH_MAX];
     const char *slash = strrchr(dest, '/');
-    char *dir = malloc(slash ? (size_t)(slash - dest) + 2 : 2);
-    if (!dir) return LUMIS_ERR_OUT_OF_MEMORY;
-    if (!slash)
-        strcpy(dir, ".");
-    else if (slash == dest)
-        strcpy(dir, "/");
-    else {
-        memcpy(dir, dest, (size_t)(slash - dest));
-        dir[slash - dest] = '\0';
-    }
+    const size_t n = !slash ? 1 : slash == dest ? 1 : (size_t)(slash - dest);
+    if (n >= sizeof dir) return LUMIS_OK; /* a folder no open(2) would take */
+    memcpy(dir, !slash ? "." : slash == dest ? "/" : dest, n);
+    dir[n] = '\0';
     lumis_status st = LUMIS_OK;
     const int fd = open(dir, O_RDONLY | O_CLOEXEC);
     if (fd < 0 || (fsync(fd) != 0 && errno != EINVAL && errno != EROFS))
         st = lumis__fail(errors, LUMIS_ERR_WRITE,
-                         "%s: written, but its folder %s cannot be synced "
-                         "(a power loss may undo it): %s",
+                         "%s: written, but its folder %s cannot be synced (a power loss may "
+                         "undo it): %s",
                          shown, dir, strerror(errno));
     if (fd >= 0) close(fd);
-    free(dir);
     return st;
 }
 
