@@ -2707,6 +2707,7 @@ static void bench_runs_as_slurm_job_arrays(void **state)
         {"--slurm --report-only", "one at a time"},
         {"--slurm --sbatch account", "--sbatch=--account=NAME"},
         {"--slurm --reference-passes 0", "--reference-passes needs a count in [1, 1048576]"},
+        {"--slurm --reference-passes 17", "more shares than the 16 samples"},
         {"--tasks 2", "--tasks: only with --slurm or --report-only"},
     };
     for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {

@@ -252,6 +252,11 @@ int cmd_bench(int argc, char **argv)
     }
     int rc = check_out(out, suite_path);
     const int renders = !merging && !report_only && !slurm && !merge_refs;
+    if (rc == EXIT_OK && so.ref_passes > s.ref_spp) /* a share of no samples is no share */
+        rc = tool_usage_error("bench",
+                              "--reference-passes %ld: more shares than the %d samples "
+                              "of the suite's reference",
+                              so.ref_passes, s.ref_spp);
     if (rc == EXIT_OK && bench_read_inputs(&s, renders) != EXIT_OK) rc = EXIT_RUNTIME;
     if (rc != EXIT_OK) {
         bench_suite_free(&s);
