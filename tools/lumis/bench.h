@@ -312,7 +312,7 @@ int bench_write_html(const bench_report *r, const char *path);
 /* ---- Slurm (bench_slurm.c) ---------------------------------------------------------------- */
 
 #define BENCH_SLURM_EXTRA_MAX 16
-#define BENCH_REF_PASSES_MAX  TOOL_MERGE_MAX /* --reference-passes: shares lumis merge joins */
+#define BENCH_REF_PASSES_MAX  (1 << 20) /* --reference-passes: as render --passes splits */
 
 typedef struct bench_slurm_opts {
     long tasks;       /* --tasks: the items' array tasks (shards); 0: one per (map, scene) pair */

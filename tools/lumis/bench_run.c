@@ -38,14 +38,17 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->scene_path = sc->spec;
     else
         o->scene_name = sc->spec;
-    o->envspec = s->maps[it->map].spec;
-    o->env_image = c->images[it->map];
+    /* a built-in scene lit by its luminaire (headlight): the map and the method's light set
+     * or BSDF-only choice change nothing there (docs/bench.md), and render refuses them */
+    const int self_lit = !sc->is_file && lumis_scene_builtin_luminaire_spec(sc->spec) != NULL;
+    o->envspec = self_lit ? NULL : s->maps[it->map].spec;
+    o->env_image = self_lit ? NULL : c->images[it->map];
     o->env_image_replaced = s->maps[it->map].replaced;
     o->rotation_deg = s->maps[it->map].rotation_deg;
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
-    o->bsdf_only = m->bsdf_only;
-    o->lights = m->lights[0] ? m->lights : NULL;
+    o->bsdf_only = self_lit ? 0 : m->bsdf_only;
+    o->lights = m->lights[0] && !self_lit ? m->lights : NULL;
     o->lights_mode = m->lights_mode;
     o->lights_k = m->lights_k;
     o->interleave = m->interleave;
@@ -516,7 +519,8 @@ int bench_merge_references(suite *s, const char *out, long passes)
 {
     if (passes < 1 || passes > BENCH_REF_PASSES_MAX)
         return tool_runtime_error("bench: 1 to %d reference passes", BENCH_REF_PASSES_MAX);
-    char(*parts)[8800] = malloc((size_t)passes * sizeof *parts);
+    /* a path per share, each its own length: P may be large */
+    char **parts = calloc((size_t)passes, sizeof *parts);
     const char **in = malloc((size_t)passes * sizeof *in);
     if (!parts || !in) {
         free(parts);
@@ -529,12 +533,20 @@ int bench_merge_references(suite *s, const char *out, long passes)
             if (!bench_pair_needed(s, out, m, sc) || bench_reference_ok(s, out, m, sc)) continue;
             char absent[512] = "";
             for (long i = 0; i < passes; i++) {
-                bench_reference_part_path(s, out, m, sc, i, passes, parts[i], sizeof parts[i]);
+                char part[8800];
+                bench_reference_part_path(s, out, m, sc, i, passes, part, sizeof part);
+                free(parts[i]);
+                if (!(parts[i] = malloc(strlen(part) + 1))) {
+                    rc = tool_runtime_error("bench: out of memory");
+                    break;
+                }
+                strcpy(parts[i], part);
                 in[i] = parts[i];
                 if (!bench_reference_part_ok(s, out, m, sc, i, passes))
                     snprintf(absent + strlen(absent), sizeof absent - strlen(absent), "%s%ld",
                              *absent ? ", " : "", i);
             }
+            if (rc != EXIT_OK) break;
             if (*absent) {
                 tool_runtime_error("bench: the reference of %s / %s lacks its shares %s of %ld "
                                    "(their tasks failed or did not run: see the references' "
@@ -547,7 +559,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
             bench_reference_path(s, out, m, sc, exr, sizeof exr);
             tool_sidecar_path(exr, side, sizeof side);
             snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
-            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1);
+            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1, 0);
             lumis_image *img = NULL;
             if (mrc == EXIT_OK && tool_load_image(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
             if (mrc == EXIT_OK) mrc = write_reference_preview(s, png, img);
@@ -566,6 +578,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
                 unlink(ps);
             }
         }
+    for (long i = 0; i < passes; i++) free(parts[i]);
     free(parts);
     free(in);
     fprintf(stderr, "lumis bench: merged %d reference%s%s\n", merged, merged == 1 ? "" : "s",

@@ -106,8 +106,6 @@ typedef enum tool_output_kind {
 } tool_output_kind;
 
 enum { TOOL_FILES_MAX = 32 };
-/* The shares lumis merge joins at most (each share and its sidecar are inputs). */
-enum { TOOL_MERGE_MAX = TOOL_FILES_MAX / 2 - 1 };
 
 /* The files a command reads and writes. */
 typedef struct tool_files {
@@ -335,7 +333,19 @@ int tool_is_photometric_path(const char *path);
  * none).  Checks that they are every share of one render, each once.  Prints errors (and,
  * unless quiet, a line of what it merged).  Exit code. */
 int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
-                      int quiet);
+                      int quiet, int allow_replaced);
+
+struct cJSON;
+/* The render key (render_key.c): a digest of a share's sidecar less what may differ between
+ * the shares of one render (timings, counts of work, host, share index), in out (16 hex
+ * digits).  0 when out of memory. */
+int tool_render_key(const struct cJSON *side, char *out, size_t cap);
+/* Whether "key" or "object.key" of a sidecar may differ between shares of one render. */
+int tool_render_key_may_differ(const char *path);
+/* The first field of the render key in which sidecars a and b differ, in field, with their
+ * values (JSON, shortened) in va and vb; 0 if none. */
+int tool_render_key_difference(const struct cJSON *a, const struct cJSON *b, char *field,
+                               size_t cap, char *va, char *vb, size_t vcap);
 
 struct cJSON;
 

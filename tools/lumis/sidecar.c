@@ -57,6 +57,37 @@ void tool_sidecar_path(const char *out, char *buf, size_t cap)
     snprintf(buf, cap, "%.*s.json", (int)n, out);
 }
 
+/* A file the render read, by content: {"path", "bytes", "fnv64"} (nothing for a name that
+ * is not a file: a built-in map or scene, a preset). */
+static void add_input(cJSON *arr, const char *path)
+{
+    struct stat st;
+    if (!path || !*path || stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return;
+    size_t n = 0;
+    int oom = 0;
+    unsigned char *b = tool_read_file(path, &n, &oom);
+    cJSON *e = cJSON_CreateObject();
+    cJSON_AddStringToObject(e, "path", path);
+    cJSON_AddNumberToObject(e, "bytes", (double)n);
+    char h[32];
+    snprintf(h, sizeof h, "%016llx",
+             (unsigned long long)(b ? tool_fnv(0xcbf29ce484222325ull, b, n) : 0));
+    cJSON_AddStringToObject(e, "fnv64", b ? h : "unreadable");
+    cJSON_AddItemToArray(arr, e);
+    free(b);
+}
+
+/* A luminaire's manifest and every image it names. */
+static void add_luminaire(cJSON *arr, const char *path)
+{
+    if (!path || strncmp(path, "preset:", 7) == 0) return;
+    add_input(arr, path);
+    lumis_luminaire_manifest *m = NULL;
+    if (lumis_luminaire_manifest_read(path, NULL, &m) != LUMIS_OK) return;
+    for (int k = 0; k < m->image_count; k++) add_input(arr, m->paths[k]);
+    lumis_luminaire_manifest_destroy(m);
+}
+
 int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
                        const char *scene_label, const char *envspec, const lumis_envmap *env,
                        const lumis_sampler *smp, const lumis_light_set *lights,
@@ -330,6 +361,28 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddStringToObject(x, "png", o->png);
     else
         cJSON_AddNullToObject(x, "png");
+    if (o->passes) { /* a share: its inputs by content, its host, and its render key */
+        cJSON *in = cJSON_AddArrayToObject(j, "inputs");
+        add_input(in, o->scene_path);
+        add_input(in, envspec);
+        for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++)
+            add_luminaire(in, lumis_scene_file_luminaire_path(file, k));
+        add_luminaire(in, o->luminaire);
+        for (int k = 0; !o->fixture && lumis_scene_file_photometric_path(file, k); k++)
+            add_input(in, lumis_scene_file_photometric_path(file, k));
+        add_input(in, o->fixture);
+        for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
+            add_input(in, lumis_scene_file_mesh_path(file, k));
+        char host[256] = "";
+        if (gethostname(host, sizeof host - 1) != 0) snprintf(host, sizeof host, "?");
+        cJSON_AddStringToObject(j, "host", host);
+        char key[32];
+        if (!tool_render_key(j, key, sizeof key)) {
+            cJSON_Delete(j);
+            return tool_runtime_error("%s: out of memory", path);
+        }
+        cJSON_AddStringToObject(j, "render_key", key);
+    }
     int rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
