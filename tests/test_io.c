@@ -1404,32 +1404,39 @@ static void glb_is_a_binary_gltf_container(void **state)
     assert_int_equal(lumis_lights_by_name(env, "median-cut", 5, 1, NULL, NULL, &set), LUMIS_OK);
     lumis_light_export_options o = {0};
     o.method = "median-cut";
-    o.parameters = "seed=3";
-    assert_int_equal(lumis_light_set_write_gltf(tu_path("c.GLB"), set, &o), LUMIS_OK);
-    assert_int_equal(lumis_light_set_write_gltf(tu_path("c.gltf"), set, &o), LUMIS_OK);
-    size_t n = 0;
-    unsigned char *b = tu_read_file(tu_path("c.GLB"), &n);
-    assert_non_null(b);
-    assert_true(n >= 20 && n % 4 == 0);
-    assert_memory_equal(b, "glTF", 4);
-    assert_int_equal(le32(b + 4), 2);
-    assert_int_equal(le32(b + 8), n);
-    const uint32_t len = le32(b + 12);
-    assert_int_equal(len % 4, 0);
-    assert_int_equal(20 + (size_t)len, n); /* one chunk, no BIN chunk: no buffers */
-    assert_memory_equal(b + 16, "JSON", 4);
-    size_t end = 20 + len;
-    while (end > 20 && b[end - 1] == ' ') end--;
-    assert_true(end + 4 > 20 + (size_t)len); /* at most 3 bytes of padding */
-    assert_int_equal(b[end - 1], '}');
-    cJSON *bin = cJSON_ParseWithLength((const char *)b + 20, len);
-    free(b);
-    cJSON *text = read_gltf(tu_path("c.gltf"));
-    assert_non_null(bin);
-    assert_true(cJSON_Compare(bin, text, 1));
-    assert_int_equal(cJSON_GetArraySize(at(bin, "nodes")), 5);
-    cJSON_Delete(bin);
-    cJSON_Delete(text);
+    /* parameters 1 to 4 characters longer: the JSON's length takes every value mod 4 */
+    static const char *const params[] = {"seed=3", "seed=33", "seed=333", "seed=3333"};
+    size_t n = 0, padding = 0;
+    unsigned char *b = NULL;
+    for (int p = 0; p < 4; p++) {
+        o.parameters = params[p];
+        assert_int_equal(lumis_light_set_write_gltf(tu_path("c.GLB"), set, &o), LUMIS_OK);
+        assert_int_equal(lumis_light_set_write_gltf(tu_path("c.gltf"), set, &o), LUMIS_OK);
+        b = tu_read_file(tu_path("c.GLB"), &n);
+        assert_non_null(b);
+        assert_true(n >= 20 && n % 4 == 0);
+        assert_memory_equal(b, "glTF", 4);
+        assert_int_equal(le32(b + 4), 2);
+        assert_int_equal(le32(b + 8), n);
+        const uint32_t len = le32(b + 12);
+        assert_int_equal(len % 4, 0);
+        assert_int_equal(20 + (size_t)len, n); /* one chunk, no BIN chunk: no buffers */
+        assert_memory_equal(b + 16, "JSON", 4);
+        size_t end = 20 + len;
+        while (end > 20 && b[end - 1] == ' ') end--;
+        assert_true(end + 4 > 20 + (size_t)len); /* at most 3 bytes of padding */
+        assert_int_equal(b[end - 1], '}');
+        padding += 20 + len - end;
+        cJSON *bin = cJSON_ParseWithLength((const char *)b + 20, len);
+        free(b);
+        cJSON *text = read_gltf(tu_path("c.gltf"));
+        assert_non_null(bin);
+        assert_true(cJSON_Compare(bin, text, 1));
+        assert_int_equal(cJSON_GetArraySize(at(bin, "nodes")), 5);
+        cJSON_Delete(bin);
+        cJSON_Delete(text);
+    }
+    assert_int_equal(padding, 1 + 2 + 3); /* each residue once */
 
     /* a text .gltf starts with '{'; an explicit container wins over the name */
     b = tu_read_file(tu_path("c.gltf"), &n);
