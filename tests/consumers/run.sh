@@ -12,7 +12,7 @@
 #   validator  the Khronos glTF validator (npm gltf-validator): no error or warning, a .glb
 #              read as the binary container;
 #   threejs    three.js in headless Chromium (threejs_lights.mjs): engine.gltf and
-#              engine.glb line up with the HDRI, lumis.gltf must not;
+#              engine.glb line up with the HDRI (as .hdr and as .exr), lumis.gltf must not;
 #   blender    Blender headless with its glTF importer and Cycles (blender_lights.py): the
 #              same.
 # Exit 77 (a ctest skip) when a tool is missing: chromium, blender (scripts/install-deps.sh
@@ -66,8 +66,11 @@ validator)
         "$T/sky.gltf"
     ;;
 threejs)
-    node "$HERE/threejs_lights.mjs" --hdr "$T/sunrise.hdr" --expect-pass "$T/engine.gltf" \
-        --expect-pass "$T/engine.glb" --expect-fail "$T/lumis.gltf"
+    # the map as Radiance HDR (HDRLoader) and as OpenEXR (EXRLoader), which store their
+    # rows in opposite orders
+    "$L" convert "$T/sunrise.hdr" "$T/sunrise.exr" >/dev/null
+    node "$HERE/threejs_lights.mjs" --hdr "$T/sunrise.hdr" --hdr "$T/sunrise.exr" \
+        --expect-pass "$T/engine.gltf" --expect-pass "$T/engine.glb" --expect-fail "$T/lumis.gltf"
     ;;
 blender)
     # Blender's own messages (render progress, saved files) stay in a log shown on failure

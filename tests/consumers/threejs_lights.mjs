@@ -2,9 +2,10 @@
 // consumers"): headless Chromium (Debian's, driven by playwright-core) loads three.js, the
 // HDRI and the glTF files in threejs_page.mjs, which reports what three.js shows.
 //
-//   node threejs_lights.mjs --hdr MAP.hdr --expect-pass A.gltf --expect-fail B.gltf [--size N]
+//   node threejs_lights.mjs --hdr MAP.hdr [--hdr MAP.exr] --expect-pass A.gltf
+//                           --expect-fail B.gltf [--size N]
 //
-// Each --expect-pass file must (1) have its brightest light where three.js shows the map's
+// With each map (HDRLoader for .hdr, EXRLoader for .exr), each --expect-pass file must (1) have its brightest light where three.js shows the map's
 // sun: a 20-degree camera aimed at it sees the sun within SUN_DEG of the centre, at least
 // SUN_SHARE of the map's peak luminance; and (2) light a Lambert sphere as the HDRI does as
 // three.js's environment (PMREM): every region within SPHERE_TOL of the mean (compareRegions).
@@ -24,16 +25,16 @@ import { fileURLToPath } from 'node:url';
 const SUN_DEG = 3.0, SUN_SHARE = 0.25, SPHERE_TOL = 0.15;
 
 const here = path.dirname(fileURLToPath(import.meta.url));
-const args = { pass: [], fail: [], size: 48, hdr: null };
+const args = { pass: [], fail: [], size: 48, hdr: [] };
 for (let i = 2; i < process.argv.length; i++) {
   const a = process.argv[i], v = process.argv[i + 1];
-  if (a === '--hdr') { args.hdr = v; i++; }
+  if (a === '--hdr') { args.hdr.push(v); i++; }
   else if (a === '--expect-pass') { args.pass.push(v); i++; }
   else if (a === '--expect-fail') { args.fail.push(v); i++; }
   else if (a === '--size') { args.size = Number(v); i++; }
   else { console.error(`threejs_lights: unknown argument ${a}`); process.exit(2); }
 }
-if (!args.hdr || args.pass.length === 0) {
+if (args.hdr.length === 0 || args.pass.length === 0) {
   console.error('usage: node threejs_lights.mjs --hdr MAP.hdr --expect-pass A.gltf [--expect-fail B.gltf]');
   process.exit(2);
 }
@@ -48,7 +49,7 @@ const files = new Map([
   ['/page.html', { body: '<!doctype html><script type="importmap">{"imports":{"three":"/three/build/three.module.js","three/addons/":"/three/examples/jsm/"}}</script><script type="module" src="/page.mjs"></script>', type: 'text/html' }],
   ['/page.mjs', { file: path.join(here, 'threejs_page.mjs') }],
 ]);
-const data = [args.hdr, ...args.pass, ...args.fail].map((f, k) => {
+const data = [...args.hdr, ...args.pass, ...args.fail].map((f, k) => {
   const url = `/data/${k}-${path.basename(f)}`;
   files.set(url, { file: f });
   return url;
@@ -78,37 +79,40 @@ try {
   });
   await page.goto('http://lumis.test/page.html');
   await page.waitForFunction(() => window.lumisReady === true, null, { timeout: 60000 });
-  const r = await page.evaluate((c) => window.lumisRun(c), {
-    hdr: data[0], gltf: data.slice(1), size: args.size,
-  });
-  if (r.error) throw new Error(r.error);
-  console.log(`three.js r${r.three} on ${r.renderer}; map sun at pixel (${r.sun.pixel}) of ` +
-    `${r.sun.width} x ${r.sun.height}, luminance ${r.sun.luminance.toPrecision(5)}`);
-  r.files.forEach((f, k) => {
-    const expectPass = k < args.pass.length;
-    const name = expectPass ? args.pass[k] : args.fail[k - args.pass.length];
-    const sunOk = f.view.angleDeg <= SUN_DEG && f.sunRatio >= SUN_SHARE;
-    const sphereOk = f.sphere.worst <= SPHERE_TOL;
-    console.log(`${path.basename(name)} (frame ${f.frame}, ${f.lights} lights): brightest light ` +
-      `towards (${f.brightest.map((x) => x.toFixed(4))})`);
-    console.log(`  sun: aimed at it, three.js shows its brightest pixel ${f.view.angleDeg.toFixed(2)} deg ` +
-      `off the centre at ${(100 * f.sunRatio).toFixed(1)} % of the map's peak ` +
-      `(pass: <= ${SUN_DEG} deg, >= ${100 * SUN_SHARE} %); equirectUv puts it ` +
-      `${f.pixelDistance.toFixed(2)} px from the sun's pixel`);
-    console.log(`  sphere: lights / IBL mean ${f.sphere.ratio.toFixed(4)}, worst of ` +
-      `${f.sphere.lights.length} regions ${(100 * f.sphere.worst).toFixed(2)} % of the mean ` +
-      `(pass: <= ${100 * SPHERE_TOL} %)`);
-    if (expectPass && !(sunOk && sphereOk)) {
-      console.log(`FAIL: ${name} should line up with the HDRI in three.js and does not`);
-      failed++;
-    }
-    if (!expectPass && (sunOk || sphereOk)) {
-      console.log(`FAIL: ${name} (the other frame) ${sunOk ? 'passes the sun check' : ''}` +
-        `${sunOk && sphereOk ? ' and ' : ''}${sphereOk ? 'passes the sphere check' : ''}: ` +
-        'the test cannot tell the frames apart');
-      failed++;
-    }
-  });
+  for (let m = 0; m < args.hdr.length; m++) {
+    const r = await page.evaluate((c) => window.lumisRun(c), {
+      hdr: data[m], gltf: data.slice(args.hdr.length), size: args.size,
+    });
+    if (r.error) throw new Error(r.error);
+    console.log(`${path.basename(args.hdr[m])}: three.js r${r.three} on ${r.renderer}; map sun at ` +
+      `pixel (${r.sun.pixel}) of ${r.sun.width} x ${r.sun.height}, luminance ` +
+      `${r.sun.luminance.toPrecision(5)}`);
+    r.files.forEach((f, k) => {
+      const expectPass = k < args.pass.length;
+      const name = expectPass ? args.pass[k] : args.fail[k - args.pass.length];
+      const sunOk = f.view.angleDeg <= SUN_DEG && f.sunRatio >= SUN_SHARE;
+      const sphereOk = f.sphere.worst <= SPHERE_TOL;
+      console.log(`${path.basename(name)} (frame ${f.frame}, ${f.lights} lights): brightest light ` +
+        `towards (${f.brightest.map((x) => x.toFixed(4))})`);
+      console.log(`  sun: aimed at it, three.js shows its brightest pixel ${f.view.angleDeg.toFixed(2)} deg ` +
+        `off the centre at ${(100 * f.sunRatio).toFixed(1)} % of the map's peak ` +
+        `(pass: <= ${SUN_DEG} deg, >= ${100 * SUN_SHARE} %); equirectUv puts it ` +
+        `${f.pixelDistance.toFixed(2)} px from the sun's pixel`);
+      console.log(`  sphere: lights / IBL mean ${f.sphere.ratio.toFixed(4)}, worst of ` +
+        `${f.sphere.lights.length} regions ${(100 * f.sphere.worst).toFixed(2)} % of the mean ` +
+        `(pass: <= ${100 * SPHERE_TOL} %)`);
+      if (expectPass && !(sunOk && sphereOk)) {
+        console.log(`FAIL: ${name} should line up with ${args.hdr[m]} in three.js and does not`);
+        failed++;
+      }
+      if (!expectPass && (sunOk || sphereOk)) {
+        console.log(`FAIL: ${name} (the other frame) ${sunOk ? 'passes the sun check' : ''}` +
+          `${sunOk && sphereOk ? ' and ' : ''}${sphereOk ? 'passes the sphere check' : ''}: ` +
+          'the test cannot tell the frames apart');
+        failed++;
+      }
+    });
+  }
 } finally {
   await browser.close();
 }

@@ -10,6 +10,7 @@
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { HDRLoader } from 'three/addons/loaders/HDRLoader.js';
+import { EXRLoader } from 'three/addons/loaders/EXRLoader.js';
 
 const luminance = (r, g, b) => 0.2126 * r + 0.7152 * g + 0.0722 * b;
 
@@ -123,10 +124,13 @@ function mapSun(texture) {
   let best = -1, bi = 0, bj = 0;
   for (let j = 0; j < height; j++)
     for (let i = 0; i < width; i++) {
-      const k = 4 * (j * width + i); // data row 0 is the file's first (top) row
+      const k = 4 * (j * width + i);
       const l = luminance(data[k], data[k + 1], data[k + 2]);
       if (l > best) { best = l; bi = i; bj = j; }
     }
+  // data row 0 goes to v = 1 with flipY (HDRLoader), to v = 0 without (EXRLoader, which
+  // stores the file's rows bottom up): as the file's row, 0 the top
+  if (!texture.flipY) bj = height - 1 - bj;
   return { luminance: best, pixel: [bi, bj], width, height };
 }
 
@@ -142,10 +146,12 @@ async function run(config) {
   renderer.toneMapping = THREE.NoToneMapping;
   if (!renderer.extensions.has('EXT_color_buffer_float'))
     throw new Error('WebGL2 without EXT_color_buffer_float: cannot read linear radiance');
-  const hdr = await new HDRLoader().setDataType(THREE.FloatType).loadAsync(config.hdr);
+  const Loader = config.hdr.toLowerCase().endsWith('.exr') ? EXRLoader : HDRLoader;
+  const hdr = await new Loader().setDataType(THREE.FloatType).loadAsync(config.hdr);
   hdr.mapping = THREE.EquirectangularReflectionMapping;
   const sun = mapSun(hdr);
-  const out = { three: THREE.REVISION, renderer: renderer.getContext().getParameter(renderer.getContext().VERSION), sun, files: [] };
+  const gl = renderer.getContext();
+  const out = { three: THREE.REVISION, renderer: gl.getParameter(gl.VERSION), sun, files: [] };
 
   // the HDRI alone: background for the sun check, environment (PMREM) for the sphere
   const iblScene = sphereScene(new THREE.MeshLambertMaterial({ color: 0xffffff }));
