@@ -158,16 +158,15 @@ void lumis_io_remove_partial_outputs(void);
 struct lumis_light_set;
 
 /* The frame of the directions a light-set file holds.  lumis's own frame puts column u = 0
- * of an equirectangular map at +x (docs/coordinates.md); three.js, glTF viewers and Blender
- * show column u = 1/2 there.  A file for them must put each light where they show its
+ * of an equirectangular map at +x (docs/coordinates.md); three.js and Blender show column
+ * u = 1/2 there.  A file for them must put each light where they show its
  * source, so the default turns every direction half a turn about +y.  Formulas and the
  * consumers checked: docs/lights-export.md, "Frames". */
 typedef enum lumis_export_frame {
     LUMIS_EXPORT_FRAME_ENGINE = 0, /* default: map pixel (u, v) is seen along
                                       (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2),
-                                      t = pi v (v = 0 the top row), as three.js's equirectUv,
-                                      glTF viewers and Blender (through its glTF importer)
-                                      show the map */
+                                      t = pi v (v = 0 the top row), as three.js's equirectUv
+                                      and Blender (through its glTF importer) show the map */
     LUMIS_EXPORT_FRAME_LUMIS,      /* lumis's own: p = 2 pi u (u = 0 along +x) */
     LUMIS_EXPORT_FRAME_COUNT
 } lumis_export_frame;

@@ -60,7 +60,8 @@ static void add_frame(cJSON *o, lumis_export_frame frame)
         frame == LUMIS_EXPORT_FRAME_ENGINE
             ? "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
               "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2), t = pi v: "
-              "u = 1/2 along +x, where three.js (equirectUv), glTF viewers and Blender show it"
+              "u = 1/2 along +x, where three.js (equirectUv) and Blender (its glTF importer) "
+              "show it"
             : "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
               "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi u, t = pi v: u = 0 along "
               "+x (lumis's own frame; three.js and Blender show u = 1/2 there)");
