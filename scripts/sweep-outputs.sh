@@ -387,8 +387,10 @@ if [ "$RC" = 0 ]; then
 fi
 end a.exr a.json
 
-begin "lights: --json a.json --gltf ./a.json (two outputs, one new file)"
-snap; run usage "\$L lights sky:16x8 --method median-cut -k 2 --json a.json --gltf ./a.json"; end
+begin "lights: --json a.gltf --gltf ./a.gltf (two outputs, one new file)"
+snap; run usage "\$L lights sky:16x8 --method median-cut -k 2 --json a.gltf --gltf ./a.gltf"
+stderr_says 'same|both' || note "refused, but not for naming one file twice"
+end
 
 begin "lights: --gltf g.gltf a dangling symlink to --json j.json"
 ln -s j.json g.gltf

@@ -1038,8 +1038,17 @@ static void render_with_luminaires(void **state)
     expect("lights sky:16x8 --method median-cut -k 2 --gltf", 2, "--gltf needs a file");
     expect("render --scene spheres --size 8x6 --spp 1 -o x.exr --sidecar --quiet", 2,
            "--sidecar needs a path");
-    /* two outputs to /dev/null are not one file written twice */
-    expect("lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null", 0, "");
+    /* two outputs to /dev/null are not one file written twice (--gltf through a link named
+     * .glb: a name without .gltf or .glb is refused) */
+    unlink(tu_path("null.glb"));
+    assert_int_equal(symlink("/dev/null", tu_path("null.glb")), 0);
+    char nul[1024];
+    snprintf(nul, sizeof nul,
+             "lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf '%s'",
+             tu_path("null.glb"));
+    expect(nul, 0, "");
+    expect("lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null", 2,
+           "--gltf /dev/null: unknown extension");
 }
 
 /* lumis luminaire: create writes a manifest and its images, info reads them back, render
