@@ -50,9 +50,10 @@ sanitize: deps
 	  -DLUMIS_WERROR=$(WERROR)
 	cmake --build build-asan -j$(JOBS)
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
-	@# the output sweep preloads a signal shim, which ASan refuses to run beside
+	@# the output sweep preloads a signal shim, which ASan refuses to run beside; the
+	@# consumer tests (three.js, Blender) test the files, not the code: once, in 'make test'
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --test-dir build-asan --output-on-failure -j2 -LE sweep
+	  ctest --test-dir build-asan --output-on-failure -j2 -LE 'sweep|consumer'
 
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DLUMIS_FUZZ=ON -DLUMIS_WERROR=$(WERROR) \
@@ -85,7 +86,8 @@ coverage: deps
 	cmake --build build-coverage -j$(JOBS)
 	find build-coverage -name '*.gcda' -delete
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
-	ctest --test-dir build-coverage --output-on-failure -j2
+	@# the consumer tests (three.js, Blender) test the files; test_io and test_cli cover the code
+	ctest --test-dir build-coverage --output-on-failure -j2 -LE consumer
 	@mkdir -p build-coverage/coverage
 	gcovr -r . --object-directory build-coverage --filter 'src/' --gcov-ignore-parse-errors \
 	  --exclude-unreachable-branches --exclude-throw-branches -j$(JOBS) \

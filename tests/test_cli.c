@@ -1346,8 +1346,17 @@ static void render_with_luminaires(void **state)
     expect("lights sky:16x8 --method median-cut -k 2 --gltf", 2, "--gltf needs a file");
     expect("render --scene spheres --size 8x6 --spp 1 -o x.exr --sidecar --quiet", 2,
            "--sidecar needs a path");
-    /* two outputs to /dev/null are not one file written twice */
-    expect("lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null", 0, "");
+    /* two outputs to /dev/null are not one file written twice (--gltf through a link named
+     * .glb: a name without .gltf or .glb is refused) */
+    unlink(tu_path("null.glb"));
+    assert_int_equal(symlink("/dev/null", tu_path("null.glb")), 0);
+    char nul[1024];
+    snprintf(nul, sizeof nul,
+             "lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf '%s'",
+             tu_path("null.glb"));
+    expect(nul, 0, "");
+    expect("lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null", 2,
+           "--gltf /dev/null: unknown extension");
 }
 
 /* lumis luminaire: create writes a manifest and its images, info reads them back, render
@@ -1670,6 +1679,25 @@ static void lights_export_parses_back(void **state)
     expect("lights sky:16x8 --method wu -k 0", 2, "-k needs a count");
     expect("lights sky:16x8 --method wu --masks", 2, "--masks goes with --json");
     expect("lights sky:16x8 --method wu --png x.jpg", 2, "unknown extension");
+    /* --gltf: .gltf text or .glb binary, nothing else; --frame engine (default) or lumis */
+    expect("lights sky:16x8 --method wu --gltf x.json", 2,
+           "--gltf x.json: unknown extension (use .gltf for text, .glb for binary)");
+    expect("lights sky:16x8 --method wu --frame three --json x.json", 2,
+           "--frame must be engine or lumis");
+    expect("lights sky:16x8 --method wu --frame lumis", 2, "--frame goes with --json");
+    snprintf(a, sizeof a, "lights sky:64x32 --method wu -k 4 --gltf '%s' --json '%s' --frame lumis",
+             tu_path("lf.glb"), tu_path("lf.json"));
+    char *lf_out = NULL;
+    assert_int_equal(run(a, &lf_out, NULL), 0);
+    assert_non_null(strstr(lf_out, "the files' in the lumis frame"));
+    free(lf_out);
+    size_t glb_size = 0;
+    unsigned char *glb = tu_read_file(tu_path("lf.glb"), &glb_size);
+    assert_true(glb && glb_size > 20 && memcmp(glb, "glTF", 4) == 0);
+    free(glb);
+    cJSON *lf = read_json("lf.json");
+    assert_string_equal(item(lf, "frame")->valuestring, "lumis");
+    cJSON_Delete(lf);
     snprintf(a, sizeof a, "lights '%s' --method wu --json '%s'", tu_path("l.gltf"),
              tu_path("l.gltf"));
     expect(a, 2, "would replace the map");

@@ -1,6 +1,7 @@
 /* lumis lights MAP --method M [-k K] ...: an environment map as K directional lights (median
  * cut, variance minimisation, Wu's decomposition), exported for renderers and game engines
- * (JSON, glTF 2.0 KHR_lights_punctual) and drawn on the map (PNG). */
+ * (JSON, glTF 2.0 KHR_lights_punctual as .gltf or .glb, in the frame they show the map in)
+ * and drawn on the map (PNG). */
 #include "common.h"
 
 #include <math.h>
@@ -10,7 +11,8 @@
 static const char usage[] =
     "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
     "                    [--rotate DEG] [--above-ground]\n"
-    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf]\n"
+    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
+    "                    [--frame engine|lumis]\n"
     "                    [--png OUT.png [--png-width W]] [--irradiance]\n\n"
     "Turns an environment map into K directional lights whose powers add up to the map's\n"
     "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
@@ -40,7 +42,11 @@ static const char usage[] =
     "  --masks         with --json: each light's region as pixel runs [row, column, length]\n"
     "  --gltf OUT      glTF 2.0 with one KHR_lights_punctual directional light per light\n"
     "                  (three.js, Babylon.js, Blender, game engines); intensity in lux for a\n"
-    "                  map in cd/m^2\n"
+    "                  map in cd/m^2.  OUT.gltf is text, OUT.glb a binary container\n"
+    "  --frame F       the files' directions: engine (default; each light comes from where\n"
+    "                  three.js, glTF viewers and Blender show its source on the same map,\n"
+    "                  whose centre u = 1/2 they put along +x) or lumis (lumis's own frame,\n"
+    "                  u = 0 along +x).  Recorded in the files; docs/lights-export.md\n"
     "  --png OUT       the map (auto exposure) with the regions' borders in cyan, the\n"
     "                  EnvDirects' (emissive) pixels in orange, emissive pixels given back\n"
     "                  to the EnvIndirects in magenta, and every light marked (red:\n"
@@ -252,8 +258,10 @@ static int print_irradiance(const lumis_envmap *env, const lumis_light_set *set)
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
-    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0, above_ground = 0;
+    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0, above_ground = 0,
+        frame_given = 0;
     lumis_light_params params = {0};
+    lumis_export_frame frame = LUMIS_EXPORT_FRAME_ENGINE;
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -287,6 +295,10 @@ int cmd_lights(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--gltf", &v)) {
             if (!v || !*v) return tool_bad_value("lights", "--gltf", v, "needs a file");
             gltf = v;
+        } else if (tool_option(argc, argv, &i, "--frame", &v)) {
+            if (lumis_export_frame_from_name(v, &frame) != LUMIS_OK)
+                return tool_bad_value("lights", "--frame", v, "must be engine or lumis");
+            frame_given = 1;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
             if (!v || !*v) return tool_bad_value("lights", "--png", v, "needs a file");
             png = v;
@@ -311,11 +323,13 @@ int cmd_lights(int argc, char **argv)
     const int prc = tool_light_params_check(&params, "lights", "--param", method);
     if (prc != EXIT_OK) return prc;
     if (masks && !json) return tool_usage_error("lights", "--masks goes with --json OUT");
+    if (frame_given && !json && !gltf)
+        return tool_usage_error("lights", "--frame goes with --json OUT or --gltf OUT");
     if (png_width && !png) return tool_usage_error("lights", "--png-width goes with --png OUT");
     tool_files files = {0};
     tool_files_input(&files, "map", map);
     tool_files_output(&files, "--json", json, TOOL_OUT_FILE);
-    tool_files_output(&files, "--gltf", gltf, TOOL_OUT_FILE);
+    tool_files_output(&files, "--gltf", gltf, TOOL_OUT_GLTF);
     tool_files_output(&files, "--png", png, TOOL_OUT_PNG);
     int rc = tool_files_check("lights", &files);
     if (rc != EXIT_OK) return rc;
@@ -367,6 +381,12 @@ int cmd_lights(int argc, char **argv)
         printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
                info->emissive_pixels, info->threshold, info->returned_pixels);
     printf("total power (RGB) %.6g %.6g %.6g\n", total[0], total[1], total[2]);
+    if (json || gltf)
+        printf("directions below in lumis's frame (u = 0 along +x); the files' in the %s frame%s\n",
+               lumis_export_frame_name(frame),
+               frame == LUMIS_EXPORT_FRAME_ENGINE
+                   ? " (-x, y, -z: where three.js and Blender show them)"
+                   : "");
     printf("%5s %-13s %9s %9s %9s %12s %12s %12s %10s %9s\n", "light", "kind", "x", "y", "z",
            "power r", "power g", "power b", "sr", "extent");
     for (int q = 0; q < count; q++)
@@ -386,6 +406,7 @@ int cmd_lights(int argc, char **argv)
              above_ground ? "above-ground" : "");
     eo.parameters = recorded;
     eo.errors = tool_errors;
+    eo.frame = frame;
     if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
         (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
         (png && write_picture(png, env, set, png_width) != EXIT_OK))

@@ -101,6 +101,7 @@ typedef enum tool_output_kind {
     TOOL_OUT_IMAGE,  /* .exr .hdr .pfm .png */
     TOOL_OUT_LINEAR, /* .exr .hdr .pfm: linear values */
     TOOL_OUT_PNG,    /* .png */
+    TOOL_OUT_GLTF,   /* .gltf (text) or .glb (binary) */
     TOOL_OUT_DIR,    /* a directory, made if missing (its parent must exist) */
     TOOL_OUT_SIDECAR /* a render's JSON sidecar: replaces only an earlier sidecar */
 } tool_output_kind;

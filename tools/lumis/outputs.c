@@ -11,6 +11,7 @@
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -23,6 +24,8 @@ static const char *kind_formats(tool_output_kind kind)
         return ".exr, .hdr or .pfm";
     case TOOL_OUT_PNG:
         return ".png";
+    case TOOL_OUT_GLTF:
+        return ".gltf for text, .glb for binary";
     default:
         return "";
     }
@@ -38,6 +41,11 @@ static int kind_accepts(tool_output_kind kind, const char *path)
         return f != LUMIS_FORMAT_AUTO && f != LUMIS_FORMAT_PNG;
     case TOOL_OUT_PNG:
         return f == LUMIS_FORMAT_PNG;
+    case TOOL_OUT_GLTF: {
+        const char *dot = strrchr(path, '.');
+        return dot && !strchr(dot, '/') &&
+               (strcasecmp(dot, ".gltf") == 0 || strcasecmp(dot, ".glb") == 0);
+    }
     default:
         return 1;
     }
