@@ -591,6 +591,51 @@ static void prediction_matches_measured_variance(void **state)
     free_fixture(&f);
 }
 
+/* The prediction's time is the cost model applied to its own counts, term by term, at a
+ * single probe with costs of distinct primes: camera + image x images + draw x samples +
+ * ray x rays (global: per sample + ray x rays), work = variance x ns, the ratios global's
+ * work over each (issue 37: a cost identity broken this way kept every choice). */
+static void prediction_time_is_the_cost_model(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_QUADRATIC, 80);
+    lumis_luminaire_probe probes[4];
+    assert_int_equal(lumis_luminaire_probes(f.lum, 1.5, 6.0, 11, 4, probes), LUMIS_OK);
+    const lumis_luminaire_costs c = {101, 7, 13, 3, 5, 211, 37};
+    int checked = 0;
+    for (int k = 0; k < 4; k++) {
+        lumis_luminaire_predict_desc d = {0};
+        d.probes = &probes[k];
+        d.probe_count = 1;
+        d.budget = 24;
+        d.pilot = 256;
+        d.seed = 5;
+        d.costs = &c;
+        lumis_luminaire_prediction p;
+        assert_int_equal(lumis_luminaire_predict(f.lum, &d, &p), LUMIS_OK);
+        if (!p.probes_lit) continue;
+        const double img = p.images_lit;
+        const double want[3] = {c.camera + c.image_restricted * img +
+                                    c.restricted * p.restricted.samples + c.ray * p.restricted.rays,
+                                c.camera + c.image_uniform * img + c.uniform * p.uniform.samples +
+                                    c.ray * p.uniform.rays,
+                                c.global + c.ray * p.global.rays};
+        const lumis_luminaire_strategy_prediction *sp[3] = {&p.restricted, &p.uniform, &p.global};
+        for (int st = 0; st < 3; st++) {
+            if (fabs(sp[st]->ns - want[st]) > 1e-9 * want[st])
+                fail_msg("probe %d strategy %d: %.12g ns, the cost model %.12g", k, st, sp[st]->ns,
+                         want[st]);
+            assert_true(fabs(sp[st]->work - sp[st]->variance * sp[st]->ns) <= 1e-9 * sp[st]->work);
+            if (sp[st]->work > 0)
+                assert_true(fabs(sp[st]->time_ratio - p.global.work / sp[st]->work) <=
+                            1e-9 * sp[st]->time_ratio);
+        }
+        checked++;
+    }
+    assert_true(checked >= 2);
+    free_fixture(&f);
+}
+
 /* Probes lie log-uniformly between dmin and dmax from their point of U, along their
  * normal's reverse: the distance r = p.z / -n.z; half of them nearer than sqrt(dmin dmax),
  * each decade a third of them (issue 37: drawn uniformly instead, 91 % beyond 10, unseen). */
@@ -1378,6 +1423,7 @@ int main(void)
         cmocka_unit_test(quadrature_over_s_matches_quadrature_over_u),
         cmocka_unit_test(prediction_matches_measured_variance),
         cmocka_unit_test(probes_are_log_uniform_in_distance),
+        cmocka_unit_test(prediction_time_is_the_cost_model),
         cmocka_unit_test(selected_probes_predict_the_same_means),
         cmocka_unit_test(prediction_arguments_and_bands),
         cmocka_unit_test(sample_point_edge_cases),
