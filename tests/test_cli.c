@@ -15,7 +15,7 @@
 
 static int run(const char *args, char **out, char **err)
 {
-    char cmd[8192];
+    char cmd[8192 + 4096]; /* room for the longest argument lines the tests build, 8 KB */
     snprintf(cmd, sizeof cmd, "'%s' %s", LUMIS_CLI, args);
     return tu_run(cmd, out, err);
 }

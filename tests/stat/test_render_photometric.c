@@ -699,7 +699,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
     for (int ty = 0; ty < 3; ty++)
         for (int r = 0; r < 3; r++) {
             for (int ia = 0; ia < 7; ia++) { /* along tilts */
-                double prev[9], R[9];
+                double prev[9] = {0}, R[9];
                 for (int k = 0; k <= 4 * 179; k++) {
                     const double t = k * step;
                     if (types[ty] != LUMIS_PHOTOMETRIC_C && k == 0) continue; /* the yoke's pole */
@@ -716,7 +716,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
             }
             const double tilts[] = {0.5, 10, 45, 64, 64.2, 65, 90, 120, 170, 179.5};
             for (int it = 0; it < 10; it++) { /* along azimuths */
-                double prev[9], R[9];
+                double prev[9] = {0}, R[9];
                 for (int k = 0; k <= 4 * 360; k++) {
                     const lumis_vec3 a = tilted_aim(tilts[it], k * step);
                     orient(types[ty], a, NULL, rolls[r], R);
@@ -732,7 +732,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
         }
     /* along rolls */
     for (int ty = 0; ty < 3; ty++) {
-        double prev[9], R[9];
+        double prev[9] = {0}, R[9];
         const lumis_vec3 a = tilted_aim(64.1, 0);
         for (int k = 0; k <= 4 * 360; k++) {
             orient(types[ty], a, NULL, k * step - 180, R);
