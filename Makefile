@@ -42,7 +42,11 @@ release: deps
 	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) >/dev/null
 	cmake --build build-release -j$(JOBS)
 
-run: build
+# run and install build the executable and its libraries only: the tests and benchmarks
+# take minutes more on a small machine.
+run: deps
+	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
+	cmake --build build -j$(JOBS) --target lumis-cli
 	./build/lumis demo
 
 test: build
@@ -54,9 +58,10 @@ sanitize: deps
 	  -DLUMIS_WERROR=$(WERROR)
 	cmake --build build-asan -j$(JOBS)
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
-	@# the output sweep preloads a signal shim, which ASan refuses to run beside
+	@# the output sweep preloads a signal shim, which ASan refuses to run beside; the
+	@# consumer tests (three.js, Blender) test the files, not the code: once, in 'make test'
 	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --test-dir build-asan --output-on-failure -j2 -LE sweep
+	  ctest --test-dir build-asan --output-on-failure -j2 -LE 'sweep|consumer'
 
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B build-fuzz -DLUMIS_FUZZ=ON -DLUMIS_WERROR=$(WERROR) \
@@ -100,7 +105,8 @@ coverage: deps
 	cmake --build build-coverage -j$(JOBS)
 	find build-coverage -name '*.gcda' -delete
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
-	ctest --test-dir build-coverage --output-on-failure -j2
+	@# the consumer tests (three.js, Blender) test the files; test_io and test_cli cover the code
+	ctest --test-dir build-coverage --output-on-failure -j2 -LE consumer
 	@mkdir -p build-coverage/coverage
 	gcovr -r . --object-directory build-coverage --filter 'src/' --gcov-ignore-parse-errors \
 	  --exclude-unreachable-branches --exclude-throw-branches -j$(JOBS) \
@@ -124,9 +130,10 @@ bench: build
 
 # The optimised Release build (-O3, no debug information) is what a user installs; it is
 # reconfigured with the prefix first: the installed lumis.pc / lumis-io.pc name it.
-install: release
-	cmake -S . -B build-release -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
-	cmake --build build-release -j$(JOBS)
+install: deps
+	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) \
+	  -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
+	cmake --build build-release -j$(JOBS) --target lumis-cli
 	cmake --install build-release --prefix $(PREFIX)
 
 clean:

@@ -46,6 +46,10 @@ static int write_fixtures(const char *dir)
         /* a 50 x 25 cm street light throwing off its axis: a batwing, I0 cos (1 + 3 sin^2) */
         {"batwing-street.ies",
          {PG_BATWING, 3, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, 0.25, 0.5, 0, 2}},
+        /* a 40 x 20 cm road light throwing towards C0, I0 cos (1 + 0.8 sin cos C): no
+         * symmetry, 1 x 5 degree table */
+        {"road.ies",
+         {PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 91, 0, 90, 73, 0, 360, 0, 0, 0.2, 0.4, 0, 2}},
         /* a 1.2 m x 5 cm linear fixture, wider across its length (sin^2 C): quadrant form */
         {"linear.ies",
          {PG_LINEAR, 1.5, "IESNA:LM-63-2002", 1, 91, 0, 90, 19, 0, 90, 0, 0, 0.05, 1.2, 0, 2}},
@@ -72,7 +76,6 @@ typedef struct curve {
     double max_err[NR], nadir_err[NR];
     double at_gamma[NR], at_c[NR]; /* where the largest error is */
     double within_1pct;            /* the distance (in sizes) from which every error <= 1 % */
-    double lf_err[2];              /* the light field against the near field, at 1 and 5 sizes */
 } curve;
 
 static double err_at(const lumis_photometric *p, double D, double g, double c)
@@ -128,27 +131,124 @@ static int study(const char *path, curve *cv, lumis_photometric_info *in)
         }
         if (r == 0) cv->within_1pct = ratios[0];
     }
-    /* the light field against the near field, at the peak's direction */
+    lumis_photometric_file_destroy(f);
+    return 0;
+}
+
+/* ---- the light field against the exact opening and the point model --------------------
+ * For each distance D (in sizes), on receivers facing the fixture in every direction of its
+ * field (gamma 0 to 85 in 5 degree steps, C every 15, I >= 10 % of the peak): the light
+ * field plus its far-field residual (the table beyond its cone, as a point) against the
+ * exact opening (lumis_photometric_irradiance, 24 x 24 panels), and the point model
+ * against the same; the largest and the mean |model / exact - 1|. */
+static const double lf_ratios[] = {1, 2, 3, 5, 7, 10, 15, 20, 30, 50};
+#define NLR ((int)(sizeof lf_ratios / sizeof lf_ratios[0]))
+
+static int light_field_study(const char *path, int json, double target, int last)
+{
+    lumis_photometric_file *f = NULL;
+    lumis_error_sink sink = {0};
+    if (lumis_photometric_read(path, &sink, &f) != LUMIS_OK)
+        return bench_fail("cannot read %s", path);
+    lumis_photometric_info in;
+    lumis_photometric_get_info(f->model, &in);
+    const double size = fmax(in.width, in.length);
+    lumis_photometric_light_field lf = {0};
+    lf.error_target = target;
+    lumis_photometric_light_field_report rep;
     lumis_luminaire *lum = NULL;
-    if (lumis_luminaire_from_photometric(f->model, NULL, &sink, &lum) == LUMIS_OK) {
-        const double ds[2] = {1, 5};
-        for (int k = 0; k < 2; k++) {
-            const double D = ds[k] * size, g = in->max_v * PI / 180, c = in->max_h * PI / 180;
-            const double wx = sin(g) * cos(c), wy = sin(g) * sin(c), wz = -cos(g);
-            const lumis_vec3 x = {(float)(D * wx), (float)(D * wy), (float)(D * wz)},
-                             n = {(float)-wx, (float)-wy, (float)-wz};
-            double near = 0;
-            lumis_photometric_irradiance(f->model, 1, x, n, 24, &near);
-            /* the light field's frame: the fixture's turned half a turn about x */
-            const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {n.x, -n.y, -n.z};
-            lumis_rgb e;
-            lumis_luminaire_irradiance(lum, xl, nl, 0, &e);
-            cv->lf_err[k] = near > 0 ? e.g / near - 1 : NAN;
-        }
-        lumis_luminaire_destroy(lum);
-    } else {
-        cv->lf_err[0] = cv->lf_err[1] = NAN;
+    const double t0 = bench_now();
+    if (lumis_luminaire_from_photometric(f->model, &lf, &sink, &lum, &rep) != LUMIS_OK) {
+        lumis_photometric_file_destroy(f);
+        return bench_fail("no light field for %s", path);
     }
+    const double build_s = bench_now() - t0;
+    lumis_photometric *res = NULL;
+    if (rep.residual_flux > 0 &&
+        lumis_photometric_beyond(f->model, rep.ramp_from_deg, rep.max_angle_deg, &sink, &res) !=
+            LUMIS_OK) {
+        lumis_luminaire_destroy(lum);
+        lumis_photometric_file_destroy(f);
+        return bench_fail("no residual for %s", path);
+    }
+    const double res_flux = res ? lumis_photometric_flux(res) : 0.0;
+    double lfmax[NLR], lfmean[NLR], ptmax[NLR], ptmean[NLR];
+    int nrec = 0;
+    const double t1 = bench_now();
+    for (int r = 0; r < NLR; r++) {
+        const double D = lf_ratios[r] * size;
+        lfmax[r] = lfmean[r] = ptmax[r] = ptmean[r] = 0;
+        int n = 0;
+        for (int gi = 0; gi <= 17; gi++)
+            for (int ci = 0; ci < 24; ci++) {
+                const double g = 5.0 * gi * PI / 180, c = 15.0 * ci * PI / 180;
+                if (gi == 0 && ci > 0) break;
+                const double w[3] = {sin(g) * cos(c), sin(g) * sin(c), -cos(g)};
+                const lumis_vec3 wd = {(float)w[0], (float)w[1], (float)w[2]};
+                if (lumis_photometric_intensity(f->model, wd) < 0.1 * in.max_candela) continue;
+                const lumis_vec3 x = {(float)(D * w[0]), (float)(D * w[1]), (float)(D * w[2])},
+                                 nn = {(float)-w[0], (float)-w[1], (float)-w[2]};
+                double exact = 0, point = 0, resid = 0;
+                lumis_photometric_irradiance(f->model, 1, x, nn, 24, &exact);
+                lumis_photometric_irradiance(f->model, 0, x, nn, 0, &point);
+                if (res) lumis_photometric_irradiance(res, 0, x, nn, 0, &resid);
+                const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {nn.x, -nn.y, -nn.z};
+                lumis_rgb e;
+                lumis_luminaire_irradiance(lum, xl, nl, 0, &e);
+                if (!(exact > 0)) continue;
+                const double el = fabs((e.g + resid) / exact - 1), ep = fabs(point / exact - 1);
+                lfmax[r] = fmax(lfmax[r], el);
+                ptmax[r] = fmax(ptmax[r], ep);
+                lfmean[r] += el;
+                ptmean[r] += ep;
+                n++;
+            }
+        if (n) {
+            lfmean[r] /= n;
+            ptmean[r] /= n;
+        }
+        nrec = n;
+    }
+    const double study_s = bench_now() - t1;
+    lumis_luminaire_info li;
+    lumis_luminaire_get_info(lum, &li);
+    if (json) {
+        printf("  {\"file\": \"%s\", \"flux\": %.8g, \"light_field_flux\": %.8g, "
+               "\"residual_flux\": %.8g, \"residual_table_flux\": %.8g, \"max_angle_deg\": %.4g, "
+               "\"grid\": [%d, %d], \"image\": [%d, %d], \"delta\": %.5g, \"bytes\": %zu, "
+               "\"error_target\": %g, \"far_field_error\": %.5g, \"far_field_error_mean\": %.5g, "
+               "\"receivers\": %d, \"build_seconds\": %.3g, \"study_seconds\": %.3g, "
+               "\"distances\": [",
+               path, rep.flux, rep.light_field_flux, rep.residual_flux, res_flux, rep.max_angle_deg,
+               rep.grid[0], rep.grid[1], rep.width, rep.height, rep.delta, li.bytes,
+               rep.error_target, rep.far_field_error, rep.far_field_error_mean, nrec, build_s,
+               study_s);
+        for (int r = 0; r < NLR; r++)
+            printf("%s{\"sizes\": %g, \"light_field_max\": %.5g, \"light_field_mean\": %.5g, "
+                   "\"point_max\": %.5g, \"point_mean\": %.5g}",
+                   r ? ", " : "", lf_ratios[r], lfmax[r], lfmean[r], ptmax[r], ptmean[r]);
+        printf("]}%s\n", last ? "" : ",");
+    } else {
+        printf("%s: %s %.3g m, %.1f lm; light field %d x %d images of %d x %d, delta %.3g m, "
+               "%.0f MB, within %.1f deg (built in %.2f s)\n",
+               path, lumis_photometric_shape_name(in.shape), size, rep.flux, rep.grid[0],
+               rep.grid[1], rep.width, rep.height, rep.delta, li.bytes / 1e6, rep.max_angle_deg,
+               build_s);
+        printf("  power: light field %.2f + residual %.2f (its table %.2f) = %.2f lm, the table "
+               "%.2f lm (%+.4f %%)\n",
+               rep.light_field_flux, rep.residual_flux, res_flux, rep.light_field_flux + res_flux,
+               rep.flux, 100 * ((rep.light_field_flux + res_flux) / rep.flux - 1));
+        printf("  far-field error %.3f %% max, %.3f %% mean (target %.2f %%, %s)\n",
+               100 * rep.far_field_error, 100 * rep.far_field_error_mean, 100 * rep.error_target,
+               rep.target_met ? "met" : "not met");
+        printf("  D / size   light field max / mean   point max / mean   (%d receivers)\n", nrec);
+        for (int r = 0; r < NLR; r++)
+            printf("  %6.0f     %7.3f %% / %7.3f %%    %7.3f %% / %7.3f %%%s\n", lf_ratios[r],
+                   100 * lfmax[r], 100 * lfmean[r], 100 * ptmax[r], 100 * ptmean[r],
+                   lfmax[r] < ptmax[r] && lfmean[r] < ptmean[r] ? "" : "   <- not below");
+    }
+    lumis_photometric_destroy(res);
+    lumis_luminaire_destroy(lum);
     lumis_photometric_file_destroy(f);
     return 0;
 }
@@ -163,9 +263,18 @@ static void num_or_null(char *buf, size_t cap, double v)
 
 int main(int argc, char **argv)
 {
-    int json = 0, nfiles = 0;
+    int json = 0, nfiles = 0, lfmode = 0;
+    double target = 0;
     const char *files[16];
     for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--light-field") == 0) {
+            lfmode = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--target") == 0 && i + 1 < argc) {
+            target = atof(argv[++i]);
+            continue;
+        }
         if (strcmp(argv[i], "--fixtures") == 0 && i + 1 < argc) return write_fixtures(argv[i + 1]);
         if (strcmp(argv[i], "--json") == 0)
             json = 1;
@@ -179,11 +288,19 @@ int main(int argc, char **argv)
         return bench_usage_error("usage: bench_photometric --fixtures DIR | [--json] FILE.ies...");
     char cpu[256];
     bench_cpu_model(cpu, sizeof cpu);
+    if (lfmode) {
+        if (json) printf("{\"machine\": \"%s\", \"light_fields\": [\n", cpu);
+        for (int k = 0; k < nfiles; k++)
+            if (light_field_study(files[k], json, target, k + 1 == nfiles)) return 1;
+        if (json) printf("]}\n");
+        return 0;
+    }
     if (json) printf("{\"machine\": \"%s\", \"distances_in_sizes\": [", cpu);
     for (int r = 0; json && r < NR; r++) printf("%s%g", r ? ", " : "", ratios[r]);
     if (json) printf("], \"fixtures\": [\n");
     for (int k = 0; k < nfiles; k++) {
         curve cv;
+        memset(&cv, 0, sizeof cv);
         lumis_photometric_info in;
         const double t0 = bench_now();
         if (study(files[k], &cv, &in)) return 1;
@@ -199,13 +316,10 @@ int main(int argc, char **argv)
             for (int r = 0; r < NR; r++) printf("%s%.5g", r ? ", " : "", cv.nadir_err[r]);
             printf("], \"worst_gamma_deg\": [");
             for (int r = 0; r < NR; r++) printf("%s%g", r ? ", " : "", cv.at_gamma[r]);
-            char w1[32], l0[32], l1[32]; /* JSON has no NaN: null */
+            char w1[32]; /* JSON has no NaN: null */
             num_or_null(w1, sizeof w1, cv.within_1pct);
-            num_or_null(l0, sizeof l0, cv.lf_err[0]);
-            num_or_null(l1, sizeof l1, cv.lf_err[1]);
-            printf("], \"within_1pct_from_sizes\": %s, \"light_field_error\": [%s, %s], "
-                   "\"seconds\": %.3g}%s\n",
-                   w1, l0, l1, secs, k + 1 < nfiles ? "," : "");
+            printf("], \"within_1pct_from_sizes\": %s, \"seconds\": %.3g}%s\n", w1, secs,
+                   k + 1 < nfiles ? "," : "");
         } else {
             printf("%s: %s %.3g m, %.0f lm, beam %.1f deg, field %.1f deg (%.2f s)\n", files[k],
                    lumis_photometric_shape_name(in.shape), size, in.flux, in.beam_deg[0],
@@ -216,9 +330,6 @@ int main(int argc, char **argv)
                        ratios[r], 100 * cv.max_err[r], cv.at_gamma[r], 100 * cv.nadir_err[r]);
             printf("  every error within 1 %% from %.2f sizes on (the rule of thumb: 5)\n",
                    cv.within_1pct);
-            printf("  light field against the near field at the peak: %+.2f %% at 1 size, %+.2f "
-                   "%% at 5\n",
-                   100 * cv.lf_err[0], 100 * cv.lf_err[1]);
         }
     }
     if (json) printf("]}\n");

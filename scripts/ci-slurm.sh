@@ -9,7 +9,9 @@
 #   3. resubmitting (DIR/slurm/resubmit.sh) submits task 1 alone, no reference, and the
 #      report then finds every item done;
 #   4. the merged report equals the single-machine one (scripts/bench-equal.py: the same
-#      items, equal-sample renders byte for byte and metrics to 1e-5, identical ranks).
+#      items, equal-sample renders byte for byte and metrics to 1e-5, identical ranks);
+#   5. a second suite with a light-set method and a luminaire scene (headlight-close), its
+#      references split in 3 and merged, equals its single-machine run too.
 # The daemons are stopped however it ends.  Needs root and scripts/install-deps.sh --slurm.
 #
 #   scripts/ci-slurm.sh [BUILD_DIR]      (default build)
@@ -102,4 +104,16 @@ grep -q "^all 8 items done" "$out/slurm/status.txt" || fail "status.txt: $(cat "
 
 echo "-- the cluster's report against the single machine's"
 python3 scripts/bench-equal.py "$tmp/single" "$out"
+
+echo "-- light sets and luminaires: a second suite, its references in 3 shares each"
+kinds=tests/data/slurm-suite-kinds.json
+"$lumis" bench "$kinds" --out "$tmp/kinds-single" --threads 1
+"$lumis" bench "$kinds" --out "$tmp/kinds" --slurm --tasks 2 --reference-passes 3
+grep -q -- "--array=0-5 " "$tmp/kinds/slurm/submit.sh" || fail "kinds: not 6 reference tasks"
+report=$(job_id report "$tmp/kinds")
+state=$(wait_job "$report")
+echo "report job $report: $state"
+[[ $state == COMPLETED ]] || fail "kinds: the report job ended $state (a reference's shares did not merge?)"
+grep -q "^all 4 items done" "$tmp/kinds/slurm/status.txt" || fail "kinds: $(cat "$tmp/kinds/slurm/status.txt")"
+python3 scripts/bench-equal.py "$tmp/kinds-single" "$tmp/kinds"
 echo "ci-slurm: passed"

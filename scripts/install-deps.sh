@@ -4,7 +4,8 @@ set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
       libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3)
-DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr python3-clang-14)
+DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr blender python3-numpy
+     python3-clang-14)
 SLURM=(slurm-wlm munge)
 
 usage() {
@@ -16,10 +17,14 @@ Install with apt-get the Debian packages that are missing:
 
   --dev         also the CI tools: ${DEV[*]}
                 (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check',
-                chromium for the screenshot test of 'lumis bench' reports,
-                valgrind for the memcheck stage, scripts/memcheck.sh,
-                gcovr for 'make coverage',
-                python3-clang-14 for 'make mutate-diff' and 'make mutate-gen')
+                chromium for the screenshot test of 'lumis bench' reports and the
+                three.js test of the light exports, blender and python3-numpy (its
+                glTF importer's) for their Blender test, valgrind for the memcheck
+                stage, scripts/memcheck.sh, gcovr for 'make coverage', python3-clang-14
+                for 'make mutate-diff' and 'make mutate-gen'), and nodejs
+                and npm unless the node and npm commands exist; the consumer tests'
+                npm packages then come from 'npm ci --prefix tests/consumers'
+                (tests/consumers/run.sh)
   --slurm       also ${SLURM[*]}, for CI's cluster stage: a one-node Slurm
                 (scripts/slurm-local.sh) runs a suite as job arrays (docs/cluster.md)
   --data-tools  also nodejs and npm (unless the node and npm commands already exist),
@@ -35,7 +40,9 @@ EOF
 WANT=("${BASE[@]}")
 for arg in "$@"; do
     case "$arg" in
-        --dev) WANT+=("${DEV[@]}") ;;
+        --dev) WANT+=("${DEV[@]}")
+            command -v node >/dev/null || WANT+=(nodejs)
+            command -v npm >/dev/null || WANT+=(npm) ;;
         --slurm) WANT+=("${SLURM[@]}") ;;
         # By command, not package: some node packages (e.g. NodeSource's nodejs) bundle npm
         # and conflict with Debian's npm package.

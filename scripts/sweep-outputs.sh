@@ -387,8 +387,10 @@ if [ "$RC" = 0 ]; then
 fi
 end a.exr a.json
 
-begin "lights: --json a.json --gltf ./a.json (two outputs, one new file)"
-snap; run usage "\$L lights sky:16x8 --method median-cut -k 2 --json a.json --gltf ./a.json"; end
+begin "lights: --json a.gltf --gltf ./a.gltf (two outputs, one new file)"
+snap; run usage "\$L lights sky:16x8 --method median-cut -k 2 --json a.gltf --gltf ./a.gltf"
+stderr_says 'same|both' || note "refused, but not for naming one file twice"
+end
 
 begin "lights: --gltf g.gltf a dangling symlink to --json j.json"
 ln -s j.json g.gltf
@@ -536,9 +538,15 @@ grep -q 'earlier log line' log.txt || fail "log.txt's earlier contents lost (the
 grep -q 'light kind' log.txt || fail "the printed light table lost"
 end log.txt
 
-begin "lights: --gltf /dev/stdout with stdout to out.txt"
-snap; run ok "\$L lights sky:16x8 --method median-cut -k 2 --gltf /dev/stdout > out.txt"
+begin "lights: --gltf so.gltf a symlink to /dev/stdout, stdout to out.txt"
+ln -s /dev/stdout so.gltf
+snap; run ok "\$L lights sky:16x8 --method median-cut -k 2 --gltf so.gltf > out.txt"
 grep -q 'light kind' out.txt || fail "the printed light table lost (out.txt holds only the glTF)"
+end out.txt so.gltf
+
+begin "lights: --gltf /dev/stdout (no extension)"
+snap; run any "\$L lights sky:16x8 --method median-cut -k 2 --gltf /dev/stdout > out.txt"
+[ "$RC" = 2 ] || fail "exit $RC: a --gltf name that is neither .gltf nor .glb must be refused (usage)"
 end out.txt
 
 begin "render: -o so.exr a symlink to /dev/stdout, stdout appended to keep.log"
@@ -586,7 +594,7 @@ done
 # /dev/full: every write must fail with an error (exit non-zero) and leave /dev/full a device
 for c in "convert sky:8x4 full.pfm" "convert sky:64x32 full.exr" "convert sky:8x4 full.exr" "studio --size 8x4 -o full.exr" \
     "compare m.pfm m.pfm --diff full.exr" "convert sky:8x4 full.png" "convert sky:8x4 full.hdr" \
-    "lights sky:16x8 --method median-cut -k 2 --json /dev/full" "lights sky:16x8 --method median-cut -k 2 --gltf /dev/full" \
+    "lights sky:16x8 --method median-cut -k 2 --json /dev/full" "lights sky:16x8 --method median-cut -k 2 --gltf full.gltf" "lights sky:16x8 --method median-cut -k 2 --gltf full.glb" \
     "lights sky:16x8 --method median-cut -k 2 --png full.png" "render --scene spheres $R -o full.exr" \
     "render --scene spheres $R -o a.exr --sidecar /dev/full" "render --scene spheres $R -o a.exr --png full.png" \
     "compare m.pfm m.pfm --diff full.pfm" "compare m.pfm m.pfm --map full.png" "sky --size 8x4 -o full.exr" \
@@ -596,7 +604,7 @@ for c in "convert sky:8x4 full.pfm" "convert sky:64x32 full.exr" "convert sky:8x
     "luminaire info lum.json > /dev/full" "bench-samplers sky:16x8 --runs 1 --samples 1000 --methods inversion > /dev/full" \
     "lights sky:16x8 --method median-cut -k 2 > /dev/full" "--help > /dev/full" "convert --help > /dev/full"; do
     begin "/dev/full: ${c}"
-    for f in full.pfm full.exr full.png full.hdr full.json; do ln -s /dev/full $f; done
+    for f in full.pfm full.exr full.png full.hdr full.json full.gltf full.glb; do ln -s /dev/full $f; done
     cp "$FIX/map.pfm" m.pfm; lum; printf '0 1 0\n1 0 0\n' >dirs.txt
     snap; run fail "\$L $c"
     stderr_says 'space|write' || note "no write error named on stderr"
@@ -672,15 +680,16 @@ fi
 end
 
 for c in "convert sky:8x4 n.pfm" "lights sky:16x8 --method median-cut -k 2 --json /dev/null" \
-    "lights sky:16x8 --method median-cut -k 2 --gltf /dev/null --png n.png" "render --scene spheres $R -o n.exr --png n.png --sidecar /dev/null" \
+    "lights sky:16x8 --method median-cut -k 2 --gltf n.glb --png n.png" "render --scene spheres $R -o n.exr --png n.png --sidecar /dev/null" \
     "compare m.pfm t.pfm --diff n.pfm --map n.png" "sky --size 8x4 -o n.exr"; do
     begin "/dev/null as output: $c"
-    for f in n.pfm n.exr n.png; do ln -s /dev/null $f; done; cp "$FIX/map.pfm" m.pfm; cp "$FIX/test.pfm" t.pfm
+    for f in n.pfm n.exr n.png n.glb; do ln -s /dev/null $f; done; cp "$FIX/map.pfm" m.pfm; cp "$FIX/test.pfm" t.pfm
     snap; run ok "\$L $c"; end
 done
 
-begin "lights: --json /dev/null --gltf /dev/null (two outputs to /dev/null)"
-snap; run any "\$L lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf /dev/null"
+begin "lights: --json /dev/null --gltf n.gltf -> /dev/null (two outputs to /dev/null)"
+ln -s /dev/null n.gltf
+snap; run any "\$L lights sky:16x8 --method median-cut -k 2 --json /dev/null --gltf n.gltf"
 [ "$RC" = 2 ] && warn "refused: --json and --gltf 'the same file' although both are /dev/null"
 end
 

@@ -78,11 +78,12 @@ static void sanitize_counts_each_kind(void **state)
 {
     (void)state;
     float v[] = {1.0f, NAN, -2.0f, INFINITY, -INFINITY, 0.0f, -0.0f, 3e38f, -1e-30f};
-    lumis_replaced r = {0, 0, 0};
+    lumis_replaced r = {0};
     assert_int_equal(lumis_sanitize_floats(v, 9, &r), 5);
     assert_int_equal(r.nan, 1);
     assert_int_equal(r.inf, 2);
     assert_int_equal(r.negative, 2);
+    assert_true(r.negative_min == -2.0f && r.negative_min_at == 2); /* the worst, and where */
     const float want[] = {1.0f, 0, 0, 0, 0, 0, -0.0f, 3e38f, 0};
     for (int k = 0; k < 9; k++) assert_true(v[k] == want[k]);
     assert_int_equal(lumis_replaced_total(r), 5);
@@ -90,10 +91,36 @@ static void sanitize_counts_each_kind(void **state)
     float w[] = {NAN};
     lumis_sanitize_floats(w, 1, &r);
     assert_int_equal(r.nan, 2);
+    float m[] = {-0.5f, -7.0f};
+    lumis_sanitize_floats(m, 2, &r);
+    assert_true(r.negative_min == -7.0f && r.negative_min_at == 1 && r.negative == 4);
     /* The largest float is a legal (if bright) value, kept as it is. */
     float big[] = {FLT_MAX};
     assert_int_equal(lumis_sanitize_floats(big, 1, NULL), 0);
     assert_true(big[0] == FLT_MAX);
+}
+
+/* A saturated pixel far above its neighbours is a spike; a white sun as bright is not, nor a
+ * saturated pixel among neighbours a tenth as bright; columns wrap. */
+static void spikes_are_saturated_and_isolated(void **state)
+{
+    (void)state;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(12, 6, &img), LUMIS_OK);
+    for (int k = 0; k < 12 * 6 * 3; k++) img->pixels[k] = 0.5f + 0.01f * (float)(k % 7);
+    float *p = img->pixels;
+    const int blue = 3 * (2 * 12 + 0), white = 3 * (4 * 12 + 6), red = 3 * (1 * 12 + 9);
+    p[blue] = 0, p[blue + 1] = 0, p[blue + 2] = 9000;          /* (0, 2): at the seam */
+    p[white] = 9000, p[white + 1] = 8500, p[white + 2] = 8000; /* a sun */
+    p[red] = 3, p[red + 1] = 0, p[red + 2] = 0;                /* saturated, but 6x around it */
+    lumis_spike sp[4];
+    assert_int_equal(lumis_image_spikes(img, sp, 4), 1);
+    assert_int_equal(sp[0].x, 0);
+    assert_int_equal(sp[0].y, 2);
+    assert_true(sp[0].ratio > 100 && sp[0].ratio < 2000); /* 648 / 0.51 */
+    assert_int_equal(lumis_image_spikes(img, NULL, 0), 1);
+    assert_int_equal(lumis_image_spikes(NULL, sp, 4), 0);
+    lumis_image_destroy(img);
 }
 
 static void pcg32_matches_the_reference_sequence(void **state)
@@ -333,6 +360,7 @@ int main(void)
         cmocka_unit_test(fail_helper_formats_into_the_sink),
         cmocka_unit_test(image_sizes_are_checked_before_allocation),
         cmocka_unit_test(sanitize_counts_each_kind),
+        cmocka_unit_test(spikes_are_saturated_and_isolated),
         cmocka_unit_test(pcg32_matches_the_reference_sequence),
         cmocka_unit_test(pcg32_advance_jumps_both_ways),
         cmocka_unit_test(pcg32_fill_doubles_matches_successive_draws),

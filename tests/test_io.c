@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include <stb_image.h>
+#include <cJSON.h>
 
 static float f_smooth(int i, int j, int c)
 {
@@ -1199,6 +1200,278 @@ static void gltf_rotation_turns_minus_z_into_minus_dir(void **state)
     }
 }
 
+/* Where the consumers show a direction of their world on an equirectangular map, as the
+ * map's column and row (row 0 the file's top row), written from their sources:
+ * three.js (ShaderChunk common: equirectUv, u = atan(z, x) / 2 pi + 1/2, v = asin(y) / pi
+ * + 1/2 counted from the bottom; HDRLoader's flipY puts the file's top row at v = 1), and
+ * Blender: its glTF importer turns a glTF (x, y, z) into Blender's (x, -z, y), Cycles'
+ * direction_to_equirectangular reads u = 1/2 - atan2(b_y, b_x) / 2 pi, v = 1 - acos(b_z) / pi
+ * from the bottom. */
+static const double PI_ = 3.14159265358979323846;
+
+static void threejs_pixel(const double d[3], int w, int h, int *i, int *j)
+{
+    const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double u = atan2(d[2], d[0]) / (2.0 * PI_) + 0.5;
+    const double v = asin(fmax(-1.0, fmin(1.0, d[1] / n))) / PI_ + 0.5;
+    u -= floor(u);
+    *i = (int)floor(u * w) % w;
+    *j = (int)floor((1.0 - v) * h);
+}
+
+static void blender_pixel(const double d[3], int w, int h, int *i, int *j)
+{
+    const double b[3] = {d[0], -d[2], d[1]};
+    const double n = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    double u = 0.5 - atan2(b[1], b[0]) / (2.0 * PI_);
+    const double v = 1.0 - acos(fmax(-1.0, fmin(1.0, b[2] / n))) / PI_;
+    u -= floor(u);
+    *i = (int)floor(u * w) % w;
+    *j = (int)floor((1.0 - v) * h);
+}
+
+/* Every pixel centre of an odd-sized map: lumis's direction, as the engine frame exports it,
+ * lands on the same pixel under three.js's and Blender's own mappings; lumis's frame lands
+ * half a turn away (the bug of issue 35).  The names round-trip. */
+static void export_frame_maps_pixels_where_consumers_show_them(void **state)
+{
+    (void)state;
+    const int w = 37, h = 19;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            const lumis_vec3 d =
+                lumis_equirect_to_dir((float)((i + 0.5) / w), (float)((j + 0.5) / h));
+            const lumis_vec3 e = lumis_export_frame_dir(LUMIS_EXPORT_FRAME_ENGINE, d);
+            const lumis_vec3 l = lumis_export_frame_dir(LUMIS_EXPORT_FRAME_LUMIS, d);
+            const double de[3] = {e.x, e.y, e.z}, dl[3] = {l.x, l.y, l.z};
+            int ti, tj, bi, bj, li, lj;
+            threejs_pixel(de, w, h, &ti, &tj);
+            blender_pixel(de, w, h, &bi, &bj);
+            threejs_pixel(dl, w, h, &li, &lj);
+            if (ti != i || tj != j || bi != i || bj != j)
+                fail_msg("pixel (%d, %d): three.js shows the export at (%d, %d), Blender at "
+                         "(%d, %d)",
+                         i, j, ti, tj, bi, bj);
+            /* lumis's own frame: the column half a turn away (w odd: the pixel centre lands
+             * on a border between two columns, either) */
+            assert_int_equal(lj, j);
+            const int di = abs(li - i) < w - abs(li - i) ? abs(li - i) : w - abs(li - i);
+            assert_true(di == w / 2);
+        }
+    lumis_export_frame f = LUMIS_EXPORT_FRAME_COUNT;
+    assert_int_equal(lumis_export_frame_from_name("engine", &f), LUMIS_OK);
+    assert_int_equal(f, LUMIS_EXPORT_FRAME_ENGINE);
+    assert_int_equal(lumis_export_frame_from_name("lumis", &f), LUMIS_OK);
+    assert_int_equal(f, LUMIS_EXPORT_FRAME_LUMIS);
+    assert_int_equal(lumis_export_frame_from_name("three", &f), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_string_equal(lumis_export_frame_name(LUMIS_EXPORT_FRAME_COUNT), "unknown");
+    const lumis_vec3 d = {0.25f, -0.5f, 0.75f};
+    const lumis_vec3 u = lumis_export_frame_dir(LUMIS_EXPORT_FRAME_COUNT, d);
+    assert_true(u.x == d.x && u.y == d.y && u.z == d.z);
+}
+
+/* A dim coloured sky, asymmetric in azimuth and elevation, with a sun on one pixel. */
+enum { SUN_W = 37, SUN_H = 19, SUN_I = 29, SUN_J = 5 };
+static float f_sun(int i, int j, int c)
+{
+    if (i == SUN_I && j == SUN_J) return c == 0 ? 4e4f : c == 1 ? 3e4f : 2e4f;
+    return (float)(0.2 + 0.1 * c + 0.5 * (double)i / SUN_W + 0.3 * (double)(SUN_H - j) / SUN_H);
+}
+
+/* The glTF document of a .gltf or a .glb (its JSON chunk), parsed. */
+static cJSON *read_gltf(const char *path)
+{
+    size_t n = 0;
+    unsigned char *b = tu_read_file(path, &n);
+    assert_non_null(b);
+    cJSON *doc = NULL;
+    if (n >= 20 && memcmp(b, "glTF", 4) == 0) {
+        const uint32_t len =
+            (uint32_t)b[12] | (uint32_t)b[13] << 8 | (uint32_t)b[14] << 16 | (uint32_t)b[15] << 24;
+        assert_true(20 + (size_t)len <= n);
+        doc = cJSON_ParseWithLength((const char *)b + 20, len);
+    } else {
+        doc = cJSON_ParseWithLength((const char *)b, n);
+    }
+    free(b);
+    assert_non_null(doc);
+    return doc;
+}
+
+static const cJSON *at(const cJSON *o, const char *path)
+{
+    /* "a.b.c": nested objects */
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = strtok(buf, "."); p && o; p = strtok(NULL, "."))
+        o = cJSON_GetObjectItemCaseSensitive(o, p);
+    assert_non_null(o);
+    return o;
+}
+
+/* The light of the largest intensity in a glTF document: the direction it comes from (its
+ * node's rotation applied to +Z: a glTF light travels along the node's -Z). */
+static void brightest_gltf_light(const cJSON *doc, double to_light[3])
+{
+    const cJSON *lights = at(doc, "extensions.KHR_lights_punctual.lights");
+    const cJSON *nodes = at(doc, "nodes");
+    double best = -1.0;
+    for (int k = 0; k < cJSON_GetArraySize(nodes); k++) {
+        const cJSON *node = cJSON_GetArrayItem(nodes, k);
+        const int li = at(node, "extensions.KHR_lights_punctual.light")->valueint;
+        const double in = at(cJSON_GetArrayItem(lights, li), "intensity")->valuedouble;
+        if (in <= best) continue;
+        best = in;
+        double q[4];
+        for (int c = 0; c < 4; c++) q[c] = cJSON_GetArrayItem(at(node, "rotation"), c)->valuedouble;
+        /* R(q) (0, 0, 1): the third column of the rotation matrix */
+        to_light[0] = 2.0 * (q[0] * q[2] + q[3] * q[1]);
+        to_light[1] = 2.0 * (q[1] * q[2] - q[3] * q[0]);
+        to_light[2] = 1.0 - 2.0 * (q[0] * q[0] + q[1] * q[1]);
+    }
+}
+
+/* lumis_light_set_write_gltf and _json on a map with a sun at an odd pixel: the brightest
+ * light of the file lands on the sun's pixel under three.js's and Blender's mappings (the
+ * engine frame, default) or half a turn away (--frame lumis); the frame is recorded. */
+static void exported_sun_lands_on_the_sun_pixel(void **state)
+{
+    (void)state;
+    lumis_envmap *env = tu_envmap(SUN_W, SUN_H, f_sun, 0.0f, 0.0f);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "wu", 6, 1, NULL, NULL, &set), LUMIS_OK);
+    static const char *const names[] = {"sun.gltf", "sun.glb"};
+    for (int f = 0; f < LUMIS_EXPORT_FRAME_COUNT; f++)
+        for (int n = 0; n < 2; n++) {
+            lumis_light_export_options o = {0};
+            o.frame = (lumis_export_frame)f;
+            assert_int_equal(lumis_light_set_write_gltf(tu_path(names[n]), set, &o), LUMIS_OK);
+            cJSON *doc = read_gltf(tu_path(names[n]));
+            assert_string_equal(at(doc, "asset.extras.frame")->valuestring,
+                                f == LUMIS_EXPORT_FRAME_ENGINE ? "engine" : "lumis");
+            assert_non_null(
+                strstr(at(doc, "asset.extras.frame_equirect")->valuestring,
+                       f == LUMIS_EXPORT_FRAME_ENGINE ? "u = 1/2 along +x" : "u = 0 along +x"));
+            double d[3];
+            brightest_gltf_light(doc, d);
+            cJSON_Delete(doc);
+            int ti, tj, bi, bj;
+            threejs_pixel(d, SUN_W, SUN_H, &ti, &tj);
+            blender_pixel(d, SUN_W, SUN_H, &bi, &bj);
+            const int want =
+                f == LUMIS_EXPORT_FRAME_ENGINE ? SUN_I : (SUN_I + SUN_W / 2 + 1) % SUN_W;
+            if (ti != want || tj != SUN_J || bi != want || bj != SUN_J)
+                fail_msg("%s, frame %s: three.js shows the brightest light at (%d, %d), Blender "
+                         "at (%d, %d); the sun is at (%d, %d)",
+                         names[n], lumis_export_frame_name(o.frame), ti, tj, bi, bj, SUN_I, SUN_J);
+        }
+    /* the JSON: the same directions, and its frame */
+    lumis_light_export_options o = {0};
+    assert_int_equal(lumis_light_set_write_json(tu_path("sun.json"), set, &o), LUMIS_OK);
+    cJSON *j = read_gltf(tu_path("sun.json"));
+    assert_string_equal(at(j, "frame")->valuestring, "engine");
+    const lumis_light *l = NULL;
+    int count = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &count), LUMIS_OK);
+    for (int k = 0; k < count; k++) {
+        const cJSON *dir = at(cJSON_GetArrayItem(at(j, "lights"), k), "dir");
+        assert_true(fabs(cJSON_GetArrayItem(dir, 0)->valuedouble + l[k].dir.x) < 1e-6);
+        assert_true(fabs(cJSON_GetArrayItem(dir, 1)->valuedouble - l[k].dir.y) < 1e-6);
+        assert_true(fabs(cJSON_GetArrayItem(dir, 2)->valuedouble + l[k].dir.z) < 1e-6);
+    }
+    cJSON_Delete(j);
+    o.frame = LUMIS_EXPORT_FRAME_COUNT;
+    assert_int_equal(lumis_light_set_write_json(tu_path("bad.json"), set, &o),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* A .glb is a binary glTF container (glTF 2.0, "GLB File Format Specification"): magic
+ * "glTF", version 2, the file's length; one JSON chunk, its length a multiple of 4, padded
+ * with spaces, holding the document the .gltf holds.  The container follows the name (any
+ * case) unless given; any other name is refused and nothing is written. */
+static void glb_is_a_binary_gltf_container(void **state)
+{
+    (void)state;
+    lumis_envmap *env = tu_envmap(SUN_W, SUN_H, f_sun, 0.0f, 0.0f);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", 5, 1, NULL, NULL, &set), LUMIS_OK);
+    lumis_light_export_options o = {0};
+    o.method = "median-cut";
+    /* parameters 1 to 4 characters longer: the JSON's length takes every value mod 4 */
+    static const char *const params[] = {"seed=3", "seed=33", "seed=333", "seed=3333"};
+    size_t n = 0, padding = 0;
+    unsigned char *b = NULL;
+    for (int p = 0; p < 4; p++) {
+        o.parameters = params[p];
+        assert_int_equal(lumis_light_set_write_gltf(tu_path("c.GLB"), set, &o), LUMIS_OK);
+        assert_int_equal(lumis_light_set_write_gltf(tu_path("c.gltf"), set, &o), LUMIS_OK);
+        b = tu_read_file(tu_path("c.GLB"), &n);
+        assert_non_null(b);
+        assert_true(n >= 20 && n % 4 == 0);
+        assert_memory_equal(b, "glTF", 4);
+        assert_int_equal(le32(b + 4), 2);
+        assert_int_equal(le32(b + 8), n);
+        const uint32_t len = le32(b + 12);
+        assert_int_equal(len % 4, 0);
+        assert_int_equal(20 + (size_t)len, n); /* one chunk, no BIN chunk: no buffers */
+        assert_memory_equal(b + 16, "JSON", 4);
+        size_t end = 20 + len;
+        while (end > 20 && b[end - 1] == ' ') end--;
+        assert_true(end + 4 > 20 + (size_t)len); /* at most 3 bytes of padding */
+        assert_int_equal(b[end - 1], '}');
+        padding += 20 + len - end;
+        cJSON *bin = cJSON_ParseWithLength((const char *)b + 20, len);
+        free(b);
+        cJSON *text = read_gltf(tu_path("c.gltf"));
+        assert_non_null(bin);
+        assert_true(cJSON_Compare(bin, text, 1));
+        assert_int_equal(cJSON_GetArraySize(at(bin, "nodes")), 5);
+        cJSON_Delete(bin);
+        cJSON_Delete(text);
+    }
+    assert_int_equal(padding, 1 + 2 + 3); /* each residue once */
+
+    /* a text .gltf starts with '{'; an explicit container wins over the name */
+    b = tu_read_file(tu_path("c.gltf"), &n);
+    assert_true(n > 0 && b[0] == '{');
+    free(b);
+    o.container = LUMIS_GLTF_BINARY;
+    assert_int_equal(lumis_light_set_write_gltf(tu_path("c.bin"), set, &o), LUMIS_OK);
+    b = tu_read_file(tu_path("c.bin"), &n);
+    assert_true(n > 4 && memcmp(b, "glTF", 4) == 0);
+    free(b);
+    o.container = LUMIS_GLTF_TEXT;
+    assert_int_equal(lumis_light_set_write_gltf(tu_path("c2.glb"), set, &o), LUMIS_OK);
+    b = tu_read_file(tu_path("c2.glb"), &n);
+    assert_true(n > 0 && b[0] == '{');
+    free(b);
+    /* neither .gltf nor .glb: refused, with a message naming the file, nothing written */
+    o.container = LUMIS_GLTF_AUTO;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    o.errors = sink.sink;
+    static const char *const bad[] = {"c.txt", "glb", "c.glb.json", "c.gltf/", "c."};
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *p = tu_path(bad[k]);
+        assert_int_equal(lumis_light_set_write_gltf(p, set, &o), LUMIS_ERR_UNKNOWN_FORMAT);
+        assert_non_null(strstr(sink.last, ".glb for binary"));
+        struct stat sb;
+        assert_int_not_equal(stat(p, &sb), 0);
+    }
+    o.container = LUMIS_GLTF_COUNT;
+    assert_int_equal(lumis_light_set_write_gltf(tu_path("c3.glb"), set, &o),
+                     LUMIS_ERR_UNKNOWN_FORMAT);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 /* An output is an ordinary file, 0644 less the umask, not the 0600 of mkstemp's
  * temporary file it was renamed from. */
 static void outputs_get_ordinary_permissions(void **state)
@@ -1332,6 +1605,9 @@ int main(void)
         cmocka_unit_test(png_srgb_curve_near_black),
         cmocka_unit_test(map_specs_name_sizes_and_files),
         cmocka_unit_test(gltf_rotation_turns_minus_z_into_minus_dir),
+        cmocka_unit_test(export_frame_maps_pixels_where_consumers_show_them),
+        cmocka_unit_test(exported_sun_lands_on_the_sun_pixel),
+        cmocka_unit_test(glb_is_a_binary_gltf_container),
         cmocka_unit_test(outputs_get_ordinary_permissions),
         cmocka_unit_test(explicit_format_wins_over_the_extension),
     };

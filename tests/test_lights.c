@@ -896,6 +896,44 @@ static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* A map ten times as bright gives the same lights, each ten times as powerful: no method may
+ * depend on the map's absolute level (issue 37: TMMS's log average over 2 pi instead of
+ * 4 pi kept every estimator agreeing, and only this invariance sees it).  Wu's split
+ * uses a relative threshold here; an absolute one is the caller's to scale. */
+static void every_method_is_invariant_to_the_maps_brightness(void **state)
+{
+    (void)state;
+    static const build_fn fns[] = {build_mc, build_vm, build_wu_cut_only, build_fhis, build_tmms};
+    static const char *const names[] = {"median cut", "variance min", "wu (cut)", "fhis", "tmms"};
+    lumis_envmap *a = make_env(61, 31, sky_pixel, 73.0f, 1.0f);
+    lumis_envmap *b = make_env(61, 31, sky_pixel, 73.0f, 10.0f);
+    for (size_t f = 0; f < sizeof fns / sizeof fns[0]; f++) {
+        lumis_light_set *sa = NULL, *sb = NULL;
+        assert_int_equal(fns[f](a, 12, &sa), LUMIS_OK);
+        assert_int_equal(fns[f](b, 12, &sb), LUMIS_OK);
+        const lumis_light *la, *lb;
+        int na, nb;
+        assert_int_equal(lumis_light_set_get(sa, 0, &la, &na), LUMIS_OK);
+        assert_int_equal(lumis_light_set_get(sb, 0, &lb, &nb), LUMIS_OK);
+        if (na != nb) fail_msg("%s: %d lights, then %d", names[f], na, nb);
+        for (int k = 0; k < na; k++) {
+            const double dd = fabs(la[k].dir.x - lb[k].dir.x) + fabs(la[k].dir.y - lb[k].dir.y) +
+                              fabs(la[k].dir.z - lb[k].dir.z);
+            if (dd > 1e-5 || la[k].pixels != lb[k].pixels)
+                fail_msg("%s: light %d moved (%d against %d pixels)", names[f], k, la[k].pixels,
+                         lb[k].pixels);
+            for (int c = 0; c < 3; c++)
+                if (fabs(lb[k].power[c] - 10 * la[k].power[c]) > 1e-6 * fabs(lb[k].power[c]))
+                    fail_msg("%s: light %d channel %d: %g, then %g (x10 expected)", names[f], k, c,
+                             la[k].power[c], lb[k].power[c]);
+        }
+        lumis_light_set_destroy(sa);
+        lumis_light_set_destroy(sb);
+    }
+    lumis_envmap_destroy(a);
+    lumis_envmap_destroy(b);
+}
+
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
 {
     (void)state;
@@ -1663,6 +1701,87 @@ static void malformed_options_are_refused(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Folding the lights below the ground into the nearest ones above: none left below, every
+ * region still labelled and inside its light's cone, the power of each light what brute force
+ * says (its own plus the folded lights nearest to it), the total unchanged, and the report's
+ * folded power that of the lights that went. */
+static void fold_below_conserves_power_into_the_nearest_light(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(64, 32, sky_pixel, 30.0f, 1.0f);
+    for (int method = 0; method < 2; method++) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(method ? build_wu(env, 16, &set) : build_mc(env, 16, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        lumis_light before[16];
+        assert_true(n <= 16);
+        memcpy(before, L, sizeof *L * (size_t)n);
+        /* brute force: each light's power after the fold, in the order the kept ones stay */
+        double want[16][3] = {{0}}, moved[3] = {0, 0, 0};
+        int kept = 0, slot[16];
+        for (int k = 0; k < n; k++) slot[k] = before[k].dir.y > 0.0f ? kept++ : -1;
+        assert_true(kept > 0 && kept < n); /* the map's floor makes lights below */
+        for (int k = 0; k < n; k++) {
+            int to = k;
+            if (slot[k] < 0) {
+                double best = -2.0;
+                for (int q = 0; q < n; q++) {
+                    const double c = (double)before[k].dir.x * before[q].dir.x +
+                                     (double)before[k].dir.y * before[q].dir.y +
+                                     (double)before[k].dir.z * before[q].dir.z;
+                    if (slot[q] >= 0 && c > best) best = c, to = q;
+                }
+                for (int c = 0; c < 3; c++) moved[c] += before[k].power[c];
+            }
+            for (int c = 0; c < 3; c++) want[slot[to]][c] += before[k].power[c];
+        }
+        lumis_light_fold r;
+        const lumis_vec3 up = {0.0f, 2.0f, 0.0f}; /* any length */
+        assert_int_equal(lumis_light_set_fold_below(set, up, NULL, &r), LUMIS_OK);
+        assert_int_equal(r.kept, kept);
+        assert_int_equal(r.folded, n - kept);
+        assert_int_equal(lumis_light_set_get_info(set)->count, kept);
+        check_set(set, env); /* labels, cones, sets, the map's power */
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        assert_int_equal(n, kept);
+        double total = 0.0, y_moved = 0.2126 * moved[0] + 0.7152 * moved[1] + 0.0722 * moved[2];
+        for (int k = 0; k < n; k++) {
+            assert_true(L[k].dir.y > 0.0f);
+            for (int c = 0; c < 3; c++)
+                assert_true(fabs(L[k].power[c] - want[k][c]) <= 1e-12 * want[k][c]);
+            total += 0.2126 * L[k].power[0] + 0.7152 * L[k].power[1] + 0.0722 * L[k].power[2];
+        }
+        for (int c = 0; c < 3; c++) assert_true(fabs(r.power[c] - moved[c]) <= 1e-12 * moved[c]);
+        assert_true(r.share > 0.0 && fabs(r.share - y_moved / total) < 1e-12);
+        if (method) { /* Wu's kinds are counted again */
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            int d = 0;
+            for (int k = 0; k < n; k++) d += L[k].kind == LUMIS_LIGHT_ENV_DIRECT;
+            assert_int_equal(info->direct, d);
+            assert_int_equal(info->indirect, n - d);
+        }
+        /* nothing above the opposite plane now: refused, the set unchanged */
+        tu_sink sink;
+        tu_sink_init(&sink);
+        const lumis_vec3 down = {0.0f, -1.0f, 0.0f}, zero = {0.0f, 0.0f, 0.0f};
+        assert_int_equal(lumis_light_set_fold_below(set, down, &sink.sink, &r),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(sink.last, "above the plane"));
+        assert_int_equal(lumis_light_set_fold_below(set, zero, NULL, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_light_set_fold_below(NULL, up, NULL, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_light_set_get_info(set)->count, kept);
+        /* folding again changes nothing */
+        assert_int_equal(lumis_light_set_fold_below(set, up, NULL, &r), LUMIS_OK);
+        assert_true(r.folded == 0 && r.kept == kept && r.share == 0.0);
+        lumis_light_set_destroy(set);
+    }
+    lumis_envmap_destroy(env);
+}
+
 static void interleave_pattern_covers_every_set(void **state)
 {
     (void)state;
@@ -1771,6 +1890,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_method_conserves_power),
+        cmocka_unit_test(fold_below_conserves_power_into_the_nearest_light),
         cmocka_unit_test(wu_on_tiled_maps_conserves_power),
         cmocka_unit_test(median_cut_regions_have_equal_energy),
         cmocka_unit_test(variance_min_splits_minimise_the_summed_variance),
@@ -1778,6 +1898,7 @@ int main(void)
         cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
+        cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(one_light_per_pixel_is_exact),
         cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
         cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),

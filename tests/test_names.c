@@ -50,6 +50,8 @@ static void every_enumeration_round_trips(void **state)
                lumis_sequence_from_name);
     ROUND_TRIP(lumis_lights_mode, 0, LUMIS_LIGHTS_MODE_COUNT, lumis_lights_mode_name,
                lumis_lights_mode_from_name);
+    ROUND_TRIP(lumis_export_frame, 0, LUMIS_EXPORT_FRAME_COUNT, lumis_export_frame_name,
+               lumis_export_frame_from_name);
     /* 0 is "default", an alias of inversion-guided */
     ROUND_TRIP(lumis_sampler_method, 1, LUMIS_METHOD_COUNT, lumis_sampler_method_name,
                lumis_sampler_method_from_name);

@@ -352,7 +352,7 @@ static lumis_status op_export(void *ctx)
 {
     int gltf = *(const int *)ctx;
     char path[600];
-    snprintf(path, sizeof path, "%s/lights.%s", in.dir, gltf ? "gltf" : "json");
+    snprintf(path, sizeof path, "%s/lights.%s", in.dir, gltf == 2 ? "glb" : gltf ? "gltf" : "json");
     return gltf ? lumis_light_set_write_gltf(path, in.set, NULL)
                 : lumis_light_set_write_json(path, in.set, NULL);
 }
@@ -625,6 +625,8 @@ static void light_export_luminaire_files_and_metrics(void **state)
     each_allocation_fails("lights json", op_export, &gltf);
     gltf = 1;
     each_allocation_fails("lights gltf", op_export, &gltf);
+    gltf = 2;
+    each_allocation_fails("lights glb", op_export, &gltf);
     each_allocation_fails("luminaire write + read", op_luminaire_files, NULL);
     char path[600];
     snprintf(path, sizeof path, "%s/over.json", in.dir);
@@ -690,7 +692,7 @@ static lumis_status op_photometric(void *ctx)
     lumis_photometric_light_field lf = {0};
     lf.grid[0] = lf.grid[1] = 2;
     lf.width = lf.height = 6;
-    if (st == LUMIS_OK) st = lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum);
+    if (st == LUMIS_OK) st = lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum, NULL);
     lumis_luminaire_info li;
     if (st == LUMIS_OK) lumis_luminaire_get_info(lum, &li);
     digest = st == LUMIS_OK ? info.flux + pdf + li.total_power : 0;

@@ -515,10 +515,11 @@ static void near_field_and_light_field(void **state)
     tu_sink sink;
     tu_sink_init(&sink);
     lumis_luminaire *lum = NULL;
-    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, &sink.sink, &lum), LUMIS_OK);
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, &sink.sink, &lum, NULL),
+                     LUMIS_OK);
     lumis_luminaire_info li;
     lumis_luminaire_get_info(lum, &li);
-    assert_int_equal(li.images, 81);
+    assert_int_equal(li.images, 100); /* 10 x 10: delta W^2 = 200 sizes, delta 2 sizes */
     for (int k = 0; k < 4; k++) {
         const double D = Ds[k];
         const lumis_vec3 x = {0, 0, (float)-D}, n = {0, 0, 1}; /* below, facing up */
@@ -541,20 +542,212 @@ static void near_field_and_light_field(void **state)
     lumis_rgb e;
     assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 0, &near), LUMIS_OK);
     assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
-    if (fabs(e.g / near - 1) > 0.03) fail_msg("off axis: light field %g, near field %g", e.g, near);
+    /* 0.4 from the opening is delta (2 sizes): on S every image shows one pixel of ~3 degrees
+     * and no basis blur, so the deconvolved images are seen as they are.  The light field is
+     * farthest from the opening there: -6.6 %, where the point is -1.1 % (docs/photometric.md,
+     * "Near field": a known limit) */
+    double ptE = 0;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 0, x, n, 0, &ptE), LUMIS_OK);
+    if (fabs(e.g / near - 1) > 0.08)
+        fail_msg("off axis: light field %g, near field %g, point %g", e.g, near, ptE);
     lumis_luminaire_destroy(lum);
     lumis_photometric_file_destroy(f);
     /* a point source: no opening, no light field, and a clear error */
     pg_ies_spec pt = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
     f = read_ies(&pt);
     tu_sink_init(&sink);
-    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, &sink.sink, &lum),
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, &sink.sink, &lum, NULL),
                      LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "the file's luminous shape is \"point\""));
     double E = 0;
     assert_int_equal(lumis_photometric_irradiance(f->model, 1, xl, nl, 0, &E),
                      LUMIS_ERR_INVALID_ARGUMENT);
     lumis_photometric_file_destroy(f);
+}
+
+/* The light field plus its far-field residual (the table beyond its cone) hold the table's
+ * flux: for an uplight-heavy table (42 % above the horizon), a linear fixture whose side
+ * light passes 80 degrees, and a narrow spot; the residual is the table's flux beyond the
+ * cone exactly. */
+static void light_field_power_and_residual(void **state)
+{
+    (void)state;
+    /* an uplight-heavy rotational table on a 0.3 x 0.2 m opening */
+    double v[19], cd[19];
+    for (int j = 0; j < 19; j++) {
+        v[j] = 10.0 * j;
+        const double g = v[j] * 3.14159265358979 / 180;
+        cd[j] = (g < 1.5708 ? 400 * cos(g) : 0) + 150 * sin(g) * sin(g) + (g > 1.5708 ? 200 : 0);
+    }
+    const double h0 = 0;
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = 19;
+    d.nh = 1;
+    d.v_deg = v;
+    d.h_deg = &h0;
+    d.candela = cd;
+    d.shape = LUMIS_SHAPE_RECTANGLE;
+    d.width = 0.2;
+    d.length = 0.3;
+    lumis_photometric *up = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &up), LUMIS_OK);
+    pg_ies_spec lin = {PG_LINEAR, 1.5, "IESNA:LM-63-2002", 1, 91, 0, 90, 19, 0, 90, 0, 0, 0.05, 1.2,
+                       0,         2};
+    pg_ies_spec spot = {PG_SPOT, 50, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.1, -0.1,
+                        0,       2};
+    lumis_photometric_file *fl = read_ies(&lin), *fs = read_ies(&spot);
+    const lumis_photometric *tables[3] = {up, fl->model, fs->model};
+    const char *names[3] = {"uplight", "linear", "spot"};
+    for (int k = 0; k < 3; k++) {
+        const lumis_photometric *p = tables[k];
+        lumis_photometric_light_field lf = {0};
+        lf.error_target = 0.02; /* the coarsest images: the power does not depend on them */
+        lumis_photometric_light_field_report rep;
+        lumis_luminaire *lum = NULL;
+        assert_int_equal(lumis_luminaire_from_photometric(p, &lf, NULL, &lum, &rep), LUMIS_OK);
+        lumis_luminaire_info li;
+        lumis_luminaire_get_info(lum, &li);
+        const double flux = lumis_photometric_flux(p);
+        const double within = lumis_photometric_flux_within(p, rep.max_angle_deg);
+        lumis_photometric *res = NULL, *cut = NULL;
+        /* a cut: exactly the table's flux beyond */
+        assert_int_equal(
+            lumis_photometric_beyond(p, rep.max_angle_deg, rep.max_angle_deg, NULL, &cut),
+            LUMIS_OK);
+        if (fabs(lumis_photometric_flux(cut) - (flux - within)) > 1e-6 * flux)
+            fail_msg("%s: cut %g lm, the table beyond %g lm", names[k], lumis_photometric_flux(cut),
+                     flux - within);
+        lumis_photometric_destroy(cut);
+        /* the light field's fade: the residual between the cut and the flux within its start */
+        assert_true(rep.ramp_from_deg < rep.max_angle_deg);
+        assert_int_equal(
+            lumis_photometric_beyond(p, rep.ramp_from_deg, rep.max_angle_deg, NULL, &res),
+            LUMIS_OK);
+        const double rf = lumis_photometric_flux(res);
+        assert_true(rf >= flux - within - 1e-9 * flux);
+        assert_true(rf <= flux - lumis_photometric_flux_within(p, rep.ramp_from_deg) + 1e-9 * flux);
+        if (fabs((li.total_power + rf) / flux - 1) > 1e-3)
+            fail_msg("%s: light field %g + residual %g lm, table %g lm", names[k], li.total_power,
+                     rf, flux);
+        assert_true(fabs(rep.light_field_flux - li.total_power) < 1e-9 * flux);
+        assert_true(fabs(rep.residual_flux - rf) < 1e-6 * flux);
+        assert_true(fabs(rep.flux - flux) < 1e-9 * flux);
+        /* the residual is the table beyond the cone and nothing within */
+        const lumis_vec3 in_cone = {0.1f, 0.0f, -0.995f}, side = {0.995f, 0.0f, 0.1f};
+        assert_true(lumis_photometric_intensity(res, in_cone) == 0);
+        assert_true(
+            fabs(lumis_photometric_intensity(res, side) - lumis_photometric_intensity(p, side)) <=
+            1e-9 * lumis_photometric_intensity(p, side));
+        if (k == 0) assert_true(rep.residual_share > 0.3); /* the uplight's is large */
+        if (k == 1) assert_true(rep.residual_share > 0.001);
+        lumis_photometric_destroy(res);
+        lumis_luminaire_destroy(lum);
+    }
+    /* types A and B have no cone in their angles */
+    lumis_photometric *res = NULL;
+    const double vab[3] = {-90, 0, 90}, hab[3] = {-90, 0, 90}, cab[9] = {1, 2, 1, 2, 3, 2, 1, 2, 1};
+    lumis_photometric_desc ab = {0};
+    ab.type = LUMIS_PHOTOMETRIC_B;
+    ab.nv = ab.nh = 3;
+    ab.v_deg = vab;
+    ab.h_deg = hab;
+    ab.candela = cab;
+    lumis_photometric *pb = NULL;
+    assert_int_equal(lumis_photometric_create(&ab, NULL, &pb), LUMIS_OK);
+    assert_int_equal(lumis_photometric_beyond(pb, 30, 30, NULL, &res), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_beyond(NULL, 30, 30, NULL, &res),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_photometric_destroy(pb);
+    /* a cut at or beyond the table's ends */
+    assert_int_equal(lumis_photometric_beyond(up, 40, 30, NULL, &res), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_beyond(up, 0, 0, NULL, &res), LUMIS_OK);
+    assert_true(fabs(lumis_photometric_flux(res) - lumis_photometric_flux(up)) < 1e-9);
+    lumis_photometric_destroy(res);
+    assert_int_equal(lumis_photometric_beyond(up, 180, 180, NULL, &res), LUMIS_OK);
+    assert_true(lumis_photometric_flux(res) == 0);
+    lumis_photometric_destroy(res);
+    lumis_photometric_destroy(up);
+    lumis_photometric_file_destroy(fl);
+    lumis_photometric_file_destroy(fs);
+}
+
+/* The light field (with its residual) against the exact opening is closer than the point
+ * model at 1 to 50 opening sizes, on a narrow spot and an asymmetric road light, at the
+ * peak and off it; far away its error is the one it reports. */
+static void light_field_beats_the_point_model(void **state)
+{
+    (void)state;
+    pg_ies_spec specs[2] = {
+        {PG_SPOT, 50, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.1, -0.1, 0, 2},
+        {PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 91, 0, 90, 73, 0, 360, 0, 0, 0.2, 0.4, 0, 2}};
+    const double sizes[] = {1, 2, 5, 10, 20, 50};
+    for (int k = 0; k < 2; k++) {
+        lumis_photometric_file *f = read_ies(&specs[k]);
+        lumis_photometric_info in = info_of(f);
+        const double size = fmax(in.width, in.length);
+        lumis_photometric_light_field_report rep;
+        lumis_luminaire *lum = NULL;
+        assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, NULL, &lum, &rep),
+                         LUMIS_OK);
+        if (!rep.target_met || !(rep.far_field_error <= 0.005))
+            fail_msg("%s: far-field error %g (target met %d), %d x %d px, k %d",
+                     k ? "road" : "spot", rep.far_field_error, rep.target_met, rep.width,
+                     rep.height, rep.pixels_per_spacing[0]);
+        assert_true(rep.far_field_error_mean <= rep.far_field_error && rep.directions > 10);
+        lumis_photometric *res = NULL;
+        assert_int_equal(
+            lumis_photometric_beyond(f->model, rep.ramp_from_deg, rep.max_angle_deg, NULL, &res),
+            LUMIS_OK);
+        /* receivers: the peak and four directions around it (the spot's beam edge, the road
+         * light's throw and its back) */
+        const double gs[2][5] = {{0, 6, 9, 12, 12}, {0, 30, 50, 60, 45}};
+        const double cs[2][5] = {{0, 0, 90, 200, 300}, {0, 0, 0, 180, 90}};
+        for (int r = 0; r < 6; r++) {
+            const double D = sizes[r] * size;
+            double lf_max = 0, pt_max = 0, far_max = 0;
+            for (int q = 0; q < 5; q++) {
+                const double g = gs[k][q] * 3.14159265358979 / 180,
+                             c = cs[k][q] * 3.14159265358979 / 180;
+                const double w[3] = {sin(g) * cos(c), sin(g) * sin(c), -cos(g)};
+                const lumis_vec3 x = {(float)(D * w[0]), (float)(D * w[1]), (float)(D * w[2])},
+                                 n = {(float)-w[0], (float)-w[1], (float)-w[2]};
+                double exact = 0, point = 0, resid = 0;
+                assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 16, &exact),
+                                 LUMIS_OK);
+                lumis_photometric_irradiance(f->model, 0, x, n, 0, &point);
+                lumis_photometric_irradiance(res, 0, x, n, 0, &resid);
+                const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {n.x, -n.y, -n.z};
+                lumis_rgb e;
+                assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
+                lf_max = fmax(lf_max, fabs((e.g + resid) / exact - 1));
+                pt_max = fmax(pt_max, fabs(point / exact - 1));
+                if (r == 5) { /* and 1000 sizes away: the far field the report measured */
+                    const double F = 1000 * size;
+                    const lumis_vec3 xf = {(float)(F * w[0]), (float)(-F * w[1]),
+                                           (float)(-F * w[2])};
+                    const lumis_vec3 xp = {xf.x, -xf.y, -xf.z};
+                    double far_pt = 0;
+                    lumis_photometric_irradiance(f->model, 0, xp, n, 0, &far_pt);
+                    assert_int_equal(lumis_luminaire_irradiance(lum, xf, nl, 0, &e), LUMIS_OK);
+                    far_max = fmax(far_max, fabs(e.g / far_pt - 1));
+                }
+            }
+            if (!(lf_max < pt_max))
+                fail_msg("%s at %g sizes: light field %.4f %%, point %.4f %%", k ? "road" : "spot",
+                         sizes[r], 100 * lf_max, 100 * pt_max);
+            if (r == 5 && !(far_max <= 1.0001 * rep.far_field_error + 1e-6))
+                fail_msg("%s: far-field error %.4f %% measured, %.4f %% reported",
+                         k ? "road" : "spot", 100 * far_max, 100 * rep.far_field_error);
+            if (r == 5 && !(far_max >= 0.1 * rep.far_field_error_mean))
+                fail_msg("%s: far-field error %.5f %% measured at the peak's directions, mean "
+                         "%.5f %% reported",
+                         k ? "road" : "spot", 100 * far_max, 100 * rep.far_field_error_mean);
+        }
+        lumis_photometric_destroy(res);
+        lumis_luminaire_destroy(lum);
+        lumis_photometric_file_destroy(f);
+    }
 }
 
 /* Every argument check of the model and its sampler, and the names' edges. */
@@ -650,7 +843,7 @@ static void model_refuses_bad_tables(void **state)
     assert_int_equal(lumis_photometric_irradiance(NULL, 0, down, down, 0, &E),
                      LUMIS_ERR_INVALID_ARGUMENT);
     lumis_luminaire *lum = NULL;
-    assert_int_equal(lumis_luminaire_from_photometric(NULL, NULL, NULL, &lum),
+    assert_int_equal(lumis_luminaire_from_photometric(NULL, NULL, NULL, &lum, NULL),
                      LUMIS_ERR_INVALID_ARGUMENT);
     lumis_photometric_info info;
     assert_int_equal(lumis_photometric_get_info(p, NULL), LUMIS_ERR_INVALID_ARGUMENT);
@@ -719,10 +912,10 @@ static void rectangle_near_and_light_fields(void **state)
     lf.basis = LUMIS_BASIS_BSPLINE;
     lf.width = lf.height = 64;
     lumis_luminaire *lum = NULL;
-    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum), LUMIS_OK);
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, NULL, &lum, NULL), LUMIS_OK);
     lumis_luminaire_info li;
     lumis_luminaire_get_info(lum, &li);
-    assert_int_equal(li.grid[0], 9); /* along the length (x), 5 across */
+    assert_int_equal(li.grid[0], 10); /* along the length (x), 5 across */
     assert_int_equal(li.grid[1], 5);
     const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {0, 0, -1};
     lumis_rgb e;
@@ -734,7 +927,7 @@ static void rectangle_near_and_light_fields(void **state)
     badlf.grid[1] = 2;
     tu_sink sink;
     tu_sink_init(&sink);
-    assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, &sink.sink, &lum),
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, &sink.sink, &lum, NULL),
                      LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "grid 300 x 2"));
     const struct {
@@ -744,9 +937,9 @@ static void rectangle_near_and_light_fields(void **state)
     } bads[] = {{40, 40, 0, 0, 0}, {0, 0, 20000, 0, 0}, {0, 0, 0, 95, 0}, {0, 0, 0, 0, 20}};
     for (int k = 0; k < 4; k++) {
         badlf = (lumis_photometric_light_field){
-            {bads[k].g0, bads[k].g1}, bads[k].w, bads[k].w, 0, bads[k].angle,
-            LUMIS_BASIS_DEFAULT,      bads[k].ss};
-        assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, NULL, &lum),
+            {bads[k].g0, bads[k].g1}, bads[k].w,  bads[k].w, 0, bads[k].angle,
+            LUMIS_BASIS_DEFAULT,      bads[k].ss, 0};
+        assert_int_equal(lumis_luminaire_from_photometric(f->model, &badlf, NULL, &lum, NULL),
                          LUMIS_ERR_INVALID_ARGUMENT);
     }
     /* behind the opening, or facing away: no light from the opening */
@@ -1260,6 +1453,8 @@ int main(void)
         cmocka_unit_test(beam_and_field_angles),
         cmocka_unit_test(malformed_files_name_line_and_field),
         cmocka_unit_test(near_field_and_light_field),
+        cmocka_unit_test(light_field_power_and_residual),
+        cmocka_unit_test(light_field_beats_the_point_model),
         cmocka_unit_test(model_refuses_bad_tables),
         cmocka_unit_test(rectangle_near_and_light_fields),
         cmocka_unit_test(readers_less_travelled),

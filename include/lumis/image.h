@@ -24,9 +24,14 @@ typedef struct lumis_image {
     float *pixels; /* width * height * 3 floats, owned by the image */
 } lumis_image;
 
-/* Counts of channel values replaced by 0 because they were NaN, infinite or negative. */
+/* Counts of channel values replaced by 0 because they were NaN, infinite or negative, and
+ * the most negative of them: compression leaves tiny negatives in most real HDRIs, while a
+ * large one marks a broken cluster of pixels (zero-initialise it). */
 typedef struct lumis_replaced {
     uint64_t nan, inf, negative;
+    float negative_min;       /* the most negative value replaced (0: none) */
+    double negative_sum;      /* the sum of the negative values replaced (<= 0) */
+    uint64_t negative_min_at; /* its index among the values of the call that met it */
 } lumis_replaced;
 
 /* Checks width and height (each >= 1) against max_pixels (0 == LUMIS_DEFAULT_MAX_PIXELS)
@@ -44,7 +49,8 @@ lumis_status lumis_image_clone(const lumis_image *src, lumis_image **out);
 void lumis_image_destroy(lumis_image *image);
 
 /* Replaces every NaN, infinite or negative value among count floats by 0 and adds what it
- * replaced to *replaced (which may be NULL).  Returns the number of values replaced. */
+ * replaced to *replaced (which may be NULL), keeping its most negative value and where it
+ * was.  Returns the number of values replaced. */
 uint64_t lumis_sanitize_floats(float *values, size_t count, lumis_replaced *replaced);
 
 /* Total of a lumis_replaced. */
@@ -52,6 +58,20 @@ static inline uint64_t lumis_replaced_total(lumis_replaced r)
 {
     return r.nan + r.inf + r.negative;
 }
+
+/* A pixel no camera makes: far brighter than its neighbours and of a saturated colour (a
+ * pure-blue "sun"), as a broken compression block leaves; a real sun is near white. */
+typedef struct lumis_spike {
+    int x, y;    /* the pixel (row 0 at the top) */
+    float ratio; /* its luminance over the median of its 8 neighbours' (capped at 1e9) */
+} lumis_spike;
+
+/* Finds the spikes of an equirectangular RGB image: pixels whose smallest channel is under
+ * 2 % of their largest, and whose luminance is more than 100 times the median of their 8
+ * neighbours' (columns wrap, rows clamp).  Writes up to max of them to out (which may be
+ * NULL with max 0) in scan order and returns how many there are.  Cost: one pass, the
+ * neighbours only of saturated pixels. */
+int lumis_image_spikes(const lumis_image *img, lumis_spike *out, int max);
 
 #ifdef __cplusplus
 }

@@ -157,6 +157,40 @@ void lumis_io_remove_partial_outputs(void);
 
 struct lumis_light_set;
 
+/* The frame of the directions a light-set file holds.  lumis's own frame puts column u = 0
+ * of an equirectangular map at +x (docs/coordinates.md); three.js and Blender show column
+ * u = 1/2 there.  A file for them must put each light where they show its
+ * source, so the default turns every direction half a turn about +y.  Formulas and the
+ * consumers checked: docs/lights-export.md, "Frames". */
+typedef enum lumis_export_frame {
+    LUMIS_EXPORT_FRAME_ENGINE = 0, /* default: map pixel (u, v) is seen along
+                                      (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2),
+                                      t = pi v (v = 0 the top row), as three.js's equirectUv
+                                      and Blender (through its glTF importer) show the map */
+    LUMIS_EXPORT_FRAME_LUMIS,      /* lumis's own: p = 2 pi u (u = 0 along +x) */
+    LUMIS_EXPORT_FRAME_COUNT
+} lumis_export_frame;
+
+/* "engine", "lumis"; "unknown" for anything else. */
+const char *lumis_export_frame_name(lumis_export_frame frame);
+
+/* Frame by name; LUMIS_ERR_INVALID_ARGUMENT (and *out untouched) for an unknown name. */
+lumis_status lumis_export_frame_from_name(const char *name, lumis_export_frame *out);
+
+/* A direction of lumis's frame (a light's dir, docs/coordinates.md) as a file in `frame`
+ * holds it: (-x, y, -z) for LUMIS_EXPORT_FRAME_ENGINE, unchanged for LUMIS_EXPORT_FRAME_LUMIS
+ * (and for an unknown frame). */
+lumis_vec3 lumis_export_frame_dir(lumis_export_frame frame, lumis_vec3 dir);
+
+/* How lumis_light_set_write_gltf stores the file. */
+typedef enum lumis_gltf_container {
+    LUMIS_GLTF_AUTO = 0, /* default: from the path, .gltf JSON text, .glb binary; any other
+                            name is refused (LUMIS_ERR_UNKNOWN_FORMAT) */
+    LUMIS_GLTF_TEXT,     /* .gltf: the JSON document */
+    LUMIS_GLTF_BINARY,   /* .glb: the binary container (a 12-byte header, one JSON chunk) */
+    LUMIS_GLTF_COUNT
+} lumis_gltf_container;
+
 typedef struct lumis_light_export_options {
     int set_index;      /* which interleaved set; 0 == the original */
     int masks;          /* JSON: nonzero adds each light's region as pixel runs */
@@ -165,19 +199,27 @@ typedef struct lumis_light_export_options {
     lumis_error_sink errors;
     const char *parameters; /* the method's parameters as given ("name=value,..."), recorded
                                when not NULL or empty (JSON; glTF: the scene's extras) */
+    /* the directions' frame, recorded in the file (JSON "frame", glTF asset.extras.frame);
+       0 == LUMIS_EXPORT_FRAME_ENGINE */
+    lumis_export_frame frame;
+    /* glTF only: text or binary; 0 == from the path's extension */
+    lumis_gltf_container container;
 } lumis_light_export_options;
 
-/* JSON: per light its direction, power (RGB, sum of L x solid angle), colour and intensity
- * (colour x intensity == power, colour's largest channel 1), solid angle, directional
+/* JSON: per light its direction (in options->frame), power (RGB, sum of L x solid angle), colour
+ * and intensity (colour x intensity == power, colour's largest channel 1), solid angle, directional
  * extent, pixel count and kind; the regions as runs [row, first column, length] on
  * request.  Crash-safe write.  options may be NULL. */
 lumis_status lumis_light_set_write_json(const char *path, const struct lumis_light_set *set,
                                         const lumis_light_export_options *options);
 
-/* glTF 2.0 (.gltf, JSON): one KHR_lights_punctual directional light per light, each on a
- * node whose rotation turns -Z (a glTF light's direction of travel) into -dir.  Colour and
- * intensity as in the JSON: intensity is the power's largest channel, which for a map
- * calibrated in cd/m^2 is illuminance in lux (docs/lights.md, "Export"). */
+/* glTF 2.0, as JSON text (.gltf) or a binary container (.glb; options->container): one
+ * KHR_lights_punctual directional light per light, each on a node whose rotation turns -Z
+ * (a glTF light's direction of travel) into -dir, dir in options->frame (default: where
+ * three.js and Blender show the light's source on the same map).  Colour and intensity as
+ * in the JSON: intensity is the power's largest channel, which for a map calibrated in
+ * cd/m^2 is illuminance in lux (docs/lights-export.md).  A path that is neither .gltf nor
+ * .glb with no container given: LUMIS_ERR_UNKNOWN_FORMAT.  Crash-safe write. */
 lumis_status lumis_light_set_write_gltf(const char *path, const struct lumis_light_set *set,
                                         const lumis_light_export_options *options);
 

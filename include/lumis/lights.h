@@ -275,6 +275,27 @@ const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set)
 lumis_status lumis_light_set_irradiance(const lumis_envmap *env, const lumis_light_set *set,
                                         lumis_vec3 normal, double *set_e, double *map_e);
 
+/* What lumis_light_set_fold_below did. */
+typedef struct lumis_light_fold {
+    int folded;      /* lights that were at or below the plane, now gone */
+    int kept;        /* lights left per set (the set's count now) */
+    double power[3]; /* RGB power the folded lights carried, now in the lights above */
+    double share;    /* that power's share of the set's, in luminance (0 .. 1) */
+} lumis_light_fold;
+
+/* Keeps a set's lights above a ground plane, conserving its power: every light whose
+ * direction is at or below the plane through the origin of normal `up` (up . dir <= 0) is
+ * removed and its power, solid angle, pixels and region (labels) go to the nearest light
+ * above it (largest dir . dir'; the first of equals), whose direction stays and whose extent
+ * grows to cover the folded region.  The total power is unchanged (to double rounding); every
+ * interleaved set loses the same lights, in the same order.  For an engine with a ground,
+ * which would block the light the map shows from below.  LUMIS_ERR_INVALID_ARGUMENT when
+ * no light is above the plane or up is zero or not finite (the set is then unchanged).
+ * report (may be NULL) says how many lights and how much power moved.  Cost: O(K^2 + K sets
+ * + pixels). */
+lumis_status lumis_light_set_fold_below(lumis_light_set *set, lumis_vec3 up,
+                                        const lumis_error_sink *errors, lumis_light_fold *report);
+
 /* ---- region samplers: the stratified mode ----------------------------------------------
  * A light set's regions partition the sphere, so they can serve as strata instead of point
  * lights: draw one direction in every region, in proportion to luminance x solid angle

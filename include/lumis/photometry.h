@@ -209,27 +209,70 @@ int lumis_photometric_nema_type(double spread_deg);
 lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int opening, lumis_vec3 x,
                                           lumis_vec3 n, int panels, double *E);
 
+/* The table beyond a cone about the aim (type C): its intensities times w(gamma), 0 before
+ * from_deg rising linearly to 1 at to_deg (equal: a cut), as a table of its own (the ramp
+ * sampled every 1/8 degree as vertical angles; a cut gets a sliver of 10^-6 degrees).  What
+ * the light field of the opening leaves out (its report's ramp_from_deg, max_angle_deg),
+ * rendered as a point.  Types A and B, from > to: LUMIS_ERR_INVALID_ARGUMENT. */
+lumis_status lumis_photometric_beyond(const lumis_photometric *p, double from_deg, double to_deg,
+                                      const lumis_error_sink *errors, lumis_photometric **out);
+
 /* The two-plane light field (lumis/luminaire.h) of the opening, so that Lu et al.'s
- * restricted sampling applies to a real fixture.  The luminaire's frame is the fixture's
- * turned half a turn about x: U the opening (z = 0), light towards +z = the aim.  Image m
- * holds the radiance from basis centre m, I(d) / (A cos), in the model's convention (times
- * hx hy cos^4 / delta^2: lumis_luminaire_radiance) and times the share of its cell the
- * opening covers (scaled so that the shares' area is the opening's); S covers directions up
- * to max_angle from every point of the bases' supports (the flux beyond it is lost). */
+ * restricted sampling applies to a real fixture (docs/photometric.md, "Near field").  The
+ * luminaire's frame is the fixture's turned half a turn about x: U the opening (z = 0),
+ * light towards +z = the aim.
+ * - It carries the directions within max_angle of the aim, the last 5 degrees (at most a
+ *   quarter of the cone) fading linearly to 0: their flux, up to the quadrature of each
+ *   pixel's.  The rest (a two-plane field cannot carry 90 degrees and more) is the far-field
+ *   residual lumis_photometric_beyond(ramp_from_deg, max_angle_deg): field and residual
+ *   together hold the table's flux, and a soft edge is one the images can hold.
+ * - Its far field is the table's: the images are the directional distribution deconvolved
+ *   by the bases' and the pixels' blur (every image the same array shifted by whole pixels,
+ *   the pixels a whole fraction of the basis spacing), so far away it converges to the
+ *   point law, not to a blurred one.
+ * - Unless given, its resolution is chosen from error_target: the coarsest of a ladder of
+ *   angular resolutions (basis spacing / delta) whose measured far-field error (the largest
+ *   |I_field / I - 1| over the directions within the cone holding at least 10 % of the peak)
+ *   is within it; and the bases and delta such that the basis blur's near-field error stays
+ *   below the point model's out to 50 opening sizes. */
 typedef struct lumis_photometric_light_field {
-    int grid[2];                 /* bases across the opening (0: 9 along the longer side, the other
-                                    in proportion, at least 3) */
-    int width, height;           /* pixels per image (0: 128 x 128) */
-    double delta;                /* U to S (0: the opening's larger size) */
-    double max_angle_deg;        /* the directions S covers (0: 80) */
+    int grid[2];                 /* bases across the opening (0: chosen, see above) */
+    int width, height;           /* about this many pixels per image (0: chosen: 2 pixels per
+                                    basis spacing); rounded to whole pixels per spacing */
+    double delta;                /* U to S (0: chosen) */
+    double max_angle_deg;        /* the directions S carries (0: where 99.9 % of the flux is,
+                                    + 5 degrees, at most 80) */
     lumis_luminaire_basis basis; /* 0: quadratic */
-    int supersample;             /* samples per pixel per axis (0: 2) */
+    int supersample;             /* Gauss-Legendre points per pixel per axis for its flux
+                                    (0: 4) */
+    double error_target;         /* far-field relative error to reach (0: 0.005) */
 } lumis_photometric_light_field;
 
+/* What lumis_luminaire_from_photometric made and how close it is. */
+typedef struct lumis_photometric_light_field_report {
+    int grid[2], width, height, pixels_per_spacing[2];
+    double delta, max_angle_deg, ramp_from_deg;
+    double flux;             /* the table's (lm) */
+    double light_field_flux; /* the light field's power (lm: lumis_luminaire_info.total_power) */
+    double residual_flux;    /* what the light field leaves (lm): type C the residual table's
+                                flux; A, B the table's less the light field's */
+    double residual_share;   /* residual_flux / flux */
+    double error_target;     /* as used */
+    double far_field_error;  /* reached: the largest |I_field / I - 1| measured (1000 sizes
+                                away, against the point law), over the directions within
+                                max_angle with I >= 10 % of the peak */
+    double far_field_error_mean; /* the mean of |I_field / I - 1| over them */
+    int directions;              /* how many */
+    int target_met;              /* 0: the finest resolution allowed (16 M pixels in all)
+                                    did not reach error_target */
+} lumis_photometric_light_field_report;
+
+/* report may be NULL.  A table without flux within max_angle, or a file without a disk or
+ * rectangle opening: LUMIS_ERR_INVALID_ARGUMENT. */
 lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
                                               const lumis_photometric_light_field *desc,
-                                              const lumis_error_sink *errors,
-                                              lumis_luminaire **out);
+                                              const lumis_error_sink *errors, lumis_luminaire **out,
+                                              lumis_photometric_light_field_report *report);
 
 /* The names: "C", "B", "A"; "none", "rotational", "C0-C180", "C90-C270", "quadrant",
  * "lateral"; "point", "rectangle", "box", "disk", "cylinder", "sphere", "other". */

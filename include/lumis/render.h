@@ -341,6 +341,7 @@ typedef struct lumis_upsample_desc {
     float sigma_albedo;  /* on |a_p - a_q|; 0 == 0.005 */
     float sigma_spatial; /* on the distance in low-resolution pixels; 0 == 1.0 */
     int radius;          /* window radius in low-resolution pixels, at most 8; 0 == 2 (5 x 5) */
+    int threads;         /* 0 == OpenMP's default */
     lumis_error_sink errors;
 } lumis_upsample_desc;
 
@@ -388,6 +389,20 @@ typedef struct lumis_session_desc {
     void *pass_done_user;
 } lumis_session_desc;
 
+/* Why a light set's K fitted to a time budget is what it is (lumis_session_result.k_limit). */
+typedef enum lumis_k_limit {
+    LUMIS_K_LIMIT_NONE = 0,    /* K given, or fitted at the planned samples per pixel */
+    LUMIS_K_LIMIT_FEWER_SPP,   /* at timed_spp the budget affords fewer than k_floor lights:
+                                  K fills it at spp_planned < timed_spp samples instead */
+    LUMIS_K_LIMIT_BELOW_FLOOR, /* even at 1 sample per pixel (or render.spp, which is kept)
+                                  the budget affords fewer than k_floor lights */
+    LUMIS_K_LIMIT_OVER_BUDGET  /* K = 1 at the fewest samples is predicted to take longer
+                                  than the budget: the render overruns it */
+} lumis_k_limit;
+
+/* The pilots that fit K: at most this many (the floor, 64, and where the fit lands). */
+#define LUMIS_SESSION_PILOTS 3
+
 typedef struct lumis_session_result {
     lumis_render_stats stats;   /* of the render that made the image (both layers) */
     double prep_seconds;        /* before the first sample: spent + generation + pilots */
@@ -396,14 +411,31 @@ typedef struct lumis_session_result {
     int upsample;               /* the factor used (1: none) */
     double lights_build_ms;     /* the light set's generation */
     size_t lights_bytes;        /* its lights and labels */
-    /* With lights, time_budget and no K: the pilots that chose K. */
-    double pilot_seconds, pilot_per_spp[2], pilot_once[2];
-    int pilot_k[2], pilot_chosen;
+    /* With lights, time_budget and no K: the pilots that chose K.  They render at 1/pilot_
+     * scale of the pixels and spend at most a fifth of the budget; their times are scaled
+     * to the whole image (per sample per pixel of the full layer; once: the rest, and the
+     * set's generation).  pilot_count: how many ran (0: none). */
+    double pilot_seconds, pilot_per_spp[LUMIS_SESSION_PILOTS], pilot_once[LUMIS_SESSION_PILOTS];
+    int pilot_k[LUMIS_SESSION_PILOTS], pilot_count, pilot_chosen;
+    double pilot_scale;      /* the image's pixels over a pilot's */
+    double pilot_predicted;  /* seconds the fit predicts for pilot_chosen at spp_planned */
+    int k_floor;             /* the fewest lights K falls to before samples do (4) */
+    int spp_planned;         /* samples per pixel K was fitted at */
+    lumis_k_limit k_limit;   /* why K is what it is */
     int retried;             /* the pilots misjudged the time: rendered again with K scaled, once */
     double regions_build_ms; /* the stratified mode's region samplers (in prep_seconds) */
     size_t regions_bytes;
     lumis_light_set *light_set; /* the set that lit the image (NULL: none): the caller
                                    destroys it (lumis_light_set_destroy) */
+    /* Contention: the session's wall time and the process's CPU time over it (every thread;
+     * with a caller's threads running beside it, theirs too), and over the image's render
+     * passes alone (every attempt).  cpu_share = render_cpu_seconds / (render_wall_seconds x
+     * threads busy): near 1 when every render thread had a core to itself; well below it
+     * (0.8, say), the threads waited for a CPU, and a time budget bought fewer samples or
+     * lights than the same budget on an idle machine. */
+    double wall_seconds, cpu_seconds;
+    double render_wall_seconds, render_cpu_seconds, cpu_share;
+    int threads_busy; /* render threads with work: min(threads, the full layer's tiles) */
 } lumis_session_result;
 
 /* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */

@@ -328,12 +328,49 @@ lumis_status lumis__atomic_begin(lumis__atomic_file *af, const char *path,
     return LUMIS_OK;
 }
 
+int lumis__durable(void)
+{
+    const char *e = getenv("LUMIS_NO_FSYNC");
+    return !(e && *e && strcmp(e, "0") != 0);
+}
+
+/* The rename on the disk: the folder that holds dest synced (a rename is a change of the
+ * folder; until it is written, a power loss may bring back the old file or none).  A file
+ * system that cannot sync a folder (EINVAL: some network and FUSE ones) is let be. */
+static lumis_status sync_folder(const char *dest, const char *shown, const lumis_error_sink *errors)
+{
+    /* no allocation: the file is in place by now, and an out-of-memory failure here would
+     * report a finished write as failed */
+    char dir[PATH_MAX];
+    const char *slash = strrchr(dest, '/');
+    const size_t n = !slash ? 1 : slash == dest ? 1 : (size_t)(slash - dest);
+    if (n >= sizeof dir) return LUMIS_OK; /* a folder no open(2) would take */
+    memcpy(dir, !slash ? "." : slash == dest ? "/" : dest, n);
+    dir[n] = '\0';
+    lumis_status st = LUMIS_OK;
+    const int fd = open(dir, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || (fsync(fd) != 0 && errno != EINVAL && errno != EROFS))
+        st = lumis__fail(errors, LUMIS_ERR_WRITE,
+                         "%s: written, but its folder %s cannot be synced (a power loss may "
+                         "undo it): %s",
+                         shown, dir, strerror(errno));
+    if (fd >= 0) close(fd);
+    return st;
+}
+
 lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
                                const lumis_error_sink *errors)
 {
     if (!af->tmp_path) return status;
+    const int durable = lumis__durable();
     if (af->f) {
         int bad = ferror(af->f);
+        /* the data on the disk before the name: else a power loss after the rename can
+         * leave the new name on an empty file (ext4's delayed allocation, XFS) */
+        if (!bad && !af->in_place && durable && status == LUMIS_OK &&
+            (fflush(af->f) != 0 || fsync(fileno(af->f)) != 0))
+            status = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot sync the file: %s", af->path,
+                                 strerror(errno));
         if (fclose(af->f) != 0 || bad) {
             if (status == LUMIS_OK)
                 status = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: write failed: %s", af->path,
@@ -346,6 +383,7 @@ lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
         if (status == LUMIS_OK && rename(af->tmp_path, dest) != 0)
             status = lumis__fail(errors, LUMIS_ERR_WRITE, "%s: cannot rename the finished file: %s",
                                  af->path, strerror(errno));
+        if (status == LUMIS_OK && durable) status = sync_folder(dest, af->path, errors);
         if (status != LUMIS_OK) unlink(af->tmp_path);
         lumis__atomic_untrack(af->tmp_path);
     }

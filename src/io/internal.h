@@ -80,7 +80,11 @@ void lumis__signals_restore(const sigset_t *was);
 /* Registers / forgets a temporary file for lumis_io_remove_partial_outputs. */
 void lumis__atomic_track(const char *tmp);
 void lumis__atomic_untrack(const char *tmp);
-/* Closes the stream if open, renames on success; removes the temporary file otherwise. */
+/* Whether outputs are made durable (fsync of the file before its rename, of its folder
+ * after): yes unless the environment says LUMIS_NO_FSYNC=1 (scratch space, benchmarks). */
+int lumis__durable(void);
+/* Closes the stream if open (synced first when durable), renames on success, then syncs
+ * the folder; removes the temporary file otherwise. */
 lumis_status lumis__atomic_end(lumis__atomic_file *af, lumis_status status,
                                const lumis_error_sink *errors);
 

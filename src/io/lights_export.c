@@ -1,6 +1,6 @@
-/* Light sets as files: a JSON description, and glTF 2.0 with KHR_lights_punctual directional
- * lights, which three.js, Babylon.js, Blender and game engines load.  Units: docs/lights.md
- * ("Export"). */
+/* Light sets as files: a JSON description, and glTF 2.0 (text or binary) with
+ * KHR_lights_punctual directional lights, which three.js, Babylon.js, Blender and game engines
+ * load, in the frame those show the map in.  Units and frames: docs/lights-export.md. */
 #include "internal.h"
 
 #include "../core/internal.h"
@@ -10,6 +10,8 @@
 
 #include <cJSON.h>
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,6 +20,51 @@ static const char *kind_name(lumis_light_kind k)
     return k == LUMIS_LIGHT_ENV_DIRECT     ? "env_direct"
            : k == LUMIS_LIGHT_ENV_INDIRECT ? "env_indirect"
                                            : "region";
+}
+
+static const char *const frame_names[LUMIS_EXPORT_FRAME_COUNT] = {"engine", "lumis"};
+
+const char *lumis_export_frame_name(lumis_export_frame frame)
+{
+    return (unsigned)frame < LUMIS_EXPORT_FRAME_COUNT ? frame_names[frame] : "unknown";
+}
+
+lumis_status lumis_export_frame_from_name(const char *name, lumis_export_frame *out)
+{
+    for (int f = 0; name && f < LUMIS_EXPORT_FRAME_COUNT; f++)
+        if (strcmp(name, frame_names[f]) == 0) {
+            *out = (lumis_export_frame)f;
+            return LUMIS_OK;
+        }
+    return LUMIS_ERR_INVALID_ARGUMENT;
+}
+
+/* lumis sees column u along azimuth 2 pi u from +x; three.js (equirectUv: u = atan2(z, x) /
+ * 2 pi + 1/2) and Blender through its glTF importer see it along 2 pi u - pi: half a turn
+ * about +y, which keeps y and negates x and z (docs/lights-export.md, "Frames"). */
+lumis_vec3 lumis_export_frame_dir(lumis_export_frame frame, lumis_vec3 dir)
+{
+    if (frame == LUMIS_EXPORT_FRAME_ENGINE) {
+        dir.x = -dir.x;
+        dir.z = -dir.z;
+    }
+    return dir;
+}
+
+/* What a file says of its frame: the name, and how a map pixel maps to a direction. */
+static void add_frame(cJSON *o, lumis_export_frame frame)
+{
+    cJSON_AddStringToObject(o, "frame", lumis_export_frame_name(frame));
+    cJSON_AddStringToObject(
+        o, "frame_equirect",
+        frame == LUMIS_EXPORT_FRAME_ENGINE
+            ? "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
+              "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2), t = pi v: "
+              "u = 1/2 along +x, where three.js (equirectUv) and Blender (its glTF importer) "
+              "show it"
+            : "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
+              "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi u, t = pi v: u = 0 along "
+              "+x (lumis's own frame; three.js and Blender show u = 1/2 there)");
 }
 
 /* colour * intensity == power per channel, colour's largest channel 1 (black: 0, 0). */
@@ -50,24 +97,68 @@ void lumis__light_quaternion(lumis_vec3 dir, double q[4])
     q[3] = w / len;
 }
 
-static lumis_status write_json(const char *path, cJSON *root, const lumis_error_sink *errors)
+static void put_u32(unsigned char *p, uint32_t v)
 {
-    char *text = root ? cJSON_Print(root) : NULL;
+    p[0] = (unsigned char)(v & 0xffu);
+    p[1] = (unsigned char)((v >> 8) & 0xffu);
+    p[2] = (unsigned char)((v >> 16) & 0xffu);
+    p[3] = (unsigned char)(v >> 24);
+}
+
+/* Writes the document as text (a final newline added) or, binary, as a glTF container
+ * (glTF 2.0, "GLB File Format Specification"): a 12-byte header (magic "glTF", version 2,
+ * the total length), then one chunk (its length, type "JSON", the text padded with spaces
+ * to a multiple of 4 bytes), little-endian.  There is no BIN chunk: the lights hold no
+ * buffer. */
+static lumis_status write_json(const char *path, cJSON *root, int binary,
+                               const lumis_error_sink *errors)
+{
+    char *text = root ? (binary ? cJSON_PrintUnformatted(root) : cJSON_Print(root)) : NULL;
     cJSON_Delete(root);
     if (!text) return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    size_t n = strlen(text);
-    char *line = malloc(n + 2);
-    if (!line) {
+    const size_t n = strlen(text);
+    const size_t padded = (n + 3) & ~(size_t)3, head = binary ? 20 : 0;
+    if (binary && padded + head > UINT32_MAX) {
+        cJSON_free(text);
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: too large for a binary glTF (%zu bytes)", path, n);
+    }
+    const size_t size = binary ? head + padded : n + 1;
+    unsigned char *bytes = malloc(size + 1);
+    if (!bytes) {
         cJSON_free(text);
         return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
-    memcpy(line, text, n);
-    line[n++] = '\n';
-    line[n] = '\0';
+    if (binary) {
+        memcpy(bytes, "glTF", 4);
+        put_u32(bytes + 4, 2);
+        put_u32(bytes + 8, (uint32_t)size);
+        put_u32(bytes + 12, (uint32_t)padded);
+        memcpy(bytes + 16, "JSON", 4);
+        memcpy(bytes + head, text, n);
+        memset(bytes + head + n, ' ', padded - n);
+    } else {
+        memcpy(bytes, text, n);
+        bytes[n] = '\n';
+    }
+    bytes[size] = '\0';
     cJSON_free(text);
-    lumis_status st = lumis_write_text(path, line, n, errors);
-    free(line);
+    lumis_status st = lumis_write_text(path, (const char *)bytes, size, errors);
+    free(bytes);
     return st;
+}
+
+/* Case-insensitive: does path end in ext (".glb")? */
+static int has_extension(const char *path, const char *ext)
+{
+    const size_t n = strlen(path), m = strlen(ext);
+    if (n <= m || path[n - m - 1] == '/') return 0;
+    for (size_t k = 0; k < m; k++) {
+        char c = path[n - m + k];
+        if (c >= 'A' && c <= 'Z') c = (char)(c - 'A' + 'a');
+        if (c != ext[k]) return 0;
+    }
+    return 1;
 }
 
 /* What both writers start from: the options' sink and the chosen set's lights. */
@@ -75,6 +166,7 @@ typedef struct export_args {
     const lumis_error_sink *errors;
     int index, count;
     const lumis_light *lights;
+    lumis_export_frame frame;
 } export_args;
 
 static lumis_status begin(const char *path, const lumis_light_set *set,
@@ -84,9 +176,13 @@ static lumis_status begin(const char *path, const lumis_light_set *set,
     a->index = options ? options->set_index : 0;
     a->lights = NULL;
     a->count = 0;
+    a->frame = options ? options->frame : LUMIS_EXPORT_FRAME_ENGINE;
     if (!path || !set)
         return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "light export: needs a path and a set");
+    if ((unsigned)a->frame >= LUMIS_EXPORT_FRAME_COUNT)
+        return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT, "%s: unknown frame %d", path,
+                           (int)a->frame);
     if (lumis_light_set_get(set, a->index, &a->lights, &a->count) != LUMIS_OK)
         return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "%s: the set has no light set %d (it holds %d)", path, a->index,
@@ -106,7 +202,9 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "generator", "lumis " LUMIS_VERSION_STRING);
     cJSON_AddStringToObject(root, "coordinates",
-                            "right-handed, y up; dir points from the scene towards the light");
+                            "right-handed, y up; dir points from the scene towards the light, "
+                            "in the frame below");
+    add_frame(root, a.frame);
     cJSON_AddStringToObject(root, "units",
                             "power: sum over the region of radiance x solid angle (the map's "
                             "radiance units x sr); colour x intensity == power");
@@ -124,7 +222,8 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
     for (int k = 0; k < count && arr; k++) {
         cJSON *o = cJSON_CreateObject();
         cJSON_AddItemToArray(arr, o);
-        const double d[3] = {l[k].dir.x, l[k].dir.y, l[k].dir.z};
+        const lumis_vec3 f = lumis_export_frame_dir(a.frame, l[k].dir);
+        const double d[3] = {f.x, f.y, f.z};
         double c[3], intensity;
         colour_intensity(&l[k], c, &intensity);
         cJSON_AddItemToObject(o, "dir", cJSON_CreateDoubleArray(d, 3));
@@ -151,7 +250,7 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
                 }
         }
     }
-    return write_json(path, root, errors);
+    return write_json(path, root, 0, errors);
 }
 
 lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set *set,
@@ -163,10 +262,21 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
     const lumis_error_sink *errors = a.errors;
     const lumis_light *l = a.lights;
     const int count = a.count;
+    lumis_gltf_container container = options ? options->container : LUMIS_GLTF_AUTO;
+    if (container == LUMIS_GLTF_AUTO)
+        container = has_extension(path, ".glb")    ? LUMIS_GLTF_BINARY
+                    : has_extension(path, ".gltf") ? LUMIS_GLTF_TEXT
+                                                   : LUMIS_GLTF_AUTO;
+    if (container != LUMIS_GLTF_TEXT && container != LUMIS_GLTF_BINARY)
+        return lumis__fail(errors, LUMIS_ERR_UNKNOWN_FORMAT,
+                           "%s: unknown glTF container (name it .gltf for text, .glb for "
+                           "binary)",
+                           path);
     cJSON *root = cJSON_CreateObject();
     cJSON *asset = cJSON_AddObjectToObject(root, "asset");
     cJSON_AddStringToObject(asset, "version", "2.0");
     cJSON_AddStringToObject(asset, "generator", "lumis " LUMIS_VERSION_STRING);
+    add_frame(cJSON_AddObjectToObject(asset, "extras"), a.frame);
     cJSON *used = cJSON_AddArrayToObject(root, "extensionsUsed");
     cJSON_AddItemToArray(used, cJSON_CreateString("KHR_lights_punctual"));
     cJSON *ext = cJSON_AddObjectToObject(root, "extensions");
@@ -193,7 +303,7 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
         cJSON_AddStringToObject(li, "type", "directional");
         cJSON_AddItemToObject(li, "color", cJSON_CreateDoubleArray(c, 3));
         cJSON_AddNumberToObject(li, "intensity", intensity);
-        lumis__light_quaternion(l[k].dir, q);
+        lumis__light_quaternion(lumis_export_frame_dir(a.frame, l[k].dir), q);
         cJSON *node = cJSON_CreateObject();
         cJSON_AddItemToArray(nodes, node);
         cJSON_AddStringToObject(node, "name", name);
@@ -203,5 +313,5 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
         cJSON_AddNumberToObject(nk, "light", k);
         cJSON_AddItemToArray(scene_nodes, cJSON_CreateNumber(k));
     }
-    return write_json(path, root, errors);
+    return write_json(path, root, container == LUMIS_GLTF_BINARY, errors);
 }

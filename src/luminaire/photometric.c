@@ -335,7 +335,7 @@ static double locate(const lumis_photometric *p, double h, double v, int *cell)
             if (c > 90) c = 180 - c;
             break;
         case LUMIS_SYMMETRY_C0_C180:
-            if (c > 180) c = 360 - c;
+            if (c > 180) c = 360 - c; /* the mirror image, not the half turn */
             break;
         case LUMIS_SYMMETRY_C90_C270:
             if (c < 90)
@@ -946,4 +946,81 @@ lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double in
     r->lcs.ul = zone(p, 90, 100, 0, 360);
     r->lcs.uh = zone(p, 100, 180, 0, 360);
     return lumis_photometric_bug(&r->lcs, r->bug);
+}
+
+/* ---- the table beyond a cone -------------------------------------------------------------
+ * What a light field leaves out: the same table weighted by w(gamma) = 0 before from_deg,
+ * rising linearly to 1 at to_deg (from = to: a cut).  The ramp is sampled every 1/8 degree
+ * as vertical angles (the table's values interpolated along gamma, which is linear: exact),
+ * so the interpolant is the weighted table to second order in 1/8 degree; a cut is preceded
+ * by zeros 10^-6 degrees before it. */
+lumis_status lumis_photometric_beyond(const lumis_photometric *p, double from_deg, double to_deg,
+                                      const lumis_error_sink *errors, lumis_photometric **out)
+{
+    if (out) *out = NULL;
+    if (!p || !out || !isfinite(from_deg) || !isfinite(to_deg) || to_deg < from_deg)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "photometric beyond: no table, or not from <= to");
+    if (p->type != LUMIS_PHOTOMETRIC_C)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "photometric beyond: a type %s table has no cone about its aim in its "
+                           "own angles (type C only)",
+                           lumis_photometric_type_name(p->type));
+    const int nv = p->nv, nh = p->nh;
+    const double a = from_deg, b = to_deg;
+    const int ramp = b > a ? (int)ceil((b - a) * 8) : 0;
+    const size_t cap = (size_t)(nv + ramp + 5);
+    double *v = malloc(sizeof(double) * cap);
+    double *cd = malloc(sizeof(double) * cap * (size_t)nh);
+    if (!v || !cd) {
+        free(v);
+        free(cd);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "photometric beyond: out of memory");
+    }
+    /* the new vertical angles: the table's outside (a, b), the ramp's inside */
+    int n = 0;
+    const double v0 = p->v[0], vl = p->v[nv - 1];
+    if (a > v0 && a < vl) {
+        for (int j = 0; j < nv && p->v[j] < a; j++) v[n++] = p->v[j];
+        if (ramp == 0) {
+            const double eps = fmin(1e-6, 0.5 * (a - v0));
+            if (a - eps > v[n - 1]) v[n++] = a - eps;
+        }
+    } else if (a >= vl) {
+        for (int j = 0; j < nv; j++) v[n++] = p->v[j];
+    }
+    if (a < vl && b > v0) {
+        for (int k = 0; k <= ramp; k++) {
+            const double g = ramp ? a + (b - a) * k / ramp : a;
+            if (g >= v0 && g <= vl && (n == 0 || g > v[n - 1])) v[n++] = g;
+        }
+    }
+    for (int j = 0; j < nv; j++)
+        if (p->v[j] > b && (n == 0 || p->v[j] > v[n - 1])) v[n++] = p->v[j];
+    if (n == 0 || v[0] > v0) { /* the table's first angle leads */
+        memmove(v + 1, v, sizeof(double) * (size_t)n);
+        v[0] = v0;
+        n++;
+    }
+    if (v[n - 1] < vl) v[n++] = vl;
+    for (int i = 0; i < nh; i++)
+        for (int j = 0; j < n; j++) {
+            const double g = v[j];
+            const double w = a >= vl || g < a ? 0.0 : g >= b ? 1.0 : (g - a) / (b - a);
+            int k = 0; /* the table's interval holding g */
+            while (k + 2 < nv && p->v[k + 1] <= g) k++;
+            const double t = fmin(1.0, fmax(0.0, (g - p->v[k]) / (p->v[k + 1] - p->v[k])));
+            const double *row = p->cd + (size_t)(i * nv);
+            cd[(size_t)(i * n + j)] = w * (row[k] + t * (row[k + 1] - row[k]));
+        }
+    lumis_photometric_desc d = p->desc;
+    d.nv = n;
+    d.v_deg = v;
+    d.h_deg = p->h;
+    d.candela = cd;
+    d.multiplier = 1.0; /* p's values have theirs */
+    const lumis_status st = lumis_photometric_create(&d, errors, out);
+    free(v);
+    free(cd);
+    return st;
 }

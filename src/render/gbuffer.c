@@ -3,9 +3,11 @@
 
 #include "../core/internal.h"
 #include "camera.h"
+#include "internal.h"
 #include "scene.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 
 void lumis_gbuffer_destroy(lumis_gbuffer *g)
@@ -17,6 +19,12 @@ void lumis_gbuffer_destroy(lumis_gbuffer *g)
 
 lumis_status lumis_render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
                                   const lumis_error_sink *errors, lumis_gbuffer **out)
+{
+    return lumis__render_gbuffer(scene, camera, 0, errors, out);
+}
+
+lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
+                                   int threads, const lumis_error_sink *errors, lumis_gbuffer **out)
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
@@ -38,7 +46,8 @@ lumis_status lumis_render_gbuffer(const lumis_scene *scene, const lumis_camera *
     g->normal = mem;
     g->albedo = mem + 3 * n;
     g->depth = mem + 6 * n;
-#pragma omp parallel for schedule(dynamic, 4)
+    if (threads <= 0) threads = omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             const size_t p = (size_t)y * (size_t)w + (size_t)x;

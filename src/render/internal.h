@@ -33,6 +33,12 @@ void lumis__rotation_deg(const float r[3], double m[9]);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 
+/* lumis_render_gbuffer on `threads` threads (0: OpenMP's default): a session renders on
+ * the threads its caller gave. */
+lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
+                                   int threads, const lumis_error_sink *errors,
+                                   lumis_gbuffer **out);
+
 /* Benchmark hooks (bench/bench_render.c), not part of the public API. */
 /* The top-level Embree scene (an RTCScene), for raw throughput on the same rays. */
 void *lumis__scene_rtc(const lumis_scene *scene);

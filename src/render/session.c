@@ -1,19 +1,32 @@
 /* A render session (lumis_render_session): a light set made by name, Wu's split rendering
  * (EnvDirects at full resolution, EnvIndirects at 1/F joined by joint-bilateral
  * upsampling), and a time budget spent as wall time: the light set's generation and the
- * pilots that fit K count inside it, or progressive passes fill it. */
+ * pilots that fit K count inside it, or progressive passes fill it.  The process's CPU
+ * time beside the wall time says whether the threads had their cores (contention). */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime's CPU-time clock */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
+#include "internal.h"
 
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static double now(void)
 {
     return omp_get_wtime();
+}
+
+/* The process's CPU time, every thread's (0 where the clock is missing: no contention is
+ * then ever seen, cpu_share reads 0 and says so). */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* ---- a unit: what one render runs ----------------------------------------------------------
@@ -22,8 +35,10 @@ static double now(void)
 typedef struct unit {
     lumis_render_job *full, *low;
     lumis_gbuffer *g_full, *g_low;
-    double join_seconds; /* the G-buffers and the upsampling: render time too */
-    int low_every_pass;  /* the low layer is a Monte Carlo estimate too (stratified) */
+    double join_seconds;      /* the G-buffers and the upsampling: render time too */
+    int low_every_pass;       /* the low layer is a Monte Carlo estimate too (stratified) */
+    double run_wall, run_cpu; /* over its passes: wall time and the process's CPU time */
+    int threads;              /* the caller's (0: OpenMP's default) */
     lumis_error_sink errors;
 } unit;
 
@@ -43,6 +58,7 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
     memset(u, 0, sizeof *u);
     u->errors = rd->errors;
     u->low_every_pass = rd->lights_mode == LUMIS_LIGHTS_STRATIFIED;
+    u->threads = rd->threads;
     if (factor <= 1) return lumis_render_job_create(scene, rd, &u->full);
     lumis_render_desc direct = *rd, indirect = *rd;
     direct.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
@@ -63,8 +79,10 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
     const double t0 = now();
     lumis_status st = lumis_render_job_create(scene, &direct, &u->full);
     if (st == LUMIS_OK) st = lumis_render_job_create(scene, &indirect, &u->low);
-    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, rd->camera, &rd->errors, &u->g_full);
-    if (st == LUMIS_OK) st = lumis_render_gbuffer(scene, &low, &rd->errors, &u->g_low);
+    if (st == LUMIS_OK)
+        st = lumis__render_gbuffer(scene, rd->camera, rd->threads, &rd->errors, &u->g_full);
+    if (st == LUMIS_OK)
+        st = lumis__render_gbuffer(scene, &low, rd->threads, &rd->errors, &u->g_low);
     u->join_seconds = now() - t0;
     if (st != LUMIS_OK) unit_destroy(u);
     return st;
@@ -72,12 +90,29 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
 
 static lumis_status unit_run(unit *u, int n)
 {
+    const double w0 = now(), c0 = cpu_now();
     lumis_status st = lumis_render_job_run(u->full, n);
     lumis_render_stats s;
     if (u->low) lumis_render_job_stats(u->low, &s);
     if (st == LUMIS_OK && u->low && (s.spp == 0 || u->low_every_pass))
         st = lumis_render_job_run(u->low, u->low_every_pass ? n : 1);
+    u->run_wall += now() - w0;
+    u->run_cpu += cpu_now() - c0;
     return st;
+}
+
+/* Seconds a further sample per pixel costs: the full layer's, and the low one's when it
+ * samples every pass (point lights' low layer runs once). */
+static double unit_per_sample(const unit *u)
+{
+    lumis_render_stats f, l;
+    lumis_render_job_stats(u->full, &f);
+    double per = f.spp ? f.seconds / f.spp : 0.0;
+    if (u->low && u->low_every_pass) {
+        lumis_render_job_stats(u->low, &l);
+        if (l.spp) per += l.seconds / l.spp;
+    }
+    return per;
 }
 
 static void unit_stats(const unit *u, lumis_render_stats *s)
@@ -102,6 +137,7 @@ static lumis_status unit_image(unit *u, lumis_image **out)
     lumis_image *low = NULL, *up = NULL;
     lumis_upsample_desc ud = {0};
     ud.errors = u->errors;
+    ud.threads = u->threads;
     st = lumis_render_job_image(u->low, &low);
     if (st == LUMIS_OK) st = lumis_joint_bilateral_upsample(low, u->g_low, u->g_full, &ud, &up);
     if (st == LUMIS_OK) {
@@ -119,6 +155,13 @@ static lumis_status unit_image(unit *u, lumis_image **out)
 
 /* ---- K for a time budget --------------------------------------------------------------- */
 
+/* The fewest lights K falls to before the samples per pixel do: below it a light set is a
+ * few blobs of light (K = 1 lights a scene with one shadow), and a sample per pixel fewer
+ * costs the image less than lights fewer do. */
+enum { K_FLOOR = 4, K_PILOT_HIGH = 64 };
+/* The pilots spend at most this share of the budget; the rest renders. */
+#define PILOT_SHARE 0.2
+
 /* K in [1, min(65536, the map's pixels)]: every method needs a pixel per light. */
 static int clamp_k(double k, const lumis_envmap *env)
 {
@@ -129,84 +172,216 @@ static int clamp_k(double k, const lumis_envmap *env)
     return (int)k;
 }
 
-/* Wu's equal-time rule: a light set spends the time on lights, not samples.  Two pilot
- * renders at one sample per pixel with K = 16 and 64 lights fit the time as linear in K;
- * K is then what fills the budget at `spp` samples per pixel. */
+/* The camera's pixels (0 == 640 x 480, as lumis_camera says). */
+static void cam_size(const lumis_camera *c, int *w, int *h)
+{
+    *w = c->width ? c->width : 640;
+    *h = c->width ? c->height : 480;
+}
+
+/* A pilot: the light set at K, rendered at the pilot camera and timed, its times scaled to
+ * the whole image (per pixel, everything but the generation costs alike). */
+typedef struct pilot {
+    int k;
+    double scale;   /* the image's pixels over the pilot's */
+    double per_spp; /* seconds a sample per pixel of the full layer costs */
+    double once;    /* Wu's low layer, G-buffers and upsampling, plus the set's generation */
+    double wall;    /* what the pilot itself took */
+} pilot;
+
+static lumis_status run_pilot(const lumis_scene *scene, const lumis_session_desc *s,
+                              const lumis_render_desc *rd, int d, int factor, int k,
+                              double min_seconds, pilot *p)
+{
+    const double t0 = now();
+    int cw, ch;
+    cam_size(rd->camera, &cw, &ch);
+    lumis_camera cam = *rd->camera;
+    cam.width = (cw + d / 2) / d;
+    cam.height = (ch + d / 2) / d;
+    if (cam.width < 1) cam.width = 1;
+    if (cam.height < 1) cam.height = 1;
+    const double scale = (double)cw * ch / ((double)cam.width * cam.height);
+    lumis_light_set *set = NULL;
+    unit u;
+    memset(&u, 0, sizeof u);
+    memset(p, 0, sizeof *p);
+    p->k = k;
+    p->scale = scale;
+    lumis_render_desc pd = *rd;
+    pd.progress = NULL;
+    pd.camera = &cam;
+    lumis_status st = lumis_lights_by_name(rd->env, s->lights, k, s->interleave, s->lights_params,
+                                           &rd->errors, &set);
+    const double gen = now() - t0;
+    pd.light_set = set;
+    if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
+    /* Samples until the full layer has run long enough to time. */
+    lumis_render_stats all, f;
+    memset(&f, 0, sizeof f);
+    for (int n = 1; st == LUMIS_OK; n *= 2) {
+        st = unit_run(&u, n);
+        lumis_render_job_stats(u.full, &f);
+        if (f.seconds >= min_seconds || f.spp >= 64) break;
+    }
+    lumis_image *img = NULL;
+    if (st == LUMIS_OK) st = unit_image(&u, &img); /* the upsampling is render time too */
+    if (st == LUMIS_OK) {
+        unit_stats(&u, &all);
+        p->per_spp = scale * f.seconds / f.spp;
+        p->once = scale * (all.seconds - f.seconds) + gen;
+    }
+    lumis_image_destroy(img);
+    unit_destroy(&u);
+    lumis_light_set_destroy(set);
+    p->wall = now() - t0;
+    return st;
+}
+
+/* The seconds the pilots (n, sorted by K) predict for K lights at spp samples per pixel:
+ * piecewise linear through them, the end segments extended.  A segment's slope is at
+ * least a tenth of the first pilot's cost per light (timing noise must not make more
+ * lights look free), and below the first pilot the time falls no faster than K. */
+static double predict(const pilot *p, int n, double k, int spp)
+{
+    double t[LUMIS_SESSION_PILOTS] = {0};
+    if (n < 1) return HUGE_VAL; /* no pilot: nothing fits */
+    for (int i = 0; i < n; i++) t[i] = spp * p[i].per_spp + p[i].once;
+    const double min_slope = 0.1 * t[0] / p[0].k;
+    for (int i = 1; i < n; i++)
+        if (t[i] < t[i - 1] + min_slope * (p[i].k - p[i - 1].k))
+            t[i] = t[i - 1] + min_slope * (p[i].k - p[i - 1].k);
+    if (n == 1) return k > p[0].k ? t[0] * k / p[0].k : t[0];
+    int i = 0; /* the segment i .. i + 1 */
+    while (i + 2 < n && k > p[i + 1].k) i++;
+    const double slope = (t[i + 1] - t[i]) / (p[i + 1].k - p[i].k);
+    const double v = t[i] + slope * (k - p[i].k);
+    return k < p[0].k && v < t[0] * k / p[0].k ? t[0] * k / p[0].k : v;
+}
+
+/* The most lights in [1, kmax] whose predicted time fits `budget` at spp; 0 if none. */
+static int solve_k(const pilot *p, int n, double budget, int spp, int kmax)
+{
+    if (!(predict(p, n, 1, spp) <= budget)) return 0;
+    int lo = 1, hi = kmax; /* the prediction grows with K: bisection */
+    while (lo < hi) {
+        const int mid = lo + (hi - lo + 1) / 2;
+        if (predict(p, n, mid, spp) <= budget)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+/* The largest pixel divisor per axis, up to `most`, that keeps a pilot at four 16 x 16
+ * tiles a thread (where the image has them: a thread without work would be timed idle). */
+static int max_divisor(double px, int threads, int most)
+{
+    const double min_px = 1024.0 * (threads > 4 ? threads : 4);
+    int d = 1;
+    while (d < most && px / (4.0 * d * d) >= min_px) d *= 2;
+    return d;
+}
+
+/* Wu's equal-time rule: a light set spends the time on lights, not samples.  Pilots at K =
+ * the floor and 64, and a third where their fit lands, fit the time as piecewise linear in
+ * K; K is then what fills the budget at `spp` samples per pixel.  The pilots spend at most
+ * PILOT_SHARE of the budget: each renders a reduced image (1/64 of the pixels first, then
+ * as many as its share affords, at least four tiles a thread), timed over enough samples
+ * to be measurable, its times scaled to the image; one that would pass the share is left
+ * out (the fit makes do with fewer).  When the budget affords fewer lights than the floor,
+ * the samples per pixel fall first (unless spp_fixed: the caller's count), and what K is
+ * left says why (r->k_limit). */
 static lumis_status choose_k(const lumis_scene *scene, const lumis_session_desc *s,
                              const lumis_render_desc *rd, int factor, double budget, int spp,
-                             lumis_session_result *r, int *k_out)
+                             int spp_fixed, lumis_session_result *r, int *k_out, int *spp_out)
 {
     const lumis_envmap *env = rd->env;
-    /* K = 16 and 64, or fewer on a map of fewer pixels (a 4 x 2 map has 8 lights at most) */
-    const double px = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
-    const int ks[2] = {px >= 16 ? 16 : (px >= 2 ? (int)px / 2 : 1), px >= 64 ? 64 : (int)px};
-    double t[2] = {0, 0}, once[2] = {0, 0}; /* per sample (the full layer); once (the rest) */
-    double gen[2] = {0, 0};                 /* the light set's generation */
+    const int kmax = clamp_k(65536.0, env), kfloor = kmax < K_FLOOR ? kmax : K_FLOOR;
     const double t0 = now();
-    for (int p = 0; p < 2; p++) {
-        lumis_light_set *set = NULL;
-        unit u;
-        memset(&u, 0, sizeof u);
-        lumis_render_desc pd = *rd;
-        pd.progress = NULL;
-        const double tg = now();
-        lumis_status st = lumis_lights_by_name(env, s->lights, ks[p], s->interleave,
-                                               s->lights_params, &rd->errors, &set);
-        gen[p] = now() - tg;
-        pd.light_set = set;
-        if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
-        /* Samples until the full layer has run long enough to time (small images). */
-        lumis_render_stats st_all, f;
-        memset(&f, 0, sizeof f);
-        for (int n = 1; st == LUMIS_OK; n *= 2) {
-            st = unit_run(&u, n);
-            lumis_render_job_stats(u.full, &f);
-            if (f.seconds >= 0.02 || f.seconds >= s->time_budget / 50 || f.spp >= 1024) break;
+    const int threads = rd->threads > 0 ? rd->threads : omp_get_max_threads();
+    int cw, ch;
+    cam_size(rd->camera, &cw, &ch);
+    const double px = (double)cw * ch, cap = PILOT_SHARE * budget;
+    const double min_seconds = budget / 200 < 0.01 ? budget / 200 : 0.01;
+    pilot p[LUMIS_SESSION_PILOTS];
+    int n = 0;
+    const int ks[3] = {kfloor, kmax < K_PILOT_HIGH ? kmax : K_PILOT_HIGH, 0};
+    for (int i = 0; i < 3; i++) {
+        int k = ks[i];
+        if (i == 1 && k <= ks[0]) continue;
+        if (i == 2) {
+            /* where the fit lands, unless a pilot is within 30 % of it: the time is not
+             * linear in K (packets of shadow rays grow more coherent with more lights) */
+            k = solve_k(p, n, budget - (now() - t0), spp, kmax);
+            int near = 0;
+            for (int j = 0; j < n; j++) near |= k <= 1.3 * p[j].k && p[j].k <= 1.3 * k;
+            if (n < 2 || k <= kfloor || near) break;
         }
-        lumis_image *img = NULL;
-        if (st == LUMIS_OK) st = unit_image(&u, &img); /* the upsampling is render time too */
-        if (st == LUMIS_OK) {
-            unit_stats(&u, &st_all);
-            t[p] = f.seconds / f.spp;
-            once[p] = st_all.seconds - f.seconds; /* the low layer, G-buffers, upsampling */
+        /* Its expected time at full size: the last pilot's time per sample scaled by K (an
+         * upper bound: the time grows more slowly than K) and its time once, at one
+         * sample per pixel; plus the timing's floor of min_seconds (at most twice it). */
+        const double left = cap - (now() - t0);
+        int d = max_divisor(px, threads, 8); /* the first: 1/64 of the pixels */
+        if (n) {
+            const pilot *l = &p[n - 1];
+            const double est = l->per_spp * (k > l->k ? (double)k / l->k : 1.0) + l->once;
+            const int most = max_divisor(px, threads, 16);
+            for (d = 1; d < most && est / ((double)d * d) + 2 * min_seconds > left / (3 - i);)
+                d *= 2;
+            if (est / ((double)d * d) + min_seconds > left) break; /* past the share */
         }
-        lumis_image_destroy(img);
-        unit_destroy(&u);
-        lumis_light_set_destroy(set);
+        pilot q;
+        const lumis_status st = run_pilot(scene, s, rd, d, factor, k, min_seconds, &q);
         if (st != LUMIS_OK) return st;
+        int at = n; /* sorted by K */
+        while (at > 0 && p[at - 1].k > q.k) {
+            p[at] = p[at - 1];
+            at--;
+        }
+        p[at] = q;
+        n++;
     }
-    /* total(K) = spp (a + b K) + c + d K: the full layer runs every sample, the low layer
-     * of Wu's split, its G-buffers and the upsampling once, and the set's generation once
-     * (in c and d: equal time is equal wall time, the lights' making included).  The
-     * budget is what is left after the pilots. */
-    once[0] += gen[0];
-    once[1] += gen[1];
-    budget -= now() - t0;
-    const double dk = ks[1] > ks[0] ? ks[1] - ks[0] : 1.0; /* a 1-pixel map: one pilot K */
-    double b = (t[1] - t[0]) / dk, a = t[0] - b * ks[0];
-    double d = (once[1] - once[0]) / dk, c = once[0] - d * ks[0];
-    if (!(b > 0.0) || !(a >= 0.0)) { /* too noisy to separate: proportional */
-        a = 0.0;
-        b = t[1] / ks[1];
+    const double rest = budget - (now() - t0);
+    int k = solve_k(p, n, rest, spp, kmax), sp = spp;
+    r->k_limit = LUMIS_K_LIMIT_NONE;
+    if (k < kfloor) {
+        /* Too few lights: fewer samples first, down to one a pixel; then fewer lights, said. */
+        for (sp = spp - 1; !spp_fixed && sp >= 1; sp--)
+            if ((k = solve_k(p, n, rest, sp, kmax)) >= kfloor) break;
+        if (sp < 1 || spp_fixed) sp = spp_fixed ? spp : 1;
+        if (k >= kfloor)
+            r->k_limit = LUMIS_K_LIMIT_FEWER_SPP;
+        else {
+            k = solve_k(p, n, rest, sp, kmax);
+            r->k_limit = k >= 1 ? LUMIS_K_LIMIT_BELOW_FLOOR : LUMIS_K_LIMIT_OVER_BUDGET;
+        }
     }
-    if (!(d >= 0.0) || !(c >= 0.0)) {
-        c = 0.0;
-        d = once[1] / ks[1];
-    }
-    *k_out = clamp_k((budget - spp * a - c) / (spp * b + d), env);
+    if (k < 1) k = 1;
+    *k_out = k;
+    *spp_out = sp;
     r->pilot_seconds = now() - t0;
-    for (int p = 0; p < 2; p++) {
-        r->pilot_k[p] = ks[p];
-        r->pilot_per_spp[p] = t[p];
-        r->pilot_once[p] = once[p];
+    r->pilot_count = n;
+    for (int i = 0; i < n; i++) {
+        r->pilot_k[i] = p[i].k;
+        r->pilot_per_spp[i] = p[i].per_spp;
+        r->pilot_once[i] = p[i].once;
     }
-    r->pilot_chosen = *k_out;
+    r->pilot_scale = p[0].scale;
+    r->pilot_chosen = k;
+    r->pilot_predicted = predict(p, n, k, sp);
+    r->k_floor = kfloor;
+    r->spp_planned = sp;
     return LUMIS_OK;
 }
 
 /* Runs passes until the budget: each pass is sized from the time per sample so far, so the
- * last one ends as close to the budget as the estimate allows. */
-static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *s)
+ * last one ends as close to the budget as the estimate allows.  cap > 0: at most cap
+ * samples per pixel, one a pass (point lights' K fills the time at a planned count: when
+ * the pilots misjudged it, or the machine got busier, the budget ends the render first, a
+ * sample at most a quarter of one past it). */
+static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *s, int cap)
 {
     lumis_render_stats st;
     int n = 1;
@@ -215,10 +390,12 @@ static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *
         if (rs != LUMIS_OK) return rs;
         unit_stats(u, &st);
         if (s->pass_done) s->pass_done(s->pass_done_user, st.spp);
-        const double per = st.seconds / st.spp, left = budget - st.seconds;
-        const double next = left / per;
-        if (next < 0.5 || st.spp >= (1 << 24)) return LUMIS_OK;
+        if (cap && st.spp >= cap) return LUMIS_OK;
+        const double per = unit_per_sample(u), left = budget - st.seconds;
+        const double next = per > 0.0 ? left / per : (double)(1 << 24);
+        if (next < (cap ? 0.75 : 0.5) || st.spp >= (1 << 24)) return LUMIS_OK;
         n = next > st.spp ? st.spp : (int)(next + 0.5); /* at most double: estimates settle */
+        if (cap) n = 1;
         if (n < 1) n = 1;
     }
 }
@@ -228,6 +405,7 @@ static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *s,
                                   lumis_image **out, lumis_session_result *result)
 {
+    const double wall0 = now(), cpu0 = cpu_now();
     lumis_session_result scratch;
     lumis_session_result *r = result ? result : &scratch;
     memset(r, 0, sizeof *r);
@@ -272,9 +450,13 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     int k = s->lights_k ? s->lights_k : stratified ? 32 : 64;
     r->prep_seconds = s->spent;
     lumis_status st = LUMIS_OK;
+    /* point lights under a budget: K fills it at these samples per pixel (the caller's, or
+     * timed_spp, which may fall when the budget affords too few lights) */
+    int spp_plan = rd.spp ? rd.spp : timed_spp;
     if (k_fills_time) {
         const double tp = now();
-        st = choose_k(scene, s, &rd, factor, B - r->prep_seconds, timed_spp, r, &k);
+        st = choose_k(scene, s, &rd, factor, B - r->prep_seconds, spp_plan, rd.spp != 0, r, &k,
+                      &spp_plan);
         r->prep_seconds += now() - tp;
         if (st != LUMIS_OK) return st;
     }
@@ -294,12 +476,13 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
             break;
         rd.regions = regions;
         if ((st = unit_create(scene, &rd, factor, &u)) != LUMIS_OK) break;
-        r->prep_seconds += now() - tg;
+        /* the G-buffers (u.join_seconds) are render time: in the stats, not here */
+        r->prep_seconds += now() - tg - u.join_seconds;
         /* A light set under a budget without a K: K fills the time at a fixed sample count.
          * Otherwise the budget adds passes until what is left of it is spent. */
         const double left = B - r->prep_seconds - rendered;
-        st = k_fills_time ? unit_run(&u, rd.spp ? rd.spp : timed_spp)
-             : B > 0.0    ? run_timed(&u, left, s)
+        st = k_fills_time ? run_timed(&u, left, s, spp_plan)
+             : B > 0.0    ? run_timed(&u, left, s, 0)
                           : unit_run(&u, s->share_spp ? s->share_spp
                                          : rd.spp     ? rd.spp
                                                       : 16);
@@ -317,6 +500,8 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         const int k2 = clamp_k(k * rest / (T + g > 1e-9 ? T + g : 1e-9), rd.env);
         if (k2 <= k) break;
         rendered += T;
+        r->render_wall_seconds += u.run_wall;
+        r->render_cpu_seconds += u.run_cpu;
         k = k2;
         r->retried = 1;
         lumis_image_destroy(*out);
@@ -328,6 +513,18 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         regions = NULL;
     }
     r->upsample = factor;
+    /* contention: did the render's threads have their cores? */
+    r->render_wall_seconds += u.run_wall;
+    r->render_cpu_seconds += u.run_cpu;
+    r->threads_busy = r->stats.threads;
+    if (s->render.camera) {
+        int cw, ch;
+        cam_size(s->render.camera, &cw, &ch);
+        const int tiles = ((cw + 15) / 16) * ((ch + 15) / 16);
+        if (tiles < r->threads_busy) r->threads_busy = tiles;
+    }
+    if (r->render_wall_seconds > 0.0 && r->threads_busy > 0)
+        r->cpu_share = r->render_cpu_seconds / (r->render_wall_seconds * r->threads_busy);
     if (lights && st == LUMIS_OK) { /* what lights the image: the light set's build and memory */
         const lumis_light_set_info *li = lumis_light_set_get_info(lights);
         int lw = 0, lh = 0;
@@ -350,5 +547,7 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         lumis_image_destroy(*out);
         *out = NULL;
     }
+    r->wall_seconds = now() - wall0;
+    r->cpu_seconds = cpu_now() - cpu0;
     return st;
 }

@@ -7,6 +7,7 @@
 #include "../core/internal.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 
 enum { MAX_RADIUS = 8, MAX_WINDOW = (2 * MAX_RADIUS + 1) * (2 * MAX_RADIUS + 1) };
@@ -60,7 +61,8 @@ lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_
     const float kn = -0.5f / sq(sn), kd = -0.5f / sq(sd * drange), ka = -0.5f / sq(sa),
                 ks = -0.5f / sq(ss);
     const double sxr = (double)w / W, syr = (double)h / H;
-#pragma omp parallel for schedule(dynamic, 4)
+    const int threads = desc && desc->threads > 0 ? desc->threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
     for (int Y = 0; Y < H; Y++)
         for (int X = 0; X < W; X++) {
             const size_t P = (size_t)Y * (size_t)W + (size_t)X;

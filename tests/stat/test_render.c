@@ -213,12 +213,13 @@ static void check_irradiance(lumis_image *const *imgs, int runs, const lumis_env
 {
     enum { CELLS = 64 * 32 * 16 };
     assert_int_equal(lumis_envmap_width(env), 64);
-    /* Every sub-cell of the map: its direction and L * solid angle. */
-    static double cell[CELLS][4];
+    /* Every sub-cell of the map: its direction and L * solid angle, per channel: the map is
+     * coloured, its channels not in proportion (a sample that mixes them up must show). */
+    static double cell[CELLS][6];
     for (int j = 0, q = 0; j < 32; j++)
         for (int i = 0; i < 64; i++) {
-            double L = lumis_envmap_texel(env, i, j).g,
-                   om = lumis_envmap_pixel_solid_angle(env, j) / 16;
+            const lumis_rgb tx = lumis_envmap_texel(env, i, j);
+            const double om = lumis_envmap_pixel_solid_angle(env, j) / 16;
             for (int b = 0; b < 4; b++)
                 for (int a = 0; a < 4; a++, q++) {
                     double c0 = cos(PI * j / 32), c1 = cos(PI * (j + 1) / 32);
@@ -228,43 +229,51 @@ static void check_irradiance(lumis_image *const *imgs, int runs, const lumis_env
                     cell[q][0] = d.x;
                     cell[q][1] = d.y;
                     cell[q][2] = d.z;
-                    cell[q][3] = L * om;
+                    cell[q][3] = tx.r * om;
+                    cell[q][4] = tx.g * om;
+                    cell[q][5] = tx.b * om;
                 }
         }
     int checked = 0;
-    double zsum = 0.0;
+    double zsum[3] = {0, 0, 0};
     for (int y = 1; y < 24; y += 3)
         for (int x = 1; x < 24; x += 3) {
             if (!on_sphere(x, y)) continue;
-            double E = 0.0;
+            double E[3] = {0, 0, 0};
             for (int sub = 0; sub < 16; sub++) {
                 double n[3];
                 assert_true(sphere_normal(x + (sub % 4 + 0.5) / 4, y + (sub / 4 + 0.5) / 4, n));
                 for (int q = 0; q < CELLS; q++) {
                     double c = cell[q][0] * n[0] + cell[q][1] * n[1] + cell[q][2] * n[2];
-                    if (c > 0) E += cell[q][3] * c / 16;
+                    if (c > 0)
+                        for (int ch = 0; ch < 3; ch++) E[ch] += cell[q][3 + ch] * c / 16;
                 }
             }
-            double want = albedo / PI * E, sum = 0, sum2 = 0;
-            for (int r = 0; r < runs; r++) {
-                double v = imgs[r]->pixels[3 * (y * 24 + x) + 1];
-                sum += v;
-                sum2 += v * v;
+            for (int ch = 0; ch < 3; ch++) {
+                double want = albedo / PI * E[ch], sum = 0, sum2 = 0;
+                for (int r = 0; r < runs; r++) {
+                    double v = imgs[r]->pixels[3 * (y * 24 + x) + ch];
+                    sum += v;
+                    sum2 += v * v;
+                }
+                double mean = sum / runs,
+                       se = sqrt(fmax(sum2 / runs - mean * mean, 0) / (runs - 1));
+                double z = (mean - want) / fmax(se, 1e-3 * want);
+                /* About 40 pixels: 4.5 standard errors each (Student t, 31 degrees of freedom:
+                 * p ~ 1e-4 per pixel), and the sum of their z scores within 3.5 sqrt(n), which
+                 * catches a bias of a few tenths of a percent shared by every pixel. */
+                if (fabs(z) > 4.5)
+                    fail_msg("%s: pixel (%d, %d) channel %d: %g +- %g, exact %g (z = %.2f)", what,
+                             x, y, ch, mean, se, want, z);
+                zsum[ch] += z;
             }
-            double mean = sum / runs, se = sqrt(fmax(sum2 / runs - mean * mean, 0) / (runs - 1));
-            double z = (mean - want) / fmax(se, 1e-3 * want);
-            /* About 40 pixels: 4.5 standard errors each (Student t, 31 degrees of freedom:
-             * p ~ 1e-4 per pixel), and the sum of their z scores within 3.5 sqrt(n), which
-             * catches a bias of a few tenths of a percent shared by every pixel. */
-            if (fabs(z) > 4.5)
-                fail_msg("%s: pixel (%d, %d): %g +- %g, exact %g (z = %.2f)", what, x, y, mean, se,
-                         want, z);
-            zsum += z;
             checked++;
         }
     assert_true(checked > 20);
-    if (fabs(zsum) > 3.5 * sqrt(checked))
-        fail_msg("%s: pixels share a bias: sum of z = %.2f over %d pixels", what, zsum, checked);
+    for (int ch = 0; ch < 3; ch++)
+        if (fabs(zsum[ch]) > 3.5 * sqrt(checked))
+            fail_msg("%s: pixels share a bias in channel %d: sum of z = %.2f over %d pixels", what,
+                     ch, zsum[ch], checked);
 }
 
 static lumis_envmap *studio_map(void)
@@ -273,6 +282,14 @@ static lumis_envmap *studio_map(void)
     sd.width = 64;
     lumis_image *map = NULL;
     assert_int_equal(lumis_studio_create(&sd, &map), LUMIS_OK);
+    /* coloured, and not uniformly: red grows with u, blue with v, so that no channel is a
+     * multiple of another (grey data hides colour bugs) */
+    for (int j = 0; j < map->height; j++)
+        for (int i = 0; i < map->width; i++) {
+            float *px = map->pixels + 3 * ((size_t)j * (size_t)map->width + (size_t)i);
+            px[0] *= 0.4f + 1.2f * (float)i / (float)map->width;
+            px[2] *= 0.3f + 1.4f * (float)j / (float)map->height;
+        }
     return env_of(map);
 }
 
@@ -307,6 +324,33 @@ static void exact_irradiance(void **state)
         snprintf(what, sizeof what, "inversion + MIS, %s", lumis_sequence_name((lumis_sequence)q));
         check_irradiance(imgs, RUNS, env, 0.7, what);
         for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+    }
+    /* A sampler built on another map object with the same pixels (not fused with the map:
+     * the radiance and the light pdf come from two lookups) and unequal sample counts: the
+     * MIS weights must still carry the counts (issue 37: dropped there, ~-30 % bias, unseen
+     * with one sample of each). */
+    {
+        lumis_envmap *twin = studio_map();
+        lumis_sampler_desc sd = {0};
+        sd.method = LUMIS_METHOD_INVERSION;
+        lumis_sampler *smp = NULL;
+        assert_int_equal(lumis_sampler_create(twin, &sd, &smp), LUMIS_OK);
+        for (int r = 0; r < RUNS; r++) {
+            lumis_render_desc d = {0};
+            d.camera = &cam;
+            d.env = env;
+            d.sampler = smp;
+            d.estimator = LUMIS_ESTIMATOR_MIS;
+            d.light_samples = 3;
+            d.bsdf_samples = 1;
+            d.spp = 16;
+            d.seed = 700u + (unsigned)r;
+            assert_int_equal(lumis_render(s, &d, &imgs[r], NULL), LUMIS_OK);
+        }
+        check_irradiance(imgs, RUNS, env, 0.7, "inversion + MIS, a twin map's sampler, 3 + 1");
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+        lumis_sampler_destroy(smp);
+        lumis_envmap_destroy(twin);
     }
     lumis_scene_destroy(s);
     lumis_envmap_destroy(env);
@@ -1451,7 +1495,7 @@ static void render_session_equals_its_parts(void **state)
     sess.time_budget = 0.2;
     sess.spent = 0.01;
     assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
-    assert_true(r.pilot_k[0] == 16 && r.pilot_k[1] == 64 && r.lights_k >= 1);
+    assert_true(r.pilot_count >= 1 && r.pilot_k[0] == 4 && r.lights_k >= 1);
     assert_true(r.prep_seconds >= 0.01 && r.budget_used_seconds > r.prep_seconds);
     assert_true(r.budget_used_seconds >= r.prep_seconds + r.stats.seconds - 1e-9);
     lumis_light_set_destroy(r.light_set);
@@ -1475,12 +1519,84 @@ static void render_session_equals_its_parts(void **state)
     lumis_scene_destroy(s);
 }
 
+/* A light set's K fitted to a budget (issue 35): the pilots, the floor of K, the plan's
+ * samples and the time's accounting, on budgets that cannot and that can afford the floor. */
+static void render_session_budget_holds(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    lumis_image *sky = NULL;
+    lumis_sky_desc sd = {0};
+    sd.width = 64;
+    sd.height = 32;
+    assert_int_equal(lumis_sky_create(&sd, &sky), LUMIS_OK);
+    lumis_envmap *env = env_of(sky);
+    /* 320 x 240 for 10 ms on one thread: K = 4 at 4 spp costs more on any CPU */
+    lumis_camera big = cam;
+    big.width = 320;
+    big.height = 240;
+    lumis_session_desc sess = {0};
+    sess.render.camera = &big;
+    sess.render.env = env;
+    sess.render.threads = 1;
+    sess.lights = "wu";
+    sess.time_budget = 0.01;
+    sess.spent = 0.001; /* the caller's: in the budget, not in the session's wall time */
+    lumis_session_result r;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);
+    assert_int_equal(r.k_floor, 4);
+    assert_true(r.pilot_count >= 1 && r.pilot_k[0] == 4);
+    /* never under the floor unsaid: fewer samples first, down to one; then fewer lights */
+    assert_true(r.k_limit != LUMIS_K_LIMIT_NONE);
+    if (r.k_limit == LUMIS_K_LIMIT_FEWER_SPP)
+        assert_true(r.lights_k >= 4 && r.spp_planned < 4);
+    else
+        assert_true(r.spp_planned == 1 && r.lights_k >= 1 &&
+                    (r.lights_k < 4 || r.k_limit == LUMIS_K_LIMIT_OVER_BUDGET));
+    assert_true(r.stats.spp >= 1 && r.stats.spp <= r.spp_planned);
+    /* the budget's parts are disjoint spans of the session's wall time (the G-buffers are
+     * render time, not preparation too) */
+    if (!(r.budget_used_seconds - sess.spent <= r.wall_seconds + 1e-6))
+        fail_msg("budget used %g s (%g s the caller's) in a session of %g s", r.budget_used_seconds,
+                 sess.spent, r.wall_seconds);
+    /* one thread's CPU time is at most its wall time */
+    assert_int_equal(r.threads_busy, 1);
+    assert_true(r.cpu_share > 0.0 && r.cpu_share <= 1.05);
+    assert_true(r.cpu_seconds > 0.0 && r.render_wall_seconds > 0.0);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(img);
+    /* A map of 128 pixels caps K at 128, which a generous budget affords at once: the
+     * render keeps its plan's samples and leaves the rest of the budget unspent. */
+    lumis_image *small = NULL;
+    sd.width = 16;
+    sd.height = 8;
+    assert_int_equal(lumis_sky_create(&sd, &small), LUMIS_OK);
+    lumis_envmap *env_small = env_of(small);
+    sess.render.env = env_small;
+    sess.render.camera = &cam;
+    sess.time_budget = 0.5;
+    assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);
+    if (r.lights_k != 128)
+        fail_msg("K = %d (pilots %d: %d %d %d, predicted %g s)", r.lights_k, r.pilot_count,
+                 r.pilot_k[0], r.pilot_k[1], r.pilot_k[2], r.pilot_predicted);
+    assert_int_equal(r.k_limit, LUMIS_K_LIMIT_NONE);
+    assert_int_equal(r.spp_planned, 4);
+    assert_int_equal(r.stats.spp, 4);
+    lumis_light_set_destroy(r.light_set);
+    lumis_image_destroy(img);
+    lumis_envmap_destroy(env_small);
+    lumis_envmap_destroy(env);
+    lumis_scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
         cmocka_unit_test(render_session_equals_its_parts),
+        cmocka_unit_test(render_session_budget_holds),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
         cmocka_unit_test(light_set_lights_each_pixel_with_its_set),
         cmocka_unit_test(light_set_shades_glossy_surfaces_with_their_bsdf),
@@ -1498,5 +1614,7 @@ int main(void)
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),
     };
+    /* LUMIS_TEST_FILTER=render_session* runs the tests of that name alone */
+    if (getenv("LUMIS_TEST_FILTER")) cmocka_set_test_filter(getenv("LUMIS_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

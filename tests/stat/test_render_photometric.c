@@ -401,6 +401,52 @@ static void rectangles_estimators_and_refusals(void **state)
     lumis_photometric_file_destroy(f);
 }
 
+/* A Lambertian disk (I0 cos gamma over an opening of radius R) gives E = I0 / (h^2 + R^2) on
+ * its axis at distance h: the closed form pins the opening's size, which light and BSDF
+ * sampling, consistent with each other, would not (issue 37's survivor: a disk rendered at
+ * twice its radius).  The renderer's three estimators and lumis_photometric_irradiance. */
+static void a_disk_meets_its_closed_form(void **state)
+{
+    (void)state;
+    const double R = 0.2, h = 0.3;
+    pg_ies_spec spec = {
+        PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 181, 0, 90, 1, 0, 0, 0, 0, -2 * R, -2 * R, 0, 2};
+    lumis_photometric_file *f = load(&spec);
+    const double I0 = lumis_photometric_intensity_at(f->model, 0, 0);
+    const double want = I0 / (h * h + R * R);
+    const lumis_vec3 x = {0, 0, (float)-h}, n = {0, 0, 1};
+    double E = 0;
+    assert_int_equal(lumis_photometric_irradiance(f->model, 1, x, n, 0, &E), LUMIS_OK);
+    if (fabs(E / want - 1) > 1e-3) fail_msg("irradiance %g, closed form %g", E, want);
+    lumis_scene *s = floor_scene(0);
+    double X, Y;
+    floor_point(W / 2, H / 2, &X, &Y);
+    lumis_photometric_instance in = {0};
+    in.photometric = f->model;
+    in.area = 1;
+    in.placement.t[0] = X;
+    in.placement.t[1] = Y;
+    in.placement.t[2] = h;
+    const lumis_estimator ests[3] = {LUMIS_ESTIMATOR_LIGHT, LUMIS_ESTIMATOR_BSDF,
+                                     LUMIS_ESTIMATOR_MIS};
+    for (int e = 0; e < 3; e++) {
+        enum { RUNS = 6 };
+        double sum = 0, sum2 = 0;
+        for (int r = 0; r < RUNS; r++) {
+            lumis_image *img = render(s, &in, 1, 128, ests[e], 1, 70 + (unsigned long long)r);
+            const double v = px(img, W / 2, H / 2) * PI;
+            sum += v;
+            sum2 += v * v;
+            lumis_image_destroy(img);
+        }
+        const double mean = sum / RUNS, se = sqrt(fmax(0, sum2 / RUNS - mean * mean) / (RUNS - 1));
+        if (fabs(mean - want) > 4 * se + 3e-3 * want)
+            fail_msg("estimator %d: E %g +- %g, closed form %g", e, mean, se, want);
+    }
+    lumis_scene_destroy(s);
+    lumis_photometric_file_destroy(f);
+}
+
 /* ---- solid openings: a box, a cylinder, a sphere ------------------------------------------ */
 
 /* Gauss-Legendre nodes and weights on [-1, 1], 16 points (Golub-Welsch by Newton). */
@@ -653,7 +699,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
     for (int ty = 0; ty < 3; ty++)
         for (int r = 0; r < 3; r++) {
             for (int ia = 0; ia < 7; ia++) { /* along tilts */
-                double prev[9], R[9];
+                double prev[9] = {0}, R[9];
                 for (int k = 0; k <= 4 * 179; k++) {
                     const double t = k * step;
                     if (types[ty] != LUMIS_PHOTOMETRIC_C && k == 0) continue; /* the yoke's pole */
@@ -670,7 +716,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
             }
             const double tilts[] = {0.5, 10, 45, 64, 64.2, 65, 90, 120, 170, 179.5};
             for (int it = 0; it < 10; it++) { /* along azimuths */
-                double prev[9], R[9];
+                double prev[9] = {0}, R[9];
                 for (int k = 0; k <= 4 * 360; k++) {
                     const lumis_vec3 a = tilted_aim(tilts[it], k * step);
                     orient(types[ty], a, NULL, rolls[r], R);
@@ -686,7 +732,7 @@ static void orientation_is_a_continuous_explicit_frame(void **state)
         }
     /* along rolls */
     for (int ty = 0; ty < 3; ty++) {
-        double prev[9], R[9];
+        double prev[9] = {0}, R[9];
         const lumis_vec3 a = tilted_aim(64.1, 0);
         for (int k = 0; k <= 4 * 360; k++) {
             orient(types[ty], a, NULL, k * step - 180, R);
@@ -1032,6 +1078,7 @@ int main(void)
         cmocka_unit_test(an_opening_is_unbiased_and_far_away_a_point),
         cmocka_unit_test(rectangles_estimators_and_refusals),
         cmocka_unit_test(solid_openings_meet_a_quadrature),
+        cmocka_unit_test(a_disk_meets_its_closed_form),
         cmocka_unit_test(orientation_is_a_continuous_explicit_frame),
         cmocka_unit_test(aimed_fixtures_over_a_floor),
         cmocka_unit_test(floodlights_light_a_horizontal_band),

@@ -153,10 +153,16 @@ typedef struct result {
     double seconds, build_ms, table_bytes;
     double prep; /* seconds before the first sample, inside an equal-time budget */
     int spp;
+    /* What the item used (prep + every attempt: a light set's K refitted renders twice),
+     * its attempts, and contention: the session's wall and CPU seconds and the render
+     * threads' CPU share (NaN, 0: results made before 2026-12) */
+    double used, wall, cpu, share;
+    int attempts, contended;
 } result;
 
 typedef struct summary {
     double mean[NMETRICS], rank[NMETRICS], seconds, spp, build_ms, table_bytes, prep;
+    double used; /* prep + every attempt's render (NaN when a result predates it) */
     int n;
 } summary;
 
@@ -234,6 +240,13 @@ void bench_write_comparisons(FILE *f, bench_markup mk, const suite *s, const res
 int bench_noisy_reference(const bench_report *r, int budget, int method, int *max_spp);
 /* The warning, with a table of those items per budget and method (nothing if none). */
 void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r);
+/* The equal-time items whose render threads shared their cores (contention: their budget
+ * bought less than on an idle machine): a warning with a table of them; returns their
+ * number. */
+int bench_write_contention_warning(FILE *f, bench_markup mk, const bench_report *r);
+/* The reference's method as a reader would name it: "inversion + MIS (balance)", "light
+ * set variance-min, stratified, K = 32", "BSDF sampling". */
+void bench_method_words(const suite_method *m, char *out, size_t cap);
 /* The items whose process failed (DIR/failures/ID.txt): a list; returns their number. */
 int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
 
@@ -299,7 +312,7 @@ int bench_write_html(const bench_report *r, const char *path);
 /* ---- Slurm (bench_slurm.c) ---------------------------------------------------------------- */
 
 #define BENCH_SLURM_EXTRA_MAX 16
-#define BENCH_REF_PASSES_MAX  TOOL_MERGE_MAX /* --reference-passes: shares lumis merge joins */
+#define BENCH_REF_PASSES_MAX  (1 << 20) /* --reference-passes: as render --passes splits */
 
 typedef struct bench_slurm_opts {
     long tasks;       /* --tasks: the items' array tasks (shards); 0: one per (map, scene) pair */

@@ -75,6 +75,13 @@ int bench_write_html(const bench_report *r, const char *path)
             "<a href=\"results.json\">results.json</a>.</p>\n",
             LUMIS_VERSION_STRING, r->date, r->machine, r->found, r->n, s->ref_spp);
     bench_write_failures(h, BENCH_HTML, r);
+    int contended = 0;
+    for (int k = 0; k < r->n; k++) contended += r->res[k].present && r->res[k].contended;
+    if (contended) {
+        fputs("<div class=\"warn\">", h);
+        bench_write_contention_warning(h, BENCH_HTML, r);
+        fputs("</div>\n", h);
+    }
     int most;
     if (bench_noisy_reference(r, -1, -1, &most)) {
         fputs("<div class=\"warn\">", h);

@@ -38,14 +38,17 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->scene_path = sc->spec;
     else
         o->scene_name = sc->spec;
-    o->envspec = s->maps[it->map].spec;
-    o->env_image = c->images[it->map];
+    /* a built-in scene lit by its luminaire (headlight): the map and the method's light set
+     * or BSDF-only choice change nothing there (docs/bench.md), and render refuses them */
+    const int self_lit = !sc->is_file && lumis_scene_builtin_luminaire_spec(sc->spec) != NULL;
+    o->envspec = self_lit ? NULL : s->maps[it->map].spec;
+    o->env_image = self_lit ? NULL : c->images[it->map];
     o->env_image_replaced = s->maps[it->map].replaced;
     o->rotation_deg = s->maps[it->map].rotation_deg;
     o->scale = s->maps[it->map].scale;
     o->sampler = m->sampler;
-    o->bsdf_only = m->bsdf_only;
-    o->lights = m->lights[0] ? m->lights : NULL;
+    o->bsdf_only = self_lit ? 0 : m->bsdf_only;
+    o->lights = m->lights[0] && !self_lit ? m->lights : NULL;
     o->lights_mode = m->lights_mode;
     o->lights_k = m->lights_k;
     o->interleave = m->interleave;
@@ -171,6 +174,17 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         cJSON_AddNumberToObject(j, "render_seconds", r.stats.seconds);
         /* inside an equal-time item's budget: tables, light sets, K's pilots */
         cJSON_AddNumberToObject(j, "prep_seconds", r.prep_seconds);
+        /* what the item used: prep and every attempt's render (point lights whose pilots
+         * misjudged the time render twice; render_seconds is the image's attempt alone) */
+        cJSON_AddNumberToObject(j, "used_seconds",
+                                b->seconds > 0.0 ? r.budget_used_seconds
+                                                 : r.prep_seconds + r.stats.seconds);
+        cJSON_AddNumberToObject(j, "attempts", r.lights_retried ? 2 : 1);
+        /* contention: the session's wall and CPU time, the render threads' CPU share */
+        cJSON_AddNumberToObject(j, "wall_seconds", r.wall_seconds);
+        cJSON_AddNumberToObject(j, "cpu_seconds", r.cpu_seconds);
+        cJSON_AddNumberToObject(j, "cpu_share", r.cpu_share);
+        cJSON_AddBoolToObject(j, "contention", r.contended);
         /* BSDF sampling builds no light sampler worth counting (the CLI makes one anyway). */
         const int bsdf = s->methods[it->method].bsdf_only;
         cJSON_AddNumberToObject(j, "sampler_build_ms", bsdf ? 0.0 : r.sampler_build_ms);
@@ -181,8 +195,9 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         tool_metrics_json(&m, j);
         rc = tool_write_json(result, j); /* last: its existence marks the item done */
         cJSON_Delete(j);
-        fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f\n", index + 1,
-                total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr);
+        fprintf(stderr, "[%d/%d] %s: %d spp in %.2f s, relmse %.4g, flip_ldr %.4f%s\n", index + 1,
+                total, it->id, r.stats.spp, r.stats.seconds, m.err.relmse, m.flip_ldr,
+                r.contended ? " (contention: the cores were shared)" : "");
     }
     free(map);
     lumis_image_destroy(ref);
@@ -210,7 +225,7 @@ static int load_maps(suite *s, const unsigned char *need, lumis_image **images)
                 ro.errors = tool_errors;
                 st = lumis_image_read_memory(map->bytes, map->nbytes, LUMIS_FORMAT_AUTO, map->spec,
                                              &ro, &images[m], &info);
-                if (st == LUMIS_OK) tool_warn_replaced(map->spec, info.replaced);
+                if (st == LUMIS_OK) tool_warn_replaced(map->spec, info.replaced, images[m]);
             } else { /* a procedural spec, or a file that would not open (named by the error) */
                 st = tool_load_image(map->spec, &images[m], &info); /* warns itself */
             }
@@ -504,7 +519,8 @@ int bench_merge_references(suite *s, const char *out, long passes)
 {
     if (passes < 1 || passes > BENCH_REF_PASSES_MAX)
         return tool_runtime_error("bench: 1 to %d reference passes", BENCH_REF_PASSES_MAX);
-    char(*parts)[8800] = malloc((size_t)passes * sizeof *parts);
+    /* a path per share, each its own length: P may be large */
+    char **parts = calloc((size_t)passes, sizeof *parts);
     const char **in = malloc((size_t)passes * sizeof *in);
     if (!parts || !in) {
         free(parts);
@@ -517,12 +533,20 @@ int bench_merge_references(suite *s, const char *out, long passes)
             if (!bench_pair_needed(s, out, m, sc) || bench_reference_ok(s, out, m, sc)) continue;
             char absent[512] = "";
             for (long i = 0; i < passes; i++) {
-                bench_reference_part_path(s, out, m, sc, i, passes, parts[i], sizeof parts[i]);
+                char part[8800];
+                bench_reference_part_path(s, out, m, sc, i, passes, part, sizeof part);
+                free(parts[i]);
+                if (!(parts[i] = malloc(strlen(part) + 1))) {
+                    rc = tool_runtime_error("bench: out of memory");
+                    break;
+                }
+                strcpy(parts[i], part);
                 in[i] = parts[i];
                 if (!bench_reference_part_ok(s, out, m, sc, i, passes))
                     snprintf(absent + strlen(absent), sizeof absent - strlen(absent), "%s%ld",
                              *absent ? ", " : "", i);
             }
+            if (rc != EXIT_OK) break;
             if (*absent) {
                 tool_runtime_error("bench: the reference of %s / %s lacks its shares %s of %ld "
                                    "(their tasks failed or did not run: see the references' "
@@ -535,7 +559,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
             bench_reference_path(s, out, m, sc, exr, sizeof exr);
             tool_sidecar_path(exr, side, sizeof side);
             snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
-            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1);
+            int mrc = tool_merge_shares(in, (int)passes, exr, side, 1, 0);
             lumis_image *img = NULL;
             if (mrc == EXIT_OK && tool_load_image(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
             if (mrc == EXIT_OK) mrc = write_reference_preview(s, png, img);
@@ -554,6 +578,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
                 unlink(ps);
             }
         }
+    for (long i = 0; i < passes; i++) free(parts[i]);
     free(parts);
     free(in);
     fprintf(stderr, "lumis bench: merged %d reference%s%s\n", merged, merged == 1 ? "" : "s",

@@ -48,18 +48,78 @@ static void put_array(FILE *t, const int *idx, int n, long max_running)
     if (max_running > 0) fprintf(t, "%%%ld", max_running);
 }
 
+/* Whether v can be written into an #SBATCH line (what = the option that gave it, for the
+ * message; pattern: v is part of a Slurm filename pattern, --output's).  Slurm reads an
+ * #SBATCH line itself, not through sh: a line per option, a backslash escapes the next
+ * byte, quotes quote, an unquoted # starts a comment.  No escape carries a line break, so
+ * a control character is refused; in a filename pattern a backslash turns off every %
+ * pattern (sbatch(1)), so it is refused there too.  Usage error naming the value, or
+ * EXIT_OK. */
+static int sbatch_value_ok(const char *what, const char *v, int pattern)
+{
+    for (const unsigned char *c = (const unsigned char *)v; *c; c++) {
+        const int control = *c < 0x20 || *c == 0x7f;
+        if (!control && !(pattern && *c == '\\')) continue;
+        char shown[600];
+        size_t n = 0;
+        for (const unsigned char *d = (const unsigned char *)v; *d && n + 8 < sizeof shown; d++)
+            n += (size_t)(*d < 0x20 || *d == 0x7f || *d == '\\'
+                              ? snprintf(shown + n, sizeof shown - n, "\\x%02x", *d)
+                              : snprintf(shown + n, sizeof shown - n, "%c", *d));
+        return tool_usage_error("bench",
+                                "--slurm: %s \"%s\": %s cannot be written into an #SBATCH line "
+                                "(Slurm reads each line as one; %s)",
+                                what, shown, control ? "a control character" : "a backslash",
+                                control ? "choose another name"
+                                        : "in --output's file name it turns off %A and %a");
+    }
+    return EXIT_OK;
+}
+
+/* An #SBATCH line of one argument, "#SBATCH " + head + v + tail: as it is when every
+ * byte is a letter, a digit or one of -_./:=,+@%, else in double quotes with each " and \\
+ * after a backslash (Slurm ends an argument at a space even after a backslash: only quotes
+ * keep one; inside them a # is no comment).  pattern: v is literal text in a filename
+ * pattern, so each % is %%.  The values were checked by sbatch_value_ok. */
+static void put_sbatch(FILE *t, const char *head, const char *v, const char *tail, int pattern)
+{
+    char arg[9000];
+    size_t n = 0;
+    for (const char *c = head; *c && n + 1 < sizeof arg; c++) arg[n++] = *c;
+    for (const char *c = v; *c && n + 2 < sizeof arg; c++) {
+        arg[n++] = *c;
+        if (*c == '%' && pattern) arg[n++] = '%';
+    }
+    for (const char *c = tail; *c && n + 1 < sizeof arg; c++) arg[n++] = *c;
+    arg[n] = '\0';
+    int plain = 1;
+    for (const unsigned char *c = (const unsigned char *)arg; *c && plain; c++)
+        plain = (*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') ||
+                strchr("-_./:=,+@%", *c);
+    fputs("#SBATCH ", t);
+    if (!plain) fputc('"', t);
+    for (const char *c = arg; *c; c++) {
+        if (!plain && (*c == '"' || *c == '\\')) fputc('\\', t);
+        fputc(*c, t);
+    }
+    fputs(plain ? "\n" : "\"\n", t);
+}
+
 /* The #SBATCH lines every job has. */
 static void put_header(FILE *t, const bench_slurm_opts *o, const char *slurm_dir,
                        const char *suite_name, const char *job, int array, long cpus, int exclusive)
 {
+    char a[200], b[200];
     fprintf(t, "#!/bin/sh\n");
-    fprintf(t, "#SBATCH --job-name=lumis-%s-%s\n", suite_name, job);
-    fprintf(t, "#SBATCH --output=%s/logs/%s-%s.out\n", slurm_dir, job, array ? "%A_%a" : "%j");
+    snprintf(a, sizeof a, "-%s", job);
+    put_sbatch(t, "--job-name=lumis-", suite_name, a, 0);
+    snprintf(b, sizeof b, "/logs/%s-%s.out", job, array ? "%A_%a" : "%j");
+    put_sbatch(t, "--output=", slurm_dir, b, 1);
     fprintf(t, "#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=%ld\n", cpus);
     if (exclusive) fprintf(t, "#SBATCH --exclusive\n");
-    if (o->partition) fprintf(t, "#SBATCH --partition=%s\n", o->partition);
-    if (o->time_limit) fprintf(t, "#SBATCH --time=%s\n", o->time_limit);
-    for (int k = 0; k < o->nextra; k++) fprintf(t, "#SBATCH %s\n", o->extra[k]);
+    if (o->partition) put_sbatch(t, "--partition=", o->partition, "", 0);
+    if (o->time_limit) put_sbatch(t, "--time=", o->time_limit, "", 0);
+    for (int k = 0; k < o->nextra; k++) put_sbatch(t, "", o->extra[k], "", 0);
 }
 
 /* The start of a job's command (after a line in its log naming the node): exec LUMIS bench
@@ -182,6 +242,18 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
         return tool_runtime_error("bench: --slurm: %s", strerror(errno));
     }
     snprintf(dir, sizeof dir, "%s/slurm", out_abs);
+    /* every value an #SBATCH line holds (the sh words are quoted whatever they hold) */
+    int bad = sbatch_value_ok("--out", dir, 1);
+    if (bad == EXIT_OK) bad = sbatch_value_ok("the suite's name", s->name, 0);
+    if (bad == EXIT_OK && o->partition) bad = sbatch_value_ok("--partition", o->partition, 0);
+    if (bad == EXIT_OK && o->time_limit) bad = sbatch_value_ok("--time-limit", o->time_limit, 0);
+    for (int k = 0; bad == EXIT_OK && k < o->nextra; k++)
+        bad = sbatch_value_ok("--sbatch", o->extra[k], 0);
+    if (bad != EXIT_OK) {
+        free(suite_abs);
+        free(out_abs);
+        return bad;
+    }
     char logs[8900];
     snprintf(logs, sizeof logs, "%s/logs", dir);
     int rc =
@@ -271,9 +343,12 @@ int bench_slurm(const suite *s, const char *suite_path, const char *out, const b
         fprintf(t, " || exit 1\nexec ");
         put_quoted(t, exe);
         fprintf(t, " bench ");
-        put_quoted(t, suite_path);
-        fprintf(t, " --out ");
-        put_quoted(t, out);
+        char word[8800]; /* a suite named -x.json would read as an option: ./-x.json */
+        snprintf(word, sizeof word, "%s%s", suite_path[0] == '-' ? "./" : "", suite_path);
+        put_quoted(t, word);
+        fprintf(t, " ");
+        snprintf(word, sizeof word, "--out=%s", out); /* whatever out begins with */
+        put_quoted(t, word);
         fprintf(t, " --slurm --tasks %ld --reference-passes %ld --cpus %ld --reference-cpus %ld", N,
                 P, o->cpus, rcpus);
         if (o->max_running > 0) fprintf(t, " --max-running %ld", o->max_running);

@@ -38,6 +38,12 @@ static int load_results(const suite *s, const char *out, result *res)
         res[k].prep = jnum(j, "prep_seconds"); /* NaN in results made before 2026-11-25 */
         res[k].table_bytes = jnum(j, "sampler_table_bytes");
         res[k].spp = (int)jnum(j, "spp");
+        res[k].used = jnum(j, "used_seconds");
+        res[k].wall = jnum(j, "wall_seconds");
+        res[k].cpu = jnum(j, "cpu_seconds");
+        res[k].share = jnum(j, "cpu_share");
+        res[k].attempts = isnan(jnum(j, "attempts")) ? 0 : (int)jnum(j, "attempts");
+        res[k].contended = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(j, "contention"));
         res[k].present = 1;
         found++;
         cJSON_Delete(j);
@@ -100,6 +106,7 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
                 out[me].spp += r->spp;
                 out[me].build_ms += r->build_ms;
                 out[me].prep += r->prep;
+                out[me].used += r->used;
                 out[me].table_bytes += r->table_bytes;
                 out[me].n++;
             }
@@ -112,6 +119,7 @@ static void summarize(const suite *s, const result *res, int b, summary *out)
             u->spp /= u->n;
             u->build_ms /= u->n;
             u->prep /= u->n;
+            u->used /= u->n;
             u->table_bytes /= u->n;
         }
         for (int metric = 0; metric < NMETRICS; metric++) {
@@ -261,6 +269,72 @@ int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r)
     return n;
 }
 
+void bench_method_words(const suite_method *m, char *out, size_t cap)
+{
+    if (m->bsdf_only) {
+        snprintf(out, cap, "BSDF sampling");
+    } else if (m->lights[0]) {
+        const int strata = m->lights_mode == LUMIS_LIGHTS_STRATIFIED;
+        const int k = m->lights_k ? m->lights_k : strata ? 32 : 64;
+        snprintf(out, cap, "light set %s, %s, K = %d", m->lights, strata ? "stratified" : "point",
+                 k);
+    } else {
+        /* the sampler the render builds: "default" is inversion-guided (sampler.h) */
+        const lumis_sampler_method sm =
+            m->sampler.method ? m->sampler.method : LUMIS_METHOD_INVERSION_GUIDED;
+        snprintf(out, cap, "%s%s", lumis_sampler_method_name(sm),
+                 m->estimator == LUMIS_ESTIMATOR_LIGHT ? " (light sampling)"
+                 : m->power                            ? " + MIS (power)"
+                                                       : " + MIS (balance)");
+    }
+}
+
+int bench_write_contention_warning(FILE *f, bench_markup mk, const bench_report *r)
+{
+    const suite *s = r->s;
+    int n = 0, timed = 0;
+    for (int k = 0; k < r->n; k++) {
+        if (!r->res[k].present) continue;
+        const item it = bench_item_at(s, k);
+        if (s->budgets[it.budget].seconds > 0.0) timed++;
+        n += r->res[k].contended;
+    }
+    if (!n) return 0;
+    char text[1024], cells[5][4200];
+    snprintf(text, sizeof text,
+             "%sWarning: contention.%s %d of the %d equal-time items ran on shared cores: their "
+             "render threads got under %.0f %% of their wall time as CPU time, so their "
+             "budgets bought fewer samples or lights than on an idle machine, and the methods "
+             "compare unequally. Run with fewer %s--jobs%s or %s--threads%s, or on an idle "
+             "machine.",
+             mk == BENCH_HTML ? "<strong>" : "**", mk == BENCH_HTML ? "</strong>" : "**", n, timed,
+             100.0 * TOOL_CONTENTION_SHARE, mk == BENCH_HTML ? "<code>" : "`",
+             mk == BENCH_HTML ? "</code>" : "`", mk == BENCH_HTML ? "<code>" : "`",
+             mk == BENCH_HTML ? "</code>" : "`");
+    if (mk == BENCH_MD) fputs("\n", f);
+    bench_paragraph(f, mk, text);
+    if (mk == BENCH_MD) fputs("\n", f);
+    bench_table_begin(f, mk);
+    snprintf(cells[0], sizeof cells[0], "item");
+    snprintf(cells[1], sizeof cells[1], "CPU share");
+    snprintf(cells[2], sizeof cells[2], "used s");
+    snprintf(cells[3], sizeof cells[3], "budget s");
+    snprintf(cells[4], sizeof cells[4], "spp");
+    bench_table_row(f, mk, 1, 5, cells);
+    for (int k = 0; k < r->n; k++) {
+        if (!r->res[k].present || !r->res[k].contended) continue;
+        const item it = bench_item_at(s, k);
+        snprintf(cells[0], sizeof cells[0], "%s", it.id);
+        snprintf(cells[1], sizeof cells[1], "%.2f", r->res[k].share);
+        snprintf(cells[2], sizeof cells[2], "%.3f", r->res[k].used);
+        snprintf(cells[3], sizeof cells[3], "%g", s->budgets[it.budget].seconds);
+        snprintf(cells[4], sizeof cells[4], "%d", r->res[k].spp);
+        bench_table_row(f, mk, 0, 5, cells);
+    }
+    bench_table_end(f, mk);
+    return n;
+}
+
 void bench_write_reference_warning(FILE *f, bench_markup mk, const bench_report *r)
 {
     const suite *s = r->s;
@@ -372,7 +446,9 @@ int bench_write_csv(const bench_report *r, const char *path)
     fprintf(f, "map,scene,method,budget,spp,render_seconds,prep_seconds,sampler_build_ms,"
                "sampler_table_bytes");
     for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%s", bench_metric_key[m]);
-    fprintf(f, "\n");
+    /* used_seconds: prep and every attempt (render_seconds is the image's attempt alone);
+     * contention: the render threads got under 80 % of their wall time as CPU time */
+    fprintf(f, ",used_seconds,attempts,wall_seconds,cpu_seconds,cpu_share,contention\n");
     for (int k = 0; k < r->n; k++) {
         if (!res[k].present) continue;
         item it = bench_item_at(s, k);
@@ -380,7 +456,8 @@ int bench_write_csv(const bench_report *r, const char *path)
                 s->scenes[it.scene].label, s->methods[it.method].label, s->budgets[it.budget].label,
                 res[k].spp, res[k].seconds, res[k].prep, res[k].build_ms, res[k].table_bytes);
         for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%.9g", res[k].v[m]);
-        fprintf(f, "\n");
+        fprintf(f, ",%.6g,%d,%.6g,%.6g,%.4g,%d\n", res[k].used, res[k].attempts, res[k].wall,
+                res[k].cpu, res[k].share, res[k].contended);
     }
     return tool_commit_tmp(f, path);
 }
@@ -413,6 +490,10 @@ int bench_write_json(const bench_report *r, const char *path)
             cJSON_AddNumberToObject(o, "n", u->n);
             cJSON_AddNumberToObject(o, "mean_spp", u->spp);
             cJSON_AddNumberToObject(o, "mean_render_seconds", u->seconds);
+            if (isfinite(u->used))
+                cJSON_AddNumberToObject(o, "mean_used_seconds", u->used);
+            else
+                cJSON_AddNullToObject(o, "mean_used_seconds");
             if (isfinite(u->prep))
                 cJSON_AddNumberToObject(o, "mean_prep_seconds", u->prep);
             else
@@ -449,6 +530,8 @@ int bench_write_md(const bench_report *r, const char *path)
     const char *cmd = r->cmd, *date = r->date, *machine = r->machine;
     FILE *md = tmpfile();
     if (!md) return tool_runtime_error("bench: cannot write a temporary file");
+    char ref_words[256];
+    bench_method_words(&s->reference, ref_words, sizeof ref_words);
     fprintf(md, "# lumis bench: %s\n\n", s->name);
     if (s->description[0]) fprintf(md, "%s\n\n", s->description);
     char expo[128];
@@ -465,10 +548,9 @@ int bench_write_md(const bench_report *r, const char *path)
             "exposure range and ACES; 67.02 pixels per degree\n",
             cmd, LUMIS_VERSION_STRING, date, machine, found, n, s->nmaps, s->nscenes, s->nmethods,
             s->nbudgets, found < n ? " — **incomplete**: run the remaining shards" : "", s->ref_spp,
-            s->reference.bsdf_only ? "BSDF sampling"
-                                   : lumis_sampler_method_name(s->reference.sampler.method),
-            expo);
+            ref_words, expo);
     bench_write_failures(md, BENCH_MD, r);
+    bench_write_contention_warning(md, BENCH_MD, r);
     bench_write_reference_warning(md, BENCH_MD, r);
     for (int b = 0; b < s->nbudgets; b++) {
         const suite_budget *bu = &s->budgets[b];
@@ -478,18 +560,21 @@ int bench_write_md(const bench_report *r, const char *path)
             fprintf(md, "\n## Budget: %g s of rendering (equal time)\n\n", bu->seconds);
         fprintf(md, "Means over (map, scene) pairs; rank = average rank per pair (1 = best); "
                     "prep s = seconds before the first sample (tables, light sets, K's "
-                    "pilots), spent from an equal-time budget.\n\n"
-                    "| method | n | spp | render s | prep s | build ms | table bytes |");
+                    "pilots), spent from an equal-time budget; used s = prep s and every "
+                    "attempt's render (a light set whose K was refitted renders twice; render s "
+                    "is the image's attempt alone).\n\n"
+                    "| method | n | spp | render s | prep s | used s | build ms | table bytes |");
         for (int m = 0; m < NMETRICS; m++) fprintf(md, " %s |", bench_metric_title[m]);
         for (int m = 0; m < NMETRICS; m++)
             if (m != M_RMSE && m != M_PSNR) fprintf(md, " rank %s |", bench_metric_title[m]);
-        fprintf(md, "\n|---|---|---|---|---|---|---|");
+        fprintf(md, "\n|---|---|---|---|---|---|---|---|");
         for (int m = 0; m < 2 * NMETRICS - 2; m++) fprintf(md, "---|");
         fprintf(md, "\n");
         for (int me = 0; me < s->nmethods; me++) {
             const summary *u = &sum[b * s->nmethods + me];
-            fprintf(md, "| %s | %d | %.1f | %.3f | %.3f | %.2f | %.0f |", s->methods[me].label,
-                    u->n, u->spp, u->seconds, u->prep, u->build_ms, u->table_bytes);
+            fprintf(md, "| %s | %d | %.1f | %.3f | %.3f | %.3f | %.2f | %.0f |",
+                    s->methods[me].label, u->n, u->spp, u->seconds, u->prep, u->used, u->build_ms,
+                    u->table_bytes);
             char buf[64];
             for (int m = 0; m < NMETRICS; m++) {
                 bench_fmt_metric(buf, sizeof buf, u->n ? u->mean[m] : NAN, m);

@@ -42,7 +42,7 @@ static const char usage[] =
     "                   writes the tables and DIR/slurm/status.txt (what is missing); the\n"
     "                   scripts are in DIR/slurm/.  Run it again to resubmit what failed alone\n"
     "  --tasks N        the items' tasks (shards; default: one per (map, scene) pair)\n"
-    "  --reference-passes P  each reference split into P tasks (1 to 15; default 1), merged\n"
+    "  --reference-passes P  each reference split into P tasks (default 1), merged\n"
     "                   as lumis merge does (equal to one render up to float rounding)\n"
     "  --cpus C         cores of an items task, its render threads (default 1)\n"
     "  --reference-cpus C  cores of a reference task (default: as --cpus)\n"
@@ -252,6 +252,11 @@ int cmd_bench(int argc, char **argv)
     }
     int rc = check_out(out, suite_path);
     const int renders = !merging && !report_only && !slurm && !merge_refs;
+    if (rc == EXIT_OK && so.ref_passes > s.ref_spp) /* a share of no samples is no share */
+        rc = tool_usage_error("bench",
+                              "--reference-passes %ld: more shares than the %d samples "
+                              "of the suite's reference",
+                              so.ref_passes, s.ref_spp);
     if (rc == EXIT_OK && bench_read_inputs(&s, renders) != EXIT_OK) rc = EXIT_RUNTIME;
     if (rc != EXIT_OK) {
         bench_suite_free(&s);

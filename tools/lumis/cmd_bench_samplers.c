@@ -20,8 +20,14 @@ static const char usage[] =
     "rel_stderr_64: the standard deviation of a 64-sample estimate of the irradiance\n"
     "E(n) = int Y(w) max(0, n.w) dw over its value, averaged over 16 normals, computed\n"
     "exactly by summing f^2/p and f over every pixel (at its centre), not by sampling.\n\n"
-    "The kd-tree is also run as the paper's literal variant (uniform in angles inside a\n"
-    "block), reported as method kdtree with variant \"uniform-angles\".\n\n"
+    "Without --methods, the kd-tree is also run as the paper's literal variant (uniform in\n"
+    "angles inside a block), reported as method kdtree with variant \"uniform-angles\"\n"
+    "(the row \"kdtree-angles\").\n\n"
+    "After each map's rows, a verdict: which method has the lowest rel_stderr_64 (lower\n"
+    "is better: the error of 64 samples) and by how much, and which is best per second\n"
+    "of sampling (rel_stderr_64^2 / samples per second: the error at equal sampling time;\n"
+    "a render spends most of its time elsewhere, docs/results/ergun2012).  To compare two\n"
+    "samplers on your map: lumis bench-samplers MAP --methods inversion,kdtree\n\n"
     "options:\n"
     "  --json          print a JSON array of objects (map, method, variant, build_ms, bytes,\n"
     "                  total_bytes, compression_vs_inversion (null without tables),\n"
@@ -36,7 +42,7 @@ static const char usage[] =
     "                  (comma-separated, e.g. median-cut,wu), as method strata:NAME: build\n"
     "                  = the light set's and the region samplers', a sample = a direction\n"
     "                  drawn in one region (the regions in turn, as a render draws one in\n"
-    "                  each), rse@64 of 64 / K draws in every region\n"
+    "                  each), rel_stderr_64 of 64 / K draws in every region\n"
     "  --strata-k K    regions of those light sets (default 32, as lumis render)\n";
 
 enum { NNORMALS = 16, SPP = 64 };
@@ -271,12 +277,29 @@ done:
     return rc;
 }
 
+/* The widths of the table's map and method columns (the longest name given). */
+static int map_w = 3, method_w = 13;
+
+/* A map's rows, for its verdict. */
+typedef struct verdict_row {
+    char name[64];
+    double rse, sps;
+} verdict_row;
+static verdict_row vrows[64];
+static int nvrows;
+
 /* One row: a JSON object added to arr, or (arr NULL) a line of the table.  count_key names
  * the result's blocks (the kd-tree's) or regions (the strata's); a method without tables
  * (uniform) has no compression to speak of. */
 static void report_row(cJSON *arr, const char *map, const char *name, const char *variant,
                        const result *r, size_t inv_bytes, const char *count_key)
 {
+    if (nvrows < 64) {
+        verdict_row *v = &vrows[nvrows++];
+        snprintf(v->name, sizeof v->name, "%s%s", name, *variant ? "-angles" : "");
+        v->rse = r->rse;
+        v->sps = r->sps;
+    }
     const double comp = r->bytes ? (double)inv_bytes / (double)r->bytes : 0.0;
     if (arr) {
         cJSON *o = cJSON_CreateObject();
@@ -298,12 +321,43 @@ static void report_row(cJSON *arr, const char *map, const char *name, const char
         cJSON_AddItemToArray(arr, o);
         return;
     }
-    char label[96], comp_text[32];
-    snprintf(label, sizeof label, "%s%s", name, *variant ? " (angles)" : "");
+    char comp_text[32];
     snprintf(comp_text, sizeof comp_text, r->bytes ? "%.1f" : "-", comp);
-    printf("%-22s %-17s %9.2f %11zu %8s %12.4g %12.4g %9.4f\n", map, label, r->build_ms, r->bytes,
-           comp_text, r->sps, r->batch_sps, r->rse);
+    printf("%-*s %-*s %9.2f %11zu %8s %12.4g %12.4g %13.4f\n", map_w, map, method_w,
+           vrows[nvrows - 1].name, r->build_ms, r->bytes, comp_text, r->sps, r->batch_sps, r->rse);
     fflush(stdout);
+}
+
+/* The best of a map's rows by key (0: rel_stderr_64; 1: rel_stderr_64^2 / samples per
+ * second), the runner-up, and the runner-up's ratio to the best. */
+static double verdict_cost(const verdict_row *v, int key)
+{
+    return key == 0 ? v->rse : v->sps > 0.0 ? v->rse * v->rse / v->sps : INFINITY;
+}
+
+static void print_verdict(void)
+{
+    if (nvrows < 2) return;
+    char text[2][256];
+    for (int key = 0; key < 2; key++) {
+        int best = 0, next = -1;
+        for (int k = 1; k < nvrows; k++)
+            if (verdict_cost(&vrows[k], key) < verdict_cost(&vrows[best], key)) best = k;
+        for (int k = 0; k < nvrows; k++)
+            if (k != best &&
+                (next < 0 || verdict_cost(&vrows[k], key) < verdict_cost(&vrows[next], key)))
+                next = k;
+        const double b = verdict_cost(&vrows[best], key), n = verdict_cost(&vrows[next], key);
+        /* per second: the ratio of the times to equal error */
+        if (b > 0.0)
+            snprintf(text[key], sizeof text[key], "%.63s, %.63s next with %.3gx", vrows[best].name,
+                     vrows[next].name, n / b);
+        else
+            snprintf(text[key], sizeof text[key], "%.63s (error 0)", vrows[best].name);
+    }
+    printf("verdict (lower is better): lowest error at 64 samples: %s the error; lowest error "
+           "per second of sampling: %s the time to equal error\n",
+           text[0], text[1]);
 }
 
 int cmd_bench_samplers(int argc, char **argv)
@@ -365,6 +419,7 @@ int cmd_bench_samplers(int argc, char **argv)
         }
     }
     if (!nmaps) return tool_usage_error("bench-samplers", "no map given");
+    const int methods_given = nmethods > 0;
     if (!nmethods)
         for (int m = LUMIS_METHOD_INVERSION; m < LUMIS_METHOD_COUNT; m++)
             methods[nmethods++] = (lumis_sampler_method)m;
@@ -377,16 +432,21 @@ int cmd_bench_samplers(int argc, char **argv)
     for (long q = 0; q < 2 * nsamples; q++) u[q] = lumis_pcg32_double(&rng);
 
     cJSON *arr = json ? cJSON_CreateArray() : NULL;
-    if (!json)
-        printf("%-22s %-17s %9s %11s %8s %12s %12s %9s\n", "map", "method", "build_ms", "bytes",
-               "compress", "samples/s", "batch/s", "rse@64");
-    int rc = EXIT_OK;
+    for (int mi = 0; mi < nmaps; mi++)
+        if ((int)strlen(maps[mi]) > map_w) map_w = (int)strlen(maps[mi]);
+    for (int k = 0; k < nstrata; k++)
+        if ((int)strlen(strata[k]) + 7 > method_w) method_w = (int)strlen(strata[k]) + 7;
+    int rc = EXIT_OK, header = 0;
     for (int mi = 0; mi < nmaps && rc == EXIT_OK; mi++) {
         lumis_image *img = NULL;
         if (tool_load_image(maps[mi], &img, NULL) != LUMIS_OK) {
             rc = EXIT_RUNTIME;
             break;
         }
+        if (!json && !header++) /* after the first map loads: no header before an error */
+            printf("%-*s %-*s %9s %11s %8s %12s %12s %13s\n", map_w, "map", method_w, "method",
+                   "build_ms", "bytes", "compress", "samples/s", "batch/s", "rel_stderr_64");
+        nvrows = 0;
         lumis_envmap *env = NULL;
         lumis_envmap_from_image(img, &env);
         lumis_image_destroy(img);
@@ -411,7 +471,8 @@ int cmd_bench_samplers(int argc, char **argv)
             snprintf(name, sizeof name, "strata:%s", strata[k]);
             report_row(arr, maps[mi], name, "", &r, inv_bytes, "regions");
         }
-        /* Every method, and after kdtree its literal variant (uniform in angles). */
+        /* Every method, and after kdtree its literal variant (uniform in angles) when no
+         * --methods were given. */
         for (int k = 0, variant = 0; k < nmethods && rc == EXIT_OK; k += variant ? 0 : 1) {
             lumis_sampler_desc d = {0};
             d.method = methods[k];
@@ -422,8 +483,9 @@ int cmd_bench_samplers(int argc, char **argv)
             if (rc != EXIT_OK) break;
             report_row(arr, maps[mi], lumis_sampler_method_name(methods[k]),
                        variant ? "uniform-angles" : "", &r, inv_bytes, "blocks");
-            variant = methods[k] == LUMIS_METHOD_KDTREE && !variant;
+            variant = methods[k] == LUMIS_METHOD_KDTREE && !variant && !methods_given;
         }
+        if (!json && rc == EXIT_OK) print_verdict();
         quad_free(&q);
         lumis_envmap_destroy(env);
     }

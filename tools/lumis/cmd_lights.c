@@ -1,6 +1,7 @@
 /* lumis lights MAP --method M [-k K] ...: an environment map as K directional lights (median
  * cut, variance minimisation, Wu's decomposition), exported for renderers and game engines
- * (JSON, glTF 2.0 KHR_lights_punctual) and drawn on the map (PNG). */
+ * (JSON, glTF 2.0 KHR_lights_punctual as .gltf or .glb, in the frame they show the map in)
+ * and drawn on the map (PNG). */
 #include "common.h"
 
 #include <math.h>
@@ -8,19 +9,21 @@
 #include <string.h>
 
 static const char usage[] =
-    "usage: lumis lights MAP --method M [-k K] [--sets N] [--param NAME=VALUE,...]\n"
-    "                    [--rotate DEG]\n"
-    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf]\n"
+    "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
+    "                    [--rotate DEG] [--above-ground]\n"
+    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
+    "                    [--frame engine|lumis]\n"
     "                    [--png OUT.png [--png-width W]] [--irradiance]\n\n"
     "Turns an environment map into K directional lights whose powers add up to the map's\n"
     "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
     "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
-    "method and unit.\n\n"
+    "method and unit; which method for which goal: docs/lights.md, \"Which method\".\n\n"
     "options:\n"
-    "  --method M      median-cut, variance-min, fhis, tmms (a variant; docs/lights.md),\n"
-    "                  wu (Wu's decomposition: EnvDirects on the emissive pixels,\n"
-    "                  EnvIndirects for the rest), wu-is, wu-is-mask,\n"
-    "                  wu-is-kmeans, wu-original-cut (required)\n"
+    "  --method M      median-cut (the default: the lowest error of the light sets in the\n"
+    "                  project's equal-time renders), variance-min, fhis, tmms (a variant;\n"
+    "                  docs/lights.md), wu (Wu's decomposition: EnvDirects on the emissive\n"
+    "                  pixels, EnvIndirects for the rest), wu-is, wu-is-mask,\n"
+    "                  wu-is-kmeans, wu-original-cut\n"
     "  -k K            number of lights (default 64)\n"
     "  --sets N        interleaved sets to build (default 8; files hold the original)\n"
     "  --param P       the method's parameters, NAME=VALUE[,NAME=VALUE...] (repeatable):\n"
@@ -31,11 +34,19 @@ static const char usage[] =
     "                  min-share (each class's least share of the lights; docs/lights.md);\n"
     "                  tmms: key (0.18), bandwidth (0.1).  docs/lights.md says what each is\n"
     "  --rotate DEG    rotate the map about +y first\n"
+    "  --above-ground  keep only lights above the horizon (a scene with a ground plane,\n"
+    "                  y = 0): each light below it is folded into the nearest light above,\n"
+    "                  which takes its power (the total is kept; the folded share is\n"
+    "                  printed)\n"
     "  --json OUT      directions, power, colour and intensity, solid angle, extent, kind\n"
     "  --masks         with --json: each light's region as pixel runs [row, column, length]\n"
     "  --gltf OUT      glTF 2.0 with one KHR_lights_punctual directional light per light\n"
     "                  (three.js, Babylon.js, Blender, game engines); intensity in lux for a\n"
-    "                  map in cd/m^2\n"
+    "                  map in cd/m^2.  OUT.gltf is text, OUT.glb a binary container\n"
+    "  --frame F       the files' directions: engine (default; each light comes from where\n"
+    "                  three.js, glTF viewers and Blender show its source on the same map,\n"
+    "                  whose centre u = 1/2 they put along +x) or lumis (lumis's own frame,\n"
+    "                  u = 0 along +x).  Recorded in the files; docs/lights-export.md\n"
     "  --png OUT       the map (auto exposure) with the regions' borders in cyan, the\n"
     "                  EnvDirects' (emissive) pixels in orange, emissive pixels given back\n"
     "                  to the EnvIndirects in magenta, and every light marked (red:\n"
@@ -247,8 +258,10 @@ static int print_irradiance(const lumis_envmap *env, const lumis_light_set *set)
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
-    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0;
+    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0, above_ground = 0,
+        frame_given = 0;
     lumis_light_params params = {0};
+    lumis_export_frame frame = LUMIS_EXPORT_FRAME_ENGINE;
     double rotation = 0.0;
     for (int i = 1; i < argc; i++) {
         long x;
@@ -282,6 +295,10 @@ int cmd_lights(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--gltf", &v)) {
             if (!v || !*v) return tool_bad_value("lights", "--gltf", v, "needs a file");
             gltf = v;
+        } else if (tool_option(argc, argv, &i, "--frame", &v)) {
+            if (lumis_export_frame_from_name(v, &frame) != LUMIS_OK)
+                return tool_bad_value("lights", "--frame", v, "must be engine or lumis");
+            frame_given = 1;
         } else if (tool_option(argc, argv, &i, "--png", &v)) {
             if (!v || !*v) return tool_bad_value("lights", "--png", v, "needs a file");
             png = v;
@@ -293,6 +310,8 @@ int cmd_lights(int argc, char **argv)
             masks = 1;
         } else if (strcmp(argv[i], "--irradiance") == 0) {
             irradiance = 1;
+        } else if (strcmp(argv[i], "--above-ground") == 0) {
+            above_ground = 1;
         } else if (argv[i][0] != '-' && !map) {
             map = argv[i];
         } else {
@@ -300,15 +319,17 @@ int cmd_lights(int argc, char **argv)
         }
     }
     if (!map) return tool_usage_error("lights", "no map given");
-    if (!method) return tool_usage_error("lights", "--method M is required");
+    if (!method) method = "median-cut";
     const int prc = tool_light_params_check(&params, "lights", "--param", method);
     if (prc != EXIT_OK) return prc;
     if (masks && !json) return tool_usage_error("lights", "--masks goes with --json OUT");
+    if (frame_given && !json && !gltf)
+        return tool_usage_error("lights", "--frame goes with --json OUT or --gltf OUT");
     if (png_width && !png) return tool_usage_error("lights", "--png-width goes with --png OUT");
     tool_files files = {0};
     tool_files_input(&files, "map", map);
     tool_files_output(&files, "--json", json, TOOL_OUT_FILE);
-    tool_files_output(&files, "--gltf", gltf, TOOL_OUT_FILE);
+    tool_files_output(&files, "--gltf", gltf, TOOL_OUT_GLTF);
     tool_files_output(&files, "--png", png, TOOL_OUT_PNG);
     int rc = tool_files_check("lights", &files);
     if (rc != EXIT_OK) return rc;
@@ -328,6 +349,11 @@ int cmd_lights(int argc, char **argv)
     rc = EXIT_RUNTIME;
     if (lumis_lights_by_name(env, method, k, sets, &params, &tool_errors, &set) != LUMIS_OK)
         goto done;
+    lumis_light_fold fold = {0};
+    if (above_ground) {
+        const lumis_vec3 up = {0.0f, 1.0f, 0.0f};
+        if (lumis_light_set_fold_below(set, up, &tool_errors, &fold) != LUMIS_OK) goto done;
+    }
     const lumis_light_set_info *info = lumis_light_set_get_info(set);
     const lumis_light *l = NULL;
     int count = 0;
@@ -346,10 +372,21 @@ int cmd_lights(int argc, char **argv)
     if (*given) printf("parameters %s\n", given);
     printf("map read in %.2f ms, set up in %.2f ms\n", 1e3 * (t_setup - t_read),
            1e3 * (t_done - t_setup));
+    if (above_ground)
+        printf("above ground: %d light%s below the horizon folded into the nearest above, "
+               "%.2f %% of the power (RGB %.6g %.6g %.6g)\n",
+               fold.folded, fold.folded == 1 ? "" : "s", 100.0 * fold.share, fold.power[0],
+               fold.power[1], fold.power[2]);
     if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
         printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
                info->emissive_pixels, info->threshold, info->returned_pixels);
     printf("total power (RGB) %.6g %.6g %.6g\n", total[0], total[1], total[2]);
+    if (json || gltf)
+        printf("directions below in lumis's frame (u = 0 along +x); the files' in the %s frame%s\n",
+               lumis_export_frame_name(frame),
+               frame == LUMIS_EXPORT_FRAME_ENGINE
+                   ? " (-x, y, -z: where three.js and Blender show them)"
+                   : "");
     printf("%5s %-13s %9s %9s %9s %12s %12s %12s %10s %9s\n", "light", "kind", "x", "y", "z",
            "power r", "power g", "power b", "sr", "extent");
     for (int q = 0; q < count; q++)
@@ -364,8 +401,12 @@ int cmd_lights(int argc, char **argv)
     eo.masks = masks;
     eo.source = map;
     eo.method = method;
-    eo.parameters = given;
+    char recorded[1100]; /* the parameters and the fold, in the files */
+    snprintf(recorded, sizeof recorded, "%s%s%s", given, *given && above_ground ? "," : "",
+             above_ground ? "above-ground" : "");
+    eo.parameters = recorded;
     eo.errors = tool_errors;
+    eo.frame = frame;
     if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
         (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
         (png && write_picture(png, env, set, png_width) != EXIT_OK))

@@ -13,7 +13,8 @@
 static const char usage[] =
     "usage: lumis luminaire create OUT.json [--preset P] [--basis B] [--format F]\n"
     "       lumis luminaire create OUT.json --from FILE.ies|FILE.ldt [--grid WxH] [--size WxH]\n"
-    "                              [--delta D] [--max-angle DEG] [--basis B] [--format F]\n"
+    "                              [--delta D] [--max-angle DEG] [--error E] [--basis B]\n"
+    "                              [--format F]\n"
     "       lumis luminaire info LUMINAIRE [--json]\n"
     "       lumis luminaire predict LUMINAIRE [--distance A,B] [--bands N] [--budget K]\n"
     "                              [--kmax K] [--probes N] [--pilot P] [--seed S]\n"
@@ -33,10 +34,12 @@ static const char usage[] =
     "  --from FILE    instead of a preset: the light field of a photometric file's luminous\n"
     "                 opening (a disk or a rectangle), every point of which emits the file's\n"
     "                 distribution (docs/photometric.md, \"Near field\"); in metres\n"
-    "  --grid WxH     its basis functions (default 9 along the longer side)\n"
-    "  --size WxH     pixels per image (default 128x128)\n"
-    "  --delta D      distance from the opening to the image plane (default its size)\n"
-    "  --max-angle A  directions the images cover, in degrees from the aim (default 80)\n"
+    "  --grid WxH     its basis functions (default: 10 along the longer side)\n"
+    "  --size WxH     about this many pixels per image (default: from --error)\n"
+    "  --delta D      distance from the opening to the image plane (default twice its size)\n"
+    "  --max-angle A  directions the images cover, in degrees from the aim (default: 99.9 %\n"
+    "                 of the flux + 5, at most 80); the flux beyond is the far-field residual\n"
+    "  --error E      far-field relative error the resolution is chosen for (default 0.005)\n"
     "info     images, grid, delta, basis, units, total power, memory, and the time to read\n"
     "         it and to precompute its tables (the median of 3 builds)\n"
     "  --json         print one JSON object (keys: file, units, images, grid, width, height,\n"
@@ -89,6 +92,53 @@ static lumis_status write_and_destroy(const char *out, lumis_luminaire *lum,
     return st;
 }
 
+/* Adds what the light field of a photometric file carries and how close it is to the
+ * manifest ("photometric": docs/formats.md): the luminaire reader ignores it. */
+static lumis_status record_photometric(const char *out, const char *from,
+                                       const lumis_photometric_light_field_report *r)
+{
+    size_t n = 0;
+    int oom = 0;
+    unsigned char *text = tool_read_file(out, &n, &oom);
+    cJSON *root = text ? cJSON_ParseWithLength((const char *)text, n) : NULL;
+    free(text);
+    if (!root) {
+        fprintf(stderr, "lumis: luminaire create: cannot read back %s\n", out);
+        return LUMIS_ERR_READ;
+    }
+    cJSON *o = cJSON_AddObjectToObject(root, "photometric");
+    cJSON_AddStringToObject(o, "source", from);
+    cJSON_AddNumberToObject(o, "flux_lm", r->flux);
+    cJSON_AddNumberToObject(o, "light_field_lm", r->light_field_flux);
+    cJSON_AddNumberToObject(o, "max_angle_deg", r->max_angle_deg);
+    cJSON *res = cJSON_AddObjectToObject(o, "residual");
+    cJSON_AddNumberToObject(res, "from_deg", r->ramp_from_deg);
+    cJSON_AddNumberToObject(res, "to_deg", r->max_angle_deg);
+    cJSON_AddNumberToObject(res, "flux_lm", r->residual_flux);
+    cJSON_AddNumberToObject(res, "share", r->residual_share);
+    cJSON_AddNumberToObject(o, "error_target", r->error_target);
+    cJSON_AddNumberToObject(o, "far_field_error", r->far_field_error);
+    cJSON_AddNumberToObject(o, "far_field_error_mean", r->far_field_error_mean);
+    cJSON_AddBoolToObject(o, "target_met", r->target_met);
+    char *js = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!js) return LUMIS_ERR_OUT_OF_MEMORY;
+    const size_t len = strlen(js);
+    js[len] = '\0';
+    char *nl = malloc(len + 2);
+    if (!nl) {
+        cJSON_free(js);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    memcpy(nl, js, len);
+    nl[len] = '\n';
+    nl[len + 1] = '\0';
+    cJSON_free(js);
+    const lumis_status st = lumis_write_text(out, nl, len + 1, &tool_errors);
+    free(nl);
+    return st;
+}
+
 static int create(int argc, char **argv)
 {
     const char *out = NULL, *v;
@@ -121,6 +171,11 @@ static int create(int argc, char **argv)
                 !(lf.max_angle_deg < 90))
                 return tool_bad_value("luminaire create", "--max-angle", v,
                                       "must be degrees between 0 and 90");
+        } else if (tool_option(argc, argv, &i, "--error", &v)) {
+            if (!tool_parse_double(v, &lf.error_target) || !(lf.error_target > 0) ||
+                !(lf.error_target < 1))
+                return tool_bad_value("luminaire create", "--error", v,
+                                      "must be a relative error between 0 and 1");
         } else if (tool_option(argc, argv, &i, "--preset", &v)) {
             preset_given = v;
             if (!v || lumis_luminaire_preset_from_name(v, &preset) != LUMIS_OK)
@@ -151,9 +206,11 @@ static int create(int argc, char **argv)
                                 out);
     if (from && preset_given)
         return tool_usage_error("luminaire create", "--from and --preset: one or the other");
-    if (!from && (lf.grid[0] || lf.width || lf.delta > 0 || lf.max_angle_deg > 0))
-        return tool_usage_error("luminaire create",
-                                "--grid, --size, --delta and --max-angle: only with --from");
+    if (!from &&
+        (lf.grid[0] || lf.width || lf.delta > 0 || lf.max_angle_deg > 0 || lf.error_target > 0))
+        return tool_usage_error(
+            "luminaire create",
+            "--grid, --size, --delta, --max-angle and --error: only with --from");
     tool_files files = {0};
     tool_files_output(&files, "manifest", out, TOOL_OUT_FILE);
     if (from) tool_files_input(&files, "photometric file", from);
@@ -165,18 +222,33 @@ static int create(int argc, char **argv)
         lf.basis = basis;
         double t0 = tool_now_seconds();
         lumis_luminaire *lum = NULL;
+        lumis_photometric_light_field_report rep;
         const lumis_status bs =
-            lumis_luminaire_from_photometric(pf->model, &lf, &tool_errors, &lum);
+            lumis_luminaire_from_photometric(pf->model, &lf, &tool_errors, &lum, &rep);
         lumis_photometric_file_destroy(pf);
         if (bs != LUMIS_OK) return EXIT_RUNTIME;
         const double t1 = tool_now_seconds();
         lumis_luminaire_info info;
         if (write_and_destroy(out, lum, &wo, "m", &info) != LUMIS_OK) return EXIT_RUNTIME;
+        if (record_photometric(out, from, &rep) != LUMIS_OK) return EXIT_RUNTIME;
         fprintf(stderr,
                 "lumis: the light field of %s: %d x %d images of %d x %d, delta %.4g m, built in "
                 "%.2f s; wrote %s and its images in %.2f s\n",
                 from, info.grid[0], info.grid[1], info.width, info.height, info.delta, t1 - t0, out,
                 tool_now_seconds() - t1);
+        fprintf(stderr,
+                "lumis: it carries %.2f lm within %.1f deg of the aim (fading from %.1f); the "
+                "residual, %.2f lm (%.3f %% of the table's %.2f lm), is the far-field point "
+                "(lumis_photometric_beyond); together %+.4f %% of the table\n",
+                rep.light_field_flux, rep.max_angle_deg, rep.ramp_from_deg, rep.residual_flux,
+                100 * rep.residual_share, rep.flux,
+                100 * ((rep.light_field_flux + rep.residual_flux) / rep.flux - 1));
+        fprintf(stderr,
+                "lumis: far-field error %.3f %% at most, %.3f %% on average over %d directions "
+                "(target %.2f %%%s)\n",
+                100 * rep.far_field_error, 100 * rep.far_field_error_mean, rep.directions,
+                100 * rep.error_target,
+                rep.target_met ? ", met" : ": NOT met at the largest images allowed");
         return EXIT_OK;
     }
     fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",

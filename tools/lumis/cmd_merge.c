@@ -10,24 +10,24 @@
 #include <string.h>
 
 static const char usage[] =
-    "usage: lumis merge SHARE.exr... -o OUT.exr [--no-sidecar]\n\n"
+    "usage: lumis merge SHARE.exr... -o OUT.exr [--shares-from LIST] [--no-sidecar]\n"
+    "                   [--allow-replaced]\n\n"
     "Joins the shares of a render split by passes (lumis render --passes I/N, each on its\n"
     "own machine) into the image one render of all the samples gives: the shares' means\n"
     "weighted by their sample counts, in double precision (equal to the whole render's image\n"
     "up to the order of the floating-point sums: a few units in the last place of a float).\n"
-    "Each share's sidecar (SHARE.json) must say which share it is, and the shares must be\n"
-    "every share of one render (the same scene, map, method, sequence, seed, size and\n"
-    "samples), each once.  OUT.json gets the first share's sidecar with the samples and the\n"
-    "render times summed.\n\n"
+    "Each share's sidecar (SHARE.json) must say which share it is and carry the render key\n"
+    "(a digest of everything that determines the image); the shares must have one key, and\n"
+    "be every share of the render, each once.  A share's samples follow from its index, the\n"
+    "share count and the total; a sidecar that says otherwise is refused.  Shares are read\n"
+    "one at a time: memory does not grow with their number.  OUT.json gets the first\n"
+    "share's sidecar with the samples and the render times summed.\n\n"
     "options:\n"
-    "  -o, --output OUT   the merged image (.exr, .pfm or .hdr; required)\n"
-    "  --no-sidecar       no OUT.json\n";
-
-/* The sidecar keys that must agree between the shares of one render. */
-static const char *const same_keys[] = {
-    "scene",         "environment",  "method",      "estimator",  "heuristic",
-    "light_samples", "bsdf_samples", "max_bounces", "seed",       "sequence",
-    "width",         "height",       "lights",      "luminaires", NULL};
+    "  -o, --output OUT     the merged image (.exr, .pfm or .hdr; required)\n"
+    "  --shares-from LIST   the shares' paths, one a line (for more than a command line holds)\n"
+    "  --allow-replaced     merge a share whose pixels the reader replaced by 0 (NaN, Inf,\n"
+    "                       negative); refused by default, as they would bias the image\n"
+    "  --no-sidecar         no OUT.json\n";
 
 static cJSON *read_sidecar(const char *image, char *path, size_t cap)
 {
@@ -46,174 +46,317 @@ static double num(const cJSON *o, const char *key)
     return cJSON_IsNumber(v) ? v->valuedouble : NAN;
 }
 
+/* The most shares: as many as render --passes makes. */
+#define MERGE_MAX (1 << 20)
+
+/* Appends the lines of file to *in (a growing array of malloc'ed paths).  Exit code. */
+static int read_list(const char *file, char ***in, int *n, int *cap)
+{
+    size_t len = 0;
+    int oom = 0;
+    char *text = (char *)tool_read_file(file, &len, &oom);
+    if (!text)
+        return oom ? tool_runtime_error("merge: out of memory")
+                   : tool_runtime_error("merge: --shares-from %s: cannot read it", file);
+    int rc = EXIT_OK;
+    for (size_t a = 0; a < len && rc == EXIT_OK;) {
+        size_t b = a;
+        while (b < len && text[b] != '\n') b++;
+        size_t e = b;
+        if (e > a && text[e - 1] == '\r') e--;
+        if (e > a) {
+            if (*n == *cap) {
+                *cap = *cap ? 2 * *cap : 64;
+                char **g = realloc(*in, (size_t)*cap * sizeof *g);
+                if (!g) {
+                    rc = tool_runtime_error("merge: out of memory");
+                    break;
+                }
+                *in = g;
+            }
+            char *p = malloc(e - a + 1);
+            if (!p) {
+                rc = tool_runtime_error("merge: out of memory");
+                break;
+            }
+            memcpy(p, text + a, e - a);
+            p[e - a] = '\0';
+            (*in)[(*n)++] = p;
+        }
+        a = b + 1;
+    }
+    free(text);
+    return rc;
+}
+
 int cmd_merge(int argc, char **argv)
 {
     const char *out = NULL, *v;
-    int sidecar = 1;
-    const char *in[TOOL_FILES_MAX];
-    int n = 0;
-    for (int i = 1; i < argc; i++) {
+    int sidecar = 1, allow = 0, n = 0, cap = 0, rc = EXIT_OK;
+    char **in = NULL;
+    for (int i = 1; i < argc && rc == EXIT_OK; i++) {
         if (tool_is_help(argv[i])) {
             fputs(usage, stdout);
-            return EXIT_OK;
+            rc = -1;
         } else if (tool_option(argc, argv, &i, "-o", &v) ||
                    tool_option(argc, argv, &i, "--output", &v)) {
-            if (!v || !*v) return tool_bad_value("merge", "-o", v, "needs a file");
+            if (!v || !*v) rc = tool_bad_value("merge", "-o", v, "needs a file");
             out = v;
+        } else if (tool_option(argc, argv, &i, "--shares-from", &v)) {
+            if (!v || !*v)
+                rc = tool_bad_value("merge", "--shares-from", v, "needs a file");
+            else
+                rc = read_list(v, &in, &n, &cap);
         } else if (strcmp(argv[i], "--no-sidecar") == 0) {
             sidecar = 0;
+        } else if (strcmp(argv[i], "--allow-replaced") == 0) {
+            allow = 1;
         } else if (argv[i][0] != '-') {
-            if (n == TOOL_MERGE_MAX)
-                return tool_usage_error("merge", "at most %d shares", TOOL_MERGE_MAX);
-            in[n++] = argv[i];
+            if (n == cap) {
+                cap = cap ? 2 * cap : 64;
+                char **g = realloc(in, (size_t)cap * sizeof *g);
+                if (!g) {
+                    rc = tool_runtime_error("merge: out of memory");
+                    break;
+                }
+                in = g;
+            }
+            in[n] = malloc(strlen(argv[i]) + 1);
+            if (!in[n]) {
+                rc = tool_runtime_error("merge: out of memory");
+                break;
+            }
+            strcpy(in[n++], argv[i]);
         } else {
-            return tool_usage_error("merge", "unknown argument '%s'", argv[i]);
+            rc = tool_usage_error("merge", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!out) return tool_usage_error("merge", "no output file (-o OUT.exr)");
-    if (n < 1) return tool_usage_error("merge", "no shares to merge");
+    if (rc == EXIT_OK && !out) rc = tool_usage_error("merge", "no output file (-o OUT.exr)");
+    if (rc == EXIT_OK && n < 1) rc = tool_usage_error("merge", "no shares to merge");
+    if (rc == EXIT_OK && n > MERGE_MAX)
+        rc = tool_usage_error("merge", "%d shares: at most %d", n, MERGE_MAX);
+    char **side_in = rc == EXIT_OK && n > 0 ? calloc((size_t)(unsigned)n, sizeof *side_in) : NULL;
+    if (rc == EXIT_OK && !side_in) rc = tool_runtime_error("merge: out of memory");
     char side_out[4096];
-    tool_sidecar_path(out, side_out, sizeof side_out);
-    tool_files files = {0};
-    static char side_in[TOOL_FILES_MAX][4096]; /* the shares' sidecars: inputs too */
-    for (int k = 0; k < n; k++) {
-        tool_sidecar_path(in[k], side_in[k], sizeof side_in[k]);
-        tool_files_input(&files, "share", in[k]);
-        tool_files_input(&files, "share's sidecar", side_in[k]);
+    if (rc == EXIT_OK) {
+        tool_sidecar_path(out, side_out, sizeof side_out);
+        tool_files files = {0};
+        for (int k = 0; k < n && rc == EXIT_OK; k++) {
+            char p[4096];
+            tool_sidecar_path(in[k], p, sizeof p);
+            if (!(side_in[k] = malloc(strlen(p) + 1)))
+                rc = tool_runtime_error("merge: out of memory");
+            else
+                strcpy(side_in[k], p);
+        }
+        tool_files_input_list(&files, "share", (const char *const *)in, n);
+        tool_files_input_list(&files, "share's sidecar", (const char *const *)side_in, n);
+        tool_files_output(&files, "-o", out, TOOL_OUT_LINEAR);
+        if (sidecar) tool_files_sidecar(&files, side_out, "--no-sidecar, or another OUT");
+        if (rc == EXIT_OK) rc = tool_files_check("merge", &files);
     }
-    tool_files_output(&files, "-o", out, TOOL_OUT_LINEAR);
-    if (sidecar) tool_files_output(&files, "sidecar", side_out, TOOL_OUT_FILE);
-    int rc = tool_files_check("merge", &files);
-    if (rc != EXIT_OK) return rc;
-
-    return tool_merge_shares(in, n, out, sidecar ? side_out : NULL, 0);
+    if (rc == EXIT_OK)
+        rc =
+            tool_merge_shares((const char *const *)in, n, out, sidecar ? side_out : NULL, 0, allow);
+    for (int k = 0; k < n; k++) {
+        free(in[k]);
+        if (side_in) free(side_in[k]);
+    }
+    free(in);
+    free(side_in);
+    return rc < 0 ? EXIT_OK : rc;
 }
 
-int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
-                      int quiet)
+/* Whether x is an integer in [lo, hi]. */
+static int whole(double x, double lo, double hi)
 {
-    if (n < 1 || n > TOOL_MERGE_MAX)
-        return tool_runtime_error("merge: 1 to %d shares, not %d", TOOL_MERGE_MAX, n);
+    return x >= lo && x <= hi && x == floor(x);
+}
+
+/* The shares' sidecars, each checked against the first and against itself: a share of its
+ * render (one render key, one count, one total), its samples derived from its index. */
+static int check_sidecars(const char *const *in, int n, cJSON **first, int *index, int *count,
+                          int *total, cJSON *timings, double *passes)
+{
     int rc = EXIT_OK;
-    cJSON *side[TOOL_FILES_MAX] = {0};
-    lumis_image *img[TOOL_FILES_MAX] = {0};
-    int count = 0, seen[TOOL_FILES_MAX] = {0};
-    double total = 0, first_total = 0;
+    unsigned char *seen = NULL;
+    *passes = 0;
     for (int k = 0; k < n && rc == EXIT_OK; k++) {
-        char path[4096];
-        side[k] = read_sidecar(in[k], path, sizeof path);
-        const cJSON *p = side[k] ? cJSON_GetObjectItemCaseSensitive(side[k], "share") : NULL;
-        if (!side[k]) {
+        char path[4096], key[32], field[512], va[256], vb[256];
+        cJSON *side = read_sidecar(in[k], path, sizeof path);
+        const cJSON *p = cJSON_GetObjectItemCaseSensitive(side, "share"),
+                    *rk = cJSON_GetObjectItemCaseSensitive(side, "render_key");
+        const double idx = num(p, "index"), cnt = num(p, "count"), tot = num(p, "spp_total"),
+                     spp = num(side, "spp"), fs = num(p, "first_sample");
+        if (!side) {
             rc = tool_runtime_error("merge: %s: no readable sidecar %s (the share's JSON)", in[k],
                                     path);
-            break;
-        }
-        if (!cJSON_IsObject(p)) {
+        } else if (!cJSON_IsObject(p)) {
             rc = tool_runtime_error("merge: %s is not a share: its sidecar has no \"share\" "
                                     "(render it with --passes I/N)",
                                     in[k]);
+        } else if (!whole(cnt, 1, MERGE_MAX) || !whole(tot, cnt, MERGE_MAX)) {
+            rc = tool_runtime_error("merge: %s: \"share\" says %g shares of %g samples: not "
+                                    "whole numbers with 1 <= shares <= samples <= 2^20",
+                                    in[k], cnt, tot);
+        } else if (!whole(idx, 0, cnt - 1)) {
+            rc = tool_runtime_error("merge: %s: \"share.index\" %g: not a whole number in [0, %g]",
+                                    in[k], idx, cnt - 1);
+        } else if (!cJSON_IsString(rk)) {
+            rc = tool_runtime_error("merge: %s: its sidecar has no \"render_key\" (rendered by an "
+                                    "older lumis: render the share again)",
+                                    in[k]);
+        } else if (k > 0 && tool_render_key_difference(*first, side, field, sizeof field, va, vb,
+                                                       sizeof va)) {
+            rc = tool_runtime_error("merge: %s is not a share of the render of %s: they differ "
+                                    "in \"%s\" (%s against %s)",
+                                    in[k], in[0], field, vb, va);
+        } else if (!tool_render_key(side, key, sizeof key)) {
+            rc = tool_runtime_error("merge: out of memory");
+        } else if (strcmp(key, rk->valuestring) != 0) {
+            rc = tool_runtime_error("merge: %s: its \"render_key\" %s is not the key of its "
+                                    "fields (%s): the sidecar was edited",
+                                    in[k], rk->valuestring, key);
+        } else if (k > 0 &&
+                   strcmp(rk->valuestring,
+                          cJSON_GetObjectItemCaseSensitive(*first, "render_key")->valuestring) !=
+                       0) {
+            rc = tool_runtime_error("merge: %s and %s have different render keys", in[k], in[0]);
+        }
+        if (rc != EXIT_OK) {
+            cJSON_Delete(side);
             break;
         }
-        const double idx = num(p, "index"), cnt = num(p, "count"), tot = num(p, "spp_total"),
-                     spp = num(side[k], "spp");
-        if (!(cnt >= 1 && cnt <= TOOL_MERGE_MAX && idx >= 0 && idx < cnt && idx == floor(idx) &&
-              spp > 0 && tot >= cnt)) {
-            rc = tool_runtime_error("merge: %s: a sidecar's \"share\" that makes no sense", in[k]);
+        /* the samples of share idx of cnt of tot, as render --passes splits them */
+        const long long T = (long long)tot, N = (long long)cnt, I = (long long)idx;
+        const long long from = T * I / N, own = T * (I + 1) / N - from;
+        if (spp != (double)own || fs != (double)from) {
+            rc = tool_runtime_error("merge: %s: share %lld of %lld of %lld samples holds samples "
+                                    "%lld to %lld (%lld), its sidecar says \"spp\" %g from "
+                                    "\"share.first_sample\" %g",
+                                    in[k], I, N, T, from, from + own - 1, own, spp, fs);
+            cJSON_Delete(side);
             break;
         }
         if (k == 0) {
-            count = (int)cnt;
-            first_total = tot;
-        } else if ((int)cnt != count || tot != first_total) {
-            rc = tool_runtime_error("merge: %s is share %d of %d of %.0f samples, %s of %d of "
-                                    "%.0f: not the same render",
-                                    in[k], (int)idx, (int)cnt, tot, in[0], count, first_total);
+            *first = side;
+            *count = (int)N;
+            *total = (int)T;
+            if (!(seen = calloc((size_t)N, 1))) {
+                rc = tool_runtime_error("merge: out of memory");
+                break;
+            }
+        }
+        if (seen[I]++) {
+            rc = tool_runtime_error("merge: share %lld of %lld given twice (%s)", I, N, in[k]);
+            if (k > 0) cJSON_Delete(side);
             break;
         }
-        for (int q = 0; k > 0 && same_keys[q]; q++) {
-            char *a =
-                cJSON_PrintUnformatted(cJSON_GetObjectItemCaseSensitive(side[0], same_keys[q]));
-            char *b =
-                cJSON_PrintUnformatted(cJSON_GetObjectItemCaseSensitive(side[k], same_keys[q]));
-            const int differ = (a || b) && (!a || !b || strcmp(a, b) != 0);
-            if (differ)
-                rc = tool_runtime_error("merge: %s and %s differ in \"%s\" (%s against %s): not "
-                                        "shares of one render",
-                                        in[0], in[k], same_keys[q], a ? a : "none", b ? b : "none");
-            free(a);
-            free(b);
-            if (rc != EXIT_OK) break;
+        index[k] = (int)I;
+        *passes += num(side, "passes");
+        const cJSON *tm = cJSON_GetObjectItemCaseSensitive(side, "timings");
+        for (cJSON *t = timings->child; t; t = t->next)
+            if (cJSON_IsNumber(t)) cJSON_SetNumberValue(t, t->valuedouble + num(tm, t->string));
+        if (k == 0) { /* the sums start from the first share's timings' names */
+            for (const cJSON *t = tm ? tm->child : NULL; t; t = t->next)
+                if (cJSON_IsNumber(t)) cJSON_AddNumberToObject(timings, t->string, t->valuedouble);
+        } else {
+            cJSON_Delete(side);
         }
-        if (rc != EXIT_OK) break;
-        if (seen[(int)idx]++) {
-            rc = tool_runtime_error("merge: share %d of %d given twice (%s)", (int)idx, count,
-                                    in[k]);
-            break;
+    }
+    if (rc == EXIT_OK && n != *count) {
+        char missing[600] = "";
+        int m = 0;
+        for (int s = 0; s < *count; s++) {
+            if (seen[s]) continue;
+            if (m++ < 24)
+                snprintf(missing + strlen(missing), sizeof missing - strlen(missing), "%s%d",
+                         *missing ? ", " : "", s);
         }
-        if (tool_load_image(in[k], &img[k], NULL) != LUMIS_OK) {
+        rc = tool_runtime_error("merge: %d of the %d shares given; missing: %s%s", n, *count,
+                                missing, m > 24 ? " and more" : "");
+        if (m > 24) fprintf(stderr, "lumis: merge: %d shares missing in all\n", m);
+    }
+    free(seen);
+    return rc;
+}
+
+int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
+                      int quiet, int allow_replaced)
+{
+    if (n < 1 || n > MERGE_MAX)
+        return tool_runtime_error("merge: 1 to %d shares, not %d", MERGE_MAX, n);
+    cJSON *first = NULL, *timings = cJSON_CreateObject();
+    int *index = malloc(sizeof(int) * (size_t)n), count = 0, total = 0;
+    double passes = 0;
+    int rc = index && timings ? EXIT_OK : tool_runtime_error("merge: out of memory");
+    if (rc == EXIT_OK) rc = check_sidecars(in, n, &first, index, &count, &total, timings, &passes);
+    /* the images, one at a time: their sum weighted by their samples, in double */
+    const int w = (int)num(first, "width"), h = (int)num(first, "height");
+    double *sum = NULL;
+    if (rc == EXIT_OK &&
+        !(w > 0 && h > 0 && (sum = calloc(3 * (size_t)w * (size_t)h, sizeof *sum))))
+        rc = tool_runtime_error("merge: out of memory, or no size in %s's sidecar", in[0]);
+    for (int k = 0; k < n && rc == EXIT_OK; k++) {
+        lumis_image *img = NULL;
+        lumis_read_info info;
+        memset(&info, 0, sizeof info);
+        if (tool_load_image(in[k], &img, &info) != LUMIS_OK) {
             rc = EXIT_RUNTIME;
             break;
         }
-        if (k > 0 && (img[k]->width != img[0]->width || img[k]->height != img[0]->height)) {
-            rc = tool_runtime_error("merge: %s is %d x %d, %s %d x %d", in[k], img[k]->width,
-                                    img[k]->height, in[0], img[0]->width, img[0]->height);
-            break;
+        const unsigned long long bad = lumis_replaced_total(info.replaced);
+        if (img->width != w || img->height != h) {
+            rc = tool_runtime_error("merge: %s is %d x %d, its sidecar says %d x %d", in[k],
+                                    img->width, img->height, w, h);
+        } else if (bad && !allow_replaced) {
+            rc = tool_runtime_error("merge: %s: share %d has %llu pixel values that are not "
+                                    "finite and non-negative (NaN %llu, Inf %llu, negative %llu): "
+                                    "read as 0 they would bias the image; render it again, or "
+                                    "--allow-replaced",
+                                    in[k], index[k], bad, (unsigned long long)info.replaced.nan,
+                                    (unsigned long long)info.replaced.inf,
+                                    (unsigned long long)info.replaced.negative);
+        } else {
+            const long long T = total, N = count, I = index[k];
+            const double spp = (double)(T * (I + 1) / N - T * I / N);
+            const size_t m = 3 * (size_t)w * (size_t)h;
+            for (size_t q = 0; q < m; q++) sum[q] += (double)img->pixels[q] * spp;
         }
-        total += spp;
+        lumis_image_destroy(img);
     }
-    if (rc == EXIT_OK && n != count) {
-        char missing[512] = "";
-        for (int s = 0; s < count; s++)
-            if (!seen[s] && strlen(missing) < sizeof missing - 16)
-                snprintf(missing + strlen(missing), sizeof missing - strlen(missing), "%s%d",
-                         *missing ? ", " : "", s);
-        rc = tool_runtime_error("merge: %d of the %d shares given; missing: %s", n, count, missing);
-    }
-    if (rc == EXIT_OK && total != first_total)
-        rc = tool_runtime_error("merge: the shares hold %.0f samples, their render %.0f", total,
-                                first_total);
     lumis_image *merged = NULL;
-    if (rc == EXIT_OK && lumis_image_create(img[0]->width, img[0]->height, &merged) != LUMIS_OK)
+    if (rc == EXIT_OK && lumis_image_create(w, h, &merged) != LUMIS_OK)
         rc = tool_runtime_error("merge: out of memory");
     if (rc == EXIT_OK) {
-        const size_t m = 3 * (size_t)img[0]->width * (size_t)img[0]->height;
-        for (size_t q = 0; q < m; q++) {
-            double sum = 0.0;
-            for (int k = 0; k < n; k++) sum += (double)img[k]->pixels[q] * num(side[k], "spp");
-            merged->pixels[q] = (float)(sum / total);
-        }
+        const size_t m = 3 * (size_t)w * (size_t)h;
+        for (size_t q = 0; q < m; q++) merged->pixels[q] = (float)(sum[q] / total);
         if (tool_write_image(out, merged, NULL) != LUMIS_OK) rc = EXIT_RUNTIME;
     }
     if (rc == EXIT_OK && side_out) {
         /* the first share's sidecar: all the samples, the passes and times summed, no
-         * share */
-        cJSON *j = cJSON_Duplicate(side[0], 1);
+         * share; its render key stays (the render the shares were of) */
+        cJSON *j = cJSON_Duplicate(first, 1);
         cJSON_ReplaceItemInObjectCaseSensitive(j, "spp", cJSON_CreateNumber(total));
-        double passes = 0;
-        for (int k = 0; k < n; k++) passes += num(side[k], "passes");
         if (isfinite(passes))
             cJSON_ReplaceItemInObjectCaseSensitive(j, "passes", cJSON_CreateNumber(passes));
         cJSON_ReplaceItemInObjectCaseSensitive(j, "share", cJSON_CreateNull());
         cJSON *tm = cJSON_GetObjectItemCaseSensitive(j, "timings");
-        for (cJSON *t = tm ? tm->child : NULL; t; t = t->next) {
-            if (!cJSON_IsNumber(t)) continue;
-            double sum = 0;
-            for (int k = 0; k < n; k++)
-                sum += num(cJSON_GetObjectItemCaseSensitive(side[k], "timings"), t->string);
-            cJSON_SetNumberValue(t, sum);
-        }
+        for (cJSON *t = tm ? tm->child : NULL; t; t = t->next)
+            if (cJSON_IsNumber(t)) cJSON_SetNumberValue(t, num(timings, t->string));
+        cJSON_DeleteItemFromObjectCaseSensitive(j, "host");
         cJSON *from = cJSON_AddArrayToObject(j, "merged_from");
         for (int k = 0; k < n; k++) cJSON_AddItemToArray(from, cJSON_CreateString(in[k]));
         if (tool_write_json(side_out, j) != EXIT_OK) rc = EXIT_RUNTIME;
         cJSON_Delete(j);
     }
     if (rc == EXIT_OK && !quiet)
-        fprintf(stderr, "merged %d shares of %.0f samples into %s (%d x %d)\n", n, total, out,
-                merged->width, merged->height);
+        fprintf(stderr, "merged %d shares of %d samples into %s (%d x %d)%s%s\n", n, total, out, w,
+                h, side_out ? ", sidecar " : "", side_out ? side_out : "");
     lumis_image_destroy(merged);
-    for (int k = 0; k < n; k++) {
-        cJSON_Delete(side[k]);
-        lumis_image_destroy(img[k]);
-    }
+    free(sum);
+    free(index);
+    cJSON_Delete(first);
+    cJSON_Delete(timings);
     return rc;
 }

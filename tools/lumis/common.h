@@ -47,8 +47,10 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
 uint64_t tool_fnv(uint64_t h, const void *data, size_t n);
 /* mkdir -p; prints the error.  Exit code. */
 int tool_make_dir(const char *path);
-/* Prints a warning naming what (a file or spec) when r counts replaced values. */
-void tool_warn_replaced(const char *what, lumis_replaced r);
+/* Prints what was replaced in the map what (a file or spec): tiny negatives as a note
+ * (LUMIS_NOTES=0 silences it), the rest as a warning naming the worst pixel; and img's
+ * saturated spikes, by pixel (img may be NULL). */
+void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *img);
 
 /* Light-set methods by name (lumis_lights_method_from_name): known, Wu's (any wu...), and
  * the names joined for a message. */
@@ -99,12 +101,12 @@ typedef enum tool_output_kind {
     TOOL_OUT_IMAGE,  /* .exr .hdr .pfm .png */
     TOOL_OUT_LINEAR, /* .exr .hdr .pfm: linear values */
     TOOL_OUT_PNG,    /* .png */
-    TOOL_OUT_DIR     /* a directory, made if missing (its parent must exist) */
+    TOOL_OUT_GLTF,   /* .gltf (text) or .glb (binary) */
+    TOOL_OUT_DIR,    /* a directory, made if missing (its parent must exist) */
+    TOOL_OUT_SIDECAR /* a render's JSON sidecar: replaces only an earlier sidecar */
 } tool_output_kind;
 
 enum { TOOL_FILES_MAX = 32 };
-/* The shares lumis merge joins at most (each share and its sidecar are inputs). */
-enum { TOOL_MERGE_MAX = TOOL_FILES_MAX / 2 - 1 };
 
 /* The files a command reads and writes. */
 typedef struct tool_files {
@@ -112,6 +114,7 @@ typedef struct tool_files {
     struct {
         const char *what, *path;
         tool_output_kind kind;
+        const char *hint; /* TOOL_OUT_SIDECAR: the options that choose another path */
     } in[TOOL_FILES_MAX], out[TOOL_FILES_MAX];
     int n_lists; /* inputs by the list: a luminaire's images (borrowed until the check) */
     struct {
@@ -125,6 +128,13 @@ typedef struct tool_files {
  * or empty paths are ignored. */
 void tool_files_input(tool_files *f, const char *what, const char *path);
 void tool_files_output(tool_files *f, const char *what, const char *path, tool_output_kind kind);
+/* Records a sidecar output: it may replace an earlier sidecar (tool_is_sidecar) or an empty
+ * file, nothing else; hint names the options that choose another path ("--sidecar PATH or
+ * --no-sidecar"). */
+void tool_files_sidecar(tool_files *f, const char *path, const char *hint);
+/* Nonzero when path holds a lumis sidecar: a JSON object with "lumis_version", "command"
+ * and "outputs", as tool_write_sidecar writes it. */
+int tool_is_sidecar(const char *path);
 /* Records count inputs at once (the paths are borrowed until tool_files_check). */
 void tool_files_input_list(tool_files *f, const char *what, const char *const *paths, int count);
 
@@ -133,7 +143,8 @@ void tool_files_input_list(tool_files *f, const char *what, const char *const *p
 unsigned char *tool_read_file(const char *path, size_t *n, int *oom);
 
 /* Usage error (exit 2, naming both paths) unless every output has an extension of its kind,
- * a directory that exists and can be written, and is neither an input nor another output.
+ * a directory that exists and can be written, and is neither an input nor another output;
+ * a sidecar may replace only a sidecar.
  * Same file: by device and inode when both exist, else by resolved directory and name. */
 int tool_files_check(const char *cmd, const tool_files *f);
 int tool_same_file(const char *a, const char *b);
@@ -236,11 +247,22 @@ typedef struct tool_render_result {
     double load_seconds, scene_seconds, total_seconds, sampler_build_ms;
     size_t sampler_table_bytes;
     int upsample; /* the factor used (1: none) */
-    /* --lights with --time: the pilot renders that chose K (0 seconds: none ran). */
-    double lights_pilot_seconds, lights_pilot_per_spp[2], lights_pilot_once[2];
+    /* --lights with --time: the pilot renders that chose K (0 seconds: none ran), and the
+     * session's account of it (lumis_session_result: k_floor, spp_planned, k_limit ...). */
+    double lights_pilot_seconds, lights_pilot_per_spp[LUMIS_SESSION_PILOTS],
+        lights_pilot_once[LUMIS_SESSION_PILOTS];
     double lights_pilot_chosen; /* K the pilots chose, before any re-render */
-    int lights_pilot_k[2];
+    int lights_pilot_k[LUMIS_SESSION_PILOTS], lights_pilot_count;
+    double lights_pilot_scale, lights_pilot_predicted;
+    int lights_k_floor, lights_spp_planned;
+    lumis_k_limit lights_k_limit;
     int lights_retried; /* the pilots misjudged: rendered again with K scaled */
+    /* Contention (lumis_session_result): the session's wall and CPU seconds, and over its
+     * render passes the CPU share of the busy threads' wall time. */
+    double wall_seconds, cpu_seconds, render_wall_seconds, render_cpu_seconds, cpu_share;
+    int threads_busy;
+    int contended;  /* cpu_share below TOOL_CONTENTION_SHARE: warned */
+    int prep_heavy; /* --time: prep_seconds above TOOL_PREP_WARN_SHARE of it: warned */
     /* Equal wall time: seconds before the first sample (sampler tables, light-set generation
      * of every attempt, K's pilots), and that plus every attempt's render (--time only). */
     double prep_seconds, budget_used_seconds;
@@ -256,6 +278,15 @@ typedef struct tool_render_result {
  * budget goes to the number of lights. */
 #define TOOL_LIGHTS_TIMED_SPP 4
 
+/* A timed render whose threads got less than this share of their wall time as CPU time
+ * waited for cores (another process ran on them): the CLI warns, the sidecar and the bench
+ * report say so.  Idle, a render's passes measure 0.95-1.0; one thread sharing its core with
+ * one busy process, about 0.5. */
+#define TOOL_CONTENTION_SHARE 0.8
+/* A --time render that spent more than this share of its budget before its first sample
+ * (tables, light sets, K's pilots) warns: the method's preparation is then what is compared. */
+#define TOOL_PREP_WARN_SHARE 0.3
+
 /* The default sidecar of OUT: OUT.exr -> OUT.json (or OUT + .json). */
 void tool_sidecar_path(const char *out, char *buf, size_t cap);
 /* The sidecar of a render (sidecar.c): every setting, timing and count.  Exit code. */
@@ -266,6 +297,10 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                        const tool_render_result *r);
 /* "bsdf", "light" or "mis". */
 const char *tool_estimator_name(const lumis_render_desc *d);
+/* Why K fitted to --time is what it is (r->lights_k_limit), in words; "" when it is what
+ * the pilots fitted at the planned samples. */
+void tool_k_limit_text(const tool_render_opts *o, const tool_render_result *r, char *buf,
+                       size_t cap);
 
 /* The progress bar (progress.c): on stderr when it is a terminal; budget > 0: by time. */
 typedef struct progress {
@@ -299,7 +334,19 @@ int tool_is_photometric_path(const char *path);
  * none).  Checks that they are every share of one render, each once.  Prints errors (and,
  * unless quiet, a line of what it merged).  Exit code. */
 int tool_merge_shares(const char *const *in, int n, const char *out, const char *side_out,
-                      int quiet);
+                      int quiet, int allow_replaced);
+
+struct cJSON;
+/* The render key (render_key.c): a digest of a share's sidecar less what may differ between
+ * the shares of one render (timings, counts of work, host, share index), in out (16 hex
+ * digits).  0 when out of memory. */
+int tool_render_key(const struct cJSON *side, char *out, size_t cap);
+/* Whether "key" or "object.key" of a sidecar may differ between shares of one render. */
+int tool_render_key_may_differ(const char *path);
+/* The first field of the render key in which sidecars a and b differ, in field, with their
+ * values (JSON, shortened) in va and vb; 0 if none. */
+int tool_render_key_difference(const struct cJSON *a, const struct cJSON *b, char *field,
+                               size_t cap, char *va, char *vb, size_t vcap);
 
 struct cJSON;
 

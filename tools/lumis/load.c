@@ -18,14 +18,57 @@
 
 /* ---- maps and samplers ------------------------------------------------------------------- */
 
-void tool_warn_replaced(const char *what, lumis_replaced r)
+/* Tiny negatives (compression noise, in most real HDRIs) are a one-line note that
+ * LUMIS_NOTES=0 silences; NaN, Inf and negatives of consequence are a warning naming the
+ * worst pixel; saturated spikes (lumis_image_spikes) are named one by one. */
+void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *img)
 {
-    if (!lumis_replaced_total(r)) return;
-    fprintf(stderr,
-            "lumis: warning: %s: %llu channel values replaced by 0 (NaN %llu, Inf %llu, "
-            "negative %llu)\n",
-            what, (unsigned long long)lumis_replaced_total(r), (unsigned long long)r.nan,
-            (unsigned long long)r.inf, (unsigned long long)r.negative);
+    double mean = 0.0;
+    if (img) {
+        const size_t n = (size_t)img->width * (size_t)img->height;
+        for (size_t k = 0; k < n; k++)
+            mean += 0.2126 * img->pixels[3 * k] + 0.7152 * img->pixels[3 * k + 1] +
+                    0.0722 * img->pixels[3 * k + 2];
+        mean /= (double)(n ? n : 1);
+    }
+    if (lumis_replaced_total(r)) {
+        const char *quiet = getenv("LUMIS_NOTES");
+        /* what the negatives held, against the map's whole: under 1e-4 of it is noise */
+        const double total = mean * (img ? (double)img->width * (double)img->height : 0.0);
+        const int tiny = r.nan == 0 && r.inf == 0 && img && -r.negative_sum <= 1e-4 * total;
+        const int w = img && img->width > 0 ? img->width : 1;
+        const unsigned long long px = (unsigned long long)(r.negative_min_at / 3);
+        if (tiny && !(quiet && strcmp(quiet, "0") == 0))
+            fprintf(stderr,
+                    "lumis: note: %s: %llu small negative values (down to %.3g; %.2g of the map's "
+                    "sum: compression noise) replaced by 0 (LUMIS_NOTES=0 silences this)\n",
+                    what, (unsigned long long)r.negative, (double)r.negative_min,
+                    -r.negative_sum / (total > 0 ? total : 1));
+        else if (!tiny)
+            fprintf(stderr,
+                    "lumis: warning: %s: %llu channel values replaced by 0 (NaN %llu, Inf %llu, "
+                    "negative %llu%s",
+                    what, (unsigned long long)lumis_replaced_total(r), (unsigned long long)r.nan,
+                    (unsigned long long)r.inf, (unsigned long long)r.negative,
+                    r.negative ? "" : ")\n");
+        if (!tiny && r.negative)
+            fprintf(stderr, ", the worst %.4g at pixel (%llu, %llu); %.2g of the map's sum)\n",
+                    (double)r.negative_min, px % (unsigned long long)w, px / (unsigned long long)w,
+                    -r.negative_sum / (total > 0 ? total : 1));
+    }
+    if (!img) return;
+    lumis_spike sp[3];
+    const int n = lumis_image_spikes(img, sp, 3);
+    for (int k = 0; k < n && k < 3; k++) {
+        const float *p = img->pixels + 3 * ((size_t)sp[k].y * (size_t)img->width + (size_t)sp[k].x);
+        fprintf(stderr,
+                "lumis: warning: %s: pixel (%d, %d) = (%.4g, %.4g, %.4g) is a saturated spike, "
+                "%.3g x its neighbours: no camera makes one (a broken compression block?); it "
+                "will draw samples as a light would\n",
+                what, sp[k].x, sp[k].y, (double)p[0], (double)p[1], (double)p[2],
+                (double)sp[k].ratio);
+    }
+    if (n > 3) fprintf(stderr, "lumis: warning: %s: %d more such spikes\n", what, n - 3);
 }
 
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
@@ -36,7 +79,7 @@ lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_inf
     if (!info) info = &local;
     const lumis_status st = lumis_map_read(spec, &opt, out, info);
     /* every command says what it replaced: a NaN read as 0 changes a render or a score */
-    if (st == LUMIS_OK) tool_warn_replaced(spec, info->replaced);
+    if (st == LUMIS_OK) tool_warn_replaced(spec, info->replaced, *out);
     return st;
 }
 
@@ -169,6 +212,25 @@ lumis_status tool_load_luminaire(const char *spec, lumis_luminaire **out)
             return LUMIS_ERR_INVALID_ARGUMENT;
         }
         return load_preset(spec, preset, out);
+    }
+    /* A manifest is JSON; a file that is not, but reads as IES or EULUMDAT, is a fixture:
+     * point at the commands that take one rather than report "malformed JSON". */
+    FILE *fp = fopen(spec, "rb");
+    int c = EOF;
+    if (fp) {
+        do c = fgetc(fp);
+        while (c == ' ' || c == '\t' || c == '\r' || c == '\n');
+        fclose(fp);
+    }
+    lumis_photometric_file *pf = NULL;
+    if (c != EOF && c != '{' && lumis_photometric_read(spec, NULL, &pf) == LUMIS_OK) {
+        lumis_photometric_file_destroy(pf);
+        tool_runtime_error("%s is a photometric file (IES or EULUMDAT), not a light-field "
+                           "luminaire: 'lumis info %s' describes it, a scene file or render "
+                           "--fixture places it, and 'lumis luminaire create OUT.json --from "
+                           "%s' makes its light field",
+                           spec, spec, spec);
+        return LUMIS_ERR_INVALID_ARGUMENT;
     }
     lumis_luminaire_read_options ro = {0};
     ro.errors = tool_errors;

@@ -5,10 +5,13 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "common.h"
 
+#include <cJSON.h>
+
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -21,6 +24,8 @@ static const char *kind_formats(tool_output_kind kind)
         return ".exr, .hdr or .pfm";
     case TOOL_OUT_PNG:
         return ".png";
+    case TOOL_OUT_GLTF:
+        return ".gltf for text, .glb for binary";
     default:
         return "";
     }
@@ -36,6 +41,11 @@ static int kind_accepts(tool_output_kind kind, const char *path)
         return f != LUMIS_FORMAT_AUTO && f != LUMIS_FORMAT_PNG;
     case TOOL_OUT_PNG:
         return f == LUMIS_FORMAT_PNG;
+    case TOOL_OUT_GLTF: {
+        const char *dot = strrchr(path, '.');
+        return dot && !strchr(dot, '/') &&
+               (strcasecmp(dot, ".gltf") == 0 || strcasecmp(dot, ".glb") == 0);
+    }
     default:
         return 1;
     }
@@ -106,7 +116,47 @@ void tool_files_output(tool_files *f, const char *what, const char *path, tool_o
     f->out[f->n_out].what = what;
     f->out[f->n_out].path = path;
     f->out[f->n_out].kind = kind;
+    f->out[f->n_out].hint = NULL;
     f->n_out++;
+}
+
+void tool_files_sidecar(tool_files *f, const char *path, const char *hint)
+{
+    const int n = f->n_out;
+    tool_files_output(f, "sidecar", path, TOOL_OUT_SIDECAR);
+    if (f->n_out > n) f->out[n].hint = hint;
+}
+
+int tool_is_sidecar(const char *path)
+{
+    /* what tool_write_sidecar writes, and lumis merge's copy of it; no sidecar is this big */
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > (16 << 20)) return 0;
+    size_t n = 0;
+    int oom = 0;
+    unsigned char *text = tool_read_file(path, &n, &oom);
+    if (!text) return 0;
+    cJSON *j = cJSON_ParseWithLength((const char *)text, n);
+    free(text);
+    const int yes = cJSON_IsObject(j) &&
+                    cJSON_IsString(cJSON_GetObjectItemCaseSensitive(j, "lumis_version")) &&
+                    cJSON_IsString(cJSON_GetObjectItemCaseSensitive(j, "command")) &&
+                    cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(j, "outputs"));
+    cJSON_Delete(j);
+    return yes;
+}
+
+/* A sidecar replaces an earlier one, or an empty file (nothing to lose); a device (/dev/null)
+ * is written through; anything else is someone's file (lumis lights --json, a scene). */
+static int check_sidecar(const char *cmd, const char *path, const char *hint)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode) || st.st_size == 0 || tool_is_sidecar(path))
+        return EXIT_OK;
+    return tool_usage_error(cmd,
+                            "the sidecar %s would replace a file that is not a lumis sidecar; "
+                            "choose another sidecar path%s%s",
+                            path, hint ? " with " : "", hint ? hint : "");
 }
 
 static int check_one(const char *cmd, const char *what, const char *path, tool_output_kind kind)
@@ -157,6 +207,10 @@ int tool_files_check(const char *cmd, const tool_files *f)
             if (tool_same_file(f->out[o].path, f->out[p].path))
                 return tool_usage_error(cmd, "%s and %s are the same file (%s)", f->out[p].what,
                                         f->out[o].what, f->out[o].path);
+        if (f->out[o].kind == TOOL_OUT_SIDECAR) {
+            rc = check_sidecar(cmd, f->out[o].path, f->out[o].hint);
+            if (rc != EXIT_OK) return rc;
+        }
     }
     return EXIT_OK;
 }

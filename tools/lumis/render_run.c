@@ -154,7 +154,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         tool_files_input(&files, "mesh file", lumis_scene_file_mesh_path(file, k));
     tool_files_output(&files, "output", o->out, TOOL_OUT_LINEAR);
     tool_files_output(&files, "--png", o->png, TOOL_OUT_PNG);
-    tool_files_output(&files, "sidecar", sidecar, TOOL_OUT_FILE);
+    tool_files_sidecar(&files, sidecar, "--sidecar PATH (or none: --no-sidecar)");
     int rc = tool_files_check(cmd, &files);
     for (int k = 0; k < nmans; k++) lumis_luminaire_manifest_destroy(mans[k]);
     if (rc != EXIT_OK) {
@@ -174,7 +174,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
     if (!self_lit && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
         r->env_replaced = file->env_info.replaced;
-        tool_warn_replaced(envspec, r->env_replaced);
+        tool_warn_replaced(envspec, r->env_replaced, preloaded);
     } else if (!self_lit && preloaded) { /* the caller's (lumis bench): it warned when it read it */
         r->env_replaced = o->env_image_replaced;
     }
@@ -282,13 +282,30 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     r->prep_seconds = sr.prep_seconds;
     r->budget_used_seconds = sr.budget_used_seconds;
     r->lights_pilot_seconds = sr.pilot_seconds;
-    for (int p = 0; p < 2; p++) {
+    for (int p = 0; p < LUMIS_SESSION_PILOTS; p++) {
         r->lights_pilot_k[p] = sr.pilot_k[p];
         r->lights_pilot_per_spp[p] = sr.pilot_per_spp[p];
         r->lights_pilot_once[p] = sr.pilot_once[p];
     }
+    r->lights_pilot_count = sr.pilot_count;
     r->lights_pilot_chosen = sr.pilot_chosen;
+    r->lights_pilot_scale = sr.pilot_scale;
+    r->lights_pilot_predicted = sr.pilot_predicted;
+    r->lights_k_floor = sr.k_floor;
+    r->lights_spp_planned = sr.spp_planned;
+    r->lights_k_limit = sr.k_limit;
     r->lights_retried = sr.retried;
+    r->wall_seconds = sr.wall_seconds;
+    r->cpu_seconds = sr.cpu_seconds;
+    r->render_wall_seconds = sr.render_wall_seconds;
+    r->render_cpu_seconds = sr.render_cpu_seconds;
+    r->cpu_share = sr.cpu_share;
+    r->threads_busy = sr.threads_busy;
+    /* A timed render compares methods by what their time bought: threads that waited for
+     * a core bought less (measured over passes long enough to tell). */
+    r->contended = o->time_budget > 0.0 && sr.render_wall_seconds >= 0.05 && sr.cpu_share > 0.0 &&
+                   sr.cpu_share < TOOL_CONTENTION_SHARE;
+    r->prep_heavy = o->time_budget > 0.0 && sr.prep_seconds > TOOL_PREP_WARN_SHARE * o->time_budget;
     const int factor = sr.upsample;
     r->upsample = factor;
     pg.spp_done = r->stats.spp;
@@ -381,14 +398,76 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         if (o->time_budget > 0.0)
             fprintf(stderr,
                     "lumis: time budget %.3g s: %.3f s before the first sample (tables, light "
-                    "sets, K's pilots) + %.3f s rendering = %.3f s\n",
+                    "sets, K's pilots) + %.3f s rendering = %.3f s; CPU %.3f s over %.3f s wall "
+                    "(%.0f %% of %d thread%s)\n",
                     o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
-                    r->budget_used_seconds);
+                    r->budget_used_seconds, r->cpu_seconds, r->wall_seconds, 100.0 * r->cpu_share,
+                    r->threads_busy, r->threads_busy == 1 ? "" : "s");
+        if (r->lights_pilot_count > 0) {
+            char why[320] = "";
+            tool_k_limit_text(o, r, why, sizeof why);
+            fprintf(stderr,
+                    "lumis: K = %d at %d spp, from %d pilot%s at 1/%.0f of the pixels (%.3f s, "
+                    "predicted render %.3f s)%s%s\n",
+                    (int)r->lights_pilot_chosen, r->lights_spp_planned, r->lights_pilot_count,
+                    r->lights_pilot_count == 1 ? "" : "s", r->lights_pilot_scale,
+                    r->lights_pilot_seconds, r->lights_pilot_predicted, why[0] ? ": " : "", why);
+        }
     }
+    /* Warnings, quiet or not: a timed result that is not what its budget says. */
+    if (r->prep_heavy)
+        fprintf(stderr,
+                "lumis: warning: %.3f s of the %.3g s budget (%.0f %%, over %.0f %%) went before "
+                "the first sample (tables, light sets, K's pilots)\n",
+                r->prep_seconds, o->time_budget, 100.0 * r->prep_seconds / o->time_budget,
+                100.0 * TOOL_PREP_WARN_SHARE);
+    if (r->lights_k_limit == LUMIS_K_LIMIT_BELOW_FLOOR ||
+        r->lights_k_limit == LUMIS_K_LIMIT_OVER_BUDGET) {
+        char why[320];
+        tool_k_limit_text(o, r, why, sizeof why);
+        fprintf(stderr, "lumis: warning: %s\n", why);
+    }
+    if (r->contended)
+        fprintf(stderr,
+                "lumis: warning: contention: the render's %d thread%s had %.0f %% of their "
+                "wall time on a CPU (%.3f s CPU over %.3f s): other processes shared the cores, "
+                "and the %.3g s budget bought less than on an idle machine\n",
+                r->threads_busy, r->threads_busy == 1 ? "" : "s", 100.0 * r->cpu_share,
+                r->render_cpu_seconds, r->render_wall_seconds, o->time_budget);
     rc = EXIT_OK;
     if (sidecar[0])
         rc = tool_write_sidecar(o, &rd, sidecar, o->scene_path ? o->scene_path : o->scene_name,
                                 envspec, env, smp, lights, file, &cam, r);
+    if (rc == EXIT_OK && fixtures && r->image) {
+        /* A black image needs a hint, not exit 0 alone.  "Black": no pixel within 1e-9 of the
+         * brightest fixture's peak candela (a diffuse surface 100 m away with albedo 0.01
+         * is 3e-7 of it, in cd/m^2), which leaves the tails of a beam aimed away. */
+        double peak = 0.0, ymax = 0.0;
+        for (int k = 0; k < rd.photometric->count; k++) {
+            const lumis_photometric_instance *in = &rd.photometric->instances[k];
+            lumis_photometric_info pi;
+            lumis_photometric_get_info(in->photometric, &pi);
+            const double c = pi.max_candela * (in->multiplier == 0 ? 1.0 : in->multiplier);
+            peak = c > peak ? c : peak;
+        }
+        const size_t n = (size_t)r->image->width * (size_t)r->image->height;
+        for (size_t p = 0; p < n; p++) {
+            const float *q = r->image->pixels + 3 * p;
+            const double y = 0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2];
+            ymax = y > ymax ? y : ymax;
+        }
+        if (!(ymax > 1e-9 * peak))
+            fprintf(stderr,
+                    "lumis: warning: the image is black (brightest pixel %.3g cd/m^2 under %.3g "
+                    "cd at the fixture's peak): the photometric fixture%s light%s nothing the "
+                    "camera sees; check --fixture-at and --fixture-aim (or the scene's "
+                    "positions, in metres) and the beam\n",
+                    ymax, peak, rd.photometric->count > 1 ? "s" : "",
+                    rd.photometric->count > 1 ? "" : "s");
+    }
+    if (rc == EXIT_OK && !o->quiet && o->out) /* every file written, the sidecar's too */
+        fprintf(stderr, "lumis: wrote %s%s%s%s%s\n", o->out, o->png ? ", " : "",
+                o->png ? o->png : "", sidecar[0] ? ", sidecar " : "", sidecar);
 done:
     if (rc != EXIT_OK) {
         lumis_image_destroy(r->image);

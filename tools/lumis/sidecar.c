@@ -15,6 +15,33 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+void tool_k_limit_text(const tool_render_opts *o, const tool_render_result *r, char *buf,
+                       size_t cap)
+{
+    const int want = o->rd.spp ? o->rd.spp : TOOL_LIGHTS_TIMED_SPP;
+    switch (r->lights_k_limit) {
+    case LUMIS_K_LIMIT_FEWER_SPP:
+        snprintf(buf, cap,
+                 "at %d spp the budget affords fewer than %d lights; %d spp keep K at %d or more",
+                 want, r->lights_k_floor, r->lights_spp_planned, r->lights_k_floor);
+        break;
+    case LUMIS_K_LIMIT_BELOW_FLOOR:
+        snprintf(buf, cap,
+                 "the budget affords only K = %d (fewer than %d lights) even at %d spp: the "
+                 "light set is coarse (give more --time or a smaller --size)",
+                 (int)r->lights_pilot_chosen, r->lights_k_floor, r->lights_spp_planned);
+        break;
+    case LUMIS_K_LIMIT_OVER_BUDGET:
+        snprintf(buf, cap,
+                 "the budget is shorter than one light at %d spp (predicted %.3f s): K = 1 "
+                 "and the render overruns it (give more --time or a smaller --size)",
+                 r->lights_spp_planned, r->lights_pilot_predicted);
+        break;
+    default:
+        if (cap) buf[0] = '\0';
+    }
+}
+
 const char *tool_estimator_name(const lumis_render_desc *d)
 {
     return d->estimator == LUMIS_ESTIMATOR_BSDF    ? "bsdf"
@@ -28,6 +55,37 @@ void tool_sidecar_path(const char *out, char *buf, size_t cap)
     const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
     if (dot && (!slash || dot > slash) && dot != out && dot[-1] != '/') n = (size_t)(dot - out);
     snprintf(buf, cap, "%.*s.json", (int)n, out);
+}
+
+/* A file the render read, by content: {"path", "bytes", "fnv64"} (nothing for a name that
+ * is not a file: a built-in map or scene, a preset). */
+static void add_input(cJSON *arr, const char *path)
+{
+    struct stat st;
+    if (!path || !*path || stat(path, &st) != 0 || !S_ISREG(st.st_mode)) return;
+    size_t n = 0;
+    int oom = 0;
+    unsigned char *b = tool_read_file(path, &n, &oom);
+    cJSON *e = cJSON_CreateObject();
+    cJSON_AddStringToObject(e, "path", path);
+    cJSON_AddNumberToObject(e, "bytes", (double)n);
+    char h[32];
+    snprintf(h, sizeof h, "%016llx",
+             (unsigned long long)(b ? tool_fnv(0xcbf29ce484222325ull, b, n) : 0));
+    cJSON_AddStringToObject(e, "fnv64", b ? h : "unreadable");
+    cJSON_AddItemToArray(arr, e);
+    free(b);
+}
+
+/* A luminaire's manifest and every image it names. */
+static void add_luminaire(cJSON *arr, const char *path)
+{
+    if (!path || strncmp(path, "preset:", 7) == 0) return;
+    add_input(arr, path);
+    lumis_luminaire_manifest *m = NULL;
+    if (lumis_luminaire_manifest_read(path, NULL, &m) != LUMIS_OK) return;
+    for (int k = 0; k < m->image_count; k++) add_input(arr, m->paths[k]);
+    lumis_luminaire_manifest_destroy(m);
 }
 
 int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
@@ -176,18 +234,32 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
         cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
         cJSON_AddNumberToObject(x, "upsample", r->upsample);
-        if (r->lights_pilot_seconds > 0.0) {
-            /* --time: K chosen from two pilot renders (seconds per sample at K = 16, 64). */
+        if (r->lights_pilot_count > 0) {
+            /* --time: K chosen from pilot renders at the floor, 64 and where the fit lands
+             * (seconds per sample and once, scaled to the whole image). */
+            const int np = r->lights_pilot_count;
             cJSON *pl = cJSON_AddObjectToObject(x, "k_from_time");
-            cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, 2));
+            cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, np));
             cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
-                                  cJSON_CreateDoubleArray(r->lights_pilot_per_spp, 2));
+                                  cJSON_CreateDoubleArray(r->lights_pilot_per_spp, np));
             cJSON_AddItemToObject(pl, "pilot_seconds_once",
-                                  cJSON_CreateDoubleArray(r->lights_pilot_once, 2));
+                                  cJSON_CreateDoubleArray(r->lights_pilot_once, np));
+            cJSON_AddNumberToObject(pl, "pilot_pixel_fraction", 1.0 / r->lights_pilot_scale);
             cJSON_AddNumberToObject(pl, "k_from_pilots", r->lights_pilot_chosen);
+            cJSON_AddNumberToObject(pl, "k_floor", r->lights_k_floor);
+            cJSON_AddNumberToObject(pl, "spp_planned", r->lights_spp_planned);
+            cJSON_AddNumberToObject(pl, "predicted_render_seconds", r->lights_pilot_predicted);
             cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
             cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
             cJSON_AddBoolToObject(pl, "rerendered", r->lights_retried);
+            static const char *const limits[] = {"none", "fewer_spp", "below_floor", "over_budget"};
+            cJSON_AddStringToObject(pl, "k_limit", limits[r->lights_k_limit]);
+            char why[320];
+            tool_k_limit_text(o, r, why, sizeof why);
+            if (why[0])
+                cJSON_AddStringToObject(pl, "k_limit_reason", why);
+            else
+                cJSON_AddNullToObject(pl, "k_limit_reason");
         }
     } else {
         cJSON_AddNullToObject(j, "lights");
@@ -243,6 +315,23 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     else
         cJSON_AddNullToObject(x, "budget_used_seconds");
     cJSON_AddNumberToObject(x, "total_seconds", r->total_seconds);
+    /* Contention: wall and CPU time of the session, and of its render passes, whose CPU
+     * share of the busy threads' wall time says whether they had their cores. */
+    cJSON_AddNumberToObject(x, "wall_seconds", r->wall_seconds);
+    cJSON_AddNumberToObject(x, "cpu_seconds", r->cpu_seconds);
+    cJSON_AddNumberToObject(x, "render_pass_wall_seconds", r->render_wall_seconds);
+    cJSON_AddNumberToObject(x, "render_pass_cpu_seconds", r->render_cpu_seconds);
+    cJSON_AddNumberToObject(x, "threads_busy", r->threads_busy);
+    cJSON_AddNumberToObject(x, "cpu_share", r->cpu_share);
+    cJSON_AddBoolToObject(x, "contention", r->contended);
+    cJSON_AddNumberToObject(x, "contention_threshold", TOOL_CONTENTION_SHARE);
+    if (o->time_budget > 0.0) {
+        cJSON_AddNumberToObject(x, "prep_share", r->prep_seconds / o->time_budget);
+        cJSON_AddBoolToObject(x, "prep_over_share", r->prep_heavy);
+    } else {
+        cJSON_AddNullToObject(x, "prep_share");
+        cJSON_AddNullToObject(x, "prep_over_share");
+    }
     x = cJSON_AddObjectToObject(j, "rays");
     double total = s->camera_rays + s->shadow_rays + s->bounce_rays;
     cJSON_AddNumberToObject(x, "camera", s->camera_rays);
@@ -272,6 +361,28 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddStringToObject(x, "png", o->png);
     else
         cJSON_AddNullToObject(x, "png");
+    if (o->passes) { /* a share: its inputs by content, its host, and its render key */
+        cJSON *in = cJSON_AddArrayToObject(j, "inputs");
+        add_input(in, o->scene_path);
+        add_input(in, envspec);
+        for (int k = 0; lumis_scene_file_luminaire_path(file, k); k++)
+            add_luminaire(in, lumis_scene_file_luminaire_path(file, k));
+        add_luminaire(in, o->luminaire);
+        for (int k = 0; !o->fixture && lumis_scene_file_photometric_path(file, k); k++)
+            add_input(in, lumis_scene_file_photometric_path(file, k));
+        add_input(in, o->fixture);
+        for (int k = 0; lumis_scene_file_mesh_path(file, k); k++)
+            add_input(in, lumis_scene_file_mesh_path(file, k));
+        char host[256] = "";
+        if (gethostname(host, sizeof host - 1) != 0) snprintf(host, sizeof host, "?");
+        cJSON_AddStringToObject(j, "host", host);
+        char key[32];
+        if (!tool_render_key(j, key, sizeof key)) {
+            cJSON_Delete(j);
+            return tool_runtime_error("%s: out of memory", path);
+        }
+        cJSON_AddStringToObject(j, "render_key", key);
+    }
     int rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
