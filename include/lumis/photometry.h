@@ -130,9 +130,10 @@ typedef struct lumis_photometric_info {
     double max_candela;
     double max_h, max_v; /* where the table peaks */
     /* Beam (50 %) and field (10 %) angles in the two principal planes (type C: C0-C180 and
-     * C90-C270; A, B: the planes V = 0 and H = 0, through the aim): the full width, in
-     * degrees, of the region around the plane's peak where the intensity stays at or above
-     * that share of the plane's peak.  0 for a plane without light. */
+     * C90-C270; A, B: the planes V = 0 and H = 0, through the aim): the width, in degrees,
+     * of the arc of the plane's whole circle (through nadir and zenith) around its peak where
+     * the intensity stays at or above that share of the peak; 360 when all of it does, 0 for
+     * a plane without light. */
     double beam_deg[2], field_deg[2];
     double downward_fraction; /* of the flux below the horizontal plane (z < 0) */
 } lumis_photometric_info;

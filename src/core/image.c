@@ -75,31 +75,23 @@ int lumis_image_spikes(const lumis_image *img, lumis_spike *out, int max)
             if (!(hi > 0.0f) || !(lo < 0.02f * hi)) continue; /* not saturated: no spike */
             const double L = luma(p);
             /* the median of the 8 below L / 100 <=> at most 3 of them reach it */
-            int reach = 0;
+            double n8[8];
+            int reach = 0, k = 0;
             for (int dy = -1; dy <= 1; dy++)
                 for (int dx = -1; dx <= 1; dx++) {
                     if (!dx && !dy) continue;
                     const int yy = y + dy < 0 ? 0 : y + dy >= h ? h - 1 : y + dy;
                     const int xx = (x + dx + w) % w;
-                    const double Ln = luma(img->pixels + 3 * ((size_t)yy * (size_t)w + (size_t)xx));
-                    reach += Ln * 100.0 >= L;
+                    n8[k] = luma(img->pixels + 3 * ((size_t)yy * (size_t)w + (size_t)xx));
+                    reach += n8[k++] * 100.0 >= L;
                 }
             if (reach > 3 || !(L > 0.0)) continue;
             if (found < max && out) {
-                double n8[8];
-                int k = 0;
-                for (int dy = -1; dy <= 1; dy++)
-                    for (int dx = -1; dx <= 1; dx++) {
-                        if (!dx && !dy) continue;
-                        const int yy = y + dy < 0 ? 0 : y + dy >= h ? h - 1 : y + dy;
-                        const int xx = (x + dx + w) % w;
-                        n8[k++] = luma(img->pixels + 3 * ((size_t)yy * (size_t)w + (size_t)xx));
-                    }
                 for (int a = 1; a < 8; a++) /* insertion sort of eight */
-                    for (int b = a; b > 0 && n8[b] < n8[b - 1]; b--) {
-                        const double t = n8[b];
-                        n8[b] = n8[b - 1];
-                        n8[b - 1] = t;
+                    for (int c = a; c > 0 && n8[c] < n8[c - 1]; c--) {
+                        const double t = n8[c];
+                        n8[c] = n8[c - 1];
+                        n8[c - 1] = t;
                     }
                 const double med = 0.5 * (n8[3] + n8[4]);
                 out[found].x = x;
