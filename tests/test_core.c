@@ -121,6 +121,17 @@ static void spikes_are_saturated_and_isolated(void **state)
     assert_int_equal(lumis_image_spikes(img, NULL, 0), 1);
     assert_int_equal(lumis_image_spikes(NULL, sp, 4), 0);
     lumis_image_destroy(img);
+    /* the smallest map with 8 neighbours, 3 x 3: its centre is found; 3 x 2 has none */
+    assert_int_equal(lumis_image_create(3, 3, &img), LUMIS_OK);
+    for (int k = 0; k < 27; k++) img->pixels[k] = 0.5f;
+    img->pixels[3 * 4 + 2] = 9000;
+    img->pixels[3 * 4] = img->pixels[3 * 4 + 1] = 0;
+    assert_int_equal(lumis_image_spikes(img, sp, 4), 1);
+    assert_true(sp[0].x == 1 && sp[0].y == 1);
+    lumis_image_destroy(img);
+    assert_int_equal(lumis_image_create(3, 2, &img), LUMIS_OK);
+    assert_int_equal(lumis_image_spikes(img, sp, 4), 0);
+    lumis_image_destroy(img);
 }
 
 static void pcg32_matches_the_reference_sequence(void **state)
