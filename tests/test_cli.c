@@ -3703,6 +3703,7 @@ static void render_places_photometric_fixtures(void **state)
          "\"multiplier\": 0}]}",
          "photometric[0].multiplier: expected a number > 0"},
         {"{\"objects\": [], \"photometric\": []}", "photometric: expected at least one fixture"},
+        {"{\"objects\": [], \"photometric\": [1]}", "photometric[0]: expected an object"},
     };
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         tu_write_file(tu_path("bad-fx.json"), bad[k][0], strlen(bad[k][0]));
