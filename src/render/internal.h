@@ -41,6 +41,10 @@ lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera 
 
 /* Benchmark hooks (bench/bench_render.c), not part of the public API. */
 /* The top-level Embree scene (an RTCScene), for raw throughput on the same rays. */
+/* A timed render's next pass, in samples per pixel (0: stop), from the seconds per sample so
+ * far, the seconds left and the samples made; cap > 0: at most cap samples, one a pass. */
+int lumis__timed_next_pass(double per, double left, int spp, int cap);
+
 void *lumis__scene_rtc(const lumis_scene *scene);
 
 #endif

@@ -376,28 +376,42 @@ static lumis_status choose_k(const lumis_scene *scene, const lumis_session_desc 
     return LUMIS_OK;
 }
 
-/* Runs passes until the budget: each pass is sized from the time per sample so far, so the
- * last one ends as close to the budget as the estimate allows.  cap > 0: at most cap
+/* the share of one pass a timed render's last pass may be predicted to end past its budget
+ * (the estimate's noise: a pass that all but fits is run) */
+#define TIMED_SLACK 0.1
+
+int lumis__timed_next_pass(double per, double left, int spp, int cap)
+{
+    if (spp >= (1 << 24)) return 0;
+    if (cap) { /* K was fitted to cap samples: they are made unless far too slow */
+        if (spp >= cap || (per > 0.0 && left / per < 0.75)) return 0;
+        return 1;
+    }
+    /* Only whole passes that end within the budget are started (but for a tenth of a pass):
+     * a pass that would cross it by half its length used to be run, and one slow pass (a
+     * stratified sample, 1.2 s on one core) then took a 2 s budget to 2.5 s.  Equal time
+     * means no method gets more than the budget. */
+    const double fits = per > 0.0 ? left / per + TIMED_SLACK : (double)(1 << 24);
+    if (fits < 1.0) return 0;
+    return fits > spp ? spp : (int)fits; /* at most double: estimates settle */
+}
+
+/* Runs passes until the budget: each pass is sized from the time per sample so far, and
+ * none is started that the estimate says would end past the budget.  cap > 0: at most cap
  * samples per pixel, one a pass (point lights' K fills the time at a planned count: when
  * the pilots misjudged it, or the machine got busier, the budget ends the render first, a
  * sample at most a quarter of one past it). */
 static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *s, int cap)
 {
     lumis_render_stats st;
-    int n = 1;
-    for (;;) {
+    for (int n = 1; n > 0;) {
         const lumis_status rs = unit_run(u, n);
         if (rs != LUMIS_OK) return rs;
         unit_stats(u, &st);
         if (s->pass_done) s->pass_done(s->pass_done_user, st.spp);
-        if (cap && st.spp >= cap) return LUMIS_OK;
-        const double per = unit_per_sample(u), left = budget - st.seconds;
-        const double next = per > 0.0 ? left / per : (double)(1 << 24);
-        if (next < (cap ? 0.75 : 0.5) || st.spp >= (1 << 24)) return LUMIS_OK;
-        n = next > st.spp ? st.spp : (int)(next + 0.5); /* at most double: estimates settle */
-        if (cap) n = 1;
-        if (n < 1) n = 1;
+        n = lumis__timed_next_pass(unit_per_sample(u), budget - st.seconds, st.spp, cap);
     }
+    return LUMIS_OK;
 }
 
 /* ---- the session -------------------------------------------------------------------------- */

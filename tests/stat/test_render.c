@@ -1411,6 +1411,28 @@ static void bad_scenes(void **state)
  * (lumis_lights_by_name) rendered by lumis_render; with Wu's method and F = 2 the full
  * layer plus the upsampled low one.  A budget is spent (prep and render reported, K chosen
  * by the pilots), and bad requests are refused. */
+/* Oracle: arithmetic on the budget.  A timed render starts only passes that end within its
+ * budget (a tenth of a pass of slack), at most doubling the samples; with a cap, one sample a
+ * pass until the cap or until less than three quarters of one fits. */
+static void timed_passes_end_within_the_budget(void **state)
+{
+    (void)state;
+    /* issue 35: one stratified sample took 1.23 s of a 2 s budget; the second pass was run */
+    assert_int_equal(lumis__timed_next_pass(1.23, 2.0 - 1.23, 1, 0), 0);
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.91, 1, 0), 1);  /* all but fits: run */
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.89, 1, 0), 0);  /* a tenth short: not */
+    assert_int_equal(lumis__timed_next_pass(0.01, 10.0, 8, 0), 8); /* at most doubling */
+    assert_int_equal(lumis__timed_next_pass(0.01, 0.057, 64, 0), 5); /* floor(5.7 + 0.1) */
+    assert_int_equal(lumis__timed_next_pass(0.01, -0.5, 64, 0), 0); /* past it already */
+    assert_int_equal(lumis__timed_next_pass(0.0, 1.0, 3, 0), 3);    /* no time yet: double */
+    assert_int_equal(lumis__timed_next_pass(0.01, 1e9, 1 << 24, 0), 0);
+    /* cap: one a pass while three quarters of one fits and the cap is not reached */
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.76, 2, 4), 1);
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.74, 2, 4), 0);
+    assert_int_equal(lumis__timed_next_pass(0.1, 100.0, 4, 4), 0);
+    assert_int_equal(lumis__timed_next_pass(0.0, 1.0, 3, 4), 1);
+}
+
 static void render_session_equals_its_parts(void **state)
 {
     (void)state;
@@ -1595,6 +1617,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
+        cmocka_unit_test(timed_passes_end_within_the_budget),
         cmocka_unit_test(render_session_equals_its_parts),
         cmocka_unit_test(render_session_budget_holds),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
