@@ -1419,12 +1419,12 @@ static void timed_passes_end_within_the_budget(void **state)
     (void)state;
     /* issue 35: one stratified sample took 1.23 s of a 2 s budget; the second pass was run */
     assert_int_equal(lumis__timed_next_pass(1.23, 2.0 - 1.23, 1, 0), 0);
-    assert_int_equal(lumis__timed_next_pass(1.0, 0.91, 1, 0), 1);  /* all but fits: run */
-    assert_int_equal(lumis__timed_next_pass(1.0, 0.89, 1, 0), 0);  /* a tenth short: not */
-    assert_int_equal(lumis__timed_next_pass(0.01, 10.0, 8, 0), 8); /* at most doubling */
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.91, 1, 0), 1);    /* all but fits: run */
+    assert_int_equal(lumis__timed_next_pass(1.0, 0.89, 1, 0), 0);    /* a tenth short: not */
+    assert_int_equal(lumis__timed_next_pass(0.01, 10.0, 8, 0), 8);   /* at most doubling */
     assert_int_equal(lumis__timed_next_pass(0.01, 0.057, 64, 0), 5); /* floor(5.7 + 0.1) */
-    assert_int_equal(lumis__timed_next_pass(0.01, -0.5, 64, 0), 0); /* past it already */
-    assert_int_equal(lumis__timed_next_pass(0.0, 1.0, 3, 0), 3);    /* no time yet: double */
+    assert_int_equal(lumis__timed_next_pass(0.01, -0.5, 64, 0), 0);  /* past it already */
+    assert_int_equal(lumis__timed_next_pass(0.0, 1.0, 3, 0), 3);     /* no time yet: double */
     assert_int_equal(lumis__timed_next_pass(0.01, 1e9, 1 << 24, 0), 0);
     /* cap: one a pass while three quarters of one fits and the cap is not reached */
     assert_int_equal(lumis__timed_next_pass(1.0, 0.76, 2, 4), 1);
