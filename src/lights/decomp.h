@@ -88,6 +88,15 @@ int lumis__tiles_aligned(const lumis__tiles *t, int w, int h, lumis__rect r);
 /* r's tile range (r aligned). */
 lumis__rect lumis__tiles_of(const lumis__tiles *t, lumis__rect r);
 
+/* Eq. 1 and the classification (decomp_threshold.c): the map's luminance statistics and L_T
+ * into info; rowsum (3 h doubles, zeroed) per row: its luminance, its emissive pixels'
+ * luminance, their count; the tiles' sums over every pixel; the emissive pixels into dc
+ * (em_pix, em_bits, m, their labels).  dc's env, g, desc, w, h and labels are set. */
+lumis_status lumis__decomp_threshold(lumis__decomp *dc, lumis__tiles *tiles, double *rowsum,
+                                     lumis_light_set_info *info);
+/* Tile (tx, ty) summed again over its non-emissive pixels only. */
+void lumis__decomp_dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, int ty);
+
 /* The cut: up to `budget` rectangles covering every pixel labelled -1 (the non-emissive
  * set), each holding at least one of them.  *count receives how many (fewer than budget
  * only if there are fewer such pixels).  rects holds budget entries. */

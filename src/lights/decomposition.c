@@ -1,515 +1,13 @@
 /* Wu's decomposition ("Efficient Environment Map Rendering based on Decomposition", Wu
- * 2024): the emissive threshold (Eq. 1, an exact percentile: a sample-bracketed selection,
- * or two-level radix selection), the light budget (Eq. 2), and the assembly of EnvDirects
- * (env_direct.c) and EnvIndirects (illumination_cut.c) into one set.  docs/lights.md. */
+ * 2024), assembled stage by stage: the emissive threshold and pixels (Eq. 1,
+ * decomp_threshold.c), the light budget (Eq. 2), the EnvDirects (env_direct.c), and the
+ * EnvIndirects (illumination_cut.c), into one set.  docs/lights.md. */
 #include "decomp.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-
-static uint32_t float_bits(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return (u & 0x80000000u) ? 0u : u; /* luminance is >= 0; -0 counts as 0 */
-}
-
-/* The rank-th smallest (1-based) of n non-negative floats: hist (65536 entries, zeroed)
- * gets the histogram of the high 16 bits of their IEEE patterns, which order like the
- * values; a second histogram of the low 16 bits inside the bucket found settles it. */
-static float select_rank_radix(const float *y, size_t n, size_t rank, uint32_t *hist)
-{
-    for (size_t p = 0; p < n; p++) hist[float_bits(y[p]) >> 16]++;
-    size_t below = 0;
-    uint32_t hi = 0;
-    while (below + hist[hi] < rank) below += hist[hi++];
-    memset(hist, 0, 65536 * sizeof(uint32_t));
-    for (size_t p = 0; p < n; p++) {
-        uint32_t b = float_bits(y[p]);
-        if ((b >> 16) == hi) hist[b & 0xffffu]++;
-    }
-    uint32_t lo = 0;
-    while (below + hist[lo] < rank) below += hist[lo++];
-    uint32_t bits = (hi << 16) | lo;
-    float out;
-    memcpy(&out, &bits, sizeof out);
-    return out;
-}
-
-/* The k-th smallest (0-based) of a[0 .. n), reordering a (Hoare's selection, median of
- * three pivots). */
-static float kth_smallest(float *a, ptrdiff_t n, ptrdiff_t k)
-{
-    ptrdiff_t lo = 0, hi = n - 1;
-    while (lo < hi) {
-        float x = a[lo], y = a[lo + (hi - lo) / 2], z = a[hi];
-        float pv = x < y ? (y < z ? y : (x < z ? z : x)) : (x < z ? x : (y < z ? z : y));
-        ptrdiff_t i = lo, j = hi;
-        while (i <= j) {
-            while (a[i] < pv) i++;
-            while (a[j] > pv) j--;
-            if (i <= j) {
-                float t = a[i];
-                a[i] = a[j];
-                a[j] = t;
-                i++;
-                j--;
-            }
-        }
-        if (k <= j)
-            hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            return a[k]; /* between the two parts: equal to the pivot */
-    }
-    return a[k];
-}
-
-/* Size of the sample that places the bracket; maps of fewer than 4 SELECT_SAMPLE pixels
- * gather every pixel. */
-enum { SELECT_SAMPLE = 16384 };
-
-/* The exact rank-th smallest (1-based) luminance, and the pixels that may be emissive,
- * without storing the luminance of every pixel: a strided sample of SELECT_SAMPLE pixels
- * puts a lower bound `lo` 6 binomial standard deviations + 16 ranks under the target rank
- * of the sample; the luminance pass counts, row by row while the row is hot, the pixels
- * under lo and gathers the others (index and luminance), a few per cent of the map.  If
- * fewer than `rank` lie under lo, the answer is a selection among the gathered, and since
- * the threshold L_T is at least that percentile, every emissive pixel is among them too.
- * Should the bound miss (rank pixels or more under it), the gathering overflow (ties), or
- * a threshold given by the caller lie under lo, the luminance of the whole map is computed
- * again and the radix selection runs (full_candidates), so no answer depends on the
- * sample. */
-typedef struct bracket {
-    float lo;       /* -INFINITY: every pixel is gathered */
-    int full;       /* the gathering overflowed */
-    size_t below;   /* pixels under lo */
-    size_t nc, cap; /* gathered pixels, room */
-    int32_t *idx;   /* their pixel indices, ascending */
-    float *val;     /* their luminance */
-} bracket;
-
-static lumis_status bracket_init(bracket *b, const lumis_envmap *env, double scale, size_t n,
-                                 size_t rank, int w)
-{
-    enum { S = SELECT_SAMPLE };
-    memset(b, 0, sizeof *b);
-    b->lo = -INFINITY;
-    size_t expect = n;
-    float *sample = NULL;
-    if (n >= 4 * (size_t)S) {
-        const double f = (double)rank / (double)n;
-        const ptrdiff_t margin = (ptrdiff_t)(6.0 * sqrt(S * f * (1.0 - f))) + 16;
-        const ptrdiff_t ilo = (ptrdiff_t)(f * S) - margin;
-        if (ilo > 0) {
-            sample = malloc(S * sizeof(float));
-            if (!sample) return LUMIS_ERR_OUT_OF_MEMORY;
-            const size_t stride = n / S;
-            for (size_t t = 0; t < S; t++)
-                sample[t] = lumis__pixel_y(env->pixels + 3 * (t * stride + stride / 2), scale);
-            b->lo = kth_smallest(sample, S, ilo);
-            free(sample);
-            /* expected above lo: (S - ilo) / S of the map; room for twice that */
-            expect = (size_t)((double)n * (double)(S - ilo) / S * 2.0) + 4096;
-        }
-    }
-    b->cap = (expect < n ? expect : n) + (size_t)w; /* + w: a row's gathering overshoots */
-    b->idx = malloc(b->cap * sizeof(int32_t));
-    b->val = malloc(b->cap * sizeof(float));
-    return b->idx && b->val ? LUMIS_OK : LUMIS_ERR_OUT_OF_MEMORY;
-}
-
-/* One row of luminance (row index o of its first pixel) into the count under lo and the
- * gathering.  Groups of 16 are counted by a loop the compiler vectorises; a group with a
- * value at or over lo (a few per cent) is gathered without branches. */
-static void bracket_row(bracket *b, const float *restrict yr, int w, size_t o)
-{
-    enum { G = 16 };
-    if (b->full) return;
-    if (b->nc + (size_t)w > b->cap) {
-        b->full = 1; /* the full pass will run */
-        return;
-    }
-    size_t below = b->below, nc = b->nc;
-    const float lo = b->lo;
-    int i = 0;
-    for (; i + G <= w; i += G) {
-        int nlo = 0;
-        for (int k = 0; k < G; k++) nlo += yr[i + k] < lo;
-        below += (size_t)nlo;
-        if (nlo == G) continue;
-        for (int k = 0; k < G; k++) {
-            const float v = yr[i + k];
-            b->idx[nc] = (int32_t)(o + (size_t)(i + k));
-            b->val[nc] = v;
-            nc += !(v < lo);
-        }
-    }
-    for (; i < w; i++) {
-        const float v = yr[i];
-        below += v < lo;
-        b->idx[nc] = (int32_t)(o + (size_t)i);
-        b->val[nc] = v;
-        nc += !(v < lo);
-    }
-    b->below = below;
-    b->nc = nc;
-}
-
-/* Y of one group of 16 pixels (their RGB in d, as doubles) into yr and v, raising mx. */
-static inline LUMIS__ALWAYS_INLINE void group_luminance(const float *restrict p, double sc,
-                                                        double d[48], double v[16],
-                                                        float *restrict yr, float mx[16])
-{
-    for (int k = 0; k < 48; k++) d[k] = p[k];
-    for (int k = 0; k < 16; k++) {
-        float f = (float)(sc * (0.2126 * d[3 * k] + 0.7152 * d[3 * k + 1] + 0.0722 * d[3 * k + 2]));
-        yr[k] = f;
-        mx[k] = f > mx[k] ? f : mx[k];
-        v[k] = f;
-    }
-}
-
-/* The sum of a group's 16 values of Y, a fixed pairwise tree (v is overwritten). */
-static inline LUMIS__ALWAYS_INLINE double group_sum(double v[16])
-{
-    for (int k = 0; k < 8; k++) v[k] += v[k + 8];
-    for (int k = 0; k < 4; k++) v[k] += v[k + 4];
-    return (v[0] + v[2]) + (v[1] + v[3]);
-}
-
-/* Luminance of one row of w pixels (lumis__pixel_y) into yr; returns the row's sum of Y
- * and raises *ymax.  Groups of 16 have fixed trip counts, so the compiler vectorises them
- * even at -O2 (the double arithmetic of each pixel is unchanged); the sum of a group is a
- * fixed pairwise tree and the groups are added in order. */
-static inline LUMIS__ALWAYS_INLINE double
-row_luminance_body(const float *restrict px, float *restrict yr, int w, double sc, float *ymax)
-{
-    enum { G = 16 };
-    double row = 0.0;
-    float mx[G];
-    for (int k = 0; k < G; k++) mx[k] = *ymax;
-    int i = 0;
-    for (; i + G <= w; i += G, px += 3 * G) {
-        double d[3 * G], v[G];
-        group_luminance(px, sc, d, v, yr + i, mx);
-        row += group_sum(v);
-    }
-    for (; i < w; i++, px += 3) {
-        float f = lumis__pixel_y(px, sc);
-        yr[i] = f;
-        mx[0] = f > mx[0] ? f : mx[0];
-        row += f;
-    }
-    for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
-    return row;
-}
-
-/* The sums of one tile row's stretch of n pixels, in the order every tile sum uses (pixel
- * by pixel, then weighted by the row's factors): s = (Y, Y cs, Y cc, R, G, B). */
-static inline LUMIS__ALWAYS_INLINE void stretch_sums(const float *restrict px,
-                                                     const float *restrict yr,
-                                                     const double *restrict cs,
-                                                     const double *restrict cc, int n, double s[6])
-{
-    double ys = 0.0, ycs = 0.0, ycc = 0.0, r = 0.0, gr = 0.0, b = 0.0;
-    for (int k = 0; k < n; k++) {
-        const double v = yr[k];
-        ys += v;
-        ycs += v * cs[k];
-        ycc += v * cc[k];
-        r += px[3 * k];
-        gr += px[3 * k + 1];
-        b += px[3 * k + 2];
-    }
-    s[0] = ys;
-    s[1] = ycs;
-    s[2] = ycc;
-    s[3] = r;
-    s[4] = gr;
-    s[5] = b;
-}
-
-/* Adds one tile row's stretch sums to tile q, or with `first` (the tile's first row; the
- * tiles are not zeroed) assigns them. */
-static inline LUMIS__ALWAYS_INLINE void tile_add(const lumis__tiles *t, size_t q, const double s[6],
-                                                 double om, double a, double b, int first)
-{
-    const double v[7] = {s[0] * om, s[1] * a, s[0] * b, s[2] * a, s[3] * om, s[4] * om, s[5] * om};
-    double *const dst[7] = {t->q[LUMIS__Q_E],  t->q[LUMIS__Q_MX], t->q[LUMIS__Q_MY],
-                            t->q[LUMIS__Q_MZ], t->rgb[0],         t->rgb[1],
-                            t->rgb[2]};
-    for (int k = 0; k < 7; k++) dst[k][q] = first ? v[k] : dst[k][q] + v[k];
-}
-
-/* Row j (its luminance yr already computed) into the tile sums over all pixels, for any
- * tile size (row_pass does tiles of 4 with the luminance).  Tiles whose pixels are not all
- * non-emissive are summed again later (dirty_tile). */
-static void row_tiles(const lumis__tiles *t, const lumis__geom *g, const float *restrict px,
-                      const float *restrict yr, int j)
-{
-    const int T = t->T, w = g->w;
-    const size_t q0 = (size_t)(j / T + 1) * ((size_t)t->tw + 1) + 1;
-    const double om = g->omega[j], a = g->a[j], b = g->b[j];
-    for (int tx = 0; tx < t->tw; tx++) {
-        double s[6];
-        const int i = tx * T, n = (tx + 1) * T < w ? T : w - i;
-        stretch_sums(px + 3 * i, yr + i, g->cs + i, g->cc + i, n, s);
-        tile_add(t, q0 + (size_t)tx, s, om, a, b, j % T == 0);
-    }
-}
-
-/* Four doubles: GCC's vector extensions, so that a group's four tiles' sums stay values
- * (registers) across the tile's rows rather than memory added to at every row. */
-typedef double v4d __attribute__((vector_size(32)));
-
-/* row_luminance and row_tiles in one loop, for tiles of 4, over one row of tiles (rows j0 ..
- * j0 + rows - 1, rows <= 4, j0 a multiple of 4): for each group of 16 columns, the four
- * tiles' sums are carried in registers through the rows (lane u the group's u-th tile) and
- * stored once.  Every sum is the one of stretch_sums then tile_add, in the same order (a
- * tile's first row assigns, the others add), and Y is row_luminance's, bit for bit.  yr
- * receives the rows' luminance (row t at yr + t w), rowsum their sums of Y. */
-static inline LUMIS__ALWAYS_INLINE void row_pass_body(const lumis__tiles *t, const lumis__geom *g,
-                                                      const float *restrict px, float *restrict yr,
-                                                      int j0, int rows, float *ymax,
-                                                      double *restrict rowsum)
-{
-    enum { G = 16 };
-    const int w = g->w;
-    const size_t W = (size_t)w;
-    const double sc = g->scale;
-    const size_t q0 = (size_t)(j0 / 4 + 1) * ((size_t)t->tw + 1) + 1;
-    double *restrict tE = t->q[LUMIS__Q_E] + q0, *restrict tX = t->q[LUMIS__Q_MX] + q0,
-                     *restrict tY = t->q[LUMIS__Q_MY] + q0, *restrict tZ = t->q[LUMIS__Q_MZ] + q0,
-                     *restrict tR = t->rgb[0] + q0, *restrict tG = t->rgb[1] + q0,
-                     *restrict tB = t->rgb[2] + q0;
-    float mx[G];
-    for (int k = 0; k < G; k++) mx[k] = *ymax;
-    for (int r = 0; r < rows; r++) rowsum[r] = 0.0;
-    int i = 0;
-    for (; i + G <= w; i += G) {
-        const double *cs = g->cs + i, *cc = g->cc + i;
-        /* CS[k], CC[k]: the k-th column's factor of each of the four tiles */
-        v4d CS[4], CC[4];
-        for (int k = 0; k < 4; k++) {
-            CS[k] = (v4d){cs[k], cs[4 + k], cs[8 + k], cs[12 + k]};
-            CC[k] = (v4d){cc[k], cc[4 + k], cc[8 + k], cc[12 + k]};
-        }
-        v4d E = {0}, X = {0}, Y = {0}, Z = {0}, R = {0}, Gr = {0}, B = {0};
-        for (int r = 0; r < rows; r++) {
-            const int j = j0 + r;
-            const double om = g->omega[j], a = g->a[j], b = g->b[j];
-            double d[3 * G], v[G];
-            group_luminance(px + (size_t)r * 3 * W + 3 * (size_t)i, sc, d, v,
-                            yr + (size_t)r * W + (size_t)i, mx);
-            v4d ys = {v[0], v[4], v[8], v[12]}, ycs = ys * CS[0], ycc = ys * CC[0];
-            v4d rr = {d[0], d[12], d[24], d[36]}, rg = {d[1], d[13], d[25], d[37]},
-                rb = {d[2], d[14], d[26], d[38]};
-            for (int k = 1; k < 4; k++) {
-                const v4d vk = {v[k], v[4 + k], v[8 + k], v[12 + k]};
-                ys += vk;
-                ycs += vk * CS[k];
-                ycc += vk * CC[k];
-                rr += (v4d){d[3 * k], d[3 * k + 12], d[3 * k + 24], d[3 * k + 36]};
-                rg += (v4d){d[3 * k + 1], d[3 * k + 13], d[3 * k + 25], d[3 * k + 37]};
-                rb += (v4d){d[3 * k + 2], d[3 * k + 14], d[3 * k + 26], d[3 * k + 38]};
-            }
-            if (r == 0) { /* the tiles are not zeroed: their first row assigns */
-                E = ys * om;
-                X = ycs * a;
-                Y = ys * b;
-                Z = ycc * a;
-                R = rr * om;
-                Gr = rg * om;
-                B = rb * om;
-            } else {
-                E += ys * om;
-                X += ycs * a;
-                Y += ys * b;
-                Z += ycc * a;
-                R += rr * om;
-                Gr += rg * om;
-                B += rb * om;
-            }
-            rowsum[r] += group_sum(v);
-        }
-        const int tx = i / 4;
-        memcpy(tE + tx, &E, sizeof E);
-        memcpy(tX + tx, &X, sizeof X);
-        memcpy(tY + tx, &Y, sizeof Y);
-        memcpy(tZ + tx, &Z, sizeof Z);
-        memcpy(tR + tx, &R, sizeof R);
-        memcpy(tG + tx, &Gr, sizeof Gr);
-        memcpy(tB + tx, &B, sizeof B);
-    }
-    const int i0 = i;
-    for (int r = 0; r < rows; r++) {
-        const int j = j0 + r;
-        const float *p = px + (size_t)r * 3 * W;
-        float *y = yr + (size_t)r * W;
-        for (int c = i0; c < w; c++) {
-            float f = lumis__pixel_y(p + 3 * (size_t)c, sc);
-            y[c] = f;
-            mx[0] = f > mx[0] ? f : mx[0];
-            rowsum[r] += f;
-        }
-        for (int tx = i0 / 4; tx < t->tw; tx++) {
-            double s[6];
-            const int c0 = tx * 4, n = c0 + 4 < w ? 4 : w - c0;
-            stretch_sums(p + 3 * c0, y + c0, g->cs + c0, g->cc + c0, n, s);
-            tile_add(t, q0 + (size_t)tx, s, g->omega[j], g->a[j], g->b[j], r == 0);
-        }
-    }
-    for (int k = 0; k < G; k++) *ymax = mx[k] > *ymax ? mx[k] : *ymax;
-}
-
-/* The two passes for AVX2 and the baseline (internal.h), picked per call. */
-#if LUMIS__MULTIVERSION
-static LUMIS__TARGET_AVX2 double row_luminance_avx2(const float *restrict px, float *restrict yr,
-                                                    int w, double sc, float *ymax)
-{
-    return row_luminance_body(px, yr, w, sc, ymax);
-}
-
-static LUMIS__TARGET_AVX2 void row_pass_avx2(const lumis__tiles *t, const lumis__geom *g,
-                                             const float *restrict px, float *restrict yr, int j0,
-                                             int rows, float *ymax, double *restrict rowsum)
-{
-    row_pass_body(t, g, px, yr, j0, rows, ymax, rowsum);
-}
-#endif
-
-static double row_luminance(const float *restrict px, float *restrict yr, int w, double sc,
-                            float *ymax)
-{
-#if LUMIS__MULTIVERSION
-    if (lumis__simd_level() >= LUMIS__SIMD_AVX2) return row_luminance_avx2(px, yr, w, sc, ymax);
-#endif
-    return row_luminance_body(px, yr, w, sc, ymax);
-}
-
-static void row_pass(const lumis__tiles *t, const lumis__geom *g, const float *restrict px,
-                     float *restrict yr, int j0, int rows, float *ymax, double *restrict rowsum)
-{
-#if LUMIS__MULTIVERSION
-    if (lumis__simd_level() >= LUMIS__SIMD_AVX2) {
-        row_pass_avx2(t, g, px, yr, j0, rows, ymax, rowsum);
-        return;
-    }
-#endif
-    row_pass_body(t, g, px, yr, j0, rows, ymax, rowsum);
-}
-
-/* Tile (tx, ty) summed again over its non-emissive pixels only. */
-static void dirty_tile(const lumis__tiles *t, const lumis__decomp *dc, int tx, int ty)
-{
-    const lumis__geom *g = dc->g;
-    const int T = t->T, w = g->w;
-    const size_t q = (size_t)(ty + 1) * ((size_t)t->tw + 1) + (size_t)tx + 1;
-    for (int k = 0; k < LUMIS__Q_COUNT; k++) t->q[k][q] = 0.0;
-    for (int k = 0; k < 3; k++) t->rgb[k][q] = 0.0;
-    const int i0 = tx * T, i1 = i0 + T < w ? i0 + T : w;
-    const int j1 = (ty + 1) * T < g->h ? (ty + 1) * T : g->h;
-    for (int j = ty * T; j < j1; j++) {
-        const size_t o = (size_t)j * (size_t)w;
-        double s[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-        int n = 0;
-        for (int i = i0; i < i1; i++) {
-            if (!lumis__non_emissive(dc, o + (size_t)i)) continue;
-            const double v = lumis__pixel_y(dc->env->pixels + (o + (size_t)i) * 3, g->scale);
-            const float *px = dc->env->pixels + (o + (size_t)i) * 3;
-            s[0] += v;
-            s[1] += v * g->cs[i];
-            s[2] += v * g->cc[i];
-            s[3] += px[0];
-            s[4] += px[1];
-            s[5] += px[2];
-            n++;
-        }
-        tile_add(t, q, s, g->omega[j], g->a[j], g->b[j], 0);
-        t->q[LUMIS__Q_N][q] += n;
-    }
-}
-
-/* Every tile's pixel count (the non-emissive count of a tile without emissive pixels). */
-static void tile_counts(const lumis__tiles *t, int w, int h)
-{
-    const int T = t->T;
-    for (int ty = 0; ty < t->th; ty++) {
-        const int ny = (ty + 1) * T < h ? T : h - ty * T;
-        double *row = t->q[LUMIS__Q_N] + (size_t)(ty + 1) * ((size_t)t->tw + 1) + 1;
-        for (int tx = 0; tx < t->tw; tx++) {
-            const int nx = (tx + 1) * T < w ? T : w - tx * T;
-            row[tx] = (double)(nx * ny);
-        }
-    }
-}
-
-/* Every pixel's luminance into *out (malloc'ed), when the gathered pixels do not settle
- * Eq. 1: a second pass over the map. */
-static lumis_status full_luminance(const lumis_envmap *env, const lumis__geom *g, float **out)
-{
-    const size_t w = (size_t)g->w;
-    float *y = malloc(w * (size_t)g->h * sizeof(float));
-    if (!y) return LUMIS_ERR_OUT_OF_MEMORY;
-    float ymax = 0.0f;
-    for (size_t j = 0; j < (size_t)g->h; j++)
-        (void)row_luminance(env->pixels + j * w * 3, y + j * w, g->w, g->scale, &ymax);
-    *out = y;
-    return LUMIS_OK;
-}
-
-/* The gathered pixels replaced by every pixel over lt, from the whole map's luminance. */
-static lumis_status full_candidates(bracket *b, const float *y, size_t n, double lt)
-{
-    size_t c = 0;
-    for (size_t p = 0; p < n; p++) c += (double)y[p] > lt;
-    if (c > b->cap) {
-        int32_t *idx = realloc(b->idx, c * sizeof(int32_t));
-        if (idx) b->idx = idx;
-        float *val = idx ? realloc(b->val, c * sizeof(float)) : NULL;
-        if (!val) return LUMIS_ERR_OUT_OF_MEMORY;
-        b->val = val;
-        b->cap = c;
-    }
-    b->nc = 0;
-    for (size_t p = 0; p < n; p++)
-        if ((double)y[p] > lt) {
-            b->idx[b->nc] = (int32_t)p;
-            b->val[b->nc++] = y[p];
-        }
-    return LUMIS_OK;
-}
-
-/* The emissive pixels (the gathered over lt, in scan order): em_pix, their labels (their
- * indices), em_bits, and per row (rowsum[h + j], rowsum[2 h + j]) their luminance and
- * count. */
-static lumis_status classify(lumis__decomp *dc, const bracket *b, double lt, double *rowsum)
-{
-    const size_t n = (size_t)dc->w * (size_t)dc->h, h = (size_t)dc->h;
-    size_t m = 0;
-    for (size_t c = 0; c < b->nc; c++) m += (double)b->val[c] > lt;
-    uint64_t *bits = calloc((n + 63) / 64, sizeof(uint64_t));
-    dc->em_pix = malloc((m > 0 ? m : 1) * sizeof(int32_t));
-    dc->em_bits = bits;
-    if (!bits || !dc->em_pix) return LUMIS_ERR_OUT_OF_MEMORY;
-    int e = 0;
-    for (size_t c = 0; c < b->nc; c++) {
-        if (!((double)b->val[c] > lt)) continue;
-        const int32_t p = b->idx[c];
-        const size_t j = (size_t)p / (size_t)dc->w;
-        dc->em_pix[e] = p;
-        dc->labels[p] = e++;
-        bits[(size_t)p >> 6] |= (uint64_t)1 << ((size_t)p & 63);
-        rowsum[h + j] += b->val[c];
-        rowsum[2 * h + j] += 1.0;
-    }
-    dc->m = e;
-    return LUMIS_OK;
-}
 
 /* One pixel of indirect_rect: its terms (zeros unless it is non-emissive) into s. */
 static inline void pixel_terms(const lumis__decomp *dc, const float *row, size_t o, int i,
@@ -693,125 +191,22 @@ static double def(float v, double d)
     return v > 0.0f ? (double)v : d;
 }
 
-lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
-                                    lumis_light_set **out)
+/* ---- Eq. 2: N = K G_em / (G_em + G_nem), G = L^a dw^b, L the mean luminance ---- */
+static int eq2_budget(const lumis__decomp *dc, const double *rowsum, int K,
+                      lumis_light_set_info *info)
 {
-    static const lumis_decomp_desc zero_desc;
-    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
-    *out = NULL;
-    if (!desc) desc = &zero_desc;
-    const double t0 = lumis__now_ms();
-    lumis__common c;
-    lumis_status st = lumis__common_check(env, "decomposition", desc->count, desc->sets,
-                                          desc->jitter, desc->seed, &desc->errors, &c);
-    if (st != LUMIS_OK) return st;
-    if ((st = check_desc(desc, c.errors)) != LUMIS_OK) return st;
-    const lumis_error_sink *err = c.errors;
-    lumis__geom g;
-    if (lumis__geom_init(&g, env) != LUMIS_OK)
-        return lumis__fail(err, LUMIS_ERR_OUT_OF_MEMORY, "decomposition: out of memory");
-    const int K = c.count, w = g.w, h = g.h;
-    const size_t n = (size_t)w * (size_t)h;
-    lumis_light_set *set = NULL;
-    float *yrow = malloc(4 * (size_t)w * sizeof(float)), *yall = NULL; /* 4 rows */
-    double *rowsum = calloc(3 * (size_t)h, sizeof(double)); /* per row: Y, emissive Y, count */
-    lumis__rect *rects = malloc((size_t)K * sizeof *rects);
-    lumis__acc *acc = calloc((size_t)K, sizeof *acc);
-    lumis__decomp dc;
-    memset(&dc, 0, sizeof dc);
-    lumis__direct_result dr;
-    memset(&dr, 0, sizeof dr);
-    lumis__tiles tiles;
-    memset(&tiles, 0, sizeof tiles);
-    uint32_t *hist = calloc(65536, sizeof(uint32_t));
-    bracket br;
-    memset(&br, 0, sizeof br);
-    int32_t *tile_of = NULL;
-    st = (yrow && rowsum && rects && acc && hist)
-             ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
-             : LUMIS_ERR_OUT_OF_MEMORY;
-    if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
-    if (st != LUMIS_OK) goto done;
-    lumis_light_set_info *info = &set->info;
-    dc.env = env;
-    dc.g = &g;
-    dc.desc = desc;
-    dc.w = w;
-    dc.h = h;
-    dc.em_bits = NULL;
-    dc.labels = set->labels;
-
-    /* ---- Eq. 1: L_T = max(L_b, lambda L_avg, gamma L_max) ---- */
-    const double pct = def(desc->percentile, 98.0);
-    size_t rank = (size_t)ceil(pct / 100.0 * (double)n);
-    rank = rank < 1 ? 1 : (rank > n ? n : rank);
-    if ((st = bracket_init(&br, env, g.scale, n, rank, w)) != LUMIS_OK) goto done;
-    double power_y = 0.0;
-    float ymax = 0.0f;
-    for (int j0 = 0; j0 < h; j0 += 4) { /* a row of tiles of 4 at a time */
-        const int rows = h - j0 < 4 ? h - j0 : 4;
-        if (tiles.T == 4) {
-            row_pass(&tiles, &g, env->pixels + (size_t)j0 * (size_t)w * 3, yrow, j0, rows, &ymax,
-                     rowsum + j0);
-        } else {
-            for (int r = 0; r < rows; r++) {
-                const size_t o = (size_t)(j0 + r) * (size_t)w;
-                rowsum[j0 + r] = row_luminance(env->pixels + o * 3, yrow + (size_t)r * (size_t)w, w,
-                                               g.scale, &ymax);
-                row_tiles(&tiles, &g, env->pixels + o * 3, yrow + (size_t)r * (size_t)w, j0 + r);
-            }
-        }
-        for (int r = 0; r < rows; r++) {
-            power_y += rowsum[j0 + r] * g.omega[j0 + r];
-            bracket_row(&br, yrow + (size_t)r * (size_t)w, w, (size_t)(j0 + r) * (size_t)w);
-        }
-    }
-    tile_counts(&tiles, w, h);
-    float lb = 0.0f;
-    const int gathered = !br.full && br.below < rank;
-    if (gathered) { /* the answer is among the gathered: select on a copy */
-        float *sel = malloc((br.nc > 0 ? br.nc : 1) * sizeof(float));
-        if (!sel) {
-            st = LUMIS_ERR_OUT_OF_MEMORY;
-            goto done;
-        }
-        memcpy(sel, br.val, br.nc * sizeof(float));
-        lb = kth_smallest(sel, (ptrdiff_t)br.nc, (ptrdiff_t)(rank - br.below - 1));
-        free(sel);
-    } else {
-        if ((st = full_luminance(env, &g, &yall)) != LUMIS_OK) goto done;
-        lb = select_rank_radix(yall, n, rank, hist);
-    }
-    info->percentile_luminance = lb;
-    info->avg_luminance = power_y / (4.0 * LUMIS_PI);
-    info->max_luminance = ymax;
-    double lt = fmax((double)lb, fmax(def(desc->lambda, 3.0) * info->avg_luminance,
-                                      def(desc->gamma, 0.001) * (double)ymax));
-    if (desc->threshold > 0.0f) lt = desc->threshold;
-    info->threshold = lt;
-    if (!gathered || !(lt >= (double)br.lo)) {
-        /* the gathered may miss emissive pixels: gather them from the whole map */
-        if (!yall && (st = full_luminance(env, &g, &yall)) != LUMIS_OK) goto done;
-        if ((st = full_candidates(&br, yall, n, lt)) != LUMIS_OK) goto done;
-        free(yall);
-        yall = NULL;
-    }
-
-    /* ---- classification: the gathered over L_T are the emissive pixels ---- */
-    if ((st = classify(&dc, &br, lt, rowsum)) != LUMIS_OK) goto done;
+    const lumis__geom *g = dc->g;
+    const lumis_decomp_desc *desc = dc->desc;
+    const int w = dc->w, h = dc->h, m = dc->m;
     double e_em = 0.0, o_em = 0.0, e_ne = 0.0, o_ne = 0.0;
     for (int j = 0; j < h; j++) {
         const double rem = rowsum[h + j], cem = rowsum[2 * h + j];
-        e_em += rem * g.omega[j];
-        o_em += cem * g.omega[j];
-        e_ne += (cem < w ? fmax(0.0, rowsum[j] - rem) : 0.0) * g.omega[j];
-        o_ne += (w - cem) * g.omega[j];
+        e_em += rem * g->omega[j];
+        o_em += cem * g->omega[j];
+        e_ne += (cem < w ? fmax(0.0, rowsum[j] - rem) : 0.0) * g->omega[j];
+        o_ne += (w - cem) * g->omega[j];
     }
-    const int m = dc.m;
-    const long long n_ne = (long long)n - m;
-    info->emissive_pixels = m;
-
-    /* ---- Eq. 2: N = K G_em / (G_em + G_nem), G = L^a dw^b, L the mean luminance ---- */
+    const long long n_ne = (long long)w * h - m;
     const double ea = def(desc->budget_a, 1.0), eb = def(desc->budget_b, 0.25);
     double g_em = o_em > 0.0 ? pow(e_em / o_em, ea) * pow(o_em, eb) : 0.0;
     double g_ne = o_ne > 0.0 ? pow(e_ne / o_ne, ea) * pow(o_ne, eb) : 0.0;
@@ -831,31 +226,41 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     if (n_ne == 0) N = K;
     if (N > m) N = m;
     info->budget = (int)N;
+    return (int)N;
+}
 
-    /* ---- EnvDirects ---- */
-    dc.em_d = malloc(3 * (size_t)(m > 0 ? m : 1) * sizeof(double));
-    dc.em_w = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
-    dc.em_e = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
-    dc.em_cluster = malloc((size_t)(m > 0 ? m : 1) * sizeof(int32_t));
-    if (!dc.em_d || !dc.em_w || !dc.em_e || !dc.em_cluster) {
-        st = LUMIS_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
+/* The emissive pixels' directions and weights (em_d, em_w, em_e) for the EnvDirect step. */
+static lumis_status direct_inputs(lumis__decomp *dc)
+{
+    const lumis__geom *g = dc->g;
+    const int m = dc->m, w = dc->w;
+    dc->em_d = malloc(3 * (size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc->em_w = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc->em_e = malloc((size_t)(m > 0 ? m : 1) * sizeof(double));
+    dc->em_cluster = malloc((size_t)(m > 0 ? m : 1) * sizeof(int32_t));
+    if (!dc->em_d || !dc->em_w || !dc->em_e || !dc->em_cluster) return LUMIS_ERR_OUT_OF_MEMORY;
     for (int e = 0; e < m; e++) {
-        int j = (int)(dc.em_pix[e] / w), i = (int)(dc.em_pix[e] % w);
-        double mx = g.a[j] * g.cs[i], my = g.b[j], mz = g.a[j] * g.cc[i];
+        int j = (int)(dc->em_pix[e] / w), i = (int)(dc->em_pix[e] % w);
+        double mx = g->a[j] * g->cs[i], my = g->b[j], mz = g->a[j] * g->cc[i];
         double len = sqrt(mx * mx + my * my + mz * mz);
-        dc.em_d[3 * e] = mx / len;
-        dc.em_d[3 * e + 1] = my / len;
-        dc.em_d[3 * e + 2] = mz / len;
-        const double ye = lumis__pixel_y(env->pixels + 3 * (size_t)dc.em_pix[e], g.scale);
-        dc.em_w[e] = ye * len;
-        dc.em_e[e] = ye * g.omega[j];
+        dc->em_d[3 * e] = mx / len;
+        dc->em_d[3 * e + 1] = my / len;
+        dc->em_d[3 * e + 2] = mz / len;
+        const double ye = lumis__pixel_y(dc->env->pixels + 3 * (size_t)dc->em_pix[e], g->scale);
+        dc->em_w[e] = ye * len;
+        dc->em_e[e] = ye * g->omega[j];
     }
+    return LUMIS_OK;
+}
+
+/* The EnvDirect step's parameters: the variant's steps, the mask's radius (the cap of
+ * solid angle s 4 pi / K, or s 4 pi / K radians) and the return radius. */
+static lumis__direct_params direct_params(const lumis_decomp_desc *desc, int K, int N)
+{
     lumis_decomp_variant var = desc->variant ? desc->variant : LUMIS_DECOMP_FULL;
     lumis__direct_params dp;
     memset(&dp, 0, sizeof dp);
-    dp.budget = (int)N;
+    dp.budget = N;
     dp.mask = var == LUMIS_DECOMP_IS_MASK || var == LUMIS_DECOMP_FULL;
     dp.kmeans = var == LUMIS_DECOMP_IS_KMEANS || var == LUMIS_DECOMP_FULL;
     const double s = def(desc->mask_scale, 0.15);
@@ -868,9 +273,189 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dp.return_radius = def(desc->return_factor, 2.0) * dp.mask_radius;
     dp.max_iterations = desc->kmeans_max_iterations;
     dp.seed = desc->seed;
+    return dp;
+}
+
+/* The clusters' sums into acc; when the EnvDirects took the whole budget and pixels came
+ * back to the non-emissive set (which then needs a light), the weakest cluster is given
+ * back too.  Returns the clusters kept. */
+static int direct_sums(lumis__decomp *dc, int nd, int K, long long ne_final, int *returned,
+                       lumis__acc *acc)
+{
+    const lumis__geom *g = dc->g;
+    const int m = dc->m, w = dc->w;
+    for (int e = 0; e < m; e++) {
+        int cl = dc->em_cluster[e];
+        if (cl >= 0)
+            lumis__acc_pixel(g, dc->env, &acc[cl], (int)(dc->em_pix[e] % w),
+                             (int)(dc->em_pix[e] / w));
+    }
+    if (!(ne_final > 0 && nd >= K)) return nd;
+    /* Give the weakest cluster back to the non-emissive set. */
+    int weakest = 0;
+    for (int k = 1; k < nd; k++)
+        if (acc[k].rgb[0] + acc[k].rgb[1] + acc[k].rgb[2] <
+            acc[weakest].rgb[0] + acc[weakest].rgb[1] + acc[weakest].rgb[2])
+            weakest = k;
+    for (int e = 0; e < m; e++) {
+        int cl = dc->em_cluster[e];
+        if (cl == weakest) {
+            dc->em_cluster[e] = -1;
+            dc->labels[dc->em_pix[e]] = -1;
+            ++*returned;
+        } else if (cl > weakest) {
+            dc->em_cluster[e] = cl - 1;
+            dc->labels[dc->em_pix[e]] = cl - 1;
+        }
+    }
+    memmove(&acc[weakest], &acc[weakest + 1], (size_t)(nd - weakest - 1) * sizeof *acc);
+    return nd - 1;
+}
+
+/* The tiles holding emissive pixels, summed again over their non-emissive pixels now that
+ * the returned ones are known (the others hold only non-emissive pixels); then their
+ * summed-area tables.  tile_of: scratch of (tw + 1)(th + 1) zeros. */
+static void retile(lumis__tiles *tiles, const lumis__decomp *dc, int32_t *tile_of)
+{
+    const size_t TW = (size_t)tiles->tw + 1;
+    for (int e = 0; e < dc->m; e++) {
+        const int i = (int)(dc->em_pix[e] % dc->w), j = (int)(dc->em_pix[e] / dc->w);
+        const int tx = i / tiles->T, ty = j / tiles->T;
+        int32_t *f = &tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1];
+        if (*f) continue;
+        *f = 1;
+        lumis__decomp_dirty_tile(tiles, dc, tx, ty);
+    }
+    lumis__tiles_prefix(tiles);
+}
+
+/* The EnvDirects' lights (nd of them, from acc) with their extents. */
+static lumis_status direct_lights(const lumis__decomp *dc, int nd, const lumis__acc *acc,
+                                  lumis_light *lights)
+{
+    for (int k = 0; k < nd; k++)
+        lumis__light_from_acc(dc->g, &acc[k], LUMIS_LIGHT_ENV_DIRECT, &lights[k]);
+    double *mind = malloc((size_t)(nd > 0 ? nd : 1) * sizeof(double)), (*dirs)[3] = NULL;
+    dirs = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *dirs);
+    if (!mind || !dirs) {
+        free(mind);
+        free(dirs);
+        return LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    for (int k = 0; k < nd; k++) {
+        mind[k] = 1.0;
+        lumis__light_map_dir(dc->g, &lights[k], dirs[k]);
+    }
+    direct_extents(dc, nd, dirs, mind);
+    for (int k = 0; k < nd; k++) lights[k].extent = lumis__extent_from_min_dot(mind[k]);
+    free(mind);
+    free(dirs);
+    return LUMIS_OK;
+}
+
+/* The EnvIndirects' lights (ni rectangles, labels nd + k) into lights[nd ..]: an aligned
+ * rectangle's sums come from the tiles (tile_of[t] = its index + 1 for its tiles), with its
+ * clustered emissive pixels' geometry taken out; any other is summed from its pixels.
+ * tile_of: scratch of (tw + 1)(th + 1). */
+static void indirect_lights(lumis__decomp *dc, const lumis__tiles *tiles, int nd, int ni,
+                            const lumis__rect *rects, int32_t *tile_of, lumis__acc *ia,
+                            lumis_light *lights)
+{
+    const lumis__geom *g = dc->g;
+    const int w = dc->w, h = dc->h;
+    const size_t TW = (size_t)tiles->tw + 1;
+    memset(tile_of, 0, TW * ((size_t)tiles->th + 1) * sizeof(int32_t));
+    for (int k = 0; k < ni; k++) {
+        if (!lumis__tiles_aligned(tiles, w, h, rects[k])) {
+            memset(&ia[k], 0, sizeof ia[k]);
+            indirect_rect(dc, rects[k], nd + k, &ia[k]);
+            continue;
+        }
+        tiles_rect_acc(tiles, g, rects[k], &ia[k]);
+        lumis__fill_labels(dc->labels, w, rects[k], nd + k);
+        const lumis__rect tr = lumis__tiles_of(tiles, rects[k]);
+        for (int ty = tr.y0; ty < tr.y1; ty++)
+            for (int tx = tr.x0; tx < tr.x1; tx++)
+                tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1] = k + 1;
+    }
+    for (int e = 0; e < dc->m; e++) {
+        if (dc->em_cluster[e] < 0) continue;
+        const int i = (int)(dc->em_pix[e] % w), j = (int)(dc->em_pix[e] / w);
+        const int32_t k = tile_of[(size_t)(j / tiles->T + 1) * TW + (size_t)(i / tiles->T) + 1] - 1;
+        if (k < 0) continue;
+        dc->labels[dc->em_pix[e]] = dc->em_cluster[e];
+        const double mx = g->a[j] * g->cs[i], mz = g->a[j] * g->cc[i];
+        ia[k].g[0] -= mx;
+        ia[k].g[1] -= g->b[j];
+        ia[k].g[2] -= mz;
+        ia[k].omega -= g->omega[j];
+    }
+    for (int k = 0; k < ni; k++) {
+        lumis_light *l = &lights[nd + k];
+        lumis__light_from_acc(g, &ia[k], LUMIS_LIGHT_ENV_INDIRECT, l);
+        double d[3];
+        lumis__light_map_dir(g, l, d);
+        l->extent = lumis__extent_from_min_dot(
+            lumis__rect_min_dot(g, d, rects[k].y0, rects[k].y1, rects[k].x0, rects[k].x1));
+    }
+}
+
+lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
+                                    lumis_light_set **out)
+{
+    static const lumis_decomp_desc zero_desc;
+    if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    if (!desc) desc = &zero_desc;
+    const double t0 = lumis__now_ms();
+    lumis__common c;
+    lumis_status st = lumis__common_check(env, "decomposition", desc->count, desc->sets,
+                                          desc->jitter, desc->seed, &desc->errors, &c);
+    if (st != LUMIS_OK) return st;
+    if ((st = check_desc(desc, c.errors)) != LUMIS_OK) return st;
+    const lumis_error_sink *err = c.errors;
+    lumis__geom g;
+    if (lumis__geom_init(&g, env) != LUMIS_OK)
+        return lumis__fail(err, LUMIS_ERR_OUT_OF_MEMORY, "decomposition: out of memory");
+    const int K = c.count, w = g.w, h = g.h;
+    lumis_light_set *set = NULL;
+    double *rowsum = calloc(3 * (size_t)h, sizeof(double)); /* per row: Y, emissive Y, count */
+    lumis__rect *rects = malloc((size_t)K * sizeof *rects);
+    lumis__acc *acc = calloc((size_t)K, sizeof *acc);
+    lumis__decomp dc;
+    memset(&dc, 0, sizeof dc);
+    lumis__direct_result dr;
+    memset(&dr, 0, sizeof dr);
+    lumis__tiles tiles;
+    memset(&tiles, 0, sizeof tiles);
+    int32_t *tile_of = NULL;
+    st = (rowsum && rects && acc)
+             ? lumis__set_create(env, &c, K, LUMIS_LIGHTS_DECOMPOSITION, 0, &set)
+             : LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) st = lumis__tiles_init(&tiles, w, h);
+    if (st == LUMIS_OK) {
+        tile_of = calloc(((size_t)tiles.tw + 1) * ((size_t)tiles.th + 1), sizeof(int32_t));
+        if (!tile_of) st = LUMIS_ERR_OUT_OF_MEMORY;
+    }
+    if (st != LUMIS_OK) goto done;
+    lumis_light_set_info *info = &set->info;
+    dc.env = env;
+    dc.g = &g;
+    dc.desc = desc;
+    dc.w = w;
+    dc.h = h;
+    dc.labels = set->labels;
+
+    /* Eq. 1: the threshold and the emissive pixels; Eq. 2: the EnvDirects' share of K */
+    if ((st = lumis__decomp_threshold(&dc, &tiles, rowsum, info)) != LUMIS_OK) goto done;
+    info->emissive_pixels = dc.m;
+    const int N = eq2_budget(&dc, rowsum, K, info);
+
+    /* EnvDirects: importance-sampled seeds, masks, k-means, returns */
+    if ((st = direct_inputs(&dc)) != LUMIS_OK) goto done;
+    const lumis__direct_params dp = direct_params(desc, K, N);
     info->mask_radius = dp.mask_radius;
     if ((st = lumis__env_direct(&dc, &dp, &dr)) != LUMIS_OK) goto done;
-    int nd = dr.clusters;
     info->seeds = dr.seeds;
     info->kmeans_iterations = dr.iterations;
     info->kmeans_converged = dr.converged;
@@ -878,118 +463,21 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
     dr.objective = NULL;
     info->kmeans_objective = set->kmeans_objective;
     info->kmeans_objective_count = dr.objective_count;
-
-    /* Direct sums; a cut needs a light when pixels came back and the budget is spent. */
-    for (int e = 0; e < m; e++) {
-        int cl = dc.em_cluster[e];
-        if (cl >= 0)
-            lumis__acc_pixel(&g, env, &acc[cl], (int)(dc.em_pix[e] % w), (int)(dc.em_pix[e] / w));
-    }
-    long long ne_final = n_ne + dr.returned;
-    if (ne_final > 0 && nd >= K) {
-        /* Give the weakest cluster back to the non-emissive set. */
-        int weakest = 0;
-        for (int k = 1; k < nd; k++)
-            if (acc[k].rgb[0] + acc[k].rgb[1] + acc[k].rgb[2] <
-                acc[weakest].rgb[0] + acc[weakest].rgb[1] + acc[weakest].rgb[2])
-                weakest = k;
-        for (int e = 0; e < m; e++) {
-            int cl = dc.em_cluster[e];
-            if (cl == weakest) {
-                dc.em_cluster[e] = -1;
-                set->labels[dc.em_pix[e]] = -1;
-                dr.returned++;
-            } else if (cl > weakest) {
-                dc.em_cluster[e] = cl - 1;
-                set->labels[dc.em_pix[e]] = cl - 1;
-            }
-        }
-        memmove(&acc[weakest], &acc[weakest + 1], (size_t)(nd - weakest - 1) * sizeof *acc);
-        nd--;
-    }
+    const long long ne_final = (long long)w * h - dc.m + dr.returned;
+    const int nd = direct_sums(&dc, dr.clusters, K, ne_final, &dr.returned, acc);
     info->returned_pixels = dr.returned;
-    /* The tiles holding emissive pixels, summed again over their non-emissive pixels now
-     * that the returned ones are known; the others hold only non-emissive pixels. */
-    const size_t TW = (size_t)tiles.tw + 1;
-    tile_of = calloc(TW * ((size_t)tiles.th + 1), sizeof(int32_t));
-    if (!tile_of) {
-        st = LUMIS_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    for (int e = 0; e < m; e++) {
-        const int i = (int)(dc.em_pix[e] % w), j = (int)(dc.em_pix[e] / w);
-        const int tx = i / tiles.T, ty = j / tiles.T;
-        int32_t *f = &tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1];
-        if (*f) continue;
-        *f = 1;
-        dirty_tile(&tiles, &dc, tx, ty);
-    }
-    lumis__tiles_prefix(&tiles);
 
-    /* ---- EnvIndirects ---- */
+    /* EnvIndirects: the illumination cut over the non-emissive pixels' tiles */
+    retile(&tiles, &dc, tile_of);
     int ni = 0;
     lumis_cut_objective cut = desc->cut ? desc->cut : LUMIS_CUT_MODIFIED;
     st = lumis__illumination_cut(&dc, &tiles, K - nd, cut, def(desc->w_v, 1.0), def(desc->w_d, 5.0),
                                  def(desc->w_e, 1.0), rects, &ni);
     if (st != LUMIS_OK) goto done;
 
-    /* ---- the lights ---- */
-    for (int k = 0; k < nd; k++)
-        lumis__light_from_acc(&g, &acc[k], LUMIS_LIGHT_ENV_DIRECT, &set->lights[k]);
-    double *mind = malloc((size_t)(nd > 0 ? nd : 1) * sizeof(double)), (*dirs)[3] = NULL;
-    dirs = malloc((size_t)(nd > 0 ? nd : 1) * sizeof *dirs);
-    if (!mind || !dirs) {
-        free(mind);
-        free(dirs);
-        st = LUMIS_ERR_OUT_OF_MEMORY;
-        goto done;
-    }
-    for (int k = 0; k < nd; k++) {
-        mind[k] = 1.0;
-        lumis__light_map_dir(&g, &set->lights[k], dirs[k]);
-    }
-    direct_extents(&dc, nd, dirs, mind);
-    for (int k = 0; k < nd; k++) set->lights[k].extent = lumis__extent_from_min_dot(mind[k]);
-    free(mind);
-    free(dirs);
-    /* EnvIndirects: an aligned rectangle's sums come from the tiles (tile_of[t] = its index
-     * + 1 for its tiles), with its clustered emissive pixels' geometry taken out; any other
-     * is summed from its pixels. */
-    lumis__acc *ia = acc + nd; /* nd + ni <= K */
-    memset(tile_of, 0, TW * ((size_t)tiles.th + 1) * sizeof(int32_t));
-    for (int k = 0; k < ni; k++) {
-        if (!lumis__tiles_aligned(&tiles, w, h, rects[k])) {
-            memset(&ia[k], 0, sizeof ia[k]);
-            indirect_rect(&dc, rects[k], nd + k, &ia[k]);
-            continue;
-        }
-        tiles_rect_acc(&tiles, &g, rects[k], &ia[k]);
-        lumis__fill_labels(set->labels, w, rects[k], nd + k);
-        const lumis__rect tr = lumis__tiles_of(&tiles, rects[k]);
-        for (int ty = tr.y0; ty < tr.y1; ty++)
-            for (int tx = tr.x0; tx < tr.x1; tx++)
-                tile_of[(size_t)(ty + 1) * TW + (size_t)tx + 1] = k + 1;
-    }
-    for (int e = 0; e < m; e++) {
-        if (dc.em_cluster[e] < 0) continue;
-        const int i = (int)(dc.em_pix[e] % w), j = (int)(dc.em_pix[e] / w);
-        const int32_t k = tile_of[(size_t)(j / tiles.T + 1) * TW + (size_t)(i / tiles.T) + 1] - 1;
-        if (k < 0) continue;
-        set->labels[dc.em_pix[e]] = dc.em_cluster[e];
-        const double mx = g.a[j] * g.cs[i], mz = g.a[j] * g.cc[i];
-        ia[k].g[0] -= mx;
-        ia[k].g[1] -= g.b[j];
-        ia[k].g[2] -= mz;
-        ia[k].omega -= g.omega[j];
-    }
-    for (int k = 0; k < ni; k++) {
-        lumis_light *l = &set->lights[nd + k];
-        lumis__light_from_acc(&g, &ia[k], LUMIS_LIGHT_ENV_INDIRECT, l);
-        double d[3];
-        lumis__light_map_dir(&g, l, d);
-        l->extent = lumis__extent_from_min_dot(
-            lumis__rect_min_dot(&g, d, rects[k].y0, rects[k].y1, rects[k].x0, rects[k].x1));
-    }
+    /* the lights */
+    if ((st = direct_lights(&dc, nd, acc, set->lights)) != LUMIS_OK) goto done;
+    indirect_lights(&dc, &tiles, nd, ni, rects, tile_of, acc + nd /* nd + ni <= K */, set->lights);
     set->count = nd + ni;
     info->direct = nd;
     info->indirect = ni;
@@ -1002,14 +490,9 @@ lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_
 
 done:
     free(tile_of);
-    free(hist);
     lumis__tiles_free(&tiles);
-    free(yrow);
-    free(yall);
     free(rowsum);
     free((void *)dc.em_bits);
-    free(br.idx);
-    free(br.val);
     free(rects);
     free(acc);
     free(dc.em_pix);
