@@ -11,7 +11,13 @@
  *                                        wide flood, a batwing street light, a linear
  *                                        fixture, and one with a cusp at its aim) as IES
  *                                        files into DIR
- *   bench_photometric [--json] FILE...   the study */
+ *   bench_photometric [--json] FILE...   the study
+ *   bench_photometric --light-field [--target E] [--corrected] [--max-gamma DEG] FILE...
+ *       the light field (+ residual) against the exact opening and the point model;
+ *       --corrected: the field plus a signed point of the table's intensity less the
+ *       field's own far field (the field's irradiance 1000 sizes away) instead of the
+ *       residual, so that its far field is the table's (a study of issue 34's item 7);
+ *       --max-gamma: only the receivers within DEG of the aim */
 #include "bench_common.h"
 #include "photometric_gen.h"
 
@@ -144,7 +150,8 @@ static int study(const char *path, curve *cv, lumis_photometric_info *in)
 static const double lf_ratios[] = {1, 2, 3, 5, 7, 10, 15, 20, 30, 50};
 #define NLR ((int)(sizeof lf_ratios / sizeof lf_ratios[0]))
 
-static int light_field_study(const char *path, int json, double target, int last)
+static int light_field_study(const char *path, int json, double target, int corrected,
+                             double max_gamma, int last)
 {
     lumis_photometric_file *f = NULL;
     lumis_error_sink sink = {0};
@@ -183,6 +190,7 @@ static int light_field_study(const char *path, int json, double target, int last
             for (int ci = 0; ci < 24; ci++) {
                 const double g = 5.0 * gi * PI / 180, c = 15.0 * ci * PI / 180;
                 if (gi == 0 && ci > 0) break;
+                if (5.0 * gi > max_gamma) continue;
                 const double w[3] = {sin(g) * cos(c), sin(g) * sin(c), -cos(g)};
                 const lumis_vec3 wd = {(float)w[0], (float)w[1], (float)w[2]};
                 if (lumis_photometric_intensity(f->model, wd) < 0.1 * in.max_candela) continue;
@@ -196,7 +204,16 @@ static int light_field_study(const char *path, int json, double target, int last
                 lumis_rgb e;
                 lumis_luminaire_irradiance(lum, xl, nl, 0, &e);
                 if (!(exact > 0)) continue;
-                const double el = fabs((e.g + resid) / exact - 1), ep = fabs(point / exact - 1);
+                double model = e.g + resid;
+                if (corrected) { /* the field's own far field, 1000 sizes away, as a point */
+                    const double Df = 1000.0 * size;
+                    const lumis_vec3 xf = {(float)(Df * w[0]), (float)(-Df * w[1]),
+                                           (float)(-Df * w[2])};
+                    lumis_rgb ef;
+                    lumis_luminaire_irradiance(lum, xf, nl, 0, &ef);
+                    model = e.g + point - ef.g * (Df / D) * (Df / D);
+                }
+                const double el = fabs(model / exact - 1), ep = fabs(point / exact - 1);
                 lfmax[r] = fmax(lfmax[r], el);
                 ptmax[r] = fmax(ptmax[r], ep);
                 lfmean[r] += el;
@@ -263,12 +280,20 @@ static void num_or_null(char *buf, size_t cap, double v)
 
 int main(int argc, char **argv)
 {
-    int json = 0, nfiles = 0, lfmode = 0;
-    double target = 0;
+    int json = 0, nfiles = 0, lfmode = 0, corrected = 0;
+    double target = 0, max_gamma = 85;
     const char *files[16];
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--light-field") == 0) {
             lfmode = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--corrected") == 0) {
+            corrected = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--max-gamma") == 0 && i + 1 < argc) {
+            max_gamma = atof(argv[++i]);
             continue;
         }
         if (strcmp(argv[i], "--target") == 0 && i + 1 < argc) {
@@ -291,7 +316,8 @@ int main(int argc, char **argv)
     if (lfmode) {
         if (json) printf("{\"machine\": \"%s\", \"light_fields\": [\n", cpu);
         for (int k = 0; k < nfiles; k++)
-            if (light_field_study(files[k], json, target, k + 1 == nfiles)) return 1;
+            if (light_field_study(files[k], json, target, corrected, max_gamma, k + 1 == nfiles))
+                return 1;
         if (json) printf("]}\n");
         return 0;
     }
