@@ -40,6 +40,7 @@ KINDS = {
     "indirect": INDIRECT,  # only inside another public function that has an oracle
     "consistency": CONSISTENCY,  # only agreement with another lumis function
     "error paths only": ERRORS,
+    "error paths": ERRORS,  # after another kind: "hand-worked: ...; error paths: ..."
     "none": NONE,
 }
 
@@ -129,12 +130,20 @@ def oracle_blocks(root):
 
 
 def kind_of(text):
-    """The class of an entry's kinds ("statistical, closed form: ..." is independent if any
-    of its kinds is), or None for a kind not in KINDS."""
-    kinds = [k.strip().lower() for k in text.split(":", 1)[0].split(",")]
-    if ":" not in text or any(k not in KINDS for k in kinds):
+    """The strongest class among an entry's kinds, or None when its first kind is not in
+    KINDS.  An entry names its kinds before a ':' ("statistical, closed form: ..."), and may
+    add others after a '; ' ("consistency: ...; hand-worked: ...")."""
+    parts = re.findall(r"(?:^|; )([a-z][a-z ,-]*):", text)
+    if not parts or not text.startswith(parts[0]):
         return None
-    return min((KINDS[k] for k in kinds), key=RANK.index)
+    classes = []
+    for i, part in enumerate(parts):
+        kinds = [k.strip() for k in part.split(",")]
+        if all(k in KINDS for k in kinds):
+            classes += [KINDS[k] for k in kinds]
+        elif i == 0:
+            return None
+    return min(classes, key=RANK.index)
 
 
 RANK = [INDEPENDENT, INDIRECT, CONSISTENCY, ERRORS, NONE]

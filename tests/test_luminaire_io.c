@@ -3,7 +3,7 @@
  * without leaving anything behind. */
 /* Oracles:
  * lumis_luminaire_write — consistency: bit-exact round trip through lumis_luminaire_read, 17-digit
- *     doubles and odd names included; hand-worked: failed writes leave nothing (round_trip,
+ *     doubles and odd names included; error paths: failed writes leave nothing (round_trip,
  *     awkward_numbers_and_names_round_trip, failed_writes_leave_nothing)
  * lumis_luminaire_read — consistency: round trip with lumis_luminaire_write; error paths: bad and
  *     mixed image sets named by manifest and field (round_trip, bad_images_name_manifest_and_field,
