@@ -13,7 +13,10 @@
  *     checked unbiased (pixels_are_unbiased)
  * lumis_render_job_run — consistency: the image depends on seed and samples, not on passes or
  *     threads (passes_and_threads_do_not_matter)
- * lumis_visibility_from_name — error paths only: a bad visibility refused (bad_lighting)
+ * lumis_visibility_from_name — hand-worked: "approx" and "shadowmap" give their values, "raster"
+ *     refused (bad_lighting)
+ * lumis_sequence_from_name — hand-worked: "halton" (bad_lighting)
+ * lumis_sequence_name — hand-worked: "halton" (bad_lighting)
  */
 #include "../testutil.h"
 

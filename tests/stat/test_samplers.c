@@ -46,6 +46,7 @@
  *     summed with it (alias_is_exact_at_2048x1024)
  * lumis_envmap_width — indirect: every exact cell probability walks the map with it (cell_prob)
  * lumis_envmap_height — indirect: every exact cell probability walks the map with it (cell_prob)
+ * lumis_sampler_method_from_name — hand-worked: "kdtree-exact"; "cdf" refused (invalid_descriptors)
  */
 #include "../testutil.h"
 
