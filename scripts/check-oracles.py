@@ -21,9 +21,10 @@ import os
 import re
 import sys
 
-# The kinds of oracle (a line's kind is its text up to the first ':'), in four classes,
+# The kinds of oracle (a line's kind is its text up to the first ':'), in five classes,
 # strongest first: an independent value; only through another public function that has
-# one; only agreement with other lumis functions; only the refusals of bad arguments.
+# one; only agreement with other lumis functions; only the refusals of bad arguments;
+# nothing.
 INDEPENDENT = "independent"
 INDIRECT = "indirect"
 CONSISTENCY = "consistency"
@@ -53,12 +54,11 @@ def strip_comments(text):
 def top_level_statements(text):
     """The file's statements outside any braces (an extern "C" block does not count as
     braces), each ending at ';' or at the '{' of a definition's body."""
-    lines = []
-    for line in text.split("\n"):  # preprocessor lines, with their continuations
-        if lines and lines[-1].endswith("\\"):
-            lines[-1] = line
-            continue
-        lines.append("" if line.lstrip().startswith("#") else line)
+    lines, directive = [], False
+    for line in text.split("\n"):  # blank preprocessor lines, with their continuations
+        directive = directive or line.lstrip().startswith("#")
+        lines.append("" if directive else line)
+        directive = directive and line.rstrip().endswith("\\")
     text = "\n".join(lines)
     text = re.sub(r'extern\s+"C"\s*\{', " ", text)
     out, cur, depth = [], [], 0
