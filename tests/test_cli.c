@@ -1,6 +1,23 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 /* The lumis executable: exit codes (0 ok, 1 runtime, 2 usage), messages that name the
  * file and the reason, and the documented output of each subcommand. */
+/* Oracles:
+ * lumis_version — indirect: lumis --version prints LUMIS_VERSION_STRING
+ *     (help_version_and_usage_errors)
+ * lumis_scene_builtin_has_luminaires — indirect: through the CLI, the headlight scene is lit by its
+ *     luminaires and refuses --env and --lights (render_with_luminaires)
+ * lumis_scene_builtin_luminaire_spec — indirect: through the CLI, the headlight scene loads the car
+ *     preset (its images' bytes) (render_with_luminaires)
+ * lumis_scene_builtin_with_luminaire — indirect: through the CLI, --scene headlight --luminaire
+ *     preset:small renders and merges like one render
+ *     (merged_shares_equal_one_render_for_every_light_kind)
+ * lumis_scene_file_luminaire_path — indirect: through the CLI, a scene's luminaire manifest is an
+ *     input no output may replace (luminaire_files_create_info_render)
+ * lumis_scene_file_photometric_path — indirect: through the CLI, a scene's photometric file is an
+ *     input no output may replace (render_places_photometric_fixtures)
+ * lumis_scene_file_mesh_path — none: the CLI lists a scene's mesh files as inputs; no test checks
+ *     the list
+ */
 #include "photometric_gen.h"
 #include "testutil.h"
 

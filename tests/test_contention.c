@@ -5,6 +5,10 @@
  * the busy processes inherit the test's affinity), so the contention is certain on any
  * machine of one core or more; the idle half needs a CPU that is idle, and says when the
  * machine has none (a CI runner has). */
+/* Oracles:
+ * (no public function directly: the CLI's contention warning, against CPU time measured by
+ *     the test's own busy processes)
+ */
 #define _GNU_SOURCE /* sched_setaffinity, CPU_SET */
 #include "testutil.h"
 

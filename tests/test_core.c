@@ -1,4 +1,46 @@
 /* Core building blocks: status table, image buffers, sanitizing, PCG32, Halton. */
+/* Oracles:
+ * lumis_status_name — hand-worked: "ok", "truncated", unknown codes; names distinct
+ *     (status_names_are_unique_and_total)
+ * lumis_status_string — hand-worked: non-empty for every code, "unknown status" past the end
+ *     (status_names_are_unique_and_total)
+ * lumis_image_check_size — hand-worked: limits 0, negative, 16384^2, 64-bit overflow, max_pixels
+ *     edge (image_sizes_are_checked_before_allocation)
+ * lumis_image_create — hand-worked: zero-filled 3 x 2, bad size refused, NULL out
+ *     (image_sizes_are_checked_before_allocation)
+ * lumis_image_clone — hand-worked: first and last values copied into a new buffer
+ *     (image_sizes_are_checked_before_allocation)
+ * lumis_image_destroy — external: leaks seen by ASan (make sanitize) and valgrind
+ *     (scripts/memcheck.sh); NULL accepted (image_sizes_are_checked_before_allocation)
+ * lumis_sanitize_floats — hand-worked: NaN, ±inf, negatives, -0, FLT_MAX counted and replaced,
+ *     counts accumulate (sanitize_counts_each_kind)
+ * lumis_replaced_total — hand-worked: 5 of 9 hand-made values (sanitize_counts_each_kind)
+ * lumis_image_spikes — hand-worked: a blue spike at the seam found, a sun and a dim-surround pixel
+ *     not; 3 x 3 and 3 x 2 maps (spikes_are_saturated_and_isolated)
+ * lumis_pcg32_seed — external: the reference pcg32-demo sequence, seed 42 stream 54
+ *     (pcg32_matches_the_reference_sequence)
+ * lumis_pcg32_next — external: the reference pcg32-demo sequence
+ *     (pcg32_matches_the_reference_sequence)
+ * lumis_pcg32_output — indirect: inside lumis_pcg32_next, pinned by the reference sequence
+ *     (pcg32_matches_the_reference_sequence)
+ * lumis_pcg32_advance — brute force: 1000 single steps forward, then back to the seed
+ *     (pcg32_advance_jumps_both_ways)
+ * lumis_pcg32_fill_doubles — brute force: successive lumis_pcg32_double calls, every length
+ *     (pcg32_fill_doubles_matches_successive_draws)
+ * lumis_pcg32_float — statistical: in [0, 1), mean 1/2 within 4 sigma
+ *     (pcg32_floats_and_bounded_are_uniform)
+ * lumis_pcg32_double — statistical: in [0, 1) over 200000 draws
+ *     (pcg32_floats_and_bounded_are_uniform)
+ * lumis_pcg32_bounded — statistical: chi-square over 7 bins; bound 3 2^30 draws multiples of 3 a
+ *     third of the time (pcg32_floats_and_bounded_are_uniform,
+ *     pcg32_bounded_rejects_the_biased_slice)
+ * lumis_radical_inverse — hand-worked: base-2 and base-3 digits reversed, huge indices in [0, 1)
+ *     (radical_inverse_reverses_digits)
+ * lumis_halton — hand-worked: 12 in base 5; the first 81 base-3 points fill 81 strata
+ *     (radical_inverse_reverses_digits)
+ * lumis_simd_variant — hand-worked: the CPU's best level under LUMIS_SIMD=avx512, "baseline" when
+ *     forced (simd_variant_follows_the_environment)
+ */
 #include "testutil.h"
 
 #include "core/distrib.h"

@@ -1,6 +1,14 @@
 /* Integration: `lumis info` on the 18 real CC0 maps in data/ (scripts/fetch-data.sh)
  * reproduces the measured table of shared/data/README.md to the digits it prints.
  * Skipped when data/ has not been fetched. */
+/* Oracles:
+ * lumis_image_read — external: 18 real CC0 maps reproduce the measured table of
+ *     shared/data/README.md through lumis info (info_reproduces_the_data_table)
+ * lumis_image_read_memory — consistency: DWA-compressed maps read the same from memory as from file
+ *     (dwa_maps_read_the_same_from_file_and_memory)
+ * lumis_light_set_irradiance — consistency: the set's irradiance within 3 % of the map's, both from
+ *     this function, on real interiors (min_share_feeds_the_envindirects_of_a_hall)
+ */
 #include "testutil.h"
 
 #include <cJSON.h>

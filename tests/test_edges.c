@@ -2,6 +2,102 @@
  * absurd arguments with a status (never a crash, never success), leaves its output NULL,
  * and says why through the error sink when it has one; the BSDFs are zero, with zero
  * density, below the horizon. */
+/* Oracles:
+ * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_envmap_create — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_envmap_stats_compute — error paths only: missing and absurd arguments refused
+ *     (core_and_maps)
+ * lumis_equirect_resize — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_equirect_stats — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_flip_colormap — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_flip_hdr — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_flip_ldr — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_image_check_size — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_image_clone — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_image_errors — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_image_read — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_image_read_memory — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_image_write — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_joint_bilateral_upsample — error paths only: missing and absurd arguments refused
+ *     (renderer)
+ * lumis_lab_delta_e — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_light_set_irradiance — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_light_set_write_gltf — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_light_set_write_json — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_lights_decompose — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_lights_fhis — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_lights_median_cut — error paths only: missing and absurd arguments refused (renderer,
+ *     samplers_and_light_sets)
+ * lumis_lights_tmms — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_lights_variance_min — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_luminaire_acquire — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_create — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_global_draw — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_global_finish — error paths only: missing and absurd arguments refused
+ *     (luminaires)
+ * lumis_luminaire_invert — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_irradiance — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_manifest_parse — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_luminaire_manifest_read — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_luminaire_preset_create — error paths only: missing and absurd arguments refused
+ *     (luminaires)
+ * lumis_luminaire_read — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_luminaire_sample_image — error paths only: missing and absurd arguments refused
+ *     (luminaires)
+ * lumis_luminaire_sample_point — error paths only: missing and absurd arguments refused
+ *     (luminaires)
+ * lumis_luminaire_write — error paths only: missing and absurd arguments refused
+ *     (files_and_metrics)
+ * lumis_map_read — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_region_sampler_build_ms — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_region_sampler_bytes — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_region_sampler_create — error paths only: missing and absurd arguments refused (renderer,
+ *     samplers_and_light_sets)
+ * lumis_region_sampler_kind — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_region_sampler_lookup — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_region_sampler_pdf — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_region_sampler_power — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_render — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_render_gbuffer — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_render_job_create — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_render_job_image — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_render_job_run — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_render_session — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_rigid_check — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_sampler_create — error paths only: missing and absurd arguments refused (renderer,
+ *     samplers_and_light_sets)
+ * lumis_sampler_invert — error paths only: missing and absurd arguments refused
+ *     (samplers_and_light_sets)
+ * lumis_scene_builtin — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_scene_builtin_with_luminaire — error paths only: a scene without luminaires takes none
+ *     (renderer)
+ * lumis_scene_create — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_scene_file_read — error paths only: missing and absurd arguments refused (renderer)
+ * lumis_sky_create — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_studio_create — error paths only: missing and absurd arguments refused (core_and_maps)
+ * lumis_write_text — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_bsdf_eval — hand-worked: 0 when either direction is below the horizon, every material
+ *     (bsdfs_below_the_horizon)
+ * lumis_bsdf_pdf — hand-worked: density 0 below the horizon (bsdfs_below_the_horizon)
+ * lumis_bsdf_sample_wi — hand-worked: pdf and weight 0 from below the horizon
+ *     (bsdfs_below_the_horizon)
+ */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>

@@ -1,5 +1,43 @@
 /* The environment-map model: coordinates, solid angles, lookups, power, statistics,
  * power-preserving resampling. */
+/* Oracles:
+ * lumis_equirect_to_dir — hand-worked: zenith, +x, +z, -x and the nadir at their documented u, v
+ *     (directions_are_pinned)
+ * lumis_equirect_from_dir — hand-worked: -z at u = 3/4; the nadir and u just below 1 stay in range
+ *     (directions_are_pinned)
+ * lumis_equirect_solid_angle — closed form: DESIGN.md's row formula at the pole; rows sum to 4 pi
+ *     at 1 x 1 to 8192 x 4096 (solid_angles_cover_the_sphere)
+ * lumis_envmap_create — hand-worked: a constant map's radiance and power; error paths: missing
+ *     pixels, bad sizes, NaN and negative scale (power_is_radiance_times_solid_angle,
+ *     invalid_descriptors_are_refused)
+ * lumis_envmap_destroy — external: leaks seen by ASan and valgrind; NULL accepted
+ *     (invalid_descriptors_are_refused)
+ * lumis_envmap_uv_to_dir — consistency: round trip pixel -> direction -> pixel and uv at 7 sizes
+ *     and 3 rotations (pixel_direction_pixel_round_trip)
+ * lumis_envmap_dir_to_uv — consistency: round trip with lumis_envmap_uv_to_dir
+ *     (pixel_direction_pixel_round_trip)
+ * lumis_envmap_dir_to_pixel — consistency: round trip with lumis_envmap_uv_to_dir, at pixel centres
+ *     and corners (pixel_direction_pixel_round_trip)
+ * lumis_envmap_eval — hand-worked: a rotation of +90° moves +x to +z; a constant map scaled by 3
+ *     reads 6 (rotation_turns_the_map_about_y, power_is_radiance_times_solid_angle)
+ * lumis_envmap_texel — hand-worked: pixel (i, j) with distinct channels times the scale, on a 12 x
+ *     5 map (power_per_channel_and_texels)
+ * lumis_envmap_rotation_deg — hand-worked: returns the 90° asked for
+ *     (rotation_turns_the_map_about_y)
+ * lumis_envmap_scale — hand-worked: returns the 3 asked for (power_is_radiance_times_solid_angle)
+ * lumis_envmap_power — brute force: per-channel sum of radiance x solid angle written in the test;
+ *     closed form: constant map 4 pi L (power_per_channel_and_texels,
+ *     power_is_radiance_times_solid_angle)
+ * lumis_envmap_replaced — hand-worked: one NaN, one inf, one negative counted; the caller's buffer
+ *     unchanged (bad_pixels_are_replaced_and_counted)
+ * lumis_envmap_stats_compute — brute force, hand-worked: top shares against a full sort; power per
+ *     channel summed in the test; one hot pixel, a black map, 1 x 1 (top_shares_match_a_full_sort,
+ *     power_per_channel_and_texels, stats_of_special_maps)
+ * lumis_equirect_stats — indirect: the body of lumis_envmap_stats_compute
+ *     (top_shares_match_a_full_sort)
+ * lumis_equirect_resize — invariance: power preserved to 1e-5 at 6 sizes up and down; same size is
+ *     the identity; a constant stays constant (resize_preserves_power)
+ */
 #include "testutil.h"
 
 #include <math.h>

@@ -1,5 +1,51 @@
 /* Image files: round trips through every writer and reader, and every class of bad input
  * getting its own status and a message that names the file. */
+/* Oracles:
+ * lumis_image_read — external: PNG layouts written by tests/data/png/make.py from formulas,
+ *     tests/data/grey-y.exr; hand-worked: sRGB decode of 156; round trips through every writer
+ *     (png_bit_depths_palettes_and_interlacing, exr_grey_reads_into_every_channel,
+ *     png_applies_exposure_tonemap_and_srgb, exr_round_trips_every_compression_and_tiling)
+ * lumis_image_read_memory — hand-worked: HDR EXPOSURE lines and XYZE white, old-style runs 1 + 1 +
+ *     256, PFM grey and bottom-up rows; error paths: truncated and oversized EXR
+ *     (hdr_exposures_multiply_and_xyze_converts, hdr_consecutive_old_style_runs,
+ *     pfm_grey_and_bottom_up_rows, exr_block_buffers_are_bounded)
+ * lumis_image_write — external: stb_image reads the PNG bytes 0, 255, sRGB(0.5) = 188; hand-worked:
+ *     NaN black, huge values clamped; round trips exact (PFM), within RGBE and half precision
+ *     (png_applies_exposure_tonemap_and_srgb, hdr_writes_nan_as_black,
+ *     exr_half_clamps_instead_of_overflowing, pfm_round_trips_exactly_in_both_byte_orders)
+ * lumis_tonemap_apply — hand-worked: ACES at 0.18 and 1e9; Reinhard 1 stop down gives sRGB(1/3)
+ *     (png_applies_exposure_tonemap_and_srgb)
+ * lumis_tonemap_from_name — hand-worked: "aces" known, "filmic" refused
+ *     (png_applies_exposure_tonemap_and_srgb)
+ * lumis_format_from_path — hand-worked: .EXR in any case, .pic, a directory named .exr, NULL
+ *     (format_names_and_detection)
+ * lumis_format_from_magic — hand-worked: the magic bytes of HDR, PFM, EXR
+ *     (format_names_and_detection)
+ * lumis_format_name — hand-worked: "pfm" (format_names_and_detection)
+ * lumis_exr_compression_from_name — hand-worked: "dwab"; "lzma" refused
+ *     (format_names_and_detection)
+ * lumis_exr_compression_name — hand-worked: "piz" (format_names_and_detection)
+ * lumis_map_read — hand-worked: "studio:WxH" and "sky:WxH" sizes; a file named like a spec is read
+ *     as a file (map_specs_name_sizes_and_files)
+ * lumis_write_text — hand-worked: FIFOs, links, descriptors and directories written in place or
+ *     refused (outputs_to_fifos_links_and_directories, outputs_through_descriptors_and_links)
+ * lumis_output_target — hand-worked: /dev/fd/N, /proc/self/fd/N, dangling links and chains resolved
+ *     (outputs_through_descriptors_and_links)
+ * lumis_io_remove_partial_outputs — hand-worked: a write in progress loses its temporary file and
+ *     then fails (partial_outputs_are_removed_on_request)
+ * lumis_export_frame_dir — external: every pixel centre lands on its pixel under three.js's and
+ *     Blender's own mappings, written from their sources
+ *     (export_frame_maps_pixels_where_consumers_show_them)
+ * lumis_export_frame_name — hand-worked: "unknown" past the end
+ *     (export_frame_maps_pixels_where_consumers_show_them)
+ * lumis_export_frame_from_name — hand-worked: "engine", "lumis"; "three" refused
+ *     (export_frame_maps_pixels_where_consumers_show_them)
+ * lumis_light_set_write_gltf — external: the brightest light lands on the sun's pixel under
+ *     three.js's and Blender's mappings; the GLB container per the glTF 2.0 spec (also
+ *     tests/consumers) (exported_sun_lands_on_the_sun_pixel, glb_is_a_binary_gltf_container)
+ * lumis_light_set_write_json — external: the sun's light lands on the sun's pixel; the frame is
+ *     recorded (exported_sun_lands_on_the_sun_pixel)
+ */
 #include "testutil.h"
 
 #include "io/internal.h"

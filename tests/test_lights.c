@@ -1,6 +1,57 @@
 /* Representative light sets: median cut, variance minimisation, Wu's decomposition.
  * Conservation, regions, exact per-pixel lights, the threshold, k-means, the cut, bad
  * input (docs/lights.md). */
+/* Oracles:
+ * lumis_lights_median_cut — brute force: power conserved against a long-double pixel sum, solid
+ *     angles sum to 4 pi, regions inside their cones, equal energy halves by Gauss-Legendre, the
+ *     second split by priority; invariance: brightness x10 (check_set,
+ *     median_cut_regions_have_equal_energy, the_second_split_takes_the_larger_priority,
+ *     every_method_is_invariant_to_the_maps_brightness)
+ * lumis_lights_variance_min — brute force: every split the least summed variance over all cuts,
+ *     moments by quadrature; invariance: brightness
+ *     (variance_min_splits_minimise_the_summed_variance,
+ *     every_method_is_invariant_to_the_maps_brightness)
+ * lumis_lights_decompose — brute force: emissive threshold a sorted percentile, Eq. 2's budget and
+ *     min_share recomputed from the pixels, exactly K lights, power conserved; statistical: seeds
+ *     by energy (binomial bounds); invariance: Eq. 3 under 2^10 scale
+ *     (emissive_threshold_is_a_brute_force_percentile, eq2_budget_from_the_pixels,
+ *     min_share_on_one_map, the_cut_yields_exactly_k_lights, envdirect_seeds_follow_energy,
+ *     eq3_is_invariant_to_the_maps_scale)
+ * lumis_lights_fhis — statistical: points follow importance (2:1 halves), uniform per solid angle
+ *     on a constant map; brute force: Penrose children tile their parent; power conserved with
+ *     exactly K lights (fhis_points_follow_the_importance,
+ *     fhis_points_are_uniform_on_a_constant_map,
+ *     fhis_and_tmms_conserve_power_with_exactly_k_lights)
+ * lumis_lights_tmms — brute force: power conserved with exactly K lights, pixel corners inside the
+ *     light's cone; invariance: brightness x10 (fhis_and_tmms_conserve_power_with_exactly_k_lights,
+ *     label_extents_cover_whole_pixels, every_method_is_invariant_to_the_maps_brightness)
+ * lumis_light_set_get — brute force: per-light power, solid angle and pixel count recomputed from
+ *     the labels (check_set)
+ * lumis_light_set_get_info — brute force: count and total power against the pixel sum (check_set)
+ * lumis_light_set_labels — brute force: every pixel labelled, inside its light's cone (check_set,
+ *     label_extents_cover_whole_pixels)
+ * lumis_light_set_sets — consistency: jittered sets keep the first set's pixels and powers, within
+ *     jitter of its directions (check_set)
+ * lumis_light_set_fold_below — brute force: each light's power its own plus the folded lights
+ *     nearest to it, total unchanged (fold_below_conserves_power_into_the_nearest_light)
+ * lumis_light_set_interleave_index — hand-worked: every set once per tile for 1 to 64 sets,
+ *     periodic; 8 sets at (3, 1) is 7 (interleave_pattern_covers_every_set)
+ * lumis_light_set_destroy — external: leaks seen by ASan and valgrind
+ *     (every_method_conserves_power)
+ * lumis_lights_by_name — consistency: bit for bit the method's own call; unknown names refused
+ *     (methods_and_parameters_by_name)
+ * lumis_lights_method_from_name — hand-worked: 9 names, "wu-is", "fhis"; "median" and NULL refused
+ *     (methods_and_parameters_by_name)
+ * lumis_lights_method_names — hand-worked: 9 names, each known to lumis_lights_method_from_name
+ *     (methods_and_parameters_by_name)
+ * lumis_light_params_parse — hand-worked: NAME=VALUE pairs set lambda, mask, jitter, seed
+ *     (methods_and_parameters_by_name)
+ * lumis_light_params_format — hand-worked: "lambda=5,mask=radians,jitter=0.25,seed=9" in table
+ *     order (methods_and_parameters_by_name)
+ * lumis_light_params_check — hand-worked: a Wu parameter refused for median cut, with its name in
+ *     the message (methods_and_parameters_by_name)
+ * lumis_envmap_pixels — indirect: the pixel sums of check_set (map_power)
+ */
 #include "testutil.h"
 
 #include "core/internal.h"

@@ -1,6 +1,20 @@
 /* Luminaire files (lumis/io.h): bit-exact round trips through EXR and PFM, every malformed
  * manifest field reported with the file and the field, bad images, and writes that fail
  * without leaving anything behind. */
+/* Oracles:
+ * lumis_luminaire_write — consistency: bit-exact round trip through lumis_luminaire_read, 17-digit
+ *     doubles and odd names included; error paths: failed writes leave nothing (round_trip,
+ *     awkward_numbers_and_names_round_trip, failed_writes_leave_nothing)
+ * lumis_luminaire_read — consistency: round trip with lumis_luminaire_write; error paths: bad and
+ *     mixed image sets named by manifest and field (round_trip, bad_images_name_manifest_and_field,
+ *     mixed_image_sets_are_refused)
+ * lumis_luminaire_manifest_parse — hand-worked: a manifest written in the test gives 4 images,
+ *     paths, delta 100, quadratic basis; every malformed field named (base_manifest_parses,
+ *     malformed_manifests_name_file_and_field)
+ * lumis_luminaire_manifest_read — consistency: what lumis_luminaire_write wrote (round_trip)
+ * lumis_luminaire_manifest_destroy — external: leaks seen by ASan and valgrind
+ *     (base_manifest_parses)
+ */
 #include "testutil.h"
 
 #include <math.h>

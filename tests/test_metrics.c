@@ -1,5 +1,10 @@
 /* Pixel-wise metrics (src/metrics/basic.c): MSE, RMSE, relative MSE and PSNR on linear
  * values, and CIELAB Delta E, against values worked out by hand. */
+/* Oracles:
+ * lumis_image_errors — hand-worked: MSE, RMSE, relMSE (r^2 + eps), PSNR's peak, NaN/inf as 0, black
+ *     reference (errors_on_linear_values)
+ * lumis_lab_delta_e — hand-worked: CIELAB Delta E of hand-computed colours (lab_delta_e_by_hand)
+ */
 #include "testutil.h"
 
 #include "lumis/metrics.h"

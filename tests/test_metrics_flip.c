@@ -28,6 +28,17 @@
  * Tolerances, as the issue asks: 1e-4 on the mean and on the exposures, 1e-3 per pixel.
  * The agreement measured is far tighter (docs/metrics.md): the maps are bit-identical but
  * for the PNG pair (3.4e-6: lumis decodes sRGB in double precision). */
+/* Oracles:
+ * lumis_flip_ldr — external: maps and means of NVIDIA's reference FLIP v1.6 on 9 image pairs, 1e-3
+ *     per pixel; symmetric; 0 on identical images (matches_the_reference, ldr_flip_is_symmetric,
+ *     identical_images_give_zero)
+ * lumis_flip_hdr — external: the reference's HDR-FLIP maps, means and exposures on HDR pairs and
+ *     two lumis renders (matches_the_reference, exposures_and_exposure_map)
+ * lumis_flip_colormap — external: entries 0, 128, 255 of matplotlib's magma and the reference's PNG
+ *     bytes (colormap_is_magma)
+ * lumis_flip_pixels_per_degree — hand-worked: 0.7 m, 0.7 m, 3840 px gives the reference's 67.0206
+ *     (defaults_and_optional_outputs)
+ */
 #include "testutil.h"
 
 #include "lumis/metrics.h"

@@ -1,5 +1,60 @@
 /* The public names of every enumeration round-trip (X_name then X_from_name gives X back),
  * unknown and NULL names are refused, and the emitter's closed-form radiance. */
+/* Oracles:
+ * lumis_tonemap_name — consistency: round trip with lumis_tonemap_from_name, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_tonemap_from_name — consistency: round trip; unknown, empty and NULL names refused
+ *     (every_enumeration_round_trips)
+ * lumis_exr_compression_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_exr_compression_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_basis_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_basis_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_strategy_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_strategy_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_search_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_luminaire_search_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_visibility_name — consistency: round trip, names distinct (every_enumeration_round_trips)
+ * lumis_visibility_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_sequence_name — consistency: round trip, names distinct (every_enumeration_round_trips)
+ * lumis_sequence_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_lights_mode_name — consistency: round trip, names distinct (every_enumeration_round_trips)
+ * lumis_lights_mode_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_export_frame_name — consistency: round trip, names distinct (every_enumeration_round_trips)
+ * lumis_export_frame_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_sampler_method_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_sampler_method_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_type_name — consistency: round trip over IES codes 1 to 3
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_type_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_symmetry_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_symmetry_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_shape_name — consistency: round trip, names distinct
+ *     (every_enumeration_round_trips)
+ * lumis_photometric_shape_from_name — consistency: round trip; bad names refused
+ *     (every_enumeration_round_trips)
+ * lumis_format_from_path — hand-worked: x.exr, x.hdr, x.pfm, x.png (format_and_status_names)
+ * lumis_format_name — hand-worked: each name is part of its extension (format_and_status_names)
+ * lumis_status_name — hand-worked: "out-of-memory", "ok" (format_and_status_names)
+ * lumis_emitter_radiance — closed form: a disk's radiance on and off its edge, a cos^2 lobe at 45°,
+ *     a striped plate's transmission (emitter_radiance_closed_form)
+ */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>

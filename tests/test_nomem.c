@@ -4,6 +4,70 @@
  * that every failed call freed what it had made.  The library's own calls to malloc, calloc
  * and realloc are redirected here by the linker (-Wl,--wrap: tests/CMakeLists.txt), so only
  * lumis's allocations fail, never those of libc, Embree or OpenEXR. */
+/* Oracles:
+ * lumis_envmap_from_image — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (procedural_maps_and_envmap)
+ * lumis_flip_colormap — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (map_specs_and_metrics)
+ * lumis_flip_hdr — error paths only: each of its allocations failing gives LUMIS_ERR_OUT_OF_MEMORY,
+ *     nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_flip_ldr — error paths only: each of its allocations failing gives LUMIS_ERR_OUT_OF_MEMORY,
+ *     nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_image_errors — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_image_read_memory — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_image_format)
+ * lumis_image_write — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_image_format)
+ * lumis_joint_bilateral_upsample — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (renders_of_every_light_kind)
+ * lumis_lab_delta_e — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (map_specs_and_metrics)
+ * lumis_light_set_irradiance — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_light_set_write_gltf — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_light_set_write_json — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_lights_decompose — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_lights_fhis — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_lights_median_cut — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_lights_tmms — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_lights_variance_min — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_luminaire_from_photometric — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (photometric_files_and_fixtures)
+ * lumis_luminaire_read — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_luminaire_write — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (light_export_luminaire_files_and_metrics)
+ * lumis_map_read — error paths only: each of its allocations failing gives LUMIS_ERR_OUT_OF_MEMORY,
+ *     nothing leaked (map_specs_and_metrics)
+ * lumis_photometric_read_memory — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (photometric_files_and_fixtures)
+ * lumis_region_sampler_create — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_light_set_method)
+ * lumis_render — error paths only: each of its allocations failing gives LUMIS_ERR_OUT_OF_MEMORY,
+ *     nothing leaked (photometric_files_and_fixtures, renders_of_every_light_kind)
+ * lumis_render_gbuffer — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (renders_of_every_light_kind)
+ * lumis_render_session — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (renders_of_every_light_kind)
+ * lumis_sampler_create — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (every_sampler)
+ * lumis_scene_create — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (renders_of_every_light_kind)
+ * lumis_scene_file_read — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (scene_file)
+ * lumis_sky_create — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (procedural_maps_and_envmap)
+ * lumis_studio_create — error paths only: each of its allocations failing gives
+ *     LUMIS_ERR_OUT_OF_MEMORY, nothing leaked (procedural_maps_and_envmap)
+ */
 #include <execinfo.h>
 #include <setjmp.h>
 #include <stdarg.h>

@@ -3,6 +3,14 @@
  * every file, the flux and the peak to 1e-9 relative, the beam and field angles of both
  * principal planes to 0.1 degree.  Every file is checked; the ones that disagree are
  * printed with both numbers, then the test fails. */
+/* Oracles:
+ * lumis_photometric_read — external: real files of tests/data/photometric against the Python oracle
+ *     written apart from lumis (tests/oracle/photometric_oracle.py, expected.json) (check_file)
+ * lumis_photometric_get_info — external: flux and peak to 1e-9, beam and field angles of both
+ *     principal planes to 0.1° against the Python oracle (check_file)
+ * lumis_photometric_get_ratings — external: LOR, efficacy, zonal lumens, CIE flux code, BUG zones
+ *     and rating against the Python oracle (check_ratings)
+ */
 #include "lumis/io.h"
 #include "lumis/photometry.h"
 #include "testutil.h"

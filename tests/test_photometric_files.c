@@ -5,6 +5,25 @@
  * "inf" numbers, TILT=NONEXYZ, factors <= 0, overflowing candela, a table of zeros,
  * symmetries that name planes the file does not give, a FIFO.  Each expected value is a
  * closed form or the file's own text, not lumis's output. */
+/* Oracles:
+ * lumis_photometric_intensity_at — closed form: cos g (1 + 0.6 sin g g(C)) with exactly each form's
+ *     symmetry, in 400 directions; the mirrored half never the rotated one
+ *     (symmetry_forms_with_exactly_their_symmetry)
+ * lumis_photometric_get_info — closed form, hand-worked: beam and field over the whole circle of
+ *     uplights and pendants; lamps x lumens per lamp (2 x 1000 lm); LM-63-1995's round opening;
+ *     EULUMDAT lamp sets set by set (beam_and_field_over_the_whole_circle,
+ *     lamp_lumens_count_every_lamp, ies_1995_round_opening, ldt_lamp_sets_set_by_set)
+ * lumis_photometric_get_ratings — hand-worked: LOR the table's flux over 2000 lm of two lamps
+ *     (lamp_lumens_count_every_lamp)
+ * lumis_photometric_tilt_factor — hand-worked: the generator's TILT table gives 1, 0.95, 0.9 at 0,
+ *     45, 90 degrees; type C from hanging, A and B from level (tilt_factors_by_aim)
+ * lumis_photometric_read_memory — hand-worked: the file's own text (Latin-1 to UTF-8, declared flux
+ *     warning); error paths: BOM alone, hex and inf numbers, factors ≤ 0, zero tables
+ *     (latin1_headers_become_utf8, ldt_declared_flux_is_checked, bad_inputs_are_refused)
+ * lumis_photometric_read — error paths only: a FIFO refused at once (fifo_is_refused)
+ * lumis_photometric_create — closed form: tables of the analytic distributions above
+ *     (symmetry_forms_with_exactly_their_symmetry)
+ */
 #include "photometric_gen.h"
 #include "testutil.h"
 

@@ -1,4 +1,16 @@
 /* Procedural maps: the Preetham clear sky with its sun, and the studio. */
+/* Oracles:
+ * lumis_sky_create — closed form: the sun's power recomputed from docs/sky.md at any resolution,
+ *     Preetham's zenith luminance, a sun cut by the horizon's chord, the ground's reflection;
+ *     invariance: mirror about the sun's plane (sun_power_is_exact_at_any_resolution,
+ *     zenith_matches_preetham_and_sky_is_symmetric, sun_partly_below_the_horizon,
+ *     ground_reflects_what_falls_on_it)
+ * lumis_studio_create — hand-worked: pixels inside the key light at one pixel per degree;
+ *     invariance: power independent of resolution (studio_pixels_by_hand,
+ *     studio_power_is_resolution_independent)
+ * lumis_equirect_solid_angle — indirect: the power sums of every sky test, checked against closed
+ *     forms (sun_power_is_exact_at_any_resolution)
+ */
 #include "testutil.h"
 
 #include <math.h>

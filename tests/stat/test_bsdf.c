@@ -2,6 +2,17 @@
  * directions, pdf(sample) equals the sampled pdf, the pdf integrates to at most one (one
  * for Lambert), a chi-square test of the samples against the pdf on a (cos theta, phi)
  * grid, the sample weight equals f cos / pdf, and white furnaces (albedo at most one). */
+/* Oracles:
+ * lumis_bsdf_eval — closed form: GGX conductor (anisotropic D, height-correlated G2, Schlick F),
+ *     Ward, the GGX plastic, written in the test; reciprocity; zero below the horizon
+ *     (ggx_matches_its_closed_form, ward_and_plastic_match_their_closed_forms,
+ *     below_the_surface_is_black)
+ * lumis_bsdf_pdf — brute force, statistical: midpoint quadrature of the pdf integrates to at most 1
+ *     (1 for Lambert); chi-square of drawn directions against it (bsdf_statistics)
+ * lumis_bsdf_sample_wi — statistical, closed form: chi-square against the pdf, unit directions,
+ *     weight = f cos / pdf; Lambert of albedo 1 weighs exactly 1, white furnaces ≤ 1
+ *     (bsdf_statistics, white_furnace)
+ */
 #include "../testutil.h"
 
 #include "lumis/bsdf.h"

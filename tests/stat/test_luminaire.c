@@ -7,6 +7,86 @@
  * at points near, far, grazing, between the planes, on S and outside every support, for
  * every strategy; the quadrature over S agrees with one over U; a generated luminaire
  * reproduces its emitter's irradiance; malformed descriptors get a clear error. */
+/* Oracles:
+ * lumis_luminaire_basis_eval — brute force: every basis integrates to 1 and its shifts sum to 1 (1D
+ *     and on a grid); zero at its radius (bases_are_partitions_of_unity)
+ * lumis_luminaire_basis_radius — hand-worked: the basis is 0 at the radius and positive just inside
+ *     (bases_are_partitions_of_unity)
+ * lumis_luminaire_basis_name — hand-worked: "quadratic" (bases_are_partitions_of_unity)
+ * lumis_luminaire_basis_from_name — hand-worked: "bspline" (bases_are_partitions_of_unity)
+ * lumis_luminaire_sample_image — statistical: chi-square per pixel piece against the restricted
+ *     pdf; uniform density x box area = 1; the secant search lands where bisection does
+ *     (restricted_sampler_draws_its_pdf, uniform_sampler_pdf_and_inverse,
+ *     secant_search_matches_binary_search)
+ * lumis_luminaire_pdf — consistency: the pdf the draw returned, both strategies
+ *     (restricted_sampler_draws_its_pdf, uniform_sampler_pdf_and_inverse)
+ * lumis_luminaire_invert — consistency: undoes lumis_luminaire_sample_image, both strategies
+ *     (restricted_sampler_draws_its_pdf, uniform_sampler_pdf_and_inverse)
+ * lumis_luminaire_balance — hand-worked: masses 1 0 2 3 at budgets ≤ 0 give 1 0 1 1; budgets 1, 16,
+ *     17, 64 over 17 lit images spend max(budget, 17); every lit image kept
+ *     (balance_floor_below_the_lit_images, balancing_keeps_every_image_and_spends_the_budget)
+ * lumis_luminaire_irradiance — brute force: a dense midpoint rule over U of L cos cos / r^2 written
+ *     in the test; closed form via the emitter it was acquired from
+ *     (quadrature_over_s_matches_quadrature_over_u, generated_luminaire_reproduces_its_emitter)
+ * lumis_luminaire_radiance — indirect: the integrand of the test's midpoint rule over U
+ *     (quadrature_over_s_matches_quadrature_over_u)
+ * lumis_luminaire_estimate — statistical: the mean equals the quadrature irradiance near, far,
+ *     grazing, between the planes, on S, outside every support, for every strategy
+ *     (estimator_mean_equals_quadrature)
+ * lumis_luminaire_sample_point — statistical: mean equals the quadrature, variance measured against
+ *     the prediction; consistency: the draws of lumis_luminaire_sample_image, numbers on demand the
+ *     same as the array (estimator_mean_equals_quadrature,
+ *     sample_point_draws_what_sample_image_draws, numbers_on_demand_match_the_array)
+ * lumis_luminaire_capacity — hand-worked: a sample for every image when the budget is smaller
+ *     (luminaire_power_and_limits)
+ * lumis_luminaire_masses — brute force: the boxes' integrals, exactly 0 where a box misses every
+ *     nonzero pixel (sample_point_draws_what_sample_image_draws)
+ * lumis_luminaire_global_draw — consistency: drawn once and finished per point, bit for bit
+ *     lumis_luminaire_sample_point (global_draws_finish_like_sample_point)
+ * lumis_luminaire_global_finish — consistency: bit for bit lumis_luminaire_sample_point; nothing
+ *     behind U (global_draws_finish_like_sample_point)
+ * lumis_luminaire_predict — statistical: predicted variance against the measured variance of each
+ *     strategy; hand-worked: time is the cost model term by term with prime costs; selected probes
+ *     unbiased over seeds (prediction_matches_measured_variance, prediction_time_is_the_cost_model,
+ *     selected_probes_predict_the_same_means)
+ * lumis_luminaire_probes — statistical: log-uniform in distance, half nearer than sqrt(dmin dmax),
+ *     a third per decade (probes_are_log_uniform_in_distance)
+ * lumis_luminaire_costs_default — none: only used as a base for changed costs
+ *     (prediction_arguments_and_bands)
+ * lumis_luminaire_create — brute force: total power the sum over images of each pixel's luminance
+ *     times its area on S, any grid; 1024 images accepted, 1025 refused
+ *     (luminaire_power_and_limits, malformed_descriptors_get_a_clear_error)
+ * lumis_luminaire_get_info — brute force: total_power against the sum written in the test
+ *     (luminaire_power_and_limits)
+ * lumis_luminaire_get_desc — consistency: the geometry and images it was created with
+ *     (sample_point_draws_what_sample_image_draws)
+ * lumis_luminaire_image — consistency: the pixels it was created with
+ *     (sample_point_draws_what_sample_image_draws)
+ * lumis_luminaire_destroy — external: leaks seen by ASan and valgrind (luminaire_power_and_limits)
+ * lumis_luminaire_acquire — closed form: the generated luminaire reproduces its emitter's
+ *     irradiance, itself checked against closed forms (generated_luminaire_reproduces_its_emitter)
+ * lumis_luminaire_preset_get — indirect: the presets acquired in
+ *     generated_luminaire_reproduces_its_emitter
+ * lumis_luminaire_preset_create — error paths only: test_edges refuses bad arguments; the presets'
+ *     luminaires only through the CLI
+ * lumis_luminaire_preset_name — none: called by no test
+ * lumis_luminaire_preset_from_name — none: called by no test (the CLI's --preset names only)
+ * lumis_emitter_irradiance — closed form: on-axis disk E = pi L R^2 / (R^2 + D^2) and the cos^n
+ *     lobe (emitter_matches_closed_forms)
+ * lumis_emitter_radiance — closed form: a striped plate's dark and clear stripes
+ *     (emitter_matches_closed_forms)
+ * lumis_rigid_identity — hand-worked: passes lumis_rigid_check (rigid_transform_round_trip)
+ * lumis_rigid_check — hand-worked: a rotation passes, a scaled axis and a reflection are refused
+ *     (rigid_transform_round_trip)
+ * lumis_rigid_point_to_world — consistency: round trip with lumis_rigid_point_to_local only
+ *     (rigid_transform_round_trip)
+ * lumis_rigid_point_to_local — consistency: round trip with lumis_rigid_point_to_world only
+ *     (rigid_transform_round_trip)
+ * lumis_rigid_dir_to_world — hand-worked: x = cos 0.7 x + sin 0.7 z for a rotation about y
+ *     (rigid_transform_round_trip)
+ * lumis_rigid_dir_to_local — consistency: undoes lumis_rigid_dir_to_world, z only
+ *     (rigid_transform_round_trip)
+ */
 #include "../testutil.h"
 
 #include "luminaire/internal.h"

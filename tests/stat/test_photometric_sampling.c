@@ -3,6 +3,15 @@
  * one over the sphere, pdf(sample) equal to the pdf returned, the pdf equal to I / flux,
  * and unbiased estimates of the flux and of an integral of the intensity.  Every type and
  * symmetry form; the tables come from tests/photometric_gen.c; seeds are fixed. */
+/* Oracles:
+ * lumis_photometric_sample — statistical: chi-square against the pdf on equal-area bins, unbiased
+ *     estimates of the flux and of the integral of I d_z^2, every type and symmetry form
+ *     (chi_square_goodness_of_fit, pdf_of_samples_and_unbiased_estimates)
+ * lumis_photometric_pdf — brute force: integrates to one over the sphere by a midpoint rule; equals
+ *     I / flux (pdf_integrates_to_one_and_is_intensity_over_flux)
+ * lumis_photometric_flux — indirect: the unbiased flux estimate I / pdf
+ *     (pdf_of_samples_and_unbiased_estimates)
+ */
 #include "photometric_gen.h"
 #include "stat.h"
 #include "testutil.h"

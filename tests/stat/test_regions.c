@@ -8,6 +8,32 @@
  *   - a chi-square test of each region's samples against its own pdf,
  *   - the stratified estimate sum_k L(w_k) / p_k(w_k) of the map's power is unbiased (within
  *     4 standard errors of the exact pixel sum), and the regions' powers add up to it. */
+/* Oracles:
+ * lumis_region_sampler_create — statistical: region samplers of every light-set method (below);
+ *     error paths: no map, no set, another map's set (region_sampler_refuses_mismatches)
+ * lumis_region_sampler_destroy — external: leaks seen by ASan and valgrind
+ *     (region_pdf_integrates_to_one)
+ * lumis_region_sampler_pdf — brute force: each region's pdf integrates to one over sub-cells of its
+ *     pixels, 0 outside; density x region power = Y (region_pdf_integrates_to_one)
+ * lumis_region_sampler_sample — statistical: chi-square per region against its pdf; the stratified
+ *     power estimate within 4 sigma of lumis_envmap_power; draws land in their own pixel at widths
+ *     49, 97, 98, 196, 255 (region_chi_square, stratified_power_is_unbiased,
+ *     samples_land_in_their_pixel_at_awkward_widths)
+ * lumis_region_sampler_sample_n — consistency: the very samples of lumis_region_sampler_sample
+ *     (region_pdf_of_sample_matches)
+ * lumis_region_sampler_power — brute force: the regions' powers add to the map's exact pixel sum
+ *     (stratified_power_is_unbiased, region_pdf_integrates_to_one)
+ * lumis_region_sampler_lookup — consistency: the density lumis_region_sampler_pdf gives for the
+ *     region it names (region_pdf_integrates_to_one)
+ * lumis_region_sampler_count — consistency: the light set's light count
+ *     (region_pdf_integrates_to_one)
+ * lumis_region_sampler_kind — consistency: the light's kind; Wu's spots give both kinds
+ *     (region_pdf_integrates_to_one, wu_cases_cover_both_kinds_and_returns)
+ * lumis_region_sampler_empty — consistency: a region whose pdf integrates to 0
+ *     (region_pdf_integrates_to_one)
+ * lumis_region_sampler_bytes — none: only > 0 (wu_cases_cover_both_kinds_and_returns)
+ * lumis_region_sampler_build_ms — none: a timing, only >= 0 (wu_cases_cover_both_kinds_and_returns)
+ */
 #include "../testutil.h"
 
 #include "lumis/lights.h"

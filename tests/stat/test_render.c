@@ -1,5 +1,44 @@
 /* The evaluation renderer: furnace, exact irradiance, agreement of estimators, and
  * determinism across thread counts. */
+/* Oracles:
+ * lumis_render — closed form: furnace (every BSDF sample weighs rho L, MIS means rho L),
+ *     integrating sphere rho f L sum (rho (1 - f))^k, exact irradiance summed over every map pixel,
+ *     a light set's floor rho / pi sum max(0, n.d) power and a glossy floor's sum f cos power
+ *     (furnace, integrating_sphere, exact_irradiance, light_set_lights_each_pixel_with_its_set,
+ *     light_set_shades_glossy_surfaces_with_their_bsdf)
+ * lumis_render_job_create — consistency: any split into passes gives the image of one lumis_render
+ *     call, bit for bit, every sequence (passes_do_not_change_the_image)
+ * lumis_render_job_run — consistency: passes of 1, 2, 1, 4 samples give one pass's image; 0 refused
+ *     (passes_do_not_change_the_image)
+ * lumis_render_job_image — consistency: the image of one lumis_render call
+ *     (passes_do_not_change_the_image)
+ * lumis_render_job_stats — hand-worked: spp 8, 4 passes, 24 x 24 x 8 camera rays
+ *     (passes_do_not_change_the_image)
+ * lumis_render_job_destroy — external: leaks seen by ASan and valgrind
+ *     (passes_do_not_change_the_image)
+ * lumis_render_session — consistency: the image of its parts (sampler, light set by name, Wu with
+ *     upsampled EnvIndirects) bit for bit; hand-worked: a budget's pilots, floor of K and time
+ *     accounting (render_session_equals_its_parts, render_session_budget_holds)
+ * lumis_render_gbuffer — hand-worked: depth 3.0015, normal and albedo at the sphere's centre pixel,
+ *     infinite depth off it (upsampling_keeps_constants_and_depth_edges)
+ * lumis_gbuffer_destroy — external: leaks seen by ASan and valgrind
+ *     (upsampling_keeps_constants_and_depth_edges)
+ * lumis_joint_bilateral_upsample — hand-worked: a constant stays constant, a depth step stays a
+ *     step (fails without the depth term), objects and background do not mix
+ *     (upsampling_keeps_constants_and_depth_edges, upsampling_builtins_and_scene_values)
+ * lumis_scene_create — metamorphic: instances render as baked copies, a mirror transform works;
+ *     error paths: a singular transform refused (instances_match_baked_copies, bad_scenes)
+ * lumis_scene_destroy — external: leaks seen by ASan and valgrind (bad_scenes)
+ * lumis_scene_builtin — hand-worked: the meshes' heights as given, every object standing on y = 0
+ *     (builtin_scenes_build, upsampling_builtins_and_scene_values)
+ * lumis_scene_builtin_names — hand-worked: 9 names, each builds (builtin_scenes_build)
+ * lumis_scene_file_read — hand-worked: the map read beside the scene or from a spec; error paths:
+ *     misspelt and repeated keys, trailing text, NaN vertices named by JSON path
+ *     (scene_file_reads_its_map, scene_files_are_strict)
+ * lumis_scene_file_destroy — external: leaks seen by ASan and valgrind (scene_files_are_strict)
+ * lumis_envmap_from_image — indirect: the map of every render test, its radiance checked by the
+ *     exact irradiance (exact_irradiance)
+ */
 #include "../testutil.h"
 
 #include "lumis/render.h"

@@ -4,6 +4,20 @@
  * occluder gives the unshadowed image bit for bit; an occluder that covers the whole
  * luminaire gives black with exact and approximate visibility, a partial one something in
  * between; bad lighting descriptors get a clear error. */
+/* Oracles:
+ * lumis_render — statistical: a pixel's mean equals albedo / pi times the luminaire's quadrature
+ *     irradiance for every strategy and sequence, any placement and scale; hand-worked: a covering
+ *     occluder gives black, exact visibility without one the unshadowed image (pixels_are_unbiased,
+ *     visibility)
+ * lumis_render_luminaire_choices — indirect: the auto strategy's choice inside lumis_render,
+ *     checked unbiased (pixels_are_unbiased)
+ * lumis_render_job_run — consistency: the image depends on seed and samples, not on passes or
+ *     threads (passes_and_threads_do_not_matter)
+ * lumis_visibility_from_name — hand-worked: "approx" and "shadowmap" give their values, "raster"
+ *     refused (bad_lighting)
+ * lumis_sequence_from_name — hand-worked: "halton" (bad_lighting)
+ * lumis_sequence_name — hand-worked: "halton" (bad_lighting)
+ */
 #include "../testutil.h"
 
 #include "lum_fixture.h"

@@ -4,6 +4,21 @@
  * is checked too); a rotationally symmetric file gives a rotationally symmetric image; a
  * fixture aimed elsewhere lights where it is aimed; an occluder casts a shadow; a luminous
  * opening far away is the point, and its light, BSDF and MIS estimates agree. */
+/* Oracles:
+ * lumis_render — closed form: E = I(theta) cos theta / d^2 pixel by pixel under an asymmetric road
+ *     light; a Lambertian disk's on-axis E = I0 / (h^2 + R^2); brute force: box, cylinder and
+ *     sphere openings against a Gauss-Legendre quadrature written in the test; invariance: a
+ *     rotational table gives an image with the square's 8 symmetries
+ *     (illuminance_follows_the_inverse_square_law, a_disk_meets_its_closed_form,
+ *     solid_openings_meet_a_quadrature, rotational_symmetry_gives_a_symmetric_image)
+ * lumis_photometric_orient — closed form: a proper rotation taking -z to the aim, continuous in
+ *     tilt, azimuth and roll; invariance: the fixture turned about y turns the image; metamorphic:
+ *     twice the height lights twice the offset a quarter as much; a floodlight lights a horizontal
+ *     band (orientation_is_a_continuous_explicit_frame, aimed_fixtures_over_a_floor,
+ *     floodlights_light_a_horizontal_band)
+ * lumis_photometric_irradiance — closed form: the disk's on-axis E = I0 / (h^2 + R^2)
+ *     (a_disk_meets_its_closed_form)
+ */
 #include "photometric_gen.h"
 #include "testutil.h"
 

@@ -7,6 +7,47 @@
  * lines up with eval() pixel for pixel.  Then: the alias table's exactness at 2048 x 1024,
  * the kd-tree's invariants, the uniform fallback on black maps, and per-pixel chi-square
  * on the real maps in data/ when they are there. */
+/* Oracles:
+ * lumis_sampler_create — statistical: every method on 7 synthetic and the real maps (below); error
+ *     paths: bad descriptors (chi_square_goodness_of_fit, invalid_descriptors)
+ * lumis_sampler_destroy — external: ASan sees the map kept alive and freed with its sampler
+ *     (sampler_keeps_its_map_alive)
+ * lumis_sampler_sample — statistical: chi-square against the pdf, unbiased power against the true
+ *     standard error summed over pixels, per-pixel chi-square on the real maps
+ *     (chi_square_goodness_of_fit, power_estimates_are_unbiased, real_maps_per_pixel_chi_square)
+ * lumis_sampler_pdf — statistical, hand-worked: integrates to one by exact cell probabilities; pdf
+ *     / importance constant per pixel with Rec. 709 Y, mean, max written in the test; MIS
+ *     compensation's 10 and 20 ratio (pdf_integrates_to_one, importance_kinds_weight_the_channels,
+ *     compensation_subtracts_the_mean_over_the_sphere)
+ * lumis_sampler_pdf_radiance — consistency: equals lumis_sampler_pdf and lumis_envmap_eval for
+ *     sampled and arbitrary directions (pdf_of_sample_matches)
+ * lumis_sampler_sample_n — consistency: the very samples of lumis_sampler_sample
+ *     (pdf_of_sample_matches)
+ * lumis_sampler_invert — consistency: round trip with lumis_sampler_sample both ways; hand-worked:
+ *     a dark pixel inverts to where its share would start (invert_round_trips,
+ *     invert_of_a_dark_pixel)
+ * lumis_sampler_envmap — hand-worked: the map it was built on (pdf_of_sample_matches)
+ * lumis_sampler_get_method — hand-worked: the default is inversion-guided
+ *     (sampler_keeps_its_map_alive)
+ * lumis_sampler_is_uniform_fallback — hand-worked: a black map falls back, pdf 1 / 4 pi, one
+ *     message (black_map_falls_back_to_uniform_and_says_so)
+ * lumis_sampler_table_bytes — hand-worked: bytes of each table counted by hand for a 20 x 10 map
+ *     (table_bytes_count_every_table)
+ * lumis_sampler_total_bytes — hand-worked: table bytes plus the structure
+ *     (table_bytes_count_every_table)
+ * lumis_sampler_kdtree_blocks — invariance: blocks partition the map, every pixel once; a constant
+ *     map needs 1 (kdtree_blocks_partition_the_map)
+ * lumis_sampler_kdtree_alpha — none: its fit (internal) is checked against a scan of the objective,
+ *     the getter is not (kdtree_alpha_minimises_the_objective)
+ * lumis_sampler_build_ms — none: a timing, only printed by the CLI
+ * lumis_luminance — indirect: exact samplers' pdf / Y constant with Rec. 709 coefficients written
+ *     in the test (importance_kinds_weight_the_channels)
+ * lumis_envmap_pixel_solid_angle — indirect: the true standard error and the alias table's pmf
+ *     summed with it (alias_is_exact_at_2048x1024)
+ * lumis_envmap_width — indirect: every exact cell probability walks the map with it (cell_prob)
+ * lumis_envmap_height — indirect: every exact cell probability walks the map with it (cell_prob)
+ * lumis_sampler_method_from_name — hand-worked: "kdtree-exact"; "cdf" refused (invalid_descriptors)
+ */
 #include "../testutil.h"
 
 #include "core/distrib.h"

@@ -2,6 +2,26 @@
  * src/render/sequence.h): the stratification each promises, unbiasedness over its
  * randomisations, convergence rates on analytic integrands, and blue noise across pixels
  * for zsobol.  Every check fails for the independent sequence or for a broken variant. */
+/* Oracles:
+ * lumis_sobol02_bits — brute force: every prefix and aligned block of 2^14 points is a (0,m,2)-net,
+ *     counted cell by cell (sobol02_prefixes_and_blocks_are_nets)
+ * lumis_sobol02 — hand-worked: in [0, 1) only (sobol02_prefixes_and_blocks_are_nets)
+ * lumis_owen_scramble — brute force, statistical: scrambled points still nets; top bits shared stay
+ *     shared, a block stays a permutation, the top bit flips for about half the seeds
+ *     (sobol02_prefixes_and_blocks_are_nets, owen_scrambling_permutes_aligned_blocks)
+ * lumis_owen_permute_reversed — indirect: inside lumis_owen_scramble and the renderer's sequences,
+ *     checked as nets (render_streams_are_nets)
+ * lumis_reverse_bits32 — indirect: inside lumis_sobol02_bits and lumis_owen_scramble, checked as
+ *     nets (sobol02_prefixes_and_blocks_are_nets)
+ * lumis_morton2 — indirect: zsobol's pixel order, seen as blue noise across pixels
+ *     (zsobol_moves_error_to_high_frequencies)
+ * lumis_pmj02_generate — brute force: every prefix of 4096 points is a (0,m,2)-net; deterministic
+ *     per seed; bad counts refused (pmj02_prefixes_are_nets)
+ * lumis_sequence_resolve — indirect: the renderer's sequences (default resolved) are nets and
+ *     unbiased (render_streams_are_nets, every_sequence_is_unbiased)
+ * lumis_sequence_name — consistency: round trip with lumis_sequence_from_name (names_and_bad_kinds)
+ * lumis_sequence_from_name — consistency: round trip with lumis_sequence_name (names_and_bad_kinds)
+ */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
