@@ -12,11 +12,14 @@
  *     invalid_descriptors_are_refused)
  * lumis_envmap_destroy — external: leaks seen by ASan and valgrind; NULL accepted
  *     (invalid_descriptors_are_refused)
- * lumis_envmap_uv_to_dir — consistency: round trip pixel -> direction -> pixel and uv at 7 sizes
+ * lumis_envmap_uv_to_dir — hand-worked: directions on a map rotated by 30 degrees
+ *   (rotated_coordinates_by_hand); round trip pixel -> direction -> pixel and uv at 7 sizes
  *     and 3 rotations (pixel_direction_pixel_round_trip)
- * lumis_envmap_dir_to_uv — consistency: round trip with lumis_envmap_uv_to_dir
+ * lumis_envmap_dir_to_uv — hand-worked: (u, v) of two world directions on a rotated map
+ *   (rotated_coordinates_by_hand); round trip with lumis_envmap_uv_to_dir
  *     (pixel_direction_pixel_round_trip)
- * lumis_envmap_dir_to_pixel — consistency: round trip with lumis_envmap_uv_to_dir, at pixel centres
+ * lumis_envmap_dir_to_pixel — hand-worked: pixels of two world directions on a rotated map
+ *   (rotated_coordinates_by_hand); round trip at pixel centres
  *     and corners (pixel_direction_pixel_round_trip)
  * lumis_envmap_eval — hand-worked: a rotation of +90° moves +x to +z; a constant map scaled by 3
  *     reads 6 (rotation_turns_the_map_about_y, power_is_radiance_times_solid_angle)
@@ -130,6 +133,44 @@ static void rotation_turns_the_map_about_y(void **state)
     assert_true(a.r == b.r && a.g == b.g);
     assert_true(lumis_envmap_rotation_deg(rot) == 90.0f);
     lumis_envmap_destroy(plain);
+    lumis_envmap_destroy(rot);
+    lumis_image_destroy(img);
+}
+
+/* Hand-worked: the map's coordinates of world directions on a rotated map, from
+ * docs/coordinates.md's formulas worked by hand (phi = 2 pi u + rotation, theta = pi v),
+ * not from lumis's own inverse.  A mirrored azimuth, a rotation of the wrong sign or a
+ * half-pixel offset each moves one of these. */
+static void rotated_coordinates_by_hand(void **state)
+{
+    (void)state;
+    lumis_image *img = tu_image(36, 18, f_index);
+    lumis_envmap *rot = tu_envmap_of(img, 30.0f, 0.0f);
+    /* u = 0.25, v = 0.5: azimuth 90 + 30 = 120 degrees on the horizon, (cos 120, 0, sin 120) */
+    lumis_vec3 d = lumis_envmap_uv_to_dir(rot, 0.25f, 0.5f);
+    assert_true(fabsf(d.x + 0.5f) < 1e-6f && fabsf(d.y) < 1e-6f && fabsf(d.z - 0.8660254f) < 1e-6f);
+    /* u = 0.5, v = 1/3: azimuth 210, polar 60: (sin 60 cos 210, cos 60, sin 60 sin 210) */
+    d = lumis_envmap_uv_to_dir(rot, 0.5f, 1.0f / 3.0f);
+    assert_true(fabsf(d.x + 0.75f) < 1e-6f && fabsf(d.y - 0.5f) < 1e-6f &&
+                fabsf(d.z + 0.4330127f) < 1e-6f);
+    /* world azimuth 100, polar 125 (unnormalised, times 2): u = (100 - 30) / 360 = 0.194444,
+     * v = 125 / 180 = 0.694444; pixel (floor(7.0), floor(12.5)) = (7, 12) */
+    const double az = 100 * 3.14159265358979 / 180, po = 125 * 3.14159265358979 / 180;
+    const lumis_vec3 w = {(float)(2 * sin(po) * cos(az)), (float)(2 * cos(po)),
+                          (float)(2 * sin(po) * sin(az))};
+    float u, v;
+    lumis_envmap_dir_to_uv(rot, w, &u, &v);
+    assert_true(fabsf(u - 0.1944444f) < 1e-5f && fabsf(v - 0.6944444f) < 1e-5f);
+    int i, j;
+    lumis_envmap_dir_to_pixel(rot, w, &i, &j);
+    assert_int_equal(i, 7);
+    assert_int_equal(j, 12);
+    /* world -z (azimuth 270): u = (270 - 30) / 360 = 2/3, pixel 24 of 36; the horizon row 9 */
+    lumis_envmap_dir_to_uv(rot, (lumis_vec3){0, 0, -1}, &u, &v);
+    assert_true(fabsf(u - 2.0f / 3.0f) < 1e-6f && fabsf(v - 0.5f) < 1e-6f);
+    lumis_envmap_dir_to_pixel(rot, (lumis_vec3){0, -0.01f, -1}, &i, &j);
+    assert_int_equal(i, 24);
+    assert_int_equal(j, 9);
     lumis_envmap_destroy(rot);
     lumis_image_destroy(img);
 }
@@ -388,6 +429,7 @@ int main(void)
         cmocka_unit_test(directions_are_pinned),
         cmocka_unit_test(pixel_direction_pixel_round_trip),
         cmocka_unit_test(rotation_turns_the_map_about_y),
+        cmocka_unit_test(rotated_coordinates_by_hand),
         cmocka_unit_test(solid_angles_cover_the_sphere),
         cmocka_unit_test(power_is_radiance_times_solid_angle),
         cmocka_unit_test(power_per_channel_and_texels),
