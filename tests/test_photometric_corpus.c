@@ -46,6 +46,7 @@ static double maybe(const cJSON *o, const char *key)
  * flux code and the BUG zones and rating (forward = C 270-90, through C0, as TM-15 says).
  * Lumens to 1e-9 of the flux. */
 static int stated_bugs; /* files whose stated BUG rating was compared */
+static int rated_bugs;  /* files whose B, U and G were compared with the oracle's */
 
 static int check_ratings(const char *name, const lumis_photometric_file *f, double flux,
                          const cJSON *want)
@@ -93,13 +94,13 @@ static int check_ratings(const char *name, const lumis_photometric_file *f, doub
         }
     const cJSON *bug = cJSON_GetObjectItemCaseSensitive(want, "bug");
     const int wb[3] = {(int)num(bug, "B"), (int)num(bug, "U"), (int)num(bug, "G")};
-    /* B and U only: the two readings of TM-15's glare limits (lumis's and the oracle's,
-     * both unverified against the standard's table) differ; docs/photometric.md */
-    if (r.bug[0] != wb[0] || r.bug[1] != wb[1]) {
+    /* all three letters, every type C file (types A and B have none) */
+    if (r.bug[0] != wb[0] || r.bug[1] != wb[1] || r.bug[2] != wb[2]) {
         printf("FAIL %s: BUG lumis B%d U%d G%d oracle B%d U%d G%d\n", name, r.bug[0], r.bug[1],
                r.bug[2], wb[0], wb[1], wb[2]);
         bad++;
     }
+    rated_bugs++;
     /* a file that states its own rating (the manufacturer's, not the oracle's): all three */
     const cJSON *stated = cJSON_GetObjectItemCaseSensitive(want, "published_bug");
     if (stated) {
@@ -184,6 +185,7 @@ static void corpus_agrees_with_the_oracle(void **state)
     printf("%d files, %d disagree (%d checks)\n", files, failed_files, failed_checks);
     assert_true(files >= 32);
     assert_true(stated_bugs >= 1);
+    assert_true(rated_bugs >= 30);
     if (failed_files) fail_msg("%d of %d files disagree with the oracle", failed_files, files);
 }
 
