@@ -627,6 +627,18 @@ def analyse(path):
     res["efficacy_lm_per_w"] = flux / w if w > 0 else None
 
     if t.type == "C":
+        # The zonal-constant rule older photometric software uses for a file's stated
+        # flux: each vertical angle's intensity, averaged over C (a 1-degree grid), times
+        # the solid angle of its zone (from halfway to the previous angle to halfway to
+        # the next).  Not lumis's flux; kept to show whether a file's stated lumens come
+        # from its own table by that rule (docs/photometric.md, "declared lumens").
+        mid = 0.0
+        for i, g in enumerate(t.v):
+            a = t.v[0] if i == 0 else 0.5 * (t.v[i - 1] + g)
+            b = t.v[-1] if i == len(t.v) - 1 else 0.5 * (g + t.v[i + 1])
+            mean = sum(intensity(t, float(c), g) for c in range(360)) / 360.0
+            mid += mean * 2.0 * math.pi * (math.cos(math.radians(a)) - math.cos(math.radians(b)))
+        res["flux_zone_midpoint"] = mid
         zonal = [cells.zone(0.0, 360.0, a, b) for a, b in zip(ZONES, ZONES[1:])]
         res["zonal_lm"] = zonal
         down = sum(zonal[:3])
