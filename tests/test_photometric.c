@@ -1378,12 +1378,12 @@ static void bug_ratings_at_their_thresholds(void **state)
 {
     (void)state;
     lumis_photometric_lcs z = {0};
-    int bug[3];
+    int bug[3], type_v = 0;
 #define RATE(edit, B, U, G)                                                                        \
     do {                                                                                           \
         lumis_photometric_lcs t = z;                                                               \
         edit;                                                                                      \
-        assert_int_equal(lumis_photometric_bug(&t, bug), LUMIS_OK);                                \
+        assert_int_equal(lumis_photometric_bug(&t, type_v, bug), LUMIS_OK);                        \
         if (bug[0] != (B) || bug[1] != (U) || bug[2] != (G))                                       \
             fail_msg("%s: B%d U%d G%d, want B%d U%d G%d", #edit, bug[0], bug[1], bug[2], B, U, G); \
     } while (0)
@@ -1406,6 +1406,12 @@ static void bug_ratings_at_their_thresholds(void **state)
     RATE(t.ul = 1000.1, 0, 5, 0);
     RATE(t.fvh = 10, 0, 0, 0);
     RATE(t.fvh = 10.001, 0, 0, 1);
+    RATE(t.fvh = 100, 0, 0, 1);
+    RATE(t.fvh = 100.001, 0, 0, 2);
+    RATE(t.bvh = 225, 0, 0, 2);
+    RATE(t.bvh = 225.001, 0, 0, 3);
+    RATE(t.fvh = 500, 0, 0, 3);
+    RATE(t.fvh = 500.001, 0, 0, 4);
     RATE(t.bvh = 750, 0, 0, 4);
     RATE(t.bvh = 750.1, 0, 0, 5);
     RATE(t.fh = 660, 0, 0, 0);
@@ -1413,9 +1419,19 @@ static void bug_ratings_at_their_thresholds(void **state)
     RATE(t.fh = 12000, 0, 0, 4);
     RATE(t.fh = 12000.1, 0, 0, 5);
     RATE((t.fh = 1800, t.fvh = 150), 0, 0, 2); /* the worst zone decides */
-    RATE((t.fl = 1e6, t.fm = 1e6), 0, 0, 0);   /* forward low and mid are the task's light */
+    RATE((t.fh = 1800, t.fvh = 100), 0, 0, 1);
+    /* type V (Table A-3's symmetric half): BH held to FH's limits, B unchanged */
+    type_v = 1;
+    RATE(t.bh = 660, 2, 0, 0);
+    RATE(t.bh = 660.1, 2, 0, 1);
+    RATE(t.bh = 12000, 5, 0, 4);
+    RATE(t.bh = 12000.1, 5, 0, 5);
+    RATE(t.bvh = 10.001, 0, 0, 1);
+    RATE(t.fh = 1800.1, 0, 0, 2);
+    type_v = 0;
+    RATE((t.fl = 1e6, t.fm = 1e6), 0, 0, 0); /* forward low and mid are the task's light */
 #undef RATE
-    assert_int_equal(lumis_photometric_bug(NULL, bug), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_bug(NULL, 0, bug), LUMIS_ERR_INVALID_ARGUMENT);
     /* NEMA beam types at their edges */
     const double spread[] = {NAN, 0,  9.99,  10,  18,  18.01,  29, 29.01,
                              46,  70, 70.01, 100, 130, 130.01, 180};

@@ -188,10 +188,12 @@ typedef struct lumis_photometric_ratings {
 lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double input_watts,
                                            lumis_photometric_ratings *out);
 
-/* The BUG rating of TM-15-11 Addendum A's Table A-1 from the zone lumens: each of B, U and G
- * is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH; U: UL,
- * UH; G: FVH, BVH, FH, BH), 5 above them all. */
-lumis_status lumis_photometric_bug(const lumis_photometric_lcs *lcs, int bug[3]);
+/* The BUG rating of TM-15-11 Addendum A's Tables A-1 to A-3 from the zone lumens: each of B,
+ * U and G is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH;
+ * U: UL, UH; G: FVH, BVH, FH, BH), 5 above them all.  type_v: a quadrilaterally symmetric
+ * (type V) distribution, whose BH glare limits are FH's (lumis_photometric_get_ratings
+ * passes the declared rotational symmetry). */
+lumis_status lumis_photometric_bug(const lumis_photometric_lcs *lcs, int type_v, int bug[3]);
 
 /* The NEMA beam type (1 to 7; 0 under 10 deg) of a beam spread in degrees. */
 int lumis_photometric_nema_type(double spread_deg);

@@ -852,22 +852,32 @@ lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0, doub
     return LUMIS_OK;
 }
 
-/* TM-15-11 Addendum A, Table A-1 (IES, 2011): the maximum zonal lumens of ratings 0 to 4
- * (5 is anything above).  No copy of the table itself was at hand when this was written: the
- * values are the widely reproduced ones (manufacturers' BUG pages, the IDA-IES Model
- * Lighting Ordinance's user's guide); the B and U rows agree with the eulumdat-rs crate's
- * bug_rating.rs, whose G rows differ (FH/BH 10, 180, 600, ...; not these).  The
- * glare rows are A-1's for every luminaire: TM-15-11 gives type V and square ones their
- * own forward-high limits, which lumis does not apply. */
+/* TM-15-11 Addendum A (IES, 2011): the maximum zonal lumens of ratings 0 to 4 (5 is anything
+ * above).  Table A-1 backlight (BL, BM, BH), A-2 uplight (UL, UH), A-3 glare (FVH, BVH, FH,
+ * BH).  The standard's own text was not at hand (no search found a copy); the values are
+ * TM-15-11's as the IES tables are commonly reproduced, checked three ways: the B and U rows
+ * agree with holg/eulumdat-rs's bug_rating.rs, U also with the IDA-IES Model Lighting
+ * Ordinance user's guide ("50 lumens in the UH and UL zones" for U2, 500 for U3); the G
+ * row's FVH/BVH limits 10, 100, 225, 500, 750 with an open implementation found by the
+ * search (a web photometry viewer's computeBUG); and the one corpus file that states its
+ * rating (luxcore_asa_15m_r2.ies, B2 U0 G2) rates so.  Earlier lumis had 75 and 150 for
+ * G1 and G2, the oracle 75, 150, 225, 350 for G1-G4: each half of the row.
+ * Table A-3's second half, for quadrilaterally symmetric (type V) luminaires, holds BH to
+ * FH's limits (there is no back to protect): applied when the file declares rotational
+ * symmetry, the one type V a table states itself (docs/photometric.md). */
 static const double bug_b[3][5] = {{110, 500, 1000, 2500, 5000},   /* BL */
                                    {220, 1000, 2500, 5000, 8500},  /* BM */
                                    {110, 500, 1000, 2500, 5000}};  /* BH */
 static const double bug_u[2][5] = {{0, 10, 50, 500, 1000},         /* UL */
                                    {0, 10, 50, 500, 1000}};        /* UH */
-static const double bug_g[4][5] = {{10, 75, 150, 500, 750},        /* FVH */
-                                   {10, 75, 150, 500, 750},        /* BVH */
+static const double bug_g[4][5] = {{10, 100, 225, 500, 750},       /* FVH */
+                                   {10, 100, 225, 500, 750},       /* BVH */
                                    {660, 1800, 5000, 7500, 12000}, /* FH */
                                    {110, 500, 1000, 2500, 5000}};  /* BH */
+static const double bug_g_type_v[4][5] = {{10, 100, 225, 500, 750},
+                                          {10, 100, 225, 500, 750},
+                                          {660, 1800, 5000, 7500, 12000},
+                                          {660, 1800, 5000, 7500, 12000}}; /* BH as FH */
 
 /* The lowest rating whose every zone is at or under its threshold. */
 static int bug_of(const double *zone, const double (*limits)[5], int nzones)
@@ -880,14 +890,14 @@ static int bug_of(const double *zone, const double (*limits)[5], int nzones)
     return 5;
 }
 
-lumis_status lumis_photometric_bug(const lumis_photometric_lcs *z, int bug[3])
+lumis_status lumis_photometric_bug(const lumis_photometric_lcs *z, int type_v, int bug[3])
 {
     if (!z || !bug) return LUMIS_ERR_INVALID_ARGUMENT;
     const double b[3] = {z->bl, z->bm, z->bh}, u[2] = {z->ul, z->uh};
     const double g[4] = {z->fvh, z->bvh, z->fh, z->bh};
     bug[0] = bug_of(b, bug_b, 3);
     bug[1] = bug_of(u, bug_u, 2);
-    bug[2] = bug_of(g, bug_g, 4);
+    bug[2] = bug_of(g, type_v ? bug_g_type_v : bug_g, 4);
     return LUMIS_OK;
 }
 
@@ -945,7 +955,7 @@ lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double in
     }
     r->lcs.ul = zone(p, 90, 100, 0, 360);
     r->lcs.uh = zone(p, 100, 180, 0, 360);
-    return lumis_photometric_bug(&r->lcs, r->bug);
+    return lumis_photometric_bug(&r->lcs, p->sym == LUMIS_SYMMETRY_ROTATIONAL, r->bug);
 }
 
 /* ---- the table beyond a cone -------------------------------------------------------------

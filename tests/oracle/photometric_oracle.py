@@ -559,18 +559,22 @@ ZONES = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
 CIE_CONES = [math.degrees(math.acos(0.75)), 60.0, math.degrees(math.acos(0.25))]
 BUG_EDGES = [30.0, 60.0, 80.0, 90.0, 100.0]
 
-# TM-15-11 Addendum A, tables A-1 (backlight), A-2 (uplight), A-3 (glare, asymmetric
-# distributions, types I to IV): the largest lumens allowed for ratings 0 to 4 (above the
-# last: 5).  Written from the Addendum's tables as remembered; the search tool found no
-# copy of TM-15-11 to check them against (docs: IES TM-15-11 Addendum A, 2011).  The B
-# limits agree with holg/eulumdat-rs's bug_rating.rs (read, not copied); its G limits do
-# not, and are not the Addendum's.  The one file that states its rating
-# (luxcore_asa_15m_r2.ies: "B2 - U0 - G2") agrees with what these give.
+# TM-15-11 Addendum A, tables A-1 (backlight), A-2 (uplight), A-3 (glare): the largest
+# lumens allowed for ratings 0 to 4 (above the last: 5).  No copy of TM-15-11 was found to
+# read them from; these are the values as the IES tables are commonly reproduced (B and U
+# as holg/eulumdat-rs's bug_rating.rs has them, U also as the IDA-IES Model Lighting
+# Ordinance's user's guide words them; FVH/BVH 10, 100, 225, 500, 750 as an open
+# implementation found by search has them).  This oracle earlier remembered FVH/BVH as
+# 10, 75, 150, 225, 350 and lumis 10, 75, 150, 500, 750: each half of the row.  The one
+# corpus file that states its rating (luxcore_asa_15m_r2.ies: "B2 - U0 - G2") agrees.
 BUG_B = {"BH": [110, 500, 1000, 2500, 5000], "BM": [220, 1000, 2500, 5000, 8500],
          "BL": [110, 500, 1000, 2500, 5000]}
 BUG_U = {"UH": [0, 10, 50, 500, 1000], "UL": [0, 10, 50, 500, 1000]}
-BUG_G = {"FVH": [10, 75, 150, 225, 350], "BVH": [10, 75, 150, 225, 350],
+BUG_G = {"FVH": [10, 100, 225, 500, 750], "BVH": [10, 100, 225, 500, 750],
          "FH": [660, 1800, 5000, 7500, 12000], "BH": [110, 500, 1000, 2500, 5000]}
+# Table A-3's half for quadrilaterally symmetric (type V) luminaires: no back to protect,
+# so BH is held to FH's limits.  Applied to tables that declare rotational symmetry.
+BUG_G_TYPE_V = dict(BUG_G, BH=BUG_G["FH"])
 
 
 def _rating(zones, table):
@@ -623,6 +627,18 @@ def analyse(path):
     res["efficacy_lm_per_w"] = flux / w if w > 0 else None
 
     if t.type == "C":
+        # The zonal-constant rule older photometric software uses for a file's stated
+        # flux: each vertical angle's intensity, averaged over C (a 1-degree grid), times
+        # the solid angle of its zone (from halfway to the previous angle to halfway to
+        # the next).  Not lumis's flux; kept to show whether a file's stated lumens come
+        # from its own table by that rule (docs/photometric.md, "declared lumens").
+        mid = 0.0
+        for i, g in enumerate(t.v):
+            a = t.v[0] if i == 0 else 0.5 * (t.v[i - 1] + g)
+            b = t.v[-1] if i == len(t.v) - 1 else 0.5 * (g + t.v[i + 1])
+            mean = sum(intensity(t, float(c), g) for c in range(360)) / 360.0
+            mid += mean * 2.0 * math.pi * (math.cos(math.radians(a)) - math.cos(math.radians(b)))
+        res["flux_zone_midpoint"] = mid
         zonal = [cells.zone(0.0, 360.0, a, b) for a, b in zip(ZONES, ZONES[1:])]
         res["zonal_lm"] = zonal
         down = sum(zonal[:3])
@@ -650,8 +666,9 @@ def analyse(path):
             z["UL"] = cells.zone(0.0, 360.0, 90.0, 100.0)
             z["UH"] = cells.zone(0.0, 360.0, 100.0, 180.0)
             res["bug_zone_lm" + key] = z
+            glare = BUG_G_TYPE_V if t.sym == "rotational" else BUG_G
             res["bug" + key] = {"B": _rating(z, BUG_B), "U": _rating(z, BUG_U),
-                                "G": _rating(z, BUG_G)}
+                                "G": _rating(z, glare)}
         for val in f.get("keywords", {}).values():
             m = re.search(r"B(\d)\s*-\s*U(\d)\s*-\s*G(\d)", val.upper())
             if m and "BUG" in val.upper():
