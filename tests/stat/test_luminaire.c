@@ -78,14 +78,14 @@
  * lumis_rigid_identity — hand-worked: passes lumis_rigid_check (rigid_transform_round_trip)
  * lumis_rigid_check — hand-worked: a rotation passes, a scaled axis and a reflection are refused
  *     (rigid_transform_round_trip)
- * lumis_rigid_point_to_world — consistency: round trip with lumis_rigid_point_to_local only
- *     (rigid_transform_round_trip)
- * lumis_rigid_point_to_local — consistency: round trip with lumis_rigid_point_to_world only
- *     (rigid_transform_round_trip)
+ * lumis_rigid_point_to_world — hand-worked: two points through a rotation about y and a
+ *     translation, and the round trip (rigid_transform_round_trip)
+ * lumis_rigid_point_to_local — hand-worked: t maps to the origin, t + R z to +z, and the
+ *     round trip (rigid_transform_round_trip)
  * lumis_rigid_dir_to_world — hand-worked: x = cos 0.7 x + sin 0.7 z for a rotation about y
  *     (rigid_transform_round_trip)
- * lumis_rigid_dir_to_local — consistency: undoes lumis_rigid_dir_to_world, z only
- *     (rigid_transform_round_trip)
+ * lumis_rigid_dir_to_local — hand-worked: R x is +x locally, t ignored; undoes
+ *     lumis_rigid_dir_to_world (rigid_transform_round_trip)
  */
 #include "../testutil.h"
 
@@ -1181,6 +1181,21 @@ static void rigid_transform_round_trip(void **state)
     assert_true(fabsf(d.x - (float)(c * 0.3 + s * 2.5)) < 1e-5f);
     q = lumis_rigid_dir_to_local(&r, d);
     assert_true(fabsf(q.z - p.z) < 1e-5f);
+    /* by hand: world = R local + t; R turns +x to (c, 0, -s) and +z to (s, 0, c) */
+    lumis_vec3 w = lumis_rigid_point_to_world(&r, (lumis_vec3){1, 0, 0});
+    assert_true(fabsf(w.x - (float)(c + 1.0)) < 1e-6f && fabsf(w.y + 2.0f) < 1e-6f &&
+                fabsf(w.z - (float)(3.0 - s)) < 1e-6f);
+    w = lumis_rigid_point_to_world(&r, (lumis_vec3){0, 5, 1});
+    assert_true(fabsf(w.x - (float)(s + 1.0)) < 1e-6f && fabsf(w.y - 3.0f) < 1e-6f &&
+                fabsf(w.z - (float)(c + 3.0)) < 1e-6f);
+    /* local = R^T (world - t): the translation's own point is the origin, t + (s, 0, c) is +z */
+    lumis_vec3 l = lumis_rigid_point_to_local(&r, (lumis_vec3){1, -2, 3});
+    assert_true(fabsf(l.x) < 1e-6f && fabsf(l.y) < 1e-6f && fabsf(l.z) < 1e-6f);
+    l = lumis_rigid_point_to_local(&r, (lumis_vec3){(float)(1 + s), -2, (float)(3 + c)});
+    assert_true(fabsf(l.x) < 1e-6f && fabsf(l.y) < 1e-6f && fabsf(l.z - 1.0f) < 1e-6f);
+    /* directions ignore t: (c, 0, -s) in the world is +x locally */
+    l = lumis_rigid_dir_to_local(&r, (lumis_vec3){(float)c, 0, (float)-s});
+    assert_true(fabsf(l.x - 1.0f) < 1e-6f && fabsf(l.y) < 1e-6f && fabsf(l.z) < 1e-6f);
     lumis_rigid bad = r;
     bad.r[0] = 2.0;
     assert_int_equal(lumis_rigid_check(&bad), LUMIS_ERR_INVALID_ARGUMENT);
