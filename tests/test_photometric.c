@@ -20,9 +20,11 @@
  *     (symmetry_forms_agree, angles_and_directions, ldt_symmetries_and_lamp_sets)
  * lumis_photometric_intensity_at — invariance: the same intensity in every horizontal form
  *     (symmetry_forms_agree)
- * lumis_photometric_angles — consistency: round trip with lumis_photometric_direction for types A,
- *     B, C (angles_and_directions)
- * lumis_photometric_direction — hand-worked: C0 and C90 at gamma 60 point along +x and +y, below
+ * lumis_photometric_angles — hand-worked: types A and B at H 20, V 30 and type C at C 225,
+ *     gamma 45, from the docs' table; round trip with lumis_photometric_direction
+ *     (angles_and_directions)
+ * lumis_photometric_direction — hand-worked: C0 and C90 at gamma 60 point along +x and +y, below;
+ *     types A and B at H 20, V 30
  *     (angles_and_directions)
  * lumis_photometric_flux — closed form: the flux of analytic distributions to O(h^2); brute force:
  *     a fine quadrature of the bilinear interpolant (flux_matches_analytic_distributions,
@@ -245,6 +247,24 @@ static void angles_and_directions(void **state)
     assert_true(py.y > 0.8 && fabs(py.x) < 1e-6);
     const double ix = lumis_photometric_intensity(f->model, px);
     assert_true(fabs(ix - pg_intensity(PG_ROAD, 0.8, 0, 60)) < 1e-6 * ix);
+    /* types B and A by hand from docs/photometric.md's table, at H = 20, V = 30 degrees:
+     * B (cos H sin V, sin H, -cos H cos V), A (sin V, cos V sin H, -cos V cos H) */
+    const lumis_vec3 b = {0.46984631f, 0.34202014f, -0.81379768f},
+                     a = {0.5f, 0.29619813f, -0.81379768f};
+    const lumis_vec3 bd = lumis_photometric_direction(LUMIS_PHOTOMETRIC_B, 20, 30),
+                     ad = lumis_photometric_direction(LUMIS_PHOTOMETRIC_A, 20, 30);
+    assert_true(fabsf(bd.x - b.x) + fabsf(bd.y - b.y) + fabsf(bd.z - b.z) < 1e-6f);
+    assert_true(fabsf(ad.x - a.x) + fabsf(ad.y - a.y) + fabsf(ad.z - a.z) < 1e-6f);
+    double hb, vb, ha, va;
+    lumis_photometric_angles(LUMIS_PHOTOMETRIC_B, b, &hb, &vb);
+    lumis_photometric_angles(LUMIS_PHOTOMETRIC_A, a, &ha, &va);
+    assert_true(fabs(hb - 20) < 1e-5 && fabs(vb - 30) < 1e-5);
+    assert_true(fabs(ha - 20) < 1e-5 && fabs(va - 30) < 1e-5);
+    /* and a direction behind-left for C: (-0.5, -0.5, -1/sqrt 2) is C 225, gamma 45 */
+    double hc, vc;
+    lumis_photometric_angles(LUMIS_PHOTOMETRIC_C, (lumis_vec3){-0.5f, -0.5f, -0.70710678f}, &hc,
+                             &vc);
+    assert_true(fabs(hc - 225) < 1e-4 && fabs(vc - 45) < 1e-4);
     for (int type = 1; type <= 3; type++)
         for (unsigned q = 0; q < 200; q++) {
             const lumis_vec3 d = direction(q);
