@@ -6,8 +6,8 @@
  *     shared/data/README.md through lumis info (info_reproduces_the_data_table)
  * lumis_image_read_memory — consistency: DWA-compressed maps read the same from memory as from file
  *     (dwa_maps_read_the_same_from_file_and_memory)
- * lumis_light_set_irradiance — consistency: the set's irradiance within 3 % of the map's, both from
- *     this function, on real interiors (min_share_feeds_the_envindirects_of_a_hall)
+ * lumis_light_set_irradiance — indirect: the set's irradiance within 3 % of the map's on real
+ *     interiors (min_share_feeds_the_envindirects_of_a_hall); closed forms in test_lights
  */
 #include "testutil.h"
 

@@ -51,6 +51,9 @@
  * lumis_light_params_check — hand-worked: a Wu parameter refused for median cut, with its name in
  *     the message (methods_and_parameters_by_name)
  * lumis_envmap_pixels — indirect: the pixel sums of check_set (map_power)
+  * lumis_light_set_irradiance — closed form: the map's irradiance facing up and down, row by row
+ *     (sin^2 bands); brute force: the set's sum over its lights, a tilted normal too
+ *     (light_set_irradiance_against_closed_forms)
  */
 #include "testutil.h"
 
@@ -951,6 +954,53 @@ static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
  * depend on the map's absolute level (issue 37: TMMS's log average over 2 pi instead of
  * 4 pi kept every estimator agreeing, and only this invariance sees it).  Wu's split
  * uses a relative threshold here; an absolute one is the caller's to scale. */
+/* Closed form: with the normal up and an even number of rows no pixel straddles the horizon,
+ * and the map's irradiance is sum over the upper rows of Y (2 pi / w) (sin^2 theta_1 -
+ * sin^2 theta_0) / 2 (the integral of cos theta sin theta); facing down, the lower rows'.
+ * The set's is the sum over its lights of Y(power) max(0, n . dir), added here from the
+ * lights.  A coloured, asymmetric sky and a tilted normal for the set's sum. */
+static void light_set_irradiance_against_closed_forms(void **state)
+{
+    (void)state;
+    const int w = 48, h = 24;
+    lumis_envmap *env = make_env(w, h, sky_pixel, 0.0f, 0.0f);
+    lumis_median_cut_desc md = {0};
+    md.count = 16;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_median_cut(env, &md, &set), LUMIS_OK);
+    const lumis_light *L = NULL;
+    int n = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    const lumis_vec3 normals[] = {{0, 1, 0}, {0, -1, 0}, {0.48f, 0.6f, -0.64f}};
+    for (int q = 0; q < 3; q++) {
+        const lumis_vec3 nn = normals[q];
+        double se = -1, me = -1;
+        assert_int_equal(lumis_light_set_irradiance(env, set, nn, &se, &me), LUMIS_OK);
+        long double want_set = 0;
+        for (int k = 0; k < n; k++) {
+            const double c =
+                (double)nn.x * L[k].dir.x + (double)nn.y * L[k].dir.y + (double)nn.z * L[k].dir.z;
+            const double y =
+                0.2126 * L[k].power[0] + 0.7152 * L[k].power[1] + 0.0722 * L[k].power[2];
+            if (c > 0) want_set += (long double)(y * c);
+        }
+        assert_true(fabs(se - (double)want_set) <= 1e-9 * fabs((double)want_set));
+        if (q == 2) continue; /* a tilted horizon cuts pixels: the closed form is for y only */
+        long double want_map = 0;
+        for (int j = 0; j < h; j++) {
+            const double t0 = PI * j / h, t1 = PI * (j + 1) / h;
+            const int up = j < h / 2;
+            if (up != (nn.y > 0)) continue;
+            const double band = 0.5 * fabs(sin(t1) * sin(t1) - sin(t0) * sin(t0));
+            for (int i = 0; i < w; i++)
+                want_map += (long double)pixel_y(env, i, j) * (2 * PI / w) * band;
+        }
+        assert_true(fabs(me - (double)want_map) <= 1e-6 * (double)want_map);
+    }
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 static void every_method_is_invariant_to_the_maps_brightness(void **state)
 {
     (void)state;
@@ -1950,6 +2000,7 @@ int main(void)
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
+        cmocka_unit_test(light_set_irradiance_against_closed_forms),
         cmocka_unit_test(one_light_per_pixel_is_exact),
         cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
         cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),
