@@ -51,7 +51,7 @@
  * lumis_light_params_check — hand-worked: a Wu parameter refused for median cut, with its name in
  *     the message (methods_and_parameters_by_name)
  * lumis_envmap_pixels — indirect: the pixel sums of check_set (map_power)
-  * lumis_light_set_irradiance — closed form: the map's irradiance facing up and down, row by row
+ * lumis_light_set_irradiance — closed form: the map's irradiance facing up and down, row by row
  *     (sin^2 bands); brute force: the set's sum over its lights, a tilted normal too
  *     (light_set_irradiance_against_closed_forms)
  */
