@@ -7,7 +7,7 @@
 
 naming the public functions it guards and what it checks them against.  This script
 extracts every function declared in include/lumis/*.h (declarations over several lines,
-static inline definitions, an optional leading LUMIS_API; not macros, typedefs or
+static inline definitions, an optional leading export macro (LUMIS_API, LUMIS_IO_API, LUMIS_RENDER_API); not macros, typedefs or
 function-pointer members) and fails, listing them, when a public function is named in no
 test module's block or when a block names a function that is not public.
 
@@ -83,7 +83,7 @@ def top_level_statements(text):
 
 
 DECL = re.compile(
-    r"^(?:LUMIS_API\s+)?(?:(?:static|inline|extern|const|unsigned|signed|struct|enum)\s+)*"
+    r"^(?:LUMIS_(?:IO_|RENDER_)?API\s+)?(?:(?:static|inline|extern|const|unsigned|signed|struct|enum)\s+)*"
     r"[A-Za-z_]\w*[\s\*]+(?:const[\s\*]+)*(lumis_\w+)\s*\(",
 )
 

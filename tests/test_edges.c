@@ -316,6 +316,8 @@ static void luminaires(void **state)
     REFUSED(lumis_luminaire_create(NULL, &lum), lum);
     lumis_luminaire_desc d = {0};
     REFUSED(lumis_luminaire_create(&d, &lum), lum); /* an empty grid */
+    assert_int_equal(lumis_luminaire_check(NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_not_equal(lumis_luminaire_check(&d), LUMIS_OK);
     lumis_rigid bad = {{0}, {0, 0, 0}};
     bad.r[0] = 2.0; /* not a rotation */
     assert_int_not_equal(lumis_rigid_check(&bad), LUMIS_OK);

@@ -10,6 +10,7 @@
 #ifndef LUMIS_BSDF_H
 #define LUMIS_BSDF_H
 
+#include "lumis/export.h"
 #include "lumis/types.h"
 
 #ifdef __cplusplus
@@ -34,10 +35,10 @@ typedef struct lumis_bsdf {
 } lumis_bsdf;
 
 /* f(wo, wi). */
-lumis_rgb lumis_bsdf_eval(const lumis_bsdf *b, lumis_vec3 wo, lumis_vec3 wi);
+LUMIS_RENDER_API lumis_rgb lumis_bsdf_eval(const lumis_bsdf *b, lumis_vec3 wo, lumis_vec3 wi);
 
 /* Density per steradian of sample() choosing wi given wo. */
-float lumis_bsdf_pdf(const lumis_bsdf *b, lumis_vec3 wo, lumis_vec3 wi);
+LUMIS_RENDER_API float lumis_bsdf_pdf(const lumis_bsdf *b, lumis_vec3 wo, lumis_vec3 wi);
 
 typedef struct lumis_bsdf_sample {
     lumis_vec3 wi;
@@ -46,8 +47,8 @@ typedef struct lumis_bsdf_sample {
 } lumis_bsdf_sample;
 
 /* Draws wi from three uniform numbers in [0, 1) (u0 chooses a lobe where there are two). */
-lumis_bsdf_sample lumis_bsdf_sample_wi(const lumis_bsdf *b, lumis_vec3 wo, double u0, double u1,
-                                       double u2);
+LUMIS_RENDER_API lumis_bsdf_sample lumis_bsdf_sample_wi(const lumis_bsdf *b, lumis_vec3 wo,
+                                                        double u0, double u1, double u2);
 
 #ifdef __cplusplus
 }

@@ -15,6 +15,7 @@
 #ifndef LUMIS_ENVMAP_H
 #define LUMIS_ENVMAP_H
 
+#include "lumis/export.h"
 #include "lumis/image.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -35,44 +36,44 @@ typedef struct lumis_envmap_desc {
 } lumis_envmap_desc;
 
 /* Builds an environment map from a pixel buffer (copied). */
-lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **out);
+LUMIS_API lumis_status lumis_envmap_create(const lumis_envmap_desc *desc, lumis_envmap **out);
 
 /* Convenience: builds from a lumis_image with no rotation and unit scale. */
-lumis_status lumis_envmap_from_image(const lumis_image *image, lumis_envmap **out);
+LUMIS_API lumis_status lumis_envmap_from_image(const lumis_image *image, lumis_envmap **out);
 
 /* Releases the caller's reference; the map is freed when no sampler built from it is
  * alive any more (samplers keep a reference).  NULL is accepted. */
-void lumis_envmap_destroy(lumis_envmap *env);
+LUMIS_API void lumis_envmap_destroy(lumis_envmap *env);
 
-int lumis_envmap_width(const lumis_envmap *env);
-int lumis_envmap_height(const lumis_envmap *env);
-float lumis_envmap_scale(const lumis_envmap *env);
-float lumis_envmap_rotation_deg(const lumis_envmap *env);
+LUMIS_API int lumis_envmap_width(const lumis_envmap *env);
+LUMIS_API int lumis_envmap_height(const lumis_envmap *env);
+LUMIS_API float lumis_envmap_scale(const lumis_envmap *env);
+LUMIS_API float lumis_envmap_rotation_deg(const lumis_envmap *env);
 
 /* The sanitized pixels, unscaled (width * height * 3 floats, valid while env lives). */
-const float *lumis_envmap_pixels(const lumis_envmap *env);
+LUMIS_API const float *lumis_envmap_pixels(const lumis_envmap *env);
 
 /* Channel values replaced by 0 when the map was built. */
-lumis_replaced lumis_envmap_replaced(const lumis_envmap *env);
+LUMIS_API lumis_replaced lumis_envmap_replaced(const lumis_envmap *env);
 
 /* Radiance of pixel (i, j), scale applied.  Indices are clamped into the map. */
-lumis_rgb lumis_envmap_texel(const lumis_envmap *env, int i, int j);
+LUMIS_API lumis_rgb lumis_envmap_texel(const lumis_envmap *env, int i, int j);
 
 /* Radiance arriving from world direction dir (need not be normalized; the zero vector
  * returns black).  Cost: one lookup. */
-lumis_rgb lumis_envmap_eval(const lumis_envmap *env, lumis_vec3 dir);
+LUMIS_API lumis_rgb lumis_envmap_eval(const lumis_envmap *env, lumis_vec3 dir);
 
 /* World direction -> continuous map coordinate (u, v) in [0,1)^2, rotation applied. */
-void lumis_envmap_dir_to_uv(const lumis_envmap *env, lumis_vec3 dir, float *u, float *v);
+LUMIS_API void lumis_envmap_dir_to_uv(const lumis_envmap *env, lumis_vec3 dir, float *u, float *v);
 
 /* Map coordinate (u, v) -> unit world direction, rotation applied. */
-lumis_vec3 lumis_envmap_uv_to_dir(const lumis_envmap *env, float u, float v);
+LUMIS_API lumis_vec3 lumis_envmap_uv_to_dir(const lumis_envmap *env, float u, float v);
 
 /* Pixel containing world direction dir. */
-void lumis_envmap_dir_to_pixel(const lumis_envmap *env, lumis_vec3 dir, int *i, int *j);
+LUMIS_API void lumis_envmap_dir_to_pixel(const lumis_envmap *env, lumis_vec3 dir, int *i, int *j);
 
 /* Solid angle of any pixel in row j, in steradians. */
-double lumis_envmap_pixel_solid_angle(const lumis_envmap *env, int j);
+LUMIS_API double lumis_envmap_pixel_solid_angle(const lumis_envmap *env, int j);
 
 /* Statistics of a map, with the definitions of ../shared/data/README.md. */
 typedef struct lumis_envmap_stats {
@@ -89,33 +90,33 @@ typedef struct lumis_envmap_stats {
 } lumis_envmap_stats;
 
 /* Computes the statistics (scale applied) in O(n) time and O(n) temporary memory. */
-lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_stats *out);
+LUMIS_API lumis_status lumis_envmap_stats_compute(const lumis_envmap *env, lumis_envmap_stats *out);
 
 /* The same statistics straight from an equirectangular pixel buffer (width * height RGB
  * floats, row 0 the zenith) times scale, without building an envmap.  The pixels must
  * already be finite and non-negative (as lumis-io's readers return them). */
-lumis_status lumis_equirect_stats(const float *pixels, int width, int height, float scale,
-                                  lumis_envmap_stats *out);
+LUMIS_API lumis_status lumis_equirect_stats(const float *pixels, int width, int height, float scale,
+                                            lumis_envmap_stats *out);
 
 /* Total power per channel, sum(L * Omega) over pixels, scale applied. */
-lumis_rgb lumis_envmap_power(const lumis_envmap *env);
+LUMIS_API lumis_rgb lumis_envmap_power(const lumis_envmap *env);
 
 /* ---- Coordinate helpers for a map without rotation ---------------------------------- */
 
 /* (u, v) -> unit direction; see the formula at the top of this header. */
-lumis_vec3 lumis_equirect_to_dir(float u, float v);
+LUMIS_API lumis_vec3 lumis_equirect_to_dir(float u, float v);
 
 /* Direction (need not be normalized, not zero) -> (u, v) in [0,1)^2. */
-void lumis_equirect_from_dir(lumis_vec3 dir, float *u, float *v);
+LUMIS_API void lumis_equirect_from_dir(lumis_vec3 dir, float *u, float *v);
 
 /* Solid angle of a pixel in row j of a w x h equirectangular map. */
-double lumis_equirect_solid_angle(int width, int height, int j);
+LUMIS_API double lumis_equirect_solid_angle(int width, int height, int j);
 
 /* Resamples an equirectangular RGB map to new_w x new_h so that every output pixel holds
  * the solid-angle-weighted mean of the input over its area: total power (sum L * Omega)
  * is preserved exactly, in either direction.  dst holds new_w * new_h * 3 floats. */
-lumis_status lumis_equirect_resize(const float *src, int width, int height, float *dst, int new_w,
-                                   int new_h);
+LUMIS_API lumis_status lumis_equirect_resize(const float *src, int width, int height, float *dst,
+                                             int new_w, int new_h);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,7 @@
 #ifndef LUMIS_IMAGE_H
 #define LUMIS_IMAGE_H
 
+#include "lumis/export.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
 
@@ -37,21 +38,21 @@ typedef struct lumis_replaced {
 /* Checks width and height (each >= 1) against max_pixels (0 == LUMIS_DEFAULT_MAX_PIXELS)
  * without overflowing, before anything is allocated.  Returns LUMIS_ERR_BAD_DIMENSIONS for
  * non-positive sizes and LUMIS_ERR_TOO_LARGE beyond the limit. */
-lumis_status lumis_image_check_size(int64_t width, int64_t height, uint64_t max_pixels);
+LUMIS_API lumis_status lumis_image_check_size(int64_t width, int64_t height, uint64_t max_pixels);
 
 /* Allocates a zero-filled image.  Sizes are checked with the default pixel limit. */
-lumis_status lumis_image_create(int width, int height, lumis_image **out);
+LUMIS_API lumis_status lumis_image_create(int width, int height, lumis_image **out);
 
 /* Copies an image (pixels included). */
-lumis_status lumis_image_clone(const lumis_image *src, lumis_image **out);
+LUMIS_API lumis_status lumis_image_clone(const lumis_image *src, lumis_image **out);
 
 /* Frees the image and its pixels; NULL is accepted. */
-void lumis_image_destroy(lumis_image *image);
+LUMIS_API void lumis_image_destroy(lumis_image *image);
 
 /* Replaces every NaN, infinite or negative value among count floats by 0 and adds what it
  * replaced to *replaced (which may be NULL), keeping its most negative value and where it
  * was.  Returns the number of values replaced. */
-uint64_t lumis_sanitize_floats(float *values, size_t count, lumis_replaced *replaced);
+LUMIS_API uint64_t lumis_sanitize_floats(float *values, size_t count, lumis_replaced *replaced);
 
 /* Total of a lumis_replaced. */
 static inline uint64_t lumis_replaced_total(lumis_replaced r)
@@ -71,7 +72,7 @@ typedef struct lumis_spike {
  * neighbours' (columns wrap, rows clamp).  Writes up to max of them to out (which may be
  * NULL with max 0) in scan order and returns how many there are.  Cost: one pass, the
  * neighbours only of saturated pixels. */
-int lumis_image_spikes(const lumis_image *img, lumis_spike *out, int max);
+LUMIS_API int lumis_image_spikes(const lumis_image *img, lumis_spike *out, int max);
 
 #ifdef __cplusplus
 }

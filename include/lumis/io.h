@@ -14,6 +14,7 @@
 #ifndef LUMIS_IO_H
 #define LUMIS_IO_H
 
+#include "lumis/export.h"
 #include "lumis/image.h"
 #include "lumis/luminaire.h"
 #include "lumis/photometry.h"
@@ -36,13 +37,13 @@ typedef enum lumis_file_format {
 } lumis_file_format;
 
 /* Format named by a path's extension (case-insensitive); LUMIS_FORMAT_AUTO if unknown. */
-lumis_file_format lumis_format_from_path(const char *path);
+LUMIS_IO_API lumis_file_format lumis_format_from_path(const char *path);
 
 /* Format recognised from the first bytes of a file; LUMIS_FORMAT_AUTO if none. */
-lumis_file_format lumis_format_from_magic(const void *data, size_t size);
+LUMIS_IO_API lumis_file_format lumis_format_from_magic(const void *data, size_t size);
 
 /* "exr", "hdr", "pfm", "png" ("auto" for LUMIS_FORMAT_AUTO). */
-const char *lumis_format_name(lumis_file_format format);
+LUMIS_IO_API const char *lumis_format_name(lumis_file_format format);
 
 typedef struct lumis_read_options {
     uint64_t max_pixels; /* 0 == LUMIS_DEFAULT_MAX_PIXELS */
@@ -60,8 +61,8 @@ typedef struct lumis_read_info {
 
 /* Reads an image file; the format comes from the content, not the extension.
  * options and info may be NULL.  On failure *out is NULL. */
-lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
-                              lumis_image **out, lumis_read_info *info);
+LUMIS_IO_API lumis_status lumis_image_read(const char *path, const lumis_read_options *options,
+                                           lumis_image **out, lumis_read_info *info);
 
 /* The default sky of the "sky" spec: the sun's elevation and azimuth in degrees. */
 #define LUMIS_MAP_SKY_ELEVATION_DEG 35.0
@@ -73,14 +74,15 @@ lumis_status lumis_image_read(const char *path, const lumis_read_options *option
  * (lumis_studio_create), either with ":WxH" (sizes in [1, 65536]; default 1024x512).
  * A procedural map reports format LUMIS_FORMAT_AUTO in info.  The tool's MAP arguments and
  * scene files' "map" go through it.  options and info may be NULL. */
-lumis_status lumis_map_read(const char *spec, const lumis_read_options *options, lumis_image **out,
-                            lumis_read_info *info);
+LUMIS_IO_API lumis_status lumis_map_read(const char *spec, const lumis_read_options *options,
+                                         lumis_image **out, lumis_read_info *info);
 
 /* Reads an image held in memory (borrowed for the call).  name is used in messages only
  * (NULL == "<memory>").  format AUTO detects it from the content. */
-lumis_status lumis_image_read_memory(const void *data, size_t size, lumis_file_format format,
-                                     const char *name, const lumis_read_options *options,
-                                     lumis_image **out, lumis_read_info *info);
+LUMIS_IO_API lumis_status lumis_image_read_memory(const void *data, size_t size,
+                                                  lumis_file_format format, const char *name,
+                                                  const lumis_read_options *options,
+                                                  lumis_image **out, lumis_read_info *info);
 
 typedef enum lumis_tonemap {
     LUMIS_TONEMAP_CLAMP = 0, /* default: linear, clipped at 1 */
@@ -90,13 +92,13 @@ typedef enum lumis_tonemap {
 } lumis_tonemap;
 
 /* "clamp", "reinhard", "aces". */
-const char *lumis_tonemap_name(lumis_tonemap tonemap);
+LUMIS_IO_API const char *lumis_tonemap_name(lumis_tonemap tonemap);
 
 /* Tone map by name; returns LUMIS_ERR_INVALID_ARGUMENT for an unknown name. */
-lumis_status lumis_tonemap_from_name(const char *name, lumis_tonemap *out);
+LUMIS_IO_API lumis_status lumis_tonemap_from_name(const char *name, lumis_tonemap *out);
 
 /* Display value in [0,1] (before the sRGB curve) of linear radiance x after exposure. */
-float lumis_tonemap_apply(lumis_tonemap tonemap, float x);
+LUMIS_IO_API float lumis_tonemap_apply(lumis_tonemap tonemap, float x);
 
 /* EXR compression; 0 == ZIP (lossless, 16 scanlines per block). */
 typedef enum lumis_exr_compression {
@@ -114,8 +116,9 @@ typedef enum lumis_exr_compression {
 } lumis_exr_compression;
 
 /* "zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab". */
-const char *lumis_exr_compression_name(lumis_exr_compression compression);
-lumis_status lumis_exr_compression_from_name(const char *name, lumis_exr_compression *out);
+LUMIS_IO_API const char *lumis_exr_compression_name(lumis_exr_compression compression);
+LUMIS_IO_API lumis_status lumis_exr_compression_from_name(const char *name,
+                                                          lumis_exr_compression *out);
 
 typedef struct lumis_write_options {
     lumis_file_format format; /* AUTO == from the extension */
@@ -133,25 +136,25 @@ typedef struct lumis_write_options {
  * a device or a FIFO (/dev/null, /dev/stdout, a named pipe) is written in place, never
  * replaced; a symbolic link's target is replaced and the link kept; a directory is an
  * error. */
-lumis_status lumis_image_write(const char *path, const lumis_image *image,
-                               const lumis_write_options *options);
+LUMIS_IO_API lumis_status lumis_image_write(const char *path, const lumis_image *image,
+                                            const lumis_write_options *options);
 
 /* Where a write to path lands: path with its chain of symbolic links followed by their text
  * (a dangling link's target is created, the link kept), as lumis_image_write and
  * lumis_write_text do, into buf.  A path naming a descriptor (/dev/stdout, /dev/fd/N) is
  * written in place and is its own target.  LUMIS_ERR_INVALID_ARGUMENT when it does not fit
  * in cap bytes. */
-lumis_status lumis_output_target(const char *path, char *buf, size_t cap);
+LUMIS_IO_API lumis_status lumis_output_target(const char *path, char *buf, size_t cap);
 
 /* Writes len bytes of text (a JSON sidecar, a report) the same crash-safe way. */
-lumis_status lumis_write_text(const char *path, const char *text, size_t len,
-                              const lumis_error_sink *errors);
+LUMIS_IO_API lumis_status lumis_write_text(const char *path, const char *text, size_t len,
+                                           const lumis_error_sink *errors);
 
 /* Removes the temporary files of the writes in progress (a hidden ".NAME.XXXXXX" beside
  * each destination).  Async-signal-safe: a program's SIGINT / SIGTERM handler calls it so
  * that an interrupted write leaves the old output and nothing else.  The library installs
  * no handler itself. */
-void lumis_io_remove_partial_outputs(void);
+LUMIS_IO_API void lumis_io_remove_partial_outputs(void);
 
 /* ---- light sets (lumis/lights.h) as files ------------------------------------------------- */
 
@@ -172,15 +175,15 @@ typedef enum lumis_export_frame {
 } lumis_export_frame;
 
 /* "engine", "lumis"; "unknown" for anything else. */
-const char *lumis_export_frame_name(lumis_export_frame frame);
+LUMIS_IO_API const char *lumis_export_frame_name(lumis_export_frame frame);
 
 /* Frame by name; LUMIS_ERR_INVALID_ARGUMENT (and *out untouched) for an unknown name. */
-lumis_status lumis_export_frame_from_name(const char *name, lumis_export_frame *out);
+LUMIS_IO_API lumis_status lumis_export_frame_from_name(const char *name, lumis_export_frame *out);
 
 /* A direction of lumis's frame (a light's dir, docs/coordinates.md) as a file in `frame`
  * holds it: (-x, y, -z) for LUMIS_EXPORT_FRAME_ENGINE, unchanged for LUMIS_EXPORT_FRAME_LUMIS
  * (and for an unknown frame). */
-lumis_vec3 lumis_export_frame_dir(lumis_export_frame frame, lumis_vec3 dir);
+LUMIS_IO_API lumis_vec3 lumis_export_frame_dir(lumis_export_frame frame, lumis_vec3 dir);
 
 /* How lumis_light_set_write_gltf stores the file. */
 typedef enum lumis_gltf_container {
@@ -210,8 +213,9 @@ typedef struct lumis_light_export_options {
  * and intensity (colour x intensity == power, colour's largest channel 1), solid angle, directional
  * extent, pixel count and kind; the regions as runs [row, first column, length] on
  * request.  Crash-safe write.  options may be NULL. */
-lumis_status lumis_light_set_write_json(const char *path, const struct lumis_light_set *set,
-                                        const lumis_light_export_options *options);
+LUMIS_IO_API lumis_status lumis_light_set_write_json(const char *path,
+                                                     const struct lumis_light_set *set,
+                                                     const lumis_light_export_options *options);
 
 /* glTF 2.0, as JSON text (.gltf) or a binary container (.glb; options->container): one
  * KHR_lights_punctual directional light per light, each on a node whose rotation turns -Z
@@ -220,8 +224,9 @@ lumis_status lumis_light_set_write_json(const char *path, const struct lumis_lig
  * in the JSON: intensity is the power's largest channel, which for a map calibrated in
  * cd/m^2 is illuminance in lux (docs/lights-export.md).  A path that is neither .gltf nor
  * .glb with no container given: LUMIS_ERR_UNKNOWN_FORMAT.  Crash-safe write. */
-lumis_status lumis_light_set_write_gltf(const char *path, const struct lumis_light_set *set,
-                                        const lumis_light_export_options *options);
+LUMIS_IO_API lumis_status lumis_light_set_write_gltf(const char *path,
+                                                     const struct lumis_light_set *set,
+                                                     const lumis_light_export_options *options);
 
 /* ---- light-field luminaires (lumis/luminaire.h) as files ---------------------------------
  *
@@ -262,19 +267,18 @@ typedef struct lumis_luminaire_manifest {
  * component); opens no file.  name is used in messages (NULL == "<memory>"); base_dir
  * (NULL or "" == none) is joined with each image name to give paths.  options may be
  * NULL.  On failure *out is NULL; free the result with lumis_luminaire_manifest_destroy. */
-lumis_status lumis_luminaire_manifest_parse(const char *text, size_t size, const char *name,
-                                            const char *base_dir,
-                                            const lumis_luminaire_read_options *options,
-                                            lumis_luminaire_manifest **out);
+LUMIS_IO_API lumis_status lumis_luminaire_manifest_parse(
+    const char *text, size_t size, const char *name, const char *base_dir,
+    const lumis_luminaire_read_options *options, lumis_luminaire_manifest **out);
 
 /* Reads and parses the manifest at path (images resolved against its folder); opens no
  * image.  For a caller that wants the units or the file names. */
-lumis_status lumis_luminaire_manifest_read(const char *manifest_path,
-                                           const lumis_luminaire_read_options *options,
-                                           lumis_luminaire_manifest **out);
+LUMIS_IO_API lumis_status lumis_luminaire_manifest_read(const char *manifest_path,
+                                                        const lumis_luminaire_read_options *options,
+                                                        lumis_luminaire_manifest **out);
 
 /* Frees a manifest; NULL is accepted. */
-void lumis_luminaire_manifest_destroy(lumis_luminaire_manifest *manifest);
+LUMIS_IO_API void lumis_luminaire_manifest_destroy(lumis_luminaire_manifest *manifest);
 
 /* Reads a manifest and its images (each checked against the manifest's size, a missing,
  * truncated or corrupt one failing with the image reader's status) and builds the
@@ -282,9 +286,9 @@ void lumis_luminaire_manifest_destroy(lumis_luminaire_manifest *manifest);
  * field, e.g. "lamp.json: image.width: expected an integer in 1..16384, got -3".  Peak
  * memory: about twice the images' pixels.  options may be NULL.  On failure *out is
  * NULL. */
-lumis_status lumis_luminaire_read(const char *manifest_path,
-                                  const lumis_luminaire_read_options *options,
-                                  struct lumis_luminaire **out);
+LUMIS_IO_API lumis_status lumis_luminaire_read(const char *manifest_path,
+                                               const lumis_luminaire_read_options *options,
+                                               struct lumis_luminaire **out);
 
 typedef struct lumis_luminaire_write_options {
     lumis_file_format image_format; /* LUMIS_FORMAT_EXR (float, ZIP) or _PFM; 0 == EXR */
@@ -298,8 +302,9 @@ typedef struct lumis_luminaire_write_options {
  * a temporary file and a rename, the manifest last.  On failure the images this call
  * created are removed again, and the folder if this call created it; replacing an existing
  * luminaire is atomic per file only (docs/formats.md).  options may be NULL. */
-lumis_status lumis_luminaire_write(const char *manifest_path, const struct lumis_luminaire *lum,
-                                   const lumis_luminaire_write_options *options);
+LUMIS_IO_API lumis_status lumis_luminaire_write(const char *manifest_path,
+                                                const struct lumis_luminaire *lum,
+                                                const lumis_luminaire_write_options *options);
 
 /* ---- photometric files ---------------------------------------------------------------- */
 
@@ -340,8 +345,8 @@ typedef struct lumis_photometric_file {
  * reader warns (manufacturers' files of the test corpus agree to 0.1-2.4 %). */
 #define LUMIS_PHOTOMETRIC_FLUX_TOLERANCE 0.03
 
-lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
-                                    lumis_photometric_file **out);
+LUMIS_IO_API lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *errors,
+                                                 lumis_photometric_file **out);
 
 /* The factor a TILT=INCLUDE table gives a fixture aimed along `aim` (any length; world y
  * up): LM-63's multiplying factor at the fixture's tilt from the pose it was measured in,
@@ -349,12 +354,13 @@ lumis_status lumis_photometric_read(const char *path, const lumis_error_sink *er
  * (aim straight down): its tilt is the aim's angle from -y, 0 to 180 degrees; types A
  * and B are measured aimed level: their tilt is the aim's angle above or below the
  * horizon, 0 to 90.  1 for TILT=NONE, a NULL file or a zero aim. */
-double lumis_photometric_tilt_factor(const lumis_photometric_file *f, lumis_photometric_type type,
-                                     lumis_vec3 aim);
-lumis_status lumis_photometric_read_memory(const void *data, size_t size, const char *name,
-                                           const lumis_error_sink *errors,
-                                           lumis_photometric_file **out);
-void lumis_photometric_file_destroy(lumis_photometric_file *f);
+LUMIS_IO_API double lumis_photometric_tilt_factor(const lumis_photometric_file *f,
+                                                  lumis_photometric_type type, lumis_vec3 aim);
+LUMIS_IO_API lumis_status lumis_photometric_read_memory(const void *data, size_t size,
+                                                        const char *name,
+                                                        const lumis_error_sink *errors,
+                                                        lumis_photometric_file **out);
+LUMIS_IO_API void lumis_photometric_file_destroy(lumis_photometric_file *f);
 
 #ifdef __cplusplus
 }

@@ -26,6 +26,7 @@
 #define LUMIS_LIGHTS_H
 
 #include "lumis/envmap.h"
+#include "lumis/export.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -86,8 +87,9 @@ typedef struct lumis_median_cut_desc {
  * coarse level of 8 bands covers a region; about w h (4 + 4.1) bytes of temporary memory
  * (a float luminance array and the band sums).  About 5.7-7.3 ms at 2048 x 1024, K = 64,
  * on one core of the project's AMD EPYC (docs/lights.md, performance). */
-lumis_status lumis_lights_median_cut(const lumis_envmap *env, const lumis_median_cut_desc *desc,
-                                     lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_median_cut(const lumis_envmap *env,
+                                               const lumis_median_cut_desc *desc,
+                                               lumis_light_set **out);
 
 typedef lumis_median_cut_desc lumis_variance_min_desc;
 
@@ -98,8 +100,9 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
  * along both axes from the same band sums as median cut.
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
  * w h (4 + 5.1) bytes of temporary memory; about 8.1-9.2 ms at 2048 x 1024, K = 64. */
-lumis_status lumis_lights_variance_min(const lumis_envmap *env, const lumis_variance_min_desc *desc,
-                                       lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_variance_min(const lumis_envmap *env,
+                                                 const lumis_variance_min_desc *desc,
+                                                 lumis_light_set **out);
 
 /* ---- Wu's decomposition ------------------------------------------------------------- */
 
@@ -177,8 +180,8 @@ typedef struct lumis_decomp_desc {
  * clusters a moved centre can reach, mostly bound checks (docs/lights.md).  About 7 ms on
  * the 2048 x 1024 sky and 14-18 ms on real maps with 34-42 K emissive pixels (K = 64, one
  * core of the project's AMD EPYC, quiet). */
-lumis_status lumis_lights_decompose(const lumis_envmap *env, const lumis_decomp_desc *desc,
-                                    lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_decompose(const lumis_envmap *env,
+                                              const lumis_decomp_desc *desc, lumis_light_set **out);
 
 /* ---- Table 1's other baselines (FHIS as published, TMMS a variant: docs/lights.md) ----- */
 
@@ -192,8 +195,8 @@ typedef lumis_median_cut_desc lumis_fhis_desc;
  * sphere, so power is conserved).  Deterministic: the seed moves only the interleaved sets'
  * jitter.  Lights sit at the sample points, not at their cells' centroids.  docs/lights.md
  * says what follows the paper and what is ours. */
-lumis_status lumis_lights_fhis(const lumis_envmap *env, const lumis_fhis_desc *desc,
-                               lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_fhis(const lumis_envmap *env, const lumis_fhis_desc *desc,
+                                         lumis_light_set **out);
 
 typedef struct lumis_tmms_desc {
     int count;             /* K (1 .. pixels); 0 == 64 */
@@ -211,29 +214,30 @@ typedef struct lumis_tmms_desc {
  * operator), their values clustered by mean shift into levels, connected cells of a level
  * form strata, and an adaptive split-and-merge on energy yields exactly K strata, one light
  * at the energy centroid of each.  Cost: O(pixels + cells x strata). */
-lumis_status lumis_lights_tmms(const lumis_envmap *env, const lumis_tmms_desc *desc,
-                               lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_tmms(const lumis_envmap *env, const lumis_tmms_desc *desc,
+                                         lumis_light_set **out);
 
 /* ---- the light set ------------------------------------------------------------------ */
 
-void lumis_light_set_destroy(lumis_light_set *set);
+LUMIS_API void lumis_light_set_destroy(lumis_light_set *set);
 
 /* Number of light sets held: 1 + the jittered copies. */
-int lumis_light_set_sets(const lumis_light_set *set);
+LUMIS_API int lumis_light_set_sets(const lumis_light_set *set);
 
 /* The lights of set `index` (0 == the original) and their number; the array lives as long
  * as the set.  Every set has the same lights in the same order and with the same power and
  * region; only directions differ. */
-lumis_status lumis_light_set_get(const lumis_light_set *set, int index, const lumis_light **lights,
-                                 int *count);
+LUMIS_API lumis_status lumis_light_set_get(const lumis_light_set *set, int index,
+                                           const lumis_light **lights, int *count);
 
 /* Region of every pixel: width * height light indices (row-major, row 0 the zenith),
  * -1 for a pixel of no light (none of the methods leaves one). */
-const int32_t *lumis_light_set_labels(const lumis_light_set *set, int *width, int *height);
+LUMIS_API const int32_t *lumis_light_set_labels(const lumis_light_set *set, int *width,
+                                                int *height);
 
 /* The set for image pixel (x, y) when `sets` sets are interleaved: an a x b tile with
  * a * b == sets (b the largest divisor <= sqrt(sets)), repeated over the image. */
-int lumis_light_set_interleave_index(int sets, int x, int y);
+LUMIS_API int lumis_light_set_interleave_index(int sets, int x, int y);
 
 /* What a build did, for reports and tests. */
 typedef struct lumis_light_set_info {
@@ -264,7 +268,7 @@ typedef struct lumis_light_set_info {
 } lumis_light_set_info;
 
 /* The build's report (valid while the set lives). */
-const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
+LUMIS_API const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set);
 
 /* The irradiance (in luminance) that set 0's lights give a diffuse surface of normal
  * `normal`, sum_k Y(power_k) max(0, n . dir_k), in *set_e, and the map's own, the
@@ -272,8 +276,9 @@ const lumis_light_set_info *lumis_light_set_get_info(const lumis_light_set *set)
  * on one side of the surface's horizon: each pixel's first moment dotted with n).  How far
  * a set's point lights are from the map's diffuse lighting, per direction (lumis lights
  * --irradiance).  Cost: O(pixels). */
-lumis_status lumis_light_set_irradiance(const lumis_envmap *env, const lumis_light_set *set,
-                                        lumis_vec3 normal, double *set_e, double *map_e);
+LUMIS_API lumis_status lumis_light_set_irradiance(const lumis_envmap *env,
+                                                  const lumis_light_set *set, lumis_vec3 normal,
+                                                  double *set_e, double *map_e);
 
 /* What lumis_light_set_fold_below did. */
 typedef struct lumis_light_fold {
@@ -293,8 +298,9 @@ typedef struct lumis_light_fold {
  * no light is above the plane or up is zero or not finite (the set is then unchanged).
  * report (may be NULL) says how many lights and how much power moved.  Cost: O(K^2 + K sets
  * + pixels). */
-lumis_status lumis_light_set_fold_below(lumis_light_set *set, lumis_vec3 up,
-                                        const lumis_error_sink *errors, lumis_light_fold *report);
+LUMIS_API lumis_status lumis_light_set_fold_below(lumis_light_set *set, lumis_vec3 up,
+                                                  const lumis_error_sink *errors,
+                                                  lumis_light_fold *report);
 
 /* ---- region samplers: the stratified mode ----------------------------------------------
  * A light set's regions partition the sphere, so they can serve as strata instead of point
@@ -313,42 +319,45 @@ typedef struct lumis_region_sampler lumis_region_sampler;
  * that shines but belongs to no region is refused (LUMIS_ERR_INVALID_ARGUMENT: the strata
  * must cover the map).  Cost: two passes over the pixels and one alias build per region,
  * O(pixels); 8 bytes per pixel plus 20 per pixel of nonzero luminance. */
-lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_light_set *set,
-                                         const lumis_error_sink *errors,
-                                         lumis_region_sampler **out);
-void lumis_region_sampler_destroy(lumis_region_sampler *rs);
+LUMIS_API lumis_status lumis_region_sampler_create(const lumis_envmap *env,
+                                                   const lumis_light_set *set,
+                                                   const lumis_error_sink *errors,
+                                                   lumis_region_sampler **out);
+LUMIS_API void lumis_region_sampler_destroy(lumis_region_sampler *rs);
 
 /* Regions (== the set's lights per set). */
-int lumis_region_sampler_count(const lumis_region_sampler *rs);
+LUMIS_API int lumis_region_sampler_count(const lumis_region_sampler *rs);
 /* What region's light stands for (Wu: EnvDirect or EnvIndirect). */
-lumis_light_kind lumis_region_sampler_kind(const lumis_region_sampler *rs, int region);
+LUMIS_API lumis_light_kind lumis_region_sampler_kind(const lumis_region_sampler *rs, int region);
 /* Sum over the region of L Omega, RGB (the light's power, in double); 0 out of range. */
-void lumis_region_sampler_power(const lumis_region_sampler *rs, int region, double power[3]);
+LUMIS_API void lumis_region_sampler_power(const lumis_region_sampler *rs, int region,
+                                          double power[3]);
 /* Nonzero when the region holds no pixel of nonzero luminance (nothing to draw). */
-int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region);
+LUMIS_API int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region);
 
 /* A direction in region `region` from two uniform numbers in [0, 1): a pixel of the region
  * with probability Y Omega / (its sum over the region) (an alias table: one lookup), then
  * uniform in solid angle inside it.  pdf is per steradian within the region; radiance is
  * the map's there.  An empty region or an index out of range gives pdf 0 (and a zero
  * direction).  Cost: O(1), three lookups (bin, entry, radiance). */
-lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region, double u1,
-                                             double u2);
+LUMIS_API lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region,
+                                                       double u1, double u2);
 /* n draws, draw k in region regions[k] from u[2k], u[2k + 1]: the same results as n calls
  * of lumis_region_sampler_sample, with the lookups of up to 32 draws in flight at once (what
  * a renderer drawing in every region of a shading point calls). */
-void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *regions,
-                                   const double *u, size_t n, lumis_env_sample *out);
+LUMIS_API void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *regions,
+                                             const double *u, size_t n, lumis_env_sample *out);
 /* Density per steradian of drawing dir with region `region`'s sampler: 0 outside it. */
-float lumis_region_sampler_pdf(const lumis_region_sampler *rs, int region, lumis_vec3 dir);
+LUMIS_API float lumis_region_sampler_pdf(const lumis_region_sampler *rs, int region,
+                                         lumis_vec3 dir);
 /* The region dir lies in (-1: none), its density there in that region's sampler and the
  * map's radiance there (either pointer may be NULL), from one pixel lookup: what the MIS
  * weight of a BSDF-sampled direction needs. */
-float lumis_region_sampler_lookup(const lumis_region_sampler *rs, lumis_vec3 dir, int *region,
-                                  lumis_rgb *radiance);
+LUMIS_API float lumis_region_sampler_lookup(const lumis_region_sampler *rs, lumis_vec3 dir,
+                                            int *region, lumis_rgb *radiance);
 /* Bytes the sampler owns; wall-clock milliseconds its build took. */
-size_t lumis_region_sampler_bytes(const lumis_region_sampler *rs);
-double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
+LUMIS_API size_t lumis_region_sampler_bytes(const lumis_region_sampler *rs);
+LUMIS_API double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
 
 /* ---- methods and parameters by name ------------------------------------------------------
  * What the lumis tool's --method / --lights and --param / --lights-param take, for a host
@@ -357,10 +366,10 @@ double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
  * and Wu's ablations "wu-is", "wu-is-mask", "wu-is-kmeans", "wu-original-cut". */
 
 /* The method names, NULL-terminated. */
-const char *const *lumis_lights_method_names(void);
+LUMIS_API const char *const *lumis_lights_method_names(void);
 /* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...), 0 for an unknown
  * name. */
-lumis_lights_method lumis_lights_method_from_name(const char *name);
+LUMIS_API lumis_lights_method lumis_lights_method_from_name(const char *name);
 
 /* Parameters by name.  Zero-initialised: every method's defaults. */
 typedef struct lumis_light_params {
@@ -374,21 +383,21 @@ typedef struct lumis_light_params {
 /* Adds the pairs of "NAME=VALUE[,NAME=VALUE...]" to p.  LUMIS_ERR_INVALID_ARGUMENT, with a
  * message naming the pair and the value's range, for an unknown name or a bad value (p then
  * holds the pairs before it). */
-lumis_status lumis_light_params_parse(lumis_light_params *p, const char *text,
-                                      const lumis_error_sink *errors);
+LUMIS_API lumis_status lumis_light_params_parse(lumis_light_params *p, const char *text,
+                                                const lumis_error_sink *errors);
 /* LUMIS_OK if every parameter given applies to the method `method` (a name), else
  * LUMIS_ERR_INVALID_ARGUMENT with a message naming the parameter and its method. */
-lumis_status lumis_light_params_check(const lumis_light_params *p, const char *method,
-                                      const lumis_error_sink *errors);
+LUMIS_API lumis_status lumis_light_params_check(const lumis_light_params *p, const char *method,
+                                                const lumis_error_sink *errors);
 /* The parameters given, as "name=value,..." (empty when none; each value the shortest that
  * reads back the same), into buf of cap bytes (truncated to fit). */
-void lumis_light_params_format(const lumis_light_params *p, char *buf, size_t cap);
+LUMIS_API void lumis_light_params_format(const lumis_light_params *p, char *buf, size_t cap);
 
 /* K lights in `sets` interleaved sets by the method `method` (a name) with parameters
  * `params` (NULL: the defaults); 0 for K or sets: the method's default. */
-lumis_status lumis_lights_by_name(const lumis_envmap *env, const char *method, int count, int sets,
-                                  const lumis_light_params *params, const lumis_error_sink *errors,
-                                  lumis_light_set **out);
+LUMIS_API lumis_status lumis_lights_by_name(const lumis_envmap *env, const char *method, int count,
+                                            int sets, const lumis_light_params *params,
+                                            const lumis_error_sink *errors, lumis_light_set **out);
 
 #ifdef __cplusplus
 }

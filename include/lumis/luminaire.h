@@ -25,6 +25,7 @@
 #ifndef LUMIS_LUMINAIRE_H
 #define LUMIS_LUMINAIRE_H
 
+#include "lumis/export.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
 
@@ -45,18 +46,26 @@ typedef enum lumis_luminaire_basis {
 } lumis_luminaire_basis;
 
 /* "quadratic", "bspline" ("default" for LUMIS_BASIS_DEFAULT). */
-const char *lumis_luminaire_basis_name(lumis_luminaire_basis basis);
-lumis_status lumis_luminaire_basis_from_name(const char *name, lumis_luminaire_basis *out);
+LUMIS_API const char *lumis_luminaire_basis_name(lumis_luminaire_basis basis);
+LUMIS_API lumis_status lumis_luminaire_basis_from_name(const char *name,
+                                                       lumis_luminaire_basis *out);
 
 /* The 1D profile phi(x), x in grid cells from the function's centre; Phi_m(u) =
  * phi((u_x - c_x) / h_x) phi((u_y - c_y) / h_y).  Both profiles are partitions of unity
  * on the integer grid and integrate to 1. */
-double lumis_luminaire_basis_eval(lumis_luminaire_basis basis, double x);
+LUMIS_API double lumis_luminaire_basis_eval(lumis_luminaire_basis basis, double x);
 
 /* Half-width of the profile's support in cells: 1 (quadratic) or 1.5 (B-spline). */
-double lumis_luminaire_basis_radius(lumis_luminaire_basis basis);
+LUMIS_API double lumis_luminaire_basis_radius(lumis_luminaire_basis basis);
 
 /* ---- the luminaire ----------------------------------------------------------------- */
+
+/* The largest luminaire lumis_luminaire_check accepts: basis functions along x or along y
+ * (W, H), images in all (M = W H), and pixels along either side of an image.  A file
+ * reader (lumis_luminaire_read) refuses beyond them before it reads a pixel. */
+#define LUMIS_LUMINAIRE_MAX_GRID   256
+#define LUMIS_LUMINAIRE_MAX_IMAGES 1024
+#define LUMIS_LUMINAIRE_MAX_SIDE   16384
 
 typedef struct lumis_luminaire_desc {
     double delta;                /* distance from U (z = 0) to S (z = delta), > 0; required */
@@ -73,6 +82,10 @@ typedef struct lumis_luminaire_desc {
      * ignored by lumis_luminaire_acquire. */
     const float *const *pixels;
     lumis_error_sink errors; /* errors, and warnings (reported with status LUMIS_OK) */
+    /* Values the caller already replaced by 0 in pixels (an image reader's count): added
+     * to the luminaire's own count (lumis_luminaire_info.replaced).  0 == none; 0 from
+     * lumis_luminaire_get_desc. */
+    size_t replaced_before;
 } lumis_luminaire_desc;
 
 typedef struct lumis_luminaire lumis_luminaire;
@@ -81,9 +94,16 @@ typedef struct lumis_luminaire lumis_luminaire;
  * Negative or non-finite values are replaced by 0, counted (lumis_luminaire_info) and
  * reported once as a warning.  Cost: O(M pixels) time; memory 12 bytes per pixel (RGB)
  * plus 4 per entry of the (width + 1) x (height + 1) table, per image. */
-lumis_status lumis_luminaire_create(const lumis_luminaire_desc *desc, lumis_luminaire **out);
+LUMIS_API lumis_status lumis_luminaire_create(const lumis_luminaire_desc *desc,
+                                              lumis_luminaire **out);
 
-void lumis_luminaire_destroy(lumis_luminaire *lum);
+/* Checks a description as lumis_luminaire_create does, all but its pixels: delta, basis,
+ * grid and image sizes within the limits above, finite origins and extents.  The reason
+ * goes to desc->errors.  LUMIS_ERR_INVALID_ARGUMENT (NULL, or a bad field) or
+ * LUMIS_ERR_BAD_DIMENSIONS (image sides).  Cost: O(1). */
+LUMIS_API lumis_status lumis_luminaire_check(const lumis_luminaire_desc *desc);
+
+LUMIS_API void lumis_luminaire_destroy(lumis_luminaire *lum);
 
 typedef struct lumis_luminaire_info {
     int images;         /* M */
@@ -96,20 +116,20 @@ typedef struct lumis_luminaire_info {
     double total_power; /* sum over images of the luminance integral of C_m over S */
 } lumis_luminaire_info;
 
-void lumis_luminaire_get_info(const lumis_luminaire *lum, lumis_luminaire_info *out);
+LUMIS_API void lumis_luminaire_get_info(const lumis_luminaire *lum, lumis_luminaire_info *out);
 
 /* The descriptor the luminaire was built from, pixels pointing at its own copies (valid
  * while it lives): what a writer of luminaire files needs. */
-void lumis_luminaire_get_desc(const lumis_luminaire *lum, lumis_luminaire_desc *out);
+LUMIS_API void lumis_luminaire_get_desc(const lumis_luminaire *lum, lumis_luminaire_desc *out);
 
 /* Image m's RGB pixels (width * height triples, as in the descriptor), or NULL. */
-const float *lumis_luminaire_image(const lumis_luminaire *lum, int m);
+LUMIS_API const float *lumis_luminaire_image(const lumis_luminaire *lum, int m);
 
 /* Radiance L(u -> s) of the ray from (ux, uy, 0) through (sx, sy, delta): the sum over the
  * at most 4 (quadratic) or 9 (B-spline) functions whose support contains u.  Zero outside
  * the images.  Cost: one pixel lookup per such function. */
-lumis_rgb lumis_luminaire_radiance(const lumis_luminaire *lum, double ux, double uy, double sx,
-                                   double sy);
+LUMIS_API lumis_rgb lumis_luminaire_radiance(const lumis_luminaire *lum, double ux, double uy,
+                                             double sx, double sy);
 
 /* ---- rigid placement in a scene ------------------------------------------------------ */
 
@@ -119,13 +139,13 @@ typedef struct lumis_rigid {
     double t[3];
 } lumis_rigid;
 
-lumis_rigid lumis_rigid_identity(void);
+LUMIS_API lumis_rigid lumis_rigid_identity(void);
 /* LUMIS_ERR_INVALID_ARGUMENT unless R is orthonormal with determinant +1 (to 1e-6). */
-lumis_status lumis_rigid_check(const lumis_rigid *x);
-lumis_vec3 lumis_rigid_point_to_local(const lumis_rigid *x, lumis_vec3 world);
-lumis_vec3 lumis_rigid_point_to_world(const lumis_rigid *x, lumis_vec3 local);
-lumis_vec3 lumis_rigid_dir_to_local(const lumis_rigid *x, lumis_vec3 world);
-lumis_vec3 lumis_rigid_dir_to_world(const lumis_rigid *x, lumis_vec3 local);
+LUMIS_API lumis_status lumis_rigid_check(const lumis_rigid *x);
+LUMIS_API lumis_vec3 lumis_rigid_point_to_local(const lumis_rigid *x, lumis_vec3 world);
+LUMIS_API lumis_vec3 lumis_rigid_point_to_world(const lumis_rigid *x, lumis_vec3 local);
+LUMIS_API lumis_vec3 lumis_rigid_dir_to_local(const lumis_rigid *x, lumis_vec3 world);
+LUMIS_API lumis_vec3 lumis_rigid_dir_to_world(const lumis_rigid *x, lumis_vec3 local);
 
 /* ---- sampling ---------------------------------------------------------------------- */
 
@@ -150,10 +170,12 @@ typedef enum lumis_luminaire_search {
 } lumis_luminaire_search;
 
 /* "restricted", "uniform", "global", "auto"; "secant", "binary". */
-const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy strategy);
-lumis_status lumis_luminaire_strategy_from_name(const char *name, lumis_luminaire_strategy *out);
-const char *lumis_luminaire_search_name(lumis_luminaire_search search);
-lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_search *out);
+LUMIS_API const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy strategy);
+LUMIS_API lumis_status lumis_luminaire_strategy_from_name(const char *name,
+                                                          lumis_luminaire_strategy *out);
+LUMIS_API const char *lumis_luminaire_search_name(lumis_luminaire_search search);
+LUMIS_API lumis_status lumis_luminaire_search_from_name(const char *name,
+                                                        lumis_luminaire_search *out);
 
 typedef struct lumis_luminaire_query {
     lumis_vec3 p;                      /* shading point, luminaire frame */
@@ -193,7 +215,7 @@ typedef struct lumis_luminaire_sample {
 } lumis_luminaire_sample;
 
 /* Samples capacity lumis_luminaire_sample needs for a budget K: max(K, M). */
-int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
+LUMIS_API int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
 
 /* All samples for point q->p: balances the budget over images (lumis_luminaire_balance on
  * A_m(p), or on each image's total luminance for the global strategy), then draws K_m
@@ -212,9 +234,10 @@ int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
  * (11 x 9 x 256^2, K = 64) measures 87 ns per sample (binary; ~200 secant) on coherent
  * points, 99 on random ones: docs/luminaire.md, "Benchmark".  Stack: about 100 KB.
  * No allocation. */
-lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
-                                          const lumis_luminaire_query *q, const double *u,
-                                          int capacity, lumis_luminaire_sample *out, int *count);
+LUMIS_API lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
+                                                    const lumis_luminaire_query *q, const double *u,
+                                                    int capacity, lumis_luminaire_sample *out,
+                                                    int *count);
 
 /* The global strategy's points on S do not depend on the shading point: a renderer draws
  * them once per set of random numbers and finishes them for every point.
@@ -224,48 +247,53 @@ lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
  * draw then finish gives what lumis_luminaire_sample_point gives for p with the same u, bit
  * for bit (none for p behind U).  Cost of a finish: per sample one RGB pixel and a few
  * dozen flops; no table lookup. */
-lumis_status lumis_luminaire_global_draw(const lumis_luminaire *lum, const lumis_luminaire_query *q,
-                                         const double *u, int capacity, lumis_luminaire_sample *out,
-                                         int *count);
-lumis_status lumis_luminaire_global_finish(const lumis_luminaire *lum, lumis_vec3 p,
-                                           const lumis_luminaire_sample *drawn, int count,
-                                           lumis_luminaire_sample *out, int *out_count);
+LUMIS_API lumis_status lumis_luminaire_global_draw(const lumis_luminaire *lum,
+                                                   const lumis_luminaire_query *q, const double *u,
+                                                   int capacity, lumis_luminaire_sample *out,
+                                                   int *count);
+LUMIS_API lumis_status lumis_luminaire_global_finish(const lumis_luminaire *lum, lumis_vec3 p,
+                                                     const lumis_luminaire_sample *drawn, int count,
+                                                     lumis_luminaire_sample *out, int *out_count);
 
 /* The estimator (Eq. 13/14) from the samples of one point: sum of radiance *
  * max(0, n . dir) * weight, n normalised here.  Unbiased for I(p) with an unlimited search (no
  * visibility: multiply each term by it to light a scene). */
-lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *samples, int count, lumis_vec3 n);
+LUMIS_API lumis_rgb lumis_luminaire_estimate(const lumis_luminaire_sample *samples, int count,
+                                             lumis_vec3 n);
 
 /* A_m(p) for every image (out: M doubles): the luminance integral of C_m over the box its
  * support projects to from p (or, for p on S, Y_m(p) times the support's area on U).
  * Cost: 16 lookups per image whose box meets its image. */
-void lumis_luminaire_masses(const lumis_luminaire *lum, lumis_vec3 p, double *out);
+LUMIS_API void lumis_luminaire_masses(const lumis_luminaire *lum, lumis_vec3 p, double *out);
 
 /* Shares budget samples among n images in proportion to mass (>= 0): counts[i] = 0 when
  * mass[i] == 0, else 1 <= counts[i] <= k_max (k_max 0: no cap), summing to
  * min(budget, k_max n+) but at least n+ (n+ the nonzero masses); each count within one of
  * its proportional share where no cap or minimum intervenes.  Returns the sum.  O(n) when
  * nothing is capped. */
-int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max, int *counts);
+LUMIS_API int lumis_luminaire_balance(const double *mass, int n, int budget, int k_max,
+                                      int *counts);
 
 /* One sample of image m alone at point p, strategy restricted, uniform or global (the
  * global strategy ignores p for s): fills everything but count (1) and the weight's K_m
  * (taken as 1).  LUMIS_ERR_INVALID_ARGUMENT if image m has nothing to sample at p
  * (A_m(p) == 0).  Cost: as one sample of lumis_luminaire_sample_point plus 16 lookups. */
-lumis_status lumis_luminaire_sample_image(const lumis_luminaire *lum,
-                                          const lumis_luminaire_query *q, int m, double u1,
-                                          double u2, lumis_luminaire_sample *out);
+LUMIS_API lumis_status lumis_luminaire_sample_image(const lumis_luminaire *lum,
+                                                    const lumis_luminaire_query *q, int m,
+                                                    double u1, double u2,
+                                                    lumis_luminaire_sample *out);
 
 /* Density per unit area on S with which image m's sampler at p (strategy q->strategy)
  * draws (sx, sy); 0 outside its box.  For p on S, per unit area on U at (sx, sy) read as
  * a point of U.  Cost: 16 lookups + 4. */
-double lumis_luminaire_pdf(const lumis_luminaire *lum, const lumis_luminaire_query *q, int m,
-                           double sx, double sy);
+LUMIS_API double lumis_luminaire_pdf(const lumis_luminaire *lum, const lumis_luminaire_query *q,
+                                     int m, double sx, double sy);
 
 /* The (u1, u2) that lumis_luminaire_sample_image maps to (sx, sy) (restricted or uniform
  * strategy, exact search): the inverse warp.  LUMIS_ERR_INVALID_ARGUMENT outside the box. */
-lumis_status lumis_luminaire_invert(const lumis_luminaire *lum, const lumis_luminaire_query *q,
-                                    int m, double sx, double sy, double *u1, double *u2);
+LUMIS_API lumis_status lumis_luminaire_invert(const lumis_luminaire *lum,
+                                              const lumis_luminaire_query *q, int m, double sx,
+                                              double sy, double *u1, double *u2);
 
 /* ---- which strategy pays: a prediction ------------------------------------------------
  *
@@ -304,7 +332,7 @@ typedef struct lumis_luminaire_costs {
 } lumis_luminaire_costs;
 
 /* The defaults (docs/luminaire.md, "Which strategy pays", how they were measured). */
-lumis_luminaire_costs lumis_luminaire_costs_default(void);
+LUMIS_API lumis_luminaire_costs lumis_luminaire_costs_default(void);
 
 typedef struct lumis_luminaire_predict_desc {
     const lumis_luminaire_probe *probes; /* required */
@@ -376,23 +404,23 @@ typedef struct lumis_luminaire_prediction {
  * is 0 and best is LUMIS_LUM_RESTRICTED (the paper's).
  * Cost: probes x images with energy x 2 pilot draws (about 60 ms for 256 probes of the
  * car preset); deterministic for a seed; allocates a double per probe. */
-lumis_status lumis_luminaire_predict(const lumis_luminaire *lum,
-                                     const lumis_luminaire_predict_desc *desc,
-                                     lumis_luminaire_prediction *out);
+LUMIS_API lumis_status lumis_luminaire_predict(const lumis_luminaire *lum,
+                                               const lumis_luminaire_predict_desc *desc,
+                                               lumis_luminaire_prediction *out);
 
 /* n probes lit by the luminaire at distances in [dmin, dmax] (luminaire units, from a point
  * of U, log-uniform), facing it: along rays from U through S drawn in proportion to the
  * light's power, as a scene's surfaces in the beam would be.  dmin > 0, dmax >= dmin.
  * Deterministic for a seed. */
-lumis_status lumis_luminaire_probes(const lumis_luminaire *lum, double dmin, double dmax,
-                                    uint64_t seed, int n, lumis_luminaire_probe *out);
+LUMIS_API lumis_status lumis_luminaire_probes(const lumis_luminaire *lum, double dmin, double dmax,
+                                              uint64_t seed, int n, lumis_luminaire_probe *out);
 
 /* Irradiance I(p) on a surface of normal n (need not be unit) by deterministic quadrature:
  * over S, per image, on pieces cut at pixel edges and at the basis' knots (Gauss-Legendre
  * with `order` points per axis per piece, 0 == 4), or over U for p on S.  For tests and
  * references: O(pixels in the boxes) time, no allocation. */
-lumis_status lumis_luminaire_irradiance(const lumis_luminaire *lum, lumis_vec3 p, lumis_vec3 n,
-                                        int order, lumis_rgb *out);
+LUMIS_API lumis_status lumis_luminaire_irradiance(const lumis_luminaire *lum, lumis_vec3 p,
+                                                  lumis_vec3 n, int order, lumis_rgb *out);
 
 /* ---- synthetic acquisition ----------------------------------------------------------- */
 
@@ -437,18 +465,20 @@ typedef struct lumis_acquire_desc {
  * footprint on U.  layout gives the geometry (its pixels are ignored).  Then builds the
  * luminaire as lumis_luminaire_create.  Cost: O(M pixels samples_s^2 disks nodes / M')
  * where M' ~ the number of supports a footprint meets; seconds for 11 x 9 x 256^2. */
-lumis_status lumis_luminaire_acquire(const lumis_luminaire_desc *layout,
-                                     const lumis_emitter_desc *emitter,
-                                     const lumis_acquire_desc *acquire, lumis_luminaire **out);
+LUMIS_API lumis_status lumis_luminaire_acquire(const lumis_luminaire_desc *layout,
+                                               const lumis_emitter_desc *emitter,
+                                               const lumis_acquire_desc *acquire,
+                                               lumis_luminaire **out);
 
 /* The emitter's true radiance along the ray from (ux, uy, 0) towards (sx, sy, delta). */
-lumis_rgb lumis_emitter_radiance(const lumis_emitter_desc *emitter, double delta, double ux,
-                                 double uy, double sx, double sy);
+LUMIS_API lumis_rgb lumis_emitter_radiance(const lumis_emitter_desc *emitter, double delta,
+                                           double ux, double uy, double sx, double sy);
 
 /* The emitter's true irradiance at p (z > 0) on a surface of normal n, by quadrature over
  * each disk's footprint on U (nodes: radial x angular per disk; 0 == 48 x 96). */
-lumis_status lumis_emitter_irradiance(const lumis_emitter_desc *emitter, lumis_vec3 p, lumis_vec3 n,
-                                      int radial, int angular, lumis_rgb *out);
+LUMIS_API lumis_status lumis_emitter_irradiance(const lumis_emitter_desc *emitter, lumis_vec3 p,
+                                                lumis_vec3 n, int radial, int angular,
+                                                lumis_rgb *out);
 
 /* Layouts of the paper's Table 1 (geometry only; pixels NULL): an emitter of that size. */
 typedef enum lumis_luminaire_preset {
@@ -459,19 +489,23 @@ typedef enum lumis_luminaire_preset {
 
 /* Fills a layout, and an emitter (disks: storage for at least 4) that fits it: a few small
  * bright disks behind a striped plate, like a headlight. */
-lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset, lumis_luminaire_desc *layout,
-                                        lumis_emitter_desc *emitter, lumis_emitter_disk *disks);
+LUMIS_API lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset,
+                                                  lumis_luminaire_desc *layout,
+                                                  lumis_emitter_desc *emitter,
+                                                  lumis_emitter_disk *disks);
 
 /* "car", "bike", "small". */
-const char *lumis_luminaire_preset_name(lumis_luminaire_preset preset);
-lumis_status lumis_luminaire_preset_from_name(const char *name, lumis_luminaire_preset *out);
+LUMIS_API const char *lumis_luminaire_preset_name(lumis_luminaire_preset preset);
+LUMIS_API lumis_status lumis_luminaire_preset_from_name(const char *name,
+                                                        lumis_luminaire_preset *out);
 
 /* A preset's luminaire, acquired from its emitter with the default acquisition settings
  * and the given basis (0 == the preset's): lumis_luminaire_preset_get then
  * lumis_luminaire_acquire.  About 2 s for the car preset. */
-lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset,
-                                           lumis_luminaire_basis basis,
-                                           const lumis_error_sink *errors, lumis_luminaire **out);
+LUMIS_API lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset,
+                                                     lumis_luminaire_basis basis,
+                                                     const lumis_error_sink *errors,
+                                                     lumis_luminaire **out);
 
 #ifdef __cplusplus
 }

@@ -7,6 +7,7 @@
 #ifndef LUMIS_METRICS_H
 #define LUMIS_METRICS_H
 
+#include "lumis/export.h"
 #include "lumis/image.h"
 #include "lumis/status.h"
 
@@ -73,8 +74,9 @@ typedef struct lumis_flip_hdr_result {
  * Single-threaded: about 0.3 s for 1024 x 768 (docs/metrics.md).
  * Fails with LUMIS_ERR_INVALID_ARGUMENT for NULL or empty images, different sizes or a
  * bad pixels_per_degree; LUMIS_ERR_OUT_OF_MEMORY if the scratch cannot be had. */
-lumis_status lumis_flip_ldr(const lumis_image *reference, const lumis_image *test,
-                            const lumis_flip_options *options, float *error_map, double *mean);
+LUMIS_API lumis_status lumis_flip_ldr(const lumis_image *reference, const lumis_image *test,
+                                      const lumis_flip_options *options, float *error_map,
+                                      double *mean);
 
 /* HDR-FLIP between two scene-referred images (linear RGB, any non-negative values).
  * For each of num_exposures exposures c evenly spaced from start to stop, both images are
@@ -92,9 +94,9 @@ lumis_status lumis_flip_ldr(const lumis_image *reference, const lumis_image *tes
  * Costs num_exposures LDR-FLIP evaluations.
  * Fails like lumis_flip_ldr, and for a start exposure above the stop one, non-finite
  * exposures or a negative num_exposures. */
-lumis_status lumis_flip_hdr(const lumis_image *reference, const lumis_image *test,
-                            const lumis_flip_options *options, float *error_map,
-                            float *exposure_map, lumis_flip_hdr_result *result);
+LUMIS_API lumis_status lumis_flip_hdr(const lumis_image *reference, const lumis_image *test,
+                                      const lumis_flip_options *options, float *error_map,
+                                      float *exposure_map, lumis_flip_hdr_result *result);
 
 /* FLIP's magma colour map of an error map, as a new image for PNG output.
  * Value v (clamped to [0, 1]; NaN counts as 0) takes entry floor(255 v + 0.5) of
@@ -103,7 +105,8 @@ lumis_status lumis_flip_hdr(const lumis_image *reference, const lumis_image *tes
  * the clamp tone map at exposure 0 gives the reference's bytes.
  * Fails with LUMIS_ERR_INVALID_ARGUMENT for a NULL map or output, or from
  * lumis_image_create for bad sizes; *out is NULL on failure. */
-lumis_status lumis_flip_colormap(const float *error_map, int width, int height, lumis_image **out);
+LUMIS_API lumis_status lumis_flip_colormap(const float *error_map, int width, int height,
+                                           lumis_image **out);
 
 /* ==== end of FLIP ====================================================================== */
 
@@ -125,14 +128,16 @@ typedef struct lumis_image_error_stats {
     double mse, rmse, relmse, relmse_epsilon, psnr, psnr_peak;
 } lumis_image_error_stats;
 
-lumis_status lumis_image_errors(const lumis_image *reference, const lumis_image *test,
-                                const lumis_metric_options *options, lumis_image_error_stats *out);
+LUMIS_API lumis_status lumis_image_errors(const lumis_image *reference, const lumis_image *test,
+                                          const lumis_metric_options *options,
+                                          lumis_image_error_stats *out);
 
 /* Mean CIE76 Delta E between the images as L*a*b* (D65 white = linear RGB (1,1,1)), after
  * 2^exposure_ev and a clamp to [0, 1] (linear Rec. 709 in, no sRGB curve: CIELAB has its
  * own lightness curve).  map: optional, width * height per-pixel Delta E. */
-lumis_status lumis_lab_delta_e(const lumis_image *reference, const lumis_image *test,
-                               const lumis_metric_options *options, float *map, double *mean);
+LUMIS_API lumis_status lumis_lab_delta_e(const lumis_image *reference, const lumis_image *test,
+                                         const lumis_metric_options *options, float *map,
+                                         double *mean);
 
 #ifdef __cplusplus
 }

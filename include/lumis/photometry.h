@@ -23,6 +23,7 @@
 #ifndef LUMIS_PHOTOMETRY_H
 #define LUMIS_PHOTOMETRY_H
 
+#include "lumis/export.h"
 #include "lumis/luminaire.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
@@ -79,26 +80,29 @@ typedef struct lumis_photometric lumis_photometric;
 
 /* Checks the table (angle ranges a symmetry can cover, increasing angles, finite
  * non-negative values; errors name the field) and makes the model.  errors may be NULL. */
-lumis_status lumis_photometric_create(const lumis_photometric_desc *desc,
-                                      const lumis_error_sink *errors, lumis_photometric **out);
-void lumis_photometric_destroy(lumis_photometric *p);
+LUMIS_API lumis_status lumis_photometric_create(const lumis_photometric_desc *desc,
+                                                const lumis_error_sink *errors,
+                                                lumis_photometric **out);
+LUMIS_API void lumis_photometric_destroy(lumis_photometric *p);
 
 /* Luminous intensity (cd, multiplier applied) towards the unit direction d, in the
  * luminaire's frame. */
-double lumis_photometric_intensity(const lumis_photometric *p, lumis_vec3 d);
+LUMIS_API double lumis_photometric_intensity(const lumis_photometric *p, lumis_vec3 d);
 /* The same at the table's own angles (degrees; type C: h = C, v = gamma). */
-double lumis_photometric_intensity_at(const lumis_photometric *p, double h_deg, double v_deg);
+LUMIS_API double lumis_photometric_intensity_at(const lumis_photometric *p, double h_deg,
+                                                double v_deg);
 /* The unit direction of angles (h, v), and back (angles in the table's conventions:
  * C in [0, 360), gamma in [0, 180]; A, B: H and V in [-180, 180]). */
-lumis_vec3 lumis_photometric_direction(lumis_photometric_type type, double h_deg, double v_deg);
-void lumis_photometric_angles(lumis_photometric_type type, lumis_vec3 d, double *h_deg,
-                              double *v_deg);
+LUMIS_API lumis_vec3 lumis_photometric_direction(lumis_photometric_type type, double h_deg,
+                                                 double v_deg);
+LUMIS_API void lumis_photometric_angles(lumis_photometric_type type, lumis_vec3 d, double *h_deg,
+                                        double *v_deg);
 
 /* The intensity in principal plane k at signed angle t (degrees, -180 to 180), as a polar
  * plot draws it.  Type C: k 0 is the C0-C180 plane (t >= 0 on C0, t < 0 on C180, |t| =
  * gamma), k 1 the C90-C270 plane.  Types A, B: k 0 is the plane V = 0 (t = H), k 1 the
  * plane H = 0 (t = V); both pass through the aim, t = 0. */
-double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, double t_deg);
+LUMIS_API double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, double t_deg);
 
 /* Sampling in proportion to intensity: a direction (luminaire frame) from two numbers in
  * [0, 1), with its pdf per steradian, I(d) / flux up to the 2^-32 quantisation of the
@@ -107,15 +111,15 @@ double lumis_photometric_plane_intensity(const lumis_photometric *p, int k, doub
  * random, then a point inside from the cell's interpolant by inverting its marginal (the
  * edge times sin or cos, Newton in a bisection's bracket) and its linear conditional
  * (docs/photometric.md).  A black table: LUMIS_ERR_INVALID_ARGUMENT, pdf 0. */
-lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, double u1,
-                                      lumis_vec3 *d, double *pdf);
+LUMIS_API lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, double u1,
+                                                lumis_vec3 *d, double *pdf);
 /* The pdf per steradian the sampler draws d with (0 where the table gives no light). */
-double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
+LUMIS_API double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
 /* The flux (lm): lumis_photometric_info.flux without the rest of the info. */
-double lumis_photometric_flux(const lumis_photometric *p);
+LUMIS_API double lumis_photometric_flux(const lumis_photometric *p);
 /* Type C: the flux within gamma_deg of the aim, exactly (the cells cut at gamma); types A
  * and B: all of it (their light lies in front). */
-double lumis_photometric_flux_within(const lumis_photometric *p, double gamma_deg);
+LUMIS_API double lumis_photometric_flux_within(const lumis_photometric *p, double gamma_deg);
 
 typedef struct lumis_photometric_info {
     lumis_photometric_type type;
@@ -138,7 +142,8 @@ typedef struct lumis_photometric_info {
     double downward_fraction; /* of the flux below the horizontal plane (z < 0) */
 } lumis_photometric_info;
 
-lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photometric_info *info);
+LUMIS_API lumis_status lumis_photometric_get_info(const lumis_photometric *p,
+                                                  lumis_photometric_info *info);
 
 /* The flux (lm) of the interpolated table within vertical angles [v0, v1] and horizontal
  * angles [h0, h1], exactly: every symmetry image of every cell cut at the range's edges (a
@@ -147,8 +152,9 @@ lumis_status lumis_photometric_get_info(const lumis_photometric *p, lumis_photom
  * (h0 <= h1, wider than 360 counts as 360: -90 to 90 is C270 through C0 to C90); types A
  * and B V and H (their light lies within -90 to 90).  LUMIS_ERR_INVALID_ARGUMENT for NULL,
  * a reversed or a non-finite range. */
-lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0_deg, double v1_deg,
-                                     double h0_deg, double h1_deg, double *lm);
+LUMIS_API lumis_status lumis_photometric_zonal(const lumis_photometric *p, double v0_deg,
+                                               double v1_deg, double h0_deg, double h1_deg,
+                                               double *lm);
 
 /* IES TM-15-11's luminaire classification system: the lumens (lm) in its ten secondary
  * solid angles.  Forward is TM-15's "270 to 90 degrees horizontal", the half through C0
@@ -185,18 +191,19 @@ typedef struct lumis_photometric_ratings {
 
 /* The ratings of the model; input_watts from the file (lumis_photometric_file.input_watts;
  * <= 0: none). */
-lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double input_watts,
-                                           lumis_photometric_ratings *out);
+LUMIS_API lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double input_watts,
+                                                     lumis_photometric_ratings *out);
 
 /* The BUG rating of TM-15-11 Addendum A's Tables A-1 to A-3 from the zone lumens: each of B,
  * U and G is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH;
  * U: UL, UH; G: FVH, BVH, FH, BH), 5 above them all.  type_v: a quadrilaterally symmetric
  * (type V) distribution, whose BH glare limits are FH's (lumis_photometric_get_ratings
  * passes the declared rotational symmetry). */
-lumis_status lumis_photometric_bug(const lumis_photometric_lcs *lcs, int type_v, int bug[3]);
+LUMIS_API lumis_status lumis_photometric_bug(const lumis_photometric_lcs *lcs, int type_v,
+                                             int bug[3]);
 
 /* The NEMA beam type (1 to 7; 0 under 10 deg) of a beam spread in degrees. */
-int lumis_photometric_nema_type(double spread_deg);
+LUMIS_API int lumis_photometric_nema_type(double spread_deg);
 
 /* ---- the near field --------------------------------------------------------------------
  *
@@ -209,16 +216,18 @@ int lumis_photometric_nema_type(double spread_deg);
  * mean of that law over the opening's points (opening 1; Gauss-Legendre on panels x panels
  * pieces of order 6, 0 == 16; LUMIS_ERR_INVALID_ARGUMENT for a file without a disk or
  * rectangle). */
-lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int opening, lumis_vec3 x,
-                                          lumis_vec3 n, int panels, double *E);
+LUMIS_API lumis_status lumis_photometric_irradiance(const lumis_photometric *p, int opening,
+                                                    lumis_vec3 x, lumis_vec3 n, int panels,
+                                                    double *E);
 
 /* The table beyond a cone about the aim (type C): its intensities times w(gamma), 0 before
  * from_deg rising linearly to 1 at to_deg (equal: a cut), as a table of its own (the ramp
  * sampled every 1/8 degree as vertical angles; a cut gets a sliver of 10^-6 degrees).  What
  * the light field of the opening leaves out (its report's ramp_from_deg, max_angle_deg),
  * rendered as a point.  Types A and B, from > to: LUMIS_ERR_INVALID_ARGUMENT. */
-lumis_status lumis_photometric_beyond(const lumis_photometric *p, double from_deg, double to_deg,
-                                      const lumis_error_sink *errors, lumis_photometric **out);
+LUMIS_API lumis_status lumis_photometric_beyond(const lumis_photometric *p, double from_deg,
+                                                double to_deg, const lumis_error_sink *errors,
+                                                lumis_photometric **out);
 
 /* The two-plane light field (lumis/luminaire.h) of the opening, so that Lu et al.'s
  * restricted sampling applies to a real fixture (docs/photometric.md, "Near field").  The
@@ -272,21 +281,23 @@ typedef struct lumis_photometric_light_field_report {
 
 /* report may be NULL.  A table without flux within max_angle, or a file without a disk or
  * rectangle opening: LUMIS_ERR_INVALID_ARGUMENT. */
-lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
-                                              const lumis_photometric_light_field *desc,
-                                              const lumis_error_sink *errors, lumis_luminaire **out,
-                                              lumis_photometric_light_field_report *report);
+LUMIS_API lumis_status lumis_luminaire_from_photometric(
+    const lumis_photometric *p, const lumis_photometric_light_field *desc,
+    const lumis_error_sink *errors, lumis_luminaire **out,
+    lumis_photometric_light_field_report *report);
 
 /* The names: "C", "B", "A"; "none", "rotational", "C0-C180", "C90-C270", "quadrant",
  * "lateral"; "point", "rectangle", "box", "disk", "cylinder", "sphere", "other". */
-const char *lumis_photometric_type_name(lumis_photometric_type t);
-const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s);
-const char *lumis_photometric_shape_name(lumis_photometric_shape s);
+LUMIS_API const char *lumis_photometric_type_name(lumis_photometric_type t);
+LUMIS_API const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s);
+LUMIS_API const char *lumis_photometric_shape_name(lumis_photometric_shape s);
 /* And back (LUMIS_ERR_INVALID_ARGUMENT for an unknown name or NULL; *out unchanged). */
-lumis_status lumis_photometric_type_from_name(const char *name, lumis_photometric_type *out);
-lumis_status lumis_photometric_symmetry_from_name(const char *name,
-                                                  lumis_photometric_symmetry *out);
-lumis_status lumis_photometric_shape_from_name(const char *name, lumis_photometric_shape *out);
+LUMIS_API lumis_status lumis_photometric_type_from_name(const char *name,
+                                                        lumis_photometric_type *out);
+LUMIS_API lumis_status lumis_photometric_symmetry_from_name(const char *name,
+                                                            lumis_photometric_symmetry *out);
+LUMIS_API lumis_status lumis_photometric_shape_from_name(const char *name,
+                                                         lumis_photometric_shape *out);
 
 #ifdef __cplusplus
 }

@@ -12,6 +12,7 @@
 
 #include "lumis/bsdf.h"
 #include "lumis/envmap.h"
+#include "lumis/export.h"
 #include "lumis/image.h"
 #include "lumis/io.h"
 #include "lumis/lights.h"
@@ -58,9 +59,9 @@ typedef struct lumis_scene lumis_scene;
 
 /* Builds the Embree scene (objects copied; mesh arrays need not outlive the call).
  * errors: an optional sink. */
-lumis_status lumis_scene_create(const lumis_object *objects, int count,
-                                const lumis_error_sink *errors, lumis_scene **out);
-void lumis_scene_destroy(lumis_scene *scene);
+LUMIS_RENDER_API lumis_status lumis_scene_create(const lumis_object *objects, int count,
+                                                 const lumis_error_sink *errors, lumis_scene **out);
+LUMIS_RENDER_API void lumis_scene_destroy(lumis_scene *scene);
 
 typedef enum lumis_estimator {
     LUMIS_ESTIMATOR_MIS = 0, /* light and BSDF samples combined (default) */
@@ -81,8 +82,8 @@ typedef enum lumis_lights_mode {
 } lumis_lights_mode;
 
 /* "point", "stratified". */
-const char *lumis_lights_mode_name(lumis_lights_mode mode);
-lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out);
+LUMIS_RENDER_API const char *lumis_lights_mode_name(lumis_lights_mode mode);
+LUMIS_RENDER_API lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out);
 
 /* ---- light-field luminaires in a scene (Lu et al.; lumis/luminaire.h) -------------------- */
 
@@ -113,8 +114,8 @@ typedef enum lumis_visibility {
 /* Where a render's numbers come from: lumis_sequence (lumis/rng.h, docs/sampling.md). */
 
 /* "exact", "approx", "none", "shadowmap". */
-const char *lumis_visibility_name(lumis_visibility visibility);
-lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
+LUMIS_RENDER_API const char *lumis_visibility_name(lumis_visibility visibility);
+LUMIS_RENDER_API lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out);
 
 /* Luminaires as the renderer's lights: every camera sample's hit is lit by each instance with
  * lumis_luminaire_sample_point (budget samples shared among its images) and the material's
@@ -185,8 +186,9 @@ typedef struct lumis_photometric_lighting {
  * (docs/photometric.md, "Aiming a fixture", has the figure).  LUMIS_ERR_INVALID_ARGUMENT
  * (R unchanged) for an unknown type, a zero or non-finite aim or roll, or an `up` that is
  * zero, not finite or within 1e-6 (sine) of the aim's line. */
-lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
-                                      const lumis_vec3 *up, double roll_deg, double R[9]);
+LUMIS_RENDER_API lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
+                                                       const lumis_vec3 *up, double roll_deg,
+                                                       double R[9]);
 
 typedef struct lumis_render_desc {
     const lumis_camera *camera;
@@ -271,8 +273,8 @@ typedef struct lumis_render_stats {
 
 /* Renders desc->spp samples per pixel into a new image (linear radiance).  stats may be
  * NULL.  The same as a job run once with desc->spp samples. */
-lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
-                          lumis_image **out, lumis_render_stats *stats);
+LUMIS_RENDER_API lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
+                                           lumis_image **out, lumis_render_stats *stats);
 
 /* How one placed luminaire is sampled: by distance from its origin (in its own units),
  * band b from edge[b - 1] to edge[b] with strategy[b] at budget[b] per camera sample. */
@@ -300,8 +302,9 @@ typedef struct lumis_luminaire_choice {
  * (its best: the model counts no camera ray per global sample), e.g. 1024 on the presets.
  * What the render does itself; deterministic.  Cost with auto: some 10 to 70 ms per
  * luminaire, counted before the first sample. */
-lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumis_render_desc *d,
-                                            lumis_luminaire_choice *out);
+LUMIS_RENDER_API lumis_status lumis_render_luminaire_choices(const lumis_scene *scene,
+                                                             const lumis_render_desc *d,
+                                                             lumis_luminaire_choice *out);
 
 /* Progressive rendering: a job accumulates passes; lumis_render_job_run(job, n) adds n
  * samples per pixel.  Sample k of a pixel is the same whichever pass draws it, so 16
@@ -309,13 +312,16 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
  * camera, envmap and sampler of desc must outlive the job (desc itself is copied;
  * desc->spp is ignored). */
 typedef struct lumis_render_job lumis_render_job;
-lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_render_desc *desc,
-                                     lumis_render_job **out);
-lumis_status lumis_render_job_run(lumis_render_job *job, int samples);
+LUMIS_RENDER_API lumis_status lumis_render_job_create(const lumis_scene *scene,
+                                                      const lumis_render_desc *desc,
+                                                      lumis_render_job **out);
+LUMIS_RENDER_API lumis_status lumis_render_job_run(lumis_render_job *job, int samples);
 /* The mean so far, as a new image (black before the first pass). */
-lumis_status lumis_render_job_image(const lumis_render_job *job, lumis_image **out);
-void lumis_render_job_stats(const lumis_render_job *job, lumis_render_stats *stats);
-void lumis_render_job_destroy(lumis_render_job *job);
+LUMIS_RENDER_API lumis_status lumis_render_job_image(const lumis_render_job *job,
+                                                     lumis_image **out);
+LUMIS_RENDER_API void lumis_render_job_stats(const lumis_render_job *job,
+                                             lumis_render_stats *stats);
+LUMIS_RENDER_API void lumis_render_job_destroy(lumis_render_job *job);
 
 /* ---- G-buffer and joint-bilateral upsampling (Wu's reduced-resolution EnvIndirects) ------
  *
@@ -330,9 +336,11 @@ typedef struct lumis_gbuffer {
     float *depth;  /* 1 per pixel */
 } lumis_gbuffer;
 
-lumis_status lumis_render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,
-                                  const lumis_error_sink *errors, lumis_gbuffer **out);
-void lumis_gbuffer_destroy(lumis_gbuffer *gbuffer);
+LUMIS_RENDER_API lumis_status lumis_render_gbuffer(const lumis_scene *scene,
+                                                   const lumis_camera *camera,
+                                                   const lumis_error_sink *errors,
+                                                   lumis_gbuffer **out);
+LUMIS_RENDER_API void lumis_gbuffer_destroy(lumis_gbuffer *gbuffer);
 
 typedef struct lumis_upsample_desc {
     float sigma_normal;  /* range sigma on |n_p - n_q|; 0 == 0.005 (Wu) */
@@ -353,9 +361,11 @@ typedef struct lumis_upsample_desc {
  * (a soft nearest match), never an underflow.
  * low and low_g must have the same size, high_g gives the output's.  Details and the
  * tests: docs/render.md. */
-lumis_status lumis_joint_bilateral_upsample(const lumis_image *low, const lumis_gbuffer *low_g,
-                                            const lumis_gbuffer *high_g,
-                                            const lumis_upsample_desc *desc, lumis_image **out);
+LUMIS_RENDER_API lumis_status lumis_joint_bilateral_upsample(const lumis_image *low,
+                                                             const lumis_gbuffer *low_g,
+                                                             const lumis_gbuffer *high_g,
+                                                             const lumis_upsample_desc *desc,
+                                                             lumis_image **out);
 
 /* ---- a render session: what a host calls to render for a time budget ---------------------
  * One call does what the lumis tool's render does between loading and writing: with a
@@ -439,8 +449,9 @@ typedef struct lumis_session_result {
 } lumis_session_result;
 
 /* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */
-lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,
-                                  lumis_image **out, lumis_session_result *result);
+LUMIS_RENDER_API lumis_status lumis_render_session(const lumis_scene *scene,
+                                                   const lumis_session_desc *desc,
+                                                   lumis_image **out, lumis_session_result *result);
 
 /* ---- scene files (JSON) and built-in scenes -------------------------------------------
  *
@@ -502,8 +513,9 @@ typedef struct lumis_scene_read_options {
 
 /* Reads a scene file, its meshes and its map (lumis_map_read: a file beside the scene or a
  * procedural spec).  options may be NULL (everything read, no messages). */
-lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
-                                   lumis_scene_file **out);
+LUMIS_RENDER_API lumis_status lumis_scene_file_read(const char *path,
+                                                    const lumis_scene_read_options *options,
+                                                    lumis_scene_file **out);
 
 /* Built-in scenes, with no files:
  *   spheres     Lambert, Ward and GGX spheres side by side (Ergun et al., Figure 6)
@@ -519,32 +531,35 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
  *               the bunny and a sphere, which cast shadows (Lu et al., Fig. 13): a far view
  *               of the scene, and a close-up of the floor just in front of the lamp
  * They name no map (env_map is ""). */
-lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
-                                 lumis_scene_file **out);
+LUMIS_RENDER_API lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
+                                                  lumis_scene_file **out);
 /* As lumis_scene_builtin, but a scene that places luminaires (headlight, headlight-close)
  * places `luminaire` (borrowed: it must outlive the file) instead of acquiring its own; for
  * another scene, LUMIS_ERR_INVALID_ARGUMENT.  NULL: the same as lumis_scene_builtin. */
-lumis_status lumis_scene_builtin_with_luminaire(const char *name, const lumis_luminaire *luminaire,
-                                                const lumis_error_sink *errors,
-                                                lumis_scene_file **out);
+LUMIS_RENDER_API lumis_status lumis_scene_builtin_with_luminaire(const char *name,
+                                                                 const lumis_luminaire *luminaire,
+                                                                 const lumis_error_sink *errors,
+                                                                 lumis_scene_file **out);
 /* The mesh files a scene file read (resolved paths; built-in meshes by name), index 0 up;
  * NULL past the last.  A tool checks its outputs against them and the map. */
-const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
+LUMIS_RENDER_API const char *lumis_scene_file_mesh_path(const lumis_scene_file *file, int index);
 /* The luminaire files a scene file read (resolved paths, or "preset:NAME"), index 0 up; NULL
  * past the last. */
-const char *lumis_scene_file_luminaire_path(const lumis_scene_file *file, int index);
+LUMIS_RENDER_API const char *lumis_scene_file_luminaire_path(const lumis_scene_file *file,
+                                                             int index);
 /* The photometric file of fixture `index` (resolved against the scene's folder), or NULL. */
-const char *lumis_scene_file_photometric_path(const lumis_scene_file *file, int index);
+LUMIS_RENDER_API const char *lumis_scene_file_photometric_path(const lumis_scene_file *file,
+                                                               int index);
 /* The built-in names, NULL-terminated. */
-const char *const *lumis_scene_builtin_names(void);
+LUMIS_RENDER_API const char *const *lumis_scene_builtin_names(void);
 /* 1 when the built-in scene `name` is lit by luminaires (headlight, headlight-close), so a
  * tool can refuse options that do not apply before acquiring them (seconds); else 0. */
-int lumis_scene_builtin_has_luminaires(const char *name);
+LUMIS_RENDER_API int lumis_scene_builtin_has_luminaires(const char *name);
 /* The preset the built-in scene `name` places ("preset:car"), NULL for a scene without
  * luminaires: a tool may acquire it (or read it from a cache) and pass it to
  * lumis_scene_builtin_with_luminaire. */
-const char *lumis_scene_builtin_luminaire_spec(const char *name);
-void lumis_scene_file_destroy(lumis_scene_file *file);
+LUMIS_RENDER_API const char *lumis_scene_builtin_luminaire_spec(const char *name);
+LUMIS_RENDER_API void lumis_scene_file_destroy(lumis_scene_file *file);
 
 #ifdef __cplusplus
 }

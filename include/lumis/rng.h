@@ -6,6 +6,7 @@
 #ifndef LUMIS_RNG_H
 #define LUMIS_RNG_H
 
+#include "lumis/export.h"
 #include "lumis/status.h"
 
 #include <stddef.h>
@@ -21,7 +22,7 @@ typedef struct lumis_pcg32 {
 } lumis_pcg32;
 
 /* Seeds a generator; different streams give independent sequences for the same seed. */
-void lumis_pcg32_seed(lumis_pcg32 *rng, uint64_t seed, uint64_t stream);
+LUMIS_API void lumis_pcg32_seed(lumis_pcg32 *rng, uint64_t seed, uint64_t stream);
 
 /* The 32 output bits of an LCG state (XSH-RR). */
 static inline uint32_t lumis_pcg32_output(uint64_t state)
@@ -55,20 +56,20 @@ static inline double lumis_pcg32_double(lumis_pcg32 *rng)
 /* out[0..n) = n successive lumis_pcg32_double(rng), the very same numbers, several times
  * faster for long runs: the LCG is stepped in interleaved chains (leapfrogging), so the
  * multiplications do not wait on one another. */
-void lumis_pcg32_fill_doubles(lumis_pcg32 *rng, double *out, size_t n);
+LUMIS_API void lumis_pcg32_fill_doubles(lumis_pcg32 *rng, double *out, size_t n);
 
 /* Uniform integer in [0, bound) without modulo bias (Lemire 2019); bound > 0. */
-uint32_t lumis_pcg32_bounded(lumis_pcg32 *rng, uint32_t bound);
+LUMIS_API uint32_t lumis_pcg32_bounded(lumis_pcg32 *rng, uint32_t bound);
 
 /* Moves the generator delta steps forwards (or backwards when negative) in O(log delta). */
-void lumis_pcg32_advance(lumis_pcg32 *rng, int64_t delta);
+LUMIS_API void lumis_pcg32_advance(lumis_pcg32 *rng, int64_t delta);
 
 /* Number of prime bases available to lumis_radical_inverse / lumis_halton. */
 #define LUMIS_HALTON_MAX_DIMENSION 32
 
 /* Radical inverse of index in the prime base of the given dimension (0 -> base 2,
  * 1 -> base 3, ...), in [0, 1).  Returns 0 for dimension >= LUMIS_HALTON_MAX_DIMENSION. */
-double lumis_radical_inverse(unsigned dimension, uint64_t index);
+LUMIS_API double lumis_radical_inverse(unsigned dimension, uint64_t index);
 
 /* Component `dimension` of the index-th point of the Halton sequence (same as above). */
 static inline double lumis_halton(unsigned dimension, uint64_t index)
@@ -102,11 +103,11 @@ typedef enum lumis_sequence {
 } lumis_sequence;
 
 /* "default", "pcg", "halton", "stratified", "sobol", "zsobol", "pmj02". */
-const char *lumis_sequence_name(lumis_sequence sequence);
-lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+LUMIS_API const char *lumis_sequence_name(lumis_sequence sequence);
+LUMIS_API lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
 /* The sequence a render uses for q: q itself, or for LUMIS_SEQUENCE_DEFAULT the library's
  * choice (LUMIS_SEQUENCE_SOBOL). */
-lumis_sequence lumis_sequence_resolve(lumis_sequence q);
+LUMIS_API lumis_sequence lumis_sequence_resolve(lumis_sequence q);
 
 /* ---- (0,2) sequences: Sobol' and progressive multi-jittered points -------------------------
  * Both give, at every prefix of 2^m points, a (0,m,2)-net: each of the m + 1 grids of 2^m
@@ -171,7 +172,7 @@ static inline uint32_t lumis_owen_scramble(uint32_t v, uint32_t seed)
 /* Point index of the Owen-scrambled (0,2) Sobol' sequence, in [0, 1)^2: dimension d
  * scrambled with its own seed drawn from seed.  Any prefix of 2^m points of one seed is a
  * (0,m,2)-net; over seeds each point is uniform (the estimate is unbiased). */
-void lumis_sobol02(uint32_t index, uint64_t seed, double u[2]);
+LUMIS_API void lumis_sobol02(uint32_t index, uint64_t seed, double u[2]);
 
 /* Morton (z-order) code of (x, y): their bits interleaved, x's in the even places. */
 static inline uint64_t lumis_morton2(uint32_t x, uint32_t y)
@@ -197,7 +198,7 @@ static inline uint64_t lumis_morton2(uint32_t x, uint32_t y)
  * elementary interval filled once.  Deterministic in seed; O(n^1.5) time, O(n log n)
  * scratch.  Returns LUMIS_ERR_INVALID_ARGUMENT for a bad n or a NULL xy, and
  * LUMIS_ERR_OUT_OF_MEMORY. */
-lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy);
+LUMIS_API lumis_status lumis_pmj02_generate(uint32_t n, uint64_t seed, uint32_t *xy);
 
 #ifdef __cplusplus
 }

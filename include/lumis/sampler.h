@@ -18,6 +18,7 @@
 #define LUMIS_SAMPLER_H
 
 #include "lumis/envmap.h"
+#include "lumis/export.h"
 #include "lumis/status.h"
 #include "lumis/types.h"
 
@@ -41,8 +42,8 @@ typedef enum lumis_sampler_method {
 
 /* "inversion", "inversion-guided", "alias", "kdtree", "kdtree-exact", "hierarchical",
  * "uniform" ("default" for LUMIS_METHOD_DEFAULT). */
-const char *lumis_sampler_method_name(lumis_sampler_method method);
-lumis_status lumis_sampler_method_from_name(const char *name, lumis_sampler_method *out);
+LUMIS_API const char *lumis_sampler_method_name(lumis_sampler_method method);
+LUMIS_API lumis_status lumis_sampler_method_from_name(const char *name, lumis_sampler_method *out);
 
 /* What a pixel's probability is proportional to (before MIS compensation). */
 typedef enum lumis_importance {
@@ -76,26 +77,27 @@ typedef struct lumis_env_sample {
 /* Builds the method's tables.  A map with zero importance everywhere is not an error: the
  * sampler then samples uniformly, warns once through desc->errors and reports it in
  * lumis_sampler_is_uniform_fallback().  Retains env until lumis_sampler_destroy. */
-lumis_status lumis_sampler_create(const lumis_envmap *env, const lumis_sampler_desc *desc,
-                                  lumis_sampler **out);
+LUMIS_API lumis_status lumis_sampler_create(const lumis_envmap *env, const lumis_sampler_desc *desc,
+                                            lumis_sampler **out);
 
-void lumis_sampler_destroy(lumis_sampler *sampler);
+LUMIS_API void lumis_sampler_destroy(lumis_sampler *sampler);
 
 /* Draws a direction from two uniform numbers in [0, 1).  Cost: see each method's file;
  * no allocation, no locks. */
-lumis_env_sample lumis_sampler_sample(const lumis_sampler *sampler, double u1, double u2);
+LUMIS_API lumis_env_sample lumis_sampler_sample(const lumis_sampler *sampler, double u1, double u2);
 
 /* Draws n directions from the 2n uniform numbers u[0..2n) (pairs). */
-void lumis_sampler_sample_n(const lumis_sampler *sampler, const double *u, size_t n,
-                            lumis_env_sample *out);
+LUMIS_API void lumis_sampler_sample_n(const lumis_sampler *sampler, const double *u, size_t n,
+                                      lumis_env_sample *out);
 
 /* Density per steradian of drawing world direction dir (need not be normalized). */
-float lumis_sampler_pdf(const lumis_sampler *sampler, lumis_vec3 dir);
+LUMIS_API float lumis_sampler_pdf(const lumis_sampler *sampler, lumis_vec3 dir);
 
 /* The same density and, from the same pixel lookup, the map's radiance in that direction
  * (lumis_envmap_eval): what an MIS weight for a BSDF sample needs, for one direction to
  * pixel conversion instead of two. */
-float lumis_sampler_pdf_radiance(const lumis_sampler *sampler, lumis_vec3 dir, lumis_rgb *radiance);
+LUMIS_API float lumis_sampler_pdf_radiance(const lumis_sampler *sampler, lumis_vec3 dir,
+                                           lumis_rgb *radiance);
 
 /* The inverse of sample(): the (u1, u2) in [0, 1)^2 that sample() maps to world direction
  * dir (need not be normalized), in u[0] and u[1].  Defined for the continuous, one-to-one
@@ -110,28 +112,29 @@ float lumis_sampler_pdf_radiance(const lumis_sampler *sampler, lumis_vec3 dir, l
  * a neighbouring pixel that has light; within a row without light u1 is the azimuth in
  * turns.  Cost: one pixel lookup (an atan2) plus, for hierarchical, one split per level.
  * Derivation: docs/samplers.md. */
-lumis_status lumis_sampler_invert(const lumis_sampler *sampler, lumis_vec3 dir, double u[2]);
+LUMIS_API lumis_status lumis_sampler_invert(const lumis_sampler *sampler, lumis_vec3 dir,
+                                            double u[2]);
 
 /* The envmap the sampler draws from (it holds a reference to it). */
-const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *sampler);
+LUMIS_API const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *sampler);
 
 /* Bytes of the sampling tables (what sample() reads), and all bytes the sampler owns
  * (pdf() lookup structures included). */
-size_t lumis_sampler_table_bytes(const lumis_sampler *sampler);
-size_t lumis_sampler_total_bytes(const lumis_sampler *sampler);
+LUMIS_API size_t lumis_sampler_table_bytes(const lumis_sampler *sampler);
+LUMIS_API size_t lumis_sampler_total_bytes(const lumis_sampler *sampler);
 
 /* Wall-clock time the build took, in milliseconds. */
-double lumis_sampler_build_ms(const lumis_sampler *sampler);
+LUMIS_API double lumis_sampler_build_ms(const lumis_sampler *sampler);
 
-lumis_sampler_method lumis_sampler_get_method(const lumis_sampler *sampler);
+LUMIS_API lumis_sampler_method lumis_sampler_get_method(const lumis_sampler *sampler);
 
 /* Nonzero if the map had no importance anywhere and the sampler samples uniformly. */
-int lumis_sampler_is_uniform_fallback(const lumis_sampler *sampler);
+LUMIS_API int lumis_sampler_is_uniform_fallback(const lumis_sampler *sampler);
 
 /* The kd-tree's fitted alpha (Eq. 4 of Ergun et al.) and its number of blocks; 0 for
  * other methods. */
-double lumis_sampler_kdtree_alpha(const lumis_sampler *sampler);
-int lumis_sampler_kdtree_blocks(const lumis_sampler *sampler);
+LUMIS_API double lumis_sampler_kdtree_alpha(const lumis_sampler *sampler);
+LUMIS_API int lumis_sampler_kdtree_blocks(const lumis_sampler *sampler);
 
 #ifdef __cplusplus
 }

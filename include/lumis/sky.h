@@ -6,6 +6,7 @@
 #ifndef LUMIS_SKY_H
 #define LUMIS_SKY_H
 
+#include "lumis/export.h"
 #include "lumis/image.h"
 #include "lumis/status.h"
 
@@ -34,7 +35,7 @@ typedef struct lumis_sky_desc {
 } lumis_sky_desc;
 
 /* Renders the clear sky into a new image. */
-lumis_status lumis_sky_create(const lumis_sky_desc *desc, lumis_image **out);
+LUMIS_API lumis_status lumis_sky_create(const lumis_sky_desc *desc, lumis_image **out);
 
 /* Studio map: a dark surround and a few bright rectangular soft boxes (key, fill, rim and
  * a top light).  Zero-initialised, it is 1024 x 512. */
@@ -45,7 +46,7 @@ typedef struct lumis_studio_desc {
     lumis_error_sink errors;
 } lumis_studio_desc;
 
-lumis_status lumis_studio_create(const lumis_studio_desc *desc, lumis_image **out);
+LUMIS_API lumis_status lumis_studio_create(const lumis_studio_desc *desc, lumis_image **out);
 
 #ifdef __cplusplus
 }

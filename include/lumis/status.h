@@ -7,6 +7,8 @@
 #ifndef LUMIS_STATUS_H
 #define LUMIS_STATUS_H
 
+#include "lumis/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -38,10 +40,10 @@ typedef enum lumis_status {
 } lumis_status;
 
 /* Short stable name of a status, e.g. "truncated"; "unknown-status" if out of range. */
-const char *lumis_status_name(lumis_status status);
+LUMIS_API const char *lumis_status_name(lumis_status status);
 
 /* Human-readable default text of a status, e.g. "data ends before the image does". */
-const char *lumis_status_string(lumis_status status);
+LUMIS_API const char *lumis_status_string(lumis_status status);
 
 /* Receives one message per failure, with context (file name, reason).  The message is
  * valid only during the call. */

@@ -1,11 +1,19 @@
-/* Internal helpers shared by the lumis libraries (lumis__ prefix: not public API). */
+/* Internal helpers shared by the lumis libraries (lumis__ prefix: not public API).
+ *
+ * The one private header that crosses a library boundary (lumis-io and lumis-render include
+ * it; scripts/check-includes.py allows no other): what they use of it is macros and static
+ * inline functions, compiled into each library, never a symbol of the core's.  Its
+ * functions that are defined in the core (lumis__simd_level, lumis__simd_force) are hidden
+ * there: only the core and the tests (static libraries) may call them. */
 #ifndef LUMIS_CORE_INTERNAL_H
 #define LUMIS_CORE_INTERNAL_H
 
 #include "lumis/status.h"
 
+#include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -20,9 +28,21 @@
 #endif
 
 /* Sends a formatted message to sink (if any) and returns status, so failures read
- *     return lumis__fail(sink, LUMIS_ERR_TRUNCATED, "%s: ...", name); */
-lumis_status lumis__fail(const lumis_error_sink *sink, lumis_status status, const char *fmt, ...)
-    LUMIS_PRINTF(3, 4);
+ *     return lumis__fail(sink, LUMIS_ERR_TRUNCATED, "%s: ...", name);
+ * Inline: each library has its own copy, so no library calls another's private symbol. */
+static inline LUMIS_PRINTF(3, 4) lumis_status
+    lumis__fail(const lumis_error_sink *sink, lumis_status status, const char *fmt, ...)
+{
+    if (sink && sink->fn) {
+        char message[512];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(message, sizeof message, fmt, ap);
+        va_end(ap);
+        sink->fn(sink->user, status, message);
+    }
+    return status;
+}
 
 /* lumis's own SIMD variants (docs/lights.md, "Every CPU"): a hot pass is compiled once per
  * level with LUMIS__TARGET_AVX512 / LUMIS__TARGET_AVX2 wrappers around one always-inlined

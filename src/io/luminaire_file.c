@@ -7,7 +7,6 @@
 #include "internal.h"
 
 #include "../core/internal.h"
-#include "../luminaire/internal.h"
 
 #include <cJSON.h>
 #include <dirent.h>
@@ -226,15 +225,15 @@ static lumis_status parse_root(const parser *p, const cJSON *root, const char *b
     d->basis = v->valuestring[0] == 'q' ? LUMIS_BASIS_QUADRATIC : LUMIS_BASIS_BSPLINE;
 
     double g[2];
-    if ((st = get_pair(p, root, "grid", "grid", 1, MAX_GRID_STR, 1, LUMIS__LUM_MAX_GRID, g)) !=
+    if ((st = get_pair(p, root, "grid", "grid", 1, MAX_GRID_STR, 1, LUMIS_LUMINAIRE_MAX_GRID, g)) !=
         LUMIS_OK)
         return st;
     d->grid[0] = (int)g[0];
     d->grid[1] = (int)g[1];
-    if (d->grid[0] * d->grid[1] > LUMIS__LUM_MAX_IMAGES)
+    if (d->grid[0] * d->grid[1] > LUMIS_LUMINAIRE_MAX_IMAGES)
         return lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER,
                            "%s: grid: expected at most %d images (W H), got %d x %d", p->file,
-                           LUMIS__LUM_MAX_IMAGES, d->grid[0], d->grid[1]);
+                           LUMIS_LUMINAIRE_MAX_IMAGES, d->grid[0], d->grid[1]);
     if ((st = get_pair(p, root, "grid_origin", "grid_origin", 0, NULL, 0, 0, d->grid_origin)) !=
         LUMIS_OK)
         return st;
@@ -246,9 +245,9 @@ static lumis_status parse_root(const parser *p, const cJSON *root, const char *b
     if (!cJSON_IsObject(img))
         return expected(p, LUMIS_ERR_BAD_HEADER, "image",
                         "an object {\"width\", \"height\", \"origin\", \"size\"}", img);
-    if ((st = get_int(p, img, "width", "image.width", 1, LUMIS__LUM_MAX_SIDE, MAX_SIDE_STR,
+    if ((st = get_int(p, img, "width", "image.width", 1, LUMIS_LUMINAIRE_MAX_SIDE, MAX_SIDE_STR,
                       &d->width)) != LUMIS_OK ||
-        (st = get_int(p, img, "height", "image.height", 1, LUMIS__LUM_MAX_SIDE, MAX_SIDE_STR,
+        (st = get_int(p, img, "height", "image.height", 1, LUMIS_LUMINAIRE_MAX_SIDE, MAX_SIDE_STR,
                       &d->height)) != LUMIS_OK ||
         (st = get_pair(p, img, "origin", "image.origin", 0, NULL, 0, 0, d->image_origin)) !=
             LUMIS_OK ||
@@ -303,7 +302,7 @@ static lumis_status parse_root(const parser *p, const cJSON *root, const char *b
         m->pixels_digest = (uint64_t)dv;
     }
     /* The core's own checks, as a net under ours (they cannot disagree). */
-    return lumis__lum_check(d) == LUMIS_OK
+    return lumis_luminaire_check(d) == LUMIS_OK
                ? LUMIS_OK
                : lumis__fail(p->errors, LUMIS_ERR_BAD_HEADER, "%s: inconsistent geometry", p->file);
 }
@@ -494,10 +493,11 @@ lumis_status lumis_luminaire_read(const char *manifest_path,
                     manifest_path, (unsigned long long)replaced);
     d.pixels = ptrs;
     d.errors = *errors;
-    /* The images' reader already replaced their bad values: the luminaire takes the
-     * sanitised copy and the reader's count (its info said 0 after 1440 replacements). */
-    st = lumis__lum_build(&d, rgb, (size_t)replaced, out);
-    rgb = NULL; /* the luminaire's now, or freed by the build on failure */
+    /* The images' reader already replaced their bad values: the luminaire copies the
+     * sanitised images and adds the reader's count to its own (its info said 0 after 1440
+     * replacements). */
+    d.replaced_before = (size_t)replaced;
+    st = lumis_luminaire_create(&d, out);
 done:
     free(ptrs);
     free(rgb);

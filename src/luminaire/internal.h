@@ -10,9 +10,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define LUMIS__LUM_MAX_IMAGES 1024
-#define LUMIS__LUM_MAX_GRID   256 /* functions along one axis */
-#define LUMIS__LUM_MAX_SIDE   16384
+#define LUMIS__LUM_MAX_IMAGES LUMIS_LUMINAIRE_MAX_IMAGES
+#define LUMIS__LUM_MAX_GRID   LUMIS_LUMINAIRE_MAX_GRID /* functions along one axis */
+#define LUMIS__LUM_MAX_SIDE   LUMIS_LUMINAIRE_MAX_SIDE
 /* Widest box (in columns) whose marginal lumis__lum_draw_batch may tabulate on the stack. */
 #define LUMIS__LUM_MAX_GRID_TAB 256
 /* Quantisation units per image: every summed-area table entry fits in 32 bits. */

@@ -64,6 +64,11 @@ lumis_status lumis__lum_check(const lumis_luminaire_desc *d)
         return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire: grid %d x %d: need W, H >= 1 and W H <= %d images",
                            d->grid[0], d->grid[1], LUMIS__LUM_MAX_IMAGES);
+    /* the per-point tables hold one entry per grid column and row (estimator.c) */
+    if (d->grid[0] > LUMIS__LUM_MAX_GRID || d->grid[1] > LUMIS__LUM_MAX_GRID)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
+                           "luminaire: grid %d x %d: at most %d functions along x and along y",
+                           d->grid[0], d->grid[1], LUMIS__LUM_MAX_GRID);
     if (!finite_pos(d->grid_spacing[0]) || !finite_pos(d->grid_spacing[1]))
         return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
                            "luminaire: grid spacing %g x %g must be finite and > 0",
@@ -194,6 +199,11 @@ lumis_status lumis__lum_build(const lumis_luminaire_desc *d, float *rgb, size_t 
     return build(d, rgb, replaced, out);
 }
 
+lumis_status lumis_luminaire_check(const lumis_luminaire_desc *d)
+{
+    return d ? lumis__lum_check(d) : LUMIS_ERR_INVALID_ARGUMENT;
+}
+
 lumis_status lumis_luminaire_create(const lumis_luminaire_desc *d, lumis_luminaire **out)
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
@@ -228,7 +238,7 @@ lumis_status lumis_luminaire_create(const lumis_luminaire_desc *d, lumis_luminai
     if (replaced)
         lumis__fail(&d->errors, LUMIS_OK,
                     "luminaire: %zu negative or non-finite pixel values replaced by 0", replaced);
-    return build(d, rgb, replaced, out);
+    return build(d, rgb, replaced + d->replaced_before, out);
 }
 
 void lumis_luminaire_destroy(lumis_luminaire *l)

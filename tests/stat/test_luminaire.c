@@ -75,6 +75,8 @@
  *     lobe (emitter_matches_closed_forms)
  * lumis_emitter_radiance — closed form: a striped plate's dark and clear stripes
  *     (emitter_matches_closed_forms)
+ * lumis_luminaire_check — hand-worked: both sides of every limit (grid axes, images, sides)
+ *     agree with create's verdict (malformed_descriptors_get_a_clear_error)
  * lumis_rigid_identity — hand-worked: passes lumis_rigid_check (rigid_transform_round_trip)
  * lumis_rigid_check — hand-worked: a rotation passes, a scaled axis and a reflection are refused
  *     (rigid_transform_round_trip)
@@ -1475,6 +1477,58 @@ static void malformed_descriptors_get_a_clear_error(void **state)
         assert_int_equal(sink.count, 1);
         assert_non_null(strstr(sink.last, expect[c].needle));
     }
+    /* lumis_luminaire_check says what create says of everything but the pixels, with the
+     * same message; the published limits are where it draws the line. */
+    assert_int_equal(lumis_luminaire_check(NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_luminaire_check(&good), LUMIS_OK);
+    for (int c = 0; c < 10; c++) {
+        lumis_luminaire_desc d = good;
+        tu_sink sink;
+        tu_sink_init(&sink);
+        d.errors = sink.sink;
+        d.pixels = NULL; /* not looked at */
+        lumis_status want = LUMIS_ERR_INVALID_ARGUMENT;
+        const char *needle = "grid";
+        switch (c) {
+        case 0:
+            d.delta = 0.0, needle = "delta";
+            break;
+        case 1:
+            d.grid[0] = 0;
+            break;
+        case 2:
+            d.grid[0] = 40, d.grid[1] = 40;
+            break;
+        case 3:
+            d.width = 0, want = LUMIS_ERR_BAD_DIMENSIONS, needle = "pixels";
+            break;
+        case 4:
+            d.basis = (lumis_luminaire_basis)7, needle = "basis";
+            break;
+        /* one axis past LUMIS_LUMINAIRE_MAX_GRID, the images within MAX_IMAGES: the
+         * per-point tables hold MAX_GRID columns (a 1000 x 1 grid overran them) */
+        case 5:
+            d.grid[0] = LUMIS_LUMINAIRE_MAX_GRID + 1, d.grid[1] = 1;
+            break;
+        case 6:
+            d.grid[0] = 1, d.grid[1] = 4 * LUMIS_LUMINAIRE_MAX_GRID - 24;
+            break;
+        case 7:
+            d.height = LUMIS_LUMINAIRE_MAX_SIDE + 1, want = LUMIS_ERR_BAD_DIMENSIONS;
+            needle = "16384";
+            break;
+        /* at the limits: accepted */
+        case 8:
+            d.grid[0] = LUMIS_LUMINAIRE_MAX_GRID, d.grid[1] = 4, want = LUMIS_OK;
+            break;
+        case 9:
+            d.width = d.height = LUMIS_LUMINAIRE_MAX_SIDE, want = LUMIS_OK;
+            break;
+        }
+        assert_int_equal(lumis_luminaire_check(&d), want);
+        assert_int_equal(sink.count, want == LUMIS_OK ? 0 : 1);
+        if (want != LUMIS_OK) assert_non_null(strstr(sink.last, needle));
+    }
     /* Bad pixels are replaced, counted and reported once as a warning. */
     float bad[4 * 3 * 3] = {0};
     bad[0] = NAN, bad[1] = -1.0f, bad[5] = INFINITY, bad[7] = 2.0f;
@@ -1491,6 +1545,26 @@ static void malformed_descriptors_get_a_clear_error(void **state)
     assert_int_equal(sink.count, 1);
     assert_int_equal(sink.status, LUMIS_OK);
     lumis_luminaire_destroy(l);
+    /* A reader that replaced values before (lumis_luminaire_read) has them counted too,
+     * without a second warning. */
+    d.replaced_before = 1440;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_OK);
+    lumis_luminaire_get_info(l, &info);
+    assert_int_equal(info.replaced, 1443);
+    assert_int_equal(sink.count, 1);
+    lumis_luminaire_destroy(l);
+    const float *clean[4] = {px, px, px, px};
+    d.pixels = clean;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    assert_int_equal(lumis_luminaire_create(&d, &l), LUMIS_OK);
+    lumis_luminaire_get_info(l, &info);
+    assert_int_equal(info.replaced, 1440);
+    assert_int_equal(sink.count, 0);
+    lumis_luminaire_destroy(l);
+    d.replaced_before = 0;
     /* Emitters too. */
     lumis_luminaire_desc layout;
     lumis_emitter_desc em;
