@@ -18,12 +18,13 @@ run() { # NAME ARGS...
     "$lumis" render "$@" --threads 1 --quiet -o "$tmp/$name.exr" >/dev/null
     local img side
     img=$(sha256sum <"$tmp/$name.exr" | cut -c1-16)
-    # the sidecar's figures, without what is measured in time or names this run's files
+    # the sidecar's figures, without what is measured in time (timings: the CPU share
+    # varies from run to run) or names this run's files
     side=$(perl -MJSON::PP -0777 -ne '
         sub walk { my ($p, $v) = @_;
             if (ref $v eq "HASH") { walk("$p.$_", $v->{$_}) for sort keys %$v; return }
             if (ref $v eq "ARRAY") { walk("$p\[$_]", $v->[$_]) for 0 .. $#$v; return }
-            return if $p =~ /seconds|_ms$|per_second|command|outputs|simd_variant|embree_config|lumis_version/;
+            return if $p =~ /seconds|_ms$|per_second|^\.timings\.|command|outputs|simd_variant|embree_config|lumis_version/;
             print "$p=", (defined $v ? $v : "null"), "\n"; }
         walk("", decode_json($_));' "$tmp/$name.json" | sha256sum | cut -c1-16)
     printf '%-34s image %s  sidecar %s\n' "$name" "$img" "$side"
