@@ -158,8 +158,8 @@ typedef struct lumis_photometric_instance {
 
 /* Photometric fixtures as the renderer's lights: at every vertex each is sampled
  * light_samples times (a point: its one direction; an opening: points on it by area, with
- * the BSDF's samples and MIS as `estimator` says), one shadow ray each.  The instances and
- * their models must outlive the render. */
+ * the BSDF's samples and MIS as lighting.estimator says), one shadow ray each.  The
+ * instances and their models must outlive the render. */
 typedef struct lumis_photometric_lighting {
     const lumis_photometric_instance *instances;
     int count;
@@ -322,7 +322,7 @@ typedef struct lumis_luminaire_choice {
     lumis_luminaire_prediction prediction; /* over every probe, in bands (zeros unless auto) */
 } lumis_luminaire_choice;
 
-/* How each placed luminaire of d->luminaires is sampled (out: count entries): the
+/* How each placed luminaire of d->lighting.luminaires is sampled (out: count entries): the
  * lighting's strategy and budget, one band; or with LUMIS_LUM_AUTO, from
  * lumis_luminaire_predict at the points the render will shade (the first hits of 96 x 60
  * camera rays through pixel centres, in the instance's frame, of which 240 are selected by

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
+/* The lights of one set that light_set.kinds selects, in float arrays: the shading loop reads
  * six floats a light and nothing else. */
 typedef struct light_soa {
     int count;
