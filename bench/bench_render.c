@@ -281,9 +281,9 @@ static lumis_render_desc make_desc(const lumis_camera *cam, const lumis_envmap *
     lumis_render_desc d;
     memset(&d, 0, sizeof d);
     d.camera = cam;
-    d.env = env;
-    d.sampler = smp;
-    d.estimator = LUMIS_ESTIMATOR_MIS;
+    d.lighting.env = env;
+    d.lighting.sampler = smp;
+    d.lighting.estimator = LUMIS_ESTIMATOR_MIS;
     d.power_heuristic = 0; /* balance */
     d.spp = spp;
     d.seed = SEED;
@@ -342,7 +342,9 @@ static int bench_shadow(const options *o, const lumis_scene *scene, const lumis_
             rc = bench_fail("cannot build the light set");
             goto done;
         }
-        d.light_set = set;
+        d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET; /* the set lights it: no sampler */
+        d.lighting.sampler = NULL;
+        d.lighting.light_set.set = set;
     }
     lumis_render_stats stats;
     d.shadow_ray = collect;

@@ -24,7 +24,8 @@ int main(int argc, char **argv)
     if (st == LUMIS_OK) {
         lumis_session_desc s = {0};
         s.render.camera = &file->camera;
-        s.render.env = env;
+        s.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET; /* made by the session: */
+        s.render.lighting.env = env;
         s.lights = "wu";        /* K (0) is fitted to the budget */
         s.upsample = 2;         /* EnvIndirects at 1/2 resolution */
         s.time_budget = budget; /* wall time, the lights' making included */

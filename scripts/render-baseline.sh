@@ -18,12 +18,13 @@ run() { # NAME ARGS...
     "$lumis" render "$@" --threads 1 --quiet -o "$tmp/$name.exr" >/dev/null
     local img side
     img=$(sha256sum <"$tmp/$name.exr" | cut -c1-16)
-    # the sidecar's figures, without what is measured in time or names this run's files
+    # the sidecar's figures, without what is measured in time (timings: the CPU share
+    # varies from run to run) or names this run's files
     side=$(perl -MJSON::PP -0777 -ne '
         sub walk { my ($p, $v) = @_;
             if (ref $v eq "HASH") { walk("$p.$_", $v->{$_}) for sort keys %$v; return }
             if (ref $v eq "ARRAY") { walk("$p\[$_]", $v->[$_]) for 0 .. $#$v; return }
-            return if $p =~ /seconds|_ms$|per_second|command|outputs|simd_variant|embree_config|lumis_version/;
+            return if $p =~ /seconds|_ms$|per_second|^\.timings\.|command|outputs|simd_variant|embree_config|lumis_version/;
             print "$p=", (defined $v ? $v : "null"), "\n"; }
         walk("", decode_json($_));' "$tmp/$name.json" | sha256sum | cut -c1-16)
     printf '%-34s image %s  sidecar %s\n' "$name" "$img" "$side"
@@ -55,3 +56,19 @@ for q in sobol zsobol pmj02 stratified; do
     run "seq-$q-strata" --scene wu-mixed --env sky:128x64 --lights median-cut --lights-mode stratified --sequence "$q" $Q
 done
 run seq-default-lum --scene headlight-close --luminaire preset:small $Q
+# the light kinds' other choices: a light set's strata with MIS variants and paths, the
+# luminaires' auto strategy, photometric fixtures (a point, an opening with MIS, a scene
+# file's own, with paths) and the sequences under each kind
+run strata-wu --scene wu-mixed --env sky:128x64 --lights wu --lights-mode stratified --lights-k 16 $S
+run strata-power-paths --scene wu-mixed --env sky:128x64 --lights median-cut --lights-mode stratified --lights-k 16 --mis power --bounces 1 $S
+run strata-light-only --scene wu-mixed --env sky:128x64 --lights fhis --lights-mode stratified --lights-k 16 --mis none $S
+run lum-auto --scene headlight --luminaire preset:small --lum-strategy auto $S
+F=docs/examples/photometric
+run fixture-point --scene bunny-plane --fixture $F/spot-cos10.ies --fixture-at 0,3,1 $S
+run fixture-area --scene bunny-plane --fixture tests/data/photometric/rp_area_light.ies --fixture-at 0,3,1 --fixture-area $S
+run fixture-area-light --scene bunny-plane --fixture tests/data/photometric/rp_area_light.ies --fixture-at 0,3,1 --fixture-area --mis none $S
+run fixture-paths --scene spheres --fixture $F/batwing.ies --fixture-at 0,4,2 --fixture-aim 0,0,0 --bounces 1 $S
+run fixture-scene "$F/fixtures.json" $S
+run seq-zsobol-fixture --scene bunny-plane --fixture $F/spot-cos10.ies --fixture-at 0,3,1 --sequence zsobol $Q
+run seq-pmj02-lum --scene headlight-close --luminaire preset:small --sequence pmj02 $Q
+run seq-default-lights --scene wu-mixed --env sky:128x64 --lights median-cut --lights-k 16 $Q

@@ -1182,7 +1182,8 @@ static void render_with_stratified_light_sets(void **state)
     assert_true(num(item(j, "lights"), "upsample") == 1); /* strata: no filter by default */
     cJSON_Delete(j);
     expect("render --scene spheres --lights-mode stratified -o x.exr", 2,
-           "--lights-mode needs --lights");
+           "lighting.light_set.mode: does not apply: the scene is lit by the environment map "
+           "[--lights-mode]");
     expect("render --scene spheres --lights median-cut --lights-mode planar -o x.exr", 2,
            "must be point or stratified");
     expect("render --scene spheres --lights median-cut --lights-mode stratified --time 1 --spp 4 "
@@ -1190,10 +1191,10 @@ static void render_with_stratified_light_sets(void **state)
            2, "not both");
     expect("render --scene spheres --lights median-cut --lights-mode stratified --method bsdf "
            "-o x.exr",
-           2, "do not apply");
+           2, "lighting.estimator: does not apply: the scene is lit by a light set in stratified");
     expect("render --scene spheres --lights median-cut --lights-mode stratified --light-samples 2 "
            "-o x.exr",
-           2, "do not apply");
+           2, "light_samples: does not apply: the scene is lit by a light set in stratified mode");
     /* a bench suite takes the mode, and refuses point lights as a reference */
     static const bad_file suites[] = {
         {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
@@ -1304,24 +1305,29 @@ static void render_with_light_sets(void **state)
     expect("render --scene spheres --lights wu --time 1 --lights-k 8 --spp 2 -o x.exr", 2,
            "--spp does not apply");
     expect("render --scene spheres --lights median-cut --upsample 2 -o x.exr", 2,
-           "--upsample applies to Wu's decomposition");
+           "upsample: applies to Wu's decomposition (lights wu...), not 'median-cut' "
+           "[--upsample]");
     expect("render --scene spheres --lights cut -o x.exr", 2, "--lights must be one of");
-    /* Options that do not apply: refused at once (before a luminaire's seconds of
-     * acquisition), not ignored. */
+    /* Options that do not apply: refused by the library (lumis_session_check, one message
+     * per condition naming the field) with the options that set it, not ignored. */
     expect("render --scene spheres --lights median-cut --method kdtree -o x.exr", 2,
-           "--method: --lights replaces the map's sampler");
+           "lighting.sampler: does not apply: the scene is lit by a light set in point mode");
     expect("render --scene headlight --method kdtree -o x.exr", 2,
-           "--method: the scene is lit by its luminaires");
-    expect("render --scene headlight --mis none -o x.exr", 2, "--mis: the scene is lit by");
-    expect("render --scene headlight-close --blocks 8 -o x.exr", 2, "--blocks: the scene is");
-    expect("render --scene headlight --light-samples 2 -o x.exr", 2, "--light-samples: the");
-    expect("render --scene headlight --bounces 2 -o x.exr", 2, "--bounces: luminaires light");
-    expect("render --scene spheres --lights-k 8 -o x.exr", 2, "need --lights METHOD");
-    expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2, "do not apply");
-    expect("render --scene spheres --lights median-cut --bounces 2 -o x.exr", 2,
-           "direct illumination only");
+           "lighting.sampler: does not apply: the scene is lit by luminaires");
+    expect("render --scene headlight --mis none -o x.exr", 2,
+           "lighting.estimator: does not apply: the scene is lit by luminaires");
+    expect("render --scene headlight-close --blocks 8 -o x.exr", 2, "[--method, --blocks]");
+    expect("render --scene headlight --light-samples 2 -o x.exr", 2,
+           "light_samples: does not apply: the scene is lit by luminaires [--light-samples]");
+    expect("render --scene headlight --bounces 2 -o x.exr", 2,
+           "max_bounces: does not apply: the scene is lit by luminaires (direct illumination "
+           "only) [--bounces]");
+    expect("render --scene spheres --lights-k 8 -o x.exr", 2,
+           "lights_k: does not apply without lights (a light-set method) [--lights-k]");
     expect("render --scene spheres --lights median-cut --mis power -o x.exr", 2,
-           "the stratified mode takes --mis");
+           "power_heuristic: does not apply: the scene is lit by a light set in point mode");
+    expect("render --scene spheres --lights median-cut --bounces 2 -o x.exr", 2,
+           "(direct illumination only) [--bounces]");
 }
 
 /* Rotates v by the unit quaternion q = (x, y, z, w). */
@@ -1346,10 +1352,12 @@ static void render_with_luminaires(void **state)
     assert_true(cJSON_IsNull(item(j, "environment")));
     assert_true(num(l, "bytes") > 99 * 256 * 256 * 12.0); /* the car preset's images */
     cJSON_Delete(j);
-    expect("render --scene headlight --env sky -o x.exr", 2, "lit by its luminaires");
-    expect("render --scene headlight --lights wu -o x.exr", 2, "lit by its luminaires");
+    expect("render --scene headlight --env sky -o x.exr", 2,
+           "lighting.env: does not apply: the scene is lit by luminaires");
+    expect("render --scene headlight --lights wu -o x.exr", 2,
+           "lights: does not apply: the scene is lit by luminaires");
     expect("render --scene spheres --visibility approx -o x.exr", 2,
-           "applies to scenes with luminaires");
+           "lighting.luminaires: does not apply: the scene is lit by the environment map");
     expect("render --scene headlight --lum-strategy best -o x.exr", 2, "--lum-strategy");
     expect("render --scene headlight --lum-budget 0 -o x.exr", 2, "--lum-budget");
     expect("render --scene headlight --visibility maybe -o x.exr", 2, "--visibility");
@@ -1822,7 +1830,8 @@ static void light_params_reach_the_methods(void **state)
     expect("lights sky:16x8 --method median-cut --param lambda=3", 2,
            "'lambda' is a parameter of Wu's decomposition");
     expect("lights sky:16x8 --method wu --param key=0.3", 2, "'key' is a parameter of tmms");
-    expect("render --scene spheres --lights-param wd=1 -o x.exr", 2, "need --lights METHOD");
+    expect("render --scene spheres --lights-param wd=1 -o x.exr", 2,
+           "lights_params: does not apply without lights (a light-set method) [--lights-param]");
     expect("render --scene spheres --lights fhis --lights-param wd=1 -o x.exr", 2, "not of fhis");
 }
 
@@ -3597,7 +3606,7 @@ static void render_places_photometric_fixtures(void **state)
     assert_true(sum > 0);
     lumis_image_destroy(img);
     snprintf(a, sizeof a, "render '%s' --env sky -o '%s'", tu_path("fx.json"), tu_path("x.exr"));
-    expect(a, 2, "--env: the scene is lit by its photometric fixtures, not by a map");
+    expect(a, 2, "lighting.env: does not apply: the scene is lit by photometric fixtures");
     snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("fx.json"), tu_path("fx.ies"));
     expect(a, 2, NULL);
     /* --fixture: one fixture lights a built-in scene instead of its map */
@@ -3677,7 +3686,8 @@ static void render_places_photometric_fixtures(void **state)
         {"--fixture '%s' --fixture-at 0,1", "--fixture-at"},
         {"--fixture '%s' --fixture-at 0,1,0 --fixture-aim 0,1,0",
          "a point other than --fixture-at"},
-        {"--fixture '%s' --fixture-at 0,1,0 --env sky", "--fixture lights the scene by itself"},
+        {"--fixture '%s' --fixture-at 0,1,0 --env sky",
+         "lighting.env: does not apply: the scene is lit by photometric fixtures"},
         {"--fixture '%s' --fixture-at 0,1,0 --fixture-multiplier -1", "--fixture-multiplier"},
         {"--fixture '%s' --fixture-at 0,1,0 --fixture-up 0,1", "--fixture-up"},
         {"--fixture '%s' --fixture-at 0,1,0 --fixture-up 0,2,0",

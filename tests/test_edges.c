@@ -374,14 +374,14 @@ static void renderer(void **state)
     d.camera = &cam;
     d.spp = 1;
     REFUSED(lumis_render(scene, &d, &img, NULL), img); /* MIS with no map and no sampler */
-    d.env = env;
+    d.lighting.env = env;
     tu_sink sink;
     tu_sink_init(&sink);
     d.errors = sink.sink;
     REFUSED(lumis_render(scene, &d, &img, NULL), img); /* a map but no sampler for MIS */
-    assert_non_null(strstr(sink.last, "need a sampler"));
+    assert_non_null(strstr(sink.last, "lighting.sampler: missing"));
     d.errors = (lumis_error_sink){0};
-    d.sampler = smp;
+    d.lighting.sampler = smp;
     assert_int_equal(lumis_render(scene, &d, &img, NULL), LUMIS_OK);
     lumis_image_destroy(img);
     img = NULL;
@@ -408,20 +408,23 @@ static void renderer(void **state)
         lumis_region_sampler *rs = NULL;
         assert_int_equal(lumis_region_sampler_create(env, other, NULL, &rs), LUMIS_OK);
         lumis_render_desc ld = d;
-        ld.light_set = set;
-        ld.lights_mode = LUMIS_LIGHTS_MODE_COUNT;
+        ld.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        ld.lighting.sampler = NULL;
+        ld.lighting.light_set.set = set;
+        ld.lighting.light_set.mode = LUMIS_LIGHTS_MODE_COUNT;
         REFUSED(lumis_render(scene, &ld, &img, NULL), img);
-        ld.lights_mode = LUMIS_LIGHTS_STRATIFIED;
-        ld.regions = rs; /* 2 regions for a set of 4 lights */
+        ld.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+        ld.lighting.light_set.regions = rs; /* 2 regions for a set of 4 lights */
         REFUSED(lumis_render(scene, &ld, &img, NULL), img);
-        ld.regions = NULL;
+        ld.lighting.light_set.regions = NULL;
         assert_int_equal(lumis_render(scene, &ld, &img, NULL), LUMIS_OK);
         lumis_image_destroy(img);
         img = NULL;
         lumis_session_desc sd = {0};
-        sd.render = d;
+        sd.render = ld;
+        sd.render.lighting.light_set.set = NULL;
         sd.lights = "median-cut";
-        sd.lights_mode = (lumis_lights_mode)9;
+        sd.render.lighting.light_set.mode = (lumis_lights_mode)9;
         REFUSED(lumis_render_session(scene, &sd, &img, NULL), img);
         lumis_region_sampler_destroy(rs);
         lumis_light_set_destroy(set);
@@ -445,9 +448,9 @@ static void renderer(void **state)
     d.max_bounces = -1;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
     d.max_bounces = 0;
-    d.estimator = (lumis_estimator)9;
+    d.lighting.estimator = (lumis_estimator)9;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
-    d.estimator = LUMIS_ESTIMATOR_MIS;
+    d.lighting.estimator = LUMIS_ESTIMATOR_MIS;
     /* a share's first sample: not negative, and the samples numbered below 2^30 */
     d.first_sample = -1;
     REFUSED(lumis_render(scene, &d, &img, NULL), img);
@@ -519,6 +522,144 @@ static void renderer(void **state)
 
 /* Every BSDF is 0, with density 0, when either direction is below the horizon, and at
  * grazing or mirrored configurations it stays finite. */
+/* How a render is lit is one value: lumis_lighting_check alone refuses what a kind lacks or
+ * does not take, one message per condition naming the field (the check reads pointers for
+ * NULL only, so stand-ins do here). */
+static void lighting_check_names_the_field(void **state)
+{
+    (void)state;
+    static char stand_in[4];
+    const lumis_envmap *env = (const lumis_envmap *)stand_in;
+    const lumis_sampler *smp = (const lumis_sampler *)stand_in;
+    const lumis_light_set *set = (const lumis_light_set *)stand_in;
+    const lumis_region_sampler *rs = (const lumis_region_sampler *)stand_in;
+    const lumis_luminaire_lighting *lum = (const lumis_luminaire_lighting *)stand_in;
+    const lumis_photometric_lighting *fix = (const lumis_photometric_lighting *)stand_in;
+    enum { ENV, SET, LUM, FIX };
+    static const struct {
+        int kind, sampler, est, set, mode, regions, lum, fix, env, hide, power, nl, nb, bounces;
+        const char *said; /* NULL: accepted */
+    } cases[] = {
+        /* kind     smp est set mode rs lum fix env hide pow nl nb bnc */
+        {ENV, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, "lighting.env: missing"},
+        {ENV, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.sampler: missing"},
+        {ENV, 0, 2, 0, 0, 0, 0, 0, 1, 1, 1, 2, 2, 3, NULL}, /* BSDF-only needs no sampler */
+        {ENV, 1, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, NULL},
+        {ENV, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.light_set.set: does not apply"},
+        {ENV, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.light_set.mode: does not apply"},
+        {ENV, 1, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 0, "lighting.luminaires: does not apply"},
+        {ENV, 1, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 0, "lighting.photometric: does not apply"},
+        {SET, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.light_set.set: missing"},
+        {SET, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, "lighting.env: missing"},
+        {SET, 0, 0, 1, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, NULL},
+        {SET, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.sampler: does not apply"},
+        {SET, 0, 1, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.estimator: does not apply"},
+        {SET, 0, 0, 1, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.light_set.regions: does not"},
+        {SET, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, "power_heuristic: does not apply"},
+        {SET, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, "max_bounces: does not apply"},
+        {SET, 0, 1, 1, 1, 1, 0, 0, 1, 1, 1, 0, 0, 2, NULL}, /* strata: light/MIS, paths */
+        {SET, 0, 2, 1, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, "lighting.estimator: does not apply"},
+        {SET, 0, 0, 1, 1, 0, 0, 0, 1, 0, 0, 2, 0, 0, "light_samples: does not apply"},
+        {SET, 0, 0, 1, 1, 0, 0, 0, 1, 0, 0, 0, 2, 0, "bsdf_samples: does not apply"},
+        {LUM, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, "lighting.luminaires: missing"},
+        {LUM, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, NULL},
+        {LUM, 0, 0, 0, 0, 0, 1, 0, 1, 0, 0, 0, 0, 0, "lighting.env: does not apply"},
+        {LUM, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, "lighting.hide_environment: does not"},
+        {LUM, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 0, 0, "lighting.photometric: does not apply"},
+        {LUM, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, "max_bounces: does not apply"},
+        {LUM, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 3, 0, "bsdf_samples: does not apply"},
+        {FIX, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, "lighting.photometric: missing"},
+        {FIX, 0, 2, 0, 0, 0, 0, 1, 0, 0, 1, 2, 2, 4, NULL},
+        {FIX, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 0, 0, "lighting.luminaires: does not apply"},
+        {FIX, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, "lighting.sampler: does not apply"},
+        {FIX, 0, 0, 0, 0, 0, 0, 1, 1, 0, 0, 0, 0, 0, "lighting.env: does not apply"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        lumis_render_desc d = {0};
+        lumis_lighting *l = &d.lighting;
+        l->kind = (lumis_lighting_kind)cases[c].kind;
+        l->sampler = cases[c].sampler ? smp : NULL;
+        l->estimator = (lumis_estimator)cases[c].est;
+        l->light_set.set = cases[c].set ? set : NULL;
+        l->light_set.mode = (lumis_lights_mode)cases[c].mode;
+        l->light_set.regions = cases[c].regions ? rs : NULL;
+        l->luminaires = cases[c].lum ? lum : NULL;
+        l->photometric = cases[c].fix ? fix : NULL;
+        l->env = cases[c].env ? env : NULL;
+        l->hide_environment = cases[c].hide;
+        d.power_heuristic = cases[c].power;
+        d.light_samples = cases[c].nl;
+        d.bsdf_samples = cases[c].nb;
+        d.max_bounces = cases[c].bounces;
+        tu_sink sink;
+        tu_sink_init(&sink);
+        d.errors = sink.sink;
+        const lumis_status st = lumis_lighting_check(&d);
+        if (!cases[c].said && st != LUMIS_OK) fail_msg("case %zu: refused: %s", c, sink.last);
+        if (cases[c].said && (st != LUMIS_ERR_INVALID_ARGUMENT || sink.count != 1 ||
+                              !strstr(sink.last, cases[c].said)))
+            fail_msg("case %zu: wanted \"%s\", got %s (%d messages): %s", c, cases[c].said,
+                     lumis_status_name(st), sink.count, sink.last);
+    }
+    /* unknown values, each named */
+    lumis_render_desc d = {0};
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    d.lighting.kind = LUMIS_LIGHTING_KIND_COUNT;
+    assert_int_equal(lumis_lighting_check(&d), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "lighting.kind 4: unknown"));
+    d.lighting.kind = LUMIS_LIGHTING_ENV;
+    d.lighting.light_set.mode = (lumis_lights_mode)7;
+    assert_int_equal(lumis_lighting_check(&d), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "lighting.light_set.mode 7: unknown"));
+    d.lighting.light_set.mode = LUMIS_LIGHTS_POINT;
+    d.lighting.estimator = (lumis_estimator)3;
+    assert_int_equal(lumis_lighting_check(&d), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "lighting.estimator 3: unknown"));
+    assert_int_equal(lumis_lighting_check(NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* the kinds' names */
+    for (int k = 0; k < LUMIS_LIGHTING_KIND_COUNT; k++) {
+        lumis_lighting_kind back = LUMIS_LIGHTING_KIND_COUNT;
+        assert_int_equal(
+            lumis_lighting_kind_from_name(lumis_lighting_kind_name((lumis_lighting_kind)k), &back),
+            LUMIS_OK);
+        assert_int_equal(back, k);
+    }
+    assert_string_equal(lumis_lighting_kind_name(LUMIS_LIGHTING_LIGHT_SET), "light-set");
+    lumis_lighting_kind k = LUMIS_LIGHTING_ENV;
+    assert_int_equal(lumis_lighting_kind_from_name("sun", &k), LUMIS_ERR_INVALID_ARGUMENT);
+    /* a session: its light-set options only with `lights`, `lights` only with a light-set
+     * lighting of no set of the caller's (the session's to come counts as given) */
+    lumis_camera cam = {{0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 40.0f, 8, 6};
+    lumis_session_desc s = {0};
+    s.render.camera = &cam;
+    s.render.errors = sink.sink;
+    s.render.lighting.env = env;
+    s.render.lighting.sampler = smp;
+    s.lights = "median-cut";
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "session: lights: does not apply: the scene is lit by "
+                                      "the environment map"));
+    s.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "lighting.sampler: does not apply"));
+    s.render.lighting.sampler = NULL;
+    assert_int_equal(lumis_session_check(&s), LUMIS_OK);
+    s.render.lighting.light_set.set = set;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "render.lighting.light_set.set: given"));
+    s.render.lighting.light_set.set = NULL;
+    s.upsample = 2;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "upsample: applies to Wu's decomposition"));
+    s.upsample = 0;
+    s.lights = NULL;
+    s.interleave = 4;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "interleave: does not apply without lights"));
+}
+
 static void bsdfs_below_the_horizon(void **state)
 {
     (void)state;
@@ -547,9 +688,13 @@ static void bsdfs_below_the_horizon(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(core_and_maps),     cmocka_unit_test(samplers_and_light_sets),
-        cmocka_unit_test(files_and_metrics), cmocka_unit_test(luminaires),
-        cmocka_unit_test(renderer),          cmocka_unit_test(bsdfs_below_the_horizon),
+        cmocka_unit_test(core_and_maps),
+        cmocka_unit_test(samplers_and_light_sets),
+        cmocka_unit_test(files_and_metrics),
+        cmocka_unit_test(luminaires),
+        cmocka_unit_test(renderer),
+        cmocka_unit_test(bsdfs_below_the_horizon),
+        cmocka_unit_test(lighting_check_names_the_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

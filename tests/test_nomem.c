@@ -508,22 +508,29 @@ static lumis_status op_render(void *ctx)
     const int kind = *(const int *)ctx;
     lumis_render_desc d = {0};
     d.camera = &tiny_cam;
-    d.env = in.env;
-    d.sampler = in.sampler;
+    d.lighting.env = in.env;
+    d.lighting.sampler = in.sampler;
     d.spp = 2;
     d.threads = 1;
     d.seed = 7;
     lumis_luminaire_instance inst = {0};
     lumis_luminaire_lighting lit = {0};
-    if (kind == 1) d.light_set = in.set;
-    if (kind == 2 || kind == 6) {
+    if (kind == 1 || kind == 4) { /* a light set lights it: the map's sampler does not apply */
+        d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        d.lighting.sampler = NULL;
+        d.lighting.light_set.set = in.set;
+    }
+    if (kind == 2 || kind == 6) { /* luminaires light it alone: no map */
+        d.lighting.env = NULL;
+        d.lighting.sampler = NULL;
         inst.luminaire = in.lum;
         inst.placement = lumis_rigid_identity();
         inst.placement.t[1] = 3;
         lit.instances = &inst;
         lit.count = 1;
         lit.budget = 4;
-        d.luminaires = &lit;
+        d.lighting.luminaires = &lit;
+        d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
         if (kind == 6) { /* auto: the prediction, its probes' selection, bands */
             lit.strategy = LUMIS_LUM_AUTO;
             lit.auto_bands = 1;
@@ -531,10 +538,8 @@ static lumis_status op_render(void *ctx)
     }
     if (kind == 3) d.max_bounces = 2;
     if (kind == 5) d.sequence = LUMIS_SEQUENCE_PMJ02; /* its tables */
-    if (kind == 4) { /* the set's regions as strata, made by the render */
-        d.light_set = in.set;
-        d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
-    }
+    if (kind == 4) /* the set's regions as strata, made by the render */
+        d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
     lumis_image *img = NULL;
     lumis_status st = lumis_render(in.scene, &d, &img, NULL);
     digest = st == LUMIS_OK ? image_digest(img) : 0;
@@ -548,13 +553,18 @@ static lumis_status op_session(void *ctx)
     const int kind = *(const int *)ctx;
     lumis_session_desc s = {0};
     s.render.camera = &tiny_cam;
-    s.render.env = in.env;
-    s.render.sampler = in.sampler;
+    s.render.lighting.env = in.env;
+    s.render.lighting.sampler = in.sampler;
     s.render.spp = 2;
     s.render.threads = 1;
     s.lights = kind == 1 ? "median-cut" : kind >= 2 ? "wu" : NULL;
     s.lights_k = kind ? 8 : 0;
-    if (kind == 3) s.lights_mode = LUMIS_LIGHTS_STRATIFIED; /* with its two layers */
+    if (kind) { /* the session's light set lights it */
+        s.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        s.render.lighting.sampler = NULL;
+    }
+    if (kind == 3) /* with its two layers */
+        s.render.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
     lumis_image *img = NULL;
     lumis_session_result r;
     lumis_status st = lumis_render_session(in.scene, &s, &img, &r);
@@ -778,7 +788,8 @@ static lumis_status op_render_photometric(void *ctx)
     const lumis_photometric_lighting lit = {&inst, 1};
     lumis_render_desc d = {0};
     d.camera = &tiny_cam;
-    d.photometric = &lit;
+    d.lighting.photometric = &lit;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
     d.spp = 2;
     d.threads = 1;
     d.seed = 7;

@@ -310,7 +310,7 @@ LUMIS_API lumis_status lumis_light_set_fold_below(lumis_light_set *set, lumis_ve
  * light is moved to its centroid), whose error falls as 1 / samples.  This is stratified
  * sampling of the environment map with the light-set method choosing the strata
  * (docs/lights.md, "Stratified mode"); the renderer's stratified light sets use it
- * (lumis_render_desc.lights_mode). */
+ * (lumis_render_desc.lighting.light_set.mode). */
 
 typedef struct lumis_region_sampler lumis_region_sampler;
 

@@ -130,8 +130,6 @@ typedef struct lumis_luminaire_lighting {
     lumis_luminaire_search search;     /* 0 == the library's default */
     int depth;                         /* search depth; 0 == exact */
     lumis_visibility visibility;       /* 0 == exact */
-    lumis_sequence sequence;           /* 0 == the render's; else the whole render's when
-                                          the render's is 0 (the former luminaire option) */
     int auto_bands; /* with LUMIS_LUM_AUTO, nonzero: a band of distance may take its own
                        strategy (lumis_render_luminaire_choices); off by default, since a
                        band's choice also applies to what no probe saw in it */
@@ -161,8 +159,8 @@ typedef struct lumis_photometric_instance {
 
 /* Photometric fixtures as the renderer's lights: at every vertex each is sampled
  * light_samples times (a point: its one direction; an opening: points on it by area, with
- * the BSDF's samples and MIS as `estimator` says), one shadow ray each.  The instances and
- * their models must outlive the render. */
+ * the BSDF's samples and MIS as lighting.estimator says), one shadow ray each.  The
+ * instances and their models must outlive the render. */
 typedef struct lumis_photometric_lighting {
     const lumis_photometric_instance *instances;
     int count;
@@ -190,45 +188,75 @@ LUMIS_RENDER_API lumis_status lumis_photometric_orient(lumis_photometric_type ty
                                                        const lumis_vec3 *up, double roll_deg,
                                                        double R[9]);
 
+/* ---- how a render is lit: one value ------------------------------------------------------
+ *
+ * A render is lit by exactly one kind of light.  Each kind needs some fields of
+ * lumis_lighting and takes some of the render's (lumis_render_desc); every other lighting
+ * field must be left at zero, and lumis_lighting_check refuses a field that a kind does not
+ * use, naming it ("lighting.sampler", "max_bounces"...).  Zero is the environment map
+ * sampled with MIS.
+ *
+ *   kind          needs                          also takes
+ *   env           env; sampler (unless the       estimator, hide_environment, power_heuristic,
+ *                 estimator is BSDF)             light_samples, bsdf_samples, max_bounces
+ *   light-set     env; light_set.set             light_set.kinds, hide_environment; in
+ *                                                stratified mode light_set.regions, estimator
+ *                                                (light or MIS), power_heuristic, max_bounces
+ *   luminaires    luminaires (count >= 1)        -- (camera rays that escape see black)
+ *   photometric   photometric (count >= 1)       estimator, power_heuristic, light_samples,
+ *                                                bsdf_samples, max_bounces (escaping: black)
+ */
+typedef enum lumis_lighting_kind {
+    LUMIS_LIGHTING_ENV = 0,     /* the environment map, sampled per pixel through `sampler`
+                                   with `estimator` (light, BSDF or MIS sampling) */
+    LUMIS_LIGHTING_LIGHT_SET,   /* a light set (lumis/lights.h), as light_set.mode says */
+    LUMIS_LIGHTING_LUMINAIRES,  /* light-field luminaires (lumis_luminaire_lighting) */
+    LUMIS_LIGHTING_PHOTOMETRIC, /* photometric fixtures (lumis_photometric_lighting) */
+    LUMIS_LIGHTING_KIND_COUNT
+} lumis_lighting_kind;
+
+/* "env", "light-set", "luminaires", "photometric". */
+const char *lumis_lighting_kind_name(lumis_lighting_kind kind);
+lumis_status lumis_lighting_kind_from_name(const char *name, lumis_lighting_kind *out);
+
+/* A light set as the renderer's lights (kind light-set).  The set (and regions) must outlive
+ * the render. */
+typedef struct lumis_light_set_lighting {
+    /* Point mode: every light of the pixel's interleaved set (lumis_light_set_interleave_
+     * index), one shadow ray each, traced 16 at a time; deterministic apart from the
+     * camera's jitter; direct illumination only.  Stratified mode: the set's regions are
+     * strata instead, one direction in each (the regions of `kinds`) per vertex, combined
+     * with the BSDF's by `estimator` (MIS by default: each region's pdf against the
+     * BSDF's), path tracing allowed; interleaving does not apply. */
+    const lumis_light_set *set;          /* required */
+    unsigned kinds;                      /* lights of the set used: 0 == all, else a mask of bits
+                                            1u << lumis_light_kind (e.g. EnvDirects only) */
+    lumis_lights_mode mode;              /* 0 == point */
+    const lumis_region_sampler *regions; /* stratified: made from this set and env; NULL ==
+                                            the render makes them */
+} lumis_light_set_lighting;
+
+/* How a render is lit (the table above says which fields each kind uses; zero-init: the
+ * environment map, sampled with MIS). */
+typedef struct lumis_lighting {
+    lumis_lighting_kind kind;           /* 0 == env */
+    const lumis_envmap *env;            /* env, light-set: the light, also seen by camera rays that
+                                           escape; required by them, refused by the others */
+    const lumis_sampler *sampler;       /* env: the map's light sampler; NULL for the BSDF
+                                           estimator */
+    lumis_estimator estimator;          /* 0 == MIS (env, stratified light sets, fixtures) */
+    int hide_environment;               /* env, light-set: nonzero: camera rays that escape see
+                                           black (a layer added to another which shows the map) */
+    lumis_light_set_lighting light_set; /* light-set */
+    const lumis_luminaire_lighting *luminaires;    /* luminaires: NULL for another kind */
+    const lumis_photometric_lighting *photometric; /* photometric: NULL for another kind */
+} lumis_lighting;
+
 typedef struct lumis_render_desc {
     const lumis_camera *camera;
-    const lumis_envmap *env;      /* seen by camera rays that escape, and sampled below (may be
-                                     NULL with luminaires: escaping rays see black) */
-    const lumis_sampler *sampler; /* light sampler; NULL for LUMIS_ESTIMATOR_BSDF */
-    /* The renderer's light interface: how a shading point is lit.
-     *  - NULL (default): the environment, sampled per pixel through `sampler` with
-     *    `estimator` (light, BSDF or MIS sampling).
-     *  - a light set (lumis/lights.h): every light of the pixel's interleaved set
-     *    (lumis_light_set_interleave_index), one shadow ray each, traced 16 at a time;
-     *    deterministic apart from the camera's jitter (point mode, the default).
-     *    `sampler` is then unused; in point mode `estimator` too, and path tracing
-     *    (max_bounces > 0) is refused.
-     * The set must outlive the render. */
-    const lumis_light_set *light_set;
-    unsigned light_kinds; /* lights of the set used: 0 == all, else a mask of bits
-                             1u << lumis_light_kind (e.g. EnvDirects only) */
-    /*   With lights_mode LUMIS_LIGHTS_STRATIFIED the set's regions are strata instead:
-     *   one direction in each (the regions of light_kinds) per vertex, from `regions` (made
-     *   from this set and env; NULL: the render makes them), with `estimator` as for the
-     *   map (MIS by default: each region's pdf against the BSDF's), and path tracing
-     *   allowed.  Interleaving does not apply. */
-    lumis_lights_mode lights_mode;
-    const lumis_region_sampler *regions;
-    /* - light-field luminaires: lit as lumis_luminaire_lighting says; `env` may then be NULL
-     *   (camera rays that escape see black), `sampler`, `estimator` and `light_set` are
-     *   unused (a light set and luminaires together are refused), and path tracing is refused.
-     *   NULL or count 0: not this kind. */
-    const lumis_luminaire_lighting *luminaires;
-    /* - photometric fixtures: lit as lumis_photometric_lighting says (checked after the
-     *   luminaires, before a light set); `env` may be NULL (escaping rays see black);
-     *   `sampler` and `light_set` are unused; path tracing allowed (each vertex gets the
-     *   fixtures' direct light).  NULL or count 0: not this kind. */
-    const lumis_photometric_lighting *photometric;
-    int hide_environment; /* nonzero: camera rays that escape see black (a layer that is
-                             added to another which shows the map) */
-    int pixel_centers;    /* nonzero: every camera ray through its pixel's centre (a layer
-                             upsampled with a G-buffer, which samples the centres) */
-    lumis_estimator estimator;
+    lumis_lighting lighting; /* how the scene is lit; zero: the map, sampled with MIS */
+    int pixel_centers;       /* nonzero: every camera ray through its pixel's centre (a layer
+                                upsampled with a G-buffer, which samples the centres) */
     int power_heuristic;     /* nonzero: power heuristic (beta = 2), else balance */
     int spp;                 /* camera samples per pixel; 0 == 16 (a job plans its
                                 sequence's strata for it; 0: 2^16) */
@@ -271,6 +299,14 @@ typedef struct lumis_render_stats {
                              an equal-samples comparison counts; 0 for other lights */
 } lumis_render_stats;
 
+/* Whether desc->lighting is one valid choice with the rest of desc: the kind known, what
+ * it needs given (an environment map, a sampler, a light set, luminaires, fixtures), and
+ * no field it does not use set (lighting.sampler for a light set, max_bounces for
+ * luminaires...).  LUMIS_ERR_INVALID_ARGUMENT with one message through desc->errors naming
+ * the field, else LUMIS_OK.  Reads the fields only (a luminaire or fixture lighting's count
+ * too); lumis_render_job_create calls it, a host may call it first to refuse early. */
+lumis_status lumis_lighting_check(const lumis_render_desc *desc);
+
 /* Renders desc->spp samples per pixel into a new image (linear radiance).  stats may be
  * NULL.  The same as a job run once with desc->spp samples. */
 LUMIS_RENDER_API lumis_status lumis_render(const lumis_scene *scene, const lumis_render_desc *desc,
@@ -288,7 +324,7 @@ typedef struct lumis_luminaire_choice {
     lumis_luminaire_prediction prediction; /* over every probe, in bands (zeros unless auto) */
 } lumis_luminaire_choice;
 
-/* How each placed luminaire of d->luminaires is sampled (out: count entries): the
+/* How each placed luminaire of d->lighting.luminaires is sampled (out: count entries): the
  * lighting's strategy and budget, one band; or with LUMIS_LUM_AUTO, from
  * lumis_luminaire_predict at the points the render will shade (the first hits of 96 x 60
  * camera rays through pixel centres, in the instance's frame, of which 240 are selected by
@@ -375,11 +411,11 @@ LUMIS_RENDER_API lumis_status lumis_joint_bilateral_upsample(const lumis_image *
  * when none is given, count inside it; otherwise progressive passes fill it. */
 
 typedef struct lumis_session_desc {
-    /* camera, env, sampler, estimator, luminaires, counts, seed, threads, progress ...:
-     * as lumis_render; light_set and light_kinds are the session's own */
+    /* camera, lighting, counts, seed, threads, progress ...: as lumis_render.  With
+     * `lights`, render.lighting is of kind light-set with its set and regions NULL (the
+     * session makes them; light_set.mode: point lights or strata of the map) */
     lumis_render_desc render;
     const char *lights;                      /* a light-set method by name, or NULL */
-    lumis_lights_mode lights_mode;           /* point lights (0) or strata of the map */
     int lights_k;                            /* K; 0: point mode fits it to time_budget,
                                                 else 64; the stratified mode 32 */
     int interleave;                          /* interleaved sets; 0: the method's default */
@@ -447,6 +483,14 @@ typedef struct lumis_session_result {
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy; /* render threads with work: min(threads, the full layer's tiles) */
 } lumis_session_result;
+
+/* Whether desc is a session lumis_render_session takes: a finite budget and non-negative
+ * counts, the light-set options only with `lights` (a known method; upsample only Wu's),
+ * `lights` only with render.lighting of kind light-set and no set or regions of the
+ * caller's, and render as lumis_lighting_check says (the set the session makes counts as
+ * given).  LUMIS_ERR_INVALID_ARGUMENT with one message naming the field, else LUMIS_OK:
+ * a host may call it to refuse before it loads or builds anything else. */
+lumis_status lumis_session_check(const lumis_session_desc *desc);
 
 /* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */
 LUMIS_RENDER_API lumis_status lumis_render_session(const lumis_scene *scene,

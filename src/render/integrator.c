@@ -17,8 +17,8 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
     const lumis_render_desc *d = c->d;
     hit hh;
     if (!intersect(c->scene, eye, dir, &hh)) {
-        if (d->hide_environment || !d->env) return mk(0, 0, 0);
-        lumis_rgb e = lumis_envmap_eval(d->env, tof(dir));
+        if (d->lighting.hide_environment || !d->lighting.env) return mk(0, 0, 0);
+        lumis_rgb e = lumis_envmap_eval(d->lighting.env, tof(dir));
         return mk(e.r, e.g, e.b);
     }
     v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);

@@ -33,6 +33,12 @@ void lumis__rotation_deg(const float r[3], double m[9]);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 
+/* lumis_lighting_check (lighting.c); set_to_come: a light set will be made (a session's)
+ * and given. */
+lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come);
+/* What lights the scene under lighting kind `kind` (known), for messages: "luminaires". */
+const char *lumis__lighting_lit_by(lumis_lighting_kind kind);
+
 /* lumis_render_gbuffer on `threads` threads (0: OpenMP's default): a session renders on
  * the threads its caller gave. */
 lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,

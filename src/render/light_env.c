@@ -30,13 +30,14 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const lumis_vec3 wo = fr.wo;
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
-        use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT;
-    int mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    const lumis_sampler *smp = d->lighting.sampler;
+    int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
+        use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT;
+    int mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
     for (int k = 0; use_light && k < st->nl; k++) {
         double u[2];
         seq_2d(seq, dl, (uint32_t)k, (uint32_t)st->nl, u);
-        lumis_env_sample e = lumis_sampler_sample(d->sampler, u[0], u[1]);
+        lumis_env_sample e = lumis_sampler_sample(smp, u[0], u[1]);
         v3 wi = fromf(e.dir);
         double cosn = dot(wi, n);
         if (!(cosn > 0.0) || !(e.pdf > 0.0f)) continue;
@@ -62,12 +63,12 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         lumis_rgb Le;
         double w = 1.0;
         if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
-            float pl = lumis_sampler_pdf_radiance(d->sampler, tof(wi), &Le);
+            float pl = lumis_sampler_pdf_radiance(smp, tof(wi), &Le);
             w = mis_weight(st->nb, bs.pdf, st->nl, pl, d->power_heuristic);
         } else {
-            Le = lumis_envmap_eval(d->env, tof(wi));
+            Le = lumis_envmap_eval(d->lighting.env, tof(wi));
             if (mis)
-                w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(d->sampler, tof(wi)),
+                w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(smp, tof(wi)),
                                d->power_heuristic);
         }
         double k2 = w / st->nb;
@@ -76,27 +77,27 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return L;
 }
 
-static int lights(const lumis_render_desc *d)
+/* The map and, for light or MIS sampling, its sampler; direct light by any estimator, and
+ * paths. */
+static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
-    (void)d;
-    return 1; /* the default kind */
+    *needs = LUMIS__IN_ENV | (l->estimator != LUMIS_ESTIMATOR_BSDF ? LUMIS__IN_SAMPLER : 0u);
+    *takes = LUMIS__IN_SAMPLER | LUMIS__IN_EST_LIGHT | LUMIS__IN_EST_BSDF | LUMIS__IN_HIDE |
+             LUMIS__IN_POWER | LUMIS__IN_LIGHT_SAMPLES | LUMIS__IN_BSDF_SAMPLES | LUMIS__IN_BOUNCES;
 }
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
     (void)scene;
-    if (d->estimator != LUMIS_ESTIMATOR_BSDF && !d->sampler) /* the job checked the map */
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: light and MIS sampling of the map need a sampler");
     env_state *st = malloc(sizeof *st);
     if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
     st->nl = d->light_samples ? d->light_samples : 1;
     st->nb = d->bsdf_samples ? d->bsdf_samples : 1;
-    st->fused = d->sampler && lumis_sampler_envmap(d->sampler) == d->env;
+    st->fused = d->lighting.sampler && lumis_sampler_envmap(d->lighting.sampler) == d->lighting.env;
     *state = st;
     return LUMIS_OK;
 }
 
 const lumis__light_kind lumis__light_env = {
-    "environment map", lights, prepare, free, NULL, NULL, NULL, NULL, NULL, shade,
+    "the environment map", inputs, prepare, free, NULL, NULL, NULL, NULL, NULL, shade,
 };

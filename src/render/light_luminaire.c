@@ -463,10 +463,10 @@ static void auto_choose(const lumis_luminaire_prediction *p, int budget, const d
 lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumis_render_desc *d,
                                             lumis_luminaire_choice *out)
 {
-    if (!scene || !d || !d->luminaires || !out || d->luminaires->count < 0 ||
-        (d->luminaires->count > 0 && !d->luminaires->instances))
+    if (!scene || !d || !d->lighting.luminaires || !out || d->lighting.luminaires->count < 0 ||
+        (d->lighting.luminaires->count > 0 && !d->lighting.luminaires->instances))
         return LUMIS_ERR_INVALID_ARGUMENT;
-    const lumis_luminaire_lighting *ll = d->luminaires;
+    const lumis_luminaire_lighting *ll = d->lighting.luminaires;
     for (int i = 0; i < ll->count; i++) {
         memset(&out[i], 0, sizeof out[i]);
         out[i].bands = 1;
@@ -514,8 +514,7 @@ lumis_status lumis_render_luminaire_choices(const lumis_scene *scene, const lumi
         pd.select = AUTO_SELECT;
         pd.costs = &costs;
         /* (0,2) sequences stratify a sample slot over the camera samples */
-        const lumis_sequence q = lumis_sequence_resolve(
-            d->sequence != LUMIS_SEQUENCE_DEFAULT ? d->sequence : ll->sequence);
+        const lumis_sequence q = lumis_sequence_resolve(d->sequence);
         pd.strata = q == LUMIS_SEQUENCE_PCG || q == LUMIS_SEQUENCE_HALTON ? 1
                     : d->spp > 0                                          ? d->spp
                                                                           : 16;
@@ -538,18 +537,16 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d, const lumis_lumin
                                    lum_inst **lum, int *capacity, uint32_t *dims,
                                    size_t *most_cells)
 {
-    const lumis_luminaire_lighting *ll = d->luminaires;
+    const lumis_luminaire_lighting *ll = d->lighting.luminaires;
     const lumis_error_sink *errors = &d->errors;
-    if (ll->count < 0 || ll->count > 4096 || !ll->instances || ll->budget < 0 ||
+    if (ll->count < 1 || ll->count > 4096 || !ll->instances || ll->budget < 0 ||
         ll->budget > 65536 || ll->k_max < 0 || ll->depth < 0 ||
         (unsigned)ll->strategy >= LUMIS_LUM_STRATEGY_COUNT ||
         (unsigned)ll->search >= LUMIS_LUM_SEARCH_COUNT ||
-        (unsigned)ll->visibility >= LUMIS_VISIBILITY_COUNT ||
-        (unsigned)ll->sequence >= LUMIS_SEQUENCE_COUNT)
+        (unsigned)ll->visibility >= LUMIS_VISIBILITY_COUNT)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: luminaires: 1 to 4096 instances, budget 0 to 65536, "
-                           "k_max and depth >= 0, and known strategy, search, visibility and "
-                           "sequence");
+                           "render: lighting.luminaires: 1 to 4096 instances, budget 0 to 65536, "
+                           "k_max and depth >= 0, and known strategy, search and visibility");
     if (!(*lum = calloc((size_t)ll->count, sizeof **lum)))
         return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "render: luminaires: out of memory");
     for (int i = 0; i < ll->count; i++) {
@@ -643,7 +640,7 @@ static lumis_status lum_prepare_as(const lumis_render_desc *d, const lumis_lumin
 static lumis_status lum_prepare(const lumis_scene *scene, const lumis_render_desc *d,
                                 lum_inst **lum, int *capacity, uint32_t *dims, size_t *most_cells)
 {
-    const lumis_luminaire_lighting *ll = d->luminaires;
+    const lumis_luminaire_lighting *ll = d->lighting.luminaires;
     if (ll->strategy != LUMIS_LUM_AUTO || ll->count <= 0 || ll->count > 4096 || !ll->instances)
         return lum_prepare_as(d, NULL, lum, capacity, dims, most_cells);
     /* into the caller's array when it gave one */
@@ -684,9 +681,12 @@ static lumis_status global_draws(const lumis_luminaire_lighting *ll, const lum_i
 
 /* ---- the kind ------------------------------------------------------------------------ */
 
-static int lights(const lumis_render_desc *d)
+/* The luminaires alone: their own budget and strategies, direct illumination only. */
+static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
-    return d->luminaires && d->luminaires->count > 0;
+    (void)l;
+    *needs = LUMIS__IN_LUMINAIRES;
+    *takes = 0;
 }
 
 static void release(void *state)
@@ -703,18 +703,15 @@ static void release(void *state)
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
-    if (d->light_set || d->max_bounces > 0)
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: luminaires light direct illumination alone (no light set, "
-                           "max_bounces 0)");
     lum_state *st = calloc(1, sizeof *st);
     *state = st;
     if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
-    st->lighting = *d->luminaires; /* what release reads to free the shadow maps */
+    st->lighting = *d->lighting.luminaires; /* what release reads to free the shadow maps */
     st->errors = d->errors;
     lumis_status lst = lum_prepare(scene, d, &st->lum, &st->capacity, &st->dims, &st->cells);
-    for (int i = 0; lst == LUMIS_OK && d->luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
-                    i < d->luminaires->count;
+    for (int i = 0;
+         lst == LUMIS_OK && d->lighting.luminaires->visibility == LUMIS_VISIBILITY_SHADOW_MAP &&
+         i < d->lighting.luminaires->count;
          i++)
         if ((lst = lum_shadow_maps(scene, &st->lum[i], 256,
                                    d->threads > 0 ? d->threads : omp_get_max_threads())) !=
@@ -798,6 +795,6 @@ static void *thread_begin(const void *state)
 }
 
 const lumis__light_kind lumis__light_luminaires = {
-    "luminaires", lights,  prepare,      release,     run_begin,
+    "luminaires", inputs,  prepare,      release,     run_begin,
     chunk_begin,  run_end, thread_begin, thread_end_, shade,
 };

@@ -287,9 +287,9 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
     const lumis_vec3 wo = fr.wo;
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
+              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
+              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
     v3 L = mk(0, 0, 0);
     packet p;
     p.rays.n = p.flushed = 0;
@@ -368,9 +368,13 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return L;
 }
 
-static int lights(const lumis_render_desc *d)
+/* The fixtures alone: points, or openings combined with the BSDF's samples; paths too. */
+static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
-    return d->photometric && d->photometric->count > 0;
+    (void)l;
+    *needs = LUMIS__IN_PHOTOMETRIC;
+    *takes = LUMIS__IN_EST_LIGHT | LUMIS__IN_EST_BSDF | LUMIS__IN_POWER | LUMIS__IN_LIGHT_SAMPLES |
+             LUMIS__IN_BSDF_SAMPLES | LUMIS__IN_BOUNCES;
 }
 
 static void release(void *state)
@@ -383,10 +387,10 @@ static void release(void *state)
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
     (void)scene;
-    const lumis_photometric_lighting *pl = d->photometric;
-    if (!pl->instances || pl->count < 0 || pl->count > 100000)
+    const lumis_photometric_lighting *pl = d->lighting.photometric;
+    if (!pl->instances || pl->count < 1 || pl->count > 100000)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: photometric lighting needs 1 to 100000 instances");
+                           "render: lighting.photometric: 1 to 100000 instances");
     photometric_state *st = calloc(1, sizeof *st);
     if (st) st->f = calloc((size_t)pl->count, sizeof *st->f);
     if (!st || !st->f) {
@@ -468,7 +472,7 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
 }
 
 const lumis__light_kind lumis__light_photometric = {
-    "photometric fixtures", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
+    "photometric fixtures", inputs, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
 };
 
 /* The frame docs/photometric.md ("Aiming a fixture") states: local -z along the aim; local

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The lights of one set that light_kinds selects, in float arrays: the shading loop reads
+/* The lights of one set that light_set.kinds selects, in float arrays: the shading loop reads
  * six floats a light and nothing else. */
 typedef struct light_soa {
     int count;
@@ -151,9 +151,9 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     const lumis_vec3 wo = fr.wo;
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->estimator == LUMIS_ESTIMATOR_MIS;
+    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
+              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
+              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
     /* Seen from below its surface a BSDF reflects nothing, and its sampling draws nothing. */
     if (!(wo.z > 0.0f)) return L;
     /* A Lambertian surface: f and the BSDF's pdf without a call per draw (the values
@@ -228,9 +228,14 @@ static v3 shade_any(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     return st->rs ? shade_stratified(c, h, dir, v) : shade(c, h, dir, v);
 }
 
-static int lights(const lumis_render_desc *d)
+/* The set and the map it was made from.  Point lights: every light summed, direct
+ * illumination only.  Strata: a direction in every region by light or MIS sampling, paths. */
+static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
-    return d->light_set != NULL;
+    *needs = LUMIS__IN_ENV | LUMIS__IN_SET;
+    *takes = LUMIS__IN_SET_KINDS | LUMIS__IN_SET_MODE | LUMIS__IN_HIDE;
+    if (l->light_set.mode == LUMIS_LIGHTS_STRATIFIED)
+        *takes |= LUMIS__IN_REGIONS | LUMIS__IN_EST_LIGHT | LUMIS__IN_POWER | LUMIS__IN_BOUNCES;
 }
 
 static void release(void *state)
@@ -248,31 +253,26 @@ static void release(void *state)
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
 {
     (void)scene;
-    if ((unsigned)d->lights_mode >= LUMIS_LIGHTS_MODE_COUNT)
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: unknown light-set mode %d", (int)d->lights_mode);
-    const int stratified = d->lights_mode == LUMIS_LIGHTS_STRATIFIED;
-    if (d->max_bounces > 0 && !stratified)
-        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: a light set's point lights light direct illumination only "
-                           "(max_bounces must be 0; the stratified mode path traces)");
+    const int stratified = d->lighting.light_set.mode == LUMIS_LIGHTS_STRATIFIED;
     set_state *st = calloc(1, sizeof *st);
     *state = st;
     if (st && stratified) {
         const lumis_status rst =
-            d->regions ? LUMIS_OK
-                       : lumis_region_sampler_create(d->env, d->light_set, &d->errors, &st->owned);
+            d->lighting.light_set.regions
+                ? LUMIS_OK
+                : lumis_region_sampler_create(d->lighting.env, d->lighting.light_set.set,
+                                              &d->errors, &st->owned);
         if (rst != LUMIS_OK) return rst;
-        st->rs = d->regions ? d->regions : st->owned;
+        st->rs = d->lighting.light_set.regions ? d->lighting.light_set.regions : st->owned;
         const lumis_light *l = NULL;
         int count = 0;
-        lumis_light_set_get(d->light_set, 0, &l, &count);
+        lumis_light_set_get(d->lighting.light_set.set, 0, &l, &count);
         if (lumis_region_sampler_count(st->rs) != count)
             return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                                "render: the region samplers (%d regions) are not the light "
                                "set's (%d lights)",
                                lumis_region_sampler_count(st->rs), count);
-        st->kinds = d->light_kinds ? d->light_kinds : ~0u;
+        st->kinds = d->lighting.light_set.kinds ? d->lighting.light_set.kinds : ~0u;
         st->strata = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->strata);
         st->cone = malloc((size_t)(count > 0 ? count : 1) * 4 * sizeof *st->cone);
         if (!st->strata || !st->cone)
@@ -293,13 +293,14 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
         }
     }
     /* the point lights' arrays: point mode only */
-    if (!st ||
-        (!stratified &&
-         !(st->soa = soa_make(d->light_set, d->light_kinds ? d->light_kinds : ~0u, &st->sets))))
+    if (!st || (!stratified &&
+                !(st->soa = soa_make(
+                      d->lighting.light_set.set,
+                      d->lighting.light_set.kinds ? d->lighting.light_set.kinds : ~0u, &st->sets))))
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: light set: out of memory");
     return LUMIS_OK;
 }
 
 const lumis__light_kind lumis__light_set_kind = {
-    "light set", lights, prepare, release, NULL, NULL, NULL, NULL, NULL, shade_any,
+    "a light set", inputs, prepare, release, NULL, NULL, NULL, NULL, NULL, shade_any,
 };

@@ -37,11 +37,6 @@ struct lumis_render_job {
     lumis_render_stats stats;
 };
 
-/* The light kinds, the first whose lights() says so lighting a render (the environment map
- * last: it takes every render the others do not). */
-static const lumis__light_kind *const kinds[] = {
-    &lumis__light_luminaires, &lumis__light_photometric, &lumis__light_set_kind, &lumis__light_env};
-
 void lumis_render_job_destroy(lumis_render_job *job)
 {
     if (!job) return;
@@ -56,19 +51,15 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
 {
     if (!out) return LUMIS_ERR_INVALID_ARGUMENT;
     *out = NULL;
-    const lumis__light_kind *kind = kinds[0];
-    for (size_t k = 0; d && !kind->lights(d); k++) kind = kinds[k + 1];
-    /* an envmap for every kind but luminaires and fixtures, which may go without (escaping
-     * rays: black) */
-    if (!scene || !d ||
-        (!d->env && kind != &lumis__light_luminaires && kind != &lumis__light_photometric) ||
-        (unsigned)d->estimator > LUMIS_ESTIMATOR_BSDF || d->spp < 0 || d->light_samples < 0 ||
-        d->bsdf_samples < 0 || d->max_bounces < 0 || d->max_bounces > 1024 || d->first_sample < 0 ||
+    if (!scene || !d || d->spp < 0 || d->light_samples < 0 || d->bsdf_samples < 0 ||
+        d->max_bounces < 0 || d->max_bounces > 1024 || d->first_sample < 0 ||
         d->first_sample >= (1 << 30))
         return lumis__fail(d ? &d->errors : NULL, LUMIS_ERR_INVALID_ARGUMENT,
-                           "render: needs a scene, an envmap, a sampler (unless BSDF-only), "
-                           "non-negative sample counts (a first sample below 2^30) and 0 to "
-                           "1024 bounces");
+                           "render: needs a scene, non-negative sample counts (a first sample "
+                           "below 2^30) and 0 to 1024 bounces");
+    const lumis_status lst = lumis_lighting_check(d);
+    if (lst != LUMIS_OK) return lst;
+    const lumis__light_kind *kind = lumis__light_kind_of(d);
     cam_frame cf;
     lumis_status cst = lumis__camera_frame(d->camera, &d->errors, &cf);
     if (cst != LUMIS_OK) return cst;
@@ -80,12 +71,7 @@ lumis_status lumis_render_job_create(const lumis_scene *scene, const lumis_rende
         return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: %d x %d: out of memory",
                            cam.width, cam.height);
     }
-    /* the luminaires' own choice (before the render had sequences) stands with the default */
-    lumis_sequence seq = d->sequence;
-    if (seq == LUMIS_SEQUENCE_DEFAULT && d->luminaires && d->luminaires->count > 0 &&
-        (unsigned)d->luminaires->sequence < LUMIS_SEQUENCE_COUNT)
-        seq = d->luminaires->sequence;
-    const lumis_status qst = lumis__seq_init(&job->seq, seq, d->seed, d->spp, &d->errors);
+    const lumis_status qst = lumis__seq_init(&job->seq, d->sequence, d->seed, d->spp, &d->errors);
     if (qst != LUMIS_OK) {
         lumis_render_job_destroy(job);
         return qst;

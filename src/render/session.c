@@ -57,13 +57,13 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
 {
     memset(u, 0, sizeof *u);
     u->errors = rd->errors;
-    u->low_every_pass = rd->lights_mode == LUMIS_LIGHTS_STRATIFIED;
+    u->low_every_pass = rd->lighting.light_set.mode == LUMIS_LIGHTS_STRATIFIED;
     u->threads = rd->threads;
     if (factor <= 1) return lumis_render_job_create(scene, rd, &u->full);
     lumis_render_desc direct = *rd, indirect = *rd;
-    direct.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
-    indirect.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
-    indirect.hide_environment = 1;
+    direct.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
+    indirect.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+    indirect.lighting.hide_environment = 1;
     /* The low layer is lit where its G-buffer looked: at the pixels' centres, so a pixel on
      * a silhouette is not darkened by the background it half covers.  Point lights are
      * deterministic, so one sample per pixel is the whole layer; strata take a sample at
@@ -211,10 +211,10 @@ static lumis_status run_pilot(const lumis_scene *scene, const lumis_session_desc
     lumis_render_desc pd = *rd;
     pd.progress = NULL;
     pd.camera = &cam;
-    lumis_status st = lumis_lights_by_name(rd->env, s->lights, k, s->interleave, s->lights_params,
-                                           &rd->errors, &set);
+    lumis_status st = lumis_lights_by_name(rd->lighting.env, s->lights, k, s->interleave,
+                                           s->lights_params, &rd->errors, &set);
     const double gen = now() - t0;
-    pd.light_set = set;
+    pd.lighting.light_set.set = set;
     if (st == LUMIS_OK) st = unit_create(scene, &pd, factor, &u);
     /* Samples until the full layer has run long enough to time. */
     lumis_render_stats all, f;
@@ -297,7 +297,7 @@ static lumis_status choose_k(const lumis_scene *scene, const lumis_session_desc 
                              const lumis_render_desc *rd, int factor, double budget, int spp,
                              int spp_fixed, lumis_session_result *r, int *k_out, int *spp_out)
 {
-    const lumis_envmap *env = rd->env;
+    const lumis_envmap *env = rd->lighting.env;
     const int kmax = clamp_k(65536.0, env), kfloor = kmax < K_FLOOR ? kmax : K_FLOOR;
     const double t0 = now();
     const int threads = rd->threads > 0 ? rd->threads : omp_get_max_threads();
@@ -416,6 +416,53 @@ static lumis_status run_timed(unit *u, double budget, const lumis_session_desc *
 
 /* ---- the session -------------------------------------------------------------------------- */
 
+lumis_status lumis_session_check(const lumis_session_desc *s)
+{
+    if (!s) return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_error_sink *errors = &s->render.errors;
+    const lumis_lighting *l = &s->render.lighting;
+    if (!isfinite(s->time_budget) || s->time_budget < 0.0 || !isfinite(s->spent) ||
+        s->lights_k < 0 || s->interleave < 0 || s->upsample < 0 || s->timed_spp < 0)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: needs a finite budget >= 0 and non-negative counts");
+    if (s->share_spp < 0 || (s->share_spp > 0 && s->time_budget > 0.0))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: a share of a render is a number of samples (share_spp "
+                           ">= 0), not a time budget");
+    if (s->lights && !lumis_lights_method_from_name(s->lights))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: lights '%s': unknown light-set method", s->lights);
+    const char *needs_lights = s->lights_k        ? "lights_k"
+                               : s->interleave    ? "interleave"
+                               : s->lights_params ? "lights_params"
+                               : s->upsample      ? "upsample"
+                                                  : NULL;
+    if (!s->lights && needs_lights)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: %s: does not apply without lights (a light-set method)",
+                           needs_lights);
+    if (s->upsample && lumis_lights_method_from_name(s->lights) != LUMIS_LIGHTS_DECOMPOSITION)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: upsample: applies to Wu's decomposition (lights wu...), not "
+                           "'%s'",
+                           s->lights);
+    if (s->lights && (unsigned)l->kind < LUMIS_LIGHTING_KIND_COUNT &&
+        l->kind != LUMIS_LIGHTING_LIGHT_SET)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: lights: does not apply: the scene is lit by %s "
+                           "(render.lighting.kind %s)",
+                           lumis__lighting_lit_by(l->kind), lumis_lighting_kind_name(l->kind));
+    if (s->lights && (l->light_set.set || l->light_set.regions))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: render.lighting.light_set.%s: given, and lights makes the "
+                           "set: give one or the other",
+                           l->light_set.set ? "set" : "regions");
+    if (s->lights && !s->render.camera)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: render.camera: missing: a light set's session needs it");
+    return lumis__lighting_check(&s->render, s->lights != NULL);
+}
+
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *s,
                                   lumis_image **out, lumis_session_result *result)
 {
@@ -427,26 +474,12 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     *out = NULL;
     if (!s || !scene) return LUMIS_ERR_INVALID_ARGUMENT;
     const lumis_error_sink *errors = &s->render.errors;
+    const lumis_status cst = lumis_session_check(s);
+    if (cst != LUMIS_OK) return cst;
     const int wu =
         s->lights && lumis_lights_method_from_name(s->lights) == LUMIS_LIGHTS_DECOMPOSITION;
-    if (s->lights && !lumis_lights_method_from_name(s->lights))
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "session: unknown light-set method '%s'", s->lights);
-    if (!isfinite(s->time_budget) || s->time_budget < 0.0 || !isfinite(s->spent) ||
-        s->lights_k < 0 || s->interleave < 0 || s->upsample < 0 || s->timed_spp < 0 ||
-        (s->lights && !s->render.env) || (s->upsample > 1 && !wu) ||
-        (s->lights && !s->render.camera))
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "session: needs a finite budget >= 0, non-negative counts, a map and "
-                           "a camera for a light set, and upsampling only with Wu's method");
-    if ((unsigned)s->lights_mode >= LUMIS_LIGHTS_MODE_COUNT)
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT, "session: unknown lights mode %d",
-                           (int)s->lights_mode);
-    if (s->share_spp < 0 || (s->share_spp > 0 && s->time_budget > 0.0))
-        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "session: a share of a render is a number of samples (share_spp "
-                           ">= 0), not a time budget");
-    const int stratified = s->lights && s->lights_mode == LUMIS_LIGHTS_STRATIFIED;
+    const int stratified = s->render.lighting.kind == LUMIS_LIGHTING_LIGHT_SET &&
+                           s->render.lighting.light_set.mode == LUMIS_LIGHTS_STRATIFIED;
     /* the joint-bilateral filter is a bias: strata, which converge, go without it unless
      * asked */
     const int factor = wu ? (s->upsample ? s->upsample : stratified ? 1 : 2) : 1;
@@ -456,10 +489,6 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     const int timed_spp = s->timed_spp ? s->timed_spp : 4;
     const double B = s->time_budget;
     lumis_render_desc rd = s->render;
-    rd.light_set = NULL;
-    rd.light_kinds = 0;
-    rd.lights_mode = stratified ? LUMIS_LIGHTS_STRATIFIED : LUMIS_LIGHTS_POINT;
-    rd.regions = NULL;
     /* strata: 32 measured best from 0.25 s to 4 s (docs/results/convergence) */
     int k = s->lights_k ? s->lights_k : stratified ? 32 : 64;
     r->prep_seconds = s->spent;
@@ -481,14 +510,16 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     memset(&u, 0, sizeof u);
     for (int attempt = 0;; attempt++) {
         const double tg = now(), prep_before = r->prep_seconds;
-        if (s->lights && (st = lumis_lights_by_name(rd.env, s->lights, k, s->interleave,
+        if (s->lights && (st = lumis_lights_by_name(rd.lighting.env, s->lights, k, s->interleave,
                                                     s->lights_params, errors, &lights)) != LUMIS_OK)
             break;
-        rd.light_set = lights;
-        if (stratified &&
-            (st = lumis_region_sampler_create(rd.env, lights, errors, &regions)) != LUMIS_OK)
-            break;
-        rd.regions = regions;
+        if (s->lights) { /* the session's own set (and strata): the caller gave none */
+            rd.lighting.light_set.set = lights;
+            if (stratified && (st = lumis_region_sampler_create(rd.lighting.env, lights, errors,
+                                                                &regions)) != LUMIS_OK)
+                break;
+            rd.lighting.light_set.regions = regions;
+        }
         if ((st = unit_create(scene, &rd, factor, &u)) != LUMIS_OK) break;
         /* the G-buffers (u.join_seconds) are render time: in the stats, not here */
         r->prep_seconds += now() - tg - u.join_seconds;
@@ -511,7 +542,7 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         if (st != LUMIS_OK || !k_fills_time || attempt > 0 || r->budget_used_seconds > 0.6 * B)
             break;
         const double rest = B - r->budget_used_seconds, g = r->prep_seconds - prep_before;
-        const int k2 = clamp_k(k * rest / (T + g > 1e-9 ? T + g : 1e-9), rd.env);
+        const int k2 = clamp_k(k * rest / (T + g > 1e-9 ? T + g : 1e-9), rd.lighting.env);
         if (k2 <= k) break;
         rendered += T;
         r->render_wall_seconds += u.run_wall;

@@ -66,13 +66,34 @@ typedef struct lumis__vertex {
     double *shadow_rays; /* add the shadow rays traced */
 } lumis__vertex;
 
+/* What a light kind may use of a render description (lighting.c checks them). */
+enum {
+    LUMIS__IN_SAMPLER = 1u << 0,        /* lighting.sampler */
+    LUMIS__IN_EST_LIGHT = 1u << 1,      /* lighting.estimator LIGHT */
+    LUMIS__IN_EST_BSDF = 1u << 2,       /* lighting.estimator BSDF */
+    LUMIS__IN_SET = 1u << 3,            /* lighting.light_set.set */
+    LUMIS__IN_SET_KINDS = 1u << 4,      /* lighting.light_set.kinds */
+    LUMIS__IN_SET_MODE = 1u << 5,       /* lighting.light_set.mode stratified */
+    LUMIS__IN_REGIONS = 1u << 6,        /* lighting.light_set.regions */
+    LUMIS__IN_LUMINAIRES = 1u << 7,     /* lighting.luminaires */
+    LUMIS__IN_PHOTOMETRIC = 1u << 8,    /* lighting.photometric */
+    LUMIS__IN_ENV = 1u << 9,            /* lighting.env */
+    LUMIS__IN_HIDE = 1u << 10,          /* lighting.hide_environment */
+    LUMIS__IN_POWER = 1u << 11,         /* power_heuristic */
+    LUMIS__IN_LIGHT_SAMPLES = 1u << 12, /* light_samples */
+    LUMIS__IN_BSDF_SAMPLES = 1u << 13,  /* bsdf_samples */
+    LUMIS__IN_BOUNCES = 1u << 14,       /* max_bounces > 0 */
+    LUMIS__IN_COUNT = 15
+};
+
 /* The renderer's light interface: a kind of light is one file and one entry of render.c's
- * table (the first whose lights() is true lights the render).  Optional entries are NULL. */
+ * table, indexed by lumis_lighting_kind.  Optional entries are NULL. */
 typedef struct lumis__light_kind {
-    const char *name;
-    /* 1 when d asks for this kind */
-    int (*lights)(const lumis_render_desc *d);
-    /* Checks d and makes the kind's state (freed by release, also after a failure) */
+    const char *name; /* what lights the scene, for messages: "luminaires" */
+    /* What the kind needs (must be given) and takes (may be given) of LUMIS__IN_* for l
+     * (a light set's needs and takes depend on its mode; the map's on the estimator). */
+    void (*inputs)(const lumis_lighting *l, unsigned *needs, unsigned *takes);
+    /* Makes the kind's state from a checked d (freed by release, also after a failure) */
     lumis_status (*prepare)(const lumis_scene *scene, const lumis_render_desc *d, void **state);
     void (*release)(void *state);
     /* Optional, around a lumis_render_job_run of `samples` camera samples: how many camera
@@ -93,6 +114,9 @@ extern const lumis__light_kind lumis__light_env;         /* light_env.c */
 extern const lumis__light_kind lumis__light_set_kind;    /* light_set.c */
 extern const lumis__light_kind lumis__light_luminaires;  /* light_luminaire.c */
 extern const lumis__light_kind lumis__light_photometric; /* light_photometric.c */
+
+/* The kind of d->lighting (d checked). */
+const lumis__light_kind *lumis__light_kind_of(const lumis_render_desc *d);
 
 enum { PACKET = LUMIS__PACKET };
 

@@ -118,9 +118,9 @@ static lumis_image *render_with(const lumis_scene *s, const lumis_envmap *env,
     lumis_render_desc d = {0};
     if (base) d = *base;
     d.camera = &cam;
-    d.env = env;
-    d.sampler = smp;
-    d.estimator = est;
+    d.lighting.env = env;
+    d.lighting.sampler = smp;
+    d.lighting.estimator = est;
     d.spp = spp;
     d.seed = seed;
     d.threads = threads;
@@ -180,8 +180,8 @@ static void shadow_ray_callback(void **state)
     for (int k = 0; k < 2; k++) {
         lumis_render_desc d = {0};
         d.camera = &cam;
-        d.env = env;
-        d.sampler = smp;
+        d.lighting.env = env;
+        d.lighting.sampler = smp;
         d.spp = 1 + k;
         d.threads = 1;
         d.shadow_ray = count_ray;
@@ -377,9 +377,9 @@ static void exact_irradiance(void **state)
         for (int r = 0; r < RUNS; r++) {
             lumis_render_desc d = {0};
             d.camera = &cam;
-            d.env = env;
-            d.sampler = smp;
-            d.estimator = LUMIS_ESTIMATOR_MIS;
+            d.lighting.env = env;
+            d.lighting.sampler = smp;
+            d.lighting.estimator = LUMIS_ESTIMATOR_MIS;
             d.light_samples = 3;
             d.bsdf_samples = 1;
             d.spp = 16;
@@ -435,23 +435,24 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
         for (int r = 0; r < RUNS; r++) {
             lumis_render_desc d = {0};
             d.camera = &cam;
-            d.env = env;
-            d.light_set = set;
-            d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
-            d.regions = r % 2 ? rs : NULL; /* made by the render, or given */
-            d.estimator = cases[c].est;
+            d.lighting.env = env;
+            d.lighting.light_set.set = set;
+            d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+            d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+            d.lighting.light_set.regions = r % 2 ? rs : NULL; /* made by the render, or given */
+            d.lighting.estimator = cases[c].est;
             d.power_heuristic = cases[c].power;
             d.sequence = cases[c].seq;
             d.spp = 16;
             d.seed = 500u + (unsigned)r;
             lumis_render_stats st;
-            if (cases[c].split) d.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
+            if (cases[c].split) d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
             assert_int_equal(lumis_render(s, &d, &imgs[r], &st), LUMIS_OK);
             assert_true(st.shadow_rays > 0.0);
             if (cases[c].split) {
                 lumis_image *other = NULL;
-                d.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
-                d.hide_environment = 1;
+                d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+                d.lighting.hide_environment = 1;
                 assert_int_equal(lumis_render(s, &d, &other, NULL), LUMIS_OK);
                 for (int k = 0; k < 3 * 24 * 24; k++) imgs[r]->pixels[k] += other->pixels[k];
                 lumis_image_destroy(other);
@@ -535,9 +536,10 @@ static void estimators_agree_and_threads_do_not_matter(void **state)
         for (int power = 0; power < 2; power++) {
             lumis_render_desc d = {0};
             d.camera = &cam;
-            d.env = env;
-            d.light_set = set;
-            d.lights_mode = LUMIS_LIGHTS_STRATIFIED;
+            d.lighting.env = env;
+            d.lighting.light_set.set = set;
+            d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+            d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
             d.power_heuristic = power;
             d.spp = 128;
             d.seed = 21;
@@ -570,8 +572,8 @@ static void passes_do_not_change_the_image(void **state)
     for (int q = 0; q < LUMIS_SEQUENCE_COUNT; q++) {
         lumis_render_desc d = {0};
         d.camera = &cam;
-        d.env = env;
-        d.sampler = smp;
+        d.lighting.env = env;
+        d.lighting.sampler = smp;
         d.spp = 8;
         d.seed = 3;
         d.sequence = (lumis_sequence)q;
@@ -736,9 +738,9 @@ static void integrating_sphere(void **state)
     for (int t = 0; t < 3; t++) {
         lumis_render_desc d = {0};
         d.camera = &inside;
-        d.env = env;
-        d.sampler = smp;
-        d.estimator = ests[t];
+        d.lighting.env = env;
+        d.lighting.sampler = smp;
+        d.lighting.estimator = ests[t];
         d.max_bounces = depths[t];
         d.spp = 256;
         d.seed = 11u + (unsigned)t;
@@ -799,9 +801,11 @@ static void light_set_lights_each_pixel_with_its_set(void **state)
     for (unsigned kinds = 0; kinds < 2; kinds++) {
         lumis_render_desc d = {0};
         d.camera = &down;
-        d.env = env;
-        d.light_set = set;
-        d.light_kinds = kinds ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0; /* median cut has none */
+        d.lighting.env = env;
+        d.lighting.light_set.set = set;
+        d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        d.lighting.light_set.kinds =
+            kinds ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0; /* median cut has none */
         d.spp = 2;
         lumis_image *img = NULL;
         lumis_render_stats st;
@@ -832,8 +836,9 @@ static void light_set_lights_each_pixel_with_its_set(void **state)
     }
     /* Path tracing is not a light set's: refused. */
     lumis_render_desc d = {0};
-    d.env = env;
-    d.light_set = set;
+    d.lighting.env = env;
+    d.lighting.light_set.set = set;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
     d.max_bounces = 1;
     lumis_render_job *job = NULL;
     assert_int_equal(lumis_render_job_create(s, &d, &job), LUMIS_ERR_INVALID_ARGUMENT);
@@ -865,8 +870,9 @@ static void light_set_shades_glossy_surfaces_with_their_bsdf(void **state)
     const lumis_camera view = {{1.5f, 5, 0.5f}, {0, 0, 0}, {0, 0, -1}, 0.2f, 8, 6};
     lumis_render_desc d = {0};
     d.camera = &view;
-    d.env = env;
-    d.light_set = set;
+    d.lighting.env = env;
+    d.lighting.light_set.set = set;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
     d.spp = 2;
     lumis_image *img = NULL;
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
@@ -976,8 +982,9 @@ static lumis_image *scene_light_set(const char *config)
     c.height = 30;
     lumis_render_desc d = {0};
     d.camera = &c;
-    d.env = env;
-    d.light_set = set;
+    d.lighting.env = env;
+    d.lighting.light_set.set = set;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
     d.spp = 2;
     d.threads = 1;
     lumis_image *img = NULL;
@@ -1282,7 +1289,8 @@ static void builtin_scenes_build(void **state)
     cam.height = 20;
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.luminaires = &ll;
+    d.lighting.luminaires = &ll;
+    d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
     d.spp = 1;
     lumis_image *img = NULL;
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
@@ -1434,8 +1442,8 @@ static void bad_scenes(void **state)
     lumis_camera bad_cam = {{0, 5, 0}, {0, 0, 0}, {0, 1, 0}, 40.0f, 8, 8};
     lumis_render_desc d = {0};
     d.camera = &bad_cam;
-    d.env = env;
-    d.estimator = LUMIS_ESTIMATOR_BSDF;
+    d.lighting.env = env;
+    d.lighting.estimator = LUMIS_ESTIMATOR_BSDF;
     d.errors = sink.sink;
     lumis_image *img = (lumis_image *)1;
     assert_int_equal(lumis_render(ok, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
@@ -1486,8 +1494,8 @@ static void render_session_equals_its_parts(void **state)
     assert_int_equal(lumis_sampler_create(env, NULL, &smp), LUMIS_OK);
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.env = env;
-    d.sampler = smp;
+    d.lighting.env = env;
+    d.lighting.sampler = smp;
     d.spp = 3;
     d.seed = 11;
     d.threads = 2;
@@ -1507,8 +1515,12 @@ static void render_session_equals_its_parts(void **state)
     /* median cut, K = 12, by name */
     lumis_light_set *set = NULL;
     assert_int_equal(lumis_lights_by_name(env, "median-cut", 12, 0, NULL, NULL, &set), LUMIS_OK);
-    d.light_set = set;
+    d.lighting.light_set.set = set;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    d.lighting.sampler = NULL; /* the set lights it */
     assert_int_equal(lumis_render(s, &d, &a, NULL), LUMIS_OK);
+    sess.render = d;
+    sess.render.lighting.light_set.set = NULL; /* the session makes it */
     sess.lights = "median-cut";
     sess.lights_k = 12;
     assert_int_equal(lumis_render_session(s, &sess, &b, &r), LUMIS_OK);
@@ -1523,10 +1535,10 @@ static void render_session_equals_its_parts(void **state)
     /* Wu, F = 2: EnvDirects at full resolution + EnvIndirects at 12 x 12, upsampled */
     assert_int_equal(lumis_lights_by_name(env, "wu", 12, 0, NULL, NULL, &set), LUMIS_OK);
     lumis_render_desc full = d, low = d;
-    full.light_set = low.light_set = set;
-    full.light_kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
-    low.light_kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
-    low.hide_environment = low.pixel_centers = 1;
+    full.lighting.light_set.set = low.lighting.light_set.set = set;
+    full.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_DIRECT;
+    low.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+    low.lighting.hide_environment = low.pixel_centers = 1;
     low.spp = 1;
     lumis_camera lc = cam;
     lc.width = lc.height = 12;
@@ -1598,7 +1610,8 @@ static void render_session_budget_holds(void **state)
     big.height = 240;
     lumis_session_desc sess = {0};
     sess.render.camera = &big;
-    sess.render.env = env;
+    sess.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    sess.render.lighting.env = env;
     sess.render.threads = 1;
     sess.lights = "wu";
     sess.time_budget = 0.01;
@@ -1634,7 +1647,7 @@ static void render_session_budget_holds(void **state)
     sd.height = 8;
     assert_int_equal(lumis_sky_create(&sd, &small), LUMIS_OK);
     lumis_envmap *env_small = env_of(small);
-    sess.render.env = env_small;
+    sess.render.lighting.env = env_small;
     sess.render.camera = &cam;
     sess.time_budget = 0.5;
     assert_int_equal(lumis_render_session(s, &sess, &img, &r), LUMIS_OK);

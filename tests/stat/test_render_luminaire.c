@@ -75,6 +75,9 @@ static lumis_scene *make_scene(const placement *x, const double *sphere, double 
     return s;
 }
 
+/* The sequence render_pixel renders with (0: the default). */
+static lumis_sequence pixel_sequence;
+
 /* A 1 x 1 image through the pixel's centre, which sees P from the side (above any sphere
  * of the tests). */
 static lumis_rgb render_pixel(const lumis_scene *s, const placement *x,
@@ -88,8 +91,10 @@ static lumis_rgb render_pixel(const lumis_scene *s, const placement *x,
                         1};
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.luminaires = ll;
+    d.lighting.luminaires = ll;
+    d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
     d.pixel_centers = 1;
+    d.sequence = pixel_sequence;
     d.spp = spp;
     d.seed = seed;
     d.threads = 1;
@@ -128,7 +133,7 @@ static void pixels_are_unbiased(void **state)
                 ll.count = 1;
                 ll.budget = 16;
                 ll.strategy = (lumis_luminaire_strategy)strategy;
-                ll.sequence = (lumis_sequence)seq;
+                pixel_sequence = (lumis_sequence)seq;
                 ll.visibility = LUMIS_VISIBILITY_NONE;
                 enum { RUNS = 32 };
                 double sum = 0.0, sum2 = 0.0;
@@ -142,7 +147,7 @@ static void pixels_are_unbiased(void **state)
                 if (!(fabs(mean - expect) <= 4.0 * se + 1e-6 * expect))
                     fail_msg("placement %d, %s, %s: mean %.6g, expected %.6g, se %.3g", w,
                              lumis_luminaire_strategy_name(ll.strategy),
-                             lumis_sequence_name(ll.sequence), mean, expect, se);
+                             lumis_sequence_name(pixel_sequence), mean, expect, se);
                 /* Restricted sampling is far better than 30% relative error per run here. */
                 if (strategy == LUMIS_LUM_RESTRICTED) assert_true(se * sqrt(RUNS) < 0.3 * expect);
             }
@@ -268,7 +273,8 @@ static void passes_and_threads_do_not_matter(void **state)
         ll.strategy = (lumis_luminaire_strategy)strategy;
         lumis_render_desc d = {0};
         d.camera = &cam;
-        d.luminaires = &ll;
+        d.lighting.luminaires = &ll;
+        d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
         d.seed = 3;
         d.threads = 1;
         d.spp = 6;
@@ -320,7 +326,8 @@ static void bad_lighting(void **state)
     const char *msg = sink.last;
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.luminaires = &ll;
+    d.lighting.luminaires = &ll;
+    d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
     d.spp = 1;
     d.errors = sink.sink;
     lumis_render_job *job = NULL;

@@ -82,9 +82,10 @@ static lumis_image *render(const lumis_scene *s, const lumis_photometric_instanc
     lumis_photometric_lighting pl = {in, n};
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.photometric = &pl;
+    d.lighting.photometric = &pl;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
     d.spp = spp;
-    d.estimator = est;
+    d.lighting.estimator = est;
     d.pixel_centers = centers;
     d.seed = seed;
     d.threads = 1;
@@ -360,7 +361,8 @@ static void rectangles_estimators_and_refusals(void **state)
         lumis_photometric_lighting pl = {&in, 1};
         lumis_render_desc d = {0};
         d.camera = &cam;
-        d.photometric = &pl;
+        d.lighting.photometric = &pl;
+        d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
         d.spp = 64;
         d.power_heuristic = 1;
         d.light_samples = 2;
@@ -397,7 +399,8 @@ static void rectangles_estimators_and_refusals(void **state)
     lumis_photometric_lighting pl = {&bad, 1};
     lumis_render_desc d = {0};
     d.camera = &cam;
-    d.photometric = &pl;
+    d.lighting.photometric = &pl;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
     d.spp = 1;
     lumis_image *img = NULL;
     bad.photometric = NULL;
@@ -885,7 +888,8 @@ static lumis_image *render_above(const lumis_scene *s, const lumis_photometric_i
     lumis_photometric_lighting pl = {in, 1};
     lumis_render_desc d = {0};
     d.camera = &top;
-    d.photometric = &pl;
+    d.lighting.photometric = &pl;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
     d.spp = 1;
     d.pixel_centers = 1;
     d.threads = 1;

@@ -38,8 +38,9 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->scene_path = sc->spec;
     else
         o->scene_name = sc->spec;
-    /* a built-in scene lit by its luminaire (headlight): the map and the method's light set
-     * or BSDF-only choice change nothing there (docs/bench.md), and render refuses them */
+    /* a built-in scene lit by its luminaire (headlight): the map and the method's light set,
+     * estimator and sample counts change nothing there (docs/bench.md), and render refuses
+     * them (lumis_session_check) */
     const int self_lit = !sc->is_file && lumis_scene_builtin_luminaire_spec(sc->spec) != NULL;
     o->envspec = self_lit ? NULL : s->maps[it->map].spec;
     o->env_image = self_lit ? NULL : c->images[it->map];
@@ -49,15 +50,17 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->sampler = m->sampler;
     o->bsdf_only = self_lit ? 0 : m->bsdf_only;
     o->lights = m->lights[0] && !self_lit ? m->lights : NULL;
-    o->lights_mode = m->lights_mode;
-    o->lights_k = m->lights_k;
-    o->interleave = m->interleave;
-    o->lights_params = m->lights_params;
-    o->upsample = m->upsample;
-    o->rd.estimator = m->estimator;
-    o->rd.power_heuristic = m->power;
-    o->rd.light_samples = m->light_samples;
-    o->rd.bsdf_samples = m->bsdf_samples;
+    if (!self_lit) {
+        o->lights_mode = m->lights_mode;
+        o->lights_k = m->lights_k;
+        o->interleave = m->interleave;
+        o->lights_params = m->lights_params;
+        o->upsample = m->upsample;
+        o->rd.lighting.estimator = m->estimator;
+        o->rd.power_heuristic = m->power;
+        o->rd.light_samples = m->light_samples;
+        o->rd.bsdf_samples = m->bsdf_samples;
+    }
     o->rd.seed = s->seed;
     o->rd.sequence = m->sequence;
     o->rd.threads = c->threads;

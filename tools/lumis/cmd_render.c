@@ -134,7 +134,7 @@ int cmd_render(int argc, char **argv)
     o.argv = argv;
     const char *v, *png_only = NULL, *mis = NULL;
     const char *sampler_opt = NULL; /* --method or --blocks, if given */
-    int spp_given = 0, lights_mode_given = 0;
+    int spp_given = 0;
     for (int i = 1; i < argc; i++) {
         long x;
         double d;
@@ -163,7 +163,6 @@ int cmd_render(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--lights-mode", &v)) {
             if (!v || lumis_lights_mode_from_name(v, &o.lights_mode) != LUMIS_OK)
                 return tool_bad_value("render", "--lights-mode", v, "must be point or stratified");
-            lights_mode_given = 1;
         } else if (tool_option(argc, argv, &i, "--lights-k", &v)) {
             if (!tool_parse_int(v, 1, 1 << 20, &x))
                 return tool_bad_value("render", "--lights-k", v, "needs a count in [1, 2^20]");
@@ -258,7 +257,7 @@ int cmd_render(int argc, char **argv)
             else if (v && strcmp(v, "power") == 0)
                 o.rd.power_heuristic = 1;
             else if (v && strcmp(v, "none") == 0)
-                o.rd.estimator = LUMIS_ESTIMATOR_LIGHT;
+                o.rd.lighting.estimator = LUMIS_ESTIMATOR_LIGHT;
             else
                 return tool_bad_value("render", "--mis", v, "must be balance, power or none");
         } else if (tool_option(argc, argv, &i, "--light-samples", &v)) {
@@ -367,8 +366,6 @@ int cmd_render(int argc, char **argv)
     if (o.passes > (o.rd.spp ? o.rd.spp : 16))
         return tool_usage_error("render", "--passes %d/%d: more shares than the %d samples",
                                 o.pass_index, o.passes, o.rd.spp ? o.rd.spp : 16);
-    if (lights_mode_given && !o.lights)
-        return tool_usage_error("render", "--lights-mode needs --lights METHOD");
     if (o.lights && o.time_budget > 0.0 && o.lights_k && spp_given)
         return tool_usage_error("render", "--lights-k K with --time fills the time with "
                                           "samples: --spp does not apply");
@@ -376,51 +373,13 @@ int cmd_render(int argc, char **argv)
     if (png_only && !o.png)
         return tool_usage_error("render", "%s applies to the PNG preview: give --png OUT.png",
                                 png_only);
-    if (o.upsample && !(o.lights && tool_lights_method_is_wu(o.lights)))
-        return tool_usage_error("render",
-                                "--upsample applies to Wu's decomposition (--lights wu...)");
-    if ((o.lights_k || o.interleave || o.lights_params.given) && !o.lights)
-        return tool_usage_error("render", "--lights-k, --interleave and --lights-param need "
-                                          "--lights METHOD");
     if (o.lights) {
         const int prc =
             tool_light_params_check(&o.lights_params, "render", "--lights-param", o.lights);
         if (prc != EXIT_OK) return prc;
     }
-    /* Options that do not apply are refused at once, before a luminaire is acquired. */
-    if (o.lights && sampler_opt && !o.bsdf_only)
-        return tool_usage_error("render",
-                                "%s: --lights replaces the map's sampler with a light "
-                                "set (it does not apply)",
-                                sampler_opt);
-    if (lumis_scene_builtin_has_luminaires(o.scene_name) || o.luminaire) {
-        const char *no = sampler_opt          ? sampler_opt
-                         : mis                ? "--mis"
-                         : o.envspec          ? "--env"
-                         : o.lights           ? "--lights"
-                         : o.rd.light_samples ? "--light-samples"
-                         : o.rd.bsdf_samples  ? "--bsdf-samples"
-                                              : NULL;
-        if (no)
-            return tool_usage_error("render",
-                                    "%s: the scene is lit by its luminaires, not by a map "
-                                    "(it does not apply)",
-                                    no);
-        if (o.rd.max_bounces > 0)
-            return tool_usage_error("render", "--bounces: luminaires light direct illumination "
-                                              "only");
-    }
-    if (o.lights && !stratified && (mis || o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
-        return tool_usage_error("render", "--lights sums every light of a set: --method bsdf, "
-                                          "--mis, --light-samples and --bsdf-samples do not apply "
-                                          "(the stratified mode takes --mis)");
-    if (stratified && (o.bsdf_only || o.rd.light_samples || o.rd.bsdf_samples))
-        return tool_usage_error("render", "--lights-mode stratified draws one direction in every "
-                                          "region and one BSDF sample: --method bsdf, "
-                                          "--light-samples and --bsdf-samples do not apply");
-    if (o.lights && !stratified && o.rd.max_bounces > 0)
-        return tool_usage_error("render", "--lights in point mode lights direct illumination "
-                                          "only (no --bounces; the stratified mode path traces)");
+    /* Which choices go together is the library's to say (lumis_session_check, when the
+     * scene is loaded: tool_render); here only flags that contradict each other. */
     if (mis && o.bsdf_only)
         return tool_usage_error("render",
                                 "--mis %s: --method bsdf samples the BSDF only and "
@@ -433,10 +392,7 @@ int cmd_render(int argc, char **argv)
                                           "need --fixture FILE");
     if (o.fixture && !o.fixture_at_given)
         return tool_usage_error("render", "--fixture %s needs --fixture-at X,Y,Z", o.fixture);
-    if (o.fixture && (o.lights || o.envspec || o.bsdf_only || o.luminaire))
-        return tool_usage_error("render",
-                                "--fixture lights the scene by itself: not with --lights, --env, "
-                                "--method bsdf or --luminaire");
+    o.sampler_opt = o.bsdf_only ? NULL : sampler_opt;
     tool_render_result r;
     int rc = tool_render(&o, &r);
     lumis_image_destroy(r.image);

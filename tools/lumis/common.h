@@ -206,6 +206,8 @@ typedef struct tool_render_opts {
     lumis_replaced env_image_replaced;   /* what loading env_image replaced (the sidecar's) */
     float rotation_deg, scale;           /* of envspec when given */
     lumis_sampler_desc sampler;
+    const char *sampler_opt; /* --method (not bsdf) or --blocks, if given: a sampler is built
+                                whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
     const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
     lumis_lights_mode lights_mode;    /* --lights-mode: point (0) or stratified */

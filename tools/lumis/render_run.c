@@ -18,6 +18,34 @@
 
 /* ---- the run --------------------------------------------------------------------------- */
 
+/* The fields lumis_session_check names, and the options that set them. */
+static const struct {
+    const char *field, *options;
+} field_options[] = {
+    {"lighting.sampler", "--method, --blocks"},
+    {"lighting.estimator", "--mis none, --method bsdf"},
+    {"lighting.light_set.mode", "--lights-mode"},
+    {"lighting.luminaires", "--luminaire, --lum-*, --visibility"},
+    {"lighting.photometric", "--fixture"},
+    {"lighting.env", "--env"},
+    {"power_heuristic", "--mis power"},
+    {"light_samples", "--light-samples"},
+    {"bsdf_samples", "--bsdf-samples"},
+    {"max_bounces", "--bounces"},
+    {"session: lights:", "--lights"},
+    {"lights_k", "--lights-k"},
+    {"interleave", "--interleave"},
+    {"lights_params", "--lights-param"},
+    {"upsample", "--upsample"},
+};
+
+/* The library's refusal, kept to be said with the options that gave the field. */
+static void keep_message(void *user, lumis_status status, const char *message)
+{
+    (void)status;
+    snprintf((char *)user, 512, "%s", message);
+}
+
 /* The session's passes, for the progress bar. */
 static void on_pass(void *user, int spp)
 {
@@ -58,11 +86,6 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_luminaire_choice *chosen = NULL; /* auto: what the render chose, per luminaire */
     lumis_photometric_instance cli_instance;
     memset(&cli_instance, 0, sizeof cli_instance);
-    if (o->fixture && lum) {
-        lumis_scene_file_destroy(file);
-        lumis_luminaire_destroy(replacement);
-        return tool_usage_error(cmd, "--fixture: the scene is lit by its luminaires");
-    }
     const int fixtures = !lum && (file->photometric_count > 0 || o->fixture),
               self_lit = lum || fixtures;
     if (!lum && file->luminaires_listed > 0) { /* not the default sky instead */
@@ -85,22 +108,6 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                 "luminaires is lit by them alone\n",
                 o->scene_path ? o->scene_path : o->scene_name, file->photometric_count,
                 file->photometric_count == 1 ? "" : "s");
-    const char *clash = o->envspec     ? "--env"
-                        : o->lights    ? "--lights"
-                        : o->bsdf_only ? "--method bsdf"
-                                       : NULL;
-    if (self_lit && clash) {
-        lumis_scene_file_destroy(file);
-        lumis_luminaire_destroy(replacement);
-        return tool_usage_error(cmd, "%s: the scene is lit by its %s, not by a map", clash,
-                                lum ? "luminaires" : "photometric fixtures");
-    }
-    if (!lum && o->lum_option) {
-        lumis_scene_file_destroy(file);
-        lumis_luminaire_destroy(replacement);
-        return tool_usage_error(
-            cmd, "%s applies to scenes with luminaires (e.g. --scene headlight)", o->lum_option);
-    }
     if (o->luminaire && !lum) {
         lumis_scene_file_destroy(file);
         lumis_luminaire_destroy(replacement);
@@ -109,9 +116,12 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                                 "headlight)",
                                 o->luminaire);
     }
-    const char *envspec = self_lit     ? NULL
-                          : o->envspec ? o->envspec
-                                       : (file->env_map[0] ? file->env_map : "sky");
+    /* The map lights the scene, unless it lights itself; a map or a sampler asked for
+     * regardless is made and given, for lumis_session_check to refuse by name. */
+    const char *envspec = o->envspec ? o->envspec
+                          : self_lit && !o->sampler_opt
+                              ? NULL
+                              : (file->env_map[0] ? file->env_map : "sky");
     char sidecar[4096] = "";
     if (o->out && (!o->sidecar || o->sidecar[0])) {
         if (o->sidecar)
@@ -172,19 +182,22 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_scene *scene = NULL;
     rc = EXIT_RUNTIME;
     const lumis_image *preloaded = o->envspec ? o->env_image : file->env_image;
-    if (!self_lit && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
+    if (envspec && preloaded && !o->envspec) { /* the scene file's map: counted by its reader */
         r->env_replaced = file->env_info.replaced;
         tool_warn_replaced(envspec, r->env_replaced, preloaded);
-    } else if (!self_lit && preloaded) { /* the caller's (lumis bench): it warned when it read it */
+    } else if (envspec && preloaded) { /* the caller's (lumis bench): it warned when it read it */
         r->env_replaced = o->env_image_replaced;
     }
-    if (!self_lit &&
+    if (envspec &&
         tool_make_envmap(envspec, preloaded, rotation, scale, &env, &r->env_replaced) != LUMIS_OK)
         goto done;
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
-    /* A light set or luminaires light the scene by themselves: no sampler is built. */
-    if (!self_lit && !o->lights && lumis_sampler_create(env, &sd, &smp) != LUMIS_OK) goto done;
+    /* A light set, luminaires or fixtures light the scene by themselves: no sampler is
+     * built unless asked for. */
+    if (((!self_lit && !o->lights) || o->sampler_opt) &&
+        lumis_sampler_create(env, &sd, &smp) != LUMIS_OK)
+        goto done;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds = tool_now_seconds() - t0 - (smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0);
     double t1 = tool_now_seconds();
@@ -198,9 +211,15 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     pg.budget = o->time_budget;
     lumis_render_desc rd = o->rd;
     rd.camera = &cam;
-    rd.env = env;
-    rd.sampler = smp;
-    rd.light_set = lights;
+    /* The flags as one lighting value: the kind the scene and the flags choose, and every
+     * field a flag gave (lumis_session_check refuses what the kind does not take). */
+    rd.lighting.kind = lum         ? LUMIS_LIGHTING_LUMINAIRES
+                       : fixtures  ? LUMIS_LIGHTING_PHOTOMETRIC
+                       : o->lights ? LUMIS_LIGHTING_LIGHT_SET
+                                   : LUMIS_LIGHTING_ENV;
+    rd.lighting.env = env;
+    rd.lighting.sampler = smp;
+    rd.lighting.light_set.mode = o->lights_mode;
     rd.errors = tool_errors;
     /* --luminaire: every placed luminaire of the scene replaced by that one. */
     for (int k = 0; replacement && k < file->luminaire_count; k++)
@@ -216,7 +235,7 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         lighting.chosen = chosen;
     }
     lighting.count = file->luminaire_count;
-    rd.luminaires = lum ? &lighting : NULL;
+    rd.lighting.luminaires = lum || o->lum_option ? &lighting : NULL;
     lumis_photometric_lighting fixture_lighting = {file->photometrics, file->photometric_count};
     if (o->fixture) {
         if (lumis_photometric_read(o->fixture, &tool_errors, &cli_fixture) != LUMIS_OK) goto done;
@@ -250,8 +269,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
         fixture_lighting.instances = &cli_instance;
         fixture_lighting.count = 1;
     }
-    rd.photometric = fixtures ? &fixture_lighting : NULL;
-    if (o->bsdf_only) rd.estimator = LUMIS_ESTIMATOR_BSDF;
+    rd.lighting.photometric = fixtures || o->fixture ? &fixture_lighting : NULL;
+    if (o->bsdf_only) rd.lighting.estimator = LUMIS_ESTIMATOR_BSDF;
     if (pg.enabled) {
         rd.progress = tool_on_progress;
         rd.progress_user = &pg;
@@ -262,10 +281,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     lumis_session_desc sess = {0};
     sess.render = rd;
     sess.lights = o->lights;
-    sess.lights_mode = o->lights_mode;
     sess.lights_k = o->lights_k;
     sess.interleave = o->interleave;
-    sess.lights_params = &o->lights_params;
+    sess.lights_params = o->lights_params.given ? &o->lights_params : NULL;
     sess.upsample = o->upsample;
     sess.time_budget = o->time_budget;
     sess.spent = smp ? lumis_sampler_build_ms(smp) / 1000.0 : 0.0;
@@ -275,6 +293,18 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
     }
     sess.pass_done = on_pass;
     sess.pass_done_user = &pg;
+    /* The library alone says which choices do not go together (a usage error here). */
+    char refusal[512] = "";
+    lumis_session_desc checked = sess;
+    checked.render.errors = (lumis_error_sink){keep_message, refusal};
+    if (lumis_session_check(&checked) != LUMIS_OK) {
+        const char *by = NULL;
+        for (size_t k = 0; !by && k < sizeof field_options / sizeof *field_options; k++)
+            if (strstr(refusal, field_options[k].field)) by = field_options[k].options;
+        rc = by ? tool_usage_error(cmd, "%s [%s]", refusal, by)
+                : tool_usage_error(cmd, "%s", refusal);
+        goto done;
+    }
     lumis_session_result sr;
     st = lumis_render_session(scene, &sess, &r->image, &sr);
     lights = sr.light_set;
@@ -379,8 +409,9 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                      budget, lumis_visibility_name(o->lum.visibility),
                      lumis_sequence_name(lumis_sequence_resolve(o->rd.sequence)));
         else if (fixtures)
-            snprintf(how, sizeof how, "%d photometric fixture%s, %s", rd.photometric->count,
-                     rd.photometric->count > 1 ? "s" : "", tool_estimator_name(&rd));
+            snprintf(how, sizeof how, "%d photometric fixture%s, %s",
+                     rd.lighting.photometric->count, rd.lighting.photometric->count > 1 ? "s" : "",
+                     tool_estimator_name(&rd));
         else if (lights)
             snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s",
                      o->lights, lumis_light_set_get_info(lights)->count,
@@ -443,8 +474,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
          * brightest fixture's peak candela (a diffuse surface 100 m away with albedo 0.01
          * is 3e-7 of it, in cd/m^2), which leaves the tails of a beam aimed away. */
         double peak = 0.0, ymax = 0.0;
-        for (int k = 0; k < rd.photometric->count; k++) {
-            const lumis_photometric_instance *in = &rd.photometric->instances[k];
+        for (int k = 0; k < rd.lighting.photometric->count; k++) {
+            const lumis_photometric_instance *in = &rd.lighting.photometric->instances[k];
             lumis_photometric_info pi;
             lumis_photometric_get_info(in->photometric, &pi);
             const double c = pi.max_candela * (in->multiplier == 0 ? 1.0 : in->multiplier);
@@ -462,8 +493,8 @@ int tool_render(const tool_render_opts *o, tool_render_result *r)
                     "cd at the fixture's peak): the photometric fixture%s light%s nothing the "
                     "camera sees; check --fixture-at and --fixture-aim (or the scene's "
                     "positions, in metres) and the beam\n",
-                    ymax, peak, rd.photometric->count > 1 ? "s" : "",
-                    rd.photometric->count > 1 ? "" : "s");
+                    ymax, peak, rd.lighting.photometric->count > 1 ? "s" : "",
+                    rd.lighting.photometric->count > 1 ? "" : "s");
     }
     if (rc == EXIT_OK && !o->quiet && o->out) /* every file written, the sidecar's too */
         fprintf(stderr, "lumis: wrote %s%s%s%s%s\n", o->out, o->png ? ", " : "",

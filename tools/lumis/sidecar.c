@@ -44,9 +44,9 @@ void tool_k_limit_text(const tool_render_opts *o, const tool_render_result *r, c
 
 const char *tool_estimator_name(const lumis_render_desc *d)
 {
-    return d->estimator == LUMIS_ESTIMATOR_BSDF    ? "bsdf"
-           : d->estimator == LUMIS_ESTIMATOR_LIGHT ? "light"
-                                                   : "mis";
+    return d->lighting.estimator == LUMIS_ESTIMATOR_BSDF    ? "bsdf"
+           : d->lighting.estimator == LUMIS_ESTIMATOR_LIGHT ? "light"
+                                                            : "mis";
 }
 
 void tool_sidecar_path(const char *out, char *buf, size_t cap)
@@ -94,8 +94,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                        const lumis_scene_file *file, const lumis_camera *cam,
                        const tool_render_result *r)
 {
-    const int objects = file->object_count, lum = rd->luminaires != NULL,
-              fixtures = rd->photometric != NULL;
+    const int objects = file->object_count, lum = rd->lighting.luminaires != NULL,
+              fixtures = rd->lighting.photometric != NULL;
     const lumis_render_stats *s = &r->stats;
     cJSON *j = cJSON_CreateObject(), *x;
     char cmd[8192] = "lumis";
@@ -135,7 +135,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddNullToObject(j, "environment");
     }
     cJSON_AddStringToObject(j, "method",
-                            lum         ? lumis_luminaire_strategy_name(rd->luminaires->strategy)
+                            lum ? lumis_luminaire_strategy_name(rd->lighting.luminaires->strategy)
                             : fixtures  ? "photometric"
                             : o->lights ? o->lights
                             : o->bsdf_only
@@ -147,8 +147,8 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                                      : tool_estimator_name(rd));
     if (fixtures) { /* every fixture: its file, placement, multiplier, model and flux */
         cJSON *arr = cJSON_AddArrayToObject(j, "photometric");
-        for (int k = 0; k < rd->photometric->count; k++) {
-            const lumis_photometric_instance *in = &rd->photometric->instances[k];
+        for (int k = 0; k < rd->lighting.photometric->count; k++) {
+            const lumis_photometric_instance *in = &rd->lighting.photometric->instances[k];
             lumis_photometric_info pi;
             lumis_photometric_get_info(in->photometric, &pi);
             cJSON *e = cJSON_CreateObject();
@@ -169,7 +169,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddNullToObject(j, "photometric");
     }
     if (lum) {
-        const lumis_luminaire_lighting *ll = rd->luminaires;
+        const lumis_luminaire_lighting *ll = rd->lighting.luminaires;
         x = cJSON_AddObjectToObject(j, "luminaires");
         cJSON_AddNumberToObject(x, "count", ll->count);
         cJSON_AddStringToObject(x, "strategy", lumis_luminaire_strategy_name(ll->strategy));
@@ -264,7 +264,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     } else {
         cJSON_AddNullToObject(j, "lights");
     }
-    if (rd->estimator == LUMIS_ESTIMATOR_MIS)
+    if (rd->lighting.estimator == LUMIS_ESTIMATOR_MIS)
         cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
     else
         cJSON_AddNullToObject(j, "heuristic");
