@@ -3,6 +3,14 @@
  * and says why through the error sink when it has one; the BSDFs are zero, with zero
  * density, below the horizon. */
 /* Oracles:
+ * lumis_lighting_check — hand-worked: 32 incompatible or missing fields, one per condition, each
+ *     refused with its own message naming the field (lighting_check_names_the_field)
+ * lumis_session_check — hand-worked: the session's own options refused by name, then the
+ *     lighting's (lighting_check_names_the_field)
+ * lumis_lighting_kind_name — hand-worked: "light-set" for its kind; round trip of every kind
+ *     (lighting_check_names_the_field)
+ * lumis_lighting_kind_from_name — hand-worked: "sun" refused; round trip of every kind
+ *     (lighting_check_names_the_field)
  * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_envmap_create — error paths only: missing and absurd arguments refused (core_and_maps)
  * lumis_envmap_stats_compute — error paths only: missing and absurd arguments refused

@@ -216,8 +216,9 @@ typedef enum lumis_lighting_kind {
 } lumis_lighting_kind;
 
 /* "env", "light-set", "luminaires", "photometric". */
-const char *lumis_lighting_kind_name(lumis_lighting_kind kind);
-lumis_status lumis_lighting_kind_from_name(const char *name, lumis_lighting_kind *out);
+LUMIS_RENDER_API const char *lumis_lighting_kind_name(lumis_lighting_kind kind);
+LUMIS_RENDER_API lumis_status lumis_lighting_kind_from_name(const char *name,
+                                                            lumis_lighting_kind *out);
 
 /* A light set as the renderer's lights (kind light-set).  The set (and regions) must outlive
  * the render. */
@@ -305,7 +306,7 @@ typedef struct lumis_render_stats {
  * luminaires...).  LUMIS_ERR_INVALID_ARGUMENT with one message through desc->errors naming
  * the field, else LUMIS_OK.  Reads the fields only (a luminaire or fixture lighting's count
  * too); lumis_render_job_create calls it, a host may call it first to refuse early. */
-lumis_status lumis_lighting_check(const lumis_render_desc *desc);
+LUMIS_RENDER_API lumis_status lumis_lighting_check(const lumis_render_desc *desc);
 
 /* Renders desc->spp samples per pixel into a new image (linear radiance).  stats may be
  * NULL.  The same as a job run once with desc->spp samples. */
@@ -490,7 +491,7 @@ typedef struct lumis_session_result {
  * caller's, and render as lumis_lighting_check says (the set the session makes counts as
  * given).  LUMIS_ERR_INVALID_ARGUMENT with one message naming the field, else LUMIS_OK:
  * a host may call it to refuse before it loads or builds anything else. */
-lumis_status lumis_session_check(const lumis_session_desc *desc);
+LUMIS_RENDER_API lumis_status lumis_session_check(const lumis_session_desc *desc);
 
 /* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */
 LUMIS_RENDER_API lumis_status lumis_render_session(const lumis_scene *scene,
