@@ -96,8 +96,15 @@ class Map(Handle):
 
     @property
     def replaced(self):
-        """Channel values replaced by 0 when the map was built."""
-        return _replaced_dict(lib.lumis_envmap_replaced(self.ptr))
+        """Channel values replaced by 0 (NaN, infinite, negative): by the file's reader
+        (Map.read) and when the map was built."""
+        r = _replaced_dict(lib.lumis_envmap_replaced(self.ptr))
+        if self.read_info:
+            f = self.read_info["replaced"]
+            for k in ("nan", "inf", "negative", "negative_sum"):
+                r[k] += f[k]
+            r["negative_min"] = min(r["negative_min"], f["negative_min"])
+        return r
 
     def to_array(self):
         """The sanitized pixels, unscaled and unrotated: a new H x W x 3 float32 array, row 0
@@ -342,12 +349,13 @@ class LightSet(Handle):
 
     def _export(self, fn, path, set_index, frame, masks, source, container):
         sink = Sink()
-        keep = [cstr(self.method), cstr(self.params or "")]
-        src = cstr(source) if source else None
+        # the strings live as long as these cdata objects, until the call returns
+        method, params = ffi.new("char[]", cstr(self.method)), ffi.new("char[]", cstr(self.params or ""))
+        src = ffi.new("char[]", cstr(source)) if source else ffi.NULL
         opts = ffi.new("lumis_light_export_options *", {
-            "set_index": set_index, "masks": int(bool(masks)),
-            "source": src if src else ffi.NULL, "method": keep[0], "errors": sink.value,
-            "parameters": keep[1], "frame": _export_frame(frame), "container": container})
+            "set_index": set_index, "masks": int(bool(masks)), "source": src, "method": method,
+            "errors": sink.value, "parameters": params, "frame": _export_frame(frame),
+            "container": container})
         sink.check(fn(cstr(path), self.ptr, opts), path)
 
     def write_json(self, path, set_index=0, frame="engine", masks=False, source=None):
@@ -528,10 +536,14 @@ def delta_e(reference, test, exposure_ev=0.0, map=False):
     return (mean[0], m) if map else mean[0]
 
 
-def flip(reference, test, hdr=True, pixels_per_degree=0.0, map=False):
-    """Mean FLIP error: HDR-FLIP (default) or LDR-FLIP (hdr=False); with map=True also the
-    H x W error map."""
+def flip(reference, test, hdr=True, pixels_per_degree=0.0, map=False, exposure_ev=0.0):
+    """Mean FLIP error: HDR-FLIP (default) or LDR-FLIP (hdr=False, of the values x
+    2^exposure_ev, clamped to [0, 1] by the library); with map=True also the H x W error
+    map."""
     r, t = _pair(reference, test)
+    if not hdr and exposure_ev != 0.0:
+        k = np.float32(2.0 ** exposure_ev)
+        r, t = r * k, t * k
     sink = Sink()
     opts = ffi.new("lumis_flip_options *", {"pixels_per_degree": pixels_per_degree,
                                             "errors": sink.value})
@@ -551,10 +563,11 @@ def flip(reference, test, hdr=True, pixels_per_degree=0.0, map=False):
 
 
 def compare(reference, test, exposure_ev=0.0, relmse_epsilon=0.0):
-    """Every metric of `lumis compare --json`: rmse, relmse, psnr, lab_delta_e, flip_ldr,
-    flip_hdr (and mse)."""
+    """Every metric of `lumis compare --json --exposure EV`: rmse, relmse, psnr, lab_delta_e
+    and flip_ldr (display-referred: values x 2^exposure_ev clamped to [0, 1]), flip_hdr (and
+    mse)."""
     e = errors(reference, test, relmse_epsilon)
     return {"mse": e["mse"], "rmse": e["rmse"], "relmse": e["relmse"], "psnr": e["psnr"],
             "lab_delta_e": delta_e(reference, test, exposure_ev),
-            "flip_ldr": flip(reference, test, hdr=False),
+            "flip_ldr": flip(reference, test, hdr=False, exposure_ev=exposure_ev),
             "flip_hdr": flip(reference, test, hdr=True)}
