@@ -179,18 +179,26 @@ class Sampler(Handle):
     kdtree_alpha = property(lambda self: lib.lumis_sampler_kdtree_alpha(self.ptr))
     kdtree_blocks = property(lambda self: lib.lumis_sampler_kdtree_blocks(self.ptr))
 
-    def sample(self, u, radiance=False):
+    def sample(self, u, radiance=False, out=None):
         """Directions from N pairs of uniform numbers in [0, 1) (u: N x 2 float64; float32 is
         converted): (directions N x 3 float32, pdf N float32 per steradian), and the map's
-        radiance N x 3 with radiance=True.  One call of lumis_sampler_sample_n."""
+        radiance N x 3 with radiance=True.  One call of lumis_sampler_sample_n; the arrays
+        are strided views of one N x 7 block, as C wrote it (np.ascontiguousarray for a
+        packed copy).  out: an N x 7 float32 C-contiguous array to write into instead of a
+        new one (what a loop drawing batch after batch reuses: no fresh pages to fault in)."""
         uu = float_array(u, np.float64, (2,), "u")
         n = uu.shape[0]
-        out = np.empty((n, 7), dtype=_SAMPLE_DTYPE)
+        if out is None:
+            out = np.empty((n, 7), dtype=_SAMPLE_DTYPE)
+        elif not (isinstance(out, np.ndarray) and out.dtype == _SAMPLE_DTYPE and out.shape == (n, 7)
+                  and out.flags.c_contiguous and out.flags.writeable):
+            raise invalid("out: expected a writeable C-contiguous float32 array of shape (%d, 7)" % n)
         if n:
             lib.lumis_sampler_sample_n(self.ptr, ffi.cast("double *", ffi.from_buffer(uu)), n,
                                        ffi.cast("lumis_env_sample *", ffi.from_buffer(out)))
-        d, p = np.ascontiguousarray(out[:, 0:3]), np.ascontiguousarray(out[:, 3])
-        return (d, p, np.ascontiguousarray(out[:, 4:7])) if radiance else (d, p)
+        # views into the samples as C wrote them (7 floats a sample): no copy
+        d, p = out[:, 0:3], out[:, 3]
+        return (d, p, out[:, 4:7]) if radiance else (d, p)
 
     def pdf(self, directions, radiance=False):
         """Density per steradian of drawing each of N world directions (N x 3 float32, need
