@@ -29,9 +29,8 @@ def _candidate_dirs():
 
         dirs.append(os.path.normpath(os.path.join(_HERE, _install.LIBDIR_FROM_PACKAGE)))
     except ImportError:
-        pass
-    # the source tree's python/lumis: the build folder beside it (make, make run)
-    dirs.append(os.path.normpath(os.path.join(_HERE, "..", "..", "build")))
+        # the source tree's python/lumis: the build folder beside it (make, make run)
+        dirs.append(os.path.normpath(os.path.join(_HERE, "..", "..", "build")))
     return dirs, None
 
 
