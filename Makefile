@@ -42,11 +42,11 @@ release: deps
 	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) >/dev/null
 	cmake --build build-release -j$(JOBS)
 
-# run and install build the executable and its libraries only: the tests and benchmarks
-# take minutes more on a small machine.
+# run and install build the executable and its libraries only (with the shared ones the
+# Python package loads): the tests and benchmarks take minutes more on a small machine.
 run: deps
 	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
-	cmake --build build -j$(JOBS) --target lumis-cli
+	cmake --build build -j$(JOBS) --target lumis-cli lumis-python
 	./build/lumis demo
 
 test: build
@@ -133,7 +133,7 @@ bench: build
 install: deps
 	cmake -S . -B build-release -DCMAKE_BUILD_TYPE=Release -DLUMIS_WERROR=$(WERROR) \
 	  -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
-	cmake --build build-release -j$(JOBS) --target lumis-cli
+	cmake --build build-release -j$(JOBS) --target lumis-cli lumis-python
 	cmake --install build-release --prefix $(PREFIX)
 
 clean:

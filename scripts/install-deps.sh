@@ -3,8 +3,9 @@
 set -euo pipefail
 
 BASE=(build-essential cmake make pkg-config g++ libopenexr-dev libstb-dev libcjson-dev
-      libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3)
-DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr blender python3-numpy
+      libpng-dev libcmocka-dev libembree-dev libassimp-dev ca-certificates python3
+      python3-cffi python3-numpy python3-pytest)
+DEV=(clang libclang-rt-14-dev libomp-dev clang-format chromium valgrind gcovr blender
      python3-clang-14)
 SLURM=(slurm-wlm munge)
 
@@ -18,8 +19,9 @@ Install with apt-get the Debian packages that are missing:
   --dev         also the CI tools: ${DEV[*]}
                 (clang + libFuzzer for 'make fuzz', clang-format for 'make format-check',
                 chromium for the screenshot test of 'lumis bench' reports and the
-                three.js test of the light exports, blender and python3-numpy (its
-                glTF importer's) for their Blender test, valgrind for the memcheck
+                three.js test of the light exports, blender for their Blender test
+                (python3-numpy, its glTF importer's, is in the base set: the Python
+                package needs it too), valgrind for the memcheck
                 stage, scripts/memcheck.sh, gcovr for 'make coverage', python3-clang-14
                 for 'make mutate-diff' and 'make mutate-gen'), and nodejs
                 and npm unless the node and npm commands exist; the consumer tests'

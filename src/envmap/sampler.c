@@ -441,6 +441,31 @@ lumis_status lumis_sampler_invert(const lumis_sampler *s, lumis_vec3 dir, double
     return LUMIS_OK;
 }
 
+void lumis_sampler_pdf_n(const lumis_sampler *s, const lumis_vec3 *dirs, size_t n, float *pdf,
+                         lumis_rgb *radiance)
+{
+    for (size_t k = 0; k < n; k++) {
+        if (radiance)
+            pdf[k] = lumis_sampler_pdf_radiance(s, dirs[k], &radiance[k]);
+        else
+            pdf[k] = lumis_sampler_pdf(s, dirs[k]);
+    }
+}
+
+lumis_status lumis_sampler_invert_n(const lumis_sampler *s, const lumis_vec3 *dirs, size_t n,
+                                    double *u, size_t *failed)
+{
+    for (size_t k = 0; k < n; k++) {
+        lumis_status st = lumis_sampler_invert(s, dirs[k], u + 2 * k);
+        if (st != LUMIS_OK) {
+            if (failed) *failed = k;
+            return st;
+        }
+    }
+    if (failed) *failed = n;
+    return LUMIS_OK;
+}
+
 const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *s)
 {
     return s->env;

@@ -269,6 +269,36 @@ static void pdf_of_sample_matches(void **state)
                 lumis_env_sample e = lumis_sampler_sample(s, ub[2 * k], ub[2 * k + 1]);
                 assert_memory_equal(&e, &batch[k], sizeof e);
             }
+            /* The batched pdf and invert give the very numbers of the single calls; invert
+             * stops at the first direction it refuses and says which. */
+            lumis_vec3 bd[101];
+            float bp[101], bp2[101];
+            lumis_rgb br[101];
+            double bu[202];
+            for (int k = 0; k < 100; k++) bd[k] = batch[k].dir;
+            bd[100] = (lumis_vec3){0.0f, 0.0f, 0.0f};
+            lumis_sampler_pdf_n(s, bd, 101, bp, br);
+            lumis_sampler_pdf_n(s, bd, 101, bp2, NULL);
+            size_t failed = 0;
+            lumis_status inv = lumis_sampler_invert_n(s, bd, 101, bu, &failed);
+            double v0[2];
+            int invertible = lumis_sampler_invert(s, bd[0], v0) != LUMIS_ERR_UNSUPPORTED;
+            assert_int_equal(inv, invertible ? LUMIS_ERR_INVALID_ARGUMENT : LUMIS_ERR_UNSUPPORTED);
+            assert_int_equal(failed, inv == LUMIS_ERR_UNSUPPORTED ? 0 : 100);
+            for (int k = 0; k < 101; k++) {
+                lumis_rgb L;
+                float p = lumis_sampler_pdf_radiance(s, bd[k], &L);
+                assert_true(bp[k] == p && bp2[k] == p);
+                assert_memory_equal(&br[k], &L, sizeof L);
+                double v[2];
+                if (k < (int)failed) {
+                    assert_int_equal(lumis_sampler_invert(s, bd[k], v), LUMIS_OK);
+                    assert_memory_equal(v, &bu[2 * k], sizeof v);
+                }
+            }
+            assert_int_equal(lumis_sampler_invert_n(s, bd, 100, bu, &failed),
+                             inv == LUMIS_ERR_UNSUPPORTED ? LUMIS_ERR_UNSUPPORTED : LUMIS_OK);
+            assert_int_equal(failed, inv == LUMIS_ERR_UNSUPPORTED ? 0 : 100);
             /* The poles themselves: finite densities (uniform-in-angles grows as 1/sin). */
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, 1, 0})));
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, -1, 0})));
