@@ -119,14 +119,14 @@ LUMIS_API lumis_status lumis_sampler_invert(const lumis_sampler *sampler, lumis_
  * map's radiance there into radiance[0..n) (lumis_sampler_pdf_radiance): the very numbers
  * of n single calls, for a host that evaluates whole arrays in one call (the Python
  * package). */
-void lumis_sampler_pdf_n(const lumis_sampler *sampler, const lumis_vec3 *dirs, size_t n, float *pdf,
-                         lumis_rgb *radiance);
+LUMIS_API void lumis_sampler_pdf_n(const lumis_sampler *sampler, const lumis_vec3 *dirs, size_t n,
+                                   float *pdf, lumis_rgb *radiance);
 
 /* invert() of the n directions dirs[0..n) into u[0..2n) (pairs), as n single calls.  Stops
  * at the first direction invert() refuses and returns its status, with its index in *failed
  * (which may be NULL); LUMIS_OK and *failed == n when every direction went through. */
-lumis_status lumis_sampler_invert_n(const lumis_sampler *sampler, const lumis_vec3 *dirs, size_t n,
-                                    double *u, size_t *failed);
+LUMIS_API lumis_status lumis_sampler_invert_n(const lumis_sampler *sampler, const lumis_vec3 *dirs,
+                                              size_t n, double *u, size_t *failed);
 
 /* The envmap the sampler draws from (it holds a reference to it). */
 LUMIS_API const lumis_envmap *lumis_sampler_envmap(const lumis_sampler *sampler);

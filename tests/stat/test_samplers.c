@@ -8,6 +8,10 @@
  * the kd-tree's invariants, the uniform fallback on black maps, and per-pixel chi-square
  * on the real maps in data/ when they are there. */
 /* Oracles:
+ * lumis_sampler_pdf_n — consistency: equal to lumis_sampler_pdf direction by direction, with and
+ *     without radiance (pdf_of_sample_matches)
+ * lumis_sampler_invert_n — consistency: equal to lumis_sampler_invert, stops at the first refused
+ *     direction and names it (pdf_of_sample_matches)
  * lumis_sampler_create — statistical: every method on 7 synthetic and the real maps (below); error
  *     paths: bad descriptors (chi_square_goodness_of_fit, invalid_descriptors)
  * lumis_sampler_destroy — external: ASan sees the map kept alive and freed with its sampler
