@@ -37,6 +37,10 @@
  * lumis_photometric_get_ratings — closed form: a road light's forward and back zones I0 [pi/2
  *     (sin^2) ± 2b/3 (sin^3)]; a Lambertian's CIE flux code 43.75 75 93.75 100; LOR and efficacy
  *     from the file (forward_is_centred_on_c0, ratings_of_files)
+ * lumis_photometric_spacing_criterion — closed form: cos^n tables' 2 (2^(2/(n+3)) - 1)^(1/2), a
+ *     Lambertian's 1.2872, with unequal halves; the first crossing past a dip; not applicable
+ *     (semi-indirect, dark at nadir) and refused (type B, NULL, NaN)
+ *     (spacing_criterion_worked_by_hand)
  * lumis_photometric_bug — hand-worked: TM-15-11's thresholds, the lower rating at each maximum
  *     (bug_ratings_at_their_thresholds)
  * lumis_photometric_nema_type — hand-worked: NEMA types at their thresholds
@@ -1393,6 +1397,171 @@ static void forward_is_centred_on_c0(void **state)
     lumis_photometric_destroy(p);
 }
 
+/* A type C table of nv vertical angles from 0 (step dv), I = f(gamma, arg) in each of its nh
+ * planes h. */
+static lumis_photometric *table_c(int nv, double dv, double (*f)(double g, double arg), double arg,
+                                  int nh, const double *h)
+{
+    static double v[800], cd[3 * 800];
+    assert_true(nv <= 800 && nh <= 3);
+    for (int j = 0; j < nv; j++) v[j] = dv * j;
+    for (int i = 0; i < nh; i++)
+        for (int j = 0; j < nv; j++) cd[i * nv + j] = f(v[j] * PI / 180, arg);
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = nv;
+    d.nh = nh;
+    d.v_deg = v;
+    d.h_deg = h;
+    d.candela = cd;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    return p;
+}
+
+static double cos_n(double g, double n)
+{
+    return 1000 * pow(fmax(cos(g), 0.0), n);
+}
+
+/* 30 % of the flux downward, the rest up: CIE's semi-indirect */
+static double semi_indirect(double g, double arg)
+{
+    (void)arg;
+    return 1000 * fabs(cos(g)) * (g <= PI / 2 ? 0.43 : 1.0);
+}
+
+/* Spacing criterion worked by hand (docs/photometric.md): midway between two luminaires
+ * s = 2 h tan(g) apart each gives I(g) cos^3(g) / h^2, straight under one I0 / h^2.  For a
+ * cos^n distribution 2 cos^(n+3)(g) = 1: SC = 2 (2^(2/(n+3)) - 1)^(1/2), a Lambertian's
+ * 2 (sqrt 2 - 1)^(1/2) = 1.2872 (the reading "under one from both" would give 1.055). */
+static void spacing_criterion_worked_by_hand(void **state)
+{
+    (void)state;
+    const double h0[1] = {0}, h3[3] = {0, 90, 180};
+    const double ns[4] = {1, 2, 4, 10};
+    for (int k = 0; k < 4; k++) {
+        const double n = ns[k];
+        lumis_photometric *p = table_c(361, 0.25, cos_n, n, 1, h0);
+        const double want = 2 * sqrt(pow(2, 2 / (n + 3)) - 1);
+        for (int c = 0; c < 360; c += 45) {
+            double sc = 0;
+            assert_int_equal(lumis_photometric_spacing_criterion(p, c, &sc), LUMIS_OK);
+            if (fabs(sc - want) > 2e-5)
+                fail_msg("cos^%g at C%d: SC %.8f, want %.8f", n, c, sc, want);
+        }
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        assert_true(fabs(r.spacing[0] - want) < 2e-5 && fabs(r.spacing[1] - want) < 2e-5);
+        lumis_photometric_destroy(p);
+    }
+    /* C0 at twice C180's Lambertian (C90 at 1.5 times): midway 3 I0 cos^4 against the nadir
+     * mean 1.5 I0 along C0-C180, 1.5 + 1.5 along C90-C270: the Lambertian's 1.2872 in both
+     * (taking C0's nadir 2 I0 instead of the mean would give 2 (sqrt(3/2) - 1)^(1/2) = 0.95) */
+    {
+        static double v[361], cd[3 * 361];
+        for (int j = 0; j < 361; j++) {
+            v[j] = 0.25 * j;
+            const double l = 1000 * cos(v[j] * PI / 180);
+            cd[j] = 2 * l;
+            cd[361 + j] = 1.5 * l;
+            cd[722 + j] = l;
+        }
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 361;
+        d.nh = 3;
+        d.v_deg = v;
+        d.h_deg = h3;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        const double want = 2 * sqrt(sqrt(2) - 1);
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        if (fabs(r.spacing[0] - want) > 2e-5 || fabs(r.spacing[1] - want) > 2e-5)
+            fail_msg("asymmetric halves: SC %.8f %.8f, want %.8f", r.spacing[0], r.spacing[1],
+                     want);
+        lumis_photometric_destroy(p);
+    }
+    /* the first crossing from nadir, not a later one: 1000 cd to 10 deg, a dip to 300 cd at 20,
+     * 3000 cd at 30, nothing at 90.  Midway 2 I cos^3 is 1910 at 10 deg, 498 at 20: SC lies
+     * under 2 tan 20 = 0.728 and there 2 I(g) cos^3(g) = 1000 */
+    {
+        static const double v[5] = {0, 10, 20, 30, 90}, cd[5] = {1000, 1000, 300, 3000, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 5;
+        d.nh = 1;
+        d.v_deg = v;
+        d.h_deg = h0;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        double sc = 0;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc), LUMIS_OK);
+        const double g = atan(sc / 2), i = 1000 - 70 * (g * 180 / PI - 10);
+        if (!(sc > 2 * tan(10 * PI / 180) && sc < 2 * tan(20 * PI / 180)) ||
+            fabs(2 * i * pow(cos(g), 3) - 1000) > 1e-6)
+            fail_msg("dip: SC %.8f (gamma %.6f deg, balance %.9g)", sc, g * 180 / PI,
+                     2 * i * pow(cos(g), 3));
+        lumis_photometric_destroy(p);
+    }
+    /* not applicable: 0 */
+    {
+        lumis_photometric *p = table_c(181, 1, semi_indirect, 0, 1, h0);
+        lumis_photometric_info in = {0};
+        assert_int_equal(lumis_photometric_get_info(p, &in), LUMIS_OK);
+        assert_true(in.downward_fraction > 0.25 && in.downward_fraction < 0.4);
+        double sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc), LUMIS_OK);
+        assert_true(sc == 0);
+        lumis_photometric_destroy(p);
+        /* a batwing dark at nadir: all downward, no illuminance under it to compare with */
+        static const double v[3] = {0, 45, 90}, cd[3] = {0, 1000, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 3;
+        d.nh = 1;
+        d.v_deg = v;
+        d.h_deg = h0;
+        d.candela = cd;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 90, &sc), LUMIS_OK);
+        assert_true(sc == 0);
+        /* refused: NULL, no output, a non-finite plane */
+        assert_int_equal(lumis_photometric_spacing_criterion(NULL, 0, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_spacing_criterion(p, NAN, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_photometric_destroy(p);
+    }
+    /* a floodlight (type B): refused, and none in its ratings */
+    {
+        static const double hv[3] = {-90, 0, 90}, cd[9] = {0, 0, 0, 0, 1000, 0, 0, 0, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_B;
+        d.nv = 3;
+        d.nh = 3;
+        d.v_deg = hv;
+        d.h_deg = hv;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        double sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(sc == 0);
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        assert_true(r.spacing[0] == 0 && r.spacing[1] == 0);
+        lumis_photometric_destroy(p);
+    }
+}
+
 /* TM-15-11's thresholds: at each maximum the lower rating, just above it the next. */
 static void bug_ratings_at_their_thresholds(void **state)
 {
@@ -1554,6 +1723,7 @@ int main(void)
         cmocka_unit_test(zonal_flux_is_exact),
         cmocka_unit_test(forward_is_centred_on_c0),
         cmocka_unit_test(bug_ratings_at_their_thresholds),
+        cmocka_unit_test(spacing_criterion_worked_by_hand),
         cmocka_unit_test(ratings_of_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -119,6 +119,17 @@ static int write_svg(const char *path, const char *title, const lumis_photometri
     return tool_commit_tmp(t, path);
 }
 
+/* Why a table has no spacing criterion (lumis_photometric_spacing_criterion), or NULL. */
+static const char *spacing_not_applicable(const lumis_photometric_info *in,
+                                          const lumis_photometric_ratings *rt)
+{
+    if (in->type != LUMIS_PHOTOMETRIC_C)
+        return "a floodlight (type A or B): its spread on a work plane depends on its aim";
+    if (!(in->downward_fraction >= 0.4)) return "under 40 % of the flux goes downward";
+    if (rt->spacing[0] > 0 || rt->spacing[1] > 0) return NULL;
+    return "no light at nadir";
+}
+
 int tool_photometric_info(const char *path, int json, const char *svg)
 {
     lumis_photometric_file *f = NULL;
@@ -202,6 +213,16 @@ int tool_photometric_info(const char *path, int json, const char *svg)
             cJSON_AddNullToObject(j, "cie_flux_code");
             cJSON_AddNullToObject(j, "bug");
         }
+        /* spacing / mounting height in C0-C180 and C90-C270; null: not applicable, and why */
+        const char *no_sc = spacing_not_applicable(&in, &rt);
+        cJSON *sc = cJSON_AddArrayToObject(j, "spacing_criterion");
+        for (int k = 0; k < 2; k++)
+            cJSON_AddItemToArray(sc, rt.spacing[k] > 0 ? cJSON_CreateNumber(rt.spacing[k])
+                                                       : cJSON_CreateNull());
+        if (no_sc)
+            cJSON_AddStringToObject(j, "spacing_criterion_not_applicable", no_sc);
+        else
+            cJSON_AddNullToObject(j, "spacing_criterion_not_applicable");
         cJSON_AddBoolToObject(j, "tilt_included", f->tilt);
         if (f->warning[0])
             cJSON_AddStringToObject(j, "warning", f->warning);
@@ -262,6 +283,20 @@ int tool_photometric_info(const char *path, int json, const char *svg)
                    "FVH %.1f, up UL %.1f UH %.1f\n",
                    rt.bug[0], rt.bug[1], rt.bug[2], z->bl, z->bm, z->bh, z->bvh, z->fl, z->fm,
                    z->fh, z->fvh, z->ul, z->uh);
+        }
+        const char *no_sc = spacing_not_applicable(&in, &rt);
+        if (no_sc)
+            printf("  spacing criterion: not applicable, %s\n", no_sc);
+        else {
+            printf("  spacing criterion (spacing / mounting height):");
+            for (int k = 0; k < 2; k++) {
+                printf("%s %s ", k ? "," : "", k ? "C90-C270" : "C0-C180");
+                if (rt.spacing[k] > 0)
+                    printf("%.2f", rt.spacing[k]);
+                else
+                    printf("-");
+            }
+            printf("\n");
         }
         if (f->tilt)
             printf("  tilt: TILT=INCLUDE with %d angles (%g to %g deg, factors %g to %g), "
