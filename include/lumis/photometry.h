@@ -210,8 +210,8 @@ LUMIS_API lumis_status lumis_photometric_get_ratings(const lumis_photometric *p,
  * goes downward (CIE's semi-indirect and indirect classes: uplights) or I0 is 0.
  * LUMIS_ERR_INVALID_ARGUMENT for NULL, a type A or B table (a floodlight: its spread on a
  * work plane depends on its installed aim) or a non-finite c_deg. */
-lumis_status lumis_photometric_spacing_criterion(const lumis_photometric *p, double c_deg,
-                                                 double *sc);
+LUMIS_API lumis_status lumis_photometric_spacing_criterion(const lumis_photometric *p, double c_deg,
+                                                           double *sc);
 
 /* The BUG rating of TM-15-11 Addendum A's Tables A-1 to A-3 from the zone lumens: each of B,
  * U and G is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH;
