@@ -67,7 +67,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     "bsdf": no sampler), or, with `lights` (a light-set method), by lights_k lights in
     lights_mode ("point", "stratified") with lights_params (a dict or "NAME=VALUE,...").
     spp samples per pixel (0: 16), or time_budget seconds of wall time (the light set's
-    making included).  seed and sequence ("sobol", "pcg32", ...: where the numbers come from),
+    making included).  seed and sequence ("sobol", "halton", "pcg", ...: where the numbers come from),
     size (W, H) instead of the scene camera's, threads (0: every core), bounces (path
     tracing), light_samples, bsdf_samples, power_heuristic, hide_environment as the tool's
     options.  Refusals raise lumis.Error with the library's message."""
