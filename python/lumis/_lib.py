@@ -58,6 +58,22 @@ def _load():
             "LUMIS_LIBRARY_PATH at their folder." % (*_SONAMES, ", ".join(tried), e)) from e
 
 
+def _preload_tbb():
+    """TBB (Embree's task scheduler, which liblumis-render.so brings in) loaded before the
+    libraries, when the system has it.  Loaded after OpenMP's libgomp (which liblumis.so
+    needs), its teardown at exit runs while its threads still work, and the interpreter
+    segfaults on exit after any scene was built; loaded first, it is torn down last
+    (tests/python/test_render.py, test_the_interpreter_exits_cleanly_after_a_render)."""
+    import ctypes  # noqa: PLC0415
+    import ctypes.util  # noqa: PLC0415
+    name = ctypes.util.find_library("tbb")
+    try:
+        return ctypes.CDLL(name) if name else None
+    except OSError:
+        return None
+
+
+_tbb = _preload_tbb()
 lib, iolib, _libdir = _load()
 
 

@@ -120,3 +120,17 @@ def test_no_growth_over_repeated_renders():
     grown = rss_kib() - before
     # a leaked scene, map, sampler, light set or image per render is > 30 KiB: > 6 MB in all
     assert grown < 4096, "RSS grew by %d KiB over 200 renders" % grown
+
+
+def test_the_interpreter_exits_cleanly_after_a_render(root):
+    # Embree's TBB loaded after OpenMP's libgomp made every interpreter that built a scene
+    # segfault at exit (lumis/_lib.py, _preload_tbb)
+    import subprocess  # noqa: PLC0415
+    import sys  # noqa: PLC0415
+    code = ("import lumis; img, r = lumis.render('spheres', env='sky:32x16', size=(16, 12), "
+            "spp=1); print(img.shape)")
+    env = dict(os.environ, PYTHONPATH=os.path.join(root, "python") + os.pathsep +
+               os.environ.get("PYTHONPATH", ""))
+    for _ in range(3):
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (r.returncode, r.stderr)
