@@ -721,6 +721,25 @@ static void light_field_power_and_residual(void **state)
             1e-9 * lumis_photometric_intensity(p, side));
         if (k == 0) assert_true(rep.residual_share > 0.3); /* the uplight's is large */
         if (k == 1) assert_true(rep.residual_share > 0.001);
+        if (k == 2) {
+            /* The default cone is where 99.9 % of the flux is, plus 5 degrees: for cos^50,
+             * flux within g is proportional to 1 - cos^51 g, so the 99.9 % cone is
+             * acos(0.001^(1/51)) = 29.2 degrees (the table's 1-degree steps move it by
+             * less than 0.2). */
+            const double cone = acos(pow(0.001, 1.0 / 51.0)) * 180.0 / 3.14159265358979;
+            if (!(fabs(rep.max_angle_deg - (cone + 5.0)) < 0.2))
+                fail_msg("spot: default angle %g, want the 99.9 %% cone %g + 5", rep.max_angle_deg,
+                         cone);
+            /* one pixel per image asked for: one pixel per basis spacing, the fewest */
+            lumis_luminaire *small = NULL;
+            lumis_photometric_light_field_report rs;
+            lf.width = lf.height = 1;
+            assert_int_equal(lumis_luminaire_from_photometric(p, &lf, NULL, &small, &rs), LUMIS_OK);
+            if (rs.pixels_per_spacing[0] != 1 || rs.pixels_per_spacing[1] != 1)
+                fail_msg("spot, 1 x 1 pixels asked for: %d x %d pixels per spacing",
+                         rs.pixels_per_spacing[0], rs.pixels_per_spacing[1]);
+            lumis_luminaire_destroy(small);
+        }
         lumis_photometric_destroy(res);
         lumis_luminaire_destroy(lum);
     }
