@@ -1957,6 +1957,20 @@ static void methods_and_parameters_by_name(void **state)
             !strstr(sink.last, bad[k].says))
             fail_msg("'%s': '%s'", bad[k].text, sink.last);
     }
+    /* a refused pair changes nothing: p holds the pairs before it (lights.h), bit for bit */
+    lumis_light_params before = {0};
+    assert_int_equal(lumis_light_params_parse(&before, "jitter=0.5,percentile=90,key=2", NULL),
+                     LUMIS_OK);
+    static const char *const refused[] = {
+        "jitter=1.5", "percentile=100.5",    "key=0",     "bandwidth=-1",
+        "gamma=1e39", "kmeans-iterations=0", "mask=disc", "seed=x"};
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        lumis_light_params q;
+        memcpy(&q, &before, sizeof q); /* padding too, for the memcmp */
+        assert_int_equal(lumis_light_params_parse(&q, refused[k], NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        if (memcmp(&q, &before, sizeof q) != 0) fail_msg("'%s' changed the parameters", refused[k]);
+    }
     /* by name == the method's own call, bit for bit */
     lumis_envmap *env = make_env(64, 32, sky_pixel, 0.0f, 0.0f);
     lumis_light_set *a = NULL, *b = NULL;
