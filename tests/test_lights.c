@@ -912,6 +912,99 @@ static void fhis_points_follow_the_importance(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Three lit pixels on black (FHIS's corrected points spill into unlit pixels near them). */
+static float three_lit_pixel(int w, int h, int i, int j, int c)
+{
+    (void)h;
+    const int p = j * w + i;
+    return p == 20 || p == 45 || p == 100 ? 10.0f + 5.0f * (float)c + (float)p : 0.0f;
+}
+
+/* FHIS's lights are the Voronoi cells of its points: each light's direction lies in a pixel
+ * of its own region, and each light's power is the brute-force sum of L Omega over the
+ * pixels whose centre is nearer to it than to any other light (a pixel within 1e-6 of a
+ * tie counts for the light its label names, one of the tied), but for the pixel that holds
+ * a light's point, which is that light's.  With a light for every pixel the tiles cannot
+ * find them all, and the rest go to the pixels left, at their centres. */
+static void fhis_regions_are_the_points_voronoi_cells(void **state)
+{
+    (void)state;
+    static const struct {
+        int w, h, k;
+        float (*f)(int, int, int, int, int);
+    } cases[] = {{48, 24, 20, sky_pixel},
+                 {16, 8, 10, three_lit_pixel},
+                 {8, 4, 5, black_pixel},
+                 {8, 4, 32, sky_pixel},
+                 {16, 8, 128, three_lit_pixel}};
+    for (size_t t = 0; t < sizeof cases / sizeof cases[0]; t++) {
+        const int w = cases[t].w, h = cases[t].h;
+        lumis_envmap *env = make_env(w, h, cases[t].f, 0.0f, 0.0f);
+        lumis_light_set *set = NULL;
+        assert_int_equal(build_fhis(env, cases[t].k, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n, lw, lh;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        assert_int_equal(n, cases[t].k);
+        const int32_t *lab = lumis_light_set_labels(set, &lw, &lh);
+        int *own = malloc((size_t)w * (size_t)h * sizeof *own);
+        assert_non_null(own);
+        for (int p = 0; p < w * h; p++) own[p] = -1;
+        for (int k = 0; k < n; k++) {
+            int i, j;
+            lumis_envmap_dir_to_pixel(env, L[k].dir, &i, &j);
+            if (lab[j * w + i] != k || own[j * w + i] >= 0)
+                fail_msg("case %zu: light %d points into pixel (%d, %d) of light %d", t, k, i, j,
+                         lab[j * w + i]);
+            own[j * w + i] = k;
+        }
+        double *pw = calloc((size_t)n * 3, sizeof(double));
+        assert_non_null(pw);
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                /* the pixel's centre (row 0 at the zenith, +y up), checked against the map */
+                const double th = PI * (j + 0.5) / h, ph = 2.0 * PI * (i + 0.5) / w;
+                const double c[3] = {sin(th) * cos(ph), cos(th), sin(th) * sin(ph)};
+                int ci, cj;
+                lumis_envmap_dir_to_pixel(env, (lumis_vec3){(float)c[0], (float)c[1], (float)c[2]},
+                                          &ci, &cj);
+                assert_true(ci == i && cj == j);
+                int best = -1;
+                double b1 = -2.0, b2 = -2.0;
+                for (int k = 0; k < n; k++) {
+                    const double d = c[0] * L[k].dir.x + c[1] * L[k].dir.y + c[2] * L[k].dir.z;
+                    if (d > b1) {
+                        b2 = b1;
+                        b1 = d;
+                        best = k;
+                    } else if (d > b2) {
+                        b2 = d;
+                    }
+                }
+                /* a pixel holding a point is that point's, nearest or not */
+                const int32_t got = lab[j * w + i], mine = own[j * w + i];
+                const int owner = mine >= 0 ? mine : b1 - b2 > 1e-6 ? best : got;
+                if (got != owner)
+                    fail_msg("case %zu: pixel (%d, %d) is light %d's, nearest is %d", t, i, j, got,
+                             owner);
+                const lumis_rgb r = lumis_envmap_texel(env, i, j);
+                const double om = 2.0 * PI / w * (cos(PI * j / h) - cos(PI * (j + 1) / h));
+                pw[3 * owner] += r.r * om;
+                pw[3 * owner + 1] += r.g * om;
+                pw[3 * owner + 2] += r.b * om;
+            }
+        for (int k = 0; k < n; k++)
+            for (int c = 0; c < 3; c++)
+                if (!(fabs(L[k].power[c] - pw[3 * k + c]) <= 1e-9 * pw[3 * k + c] + 1e-300))
+                    fail_msg("case %zu: light %d channel %d: power %.12g, Voronoi sum %.12g", t, k,
+                             c, L[k].power[c], pw[3 * k + c]);
+        free(pw);
+        free(own);
+        lumis_light_set_destroy(set);
+        lumis_envmap_destroy(env);
+    }
+}
+
 static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
 {
     (void)state;
@@ -2012,6 +2105,7 @@ int main(void)
         cmocka_unit_test(penrose_children_tile_their_parent),
         cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
+        cmocka_unit_test(fhis_regions_are_the_points_voronoi_cells),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(light_set_irradiance_against_closed_forms),
