@@ -1128,6 +1128,45 @@ static void every_method_is_invariant_to_the_maps_brightness(void **state)
     lumis_envmap_destroy(b);
 }
 
+/* A ring of four pixels (one row), luminances 3, 1, 9, 27. */
+static float ring_pixel(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)j, (void)c;
+    static const float y[4] = {3.0f, 1.0f, 9.0f, 27.0f};
+    return y[i];
+}
+
+/* TMMS's merge by hand: on a 4 x 1 map every pixel is a cell, and with a narrow bandwidth
+ * (0.01) each its own level and stratum.  For 3 lights the weakest stratum (pixel 1, Y 1)
+ * merges into its weakest neighbour: pixel 0 (Y 3) on its left, not pixel 2 (Y 9) on its
+ * right.  Then {0, 1} (4) is the weakest and the only one that could split: no trade.  The
+ * lights: {0, 1}, {2}, {3}. */
+static void tmms_merges_into_the_weakest_neighbour(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(4, 1, ring_pixel, 0.0f, 0.0f);
+    lumis_tmms_desc d = {0};
+    d.count = 3;
+    d.range_bandwidth = 0.01f;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_tmms(env, &d, &set), LUMIS_OK);
+    int w, h;
+    const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+    assert_true(w == 4 && h == 1);
+    if (!(lab[0] == lab[1] && lab[1] != lab[2] && lab[2] != lab[3] && lab[1] != lab[3]))
+        fail_msg("strata %d %d %d %d, want pixels 0 and 1 together", lab[0], lab[1], lab[2],
+                 lab[3]);
+    const lumis_light *L;
+    int n;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    assert_int_equal(n, 3);
+    assert_int_equal(L[lab[0]].pixels, 2);
+    /* its power: Y 3 + 1 over two pixels of pi each (the four share 4 pi) */
+    assert_true(fabs(L[lab[0]].power[1] - 4.0 * PI) < 1e-9);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
 {
     (void)state;
@@ -2106,6 +2145,7 @@ int main(void)
         cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_regions_are_the_points_voronoi_cells),
+        cmocka_unit_test(tmms_merges_into_the_weakest_neighbour),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(light_set_irradiance_against_closed_forms),
