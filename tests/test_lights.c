@@ -1167,6 +1167,95 @@ static void tmms_merges_into_the_weakest_neighbour(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* A sky over black ground: a sun, a dim coloured gradient above the horizon, nothing below
+ * it (regions of no energy). */
+static float sky_over_black(int w, int h, int i, int j, int c)
+{
+    if (j >= h / 2) return 0.0f;
+    const double u = (i + 0.5) / w, v = (j + 0.5) / h;
+    const double du = u - 0.3, dv = v - 0.2;
+    if (du * du + dv * dv < 0.002) return 2000.0f;
+    return (float)((1.0 + 0.5 * c) * (1.0 + u) * (0.6 - v));
+}
+
+/* Black but for a 16 x 16 patch of lit pixel pairs and black pairs, column by column: a
+ * cut led by energy (Eq. 3's extent weight near 0) splits the patch below its 4 x 4 tiles,
+ * into lit and black halves of tiles. */
+static float striped_patch(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h;
+    if (i < 100 || i >= 116 || j < 120 || j >= 136 || i % 4 >= 2) return 0.0f;
+    return (float)(1.0 + 0.25 * c + 0.1 * (i - 100) + 0.05 * (j - 120));
+}
+
+/* The exact first moment of pixel (i, j): the integral of the direction over it. */
+static void pixel_moment(int w, int h, int i, int j, double m[3])
+{
+    const double t0 = PI * j / h, t1 = PI * (j + 1) / h, p0 = 2.0 * PI * i / w,
+                 p1 = 2.0 * PI * (i + 1) / w;
+    const double s2 = 0.5 * (t1 - t0) - 0.25 * (sin(2.0 * t1) - sin(2.0 * t0)); /* int sin^2 */
+    m[0] = s2 * (sin(p1) - sin(p0));
+    m[1] = 0.5 * (sin(t1) * sin(t1) - sin(t0) * sin(t0)) * (p1 - p0);
+    m[2] = s2 * (cos(p0) - cos(p1));
+}
+
+/* Each of Wu's EnvIndirects points at its region's luminance-weighted mean direction, and a
+ * region of no energy at its plain mean direction: brute-force sums of the exact pixel
+ * moments over the pixels labelled with it.  On a map of 2^16 pixels or more the sums come
+ * from 4 x 4 tiles; regions smaller than a tile are summed pixel by pixel (the striped
+ * patch's). */
+static void wu_indirect_lights_point_at_their_regions_centroid(void **state)
+{
+    (void)state;
+    static const int sizes[][3] = {{61, 29, 24}, {371, 185, 40}, {256, 256, 64}};
+    for (size_t t = 0; t < sizeof sizes / sizeof sizes[0]; t++) {
+        const int w = sizes[t][0], h = sizes[t][1];
+        lumis_envmap *env = make_env(w, h, t < 2 ? sky_over_black : striped_patch, 0.0f, 0.0f);
+        lumis_light_set *set = NULL;
+        lumis_decomp_desc d = {0};
+        d.count = sizes[t][2];
+        d.seed = 7;
+        if (t == 2) { /* no emissive pixel, and a cut led by energy, not by extent */
+            d.threshold = 1e30f;
+            d.w_d = 1e-6f;
+        }
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n, lw, lh, dark = 0, lit = 0;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        const int32_t *lab = lumis_light_set_labels(set, &lw, &lh);
+        double(*ym)[3] = calloc((size_t)n, sizeof *ym), (*gm)[3] = calloc((size_t)n, sizeof *gm);
+        assert_true(ym && gm);
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                const int k = lab[j * w + i];
+                double m[3];
+                pixel_moment(w, h, i, j, m);
+                const double y = pixel_y(env, i, j);
+                for (int c = 0; c < 3; c++) {
+                    ym[k][c] += y * m[c];
+                    gm[k][c] += m[c];
+                }
+            }
+        for (int k = 0; k < n; k++) {
+            if (L[k].kind != LUMIS_LIGHT_ENV_INDIRECT) continue;
+            const int black = L[k].power[0] == 0.0 && L[k].power[1] == 0.0 && L[k].power[2] == 0.0;
+            dark += black;
+            lit += !black;
+            double *want = black ? gm[k] : ym[k];
+            const double a = angle(L[k].dir, want);
+            if (!(a < 1e-5))
+                fail_msg("%d x %d: %s indirect light %d is %g rad off its region's centroid", w, h,
+                         black ? "black" : "lit", k, a);
+        }
+        assert_true(dark >= 2 && lit >= 2);
+        free(ym);
+        free(gm);
+        lumis_light_set_destroy(set);
+        lumis_envmap_destroy(env);
+    }
+}
+
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
 {
     (void)state;
@@ -2146,6 +2235,7 @@ int main(void)
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
         cmocka_unit_test(fhis_regions_are_the_points_voronoi_cells),
         cmocka_unit_test(tmms_merges_into_the_weakest_neighbour),
+        cmocka_unit_test(wu_indirect_lights_point_at_their_regions_centroid),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(light_set_irradiance_against_closed_forms),
