@@ -1415,6 +1415,91 @@ static void scene_files_are_strict(void **state)
     }
 }
 
+/* A 2 x 2 luminaire of 2 x 2 grey images, for a scene file's "preset:" entries. */
+static lumis_status tiny_preset(void *user, const char *spec, lumis_luminaire **out)
+{
+    (void)user, (void)spec;
+    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const float *ptrs[4] = {px, px, px, px};
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.grid[0] = d.grid[1] = 2;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
+    d.width = d.height = 2;
+    d.image_origin[0] = d.image_origin[1] = -1.0;
+    d.image_size[0] = d.image_size[1] = 2.0;
+    d.pixels = ptrs;
+    return lumis_luminaire_create(&d, out);
+}
+
+/* A scene file's defaults and refusals, each as render.h and docs/render.md give them: a
+ * Ward material without "specular" gets 0.3 grey (and 0.1 diffuse); an environment
+ * without "scale" has scale 1; a luminaire keeps the path it was read from; a transform
+ * with an unknown key and more than 4096 photometric fixtures are refused by name. */
+static void scene_file_defaults_and_refusals(void **state)
+{
+    (void)state;
+    static const char ward[] =
+        "{\"environment\": {\"map\": \"sky:16x8\"}, \"objects\": [{\"type\": \"sphere\", "
+        "\"center\": [0, 0, 0], \"radius\": 1, \"material\": {\"type\": \"ward\"}}]}";
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis__scene_file_parse(ward, sizeof ward - 1, "w.json", "", 0, NULL, &f),
+                     LUMIS_OK);
+    const lumis_bsdf *b = &f->objects[0].material;
+    assert_int_equal(b->type, LUMIS_BSDF_WARD);
+    assert_true(b->specular.r == 0.3f && b->specular.g == 0.3f && b->specular.b == 0.3f);
+    assert_true(b->diffuse.r == 0.1f && b->diffuse.g == 0.1f && b->diffuse.b == 0.1f);
+    assert_true(f->env_scale == 1.0f && f->env_rotation_deg == 0.0f);
+    lumis_scene_file_destroy(f);
+
+    /* a luminaire keeps its path ("preset:small", loaded by the caller's loader) */
+    static const char lum[] =
+        "{\"objects\": [], \"luminaires\": [{\"file\": \"preset:small\", \"intensity\": 2}]}";
+    tu_write_file(tu_path("lum-scene.json"), lum, sizeof lum - 1);
+    lumis_scene_read_options so = {0};
+    so.load_preset = tiny_preset;
+    assert_int_equal(lumis_scene_file_read(tu_path("lum-scene.json"), &so, &f), LUMIS_OK);
+    assert_int_equal(f->luminaire_count, 1);
+    assert_true(f->luminaires[0].intensity == 2.0f);
+    const char *lp = lumis_scene_file_luminaire_path(f, 0);
+    assert_non_null(lp);
+    assert_string_equal(lp, "preset:small");
+    assert_null(lumis_scene_file_luminaire_path(f, 1));
+    lumis_scene_file_destroy(f);
+
+    /* an unknown key in a mesh's transform */
+    static const char tri[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    tu_write_file(tu_path("tri.obj"), tri, sizeof tri - 1);
+    static const char shear[] = "{\"objects\": [{\"type\": \"mesh\", \"file\": \"tri.obj\", "
+                                "\"transform\": {\"shear\": 1}, \"material\": {\"type\": "
+                                "\"lambert\"}}]}";
+    tu_write_file(tu_path("shear.json"), shear, sizeof shear - 1);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    so.errors = sink.sink;
+    f = (lumis_scene_file *)1;
+    const lumis_status sst = lumis_scene_file_read(tu_path("shear.json"), &so, &f);
+    if (sst == LUMIS_OK || f != NULL ||
+        !strstr(sink.last, "objects[0].transform.shear\": unknown key"))
+        fail_msg("shear: status %d, \"%s\"", (int)sst, sink.last);
+
+    /* 4097 fixtures: refused as too many (not for what the first of them is) */
+    const size_t cap = 64 + 4097 * 3;
+    char *many = malloc(cap);
+    assert_non_null(many);
+    size_t n = (size_t)snprintf(many, cap, "{\"objects\": [], \"photometric\": [");
+    for (int k = 0; k < 4097; k++) n += (size_t)snprintf(many + n, cap - n, k ? ",{}" : "{}");
+    n += (size_t)snprintf(many + n, cap - n, "]}");
+    tu_sink_init(&sink);
+    f = (lumis_scene_file *)1;
+    const lumis_status mst = lumis__scene_file_parse(many, n, "many.json", "", 0, &sink.sink, &f);
+    if (mst == LUMIS_OK || f != NULL || !strstr(sink.last, "photometric") ||
+        !strstr(sink.last, "at most 4096 fixtures"))
+        fail_msg("4097 fixtures: status %d, \"%s\"", (int)mst, sink.last);
+    free(many);
+}
+
 static void bad_scenes(void **state)
 {
     (void)state;
@@ -1685,6 +1770,7 @@ int main(void)
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
         cmocka_unit_test(bad_scenes),
         cmocka_unit_test(scene_files_are_strict),
+        cmocka_unit_test(scene_file_defaults_and_refusals),
         cmocka_unit_test(passes_do_not_change_the_image),
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),
