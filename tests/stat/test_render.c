@@ -1271,6 +1271,24 @@ static void builtin_scenes_build(void **state)
     }
     assert_int_equal(n, 9);
     lumis_scene_file *f = NULL;
+    /* ward-aniso: its one sphere in the middle of the view (the camera's centre ray passes
+     * within a tenth of its radius of its centre) */
+    assert_int_equal(lumis_scene_builtin("ward-aniso", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->object_count, 1);
+    {
+        const lumis_camera *c = &f->camera;
+        const lumis_object *o = &f->objects[0];
+        const double e[3] = {c->eye.x, c->eye.y, c->eye.z},
+                     v[3] = {c->look_at.x - e[0], c->look_at.y - e[1], c->look_at.z - e[2]},
+                     q[3] = {o->center.x - e[0], o->center.y - e[1], o->center.z - e[2]};
+        const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2],
+                     t = (q[0] * v[0] + q[1] * v[1] + q[2] * v[2]) / vv;
+        double d2 = 0.0;
+        for (int a = 0; a < 3; a++) d2 += (q[a] - t * v[a]) * (q[a] - t * v[a]);
+        if (!(t > 0.0 && sqrt(d2) < 0.1 * o->radius))
+            fail_msg("ward-aniso: the centre ray passes %g from the sphere's centre", sqrt(d2));
+    }
+    lumis_scene_file_destroy(f);
     assert_int_equal(lumis_scene_builtin("wu-mixed", NULL, &f), LUMIS_OK);
     assert_int_equal(f->object_count, 5); /* bunny, Suzanne, two spheres, the ground */
     assert_int_equal(f->luminaire_count, 0);
@@ -1278,6 +1296,34 @@ static void builtin_scenes_build(void **state)
     /* The headlight lights its scene by itself: a lit floor, and black where rays escape. */
     assert_int_equal(lumis_scene_builtin("headlight", NULL, &f), LUMIS_OK);
     assert_int_equal(f->luminaire_count, 1);
+    /* Its layout (render.h, builtin.c): the lamp 0.7 m above the floor, in millimetres, aimed
+     * 5 degrees down, with the bunny and the ball in its beam: at their depth its axis
+     * passes between them. */
+    {
+        const lumis_rigid *pl = &f->luminaires[0].placement;
+        const lumis_object *floor_ = NULL, *ball = NULL, *bunny = NULL;
+        for (int k = 0; k < f->object_count; k++) {
+            const lumis_object *o = &f->objects[k];
+            if (o->type == LUMIS_OBJECT_PLANE && o->normal.y == 1.0f) floor_ = o;
+            if (o->type == LUMIS_OBJECT_SPHERE) ball = o;
+            if (o->type == LUMIS_OBJECT_MESH) bunny = o;
+        }
+        assert_true(floor_ && ball && bunny);
+        assert_true(fabs(pl->t[1] - floor_->center.y - 0.7) < 1e-9);
+        assert_true(f->luminaires[0].scale == 0.001);
+        const double ax[3] = {pl->r[2], pl->r[5], pl->r[8]}; /* local +z, the beam */
+        assert_true(fabs(ax[1] + sin(5.0 * PI / 180.0)) < 1e-9 && ax[2] < 0.0);
+        const float *m = bunny->transform;
+        double bx = 0.0;
+        for (int v = 0; v < bunny->vertex_count; v++) {
+            const float *p = bunny->vertices + 3 * v;
+            bx += (m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3]) / bunny->vertex_count;
+        }
+        const double z = ball->center.z, x = pl->t[0] + ax[0] * (z - pl->t[2]) / ax[2];
+        if (!(x > fmin(bx, ball->center.x) && x < fmax(bx, ball->center.x)))
+            fail_msg("headlight: the beam's axis at x = %g, the bunny at %g, the ball at %g", x, bx,
+                     (double)ball->center.x);
+    }
     lumis_scene *s = NULL;
     assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
     lumis_luminaire_lighting ll = {0};
