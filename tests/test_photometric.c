@@ -424,6 +424,34 @@ static void beam_and_field_angles(void **state)
     assert_true(in.max_v > 30 && in.max_v < 60);
     assert_true(in.beam_deg[0] > 60 && in.beam_deg[0] < 180);
     lumis_photometric_file_destroy(f);
+    /* Two lobes of one peak value in the C0-C180 plane: a narrow one at C0 30 degrees, a wide
+     * one at C180 40 degrees.  The angles are measured around the one nearest the aim (C0's),
+     * worked by hand on the linear interpolant: 50 % of 1000 between 20 (0) and 25 (600)
+     * degrees, 20 + 5 x 5/6, and between 35 and 40 symmetrically: 35 / 3 degrees wide; 10 %:
+     * from 20 + 5 / 6 to 40 - 5 / 6 = 55 / 3.  (Around C180's lobe they would be 33.75 and
+     * 38.75.) */
+    double v[19], cd[38];
+    const double h2[2] = {0, 180};
+    for (int j = 0; j < 19; j++) {
+        v[j] = 5.0 * j;
+        cd[j] = j == 6 ? 1000 : j == 5 || j == 7 ? 600 : 0;       /* C0 */
+        cd[19 + j] = j == 8 ? 1000 : j >= 5 && j <= 11 ? 800 : 0; /* C180 */
+    }
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = 19;
+    d.nh = 2;
+    d.v_deg = v;
+    d.h_deg = h2;
+    d.candela = cd;
+    lumis_photometric *two = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &two), LUMIS_OK);
+    lumis_photometric_info ti;
+    lumis_photometric_get_info(two, &ti);
+    if (fabs(ti.beam_deg[0] - 35.0 / 3.0) > 0.05 || fabs(ti.field_deg[0] - 55.0 / 3.0) > 0.05)
+        fail_msg("two lobes: beam %g (want %g), field %g (want %g)", ti.beam_deg[0], 35.0 / 3.0,
+                 ti.field_deg[0], 55.0 / 3.0);
+    lumis_photometric_destroy(two);
 }
 
 typedef struct bad_case {
@@ -721,6 +749,25 @@ static void light_field_power_and_residual(void **state)
             1e-9 * lumis_photometric_intensity(p, side));
         if (k == 0) assert_true(rep.residual_share > 0.3); /* the uplight's is large */
         if (k == 1) assert_true(rep.residual_share > 0.001);
+        if (k == 2) {
+            /* The default cone is where 99.9 % of the flux is, plus 5 degrees: for cos^50,
+             * flux within g is proportional to 1 - cos^51 g, so the 99.9 % cone is
+             * acos(0.001^(1/51)) = 29.2 degrees (the table's 1-degree steps move it by
+             * less than 0.2). */
+            const double cone = acos(pow(0.001, 1.0 / 51.0)) * 180.0 / 3.14159265358979;
+            if (!(fabs(rep.max_angle_deg - (cone + 5.0)) < 0.2))
+                fail_msg("spot: default angle %g, want the 99.9 %% cone %g + 5", rep.max_angle_deg,
+                         cone);
+            /* one pixel per image asked for: one pixel per basis spacing, the fewest */
+            lumis_luminaire *small = NULL;
+            lumis_photometric_light_field_report rs;
+            lf.width = lf.height = 1;
+            assert_int_equal(lumis_luminaire_from_photometric(p, &lf, NULL, &small, &rs), LUMIS_OK);
+            if (rs.pixels_per_spacing[0] != 1 || rs.pixels_per_spacing[1] != 1)
+                fail_msg("spot, 1 x 1 pixels asked for: %d x %d pixels per spacing",
+                         rs.pixels_per_spacing[0], rs.pixels_per_spacing[1]);
+            lumis_luminaire_destroy(small);
+        }
         lumis_photometric_destroy(res);
         lumis_luminaire_destroy(lum);
     }

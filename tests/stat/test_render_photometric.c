@@ -412,6 +412,28 @@ static void rectangles_estimators_and_refusals(void **state)
     bad = in;
     bad.multiplier = -2;
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* an opening asked of a file that gives none (a point: width and length 0) is refused,
+     * not rendered quietly as a point, though its area (0) is finite */
+    pg_ies_spec pt = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *fp = load(&pt);
+    bad = in;
+    bad.photometric = fp->model;
+    bad.area = 1;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    img = (lumis_image *)1;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    if (!strstr(sink.last, "photometric fixture 0") || !strstr(sink.last, "\"point\""))
+        fail_msg("a point with area: \"%s\"", sink.last);
+    bad.area = 0; /* as a point it renders */
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    img = NULL;
+    lumis_photometric_file_destroy(fp);
+    bad = in;
+    d.errors = (lumis_error_sink){0};
     pl.count = 0; /* not this kind: the map's, and there is none */
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_null(img);
