@@ -2,7 +2,7 @@
  * cut, variance minimisation, Wu's decomposition), exported for renderers and game engines
  * (JSON, glTF 2.0 KHR_lights_punctual as .gltf or .glb, in the frame they show the map in)
  * and drawn on the map (PNG). */
-#include "common.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,6 +1,6 @@
 /* lumis render SCENE.json | --scene NAME ...: the evaluation renderer, with a fixed sample
  * count or a time budget, a progress bar, and a JSON sidecar describing the run. */
-#include "common.h"
+#include "cli.h"
 
 #include "lumis/render.h"
 

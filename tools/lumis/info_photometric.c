@@ -1,7 +1,7 @@
 /* lumis info FILE.ies|FILE.ldt [--json] [--svg OUT.svg]: a photometric file's fixture, its
  * flux from the table against the file's lumens, beam and field angles, and a polar plot of
  * its two principal planes, as photometric tools draw it. */
-#include "common.h"
+#include "cli.h"
 
 #include <cJSON.h>
 #include <math.h>

@@ -1,5 +1,7 @@
 /* The JSON sidecar of a render: every setting, timing and count that made the image. */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "pipeline.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

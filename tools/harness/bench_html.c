@@ -2,7 +2,7 @@
  * the tables, the plots and the image grid.  It writes the assets it shows that no other
  * writer does: the FLIP colour scale and the convergence plots of all pairs (equal time,
  * equal samples). */
-#include "bench.h"
+#include "harness.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,6 +1,10 @@
 /* lumis render (and the bench's items, the demo): a scene, its map and sampler, then
  * lumis_render_session, then the outputs and the sidecar. */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "load.h"
+#include "lights.h"
+#include "pipeline.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"
