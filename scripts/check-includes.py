@@ -4,7 +4,8 @@
     scripts/check-includes.py [ROOT]     # exit 1 and one line per forbidden include
 
 Every file of include/lumis, src, tools, bench, fuzz, examples and docs/examples stands on
-a floor (below).  It fails on:
+a floor (below); the programs' own modules tools/app (the render pipeline) and
+tools/harness (the bench harness) are floors under the programs.  It fails on:
   - an include of a higher floor: a public header (lumis/X.h) or a private one (src/M/...);
   - another module's private header (any header under src/M/ but the including file's own
     module) that the allow-list below does not name; across libraries only

@@ -63,6 +63,53 @@ static int one_line(const char *v)
     return v && *v && !strpbrk(v, "\n\r");
 }
 
+/* The options only --slurm takes (--cpus, --reference-cpus, --max-running, --exclusive,
+ * --no-submit, --partition, --time-limit, --sbatch) into so; *slurm_opt: the last one given.
+ * -1 when argv[*i] is none of them, else an exit code. */
+static int slurm_option(bench_slurm_opts *so, const char **slurm_opt, int argc, char **argv, int *i)
+{
+    const char *v;
+    if (tool_option(argc, argv, i, "--cpus", &v)) {
+        if (!tool_parse_int(v, 1, 4096, &so->cpus))
+            return tool_usage_error("bench", "--cpus needs a count in [1, 4096]");
+        *slurm_opt = "--cpus";
+    } else if (tool_option(argc, argv, i, "--reference-cpus", &v)) {
+        if (!tool_parse_int(v, 1, 4096, &so->ref_cpus))
+            return tool_usage_error("bench", "--reference-cpus needs a count in [1, 4096]");
+        *slurm_opt = "--reference-cpus";
+    } else if (tool_option(argc, argv, i, "--max-running", &v)) {
+        if (!tool_parse_int(v, 1, 1 << 20, &so->max_running))
+            return tool_usage_error("bench", "--max-running needs a count >= 1");
+        *slurm_opt = "--max-running";
+    } else if (strcmp(argv[*i], "--exclusive") == 0) {
+        so->exclusive = 1;
+        *slurm_opt = "--exclusive";
+    } else if (strcmp(argv[*i], "--no-submit") == 0) {
+        so->submit = 0;
+        *slurm_opt = "--no-submit";
+    } else if (tool_option(argc, argv, i, "--partition", &v)) {
+        if (!one_line(v)) return tool_usage_error("bench", "--partition needs a name");
+        so->partition = v;
+        *slurm_opt = "--partition";
+    } else if (tool_option(argc, argv, i, "--time-limit", &v)) {
+        if (!one_line(v))
+            return tool_usage_error("bench", "--time-limit needs sbatch's --time, e.g. 2:00:00");
+        so->time_limit = v;
+        *slurm_opt = "--time-limit";
+    } else if (tool_option(argc, argv, i, "--sbatch", &v)) {
+        if (!one_line(v) || v[0] != '-')
+            return tool_usage_error("bench", "--sbatch needs an sbatch option, given as "
+                                             "--sbatch=--account=NAME");
+        if (so->nextra == BENCH_SLURM_EXTRA_MAX)
+            return tool_usage_error("bench", "at most %d --sbatch options", BENCH_SLURM_EXTRA_MAX);
+        so->extra[so->nextra++] = v;
+        *slurm_opt = "--sbatch";
+    } else {
+        return -1;
+    }
+    return EXIT_OK;
+}
+
 int cmd_bench(int argc, char **argv)
 {
     const char *suite_path = NULL, *out = NULL, *v;
@@ -70,6 +117,7 @@ int cmd_bench(int argc, char **argv)
     int report_only = 0, merging = 0, sharded = 0;
     int slurm = 0, items_only = 0, merge_refs = 0;
     long ref_task = -1;
+    int src;                      /* slurm_option's */
     const char *slurm_opt = NULL; /* the last option that only --slurm takes */
     bench_slurm_opts so = {0};
     so.ref_passes = 1;
@@ -122,43 +170,8 @@ int cmd_bench(int argc, char **argv)
         } else if (tool_option(argc, argv, &i, "--tasks", &v)) {
             if (!tool_parse_int(v, 1, 1 << 20, &so.tasks))
                 return tool_usage_error("bench", "--tasks needs a count >= 1");
-        } else if (tool_option(argc, argv, &i, "--cpus", &v)) {
-            if (!tool_parse_int(v, 1, 4096, &so.cpus))
-                return tool_usage_error("bench", "--cpus needs a count in [1, 4096]");
-            slurm_opt = "--cpus";
-        } else if (tool_option(argc, argv, &i, "--reference-cpus", &v)) {
-            if (!tool_parse_int(v, 1, 4096, &so.ref_cpus))
-                return tool_usage_error("bench", "--reference-cpus needs a count in [1, 4096]");
-            slurm_opt = "--reference-cpus";
-        } else if (tool_option(argc, argv, &i, "--max-running", &v)) {
-            if (!tool_parse_int(v, 1, 1 << 20, &so.max_running))
-                return tool_usage_error("bench", "--max-running needs a count >= 1");
-            slurm_opt = "--max-running";
-        } else if (strcmp(argv[i], "--exclusive") == 0) {
-            so.exclusive = 1;
-            slurm_opt = "--exclusive";
-        } else if (strcmp(argv[i], "--no-submit") == 0) {
-            so.submit = 0;
-            slurm_opt = "--no-submit";
-        } else if (tool_option(argc, argv, &i, "--partition", &v)) {
-            if (!one_line(v)) return tool_usage_error("bench", "--partition needs a name");
-            so.partition = v;
-            slurm_opt = "--partition";
-        } else if (tool_option(argc, argv, &i, "--time-limit", &v)) {
-            if (!one_line(v))
-                return tool_usage_error("bench",
-                                        "--time-limit needs sbatch's --time, e.g. 2:00:00");
-            so.time_limit = v;
-            slurm_opt = "--time-limit";
-        } else if (tool_option(argc, argv, &i, "--sbatch", &v)) {
-            if (!one_line(v) || v[0] != '-')
-                return tool_usage_error("bench", "--sbatch needs an sbatch option, given as "
-                                                 "--sbatch=--account=NAME");
-            if (so.nextra == BENCH_SLURM_EXTRA_MAX)
-                return tool_usage_error("bench", "at most %d --sbatch options",
-                                        BENCH_SLURM_EXTRA_MAX);
-            so.extra[so.nextra++] = v;
-            slurm_opt = "--sbatch";
+        } else if ((src = slurm_option(&so, &slurm_opt, argc, argv, &i)) >= 0) {
+            if (src != EXIT_OK) return src;
         } else if (argv[i][0] != '-' && !suite_path) {
             suite_path = argv[i];
         } else {
