@@ -552,6 +552,9 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     snprintf(a, sizeof a, "-o '%s'", tu_path("x.exr"));
     expect_bad_files("render", "bad.json", a, bad, sizeof bad / sizeof bad[0]);
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
+    /* every built-in named, as lumis_scene_builtin_names lists them (the last one too) */
+    expect("render --scene bunny -o x.exr", 2, "(built in: spheres, bunny-plane, ");
+    expect("render --scene bunny -o x.exr", 2, ", wu-mixed, headlight, headlight-close)");
     snprintf(a, sizeof a, "render --scene ward-aniso --env sky:32x16 --spp 1 --size 16x16 -o '%s'",
              tu_path("w.exr"));
     expect(a, 0, "rendered 16x16");

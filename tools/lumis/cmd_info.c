@@ -1,6 +1,6 @@
 /* lumis info FILE [--json]: statistics of an environment map, or (FILE.ies, FILE.ldt) of a
  * photometric file, with its polar plot (--svg). */
-#include "common.h"
+#include "cli.h"
 
 #include <cJSON.h>
 #include <stdlib.h>

@@ -1,6 +1,10 @@
 /* Light-set methods and their NAME=VALUE parameters as options: the library's
  * (lumis/lights.h), with the CLI's usage errors. */
-#include "common.h"
+#include "errors.h"
+#include "lights.h"
+#include "pipeline.h"
+
+#include <stdio.h>
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

@@ -1,7 +1,7 @@
 /* lumis bench: convergence plots (SVG, no dependency): relMSE against render time,
  * log-log, one line per method through its budgets, one plot per scene; and the convergence
  * analyses' plots (geometric means over all pairs against the time or sample budget). */
-#include "bench.h"
+#include "harness.h"
 
 #include <math.h>
 #include <stdlib.h>

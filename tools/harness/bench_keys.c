@@ -1,7 +1,7 @@
 /* lumis bench: items and the keys that cache their work.  A reference is named by a hash
  * of everything that makes it; an item's result carries a hash of everything else it
  * depends on, so that a result left by other settings is stale and redone. */
-#include "bench.h"
+#include "harness.h"
 
 #include <cJSON.h>
 #include <stdint.h>

@@ -1,6 +1,9 @@
 /* Loading what a command reads: maps (files or procedural specs), envmaps, samplers,
  * luminaires (presets through the cache of acquired ones), and the preview's exposure. */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "load.h"
+#include "lights.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

@@ -1,5 +1,7 @@
 /* The JSON sidecar of a render: every setting, timing and count that made the image. */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "pipeline.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"
@@ -88,16 +90,29 @@ static void add_luminaire(cJSON *arr, const char *path)
     lumis_luminaire_manifest_destroy(m);
 }
 
-int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
-                       const char *scene_label, const char *envspec, const lumis_envmap *env,
-                       const lumis_sampler *smp, const lumis_light_set *lights,
-                       const lumis_scene_file *file, const lumis_camera *cam,
-                       const tool_render_result *r)
+/* What a section of the sidecar is written from. */
+typedef struct sidecar_ctx {
+    const tool_render_opts *o;
+    const lumis_render_desc *rd;
+    const char *path, *scene_label, *envspec;
+    const lumis_envmap *env;
+    const lumis_sampler *smp;
+    const lumis_light_set *lights;
+    const lumis_scene_file *file;
+    const lumis_camera *cam;
+    const tool_render_result *r;
+    const lumis_render_stats *s;
+    int lum, fixtures; /* luminaires light it; photometric fixtures do */
+} sidecar_ctx;
+
+/* The version, the command line, the mode and what lights it, the scene. */
+static void side_header(cJSON *j, const sidecar_ctx *c)
 {
-    const int objects = file->object_count, lum = rd->lighting.luminaires != NULL,
-              fixtures = rd->lighting.photometric != NULL;
-    const lumis_render_stats *s = &r->stats;
-    cJSON *j = cJSON_CreateObject(), *x;
+    const tool_render_opts *o = c->o;
+    const lumis_scene_file *file = c->file;
+    const int lum = c->lum;
+    const int fixtures = c->fixtures;
+    const char *scene_label = c->scene_label;
     char cmd[8192] = "lumis";
     for (int k = 0; k < o->argc; k++) {
         size_t n = strlen(cmd);
@@ -118,7 +133,17 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         snprintf(label, sizeof label, "direct illumination from the environment");
     cJSON_AddStringToObject(j, "label", label);
     cJSON_AddStringToObject(j, "scene", scene_label);
-    cJSON_AddNumberToObject(j, "objects", objects);
+    cJSON_AddNumberToObject(j, "objects", file->object_count);
+}
+
+/* The map: its size, rotation, scale and the values its reader replaced. */
+static void side_environment(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const char *envspec = c->envspec;
+    const lumis_envmap *env = c->env;
+    const tool_render_result *r = c->r;
+    cJSON *x;
     if (env) {
         x = cJSON_AddObjectToObject(j, "environment");
         cJSON_AddStringToObject(x, "map", envspec);
@@ -134,6 +159,17 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     } else {
         cJSON_AddNullToObject(j, "environment");
     }
+}
+
+/* The method and the estimator. */
+static void side_method(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const lumis_render_desc *rd = c->rd;
+    const lumis_sampler *smp = c->smp;
+    const lumis_light_set *lights = c->lights;
+    const int lum = c->lum;
+    const int fixtures = c->fixtures;
     cJSON_AddStringToObject(j, "method",
                             lum ? lumis_luminaire_strategy_name(rd->lighting.luminaires->strategy)
                             : fixtures  ? "photometric"
@@ -145,6 +181,15 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
                             lum      ? "luminaire"
                             : lights ? "light set"
                                      : tool_estimator_name(rd));
+}
+
+/* Every fixture: its file, placement, multiplier, model and flux. */
+static void side_photometric(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const lumis_render_desc *rd = c->rd;
+    const lumis_scene_file *file = c->file;
+    const int fixtures = c->fixtures;
     if (fixtures) { /* every fixture: its file, placement, multiplier, model and flux */
         cJSON *arr = cJSON_AddArrayToObject(j, "photometric");
         for (int k = 0; k < rd->lighting.photometric->count; k++) {
@@ -168,6 +213,38 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     } else {
         cJSON_AddNullToObject(j, "photometric");
     }
+}
+
+/* --lum-strategy auto: why it chose (the first luminaire's prediction). */
+static void side_lum_prediction(cJSON *x, const sidecar_ctx *ctx)
+{
+    const tool_render_opts *o = ctx->o;
+    const tool_render_result *r = ctx->r;
+    const lumis_luminaire_prediction *p = &r->lum_choice.prediction;
+    cJSON_AddNumberToObject(x, "band_gain", r->lum_choice.band_gain);
+    cJSON *pj = cJSON_AddObjectToObject(x, "prediction");
+    cJSON_AddNumberToObject(pj, "probes_lit", p->probes_lit);
+    cJSON_AddNumberToObject(pj, "energy_share", p->energy_share);
+    cJSON_AddNumberToObject(pj, "restricted_time_ratio", p->restricted.time_ratio);
+    cJSON_AddNumberToObject(pj, "uniform_time_ratio", p->uniform.time_ratio);
+    cJSON_AddNumberToObject(pj, "restricted_sample_ratio", p->restricted.sample_ratio);
+    cJSON_AddNumberToObject(pj, "uniform_sample_ratio", p->uniform.sample_ratio);
+    const lumis_luminaire_costs c =
+        o->lum_costs_given ? o->lum_costs : lumis_luminaire_costs_default();
+    const double cv[7] = {
+        c.camera, c.image_restricted, c.image_uniform, c.restricted, c.uniform, c.global, c.ray};
+    cJSON_AddItemToObject(pj, "costs", cJSON_CreateDoubleArray(cv, 7));
+}
+
+/* The luminaires: their strategy, budget, samples and instances. */
+static void side_luminaires(cJSON *j, const sidecar_ctx *c)
+{
+    const lumis_render_desc *rd = c->rd;
+    const lumis_camera *cam = c->cam;
+    const tool_render_result *r = c->r;
+    const lumis_render_stats *s = c->s;
+    const int lum = c->lum;
+    cJSON *x;
     if (lum) {
         const lumis_luminaire_lighting *ll = rd->lighting.luminaires;
         x = cJSON_AddObjectToObject(j, "luminaires");
@@ -176,21 +253,7 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         if (r->lum_chosen[0]) { /* auto: what it chose, and why (the first luminaire's) */
             cJSON_AddStringToObject(x, "chosen", r->lum_chosen);
             cJSON_AddStringToObject(x, "chosen_budgets", r->lum_budgets);
-            const lumis_luminaire_prediction *p = &r->lum_choice.prediction;
-            cJSON_AddNumberToObject(x, "band_gain", r->lum_choice.band_gain);
-            cJSON *pj = cJSON_AddObjectToObject(x, "prediction");
-            cJSON_AddNumberToObject(pj, "probes_lit", p->probes_lit);
-            cJSON_AddNumberToObject(pj, "energy_share", p->energy_share);
-            cJSON_AddNumberToObject(pj, "restricted_time_ratio", p->restricted.time_ratio);
-            cJSON_AddNumberToObject(pj, "uniform_time_ratio", p->uniform.time_ratio);
-            cJSON_AddNumberToObject(pj, "restricted_sample_ratio", p->restricted.sample_ratio);
-            cJSON_AddNumberToObject(pj, "uniform_sample_ratio", p->uniform.sample_ratio);
-            const lumis_luminaire_costs c =
-                o->lum_costs_given ? o->lum_costs : lumis_luminaire_costs_default();
-            const double cv[7] = {c.camera,     c.image_restricted, c.image_uniform,
-                                  c.restricted, c.uniform,          c.global,
-                                  c.ray};
-            cJSON_AddItemToObject(pj, "costs", cJSON_CreateDoubleArray(cv, 7));
+            side_lum_prediction(x, c);
         }
         cJSON_AddNumberToObject(x, "budget", ll->budget ? ll->budget : 32);
         cJSON_AddNumberToObject(x, "k_max", ll->k_max);
@@ -219,6 +282,48 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     } else {
         cJSON_AddNullToObject(j, "luminaires");
     }
+}
+
+/* --lights with --time: K chosen from pilot renders at the floor, 64 and where the fit
+ * lands (seconds per sample and once, scaled to the whole image). */
+static void side_k_from_time(cJSON *x, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const tool_render_result *r = c->r;
+    /* --time: K chosen from pilot renders at the floor, 64 and where the fit lands
+     * (seconds per sample and once, scaled to the whole image). */
+    const int np = r->lights_pilot_count;
+    cJSON *pl = cJSON_AddObjectToObject(x, "k_from_time");
+    cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, np));
+    cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
+                          cJSON_CreateDoubleArray(r->lights_pilot_per_spp, np));
+    cJSON_AddItemToObject(pl, "pilot_seconds_once",
+                          cJSON_CreateDoubleArray(r->lights_pilot_once, np));
+    cJSON_AddNumberToObject(pl, "pilot_pixel_fraction", 1.0 / r->lights_pilot_scale);
+    cJSON_AddNumberToObject(pl, "k_from_pilots", r->lights_pilot_chosen);
+    cJSON_AddNumberToObject(pl, "k_floor", r->lights_k_floor);
+    cJSON_AddNumberToObject(pl, "spp_planned", r->lights_spp_planned);
+    cJSON_AddNumberToObject(pl, "predicted_render_seconds", r->lights_pilot_predicted);
+    cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
+    cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
+    cJSON_AddBoolToObject(pl, "rerendered", r->lights_retried);
+    static const char *const limits[] = {"none", "fewer_spp", "below_floor", "over_budget"};
+    cJSON_AddStringToObject(pl, "k_limit", limits[r->lights_k_limit]);
+    char why[320];
+    tool_k_limit_text(o, r, why, sizeof why);
+    if (why[0])
+        cJSON_AddStringToObject(pl, "k_limit_reason", why);
+    else
+        cJSON_AddNullToObject(pl, "k_limit_reason");
+}
+
+/* The light set: its method, mode, parameters, counts and build. */
+static void side_lights(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const lumis_light_set *lights = c->lights;
+    const tool_render_result *r = c->r;
+    cJSON *x;
     if (lights) {
         const lumis_light_set_info *li = lumis_light_set_get_info(lights);
         x = cJSON_AddObjectToObject(j, "lights");
@@ -234,36 +339,20 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddNumberToObject(x, "sets", lumis_light_set_sets(lights));
         cJSON_AddNumberToObject(x, "build_ms", li->build_ms);
         cJSON_AddNumberToObject(x, "upsample", r->upsample);
-        if (r->lights_pilot_count > 0) {
-            /* --time: K chosen from pilot renders at the floor, 64 and where the fit lands
-             * (seconds per sample and once, scaled to the whole image). */
-            const int np = r->lights_pilot_count;
-            cJSON *pl = cJSON_AddObjectToObject(x, "k_from_time");
-            cJSON_AddItemToObject(pl, "pilot_k", cJSON_CreateIntArray(r->lights_pilot_k, np));
-            cJSON_AddItemToObject(pl, "pilot_seconds_per_spp",
-                                  cJSON_CreateDoubleArray(r->lights_pilot_per_spp, np));
-            cJSON_AddItemToObject(pl, "pilot_seconds_once",
-                                  cJSON_CreateDoubleArray(r->lights_pilot_once, np));
-            cJSON_AddNumberToObject(pl, "pilot_pixel_fraction", 1.0 / r->lights_pilot_scale);
-            cJSON_AddNumberToObject(pl, "k_from_pilots", r->lights_pilot_chosen);
-            cJSON_AddNumberToObject(pl, "k_floor", r->lights_k_floor);
-            cJSON_AddNumberToObject(pl, "spp_planned", r->lights_spp_planned);
-            cJSON_AddNumberToObject(pl, "predicted_render_seconds", r->lights_pilot_predicted);
-            cJSON_AddNumberToObject(pl, "pilot_wall_seconds", r->lights_pilot_seconds);
-            cJSON_AddNumberToObject(pl, "spp", r->stats.spp);
-            cJSON_AddBoolToObject(pl, "rerendered", r->lights_retried);
-            static const char *const limits[] = {"none", "fewer_spp", "below_floor", "over_budget"};
-            cJSON_AddStringToObject(pl, "k_limit", limits[r->lights_k_limit]);
-            char why[320];
-            tool_k_limit_text(o, r, why, sizeof why);
-            if (why[0])
-                cJSON_AddStringToObject(pl, "k_limit_reason", why);
-            else
-                cJSON_AddNullToObject(pl, "k_limit_reason");
-        }
+        if (r->lights_pilot_count > 0) side_k_from_time(x, c);
     } else {
         cJSON_AddNullToObject(j, "lights");
     }
+}
+
+/* The estimator's counts, the budget, the share, the sequence, threads and code paths, the
+ * size. */
+static void side_sampling(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const lumis_render_desc *rd = c->rd;
+    const lumis_camera *cam = c->cam;
+    const lumis_render_stats *s = c->s;
     if (rd->lighting.estimator == LUMIS_ESTIMATOR_MIS)
         cJSON_AddStringToObject(j, "heuristic", rd->power_heuristic ? "power" : "balance");
     else
@@ -303,7 +392,15 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     }
     cJSON_AddNumberToObject(j, "width", cam->width);
     cJSON_AddNumberToObject(j, "height", cam->height);
-    x = cJSON_AddObjectToObject(j, "timings");
+}
+
+/* Timings, and contention. */
+static void side_timings(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const tool_render_result *r = c->r;
+    const lumis_render_stats *s = c->s;
+    cJSON *x = cJSON_AddObjectToObject(j, "timings");
     cJSON_AddNumberToObject(x, "load_seconds", r->load_seconds);
     cJSON_AddNumberToObject(x, "sampler_build_seconds", r->sampler_build_ms / 1000.0);
     cJSON_AddNumberToObject(x, "scene_build_seconds", r->scene_seconds);
@@ -332,7 +429,14 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         cJSON_AddNullToObject(x, "prep_share");
         cJSON_AddNullToObject(x, "prep_over_share");
     }
-    x = cJSON_AddObjectToObject(j, "rays");
+}
+
+/* The rays traced, and the sampler's build and tables. */
+static void side_rays_sampler(cJSON *j, const sidecar_ctx *c)
+{
+    const lumis_sampler *smp = c->smp;
+    const lumis_render_stats *s = c->s;
+    cJSON *x = cJSON_AddObjectToObject(j, "rays");
     double total = s->camera_rays + s->shadow_rays + s->bounce_rays;
     cJSON_AddNumberToObject(x, "camera", s->camera_rays);
     cJSON_AddNumberToObject(x, "shadow", s->shadow_rays);
@@ -355,7 +459,16 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
     } else {
         cJSON_AddNullToObject(j, "sampler"); /* a light set: see "lights" */
     }
-    x = cJSON_AddObjectToObject(j, "outputs");
+}
+
+/* The outputs and, for a share, its inputs by content, its host, and its render key.  Exit code. */
+static int side_outputs(cJSON *j, const sidecar_ctx *c)
+{
+    const tool_render_opts *o = c->o;
+    const char *envspec = c->envspec;
+    const lumis_scene_file *file = c->file;
+    const char *path = c->path;
+    cJSON *x = cJSON_AddObjectToObject(j, "outputs");
     cJSON_AddStringToObject(x, "exr", o->out);
     if (o->png)
         cJSON_AddStringToObject(x, "png", o->png);
@@ -377,13 +490,45 @@ int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, c
         if (gethostname(host, sizeof host - 1) != 0) snprintf(host, sizeof host, "?");
         cJSON_AddStringToObject(j, "host", host);
         char key[32];
-        if (!tool_render_key(j, key, sizeof key)) {
-            cJSON_Delete(j);
+        if (!tool_render_key(j, key, sizeof key))
             return tool_runtime_error("%s: out of memory", path);
-        }
         cJSON_AddStringToObject(j, "render_key", key);
     }
-    int rc = tool_write_json(path, j);
+    return EXIT_OK;
+}
+
+int tool_write_sidecar(const tool_render_opts *o, const lumis_render_desc *rd, const char *path,
+                       const char *scene_label, const char *envspec, const lumis_envmap *env,
+                       const lumis_sampler *smp, const lumis_light_set *lights,
+                       const lumis_scene_file *file, const lumis_camera *cam,
+                       const tool_render_result *r)
+{
+    const sidecar_ctx c = {o,
+                           rd,
+                           path,
+                           scene_label,
+                           envspec,
+                           env,
+                           smp,
+                           lights,
+                           file,
+                           cam,
+                           r,
+                           &r->stats,
+                           rd->lighting.luminaires != NULL,
+                           rd->lighting.photometric != NULL};
+    cJSON *j = cJSON_CreateObject();
+    side_header(j, &c);
+    side_environment(j, &c);
+    side_method(j, &c);
+    side_photometric(j, &c);
+    side_luminaires(j, &c);
+    side_lights(j, &c);
+    side_sampling(j, &c);
+    side_timings(j, &c);
+    side_rays_sampler(j, &c);
+    int rc = side_outputs(j, &c);
+    if (rc == EXIT_OK) rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
 }

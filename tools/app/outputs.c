@@ -3,7 +3,10 @@
  * another output).  A mistake here is a usage error (exit 2) that names the paths, found
  * in milliseconds rather than after a render. */
 #define _XOPEN_SOURCE 700 /* realpath */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "lights.h"
+#include "pipeline.h"
 
 #include <cJSON.h>
 

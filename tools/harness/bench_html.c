@@ -2,7 +2,7 @@
  * the tables, the plots and the image grid.  It writes the assets it shows that no other
  * writer does: the FLIP colour scale and the convergence plots of all pairs (equal time,
  * equal samples). */
-#include "bench.h"
+#include "harness.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -38,19 +38,11 @@ static void flip_legend_svg(FILE *h)
 }
 
 /* Tables, plots, and the image grid of the last budget. */
-int bench_write_html(const bench_report *r, const char *path)
+/* The page's head, title, command line and warnings (failed items, contention, a noisy
+ * reference). */
+static void html_head(FILE *h, const bench_report *r)
 {
     const suite *s = r->s;
-    const result *res = r->res;
-    const summary *sum = r->sum;
-    const char *out = r->out;
-    char file[8800];
-    snprintf(file, sizeof file, "%s/flip-legend.png", out);
-    if (write_flip_legend(file) != EXIT_OK) return EXIT_RUNTIME;
-    for (int axis = 0; axis < BENCH_NAXES; axis++)
-        if (bench_write_convergence_svg(r, &r->conv[axis]) != EXIT_OK) return EXIT_RUNTIME;
-    FILE *h = tmpfile();
-    if (!h) return tool_runtime_error("bench: cannot write a temporary file");
     fprintf(h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>lumis "
                "bench: ");
     tool_markup_escape(h, s->name);
@@ -88,6 +80,22 @@ int bench_write_html(const bench_report *r, const char *path)
         bench_write_reference_warning(h, BENCH_HTML, r);
         fputs("</div>\n", h);
     }
+}
+
+int bench_write_html(const bench_report *r, const char *path)
+{
+    const suite *s = r->s;
+    const result *res = r->res;
+    const summary *sum = r->sum;
+    const char *out = r->out;
+    char file[8800];
+    snprintf(file, sizeof file, "%s/flip-legend.png", out);
+    if (write_flip_legend(file) != EXIT_OK) return EXIT_RUNTIME;
+    for (int axis = 0; axis < BENCH_NAXES; axis++)
+        if (bench_write_convergence_svg(r, &r->conv[axis]) != EXIT_OK) return EXIT_RUNTIME;
+    FILE *h = tmpfile();
+    if (!h) return tool_runtime_error("bench: cannot write a temporary file");
+    html_head(h, r);
     for (int b = 0; b < s->nbudgets; b++) {
         fprintf(h,
                 "<h2>Budget %s</h2>\n<table><tr><th>method</th><th>n</th><th>spp</th>"

@@ -1,7 +1,7 @@
 /* lumis bench: the report's markup, shared by its tables (bench_tables.c) and its
  * convergence analysis (bench_convergence.c): Markdown or HTML headings, paragraphs and
  * tables, a method by label, a metric as the tables print it. */
-#include "bench.h"
+#include "harness.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -3,7 +3,7 @@
  * results.md (with the pairwise comparisons and the per-map table; the convergence
  * analyses, at equal time and at equal samples, are bench_convergence.c's, the markup
  * bench_markup.c's). */
-#include "bench.h"
+#include "harness.h"
 
 #include <cJSON.h>
 #include <math.h>

@@ -1,10 +1,18 @@
-/* Internal to `lumis bench` (tools/lumis/cmd_bench.c and bench_*.c): the parsed suite, its
- * items and their keys, the runner, and the report's results and writers.  Shared names
- * carry a bench_ prefix; nothing here is part of any library. */
-#ifndef LUMIS_TOOL_BENCH_H
-#define LUMIS_TOOL_BENCH_H
+/* The benchmark harness (tools/harness, the static library lumis-harness): the suite model,
+ * its items and their keys, the runner, the report's results and writers (tables, SVG,
+ * HTML), convergence, merge and Slurm.  `lumis bench` (tools/lumis/cmd_bench.c) parses the
+ * command line and calls bench_main; the harness renders through the render pipeline of
+ * tools/app.  Shared names carry a bench_ prefix; nothing here is part of any installed
+ * library. */
+#ifndef LUMIS_HARNESS_H
+#define LUMIS_HARNESS_H
 
-#include "common.h"
+#include "../app/compare.h"
+#include "../app/errors.h"
+#include "../app/files.h"
+#include "../app/lights.h"
+#include "../app/load.h"
+#include "../app/pipeline.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -342,5 +350,23 @@ int bench_slurm_status(const suite *s, const char *out, long tasks, long ref_pas
 
 /* Copies every results/ and previews/ file (and refs/ PNGs) of src into dst. */
 int bench_merge_dir(const suite *s, const char *src, const char *dst);
+
+/* ---- the flow (harness.c) ------------------------------------------------------------------ */
+
+/* One run of lumis bench, as its options chose it (tools/lumis/cmd_bench.c checks them). */
+typedef struct bench_opts {
+    const char *suite_path, *out; /* out NULL: bench-out/SUITE_NAME */
+    long jobs, threads, shard_i, shard_n;
+    int report_only, merging, sharded, slurm, items_only, merge_refs;
+    long ref_task; /* --reference-task; -1: none */
+    bench_slurm_opts so;
+    int argc; /* the command line: --merge's folders, and the sidecars' and the report's */
+    char **argv;
+} bench_opts;
+
+/* Reads the suite, checks --out and makes its folders, then runs as o says: --merge folders
+ * copied in, --slurm scripts, a reference task or their merge, or the items rendered; then
+ * the report (unless sharded) and the Slurm status.  Prints errors itself.  Exit code. */
+int bench_main(const bench_opts *o);
 
 #endif

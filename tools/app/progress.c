@@ -1,5 +1,7 @@
 /* The progress bar (stderr, only on a terminal), the monotonic clock and medians. */
-#include "common.h"
+#include "pipeline.h"
+
+#include <stdio.h>
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

@@ -5,7 +5,8 @@
  * include misses the next setting someone adds, a key that names what to leave out does
  * not.  The sidecar's "inputs" (every file read, by content) make it cover the files too.
  * (The bench's item key is the same idea: bench_keys.c.) */
-#include "common.h"
+#include "files.h"
+#include "pipeline.h"
 
 #include <cJSON.h>
 #include <stdio.h>

@@ -1,7 +1,7 @@
 /* lumis bench: reading a suite file (docs/bench.md has the format) into a checked suite:
  * maps (files, folders, procedural specs), scenes, methods, budgets, the reference and the
  * report's settings.  Every error names the file and the key. */
-#include "bench.h"
+#include "harness.h"
 
 #include <cJSON.h>
 #include <dirent.h>

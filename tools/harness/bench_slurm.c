@@ -11,7 +11,7 @@
  * The plan is made from the outputs alone (results checked, references read), so running
  * the same command again submits only what is left: a failed task alone. */
 #define _XOPEN_SOURCE 700 /* realpath, getcwd */
-#include "bench.h"
+#include "harness.h"
 
 #include <errno.h>
 #include <stdlib.h>

@@ -1,6 +1,9 @@
 /* Image comparison as the tools report it (lumis compare, lumis bench): every metric,
  * as text or JSON, and FLIP's error map. */
-#include "common.h"
+#include "errors.h"
+#include "files.h"
+#include "lights.h"
+#include "compare.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

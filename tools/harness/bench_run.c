@@ -2,7 +2,7 @@
  * item: a render, its metrics against the reference, its previews and its result file
  * (written last: it marks the item done).  Each item in a process of its own (up to --jobs
  * at once), so that one failing or crashing item is recorded and the others go on. */
-#include "bench.h"
+#include "harness.h"
 
 #include <cJSON.h>
 #include <errno.h>

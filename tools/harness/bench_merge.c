@@ -1,6 +1,6 @@
 /* lumis bench --merge: joins the folders of other runs (shards) into one, before the
  * report is written from it. */
-#include "bench.h"
+#include "harness.h"
 
 #include <dirent.h>
 #include <stdlib.h>

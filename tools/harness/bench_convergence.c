@@ -2,7 +2,7 @@
  * on it (time budgets: equal time; spp budgets: equal samples): the geometric mean of
  * relMSE per method and budget, the log-log slopes, and where the compare pairs' curves
  * cross (results.md, index.html, results.json, convergence-all.svg, convergence-spp.svg). */
-#include "bench.h"
+#include "harness.h"
 
 #include <cJSON.h>
 #include <math.h>
