@@ -8,17 +8,25 @@ and adds one sun lamp per light: pointing where the light is as Blender shows th
 colour and strength its irradiance in W/m^2 for a map in W/(m^2 sr) (Blender's sun
 strength), so that a diffuse surface under the suns receives what the lights give it.
 
+"Import Photometric Fixture" reads an IES LM-63 or EULUMDAT file with lumis's photometric
+model and adds a point lamp carrying Cycles' IES Texture, its table resampled from lumis's
+intensity in Blender's own reading of IES angles, its power the fixture's flux at 683 lm/W,
+aimed by lumis's rule for the file's type (docs/blender.md, "Photometric fixtures").
+
 Headless: blender/lights_from_hdri.py, or from any script with the add-on enabled:
 
     import lumis_lights
     lumis_lights.lights_from_world(bpy.context.scene, method="median-cut", count=16)
+    lumis_lights.import_fixture(bpy.context.scene, "spot.ies", location=(0, 0, 3))
 """
 
+import math
 import os
 import sys
 
 import bpy
-from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
+                       IntProperty, StringProperty)
 from mathutils import Euler, Matrix, Vector
 
 bl_info = {
@@ -26,8 +34,10 @@ bl_info = {
     "author": "lumis",
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
-    "location": "Add > Light > Lights from World HDRI; World Properties > lumis lights",
-    "description": "Sun lamps that reproduce the world HDRI's irradiance (lumis light sets)",
+    "location": "Add > Light > Lights from World HDRI / Photometric Fixture; World Properties "
+                "> lumis lights; File > Import > Photometric Fixture",
+    "description": "Sun lamps that reproduce the world HDRI's irradiance (lumis light sets); "
+                   "IES/EULUMDAT fixtures as lamps with lumis's photometric model",
     "category": "Lighting",
 }
 
@@ -234,6 +244,115 @@ def lights_from_world(scene, method="median-cut", count=16, params="", remove_hd
             "build_ms": info["build_ms"], "params": params}
 
 
+# ---- photometric fixtures ---------------------------------------------------------------
+#
+# Cycles' IES Texture on a point lamp (Blender 3.4, util/ies.cpp and svm/ies.h) looks its table
+# up with the lamp's local direction b (from the lamp to the lit point) at v = acos(-b.z) and
+# h = atan2(b.x, b.y) + pi: v from the lamp's -Z as lumis's gamma, but h = 0 along local -y and
+# h = 90 along -x, where lumis puts C0 along +x and C90 along +y.  Its values are candela times
+# the multiplier and the ballast factors, times 4 pi / 177.83 (D65's lm/W), and the lamp then
+# emits power / (4 pi) x that value W/sr: power P W gives I / 177.83 x P W/sr.  So the add-on
+# writes its own table: at Blender's (h, v) the intensity lumis gives the local direction
+# b(h, v), times 177.83 / flux, with the lamp's power the flux / LUMENS_PER_WATT: the lamp
+# emits lumis's intensity / LUMENS_PER_WATT W/sr in every direction, its total power the
+# fixture's flux in watts.  The lamp's local frame is then lumis's luminaire frame (aim -z,
+# C0 or the top +x), placed by lumis's rotation R through the add-on's frame map F
+# (lumis_to_blender): matrix_world = F R.
+
+LUMENS_PER_WATT = 683.0     # the convention: lm per W at 555 nm (docs/blender.md)
+CYCLES_IES_LM_PER_W = 177.83  # what Cycles' IES node divides candela by (util/ies.cpp)
+FIXTURES = "lumis fixtures"
+# the resampled table: gamma every 1 degree over the whole sphere, C every 2.5 degrees
+_GRID_V, _GRID_H = 1.0, 2.5
+
+F_LUMIS_TO_BLENDER = Matrix(((-1, 0, 0), (0, 0, 1), (0, 1, 0)))
+
+
+def _blender_ies_direction(h_deg, v_deg):
+    """The lamp-local direction at which Cycles reads its table's (h, v) (above)."""
+    h, v = math.radians(h_deg), math.radians(v_deg)
+    return (-math.sin(v) * math.sin(h), -math.sin(v) * math.cos(h), -math.cos(v))
+
+
+def fixture_ies_text(ph, name="lumis"):
+    """An LM-63-2002 table (type C, v 0-180, h 0-360) that Cycles' IES Texture reads as ph's
+    intensity per unit flux times 177.83 (above), for a lamp whose power is the flux in W."""
+    import numpy as np  # noqa: PLC0415
+    vs = np.arange(0.0, 180.0 + 1e-9, _GRID_V)
+    hs = np.arange(0.0, 360.0 + 1e-9, _GRID_H)
+    dirs = np.array([_blender_ies_direction(h, v) for h in hs for v in vs], dtype=np.float32)
+    scale = CYCLES_IES_LM_PER_W / ph.flux
+    cd = ph.intensity(dirs).reshape(len(hs), len(vs)) * scale
+    lines = ["IESNA:LM-63-2002", "[TEST] lumis resampled: Cycles' angles, candela x 177.83 / flux",
+             "[LUMINAIRE] %s" % name.replace("\n", " "), "TILT=NONE",
+             "1 -1 1 %d %d 1 2 0 0 0" % (len(vs), len(hs)), "1 1 0",
+             " ".join("%g" % v for v in vs), " ".join("%g" % h for h in hs)]
+    lines += [" ".join("%.7g" % x for x in row) for row in cd]
+    return "\n".join(lines) + "\n"
+
+
+def fixture_matrix(ph, aim, up=None, roll_deg=0.0):
+    """The lamp's rotation in Blender (3 x 3): lumis's R for the file's type and the aim, up
+    (Blender directions) and roll, through the frame map."""
+    aim_l = blender_to_lumis(aim)
+    up_l = blender_to_lumis(up) if up is not None else None
+    R = Matrix([list(r) for r in ph.orient(aim_l, up_l, roll_deg)])
+    return F_LUMIS_TO_BLENDER @ R
+
+
+def import_fixture(scene, path, location=(0.0, 0.0, 3.0), aim=(0.0, 0.0, -1.0), up=None,
+                   roll_deg=0.0, multiplier=1.0, lumis_path=""):
+    """Adds a point lamp for the IES/EULUMDAT file at `location`, aimed along `aim` (Blender
+    world), to the collection "lumis fixtures".  Returns a dict: the lamp's name, the file's
+    type, flux (lm, times multiplier), the lamp's power (W), the rotation (rows) and the
+    peak candela."""
+    lumis = import_lumis(lumis_path)
+    if not multiplier > 0 or not math.isfinite(multiplier):
+        raise LumisError("multiplier: %r is not a positive number" % (multiplier,))
+    try:
+        ph = lumis.read_photometric(path)
+    except lumis.Error as e:
+        raise LumisError("%s: %s" % (path, e.message)) from e
+    with ph:
+        flux = ph.flux
+        if not flux > 0:
+            raise LumisError("%s: the table's flux is %g lm: nothing to light with" % (path, flux))
+        info = ph.info()
+        try:
+            M = fixture_matrix(ph, aim, up, roll_deg)
+        except lumis.Error as e:
+            raise LumisError("%s: aim %s, up %s, roll %g: %s" % (
+                path, tuple(aim), up, roll_deg, e.message)) from e
+        name = os.path.basename(path)
+        text = bpy.data.texts.new(name)
+        text.write(fixture_ies_text(ph, ph.luminaire or name))
+    data = bpy.data.lights.new("lumis %s" % name, "POINT")
+    data.energy = flux * multiplier / LUMENS_PER_WATT
+    data.shadow_soft_size = 0.0  # a point, as lumis's fixture without "area"
+    data.use_nodes = True
+    nt = data.node_tree
+    ies = nt.nodes.new("ShaderNodeTexIES")
+    ies.mode = "INTERNAL"
+    ies.ies = text
+    emission = next(n for n in nt.nodes if n.type == "EMISSION")
+    nt.links.new(ies.outputs["Fac"], emission.inputs["Strength"])
+    obj = bpy.data.objects.new(data.name, data)
+    m = M.to_4x4()
+    m.translation = Vector(location)
+    obj.matrix_world = m
+    obj["lumis_file"] = os.path.abspath(path)
+    obj["lumis_type"] = info["type"]
+    obj["lumis_flux_lm"] = flux * multiplier
+    obj["lumis_lm_per_w"] = LUMENS_PER_WATT
+    coll = bpy.data.collections.get(FIXTURES) or bpy.data.collections.new(FIXTURES)
+    if coll.name not in scene.collection.children:
+        scene.collection.children.link(coll)
+    coll.objects.link(obj)
+    return {"lamp": obj.name, "type": info["type"], "flux_lm": flux * multiplier,
+            "power_w": data.energy, "rotation": [tuple(r) for r in M],
+            "max_candela": info["max_candela"] * multiplier, "text": text.name}
+
+
 # ---- the user interface -----------------------------------------------------------------
 
 _method_items_cache = []
@@ -298,6 +417,40 @@ class LUMIS_OT_lights_from_world(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class LUMIS_OT_import_fixture(bpy.types.Operator):
+    """A point lamp from an IES or EULUMDAT file: lumis's photometric model in Cycles' IES
+    Texture, power the flux at 683 lm/W, aimed by lumis's rule for the file's type"""
+    bl_idname = "lumis.import_fixture"
+    bl_label = "Photometric Fixture (IES/EULUMDAT)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filepath: StringProperty(subtype="FILE_PATH")
+    filter_glob: StringProperty(default="*.ies;*.IES;*.ldt;*.LDT", options={"HIDDEN"})
+    aim: FloatVectorProperty(name="Aim", default=(0.0, 0.0, -1.0), subtype="DIRECTION",
+                             description="Where the fixture points (photometric zero for "
+                                         "type C, the centre for A and B)")
+    roll: FloatProperty(name="Roll", default=0.0, subtype="ANGLE",
+                        description="A turn about the aim (C0 towards C90)")
+    multiplier: FloatProperty(name="Multiplier", default=1.0, min=1e-6,
+                              description="Scales the file's candela (and the lamp's power)")
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        try:
+            r = import_fixture(context.scene, self.filepath,
+                               tuple(context.scene.cursor.location), tuple(self.aim), None,
+                               math.degrees(self.roll), self.multiplier, _prefs_path(context))
+        except LumisError as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        self.report({"INFO"}, "lumis: %s, type %s, %.4g lm, %.4g W at %g lm/W" % (
+            r["lamp"], r["type"], r["flux_lm"], r["power_w"], LUMENS_PER_WATT))
+        return {"FINISHED"}
+
+
 class WORLD_PT_lumis_lights(bpy.types.Panel):
     bl_label = "lumis lights"
     bl_space_type = "PROPERTIES"
@@ -310,22 +463,31 @@ class WORLD_PT_lumis_lights(bpy.types.Panel):
 
 def _menu(self, context):
     self.layout.operator(LUMIS_OT_lights_from_world.bl_idname, icon="LIGHT_SUN")
+    self.layout.operator(LUMIS_OT_import_fixture.bl_idname, icon="LIGHT_POINT")
 
 
-_CLASSES = (LumisLightsPreferences, LUMIS_OT_lights_from_world, WORLD_PT_lumis_lights)
+def _import_menu(self, context):
+    self.layout.operator(LUMIS_OT_import_fixture.bl_idname, text="Photometric Fixture (.ies/.ldt)")
+
+
+_CLASSES = (LumisLightsPreferences, LUMIS_OT_lights_from_world, LUMIS_OT_import_fixture,
+            WORLD_PT_lumis_lights)
 
 
 def register():
     for c in _CLASSES:
         bpy.utils.register_class(c)
     bpy.types.VIEW3D_MT_light_add.append(_menu)
+    bpy.types.TOPBAR_MT_file_import.append(_import_menu)
 
 
 def unregister():
+    bpy.types.TOPBAR_MT_file_import.remove(_import_menu)
     bpy.types.VIEW3D_MT_light_add.remove(_menu)
     for c in reversed(_CLASSES):
         bpy.utils.unregister_class(c)
 
 
-__all__ = ["lights_from_world", "import_lumis", "lumis_to_blender", "blender_to_lumis",
+__all__ = ["lights_from_world", "import_fixture", "fixture_ies_text", "fixture_matrix",
+           "LUMENS_PER_WATT", "import_lumis", "lumis_to_blender", "blender_to_lumis",
            "mapping_matrix", "find_environment", "LumisError"]

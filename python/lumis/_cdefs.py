@@ -585,6 +585,8 @@ lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *error
                                  lumis_scene_file **out);
 const char *const *lumis_scene_builtin_names(void);
 void lumis_scene_file_destroy(lumis_scene_file *file);
+lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
+                                      const lumis_vec3 *up, double roll_deg, double R[9]);
 """
 
 RENDER_STRUCTS = {

@@ -219,3 +219,32 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
                 m.close()
         if file is not None:
             renderlib.lumis_scene_file_destroy(file)
+
+
+_PHOTOMETRIC_TYPES = {"C": 1, "B": 2, "A": 3}
+
+
+def photometric_orient(type, aim, up=None, roll_deg=0.0):  # noqa: A002 - the C argument's name
+    """lumis_photometric_orient: the rotation R (3 x 3 float64, world = R local; local -z the
+    aim) of a fixture of photometric type "C", "B" or "A" aimed along `aim` (lumis's world, y
+    up), local +x from `up` or the type's default, then rolled roll_deg about the aim
+    (docs/photometric.md, "Aiming a fixture")."""
+    _need()
+    import numpy as np  # noqa: PLC0415
+    if type not in _PHOTOMETRIC_TYPES:
+        raise invalid("type: '%s' is not a photometric type (C, B, A)" % (type,))
+    a = [float(x) for x in aim]
+    if len(a) != 3:
+        raise invalid("aim: 3 components expected, got %d" % len(a))
+    u = ffi.NULL
+    if up is not None:
+        uu = [float(x) for x in up]
+        if len(uu) != 3:
+            raise invalid("up: 3 components expected, got %d" % len(uu))
+        u = ffi.new("lumis_vec3 *", uu)
+    R = ffi.new("double[9]")
+    st = renderlib.lumis_photometric_orient(_PHOTOMETRIC_TYPES[type], a, u, float(roll_deg), R)
+    if st != lib.LUMIS_OK:
+        raise invalid("photometric_orient: aim %s, up %s, roll %g refused (a zero or non-finite "
+                      "aim or roll, or an up along the aim)" % (a, up, float(roll_deg)))
+    return np.array(list(R), dtype=np.float64).reshape(3, 3)

@@ -8,6 +8,8 @@
 # the add-on installed into a temporary BLENDER_USER_SCRIPTS (the user's own Blender
 # configuration untouched).  The add-on loads the lumis Python package from the source
 # tree's python/ and the libraries from LUMIS_LIBRARY_PATH (set by ctest).
+# Then fixture_test.py imports tests/data/photometric/luxcore_asa_15m_r2.ies as a lamp over
+# a white floor ("Import Photometric Fixture").
 # Exit 77 (a ctest skip) without blender or the data; in CI (CI=true) a failure instead.
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
@@ -35,4 +37,12 @@ BLENDER_USER_SCRIPTS="$T/scripts" blender -b --factory-startup --python-exit-cod
     --lumis-python "$ROOT/python" >"$T/blender.log" 2>&1 || status=$?
 # Blender's own lines (render progress) left out
 grep -v '^Fra:\|^Saved:\|^ Time:\|^$' "$T/blender.log" || true
+# "Import Photometric Fixture": a road light (IES, type C, asymmetric) over a white floor
+fstatus=0
+BLENDER_USER_SCRIPTS="$T/scripts" blender -b --factory-startup --python-exit-code 1 \
+    --python "$HERE/fixture_test.py" -- --zip "$T/lumis_lights.zip" \
+    --file "$ROOT/tests/data/photometric/luxcore_asa_15m_r2.ies" \
+    --lumis-python "$ROOT/python" >"$T/fixture.log" 2>&1 || fstatus=$?
+grep -v '^Fra:\|^Saved:\|^ Time:\|^$' "$T/fixture.log" || true
+[ "$status" -ne 0 ] || status=$fstatus
 exit $status
