@@ -660,6 +660,16 @@ static void near_field_and_light_field(void **state)
         fail_msg("off axis: light field %g, near field %g, point %g", e.g, near, ptE);
     lumis_luminaire_destroy(lum);
     lumis_photometric_file_destroy(f);
+    /* images asked for beyond the pixel cap (16 M in all): refused before any is made, with
+     * the reason, not a bare status */
+    f = read_ies(&s);
+    lf.width = lf.height = 16384;
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, &lf, &sink.sink, &lum, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(lum);
+    assert_non_null(strstr(sink.last, "needs more than"));
+    lumis_photometric_file_destroy(f);
     /* a point source: no opening, no light field, and a clear error */
     pg_ies_spec pt = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
     f = read_ies(&pt);
