@@ -47,6 +47,11 @@ lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera 
 
 /* Benchmark hooks (bench/bench_render.c), not part of the public API. */
 /* The top-level Embree scene (an RTCScene), for raw throughput on the same rays. */
+/* The seconds n pilot renders (K lights k[i], per_spp[i] seconds a sample per pixel, once[i]
+ * seconds once; sorted by K, n <= LUMIS_SESSION_PILOTS) predict for kq lights at spp. */
+double lumis__pilots_predict(const int *k, const double *per_spp, const double *once, int n,
+                             double kq, int spp);
+
 /* A timed render's next pass, in samples per pixel (0: stop), from the seconds per sample so
  * far, the seconds left and the samples made; cap > 0: at most cap samples, one a pass. */
 int lumis__timed_next_pass(double per, double left, int spp, int cap);

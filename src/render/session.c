@@ -259,6 +259,20 @@ static double predict(const pilot *p, int n, double k, int spp)
     return k < p[0].k && v < t[0] * k / p[0].k ? t[0] * k / p[0].k : v;
 }
 
+double lumis__pilots_predict(const int *k, const double *per_spp, const double *once, int n,
+                             double kq, int spp)
+{
+    pilot p[LUMIS_SESSION_PILOTS];
+    memset(p, 0, sizeof p);
+    n = n < LUMIS_SESSION_PILOTS ? n : LUMIS_SESSION_PILOTS;
+    for (int i = 0; i < n; i++) {
+        p[i].k = k[i];
+        p[i].per_spp = per_spp[i];
+        p[i].once = once[i];
+    }
+    return predict(p, n, kq, spp);
+}
+
 /* The most lights in [1, kmax] whose predicted time fits `budget` at spp; 0 if none. */
 static int solve_k(const pilot *p, int n, double budget, int spp, int kmax)
 {

@@ -1611,6 +1611,26 @@ static void timed_passes_end_within_the_budget(void **state)
     assert_int_equal(lumis__timed_next_pass(0.0, 1.0, 3, 4), 1);
 }
 
+/* Oracle: arithmetic on the pilots.  The prediction is piecewise linear through them, and no
+ * segment may fall or be flatter than a tenth of the first pilot's cost per light: timing
+ * noise that makes 64 lights look cheaper than 4 must not make them look free. */
+static void pilots_predict_with_a_floor_on_the_slope(void **state)
+{
+    (void)state;
+    const int k[3] = {4, 64, 256};
+    const double per[3] = {0.25, 0.125, 1.0}, once[3] = {0, 0, 0};
+    /* t = (1, 0.5, 4) at 4 spp; the floor slope 0.1 * 1 / 4: t1 = 1 + 0.025 * 60 = 2.5 */
+    assert_true(fabs(lumis__pilots_predict(k, per, once, 3, 64, 4) - 2.5) < 1e-12);
+    assert_true(fabs(lumis__pilots_predict(k, per, once, 3, 4, 4) - 1.0) < 1e-12);
+    /* the second segment is clamped too: 4 at 256 rises to 2.5 + 0.025 * 192 = 7.3, and
+     * halfway along it, at 160, the prediction is 4.9 */
+    assert_true(fabs(lumis__pilots_predict(k, per, once, 3, 160, 4) - 4.9) < 1e-12);
+    /* below the first pilot the first segment extended, 1 - 0.025 * 2 = 0.95 (falling no
+     * faster than K would allow 0.5); one pilot scales linearly beyond it */
+    assert_true(fabs(lumis__pilots_predict(k, per, once, 3, 2, 4) - 0.95) < 1e-12);
+    assert_true(fabs(lumis__pilots_predict(k, per, once, 1, 8, 4) - 2.0) < 1e-12);
+}
+
 static void render_session_equals_its_parts(void **state)
 {
     (void)state;
@@ -1801,6 +1821,7 @@ int main(void)
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
         cmocka_unit_test(timed_passes_end_within_the_budget),
+        cmocka_unit_test(pilots_predict_with_a_floor_on_the_slope),
         cmocka_unit_test(render_session_equals_its_parts),
         cmocka_unit_test(render_session_budget_holds),
         cmocka_unit_test(upsampling_keeps_constants_and_depth_edges),
