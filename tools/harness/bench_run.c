@@ -289,12 +289,174 @@ static int record_outcome(const char *out, const item *it, int status)
     return 1;
 }
 
+/* The items of this shard and those not done yet, on stderr; need[first map] of each item
+ * to render set. */
+static void plan_items(const suite *s, const bench_run_opts *o, unsigned char *need)
+{
+    const int total = bench_nitems(s);
+    int mine = 0, todo = 0;
+    for (int k = 0; k < total; k++)
+        if (bench_in_shard(s, k, o->shard_i, o->shard_n)) {
+            mine++;
+            item it = bench_item_at(s, k);
+            if (!bench_item_done(s, o->out, &it)) {
+                todo++;
+                need[s->maps[it.map].first] = 1;
+            }
+        }
+    fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n", s->name,
+            total, mine, todo);
+}
+
+/* Every scene file read once before anything renders (in a child: reading a scene may
+ * acquire a luminaire, with threads), so a malformed one stops the run at once, not after
+ * the first reference render. */
+static int check_scene_files(const suite *s)
+{
+    fflush(NULL);
+    const pid_t vp = fork();
+    if (vp == 0) {
+        int vrc = EXIT_OK;
+        for (int sc = 0; sc < s->nscenes; sc++) {
+            if (!s->scenes[sc].is_file) continue;
+            lumis_scene_read_options so = {0};
+            so.skip_env_map = 1; /* the maps were read above */
+            so.errors = tool_errors;
+            so.load_preset = tool_scene_load_preset;
+            lumis_scene_file *f = NULL;
+            if (lumis_scene_file_read(s->scenes[sc].spec, &so, &f) != LUMIS_OK) vrc = EXIT_RUNTIME;
+            lumis_scene_file_destroy(f);
+        }
+        fflush(NULL);
+        _exit(vrc);
+    }
+    int status = 0;
+    if (vp < 0) return tool_runtime_error("bench: fork: %s", strerror(errno));
+    if (waitpid(vp, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return tool_runtime_error("bench: a scene of the suite does not read (above): nothing "
+                                  "was rendered");
+    return EXIT_OK;
+}
+
+/* The references of the (map, scene) pairs this shard needs, rendered (or, with
+ * --items-only, an error if one is missing).  Runs in the child of render_references. */
+static int references_of_shard(const run_ctx *all, const bench_run_opts *o)
+{
+    const suite *s = all->s;
+    const char *out = o->out;
+    const int total = bench_nitems(s);
+    int rc = EXIT_OK;
+    for (int m = 0; m < s->nmaps && rc == EXIT_OK; m++)
+        for (int sc = 0; sc < s->nscenes && rc == EXIT_OK; sc++) {
+            int need = 0;
+            for (int k = 0; k < total && !need; k++) {
+                item it = bench_item_at(s, k);
+                need = it.map == m && it.scene == sc &&
+                       bench_in_shard(s, k, o->shard_i, o->shard_n) &&
+                       !bench_item_done(s, out, &it);
+            }
+            if (need && o->items_only && !bench_reference_ok(s, out, m, sc)) {
+                char exr[8800];
+                bench_reference_path(s, out, m, sc, exr, sizeof exr);
+                rc = tool_runtime_error(
+                    "bench: --items-only: the reference of %s / %s (%s) is missing or does "
+                    "not read: render the references first (bench --slurm chains their "
+                    "jobs before the items')",
+                    s->maps[m].label, s->scenes[sc].label, exr);
+            } else if (need) {
+                rc = ensure_reference(all, m, sc);
+            }
+        }
+    return rc;
+}
+
+/* References first, with every thread, for the pairs this shard needs.  With --jobs the
+ * parent forks workers afterwards, so it must never start OpenMP's or Embree's threads
+ * itself (they do not survive a fork): references are rendered in a child process, always
+ * (the items are forked from this process after). */
+static int render_references(const run_ctx *all, const bench_run_opts *o)
+{
+    fflush(NULL);
+    const pid_t refs_pid = fork();
+    if (refs_pid < 0) return tool_runtime_error("bench: fork: %s", strerror(errno));
+    if (refs_pid == 0) {
+        const int rc = references_of_shard(all, o);
+        fflush(NULL);
+        _exit(rc);
+    }
+    int status = 0;
+    if (waitpid(refs_pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return EXIT_RUNTIME;
+    return EXIT_OK;
+}
+
+/* Items: each in a process of its own (at most --jobs at once), forked from this one,
+ * which starts no thread: an item that fails or crashes is recorded with its error in
+ * DIR/failures/ID.txt (*failed counts them) and the others go on. */
+static int render_items(const run_ctx *c, const bench_run_opts *o, int *failed)
+{
+    const suite *s = c->s;
+    const long jobs = o->jobs;
+    const int total = bench_nitems(s);
+    int rc = EXIT_OK;
+    fflush(NULL);
+    pid_t *pids = calloc((size_t)jobs, sizeof *pids);
+    int *slot_item = calloc((size_t)jobs, sizeof *slot_item);
+    if (!pids || !slot_item) rc = tool_runtime_error("bench: out of memory");
+    int next = 0, running = 0;
+    while (rc == EXIT_OK) {
+        /* fill the free slots with the next items of this shard that are not done */
+        for (long j = 0; j < jobs; j++) {
+            if (pids[j] > 0) continue;
+            const int k = next_to_render(s, o->out, o->shard_i, o->shard_n, &next);
+            if (k < 0) break;
+            item it = bench_item_at(s, k);
+            fflush(NULL);
+            const pid_t pid = fork();
+            if (pid == 0) {
+                const int crc = run_item(c, &it, k, total);
+                fflush(NULL);
+                _exit(crc);
+            }
+            if (pid < 0) {
+                rc = tool_runtime_error("bench: fork: %s", strerror(errno));
+                break;
+            }
+            pids[j] = pid;
+            slot_item[j] = k;
+            running++;
+        }
+        if (running == 0) break;
+        int status = 0;
+        const pid_t done = waitpid(-1, &status, 0);
+        if (done < 0) {
+            rc = tool_runtime_error("bench: waitpid: %s", strerror(errno));
+            break;
+        }
+        for (long j = 0; j < jobs; j++)
+            if (pids[j] == done) {
+                pids[j] = 0;
+                running--;
+                item it = bench_item_at(s, slot_item[j]);
+                *failed += record_outcome(o->out, &it, status);
+            }
+    }
+    /* an error above: the items still running are waited for, not orphaned */
+    for (long j = 0; pids && j < jobs; j++)
+        if (pids[j] > 0) {
+            int status = 0;
+            waitpid(pids[j], &status, 0);
+        }
+    free(pids);
+    free(slot_item);
+    return rc;
+}
+
 int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
 {
     *failed_items = 0;
-    const long jobs = o->jobs, shard_i = o->shard_i, shard_n = o->shard_n;
+    const long jobs = o->jobs;
     const char *out = o->out;
-    const int total = bench_nitems(s);
     lumis_image **images = calloc((size_t)s->nmaps, sizeof *images);
     unsigned char *need = calloc((size_t)s->nmaps, 1);
     if (!images || !need) {
@@ -302,150 +464,20 @@ int bench_run(suite *s, const bench_run_opts *o, int *failed_items)
         free(need);
         return tool_runtime_error("bench: out of memory");
     }
-    int mine = 0, todo = 0;
-    for (int k = 0; k < total; k++)
-        if (bench_in_shard(s, k, shard_i, shard_n)) {
-            mine++;
-            item it = bench_item_at(s, k);
-            if (!bench_item_done(s, out, &it)) {
-                todo++;
-                need[s->maps[it.map].first] = 1;
-            }
-        }
-    fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n", s->name,
-            total, mine, todo);
+    plan_items(s, o, need);
     int rc = load_maps(s, need, images);
     free(need);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     run_ctx c = {s,       out,
                  images,  (int)(o->threads ? o->threads : (cores > jobs ? cores / jobs : 1)),
                  o->argc, o->argv};
-    /* Every scene file read once before anything renders (in a child: reading a scene
-     * may acquire a luminaire, with threads), so a malformed one stops the run at once,
-     * not after the first reference render. */
-    if (rc == EXIT_OK) {
-        fflush(NULL);
-        const pid_t vp = fork();
-        if (vp == 0) {
-            int vrc = EXIT_OK;
-            for (int sc = 0; sc < s->nscenes; sc++) {
-                if (!s->scenes[sc].is_file) continue;
-                lumis_scene_read_options so = {0};
-                so.skip_env_map = 1; /* the maps were read above */
-                so.errors = tool_errors;
-                so.load_preset = tool_scene_load_preset;
-                lumis_scene_file *f = NULL;
-                if (lumis_scene_file_read(s->scenes[sc].spec, &so, &f) != LUMIS_OK)
-                    vrc = EXIT_RUNTIME;
-                lumis_scene_file_destroy(f);
-            }
-            fflush(NULL);
-            _exit(vrc);
-        }
-        int status = 0;
-        if (vp < 0)
-            rc = tool_runtime_error("bench: fork: %s", strerror(errno));
-        else if (waitpid(vp, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-            rc = tool_runtime_error("bench: a scene of the suite does not read (above): nothing "
-                                    "was rendered");
-    }
+    if (rc == EXIT_OK) rc = check_scene_files(s);
     const int started = rc == EXIT_OK; /* something may render from here on */
-    /* References first, with every thread, for the pairs this shard needs.  With
-     * --jobs the parent forks workers afterwards, so it must never start OpenMP's or
-     * Embree's threads itself (they do not survive a fork): references are rendered
-     * in a child process then. */
     run_ctx rc_all = c;
     rc_all.threads = o->threads;
-    pid_t refs_pid = 0;
-    if (rc == EXIT_OK) { /* always: the items are forked from this process below */
-        fflush(NULL);
-        refs_pid = fork();
-        if (refs_pid < 0) rc = tool_runtime_error("bench: fork: %s", strerror(errno));
-    }
-    if (rc == EXIT_OK && refs_pid == 0) {
-        for (int m = 0; m < s->nmaps && rc == EXIT_OK; m++)
-            for (int sc = 0; sc < s->nscenes && rc == EXIT_OK; sc++) {
-                int need = 0;
-                for (int k = 0; k < total && !need; k++) {
-                    item it = bench_item_at(s, k);
-                    need = it.map == m && it.scene == sc &&
-                           bench_in_shard(s, k, shard_i, shard_n) && !bench_item_done(s, out, &it);
-                }
-                if (need && o->items_only && !bench_reference_ok(s, out, m, sc)) {
-                    char exr[8800];
-                    bench_reference_path(s, out, m, sc, exr, sizeof exr);
-                    rc = tool_runtime_error(
-                        "bench: --items-only: the reference of %s / %s (%s) is missing or does "
-                        "not read: render the references first (bench --slurm chains their "
-                        "jobs before the items')",
-                        s->maps[m].label, s->scenes[sc].label, exr);
-                } else if (need) {
-                    rc = ensure_reference(&rc_all, m, sc);
-                }
-            }
-        fflush(NULL);
-        _exit(rc);
-    } else if (refs_pid > 0) {
-        int status = 0;
-        if (waitpid(refs_pid, &status, 0) < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
-            rc = EXIT_RUNTIME;
-    }
-    /* Items: each in a process of its own (at most --jobs at once), forked from this one,
-     * which starts no thread: an item that fails or crashes is recorded with its error in
-     * DIR/failures/ID.txt and the others go on; the run then exits 1. */
+    if (rc == EXIT_OK) rc = render_references(&rc_all, o);
     int failed = 0;
-    if (rc == EXIT_OK) {
-        fflush(NULL);
-        pid_t *pids = calloc((size_t)jobs, sizeof *pids);
-        int *slot_item = calloc((size_t)jobs, sizeof *slot_item);
-        if (!pids || !slot_item) rc = tool_runtime_error("bench: out of memory");
-        int next = 0, running = 0;
-        while (rc == EXIT_OK) {
-            /* fill the free slots with the next items of this shard that are not done */
-            for (long j = 0; j < jobs; j++) {
-                if (pids[j] > 0) continue;
-                const int k = next_to_render(s, out, shard_i, shard_n, &next);
-                if (k < 0) break;
-                item it = bench_item_at(s, k);
-                fflush(NULL);
-                const pid_t pid = fork();
-                if (pid == 0) {
-                    const int crc = run_item(&c, &it, k, total);
-                    fflush(NULL);
-                    _exit(crc);
-                }
-                if (pid < 0) {
-                    rc = tool_runtime_error("bench: fork: %s", strerror(errno));
-                    break;
-                }
-                pids[j] = pid;
-                slot_item[j] = k;
-                running++;
-            }
-            if (running == 0) break;
-            int status = 0;
-            const pid_t done = waitpid(-1, &status, 0);
-            if (done < 0) {
-                rc = tool_runtime_error("bench: waitpid: %s", strerror(errno));
-                break;
-            }
-            for (long j = 0; j < jobs; j++)
-                if (pids[j] == done) {
-                    pids[j] = 0;
-                    running--;
-                    item it = bench_item_at(s, slot_item[j]);
-                    failed += record_outcome(out, &it, status);
-                }
-        }
-        /* an error above: the items still running are waited for, not orphaned */
-        for (long j = 0; pids && j < jobs; j++)
-            if (pids[j] > 0) {
-                int status = 0;
-                waitpid(pids[j], &status, 0);
-            }
-        free(pids);
-        free(slot_item);
-    }
+    if (rc == EXIT_OK) rc = render_items(&c, o, &failed);
     *failed_items = failed;
     if (rc == EXIT_OK && failed > 0) {
         fprintf(stderr,

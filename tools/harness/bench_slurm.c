@@ -226,246 +226,319 @@ static int reference_missing(const suite *s, const char *out, const unsigned cha
     return needed && !bench_reference_ok(s, out, m, sc);
 }
 
-int bench_slurm(const suite *s, const char *suite_path, const char *out, const bench_slurm_opts *o)
+/* One --slurm run: the options, the paths its scripts hold and the scripts' own paths. */
+typedef struct {
+    const suite *s;
+    const bench_slurm_opts *o;
+    const char *suite_path, *out; /* as given */
+    long P, N, rcpus;             /* reference shares per pair, items tasks, reference cores */
+    char exe[4096], cwd[4096], dir[8800]; /* this program, where it runs, DIR/slurm */
+    char *suite_abs, *out_abs;
+    char outs[7][9000]; /* the scripts, in the order of slurm_names */
+} slurm_run;
+
+static const char *const slurm_names[] = {"references.sbatch", "merge-references.sbatch",
+                                          "items.sbatch",      "report.sbatch",
+                                          "resubmit.sh",       "submit.sh",
+                                          "jobs.txt"};
+
+/* What is left to do: the arrays' indices and their counts. */
+typedef struct {
+    int *ref_tasks, *item_tasks;
+    unsigned char *done; /* per item */
+    int nref, nmerge, nshard, left;
+} slurm_plan;
+
+/* This program's path, the working folder and the absolute suite and out (r->suite_abs and
+ * r->out_abs, freed by the caller on success); r->dir. */
+static int slurm_locate(slurm_run *r)
 {
-    const long P = o->ref_passes, N = items_tasks(s, o->tasks);
-    const long rcpus = o->ref_cpus > 0 ? o->ref_cpus : o->cpus;
-    const int nitems = bench_nitems(s), npairs = s->nmaps * s->nscenes;
-    char exe[4096], cwd[4096], dir[8800];
-    const ssize_t el = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    const ssize_t el = readlink("/proc/self/exe", r->exe, sizeof r->exe - 1);
     if (el <= 0) return tool_runtime_error("bench: --slurm: cannot find this program's path");
-    exe[el] = '\0';
-    char *suite_abs = realpath(suite_path, NULL), *out_abs = realpath(out, NULL);
-    if (!suite_abs || !out_abs || !getcwd(cwd, sizeof cwd)) {
-        free(suite_abs);
-        free(out_abs);
+    r->exe[el] = '\0';
+    r->suite_abs = realpath(r->suite_path, NULL);
+    r->out_abs = realpath(r->out, NULL);
+    if (!r->suite_abs || !r->out_abs || !getcwd(r->cwd, sizeof r->cwd)) {
+        free(r->suite_abs);
+        free(r->out_abs);
         return tool_runtime_error("bench: --slurm: %s", strerror(errno));
     }
-    snprintf(dir, sizeof dir, "%s/slurm", out_abs);
-    /* every value an #SBATCH line holds (the sh words are quoted whatever they hold) */
-    int bad = sbatch_value_ok("--out", dir, 1);
-    if (bad == EXIT_OK) bad = sbatch_value_ok("the suite's name", s->name, 0);
+    snprintf(r->dir, sizeof r->dir, "%s/slurm", r->out_abs);
+    return EXIT_OK;
+}
+
+/* Every value an #SBATCH line holds (the sh words are quoted whatever they hold). */
+static int slurm_values_ok(const slurm_run *r)
+{
+    const bench_slurm_opts *o = r->o;
+    int bad = sbatch_value_ok("--out", r->dir, 1);
+    if (bad == EXIT_OK) bad = sbatch_value_ok("the suite's name", r->s->name, 0);
     if (bad == EXIT_OK && o->partition) bad = sbatch_value_ok("--partition", o->partition, 0);
     if (bad == EXIT_OK && o->time_limit) bad = sbatch_value_ok("--time-limit", o->time_limit, 0);
     for (int k = 0; bad == EXIT_OK && k < o->nextra; k++)
         bad = sbatch_value_ok("--sbatch", o->extra[k], 0);
-    if (bad != EXIT_OK) {
-        free(suite_abs);
-        free(out_abs);
-        return bad;
-    }
-    char logs[8900];
-    snprintf(logs, sizeof logs, "%s/logs", dir);
-    int rc =
-        tool_make_dir(dir) == EXIT_OK && tool_make_dir(logs) == EXIT_OK ? EXIT_OK : EXIT_RUNTIME;
+    return bad;
+}
 
-    /* the plan, from what the folder holds */
-    int *ref_tasks = malloc(sizeof(int) * (size_t)npairs * (size_t)P + 1);
-    int *item_tasks = malloc(sizeof(int) * (size_t)N + 1);
-    int nref = 0, nmerge = 0, nshard = 0, left = 0;
-    unsigned char *done = items_done(s, out_abs);
-    if (!ref_tasks || !item_tasks || !done) rc = tool_runtime_error("bench: out of memory");
-    for (int pair = 0; pair < npairs && rc == EXIT_OK; pair++) {
+/* The plan, from what the folder holds: the reference shares missing, the references to
+ * merge, the items tasks with items left.  pl's arrays are allocated. */
+static void slurm_plan_make(const slurm_run *r, slurm_plan *pl)
+{
+    const suite *s = r->s;
+    const int npairs = s->nmaps * s->nscenes;
+    for (int pair = 0; pair < npairs; pair++) {
         const int m = pair / s->nscenes, sc = pair % s->nscenes;
-        if (!reference_missing(s, out_abs, done, m, sc)) continue;
-        nmerge++;
-        for (long i = 0; i < P; i++)
-            if (!bench_reference_part_ok(s, out_abs, m, sc, i, P))
-                ref_tasks[nref++] = (int)(pair * P + i);
+        if (!reference_missing(s, r->out_abs, pl->done, m, sc)) continue;
+        pl->nmerge++;
+        for (long i = 0; i < r->P; i++)
+            if (!bench_reference_part_ok(s, r->out_abs, m, sc, i, r->P))
+                pl->ref_tasks[pl->nref++] = (int)(pair * r->P + i);
     }
-    for (long k = 0; k < N && rc == EXIT_OK; k++) {
+    for (long k = 0; k < r->N; k++) {
         int mine = 0;
-        const int missing = shard_left(s, done, k, N, &mine);
-        if (missing) item_tasks[nshard++] = (int)k;
-        left += missing;
+        const int missing = shard_left(s, pl->done, k, r->N, &mine);
+        if (missing) pl->item_tasks[pl->nshard++] = (int)k;
+        pl->left += missing;
     }
+}
 
-    /* the job scripts (the same on every run: the arrays' indices go on sbatch's line):
-     * outputs, none of which may be (or link to) the suite */
-    static const char *const names[] = {"references.sbatch", "merge-references.sbatch",
-                                        "items.sbatch",      "report.sbatch",
-                                        "resubmit.sh",       "submit.sh",
-                                        "jobs.txt"};
-    char outs[7][9000];
+/* The scripts' paths (r->outs) as outputs, none of which may be (or link to) the suite. */
+static int slurm_files_check(slurm_run *r)
+{
     tool_files files = {0};
-    tool_files_input(&files, "suite", suite_path);
+    tool_files_input(&files, "suite", r->suite_path);
     for (int k = 0; k < 7; k++) {
-        snprintf(outs[k], sizeof outs[k], "%s/%s", dir, names[k]);
-        tool_files_output(&files, "--slurm's script", outs[k], TOOL_OUT_FILE);
+        snprintf(r->outs[k], sizeof r->outs[k], "%s/%s", r->dir, slurm_names[k]);
+        tool_files_output(&files, "--slurm's script", r->outs[k], TOOL_OUT_FILE);
     }
-    if (rc == EXIT_OK) rc = tool_files_check("bench", &files);
-    FILE *t = NULL; /* each script built in a temporary file, then written atomically */
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
-    if (rc == EXIT_OK) {
-        put_header(t, o, dir, s->name, "references", 1, rcpus, 0);
-        fprintf(t, "# task T: share T %% %ld of the reference of (map, scene) pair T / %ld\n", P,
-                P);
-        put_command(t, exe, suite_abs, out_abs);
-        fprintf(t,
-                " --reference-task \"$SLURM_ARRAY_TASK_ID\" --reference-passes %ld --threads %ld\n",
-                P, rcpus);
-        rc = tool_commit_tmp(t, outs[0]);
-    }
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
-    if (rc == EXIT_OK) {
-        put_header(t, o, dir, s->name, "merge-references", 0, 1, 0);
-        put_command(t, exe, suite_abs, out_abs);
-        fprintf(t, " --merge-references --reference-passes %ld\n", P);
-        rc = tool_commit_tmp(t, outs[1]);
-    }
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
-    if (rc == EXIT_OK) {
-        put_header(t, o, dir, s->name, "items", 1, o->cpus, o->exclusive);
-        fprintf(t,
-                "# task I: the items of shard I of %ld, one at a time on its %ld core%s (equal "
-                "time needs them to itself)\n",
-                N, o->cpus, o->cpus == 1 ? "" : "s");
-        put_command(t, exe, suite_abs, out_abs);
-        fprintf(t, " --shard \"$SLURM_ARRAY_TASK_ID/%ld\" --items-only --jobs 1 --threads %ld\n", N,
-                o->cpus);
-        rc = tool_commit_tmp(t, outs[2]);
-    }
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
-    if (rc == EXIT_OK) {
-        put_header(t, o, dir, s->name, "report", 0, 1, 0);
-        put_command(t, exe, suite_abs, out_abs);
-        fprintf(t, " --report-only --tasks %ld --reference-passes %ld\n", N, P);
-        rc = tool_commit_tmp(t, outs[3]);
-    }
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
-    /* resubmit.sh: this command again, from where it was run */
-    if (rc == EXIT_OK) {
-        fprintf(t,
-                "#!/bin/sh\n# Submits what is not done yet of suite %s (lumis bench --slurm "
-                "makes its plan from the outputs)\ncd ",
-                s->name);
-        put_quoted(t, cwd);
-        fprintf(t, " || exit 1\nexec ");
-        put_quoted(t, exe);
-        fprintf(t, " bench ");
-        char word[8800]; /* a suite named -x.json would read as an option: ./-x.json */
-        snprintf(word, sizeof word, "%s%s", suite_path[0] == '-' ? "./" : "", suite_path);
-        put_quoted(t, word);
-        fprintf(t, " ");
-        snprintf(word, sizeof word, "--out=%s", out); /* whatever out begins with */
-        put_quoted(t, word);
-        fprintf(t, " --slurm --tasks %ld --reference-passes %ld --cpus %ld --reference-cpus %ld", N,
-                P, o->cpus, rcpus);
-        if (o->max_running > 0) fprintf(t, " --max-running %ld", o->max_running);
-        if (o->exclusive) fprintf(t, " --exclusive");
-        if (o->partition) {
-            fprintf(t, " --partition ");
-            put_quoted(t, o->partition);
-        }
-        if (o->time_limit) {
-            fprintf(t, " --time-limit ");
-            put_quoted(t, o->time_limit);
-        }
-        for (int k = 0; k < o->nextra; k++) {
-            char opt[4200];
-            snprintf(opt, sizeof opt, "--sbatch=%s", o->extra[k]);
-            fprintf(t, " ");
-            put_quoted(t, opt);
-        }
-        fprintf(t, " \"$@\"\n");
-        rc = tool_commit_tmp(t, outs[4]);
-    }
-    if (rc == EXIT_OK && !(t = tmpfile())) rc = tool_runtime_error("bench: no temporary file");
+    return tool_files_check("bench", &files);
+}
 
-    /* submit.sh: this plan's sbatch commands, chained */
-    const char *jobs = outs[6];
-    if (rc == EXIT_OK) {
-        char date[64];
-        const time_t now = time(NULL);
-        strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S", localtime(&now));
-        fprintf(
-            t,
+/* A temporary file to build a script in (then written atomically), or NULL and *rc. */
+static FILE *slurm_tmp(int *rc)
+{
+    FILE *t = tmpfile();
+    if (!t) *rc = tool_runtime_error("bench: no temporary file");
+    return t;
+}
+
+/* The four job scripts (the same on every run: the arrays' indices go on sbatch's line). */
+static int write_job_scripts(const slurm_run *r)
+{
+    const bench_slurm_opts *o = r->o;
+    const char *name = r->s->name;
+    const long P = r->P, N = r->N;
+    int rc = EXIT_OK;
+    FILE *t = slurm_tmp(&rc);
+    if (!t) return rc;
+    put_header(t, o, r->dir, name, "references", 1, r->rcpus, 0);
+    fprintf(t, "# task T: share T %% %ld of the reference of (map, scene) pair T / %ld\n", P, P);
+    put_command(t, r->exe, r->suite_abs, r->out_abs);
+    fprintf(t, " --reference-task \"$SLURM_ARRAY_TASK_ID\" --reference-passes %ld --threads %ld\n",
+            P, r->rcpus);
+    rc = tool_commit_tmp(t, r->outs[0]);
+    if (rc != EXIT_OK || !(t = slurm_tmp(&rc))) return rc;
+    put_header(t, o, r->dir, name, "merge-references", 0, 1, 0);
+    put_command(t, r->exe, r->suite_abs, r->out_abs);
+    fprintf(t, " --merge-references --reference-passes %ld\n", P);
+    rc = tool_commit_tmp(t, r->outs[1]);
+    if (rc != EXIT_OK || !(t = slurm_tmp(&rc))) return rc;
+    put_header(t, o, r->dir, name, "items", 1, o->cpus, o->exclusive);
+    fprintf(t,
+            "# task I: the items of shard I of %ld, one at a time on its %ld core%s (equal "
+            "time needs them to itself)\n",
+            N, o->cpus, o->cpus == 1 ? "" : "s");
+    put_command(t, r->exe, r->suite_abs, r->out_abs);
+    fprintf(t, " --shard \"$SLURM_ARRAY_TASK_ID/%ld\" --items-only --jobs 1 --threads %ld\n", N,
+            o->cpus);
+    rc = tool_commit_tmp(t, r->outs[2]);
+    if (rc != EXIT_OK || !(t = slurm_tmp(&rc))) return rc;
+    put_header(t, o, r->dir, name, "report", 0, 1, 0);
+    put_command(t, r->exe, r->suite_abs, r->out_abs);
+    fprintf(t, " --report-only --tasks %ld --reference-passes %ld\n", N, P);
+    return tool_commit_tmp(t, r->outs[3]);
+}
+
+/* resubmit.sh: this command again, from where it was run. */
+static int write_resubmit(const slurm_run *r)
+{
+    const bench_slurm_opts *o = r->o;
+    int rc = EXIT_OK;
+    FILE *t = slurm_tmp(&rc);
+    if (!t) return rc;
+    fprintf(t,
+            "#!/bin/sh\n# Submits what is not done yet of suite %s (lumis bench --slurm "
+            "makes its plan from the outputs)\ncd ",
+            r->s->name);
+    put_quoted(t, r->cwd);
+    fprintf(t, " || exit 1\nexec ");
+    put_quoted(t, r->exe);
+    fprintf(t, " bench ");
+    char word[8800]; /* a suite named -x.json would read as an option: ./-x.json */
+    snprintf(word, sizeof word, "%s%s", r->suite_path[0] == '-' ? "./" : "", r->suite_path);
+    put_quoted(t, word);
+    fprintf(t, " ");
+    snprintf(word, sizeof word, "--out=%s", r->out); /* whatever out begins with */
+    put_quoted(t, word);
+    fprintf(t, " --slurm --tasks %ld --reference-passes %ld --cpus %ld --reference-cpus %ld", r->N,
+            r->P, o->cpus, r->rcpus);
+    if (o->max_running > 0) fprintf(t, " --max-running %ld", o->max_running);
+    if (o->exclusive) fprintf(t, " --exclusive");
+    if (o->partition) {
+        fprintf(t, " --partition ");
+        put_quoted(t, o->partition);
+    }
+    if (o->time_limit) {
+        fprintf(t, " --time-limit ");
+        put_quoted(t, o->time_limit);
+    }
+    for (int k = 0; k < o->nextra; k++) {
+        char opt[4200];
+        snprintf(opt, sizeof opt, "--sbatch=%s", o->extra[k]);
+        fprintf(t, " ");
+        put_quoted(t, opt);
+    }
+    fprintf(t, " \"$@\"\n");
+    return tool_commit_tmp(t, r->outs[4]);
+}
+
+/* One job of submit.sh: VAR=$(job ARGS SCRIPT), its id appended to jobs.txt. */
+static void put_job(FILE *t, const slurm_run *r, const char *var, const char *name)
+{
+    const char *jobs = r->outs[6];
+    put_script(t, r->dir, name);
+    fprintf(t, ")\necho \"%s $%s\" >> ", name, var);
+    put_quoted(t, jobs);
+    fprintf(t, "\n");
+}
+
+/* submit.sh: this plan's sbatch commands, chained. */
+static int write_submit(const slurm_run *r, const slurm_plan *pl)
+{
+    const char *jobs = r->outs[6];
+    int rc = EXIT_OK;
+    FILE *t = slurm_tmp(&rc);
+    if (!t) return rc;
+    char date[64];
+    const time_t now = time(NULL);
+    strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S", localtime(&now));
+    fprintf(t,
             "#!/bin/sh\n# Written by lumis bench --slurm on %s for suite %s: what is not done.\n"
             "# %d reference share%s (%d reference%s to merge), %d of %ld items tasks (%d item%s "
             "left).\nset -e\n: > ",
-            date, s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, N,
-            left, left == 1 ? "" : "s");
-        put_quoted(t, jobs);
-        fprintf(t, "\njob() { id=$(sbatch --parsable \"$@\"); id=${id%%%%;*}; echo \"$id\"; }\n");
-        const char *after = "";
-        if (nref) {
-            fprintf(t, "refs=$(job --array=");
-            put_array(t, ref_tasks, nref, o->max_running);
-            fprintf(t, " ");
-            put_script(t, dir, "references");
-            fprintf(t, ")\necho \"references $refs\" >> ");
-            put_quoted(t, jobs);
-            fprintf(t, "\n");
-            after = "--dependency=afterany:$refs ";
-        }
-        if (nmerge) {
-            fprintf(t, "merge=$(job %s", after);
-            put_script(t, dir, "merge-references");
-            fprintf(t, ")\necho \"merge-references $merge\" >> ");
-            put_quoted(t, jobs);
-            fprintf(t, "\n");
-            after = "--dependency=afterok:$merge --kill-on-invalid-dep=yes ";
-        }
-        if (nshard) {
-            fprintf(t, "items=$(job %s--array=", after);
-            put_array(t, item_tasks, nshard, o->max_running);
-            fprintf(t, " ");
-            put_script(t, dir, "items");
-            fprintf(t, ")\necho \"items $items\" >> ");
-            put_quoted(t, jobs);
-            fprintf(t, "\n");
-            after = "--dependency=afterany:$items ";
-        } else if (nmerge) {
-            after = "--dependency=afterany:$merge ";
-        }
-        fprintf(t, "report=$(job %s", after);
-        put_script(t, dir, "report");
-        fprintf(t, ")\necho \"report $report\" >> ");
-        put_quoted(t, jobs);
-        fprintf(t, "\ncat ");
-        put_quoted(t, jobs);
-        fprintf(t, "\n");
-        rc = tool_commit_tmp(t, outs[5]);
+            date, r->s->name, pl->nref, pl->nref == 1 ? "" : "s", pl->nmerge,
+            pl->nmerge == 1 ? "" : "s", pl->nshard, r->N, pl->left, pl->left == 1 ? "" : "s");
+    put_quoted(t, jobs);
+    fprintf(t, "\njob() { id=$(sbatch --parsable \"$@\"); id=${id%%%%;*}; echo \"$id\"; }\n");
+    const char *after = "";
+    if (pl->nref) {
+        fprintf(t, "refs=$(job --array=");
+        put_array(t, pl->ref_tasks, pl->nref, r->o->max_running);
+        fprintf(t, " ");
+        put_job(t, r, "refs", "references");
+        after = "--dependency=afterany:$refs ";
     }
-    const char *submit = outs[5];
-    if (rc == EXIT_OK) {
+    if (pl->nmerge) {
+        fprintf(t, "merge=$(job %s", after);
+        put_job(t, r, "merge", "merge-references");
+        after = "--dependency=afterok:$merge --kill-on-invalid-dep=yes ";
+    }
+    if (pl->nshard) {
+        fprintf(t, "items=$(job %s--array=", after);
+        put_array(t, pl->item_tasks, pl->nshard, r->o->max_running);
+        fprintf(t, " ");
+        put_job(t, r, "items", "items");
+        after = "--dependency=afterany:$items ";
+    } else if (pl->nmerge) {
+        after = "--dependency=afterany:$merge ";
+    }
+    fprintf(t, "report=$(job %s", after);
+    put_job(t, r, "report", "report");
+    fprintf(t, "cat ");
+    put_quoted(t, jobs);
+    fprintf(t, "\n");
+    return tool_commit_tmp(t, r->outs[5]);
+}
+
+/* What was written and planned, on stderr; then submit.sh run unless nothing is left,
+ * --no-submit or no sbatch. */
+static int slurm_submit(const slurm_run *r, const slurm_plan *pl)
+{
+    const char *submit = r->outs[5], *jobs = r->outs[6];
+    const int nref = pl->nref, nmerge = pl->nmerge, nshard = pl->nshard;
+    fprintf(stderr,
+            "lumis bench: suite %s as Slurm jobs: %d reference share%s in %d reference%s, "
+            "%d of %ld items tasks (%d of %d items left); scripts in %s\n",
+            r->s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, r->N,
+            pl->left, bench_nitems(r->s), r->dir);
+    int top = nref ? pl->ref_tasks[nref - 1] : 0; /* the highest array index */
+    if (nshard && pl->item_tasks[nshard - 1] > top) top = pl->item_tasks[nshard - 1];
+    if (top > BENCH_SLURM_ARRAY_MAX)
         fprintf(stderr,
-                "lumis bench: suite %s as Slurm jobs: %d reference share%s in %d reference%s, "
-                "%d of %ld items tasks (%d of %d items left); scripts in %s\n",
-                s->name, nref, nref == 1 ? "" : "s", nmerge, nmerge == 1 ? "" : "s", nshard, N,
-                left, nitems, dir);
-        int top = nref ? ref_tasks[nref - 1] : 0; /* the highest array index */
-        if (nshard && item_tasks[nshard - 1] > top) top = item_tasks[nshard - 1];
-        if (top > BENCH_SLURM_ARRAY_MAX)
-            fprintf(stderr,
-                    "lumis bench: warning: array indices up to %d: Slurm's default MaxArraySize "
-                    "(%d) refuses indices above %d; if sbatch does, use fewer --reference-passes "
-                    "or --tasks (scontrol show config | grep MaxArraySize says the cluster's)\n",
-                    top, BENCH_SLURM_ARRAY_MAX + 1, BENCH_SLURM_ARRAY_MAX);
-        if (!nref && !nmerge && !nshard) {
-            fprintf(stderr, "lumis bench: every item is done: nothing submitted (--report-only "
-                            "rewrites the report)\n");
-        } else if (!o->submit) {
-            fprintf(stderr, "lumis bench: --no-submit: submit them with: sh %s\n", submit);
-        } else if (!have_sbatch()) {
-            rc = tool_runtime_error("bench: --slurm: sbatch is not on PATH (is this a Slurm "
-                                    "login node?); the scripts are written: sh %s submits them",
-                                    submit);
-        } else {
-            rc = run_sh(submit);
-            if (rc == EXIT_OK)
-                fprintf(stderr,
-                        "lumis bench: submitted (job ids above and in %s); the report job writes "
-                        "%s/results.md and %s/status.txt; to resubmit what fails: sh "
-                        "%s/resubmit.sh\n",
-                        jobs, out_abs, dir, dir);
-        }
+                "lumis bench: warning: array indices up to %d: Slurm's default MaxArraySize "
+                "(%d) refuses indices above %d; if sbatch does, use fewer --reference-passes "
+                "or --tasks (scontrol show config | grep MaxArraySize says the cluster's)\n",
+                top, BENCH_SLURM_ARRAY_MAX + 1, BENCH_SLURM_ARRAY_MAX);
+    if (!nref && !nmerge && !nshard) {
+        fprintf(stderr, "lumis bench: every item is done: nothing submitted (--report-only "
+                        "rewrites the report)\n");
+        return EXIT_OK;
     }
-    free(done);
-    free(ref_tasks);
-    free(item_tasks);
-    free(suite_abs);
-    free(out_abs);
+    if (!r->o->submit) {
+        fprintf(stderr, "lumis bench: --no-submit: submit them with: sh %s\n", submit);
+        return EXIT_OK;
+    }
+    if (!have_sbatch())
+        return tool_runtime_error("bench: --slurm: sbatch is not on PATH (is this a Slurm "
+                                  "login node?); the scripts are written: sh %s submits them",
+                                  submit);
+    const int rc = run_sh(submit);
+    if (rc == EXIT_OK)
+        fprintf(stderr,
+                "lumis bench: submitted (job ids above and in %s); the report job writes "
+                "%s/results.md and %s/status.txt; to resubmit what fails: sh "
+                "%s/resubmit.sh\n",
+                jobs, r->out_abs, r->dir, r->dir);
+    return rc;
+}
+
+int bench_slurm(const suite *s, const char *suite_path, const char *out, const bench_slurm_opts *o)
+{
+    slurm_run r = {.s = s,
+                   .o = o,
+                   .suite_path = suite_path,
+                   .out = out,
+                   .P = o->ref_passes,
+                   .N = items_tasks(s, o->tasks),
+                   .rcpus = o->ref_cpus > 0 ? o->ref_cpus : o->cpus};
+    int rc = slurm_locate(&r);
+    if (rc != EXIT_OK) return rc;
+    rc = slurm_values_ok(&r);
+    if (rc != EXIT_OK) {
+        free(r.suite_abs);
+        free(r.out_abs);
+        return rc;
+    }
+    char logs[8900];
+    snprintf(logs, sizeof logs, "%s/logs", r.dir);
+    rc = tool_make_dir(r.dir) == EXIT_OK && tool_make_dir(logs) == EXIT_OK ? EXIT_OK : EXIT_RUNTIME;
+    const int npairs = s->nmaps * s->nscenes;
+    slurm_plan pl = {.ref_tasks = malloc(sizeof(int) * (size_t)npairs * (size_t)r.P + 1),
+                     .item_tasks = malloc(sizeof(int) * (size_t)r.N + 1),
+                     .done = items_done(s, r.out_abs)};
+    if (!pl.ref_tasks || !pl.item_tasks || !pl.done)
+        rc = tool_runtime_error("bench: out of memory");
+    if (rc == EXIT_OK) slurm_plan_make(&r, &pl);
+    if (rc == EXIT_OK) rc = slurm_files_check(&r);
+    if (rc == EXIT_OK) rc = write_job_scripts(&r);
+    if (rc == EXIT_OK) rc = write_resubmit(&r);
+    if (rc == EXIT_OK) rc = write_submit(&r, &pl);
+    if (rc == EXIT_OK) rc = slurm_submit(&r, &pl);
+    free(pl.done);
+    free(pl.ref_tasks);
+    free(pl.item_tasks);
+    free(r.suite_abs);
+    free(r.out_abs);
     return rc;
 }
 

@@ -346,9 +346,10 @@ static void *suite_array(const cJSON *root, const char *key, const char *path, s
     return p;
 }
 
-int bench_parse_suite(const char *path, suite *s)
+/* The suite file's JSON object (*out, the caller deletes it); an error names the line and
+ * column where it is malformed. */
+static int suite_read(const char *path, cJSON **out)
 {
-    memset(s, 0, sizeof *s);
     size_t n = 0;
     FILE *f = fopen(path, "rb");
     if (!f) return tool_runtime_error("%s: %s", path, strerror(errno));
@@ -386,6 +387,14 @@ int bench_parse_suite(const char *path, suite *s)
         cJSON_Delete(root);
         return tool_runtime_error("%s: expected a JSON object {...} at the top", path);
     }
+    *out = root;
+    return EXIT_OK;
+}
+
+/* The suite's folder (relative paths are from it), its top-level keys, name and
+ * description. */
+static int parse_suite_names(const cJSON *root, const char *path, suite *s)
+{
     const char *slash = strrchr(path, '/');
     if (slash) snprintf(s->dir, sizeof s->dir, "%.*s", (int)(slash - path), path);
     static const char *const keys[] = {
@@ -393,7 +402,6 @@ int bench_parse_suite(const char *path, suite *s)
         "budgets",     "reference",           "size",     "seed",    "bounces",
         "exposure_ev", "preview_exposure_ev", "flip_hdr", "compare", NULL};
     int rc = check_keys(root, keys, path, "");
-    const cJSON *v;
     char base[128];
     bench_copy_cut(base, sizeof base, slash ? slash + 1 : path);
     char *dot = strrchr(base, '.');
@@ -403,7 +411,12 @@ int bench_parse_suite(const char *path, suite *s)
     if (rc == EXIT_OK) rc = opt_string(root, "description", path, "", &description);
     make_label(s->name, sizeof s->name, name ? name : base);
     if (description) snprintf(s->description, sizeof s->description, "%s", description);
+    return rc;
+}
 
+/* maps: a non-empty array. */
+static int parse_maps(const cJSON *root, const char *path, suite *s, int rc)
+{
     const cJSON *maps = cJSON_GetObjectItemCaseSensitive(root, "maps");
     if (rc == EXIT_OK && (!cJSON_IsArray(maps) || cJSON_GetArraySize(maps) == 0))
         rc = tool_runtime_error("%s: maps: expected a non-empty array", path);
@@ -413,7 +426,12 @@ int bench_parse_suite(const char *path, suite *s)
         snprintf(where, sizeof where, "maps[%d]", mk);
         rc = parse_map(s, e, path, where);
     }
+    return rc;
+}
 
+/* scenes: built-in names or files, labelled by their names. */
+static int parse_scenes(const cJSON *root, const char *path, suite *s, int rc)
+{
     const cJSON *scenes = NULL;
     s->scenes = suite_array(root, "scenes", path, sizeof *s->scenes, &scenes, &s->nscenes, &rc);
     for (int k = 0; rc == EXIT_OK && k < s->nscenes; k++) {
@@ -438,7 +456,12 @@ int bench_parse_suite(const char *path, suite *s)
         if (d2) *d2 = '\0';
         make_label(sc->label, sizeof sc->label, tmp);
     }
+    return rc;
+}
 
+/* methods: each labelled once. */
+static int parse_methods(const cJSON *root, const char *path, suite *s, int rc)
+{
     const cJSON *methods = NULL;
     s->methods =
         suite_array(root, "methods", path, sizeof *s->methods, &methods, &s->nmethods, &rc);
@@ -452,7 +475,12 @@ int bench_parse_suite(const char *path, suite *s)
                                         "\"label\")",
                                         path, k, s->methods[k].label);
     }
+    return rc;
+}
 
+/* budgets: {"spp": N} or {"time": SECONDS} each. */
+static int parse_budgets(const cJSON *root, const char *path, suite *s, int rc)
+{
     const cJSON *budgets = NULL;
     s->budgets =
         suite_array(root, "budgets", path, sizeof *s->budgets, &budgets, &s->nbudgets, &rc);
@@ -480,7 +508,12 @@ int bench_parse_suite(const char *path, suite *s)
             snprintf(b->label, sizeof b->label, "t%gs", b->seconds);
         }
     }
+    return rc;
+}
 
+/* reference: its method and samples, or the default. */
+static int parse_reference(const cJSON *root, const char *path, suite *s, int rc)
+{
     /* The reference: one method at many samples (default inversion, MIS balance). */
     const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
     s->ref_spp = 1024;
@@ -496,7 +529,13 @@ int bench_parse_suite(const char *path, suite *s)
                      ? parse_method(ref, &s->reference, path, "reference")
                      : check_keys(ref, reference_keys, path, "reference");
     }
-    v = cJSON_GetObjectItemCaseSensitive(root, "size");
+    return rc;
+}
+
+/* How every item renders: size, seed, bounces, exposures, flip_hdr. */
+static int parse_render_settings(const cJSON *root, const char *path, suite *s, int rc)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "size");
     if (rc == EXIT_OK && v) {
         if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 ||
             !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) || !cJSON_IsNumber(cJSON_GetArrayItem(v, 1)))
@@ -529,6 +568,12 @@ int bench_parse_suite(const char *path, suite *s)
     s->flip_hdr = v ? cJSON_IsTrue(v) : 1;
     if (rc == EXIT_OK && v && !cJSON_IsBool(v))
         rc = tool_runtime_error("%s: flip_hdr: expected true or false", path);
+    return rc;
+}
+
+/* compare: pairs of method labels. */
+static int parse_compare(const cJSON *root, const char *path, suite *s, int rc)
+{
     const cJSON *cmp = cJSON_GetObjectItemCaseSensitive(root, "compare");
     if (rc == EXIT_OK && cmp && !cJSON_IsArray(cmp))
         rc = tool_runtime_error("%s: compare: expected an array of pairs [\"A\", \"B\"]", path);
@@ -552,7 +597,12 @@ int bench_parse_suite(const char *path, suite *s)
         }
         s->ncompare++;
     }
-    /* Labels name files: two items must never share one. */
+    return rc;
+}
+
+/* Labels name files: two items must never share one. */
+static int check_labels(const char *path, const suite *s, int rc)
+{
     for (int a = 0; rc == EXIT_OK && a < s->nmaps; a++)
         for (int b = 0; rc == EXIT_OK && b < a; b++)
             if (strcmp(s->maps[a].label, s->maps[b].label) == 0)
@@ -569,6 +619,24 @@ int bench_parse_suite(const char *path, suite *s)
             if (strcmp(s->budgets[a].label, s->budgets[b].label) == 0)
                 rc = tool_runtime_error("%s: budgets[%d]: the same budget as budgets[%d]", path, a,
                                         b);
+    return rc;
+}
+
+int bench_parse_suite(const char *path, suite *s)
+{
+    memset(s, 0, sizeof *s);
+    cJSON *root = NULL;
+    int rc = suite_read(path, &root);
+    if (rc != EXIT_OK) return rc;
+    rc = parse_suite_names(root, path, s);
+    rc = parse_maps(root, path, s, rc);
+    rc = parse_scenes(root, path, s, rc);
+    rc = parse_methods(root, path, s, rc);
+    rc = parse_budgets(root, path, s, rc);
+    rc = parse_reference(root, path, s, rc);
+    rc = parse_render_settings(root, path, s, rc);
+    rc = parse_compare(root, path, s, rc);
+    rc = check_labels(path, s, rc);
     cJSON_Delete(root);
     if (rc != EXIT_OK) bench_suite_free(s);
     return rc;

@@ -360,70 +360,142 @@ static void print_verdict(void)
            text[0], text[1]);
 }
 
-int cmd_bench_samplers(int argc, char **argv)
-{
-    const char *maps[64], *v;
-    int nmaps = 0, json = 0, runs = 5, blocks = 0;
-    long nsamples = 1000000;
+/* What bench-samplers is asked: the maps, the methods and the light sets' strata. */
+typedef struct samplers_opts {
+    const char *maps[64];
+    int nmaps, json, runs, blocks;
+    long nsamples;
     lumis_sampler_method methods[LUMIS_METHOD_COUNT];
-    int nmethods = 0, strata_k = 32, nstrata = 0;
-    char strata_buf[256] = "";
+    int nmethods, methods_given, strata_k, nstrata;
+    char strata_buf[256]; /* what strata point into */
     const char *strata[16];
+} samplers_opts;
+
+/* The options into *o (*help: --help was given, the usage printed).  Exit code. */
+static int parse_samplers_args(int argc, char **argv, samplers_opts *o, int *help)
+{
+    const char *v;
     for (int i = 1; i < argc; i++) {
         long x;
         if (tool_is_help(argv[i])) {
             fputs(usage, stdout);
+            *help = 1;
             return EXIT_OK;
         } else if (strcmp(argv[i], "--json") == 0) {
-            json = 1;
+            o->json = 1;
         } else if (tool_option(argc, argv, &i, "--samples", &v)) {
-            if (!tool_parse_int(v, 1, 100000000L, &nsamples))
+            if (!tool_parse_int(v, 1, 100000000L, &o->nsamples))
                 return tool_usage_error("bench-samplers", "--samples needs a count in [1, 10^8]");
         } else if (tool_option(argc, argv, &i, "--runs", &v)) {
             if (!tool_parse_int(v, 1, 101, &x))
                 return tool_usage_error("bench-samplers", "--runs needs 1..101");
-            runs = (int)x;
+            o->runs = (int)x;
         } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
             if (!tool_parse_int(v, 1, 1 << 24, &x))
                 return tool_usage_error("bench-samplers", "--blocks needs a count");
-            blocks = (int)x;
+            o->blocks = (int)x;
         } else if (tool_option(argc, argv, &i, "--strata", &v)) {
-            snprintf(strata_buf, sizeof strata_buf, "%s", v ? v : "");
-            for (char *tok = strtok(strata_buf, ","); tok; tok = strtok(NULL, ",")) {
-                if (nstrata == 16 || !tool_lights_method_known(tok))
+            snprintf(o->strata_buf, sizeof o->strata_buf, "%s", v ? v : "");
+            for (char *tok = strtok(o->strata_buf, ","); tok; tok = strtok(NULL, ",")) {
+                if (o->nstrata == 16 || !tool_lights_method_known(tok))
                     return tool_usage_error("bench-samplers",
                                             "--strata: unknown light-set method '%s' (%s)", tok,
                                             tool_lights_method_names());
-                strata[nstrata++] = tok;
+                o->strata[o->nstrata++] = tok;
             }
-            if (!nstrata) return tool_usage_error("bench-samplers", "--strata needs a list");
+            if (!o->nstrata) return tool_usage_error("bench-samplers", "--strata needs a list");
         } else if (tool_option(argc, argv, &i, "--strata-k", &v)) {
             if (!tool_parse_int(v, 1, 65536, &x))
                 return tool_usage_error("bench-samplers", "--strata-k needs a count in [1, 65536]");
-            strata_k = (int)x;
+            o->strata_k = (int)x;
         } else if (tool_option(argc, argv, &i, "--methods", &v)) {
             char buf[256];
             snprintf(buf, sizeof buf, "%s", v ? v : "");
             for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
-                if (nmethods == LUMIS_METHOD_COUNT ||
-                    lumis_sampler_method_from_name(tok, &methods[nmethods]) != LUMIS_OK)
+                if (o->nmethods == LUMIS_METHOD_COUNT ||
+                    lumis_sampler_method_from_name(tok, &o->methods[o->nmethods]) != LUMIS_OK)
                     return tool_usage_error("bench-samplers", "unknown method '%s' in --methods",
                                             tok);
-                nmethods++;
+                o->nmethods++;
             }
-            if (!nmethods) return tool_usage_error("bench-samplers", "--methods needs a list");
+            if (!o->nmethods) return tool_usage_error("bench-samplers", "--methods needs a list");
         } else if (argv[i][0] == '-' && argv[i][1]) {
             return tool_usage_error("bench-samplers", "unknown option '%s'", argv[i]);
-        } else if (nmaps < 64) {
-            maps[nmaps++] = argv[i];
+        } else if (o->nmaps < 64) {
+            o->maps[o->nmaps++] = argv[i];
         }
     }
-    if (!nmaps) return tool_usage_error("bench-samplers", "no map given");
-    const int methods_given = nmethods > 0;
-    if (!nmethods)
+    if (!o->nmaps) return tool_usage_error("bench-samplers", "no map given");
+    o->methods_given = o->nmethods > 0;
+    if (!o->nmethods)
         for (int m = LUMIS_METHOD_INVERSION; m < LUMIS_METHOD_COUNT; m++)
-            methods[nmethods++] = (lumis_sampler_method)m;
+            o->methods[o->nmethods++] = (lumis_sampler_method)m;
+    return EXIT_OK;
+}
 
+/* One map's rows (the table's header before the first: *header) and its verdict; u and
+ * out: the samples' numbers and storage. */
+static int bench_map(const samplers_opts *o, const char *map, const double *u,
+                     lumis_env_sample *out, cJSON *arr, int *header)
+{
+    lumis_image *img = NULL;
+    if (tool_load_image(map, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+    if (!o->json && !(*header)++) /* after the first map loads: no header before an error */
+        printf("%-*s %-*s %9s %11s %8s %12s %12s %13s\n", map_w, "map", method_w, "method",
+               "build_ms", "bytes", "compress", "samples/s", "batch/s", "rel_stderr_64");
+    nvrows = 0;
+    lumis_envmap *env = NULL;
+    lumis_envmap_from_image(img, &env);
+    lumis_image_destroy(img);
+    lumis_vec3 normals[NNORMALS];
+    fibonacci_normals(normals);
+    quad q;
+    if (!quad_build(env, &q)) {
+        quad_free(&q);
+        lumis_envmap_destroy(env);
+        return tool_runtime_error("out of memory");
+    }
+    /* Inversion's tables: the yardstick of the paper's compression ratio. */
+    size_t inv_bytes = 4 * ((size_t)lumis_envmap_width(env) * (size_t)lumis_envmap_height(env) +
+                            (size_t)lumis_envmap_height(env));
+    int rc = EXIT_OK;
+    /* The light sets' region samplers asked for (--strata). */
+    for (int k = 0; k < o->nstrata && rc == EXIT_OK; k++) {
+        result r;
+        rc = bench_strata(env, o->strata[k], o->strata_k, o->runs, o->nsamples, u, out, &q, normals,
+                          &r);
+        if (rc != EXIT_OK) break;
+        char name[64];
+        snprintf(name, sizeof name, "strata:%s", o->strata[k]);
+        report_row(arr, map, name, "", &r, inv_bytes, "regions");
+    }
+    /* Every method, and after kdtree its literal variant (uniform in angles) when no
+     * --methods were given. */
+    for (int k = 0, variant = 0; k < o->nmethods && rc == EXIT_OK; k += variant ? 0 : 1) {
+        lumis_sampler_desc d = {0};
+        d.method = o->methods[k];
+        d.kdtree_blocks = o->blocks;
+        d.kdtree_uniform_angles = variant;
+        result r;
+        rc = bench_one(env, d, o->runs, o->nsamples, u, out, &q, normals, &r);
+        if (rc != EXIT_OK) break;
+        report_row(arr, map, lumis_sampler_method_name(o->methods[k]),
+                   variant ? "uniform-angles" : "", &r, inv_bytes, "blocks");
+        variant = o->methods[k] == LUMIS_METHOD_KDTREE && !variant && !o->methods_given;
+    }
+    if (!o->json && rc == EXIT_OK) print_verdict();
+    quad_free(&q);
+    lumis_envmap_destroy(env);
+    return rc;
+}
+
+int cmd_bench_samplers(int argc, char **argv)
+{
+    samplers_opts o = {.runs = 5, .nsamples = 1000000, .strata_k = 32};
+    int help = 0;
+    int rc = parse_samplers_args(argc, argv, &o, &help);
+    if (rc != EXIT_OK || help) return rc;
+    const long nsamples = o.nsamples;
     double *u = malloc(sizeof(double) * 2 * (size_t)nsamples);
     lumis_env_sample *out = malloc(sizeof(lumis_env_sample) * (size_t)nsamples);
     if (!u || !out) return tool_runtime_error("out of memory for %ld samples", nsamples);
@@ -431,65 +503,15 @@ int cmd_bench_samplers(int argc, char **argv)
     lumis_pcg32_seed(&rng, 7, 7);
     for (long q = 0; q < 2 * nsamples; q++) u[q] = lumis_pcg32_double(&rng);
 
-    cJSON *arr = json ? cJSON_CreateArray() : NULL;
-    for (int mi = 0; mi < nmaps; mi++)
-        if ((int)strlen(maps[mi]) > map_w) map_w = (int)strlen(maps[mi]);
-    for (int k = 0; k < nstrata; k++)
-        if ((int)strlen(strata[k]) + 7 > method_w) method_w = (int)strlen(strata[k]) + 7;
-    int rc = EXIT_OK, header = 0;
-    for (int mi = 0; mi < nmaps && rc == EXIT_OK; mi++) {
-        lumis_image *img = NULL;
-        if (tool_load_image(maps[mi], &img, NULL) != LUMIS_OK) {
-            rc = EXIT_RUNTIME;
-            break;
-        }
-        if (!json && !header++) /* after the first map loads: no header before an error */
-            printf("%-*s %-*s %9s %11s %8s %12s %12s %13s\n", map_w, "map", method_w, "method",
-                   "build_ms", "bytes", "compress", "samples/s", "batch/s", "rel_stderr_64");
-        nvrows = 0;
-        lumis_envmap *env = NULL;
-        lumis_envmap_from_image(img, &env);
-        lumis_image_destroy(img);
-        lumis_vec3 normals[NNORMALS];
-        fibonacci_normals(normals);
-        quad q;
-        if (!quad_build(env, &q)) {
-            quad_free(&q);
-            lumis_envmap_destroy(env);
-            rc = tool_runtime_error("out of memory");
-            break;
-        }
-        /* Inversion's tables: the yardstick of the paper's compression ratio. */
-        size_t inv_bytes = 4 * ((size_t)lumis_envmap_width(env) * (size_t)lumis_envmap_height(env) +
-                                (size_t)lumis_envmap_height(env));
-        /* The light sets' region samplers asked for (--strata). */
-        for (int k = 0; k < nstrata && rc == EXIT_OK; k++) {
-            result r;
-            rc = bench_strata(env, strata[k], strata_k, runs, nsamples, u, out, &q, normals, &r);
-            if (rc != EXIT_OK) break;
-            char name[64];
-            snprintf(name, sizeof name, "strata:%s", strata[k]);
-            report_row(arr, maps[mi], name, "", &r, inv_bytes, "regions");
-        }
-        /* Every method, and after kdtree its literal variant (uniform in angles) when no
-         * --methods were given. */
-        for (int k = 0, variant = 0; k < nmethods && rc == EXIT_OK; k += variant ? 0 : 1) {
-            lumis_sampler_desc d = {0};
-            d.method = methods[k];
-            d.kdtree_blocks = blocks;
-            d.kdtree_uniform_angles = variant;
-            result r;
-            rc = bench_one(env, d, runs, nsamples, u, out, &q, normals, &r);
-            if (rc != EXIT_OK) break;
-            report_row(arr, maps[mi], lumis_sampler_method_name(methods[k]),
-                       variant ? "uniform-angles" : "", &r, inv_bytes, "blocks");
-            variant = methods[k] == LUMIS_METHOD_KDTREE && !variant && !methods_given;
-        }
-        if (!json && rc == EXIT_OK) print_verdict();
-        quad_free(&q);
-        lumis_envmap_destroy(env);
-    }
-    if (json && rc == EXIT_OK) {
+    cJSON *arr = o.json ? cJSON_CreateArray() : NULL;
+    for (int mi = 0; mi < o.nmaps; mi++)
+        if ((int)strlen(o.maps[mi]) > map_w) map_w = (int)strlen(o.maps[mi]);
+    for (int k = 0; k < o.nstrata; k++)
+        if ((int)strlen(o.strata[k]) + 7 > method_w) method_w = (int)strlen(o.strata[k]) + 7;
+    int header = 0;
+    for (int mi = 0; mi < o.nmaps && rc == EXIT_OK; mi++)
+        rc = bench_map(&o, o.maps[mi], u, out, arr, &header);
+    if (o.json && rc == EXIT_OK) {
         char *text = cJSON_Print(arr);
         if (text) printf("%s\n", text);
         cJSON_free(text);

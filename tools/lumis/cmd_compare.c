@@ -52,48 +52,133 @@ static double clamped_fraction(const lumis_image *ref, const lumis_image *test, 
     return n ? (double)c / (double)n : 0.0;
 }
 
-int cmd_compare(int argc, char **argv)
+/* What compare is asked. */
+typedef struct compare_opts {
+    const char *ref_path, *test_path, *map_path, *diff_path;
+    int json, hdr_flip, ev_auto;
+    float ev;
+    double ppd;
+} compare_opts;
+
+/* The options into *o (*help: --help was given, the usage printed).  Exit code. */
+static int parse_compare_args(int argc, char **argv, compare_opts *o, int *help)
 {
-    const char *ref_path = NULL, *test_path = NULL, *map_path = NULL, *diff_path = NULL, *v;
-    int json = 0, hdr_flip = 1, ev_auto = 1;
-    float ev = 0.0f;
-    double ppd = 0.0;
+    const char *v;
     for (int i = 1; i < argc; i++) {
         if (tool_is_help(argv[i])) {
             fputs(usage, stdout);
+            *help = 1;
             return EXIT_OK;
         } else if (strcmp(argv[i], "--json") == 0) {
-            json = 1;
+            o->json = 1;
         } else if (strcmp(argv[i], "--no-hdr-flip") == 0) {
-            hdr_flip = 0;
+            o->hdr_flip = 0;
         } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
-            const int erc = tool_exposure_option("compare", v, &ev, &ev_auto);
+            const int erc = tool_exposure_option("compare", v, &o->ev, &o->ev_auto);
             if (erc != EXIT_OK) return erc;
         } else if (tool_option(argc, argv, &i, "--ppd", &v)) {
-            if (!tool_parse_double(v, &ppd) || !(ppd > 0.0) || ppd > 10000)
+            if (!tool_parse_double(v, &o->ppd) || !(o->ppd > 0.0) || o->ppd > 10000)
                 return tool_bad_value("compare", "--ppd", v, "needs pixels per degree");
         } else if (tool_option(argc, argv, &i, "--map", &v)) {
             if (!v || !*v) return tool_bad_value("compare", "--map", v, "needs a file");
-            map_path = v;
+            o->map_path = v;
         } else if (tool_option(argc, argv, &i, "--diff", &v)) {
             if (!v || !*v) return tool_bad_value("compare", "--diff", v, "needs a file");
-            diff_path = v;
-        } else if (argv[i][0] != '-' && !ref_path) {
-            ref_path = argv[i];
-        } else if (argv[i][0] != '-' && !test_path) {
-            test_path = argv[i];
+            o->diff_path = v;
+        } else if (argv[i][0] != '-' && !o->ref_path) {
+            o->ref_path = argv[i];
+        } else if (argv[i][0] != '-' && !o->test_path) {
+            o->test_path = argv[i];
         } else {
             return tool_usage_error("compare", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!ref_path || !test_path) return tool_usage_error("compare", "needs REF and TEST images");
+    if (!o->ref_path || !o->test_path)
+        return tool_usage_error("compare", "needs REF and TEST images");
     tool_files files = {0};
-    tool_files_input(&files, "reference", ref_path);
-    tool_files_input(&files, "test image", test_path);
-    tool_files_output(&files, "--map", map_path, TOOL_OUT_PNG);
-    tool_files_output(&files, "--diff", diff_path, TOOL_OUT_IMAGE);
-    int rc = tool_files_check("compare", &files);
-    if (rc != EXIT_OK) return rc;
+    tool_files_input(&files, "reference", o->ref_path);
+    tool_files_input(&files, "test image", o->test_path);
+    tool_files_output(&files, "--map", o->map_path, TOOL_OUT_PNG);
+    tool_files_output(&files, "--diff", o->diff_path, TOOL_OUT_IMAGE);
+    return tool_files_check("compare", &files);
+}
+
+/* The comparison as one JSON object on stdout. */
+static void print_compare_json(const compare_opts *o, const lumis_image *ref,
+                               const lumis_read_info *ref_info, const lumis_read_info *test_info,
+                               const tool_metrics *m, double clamped)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "reference", o->ref_path);
+    cJSON_AddStringToObject(j, "test", o->test_path);
+    cJSON_AddNumberToObject(j, "width", ref->width);
+    cJSON_AddNumberToObject(j, "height", ref->height);
+    cJSON_AddNumberToObject(j, "replaced_reference",
+                            (double)lumis_replaced_total(ref_info->replaced));
+    cJSON_AddNumberToObject(j, "replaced_test", (double)lumis_replaced_total(test_info->replaced));
+    cJSON_AddNumberToObject(j, "nonfinite_test",
+                            (double)(test_info->replaced.nan + test_info->replaced.inf));
+    tool_metrics_json(m, j);
+    cJSON_AddBoolToObject(j, "exposure_auto", o->ev_auto);
+    cJSON_AddNumberToObject(j, "clamped_fraction", clamped);
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    if (text) printf("%s\n", text);
+    cJSON_free(text);
+}
+
+/* The comparison as a table on stdout. */
+static void print_compare_text(const compare_opts *o, const lumis_image *ref,
+                               const lumis_read_info *ref_info, const lumis_read_info *test_info,
+                               const tool_metrics *m, double clamped)
+{
+    const float ev = o->ev;
+    printf("reference    %s (%d x %d)\n", o->ref_path, ref->width, ref->height);
+    printf("test         %s\n", o->test_path);
+    if (lumis_replaced_total(ref_info->replaced) || lumis_replaced_total(test_info->replaced))
+        printf("replaced     %llu reference, %llu test channel values (NaN, Inf or negative: "
+               "scored as 0)\n",
+               (unsigned long long)lumis_replaced_total(ref_info->replaced),
+               (unsigned long long)lumis_replaced_total(test_info->replaced));
+    printf("rmse         %.6g   (linear HDR values, all channels)\n", m->err.rmse);
+    printf("relmse       %.6g   (mean (t-r)^2 / (r^2 + %g))\n", m->err.relmse,
+           m->err.relmse_epsilon);
+    printf("psnr         %.4f dB   (linear HDR; peak = reference maximum %.6g)\n", m->err.psnr,
+           m->err.psnr_peak);
+    printf("exposure     %.4g EV%s   (of CIELAB and LDR-FLIP; %.1f %% of the pixels clamp)\n",
+           (double)ev, o->ev_auto ? ", auto" : "", 100.0 * clamped);
+    printf("lab_delta_e  %.6g   (CIE76, D65; values x 2^%.4g clamped to [0, 1])\n", m->lab_delta_e,
+           (double)ev);
+    printf("flip_ldr     %.6g   (LDR-FLIP, %.4g ppd; values x 2^%.4g clamped to [0, 1])\n",
+           m->flip_ldr, m->ppd, (double)ev);
+    if (m->has_flip_hdr)
+        printf("flip_hdr     %.6g   (HDR-FLIP, %.4g ppd, ACES; exposures %.4g to %.4g)\n",
+               m->flip_hdr, m->ppd, m->flip_start, m->flip_stop);
+}
+
+/* --diff: per-pixel |test - ref|. */
+static int write_diff(const char *path, const lumis_image *ref, const lumis_image *test)
+{
+    int rc = EXIT_OK;
+    lumis_image *d = NULL;
+    if (lumis_image_create(ref->width, ref->height, &d) != LUMIS_OK) {
+        rc = tool_runtime_error("compare: out of memory");
+    } else {
+        const size_t n = 3 * (size_t)ref->width * (size_t)ref->height;
+        for (size_t i = 0; i < n; i++) d->pixels[i] = fabsf(test->pixels[i] - ref->pixels[i]);
+        if (tool_write_image(path, d, NULL) != LUMIS_OK) rc = EXIT_RUNTIME;
+        lumis_image_destroy(d);
+    }
+    return rc;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+    compare_opts o = {.hdr_flip = 1, .ev_auto = 1};
+    int help = 0;
+    int rc = parse_compare_args(argc, argv, &o, &help);
+    if (rc != EXIT_OK || help) return rc;
+    const char *ref_path = o.ref_path, *test_path = o.test_path;
     lumis_image *ref = NULL, *test = NULL;
     float *map = NULL;
     rc = EXIT_RUNTIME;
@@ -109,76 +194,29 @@ int cmd_compare(int argc, char **argv)
                                 ref->height, test_path, test->width, test->height);
         goto done;
     }
-    if (map_path) map = malloc(sizeof(float) * (size_t)ref->width * (size_t)ref->height);
-    if (ev_auto) ev = tool_auto_exposure(ref);
+    if (o.map_path) map = malloc(sizeof(float) * (size_t)ref->width * (size_t)ref->height);
+    if (o.ev_auto) o.ev = tool_auto_exposure(ref);
     tool_metrics m;
-    if ((map_path && !map) || tool_compare_images(ref, test, ev, ppd, hdr_flip, &m, map) != EXIT_OK)
+    if ((o.map_path && !map) ||
+        tool_compare_images(ref, test, o.ev, o.ppd, o.hdr_flip, &m, map) != EXIT_OK)
         goto done;
     /* CIELAB and LDR-FLIP see the values clamped to [0, 1]: where most pixels clamp, they
      * compare two white images and report a fraction of the error. */
-    const double clamped = clamped_fraction(ref, test, ev);
+    const double clamped = clamped_fraction(ref, test, o.ev);
     if (clamped > CLAMP_WARN)
         fprintf(stderr,
                 "lumis: warning: at exposure 2^%.3g, %.1f %% of the pixels clamp at 1, so "
                 "lab_delta_e and flip_ldr miss their errors there; try --exposure auto (%.3g) or "
                 "lower\n",
-                (double)ev, 100.0 * clamped, (double)tool_auto_exposure(ref));
-    if (json) {
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "reference", ref_path);
-        cJSON_AddStringToObject(o, "test", test_path);
-        cJSON_AddNumberToObject(o, "width", ref->width);
-        cJSON_AddNumberToObject(o, "height", ref->height);
-        cJSON_AddNumberToObject(o, "replaced_reference",
-                                (double)lumis_replaced_total(ref_info.replaced));
-        cJSON_AddNumberToObject(o, "replaced_test",
-                                (double)lumis_replaced_total(test_info.replaced));
-        cJSON_AddNumberToObject(o, "nonfinite_test",
-                                (double)(test_info.replaced.nan + test_info.replaced.inf));
-        tool_metrics_json(&m, o);
-        cJSON_AddBoolToObject(o, "exposure_auto", ev_auto);
-        cJSON_AddNumberToObject(o, "clamped_fraction", clamped);
-        char *text = cJSON_PrintUnformatted(o);
-        cJSON_Delete(o);
-        if (text) printf("%s\n", text);
-        cJSON_free(text);
-    } else {
-        printf("reference    %s (%d x %d)\n", ref_path, ref->width, ref->height);
-        printf("test         %s\n", test_path);
-        if (lumis_replaced_total(ref_info.replaced) || lumis_replaced_total(test_info.replaced))
-            printf("replaced     %llu reference, %llu test channel values (NaN, Inf or negative: "
-                   "scored as 0)\n",
-                   (unsigned long long)lumis_replaced_total(ref_info.replaced),
-                   (unsigned long long)lumis_replaced_total(test_info.replaced));
-        printf("rmse         %.6g   (linear HDR values, all channels)\n", m.err.rmse);
-        printf("relmse       %.6g   (mean (t-r)^2 / (r^2 + %g))\n", m.err.relmse,
-               m.err.relmse_epsilon);
-        printf("psnr         %.4f dB   (linear HDR; peak = reference maximum %.6g)\n", m.err.psnr,
-               m.err.psnr_peak);
-        printf("exposure     %.4g EV%s   (of CIELAB and LDR-FLIP; %.1f %% of the pixels clamp)\n",
-               (double)ev, ev_auto ? ", auto" : "", 100.0 * clamped);
-        printf("lab_delta_e  %.6g   (CIE76, D65; values x 2^%.4g clamped to [0, 1])\n",
-               m.lab_delta_e, (double)ev);
-        printf("flip_ldr     %.6g   (LDR-FLIP, %.4g ppd; values x 2^%.4g clamped to [0, 1])\n",
-               m.flip_ldr, m.ppd, (double)ev);
-        if (m.has_flip_hdr)
-            printf("flip_hdr     %.6g   (HDR-FLIP, %.4g ppd, ACES; exposures %.4g to %.4g)\n",
-                   m.flip_hdr, m.ppd, m.flip_start, m.flip_stop);
-    }
+                (double)o.ev, 100.0 * clamped, (double)tool_auto_exposure(ref));
+    if (o.json)
+        print_compare_json(&o, ref, &ref_info, &test_info, &m, clamped);
+    else
+        print_compare_text(&o, ref, &ref_info, &test_info, &m, clamped);
     rc = EXIT_OK;
-    if (map_path && tool_write_flip_map(map_path, map, ref->width, ref->height) != EXIT_OK)
+    if (o.map_path && tool_write_flip_map(o.map_path, map, ref->width, ref->height) != EXIT_OK)
         rc = EXIT_RUNTIME;
-    if (diff_path && rc == EXIT_OK) {
-        lumis_image *d = NULL;
-        if (lumis_image_create(ref->width, ref->height, &d) != LUMIS_OK) {
-            rc = tool_runtime_error("compare: out of memory");
-        } else {
-            const size_t n = 3 * (size_t)ref->width * (size_t)ref->height;
-            for (size_t i = 0; i < n; i++) d->pixels[i] = fabsf(test->pixels[i] - ref->pixels[i]);
-            if (tool_write_image(diff_path, d, NULL) != LUMIS_OK) rc = EXIT_RUNTIME;
-            lumis_image_destroy(d);
-        }
-    }
+    if (o.diff_path && rc == EXIT_OK) rc = write_diff(o.diff_path, ref, test);
 done:
     free(map);
     lumis_image_destroy(ref);

@@ -139,21 +139,27 @@ static lumis_status record_photometric(const char *out, const char *from,
     return st;
 }
 
-static int create(int argc, char **argv)
+/* What luminaire create is asked: a preset's acquisition, or (--from) a photometric file's
+ * light field. */
+typedef struct create_opts {
+    const char *out, *from, *preset_given;
+    lumis_luminaire_preset preset;
+    lumis_luminaire_basis basis;
+    lumis_luminaire_write_options wo;
+    lumis_photometric_light_field lf;
+} create_opts;
+
+/* The options into *o, checked together, and the files.  Exit code. */
+static int parse_create_args(int argc, char **argv, create_opts *o)
 {
-    const char *out = NULL, *v;
-    lumis_luminaire_preset preset = LUMIS_PRESET_CAR;
-    lumis_luminaire_basis basis = LUMIS_BASIS_QUADRATIC;
-    lumis_luminaire_write_options wo = {0};
-    wo.image_format = LUMIS_FORMAT_EXR;
-    const char *from = NULL, *preset_given = NULL;
-    lumis_photometric_light_field lf = {0};
+    const char *v;
+    lumis_photometric_light_field *lf = &o->lf;
     for (int i = 2; i < argc; i++) {
         if (tool_option(argc, argv, &i, "--from", &v)) {
             if (!v || !*v) return tool_bad_value("luminaire create", "--from", v, "needs a file");
-            from = v;
+            o->from = v;
         } else if (tool_option(argc, argv, &i, "--grid", &v)) {
-            if (!parse_wxh(v, 256, lf.grid))
+            if (!parse_wxh(v, 256, lf->grid))
                 return tool_bad_value("luminaire create", "--grid", v,
                                       "must be WxH, each 1 to 256 (1024 in all)");
         } else if (tool_option(argc, argv, &i, "--size", &v)) {
@@ -161,111 +167,129 @@ static int create(int argc, char **argv)
             if (!parse_wxh(v, 16384, wh))
                 return tool_bad_value("luminaire create", "--size", v,
                                       "must be WxH, each 1 to 16384");
-            lf.width = wh[0];
-            lf.height = wh[1];
+            lf->width = wh[0];
+            lf->height = wh[1];
         } else if (tool_option(argc, argv, &i, "--delta", &v)) {
-            if (!tool_parse_double(v, &lf.delta) || !(lf.delta > 0) || lf.delta > 1e6)
+            if (!tool_parse_double(v, &lf->delta) || !(lf->delta > 0) || lf->delta > 1e6)
                 return tool_bad_value("luminaire create", "--delta", v, "must be a distance > 0");
         } else if (tool_option(argc, argv, &i, "--max-angle", &v)) {
-            if (!tool_parse_double(v, &lf.max_angle_deg) || !(lf.max_angle_deg > 0) ||
-                !(lf.max_angle_deg < 90))
+            if (!tool_parse_double(v, &lf->max_angle_deg) || !(lf->max_angle_deg > 0) ||
+                !(lf->max_angle_deg < 90))
                 return tool_bad_value("luminaire create", "--max-angle", v,
                                       "must be degrees between 0 and 90");
         } else if (tool_option(argc, argv, &i, "--error", &v)) {
-            if (!tool_parse_double(v, &lf.error_target) || !(lf.error_target > 0) ||
-                !(lf.error_target < 1))
+            if (!tool_parse_double(v, &lf->error_target) || !(lf->error_target > 0) ||
+                !(lf->error_target < 1))
                 return tool_bad_value("luminaire create", "--error", v,
                                       "must be a relative error between 0 and 1");
         } else if (tool_option(argc, argv, &i, "--preset", &v)) {
-            preset_given = v;
-            if (!v || lumis_luminaire_preset_from_name(v, &preset) != LUMIS_OK)
+            o->preset_given = v;
+            if (!v || lumis_luminaire_preset_from_name(v, &o->preset) != LUMIS_OK)
                 return tool_bad_value("luminaire create", "--preset", v,
                                       "must be car, bike or small");
         } else if (tool_option(argc, argv, &i, "--basis", &v)) {
             if (!v || strcmp(v, "default") == 0 ||
-                lumis_luminaire_basis_from_name(v, &basis) != LUMIS_OK)
+                lumis_luminaire_basis_from_name(v, &o->basis) != LUMIS_OK)
                 return tool_bad_value("luminaire create", "--basis", v,
                                       "must be quadratic or bspline");
         } else if (tool_option(argc, argv, &i, "--format", &v)) {
             if (v && strcmp(v, "exr") == 0)
-                wo.image_format = LUMIS_FORMAT_EXR;
+                o->wo.image_format = LUMIS_FORMAT_EXR;
             else if (v && strcmp(v, "pfm") == 0)
-                wo.image_format = LUMIS_FORMAT_PFM;
+                o->wo.image_format = LUMIS_FORMAT_PFM;
             else
                 return tool_bad_value("luminaire create", "--format", v, "must be exr or pfm");
-        } else if (argv[i][0] != '-' && !out) {
-            out = argv[i];
+        } else if (argv[i][0] != '-' && !o->out) {
+            o->out = argv[i];
         } else {
             return tool_usage_error("luminaire create", "unknown argument '%s'", argv[i]);
         }
     }
+    const char *out = o->out, *from = o->from;
     if (!out) return tool_usage_error("luminaire create", "no output manifest (OUT.json)");
     size_t n = strlen(out);
     if (n < 5 || strcmp(out + n - 5, ".json") != 0)
         return tool_usage_error("luminaire create", "the manifest must end in .json (got '%s')",
                                 out);
-    if (from && preset_given)
+    if (from && o->preset_given)
         return tool_usage_error("luminaire create", "--from and --preset: one or the other");
-    if (!from &&
-        (lf.grid[0] || lf.width || lf.delta > 0 || lf.max_angle_deg > 0 || lf.error_target > 0))
+    if (!from && (lf->grid[0] || lf->width || lf->delta > 0 || lf->max_angle_deg > 0 ||
+                  lf->error_target > 0))
         return tool_usage_error(
             "luminaire create",
             "--grid, --size, --delta, --max-angle and --error: only with --from");
     tool_files files = {0};
     tool_files_output(&files, "manifest", out, TOOL_OUT_FILE);
     if (from) tool_files_input(&files, "photometric file", from);
-    int rc = tool_files_check("luminaire create", &files);
-    if (rc != EXIT_OK) return rc;
-    if (from) {
-        lumis_photometric_file *pf = NULL;
-        if (lumis_photometric_read(from, &tool_errors, &pf) != LUMIS_OK) return EXIT_RUNTIME;
-        lf.basis = basis;
-        double t0 = tool_now_seconds();
-        lumis_luminaire *lum = NULL;
-        lumis_photometric_light_field_report rep;
-        const lumis_status bs =
-            lumis_luminaire_from_photometric(pf->model, &lf, &tool_errors, &lum, &rep);
-        lumis_photometric_file_destroy(pf);
-        if (bs != LUMIS_OK) return EXIT_RUNTIME;
-        const double t1 = tool_now_seconds();
-        lumis_luminaire_info info;
-        if (write_and_destroy(out, lum, &wo, "m", &info) != LUMIS_OK) return EXIT_RUNTIME;
-        if (record_photometric(out, from, &rep) != LUMIS_OK) return EXIT_RUNTIME;
-        fprintf(stderr,
-                "lumis: the light field of %s: %d x %d images of %d x %d, delta %.4g m, built in "
-                "%.2f s; wrote %s and its images in %.2f s\n",
-                from, info.grid[0], info.grid[1], info.width, info.height, info.delta, t1 - t0, out,
-                tool_now_seconds() - t1);
-        fprintf(stderr,
-                "lumis: it carries %.2f lm within %.1f deg of the aim (fading from %.1f); the "
-                "residual, %.2f lm (%.3f %% of the table's %.2f lm), is the far-field point "
-                "(lumis_photometric_beyond); together %+.4f %% of the table\n",
-                rep.light_field_flux, rep.max_angle_deg, rep.ramp_from_deg, rep.residual_flux,
-                100 * rep.residual_share, rep.flux,
-                100 * ((rep.light_field_flux + rep.residual_flux) / rep.flux - 1));
-        fprintf(stderr,
-                "lumis: far-field error %.3f %% at most, %.3f %% on average over %d directions "
-                "(target %.2f %%%s)\n",
-                100 * rep.far_field_error, 100 * rep.far_field_error_mean, rep.directions,
-                100 * rep.error_target,
-                rep.target_met ? ", met" : ": NOT met at the largest images allowed");
-        return EXIT_OK;
-    }
-    fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",
-            lumis_luminaire_preset_name(preset));
+    return tool_files_check("luminaire create", &files);
+}
+
+/* --from: the photometric file's light field, written with its report. */
+static int create_from_photometric(create_opts *o)
+{
+    const char *out = o->out, *from = o->from;
+    lumis_photometric_file *pf = NULL;
+    if (lumis_photometric_read(from, &tool_errors, &pf) != LUMIS_OK) return EXIT_RUNTIME;
+    o->lf.basis = o->basis;
     double t0 = tool_now_seconds();
     lumis_luminaire *lum = NULL;
-    if (lumis_luminaire_preset_create(preset, basis, &tool_errors, &lum) != LUMIS_OK)
+    lumis_photometric_light_field_report rep;
+    const lumis_status bs =
+        lumis_luminaire_from_photometric(pf->model, &o->lf, &tool_errors, &lum, &rep);
+    lumis_photometric_file_destroy(pf);
+    if (bs != LUMIS_OK) return EXIT_RUNTIME;
+    const double t1 = tool_now_seconds();
+    lumis_luminaire_info info;
+    if (write_and_destroy(out, lum, &o->wo, "m", &info) != LUMIS_OK) return EXIT_RUNTIME;
+    if (record_photometric(out, from, &rep) != LUMIS_OK) return EXIT_RUNTIME;
+    fprintf(stderr,
+            "lumis: the light field of %s: %d x %d images of %d x %d, delta %.4g m, built in "
+            "%.2f s; wrote %s and its images in %.2f s\n",
+            from, info.grid[0], info.grid[1], info.width, info.height, info.delta, t1 - t0, out,
+            tool_now_seconds() - t1);
+    fprintf(stderr,
+            "lumis: it carries %.2f lm within %.1f deg of the aim (fading from %.1f); the "
+            "residual, %.2f lm (%.3f %% of the table's %.2f lm), is the far-field point "
+            "(lumis_photometric_beyond); together %+.4f %% of the table\n",
+            rep.light_field_flux, rep.max_angle_deg, rep.ramp_from_deg, rep.residual_flux,
+            100 * rep.residual_share, rep.flux,
+            100 * ((rep.light_field_flux + rep.residual_flux) / rep.flux - 1));
+    fprintf(stderr,
+            "lumis: far-field error %.3f %% at most, %.3f %% on average over %d directions "
+            "(target %.2f %%%s)\n",
+            100 * rep.far_field_error, 100 * rep.far_field_error_mean, rep.directions,
+            100 * rep.error_target,
+            rep.target_met ? ", met" : ": NOT met at the largest images allowed");
+    return EXIT_OK;
+}
+
+/* A preset's images, acquired from its emitter, written. */
+static int create_from_preset(create_opts *o)
+{
+    fprintf(stderr, "lumis: acquiring the %s preset's images from its emitter ...\n",
+            lumis_luminaire_preset_name(o->preset));
+    double t0 = tool_now_seconds();
+    lumis_luminaire *lum = NULL;
+    if (lumis_luminaire_preset_create(o->preset, o->basis, &tool_errors, &lum) != LUMIS_OK)
         return EXIT_RUNTIME;
     double t1 = tool_now_seconds();
     lumis_luminaire_info info;
-    if (write_and_destroy(out, lum, &wo, "mm", &info) != LUMIS_OK) return EXIT_RUNTIME;
+    if (write_and_destroy(o->out, lum, &o->wo, "mm", &info) != LUMIS_OK) return EXIT_RUNTIME;
     fprintf(stderr,
             "lumis: acquired %d images of %d x %d in %.2f s; wrote %s and its images (%s) in "
             "%.2f s\n",
-            info.images, info.width, info.height, t1 - t0, out,
-            wo.image_format == LUMIS_FORMAT_PFM ? "PFM" : "EXR", tool_now_seconds() - t1);
+            info.images, info.width, info.height, t1 - t0, o->out,
+            o->wo.image_format == LUMIS_FORMAT_PFM ? "PFM" : "EXR", tool_now_seconds() - t1);
     return EXIT_OK;
+}
+
+static int create(int argc, char **argv)
+{
+    create_opts o = {.preset = LUMIS_PRESET_CAR, .basis = LUMIS_BASIS_QUADRATIC};
+    o.wo.image_format = LUMIS_FORMAT_EXR;
+    const int rc = parse_create_args(argc, argv, &o);
+    if (rc != EXIT_OK) return rc;
+    return o.from ? create_from_photometric(&o) : create_from_preset(&o);
 }
 
 static int info(int argc, char **argv)

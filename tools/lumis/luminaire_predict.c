@@ -45,126 +45,163 @@ static cJSON *strategy_json(const lumis_luminaire_strategy_prediction *s)
     return o;
 }
 
-int tool_luminaire_predict(int argc, char **argv)
+/* What luminaire predict is asked. */
+typedef struct predict_opts {
+    const char *file;
+    double range[2];
+    long budget, kmax, probes, pilot, bands, seed;
+    int json;
+    lumis_luminaire_costs costs;
+} predict_opts;
+
+/* The options into *o.  Exit code. */
+static int parse_predict_args(int argc, char **argv, predict_opts *o)
 {
-    const char *file = NULL;
-    double range[2] = {0.0, 0.0};
-    long budget = 32, kmax = 0, probes = 256, pilot = 16, bands = 1, seed = 1;
-    int json = 0;
-    lumis_luminaire_costs costs = lumis_luminaire_costs_default();
     for (int i = 2; i < argc; i++) {
         const char *v = NULL;
         if (strcmp(argv[i], "--json") == 0) {
-            json = 1;
+            o->json = 1;
         } else if (tool_option(argc, argv, &i, "--distance", &v)) {
-            if (!parse_range(v, range))
+            if (!parse_range(v, o->range))
                 return tool_bad_value("luminaire predict", "--distance", v,
                                       "A,B with 0 < A <= B (luminaire units), or one distance");
         } else if (tool_option(argc, argv, &i, "--budget", &v)) {
-            if (!v || !tool_parse_int(v, 1, 65536, &budget))
+            if (!v || !tool_parse_int(v, 1, 65536, &o->budget))
                 return tool_bad_value("luminaire predict", "--budget", v, "1 to 65536");
         } else if (tool_option(argc, argv, &i, "--kmax", &v)) {
-            if (!v || !tool_parse_int(v, 0, 65536, &kmax))
+            if (!v || !tool_parse_int(v, 0, 65536, &o->kmax))
                 return tool_bad_value("luminaire predict", "--kmax", v, "0 (none) to 65536");
         } else if (tool_option(argc, argv, &i, "--probes", &v)) {
-            if (!v || !tool_parse_int(v, 1, 1 << 20, &probes))
+            if (!v || !tool_parse_int(v, 1, 1 << 20, &o->probes))
                 return tool_bad_value("luminaire predict", "--probes", v, "1 to 1048576");
         } else if (tool_option(argc, argv, &i, "--pilot", &v)) {
-            if (!v || !tool_parse_int(v, 1, 4096, &pilot))
+            if (!v || !tool_parse_int(v, 1, 4096, &o->pilot))
                 return tool_bad_value("luminaire predict", "--pilot", v, "1 to 4096");
         } else if (tool_option(argc, argv, &i, "--bands", &v)) {
-            if (!v || !tool_parse_int(v, 1, 64, &bands))
+            if (!v || !tool_parse_int(v, 1, 64, &o->bands))
                 return tool_bad_value("luminaire predict", "--bands", v, "1 to 64");
         } else if (tool_option(argc, argv, &i, "--costs", &v)) {
-            if (!v || !tool_parse_costs(v, &costs))
+            if (!v || !tool_parse_costs(v, &o->costs))
                 return tool_bad_value("luminaire predict", "--costs", v, TOOL_COSTS_HELP);
         } else if (tool_option(argc, argv, &i, "--seed", &v)) {
-            if (!v || !tool_parse_int(v, 0, 2147483647L, &seed))
+            if (!v || !tool_parse_int(v, 0, 2147483647L, &o->seed))
                 return tool_bad_value("luminaire predict", "--seed", v, "0 to 2147483647");
-        } else if (argv[i][0] != '-' && !file) {
-            file = argv[i];
+        } else if (argv[i][0] != '-' && !o->file) {
+            o->file = argv[i];
         } else {
             return tool_usage_error("luminaire predict", "unknown argument '%s'", argv[i]);
         }
     }
-    if (!file) return tool_usage_error("luminaire predict", "no luminaire given");
+    if (!o->file) return tool_usage_error("luminaire predict", "no luminaire given");
+    return EXIT_OK;
+}
+
+/* One distance band's prediction: an object added to arr, or (arr NULL) a line of the
+ * table. */
+static void report_band(cJSON *arr, double d0, double d1, const lumis_luminaire_prediction *p)
+{
+    if (arr) {
+        cJSON *o = cJSON_CreateObject();
+        const double dd[2] = {d0, d1};
+        cJSON_AddItemToObject(o, "distance", cJSON_CreateDoubleArray(dd, 2));
+        cJSON_AddNumberToObject(o, "probes_lit", p->probes_lit);
+        cJSON_AddNumberToObject(o, "energy_share", p->energy_share);
+        cJSON_AddNumberToObject(o, "images_lit", p->images_lit);
+        cJSON_AddItemToObject(o, "restricted", strategy_json(&p->restricted));
+        cJSON_AddItemToObject(o, "uniform", strategy_json(&p->uniform));
+        cJSON_AddItemToObject(o, "global", strategy_json(&p->global));
+        cJSON_AddStringToObject(o, "best", lumis_luminaire_strategy_name(p->best));
+        cJSON_AddItemToArray(arr, o);
+    } else {
+        printf("%7.4g - %-7.4g %5.2f%% %7d | %9.1f %8.0f %8.1fx | %9.1f %8.0f %8.1fx | "
+               "%11.3g %8.0f | %s\n",
+               d0, d1, 100.0 * p->energy_share, p->images_lit, p->restricted.samples,
+               p->restricted.ns, p->restricted.time_ratio, p->uniform.samples, p->uniform.ns,
+               p->uniform.time_ratio, p->global.variance, p->global.ns,
+               p->probes_lit ? lumis_luminaire_strategy_name(p->best) : "(nothing lit)");
+    }
+}
+
+/* The bands (geometric in distance), predicted and reported one by one; pr: storage for
+ * o->probes probes. */
+static int predict_bands(const predict_opts *o, const lumis_luminaire *lum,
+                         lumis_luminaire_probe *pr, cJSON *arr)
+{
+    const double *range = o->range;
+    for (int b = 0; b < o->bands; b++) {
+        const double r = range[1] / range[0];
+        const double d0 = range[0] * pow(r, (double)b / o->bands),
+                     d1 = range[0] * pow(r, (double)(b + 1) / o->bands);
+        lumis_luminaire_predict_desc d = {0};
+        d.probes = pr;
+        d.probe_count = (int)o->probes;
+        d.budget = (int)o->budget;
+        d.k_max = (int)o->kmax;
+        d.pilot = (int)o->pilot;
+        d.seed = (uint64_t)o->seed;
+        d.costs = &o->costs;
+        lumis_luminaire_prediction p;
+        lumis_status st = lumis_luminaire_probes(lum, d0, d1, (uint64_t)o->seed + (uint64_t)b,
+                                                 (int)o->probes, pr);
+        if (st == LUMIS_OK) st = lumis_luminaire_predict(lum, &d, &p);
+        if (st != LUMIS_OK)
+            return tool_runtime_error("%s: prediction failed: %s", o->file,
+                                      lumis_status_string(st));
+        report_band(arr, d0, d1, &p);
+    }
+    return EXIT_OK;
+}
+
+/* The JSON document around the bands (it takes arr) on stdout. */
+static int print_predict_json(const predict_opts *o, cJSON *arr)
+{
+    cJSON *j = cJSON_CreateObject();
+    cJSON_AddStringToObject(j, "file", o->file);
+    cJSON_AddNumberToObject(j, "budget", (double)o->budget);
+    cJSON_AddNumberToObject(j, "k_max", (double)o->kmax);
+    cJSON_AddNumberToObject(j, "probes", (double)o->probes);
+    cJSON_AddItemToObject(j, "bands", arr);
+    char *text = cJSON_PrintUnformatted(j);
+    cJSON_Delete(j);
+    int rc = EXIT_OK;
+    if (text)
+        puts(text);
+    else
+        rc = tool_runtime_error("out of memory");
+    free(text);
+    return rc;
+}
+
+int tool_luminaire_predict(int argc, char **argv)
+{
+    predict_opts o = {.budget = 32, .probes = 256, .pilot = 16, .bands = 1, .seed = 1};
+    o.costs = lumis_luminaire_costs_default();
+    int rc = parse_predict_args(argc, argv, &o);
+    if (rc != EXIT_OK) return rc;
     lumis_luminaire *lum = NULL;
-    if (tool_load_luminaire(file, &lum) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_load_luminaire(o.file, &lum) != LUMIS_OK) return EXIT_RUNTIME;
     lumis_luminaire_info in;
     lumis_luminaire_get_info(lum, &in);
-    if (range[0] == 0.0) { /* default: 2 to 50 times the distance between the planes */
-        range[0] = 2.0 * in.delta;
-        range[1] = 50.0 * in.delta;
+    if (o.range[0] == 0.0) { /* default: 2 to 50 times the distance between the planes */
+        o.range[0] = 2.0 * in.delta;
+        o.range[1] = 50.0 * in.delta;
     }
-    lumis_luminaire_probe *pr = malloc(sizeof *pr * (size_t)probes);
-    cJSON *arr = json ? cJSON_CreateArray() : NULL;
-    if (!pr || (json && !arr)) {
+    lumis_luminaire_probe *pr = malloc(sizeof *pr * (size_t)o.probes);
+    cJSON *arr = o.json ? cJSON_CreateArray() : NULL;
+    if (!pr || (o.json && !arr)) {
         free(pr);
         cJSON_Delete(arr);
         lumis_luminaire_destroy(lum);
         return tool_runtime_error("out of memory");
     }
-    if (!json)
+    if (!o.json)
         printf("%-17s %6s %7s | %28s | %28s | %20s | %s\n", "distance", "energy", "images",
                "restricted: samples ns xglob", "uniform:    samples ns xglob", "global: var/smp ns",
                "best");
-    int rc = EXIT_OK;
-    for (int b = 0; b < bands && rc == EXIT_OK; b++) {
-        const double r = range[1] / range[0];
-        const double d0 = range[0] * pow(r, (double)b / bands),
-                     d1 = range[0] * pow(r, (double)(b + 1) / bands);
-        lumis_luminaire_predict_desc d = {0};
-        d.probes = pr;
-        d.probe_count = (int)probes;
-        d.budget = (int)budget;
-        d.k_max = (int)kmax;
-        d.pilot = (int)pilot;
-        d.seed = (uint64_t)seed;
-        d.costs = &costs;
-        lumis_luminaire_prediction p;
-        lumis_status st =
-            lumis_luminaire_probes(lum, d0, d1, (uint64_t)seed + (uint64_t)b, (int)probes, pr);
-        if (st == LUMIS_OK) st = lumis_luminaire_predict(lum, &d, &p);
-        if (st != LUMIS_OK) {
-            rc = tool_runtime_error("%s: prediction failed: %s", file, lumis_status_string(st));
-            break;
-        }
-        if (json) {
-            cJSON *o = cJSON_CreateObject();
-            const double dd[2] = {d0, d1};
-            cJSON_AddItemToObject(o, "distance", cJSON_CreateDoubleArray(dd, 2));
-            cJSON_AddNumberToObject(o, "probes_lit", p.probes_lit);
-            cJSON_AddNumberToObject(o, "energy_share", p.energy_share);
-            cJSON_AddNumberToObject(o, "images_lit", p.images_lit);
-            cJSON_AddItemToObject(o, "restricted", strategy_json(&p.restricted));
-            cJSON_AddItemToObject(o, "uniform", strategy_json(&p.uniform));
-            cJSON_AddItemToObject(o, "global", strategy_json(&p.global));
-            cJSON_AddStringToObject(o, "best", lumis_luminaire_strategy_name(p.best));
-            cJSON_AddItemToArray(arr, o);
-        } else {
-            printf("%7.4g - %-7.4g %5.2f%% %7d | %9.1f %8.0f %8.1fx | %9.1f %8.0f %8.1fx | "
-                   "%11.3g %8.0f | %s\n",
-                   d0, d1, 100.0 * p.energy_share, p.images_lit, p.restricted.samples,
-                   p.restricted.ns, p.restricted.time_ratio, p.uniform.samples, p.uniform.ns,
-                   p.uniform.time_ratio, p.global.variance, p.global.ns,
-                   p.probes_lit ? lumis_luminaire_strategy_name(p.best) : "(nothing lit)");
-        }
-    }
-    if (json && rc == EXIT_OK) {
-        cJSON *j = cJSON_CreateObject();
-        cJSON_AddStringToObject(j, "file", file);
-        cJSON_AddNumberToObject(j, "budget", (double)budget);
-        cJSON_AddNumberToObject(j, "k_max", (double)kmax);
-        cJSON_AddNumberToObject(j, "probes", (double)probes);
-        cJSON_AddItemToObject(j, "bands", arr);
+    rc = predict_bands(&o, lum, pr, arr);
+    if (o.json && rc == EXIT_OK) {
+        rc = print_predict_json(&o, arr);
         arr = NULL;
-        char *text = cJSON_PrintUnformatted(j);
-        cJSON_Delete(j);
-        if (text)
-            puts(text);
-        else
-            rc = tool_runtime_error("out of memory");
-        free(text);
     }
     cJSON_Delete(arr);
     free(pr);
