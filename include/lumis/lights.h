@@ -367,9 +367,9 @@ LUMIS_API double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
 
 /* The method names, NULL-terminated. */
 LUMIS_API const char *const *lumis_lights_method_names(void);
-/* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...), 0 for an unknown
- * name. */
-LUMIS_API lumis_lights_method lumis_lights_method_from_name(const char *name);
+/* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...) into *out;
+ * LUMIS_ERR_INVALID_ARGUMENT (*out untouched) for an unknown or NULL name. */
+LUMIS_API lumis_status lumis_lights_method_from_name(const char *name, lumis_lights_method *out);
 
 /* Parameters by name.  Zero-initialised: every method's defaults. */
 typedef struct lumis_light_params {
