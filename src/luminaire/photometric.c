@@ -39,59 +39,14 @@ static const char *const symmetry_names[] = {"none",     "rotational", "C0-C180"
                                              "C90-C270", "quadrant",   "lateral"};
 static const char *const shape_names[] = {"point",    "rectangle", "box",  "disk",
                                           "cylinder", "sphere",    "other"};
-#define NAMES(a) ((int)(sizeof a / sizeof a[0]))
+LUMIS__ENUM_NAMES(lumis_photometric_type, LUMIS_PHOTOMETRIC_A + 1, type_names,
+                  lumis_photometric_type_name, lumis_photometric_type_from_name);
 
-static const char *name_of(const char *const *names, int n, int v)
-{
-    return v >= 0 && v < n && names[v] ? names[v] : "unknown";
-}
+LUMIS__ENUM_NAMES(lumis_photometric_symmetry, LUMIS_SYMMETRY_LATERAL + 1, symmetry_names,
+                  lumis_photometric_symmetry_name, lumis_photometric_symmetry_from_name);
 
-/* The index of `name` in names (-1: none; NULL entries never match). */
-static int index_of(const char *const *names, int n, const char *name)
-{
-    for (int v = 0; name && v < n; v++)
-        if (names[v] && strcmp(names[v], name) == 0) return v;
-    return -1;
-}
-
-const char *lumis_photometric_type_name(lumis_photometric_type t)
-{
-    return name_of(type_names, NAMES(type_names), (int)t);
-}
-
-const char *lumis_photometric_symmetry_name(lumis_photometric_symmetry s)
-{
-    return name_of(symmetry_names, NAMES(symmetry_names), (int)s);
-}
-
-const char *lumis_photometric_shape_name(lumis_photometric_shape s)
-{
-    return name_of(shape_names, NAMES(shape_names), (int)s);
-}
-
-lumis_status lumis_photometric_type_from_name(const char *name, lumis_photometric_type *out)
-{
-    const int v = index_of(type_names, NAMES(type_names), name);
-    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    *out = (lumis_photometric_type)v;
-    return LUMIS_OK;
-}
-
-lumis_status lumis_photometric_symmetry_from_name(const char *name, lumis_photometric_symmetry *out)
-{
-    const int v = index_of(symmetry_names, NAMES(symmetry_names), name);
-    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    *out = (lumis_photometric_symmetry)v;
-    return LUMIS_OK;
-}
-
-lumis_status lumis_photometric_shape_from_name(const char *name, lumis_photometric_shape *out)
-{
-    const int v = index_of(shape_names, NAMES(shape_names), name);
-    if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    *out = (lumis_photometric_shape)v;
-    return LUMIS_OK;
-}
+LUMIS__ENUM_NAMES(lumis_photometric_shape, LUMIS_SHAPE_OTHER + 1, shape_names,
+                  lumis_photometric_shape_name, lumis_photometric_shape_from_name);
 
 /* ---- directions and angles ------------------------------------------------------------- */
 

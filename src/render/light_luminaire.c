@@ -67,20 +67,8 @@ typedef struct lum_state {
 
 static const char *const visibility_names[] = {"exact", "approx", "none", "shadowmap"};
 
-const char *lumis_visibility_name(lumis_visibility v)
-{
-    return (unsigned)v < LUMIS_VISIBILITY_COUNT ? visibility_names[v] : "unknown";
-}
-
-lumis_status lumis_visibility_from_name(const char *name, lumis_visibility *out)
-{
-    for (int k = 0; name && out && k < LUMIS_VISIBILITY_COUNT; k++)
-        if (strcmp(name, visibility_names[k]) == 0) {
-            *out = (lumis_visibility)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_visibility, LUMIS_VISIBILITY_COUNT, visibility_names, lumis_visibility_name,
+                  lumis_visibility_from_name);
 
 static inline v3 rot_apply(const double r[9], v3 a)
 {
