@@ -337,8 +337,9 @@ typedef struct lumis_luminaire_choice {
  * work (band_gain is then their predicted gain even when not taken).  A luminaire (or band)
  * auto samples globally gets at least 20 camera rays' worth of draws per camera sample
  * (its best: the model counts no camera ray per global sample), e.g. 1024 on the presets.
- * What the render does itself; deterministic.  Cost with auto: some 10 to 70 ms per
- * luminaire, counted before the first sample. */
+ * What the render does itself; deterministic.  Cost with auto: lumis_luminaire_predict's
+ * per luminaire (O(probes x images with energy); measured: docs/benchmarks.md), counted
+ * before the first sample. */
 LUMIS_RENDER_API lumis_status lumis_render_luminaire_choices(const lumis_scene *scene,
                                                              const lumis_render_desc *d,
                                                              lumis_luminaire_choice *out);
