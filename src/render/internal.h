@@ -39,6 +39,9 @@ lumis_luminaire *lumis__scene_file_luminaire(const lumis_scene_file *f, const ch
 lumis_photometric_file *lumis__scene_file_photometric(lumis_scene_file *f, const char *path,
                                                       const lumis_error_sink *errors,
                                                       lumis_status *st);
+/* A luminaire instance's placement with its defaults: an all-zero rotation is the
+ * identity, scale 0 is 1 (*scale) (light_luminaire.c). */
+lumis_rigid lumis__instance_placement(const lumis_luminaire_instance *in, double *scale);
 /* Rotation Rz Ry Rx (degrees r), row-major, in double precision (a luminaire's placement
  * must pass lumis_rigid_check). */
 void lumis__rotation_deg(const float r[3], double m[9]);
