@@ -19,7 +19,7 @@ FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire fu
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
-.PHONY: help deps build release run test sanitize fuzz format format-check bench install clean mutate coverage \
+.PHONY: help deps build release run test sanitize fuzz format format-check bench install blender-addon clean mutate coverage \
         mutate-diff mutate-gen
 
 help:
@@ -135,6 +135,10 @@ install: deps
 	  -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
 	cmake --build build-release -j$(JOBS) --target lumis-cli lumis-python
 	cmake --install build-release --prefix $(PREFIX)
+
+# The Blender add-on as the zip Blender's preferences install (docs/blender.md).
+blender-addon:
+	scripts/blender-addon.sh build/lumis_lights.zip
 
 clean:
 	rm -rf build build-release build-asan build-fuzz build-mutate build-mutgen build-coverage

@@ -37,7 +37,7 @@ const char bench_name[] = "bench_render";
 
 #define SKY_W           1024
 #define SKY_H           512
-#define SKY_ELEVATION   35.0f /* the CLI's default sky (tools/lumis/common.h) */
+#define SKY_ELEVATION   35.0f /* the CLI's default sky (tools/app/load.h) */
 #define SKY_AZIMUTH     60.0f
 #define SEED            1ull /* the CLI's default seed */
 #define MAX_METHODS     16

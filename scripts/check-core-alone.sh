@@ -15,6 +15,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build="${1:-build-core}"
+case $build in /*) ;; *) build="$PWD/$build" ;; esac # absolute, for the flags below
 jobs="${JOBS:-2}"
 rm -rf "$build"
 mkdir -p "$build/sandbox/pkgconfig" "$build/sandbox/include/embree3" "$build/sandbox/include/assimp"
@@ -31,11 +32,11 @@ for h in png.h omp.h cJSON.h stb_image.h stb_image_write.h ImfInputFile.h; do
 done
 
 echo "-- configure: the core alone"
-env -u PKG_CONFIG_PATH PKG_CONFIG_LIBDIR="$PWD/$build/sandbox/pkgconfig" \
+env -u PKG_CONFIG_PATH PKG_CONFIG_LIBDIR="$build/sandbox/pkgconfig" \
     cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLUMIS_WERROR=ON \
     -DLUMIS_BUILD_IO=OFF -DLUMIS_BUILD_RENDER=OFF -DLUMIS_BUILD_CLI=OFF \
     -DCMAKE_DISABLE_FIND_PACKAGE_embree=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=ON \
-    -DCMAKE_C_FLAGS="-I$PWD/$build/sandbox/include" -DCMAKE_CXX_FLAGS="-I$PWD/$build/sandbox/include" \
+    -DCMAKE_C_FLAGS="-I$build/sandbox/include" -DCMAKE_CXX_FLAGS="-I$build/sandbox/include" \
     >"$build/configure.log" || { cat "$build/configure.log"; exit 1; }
 
 echo "-- build"

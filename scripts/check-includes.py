@@ -4,7 +4,8 @@
     scripts/check-includes.py [ROOT]     # exit 1 and one line per forbidden include
 
 Every file of include/lumis, src, tools, bench, fuzz, examples and docs/examples stands on
-a floor (below).  It fails on:
+a floor (below); the programs' own modules tools/app (the render pipeline) and
+tools/harness (the bench harness) are floors under the programs.  It fails on:
   - an include of a higher floor: a public header (lumis/X.h) or a private one (src/M/...);
   - another module's private header (any header under src/M/ but the including file's own
     module) that the allow-list below does not name; across libraries only
@@ -22,12 +23,15 @@ ROOT = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else
                        os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 # Bottom to top.  The core library is five modules on floors of their own (ARCHITECTURE.md
-# draws them stacked); lumis-io and lumis-render above; the programs on top.
+# draws them stacked); lumis-io and lumis-render above; then the programs' own modules: the
+# render pipeline a program runs (tools/app), the benchmark harness on it (tools/harness);
+# the programs on top (the CLI, bench/, fuzz/, examples).
 FLOORS = ["src/core", "src/envmap", "src/metrics", "src/luminaire", "src/lights",
-          "src/io", "src/render", "top"]
+          "src/io", "src/render", "tools/app", "tools/harness", "top"]
 LIBRARY = {"src/core": "lumis", "src/envmap": "lumis", "src/metrics": "lumis",
            "src/luminaire": "lumis", "src/lights": "lumis", "src/io": "lumis-io",
-           "src/render": "lumis-render", "top": None}
+           "src/render": "lumis-render", "tools/app": None, "tools/harness": None, "top": None}
+TOOL_MODULES = ("tools/app", "tools/harness")
 TOP_DIRS = ("tools", "bench", "fuzz", "examples", "docs/examples")
 
 # The public headers' floors: the module that defines what each declares.
@@ -97,6 +101,9 @@ def module_of(path):
     m = re.match(r"(src/[^/]+)/", r)
     if m:
         return m.group(1) if m.group(1) in FLOORS else "?"
+    for mod in TOOL_MODULES:
+        if r.startswith(mod + "/"):
+            return mod
     if r.startswith(TOP_DIRS):
         return "top"
     return None
@@ -134,7 +141,7 @@ def check_file(path):
         line = text.count("\n", 0, m.start()) + 1
         where = f"{r}:{line}: #include {kind}{name}{'>' if kind == '<' else kind}"
         if kind == "<":
-            core = own != "top" and LIBRARY[own] == "lumis"
+            core = LIBRARY[own] == "lumis"
             if (core or r.startswith("include/")) and name not in STANDARD_C | INTRINSICS:
                 errors.append(f"{where}: the core and the public headers are C11 and libm "
                               "only")

@@ -592,6 +592,9 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     snprintf(a, sizeof a, "-o '%s'", tu_path("x.exr"));
     expect_bad_files("render", "bad.json", a, bad, sizeof bad / sizeof bad[0]);
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
+    /* every built-in named, as lumis_scene_builtin_names lists them (the last one too) */
+    expect("render --scene bunny -o x.exr", 2, "(built in: spheres, bunny-plane, ");
+    expect("render --scene bunny -o x.exr", 2, ", wu-mixed, headlight, headlight-close)");
     snprintf(a, sizeof a, "render --scene ward-aniso --env sky:32x16 --spp 1 --size 16x16 -o '%s'",
              tu_path("w.exr"));
     expect(a, 0, "rendered 16x16");
@@ -3335,7 +3338,10 @@ static void info_reads_photometric_files(void **state)
                            "field angle (10 %) 74.8 deg, NEMA 5",
                            "zonal lumens: 0-30 453.8, 30-60 117.2, 60-90 0.3, 90-120 0.0",
                            "CIE flux code: 96 100 100 100 57", "BUG rating (TM-15-11): B1 U0 G0",
-                           "lm back BL 226.9 BM 58.6"};
+                           "lm back BL 226.9 BM 58.6",
+                           /* cos^10: 2 (2^(2/13) - 1)^(1/2) = 0.671 */
+                           "spacing criterion (spacing / mounting height): C0-C180 0.67, "
+                           "C90-C270 0.67\n"};
     for (int k = 0; k < (int)(sizeof parts / sizeof parts[0]); k++)
         if (!strstr(out, parts[k])) fail_msg("info lacks \"%s\":\n%s", parts[k], out);
     free(out);
@@ -3385,6 +3391,12 @@ static void info_reads_photometric_files(void **state)
     assert_true(fabs(cJSON_GetObjectItemCaseSensitive(zl, "FL")->valuedouble - 226.9) < 0.1);
     const cJSON *nema = cJSON_GetObjectItemCaseSensitive(j, "nema_type");
     assert_int_equal(cJSON_GetArrayItem(nema, 1)->valueint, 5);
+    const cJSON *sc = cJSON_GetObjectItemCaseSensitive(j, "spacing_criterion");
+    assert_true(cJSON_IsArray(sc) && cJSON_GetArraySize(sc) == 2);
+    for (int k = 0; k < 2; k++)
+        assert_true(fabs(cJSON_GetArrayItem(sc, k)->valuedouble - 0.6709) < 1e-3);
+    assert_true(
+        cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(j, "spacing_criterion_not_applicable")));
     cJSON_Delete(j);
     free(out);
     free(err);
@@ -3443,6 +3455,18 @@ static void info_reads_photometric_files(void **state)
     assert_null(strstr(out, "BUG"));
     assert_non_null(strstr(out, "V=0 (H): beam angle"));
     assert_non_null(strstr(out, ", NEMA 7"));
+    assert_non_null(strstr(out, "spacing criterion: not applicable, a floodlight"));
+    free(out);
+    free(err);
+    snprintf(a, sizeof a, "info '%s' --json", tu_path("flood.ies"));
+    assert_int_equal(run(a, &out, &err), 0);
+    j = cJSON_Parse(out);
+    assert_non_null(j);
+    sc = cJSON_GetObjectItemCaseSensitive(j, "spacing_criterion");
+    assert_true(cJSON_IsNull(cJSON_GetArrayItem(sc, 0)) && cJSON_IsNull(cJSON_GetArrayItem(sc, 1)));
+    assert_true(
+        cJSON_IsString(cJSON_GetObjectItemCaseSensitive(j, "spacing_criterion_not_applicable")));
+    cJSON_Delete(j);
     free(out);
     free(err);
     /* errors: the line and the field; the plot never replaces the file */

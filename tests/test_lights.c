@@ -913,6 +913,99 @@ static void fhis_points_follow_the_importance(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Three lit pixels on black (FHIS's corrected points spill into unlit pixels near them). */
+static float three_lit_pixel(int w, int h, int i, int j, int c)
+{
+    (void)h;
+    const int p = j * w + i;
+    return p == 20 || p == 45 || p == 100 ? 10.0f + 5.0f * (float)c + (float)p : 0.0f;
+}
+
+/* FHIS's lights are the Voronoi cells of its points: each light's direction lies in a pixel
+ * of its own region, and each light's power is the brute-force sum of L Omega over the
+ * pixels whose centre is nearer to it than to any other light (a pixel within 1e-6 of a
+ * tie counts for the light its label names, one of the tied), but for the pixel that holds
+ * a light's point, which is that light's.  With a light for every pixel the tiles cannot
+ * find them all, and the rest go to the pixels left, at their centres. */
+static void fhis_regions_are_the_points_voronoi_cells(void **state)
+{
+    (void)state;
+    static const struct {
+        int w, h, k;
+        float (*f)(int, int, int, int, int);
+    } cases[] = {{48, 24, 20, sky_pixel},
+                 {16, 8, 10, three_lit_pixel},
+                 {8, 4, 5, black_pixel},
+                 {8, 4, 32, sky_pixel},
+                 {16, 8, 128, three_lit_pixel}};
+    for (size_t t = 0; t < sizeof cases / sizeof cases[0]; t++) {
+        const int w = cases[t].w, h = cases[t].h;
+        lumis_envmap *env = make_env(w, h, cases[t].f, 0.0f, 0.0f);
+        lumis_light_set *set = NULL;
+        assert_int_equal(build_fhis(env, cases[t].k, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n, lw, lh;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        assert_int_equal(n, cases[t].k);
+        const int32_t *lab = lumis_light_set_labels(set, &lw, &lh);
+        int *own = malloc((size_t)w * (size_t)h * sizeof *own);
+        assert_non_null(own);
+        for (int p = 0; p < w * h; p++) own[p] = -1;
+        for (int k = 0; k < n; k++) {
+            int i, j;
+            lumis_envmap_dir_to_pixel(env, L[k].dir, &i, &j);
+            if (lab[j * w + i] != k || own[j * w + i] >= 0)
+                fail_msg("case %zu: light %d points into pixel (%d, %d) of light %d", t, k, i, j,
+                         lab[j * w + i]);
+            own[j * w + i] = k;
+        }
+        double *pw = calloc((size_t)n * 3, sizeof(double));
+        assert_non_null(pw);
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                /* the pixel's centre (row 0 at the zenith, +y up), checked against the map */
+                const double th = PI * (j + 0.5) / h, ph = 2.0 * PI * (i + 0.5) / w;
+                const double c[3] = {sin(th) * cos(ph), cos(th), sin(th) * sin(ph)};
+                int ci, cj;
+                lumis_envmap_dir_to_pixel(env, (lumis_vec3){(float)c[0], (float)c[1], (float)c[2]},
+                                          &ci, &cj);
+                assert_true(ci == i && cj == j);
+                int best = -1;
+                double b1 = -2.0, b2 = -2.0;
+                for (int k = 0; k < n; k++) {
+                    const double d = c[0] * L[k].dir.x + c[1] * L[k].dir.y + c[2] * L[k].dir.z;
+                    if (d > b1) {
+                        b2 = b1;
+                        b1 = d;
+                        best = k;
+                    } else if (d > b2) {
+                        b2 = d;
+                    }
+                }
+                /* a pixel holding a point is that point's, nearest or not */
+                const int32_t got = lab[j * w + i], mine = own[j * w + i];
+                const int owner = mine >= 0 ? mine : b1 - b2 > 1e-6 ? best : got;
+                if (got != owner)
+                    fail_msg("case %zu: pixel (%d, %d) is light %d's, nearest is %d", t, i, j, got,
+                             owner);
+                const lumis_rgb r = lumis_envmap_texel(env, i, j);
+                const double om = 2.0 * PI / w * (cos(PI * j / h) - cos(PI * (j + 1) / h));
+                pw[3 * owner] += r.r * om;
+                pw[3 * owner + 1] += r.g * om;
+                pw[3 * owner + 2] += r.b * om;
+            }
+        for (int k = 0; k < n; k++)
+            for (int c = 0; c < 3; c++)
+                if (!(fabs(L[k].power[c] - pw[3 * k + c]) <= 1e-9 * pw[3 * k + c] + 1e-300))
+                    fail_msg("case %zu: light %d channel %d: power %.12g, Voronoi sum %.12g", t, k,
+                             c, L[k].power[c], pw[3 * k + c]);
+        free(pw);
+        free(own);
+        lumis_light_set_destroy(set);
+        lumis_envmap_destroy(env);
+    }
+}
+
 static void fhis_and_tmms_conserve_power_with_exactly_k_lights(void **state)
 {
     (void)state;
@@ -1034,6 +1127,134 @@ static void every_method_is_invariant_to_the_maps_brightness(void **state)
     }
     lumis_envmap_destroy(a);
     lumis_envmap_destroy(b);
+}
+
+/* A ring of four pixels (one row), luminances 3, 1, 9, 27. */
+static float ring_pixel(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h, (void)j, (void)c;
+    static const float y[4] = {3.0f, 1.0f, 9.0f, 27.0f};
+    return y[i];
+}
+
+/* TMMS's merge by hand: on a 4 x 1 map every pixel is a cell, and with a narrow bandwidth
+ * (0.01) each its own level and stratum.  For 3 lights the weakest stratum (pixel 1, Y 1)
+ * merges into its weakest neighbour: pixel 0 (Y 3) on its left, not pixel 2 (Y 9) on its
+ * right.  Then {0, 1} (4) is the weakest and the only one that could split: no trade.  The
+ * lights: {0, 1}, {2}, {3}. */
+static void tmms_merges_into_the_weakest_neighbour(void **state)
+{
+    (void)state;
+    lumis_envmap *env = make_env(4, 1, ring_pixel, 0.0f, 0.0f);
+    lumis_tmms_desc d = {0};
+    d.count = 3;
+    d.range_bandwidth = 0.01f;
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_tmms(env, &d, &set), LUMIS_OK);
+    int w, h;
+    const int32_t *lab = lumis_light_set_labels(set, &w, &h);
+    assert_true(w == 4 && h == 1);
+    if (!(lab[0] == lab[1] && lab[1] != lab[2] && lab[2] != lab[3] && lab[1] != lab[3]))
+        fail_msg("strata %d %d %d %d, want pixels 0 and 1 together", lab[0], lab[1], lab[2],
+                 lab[3]);
+    const lumis_light *L;
+    int n;
+    assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+    assert_int_equal(n, 3);
+    assert_int_equal(L[lab[0]].pixels, 2);
+    /* its power: Y 3 + 1 over two pixels of pi each (the four share 4 pi) */
+    assert_true(fabs(L[lab[0]].power[1] - 4.0 * PI) < 1e-9);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
+/* A sky over black ground: a sun, a dim coloured gradient above the horizon, nothing below
+ * it (regions of no energy). */
+static float sky_over_black(int w, int h, int i, int j, int c)
+{
+    if (j >= h / 2) return 0.0f;
+    const double u = (i + 0.5) / w, v = (j + 0.5) / h;
+    const double du = u - 0.3, dv = v - 0.2;
+    if (du * du + dv * dv < 0.002) return 2000.0f;
+    return (float)((1.0 + 0.5 * c) * (1.0 + u) * (0.6 - v));
+}
+
+/* Black but for a 16 x 16 patch of lit pixel pairs and black pairs, column by column: a
+ * cut led by energy (Eq. 3's extent weight near 0) splits the patch below its 4 x 4 tiles,
+ * into lit and black halves of tiles. */
+static float striped_patch(int w, int h, int i, int j, int c)
+{
+    (void)w, (void)h;
+    if (i < 100 || i >= 116 || j < 120 || j >= 136 || i % 4 >= 2) return 0.0f;
+    return (float)(1.0 + 0.25 * c + 0.1 * (i - 100) + 0.05 * (j - 120));
+}
+
+/* The exact first moment of pixel (i, j): the integral of the direction over it. */
+static void pixel_moment(int w, int h, int i, int j, double m[3])
+{
+    const double t0 = PI * j / h, t1 = PI * (j + 1) / h, p0 = 2.0 * PI * i / w,
+                 p1 = 2.0 * PI * (i + 1) / w;
+    const double s2 = 0.5 * (t1 - t0) - 0.25 * (sin(2.0 * t1) - sin(2.0 * t0)); /* int sin^2 */
+    m[0] = s2 * (sin(p1) - sin(p0));
+    m[1] = 0.5 * (sin(t1) * sin(t1) - sin(t0) * sin(t0)) * (p1 - p0);
+    m[2] = s2 * (cos(p0) - cos(p1));
+}
+
+/* Each of Wu's EnvIndirects points at its region's luminance-weighted mean direction, and a
+ * region of no energy at its plain mean direction: brute-force sums of the exact pixel
+ * moments over the pixels labelled with it.  On a map of 2^16 pixels or more the sums come
+ * from 4 x 4 tiles; regions smaller than a tile are summed pixel by pixel (the striped
+ * patch's). */
+static void wu_indirect_lights_point_at_their_regions_centroid(void **state)
+{
+    (void)state;
+    static const int sizes[][3] = {{61, 29, 24}, {371, 185, 40}, {256, 256, 64}};
+    for (size_t t = 0; t < sizeof sizes / sizeof sizes[0]; t++) {
+        const int w = sizes[t][0], h = sizes[t][1];
+        lumis_envmap *env = make_env(w, h, t < 2 ? sky_over_black : striped_patch, 0.0f, 0.0f);
+        lumis_light_set *set = NULL;
+        lumis_decomp_desc d = {0};
+        d.count = sizes[t][2];
+        d.seed = 7;
+        if (t == 2) { /* no emissive pixel, and a cut led by energy, not by extent */
+            d.threshold = 1e30f;
+            d.w_d = 1e-6f;
+        }
+        assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+        const lumis_light *L;
+        int n, lw, lh, dark = 0, lit = 0;
+        assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+        const int32_t *lab = lumis_light_set_labels(set, &lw, &lh);
+        double(*ym)[3] = calloc((size_t)n, sizeof *ym), (*gm)[3] = calloc((size_t)n, sizeof *gm);
+        assert_true(ym && gm);
+        for (int j = 0; j < h; j++)
+            for (int i = 0; i < w; i++) {
+                const int k = lab[j * w + i];
+                double m[3];
+                pixel_moment(w, h, i, j, m);
+                const double y = pixel_y(env, i, j);
+                for (int c = 0; c < 3; c++) {
+                    ym[k][c] += y * m[c];
+                    gm[k][c] += m[c];
+                }
+            }
+        for (int k = 0; k < n; k++) {
+            if (L[k].kind != LUMIS_LIGHT_ENV_INDIRECT) continue;
+            const int black = L[k].power[0] == 0.0 && L[k].power[1] == 0.0 && L[k].power[2] == 0.0;
+            dark += black;
+            lit += !black;
+            double *want = black ? gm[k] : ym[k];
+            const double a = angle(L[k].dir, want);
+            if (!(a < 1e-5))
+                fail_msg("%d x %d: %s indirect light %d is %g rad off its region's centroid", w, h,
+                         black ? "black" : "lit", k, a);
+        }
+        assert_true(dark >= 2 && lit >= 2);
+        free(ym);
+        free(gm);
+        lumis_light_set_destroy(set);
+        lumis_envmap_destroy(env);
+    }
 }
 
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
@@ -1967,6 +2188,20 @@ static void methods_and_parameters_by_name(void **state)
             !strstr(sink.last, bad[k].says))
             fail_msg("'%s': '%s'", bad[k].text, sink.last);
     }
+    /* a refused pair changes nothing: p holds the pairs before it (lights.h), bit for bit */
+    lumis_light_params before = {0};
+    assert_int_equal(lumis_light_params_parse(&before, "jitter=0.5,percentile=90,key=2", NULL),
+                     LUMIS_OK);
+    static const char *const refused[] = {
+        "jitter=1.5", "percentile=100.5",    "key=0",     "bandwidth=-1",
+        "gamma=1e39", "kmeans-iterations=0", "mask=disc", "seed=x"};
+    for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+        lumis_light_params q;
+        memcpy(&q, &before, sizeof q); /* padding too, for the memcmp */
+        assert_int_equal(lumis_light_params_parse(&q, refused[k], NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        if (memcmp(&q, &before, sizeof q) != 0) fail_msg("'%s' changed the parameters", refused[k]);
+    }
     /* by name == the method's own call, bit for bit */
     lumis_envmap *env = make_env(64, 32, sky_pixel, 0.0f, 0.0f);
     lumis_light_set *a = NULL, *b = NULL;
@@ -2008,6 +2243,9 @@ int main(void)
         cmocka_unit_test(penrose_children_tile_their_parent),
         cmocka_unit_test(fhis_points_follow_the_importance),
         cmocka_unit_test(fhis_and_tmms_conserve_power_with_exactly_k_lights),
+        cmocka_unit_test(fhis_regions_are_the_points_voronoi_cells),
+        cmocka_unit_test(tmms_merges_into_the_weakest_neighbour),
+        cmocka_unit_test(wu_indirect_lights_point_at_their_regions_centroid),
         cmocka_unit_test(fhis_and_tmms_are_deterministic_and_refuse_bad_options),
         cmocka_unit_test(every_method_is_invariant_to_the_maps_brightness),
         cmocka_unit_test(light_set_irradiance_against_closed_forms),

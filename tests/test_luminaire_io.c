@@ -200,6 +200,16 @@ static void awkward_numbers_and_names_round_trip(void **state)
     assert_int_equal(man->desc.basis, LUMIS_BASIS_BSPLINE);
     lumis_luminaire_manifest_destroy(man);
     lumis_luminaire_destroy(back);
+    /* A name that is all extension (".json") has no stem: it keeps its whole name for its
+     * images folder, not an empty one. */
+    snprintf(path, sizeof path, "%s/.json", dir);
+    assert_int_equal(lumis_luminaire_write(path, lum, &wo), LUMIS_OK);
+    assert_int_equal(lumis_luminaire_manifest_read(path, NULL, &man), LUMIS_OK);
+    assert_string_equal(man->images[0], ".json.images/a000_b000.pfm");
+    lumis_luminaire_manifest_destroy(man);
+    back = read_ok(path);
+    assert_same_luminaire(lum, back);
+    lumis_luminaire_destroy(back);
     lumis_luminaire_destroy(lum);
 }
 

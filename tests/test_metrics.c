@@ -121,6 +121,13 @@ static void lab_delta_e_by_hand(void **state)
     assert_int_equal(lumis_lab_delta_e(blue, black, NULL, NULL, &m), LUMIS_OK);
     want = sqrt(32.2970 * 32.2970 + 79.1875 * 79.1875 + 107.8602 * 107.8602);
     if (!(fabs(m - want) < 1e-3)) fail_msg("blue against black: %.6f, want %.6f", m, want);
+    /* Red against blue, neither black: their a* nearly agree (80.09 and 79.19), so a* adds
+     * almost nothing; the difference of each coordinate counts, not its sum. */
+    assert_int_equal(lumis_lab_delta_e(red, blue, NULL, NULL, &m), LUMIS_OK);
+    want =
+        sqrt((53.2408 - 32.2970) * (53.2408 - 32.2970) + (80.0925 - 79.1875) * (80.0925 - 79.1875) +
+             (67.2032 + 107.8602) * (67.2032 + 107.8602));
+    if (!(fabs(m - want) < 1e-3)) fail_msg("red against blue: %.6f, want %.6f", m, want);
     lumis_image_destroy(blue);
     /* Dark greys: Y = 0.001 is on the linear toe, L* = 116 (Y / (3 (6/29)^2)) = 903.3 Y;
      * Y = 0.02 is past (6/29)^3 = 0.008856, on the cube root, though under (6/29)^2. */

@@ -37,6 +37,10 @@
  * lumis_photometric_get_ratings — closed form: a road light's forward and back zones I0 [pi/2
  *     (sin^2) ± 2b/3 (sin^3)]; a Lambertian's CIE flux code 43.75 75 93.75 100; LOR and efficacy
  *     from the file (forward_is_centred_on_c0, ratings_of_files)
+ * lumis_photometric_spacing_criterion — closed form: cos^n tables' 2 (2^(2/(n+3)) - 1)^(1/2), a
+ *     Lambertian's 1.2872, with unequal halves; the first crossing past a dip; not applicable
+ *     (semi-indirect, dark at nadir) and refused (type B, NULL, NaN)
+ *     (spacing_criterion_worked_by_hand)
  * lumis_photometric_bug — hand-worked: TM-15-11's thresholds, the lower rating at each maximum
  *     (bug_ratings_at_their_thresholds)
  * lumis_photometric_nema_type — hand-worked: NEMA types at their thresholds
@@ -420,6 +424,34 @@ static void beam_and_field_angles(void **state)
     assert_true(in.max_v > 30 && in.max_v < 60);
     assert_true(in.beam_deg[0] > 60 && in.beam_deg[0] < 180);
     lumis_photometric_file_destroy(f);
+    /* Two lobes of one peak value in the C0-C180 plane: a narrow one at C0 30 degrees, a wide
+     * one at C180 40 degrees.  The angles are measured around the one nearest the aim (C0's),
+     * worked by hand on the linear interpolant: 50 % of 1000 between 20 (0) and 25 (600)
+     * degrees, 20 + 5 x 5/6, and between 35 and 40 symmetrically: 35 / 3 degrees wide; 10 %:
+     * from 20 + 5 / 6 to 40 - 5 / 6 = 55 / 3.  (Around C180's lobe they would be 33.75 and
+     * 38.75.) */
+    double v[19], cd[38];
+    const double h2[2] = {0, 180};
+    for (int j = 0; j < 19; j++) {
+        v[j] = 5.0 * j;
+        cd[j] = j == 6 ? 1000 : j == 5 || j == 7 ? 600 : 0;       /* C0 */
+        cd[19 + j] = j == 8 ? 1000 : j >= 5 && j <= 11 ? 800 : 0; /* C180 */
+    }
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = 19;
+    d.nh = 2;
+    d.v_deg = v;
+    d.h_deg = h2;
+    d.candela = cd;
+    lumis_photometric *two = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &two), LUMIS_OK);
+    lumis_photometric_info ti;
+    lumis_photometric_get_info(two, &ti);
+    if (fabs(ti.beam_deg[0] - 35.0 / 3.0) > 0.05 || fabs(ti.field_deg[0] - 55.0 / 3.0) > 0.05)
+        fail_msg("two lobes: beam %g (want %g), field %g (want %g)", ti.beam_deg[0], 35.0 / 3.0,
+                 ti.field_deg[0], 55.0 / 3.0);
+    lumis_photometric_destroy(two);
 }
 
 typedef struct bad_case {
@@ -717,6 +749,25 @@ static void light_field_power_and_residual(void **state)
             1e-9 * lumis_photometric_intensity(p, side));
         if (k == 0) assert_true(rep.residual_share > 0.3); /* the uplight's is large */
         if (k == 1) assert_true(rep.residual_share > 0.001);
+        if (k == 2) {
+            /* The default cone is where 99.9 % of the flux is, plus 5 degrees: for cos^50,
+             * flux within g is proportional to 1 - cos^51 g, so the 99.9 % cone is
+             * acos(0.001^(1/51)) = 29.2 degrees (the table's 1-degree steps move it by
+             * less than 0.2). */
+            const double cone = acos(pow(0.001, 1.0 / 51.0)) * 180.0 / 3.14159265358979;
+            if (!(fabs(rep.max_angle_deg - (cone + 5.0)) < 0.2))
+                fail_msg("spot: default angle %g, want the 99.9 %% cone %g + 5", rep.max_angle_deg,
+                         cone);
+            /* one pixel per image asked for: one pixel per basis spacing, the fewest */
+            lumis_luminaire *small = NULL;
+            lumis_photometric_light_field_report rs;
+            lf.width = lf.height = 1;
+            assert_int_equal(lumis_luminaire_from_photometric(p, &lf, NULL, &small, &rs), LUMIS_OK);
+            if (rs.pixels_per_spacing[0] != 1 || rs.pixels_per_spacing[1] != 1)
+                fail_msg("spot, 1 x 1 pixels asked for: %d x %d pixels per spacing",
+                         rs.pixels_per_spacing[0], rs.pixels_per_spacing[1]);
+            lumis_luminaire_destroy(small);
+        }
         lumis_photometric_destroy(res);
         lumis_luminaire_destroy(lum);
     }
@@ -1393,6 +1444,171 @@ static void forward_is_centred_on_c0(void **state)
     lumis_photometric_destroy(p);
 }
 
+/* A type C table of nv vertical angles from 0 (step dv), I = f(gamma, arg) in each of its nh
+ * planes h. */
+static lumis_photometric *table_c(int nv, double dv, double (*f)(double g, double arg), double arg,
+                                  int nh, const double *h)
+{
+    static double v[800], cd[3 * 800];
+    assert_true(nv <= 800 && nh <= 3);
+    for (int j = 0; j < nv; j++) v[j] = dv * j;
+    for (int i = 0; i < nh; i++)
+        for (int j = 0; j < nv; j++) cd[i * nv + j] = f(v[j] * PI / 180, arg);
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = nv;
+    d.nh = nh;
+    d.v_deg = v;
+    d.h_deg = h;
+    d.candela = cd;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+    return p;
+}
+
+static double cos_n(double g, double n)
+{
+    return 1000 * pow(fmax(cos(g), 0.0), n);
+}
+
+/* 30 % of the flux downward, the rest up: CIE's semi-indirect */
+static double semi_indirect(double g, double arg)
+{
+    (void)arg;
+    return 1000 * fabs(cos(g)) * (g <= PI / 2 ? 0.43 : 1.0);
+}
+
+/* Spacing criterion worked by hand (docs/photometric.md): midway between two luminaires
+ * s = 2 h tan(g) apart each gives I(g) cos^3(g) / h^2, straight under one I0 / h^2.  For a
+ * cos^n distribution 2 cos^(n+3)(g) = 1: SC = 2 (2^(2/(n+3)) - 1)^(1/2), a Lambertian's
+ * 2 (sqrt 2 - 1)^(1/2) = 1.2872 (the reading "under one from both" would give 1.055). */
+static void spacing_criterion_worked_by_hand(void **state)
+{
+    (void)state;
+    const double h0[1] = {0}, h3[3] = {0, 90, 180};
+    const double ns[4] = {1, 2, 4, 10};
+    for (int k = 0; k < 4; k++) {
+        const double n = ns[k];
+        lumis_photometric *p = table_c(361, 0.25, cos_n, n, 1, h0);
+        const double want = 2 * sqrt(pow(2, 2 / (n + 3)) - 1);
+        for (int c = 0; c < 360; c += 45) {
+            double sc = 0;
+            assert_int_equal(lumis_photometric_spacing_criterion(p, c, &sc), LUMIS_OK);
+            if (fabs(sc - want) > 2e-5)
+                fail_msg("cos^%g at C%d: SC %.8f, want %.8f", n, c, sc, want);
+        }
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        assert_true(fabs(r.spacing[0] - want) < 2e-5 && fabs(r.spacing[1] - want) < 2e-5);
+        lumis_photometric_destroy(p);
+    }
+    /* C0 at twice C180's Lambertian (C90 at 1.5 times): midway 3 I0 cos^4 against the nadir
+     * mean 1.5 I0 along C0-C180, 1.5 + 1.5 along C90-C270: the Lambertian's 1.2872 in both
+     * (taking C0's nadir 2 I0 instead of the mean would give 2 (sqrt(3/2) - 1)^(1/2) = 0.95) */
+    {
+        static double v[361], cd[3 * 361];
+        for (int j = 0; j < 361; j++) {
+            v[j] = 0.25 * j;
+            const double l = 1000 * cos(v[j] * PI / 180);
+            cd[j] = 2 * l;
+            cd[361 + j] = 1.5 * l;
+            cd[722 + j] = l;
+        }
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 361;
+        d.nh = 3;
+        d.v_deg = v;
+        d.h_deg = h3;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        const double want = 2 * sqrt(sqrt(2) - 1);
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        if (fabs(r.spacing[0] - want) > 2e-5 || fabs(r.spacing[1] - want) > 2e-5)
+            fail_msg("asymmetric halves: SC %.8f %.8f, want %.8f", r.spacing[0], r.spacing[1],
+                     want);
+        lumis_photometric_destroy(p);
+    }
+    /* the first crossing from nadir, not a later one: 1000 cd to 10 deg, a dip to 300 cd at 20,
+     * 3000 cd at 30, nothing at 90.  Midway 2 I cos^3 is 1910 at 10 deg, 498 at 20: SC lies
+     * under 2 tan 20 = 0.728 and there 2 I(g) cos^3(g) = 1000 */
+    {
+        static const double v[5] = {0, 10, 20, 30, 90}, cd[5] = {1000, 1000, 300, 3000, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 5;
+        d.nh = 1;
+        d.v_deg = v;
+        d.h_deg = h0;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        double sc = 0;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc), LUMIS_OK);
+        const double g = atan(sc / 2), i = 1000 - 70 * (g * 180 / PI - 10);
+        if (!(sc > 2 * tan(10 * PI / 180) && sc < 2 * tan(20 * PI / 180)) ||
+            fabs(2 * i * pow(cos(g), 3) - 1000) > 1e-6)
+            fail_msg("dip: SC %.8f (gamma %.6f deg, balance %.9g)", sc, g * 180 / PI,
+                     2 * i * pow(cos(g), 3));
+        lumis_photometric_destroy(p);
+    }
+    /* not applicable: 0 */
+    {
+        lumis_photometric *p = table_c(181, 1, semi_indirect, 0, 1, h0);
+        lumis_photometric_info in = {0};
+        assert_int_equal(lumis_photometric_get_info(p, &in), LUMIS_OK);
+        assert_true(in.downward_fraction > 0.25 && in.downward_fraction < 0.4);
+        double sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc), LUMIS_OK);
+        assert_true(sc == 0);
+        lumis_photometric_destroy(p);
+        /* a batwing dark at nadir: all downward, no illuminance under it to compare with */
+        static const double v[3] = {0, 45, 90}, cd[3] = {0, 1000, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_C;
+        d.nv = 3;
+        d.nh = 1;
+        d.v_deg = v;
+        d.h_deg = h0;
+        d.candela = cd;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 90, &sc), LUMIS_OK);
+        assert_true(sc == 0);
+        /* refused: NULL, no output, a non-finite plane */
+        assert_int_equal(lumis_photometric_spacing_criterion(NULL, 0, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_spacing_criterion(p, NAN, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_photometric_destroy(p);
+    }
+    /* a floodlight (type B): refused, and none in its ratings */
+    {
+        static const double hv[3] = {-90, 0, 90}, cd[9] = {0, 0, 0, 0, 1000, 0, 0, 0, 0};
+        lumis_photometric_desc d = {0};
+        d.type = LUMIS_PHOTOMETRIC_B;
+        d.nv = 3;
+        d.nh = 3;
+        d.v_deg = hv;
+        d.h_deg = hv;
+        d.candela = cd;
+        lumis_photometric *p = NULL;
+        assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK);
+        double sc = 1;
+        assert_int_equal(lumis_photometric_spacing_criterion(p, 0, &sc),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(sc == 0);
+        lumis_photometric_ratings r;
+        assert_int_equal(lumis_photometric_get_ratings(p, 0, &r), LUMIS_OK);
+        assert_true(r.spacing[0] == 0 && r.spacing[1] == 0);
+        lumis_photometric_destroy(p);
+    }
+}
+
 /* TM-15-11's thresholds: at each maximum the lower rating, just above it the next. */
 static void bug_ratings_at_their_thresholds(void **state)
 {
@@ -1554,6 +1770,7 @@ int main(void)
         cmocka_unit_test(zonal_flux_is_exact),
         cmocka_unit_test(forward_is_centred_on_c0),
         cmocka_unit_test(bug_ratings_at_their_thresholds),
+        cmocka_unit_test(spacing_criterion_worked_by_hand),
         cmocka_unit_test(ratings_of_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,7 +9,9 @@
  * lumis_photometric_get_info — external: flux and peak to 1e-9, beam and field angles of both
  *     principal planes to 0.1° against the Python oracle (check_file)
  * lumis_photometric_get_ratings — external: LOR, efficacy, zonal lumens, CIE flux code, BUG zones
- *     and rating against the Python oracle (check_ratings)
+ *     and rating, spacing criterion against the Python oracle (check_ratings)
+ * lumis_photometric_spacing_criterion — external: both planes of every type C file against the
+ *     Python oracle's own scan and bisection, to 1e-9 (check_ratings)
  */
 #include "lumis/io.h"
 #include "lumis/photometry.h"
@@ -51,10 +53,12 @@ static double maybe(const cJSON *o, const char *key)
 }
 
 /* lumis info's designer numbers against the oracle's: LOR, efficacy, zonal lumens, the CIE
- * flux code and the BUG zones and rating (forward = C 270-90, through C0, as TM-15 says).
+ * flux code, the BUG zones and rating (forward = C 270-90, through C0, as TM-15 says) and
+ * the spacing criterion.
  * Lumens to 1e-9 of the flux. */
 static int stated_bugs; /* files whose stated BUG rating was compared */
 static int rated_bugs;  /* files whose B, U and G were compared with the oracle's */
+static int spacings;    /* spacing criteria (one per plane) compared with the oracle's */
 
 static int check_ratings(const char *name, const lumis_photometric_file *f, double flux,
                          const cJSON *want)
@@ -88,6 +92,18 @@ static int check_ratings(const char *name, const lumis_photometric_file *f, doub
                    r.cie_flux_code[k], w);
             bad++;
         }
+    }
+    /* the spacing criterion in C0-C180 and C90-C270: null where it does not apply */
+    const cJSON *sc = cJSON_GetObjectItemCaseSensitive(want, "spacing_criterion");
+    for (int k = 0; k < 2; k++) {
+        const cJSON *c = cJSON_GetArrayItem(sc, k);
+        const double w = cJSON_IsNumber(c) ? c->valuedouble : 0.0;
+        if ((w > 0) != (r.spacing[k] > 0) || (w > 0 && !rel_ok(r.spacing[k], w, 1e-9))) {
+            printf("FAIL %s: spacing criterion [%d] lumis %.10g oracle %.10g\n", name, k,
+                   r.spacing[k], w);
+            bad++;
+        }
+        spacings += w > 0;
     }
     const cJSON *zones = cJSON_GetObjectItemCaseSensitive(want, "bug_zone_lm");
     const double got[10] = {r.lcs.fl, r.lcs.fm, r.lcs.fh,  r.lcs.fvh, r.lcs.bl,
@@ -194,6 +210,7 @@ static void corpus_agrees_with_the_oracle(void **state)
     assert_true(files >= 32);
     assert_true(stated_bugs >= 1);
     assert_true(rated_bugs >= 30);
+    assert_true(spacings >= 60);
     if (failed_files) fail_msg("%d of %d files disagree with the oracle", failed_files, files);
 }
 

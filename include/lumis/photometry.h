@@ -187,12 +187,31 @@ typedef struct lumis_photometric_ratings {
                              (N1-N3 without downward flux, N5 for absolute photometry) */
     lumis_photometric_lcs lcs;
     int bug[3]; /* TM-15-11 backlight, uplight and glare ratings, 0 to 5: lumis_photometric_bug */
+    /* The spacing criterion (spacing / mounting height above the work plane) along the
+     * C0-C180 and C90-C270 planes: lumis_photometric_spacing_criterion.  0: not applicable
+     * (types A and B; under 40 % of the flux downward; no light at nadir). */
+    double spacing[2];
 } lumis_photometric_ratings;
 
 /* The ratings of the model; input_watts from the file (lumis_photometric_file.input_watts;
  * <= 0: none). */
 LUMIS_API lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double input_watts,
                                                      lumis_photometric_ratings *out);
+
+/* The spacing criterion SC of a type C table along the plane through C = c_deg and
+ * C = c_deg + 180 (docs/photometric.md, "spacing criterion"): the ratio s / h at which the
+ * direct horizontal illuminance midway between two luminaires s apart along that plane,
+ * both lighting it, falls to the illuminance straight under one of them from that one
+ * alone.  With E(x) = I(gamma) cos^3(gamma) / h^2 at tan(gamma) = x / h, that is
+ * SC = 2 tan(gamma*), gamma* the first angle from nadir where
+ * (I(gamma, c) + I(gamma, c + 180)) cos^3(gamma) = I0, I0 the mean of I(0, c) and
+ * I(0, c + 180).  A Lambertian's is 2 (sqrt 2 - 1)^(1/2) = 1.287, a cos^n distribution's
+ * 2 (2^(2/(n+3)) - 1)^(1/2).  *sc = 0 when it does not apply: less than 40 % of the flux
+ * goes downward (CIE's semi-indirect and indirect classes: uplights) or I0 is 0.
+ * LUMIS_ERR_INVALID_ARGUMENT for NULL, a type A or B table (a floodlight: its spread on a
+ * work plane depends on its installed aim) or a non-finite c_deg. */
+LUMIS_API lumis_status lumis_photometric_spacing_criterion(const lumis_photometric *p, double c_deg,
+                                                           double *sc);
 
 /* The BUG rating of TM-15-11 Addendum A's Tables A-1 to A-3 from the zone lumens: each of B,
  * U and G is the lowest rating whose every zone is at or under its maximum (B: BL, BM, BH;

@@ -1,11 +1,12 @@
-"""lumis from Python: environment maps, samplers, light sets, photometric files, sequences
-and image metrics over numpy arrays, through the lumis C libraries (docs/python.md)."""
+"""lumis from Python: environment maps, samplers, light sets, photometric files, sequences,
+image metrics and the renderer over numpy arrays, through the lumis C libraries (docs/python.md)."""
 
 from ._lib import (FORMAT_ERRORS, Error, FormatError, InvalidArgumentError, OpenError,
                    OutOfMemoryError, ReadError, UnsupportedError, Warning, WriteError, ffi, lib)
 from ._api import (LIGHT_DTYPE, LIGHT_KINDS, SEQUENCES, LightSet, Map, Photometric, Sampler,
                    compare, delta_e, errors, flip, light_methods, lights, read_image, read_map,
                    read_photometric, sampler_methods, sequence, uniform, write_image)
+from ._render import photometric_orient, render, scenes
 
 globals().update(FORMAT_ERRORS)  # lumis.TruncatedError, lumis.BadMagicError, ...
 
@@ -15,5 +16,6 @@ __all__ = ["Error", "FormatError", "InvalidArgumentError", "OpenError", "OutOfMe
            "ReadError", "UnsupportedError", "Warning", "WriteError", "LIGHT_DTYPE", "LIGHT_KINDS",
            "SEQUENCES", "LightSet", "Map", "Photometric", "Sampler", "compare", "delta_e",
            "errors", "flip", "light_methods", "lights", "read_image", "read_map",
-           "read_photometric", "sampler_methods", "sequence", "uniform", "write_image",
+           "photometric_orient", "read_photometric", "render", "sampler_methods", "scenes", "sequence", "uniform",
+           "write_image",
            "__version__", *sorted(FORMAT_ERRORS)]

@@ -458,6 +458,19 @@ class Photometric(Handle):
         m, f = self._model, lib.lumis_photometric_pdf
         return np.array([f(m, tuple(x)) for x in d.tolist()], dtype=np.float64)
 
+    @property
+    def type(self):
+        """"C", "B" or "A" (LM-63's photometric type; docs/photometric.md, "Conventions")."""
+        return self.info()["type"]
+
+    def orient(self, aim, up=None, roll_deg=0.0):
+        """The rotation R (3 x 3 float64, world = R local) that places this fixture aimed
+        along `aim` in lumis's world (y up), as a scene file's "aim", "up" and "roll_deg" do:
+        lumis_photometric_orient (liblumis-render.so; docs/photometric.md, "Aiming a
+        fixture")."""
+        from ._render import photometric_orient  # noqa: PLC0415 - the render library is optional
+        return photometric_orient(self.type, aim, up, roll_deg)
+
 
 def read_photometric(path):
     """Photometric(path): an .ies or .ldt file (told apart by content)."""

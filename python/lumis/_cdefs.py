@@ -431,3 +431,193 @@ STRUCTS = {
                                "input_watts", "lamp_sets", "tilt", "tilt_geometry", "ntilt",
                                "tilt_deg", "tilt_factor", "warning"],
 }
+
+# lumis/render.h (liblumis-render.so): the scene, the one lighting value and the session.
+# Enums are declared as int (their size); structs the package never reads are opaque.
+RENDER_CDEFS = r"""
+typedef int lumis_sequence;
+lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+typedef int lumis_estimator;
+typedef int lumis_lights_mode;
+typedef int lumis_lighting_kind;
+typedef struct lumis_camera {
+    lumis_vec3 eye, look_at, up;
+    float fov_deg;
+    int width, height;
+} lumis_camera;
+typedef struct lumis_object lumis_object;
+typedef struct lumis_scene lumis_scene;
+typedef struct lumis_luminaire_instance lumis_luminaire_instance;
+typedef struct lumis_photometric_instance lumis_photometric_instance;
+typedef struct lumis_region_sampler lumis_region_sampler;
+typedef struct lumis_luminaire lumis_luminaire;
+lumis_status lumis_scene_create(const lumis_object *objects, int count,
+                                const lumis_error_sink *errors, lumis_scene **out);
+void lumis_scene_destroy(lumis_scene *scene);
+typedef struct lumis_luminaire_lighting {
+    const lumis_luminaire_instance *instances;
+    int count;
+    int budget;
+    int k_max;
+    int strategy;
+    int search;
+    int depth;
+    int visibility;
+    int auto_bands;
+    const void *auto_costs;
+    void *chosen;
+} lumis_luminaire_lighting;
+typedef struct lumis_photometric_lighting {
+    const lumis_photometric_instance *instances;
+    int count;
+} lumis_photometric_lighting;
+typedef struct lumis_light_set_lighting {
+    const lumis_light_set *set;
+    unsigned kinds;
+    lumis_lights_mode mode;
+    const lumis_region_sampler *regions;
+} lumis_light_set_lighting;
+typedef struct lumis_lighting {
+    lumis_lighting_kind kind;
+    const lumis_envmap *env;
+    const lumis_sampler *sampler;
+    lumis_estimator estimator;
+    int hide_environment;
+    lumis_light_set_lighting light_set;
+    const lumis_luminaire_lighting *luminaires;
+    const lumis_photometric_lighting *photometric;
+} lumis_lighting;
+typedef struct lumis_render_desc {
+    const lumis_camera *camera;
+    lumis_lighting lighting;
+    int pixel_centers;
+    int power_heuristic;
+    int spp;
+    int light_samples;
+    int bsdf_samples;
+    unsigned long long seed;
+    lumis_sequence sequence;
+    int first_sample;
+    int threads;
+    int max_bounces;
+    void (*progress)(void *user, int done, int total);
+    void *progress_user;
+    void (*shadow_ray)(void *user, const float org[3], const float dir[3]);
+    void *shadow_ray_user;
+    lumis_error_sink errors;
+} lumis_render_desc;
+typedef struct lumis_render_stats {
+    int spp;
+    int passes;
+    int threads;
+    double seconds;
+    double camera_rays;
+    double shadow_rays;
+    double bounce_rays;
+    double light_samples;
+} lumis_render_stats;
+const char *lumis_lighting_kind_name(lumis_lighting_kind kind);
+lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out);
+typedef struct lumis_session_desc {
+    lumis_render_desc render;
+    const char *lights;
+    int lights_k;
+    int interleave;
+    const lumis_light_params *lights_params;
+    int upsample;
+    double time_budget;
+    double spent;
+    int timed_spp;
+    int share_spp;
+    void (*pass_done)(void *user, int spp);
+    void *pass_done_user;
+} lumis_session_desc;
+typedef struct lumis_session_result {
+    lumis_render_stats stats;
+    double prep_seconds;
+    double budget_used_seconds;
+    int lights_k;
+    int upsample;
+    double lights_build_ms;
+    size_t lights_bytes;
+    double pilot_seconds, pilot_per_spp[3], pilot_once[3];
+    int pilot_k[3], pilot_count, pilot_chosen;
+    double pilot_scale;
+    double pilot_predicted;
+    int k_floor;
+    int spp_planned;
+    int k_limit;
+    int retried;
+    double regions_build_ms;
+    size_t regions_bytes;
+    lumis_light_set *light_set;
+    double wall_seconds, cpu_seconds;
+    double render_wall_seconds, render_cpu_seconds, cpu_share;
+    int threads_busy;
+} lumis_session_result;
+lumis_status lumis_session_check(const lumis_session_desc *desc);
+lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,
+                                  lumis_image **out, lumis_session_result *result);
+typedef struct lumis_scene_file {
+    lumis_camera camera;
+    char env_map[4096];
+    lumis_image *env_image;
+    lumis_read_info env_info;
+    float env_rotation_deg, env_scale;
+    lumis_object *objects;
+    int object_count;
+    lumis_luminaire_instance *luminaires;
+    int luminaire_count;
+    int luminaires_listed;
+    lumis_photometric_instance *photometrics;
+    int photometric_count;
+} lumis_scene_file;
+typedef struct lumis_scene_read_options {
+    int skip_env_map;
+    lumis_read_options map;
+    lumis_error_sink errors;
+    lumis_status (*load_preset)(void *user, const char *spec, lumis_luminaire **out);
+    void *load_preset_user;
+} lumis_scene_read_options;
+lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_options *options,
+                                   lumis_scene_file **out);
+lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
+                                 lumis_scene_file **out);
+const char *const *lumis_scene_builtin_names(void);
+void lumis_scene_file_destroy(lumis_scene_file *file);
+lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
+                                      const lumis_vec3 *up, double roll_deg, double R[9]);
+"""
+
+RENDER_STRUCTS = {
+    "lumis_camera": ["eye", "look_at", "up", "fov_deg", "width", "height"],
+    "lumis_luminaire_lighting": ["instances", "count", "budget", "k_max", "strategy", "search",
+                                 "depth", "visibility", "auto_bands", "auto_costs", "chosen"],
+    "lumis_photometric_lighting": ["instances", "count"],
+    "lumis_light_set_lighting": ["set", "kinds", "mode", "regions"],
+    "lumis_lighting": ["kind", "env", "sampler", "estimator", "hide_environment", "light_set",
+                       "luminaires", "photometric"],
+    "lumis_render_desc": ["camera", "lighting", "pixel_centers", "power_heuristic", "spp",
+                          "light_samples", "bsdf_samples", "seed", "sequence", "first_sample",
+                          "threads", "max_bounces", "progress", "progress_user", "shadow_ray",
+                          "shadow_ray_user", "errors"],
+    "lumis_render_stats": ["spp", "passes", "threads", "seconds", "camera_rays", "shadow_rays",
+                           "bounce_rays", "light_samples"],
+    "lumis_session_desc": ["render", "lights", "lights_k", "interleave", "lights_params",
+                           "upsample", "time_budget", "spent", "timed_spp", "share_spp",
+                           "pass_done", "pass_done_user"],
+    "lumis_session_result": ["stats", "prep_seconds", "budget_used_seconds", "lights_k",
+                             "upsample", "lights_build_ms", "lights_bytes", "pilot_seconds",
+                             "pilot_per_spp", "pilot_once", "pilot_k", "pilot_count",
+                             "pilot_chosen", "pilot_scale", "pilot_predicted", "k_floor",
+                             "spp_planned", "k_limit", "retried", "regions_build_ms",
+                             "regions_bytes", "light_set", "wall_seconds", "cpu_seconds",
+                             "render_wall_seconds", "render_cpu_seconds", "cpu_share",
+                             "threads_busy"],
+    "lumis_scene_file": ["camera", "env_map", "env_image", "env_info", "env_rotation_deg",
+                         "env_scale", "objects", "object_count", "luminaires",
+                         "luminaire_count", "luminaires_listed", "photometrics",
+                         "photometric_count"],
+    "lumis_scene_read_options": ["skip_env_map", "map", "errors", "load_preset",
+                                 "load_preset_user"],
+}

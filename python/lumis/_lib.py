@@ -7,14 +7,16 @@ import warnings
 import numpy as np
 from cffi import FFI
 
-from ._cdefs import CDEFS, IO_CDEFS
+from ._cdefs import CDEFS, IO_CDEFS, RENDER_CDEFS
 
 ffi = FFI()
 ffi.cdef(CDEFS)
 ffi.cdef(IO_CDEFS)
+ffi.cdef(RENDER_CDEFS)
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _SONAMES = ("liblumis.so.0", "liblumis-io.so.0")
+_RENDER_SONAME = "liblumis-render.so.0"  # optional: lumis.render needs it
 
 
 def _candidate_dirs():
@@ -41,14 +43,14 @@ def _load():
         paths = [os.path.join(d, s) for s in _SONAMES]
         if all(os.path.exists(p) for p in paths):
             # liblumis first: liblumis-io's DT_NEEDED then finds it by its soname.
-            return ffi.dlopen(paths[0]), ffi.dlopen(paths[1])
+            return ffi.dlopen(paths[0]), ffi.dlopen(paths[1]), d
         tried.append(d)
     if forced:
         raise ImportError(
             "lumis: LUMIS_LIBRARY_PATH=%s holds no %s and %s (build them with `make` or "
             "`make install`)" % (os.environ["LUMIS_LIBRARY_PATH"], *_SONAMES))
     try:  # installed where the system's loader looks (ldconfig'd prefix)
-        return ffi.dlopen(_SONAMES[0]), ffi.dlopen(_SONAMES[1])
+        return ffi.dlopen(_SONAMES[0]), ffi.dlopen(_SONAMES[1]), None
     except OSError as e:
         raise ImportError(
             "lumis: cannot find %s and %s (looked in %s and the system's library path: %s). "
@@ -56,7 +58,35 @@ def _load():
             "LUMIS_LIBRARY_PATH at their folder." % (*_SONAMES, ", ".join(tried), e)) from e
 
 
-lib, iolib = _load()
+def _preload_tbb():
+    """TBB (Embree's task scheduler, which liblumis-render.so brings in) loaded before the
+    libraries, when the system has it.  Loaded after OpenMP's libgomp (which liblumis.so
+    needs), its teardown at exit runs while its threads still work, and the interpreter
+    segfaults on exit after any scene was built; loaded first, it is torn down last
+    (tests/python/test_render.py, test_the_interpreter_exits_cleanly_after_a_render)."""
+    import ctypes  # noqa: PLC0415
+    import ctypes.util  # noqa: PLC0415
+    name = ctypes.util.find_library("tbb")
+    try:
+        return ctypes.CDLL(name) if name else None
+    except OSError:
+        return None
+
+
+_tbb = _preload_tbb()
+lib, iolib, _libdir = _load()
+
+
+def _load_render():
+    """liblumis-render.so beside the other two (or from the system's loader), else None and
+    the reason: the rest of the package works without it."""
+    try:
+        return ffi.dlopen(os.path.join(_libdir, _RENDER_SONAME) if _libdir else _RENDER_SONAME), None
+    except OSError as e:
+        return None, str(e)
+
+
+renderlib, render_missing = _load_render()
 
 
 # ---- errors ------------------------------------------------------------------------------

@@ -39,20 +39,47 @@ lumis_vec3 lumis_export_frame_dir(lumis_export_frame frame, lumis_vec3 dir)
     return dir;
 }
 
-/* What a file says of its frame: the name, and how a map pixel maps to a direction. */
-static void add_frame(cJSON *o, lumis_export_frame frame)
+/* cJSON's builders return NULL (or false) when an allocation fails and leave the document
+ * without that part: each result goes through these, which clear *ok then, so that a
+ * document with a hole is never written (out of memory instead). */
+static cJSON *need(int *ok, cJSON *x)
 {
-    cJSON_AddStringToObject(o, "frame", lumis_export_frame_name(frame));
-    cJSON_AddStringToObject(
-        o, "frame_equirect",
-        frame == LUMIS_EXPORT_FRAME_ENGINE
-            ? "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
-              "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2), t = pi v: "
-              "u = 1/2 along +x, where three.js (equirectUv) and Blender (its glTF importer) "
-              "show it"
-            : "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top row) "
-              "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi u, t = pi v: u = 0 along "
-              "+x (lumis's own frame; three.js and Blender show u = 1/2 there)");
+    if (!x) *ok = 0;
+    return x;
+}
+
+/* Adds item (NULL: a failed create) to object o under key, or to array o (key NULL);
+ * deletes it when it cannot be added. */
+static cJSON *add_item(int *ok, cJSON *o, const char *key, cJSON *item)
+{
+    const int added =
+        item && o && (key ? cJSON_AddItemToObject(o, key, item) : cJSON_AddItemToArray(o, item));
+    if (!added) {
+        cJSON_Delete(item);
+        *ok = 0;
+        return NULL;
+    }
+    return item;
+}
+
+/* What a file says of its frame: the name, and how a map pixel maps to a direction. */
+static void add_frame(int *ok, cJSON *o, lumis_export_frame frame)
+{
+    need(ok, cJSON_AddStringToObject(o, "frame", lumis_export_frame_name(frame)));
+    need(
+        ok,
+        cJSON_AddStringToObject(
+            o, "frame_equirect",
+            frame == LUMIS_EXPORT_FRAME_ENGINE
+                ? "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top "
+                  "row) "
+                  "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi (u - 1/2), t = pi v: "
+                  "u = 1/2 along +x, where three.js (equirectUv) and Blender (its glTF importer) "
+                  "show it"
+                : "right-handed, y up; the light of map pixel (u, v) in [0,1)^2 (v = 0 the top "
+                  "row) "
+                  "comes from (sin t cos p, cos t, sin t sin p), p = 2 pi u, t = pi v: u = 0 along "
+                  "+x (lumis's own frame; three.js and Blender show u = 1/2 there)"));
 }
 
 /* colour * intensity == power per channel, colour's largest channel 1 (black: 0, 0). */
@@ -98,10 +125,10 @@ static void put_u32(unsigned char *p, uint32_t v)
  * the total length), then one chunk (its length, type "JSON", the text padded with spaces
  * to a multiple of 4 bytes), little-endian.  There is no BIN chunk: the lights hold no
  * buffer. */
-static lumis_status write_json(const char *path, cJSON *root, int binary,
+static lumis_status write_json(const char *path, cJSON *root, int ok, int binary,
                                const lumis_error_sink *errors)
 {
-    char *text = root ? (binary ? cJSON_PrintUnformatted(root) : cJSON_Print(root)) : NULL;
+    char *text = root && ok ? (binary ? cJSON_PrintUnformatted(root) : cJSON_Print(root)) : NULL;
     cJSON_Delete(root);
     if (!text) return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     const size_t n = strlen(text);
@@ -187,45 +214,47 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
     const lumis_error_sink *errors = a.errors;
     const lumis_light *l = a.lights;
     const int count = a.count, index = a.index;
-    cJSON *root = cJSON_CreateObject();
-    cJSON_AddStringToObject(root, "generator", "lumis " LUMIS_VERSION_STRING);
-    cJSON_AddStringToObject(root, "coordinates",
-                            "right-handed, y up; dir points from the scene towards the light, "
-                            "in the frame below");
-    add_frame(root, a.frame);
-    cJSON_AddStringToObject(root, "units",
-                            "power: sum over the region of radiance x solid angle (the map's "
-                            "radiance units x sr); colour x intensity == power");
-    if (options && options->source) cJSON_AddStringToObject(root, "source", options->source);
-    if (options && options->method) cJSON_AddStringToObject(root, "method", options->method);
+    int ok = 1;
+    cJSON *root = need(&ok, cJSON_CreateObject());
+    need(&ok, cJSON_AddStringToObject(root, "generator", "lumis " LUMIS_VERSION_STRING));
+    need(&ok, cJSON_AddStringToObject(root, "coordinates",
+                                      "right-handed, y up; dir points from the scene towards the "
+                                      "light, in the frame below"));
+    add_frame(&ok, root, a.frame);
+    need(&ok, cJSON_AddStringToObject(root, "units",
+                                      "power: sum over the region of radiance x solid angle (the "
+                                      "map's radiance units x sr); colour x intensity == power"));
+    if (options && options->source)
+        need(&ok, cJSON_AddStringToObject(root, "source", options->source));
+    if (options && options->method)
+        need(&ok, cJSON_AddStringToObject(root, "method", options->method));
     if (options && options->parameters && *options->parameters)
-        cJSON_AddStringToObject(root, "parameters", options->parameters);
-    cJSON_AddNumberToObject(root, "set", index);
-    cJSON_AddNumberToObject(root, "sets", lumis_light_set_sets(set));
+        need(&ok, cJSON_AddStringToObject(root, "parameters", options->parameters));
+    need(&ok, cJSON_AddNumberToObject(root, "set", index));
+    need(&ok, cJSON_AddNumberToObject(root, "sets", lumis_light_set_sets(set)));
     int w = 0, h = 0;
     const int32_t *labels = lumis_light_set_labels(set, &w, &h);
-    cJSON_AddNumberToObject(root, "map_width", w);
-    cJSON_AddNumberToObject(root, "map_height", h);
-    cJSON *arr = cJSON_AddArrayToObject(root, "lights");
-    for (int k = 0; k < count && arr; k++) {
-        cJSON *o = cJSON_CreateObject();
-        cJSON_AddItemToArray(arr, o);
+    need(&ok, cJSON_AddNumberToObject(root, "map_width", w));
+    need(&ok, cJSON_AddNumberToObject(root, "map_height", h));
+    cJSON *arr = need(&ok, cJSON_AddArrayToObject(root, "lights"));
+    for (int k = 0; k < count && ok; k++) {
+        cJSON *o = add_item(&ok, arr, NULL, cJSON_CreateObject());
         const lumis_vec3 f = lumis_export_frame_dir(a.frame, l[k].dir);
         const double d[3] = {f.x, f.y, f.z};
         double c[3], intensity;
         colour_intensity(&l[k], c, &intensity);
-        cJSON_AddItemToObject(o, "dir", cJSON_CreateDoubleArray(d, 3));
-        cJSON_AddItemToObject(o, "power", cJSON_CreateDoubleArray(l[k].power, 3));
-        cJSON_AddItemToObject(o, "color", cJSON_CreateDoubleArray(c, 3));
-        cJSON_AddNumberToObject(o, "intensity", intensity);
-        cJSON_AddNumberToObject(o, "solid_angle", l[k].solid_angle);
-        cJSON_AddNumberToObject(o, "extent_rad", l[k].extent);
-        cJSON_AddNumberToObject(o, "pixels", l[k].pixels);
-        cJSON_AddStringToObject(o, "kind", kind_name(l[k].kind));
+        add_item(&ok, o, "dir", cJSON_CreateDoubleArray(d, 3));
+        add_item(&ok, o, "power", cJSON_CreateDoubleArray(l[k].power, 3));
+        add_item(&ok, o, "color", cJSON_CreateDoubleArray(c, 3));
+        need(&ok, cJSON_AddNumberToObject(o, "intensity", intensity));
+        need(&ok, cJSON_AddNumberToObject(o, "solid_angle", l[k].solid_angle));
+        need(&ok, cJSON_AddNumberToObject(o, "extent_rad", l[k].extent));
+        need(&ok, cJSON_AddNumberToObject(o, "pixels", l[k].pixels));
+        need(&ok, cJSON_AddStringToObject(o, "kind", kind_name(l[k].kind)));
         if (options && options->masks && labels) {
             /* The region as runs [row, first column, length] of its pixels. */
-            cJSON *runs = cJSON_AddArrayToObject(o, "region_runs");
-            for (int j = 0; j < h && runs; j++)
+            cJSON *runs = need(&ok, cJSON_AddArrayToObject(o, "region_runs"));
+            for (int j = 0; j < h && ok; j++)
                 for (int i = 0; i < w;) {
                     if (labels[(size_t)j * (size_t)w + (size_t)i] != k) {
                         i++;
@@ -234,11 +263,11 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
                     int i0 = i;
                     while (i < w && labels[(size_t)j * (size_t)w + (size_t)i] == k) i++;
                     const int run[3] = {j, i0, i - i0};
-                    cJSON_AddItemToArray(runs, cJSON_CreateIntArray(run, 3));
+                    add_item(&ok, runs, NULL, cJSON_CreateIntArray(run, 3));
                 }
         }
     }
-    return write_json(path, root, 0, errors);
+    return write_json(path, root, ok, 0, errors);
 }
 
 lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set *set,
@@ -260,46 +289,45 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
                            "%s: unknown glTF container (name it .gltf for text, .glb for "
                            "binary)",
                            path);
-    cJSON *root = cJSON_CreateObject();
-    cJSON *asset = cJSON_AddObjectToObject(root, "asset");
-    cJSON_AddStringToObject(asset, "version", "2.0");
-    cJSON_AddStringToObject(asset, "generator", "lumis " LUMIS_VERSION_STRING);
-    add_frame(cJSON_AddObjectToObject(asset, "extras"), a.frame);
-    cJSON *used = cJSON_AddArrayToObject(root, "extensionsUsed");
-    cJSON_AddItemToArray(used, cJSON_CreateString("KHR_lights_punctual"));
-    cJSON *ext = cJSON_AddObjectToObject(root, "extensions");
-    cJSON *khr = cJSON_AddObjectToObject(ext, "KHR_lights_punctual");
-    cJSON *lights = cJSON_AddArrayToObject(khr, "lights");
-    cJSON_AddNumberToObject(root, "scene", 0);
-    cJSON *scenes = cJSON_AddArrayToObject(root, "scenes");
-    cJSON *scene = cJSON_CreateObject();
-    cJSON_AddItemToArray(scenes, scene);
-    cJSON_AddStringToObject(scene, "name", options && options->method ? options->method : "lights");
+    int ok = 1;
+    cJSON *root = need(&ok, cJSON_CreateObject());
+    cJSON *asset = need(&ok, cJSON_AddObjectToObject(root, "asset"));
+    need(&ok, cJSON_AddStringToObject(asset, "version", "2.0"));
+    need(&ok, cJSON_AddStringToObject(asset, "generator", "lumis " LUMIS_VERSION_STRING));
+    add_frame(&ok, need(&ok, cJSON_AddObjectToObject(asset, "extras")), a.frame);
+    cJSON *used = need(&ok, cJSON_AddArrayToObject(root, "extensionsUsed"));
+    add_item(&ok, used, NULL, cJSON_CreateString("KHR_lights_punctual"));
+    cJSON *ext = need(&ok, cJSON_AddObjectToObject(root, "extensions"));
+    cJSON *khr = need(&ok, cJSON_AddObjectToObject(ext, "KHR_lights_punctual"));
+    cJSON *lights = need(&ok, cJSON_AddArrayToObject(khr, "lights"));
+    need(&ok, cJSON_AddNumberToObject(root, "scene", 0));
+    cJSON *scenes = need(&ok, cJSON_AddArrayToObject(root, "scenes"));
+    cJSON *scene = add_item(&ok, scenes, NULL, cJSON_CreateObject());
+    need(&ok, cJSON_AddStringToObject(scene, "name",
+                                      options && options->method ? options->method : "lights"));
     if (options && options->parameters && *options->parameters)
-        cJSON_AddStringToObject(cJSON_AddObjectToObject(scene, "extras"), "parameters",
-                                options->parameters);
-    cJSON *scene_nodes = cJSON_AddArrayToObject(scene, "nodes");
-    cJSON *nodes = cJSON_AddArrayToObject(root, "nodes");
-    for (int k = 0; k < count; k++) {
+        need(&ok, cJSON_AddStringToObject(need(&ok, cJSON_AddObjectToObject(scene, "extras")),
+                                          "parameters", options->parameters));
+    cJSON *scene_nodes = need(&ok, cJSON_AddArrayToObject(scene, "nodes"));
+    cJSON *nodes = need(&ok, cJSON_AddArrayToObject(root, "nodes"));
+    for (int k = 0; k < count && ok; k++) {
         char name[64];
         snprintf(name, sizeof name, "%s %d", kind_name(l[k].kind), k);
         double c[3], intensity, q[4];
         colour_intensity(&l[k], c, &intensity);
-        cJSON *li = cJSON_CreateObject();
-        cJSON_AddItemToArray(lights, li);
-        cJSON_AddStringToObject(li, "name", name);
-        cJSON_AddStringToObject(li, "type", "directional");
-        cJSON_AddItemToObject(li, "color", cJSON_CreateDoubleArray(c, 3));
-        cJSON_AddNumberToObject(li, "intensity", intensity);
+        cJSON *li = add_item(&ok, lights, NULL, cJSON_CreateObject());
+        need(&ok, cJSON_AddStringToObject(li, "name", name));
+        need(&ok, cJSON_AddStringToObject(li, "type", "directional"));
+        add_item(&ok, li, "color", cJSON_CreateDoubleArray(c, 3));
+        need(&ok, cJSON_AddNumberToObject(li, "intensity", intensity));
         lumis__light_quaternion(lumis_export_frame_dir(a.frame, l[k].dir), q);
-        cJSON *node = cJSON_CreateObject();
-        cJSON_AddItemToArray(nodes, node);
-        cJSON_AddStringToObject(node, "name", name);
-        cJSON_AddItemToObject(node, "rotation", cJSON_CreateDoubleArray(q, 4));
-        cJSON *ne = cJSON_AddObjectToObject(node, "extensions");
-        cJSON *nk = cJSON_AddObjectToObject(ne, "KHR_lights_punctual");
-        cJSON_AddNumberToObject(nk, "light", k);
-        cJSON_AddItemToArray(scene_nodes, cJSON_CreateNumber(k));
+        cJSON *node = add_item(&ok, nodes, NULL, cJSON_CreateObject());
+        need(&ok, cJSON_AddStringToObject(node, "name", name));
+        add_item(&ok, node, "rotation", cJSON_CreateDoubleArray(q, 4));
+        cJSON *ne = need(&ok, cJSON_AddObjectToObject(node, "extensions"));
+        cJSON *nk = need(&ok, cJSON_AddObjectToObject(ne, "KHR_lights_punctual"));
+        need(&ok, cJSON_AddNumberToObject(nk, "light", k));
+        add_item(&ok, scene_nodes, NULL, cJSON_CreateNumber(k));
     }
-    return write_json(path, root, container == LUMIS_GLTF_BINARY, errors);
+    return write_json(path, root, ok, container == LUMIS_GLTF_BINARY, errors);
 }

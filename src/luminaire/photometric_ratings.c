@@ -214,7 +214,69 @@ lumis_status lumis_photometric_get_ratings(const lumis_photometric *p, double in
     }
     r->lcs.ul = zone(p, 90, 100, 0, 360);
     r->lcs.uh = zone(p, 100, 180, 0, 360);
+    for (int k = 0; k < 2; k++) {
+        const lumis_status st = lumis_photometric_spacing_criterion(p, 90.0 * k, &r->spacing[k]);
+        if (st != LUMIS_OK) return st;
+    }
     return lumis_photometric_bug(&r->lcs, p->sym == LUMIS_SYMMETRY_ROTATIONAL, r->bug);
+}
+
+/* ---- the spacing criterion -----------------------------------------------------------------
+ * Midway between two luminaires s = 2 h tan(g) apart along the plane C = c, C = c + 180, each
+ * lights the work plane at gamma = g, one through C = c, the other through C = c + 180; the
+ * horizontal illuminance there is (I(g, c) + I(g, c + 180)) cos^3 g / h^2.  Straight under
+ * one it is I0 / h^2.  sc_excess is h^2 times the first minus the second. */
+static double sc_excess(const lumis_photometric *p, double c, double i0, double g)
+{
+    const double cg = cos(g * DEG);
+    return (lumis_photometric_intensity_at(p, c, g) +
+            lumis_photometric_intensity_at(p, c + 180, g)) *
+               cg * cg * cg -
+           i0;
+}
+
+lumis_status lumis_photometric_spacing_criterion(const lumis_photometric *p, double c_deg,
+                                                 double *sc)
+{
+    if (sc) *sc = 0.0;
+    if (!p || !sc || !isfinite(c_deg) || p->type != LUMIS_PHOTOMETRIC_C)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    /* CIE's luminaire classes: semi-indirect (10-40 % downward) and indirect have no spacing
+     * criterion of their direct light worth the name */
+    if (!(p->info.downward_fraction >= 0.4)) return LUMIS_OK;
+    const double i0 = 0.5 * (lumis_photometric_intensity_at(p, c_deg, 0) +
+                             lumis_photometric_intensity_at(p, c_deg + 180, 0));
+    if (!(i0 > 0)) return LUMIS_OK;
+    /* The first sign change from nadir (where the excess is i0 > 0) to 90 degrees (where it is
+     * -i0): each of the table's intervals below 90 cut in 32, so that a crossing and a return
+     * within one cut (the interpolant is linear there, cos^3 smooth) is all that can hide; then
+     * bisection. */
+    enum { CUTS = 32 };
+    double a = 0.0;
+    int j = 0;
+    while (j < p->nv && p->v[j] <= 0.0) j++;
+    for (;;) {
+        const double next = j < p->nv && p->v[j] < 90.0 ? p->v[j] : 90.0;
+        for (int k = 1; k <= CUTS; k++) {
+            const double b = a + (next - a) * k / CUTS;
+            const double lo = a + (next - a) * (k - 1) / CUTS;
+            if (sc_excess(p, c_deg, i0, b) > 0) continue;
+            double x0 = lo, x1 = b;
+            for (int it = 0; it < 200 && x1 - x0 > 1e-13; it++) {
+                const double m = 0.5 * (x0 + x1);
+                if (sc_excess(p, c_deg, i0, m) > 0)
+                    x0 = m;
+                else
+                    x1 = m;
+            }
+            *sc = 2.0 * tan(0.5 * (x0 + x1) * DEG);
+            return LUMIS_OK;
+        }
+        if (next >= 90.0) break;
+        a = next;
+        j++;
+    }
+    return LUMIS_OK; /* not reached: the excess is -i0 at 90 degrees */
 }
 
 /* ---- the table beyond a cone -------------------------------------------------------------

@@ -19,7 +19,7 @@ Definitions (all in the file's own luminaire frame, docs/photometric.md):
   their symmetry images and the zone edges), weight sin(gamma) (type C), cos V (type A),
   cos H (type B).  Not the closed form lumis uses, on purpose.
 - beam/field: see plane_widths().
-- zonal lumens, CIE flux code, BUG rating: see their functions.
+- zonal lumens, CIE flux code, BUG rating, spacing criterion: see their functions.
 """
 
 import json
@@ -644,6 +644,8 @@ def analyse(path):
         down = sum(zonal[:3])
         res["downward_lm"] = down
         res["downward_fraction"] = down / flux if flux > 0 else None
+        res["spacing_criterion"] = [spacing_criterion(t, c, res["downward_fraction"])
+                                    for c in (0.0, 90.0)]
         cones = [cells.zone(0.0, 360.0, 0.0, g) for g in CIE_CONES]
         raw = [100 * c / down if down > 0 else None for c in cones]
         raw.append(100 * down / flux if flux > 0 else None)
@@ -675,6 +677,42 @@ def analyse(path):
                 res["published_bug"] = {"B": int(m.group(1)), "U": int(m.group(2)),
                                         "G": int(m.group(3))}
     return res
+
+
+def spacing_criterion(t, c, downward_fraction):
+    """The spacing criterion along the plane C = c, c + 180 (docs/photometric.md): s / h at
+    which the direct horizontal illuminance midway between two luminaires s apart, both
+    lighting it, falls to the illuminance straight under one from that one alone.  Midway,
+    each is seen at gamma with tan(gamma) = s / (2 h) and gives I cos^3(gamma) / h^2; under
+    one, I0 / h^2 (I0: the mean of the plane's two nadir values).  Found by a uniform scan
+    of gamma in steps of 1/200 degree for the first point at or under the balance, then
+    bisection.  None where it does not apply: type A or B, under 40 % of the flux downward
+    (CIE's semi-indirect and indirect classes), or no light at nadir."""
+    if t.type != "C" or downward_fraction is None or not downward_fraction >= 0.4:
+        return None
+    i0 = 0.5 * (intensity(t, c, 0.0) + intensity(t, c + 180.0, 0.0))
+    if not i0 > 0:
+        return None
+
+    def excess(g):
+        cg = math.cos(math.radians(g))
+        return (intensity(t, c, g) + intensity(t, c + 180.0, g)) * cg ** 3 - i0
+
+    steps = 18000
+    prev = 0.0
+    for k in range(1, steps + 1):
+        g = 90.0 * k / steps
+        if excess(g) <= 0:
+            lo, hi = prev, g
+            for _ in range(100):
+                mid = 0.5 * (lo + hi)
+                if excess(mid) > 0:
+                    lo = mid
+                else:
+                    hi = mid
+            return 2.0 * math.tan(math.radians(0.5 * (lo + hi)))
+        prev = g
+    return None
 
 
 def _clean(x):

@@ -112,6 +112,35 @@ def main():
     assert abs(raw[4] - 100 * math.pi * I0 / 4000.0) < 0.01
     print("CIE flux code of a Lambertian: %s" % r["cie_flux_code"])
 
+    # Spacing criterion, worked by hand: midway between two luminaires s = 2 h tan(g) apart
+    # each gives I0 cos^n(g) cos^3(g) / h^2, under one I0 / h^2, so 2 cos^(n+3)(g) = 1 and
+    # SC = 2 tan(g) = 2 (2^(2/(n+3)) - 1)^(1/2): 1.2872 for a Lambertian (n = 1).  The
+    # tables are linear between 1/4 degree, so to ~1e-5.
+    for n in (1, 2, 4, 10):
+        vv = [x * 0.25 for x in range(0, 361)]
+        col = [I0 * math.cos(x * o.DEG) ** n for x in vv]
+        r = analyse_text(ies([col, col, col], vv, [0.0, 90.0, 180.0]))
+        want = 2 * math.sqrt(2 ** (2.0 / (n + 3)) - 1)
+        for k in (0, 1):
+            assert abs(r["spacing_criterion"][k] - want) < 1e-4, (n, r["spacing_criterion"], want)
+        print("cos^%d: spacing criterion %.6f (%.6f)" % (n, r["spacing_criterion"][0], want))
+    # An asymmetric table: C0 twice C180's cos, the midway sum 3 I0 cos^4 against I0
+    # (the nadir mean of C0's 2 I0 and C180's I0 is 1.5 I0): 3 cos^4 = 1.5, as the
+    # Lambertian's; along C90-C270 (1.5 I0 cos each side) the same again
+    vv = [x * 0.25 for x in range(0, 361)]
+    lam = [I0 * math.cos(x * o.DEG) for x in vv]
+    cols = [[2 * x for x in lam], [1.5 * x for x in lam], [x for x in lam]]
+    r = analyse_text(ies(cols, vv, [0.0, 90.0, 180.0]))
+    for k in (0, 1):
+        assert abs(r["spacing_criterion"][k] - 2 * math.sqrt(math.sqrt(2) - 1)) < 1e-4, r
+    # Not applicable: the uplight above (no downward flux), a semi-indirect 30 % down
+    r = analyse_text(ies([up], [float(x) for x in range(0, 181)], [0.0]))
+    assert r["spacing_criterion"] == [None, None], r["spacing_criterion"]
+    semi = [I0 * abs(math.cos(x * o.DEG)) * (0.43 if x <= 90 else 1.0)
+            for x in range(0, 181)]
+    r = analyse_text(ies([semi], [float(x) for x in range(0, 181)], [0.0]))
+    assert 0.25 < r["downward_fraction"] < 0.4 and r["spacing_criterion"] == [None, None], r
+
     # Types A and B: an aimed cos^n, I0 cos^n(angle to the aim), flux 2 pi I0 / (n + 1)
     n = 6
     hh = [float(x) for x in range(-90, 91, 2)]

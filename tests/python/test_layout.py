@@ -9,7 +9,9 @@ import subprocess
 import pytest
 
 import lumis
-from lumis._cdefs import STRUCTS
+from lumis._cdefs import RENDER_STRUCTS, STRUCTS
+
+STRUCTS = {**STRUCTS, **RENDER_STRUCTS}
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
@@ -19,7 +21,7 @@ def test_struct_layouts_match_the_headers(tmp_path):
     if not cc:
         pytest.skip("no C compiler (set LUMIS_CC)")
     lines = ["#include <stddef.h>", "#include <stdio.h>", "#include \"lumis/lumis.h\"",
-             "#include \"lumis/io.h\"", "int main(void) {", "printf(\"{\");"]
+             "#include \"lumis/io.h\"", "#include \"lumis/render.h\"", "int main(void) {", "printf(\"{\");"]
     for i, (name, fields) in enumerate(STRUCTS.items()):
         sep = "," if i else ""
         lines.append('printf("%s\\"%s\\": [%%zu", sizeof(%s));' % (sep, name, name))

@@ -43,3 +43,31 @@ def test_candela_grid_and_sampling():
         assert np.allclose(f.pdf(d), p, rtol=1e-4)  # d rounded to float
         assert np.mean(i / p) == pytest.approx(info["flux"], rel=1e-4)
         assert np.all(d[:, 2] < 1e-6)  # a full cut-off: nothing upwards (+z is away from the aim)
+
+
+def test_orient_is_the_documented_frame():
+    """photometric_orient (the Blender add-on aims fixtures with it): docs/photometric.md's
+    hanging pose and yoke, the aim at -z, the roll, and the refusals."""
+    hang = lumis.photometric_orient("C", (0, -1, 0))
+    assert hang == pytest.approx(np.array([[1, 0, 0], [0, 0, 1], [0, -1, 0]]), abs=1e-12)
+    a = np.array([0.3, -1.0, 0.5])
+    a /= np.linalg.norm(a)
+    for t in ("C", "B", "A"):
+        R = lumis.photometric_orient(t, a, roll_deg=30)
+        assert R @ R.T == pytest.approx(np.eye(3), abs=1e-9)
+        assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-9)
+        assert R @ (0, 0, -1) == pytest.approx(a, abs=1e-6)  # lumis_vec3 is float
+    # C0 of a type C fixture tilted by the documented formula, before the roll
+    c0 = np.array([1 - a[0] ** 2 / (1 - a[1]), a[0], -a[0] * a[2] / (1 - a[1])])
+    R = lumis.photometric_orient("C", a)
+    assert R[:, 0] == pytest.approx(c0 / np.linalg.norm(c0), abs=1e-6)
+    # a yoke's lateral axis (local +y) is horizontal
+    assert lumis.photometric_orient("B", a)[1, 1] == pytest.approx(0.0, abs=1e-9)
+    with lumis.read_photometric(FILES[0]) as f:
+        assert f.orient(a) == pytest.approx(lumis.photometric_orient(f.type, a), abs=0)
+    for bad in (dict(aim=(0, 0, 0)), dict(aim=(0, -1, 0), up=(0, 2, 0)),
+                dict(aim=(0, -1, 0), roll_deg=float("nan"))):
+        with pytest.raises(lumis.InvalidArgumentError):
+            lumis.photometric_orient("C", **bad)
+    with pytest.raises(lumis.InvalidArgumentError, match="type"):
+        lumis.photometric_orient("D", (0, -1, 0))

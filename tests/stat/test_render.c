@@ -1271,6 +1271,24 @@ static void builtin_scenes_build(void **state)
     }
     assert_int_equal(n, 9);
     lumis_scene_file *f = NULL;
+    /* ward-aniso: its one sphere in the middle of the view (the camera's centre ray passes
+     * within a tenth of its radius of its centre) */
+    assert_int_equal(lumis_scene_builtin("ward-aniso", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->object_count, 1);
+    {
+        const lumis_camera *c = &f->camera;
+        const lumis_object *o = &f->objects[0];
+        const double e[3] = {c->eye.x, c->eye.y, c->eye.z},
+                     v[3] = {c->look_at.x - e[0], c->look_at.y - e[1], c->look_at.z - e[2]},
+                     q[3] = {o->center.x - e[0], o->center.y - e[1], o->center.z - e[2]};
+        const double vv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2],
+                     t = (q[0] * v[0] + q[1] * v[1] + q[2] * v[2]) / vv;
+        double d2 = 0.0;
+        for (int a = 0; a < 3; a++) d2 += (q[a] - t * v[a]) * (q[a] - t * v[a]);
+        if (!(t > 0.0 && sqrt(d2) < 0.1 * o->radius))
+            fail_msg("ward-aniso: the centre ray passes %g from the sphere's centre", sqrt(d2));
+    }
+    lumis_scene_file_destroy(f);
     assert_int_equal(lumis_scene_builtin("wu-mixed", NULL, &f), LUMIS_OK);
     assert_int_equal(f->object_count, 5); /* bunny, Suzanne, two spheres, the ground */
     assert_int_equal(f->luminaire_count, 0);
@@ -1278,6 +1296,34 @@ static void builtin_scenes_build(void **state)
     /* The headlight lights its scene by itself: a lit floor, and black where rays escape. */
     assert_int_equal(lumis_scene_builtin("headlight", NULL, &f), LUMIS_OK);
     assert_int_equal(f->luminaire_count, 1);
+    /* Its layout (render.h, builtin.c): the lamp 0.7 m above the floor, in millimetres, aimed
+     * 5 degrees down, with the bunny and the ball in its beam: at their depth its axis
+     * passes between them. */
+    {
+        const lumis_rigid *pl = &f->luminaires[0].placement;
+        const lumis_object *floor_ = NULL, *ball = NULL, *bunny = NULL;
+        for (int k = 0; k < f->object_count; k++) {
+            const lumis_object *o = &f->objects[k];
+            if (o->type == LUMIS_OBJECT_PLANE && o->normal.y == 1.0f) floor_ = o;
+            if (o->type == LUMIS_OBJECT_SPHERE) ball = o;
+            if (o->type == LUMIS_OBJECT_MESH) bunny = o;
+        }
+        assert_true(floor_ && ball && bunny);
+        assert_true(fabs(pl->t[1] - floor_->center.y - 0.7) < 1e-9);
+        assert_true(f->luminaires[0].scale == 0.001);
+        const double ax[3] = {pl->r[2], pl->r[5], pl->r[8]}; /* local +z, the beam */
+        assert_true(fabs(ax[1] + sin(5.0 * PI / 180.0)) < 1e-9 && ax[2] < 0.0);
+        const float *m = bunny->transform;
+        double bx = 0.0;
+        for (int v = 0; v < bunny->vertex_count; v++) {
+            const float *p = bunny->vertices + 3 * v;
+            bx += (m[0] * p[0] + m[1] * p[1] + m[2] * p[2] + m[3]) / bunny->vertex_count;
+        }
+        const double z = ball->center.z, x = pl->t[0] + ax[0] * (z - pl->t[2]) / ax[2];
+        if (!(x > fmin(bx, ball->center.x) && x < fmax(bx, ball->center.x)))
+            fail_msg("headlight: the beam's axis at x = %g, the bunny at %g, the ball at %g", x, bx,
+                     (double)ball->center.x);
+    }
     lumis_scene *s = NULL;
     assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
     lumis_luminaire_lighting ll = {0};
@@ -1413,6 +1459,91 @@ static void scene_files_are_strict(void **state)
             fail_msg("mesh %d: status %d, \"%s\"", k, (int)st, sink.last);
         lumis_scene_file_destroy(f);
     }
+}
+
+/* A 2 x 2 luminaire of 2 x 2 grey images, for a scene file's "preset:" entries. */
+static lumis_status tiny_preset(void *user, const char *spec, lumis_luminaire **out)
+{
+    (void)user, (void)spec;
+    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const float *ptrs[4] = {px, px, px, px};
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.grid[0] = d.grid[1] = 2;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
+    d.width = d.height = 2;
+    d.image_origin[0] = d.image_origin[1] = -1.0;
+    d.image_size[0] = d.image_size[1] = 2.0;
+    d.pixels = ptrs;
+    return lumis_luminaire_create(&d, out);
+}
+
+/* A scene file's defaults and refusals, each as render.h and docs/render.md give them: a
+ * Ward material without "specular" gets 0.3 grey (and 0.1 diffuse); an environment
+ * without "scale" has scale 1; a luminaire keeps the path it was read from; a transform
+ * with an unknown key and more than 4096 photometric fixtures are refused by name. */
+static void scene_file_defaults_and_refusals(void **state)
+{
+    (void)state;
+    static const char ward[] =
+        "{\"environment\": {\"map\": \"sky:16x8\"}, \"objects\": [{\"type\": \"sphere\", "
+        "\"center\": [0, 0, 0], \"radius\": 1, \"material\": {\"type\": \"ward\"}}]}";
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis__scene_file_parse(ward, sizeof ward - 1, "w.json", "", 0, NULL, &f),
+                     LUMIS_OK);
+    const lumis_bsdf *b = &f->objects[0].material;
+    assert_int_equal(b->type, LUMIS_BSDF_WARD);
+    assert_true(b->specular.r == 0.3f && b->specular.g == 0.3f && b->specular.b == 0.3f);
+    assert_true(b->diffuse.r == 0.1f && b->diffuse.g == 0.1f && b->diffuse.b == 0.1f);
+    assert_true(f->env_scale == 1.0f && f->env_rotation_deg == 0.0f);
+    lumis_scene_file_destroy(f);
+
+    /* a luminaire keeps its path ("preset:small", loaded by the caller's loader) */
+    static const char lum[] =
+        "{\"objects\": [], \"luminaires\": [{\"file\": \"preset:small\", \"intensity\": 2}]}";
+    tu_write_file(tu_path("lum-scene.json"), lum, sizeof lum - 1);
+    lumis_scene_read_options so = {0};
+    so.load_preset = tiny_preset;
+    assert_int_equal(lumis_scene_file_read(tu_path("lum-scene.json"), &so, &f), LUMIS_OK);
+    assert_int_equal(f->luminaire_count, 1);
+    assert_true(f->luminaires[0].intensity == 2.0f);
+    const char *lp = lumis_scene_file_luminaire_path(f, 0);
+    assert_non_null(lp);
+    assert_string_equal(lp, "preset:small");
+    assert_null(lumis_scene_file_luminaire_path(f, 1));
+    lumis_scene_file_destroy(f);
+
+    /* an unknown key in a mesh's transform */
+    static const char tri[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    tu_write_file(tu_path("tri.obj"), tri, sizeof tri - 1);
+    static const char shear[] = "{\"objects\": [{\"type\": \"mesh\", \"file\": \"tri.obj\", "
+                                "\"transform\": {\"shear\": 1}, \"material\": {\"type\": "
+                                "\"lambert\"}}]}";
+    tu_write_file(tu_path("shear.json"), shear, sizeof shear - 1);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    so.errors = sink.sink;
+    f = (lumis_scene_file *)1;
+    const lumis_status sst = lumis_scene_file_read(tu_path("shear.json"), &so, &f);
+    if (sst == LUMIS_OK || f != NULL ||
+        !strstr(sink.last, "objects[0].transform.shear\": unknown key"))
+        fail_msg("shear: status %d, \"%s\"", (int)sst, sink.last);
+
+    /* 4097 fixtures: refused as too many (not for what the first of them is) */
+    const size_t cap = 64 + 4097 * 3;
+    char *many = malloc(cap);
+    assert_non_null(many);
+    size_t n = (size_t)snprintf(many, cap, "{\"objects\": [], \"photometric\": [");
+    for (int k = 0; k < 4097; k++) n += (size_t)snprintf(many + n, cap - n, k ? ",{}" : "{}");
+    n += (size_t)snprintf(many + n, cap - n, "]}");
+    tu_sink_init(&sink);
+    f = (lumis_scene_file *)1;
+    const lumis_status mst = lumis__scene_file_parse(many, n, "many.json", "", 0, &sink.sink, &f);
+    if (mst == LUMIS_OK || f != NULL || !strstr(sink.last, "photometric") ||
+        !strstr(sink.last, "at most 4096 fixtures"))
+        fail_msg("4097 fixtures: status %d, \"%s\"", (int)mst, sink.last);
+    free(many);
 }
 
 static void bad_scenes(void **state)
@@ -1685,6 +1816,7 @@ int main(void)
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
         cmocka_unit_test(bad_scenes),
         cmocka_unit_test(scene_files_are_strict),
+        cmocka_unit_test(scene_file_defaults_and_refusals),
         cmocka_unit_test(passes_do_not_change_the_image),
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),

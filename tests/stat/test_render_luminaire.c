@@ -310,6 +310,49 @@ static void passes_and_threads_do_not_matter(void **state)
     free_fixture(&f);
 }
 
+/* Auto's choice, per luminaire: its prediction in distance bands (equal counts of the
+ * probes, here 4 of a floor filling the view), and the strategies it takes over them with
+ * neighbouring bands of one strategy merged into one (render.h): so without auto_bands one
+ * band, and with them no two neighbours alike; each band's budget that of its strategy. */
+static void auto_merges_neighbouring_bands_of_one_strategy(void **state)
+{
+    (void)state;
+    fixture f = make_fixture(LUMIS_BASIS_BSPLINE, 9);
+    lumis_scene *s = make_scene(&IDENTITY, NULL, 0.0);
+    lumis_luminaire_instance in = {0};
+    in.luminaire = f.lum;
+    lumis_camera cam = {{2, 0.3f, 2}, {0, 0, 3}, {0, 1, 0}, 50.0f, 24, 16};
+    for (int banded = 0; banded < 2; banded++) {
+        lumis_luminaire_lighting ll = {0};
+        ll.instances = &in;
+        ll.count = 1;
+        ll.budget = 12;
+        ll.strategy = LUMIS_LUM_AUTO;
+        ll.auto_bands = banded;
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.lighting.luminaires = &ll;
+        d.lighting.kind = LUMIS_LIGHTING_LUMINAIRES;
+        d.spp = 1;
+        lumis_luminaire_choice c;
+        assert_int_equal(lumis_render_luminaire_choices(s, &d, &c), LUMIS_OK);
+        assert_true(c.prediction.bands >= 2); /* what there was to merge */
+        assert_true(c.bands >= 1 && c.bands <= c.prediction.bands);
+        if (!banded) assert_int_equal(c.bands, 1);
+        for (int b = 0; b < c.bands; b++) {
+            assert_true(c.strategy[b] == LUMIS_LUM_RESTRICTED ||
+                        c.strategy[b] == LUMIS_LUM_UNIFORM || c.strategy[b] == LUMIS_LUM_GLOBAL);
+            if (b > 0 && c.strategy[b] == c.strategy[b - 1])
+                fail_msg("auto_bands %d: bands %d and %d both %s", banded, b - 1, b,
+                         lumis_luminaire_strategy_name(c.strategy[b]));
+            if (b > 0) assert_true(c.edge[b - 1] > (b > 1 ? c.edge[b - 2] : 0.0));
+            if (c.strategy[b] != LUMIS_LUM_GLOBAL) assert_int_equal(c.budget[b], 12);
+        }
+    }
+    lumis_scene_destroy(s);
+    free_fixture(&f);
+}
+
 static void bad_lighting(void **state)
 {
     (void)state;
@@ -371,6 +414,7 @@ int main(void)
         cmocka_unit_test(blockers_behind_the_luminaire_cast_no_shadow),
         cmocka_unit_test(passes_and_threads_do_not_matter),
         cmocka_unit_test(bad_lighting),
+        cmocka_unit_test(auto_merges_neighbouring_bands_of_one_strategy),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -412,6 +412,28 @@ static void rectangles_estimators_and_refusals(void **state)
     bad = in;
     bad.multiplier = -2;
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* an opening asked of a file that gives none (a point: width and length 0) is refused,
+     * not rendered quietly as a point, though its area (0) is finite */
+    pg_ies_spec pt = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
+    lumis_photometric_file *fp = load(&pt);
+    bad = in;
+    bad.photometric = fp->model;
+    bad.area = 1;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    img = (lumis_image *)1;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    if (!strstr(sink.last, "photometric fixture 0") || !strstr(sink.last, "\"point\""))
+        fail_msg("a point with area: \"%s\"", sink.last);
+    bad.area = 0; /* as a point it renders */
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    img = NULL;
+    lumis_photometric_file_destroy(fp);
+    bad = in;
+    d.errors = (lumis_error_sink){0};
     pl.count = 0; /* not this kind: the map's, and there is none */
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_null(img);
@@ -636,6 +658,71 @@ static void solid_openings_meet_a_quadrature(void **state)
             fail_msg("%s at 10 m: %g +- %g, the point %g", lumis_photometric_shape_name(shapes[k]),
                      m_area, se_area, m_point);
         lumis_photometric_file_destroy(f);
+    }
+    lumis_scene_destroy(s);
+}
+
+/* A box seen only from its top: a fixture turned upside down over the floor shows the floor
+ * its local +z face and never its -z face, the last of the six, whose weight is then zero
+ * (the face choice must skip it).  And a box of zero length is refused by name, as a
+ * rectangle of zero length is. */
+static void box_faces_and_degenerate_boxes(void **state)
+{
+    (void)state;
+    lumis_scene *s = floor_scene(0);
+    pg_ies_spec spec = {PG_ROAD, 0.8, "IESNA:LM-63-2002", 1, 91, 0, 180, 73, 0, 360, 0, 0, 0.4, 0.6,
+                        0.3,     2};
+    lumis_photometric_file *f = load(&spec);
+    lumis_photometric_info info;
+    lumis_photometric_get_info(f->model, &info);
+    assert_int_equal(info.shape, LUMIS_SHAPE_BOX);
+    lumis_photometric_instance in = {0};
+    in.photometric = f->model;
+    in.area = 1;
+    in.placement = lumis_rigid_identity();
+    in.placement.r[4] = -1.0; /* a half turn about x: the aim (local -z) points up */
+    in.placement.r[8] = -1.0;
+    in.placement.t[2] = 1.0;
+    lumis_image *img = render(s, &in, 1, 4, LUMIS_ESTIMATOR_LIGHT, 1, 3);
+    for (int k = 0; k < W * H * 3; k++)
+        assert_true(isfinite(img->pixels[k]) && img->pixels[k] >= 0);
+    lumis_image_destroy(img);
+    lumis_photometric_file_destroy(f);
+    /* a box of zero length, made through the descriptor */
+    static const double v[3] = {0, 45, 90}, h[1] = {0}, cd[3] = {100, 80, 0};
+    lumis_photometric_desc d = {0};
+    d.type = LUMIS_PHOTOMETRIC_C;
+    d.nv = 3;
+    d.nh = 1;
+    d.v_deg = v;
+    d.h_deg = h;
+    d.candela = cd;
+    d.shape = LUMIS_SHAPE_BOX;
+    d.width = 0.2;
+    d.length = 0.0;
+    d.height = 0.1;
+    lumis_photometric *p = NULL;
+    assert_int_equal(lumis_photometric_create(&d, NULL, &p), LUMIS_OK); /* a table may say so */
+    {
+        lumis_photometric_instance z = {0};
+        z.photometric = p;
+        z.area = 1;
+        z.placement = lumis_rigid_identity();
+        z.placement.t[2] = 1.0;
+        lumis_photometric_lighting pl = {&z, 1};
+        lumis_render_desc rd = {0};
+        rd.camera = &cam;
+        rd.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
+        rd.lighting.photometric = &pl;
+        rd.spp = 1;
+        rd.threads = 1;
+        tu_sink sink;
+        tu_sink_init(&sink);
+        rd.errors = sink.sink;
+        lumis_image *bad = NULL;
+        assert_int_equal(lumis_render(s, &rd, &bad, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(bad);
+        lumis_photometric_destroy(p);
     }
     lumis_scene_destroy(s);
 }
@@ -1097,6 +1184,7 @@ int main(void)
         cmocka_unit_test(an_opening_is_unbiased_and_far_away_a_point),
         cmocka_unit_test(rectangles_estimators_and_refusals),
         cmocka_unit_test(solid_openings_meet_a_quadrature),
+        cmocka_unit_test(box_faces_and_degenerate_boxes),
         cmocka_unit_test(a_disk_meets_its_closed_form),
         cmocka_unit_test(orientation_is_a_continuous_explicit_frame),
         cmocka_unit_test(aimed_fixtures_over_a_floor),

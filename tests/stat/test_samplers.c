@@ -306,6 +306,11 @@ static void pdf_of_sample_matches(void **state)
             /* The poles themselves: finite densities (uniform-in-angles grows as 1/sin). */
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, 1, 0})));
             assert_true(isfinite(lumis_sampler_pdf(s, (lumis_vec3){0, -1, 0})));
+            /* The zero vector is no direction: density 0 and black, from both lookups. */
+            lumis_rgb L0 = {-1.0f, -1.0f, -1.0f};
+            assert_true(lumis_sampler_pdf(s, (lumis_vec3){0, 0, 0}) == 0.0f);
+            assert_true(lumis_sampler_pdf_radiance(s, (lumis_vec3){0, 0, 0}, &L0) == 0.0f);
+            assert_true(L0.r == 0.0f && L0.g == 0.0f && L0.b == 0.0f);
             lumis_sampler_destroy(s);
         }
         lumis_envmap_destroy(env);

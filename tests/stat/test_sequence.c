@@ -79,10 +79,22 @@ static void sobol02_prefixes_and_blocks_are_nets(void **state)
                 if (!is_net(xy + 2 * (size_t)b * n, n))
                     fail_msg("seed %u: block %u of %u points is not a net", seed, b, n);
     }
-    /* the double form agrees with the bits */
+    /* the double form is a (0,2)-sequence too, in both coordinates: its values are 32-bit
+     * fractions, so they convert back to the bits exactly */
     double u[2];
-    lumis_sobol02(5, 0, u);
-    assert_true(u[0] >= 0.0 && u[0] < 1.0 && u[1] >= 0.0 && u[1] < 1.0);
+    for (uint64_t seed = 0; seed < 3; seed++) {
+        enum { M = 1 << 10 };
+        for (uint32_t i = 0; i < M; i++) {
+            lumis_sobol02(i, seed, u);
+            assert_true(u[0] >= 0.0 && u[0] < 1.0 && u[1] >= 0.0 && u[1] < 1.0);
+            xy[2 * i] = (uint32_t)(u[0] * 0x1p32);
+            xy[2 * i + 1] = (uint32_t)(u[1] * 0x1p32);
+        }
+        for (uint32_t n = 1; n <= M; n *= 2)
+            if (!is_net(xy, n))
+                fail_msg("lumis_sobol02 seed %u: the first %u points are not a net", (unsigned)seed,
+                         n);
+    }
     assert_int_equal(lumis_sobol02_bits(3, 2), 0);
     free(xy);
 }
@@ -134,6 +146,23 @@ static void pmj02_prefixes_are_nets(void **state)
         for (uint32_t n = 1; n <= N; n *= 2)
             if (!is_net(xy, n))
                 fail_msg("seed %u: the first %u points are not a net", (unsigned)seed, n);
+    }
+    /* the jitter: inside its cell of the finest grid (2^12 strata an axis) the last points
+     * placed (at level 12) are uniform, their 20 low bits ranging over the whole cell */
+    for (int d = 0; d < 2; d++) {
+        const uint32_t low = (1u << 20) - 1u;
+        uint32_t any = 0;
+        double mean = 0.0, sq = 0.0;
+        for (uint32_t i = N / 2; i < N; i++) {
+            const uint32_t o = xy[2 * i + (uint32_t)d] & low;
+            any |= o;
+            mean += o * 0x1p-20 / (N / 2);
+            sq += o * 0x1p-20 * (o * 0x1p-20) / (N / 2);
+        }
+        assert_int_equal(any, low);
+        /* uniform on [0, 1): mean 1/2, second moment 1/3, each within ~6 standard errors */
+        if (fabs(mean - 0.5) > 0.03 || fabs(sq - 1.0 / 3.0) > 0.03)
+            fail_msg("axis %d: jitter mean %g, second moment %g", d, mean, sq);
     }
     /* deterministic in the seed, different across seeds */
     assert_int_equal(lumis_pmj02_generate(N, 5, again), LUMIS_OK);

@@ -3,7 +3,7 @@
  * medians of several runs), and the relative standard error at 64 samples of the
  * irradiance E(n) = integral of Y(w) max(0, n.w) dw averaged over 16 fixed normals,
  * computed by quadrature over the pixels (Var = int f^2/p - E^2), not by sampling. */
-#include "common.h"
+#include "cli.h"
 
 #include <cJSON.h>
 #include <math.h>

@@ -1,6 +1,6 @@
 /* lumis compare REF TEST: every image metric (RMSE, relative MSE, PSNR, CIELAB Delta E,
  * LDR-FLIP, HDR-FLIP), an error map and a difference image. */
-#include "common.h"
+#include "cli.h"
 
 #include "lumis/metrics.h"
 

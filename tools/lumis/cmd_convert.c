@@ -1,5 +1,5 @@
 /* lumis convert IN OUT [--exposure EV] [--tonemap T] [--resize WxH] [--half] [--big-endian] */
-#include "common.h"
+#include "cli.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,6 +1,6 @@
 /* lumis demo [--out DIR] [--time S]: the default sky, its statistics, and the spheres scene
  * rendered under it with inversion and kd-tree sampling at equal time, side by side. */
-#include "common.h"
+#include "cli.h"
 
 #include <errno.h>
 #include <math.h>

@@ -1,6 +1,6 @@
 /* lumis info FILE [--json]: statistics of an environment map, or (FILE.ies, FILE.ldt) of a
  * photometric file, with its polar plot (--svg). */
-#include "common.h"
+#include "cli.h"
 
 #include <cJSON.h>
 #include <stdlib.h>
@@ -27,14 +27,16 @@ static const char usage[] =
     "file's own lumens with their difference, the peak, the beam (50 %) and field (10 %)\n"
     "angles of the two principal planes (C0-C180 and C90-C270) with their NEMA beam types,\n"
     "the downward share (types A and B: front), the light output ratio and the efficacy; for\n"
-    "type C the zonal lumens, the CIE flux code and the TM-15-11 BUG rating.\n"
+    "type C the zonal lumens, the CIE flux code, the TM-15-11 BUG rating and the spacing\n"
+    "criterion (spacing / mounting height; not applicable to floodlights and uplights).\n"
     "  --svg OUT.svg   a polar plot of the two planes (candela; 0 degrees down)\n"
     "  --json          one object (keys: file, format, standard, manufacturer, luminaire,\n"
     "                  catalog, lamp, type, symmetry, vertical_angles, horizontal_angles,\n"
     "                  shape, size_m, flux, lamp_lumens, luminaire_lumens, flux_difference,\n"
     "                  max_candela, max_at_deg, beam_deg, field_deg, downward_fraction,\n"
     "                  light_output_ratio, input_watts, efficacy_lm_per_w, nema_type,\n"
-    "                  zonal_lm, cie_flux_code, bug, tilt_included)\n";
+    "                  zonal_lm, cie_flux_code, bug, spacing_criterion,\n"
+    "                  spacing_criterion_not_applicable, tilt_included)\n";
 
 int cmd_info(int argc, char **argv)
 {

@@ -2,7 +2,7 @@
  * cut, variance minimisation, Wu's decomposition), exported for renderers and game engines
  * (JSON, glTF 2.0 KHR_lights_punctual as .gltf or .glb, in the frame they show the map in)
  * and drawn on the map (PNG). */
-#include "common.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -255,6 +255,76 @@ static int print_irradiance(const lumis_envmap *env, const lumis_light_set *set)
     return EXIT_OK;
 }
 
+/* The set as lumis lights prints it: counts, parameters (given), timings, the fold (NULL:
+ * none), total power and a table of the lights; exported: directions go to files too. */
+static void print_set(const char *map, const char *method, const lumis_light_set *set,
+                      const char *given, double read_ms, double setup_ms,
+                      const lumis_light_fold *fold, int exported, lumis_export_frame frame)
+{
+    const lumis_light_set_info *info = lumis_light_set_get_info(set);
+    const lumis_light *l = NULL;
+    int count = 0;
+    lumis_light_set_get(set, 0, &l, &count);
+    double total[3] = {0, 0, 0};
+    for (int q = 0; q < count; q++)
+        for (int c = 0; c < 3; c++) total[c] += l[q].power[c];
+    char split[96] = ""; /* Wu's kinds; the other methods make regions only */
+    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
+        snprintf(split, sizeof split, " (%d EnvDirects, %d EnvIndirects)", info->direct,
+                 info->indirect);
+    printf("%s: %d lights by %s%s, %d sets, built in %.2f ms\n", map, count, method, split,
+           lumis_light_set_sets(set), info->build_ms);
+    if (*given) printf("parameters %s\n", given);
+    printf("map read in %.2f ms, set up in %.2f ms\n", read_ms, setup_ms);
+    if (fold)
+        printf("above ground: %d light%s below the horizon folded into the nearest above, "
+               "%.2f %% of the power (RGB %.6g %.6g %.6g)\n",
+               fold->folded, fold->folded == 1 ? "" : "s", 100.0 * fold->share, fold->power[0],
+               fold->power[1], fold->power[2]);
+    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
+        printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
+               info->emissive_pixels, info->threshold, info->returned_pixels);
+    printf("total power (RGB) %.6g %.6g %.6g\n", total[0], total[1], total[2]);
+    if (exported)
+        printf("directions below in lumis's frame (u = 0 along +x); the files' in the %s frame%s\n",
+               lumis_export_frame_name(frame),
+               frame == LUMIS_EXPORT_FRAME_ENGINE
+                   ? " (-x, y, -z: where three.js and Blender show them)"
+                   : "");
+    printf("%5s %-13s %9s %9s %9s %12s %12s %12s %10s %9s\n", "light", "kind", "x", "y", "z",
+           "power r", "power g", "power b", "sr", "extent");
+    for (int q = 0; q < count; q++)
+        printf("%5d %-13s %9.5f %9.5f %9.5f %12.6g %12.6g %12.6g %10.4g %9.4f\n", q,
+               l[q].kind == LUMIS_LIGHT_ENV_DIRECT     ? "env-direct"
+               : l[q].kind == LUMIS_LIGHT_ENV_INDIRECT ? "env-indirect"
+                                                       : "region",
+               l[q].dir.x, l[q].dir.y, l[q].dir.z, l[q].power[0], l[q].power[1], l[q].power[2],
+               l[q].solid_angle, l[q].extent);
+}
+
+/* --json, --gltf (with the parameters and the fold recorded) and --png.  Exit code. */
+static int export_set(const lumis_envmap *env, const lumis_light_set *set, const char *map,
+                      const char *method, const char *given, int above_ground, int masks,
+                      lumis_export_frame frame, const char *json, const char *gltf, const char *png,
+                      int png_width)
+{
+    lumis_light_export_options eo = {0};
+    eo.masks = masks;
+    eo.source = map;
+    eo.method = method;
+    char recorded[1100]; /* the parameters and the fold, in the files */
+    snprintf(recorded, sizeof recorded, "%s%s%s", given, *given && above_ground ? "," : "",
+             above_ground ? "above-ground" : "");
+    eo.parameters = recorded;
+    eo.errors = tool_errors;
+    eo.frame = frame;
+    if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
+        (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
+        (png && write_picture(png, env, set, png_width) != EXIT_OK))
+        return EXIT_RUNTIME;
+    return EXIT_OK;
+}
+
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
@@ -354,62 +424,13 @@ int cmd_lights(int argc, char **argv)
         const lumis_vec3 up = {0.0f, 1.0f, 0.0f};
         if (lumis_light_set_fold_below(set, up, &tool_errors, &fold) != LUMIS_OK) goto done;
     }
-    const lumis_light_set_info *info = lumis_light_set_get_info(set);
-    const lumis_light *l = NULL;
-    int count = 0;
-    lumis_light_set_get(set, 0, &l, &count);
-    double total[3] = {0, 0, 0};
-    for (int q = 0; q < count; q++)
-        for (int c = 0; c < 3; c++) total[c] += l[q].power[c];
-    char split[96] = ""; /* Wu's kinds; the other methods make regions only */
-    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
-        snprintf(split, sizeof split, " (%d EnvDirects, %d EnvIndirects)", info->direct,
-                 info->indirect);
-    printf("%s: %d lights by %s%s, %d sets, built in %.2f ms\n", map, count, method, split,
-           lumis_light_set_sets(set), info->build_ms);
     char given[1024];
     lumis_light_params_format(&params, given, sizeof given);
-    if (*given) printf("parameters %s\n", given);
-    printf("map read in %.2f ms, set up in %.2f ms\n", 1e3 * (t_setup - t_read),
-           1e3 * (t_done - t_setup));
-    if (above_ground)
-        printf("above ground: %d light%s below the horizon folded into the nearest above, "
-               "%.2f %% of the power (RGB %.6g %.6g %.6g)\n",
-               fold.folded, fold.folded == 1 ? "" : "s", 100.0 * fold.share, fold.power[0],
-               fold.power[1], fold.power[2]);
-    if (info->method == LUMIS_LIGHTS_DECOMPOSITION)
-        printf("emissive pixels %d (Y > L_T = %.6g), %d given back to the EnvIndirects\n",
-               info->emissive_pixels, info->threshold, info->returned_pixels);
-    printf("total power (RGB) %.6g %.6g %.6g\n", total[0], total[1], total[2]);
-    if (json || gltf)
-        printf("directions below in lumis's frame (u = 0 along +x); the files' in the %s frame%s\n",
-               lumis_export_frame_name(frame),
-               frame == LUMIS_EXPORT_FRAME_ENGINE
-                   ? " (-x, y, -z: where three.js and Blender show them)"
-                   : "");
-    printf("%5s %-13s %9s %9s %9s %12s %12s %12s %10s %9s\n", "light", "kind", "x", "y", "z",
-           "power r", "power g", "power b", "sr", "extent");
-    for (int q = 0; q < count; q++)
-        printf("%5d %-13s %9.5f %9.5f %9.5f %12.6g %12.6g %12.6g %10.4g %9.4f\n", q,
-               l[q].kind == LUMIS_LIGHT_ENV_DIRECT     ? "env-direct"
-               : l[q].kind == LUMIS_LIGHT_ENV_INDIRECT ? "env-indirect"
-                                                       : "region",
-               l[q].dir.x, l[q].dir.y, l[q].dir.z, l[q].power[0], l[q].power[1], l[q].power[2],
-               l[q].solid_angle, l[q].extent);
+    print_set(map, method, set, given, 1e3 * (t_setup - t_read), 1e3 * (t_done - t_setup),
+              above_ground ? &fold : NULL, json || gltf, frame);
     if (irradiance && print_irradiance(env, set) != EXIT_OK) goto done;
-    lumis_light_export_options eo = {0};
-    eo.masks = masks;
-    eo.source = map;
-    eo.method = method;
-    char recorded[1100]; /* the parameters and the fold, in the files */
-    snprintf(recorded, sizeof recorded, "%s%s%s", given, *given && above_ground ? "," : "",
-             above_ground ? "above-ground" : "");
-    eo.parameters = recorded;
-    eo.errors = tool_errors;
-    eo.frame = frame;
-    if ((json && lumis_light_set_write_json(json, set, &eo) != LUMIS_OK) ||
-        (gltf && lumis_light_set_write_gltf(gltf, set, &eo) != LUMIS_OK) ||
-        (png && write_picture(png, env, set, png_width) != EXIT_OK))
+    if (export_set(env, set, map, method, given, above_ground, masks, frame, json, gltf, png,
+                   png_width) != EXIT_OK)
         goto done;
     rc = fflush(stdout) == 0 ? EXIT_OK : tool_runtime_error("write error on stdout");
 done:

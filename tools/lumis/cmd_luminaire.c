@@ -1,7 +1,7 @@
 /* lumis luminaire create | info | render: light-field luminaires (lumis/luminaire.h) as
  * files — made by simulated acquisition from a preset's emitter, inspected, and rendered in
  * the headlight scenes. */
-#include "common.h"
+#include "cli.h"
 
 #include "lumis/io.h"
 #include "lumis/luminaire.h"

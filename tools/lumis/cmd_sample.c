@@ -1,6 +1,6 @@
 /* lumis sample MAP --method M -n N ... and lumis pdf MAP --method M ...: the samplers on
  * the command line, in the exact text forms other tools read. */
-#include "common.h"
+#include "cli.h"
 
 #include <math.h>
 #include <stdlib.h>

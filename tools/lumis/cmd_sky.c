@@ -1,5 +1,5 @@
 /* lumis sky ... -o OUT and lumis studio ... -o OUT: procedural maps written to a file. */
-#include "common.h"
+#include "cli.h"
 
 #include <string.h>
 

@@ -1,5 +1,5 @@
 /* A map's statistics, printed (lumis info, lumis demo). */
-#include "common.h"
+#include "cli.h"
 
 #include "lumis/metrics.h"
 #include "lumis/render.h"

@@ -1,6 +1,6 @@
 /* Text in images: a 5x7 bitmap font (upper case, digits and the punctuation of labels),
  * drawn into linear images so the demo can say what each half of a picture shows. */
-#include "common.h"
+#include "cli.h"
 
 #include <ctype.h>
 #include <string.h>

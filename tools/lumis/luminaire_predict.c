@@ -1,6 +1,6 @@
 /* lumis luminaire predict: which sampling strategy pays for a luminaire over a range of
  * distances (lumis_luminaire_predict), per distance band. */
-#include "common.h"
+#include "cli.h"
 
 #include "lumis/luminaire.h"
 

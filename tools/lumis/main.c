@@ -1,5 +1,5 @@
 /* lumis: command-line front end.  Each subcommand lives in its own cmd_*.c file. */
-#include "common.h"
+#include "cli.h"
 
 #include <errno.h>
 #include <signal.h>

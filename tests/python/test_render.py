@@ -1,0 +1,136 @@
+"""lumis.render (lumis_render_session) against `lumis render` with the same settings: the
+same image bit for bit (the EXR read back with the package), the library's refusals as
+lumis.Error with its message, and no growth over repeated renders."""
+import gc
+import os
+
+import numpy as np
+import pytest
+
+import lumis
+
+pytestmark = pytest.mark.skipif(lumis._lib.renderlib is None,
+                                reason="no liblumis-render.so (make run)")
+
+
+def tool_render(cli, tmp_path, name, *args):
+    out = tmp_path / ("%s.exr" % name)
+    cli("render", *args, "-o", out, "--no-sidecar", "--quiet")
+    return lumis.read_image(str(out))
+
+
+CASES = [
+    # (lumis.render keywords, the tool's options)
+    ({"scene": "spheres", "env": "sky:64x32", "size": (48, 32), "spp": 4, "seed": 3},
+     ["--scene", "spheres", "--env", "sky:64x32", "--size", "48x32", "--spp", "4", "--seed", "3"]),
+    ({"scene": "ward-aniso", "env": "studio:64x32", "method": "kdtree", "estimator": "light",
+      "size": (40, 30), "spp": 3, "sequence": "halton"},
+     ["--scene", "ward-aniso", "--env", "studio:64x32", "--method", "kdtree", "--mis", "none",
+      "--size", "40x30", "--spp", "3", "--sequence", "halton"]),
+    ({"scene": "bunny-plane", "env": "sky:64x32", "lights": "median-cut", "lights_k": 8,
+      "size": (40, 30), "spp": 2},
+     ["--scene", "bunny-plane", "--env", "sky:64x32", "--lights", "median-cut", "--lights-k",
+      "8", "--size", "40x30", "--spp", "2"]),
+    ({"scene": "spheres", "env": "sky:64x32", "lights": "variance-min", "lights_k": 8,
+      "lights_mode": "stratified", "size": (40, 30), "spp": 2, "seed": 7},
+     ["--scene", "spheres", "--env", "sky:64x32", "--lights", "variance-min", "--lights-k", "8",
+      "--lights-mode", "stratified", "--size", "40x30", "--spp", "2", "--seed", "7"]),
+]
+
+
+@pytest.mark.parametrize("kw,args", CASES, ids=["env", "kdtree-light-halton", "light-set",
+                                                "stratified"])
+def test_render_equals_the_tool_bit_for_bit(cli, tmp_path, kw, args):
+    img, r = lumis.render(**kw)
+    ref = tool_render(cli, tmp_path, "ref", *args)
+    assert img.dtype == np.float32 and img.shape == ref.shape == (kw["size"][1], kw["size"][0], 3)
+    assert np.array_equal(img, ref)
+    assert img.max() > 0
+    assert r["spp"] == kw["spp"] and r["width"] == kw["size"][0]
+    assert r["lighting"] == ("light-set" if "lights" in kw else "env")
+    if "lights" in kw:
+        assert r["lights_k"] == kw["lights_k"]
+
+
+def test_photometric_scene_file_equals_the_tool(cli, root, tmp_path):
+    scene = os.path.join(root, "docs", "examples", "photometric", "fixtures.json")
+    img, r = lumis.render(scene, size=(40, 30), spp=2)
+    assert r["lighting"] == "photometric"
+    ref = tool_render(cli, tmp_path, "fixtures", scene, "--size", "40x30", "--spp", "2")
+    assert np.array_equal(img, ref)
+
+
+def test_a_map_object_and_a_different_seed():
+    with lumis.read_map("sky:64x32") as m:
+        a, _ = lumis.render("spheres", env=m, size=(32, 24), spp=2, seed=1)
+        b, _ = lumis.render("spheres", env=m, size=(32, 24), spp=2, seed=1)
+        c, _ = lumis.render("spheres", env=m, size=(32, 24), spp=2, seed=2)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+
+
+def test_time_budget_reports_what_it_spent():
+    img, r = lumis.render("spheres", env="sky:64x32", size=(32, 24), time_budget=0.3)
+    assert img.shape == (24, 32, 3)
+    assert r["spp"] >= 1 and r["passes"] >= 1 and r["time_budget"] == 0.3
+    assert 0 < r["budget_used_seconds"] < 5
+
+
+@pytest.mark.parametrize("kw,words", [
+    ({"scene": "no-such-scene"}, ["no-such-scene", "spheres"]),
+    ({"scene": "/nonexistent/scene.json"}, ["/nonexistent/scene.json"]),
+    ({"env": "/nonexistent.exr"}, ["/nonexistent.exr"]),
+    ({"method": "no-such-sampler"}, ["no-such-sampler"]),
+    ({"estimator": "both"}, ["estimator", "both"]),
+    ({"lights": "no-such-method"}, ["no-such-method"]),
+    ({"lights": "median-cut", "lights_params": "nonsense=1"}, ["nonsense"]),
+    ({"lights_mode": "sometimes"}, ["sometimes"]),
+    ({"upsample": 2}, ["upsample"]),                         # only with Wu's light sets
+    ({"bounces": 1, "lights": "median-cut"}, ["max_bounces"]),  # point lights: direct only
+    ({"sequence": "no-such-sequence"}, ["no-such-sequence"]),
+    ({"size": (0, 10)}, ["size"]),
+])
+def test_refusals_carry_the_library_message(kw, words):
+    args = {"scene": "spheres", "env": "sky:32x16", "size": (16, 12), "spp": 1}
+    args.update(kw)
+    with pytest.raises(lumis.Error) as e:
+        lumis.render(**args)
+    for w in words:
+        assert w in str(e.value), (w, str(e.value))
+
+
+def rss_kib():
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * 4096 // 1024
+
+
+def test_no_growth_over_repeated_renders():
+    # the bunny's scene (Embree's BVH, MBs), a 128 x 64 map (98 KiB), the image (144 KiB): a
+    # leak of any of them per render shows
+    def once():
+        lumis.render("spheres", env="sky:128x64", size=(128, 96), spp=1, threads=1)
+        lumis.render("bunny-plane", env="sky:128x64", size=(16, 12), spp=1, threads=1,
+                     lights="median-cut", lights_k=4)
+    for _ in range(10):  # warm up: Embree's and OpenMP's pools, cffi's caches
+        once()
+    gc.collect()
+    before = rss_kib()
+    for _ in range(100):
+        once()
+    gc.collect()
+    grown = rss_kib() - before
+    # a leaked scene, map, sampler, light set or image per render is > 30 KiB: > 6 MB in all
+    assert grown < 4096, "RSS grew by %d KiB over 200 renders" % grown
+
+
+def test_the_interpreter_exits_cleanly_after_a_render(root):
+    # Embree's TBB loaded after OpenMP's libgomp made every interpreter that built a scene
+    # segfault at exit (lumis/_lib.py, _preload_tbb)
+    import subprocess  # noqa: PLC0415
+    import sys  # noqa: PLC0415
+    code = ("import lumis; img, r = lumis.render('spheres', env='sky:32x16', size=(16, 12), "
+            "spp=1); print(img.shape)")
+    env = dict(os.environ, PYTHONPATH=os.path.join(root, "python") + os.pathsep +
+               os.environ.get("PYTHONPATH", ""))
+    for _ in range(3):
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (r.returncode, r.stderr)

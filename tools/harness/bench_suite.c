@@ -1,0 +1,575 @@
+/* lumis bench: reading a suite file (docs/bench.md has the format) into a checked suite:
+ * maps (files, folders, procedural specs), scenes, methods, budgets, the reference and the
+ * report's settings.  Every error names the file and the key. */
+#include "harness.h"
+
+#include <cJSON.h>
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+void bench_suite_free(suite *s)
+{
+    for (int m = 0; m < s->nmaps; m++) free(s->maps[m].bytes);
+    for (int k = 0; k < s->nscenes; k++) free(s->scenes[k].bytes);
+    free(s->maps);
+    free(s->scenes);
+    free(s->methods);
+    free(s->budgets);
+}
+
+/* Copies at most cap - 1 bytes (a cut label is still a label). */
+void bench_copy_cut(char *out, size_t cap, const char *in)
+{
+    size_t n = strlen(in);
+    if (n >= cap) n = cap - 1;
+    memcpy(out, in, n);
+    out[n] = '\0';
+}
+
+/* Labels become file names: [A-Za-z0-9._-], the rest '-'. */
+static void make_label(char *out, size_t cap, const char *in)
+{
+    size_t k = 0;
+    for (; in[k] && k + 1 < cap; k++) {
+        char c = in[k];
+        int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                 c == '.' || c == '_' || c == '-';
+        out[k] = ok ? c : '-';
+    }
+    out[k] = '\0';
+}
+
+static int is_map_file(const char *name)
+{
+    const char *dot = strrchr(name, '.');
+    return dot && (strcasecmp(dot, ".exr") == 0 || strcasecmp(dot, ".hdr") == 0 ||
+                   strcasecmp(dot, ".pfm") == 0);
+}
+
+/* "sky", "studio", optionally followed by ":WxH" (as tool_load_image reads them); a file
+ * named sky_garage.hdr is a file. */
+static int is_procedural(const char *spec)
+{
+    size_t n = strcspn(spec, ":");
+    return (n == 3 && strncmp(spec, "sky", 3) == 0) || (n == 6 && strncmp(spec, "studio", 6) == 0);
+}
+
+/* A suite's relative paths resolve against its folder (a path too long is cut, and then
+ * fails to open with its name in the message). */
+static void resolve(const suite *s, const char *name, char *out, size_t cap)
+{
+    if (name[0] == '/' || !s->dir[0]) {
+        bench_copy_cut(out, cap, name);
+        return;
+    }
+    bench_copy_cut(out, cap, s->dir);
+    size_t n = strlen(out);
+    if (n + 1 < cap) out[n++] = '/';
+    bench_copy_cut(out + n, cap - n, name);
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static int add_map(suite *s, const char *spec, const char *label, int user_label, float rot,
+                   float scale)
+{
+    suite_map *grown = realloc(s->maps, (size_t)(s->nmaps + 1) * sizeof *grown);
+    if (!grown) return tool_runtime_error("bench: out of memory");
+    s->maps = grown;
+    suite_map *m = &grown[s->nmaps++];
+    memset(m, 0, sizeof *m);
+    snprintf(m->spec, sizeof m->spec, "%s", spec);
+    m->is_file = !is_procedural(spec);
+    const char *base = strrchr(label, '/');
+    base = base ? base + 1 : label;
+    char tmp[128];
+    bench_copy_cut(tmp, sizeof tmp, base);
+    char *dot = m->is_file && !user_label ? strrchr(tmp, '.') : NULL;
+    if (dot) *dot = '\0';
+    make_label(m->label, sizeof m->label, user_label ? label : tmp);
+    m->rotation_deg = rot;
+    m->scale = scale;
+    return EXIT_OK;
+}
+
+/* Every key of obj is one of keys (NULL-terminated): a misspelt or misplaced key would
+ * otherwise be ignored, and the suite would measure something else than it says. */
+static int check_keys(const cJSON *obj, const char *const *keys, const char *file,
+                      const char *where)
+{
+    for (const cJSON *c = obj->child; c; c = c->next) {
+        int known = 0;
+        for (const char *const *k = keys; *k && !known; k++) known = strcmp(*k, c->string) == 0;
+        if (known) continue;
+        char list[512] = "";
+        for (const char *const *k = keys; *k; k++) {
+            size_t len = strlen(list);
+            snprintf(list + len, sizeof list - len, "%s%s", len ? ", " : "", *k);
+        }
+        return tool_runtime_error("%s: %s%s%s: unknown key (expected %s)", file, where,
+                                  *where ? "." : "", c->string, list);
+    }
+    return EXIT_OK;
+}
+
+/* obj[key] as a number into *out, which stays as it is when the key is absent; another
+ * type is an error that names where.key. */
+static int opt_number(const cJSON *obj, const char *key, const char *file, const char *where,
+                      double *out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!v) return EXIT_OK;
+    if (!cJSON_IsNumber(v))
+        return tool_runtime_error("%s: %s%s%s: expected a number", file, where, *where ? "." : "",
+                                  key);
+    *out = v->valuedouble;
+    return EXIT_OK;
+}
+
+/* The same for a string (*out: NULL when absent). */
+static int opt_string(const cJSON *obj, const char *key, const char *file, const char *where,
+                      const char **out)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(obj, key);
+    *out = NULL;
+    if (!v) return EXIT_OK;
+    if (!cJSON_IsString(v))
+        return tool_runtime_error("%s: %s%s%s: expected a string", file, where, *where ? "." : "",
+                                  key);
+    *out = v->valuestring;
+    return EXIT_OK;
+}
+
+/* A map entry: a file, a folder (every .exr/.hdr/.pfm in it, sorted), a procedural spec,
+ * or {"map": ..., "rotation_deg": ..., "scale": ..., "label": ...}. */
+static int parse_map(suite *s, const cJSON *e, const char *file, const char *where)
+{
+    static const char *const keys[] = {"map", "rotation_deg", "scale", "label", NULL};
+    const char *spec = NULL, *label = NULL;
+    float rot = 0.0f, scale = 1.0f;
+    if (cJSON_IsString(e)) {
+        spec = e->valuestring;
+    } else if (cJSON_IsObject(e)) {
+        double r = 0.0, k = 1.0;
+        int rc = check_keys(e, keys, file, where);
+        if (rc == EXIT_OK) rc = opt_string(e, "map", file, where, &spec);
+        if (rc == EXIT_OK) rc = opt_number(e, "rotation_deg", file, where, &r);
+        if (rc == EXIT_OK) rc = opt_number(e, "scale", file, where, &k);
+        if (rc == EXIT_OK) rc = opt_string(e, "label", file, where, &label);
+        if (rc != EXIT_OK) return rc;
+        if (!spec)
+            return tool_runtime_error("%s: %s: an object needs \"map\": a file or spec", file,
+                                      where);
+        rot = (float)r;
+        scale = (float)k;
+    } else {
+        return tool_runtime_error("%s: %s: expected a file name, folder or spec", file, where);
+    }
+    if (!*spec) return tool_runtime_error("%s: %s: an empty name", file, where);
+    if (is_procedural(spec))
+        return add_map(s, spec, label ? label : spec, label != NULL, rot, scale);
+    char path[4096];
+    resolve(s, spec, path, sizeof path);
+    struct stat sb;
+    if (stat(path, &sb) != 0)
+        return tool_runtime_error("%s: %s: %s: %s", file, where, path, strerror(errno));
+    if (!S_ISDIR(sb.st_mode))
+        return add_map(s, path, label ? label : path, label != NULL, rot, scale);
+    DIR *d = opendir(path);
+    if (!d) return tool_runtime_error("%s: %s: %s: %s", file, where, path, strerror(errno));
+    char **names = NULL;
+    int n = 0, rc = EXIT_OK;
+    for (struct dirent *de; (de = readdir(d));) {
+        if (de->d_name[0] == '.' || !is_map_file(de->d_name)) continue;
+        char **grown = realloc(names, (size_t)(n + 1) * sizeof *grown);
+        if (!grown || !(grown[n] = strdup(de->d_name))) {
+            names = grown ? grown : names;
+            rc = tool_runtime_error("bench: out of memory");
+            break;
+        }
+        names = grown;
+        n++;
+    }
+    closedir(d);
+    if (rc == EXIT_OK && n == 0)
+        rc = tool_runtime_error("%s: %s: %s holds no .exr, .hdr or .pfm file", file, where, path);
+    if (n) qsort(names, (size_t)n, sizeof *names, cmp_str);
+    for (int k = 0; k < n; k++) {
+        char full[4096 + 256];
+        snprintf(full, sizeof full, "%s/%s", path, names[k]);
+        if (rc == EXIT_OK) rc = add_map(s, full, names[k], 0, rot, scale);
+        free(names[k]);
+    }
+    free(names);
+    return rc;
+}
+
+/* obj[key], when present, as an integer in [lo, hi] into *out (where names obj). */
+static int opt_count(const cJSON *obj, const char *key, const char *file, const char *where,
+                     double lo, double hi, int *out)
+{
+    double v = *out;
+    int rc = opt_number(obj, key, file, where, &v);
+    if (rc != EXIT_OK) return rc;
+    if (!cJSON_GetObjectItemCaseSensitive(obj, key)) return EXIT_OK; /* absent: the default */
+    if (v < lo || v > hi || v != floor(v))
+        return tool_runtime_error("%s: %s%s%s: expected an integer from %.0f to %.0f", file, where,
+                                  *where ? "." : "", key, lo, hi);
+    *out = (int)v;
+    return EXIT_OK;
+}
+
+static const char *const method_keys[] = {"method", "label",         "mis",
+                                          "blocks", "light_samples", "bsdf_samples",
+                                          "k",      "interleave",    "upsample",
+                                          "params", "mode",          "sequence",
+                                          NULL},
+                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
+                                              "light_samples", "bsdf_samples", "spp",      "k",
+                                              "params",        "mode",         "sequence", NULL};
+
+/* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
+static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
+{
+    memset(m, 0, sizeof *m);
+    if (!cJSON_IsObject(e)) return tool_runtime_error("%s: %s: expected an object", file, where);
+    const char *name = NULL, *label = NULL, *mis = NULL;
+    int rc =
+        check_keys(e, strcmp(where, "reference") == 0 ? reference_keys : method_keys, file, where);
+    if (rc == EXIT_OK) rc = opt_string(e, "method", file, where, &name);
+    if (rc == EXIT_OK) rc = opt_string(e, "label", file, where, &label);
+    if (rc == EXIT_OK) rc = opt_string(e, "mis", file, where, &mis);
+    const char *seq = NULL;
+    if (rc == EXIT_OK) rc = opt_string(e, "sequence", file, where, &seq);
+    if (rc != EXIT_OK) return rc;
+    if (seq && lumis_sequence_from_name(seq, &m->sequence) != LUMIS_OK)
+        return tool_runtime_error("%s: %s.sequence: expected sobol, zsobol, pmj02, halton, "
+                                  "stratified, pcg or default",
+                                  file, where);
+    if (!name)
+        return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,
+                                  where);
+    if (strcmp(name, "bsdf") == 0) {
+        m->bsdf_only = 1;
+        m->estimator = LUMIS_ESTIMATOR_BSDF;
+    } else if (tool_lights_method_known(name)) {
+        /* A light set (median-cut, variance-min, wu...): every light, one shadow ray each,
+         * or its regions as strata ("mode": "stratified"). */
+        bench_copy_cut(m->lights, sizeof m->lights, name);
+        const char *mode = NULL;
+        rc = opt_string(e, "mode", file, where, &mode);
+        if (rc != EXIT_OK) return rc;
+        if (mode && lumis_lights_mode_from_name(mode, &m->lights_mode) != LUMIS_OK)
+            return tool_runtime_error("%s: %s.mode: expected point or stratified", file, where);
+        /* a reference must converge to the image: point lights do not */
+        if (strcmp(where, "reference") == 0 && m->lights_mode != LUMIS_LIGHTS_STRATIFIED)
+            return tool_runtime_error("%s: reference: a light set is a reference only in "
+                                      "\"mode\": \"stratified\" (point lights are biased)",
+                                      file);
+        rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
+        if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
+        if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
+        const char *params = NULL;
+        if (rc == EXIT_OK) rc = opt_string(e, "params", file, where, &params);
+        if (rc != EXIT_OK) return rc;
+        if (params) {
+            char opt[256];
+            snprintf(opt, sizeof opt, "%s: %s.params", file, where);
+            if (tool_light_params_parse(&m->lights_params, "bench", opt, params) != EXIT_OK ||
+                tool_light_params_check(&m->lights_params, "bench", opt, name) != EXIT_OK)
+                return EXIT_RUNTIME;
+        }
+        if (m->upsample && !tool_lights_method_is_wu(name))
+            return tool_runtime_error("%s: %s.upsample: only Wu's decomposition (wu...) has it",
+                                      file, where);
+        if ((mis && m->lights_mode != LUMIS_LIGHTS_STRATIFIED) ||
+            cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
+            cJSON_GetObjectItemCaseSensitive(e, "light_samples") ||
+            cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples"))
+            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave, upsample, "
+                                      "params and mode (and mis in stratified mode), not "
+                                      "blocks or sample counts",
+                                      file, where, name);
+    } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
+        return tool_runtime_error("%s: %s.method: unknown method '%s' (a sampler, bsdf, or a "
+                                  "light set: %s)",
+                                  file, where, name, tool_lights_method_names());
+    }
+    if (!m->lights[0] && (cJSON_GetObjectItemCaseSensitive(e, "k") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "params") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "mode")))
+        return tool_runtime_error("%s: %s: k, interleave, upsample, params and mode belong to "
+                                  "light sets",
+                                  file, where);
+    if (mis) {
+        if (strcmp(mis, "power") == 0)
+            m->power = 1;
+        else if (strcmp(mis, "none") == 0)
+            m->estimator = m->bsdf_only ? LUMIS_ESTIMATOR_BSDF : LUMIS_ESTIMATOR_LIGHT;
+        else if (strcmp(mis, "balance") != 0)
+            return tool_runtime_error("%s: %s.mis: expected balance, power or none", file, where);
+    }
+    rc = opt_count(e, "blocks", file, where, 0, 1 << 30, &m->sampler.kdtree_blocks);
+    if (rc == EXIT_OK) rc = opt_count(e, "light_samples", file, where, 0, 4096, &m->light_samples);
+    if (rc == EXIT_OK) rc = opt_count(e, "bsdf_samples", file, where, 0, 4096, &m->bsdf_samples);
+    if (rc != EXIT_OK) return rc;
+    char tmp[128];
+    bench_copy_cut(tmp, sizeof tmp, label ? label : name);
+    make_label(m->label, sizeof m->label, tmp);
+    return EXIT_OK;
+}
+
+/* The non-empty array root[key] and zeroed storage for its *count elements; NULL, with
+ * *rc set, if it is missing or empty or memory is short (nothing happens if *rc is set). */
+static void *suite_array(const cJSON *root, const char *key, const char *path, size_t elem,
+                         const cJSON **array, int *count, int *rc)
+{
+    if (*rc != EXIT_OK) return NULL;
+    *array = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (!cJSON_IsArray(*array) || cJSON_GetArraySize(*array) == 0) {
+        *rc = tool_runtime_error("%s: %s: expected a non-empty array", path, key);
+        return NULL;
+    }
+    *count = cJSON_GetArraySize(*array);
+    void *p = calloc((size_t)*count, elem);
+    if (!p) *rc = tool_runtime_error("bench: out of memory");
+    return p;
+}
+
+int bench_parse_suite(const char *path, suite *s)
+{
+    memset(s, 0, sizeof *s);
+    size_t n = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return tool_runtime_error("%s: %s", path, strerror(errno));
+    char *text = NULL;
+    if (fseek(f, 0, SEEK_END) == 0) {
+        long len = ftell(f);
+        if (len >= 0 && len < (1L << 24) && fseek(f, 0, SEEK_SET) == 0) {
+            text = malloc((size_t)len + 1);
+            if (text) n = fread(text, 1, (size_t)len, f);
+        }
+    }
+    fclose(f);
+    if (!text) return tool_runtime_error("%s: cannot read it", path);
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(text, n, &end, 0);
+    if (!root) { /* cJSON points at where it gave up: name its line and column */
+        size_t at = end && end >= text && end <= text + n ? (size_t)(end - text) : 0;
+        int line = 1, col = 1;
+        for (size_t k = 0; k < at; k++) {
+            col = text[k] == '\n' ? 1 : col + 1;
+            line += text[k] == '\n';
+        }
+        int near = 0;
+        while (at + (size_t)near < n && near < 24 && text[at + near] != '\n' &&
+               text[at + near] != '\r')
+            near++;
+        int rc = tool_runtime_error("%s:%d:%d: malformed JSON%s%.*s%s", path, line, col,
+                                    near ? " near '" : " (it ends too soon)", near, text + at,
+                                    near ? "'" : "");
+        free(text);
+        return rc;
+    }
+    free(text);
+    if (!cJSON_IsObject(root)) {
+        cJSON_Delete(root);
+        return tool_runtime_error("%s: expected a JSON object {...} at the top", path);
+    }
+    const char *slash = strrchr(path, '/');
+    if (slash) snprintf(s->dir, sizeof s->dir, "%.*s", (int)(slash - path), path);
+    static const char *const keys[] = {
+        "name",        "description",         "maps",     "scenes",  "methods",
+        "budgets",     "reference",           "size",     "seed",    "bounces",
+        "exposure_ev", "preview_exposure_ev", "flip_hdr", "compare", NULL};
+    int rc = check_keys(root, keys, path, "");
+    const cJSON *v;
+    char base[128];
+    bench_copy_cut(base, sizeof base, slash ? slash + 1 : path);
+    char *dot = strrchr(base, '.');
+    if (dot) *dot = '\0';
+    const char *name = NULL, *description = NULL;
+    if (rc == EXIT_OK) rc = opt_string(root, "name", path, "", &name);
+    if (rc == EXIT_OK) rc = opt_string(root, "description", path, "", &description);
+    make_label(s->name, sizeof s->name, name ? name : base);
+    if (description) snprintf(s->description, sizeof s->description, "%s", description);
+
+    const cJSON *maps = cJSON_GetObjectItemCaseSensitive(root, "maps");
+    if (rc == EXIT_OK && (!cJSON_IsArray(maps) || cJSON_GetArraySize(maps) == 0))
+        rc = tool_runtime_error("%s: maps: expected a non-empty array", path);
+    int mk = 0;
+    for (const cJSON *e = maps ? maps->child : NULL; e && rc == EXIT_OK; e = e->next, mk++) {
+        char where[32];
+        snprintf(where, sizeof where, "maps[%d]", mk);
+        rc = parse_map(s, e, path, where);
+    }
+
+    const cJSON *scenes = NULL;
+    s->scenes = suite_array(root, "scenes", path, sizeof *s->scenes, &scenes, &s->nscenes, &rc);
+    for (int k = 0; rc == EXIT_OK && k < s->nscenes; k++) {
+        const cJSON *e = cJSON_GetArrayItem(scenes, k);
+        suite_scene *sc = &s->scenes[k];
+        if (!cJSON_IsString(e) || !*e->valuestring) {
+            rc = tool_runtime_error("%s: scenes[%d]: expected a built-in name or a file", path, k);
+            break;
+        }
+        int builtin = 0;
+        for (const char *const *b = lumis_scene_builtin_names(); *b; b++)
+            builtin |= strcmp(*b, e->valuestring) == 0;
+        sc->is_file = !builtin;
+        if (builtin)
+            snprintf(sc->spec, sizeof sc->spec, "%s", e->valuestring);
+        else
+            resolve(s, e->valuestring, sc->spec, sizeof sc->spec);
+        const char *b = strrchr(e->valuestring, '/');
+        char tmp[128];
+        bench_copy_cut(tmp, sizeof tmp, b ? b + 1 : e->valuestring);
+        char *d2 = builtin ? NULL : strrchr(tmp, '.');
+        if (d2) *d2 = '\0';
+        make_label(sc->label, sizeof sc->label, tmp);
+    }
+
+    const cJSON *methods = NULL;
+    s->methods =
+        suite_array(root, "methods", path, sizeof *s->methods, &methods, &s->nmethods, &rc);
+    for (int k = 0; rc == EXIT_OK && k < s->nmethods; k++) {
+        char where[32];
+        snprintf(where, sizeof where, "methods[%d]", k);
+        rc = parse_method(cJSON_GetArrayItem(methods, k), &s->methods[k], path, where);
+        for (int j = 0; rc == EXIT_OK && j < k; j++)
+            if (strcmp(s->methods[j].label, s->methods[k].label) == 0)
+                rc = tool_runtime_error("%s: methods[%d]: label '%s' is used twice (give "
+                                        "\"label\")",
+                                        path, k, s->methods[k].label);
+    }
+
+    const cJSON *budgets = NULL;
+    s->budgets =
+        suite_array(root, "budgets", path, sizeof *s->budgets, &budgets, &s->nbudgets, &rc);
+    for (int k = 0; rc == EXIT_OK && k < s->nbudgets; k++) {
+        static const char *const budget_keys[] = {"spp", "time", NULL};
+        const cJSON *e = cJSON_GetArrayItem(budgets, k);
+        char where[32];
+        snprintf(where, sizeof where, "budgets[%d]", k);
+        suite_budget *b = &s->budgets[k];
+        const int has_spp = cJSON_HasObjectItem(e, "spp"), has_t = cJSON_HasObjectItem(e, "time");
+        if (!cJSON_IsObject(e) || has_spp == has_t) {
+            rc = tool_runtime_error("%s: %s: expected {\"spp\": N} or {\"time\": SECONDS}", path,
+                                    where);
+            break;
+        }
+        rc = check_keys(e, budget_keys, path, where);
+        if (rc == EXIT_OK && has_spp) {
+            rc = opt_count(e, "spp", path, where, 1, 1 << 20, &b->spp);
+            snprintf(b->label, sizeof b->label, "spp%d", b->spp);
+        } else if (rc == EXIT_OK) {
+            rc = opt_number(e, "time", path, where, &b->seconds);
+            if (rc == EXIT_OK && !(b->seconds > 0 && b->seconds <= 86400))
+                rc = tool_runtime_error("%s: %s.time: expected seconds, over 0 and at most 86400",
+                                        path, where);
+            snprintf(b->label, sizeof b->label, "t%gs", b->seconds);
+        }
+    }
+
+    /* The reference: one method at many samples (default inversion, MIS balance). */
+    const cJSON *ref = cJSON_GetObjectItemCaseSensitive(root, "reference");
+    s->ref_spp = 1024;
+    memset(&s->reference, 0, sizeof s->reference);
+    s->reference.sampler.method = LUMIS_METHOD_INVERSION;
+    snprintf(s->reference.label, sizeof s->reference.label, "reference");
+    if (rc == EXIT_OK && ref) {
+        if (!cJSON_IsObject(ref))
+            rc = tool_runtime_error("%s: reference: expected {\"spp\": N, \"method\": ...}", path);
+        if (rc == EXIT_OK) rc = opt_count(ref, "spp", path, "reference", 1, 1 << 20, &s->ref_spp);
+        if (rc == EXIT_OK)
+            rc = cJSON_HasObjectItem(ref, "method")
+                     ? parse_method(ref, &s->reference, path, "reference")
+                     : check_keys(ref, reference_keys, path, "reference");
+    }
+    v = cJSON_GetObjectItemCaseSensitive(root, "size");
+    if (rc == EXIT_OK && v) {
+        if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != 2 ||
+            !cJSON_IsNumber(cJSON_GetArrayItem(v, 0)) || !cJSON_IsNumber(cJSON_GetArrayItem(v, 1)))
+            rc = tool_runtime_error("%s: size: expected [width, height]", path);
+        else {
+            s->width = cJSON_GetArrayItem(v, 0)->valueint;
+            s->height = cJSON_GetArrayItem(v, 1)->valueint;
+            if (s->width < 1 || s->height < 1 || s->width > 16384 || s->height > 16384)
+                rc = tool_runtime_error("%s: size: 1 to 16384 pixels each way", path);
+        }
+    }
+    double seed = 1;
+    if (rc == EXIT_OK) rc = opt_number(root, "seed", path, "", &seed);
+    if (rc == EXIT_OK && !(seed >= 0 && seed <= 9007199254740992.0 && seed == floor(seed)))
+        rc = tool_runtime_error("%s: seed: expected an integer from 0 to 2^53", path);
+    s->seed = rc == EXIT_OK ? (unsigned long long)seed : 1;
+    if (rc == EXIT_OK) rc = opt_count(root, "bounces", path, "", 0, 64, &s->bounces);
+    v = cJSON_GetObjectItemCaseSensitive(root, "exposure_ev");
+    s->exposure_ev = cJSON_IsNumber(v) ? (float)v->valuedouble : 0.0f;
+    s->exposure_auto = cJSON_IsString(v) && strcmp(v->valuestring, "auto") == 0;
+    if (rc == EXIT_OK && v && !cJSON_IsNumber(v) && !s->exposure_auto)
+        rc = tool_runtime_error("%s: exposure_ev: expected stops or \"auto\"", path);
+    v = cJSON_GetObjectItemCaseSensitive(root, "preview_exposure_ev");
+    s->preview_ev = cJSON_IsNumber(v) ? (float)v->valuedouble : s->exposure_ev;
+    s->preview_auto =
+        v ? cJSON_IsString(v) && strcmp(v->valuestring, "auto") == 0 : s->exposure_auto;
+    if (rc == EXIT_OK && v && !cJSON_IsNumber(v) && !s->preview_auto)
+        rc = tool_runtime_error("%s: preview_exposure_ev: expected stops or \"auto\"", path);
+    v = cJSON_GetObjectItemCaseSensitive(root, "flip_hdr");
+    s->flip_hdr = v ? cJSON_IsTrue(v) : 1;
+    if (rc == EXIT_OK && v && !cJSON_IsBool(v))
+        rc = tool_runtime_error("%s: flip_hdr: expected true or false", path);
+    const cJSON *cmp = cJSON_GetObjectItemCaseSensitive(root, "compare");
+    if (rc == EXIT_OK && cmp && !cJSON_IsArray(cmp))
+        rc = tool_runtime_error("%s: compare: expected an array of pairs [\"A\", \"B\"]", path);
+    for (const cJSON *e = cmp ? cmp->child : NULL; e && rc == EXIT_OK; e = e->next) {
+        if (s->ncompare == 8 || !cJSON_IsArray(e) || cJSON_GetArraySize(e) != 2 ||
+            !cJSON_IsString(cJSON_GetArrayItem(e, 0)) ||
+            !cJSON_IsString(cJSON_GetArrayItem(e, 1))) {
+            rc = tool_runtime_error("%s: compare[%d]: expected up to 8 pairs [\"A\", \"B\"] of "
+                                    "method labels",
+                                    path, s->ncompare);
+            break;
+        }
+        for (int j = 0; j < 2; j++) {
+            const char *lab = cJSON_GetArrayItem(e, j)->valuestring;
+            int found = 0;
+            for (int k = 0; k < s->nmethods; k++) found |= strcmp(s->methods[k].label, lab) == 0;
+            if (!found && rc == EXIT_OK)
+                rc = tool_runtime_error("%s: compare[%d][%d]: no method labelled '%s'", path,
+                                        s->ncompare, j, lab);
+            snprintf(s->compare[s->ncompare][j], sizeof s->compare[0][0], "%s", lab);
+        }
+        s->ncompare++;
+    }
+    /* Labels name files: two items must never share one. */
+    for (int a = 0; rc == EXIT_OK && a < s->nmaps; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->maps[a].label, s->maps[b].label) == 0)
+                rc = tool_runtime_error("%s: maps: two maps are labelled '%s' (%s and %s): list "
+                                        "each once, or give {\"map\": ..., \"label\": ...}",
+                                        path, s->maps[a].label, s->maps[b].spec, s->maps[a].spec);
+    for (int a = 0; rc == EXIT_OK && a < s->nscenes; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->scenes[a].label, s->scenes[b].label) == 0)
+                rc = tool_runtime_error("%s: scenes[%d]: another scene is also labelled '%s'", path,
+                                        a, s->scenes[a].label);
+    for (int a = 0; rc == EXIT_OK && a < s->nbudgets; a++)
+        for (int b = 0; rc == EXIT_OK && b < a; b++)
+            if (strcmp(s->budgets[a].label, s->budgets[b].label) == 0)
+                rc = tool_runtime_error("%s: budgets[%d]: the same budget as budgets[%d]", path, a,
+                                        b);
+    cJSON_Delete(root);
+    if (rc != EXIT_OK) bench_suite_free(s);
+    return rc;
+}
