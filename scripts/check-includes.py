@@ -44,6 +44,10 @@ PUBLIC = {
     "lights.h": "src/lights", "lumis.h": "src/lights",  # the core's umbrella header
     "io.h": "src/io",
     "render.h": "src/render", "bsdf.h": "src/render",
+    # render.h's parts, one per idea
+    "render_scene.h": "src/render", "render_lighting.h": "src/render",
+    "render_job.h": "src/render", "render_gbuffer.h": "src/render",
+    "render_session.h": "src/render", "render_scene_file.h": "src/render",
 }
 
 # Private headers included outside their module: (including module or file, header).  A

@@ -24,6 +24,9 @@ LIBRARIES = ("lumis", "lumis-io", "lumis-render")
 
 
 def library_of(header):
+    # render.h includes its parts, render_*.h (scene, lighting, job, ...): all the renderer's
+    if header.startswith("render_"):
+        return "lumis-render"
     return LIBRARY_OF_HEADER.get(header, "lumis")
 
 

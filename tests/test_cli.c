@@ -24,6 +24,7 @@
 #include <cJSON.h>
 #include <ctype.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -54,6 +55,52 @@ static void expect(const char *args, int code, const char *in_stderr)
         fail_msg("lumis %s: stderr lacks \"%s\": %s", args, in_stderr, err);
     free(out);
     free(err);
+}
+
+#if defined(__GNUC__) || defined(__clang__)
+#define CLI_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define CLI_PRINTF(a, b)
+#endif
+
+/* lumis with the arguments printf-style (fmt, ...): its exit code; its stdout and stderr in
+ * *out and *err when not NULL (the caller frees them). */
+static CLI_PRINTF(3, 4) int runf(char **out, char **err, const char *fmt, ...)
+{
+    char args[8192];
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= sizeof args) fail_msg("lumis %.80s...: arguments too long", args);
+    return run(args, out, err);
+}
+
+/* lumis with the arguments printf-style must exit 0 (else the test fails showing its
+ * stderr); its stdout in *out when not NULL. */
+static CLI_PRINTF(2, 3) void run_ok(char **out, const char *fmt, ...)
+{
+    char args[8192], *err = NULL;
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= sizeof args) fail_msg("lumis %.80s...: arguments too long", args);
+    const int rc = run(args, out, &err);
+    if (rc != 0) fail_msg("lumis %s: exit %d, want 0; stderr: %s", args, rc, err);
+    free(err);
+}
+
+/* expect() with the arguments printf-style. */
+static CLI_PRINTF(3, 4) void expectf(int code, const char *in_stderr, const char *fmt, ...)
+{
+    char args[8192];
+    va_list ap;
+    va_start(ap, fmt);
+    const int n = vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= sizeof args) fail_msg("lumis %.80s...: arguments too long", args);
+    expect(args, code, in_stderr);
 }
 
 /* Malformed input files: each text is written to NAME in the test folder and
@@ -146,14 +193,12 @@ static void runtime_errors_name_file_and_reason(void **state)
 {
     (void)state;
     char a[1024];
-    snprintf(a, sizeof a, "info '%s'", tu_path("missing.exr"));
-    expect(a, 1, "missing.exr: No such file or directory");
+    expectf(1, "missing.exr: No such file or directory", "info '%s'", tu_path("missing.exr"));
     tu_write_file(tu_path("text.exr"), "hello\n", 6);
-    snprintf(a, sizeof a, "info '%s'", tu_path("text.exr"));
-    expect(a, 1, "text.exr: not an EXR, Radiance HDR, PFM or PNG image");
+    expectf(1, "text.exr: not an EXR, Radiance HDR, PFM or PNG image", "info '%s'",
+            tu_path("text.exr"));
     tu_write_file(tu_path("trunc.hdr"), "#?RADIANCE\n\n-Y 9 +X 9\nAB", 24);
-    snprintf(a, sizeof a, "info '%s'", tu_path("trunc.hdr"));
-    expect(a, 1, "trunc.hdr");
+    expectf(1, "trunc.hdr", "info '%s'", tu_path("trunc.hdr"));
     snprintf(a, sizeof a, "sky --size 16x8 -o '%s/nope/sky.exr'", tu_tmpdir());
     expect(a, 2, "nope/sky.exr: the directory");
     expect("info sky:12", 1, "expected sky:WxH");
@@ -203,16 +248,13 @@ static void convert_resize_preserves_power_and_writes_every_format(void **state)
 {
     (void)state;
     char a[1024];
-    snprintf(a, sizeof a, "sky --size 256x128 --sun-elevation 20 -o '%s'", tu_path("s.exr"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "sky --size 256x128 --sun-elevation 20 -o '%s'", tu_path("s.exr"));
     cJSON *o = info_json(tu_path("s.exr"));
     double p0 = num(o, "power");
     cJSON_Delete(o);
     const char *outs[] = {"r.exr", "r.pfm", "r.hdr"};
     for (int k = 0; k < 3; k++) {
-        snprintf(a, sizeof a, "convert '%s' '%s' --resize 100x37", tu_path("s.exr"),
-                 tu_path(outs[k]));
-        expect(a, 0, NULL);
+        expectf(0, NULL, "convert '%s' '%s' --resize 100x37", tu_path("s.exr"), tu_path(outs[k]));
         o = info_json(tu_path(outs[k]));
         assert_int_equal((int)num(o, "width"), 100);
         double tol = k == 2 ? 1e-2 : 1e-5; /* RGBE keeps 8 bits */
@@ -220,9 +262,8 @@ static void convert_resize_preserves_power_and_writes_every_format(void **state)
             fail_msg("%s: %g vs %g", outs[k], num(o, "power"), p0);
         cJSON_Delete(o);
     }
-    snprintf(a, sizeof a, "convert '%s' '%s' --exposure -3 --tonemap aces", tu_path("s.exr"),
-             tu_path("r.png"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "convert '%s' '%s' --exposure -3 --tonemap aces", tu_path("s.exr"),
+            tu_path("r.png"));
     size_t n;
     unsigned char *png = tu_read_file(tu_path("r.png"), &n);
     assert_true(n > 8 && memcmp(png, "\x89PNG", 4) == 0);
@@ -430,8 +471,7 @@ static void bench_samplers_reports_every_method(void **state)
     /* Text: the columns fit a long path, the methods asked for and no others, the JSON's
      * name for the error column, and a verdict that says which wins and by how much. */
     char a[2048], *err = NULL;
-    snprintf(a, sizeof a, "sky --size 32x16 -o '%s'", tu_path("a-rather-long-map-name-here.pfm"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "sky --size 32x16 -o '%s'", tu_path("a-rather-long-map-name-here.pfm"));
     snprintf(a, sizeof a, "bench-samplers '%s' --methods inversion,kdtree --samples 500 --runs 1",
              tu_path("a-rather-long-map-name-here.pfm"));
     assert_int_equal(run(a, &out, NULL), 0);
@@ -607,15 +647,13 @@ static void render_passes_and_merge(void **state)
     char a[2048];
     for (int q = 0; q < 3; q++) {
         const char *base = "render --scene bunny-plane --env sky:64x32 --size 40x30 --spp 7";
-        snprintf(a, sizeof a, "%s --sequence %s --threads 2 -o '%s'", base, seqs[q],
-                 tu_path("whole.exr"));
-        expect(a, 0, "rendered 40x30");
+        expectf(0, "rendered 40x30", "%s --sequence %s --threads 2 -o '%s'", base, seqs[q],
+                tu_path("whole.exr"));
         for (int i = 0; i < 3; i++) {
             char name[32];
             snprintf(name, sizeof name, "share%d.exr", i);
-            snprintf(a, sizeof a, "%s --sequence %s --passes %d/3 --threads 1 -o '%s'", base,
-                     seqs[q], i, tu_path(name));
-            expect(a, 0, "rendered 40x30");
+            expectf(0, "rendered 40x30", "%s --sequence %s --passes %d/3 --threads 1 -o '%s'", base,
+                    seqs[q], i, tu_path(name));
         }
         cJSON *j = read_json("share1.json");
         const cJSON *sh = item(j, "share");
@@ -641,20 +679,15 @@ static void render_passes_and_merge(void **state)
              "--passes 1/3 --seed 9 -o '%s'",
              tu_path("other.exr"));
     expect(a, 0, "rendered 40x30");
-    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
-             tu_path("other.exr"), tu_path("share2.exr"), tu_path("m.exr"));
-    expect(a, 1, "differ in \"seed\"");
-    snprintf(a, sizeof a, "merge '%s' '%s' -o '%s'", tu_path("share0.exr"), tu_path("share2.exr"),
-             tu_path("m.exr"));
-    expect(a, 1, "missing: 1");
-    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
-             tu_path("share0.exr"), tu_path("share1.exr"), tu_path("m.exr"));
-    expect(a, 1, "given twice");
-    snprintf(a, sizeof a, "merge '%s' -o '%s'", tu_path("whole.exr"), tu_path("m.exr"));
-    expect(a, 1, "is not a share");
-    snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
-             tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.exr"));
-    expect(a, 2, "would replace");
+    expectf(1, "differ in \"seed\"", "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+            tu_path("other.exr"), tu_path("share2.exr"), tu_path("m.exr"));
+    expectf(1, "missing: 1", "merge '%s' '%s' -o '%s'", tu_path("share0.exr"),
+            tu_path("share2.exr"), tu_path("m.exr"));
+    expectf(1, "given twice", "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+            tu_path("share0.exr"), tu_path("share1.exr"), tu_path("m.exr"));
+    expectf(1, "is not a share", "merge '%s' -o '%s'", tu_path("whole.exr"), tu_path("m.exr"));
+    expectf(2, "would replace", "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
+            tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.exr"));
     /* the default sidecar of -o share1.pfm is share 1's own */
     snprintf(a, sizeof a, "merge '%s' '%s' '%s' -o '%s'", tu_path("share0.exr"),
              tu_path("share1.exr"), tu_path("share2.exr"), tu_path("share1.pfm"));
@@ -719,8 +752,7 @@ static void merged_shares_equal_one_render_for_every_light_kind(void **state)
         char args[2048];
         snprintf(args, sizeof args, "render %s --sequence %s --size 16x12 --spp 40 --quiet",
                  modes[m], seqs[m % 6]);
-        snprintf(a, sizeof a, "%s --threads 2 -o '%s/whole.exr'", args, dir);
-        expect(a, 0, NULL);
+        expectf(0, NULL, "%s --threads 2 -o '%s/whole.exr'", args, dir);
         /* shadow maps (256x256 per cell, built by every share): 2, 3 and 7 shares only */
         const size_t nsplits = strstr(modes[m], "shadowmap") ? 3 : sizeof splits / sizeof *splits;
         for (size_t s = 0; s < nsplits; s++) {
@@ -1032,27 +1064,24 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
     /* Through a symbolic link, and as an explicit --sidecar. */
     snprintf(a, sizeof a, "ln -sf '%s' '%s'", tu_path("io-scene.json"), tu_path("io-link.json"));
     assert_int_equal(system(a), 0);
-    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("io-scene.json"),
-             tu_path("io-r.exr"), tu_path("io-link.json"));
-    expect(a, 2, "io-link.json would replace the scene file");
+    expectf(2, "io-link.json would replace the scene file",
+            "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("io-scene.json"),
+            tu_path("io-r.exr"), tu_path("io-link.json"));
     /* The map, and the outputs among themselves. */
-    snprintf(a, sizeof a, "sky --size 16x8 -o '%s'", tu_path("io-sky.exr"));
-    expect(a, 0, NULL);
-    snprintf(a, sizeof a, "render --scene spheres --env '%s' --spp 1 -o '%s'",
-             tu_path("io-sky.exr"), tu_path("io-sky.exr"));
-    expect(a, 2, "would replace the environment map");
-    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --spp 1 -o '%s' --sidecar '%s'",
-             tu_path("io-r.exr"), tu_path("io-r.exr"));
-    expect(a, 2, "are the same file");
-    snprintf(a, sizeof a, "convert '%s' '%s'", tu_path("io-sky.exr"), tu_path("io-sky.exr"));
-    expect(a, 2, "would replace the input");
-    snprintf(a, sizeof a, "compare '%s' '%s' --diff '%s'", tu_path("io-sky.exr"),
-             tu_path("io-sky.exr"), tu_path("io-sky.exr"));
-    expect(a, 2, "would replace the reference");
+    expectf(0, NULL, "sky --size 16x8 -o '%s'", tu_path("io-sky.exr"));
+    expectf(2, "would replace the environment map",
+            "render --scene spheres --env '%s' --spp 1 -o '%s'", tu_path("io-sky.exr"),
+            tu_path("io-sky.exr"));
+    expectf(2, "are the same file",
+            "render --scene spheres --env sky:16x8 --spp 1 -o '%s' --sidecar '%s'",
+            tu_path("io-r.exr"), tu_path("io-r.exr"));
+    expectf(2, "would replace the input", "convert '%s' '%s'", tu_path("io-sky.exr"),
+            tu_path("io-sky.exr"));
+    expectf(2, "would replace the reference", "compare '%s' '%s' --diff '%s'",
+            tu_path("io-sky.exr"), tu_path("io-sky.exr"), tu_path("io-sky.exr"));
     /* Formats and folders, before the work. */
-    snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --spp 1 -o '%s'",
-             tu_path("io-r.jpg"));
-    expect(a, 2, "unknown extension (use .exr, .hdr or .pfm)");
+    expectf(2, "unknown extension (use .exr, .hdr or .pfm)",
+            "render --scene spheres --env sky:16x8 --spp 1 -o '%s'", tu_path("io-r.jpg"));
     expect("render --scene spheres --env sky:16x8 --spp 1 -o /nonexistent/r.exr", 2,
            "the directory /nonexistent does not exist");
     snprintf(a, sizeof a,
@@ -1067,9 +1096,8 @@ static void outputs_never_replace_inputs_and_are_checked_first(void **state)
     expect("studio -o studio.txt", 2, "unknown extension");
     /* A sidecar replaces only a sidecar: `lights --json mylights.json` then `render -o
      * mylights.exr` once replaced the light list, exit 0, no message. */
-    snprintf(a, sizeof a, "lights sky:32x16 --method median-cut -k 2 --json '%s'",
-             tu_path("io-mine.json"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "lights sky:32x16 --method median-cut -k 2 --json '%s'",
+            tu_path("io-mine.json"));
     size_t n0 = 0, n1 = 0;
     unsigned char *before = tu_read_file(tu_path("io-mine.json"), &n0);
     snprintf(a, sizeof a, "render --scene spheres --env sky:16x8 --size 8x6 --spp 1 -o '%s'",
@@ -1444,8 +1472,8 @@ static void luminaire_files_create_info_render(void **state)
     (void)state;
     char a[2048], man[512]; /* tu_path's buffer is reused by the next call: a copy */
     snprintf(man, sizeof man, "%s", tu_path("small-lum.json"));
-    snprintf(a, sizeof a, "luminaire create '%s' --preset small --format pfm", man);
-    expect(a, 0, "acquired 20 images of 24 x 20");
+    expectf(0, "acquired 20 images of 24 x 20", "luminaire create '%s' --preset small --format pfm",
+            man);
     snprintf(a, sizeof a, "luminaire info '%s' --json", man);
     char *out = NULL, *err = NULL;
     assert_int_equal(run(a, &out, &err), 0);
@@ -1458,9 +1486,9 @@ static void luminaire_files_create_info_render(void **state)
     cJSON_Delete(j);
     free(out);
     free(err);
-    snprintf(a, sizeof a, "luminaire render '%s' --spp 1 --size 16x10 --lum-budget 4 -o '%s'", man,
-             tu_path("lr.exr"));
-    expect(a, 0, "1 luminaire: restricted, K = 4");
+    expectf(0, "1 luminaire: restricted, K = 4",
+            "luminaire render '%s' --spp 1 --size 16x10 --lum-budget 4 -o '%s'", man,
+            tu_path("lr.exr"));
     /* A scene file placing it twice (read once), in metres. */
     char scene[2048];
     snprintf(scene, sizeof scene,
@@ -1485,15 +1513,15 @@ static void luminaire_files_create_info_render(void **state)
         "\"material\": {\"type\": \"lambert\"}}], "
         "\"luminaires\": [{\"file\": \"small-lum.json\", \"intensity\": 0}]}";
     tu_write_file(tu_path("black-scene.json"), black, sizeof black - 1);
-    snprintf(a, sizeof a, "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("black-scene.json"),
-             tu_path("black.exr"));
-    expect(a, 1, "every luminaire of the scene has intensity 0");
+    expectf(1, "every luminaire of the scene has intensity 0",
+            "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("black-scene.json"),
+            tu_path("black.exr"));
     char with_map[2200];
     snprintf(with_map, sizeof with_map, "{\"environment\": {\"map\": \"sky:16x8\"}, %s", scene + 1);
     tu_write_file(tu_path("lum-map-scene.json"), with_map, strlen(with_map));
-    snprintf(a, sizeof a, "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("lum-map-scene.json"),
-             tu_path("lm.exr"));
-    expect(a, 0, "the scene's environment (sky:16x8) is ignored");
+    expectf(0, "the scene's environment (sky:16x8) is ignored",
+            "render '%s' --spp 1 --size 8x6 -o '%s'", tu_path("lum-map-scene.json"),
+            tu_path("lm.exr"));
     /* Its manifest is an input: no output may replace it. */
     snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s' --sidecar '%s'", tu_path("lum-scene.json"),
              tu_path("ls3.exr"), man);
@@ -1502,11 +1530,11 @@ static void luminaire_files_create_info_render(void **state)
      * scene file or from --luminaire (an image's name as the manifest writes it). */
     char img[512];
     snprintf(img, sizeof img, "%s", tu_path("small-lum.images/a002_b001.pfm"));
-    snprintf(a, sizeof a, "render '%s' --spp 1 -o '%s'", tu_path("lum-scene.json"), img);
-    expect(a, 2, "would replace the luminaire image");
-    snprintf(a, sizeof a, "render --scene headlight --luminaire '%s' --spp 1 -o '%s'",
-             tu_path("small-lum.json"), img);
-    expect(a, 2, "would replace the luminaire image");
+    expectf(2, "would replace the luminaire image", "render '%s' --spp 1 -o '%s'",
+            tu_path("lum-scene.json"), img);
+    expectf(2, "would replace the luminaire image",
+            "render --scene headlight --luminaire '%s' --spp 1 -o '%s'", tu_path("small-lum.json"),
+            img);
     /* Bad fields and files. */
     static const bad_file bad[] = {
         {"{\"objects\": [], \"luminaires\": 3}", "luminaires"},
@@ -1680,8 +1708,7 @@ static void lights_export_parses_back(void **state)
     free(out);
     /* --above-ground: the sky's lights below the horizon go into the nearest above; the
      * total power stays, the folded share is printed and the files record it. */
-    snprintf(a, sizeof a, "lights sky:64x32 -k 16 --json '%s'", tu_path("ag0.json"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "lights sky:64x32 -k 16 --json '%s'", tu_path("ag0.json"));
     snprintf(a, sizeof a, "lights sky:64x32 -k 16 --above-ground --json '%s'", tu_path("ag1.json"));
     assert_int_equal(run(a, &out, NULL), 0);
     assert_non_null(strstr(out, "lights below the horizon folded into the nearest above"));
@@ -1875,9 +1902,8 @@ static void lights_picture_marks_emissive_pixels(void **state)
     lumis_image *map = tu_image(128, 64, two_spots);
     assert_int_equal(lumis_image_write(tu_path("spots.pfm"), map, NULL), LUMIS_OK);
     lumis_image_destroy(map);
-    snprintf(a, sizeof a, "lights '%s' --method wu -k 2 --png '%s'", tu_path("spots.pfm"),
-             tu_path("spots.png"));
-    assert_int_equal(run(a, &out, NULL), 0);
+    run_ok(&out, "lights '%s' --method wu -k 2 --png '%s'", tu_path("spots.pfm"),
+           tu_path("spots.png"));
     assert_non_null(strstr(out, "1 EnvDirects, 1 EnvIndirects"));
     assert_non_null(strstr(out, "emissive pixels 68 "));
     assert_non_null(strstr(out, "32 given back to the EnvIndirects"));
@@ -1922,18 +1948,15 @@ static void replaced_values_are_reported(void **state)
     /* PFM's first row is the bottom one: value 7 is pixel (2, 3) */
     const char *warn = "3 channel values replaced by 0 (NaN 1, Inf 1, negative 1, the worst -2 at "
                        "pixel (2, 3)";
-    snprintf(a, sizeof a, "render --scene spheres --env '%s' --size 8x6 --spp 1 --quiet -o '%s'", m,
-             tu_path("nan-r.exr"));
-    expect(a, 0, warn);
+    expectf(0, warn, "render --scene spheres --env '%s' --size 8x6 --spp 1 --quiet -o '%s'", m,
+            tu_path("nan-r.exr"));
     cJSON *j = read_json("nan-r.json");
     const cJSON *e = item(j, "environment");
     assert_true(num(e, "replaced") == 3 && num(e, "replaced_nan") == 1 &&
                 num(e, "replaced_inf") == 1 && num(e, "replaced_negative") == 1);
     cJSON_Delete(j);
-    snprintf(a, sizeof a, "lights '%s' --method median-cut -k 2", m);
-    expect(a, 0, warn);
-    snprintf(a, sizeof a, "sample '%s' --method alias -n 1", m);
-    expect(a, 0, warn);
+    expectf(0, warn, "lights '%s' --method median-cut -k 2", m);
+    expectf(0, warn, "sample '%s' --method alias -n 1", m);
     snprintf(a, sizeof a, "compare '%s' '%s' --json", m, m);
     char *out = NULL, *err = NULL;
     assert_int_equal(run(a, &out, &err), 0);
@@ -1955,8 +1978,7 @@ static void replaced_values_are_reported(void **state)
     tu_write_file(tu_path("nan-suite.json"), suite, strlen(suite));
     char dir[512];
     snprintf(dir, sizeof dir, "%s", tu_path("nan-bench"));
-    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("nan-suite.json"), dir);
-    expect(a, 0, warn);
+    expectf(0, warn, "bench '%s' --out '%s'", tu_path("nan-suite.json"), dir);
     snprintf(a, sizeof a, "%s/renders/nan__spheres__alias__spp1.json", dir);
     size_t n = 0;
     char *side = (char *)tu_read_file(a, &n);
@@ -2024,14 +2046,11 @@ static void compare_prints_every_metric(void **state)
     (void)state;
     char a[2048], *out = NULL;
     const char *base = "render --scene spheres --env sky:64x32 --size 48x20 --quiet --no-sidecar";
-    snprintf(a, sizeof a, "%s --spp 1 -o '%s'", base, tu_path("c1.exr"));
-    expect(a, 0, NULL);
-    snprintf(a, sizeof a, "%s --spp 16 -o '%s' --png '%s' --exposure -4", base, tu_path("c16.exr"),
-             tu_path("c16.png"));
-    expect(a, 0, NULL);
-    snprintf(a, sizeof a, "compare '%s' '%s' --json --exposure -4 --map '%s' --diff '%s'",
-             tu_path("c16.exr"), tu_path("c1.exr"), tu_path("map.png"), tu_path("diff.exr"));
-    assert_int_equal(run(a, &out, NULL), 0);
+    expectf(0, NULL, "%s --spp 1 -o '%s'", base, tu_path("c1.exr"));
+    expectf(0, NULL, "%s --spp 16 -o '%s' --png '%s' --exposure -4", base, tu_path("c16.exr"),
+            tu_path("c16.png"));
+    run_ok(&out, "compare '%s' '%s' --json --exposure -4 --map '%s' --diff '%s'",
+           tu_path("c16.exr"), tu_path("c1.exr"), tu_path("map.png"), tu_path("diff.exr"));
     cJSON *j = cJSON_Parse(out);
     free(out);
     assert_non_null(j);
@@ -2057,9 +2076,8 @@ static void compare_prints_every_metric(void **state)
     cJSON_Delete(j);
     /* PNG inputs are decoded from sRGB to linear values in [0, 1]: two previews of the
      * same scene differ a little, and no value exceeds 1. */
-    snprintf(a, sizeof a, "%s --spp 1 -o '%s' --png '%s' --exposure -4", base, tu_path("c1b.exr"),
-             tu_path("c1.png"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "%s --spp 1 -o '%s' --png '%s' --exposure -4", base, tu_path("c1b.exr"),
+            tu_path("c1.png"));
     snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("c16.png"),
              tu_path("c1.png"));
     assert_int_equal(run(a, &out, NULL), 0);
@@ -2071,18 +2089,15 @@ static void compare_prints_every_metric(void **state)
     cJSON_Delete(j);
     /* The default exposure is auto (as the bench's): the reference's mean luminance to 0.18,
      * where EV 0 clamps a render under the sky almost everywhere; that warns. */
-    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip", tu_path("c16.exr"),
-             tu_path("c1.exr"));
-    assert_int_equal(run(a, &out, NULL), 0);
+    run_ok(&out, "compare '%s' '%s' --json --no-hdr-flip", tu_path("c16.exr"), tu_path("c1.exr"));
     j = cJSON_Parse(out);
     free(out);
     assert_true(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(j, "exposure_auto")));
     const double auto_ev = num(j, "exposure_ev"), auto_lab = num(j, "lab_delta_e");
     assert_true(auto_ev < -2 && num(j, "clamped_fraction") < 0.05);
     cJSON_Delete(j);
-    snprintf(a, sizeof a, "compare '%s' '%s' --json --no-hdr-flip --exposure auto",
-             tu_path("c16.exr"), tu_path("c1.exr"));
-    assert_int_equal(run(a, &out, NULL), 0);
+    run_ok(&out, "compare '%s' '%s' --json --no-hdr-flip --exposure auto", tu_path("c16.exr"),
+           tu_path("c1.exr"));
     j = cJSON_Parse(out);
     free(out);
     assert_true(num(j, "exposure_ev") == auto_ev && num(j, "lab_delta_e") == auto_lab);
@@ -2414,8 +2429,7 @@ static void bench_convergence_at_equal_time(void **state)
     char dir[512], a[4096], p[4096];
     snprintf(dir, sizeof dir, "%s", tu_path("bconv"));
     tu_write_file(tu_path("conv.json"), suite, sizeof suite - 1);
-    snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("conv.json"), dir);
-    expect(a, 0, "16 of 16 items");
+    expectf(0, "16 of 16 items", "bench '%s' --out '%s' --threads 1", tu_path("conv.json"), dir);
     assert_int_equal(tu_count_entries(dir, "convergence-all.svg"), 1);
     /* Hand-made errors (set_convergence_errors), x = t / 0.05 s (the budgets are listed out
      * of order), alias's left out at 0.2 s on bunny-plane: the crossing at 0.05 2^(4/3) s. */
@@ -2675,8 +2689,7 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     assert_non_null(strstr(err, "loaded 0 maps ("));
     free(err);
     /* A map file serving two maps (rotated, relabelled) is read once for every item. */
-    snprintf(a, sizeof a, "sky --size 16x8 -o '%s'", tu_path("m.exr"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "sky --size 16x8 -o '%s'", tu_path("m.exr"));
     static const char twice[] =
         "{\"maps\": [\"m.exr\", {\"map\": \"m.exr\", \"rotation_deg\": 90, \"label\": "
         "\"m-rot\"}], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": \"alias\"}], "
@@ -2690,19 +2703,17 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     for (int s = 0; s < 2; s++) {
         char dir[32];
         snprintf(dir, sizeof dir, "shard%d", s);
-        snprintf(a, sizeof a, "bench '%s' --out '%s' --shard %d/2", suite, tu_path(dir), s);
-        assert_int_equal(run(a, NULL, &err), 0);
+        assert_int_equal(
+            runf(NULL, &err, "bench '%s' --out '%s' --shard %d/2", suite, tu_path(dir), s), 0);
         assert_non_null(strstr(err, "9 in this shard"));
         free(err);
     }
-    snprintf(a, sizeof a, "bench '%s' --out '%s' --merge '%s' '%s'", suite, tu_path("merged"),
-             tu_path("shard0"), tu_path("shard1"));
-    expect(a, 0, "18 of 18 items");
+    expectf(0, "18 of 18 items", "bench '%s' --out '%s' --merge '%s' '%s'", suite,
+            tu_path("merged"), tu_path("shard0"), tu_path("shard1"));
     snprintf(p, sizeof p, "%s/results.csv", tu_path("merged"));
     assert_int_equal(count_lines(p), 19);
     /* One shard alone reports itself incomplete. */
-    snprintf(a, sizeof a, "bench '%s' --out '%s' --report-only", suite, tu_path("shard0"));
-    expect(a, 0, "9 of 18 items");
+    expectf(0, "9 of 18 items", "bench '%s' --out '%s' --report-only", suite, tu_path("shard0"));
     /* Parallel jobs (forked after nothing threaded ran in the parent), each with two
      * threads: the run finishes and matches the serial one's item count. */
     snprintf(a, sizeof a, "timeout 300 '%s' bench '%s' --out '%s' --jobs 2 --threads 2", LUMIS_CLI,
@@ -2770,8 +2781,8 @@ static void bench_runs_resumes_shards_and_reports(void **state)
     snprintf(a, sizeof a, "bench '%s' --shard 3/2", suite);
     expect(a, 2, "--shard needs I/N");
     /* --out is a folder: never an existing file, least of all the suite. */
-    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("twice.json"));
-    expect(a, 2, "is the suite file");
+    expectf(2, "is the suite file", "bench '%s' --out '%s'", tu_path("twice.json"),
+            tu_path("twice.json"));
     snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("twice.json"), tu_path("m.exr"));
     expect(a, 2, "is not a directory");
     /* The page opens in headless Chromium and renders to a screenshot. */
@@ -2842,8 +2853,8 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     char sd[1024];
     snprintf(sd, sizeof sd, "%s/slurm", d);
     /* The plan: 2 references in 2 shares each, 3 items tasks (8 items, round robin). */
-    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
-    expect(a, 0, "4 reference shares in 2 references, 3 of 3 items tasks (8 of 8 items left)");
+    expectf(0, "4 reference shares in 2 references, 3 of 3 items tasks (8 of 8 items left)",
+            "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
     expect_in(sd, "submit.sh", "refs=$(job --array=0-3 ");
     expect_in(sd, "submit.sh", "--dependency=afterany:$refs ");
     expect_in(sd, "submit.sh",
@@ -2866,36 +2877,31 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     free(out);
     free(err);
     /* Items before their references: an error, nothing rendered. */
-    snprintf(a, sizeof a, "%s --shard 0/3 --items-only", s);
-    expect(a, 1, "is missing or does not read: render the references first");
+    expectf(1, "is missing or does not read: render the references first",
+            "%s --shard 0/3 --items-only", s);
     /* Three of the four reference shares; the merge joins the complete one and names the
      * missing share of the other. */
     for (int t = 0; t < 3; t++) {
-        snprintf(a, sizeof a, "%s --reference-task %d --reference-passes 2", s, t);
-        expect(a, 0, "of 16 spp ...");
+        expectf(0, "of 16 spp ...", "%s --reference-task %d --reference-passes 2", s, t);
     }
-    snprintf(a, sizeof a, "%s --reference-task 0 --reference-passes 2", s);
-    expect(a, 0, "share 0 of 2 done before");
+    expectf(0, "share 0 of 2 done before", "%s --reference-task 0 --reference-passes 2", s);
     snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
     expect(a, 1, "the reference of studio-16x8 / spheres lacks its shares 1 of 2");
     expect(a, 1, "merged 0 references"); /* sky's is done: not merged again */
-    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
-    expect(a, 0, "1 reference share in 1 reference, 3 of 3 items tasks");
+    expectf(0, "1 reference share in 1 reference, 3 of 3 items tasks",
+            "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
     expect_in(sd, "submit.sh", "refs=$(job --array=3 ");
-    snprintf(a, sizeof a, "%s --reference-task 3 --reference-passes 2", s);
-    expect(a, 0, "share 1 of 2 of 16 spp");
-    snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
-    expect(a, 0, "studio-16x8 / spheres: merged its 2 shares");
+    expectf(0, "share 1 of 2 of 16 spp", "%s --reference-task 3 --reference-passes 2", s);
+    expectf(0, "studio-16x8 / spheres: merged its 2 shares",
+            "%s --merge-references --reference-passes 2", s);
     char parts[1024];
     snprintf(parts, sizeof parts, "%s/refs/parts", d);
     assert_int_equal(tu_count_entries(parts, ".exr"), 0); /* the merged reference has them */
-    snprintf(a, sizeof a, "%s --reference-task 0 --reference-passes 2", s);
-    expect(a, 0, "done or not needed");
+    expectf(0, "done or not needed", "%s --reference-task 0 --reference-passes 2", s);
     /* Two of the three items tasks; the third is "killed": the report job's run lists it
      * and fails. */
     for (int t = 0; t < 2; t++) {
-        snprintf(a, sizeof a, "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
-        expect(a, 0, "done\n");
+        expectf(0, "done\n", "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
     }
     snprintf(a, sizeof a, "%s --report-only --tasks 3 --reference-passes 2", s);
     expect(a, 1, "items task 2 of 3: 2 of its 2 items not done");
@@ -2917,28 +2923,23 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     free(r0);
     snprintf(refpath, sizeof refpath, "%s/refs/%s.exr", d, key);
     tu_write_file(refpath, "v/1\x01", 4); /* an EXR's magic, and nothing else */
-    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
-    expect(a, 0, "2 reference shares in 1 reference, 2 of 3 items tasks (3 of 8 items left)");
+    expectf(0, "2 reference shares in 1 reference, 2 of 3 items tasks (3 of 8 items left)",
+            "%s --slurm --no-submit --tasks 3 --reference-passes 2", s);
     expect_in(sd, "submit.sh", "--array=0,2 ");
     expect_in(sd, "submit.sh", "refs=$(job --array=0-1 ");
     for (int t = 0; t < 2; t++) {
-        snprintf(a, sizeof a, "%s --reference-task %d --reference-passes 2", s, t);
-        expect(a, 0, NULL);
+        expectf(0, NULL, "%s --reference-task %d --reference-passes 2", s, t);
     }
-    snprintf(a, sizeof a, "%s --merge-references --reference-passes 2", s);
-    expect(a, 0, "merged 1 reference");
+    expectf(0, "merged 1 reference", "%s --merge-references --reference-passes 2", s);
     for (int t = 0; t < 3; t += 2) {
-        snprintf(a, sizeof a, "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
-        expect(a, 0, NULL);
+        expectf(0, NULL, "%s --shard %d/3 --items-only --jobs 1 --threads 1", s, t);
     }
-    snprintf(a, sizeof a, "%s --report-only --tasks 3 --reference-passes 2", s);
-    expect(a, 0, "all 8 items done");
-    snprintf(a, sizeof a, "%s --slurm --no-submit --tasks 3", s);
-    expect(a, 0, "every item is done: nothing submitted");
+    expectf(0, "all 8 items done", "%s --report-only --tasks 3 --reference-passes 2", s);
+    expectf(0, "every item is done: nothing submitted", "%s --slurm --no-submit --tasks 3", s);
     /* The same suite on one machine: the same renders (equal samples are deterministic),
      * and references equal up to float rounding. */
-    snprintf(a, sizeof a, "bench '%s' --out '%s' --threads 1", tu_path("cl.json"), tu_path("cl1"));
-    expect(a, 0, "8 of 8 items");
+    expectf(0, "8 of 8 items", "bench '%s' --out '%s' --threads 1", tu_path("cl.json"),
+            tu_path("cl1"));
     static const char *const ids[] = {"sky-16x8__spheres__inversion__spp4",
                                       "studio-16x8__spheres__bsdf__spp1"};
     for (int k = 0; k < 2; k++) {
@@ -2956,8 +2957,7 @@ static void bench_runs_as_slurm_job_arrays(void **state)
     char ra[1024], rb[1024];
     snprintf(ra, sizeof ra, "%s/refs/%s.exr", tu_path("cl1"), key);
     snprintf(rb, sizeof rb, "%s/refs/%s.exr", d, key);
-    snprintf(a, sizeof a, "compare '%s' '%s' --json", ra, rb);
-    assert_int_equal(run(a, &out, &err), 0);
+    assert_int_equal(runf(&out, &err, "compare '%s' '%s' --json", ra, rb), 0);
     cJSON *j = cJSON_Parse(out);
     const cJSON *rel = cJSON_GetObjectItemCaseSensitive(j, "relmse");
     assert_true(cJSON_IsNumber(rel) && rel->valuedouble < 1e-10);
@@ -2991,8 +2991,7 @@ static void bench_runs_as_slurm_job_arrays(void **state)
         {"--tasks 2", "--tasks: only with --slurm or --report-only"},
     };
     for (size_t k = 0; k < sizeof usage / sizeof usage[0]; k++) {
-        snprintf(a, sizeof a, "%s %s", s, usage[k][0]);
-        expect(a, 2, usage[k][1]);
+        expectf(2, usage[k][1], "%s %s", s, usage[k][0]);
     }
     snprintf(a, sizeof a, "%s --reference-task 4 --reference-passes 2", s);
     expect(a, 1, "tasks 0 to 3");
@@ -3362,8 +3361,7 @@ static void info_reads_photometric_files(void **state)
     memcpy(lum + 12, "a<b&c\"d", 8);
     tu_write_file(tu_path("markup.ies"), spot, tn);
     free(spot);
-    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("markup.ies"), tu_path("markup.svg"));
-    expect(a, 0, NULL);
+    expectf(0, NULL, "info '%s' --svg '%s'", tu_path("markup.ies"), tu_path("markup.svg"));
     svg = (char *)tu_read_file(tu_path("markup.svg"), &svg_n);
     assert_non_null(strstr(svg, ">a&lt;b&amp;c&quot;d"));
     free(svg);
@@ -3451,8 +3449,7 @@ static void info_reads_photometric_files(void **state)
     text = pg_ies(&fl, &n);
     tu_write_file(tu_path("flood.ies"), text, n);
     free(text);
-    snprintf(a, sizeof a, "info '%s'", tu_path("flood.ies"));
-    assert_int_equal(run(a, &out, &err), 0);
+    assert_int_equal(runf(&out, &err, "info '%s'", tu_path("flood.ies")), 0);
     assert_non_null(strstr(out, "front: 100.0 % of the flux"));
     assert_null(strstr(out, "downward"));
     assert_null(strstr(out, "BUG"));
@@ -3475,13 +3472,10 @@ static void info_reads_photometric_files(void **state)
     /* errors: the line and the field; the plot never replaces the file */
     tu_write_file(tu_path("bad.ies"),
                   "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 2 1 1 2 0 0 0\n1 1 0\n0 -5\n", 61);
-    snprintf(a, sizeof a, "info '%s'", tu_path("bad.ies"));
-    expect(a, 1, "bad.ies:5: the vertical angles: -5 after 0");
-    snprintf(a, sizeof a, "info '%s' --svg '%s'", tu_path("spot.ies"), tu_path("spot.ies"));
-    expect(a, 2, NULL);
-    snprintf(a, sizeof a, "info '%s' --svg '%s'", LUMIS_SOURCE_DIR "/tests/data/grey-y.exr",
-             tu_path("x.svg"));
-    expect(a, 2, "--svg: only for a photometric file");
+    expectf(1, "bad.ies:5: the vertical angles: -5 after 0", "info '%s'", tu_path("bad.ies"));
+    expectf(2, NULL, "info '%s' --svg '%s'", tu_path("spot.ies"), tu_path("spot.ies"));
+    expectf(2, "--svg: only for a photometric file", "info '%s' --svg '%s'",
+            LUMIS_SOURCE_DIR "/tests/data/grey-y.exr", tu_path("x.svg"));
     /* luminaire create --from: the opening's light field, read back; its errors */
     snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --grid 5x5 --size 32x32 --delta 0.1",
              tu_path("spot-lf.json"), tu_path("spot.ies"));
@@ -3533,9 +3527,9 @@ static void info_reads_photometric_files(void **state)
                                    {"uniform", "bands-u.exr"}};
     lumis_image *bimg[3] = {NULL, NULL, NULL};
     for (int k = 0; k < 3; k++) {
-        snprintf(a, sizeof a, "render '%s' --sequence pcg --spp 2 --lum-strategy %s -o '%s'",
-                 tu_path("bands.json"), band_runs[k][0], tu_path(band_runs[k][1]));
-        expect(a, 0, k == 0 ? "auto: restricted to " : NULL);
+        expectf(0, k == 0 ? "auto: restricted to " : NULL,
+                "render '%s' --sequence pcg --spp 2 --lum-strategy %s -o '%s'",
+                tu_path("bands.json"), band_runs[k][0], tu_path(band_runs[k][1]));
         assert_int_equal(lumis_image_read(tu_path(band_runs[k][1]), NULL, &bimg[k], NULL),
                          LUMIS_OK);
     }
@@ -3555,14 +3549,12 @@ static void info_reads_photometric_files(void **state)
     assert_string_equal(cJSON_GetStringValue(item(bl, "chosen_budgets")), "32+32");
     assert_true(num(bl, "band_gain") > 1.1);
     cJSON_Delete(bj);
-    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --preset car", tu_path("y.json"),
-             tu_path("spot.ies"));
-    expect(a, 2, "--from and --preset: one or the other");
-    snprintf(a, sizeof a, "luminaire create '%s' --grid 3x3", tu_path("y.json"));
-    expect(a, 2, "only with --from");
-    snprintf(a, sizeof a, "luminaire create '%s' --from '%s' --max-angle 95", tu_path("y.json"),
-             tu_path("spot.ies"));
-    expect(a, 2, "--max-angle");
+    expectf(2, "--from and --preset: one or the other",
+            "luminaire create '%s' --from '%s' --preset car", tu_path("y.json"),
+            tu_path("spot.ies"));
+    expectf(2, "only with --from", "luminaire create '%s' --grid 3x3", tu_path("y.json"));
+    expectf(2, "--max-angle", "luminaire create '%s' --from '%s' --max-angle 95", tu_path("y.json"),
+            tu_path("spot.ies"));
     pg_ies_spec pt = {PG_SPOT, 10, "IESNA:LM-63-2002", 1, 10, 0, 90, 1, 0, 0, 0, 0, 0, 0, 0, 2};
     text = pg_ies(&pt, &n);
     tu_write_file(tu_path("point.ies"), text, n);
@@ -3594,10 +3586,9 @@ static void render_places_photometric_fixtures(void **state)
     tu_write_file(tu_path("fx.json"), scene, strlen(scene));
     char a[4096], *out = NULL, *err = NULL;
     /* -o fx.exr: its sidecar fx.json would replace the scene: refused before any work */
-    snprintf(a, sizeof a, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("fx.exr"));
-    expect(a, 2, NULL);
-    snprintf(a, sizeof a, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("lit.exr"));
-    assert_int_equal(run(a, &out, &err), 0);
+    expectf(2, NULL, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("fx.exr"));
+    assert_int_equal(
+        runf(&out, &err, "render '%s' --spp 2 -o '%s'", tu_path("fx.json"), tu_path("lit.exr")), 0);
     assert_non_null(strstr(err, "the scene's environment (sky:16x8) is ignored"));
     assert_non_null(strstr(err, "2 photometric fixtures"));
     free(out);
@@ -3629,8 +3620,8 @@ static void render_places_photometric_fixtures(void **state)
     for (int k = 0; k < 3 * img->width * img->height; k++) sum += img->pixels[k];
     assert_true(sum > 0);
     lumis_image_destroy(img);
-    snprintf(a, sizeof a, "render '%s' --env sky -o '%s'", tu_path("fx.json"), tu_path("x.exr"));
-    expect(a, 2, "lighting.env: does not apply: the scene is lit by photometric fixtures");
+    expectf(2, "lighting.env: does not apply: the scene is lit by photometric fixtures",
+            "render '%s' --env sky -o '%s'", tu_path("fx.json"), tu_path("x.exr"));
     snprintf(a, sizeof a, "render '%s' -o '%s'", tu_path("fx.json"), tu_path("fx.ies"));
     expect(a, 2, NULL);
     /* --fixture: one fixture lights a built-in scene instead of its map */

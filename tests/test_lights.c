@@ -40,7 +40,8 @@
  *     (every_method_conserves_power)
  * lumis_lights_by_name — consistency: bit for bit the method's own call; unknown names refused
  *     (methods_and_parameters_by_name)
- * lumis_lights_method_from_name — hand-worked: 9 names, "wu-is", "fhis"; "median" and NULL refused
+ * lumis_lights_method_from_name — hand-worked: 9 names, "wu-is", "fhis"; "median", NULL name,
+ *     NULL out refused
  *     (methods_and_parameters_by_name)
  * lumis_lights_method_names — hand-worked: 9 names, each known to lumis_lights_method_from_name
  *     (methods_and_parameters_by_name)
@@ -2134,13 +2135,22 @@ static void methods_and_parameters_by_name(void **state)
 {
     (void)state;
     int n = 0;
-    for (const char *const *name = lumis_lights_method_names(); *name; name++, n++)
-        assert_int_not_equal(lumis_lights_method_from_name(*name), 0);
+    lumis_lights_method method = (lumis_lights_method)0;
+    for (const char *const *name = lumis_lights_method_names(); *name; name++, n++) {
+        method = (lumis_lights_method)0;
+        assert_int_equal(lumis_lights_method_from_name(*name, &method), LUMIS_OK);
+        assert_int_not_equal(method, 0);
+    }
     assert_int_equal(n, 9);
-    assert_int_equal(lumis_lights_method_from_name("wu-is"), LUMIS_LIGHTS_DECOMPOSITION);
-    assert_int_equal(lumis_lights_method_from_name("fhis"), LUMIS_LIGHTS_FHIS);
-    assert_int_equal(lumis_lights_method_from_name("median"), 0);
-    assert_int_equal(lumis_lights_method_from_name(NULL), 0);
+    assert_int_equal(lumis_lights_method_from_name("wu-is", &method), LUMIS_OK);
+    assert_int_equal(method, LUMIS_LIGHTS_DECOMPOSITION);
+    assert_int_equal(lumis_lights_method_from_name("fhis", &method), LUMIS_OK);
+    assert_int_equal(method, LUMIS_LIGHTS_FHIS);
+    /* a refused name leaves *out as it was */
+    assert_int_equal(lumis_lights_method_from_name("median", &method), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(method, LUMIS_LIGHTS_FHIS);
+    assert_int_equal(lumis_lights_method_from_name(NULL, &method), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_lights_method_from_name("fhis", NULL), LUMIS_ERR_INVALID_ARGUMENT);
 
     lumis_light_params p = {0};
     assert_int_equal(

@@ -68,7 +68,9 @@
 #include "lumis/render.h"
 
 /* name(v) for v in [first, count) is a distinct non-empty string that from_name maps back to
- * v; "no-such-name", "" and NULL give LUMIS_ERR_INVALID_ARGUMENT and leave *out alone. */
+ * v; "no-such-name", "" and NULL give LUMIS_ERR_INVALID_ARGUMENT and leave *out alone; count
+ * (one past the last value) is "unknown"; a NULL out is refused (every pair is defined by
+ * LUMIS__ENUM_NAMES in src/core/internal.h, so all behave alike). */
 #define ROUND_TRIP(T, first, count, name_fn, from_fn)                                              \
     do {                                                                                           \
         for (int v = (first); v < (count); v++) {                                                  \
@@ -85,6 +87,8 @@
         assert_int_equal(from_fn("", &keep), LUMIS_ERR_INVALID_ARGUMENT);                          \
         assert_int_equal(from_fn(NULL, &keep), LUMIS_ERR_INVALID_ARGUMENT);                        \
         assert_int_equal((int)keep, (first));                                                      \
+        assert_string_equal(name_fn((T)(count)), "unknown");                                       \
+        assert_int_equal(from_fn(name_fn((T)(first)), NULL), LUMIS_ERR_INVALID_ARGUMENT);          \
     } while (0)
 
 static void every_enumeration_round_trips(void **state)
@@ -117,6 +121,10 @@ static void every_enumeration_round_trips(void **state)
                lumis_photometric_symmetry_name, lumis_photometric_symmetry_from_name);
     ROUND_TRIP(lumis_photometric_shape, 0, LUMIS_SHAPE_OTHER + 1, lumis_photometric_shape_name,
                lumis_photometric_shape_from_name);
+    ROUND_TRIP(lumis_luminaire_preset, 0, LUMIS_PRESET_SMALL + 1, lumis_luminaire_preset_name,
+               lumis_luminaire_preset_from_name);
+    ROUND_TRIP(lumis_lighting_kind, 0, LUMIS_LIGHTING_KIND_COUNT, lumis_lighting_kind_name,
+               lumis_lighting_kind_from_name);
 }
 
 static void format_and_status_names(void **state)

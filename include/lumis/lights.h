@@ -85,8 +85,8 @@ typedef struct lumis_median_cut_desc {
  * sums of 16 rows / columns made in one pass (docs/lights.md).
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits, less where a
  * coarse level of 8 bands covers a region; about w h (4 + 4.1) bytes of temporary memory
- * (a float luminance array and the band sums).  About 5.7-7.3 ms at 2048 x 1024, K = 64,
- * on one core of the project's AMD EPYC (docs/lights.md, performance). */
+ * (a float luminance array and the band sums).  Measured times: docs/benchmarks.md,
+ * "Times the headers used to state". */
 LUMIS_API lumis_status lumis_lights_median_cut(const lumis_envmap *env,
                                                const lumis_median_cut_desc *desc,
                                                lumis_light_set **out);
@@ -99,7 +99,7 @@ typedef lumis_median_cut_desc lumis_variance_min_desc;
  * partial level splits the regions of largest variance.  Marginals of energy and moment
  * along both axes from the same band sums as median cut.
  * Cost: O(pixels) for the pass, then O(pixels / 16) per level of splits; about
- * w h (4 + 5.1) bytes of temporary memory; about 8.1-9.2 ms at 2048 x 1024, K = 64. */
+ * w h (4 + 5.1) bytes of temporary memory.  Measured times: docs/benchmarks.md. */
 LUMIS_API lumis_status lumis_lights_variance_min(const lumis_envmap *env,
                                                  const lumis_variance_min_desc *desc,
                                                  lumis_light_set **out);
@@ -177,9 +177,8 @@ typedef struct lumis_decomp_desc {
  * EnvDirects (fewer only if K exceeds what the pixels can give; a warning says so).
  * Cost: three passes over the pixels (luminance and the exact percentile, classification,
  * the lights), O(pixels) each; a k-means step costs in proportion to the members of the
- * clusters a moved centre can reach, mostly bound checks (docs/lights.md).  About 7 ms on
- * the 2048 x 1024 sky and 14-18 ms on real maps with 34-42 K emissive pixels (K = 64, one
- * core of the project's AMD EPYC, quiet). */
+ * clusters a moved centre can reach, mostly bound checks (docs/lights.md).  Measured
+ * times: docs/benchmarks.md. */
 LUMIS_API lumis_status lumis_lights_decompose(const lumis_envmap *env,
                                               const lumis_decomp_desc *desc, lumis_light_set **out);
 
@@ -367,9 +366,9 @@ LUMIS_API double lumis_region_sampler_build_ms(const lumis_region_sampler *rs);
 
 /* The method names, NULL-terminated. */
 LUMIS_API const char *const *lumis_lights_method_names(void);
-/* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...), 0 for an unknown
- * name. */
-LUMIS_API lumis_lights_method lumis_lights_method_from_name(const char *name);
+/* The method a name builds (LUMIS_LIGHTS_DECOMPOSITION for every wu...) into *out;
+ * LUMIS_ERR_INVALID_ARGUMENT (*out untouched) for an unknown or NULL name. */
+LUMIS_API lumis_status lumis_lights_method_from_name(const char *name, lumis_lights_method *out);
 
 /* Parameters by name.  Zero-initialised: every method's defaults. */
 typedef struct lumis_light_params {

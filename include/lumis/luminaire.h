@@ -162,7 +162,7 @@ typedef enum lumis_luminaire_strategy {
 } lumis_luminaire_strategy;
 
 typedef enum lumis_luminaire_search {
-    LUMIS_LUM_SEARCH_DEFAULT = 0, /* == LUMIS_LUM_BINARY: the same samples, 2.2x faster
+    LUMIS_LUM_SEARCH_DEFAULT = 0, /* == LUMIS_LUM_BINARY: the same samples, faster
                                      (docs/luminaire.md, "Searches") */
     LUMIS_LUM_SECANT,             /* the paper's modified secant search */
     LUMIS_LUM_BINARY,             /* bisection */
@@ -230,10 +230,8 @@ LUMIS_API int lumis_luminaire_capacity(const lumis_luminaire *lum, int budget);
  * sample, the marginal bisection in that table (log2 of the box's width probes, in L1), the
  * conditional (6 lookups, then log2 of the box's height probes of 2 lookups), one RGB
  * pixel.  Binary search: every draw of the point in lockstep across images, so their loads
- * overlap.  Secant: per draw, data-dependent probes of 4 and 2 lookups.  The car preset
- * (11 x 9 x 256^2, K = 64) measures 87 ns per sample (binary; ~200 secant) on coherent
- * points, 99 on random ones: docs/luminaire.md, "Benchmark".  Stack: about 100 KB.
- * No allocation. */
+ * overlap.  Secant: per draw, data-dependent probes of 4 and 2 lookups.  Measured times
+ * per sample: docs/benchmarks.md.  Stack: about 100 KB.  No allocation. */
 LUMIS_API lumis_status lumis_luminaire_sample_point(const lumis_luminaire *lum,
                                                     const lumis_luminaire_query *q, const double *u,
                                                     int capacity, lumis_luminaire_sample *out,
@@ -402,8 +400,8 @@ typedef struct lumis_luminaire_prediction {
 
 /* Fills *out, or fails with LUMIS_ERR_INVALID_ARGUMENT.  With no lit probe, every number
  * is 0 and best is LUMIS_LUM_RESTRICTED (the paper's).
- * Cost: probes x images with energy x 2 pilot draws (about 60 ms for 256 probes of the
- * car preset); deterministic for a seed; allocates a double per probe. */
+ * Cost: O(probes x images with energy) pilot draws (2 each; measured times:
+ * docs/benchmarks.md); deterministic for a seed; allocates a double per probe. */
 LUMIS_API lumis_status lumis_luminaire_predict(const lumis_luminaire *lum,
                                                const lumis_luminaire_predict_desc *desc,
                                                lumis_luminaire_prediction *out);
@@ -464,7 +462,7 @@ typedef struct lumis_acquire_desc {
  * irradiance of a sensor at s behind filter Phi_m), by quadrature over each disk's
  * footprint on U.  layout gives the geometry (its pixels are ignored).  Then builds the
  * luminaire as lumis_luminaire_create.  Cost: O(M pixels samples_s^2 disks nodes / M')
- * where M' ~ the number of supports a footprint meets; seconds for 11 x 9 x 256^2. */
+ * where M' ~ the number of supports a footprint meets (measured: docs/benchmarks.md). */
 LUMIS_API lumis_status lumis_luminaire_acquire(const lumis_luminaire_desc *layout,
                                                const lumis_emitter_desc *emitter,
                                                const lumis_acquire_desc *acquire,

@@ -283,7 +283,7 @@ class LightSet(Handle):
     def __init__(self, map, method="median-cut", count=0, sets=0, params=None):
         if not isinstance(map, Map):
             raise invalid("map: expected a lumis.Map, got %s" % type(map).__name__)
-        if lib.lumis_lights_method_from_name(cstr(method)) == 0:
+        if lib.lumis_lights_method_from_name(cstr(method), ffi.new("lumis_lights_method *")) != lib.LUMIS_OK:
             raise invalid("method: unknown light-set method '%s' (one of %s)" % (
                 method, ", ".join(light_methods())))
         sink = Sink()

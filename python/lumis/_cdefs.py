@@ -191,7 +191,7 @@ typedef struct lumis_light_fold {
 lumis_status lumis_light_set_fold_below(lumis_light_set *set, lumis_vec3 up,
                                         const lumis_error_sink *errors, lumis_light_fold *report);
 const char *const *lumis_lights_method_names(void);
-lumis_lights_method lumis_lights_method_from_name(const char *name);
+lumis_status lumis_lights_method_from_name(const char *name, lumis_lights_method *out);
 typedef struct lumis_light_params {
     lumis_decomp_desc wu;
     float jitter;

@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -43,6 +44,59 @@ static inline LUMIS_PRINTF(3, 4) lumis_status
     }
     return status;
 }
+
+/* ---- an enumeration's names, defined once -----------------------------------------------
+ * Every public enumeration with a name / from-name pair keeps its names in one table indexed
+ * by value (NULL: a value without a name), the way lumis_status keeps its own in
+ * LUMIS_STATUS_TABLE, and defines the pair from it:
+ *     static const char *const tonemap_names[] = {"clamp", "reinhard", "aces"};
+ *     LUMIS__ENUM_NAMES(lumis_tonemap, LUMIS_TONEMAP_COUNT, tonemap_names, lumis_tonemap_name,
+ *                       lumis_tonemap_from_name);
+ * so a name and its value cannot drift apart and every pair behaves alike: the name of a
+ * value outside the table is "unknown"; from-name refuses an unknown or NULL name and a
+ * NULL out with LUMIS_ERR_INVALID_ARGUMENT, leaving *out untouched.  The table must have
+ * exactly `count` entries (a compile-time check), so a value added to the enumeration
+ * without a name does not build. */
+#define LUMIS__COUNTOF(a) ((int)(sizeof(a) / sizeof((a)[0])))
+
+static inline const char *lumis__enum_name(const char *const *names, int n, int value)
+{
+    return value >= 0 && value < n && names[value] ? names[value] : "unknown";
+}
+
+/* The value whose name is `name` (-1: none; NULL entries never match). */
+static inline int lumis__enum_value(const char *const *names, int n, const char *name)
+{
+    for (int v = 0; name && v < n; v++)
+        if (names[v] && strcmp(names[v], name) == 0) return v;
+    return -1;
+}
+
+#define LUMIS__ENUM_NAME_FN(type, names, name_fn)                                                  \
+    const char *name_fn(type value)                                                                \
+    {                                                                                              \
+        return lumis__enum_name(names, LUMIS__COUNTOF(names), (int)value);                         \
+    }
+
+#define LUMIS__ENUM_FROM_NAME_FN(type, names, from_name_fn)                                        \
+    lumis_status from_name_fn(const char *name, type *out)                                         \
+    {                                                                                              \
+        const int v = lumis__enum_value(names, LUMIS__COUNTOF(names), name);                       \
+        if (v < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;                                      \
+        *out = (type)v;                                                                            \
+        return LUMIS_OK;                                                                           \
+    }
+
+/* The pair; the call ends with a semicolon (it closes the table's size check). */
+#define LUMIS__ENUM_NAMES(type, count, names, name_fn, from_name_fn)                               \
+    LUMIS__ENUM_NAME_FN(type, names, name_fn)                                                      \
+    LUMIS__ENUM_FROM_NAME_FN(type, names, from_name_fn)                                            \
+    _Static_assert(LUMIS__COUNTOF(names) == (count), #names ": one name per " #type)
+
+/* The name function alone (an enumeration that is not read back by name). */
+#define LUMIS__ENUM_NAME(type, count, names, name_fn)                                              \
+    LUMIS__ENUM_NAME_FN(type, names, name_fn)                                                      \
+    _Static_assert(LUMIS__COUNTOF(names) == (count), #names ": one name per " #type)
 
 /* lumis's own SIMD variants (docs/lights.md, "Every CPU"): a hot pass is compiled once per
  * level with LUMIS__TARGET_AVX512 / LUMIS__TARGET_AVX2 wrappers around one always-inlined

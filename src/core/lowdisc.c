@@ -11,24 +11,12 @@
 static const char *const sequence_names[] = {"default", "pcg",    "halton", "stratified",
                                              "sobol",   "zsobol", "pmj02"};
 
-const char *lumis_sequence_name(lumis_sequence q)
-{
-    return (unsigned)q < LUMIS_SEQUENCE_COUNT ? sequence_names[q] : "unknown";
-}
+LUMIS__ENUM_NAMES(lumis_sequence, LUMIS_SEQUENCE_COUNT, sequence_names, lumis_sequence_name,
+                  lumis_sequence_from_name);
 
 lumis_sequence lumis_sequence_resolve(lumis_sequence q)
 {
     return q == LUMIS_SEQUENCE_DEFAULT ? LUMIS_SEQUENCE_SOBOL : q;
-}
-
-lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out)
-{
-    for (int k = 0; name && out && k < LUMIS_SEQUENCE_COUNT; k++)
-        if (strcmp(name, sequence_names[k]) == 0) {
-            *out = (lumis_sequence)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
 }
 
 void lumis_sobol02(uint32_t index, uint64_t seed, double u[2])

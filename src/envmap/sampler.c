@@ -11,24 +11,12 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const method_names[LUMIS_METHOD_COUNT] = {
-    "default", "inversion",    "inversion-guided", "alias",
-    "kdtree",  "kdtree-exact", "hierarchical",     "uniform"};
+static const char *const method_names[] = {"default",      "inversion", "inversion-guided",
+                                           "alias",        "kdtree",    "kdtree-exact",
+                                           "hierarchical", "uniform"};
 
-const char *lumis_sampler_method_name(lumis_sampler_method method)
-{
-    return (unsigned)method < LUMIS_METHOD_COUNT ? method_names[method] : "unknown";
-}
-
-lumis_status lumis_sampler_method_from_name(const char *name, lumis_sampler_method *out)
-{
-    for (int m = 0; name && m < LUMIS_METHOD_COUNT; m++)
-        if (strcmp(name, method_names[m]) == 0) {
-            *out = (lumis_sampler_method)m;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_sampler_method, LUMIS_METHOD_COUNT, method_names, lumis_sampler_method_name,
+                  lumis_sampler_method_from_name);
 
 /* ---- importance ---------------------------------------------------------------------- */
 

@@ -14,31 +14,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const char *const compression_names[LUMIS_EXR_COMPRESSION_COUNT] = {
-    "zip", "none", "rle", "zips", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+static const char *const compression_names[] = {"zip",   "none", "rle",  "zips", "piz",
+                                                "pxr24", "b44",  "b44a", "dwaa", "dwab"};
 
-const char *lumis_exr_compression_name(lumis_exr_compression compression)
-{
-    return (unsigned)compression < LUMIS_EXR_COMPRESSION_COUNT ? compression_names[compression]
-                                                               : "unknown";
-}
+LUMIS__ENUM_NAMES(lumis_exr_compression, LUMIS_EXR_COMPRESSION_COUNT, compression_names,
+                  lumis_exr_compression_name, lumis_exr_compression_from_name);
 
-lumis_status lumis_exr_compression_from_name(const char *name, lumis_exr_compression *out)
-{
-    for (int c = 0; name && c < LUMIS_EXR_COMPRESSION_COUNT; c++)
-        if (strcmp(name, compression_names[c]) == 0) {
-            *out = (lumis_exr_compression)c;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+static const char *const format_names[] = {"auto", "exr", "hdr", "pfm", "png"};
 
-static const char *const format_names[LUMIS_FORMAT_COUNT] = {"auto", "exr", "hdr", "pfm", "png"};
-
-const char *lumis_format_name(lumis_file_format format)
-{
-    return (unsigned)format < LUMIS_FORMAT_COUNT ? format_names[format] : "unknown";
-}
+LUMIS__ENUM_NAME(lumis_file_format, LUMIS_FORMAT_COUNT, format_names, lumis_format_name);
 
 lumis_file_format lumis_format_from_path(const char *path)
 {

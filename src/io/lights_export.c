@@ -22,22 +22,10 @@ static const char *kind_name(lumis_light_kind k)
                                            : "region";
 }
 
-static const char *const frame_names[LUMIS_EXPORT_FRAME_COUNT] = {"engine", "lumis"};
+static const char *const frame_names[] = {"engine", "lumis"};
 
-const char *lumis_export_frame_name(lumis_export_frame frame)
-{
-    return (unsigned)frame < LUMIS_EXPORT_FRAME_COUNT ? frame_names[frame] : "unknown";
-}
-
-lumis_status lumis_export_frame_from_name(const char *name, lumis_export_frame *out)
-{
-    for (int f = 0; name && f < LUMIS_EXPORT_FRAME_COUNT; f++)
-        if (strcmp(name, frame_names[f]) == 0) {
-            *out = (lumis_export_frame)f;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_export_frame, LUMIS_EXPORT_FRAME_COUNT, frame_names,
+                  lumis_export_frame_name, lumis_export_frame_from_name);
 
 /* lumis sees column u along azimuth 2 pi u from +x; three.js (equirectUv: u = atan2(z, x) /
  * 2 pi + 1/2) and Blender through its glTF importer see it along 2 pi u - pi: half a turn

@@ -10,22 +10,10 @@
 
 #include <stb_image_write.h>
 
-static const char *const tonemap_names[LUMIS_TONEMAP_COUNT] = {"clamp", "reinhard", "aces"};
+static const char *const tonemap_names[] = {"clamp", "reinhard", "aces"};
 
-const char *lumis_tonemap_name(lumis_tonemap tonemap)
-{
-    return (unsigned)tonemap < LUMIS_TONEMAP_COUNT ? tonemap_names[tonemap] : "unknown";
-}
-
-lumis_status lumis_tonemap_from_name(const char *name, lumis_tonemap *out)
-{
-    for (int t = 0; name && t < LUMIS_TONEMAP_COUNT; t++)
-        if (strcmp(name, tonemap_names[t]) == 0) {
-            *out = (lumis_tonemap)t;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_tonemap, LUMIS_TONEMAP_COUNT, tonemap_names, lumis_tonemap_name,
+                  lumis_tonemap_from_name);
 
 float lumis_tonemap_apply(lumis_tonemap tonemap, float x)
 {

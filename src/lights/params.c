@@ -46,10 +46,12 @@ const char *const *lumis_lights_method_names(void)
     return names;
 }
 
-lumis_lights_method lumis_lights_method_from_name(const char *name)
+lumis_status lumis_lights_method_from_name(const char *name, lumis_lights_method *out)
 {
     const int k = method_index(name);
-    return k < 0 ? (lumis_lights_method)0 : methods[k].method;
+    if (k < 0 || !out) return LUMIS_ERR_INVALID_ARGUMENT;
+    *out = methods[k].method;
+    return LUMIS_OK;
 }
 
 /* ---- parameters ---------------------------------------------------------------------------

@@ -341,20 +341,8 @@ lumis_status lumis_luminaire_preset_get(lumis_luminaire_preset preset, lumis_lum
 
 static const char *const preset_names[] = {"bike", "car", "small"};
 
-const char *lumis_luminaire_preset_name(lumis_luminaire_preset preset)
-{
-    return (unsigned)preset <= LUMIS_PRESET_SMALL ? preset_names[preset] : "unknown";
-}
-
-lumis_status lumis_luminaire_preset_from_name(const char *name, lumis_luminaire_preset *out)
-{
-    for (int k = 0; name && out && k <= LUMIS_PRESET_SMALL; k++)
-        if (strcmp(name, preset_names[k]) == 0) {
-            *out = (lumis_luminaire_preset)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_luminaire_preset, LUMIS_PRESET_SMALL + 1, preset_names,
+                  lumis_luminaire_preset_name, lumis_luminaire_preset_from_name);
 
 lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset,
                                            lumis_luminaire_basis basis,

@@ -7,41 +7,14 @@
 #include <math.h>
 #include <string.h>
 
-static const char *const strategy_names[LUMIS_LUM_STRATEGY_COUNT] = {"default", "restricted",
-                                                                     "uniform", "global", "auto"};
-static const char *const search_names[LUMIS_LUM_SEARCH_COUNT] = {"default", "secant", "binary"};
+static const char *const strategy_names[] = {"default", "restricted", "uniform", "global", "auto"};
+static const char *const search_names[] = {"default", "secant", "binary"};
 
-const char *lumis_luminaire_strategy_name(lumis_luminaire_strategy s)
-{
-    return (unsigned)s < (unsigned)LUMIS_LUM_STRATEGY_COUNT ? strategy_names[s] : "unknown";
-}
+LUMIS__ENUM_NAMES(lumis_luminaire_strategy, LUMIS_LUM_STRATEGY_COUNT, strategy_names,
+                  lumis_luminaire_strategy_name, lumis_luminaire_strategy_from_name);
 
-lumis_status lumis_luminaire_strategy_from_name(const char *name, lumis_luminaire_strategy *out)
-{
-    if (!name || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    for (int i = 0; i < LUMIS_LUM_STRATEGY_COUNT; i++)
-        if (!strcmp(name, strategy_names[i])) {
-            *out = (lumis_luminaire_strategy)i;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
-
-const char *lumis_luminaire_search_name(lumis_luminaire_search s)
-{
-    return (unsigned)s < (unsigned)LUMIS_LUM_SEARCH_COUNT ? search_names[s] : "unknown";
-}
-
-lumis_status lumis_luminaire_search_from_name(const char *name, lumis_luminaire_search *out)
-{
-    if (!name || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    for (int i = 0; i < LUMIS_LUM_SEARCH_COUNT; i++)
-        if (!strcmp(name, search_names[i])) {
-            *out = (lumis_luminaire_search)i;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_luminaire_search, LUMIS_LUM_SEARCH_COUNT, search_names,
+                  lumis_luminaire_search_name, lumis_luminaire_search_from_name);
 
 /* ---- balancing --------------------------------------------------------------------- */
 

@@ -10,24 +10,10 @@
 
 /* ---- bases ------------------------------------------------------------------------- */
 
-static const char *const basis_names[LUMIS_BASIS_COUNT] = {"default", "quadratic", "bspline"};
+static const char *const basis_names[] = {"default", "quadratic", "bspline"};
 
-const char *lumis_luminaire_basis_name(lumis_luminaire_basis basis)
-{
-    if ((unsigned)basis >= (unsigned)LUMIS_BASIS_COUNT) return "unknown";
-    return basis_names[basis];
-}
-
-lumis_status lumis_luminaire_basis_from_name(const char *name, lumis_luminaire_basis *out)
-{
-    if (!name || !out) return LUMIS_ERR_INVALID_ARGUMENT;
-    for (int i = 0; i < LUMIS_BASIS_COUNT; i++)
-        if (!strcmp(name, basis_names[i])) {
-            *out = (lumis_luminaire_basis)i;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_luminaire_basis, LUMIS_BASIS_COUNT, basis_names, lumis_luminaire_basis_name,
+                  lumis_luminaire_basis_from_name);
 
 double lumis_luminaire_basis_eval(lumis_luminaire_basis basis, double x)
 {

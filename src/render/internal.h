@@ -27,6 +27,21 @@ lumis_status lumis__scene_file_parse(const char *text, size_t n, const char *nam
  * earlier instance of f), read from path (a file or "preset:NAME"; copied). */
 lumis_status lumis__scene_file_add_luminaire(lumis_scene_file *f, lumis_luminaire *owned,
                                              const char *path, const lumis_luminaire_instance *in);
+/* Loads the mesh file full (absolute, or relative to the working directory) into f once,
+ * and points o's mesh fields at it; a failure's message starts "file: path.file:". */
+lumis_status lumis__scene_file_load_mesh(lumis_scene_file *f, const char *full, const char *file,
+                                         const char *path, const lumis_error_sink *errors,
+                                         lumis_object *o);
+/* The luminaire f already read from path (a file or "preset:NAME"), or NULL. */
+lumis_luminaire *lumis__scene_file_luminaire(const lumis_scene_file *f, const char *path);
+/* The photometric file read from path, read now once per file and owned by f; or NULL with
+ * *st set (the reader's message to errors). */
+lumis_photometric_file *lumis__scene_file_photometric(lumis_scene_file *f, const char *path,
+                                                      const lumis_error_sink *errors,
+                                                      lumis_status *st);
+/* A luminaire instance's placement with its defaults: an all-zero rotation is the
+ * identity, scale 0 is 1 (*scale) (light_luminaire.c). */
+lumis_rigid lumis__instance_placement(const lumis_luminaire_instance *in, double *scale);
 /* Rotation Rz Ry Rx (degrees r), row-major, in double precision (a luminaire's placement
  * must pass lumis_rigid_check). */
 void lumis__rotation_deg(const float r[3], double m[9]);

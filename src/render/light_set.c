@@ -118,20 +118,8 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 
 static const char *const mode_names[] = {"point", "stratified"};
 
-const char *lumis_lights_mode_name(lumis_lights_mode mode)
-{
-    return (unsigned)mode < LUMIS_LIGHTS_MODE_COUNT ? mode_names[mode] : "unknown";
-}
-
-lumis_status lumis_lights_mode_from_name(const char *name, lumis_lights_mode *out)
-{
-    for (int k = 0; name && out && k < LUMIS_LIGHTS_MODE_COUNT; k++)
-        if (strcmp(name, mode_names[k]) == 0) {
-            *out = (lumis_lights_mode)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_lights_mode, LUMIS_LIGHTS_MODE_COUNT, mode_names, lumis_lights_mode_name,
+                  lumis_lights_mode_from_name);
 
 /* Stratified mode: one direction in every region lit, weighted by radiance over the
  * region's pdf, and one BSDF sample; with MIS each region is its own two-technique

@@ -15,23 +15,10 @@
 static const lumis__light_kind *const kinds[LUMIS_LIGHTING_KIND_COUNT] = {
     &lumis__light_env, &lumis__light_set_kind, &lumis__light_luminaires, &lumis__light_photometric};
 
-static const char *const kind_names[LUMIS_LIGHTING_KIND_COUNT] = {"env", "light-set", "luminaires",
-                                                                  "photometric"};
+static const char *const kind_names[] = {"env", "light-set", "luminaires", "photometric"};
 
-const char *lumis_lighting_kind_name(lumis_lighting_kind kind)
-{
-    return (unsigned)kind < LUMIS_LIGHTING_KIND_COUNT ? kind_names[kind] : "unknown";
-}
-
-lumis_status lumis_lighting_kind_from_name(const char *name, lumis_lighting_kind *out)
-{
-    for (int k = 0; name && out && k < LUMIS_LIGHTING_KIND_COUNT; k++)
-        if (strcmp(name, kind_names[k]) == 0) {
-            *out = (lumis_lighting_kind)k;
-            return LUMIS_OK;
-        }
-    return LUMIS_ERR_INVALID_ARGUMENT;
-}
+LUMIS__ENUM_NAMES(lumis_lighting_kind, LUMIS_LIGHTING_KIND_COUNT, kind_names,
+                  lumis_lighting_kind_name, lumis_lighting_kind_from_name);
 
 const char *lumis__lighting_lit_by(lumis_lighting_kind kind)
 {

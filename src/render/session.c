@@ -443,7 +443,8 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: a share of a render is a number of samples (share_spp "
                            ">= 0), not a time budget");
-    if (s->lights && !lumis_lights_method_from_name(s->lights))
+    lumis_lights_method method = (lumis_lights_method)0;
+    if (s->lights && lumis_lights_method_from_name(s->lights, &method) != LUMIS_OK)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: lights '%s': unknown light-set method", s->lights);
     const char *needs_lights = s->lights_k        ? "lights_k"
@@ -455,7 +456,7 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: %s: does not apply without lights (a light-set method)",
                            needs_lights);
-    if (s->upsample && lumis_lights_method_from_name(s->lights) != LUMIS_LIGHTS_DECOMPOSITION)
+    if (s->upsample && method != LUMIS_LIGHTS_DECOMPOSITION)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: upsample: applies to Wu's decomposition (lights wu...), not "
                            "'%s'",
@@ -490,8 +491,9 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     const lumis_error_sink *errors = &s->render.errors;
     const lumis_status cst = lumis_session_check(s);
     if (cst != LUMIS_OK) return cst;
-    const int wu =
-        s->lights && lumis_lights_method_from_name(s->lights) == LUMIS_LIGHTS_DECOMPOSITION;
+    lumis_lights_method method = (lumis_lights_method)0;
+    const int wu = s->lights && lumis_lights_method_from_name(s->lights, &method) == LUMIS_OK &&
+                   method == LUMIS_LIGHTS_DECOMPOSITION;
     const int stratified = s->render.lighting.kind == LUMIS_LIGHTING_LIGHT_SET &&
                            s->render.lighting.light_set.mode == LUMIS_LIGHTS_STRATIFIED;
     /* the joint-bilateral filter is a bias: strata, which converge, go without it unless

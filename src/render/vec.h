@@ -48,6 +48,19 @@ static inline lumis_vec3 tof(v3 a)
     return (lumis_vec3){(float)a.x, (float)a.y, (float)a.z};
 }
 
+/* r a, r a row-major 3x3 rotation; and its transpose's (the inverse) r^T a. */
+static inline v3 rot_apply(const double r[9], v3 a)
+{
+    return mk(r[0] * a.x + r[1] * a.y + r[2] * a.z, r[3] * a.x + r[4] * a.y + r[5] * a.z,
+              r[6] * a.x + r[7] * a.y + r[8] * a.z);
+}
+
+static inline v3 rot_apply_t(const double r[9], v3 a)
+{
+    return mk(r[0] * a.x + r[3] * a.y + r[6] * a.z, r[1] * a.x + r[4] * a.y + r[7] * a.z,
+              r[2] * a.x + r[5] * a.y + r[8] * a.z);
+}
+
 /* Orthonormal basis around n (Duff et al. 2017). */
 static inline void basis(v3 n, v3 *t, v3 *b)
 {

@@ -1,0 +1,115 @@
+/* lumis/render_session.h - a render session: what a host calls to render for a time budget
+ * (a light set made, K fitted, Wu's split rendering upsampled) (library lumis-render;
+ * lumis/render.h includes every part). */
+#ifndef LUMIS_RENDER_SESSION_H_PUBLIC
+#define LUMIS_RENDER_SESSION_H_PUBLIC
+
+#include "lumis/export.h"
+#include "lumis/image.h"
+#include "lumis/lights.h"
+#include "lumis/render_job.h"
+#include "lumis/render_scene.h"
+#include "lumis/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- a render session: what a host calls to render for a time budget ---------------------
+ * One call does what the lumis tool's render does between loading and writing: with a
+ * light-set method it makes the light set (Wu's split rendering with its EnvIndirects at
+ * 1/F resolution, joint-bilateral upsampled, included), and with a time budget it spends
+ * the budget as wall time: the light set's generation, and the pilot renders that fit K
+ * when none is given, count inside it; otherwise progressive passes fill it. */
+
+typedef struct lumis_session_desc {
+    /* camera, lighting, counts, seed, threads, progress ...: as lumis_render.  With
+     * `lights`, render.lighting is of kind light-set with its set and regions NULL (the
+     * session makes them; light_set.mode: point lights or strata of the map) */
+    lumis_render_desc render;
+    const char *lights;                      /* a light-set method by name, or NULL */
+    int lights_k;                            /* K; 0: point mode fits it to time_budget,
+                                                else 64; the stratified mode 32 */
+    int interleave;                          /* interleaved sets; 0: the method's default */
+    const lumis_light_params *lights_params; /* NULL: the method's defaults */
+    int upsample;       /* Wu: EnvIndirects at 1/F resolution per axis; 0 == 2 (point mode)
+                           or 1 (stratified: upsampling is a bias), 1 == none */
+    double time_budget; /* > 0: seconds of wall time; 0: render.spp samples (0 == 16).
+                           Stratified light sets fill it with passes at a fixed K. */
+    double spent;       /* seconds of the budget already spent (a sampler's build) */
+    int timed_spp;      /* with lights, time_budget and no K: samples per pixel; 0 == 4 */
+    /* > 0: render only this many samples, a share of the render.spp of the whole render
+     * starting at render.first_sample (no time budget); the shares' images weighted by
+     * their counts average to the whole render's (the tool's `lumis merge`). */
+    int share_spp;
+    /* Optional: called after every pass with the samples per pixel so far. */
+    void (*pass_done)(void *user, int spp);
+    void *pass_done_user;
+} lumis_session_desc;
+
+/* Why a light set's K fitted to a time budget is what it is (lumis_session_result.k_limit). */
+typedef enum lumis_k_limit {
+    LUMIS_K_LIMIT_NONE = 0,    /* K given, or fitted at the planned samples per pixel */
+    LUMIS_K_LIMIT_FEWER_SPP,   /* at timed_spp the budget affords fewer than k_floor lights:
+                                  K fills it at spp_planned < timed_spp samples instead */
+    LUMIS_K_LIMIT_BELOW_FLOOR, /* even at 1 sample per pixel (or render.spp, which is kept)
+                                  the budget affords fewer than k_floor lights */
+    LUMIS_K_LIMIT_OVER_BUDGET  /* K = 1 at the fewest samples is predicted to take longer
+                                  than the budget: the render overruns it */
+} lumis_k_limit;
+
+/* The pilots that fit K: at most this many (the floor, 64, and where the fit lands). */
+#define LUMIS_SESSION_PILOTS 3
+
+typedef struct lumis_session_result {
+    lumis_render_stats stats;   /* of the render that made the image (both layers) */
+    double prep_seconds;        /* before the first sample: spent + generation + pilots */
+    double budget_used_seconds; /* prep_seconds + every render (time_budget only) */
+    int lights_k;               /* K of the light set used (0: none) */
+    int upsample;               /* the factor used (1: none) */
+    double lights_build_ms;     /* the light set's generation */
+    size_t lights_bytes;        /* its lights and labels */
+    /* With lights, time_budget and no K: the pilots that chose K.  They render at 1/pilot_
+     * scale of the pixels and spend at most a fifth of the budget; their times are scaled
+     * to the whole image (per sample per pixel of the full layer; once: the rest, and the
+     * set's generation).  pilot_count: how many ran (0: none). */
+    double pilot_seconds, pilot_per_spp[LUMIS_SESSION_PILOTS], pilot_once[LUMIS_SESSION_PILOTS];
+    int pilot_k[LUMIS_SESSION_PILOTS], pilot_count, pilot_chosen;
+    double pilot_scale;      /* the image's pixels over a pilot's */
+    double pilot_predicted;  /* seconds the fit predicts for pilot_chosen at spp_planned */
+    int k_floor;             /* the fewest lights K falls to before samples do (4) */
+    int spp_planned;         /* samples per pixel K was fitted at */
+    lumis_k_limit k_limit;   /* why K is what it is */
+    int retried;             /* the pilots misjudged the time: rendered again with K scaled, once */
+    double regions_build_ms; /* the stratified mode's region samplers (in prep_seconds) */
+    size_t regions_bytes;
+    lumis_light_set *light_set; /* the set that lit the image (NULL: none): the caller
+                                   destroys it (lumis_light_set_destroy) */
+    /* Contention: the session's wall time and the process's CPU time over it (every thread;
+     * with a caller's threads running beside it, theirs too), and over the image's render
+     * passes alone (every attempt).  cpu_share = render_cpu_seconds / (render_wall_seconds x
+     * threads busy): near 1 when every render thread had a core to itself; well below it
+     * (0.8, say), the threads waited for a CPU, and a time budget bought fewer samples or
+     * lights than the same budget on an idle machine. */
+    double wall_seconds, cpu_seconds;
+    double render_wall_seconds, render_cpu_seconds, cpu_share;
+    int threads_busy; /* render threads with work: min(threads, the full layer's tiles) */
+} lumis_session_result;
+
+/* Whether desc is a session lumis_render_session takes: a finite budget and non-negative
+ * counts, the light-set options only with `lights` (a known method; upsample only Wu's),
+ * `lights` only with render.lighting of kind light-set and no set or regions of the
+ * caller's, and render as lumis_lighting_check says (the set the session makes counts as
+ * given).  LUMIS_ERR_INVALID_ARGUMENT with one message naming the field, else LUMIS_OK:
+ * a host may call it to refuse before it loads or builds anything else. */
+LUMIS_RENDER_API lumis_status lumis_session_check(const lumis_session_desc *desc);
+
+/* Renders scene under desc into *out (linear RGB); result (may be NULL) says how. */
+LUMIS_RENDER_API lumis_status lumis_render_session(const lumis_scene *scene,
+                                                   const lumis_session_desc *desc,
+                                                   lumis_image **out, lumis_session_result *result);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
