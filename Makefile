@@ -15,15 +15,17 @@ COVERAGE_MIN_BRANCH ?= 85
 # must not break their build.  `make WERROR=ON` turns it on anywhere.
 WERROR       ?= $(if $(CI),ON,OFF)
 BUILD_TYPE   ?= RelWithDebInfo
+# The interpreter the Python package is for: Debian's, where python3-numpy and python3-cffi are
+PYTHON       ?= $(shell test -x /usr/bin/python3 && echo /usr/bin/python3 || echo python3)
 FUZZERS      := fuzz_exr fuzz_hdr fuzz_pfm fuzz_png fuzz_scene fuzz_luminaire fuzz_ies fuzz_ldt
 FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
-.PHONY: help deps build release run test sanitize fuzz format format-check bench install blender-addon clean mutate coverage \
+.PHONY: help deps build release run python-dev test sanitize fuzz format format-check bench install blender-addon clean mutate coverage \
         mutate-diff mutate-gen
 
 help:
-	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage mutate-diff mutate-gen"
+	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage mutate-diff mutate-gen python-dev blender-addon"
 	@echo "  make mutate-diff BASE=auto|last-landing|REV MUTATE_BUDGET=seconds (0: none)"
 	@echo "  make mutate-gen MUTATE_SAMPLE=$(MUTATE_SAMPLE) (0: every mutant of src/, days)"
 	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
@@ -47,7 +49,16 @@ release: deps
 run: deps
 	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
 	cmake --build build -j$(JOBS) --target lumis-cli lumis-python
+	@$(MAKE) --no-print-directory python-dev
 	./build/lumis demo
+
+# `import lumis` from anywhere, on this checkout (an editable install, as pip's -e makes one):
+# a .pth file in the user's site-packages names python/, whose package finds the libraries
+# in build/.  `make install` installs a copy instead.
+python-dev:
+	@site=$$($(PYTHON) -m site --user-site) && mkdir -p "$$site" && \
+	  echo "$(CURDIR)/python" > "$$site/lumis-dev.pth" && \
+	  echo "python: $(PYTHON) imports lumis from $(CURDIR)/python ($$site/lumis-dev.pth)"
 
 test: build
 	@scripts/fetch-data.sh || echo "warning: scripts/fetch-data.sh failed; the data tests will skip" >&2
