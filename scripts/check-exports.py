@@ -35,6 +35,14 @@ def ours(name):
     return name not in LINKER_SYMBOLS and not name.startswith("__")
 
 
+def vague(name, weak):
+    """A C++ template or inline function instantiated from a third-party header (OpenEXR's
+    Imath, libstdc++), weak and with the visibility that header gives it: an unoptimised build
+    keeps such copies out of line, an optimised one inlines them.  Not part of lumis's API
+    and not a lumis__ helper: C names and strong symbols are all checked."""
+    return weak and name.startswith("_Z")
+
+
 def library_name(path):
     m = re.match(r"lib(lumis(?:-io|-render)?)\.(?:a|so)", os.path.basename(path))
     if not m:
@@ -47,7 +55,8 @@ def exported(path):
     if ".so" in os.path.basename(path):
         out = subprocess.run(["nm", "-D", "--defined-only", path], check=True,
                              capture_output=True, text=True).stdout
-        names = {line.split()[-1] for line in out.splitlines() if len(line.split()) >= 3}
+        names = {f[-1] for f in (line.split() for line in out.splitlines())
+                 if len(f) >= 3 and not vague(f[-1], f[1] in ("W", "V", "u"))}
         return {n.split("@")[0] for n in names if ours(n)}
     out = subprocess.run(["readelf", "-sW", path], check=True, capture_output=True,
                          text=True).stdout
@@ -57,7 +66,7 @@ def exported(path):
         # Num: Value Size Type Bind Vis Ndx Name
         if (len(f) >= 8 and f[0].endswith(":") and f[4] in ("GLOBAL", "WEAK")
                 and f[5] == "DEFAULT" and f[6] != "UND" and f[3] in ("FUNC", "OBJECT", "IFUNC")):
-            if ours(f[7]):
+            if ours(f[7]) and not vague(f[7], f[4] == "WEAK"):
                 names.add(f[7])
     return names
 
