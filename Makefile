@@ -146,6 +146,7 @@ install: deps
 	  -DCMAKE_INSTALL_PREFIX=$(PREFIX) >/dev/null
 	cmake --build build-release -j$(JOBS) --target lumis-cli lumis-python
 	cmake --install build-release --prefix $(PREFIX)
+	@if [ -w /etc/ld.so.cache ] && command -v ldconfig >/dev/null; then ldconfig; fi
 
 # The Blender add-on as the zip Blender's preferences install (docs/blender.md).
 blender-addon:
