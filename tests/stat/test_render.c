@@ -1249,6 +1249,11 @@ static void upsampling_builtins_and_scene_values(void **state)
 static void builtin_scenes_build(void **state)
 {
     (void)state;
+    /* which built-in scenes bring their own luminaires: the headlight ones, and no other */
+    assert_int_equal(lumis_scene_builtin_has_luminaires("headlight"), 1);
+    assert_int_equal(lumis_scene_builtin_has_luminaires("headlight-close"), 1);
+    assert_int_equal(lumis_scene_builtin_has_luminaires("spheres"), 0);
+    assert_int_equal(lumis_scene_builtin_has_luminaires("no-such-scene"), 0);
     int n = 0;
     for (const char *const *name = lumis_scene_builtin_names(); *name; name++, n++) {
         lumis_scene_file *f = NULL;
