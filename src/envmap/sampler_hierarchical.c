@@ -8,8 +8,9 @@
  *
  * Cost per sample: O(log max(w, h)) levels, four lookups each (one cache line or two).
  * Tables: 8 bytes per pixel and about a third more for the coarser levels.
- * Precision: the ratios are doubles, so a pixel with less than 2^-53 of its 2 x 2 block's
- * weight is drawn with probability 0 - and pdf() reports 0 for it too. */
+ * Precision: sums are doubles, so a pixel with less than about 2^-53 of its 2 x 2 block's
+ * weight may never be drawn, while pdf() reports its share of the map (a bias below
+ * 2^-53 of the estimate). */
 #include "sampler_method.h"
 
 #include <stdlib.h>
@@ -22,6 +23,7 @@ typedef struct level {
 typedef struct pyramid {
     int count; /* levels[0] is 1 x 1, levels[count - 1] the map */
     level *levels;
+    double inv_total; /* 1 / the map's sum (levels[0]) */
 } pyramid;
 
 static double at(const level *l, int x, int y)
@@ -29,92 +31,91 @@ static double at(const level *l, int x, int y)
     return (x < l->w && y < l->h) ? l->v[(size_t)y * (size_t)l->w + (size_t)x] : 0.0;
 }
 
-/* Probabilities of the left column and, within each column, of the upper pixel of the
- * 2 x 2 block whose top-left child is (x, y) on level l. */
-static void split(const level *l, int x, int y, double *p_left, double *p_top_left,
-                  double *p_top_right)
+/* The four sums of the 2 x 2 block whose top-left child is (x, y) on level l. */
+static inline void block(const level *l, int x, int y, double q[4])
 {
-    double a = at(l, x, y), b = at(l, x + 1, y), c = at(l, x, y + 1), d = at(l, x + 1, y + 1);
-    double left = a + c, right = b + d;
-    /* An all-zero block is never entered (its parent had probability 0): any split will
-     * do, as long as it is not 0/0. */
-    *p_left = left + right > 0.0 ? left / (left + right) : 0.5;
-    *p_top_left = left > 0.0 ? a / left : 0.0;
-    *p_top_right = right > 0.0 ? b / right : 0.0;
+    q[0] = at(l, x, y);
+    q[1] = at(l, x + 1, y);
+    q[2] = at(l, x, y + 1);
+    q[3] = at(l, x + 1, y + 1);
 }
 
-/* One level down: (x, y) becomes a child of the 2 x 2 block under it.  The choices are
- * coin flips on the data, so they are selects, not branches (a mispredicted branch would
- * discard the work queued behind it); the arithmetic is what pdf() repeats. */
-static inline void hier_step(const level *l, int *x, int *y, double *u1, double *u2, double *prob)
+static inline double below_one(double u)
 {
-    double pl, ptl, ptr;
-    split(l, 2 * *x, 2 * *y, &pl, &ptl, &ptr);
-    int right = !(*u1 < pl);
-    double pc = right ? 1.0 - pl : pl;
-    *u1 = (right ? *u1 - pl : *u1) / pc;
-    double pt = right ? ptr : ptl;
-    int down = !(*u2 < pt);
-    double pr = down ? 1.0 - pt : pt;
-    *u2 = (down ? *u2 - pt : *u2) / pr;
-    *prob *= pc;
-    *prob *= pr;
+    return u < 1.0 ? u : 0x1.fffffffffffffp-1;
+}
+
+/* One level down: u1 chooses the column of the block (x, y) lies over, in proportion to
+ * its sum, and u2 the pixel within it; each is then rescaled to [0, 1) in its part.  The
+ * choices compare u against unnormalised sums (u T < L, not u < L / T): two divisions a
+ * level, for the rescaling, instead of five.  A side holding nothing is never chosen,
+ * whatever the rounding: for u < 1 and T > 0 the rounded u T is below T (u <= 1 - 2^-53),
+ * so with R = 0 (T = L) u T < L, and with L = 0 the right side is taken.  The probability of the
+ * pixel reached is its sum over the root's (the ratios of every level telescope), which is what
+ * pdf() computes too.  The choices are selects, not branches: in a batch a mispredicted branch
+ * would discard the work queued behind it. */
+static inline void hier_step(const level *l, int *x, int *y, double *u1, double *u2)
+{
+    double q[4];
+    block(l, 2 * *x, 2 * *y, q);
+    const double L = q[0] + q[2], R = q[1] + q[3], m1 = *u1 * (L + R);
+    const int right = !(m1 < L);
+    const double col = right ? R : L, top = right ? q[1] : q[0], bot = right ? q[3] : q[2];
+    *u1 = below_one(right ? (m1 - L) / R : m1 / L);
+    const double m2 = *u2 * col;
+    const int down = !(m2 < top);
+    *u2 = below_one(down ? (m2 - top) / bot : m2 / top);
     *x = 2 * *x + right;
     *y = 2 * *y + down;
-    if (*u1 >= 1.0) *u1 = 0x1.fffffffffffffp-1;
-    if (*u2 >= 1.0) *u2 = 0x1.fffffffffffffp-1;
 }
 
-static void fill(const lumis_sampler *s, int x, int y, double u1, double u2, double prob,
-                 lumis__pick *p)
+static void fill(const lumis_sampler *s, int x, int y, double u1, double u2, lumis__pick *p)
 {
+    const pyramid *py = s->data;
     p->x0 = x;
     p->x1 = x + 1;
     p->y0 = y;
     p->y1 = y + 1;
     p->s = u1;
     p->t = u2;
-    p->density = prob / s->env->row_solid_angle[y];
+    p->density = at(&py->levels[py->count - 1], x, y) * py->inv_total / s->env->row_solid_angle[y];
 }
 
-/* One sample alone: branches, whose prediction starts the next level's reads before the
- * comparison resolves; measured faster here than selects, even prefetched (for a batch,
- * hier_step interleaves instead).  The same arithmetic as hier_step. */
+/* One sample alone: the same arithmetic as hier_step, with branches, whose prediction starts
+ * the next level's reads before the comparison resolves (measured faster here than
+ * selects, even prefetched; a batch interleaves instead). */
 static void hier_pick(const lumis_sampler *s, double u1, double u2, lumis__pick *p)
 {
     const pyramid *py = s->data;
     int x = 0, y = 0;
-    double prob = 1.0;
     for (int k = 1; k < py->count; k++) {
-        double pl, ptl, ptr;
-        split(&py->levels[k], 2 * x, 2 * y, &pl, &ptl, &ptr);
+        double q[4];
+        block(&py->levels[k], 2 * x, 2 * y, q);
         x *= 2;
         y *= 2;
-        double pc, pt, pr;
-        if (u1 < pl) {
-            pc = pl;
-            u1 = u1 / pc;
-            pt = ptl;
-        } else {
-            pc = 1.0 - pl;
-            u1 = (u1 - pl) / pc;
-            pt = ptr;
+        const double L = q[0] + q[2], R = q[1] + q[3], m1 = u1 * (L + R);
+        double top, bot;
+        if (!(m1 < L)) {
+            u1 = (m1 - L) / R;
+            top = q[1];
+            bot = q[3];
             x++;
-        }
-        if (u2 < pt) {
-            pr = pt;
-            u2 = u2 / pr;
         } else {
-            pr = 1.0 - pt;
-            u2 = (u2 - pt) / pr;
-            y++;
+            u1 = m1 / L;
+            top = q[0];
+            bot = q[2];
         }
-        prob *= pc;
-        prob *= pr;
-        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
-        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
+        const double m2 = u2 * (top + bot);
+        if (!(m2 < top)) {
+            u2 = (m2 - top) / bot;
+            y++;
+        } else {
+            u2 = m2 / top;
+        }
+        u1 = below_one(u1);
+        u2 = below_one(u2);
     }
-    fill(s, x, y, u1, u2, prob, p);
+    fill(s, x, y, u1, u2, p);
 }
 
 /* A batch descends level by level, all samples at once, each prefetching the block it
@@ -123,17 +124,16 @@ static void hier_pick_n(const lumis_sampler *s, const double *u, int n, lumis__p
 {
     const pyramid *py = s->data;
     int x[LUMIS__BATCH], y[LUMIS__BATCH];
-    double u1[LUMIS__BATCH], u2[LUMIS__BATCH], prob[LUMIS__BATCH];
+    double u1[LUMIS__BATCH], u2[LUMIS__BATCH];
     for (int k = 0; k < n; k++) {
         x[k] = y[k] = 0;
         u1[k] = u[2 * k];
         u2[k] = u[2 * k + 1];
-        prob[k] = 1.0;
     }
     for (int lv = 1; lv < py->count; lv++) {
         const level *l = &py->levels[lv], *next = lv + 1 < py->count ? l + 1 : NULL;
         for (int k = 0; k < n; k++) {
-            hier_step(l, &x[k], &y[k], &u1[k], &u2[k], &prob[k]);
+            hier_step(l, &x[k], &y[k], &u1[k], &u2[k]);
 #if defined(__GNUC__) || defined(__clang__)
             if (next) {
                 /* The next block's two rows (at() keeps reads inside the level). */
@@ -146,13 +146,12 @@ static void hier_pick_n(const lumis_sampler *s, const double *u, int n, lumis__p
 #endif
         }
     }
-    for (int k = 0; k < n; k++) fill(s, x[k], y[k], u1[k], u2[k], prob[k], &out[k]);
+    for (int k = 0; k < n; k++) fill(s, x[k], y[k], u1[k], u2[k], &out[k]);
 }
 
-/* Up the pyramid, undoing hier_step level by level: a child chosen with probability p
- * from the part [a, a + p) of [0, 1) maps u' back to a + u' p.  The same split()
- * arithmetic as sampling.  A pixel of probability 0 gets the point where its empty
- * part of [0, 1) sits (u' p = 0 there). */
+/* Up the pyramid, undoing hier_step level by level: a child chosen from the part
+ * [A, A + P) of [0, T) (sums, A what lies before it) maps u' back to (A + u' P) / T.  A
+ * pixel holding nothing gets the point where its empty part of [0, 1) sits. */
 static void hier_invert(const lumis_sampler *s, int i, int j, double ps, double pt, double u[2])
 {
     const pyramid *py = s->data;
@@ -160,13 +159,13 @@ static void hier_invert(const lumis_sampler *s, int i, int j, double ps, double 
     for (int k = py->count - 1; k >= 1; k--) {
         int shift = py->count - 1 - k;
         int cx = i >> shift, cy = j >> shift;
-        double pl, ptl, ptr;
-        split(&py->levels[k], cx & ~1, cy & ~1, &pl, &ptl, &ptr);
-        double ptop = (cx & 1) ? ptr : ptl;
-        u2 = (cy & 1) ? ptop + u2 * (1.0 - ptop) : u2 * ptop;
-        u1 = (cx & 1) ? pl + u1 * (1.0 - pl) : u1 * pl;
-        if (u1 >= 1.0) u1 = 0x1.fffffffffffffp-1;
-        if (u2 >= 1.0) u2 = 0x1.fffffffffffffp-1;
+        double q[4];
+        block(&py->levels[k], cx & ~1, cy & ~1, q);
+        const double L = q[0] + q[2], R = q[1] + q[3];
+        const double top = (cx & 1) ? q[1] : q[0], bot = (cx & 1) ? q[3] : q[2];
+        const double col = top + bot;
+        if (col > 0.0) u2 = below_one((cy & 1) ? (top + u2 * bot) / col : u2 * top / col);
+        if (L + R > 0.0) u1 = below_one((cx & 1) ? (L + u1 * R) / (L + R) : u1 * L / (L + R));
     }
     u[0] = u1;
     u[1] = u2;
@@ -175,17 +174,7 @@ static void hier_invert(const lumis_sampler *s, int i, int j, double ps, double 
 static double hier_density(const lumis_sampler *s, int i, int j)
 {
     const pyramid *py = s->data;
-    double prob = 1.0;
-    for (int k = 1; k < py->count; k++) {
-        int shift = py->count - 1 - k; /* pixel (i, j) lies under (i >> shift, j >> shift) */
-        int cx = i >> shift, cy = j >> shift;
-        double pl, ptl, ptr;
-        split(&py->levels[k], cx & ~1, cy & ~1, &pl, &ptl, &ptr);
-        prob *= (cx & 1) ? 1.0 - pl : pl;
-        double pt = (cx & 1) ? ptr : ptl;
-        prob *= (cy & 1) ? 1.0 - pt : pt;
-    }
-    return prob / s->env->row_solid_angle[j];
+    return at(&py->levels[py->count - 1], i, j) * py->inv_total / s->env->row_solid_angle[j];
 }
 
 static void hier_destroy(lumis_sampler *s)
@@ -239,6 +228,7 @@ lumis_status lumis__hierarchical_init(lumis_sampler *s, const double *imp)
         w = (w + 1) / 2;
         h = (h + 1) / 2;
     }
+    py->inv_total = 1.0 / py->levels[0].v[0];
     s->table_bytes = bytes;
     s->total_bytes = bytes + (size_t)count * sizeof(level);
     return LUMIS_OK;
