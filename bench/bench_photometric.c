@@ -17,7 +17,9 @@
  *       --corrected: the field plus a signed point of the table's intensity less the
  *       field's own far field (the field's irradiance 1000 sizes away) instead of the
  *       residual, so that its far field is the table's (a study of issue 34's item 7);
- *       --max-gamma: only the receivers within DEG of the aim */
+ *       --max-gamma: only the receivers within DEG of the aim; --near-field: a column for
+ *       the near-field fixture (lumis_photometric_near_irradiance: the field up to the
+ *       crossover its report measured, the point beyond, blended between) */
 #include "bench_common.h"
 #include "photometric_gen.h"
 
@@ -151,7 +153,7 @@ static const double lf_ratios[] = {1, 2, 3, 5, 7, 10, 15, 20, 30, 50};
 #define NLR ((int)(sizeof lf_ratios / sizeof lf_ratios[0]))
 
 static int light_field_study(const char *path, int json, double target, int corrected,
-                             double max_gamma, int last)
+                             int nearfield, double max_gamma, int last)
 {
     lumis_photometric_file *f = NULL;
     lumis_error_sink sink = {0};
@@ -179,12 +181,12 @@ static int light_field_study(const char *path, int json, double target, int corr
         return bench_fail("no residual for %s", path);
     }
     const double res_flux = res ? lumis_photometric_flux(res) : 0.0;
-    double lfmax[NLR], lfmean[NLR], ptmax[NLR], ptmean[NLR];
+    double lfmax[NLR], lfmean[NLR], ptmax[NLR], ptmean[NLR], nfmax[NLR], nfmean[NLR];
     int nrec = 0;
     const double t1 = bench_now();
     for (int r = 0; r < NLR; r++) {
         const double D = lf_ratios[r] * size;
-        lfmax[r] = lfmean[r] = ptmax[r] = ptmean[r] = 0;
+        lfmax[r] = lfmean[r] = ptmax[r] = ptmean[r] = nfmax[r] = nfmean[r] = 0;
         int n = 0;
         for (int gi = 0; gi <= 17; gi++)
             for (int ci = 0; ci < 24; ci++) {
@@ -214,6 +216,12 @@ static int light_field_study(const char *path, int json, double target, int corr
                     model = e.g + point - ef.g * (Df / D) * (Df / D);
                 }
                 const double el = fabs(model / exact - 1), ep = fabs(point / exact - 1);
+                if (nearfield) { /* the near-field fixture: field near, point far, blended */
+                    double nf = 0;
+                    lumis_photometric_near_irradiance(f->model, lum, &rep, x, nn, &nf);
+                    nfmax[r] = fmax(nfmax[r], fabs(nf / exact - 1));
+                    nfmean[r] += fabs(nf / exact - 1);
+                }
                 lfmax[r] = fmax(lfmax[r], el);
                 ptmax[r] = fmax(ptmax[r], ep);
                 lfmean[r] += el;
@@ -223,6 +231,7 @@ static int light_field_study(const char *path, int json, double target, int corr
         if (n) {
             lfmean[r] /= n;
             ptmean[r] /= n;
+            nfmean[r] /= n;
         }
         nrec = n;
     }
@@ -235,15 +244,22 @@ static int light_field_study(const char *path, int json, double target, int corr
                "\"grid\": [%d, %d], \"image\": [%d, %d], \"delta\": %.5g, \"bytes\": %zu, "
                "\"error_target\": %g, \"far_field_error\": %.5g, \"far_field_error_mean\": %.5g, "
                "\"receivers\": %d, \"build_seconds\": %.3g, \"study_seconds\": %.3g, "
-               "\"distances\": [",
+               "\"crossover_sizes\": %.5g, \"near_until_sizes\": %.5g, "
+               "\"far_from_sizes\": %.5g, \"distances\": [",
                path, rep.flux, rep.light_field_flux, rep.residual_flux, res_flux, rep.max_angle_deg,
                rep.grid[0], rep.grid[1], rep.width, rep.height, rep.delta, li.bytes,
                rep.error_target, rep.far_field_error, rep.far_field_error_mean, nrec, build_s,
-               study_s);
+               study_s, rep.crossover_sizes, rep.near_until / size, rep.far_from / size);
         for (int r = 0; r < NLR; r++)
             printf("%s{\"sizes\": %g, \"light_field_max\": %.5g, \"light_field_mean\": %.5g, "
-                   "\"point_max\": %.5g, \"point_mean\": %.5g}",
+                   "\"point_max\": %.5g, \"point_mean\": %.5g",
                    r ? ", " : "", lf_ratios[r], lfmax[r], lfmean[r], ptmax[r], ptmean[r]);
+        for (int r = 0; r < NLR; r++)
+            if (nearfield)
+                printf(", \"near_field_max\": %.5g, \"near_field_mean\": %.5g}", nfmax[r],
+                       nfmean[r]);
+            else
+                printf("}");
         printf("]}%s\n", last ? "" : ",");
     } else {
         printf("%s: %s %.3g m, %.1f lm; light field %d x %d images of %d x %d, delta %.3g m, "
@@ -258,11 +274,22 @@ static int light_field_study(const char *path, int json, double target, int corr
         printf("  far-field error %.3f %% max, %.3f %% mean (target %.2f %%, %s)\n",
                100 * rep.far_field_error, 100 * rep.far_field_error_mean, 100 * rep.error_target,
                rep.target_met ? "met" : "not met");
-        printf("  D / size   light field max / mean   point max / mean   (%d receivers)\n", nrec);
-        for (int r = 0; r < NLR; r++)
-            printf("  %6.0f     %7.3f %% / %7.3f %%    %7.3f %% / %7.3f %%%s\n", lf_ratios[r],
-                   100 * lfmax[r], 100 * lfmean[r], 100 * ptmax[r], 100 * ptmean[r],
-                   lfmax[r] < ptmax[r] && lfmean[r] < ptmean[r] ? "" : "   <- not below");
+        if (nearfield)
+            printf("  near-field fixture: crossover %.3g sizes; the field up to %.3g sizes, the "
+                   "point from %.3g\n",
+                   rep.crossover_sizes, rep.near_until / size, rep.far_from / size);
+        printf("  D / size   light field max / mean   point max / mean%s   (%d receivers)\n",
+               nearfield ? "   near-field fixture max / mean" : "", nrec);
+        for (int r = 0; r < NLR; r++) {
+            printf("  %6.0f     %7.3f %% / %7.3f %%    %7.3f %% / %7.3f %%", lf_ratios[r],
+                   100 * lfmax[r], 100 * lfmean[r], 100 * ptmax[r], 100 * ptmean[r]);
+            if (nearfield)
+                printf("    %7.3f %% / %7.3f %%%s\n", 100 * nfmax[r], 100 * nfmean[r],
+                       nfmax[r] <= fmin(lfmax[r], ptmax[r]) * 1.0001 ? "" : "   <- not the closer");
+            else
+                printf("%s\n",
+                       lfmax[r] < ptmax[r] && lfmean[r] < ptmean[r] ? "" : "   <- not below");
+        }
     }
     lumis_photometric_destroy(res);
     lumis_luminaire_destroy(lum);
@@ -280,12 +307,16 @@ static void num_or_null(char *buf, size_t cap, double v)
 
 int main(int argc, char **argv)
 {
-    int json = 0, nfiles = 0, lfmode = 0, corrected = 0;
+    int json = 0, nfiles = 0, lfmode = 0, corrected = 0, nearfield = 0;
     double target = 0, max_gamma = 85;
     const char *files[16];
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--light-field") == 0) {
             lfmode = 1;
+            continue;
+        }
+        if (strcmp(argv[i], "--near-field") == 0) {
+            nearfield = 1;
             continue;
         }
         if (strcmp(argv[i], "--corrected") == 0) {
@@ -316,7 +347,8 @@ int main(int argc, char **argv)
     if (lfmode) {
         if (json) printf("{\"machine\": \"%s\", \"light_fields\": [\n", cpu);
         for (int k = 0; k < nfiles; k++)
-            if (light_field_study(files[k], json, target, corrected, max_gamma, k + 1 == nfiles))
+            if (light_field_study(files[k], json, target, corrected, nearfield, max_gamma,
+                                  k + 1 == nfiles))
                 return 1;
         if (json) printf("]}\n");
         return 0;

@@ -52,6 +52,12 @@
  *     irradiance; flux held with the residual; closer than the point model near an opening
  *     (near_field_and_light_field, light_field_power_and_residual,
  *     light_field_beats_the_point_model)
+ * lumis_photometric_near_irradiance — brute force: a disk's exact near field summed over its
+ *     points, against which it is within 10 % of the better of the point model and the light
+ *     field at 1, 5, 20 and 50 sizes, and the point model bit for bit beyond far_from
+ *     (near_field_fixture_converges_to_the_far_field)
+ * lumis_photometric_near_weight — hand-worked: 1 at 0, 0 at far_from, 1/2 at the geometric mean
+ *     (near_field_fixture_converges_to_the_far_field)
  * lumis_photometric_beyond — brute force: exactly the table's flux beyond the cone
  *     (light_field_power_and_residual)
  * lumis_photometric_create — closed form: road light tables of known zonal flux
@@ -881,6 +887,122 @@ static void light_field_beats_the_point_model(void **state)
                          "%.5f %% reported",
                          k ? "road" : "spot", 100 * far_max, 100 * rep.far_field_error_mean);
         }
+        lumis_photometric_destroy(res);
+        lumis_luminaire_destroy(lum);
+        lumis_photometric_file_destroy(f);
+    }
+}
+
+/* The exact near field of a disk opening by brute force, written here: every point y of the
+ * disk (midpoint rule, rings of equal area, nr x 4 nr points) emits the table's intensity
+ * towards x over its area, I(x - y) cos_x / |x - y|^2 averaged over the disk. */
+static double disk_brute_force(const lumis_photometric *p, double R, const double x[3],
+                               const double n[3], int nr)
+{
+    double sum = 0;
+    const int nphi = 4 * nr;
+    for (int i = 0; i < nr; i++) {
+        const double r = R * sqrt((i + 0.5) / nr);
+        for (int j = 0; j < nphi; j++) {
+            const double phi = 2 * PI * (j + 0.5) / nphi;
+            const double w[3] = {x[0] - r * cos(phi), x[1] - r * sin(phi), x[2]};
+            const double d2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2], d = sqrt(d2);
+            const double cx = -(n[0] * w[0] + n[1] * w[1] + n[2] * w[2]) / d;
+            if (!(w[2] < 0) || !(cx > 0)) continue;
+            const lumis_vec3 dir = {(float)(w[0] / d), (float)(w[1] / d), (float)(w[2] / d)};
+            sum += lumis_photometric_intensity(p, dir) * cx / d2;
+        }
+    }
+    return sum / ((double)nr * nphi);
+}
+
+/* The near-field fixture converges to the far field: on a broad Lambertian disk (80 degree
+ * cone, its field loses to the point from about 1.1 sizes on) and a narrow cos^50 spot (its
+ * field wins out to about 68 sizes), at 1, 5, 20 and 50 sizes, its largest error against the
+ * disk's exact near field (brute force) is within 10 % of the better of the point model and
+ * the light field (+ residual), or 0.02 %; beyond far_from it is the point model exactly. */
+static void near_field_fixture_converges_to_the_far_field(void **state)
+{
+    (void)state;
+    pg_ies_spec specs[2] = {
+        {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2, 0, 2},
+        {PG_SPOT, 50, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.1, -0.1, 0, 2}};
+    const char *names[2] = {"flood", "spot"};
+    const double sizes[] = {1, 5, 20, 50};
+    for (int k = 0; k < 2; k++) {
+        lumis_photometric_file *f = read_ies(&specs[k]);
+        lumis_photometric_info in = info_of(f);
+        const double size = in.width, R = 0.5 * size;
+        lumis_photometric_light_field_report rep;
+        lumis_luminaire *lum = NULL;
+        assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, NULL, &lum, &rep),
+                         LUMIS_OK);
+        lumis_photometric *res = NULL;
+        assert_int_equal(
+            lumis_photometric_beyond(f->model, rep.ramp_from_deg, rep.max_angle_deg, NULL, &res),
+            LUMIS_OK);
+        assert_true(rep.size == size && rep.near_until <= rep.far_from);
+        /* the flood's field loses early, the spot's late: both cross over */
+        if (k == 0 && !(rep.crossover_sizes > 0.5 && rep.crossover_sizes < 3))
+            fail_msg("flood: crossover %g sizes", rep.crossover_sizes);
+        if (k == 1 && !(rep.crossover_sizes > 50 && rep.far_from < 200 * size))
+            fail_msg("spot: crossover %g sizes, far from %g m", rep.crossover_sizes, rep.far_from);
+        for (int r = 0; r < 5; r++) {
+            /* the four distances, then past far_from */
+            const double D = r < 4 ? sizes[r] * size : 1.01 * rep.far_from;
+            double a = 0, b = 0, c = 0;
+            for (int gi = 0; gi <= 17; gi++)
+                for (int ci = 0; ci < 12; ci++) {
+                    if (gi == 0 && ci > 0) break;
+                    const double g = 5.0 * gi * PI / 180, cc = 30.0 * ci * PI / 180;
+                    const double w[3] = {sin(g) * cos(cc), sin(g) * sin(cc), -cos(g)};
+                    const lumis_vec3 wd = {(float)w[0], (float)w[1], (float)w[2]};
+                    if (lumis_photometric_intensity(f->model, wd) < 0.1 * in.max_candela) continue;
+                    const lumis_vec3 x = {(float)(D * w[0]), (float)(D * w[1]), (float)(D * w[2])},
+                                     n = {(float)-w[0], (float)-w[1], (float)-w[2]};
+                    double point = 0, resid = 0, nf = 0;
+                    lumis_photometric_irradiance(f->model, 0, x, n, 0, &point);
+                    assert_int_equal(
+                        lumis_photometric_near_irradiance(f->model, lum, &rep, x, n, &nf),
+                        LUMIS_OK);
+                    if (r == 4) { /* beyond far_from: the point model, bit for bit */
+                        if (nf != point)
+                            fail_msg("%s at %g m (far from %g m): %.17g, the point %.17g", names[k],
+                                     D, rep.far_from, nf, point);
+                        continue;
+                    }
+                    const double xd[3] = {x.x, x.y, x.z}, nd[3] = {n.x, n.y, n.z};
+                    const double exact = disk_brute_force(f->model, R, xd, nd, 96);
+                    lumis_photometric_irradiance(res, 0, x, n, 0, &resid);
+                    const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {n.x, -n.y, -n.z};
+                    lumis_rgb e;
+                    assert_int_equal(lumis_luminaire_irradiance(lum, xl, nl, 0, &e), LUMIS_OK);
+                    a = fmax(a, fabs(point / exact - 1));
+                    b = fmax(b, fabs((e.g + resid) / exact - 1));
+                    c = fmax(c, fabs(nf / exact - 1));
+                }
+            if (r < 4 && !(c <= fmax(1.1 * fmin(a, b), 2e-4)))
+                fail_msg("%s at %g sizes: near-field fixture %.4f %%, point %.4f %%, light field "
+                         "%.4f %% (crossover %g sizes)",
+                         names[k], sizes[r], 100 * c, 100 * a, 100 * b, rep.crossover_sizes);
+        }
+        /* the weight: 1 near, 0 far, between in log D; refusals */
+        assert_true(lumis_photometric_near_weight(&rep, 0.0) == 1.0);
+        assert_true(lumis_photometric_near_weight(&rep, rep.far_from) == 0.0);
+        assert_true(lumis_photometric_near_weight(NULL, 1.0) == 0.0);
+        assert_true(lumis_photometric_near_weight(&rep, NAN) == 0.0);
+        if (rep.near_until < rep.far_from) {
+            const double mid = sqrt(rep.near_until * rep.far_from);
+            assert_true(fabs(lumis_photometric_near_weight(&rep, mid) - 0.5) < 1e-12);
+        }
+        const lumis_vec3 x = {0, 0, -1}, n = {0, 0, 1};
+        double E = 0;
+        lumis_photometric_light_field_report other = rep;
+        other.flux *= 1.01; /* a report of another table */
+        assert_int_equal(lumis_photometric_near_irradiance(f->model, lum, &other, x, n, &E),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_near_irradiance(f->model, NULL, &rep, x, n, &E),
+                         LUMIS_ERR_INVALID_ARGUMENT);
         lumis_photometric_destroy(res);
         lumis_luminaire_destroy(lum);
         lumis_photometric_file_destroy(f);
@@ -1778,6 +1900,7 @@ int main(void)
         cmocka_unit_test(readers_less_travelled),
         cmocka_unit_test(ldt_shapes_factors_and_values),
         cmocka_unit_test(zonal_flux_is_exact),
+        cmocka_unit_test(near_field_fixture_converges_to_the_far_field),
         cmocka_unit_test(forward_is_centred_on_c0),
         cmocka_unit_test(bug_ratings_at_their_thresholds),
         cmocka_unit_test(spacing_criterion_worked_by_hand),

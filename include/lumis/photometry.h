@@ -296,6 +296,19 @@ typedef struct lumis_photometric_light_field_report {
     int directions;              /* how many */
     int target_met;              /* 0: the finest resolution allowed (16 M pixels in all)
                                     did not reach error_target */
+    /* Where the near-field fixture (lumis_photometric_near_irradiance) changes models,
+     * measured as the field is made: on receivers facing the opening in every direction of
+     * its field (gamma 0 to 85 by 5 degrees, C every 15, I >= 10 % of the peak) at 0.5 to 50
+     * sizes, the largest |model / opening - 1| of the light field (+ residual) and of the
+     * point model against the exact opening (lumis_photometric_irradiance, 8 panels). */
+    double crossover_sizes; /* the first distance (sizes, interpolated in log-log) where the
+                               field's error reaches the point's; 0: the point is closer
+                               from 0.5 sizes on; beyond 50 extrapolated (the point's error
+                               falling as its measured slope, the field's held) */
+    double near_until;      /* the field (+ residual) up to this distance from the opening's
+                               centre (the table's units: metres) */
+    double far_from;        /* the point model from this distance on; blended between */
+    double size;            /* the opening's largest dimension (m) */
 } lumis_photometric_light_field_report;
 
 /* report may be NULL.  A table without flux within max_angle, or a file without a disk or
@@ -304,6 +317,27 @@ LUMIS_API lumis_status lumis_luminaire_from_photometric(
     const lumis_photometric *p, const lumis_photometric_light_field *desc,
     const lumis_error_sink *errors, lumis_luminaire **out,
     lumis_photometric_light_field_report *report);
+
+/* The near-field fixture (docs/photometric.md, "A fixture that converges to its far field"):
+ * a light field made from the table (lumis_luminaire_from_photometric, report r) close to
+ * the opening, the point model far from it, so that it is never worse than the point where
+ * the point is the better model.  At distance D from the opening's centre, with
+ * w = lumis_photometric_near_weight(r, D):
+ *   E = w (E_field + E_residual) + (1 - w) E_point,
+ * E_field the light field's irradiance (lumis_luminaire_irradiance, its frame the fixture's
+ * turned half a turn about x), E_residual the point law of lumis_photometric_beyond(p,
+ * r->ramp_from_deg, r->max_angle_deg) (none for types A and B), E_point the table's point
+ * law.  x and n as lumis_photometric_irradiance's (the fixture's frame).  The renderer's
+ * near-field fixtures (lumis_photometric_instance.light_field) estimate it without bias.
+ * LUMIS_ERR_INVALID_ARGUMENT for NULL or a report whose flux is not the table's. */
+LUMIS_API lumis_status lumis_photometric_near_irradiance(
+    const lumis_photometric *p, const lumis_luminaire *light_field,
+    const lumis_photometric_light_field_report *r, lumis_vec3 x, lumis_vec3 n, double *E);
+
+/* The field's weight at distance D: 1 up to r->near_until, 0 from r->far_from on, linear in
+ * log D between (0 for NULL, or a D that is not a number). */
+LUMIS_API double lumis_photometric_near_weight(const lumis_photometric_light_field_report *r,
+                                               double distance);
 
 /* The names: "C", "B", "A"; "none", "rotational", "C0-C180", "C90-C270", "quadrant",
  * "lateral"; "point", "rectangle", "box", "disk", "cylinder", "sphere", "other". */

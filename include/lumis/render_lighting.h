@@ -110,6 +110,16 @@ typedef struct lumis_photometric_instance {
     lumis_rigid placement; /* R a proper rotation; all zeros == identity */
     double multiplier;     /* >= 0; 0 == 1 */
     int area;              /* nonzero: the luminous opening, else a point */
+    /* NULL, or the near-field fixture (lumis_photometric_near_irradiance): the light field
+     * lumis_luminaire_from_photometric made of this table, placed with the fixture (its frame
+     * the fixture's turned half a turn about x), and that call's report.  At distance D from
+     * the fixture's position, with w = lumis_photometric_near_weight(report, D), a vertex
+     * gets w times the field's samples (32 per vertex, Lu et al.'s restricted strategy, one
+     * shadow ray each) and one point of intensity w I_residual + (1 - w) I_table: beyond
+     * report->far_from exactly the point model.  Both together with `area`, a type A or B
+     * table, or a report whose flux is not the table's: refused. */
+    const lumis_luminaire *light_field;
+    const lumis_photometric_light_field_report *light_field_report;
 } lumis_photometric_instance;
 
 /* Photometric fixtures as the renderer's lights: at every vertex each is sampled

@@ -329,6 +329,123 @@ static void far_error(const lf_ctx *c, const lf_plan *pl, const lumis_luminaire 
     if (*count) *mean /= *count;
 }
 
+double lumis_photometric_near_weight(const lumis_photometric_light_field_report *r, double distance)
+{
+    if (!r || !(distance >= 0.0)) return 0.0;
+    if (distance <= r->near_until) return 1.0;
+    if (!(distance < r->far_from)) return 0.0;
+    /* near_until < distance < far_from: near_until may be 0 (then w is 1 only at 0) */
+    if (!(r->near_until > 0.0)) return 0.0;
+    return log(r->far_from / distance) / log(r->far_from / r->near_until);
+}
+
+/* w (field + residual) + (1 - w) point, with the residual given (NULL: none). */
+static lumis_status near_irradiance(const lumis_photometric *p, const lumis_photometric *res,
+                                    const lumis_luminaire *lf, double w, lumis_vec3 x, lumis_vec3 n,
+                                    double *E)
+{
+    double point = 0.0, resid = 0.0;
+    lumis_status st = lumis_photometric_irradiance(p, 0, x, n, 0, &point);
+    if (st != LUMIS_OK || !(w > 0.0)) {
+        *E = point;
+        return st;
+    }
+    if (res) lumis_photometric_irradiance(res, 0, x, n, 0, &resid);
+    /* the light field's frame: the fixture's turned half a turn about x */
+    const lumis_vec3 xl = {x.x, -x.y, -x.z}, nl = {n.x, -n.y, -n.z};
+    lumis_rgb e = {0, 0, 0};
+    if (x.z < 0.0f && (st = lumis_luminaire_irradiance(lf, xl, nl, 0, &e)) != LUMIS_OK) return st;
+    *E = w * (e.g + resid) + (1.0 - w) * point;
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_near_irradiance(const lumis_photometric *p,
+                                               const lumis_luminaire *light_field,
+                                               const lumis_photometric_light_field_report *r,
+                                               lumis_vec3 x, lumis_vec3 n, double *E)
+{
+    if (E) *E = 0.0;
+    if (!p || !light_field || !r || !E) return LUMIS_ERR_INVALID_ARGUMENT;
+    const double flux = lumis_photometric_flux(p);
+    if (!(fabs(r->flux - flux) <= 1e-9 * fabs(flux))) return LUMIS_ERR_INVALID_ARGUMENT;
+    const double D = sqrt((double)x.x * x.x + (double)x.y * x.y + (double)x.z * x.z);
+    const double w = lumis_photometric_near_weight(r, D);
+    lumis_photometric_info in;
+    lumis_photometric_get_info(p, &in);
+    lumis_photometric *res = NULL;
+    if (w > 0.0 && in.type == LUMIS_PHOTOMETRIC_C && r->ramp_from_deg <= r->max_angle_deg &&
+        lumis_photometric_beyond(p, r->ramp_from_deg, r->max_angle_deg, NULL, &res) != LUMIS_OK)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_status st = near_irradiance(p, res, light_field, w, x, n, E);
+    lumis_photometric_destroy(res);
+    return st;
+}
+
+/* The distances (sizes) the crossover is measured at. */
+static const double cross_sizes[] = {0.5, 0.75, 1, 1.5, 2, 3, 5, 7, 10, 15, 20, 30, 50};
+#define NCROSS ((int)(sizeof cross_sizes / sizeof cross_sizes[0]))
+
+/* Where the light field (+ residual) stops being closer to the exact opening than the point
+ * model (report's crossover_sizes), and the blend around it: near_until and far_from, a
+ * factor CROSS_BAND either side of the crossover but never past the distances measured on
+ * either side of it, so that at every measured distance the model is the closer one. */
+#define CROSS_BAND 1.25
+static void crossover(const lumis_photometric *p, const lumis_photometric *res,
+                      const lumis_luminaire *lf, double size,
+                      lumis_photometric_light_field_report *r)
+{
+    lumis_photometric_info in;
+    lumis_photometric_get_info(p, &in);
+    double ef[NCROSS], ep[NCROSS];
+    for (int k = 0; k < NCROSS; k++) {
+        const double D = cross_sizes[k] * size;
+        ef[k] = ep[k] = 0.0;
+        for (int gi = 0; gi <= 17; gi++)
+            for (int ci = 0; ci < 24; ci++) {
+                if (gi == 0 && ci > 0) break;
+                const double g = 5.0 * gi * LUMIS_PI / 180, c = 15.0 * ci * LUMIS_PI / 180;
+                const double w[3] = {sin(g) * cos(c), sin(g) * sin(c), -cos(g)};
+                const lumis_vec3 wd = {(float)w[0], (float)w[1], (float)w[2]};
+                if (!(lumis_photometric_intensity(p, wd) >= 0.1 * in.max_candela)) continue;
+                const lumis_vec3 x = {(float)(D * w[0]), (float)(D * w[1]), (float)(D * w[2])},
+                                 n = {(float)-w[0], (float)-w[1], (float)-w[2]};
+                double exact = 0.0, point = 0.0, field = 0.0;
+                lumis_photometric_irradiance(p, 1, x, n, 8, &exact);
+                if (!(exact > 0.0)) continue;
+                lumis_photometric_irradiance(p, 0, x, n, 0, &point);
+                near_irradiance(p, res, lf, 1.0, x, n, &field);
+                ef[k] = fmax(ef[k], fabs(field / exact - 1));
+                ep[k] = fmax(ep[k], fabs(point / exact - 1));
+            }
+    }
+    int k = 0;
+    while (k < NCROSS && ef[k] < ep[k]) k++;
+    double x, lo, hi;
+    if (k == 0) { /* the point is closer from the first distance on */
+        r->crossover_sizes = r->near_until = r->far_from = 0.0;
+        return;
+    }
+    if (k < NCROSS) { /* log(ef / ep) crosses 0 between k - 1 and k */
+        const double a = log(ef[k - 1] / ep[k - 1]), b = log(fmax(ef[k], 1e-300) / ep[k]);
+        const double t = b > a ? -a / (b - a) : 1.0;
+        x = exp(log(cross_sizes[k - 1]) + t * (log(cross_sizes[k]) - log(cross_sizes[k - 1])));
+        lo = cross_sizes[k - 1];
+        hi = cross_sizes[k];
+    } else { /* closer at every distance: the point's error falling as its last slope */
+        const double l0 = cross_sizes[NCROSS - 2], l1 = cross_sizes[NCROSS - 1];
+        double slope = log(ep[NCROSS - 2] / ep[NCROSS - 1]) / log(l1 / l0);
+        slope = !(slope >= 1.0) ? 1.0 : slope > 2.0 ? 2.0 : slope;
+        const double ratio = ef[NCROSS - 1] > 0.0 ? ep[NCROSS - 1] / ef[NCROSS - 1] : 1e6;
+        x = l1 * pow(fmin(ratio, 1e6), 1.0 / slope);
+        lo = l1;
+        hi = INFINITY;
+    }
+    r->crossover_sizes = x;
+    r->near_until = fmax(x / CROSS_BAND, lo) * size;
+    r->far_from = fmin(x * CROSS_BAND, hi) * size;
+    if (r->near_until > r->far_from) r->near_until = r->far_from;
+}
+
 lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
                                               const lumis_photometric_light_field *d,
                                               const lumis_error_sink *errors, lumis_luminaire **out,
@@ -480,6 +597,8 @@ lumis_status lumis_luminaire_from_photometric(const lumis_photometric *p,
         if (in.type == LUMIS_PHOTOMETRIC_C &&
             lumis_photometric_beyond(p, report->ramp_from_deg, theta_deg, NULL, &res) == LUMIS_OK)
             report->residual_flux = lumis_photometric_flux(res);
+        report->size = size;
+        crossover(p, res, best, size, report);
         lumis_photometric_destroy(res);
         report->residual_share = in.flux > 0 ? report->residual_flux / in.flux : 0.0;
         report->error_target = target;

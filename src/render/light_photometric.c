@@ -29,12 +29,30 @@ typedef struct fixture {
      * sphere) */
     double hx, hy, hz, radius;
     double A; /* the flat opening's area; a solid's surface area */
+    /* the near-field fixture: its light field, the residual beyond its cone, its report */
+    const lumis_luminaire *lf;
+    lumis_photometric *residual;
+    const lumis_photometric_light_field_report *rep;
 } fixture;
 
 typedef struct photometric_state {
     fixture *f;
     int count, nl, nb, any_area;
+    int capacity; /* the most samples a near-field fixture's light field returns (0: none) */
 } photometric_state;
+
+enum { NEAR_BUDGET = 32 }; /* light-field samples per vertex of a near-field fixture */
+
+/* A thread's buffer for the light fields' samples, and how many it evaluated. */
+typedef struct photometric_scratch {
+    lumis_luminaire_sample *s;
+    double samples;
+} photometric_scratch;
+
+static void fill_pcg(void *rng, double *u, int n)
+{
+    lumis_pcg32_fill_doubles(rng, u, (size_t)n);
+}
 
 static v3 to_world(const fixture *f, double x, double y, double z)
 {
@@ -55,6 +73,59 @@ static double intensity(const fixture *f, v3 l)
 {
     const lumis_vec3 d = {(float)l.x, (float)l.y, (float)l.z};
     return f->mult * lumis_photometric_intensity(f->p, d);
+}
+
+/* A near-field fixture's point at the field's weight w: w I_residual + (1 - w) I_table; the
+ * table alone (the same arithmetic as a plain fixture's) at w = 0. */
+static double point_intensity(const fixture *f, v3 l, double w)
+{
+    if (!(w > 0.0)) return intensity(f, l);
+    const lumis_vec3 d = {(float)l.x, (float)l.y, (float)l.z};
+    const double res = f->residual ? lumis_photometric_intensity(f->residual, d) : 0.0;
+    return f->mult * (w * res + (w < 1.0 ? (1.0 - w) * lumis_photometric_intensity(f->p, d) : 0));
+}
+
+/* w times the light field's estimate at h (its samples times the BSDF and the cosine, one
+ * shadow ray each): the field's numbers from a PCG32 stream of its own, keyed by the pixel
+ * (and the render's seed), the camera sample, the vertex's dimension and the fixture. */
+static void near_field_samples(const ctx *c, const fixture *f, double w, const hit *h,
+                               const shading_frame *fr, const lumis__stream *seq, uint32_t dim,
+                               int index, int capacity, photometric_scratch *sc, packet *p, v3 *L)
+{
+    const v3 centre = mk(f->t[0], f->t[1], f->t[2]);
+    const v3 xl = to_local(f, sub(h->p, centre));
+    lumis_luminaire_query q = {0};
+    q.p = tof(mk(xl.x, -xl.y, -xl.z)); /* the field's frame: half a turn about x */
+    if (!(q.p.z > 0.0f)) return;       /* behind the opening */
+    q.budget = NEAR_BUDGET;
+    q.strategy = LUMIS_LUM_RESTRICTED;
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, lumis__mix64(seq->pixel ^ lumis__mix64(((uint64_t)seq->k << 32) | dim)),
+                     (uint64_t)index);
+    q.fill = fill_pcg;
+    q.fill_ctx = &rng;
+    int count = 0;
+    if (lumis_luminaire_sample_point(f->lf, &q, NULL, capacity, sc->s, &count) != LUMIS_OK) return;
+    sc->samples += count;
+    const lumis_bsdf *m = &h->prim->material;
+    for (int j = 0; j < count; j++) {
+        const lumis_luminaire_sample *s = &sc->s[j];
+        if (!(s->weight > 0.0f) ||
+            !(s->radiance.g > 0.0f || s->radiance.r > 0.0f || s->radiance.b > 0.0f))
+            continue;
+        /* the field's frame to the fixture's (half a turn about x), then the world */
+        const v3 wi = norm(to_world(f, s->dir.x, -s->dir.y, -s->dir.z));
+        const double cosn = dot(wi, fr->n);
+        if (!(cosn > 0.0)) continue;
+        const lumis_rgb fb =
+            lumis_bsdf_eval(m, fr->wo, tof(mk(dot(wi, fr->t), dot(wi, fr->b), cosn)));
+        if (fb.r == 0.0f && fb.g == 0.0f && fb.b == 0.0f) continue;
+        const double k = w * f->mult * cosn * s->weight;
+        packet_push(
+            p, fr->org, wi, (float)(s->distance * (1.0 - 1e-4)),
+            mk(fb.r * s->radiance.r * k, fb.g * s->radiance.g * k, fb.b * s->radiance.b * k));
+        if (p->rays.n == PACKET) packet_flush(c->scene, c->d, p, L);
+    }
 }
 
 /* The opening's area seen from the unit direction d (its frame): a flat one's from its front
@@ -283,6 +354,8 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     lumis__stream *seq = v->seq;
     /* the light samples' points (one dimension for every fixture), the BSDF samples' */
     const uint32_t dl = seq_take(seq), db = seq_take_n(seq, 2);
+    /* the near-field fixtures' light fields: a dimension of their own (none without one) */
+    const uint32_t dn = st->capacity > 0 ? seq_take(seq) : 0;
     const shading_frame fr = shading_frame_at(h, dir);
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
     const lumis_vec3 wo = fr.wo;
@@ -298,6 +371,11 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         const fixture *f = &st->f[q];
         const v3 centre = mk(f->t[0], f->t[1], f->t[2]);
         const v3 xl = to_local(f, sub(h->p, centre)); /* the surface point, fixture's frame */
+        /* a near-field fixture: the field's share at this distance, its samples (found by
+         * light sampling alone, as a point is) */
+        const double wn = f->lf ? lumis_photometric_near_weight(f->rep, sqrt(dot(xl, xl))) : 0.0;
+        if (wn > 0.0)
+            near_field_samples(c, f, wn, h, &fr, seq, dn, q, st->capacity, v->scratch, &p, &L);
         /* a point is found by its light sample alone, whatever the estimator */
         const int nl = f->area ? (use_light ? st->nl : 0) : st->nl;
         for (int k = 0; k < nl; k++) {
@@ -325,7 +403,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
                     weight = mis_weight(st->nl, pdf_area * d2 / cos_l, st->nb,
                                         lumis_bsdf_pdf(m, wo, wil), d->power_heuristic);
             } else {
-                I = intensity(f, el);
+                I = point_intensity(f, el, wn);
             }
             if (!(I > 0.0)) continue;
             const lumis_rgb fb = lumis_bsdf_eval(m, wo, wil);
@@ -380,8 +458,30 @@ static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 static void release(void *state)
 {
     photometric_state *st = state;
+    for (int q = 0; st && st->f && q < st->count; q++) lumis_photometric_destroy(st->f[q].residual);
     if (st) free(st->f);
     free(st);
+}
+
+/* A thread's buffer of light-field samples (one sample when no fixture has a field). */
+static void *thread_begin(const void *state)
+{
+    const photometric_state *st = state;
+    photometric_scratch *sc = calloc(1, sizeof *sc);
+    if (sc && !(sc->s = malloc(sizeof *sc->s * (size_t)(st->capacity > 0 ? st->capacity : 1)))) {
+        free(sc);
+        sc = NULL;
+    }
+    return sc;
+}
+
+static void thread_end(void *scratch, double *light_samples)
+{
+    photometric_scratch *sc = scratch;
+    if (!sc) return;
+    *light_samples += sc->samples;
+    free(sc->s);
+    free(sc);
 }
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
@@ -467,12 +567,43 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
                                    ? ""
                                    : " with a zero size");
         st->any_area |= f->area != 0;
+        if (!in->light_field && !in->light_field_report) continue;
+        /* the near-field fixture: its field and report made from this table, a point */
+        const lumis_photometric_light_field_report *r = in->light_field_report;
+        const char *why =
+            !in->light_field || !r ? "needs both a light field and its report"
+            : in->area             ? "is a point with a light field near it, not an opening (area)"
+            : info.type != LUMIS_PHOTOMETRIC_C
+                ? "needs a type C table (its residual beyond the field's cone)"
+            : !(fabs(r->flux - info.flux) <= 1e-9 * fabs(info.flux))
+                ? "has a report whose flux is not the table's (made from another file?)"
+            : !(r->near_until >= 0.0 && r->near_until <= r->far_from && isfinite(r->far_from) &&
+                r->ramp_from_deg >= 0.0 && r->ramp_from_deg <= r->max_angle_deg &&
+                r->max_angle_deg < 90.0)
+                ? "has a report whose near_until, far_from (0 <= near_until <= far_from, "
+                  "finite) or cone (0 <= ramp_from_deg <= max_angle_deg < 90) is wrong"
+                : NULL;
+        if (why)
+            return lumis__fail(
+                &d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                "render: photometric fixture %d: light_field: the near-field fixture "
+                "%s",
+                q, why);
+        f->lf = in->light_field;
+        f->rep = r;
+        if (lumis_photometric_beyond(f->p, r->ramp_from_deg, r->max_angle_deg, &d->errors,
+                                     &f->residual) != LUMIS_OK)
+            return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "render: photometric fixture %d: light_field: no residual table", q);
+        const int cap = lumis_luminaire_capacity(f->lf, NEAR_BUDGET);
+        if (cap > st->capacity) st->capacity = cap;
     }
     return LUMIS_OK;
 }
 
 const lumis__light_kind lumis__light_photometric = {
-    "photometric fixtures", inputs, prepare, release, NULL, NULL, NULL, NULL, NULL, shade,
+    "photometric fixtures", inputs,     prepare, release, NULL, NULL, NULL,
+    thread_begin,           thread_end, shade,
 };
 
 /* The frame docs/photometric.md ("Aiming a fixture") states: local -z along the aim; local

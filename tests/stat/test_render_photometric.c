@@ -18,6 +18,9 @@
  *     floodlights_light_a_horizontal_band)
  * lumis_photometric_irradiance — closed form: the disk's on-axis E = I0 / (h^2 + R^2)
  *     (a_disk_meets_its_closed_form)
+ * lumis_photometric_near_irradiance — metamorphic: the renderer's near-field fixture estimates
+ *     it (mean over the floor within four standard errors), and is the point fixture bit for
+ *     bit where the field has no share (a_near_field_fixture_renders_its_model)
  */
 #include "photometric_gen.h"
 #include "testutil.h"
@@ -1129,6 +1132,107 @@ static double world_irradiance(const lumis_photometric *p, const double R[9], co
     return E;
 }
 
+/* A near-field fixture (lumis_photometric_instance.light_field) over a floor, seen close:
+ * a 0.2 m Lambertian disk 0.15 m up, whose field is used within near_until (0.2 m), blended
+ * out to far_from (0.29 m) and the point beyond.  Where the field has a share, the render's
+ * mean over the floor is lumis_photometric_near_irradiance's (four seeds, within four
+ * standard errors); where it has none, every pixel is the point fixture's bit for bit. */
+static void a_near_field_fixture_renders_its_model(void **state)
+{
+    (void)state;
+    pg_ies_spec spec = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2,
+                        0,          2};
+    lumis_photometric_file *f = load(&spec);
+    lumis_photometric_light_field_report rep;
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, NULL, &lum, &rep), LUMIS_OK);
+    assert_true(rep.near_until > 0.15 && rep.far_from < 0.5);
+    lumis_scene *s = floor_scene(0);
+    const double h = 0.15;
+    lumis_photometric_instance in = {0};
+    in.photometric = f->model;
+    in.placement.t[2] = h;
+    const lumis_camera close = {{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 60.0f, W, H};
+    lumis_photometric_lighting pl = {&in, 1};
+    lumis_render_desc d = {0};
+    d.camera = &close;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
+    d.lighting.photometric = &pl;
+    d.pixel_centers = 1;
+    d.threads = 1;
+    d.spp = 1;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
+    lumis_image *point = NULL;
+    if (lumis_render(s, &d, &point, NULL) != LUMIS_OK) fail_msg("%s", sink.last);
+    in.light_field = lum;
+    in.light_field_report = &rep;
+    /* the model at each pixel's floor point, and the field's weight there */
+    const double th = tan(30.0 * PI / 180.0);
+    double model = 0, wsum[W * H];
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const double X = ((x + 0.5) / W * 2.0 - 1.0) * th, Y = (1.0 - (y + 0.5) / H * 2.0) * th;
+            wsum[y * W + x] = lumis_photometric_near_weight(&rep, sqrt(X * X + Y * Y + h * h));
+            if (!(wsum[y * W + x] > 0)) continue;
+            const lumis_vec3 xl = {(float)X, (float)Y, (float)-h}, n = {0, 0, 1};
+            double E = 0;
+            assert_int_equal(lumis_photometric_near_irradiance(f->model, lum, &rep, xl, n, &E),
+                             LUMIS_OK);
+            model += E / PI;
+        }
+    enum { RUNS = 4 };
+    double sum = 0, sum2 = 0;
+    int field_px = 0, point_px = 0;
+    d.spp = 16;
+    for (int r = 0; r < RUNS; r++) {
+        d.seed = 7 + (unsigned long long)r;
+        lumis_image *img = NULL;
+        if (lumis_render(s, &d, &img, NULL) != LUMIS_OK) fail_msg("%s", sink.last);
+        double m = 0;
+        for (int k = 0; k < W * H; k++) {
+            const double v = img->pixels[3 * k + 1];
+            if (wsum[k] > 0) {
+                m += v;
+                field_px += r == 0;
+            } else {
+                if (v != point->pixels[3 * k + 1])
+                    fail_msg("pixel %d (no field share): %.9g, the point fixture %.9g", k, v,
+                             point->pixels[3 * k + 1]);
+                point_px += r == 0;
+            }
+        }
+        sum += m;
+        sum2 += m * m;
+        lumis_image_destroy(img);
+    }
+    const double mean = sum / RUNS, se = sqrt(fmax(0.0, sum2 / RUNS - mean * mean) / (RUNS - 1));
+    if (!(fabs(mean - model) <= 4 * se + 2e-3 * model))
+        fail_msg("near-field fixture over %d pixels: %g +- %g, its model %g", field_px, mean, se,
+                 model);
+    assert_true(field_px > 20 && point_px > 20);
+    /* what it refuses, naming the field */
+    in.area = 1;
+    tu_sink_init(&sink);
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "light_field"));
+    in.area = 0;
+    lumis_photometric_light_field_report other = rep;
+    other.flux *= 2;
+    in.light_field_report = &other;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "not the table's"));
+    in.light_field_report = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "needs both"));
+    lumis_image_destroy(point);
+    lumis_luminaire_destroy(lum);
+    lumis_scene_destroy(s);
+    lumis_photometric_file_destroy(f);
+}
+
 /* A floodlight (types B and A) wide across (cos H) and narrow up and down (cos^30 V: a 25
  * degree beam), panned to many azimuths (towards +x, +z and between) and tilted up and down,
  * lights a wall facing it in a horizontal band: 1.5 m beside the aimed point on the wall
@@ -1189,6 +1293,7 @@ int main(void)
         cmocka_unit_test(orientation_is_a_continuous_explicit_frame),
         cmocka_unit_test(aimed_fixtures_over_a_floor),
         cmocka_unit_test(floodlights_light_a_horizontal_band),
+        cmocka_unit_test(a_near_field_fixture_renders_its_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
