@@ -3494,6 +3494,18 @@ static void info_reads_photometric_files(void **state)
         const cJSON *fe = cJSON_GetObjectItemCaseSensitive(ph, "far_field_error");
         assert_true(cJSON_IsNumber(lf) && cJSON_IsNumber(rf) && cJSON_IsNumber(fe));
         assert_true(fabs((lf->valuedouble + rf->valuedouble) / 571.34 - 1) < 1e-3);
+        /* and where a near-field fixture hands over to the point model: an ordered pair of
+         * distances around the crossover, in metres (the opening's size times sizes) */
+        const cJSON *nf = cJSON_GetObjectItemCaseSensitive(ph, "near_field");
+        const double sz = cJSON_GetNumberValue(
+                         cJSON_GetObjectItemCaseSensitive(nf, "opening_size_m")),
+                     cx = cJSON_GetNumberValue(
+                         cJSON_GetObjectItemCaseSensitive(nf, "crossover_sizes")),
+                     nu =
+                         cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(nf, "near_until_m")),
+                     ff = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(nf, "far_from_m"));
+        assert_true(sz > 0 && cx > 0 && nu > 0 && nu <= cx * sz && cx * sz <= ff);
+        expect(a, 0, "lumis: the field beats the point model out to ");
         cJSON_Delete(mj);
         free(mt);
     }

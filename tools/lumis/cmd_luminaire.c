@@ -120,6 +120,12 @@ static lumis_status record_photometric(const char *out, const char *from,
     cJSON_AddNumberToObject(o, "far_field_error", r->far_field_error);
     cJSON_AddNumberToObject(o, "far_field_error_mean", r->far_field_error_mean);
     cJSON_AddBoolToObject(o, "target_met", r->target_met);
+    /* where a near-field fixture hands over from the field to the point model */
+    cJSON *nf = cJSON_AddObjectToObject(o, "near_field");
+    cJSON_AddNumberToObject(nf, "opening_size_m", r->size);
+    cJSON_AddNumberToObject(nf, "crossover_sizes", r->crossover_sizes);
+    cJSON_AddNumberToObject(nf, "near_until_m", r->near_until);
+    cJSON_AddNumberToObject(nf, "far_from_m", r->far_from);
     char *js = cJSON_Print(root);
     cJSON_Delete(root);
     if (!js) return LUMIS_ERR_OUT_OF_MEMORY;
@@ -260,6 +266,10 @@ static int create_from_photometric(create_opts *o)
             100 * rep.far_field_error, 100 * rep.far_field_error_mean, rep.directions,
             100 * rep.error_target,
             rep.target_met ? ", met" : ": NOT met at the largest images allowed");
+    fprintf(stderr,
+            "lumis: the field beats the point model out to %.3g opening sizes; a near-field "
+            "fixture uses it up to %.3g m and the point model from %.3g m\n",
+            rep.crossover_sizes, rep.near_until, rep.far_from);
     return EXIT_OK;
 }
 
