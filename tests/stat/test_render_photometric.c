@@ -20,7 +20,8 @@
  *     (a_disk_meets_its_closed_form)
  * lumis_photometric_near_irradiance — metamorphic: the renderer's near-field fixture estimates
  *     it (mean over the floor within four standard errors), and is the point fixture bit for
- *     bit where the field has no share (a_near_field_fixture_renders_its_model)
+ *     bit where the field has no share, the residual beyond its cone included
+ *     (a_near_field_fixture_renders_its_model)
  */
 #include "photometric_gen.h"
 #include "testutil.h"
@@ -1137,20 +1138,22 @@ static double world_irradiance(const lumis_photometric *p, const double R[9], co
  * out to far_from (0.29 m) and the point beyond.  Where the field has a share, the render's
  * mean over the floor is lumis_photometric_near_irradiance's (four seeds, within four
  * standard errors); where it has none, every pixel is the point fixture's bit for bit. */
-static void a_near_field_fixture_renders_its_model(void **state)
+/* A near-field fixture f (field lum, report rep) at height h above the floor, its aim turned
+ * tilt_deg from straight down about y, seen by a camera 1 above the floor: the render's sum
+ * over the pixels where the field has a share (w > 0) against the model
+ * (lumis_photometric_near_irradiance / pi on the white floor), within 4 standard errors of
+ * 4 runs; every other pixel equals the point fixture's render bit for bit.  Returns how
+ * many pixels had a share; *point_px those without. */
+static int near_field_matches_model(const lumis_photometric_file *f, const lumis_luminaire *lum,
+                                    const lumis_photometric_light_field_report *rep, double h,
+                                    double tilt_deg, int *point_px)
 {
-    (void)state;
-    pg_ies_spec spec = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2,
-                        0,          2};
-    lumis_photometric_file *f = load(&spec);
-    lumis_photometric_light_field_report rep;
-    lumis_luminaire *lum = NULL;
-    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, NULL, &lum, &rep), LUMIS_OK);
-    assert_true(rep.near_until > 0.15 && rep.far_from < 0.5);
     lumis_scene *s = floor_scene(0);
-    const double h = 0.15;
+    const double c = cos(tilt_deg * PI / 180), sn = sin(tilt_deg * PI / 180);
     lumis_photometric_instance in = {0};
     in.photometric = f->model;
+    const double R[9] = {c, 0, sn, 0, 1, 0, -sn, 0, c}; /* about y: local -z to (-sn, 0, -c) */
+    memcpy(in.placement.r, R, sizeof R);
     in.placement.t[2] = h;
     const lumis_camera close = {{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 60.0f, W, H};
     lumis_photometric_lighting pl = {&in, 1};
@@ -1167,24 +1170,30 @@ static void a_near_field_fixture_renders_its_model(void **state)
     lumis_image *point = NULL;
     if (lumis_render(s, &d, &point, NULL) != LUMIS_OK) fail_msg("%s", sink.last);
     in.light_field = lum;
-    in.light_field_report = &rep;
-    /* the model at each pixel's floor point, and the field's weight there */
+    in.light_field_report = rep;
+    /* the model at each pixel's floor point (in the fixture's frame: R^T (p - t)), and the
+     * field's weight there */
     const double th = tan(30.0 * PI / 180.0);
     double model = 0, wsum[W * H];
+    const lumis_vec3 n = {(float)R[6], (float)R[7], (float)R[8]}; /* R^T (0, 0, 1) */
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
             const double X = ((x + 0.5) / W * 2.0 - 1.0) * th, Y = (1.0 - (y + 0.5) / H * 2.0) * th;
-            wsum[y * W + x] = lumis_photometric_near_weight(&rep, sqrt(X * X + Y * Y + h * h));
+            wsum[y * W + x] = lumis_photometric_near_weight(rep, sqrt(X * X + Y * Y + h * h));
             if (!(wsum[y * W + x] > 0)) continue;
-            const lumis_vec3 xl = {(float)X, (float)Y, (float)-h}, n = {0, 0, 1};
+            const double p[3] = {X, Y, -h};
+            const lumis_vec3 xl = {(float)(R[0] * p[0] + R[3] * p[1] + R[6] * p[2]),
+                                   (float)(R[1] * p[0] + R[4] * p[1] + R[7] * p[2]),
+                                   (float)(R[2] * p[0] + R[5] * p[1] + R[8] * p[2])};
             double E = 0;
-            assert_int_equal(lumis_photometric_near_irradiance(f->model, lum, &rep, xl, n, &E),
+            assert_int_equal(lumis_photometric_near_irradiance(f->model, lum, rep, xl, n, &E),
                              LUMIS_OK);
             model += E / PI;
         }
     enum { RUNS = 4 };
     double sum = 0, sum2 = 0;
-    int field_px = 0, point_px = 0;
+    int field_px = 0;
+    *point_px = 0;
     d.spp = 16;
     for (int r = 0; r < RUNS; r++) {
         d.seed = 7 + (unsigned long long)r;
@@ -1200,7 +1209,7 @@ static void a_near_field_fixture_renders_its_model(void **state)
                 if (v != point->pixels[3 * k + 1])
                     fail_msg("pixel %d (no field share): %.9g, the point fixture %.9g", k, v,
                              point->pixels[3 * k + 1]);
-                point_px += r == 0;
+                *point_px += r == 0;
             }
         }
         sum += m;
@@ -1209,9 +1218,45 @@ static void a_near_field_fixture_renders_its_model(void **state)
     }
     const double mean = sum / RUNS, se = sqrt(fmax(0.0, sum2 / RUNS - mean * mean) / (RUNS - 1));
     if (!(fabs(mean - model) <= 4 * se + 2e-3 * model))
-        fail_msg("near-field fixture over %d pixels: %g +- %g, its model %g", field_px, mean, se,
-                 model);
-    assert_true(field_px > 20 && point_px > 20);
+        fail_msg("near-field fixture (h %g, tilt %g) over %d pixels: %g +- %g, its model %g", h,
+                 tilt_deg, field_px, mean, se, model);
+    lumis_image_destroy(point);
+    lumis_scene_destroy(s);
+    return field_px;
+}
+
+/* A near-field fixture renders its model: hanging 0.15 above the floor (the field, the blend
+ * and the point all seen), and lower (0.1) and tilted 60 degrees, so that floor points within
+ * the field's reach lie beyond its cone, where the residual table gives their light. */
+static void a_near_field_fixture_renders_its_model(void **state)
+{
+    (void)state;
+    pg_ies_spec spec = {PG_LAMBERT, 0, "IESNA:LM-63-2002", 1, 91, 0, 90, 1, 0, 0, 0, 0, -0.2, -0.2,
+                        0,          2};
+    lumis_photometric_file *f = load(&spec);
+    lumis_photometric_light_field_report rep;
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_from_photometric(f->model, NULL, NULL, &lum, &rep), LUMIS_OK);
+    assert_true(rep.near_until > 0.15 && rep.far_from < 0.5);
+    int point_px = 0;
+    assert_true(near_field_matches_model(f, lum, &rep, 0.15, 0.0, &point_px) > 20 && point_px > 20);
+    assert_true(near_field_matches_model(f, lum, &rep, 0.1, 60.0, &point_px) > 20);
+    lumis_scene *s = floor_scene(0);
+    lumis_photometric_instance in = {0};
+    in.photometric = f->model;
+    in.placement.t[2] = 0.15;
+    in.light_field = lum;
+    in.light_field_report = &rep;
+    lumis_photometric_lighting pl = {&in, 1};
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.lighting.kind = LUMIS_LIGHTING_PHOTOMETRIC;
+    d.lighting.photometric = &pl;
+    d.spp = 1;
+    d.threads = 1;
+    tu_sink sink;
+    tu_sink_init(&sink);
+    d.errors = sink.sink;
     /* what it refuses, naming the field */
     in.area = 1;
     tu_sink_init(&sink);
@@ -1227,7 +1272,6 @@ static void a_near_field_fixture_renders_its_model(void **state)
     in.light_field_report = NULL;
     assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "needs both"));
-    lumis_image_destroy(point);
     lumis_luminaire_destroy(lum);
     lumis_scene_destroy(s);
     lumis_photometric_file_destroy(f);
