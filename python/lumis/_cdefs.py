@@ -276,6 +276,15 @@ lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, dou
                                       lumis_vec3 *d, double *pdf);
 double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
 double lumis_photometric_flux(const lumis_photometric *p);
+lumis_status lumis_photometric_intensity_n(const lumis_photometric *p, const lumis_vec3 *dirs,
+                                           size_t n, double *out);
+lumis_status lumis_photometric_intensity_at_n(const lumis_photometric *p, const double *h_deg,
+                                              size_t nh, const double *v_deg, size_t nv,
+                                              double *out);
+lumis_status lumis_photometric_pdf_n(const lumis_photometric *p, const lumis_vec3 *dirs, size_t n,
+                                     double *out);
+lumis_status lumis_photometric_sample_n(const lumis_photometric *p, const double *u, size_t n,
+                                        lumis_vec3 *dirs, double *pdf);
 typedef struct lumis_photometric_info {
     lumis_photometric_type type;
     lumis_photometric_symmetry symmetry;
