@@ -493,7 +493,7 @@ def read_photometric(path):
 
 # ---- sequences -----------------------------------------------------------------------------
 
-SEQUENCES = ("pcg", "halton", "sobol", "pmj02")
+SEQUENCES = ("pcg", "halton", "sobol", "pmj02", "stratified", "zsobol")
 
 
 def sequence(name, n, seed=0):
@@ -501,7 +501,9 @@ def sequence(name, n, seed=0):
     pcg: PCG32 seeded (seed, stream 0), two 53-bit doubles per point (the numbers `lumis
     sample --seed` uses); halton: bases 2 and 3 (unscrambled, seed unused); sobol: the
     Owen-scrambled (0,2) Sobol' points of seed; pmj02: progressive multi-jittered (0,2) points
-    of seed (n a power of two up to 2^20)."""
+    of seed (n a power of two up to 2^20); stratified, zsobol: the renderer's own (they exist
+    only per pixel), pixel (0, 0)'s camera jitter in a render of seed planned for n samples
+    (render_sequence(name, n, seed=seed, spp=n); needs liblumis-render.so)."""
     n = int(n)
     if n < 0:
         raise invalid("n: expected a count >= 0, got %d" % n)
@@ -527,8 +529,11 @@ def sequence(name, n, seed=0):
               "pmj02: n = %d (a power of two, 1 to 2^20)" % n)
         out[:] = xy.reshape(n, 2) * (1.0 / 4294967296.0)
     elif name in ("stratified", "zsobol"):
-        raise invalid("sequence '%s': a per-pixel layout of the renderer (lumis-render), not in "
-                      "the public C API yet; one of %s" % (name, ", ".join(SEQUENCES)))
+        # the renderer's per-pixel sequences (lumis-render): pixel (0, 0)'s camera jitter
+        # (dimension 0) of a render planned for n samples; lumis.render_sequence gives any
+        # pixel, dimension and plan
+        from ._render import render_sequence  # noqa: PLC0415 - the render library is optional
+        return render_sequence(name, n, seed=seed, spp=n)
     else:
         raise invalid("sequence: unknown '%s' (one of %s)" % (name, ", ".join(SEQUENCES)))
     return out

@@ -446,6 +446,18 @@ STRUCTS = {
 RENDER_CDEFS = r"""
 typedef int lumis_sequence;
 lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+typedef struct lumis_sequence_desc {
+    lumis_sequence sequence;
+    unsigned long long seed;
+    int planned_spp;
+    int width;
+    int x, y;
+    int dimension;
+    int per_sample;
+    lumis_error_sink errors;
+} lumis_sequence_desc;
+lumis_status lumis_sequence_fill(const lumis_sequence_desc *desc, int first_sample, int samples,
+                                 double *out);
 typedef int lumis_estimator;
 typedef int lumis_lights_mode;
 typedef int lumis_lighting_kind;
@@ -610,6 +622,8 @@ RENDER_STRUCTS = {
                           "light_samples", "bsdf_samples", "seed", "sequence", "first_sample",
                           "threads", "max_bounces", "progress", "progress_user", "shadow_ray",
                           "shadow_ray_user", "errors"],
+    "lumis_sequence_desc": ["sequence", "seed", "planned_spp", "width", "x", "y", "dimension",
+                            "per_sample", "errors"],
     "lumis_render_stats": ["spp", "passes", "threads", "seconds", "camera_rays", "shadow_rays",
                            "bounce_rays", "light_samples"],
     "lumis_session_desc": ["render", "lights", "lights_k", "interleave", "lights_params",

@@ -3,6 +3,8 @@ it between loading and writing (docs/python.md, "Rendering")."""
 
 import os
 
+import numpy as np
+
 from ._api import Map, _image_to_array
 from ._lib import Sink, cstr, ffi, invalid, lib, pystr, render_missing, renderlib
 
@@ -49,6 +51,32 @@ def _envmap_from_image(img, rotation_deg, scale, sink, source):
     out = ffi.new("lumis_envmap **")
     sink.check(lib.lumis_envmap_create(desc, out), source)
     return out[0]
+
+
+def render_sequence(name, samples, seed=1, spp=0, width=1, pixel=(0, 0), dimension=0,
+                    per_sample=1, first_sample=0):
+    """The 2D points a render draws (lumis_sequence_fill): camera samples first_sample ..
+    first_sample + samples - 1 of pixel (x, y) of an image `width` wide, in one dimension of
+    the render's sequence (0: the camera's jitter; docs/sampling.md has the layout),
+    per_sample points each, as a (samples x per_sample) x 2 float64 array: the numbers
+    `lumis render --sequence NAME --seed SEED --spp SPP` takes there.  name: any sequence
+    ("default" is sobol); spp: the render's spp, which stratified and zsobol plan for (0:
+    2^16, as the library's)."""
+    _need()
+    sink = Sink()
+    q = ffi.new("lumis_sequence *")
+    sink.check(renderlib.lumis_sequence_from_name(cstr(name), q), "sequence '%s'" % name)
+    x, y = pixel
+    n = int(samples) * max(int(per_sample), 1) if int(samples) >= 0 else 0
+    out = np.empty((n, 2), dtype=np.float64)
+    d = ffi.new("lumis_sequence_desc *", {
+        "sequence": q[0], "seed": int(seed), "planned_spp": int(spp), "width": int(width),
+        "x": int(x), "y": int(y), "dimension": int(dimension), "per_sample": int(per_sample),
+        "errors": sink.value})
+    sink.check(renderlib.lumis_sequence_fill(d, int(first_sample), int(samples),
+                                             ffi.cast("double *", ffi.from_buffer(out)) if n
+                                             else ffi.NULL), "sequence '%s'" % name)
+    return out
 
 
 def render(scene="spheres", env=None, method=None, estimator="mis", lights=None, lights_k=0,
