@@ -123,19 +123,24 @@ def test_no_growth_over_repeated_renders():
 
 
 def test_the_interpreter_exits_cleanly_after_a_render(root):
-    # Embree's TBB loaded after OpenMP's libgomp made every interpreter that built a scene
-    # segfault at exit (lumis/_lib.py, _preload_tbb)
+    """The interpreter's exit frees cffi's lib objects, which closed the libraries: libgomp
+    (and Embree's TBB) were unmapped under their idle worker threads, and the process died
+    of SIGSEGV at exit (lumis/_lib.py, _DLFLAGS).  OMP_WAIT_POLICY=ACTIVE keeps the workers
+    spinning in libgomp's code: every such exit crashed before the fix (10 of 10); the
+    library's default policy crashed 3-5 % of them."""
     import subprocess  # noqa: PLC0415
     import sys  # noqa: PLC0415
     code = ("import lumis; img, r = lumis.render('spheres', env='sky:32x16', size=(16, 12), "
             "spp=1); print(img.shape)")
     env = dict(os.environ, PYTHONPATH=os.path.join(root, "python") + os.pathsep +
                os.environ.get("PYTHONPATH", ""))
-    # and OpenMP's spinning workers crashed 3-5 % of exits (lumis/_lib.py, OMP_WAIT_POLICY):
-    # ten exits see that at least a third of the time
-    for _ in range(10):
-        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
-        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (r.returncode, r.stderr)
+    for policy in ["ACTIVE"] * 4 + [None] * 4:
+        e = dict(env)
+        e.pop("OMP_WAIT_POLICY", None)
+        if policy:
+            e["OMP_WAIT_POLICY"] = policy
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=e)
+        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (policy, r.returncode, r.stderr)
 
 
 FIXTURE_CASES = [
