@@ -55,30 +55,6 @@ def parse(argv):
     return a
 
 
-def world_with_hdri(scene, path, rotation_deg):
-    """A world whose Background shows the map through a Mapping node (Point) rotated by
-    rotation_deg (X, Y, Z), as a user sets one up."""
-    import math  # noqa: PLC0415
-    world = bpy.data.worlds.new("lumis hdri")
-    world.use_nodes = True
-    nt = world.node_tree
-    nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputWorld")
-    bg = nt.nodes.new("ShaderNodeBackground")
-    env = nt.nodes.new("ShaderNodeTexEnvironment")
-    env.image = bpy.data.images.load(os.path.abspath(path), check_existing=True)
-    mapping = nt.nodes.new("ShaderNodeMapping")
-    mapping.vector_type = "POINT"
-    mapping.inputs["Rotation"].default_value = [math.radians(c) for c in rotation_deg]
-    coord = nt.nodes.new("ShaderNodeTexCoord")
-    nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
-    nt.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
-    nt.links.new(env.outputs["Color"], bg.inputs["Color"])
-    nt.links.new(bg.outputs["Background"], out.inputs["Surface"])
-    scene.world = world
-    return world
-
-
 def main():
     a = parse(sys.argv)
     try:
@@ -88,7 +64,7 @@ def main():
         import lumis_lights  # noqa: PLC0415
     scene = bpy.context.scene
     if a["hdri"]:
-        world_with_hdri(scene, a["hdri"], a["rotation"])
+        lumis_lights.world_with_hdri(scene, a["hdri"], a["rotation"])
     try:
         r = lumis_lights.lights_from_world(scene, a["method"], a["k"], a["param"], a["remove"],
                                            True, a["lumis_python"])

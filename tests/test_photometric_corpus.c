@@ -12,9 +12,17 @@
  *     and rating, spacing criterion against the Python oracle (check_ratings)
  * lumis_photometric_spacing_criterion — external: both planes of every type C file against the
  *     Python oracle's own scan and bisection, to 1e-9 (check_ratings)
+ * lumis_photometric_intensity_n — consistency: the single call's bits, element by element, on
+ *     real type C, B and EULUMDAT files (batches_are_the_single_calls)
+ * lumis_photometric_intensity_at_n — consistency: the single call's bits on a grid of angles
+ *     past the table's ranges (batches_are_the_single_calls)
+ * lumis_photometric_pdf_n — consistency: the single call's bits (batches_are_the_single_calls)
+ * lumis_photometric_sample_n — consistency: the single call's directions, pdfs and status
+ *     (batches_are_the_single_calls)
  */
 #include "lumis/io.h"
 #include "lumis/photometry.h"
+#include "lumis/rng.h"
 #include "testutil.h"
 
 #include <cJSON.h>
@@ -295,11 +303,85 @@ static void published_lumens_within_0_2_percent(void **state)
     if (bad) fail_msg("%d files break the published-lumens rule", bad);
 }
 
+/* The batched calls (the Python package's) give the single calls' bits: same directions in,
+ * same doubles out, on real files of each type; NULL arrays refused, n 0 accepted. */
+static void batches_are_the_single_calls(void **state)
+{
+    (void)state;
+    static const char *files[] = {"luxcore_asa_15m_r2.ies", "mdl_type_b_test.ies",
+                                  "lidrs_prolicht_e30.ldt", "pv_no_symmetry.ldt"};
+    enum { N = 2000, NH = 37, NV = 41 };
+    static lumis_vec3 dirs[N], bd[N];
+    static double u[2 * N], a[N], b[N], pa[N], grid[NH * NV], h[NH], v[NV];
+    for (size_t fi = 0; fi < sizeof files / sizeof files[0]; fi++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", CORPUS, files[fi]);
+        lumis_photometric_file *f = NULL;
+        assert_int_equal(lumis_photometric_read(path, NULL, &f), LUMIS_OK);
+        const lumis_photometric *m = f->model;
+        lumis_pcg32 rng;
+        lumis_pcg32_seed(&rng, 40 + fi, 1);
+        for (int k = 0; k < N; k++) {
+            u[2 * k] = lumis_pcg32_double(&rng);
+            u[2 * k + 1] = lumis_pcg32_double(&rng);
+            const double z = 1.0 - 2.0 * lumis_pcg32_double(&rng),
+                         ph = 6.283185307179586 * lumis_pcg32_double(&rng);
+            const double r = sqrt(fmax(0.0, 1.0 - z * z));
+            dirs[k] = (lumis_vec3){(float)(r * cos(ph)), (float)(r * sin(ph)), (float)z};
+        }
+        assert_int_equal(lumis_photometric_intensity_n(m, dirs, N, a), LUMIS_OK);
+        assert_int_equal(lumis_photometric_pdf_n(m, dirs, N, b), LUMIS_OK);
+        int lit = 0;
+        for (int k = 0; k < N; k++) {
+            const double i1 = lumis_photometric_intensity(m, dirs[k]),
+                         p1 = lumis_photometric_pdf(m, dirs[k]);
+            assert_memory_equal(&a[k], &i1, sizeof i1);
+            assert_memory_equal(&b[k], &p1, sizeof p1);
+            lit += i1 > 0;
+        }
+        assert_true(lit > N / 10); /* the directions reach the light */
+        for (int i = 0; i < NH; i++) h[i] = -200.0 + 560.0 * i / (NH - 1);
+        for (int j = 0; j < NV; j++) v[j] = -190.0 + 380.0 * j / (NV - 1);
+        assert_int_equal(lumis_photometric_intensity_at_n(m, h, NH, v, NV, grid), LUMIS_OK);
+        for (int i = 0; i < NH; i++)
+            for (int j = 0; j < NV; j++) {
+                const double g = lumis_photometric_intensity_at(m, h[i], v[j]);
+                assert_memory_equal(&grid[i * NV + j], &g, sizeof g);
+            }
+        const lumis_status st = lumis_photometric_sample_n(m, u, N, bd, pa);
+        lumis_status first = LUMIS_OK;
+        for (int k = 0; k < N; k++) {
+            lumis_vec3 d1;
+            double p1;
+            const lumis_status s1 = lumis_photometric_sample(m, u[2 * k], u[2 * k + 1], &d1, &p1);
+            if (first == LUMIS_OK) first = s1;
+            assert_memory_equal(&bd[k], &d1, sizeof d1);
+            assert_memory_equal(&pa[k], &p1, sizeof p1);
+        }
+        assert_int_equal(st, first);
+        assert_int_equal(st, LUMIS_OK);
+        /* edges: NULL arrays with n > 0 refused, n 0 a no-op, a NULL model refused */
+        assert_int_equal(lumis_photometric_intensity_n(m, NULL, 1, a), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_pdf_n(m, dirs, 1, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_sample_n(m, u, 1, NULL, pa), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_intensity_at_n(m, NULL, 2, v, 2, grid),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_photometric_intensity_n(m, NULL, 0, NULL), LUMIS_OK);
+        assert_int_equal(lumis_photometric_sample_n(m, NULL, 0, NULL, NULL), LUMIS_OK);
+        assert_int_equal(lumis_photometric_intensity_at_n(m, NULL, 0, NULL, 5, NULL), LUMIS_OK);
+        assert_int_equal(lumis_photometric_pdf_n(NULL, dirs, 1, b), LUMIS_ERR_INVALID_ARGUMENT);
+        printf("ok   %s: %d directions, %d lit; %d x %d grid; %d draws\n", files[fi], N, lit, NH,
+               NV, N);
+        lumis_photometric_file_destroy(f);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(corpus_agrees_with_the_oracle),
         cmocka_unit_test(published_lumens_within_0_2_percent),
+        cmocka_unit_test(batches_are_the_single_calls),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -358,6 +358,32 @@ def import_fixture(scene, path, location=(0.0, 0.0, 3.0), aim=(0.0, 0.0, -1.0), 
 _method_items_cache = []
 
 
+def world_with_hdri(scene, path, rotation_deg=(0.0, 0.0, 0.0), interpolation="Linear",
+                    name="lumis hdri"):
+    """A world whose Background shows the map at path through a Mapping node (Point) rotated
+    by rotation_deg (X, Y, Z), as a user sets one up: what "Lights from World HDRI" reads
+    (the headless script's --hdri, and the add-on's test)."""
+    world = bpy.data.worlds.new(name)
+    world.use_nodes = True
+    nt = world.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputWorld")
+    bg = nt.nodes.new("ShaderNodeBackground")
+    env = nt.nodes.new("ShaderNodeTexEnvironment")
+    env.image = bpy.data.images.load(os.path.abspath(path), check_existing=True)
+    env.interpolation = interpolation
+    mapping = nt.nodes.new("ShaderNodeMapping")
+    mapping.vector_type = "POINT"
+    mapping.inputs["Rotation"].default_value = [math.radians(c) for c in rotation_deg]
+    coord = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
+    nt.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
+    nt.links.new(env.outputs["Color"], bg.inputs["Color"])
+    nt.links.new(bg.outputs["Background"], out.inputs["Surface"])
+    scene.world = world
+    return world
+
+
 def _method_items(self, context):
     if not _method_items_cache:
         try:

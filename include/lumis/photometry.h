@@ -28,6 +28,8 @@
 #include "lumis/status.h"
 #include "lumis/types.h"
 
+#include <stddef.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -115,6 +117,26 @@ LUMIS_API lumis_status lumis_photometric_sample(const lumis_photometric *p, doub
                                                 lumis_vec3 *d, double *pdf);
 /* The pdf per steradian the sampler draws d with (0 where the table gives no light). */
 LUMIS_API double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
+/* Batches of the four calls above, for a host that evaluates whole arrays in one call (the
+ * Python package): element k is bit for bit the single call's.  No allocation, no locks;
+ * the model is only read, so threads may share it.  LUMIS_ERR_INVALID_ARGUMENT for a NULL
+ * model, or a NULL array when n > 0 (n 0: nothing to do, LUMIS_OK).
+ * intensity_n: I(dirs[k]) into out[k], k < n. */
+LUMIS_API lumis_status lumis_photometric_intensity_n(const lumis_photometric *p,
+                                                     const lumis_vec3 *dirs, size_t n, double *out);
+/* The grid of the table's angles: out[i nv + j] = I(h_deg[i], v_deg[j]), nh x nv values
+ * (row-major, h the rows). */
+LUMIS_API lumis_status lumis_photometric_intensity_at_n(const lumis_photometric *p,
+                                                        const double *h_deg, size_t nh,
+                                                        const double *v_deg, size_t nv,
+                                                        double *out);
+/* pdf(dirs[k]) into out[k]. */
+LUMIS_API lumis_status lumis_photometric_pdf_n(const lumis_photometric *p, const lumis_vec3 *dirs,
+                                               size_t n, double *out);
+/* n draws from the pairs u[2k], u[2k + 1] into dirs[k], pdf[k]; every k is drawn, and the
+ * status is the first single call's that failed (a black table: all fail, pdf 0). */
+LUMIS_API lumis_status lumis_photometric_sample_n(const lumis_photometric *p, const double *u,
+                                                  size_t n, lumis_vec3 *dirs, double *pdf);
 /* The flux (lm): lumis_photometric_info.flux without the rest of the info. */
 LUMIS_API double lumis_photometric_flux(const lumis_photometric *p);
 /* Type C: the flux within gamma_deg of the aim, exactly (the cells cut at gamma); types A

@@ -123,6 +123,35 @@ LUMIS_RENDER_API void lumis_render_job_stats(const lumis_render_job *job,
                                              lumis_render_stats *stats);
 LUMIS_RENDER_API void lumis_render_job_destroy(lumis_render_job *job);
 
+/* The points a render draws: one pixel's camera samples in one dimension of the render's
+ * sequence, the very numbers lumis_render takes there (docs/sampling.md has the layout:
+ * dimension 0 is the camera's jitter, then each vertex's light kind and BSDF sample).
+ * Zero-initialisable. */
+typedef struct lumis_sequence_desc {
+    lumis_sequence sequence; /* 0 == sobol (the render's default) */
+    unsigned long long seed; /* the render's seed (lumis_render_desc.seed) */
+    int planned_spp;         /* the render's spp as given (lumis_render_desc.spp): stratified
+                                and zsobol plan their strata for it; 0 == 2^16, as a job */
+    int width;               /* the image's width (pixels are numbered y width + x); 0 == 1 */
+    int x, y;                /* the pixel */
+    int dimension;           /* the dimension (0: the camera's jitter) */
+    int per_sample;          /* the points each camera sample draws in the dimension (n light
+                                samples ...); 0 == 1 */
+    lumis_error_sink errors; /* optional: messages name the field */
+} lumis_sequence_desc;
+
+/* Fills out[2 i], out[2 i + 1] with point j of camera sample k = first_sample + i / n, j =
+ * i % n (n = per_sample), for i < samples n: the 2D point the renderer draws there.  PCG32,
+ * whose stream hands out numbers in the order asked for, gives the stream's pairs from pair
+ * dimension n + j on (what the renderer draws there when each earlier dimension drew n
+ * pairs).  A dimension the renderer reads one number of takes the first coordinate; the
+ * stratified sequence strata such a number over n strata instead, so its first coordinate
+ * differs there.  pmj02 makes its tables per call (about 23 ms); the others allocate
+ * nothing.  LUMIS_ERR_INVALID_ARGUMENT for an unknown sequence, a negative field, a pixel
+ * outside the width, out NULL with samples > 0 (each message names the field). */
+LUMIS_RENDER_API lumis_status lumis_sequence_fill(const lumis_sequence_desc *desc, int first_sample,
+                                                  int samples, double *out);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,7 +6,8 @@ from ._lib import (FORMAT_ERRORS, Error, FormatError, InvalidArgumentError, Open
 from ._api import (LIGHT_DTYPE, LIGHT_KINDS, SEQUENCES, LightSet, Map, Photometric, Sampler,
                    compare, delta_e, errors, flip, light_methods, lights, read_image, read_map,
                    read_photometric, sampler_methods, sequence, uniform, write_image)
-from ._render import photometric_orient, render, scenes
+from ._bench import BenchError, BenchRecords, bench, read_results as read_bench
+from ._render import Fixture, photometric_orient, render, render_sequence, scenes
 
 globals().update(FORMAT_ERRORS)  # lumis.TruncatedError, lumis.BadMagicError, ...
 
@@ -14,8 +15,8 @@ __version__ = ffi.string(lib.lumis_version()).decode()
 
 __all__ = ["Error", "FormatError", "InvalidArgumentError", "OpenError", "OutOfMemoryError",
            "ReadError", "UnsupportedError", "Warning", "WriteError", "LIGHT_DTYPE", "LIGHT_KINDS",
-           "SEQUENCES", "LightSet", "Map", "Photometric", "Sampler", "compare", "delta_e",
+           "SEQUENCES", "BenchError", "BenchRecords", "Fixture", "bench", "read_bench", "LightSet", "Map", "Photometric", "Sampler", "compare", "delta_e",
            "errors", "flip", "light_methods", "lights", "read_image", "read_map",
-           "photometric_orient", "read_photometric", "render", "sampler_methods", "scenes", "sequence", "uniform",
+           "photometric_orient", "read_photometric", "render", "render_sequence", "sampler_methods", "scenes", "sequence", "uniform",
            "write_image",
            "__version__", *sorted(FORMAT_ERRORS)]

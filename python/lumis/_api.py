@@ -10,6 +10,16 @@ from ._lib import (Handle, Sink, check, cstr, ffi, float_array, image_array, ima
 _FORMATS = {0: None, 1: "exr", 2: "hdr", 3: "pfm", 4: "png"}
 
 
+def _dptr(a):
+    """A C-contiguous float64 array as double * (borrowed: keep a alive across the call)."""
+    return ffi.cast("double *", ffi.from_buffer(a))
+
+
+def _vptr(a):
+    """A C-contiguous N x 3 float32 array as lumis_vec3 * (borrowed, as _dptr)."""
+    return ffi.cast("lumis_vec3 *", ffi.from_buffer(a))
+
+
 def _replaced_dict(r):
     return {"nan": int(r.nan), "inf": int(r.inf), "negative": int(r.negative),
             "negative_min": float(r.negative_min), "negative_sum": float(r.negative_sum)}
@@ -424,39 +434,43 @@ class Photometric(Handle):
 
     def candela(self, h_deg, v_deg):
         """Intensity (cd) on the grid of horizontal x vertical angles (the table's own
-        conventions; type C: h = C, v = gamma): len(h) x len(v) float64."""
-        h = np.atleast_1d(np.asarray(h_deg, dtype=np.float64))
-        v = np.atleast_1d(np.asarray(v_deg, dtype=np.float64))
-        m, f = self._model, lib.lumis_photometric_intensity_at
-        # TODO(issue 40): one call per value until the C library has a batched entry point.
-        return np.array([[f(m, a, b) for b in v.tolist()] for a in h.tolist()]).reshape(len(h), len(v))
+        conventions; type C: h = C, v = gamma): len(h) x len(v) float64, one C call
+        (lumis_photometric_intensity_at_n)."""
+        h = np.ascontiguousarray(np.atleast_1d(np.asarray(h_deg, dtype=np.float64)).ravel())
+        v = np.ascontiguousarray(np.atleast_1d(np.asarray(v_deg, dtype=np.float64)).ravel())
+        out = np.empty((len(h), len(v)), dtype=np.float64)
+        check(lib.lumis_photometric_intensity_at_n(self._model, _dptr(h), len(h), _dptr(v), len(v),
+                                                   _dptr(out)), "%s: candela" % self.path)
+        return out
 
     def intensity(self, directions):
-        """Intensity (cd) towards each of N unit directions (luminaire frame): N float64."""
+        """Intensity (cd) towards each of N unit directions (luminaire frame): N float64, one
+        C call (lumis_photometric_intensity_n)."""
         d = float_array(directions, np.float32, (3,), "directions")
-        m, f = self._model, lib.lumis_photometric_intensity
-        return np.array([f(m, tuple(x)) for x in d.tolist()], dtype=np.float64)
+        out = np.empty(d.shape[0], dtype=np.float64)
+        check(lib.lumis_photometric_intensity_n(self._model, _vptr(d), d.shape[0], _dptr(out)),
+              "%s: intensity" % self.path)
+        return out
 
     def sample(self, u):
         """Directions in proportion to intensity from N pairs in [0, 1): (directions N x 3
-        float32, pdf N float64 per steradian)."""
+        float32, pdf N float64 per steradian), one C call (lumis_photometric_sample_n)."""
         uu = float_array(u, np.float64, (2,), "u")
         n = uu.shape[0]
         d = np.empty((n, 3), dtype=np.float32)
         p = np.empty(n, dtype=np.float64)
-        dp = ffi.new("lumis_vec3 *")
-        pp = ffi.new("double *")
-        m = self._model
-        for k, (a, b) in enumerate(uu.tolist()):
-            check(lib.lumis_photometric_sample(m, a, b, dp, pp), "%s: sample" % self.path)
-            d[k] = (dp.x, dp.y, dp.z)
-            p[k] = pp[0]
+        check(lib.lumis_photometric_sample_n(self._model, _dptr(uu), n, _vptr(d), _dptr(p)),
+              "%s: sample" % self.path)
         return d, p
 
     def pdf(self, directions):
+        """The pdf per steradian the sampler draws each of N directions with: N float64, one
+        C call (lumis_photometric_pdf_n)."""
         d = float_array(directions, np.float32, (3,), "directions")
-        m, f = self._model, lib.lumis_photometric_pdf
-        return np.array([f(m, tuple(x)) for x in d.tolist()], dtype=np.float64)
+        out = np.empty(d.shape[0], dtype=np.float64)
+        check(lib.lumis_photometric_pdf_n(self._model, _vptr(d), d.shape[0], _dptr(out)),
+              "%s: pdf" % self.path)
+        return out
 
     @property
     def type(self):
@@ -479,7 +493,7 @@ def read_photometric(path):
 
 # ---- sequences -----------------------------------------------------------------------------
 
-SEQUENCES = ("pcg", "halton", "sobol", "pmj02")
+SEQUENCES = ("pcg", "halton", "sobol", "pmj02", "stratified", "zsobol")
 
 
 def sequence(name, n, seed=0):
@@ -487,7 +501,9 @@ def sequence(name, n, seed=0):
     pcg: PCG32 seeded (seed, stream 0), two 53-bit doubles per point (the numbers `lumis
     sample --seed` uses); halton: bases 2 and 3 (unscrambled, seed unused); sobol: the
     Owen-scrambled (0,2) Sobol' points of seed; pmj02: progressive multi-jittered (0,2) points
-    of seed (n a power of two up to 2^20)."""
+    of seed (n a power of two up to 2^20); stratified, zsobol: the renderer's own (they exist
+    only per pixel), pixel (0, 0)'s camera jitter in a render of seed planned for n samples
+    (render_sequence(name, n, seed=seed, spp=n); needs liblumis-render.so)."""
     n = int(n)
     if n < 0:
         raise invalid("n: expected a count >= 0, got %d" % n)
@@ -513,8 +529,11 @@ def sequence(name, n, seed=0):
               "pmj02: n = %d (a power of two, 1 to 2^20)" % n)
         out[:] = xy.reshape(n, 2) * (1.0 / 4294967296.0)
     elif name in ("stratified", "zsobol"):
-        raise invalid("sequence '%s': a per-pixel layout of the renderer (lumis-render), not in "
-                      "the public C API yet; one of %s" % (name, ", ".join(SEQUENCES)))
+        # the renderer's per-pixel sequences (lumis-render): pixel (0, 0)'s camera jitter
+        # (dimension 0) of a render planned for n samples; lumis.render_sequence gives any
+        # pixel, dimension and plan
+        from ._render import render_sequence  # noqa: PLC0415 - the render library is optional
+        return render_sequence(name, n, seed=seed, spp=n)
     else:
         raise invalid("sequence: unknown '%s' (one of %s)" % (name, ", ".join(SEQUENCES)))
     return out

@@ -276,6 +276,15 @@ lumis_status lumis_photometric_sample(const lumis_photometric *p, double u0, dou
                                       lumis_vec3 *d, double *pdf);
 double lumis_photometric_pdf(const lumis_photometric *p, lumis_vec3 d);
 double lumis_photometric_flux(const lumis_photometric *p);
+lumis_status lumis_photometric_intensity_n(const lumis_photometric *p, const lumis_vec3 *dirs,
+                                           size_t n, double *out);
+lumis_status lumis_photometric_intensity_at_n(const lumis_photometric *p, const double *h_deg,
+                                              size_t nh, const double *v_deg, size_t nv,
+                                              double *out);
+lumis_status lumis_photometric_pdf_n(const lumis_photometric *p, const lumis_vec3 *dirs, size_t n,
+                                     double *out);
+lumis_status lumis_photometric_sample_n(const lumis_photometric *p, const double *u, size_t n,
+                                        lumis_vec3 *dirs, double *pdf);
 typedef struct lumis_photometric_info {
     lumis_photometric_type type;
     lumis_photometric_symmetry symmetry;
@@ -437,6 +446,18 @@ STRUCTS = {
 RENDER_CDEFS = r"""
 typedef int lumis_sequence;
 lumis_status lumis_sequence_from_name(const char *name, lumis_sequence *out);
+typedef struct lumis_sequence_desc {
+    lumis_sequence sequence;
+    unsigned long long seed;
+    int planned_spp;
+    int width;
+    int x, y;
+    int dimension;
+    int per_sample;
+    lumis_error_sink errors;
+} lumis_sequence_desc;
+lumis_status lumis_sequence_fill(const lumis_sequence_desc *desc, int first_sample, int samples,
+                                 double *out);
 typedef int lumis_estimator;
 typedef int lumis_lights_mode;
 typedef int lumis_lighting_kind;
@@ -447,10 +468,38 @@ typedef struct lumis_camera {
 } lumis_camera;
 typedef struct lumis_object lumis_object;
 typedef struct lumis_scene lumis_scene;
-typedef struct lumis_luminaire_instance lumis_luminaire_instance;
-typedef struct lumis_photometric_instance lumis_photometric_instance;
-typedef struct lumis_region_sampler lumis_region_sampler;
 typedef struct lumis_luminaire lumis_luminaire;
+typedef struct lumis_rigid {
+    double r[9];
+    double t[3];
+} lumis_rigid;
+typedef struct lumis_luminaire_instance {
+    const lumis_luminaire *luminaire;
+    lumis_rigid placement;
+    double scale;
+    float intensity;
+} lumis_luminaire_instance;
+typedef struct lumis_photometric_instance {
+    const lumis_photometric *photometric;
+    lumis_rigid placement;
+    double multiplier;
+    int area;
+} lumis_photometric_instance;
+typedef struct lumis_region_sampler lumis_region_sampler;
+typedef int lumis_luminaire_preset;
+lumis_status lumis_luminaire_preset_from_name(const char *name, lumis_luminaire_preset *out);
+lumis_status lumis_luminaire_preset_create(lumis_luminaire_preset preset, int basis,
+                                           const lumis_error_sink *errors, lumis_luminaire **out);
+void lumis_luminaire_destroy(lumis_luminaire *lum);
+typedef struct lumis_luminaire_read_options {
+    size_t max_pixels;
+    lumis_error_sink errors;
+} lumis_luminaire_read_options;
+lumis_status lumis_luminaire_read(const char *manifest_path,
+                                  const lumis_luminaire_read_options *options,
+                                  lumis_luminaire **out);
+double lumis_photometric_tilt_factor(const lumis_photometric_file *f, lumis_photometric_type type,
+                                     lumis_vec3 aim);
 lumis_status lumis_scene_create(const lumis_object *objects, int count,
                                 const lumis_error_sink *errors, lumis_scene **out);
 void lumis_scene_destroy(lumis_scene *scene);
@@ -583,6 +632,9 @@ lumis_status lumis_scene_file_read(const char *path, const lumis_scene_read_opti
                                    lumis_scene_file **out);
 lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                  lumis_scene_file **out);
+lumis_status lumis_scene_builtin_with_luminaire(const char *name, const lumis_luminaire *luminaire,
+                                                const lumis_error_sink *errors,
+                                                lumis_scene_file **out);
 const char *const *lumis_scene_builtin_names(void);
 void lumis_scene_file_destroy(lumis_scene_file *file);
 lumis_status lumis_photometric_orient(lumis_photometric_type type, lumis_vec3 aim,
@@ -601,6 +653,12 @@ RENDER_STRUCTS = {
                           "light_samples", "bsdf_samples", "seed", "sequence", "first_sample",
                           "threads", "max_bounces", "progress", "progress_user", "shadow_ray",
                           "shadow_ray_user", "errors"],
+    "lumis_sequence_desc": ["sequence", "seed", "planned_spp", "width", "x", "y", "dimension",
+                            "per_sample", "errors"],
+    "lumis_rigid": ["r", "t"],
+    "lumis_luminaire_instance": ["luminaire", "placement", "scale", "intensity"],
+    "lumis_photometric_instance": ["photometric", "placement", "multiplier", "area"],
+    "lumis_luminaire_read_options": ["max_pixels", "errors"],
     "lumis_render_stats": ["spp", "passes", "threads", "seconds", "camera_rays", "shadow_rays",
                            "bounce_rays", "light_samples"],
     "lumis_session_desc": ["render", "lights", "lights_k", "interleave", "lights_params",

@@ -18,6 +18,22 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 _SONAMES = ("liblumis.so.0", "liblumis-io.so.0")
 _RENDER_SONAME = "liblumis-render.so.0"  # optional: lumis.render needs it
 
+# The libraries stay loaded until the process ends, as libraries a program links do.  cffi
+# closes what ffi.dlopen opened when its lib object is freed, which the interpreter does at
+# exit while clearing modules; that unmapped liblumis-render.so and with it libgomp, whose
+# idle worker threads (the renderer's OpenMP pool) were still spinning in its code: 3-5 %
+# of interpreters that rendered died of SIGSEGV at exit, every one with
+# OMP_WAIT_POLICY=ACTIVE (a core shows the crashing worker's pc in no mapped library and
+# the main thread in _PyModule_ClearDict), and every one that built a scene unless TBB
+# (Embree's threads) was loaded by ctypes first, which never unloads it.  RTLD_NODELETE
+# keeps them all mapped, so neither the wait policy nor the order of loading matters
+# (tests/python/test_render.py, test_the_interpreter_exits_cleanly_after_a_render).
+_DLFLAGS = ffi.RTLD_NOW | ffi.RTLD_NODELETE
+
+
+def _dlopen(path):
+    return ffi.dlopen(path, _DLFLAGS)
+
 
 def _candidate_dirs():
     """Where the libraries are looked for, in order (docs/python.md, "Finding the
@@ -43,14 +59,14 @@ def _load():
         paths = [os.path.join(d, s) for s in _SONAMES]
         if all(os.path.exists(p) for p in paths):
             # liblumis first: liblumis-io's DT_NEEDED then finds it by its soname.
-            return ffi.dlopen(paths[0]), ffi.dlopen(paths[1]), d
+            return _dlopen(paths[0]), _dlopen(paths[1]), d
         tried.append(d)
     if forced:
         raise ImportError(
             "lumis: LUMIS_LIBRARY_PATH=%s holds no %s and %s (build them with `make` or "
             "`make install`)" % (os.environ["LUMIS_LIBRARY_PATH"], *_SONAMES))
     try:  # installed where the system's loader looks (ldconfig'd prefix)
-        return ffi.dlopen(_SONAMES[0]), ffi.dlopen(_SONAMES[1]), None
+        return _dlopen(_SONAMES[0]), _dlopen(_SONAMES[1]), None
     except OSError as e:
         raise ImportError(
             "lumis: cannot find %s and %s (looked in %s and the system's library path: %s). "
@@ -58,28 +74,6 @@ def _load():
             "LUMIS_LIBRARY_PATH at their folder." % (*_SONAMES, ", ".join(tried), e)) from e
 
 
-def _preload_tbb():
-    """TBB (Embree's task scheduler, which liblumis-render.so brings in) loaded before the
-    libraries, when the system has it.  Loaded after OpenMP's libgomp (which liblumis.so
-    needs), its teardown at exit runs while its threads still work, and the interpreter
-    segfaults on exit after any scene was built; loaded first, it is torn down last
-    (tests/python/test_render.py, test_the_interpreter_exits_cleanly_after_a_render)."""
-    import ctypes  # noqa: PLC0415
-    import ctypes.util  # noqa: PLC0415
-    name = ctypes.util.find_library("tbb")
-    try:
-        return ctypes.CDLL(name) if name else None
-    except OSError:
-        return None
-
-
-# OpenMP's idle workers (the renderer's threads) spin for a while after each parallel
-# region; an interpreter that exits while they spin crashed in 3-5 % of runs (11 of 200
-# `python3 -c "import lumis; lumis.render(...)"` on a loaded 2-core machine), and never in
-# 450 with the workers told to sleep at once instead.  libgomp reads the policy when it
-# loads, below; a caller's own choice is kept.
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-_tbb = _preload_tbb()
 lib, iolib, _libdir = _load()
 
 
@@ -87,7 +81,7 @@ def _load_render():
     """liblumis-render.so beside the other two (or from the system's loader), else None and
     the reason: the rest of the package works without it."""
     try:
-        return ffi.dlopen(os.path.join(_libdir, _RENDER_SONAME) if _libdir else _RENDER_SONAME), None
+        return _dlopen(os.path.join(_libdir, _RENDER_SONAME) if _libdir else _RENDER_SONAME), None
     except OSError as e:
         return None, str(e)
 

@@ -1,10 +1,13 @@
 """lumis.render: one call of lumis_render_session (liblumis-render.so), as `lumis render` makes
 it between loading and writing (docs/python.md, "Rendering")."""
 
+import math
 import os
 
-from ._api import Map, _image_to_array
-from ._lib import Sink, cstr, ffi, invalid, lib, pystr, render_missing, renderlib
+import numpy as np
+
+from ._api import Map, Photometric, _image_to_array
+from ._lib import Sink, cstr, ffi, invalid, iolib, lib, pystr, render_missing, renderlib
 
 _ESTIMATORS = {"mis": 0, "light": 1, "bsdf": 2}
 _KINDS = {"env": 0, "light-set": 1, "luminaires": 2, "photometric": 3}
@@ -28,10 +31,15 @@ def _need():
                           "`make run` or `make install`): %s" % render_missing)
 
 
-def _scene_file(scene, sink, skip_env):
+def _scene_file(scene, sink, skip_env, luminaire=None):
     out = ffi.new("lumis_scene_file **")
     if scene in scenes():
-        sink.check(renderlib.lumis_scene_builtin(cstr(scene), sink.c, out), "scene %s" % scene)
+        if luminaire is not None:  # placed instead of the scene's own, which is not acquired
+            sink.check(renderlib.lumis_scene_builtin_with_luminaire(cstr(scene), luminaire,
+                                                                    sink.c, out),
+                       "scene %s" % scene)
+        else:
+            sink.check(renderlib.lumis_scene_builtin(cstr(scene), sink.c, out), "scene %s" % scene)
     elif os.path.exists(scene) or scene.endswith(".json"):
         opts = ffi.new("lumis_scene_read_options *", {"skip_env_map": int(skip_env),
                                                        "errors": sink.value})
@@ -51,11 +59,126 @@ def _envmap_from_image(img, rotation_deg, scale, sink, source):
     return out[0]
 
 
+class Fixture:
+    """A photometric fixture placed by options, as `lumis render --fixture PATH` places one:
+    at (where it is), aim (a point it aims at; None: straight down, -y), up (where its local
+    +x points, made perpendicular to the aim; None: the type's default), roll_deg (turned
+    about its aim), multiplier (its candela times it, > 0; LM-63's lamp-tilt factor at the
+    aim applies on top, as the tool's) and area (its luminous opening, not a point).  A dict
+    with these keys is taken as one."""
+
+    def __init__(self, path, at, aim=None, up=None, roll_deg=0.0, multiplier=1.0, area=False):
+        self.path, self.at, self.aim, self.up = path, at, aim, up
+        self.roll_deg, self.multiplier, self.area = roll_deg, multiplier, area
+
+    def __repr__(self):
+        return "Fixture(%r, at=%r, aim=%r, up=%r, roll_deg=%r, multiplier=%r, area=%r)" % (
+            self.path, self.at, self.aim, self.up, self.roll_deg, self.multiplier, self.area)
+
+
+def _triple(v, what):
+    try:
+        t = [float(x) for x in v]
+    except (TypeError, ValueError):
+        t = []
+    if len(t) != 3 or not all(math.isfinite(x) for x in t):
+        raise invalid("%s: expected X, Y, Z (three finite numbers), got %r" % (what, v))
+    return t
+
+
+def _place_fixtures(fixtures, keep, files):
+    """The fixtures as lumis_photometric_instance values (the tool's load_fixture, one per
+    fixture): files gets each Photometric (closed by the caller after the render)."""
+    fixtures = list(fixtures)
+    arr = ffi.new("lumis_photometric_instance[]", max(len(fixtures), 1))
+    keep.append(arr)
+    for i, fx in enumerate(fixtures):
+        if isinstance(fx, dict):
+            try:
+                fx = Fixture(**fx)
+            except TypeError as e:
+                raise invalid("fixtures[%d]: %s (keys: path, at, aim, up, roll_deg, multiplier, "
+                              "area)" % (i, e)) from None
+        at = _triple(fx.at, "fixtures[%d].at" % i)
+        target = _triple(fx.aim, "fixtures[%d].aim" % i) if fx.aim is not None else None
+        m = float(fx.multiplier)
+        if not (0 < m <= 1e30):
+            raise invalid("fixtures[%d].multiplier: %r (expected a number > 0)" % (i, fx.multiplier))
+        roll = float(fx.roll_deg)
+        if not (abs(roll) <= 36000):
+            raise invalid("fixtures[%d].roll_deg: %r (expected degrees)" % (i, fx.roll_deg))
+        f = Photometric(fx.path)
+        files.append(f)
+        aimp = ffi.new("lumis_vec3 *", [target[a] - at[a] for a in range(3)] if target
+                       else [0.0, -1.0, 0.0])
+        aim = aimp[0]  # aimp owns it: alive to the end of the iteration
+        info = ffi.new("lumis_photometric_info *")
+        lib.lumis_photometric_get_info(f.ptr.model, info)
+        inst = arr[i]
+        if renderlib.lumis_photometric_orient(info.type, aim, ffi.NULL, roll,
+                                              inst.placement.r) != lib.LUMIS_OK:
+            raise invalid("fixtures[%d].aim: a point other than its position (at)" % i)
+        if fx.up is not None:
+            up = ffi.new("lumis_vec3 *", _triple(fx.up, "fixtures[%d].up" % i))
+            if renderlib.lumis_photometric_orient(info.type, aim, up, roll,
+                                                  inst.placement.r) != lib.LUMIS_OK:
+                raise invalid("fixtures[%d].up: a direction not along the aim (the fixture's "
+                              "local +x is made perpendicular to the aim)" % i)
+        for a in range(3):
+            inst.placement.t[a] = at[a]
+        inst.photometric = f.ptr.model
+        inst.multiplier = m * iolib.lumis_photometric_tilt_factor(f.ptr, info.type, aim)
+        inst.area = int(bool(fx.area))
+    return arr, len(fixtures)
+
+
+def _load_luminaire(spec, sink):
+    """A light-field luminaire: "preset:car|bike|small" (acquired from its emitter: seconds;
+    the tool keeps them in a cache, this does not) or a manifest (lumis luminaire create)."""
+    out = ffi.new("lumis_luminaire **")
+    if spec.startswith("preset:"):
+        pr = ffi.new("lumis_luminaire_preset *")
+        if lib.lumis_luminaire_preset_from_name(cstr(spec[7:]), pr) != lib.LUMIS_OK:
+            raise invalid("luminaire: %s: unknown preset (preset:car, preset:bike or "
+                          "preset:small)" % spec)
+        sink.check(lib.lumis_luminaire_preset_create(pr[0], 0, sink.c, out), spec)
+    else:
+        ro = ffi.new("lumis_luminaire_read_options *", {"errors": sink.value})
+        sink.check(iolib.lumis_luminaire_read(cstr(spec), ro, out), spec)
+    return out[0]
+
+
+def render_sequence(name, samples, seed=1, spp=0, width=1, pixel=(0, 0), dimension=0,
+                    per_sample=1, first_sample=0):
+    """The 2D points a render draws (lumis_sequence_fill): camera samples first_sample ..
+    first_sample + samples - 1 of pixel (x, y) of an image `width` wide, in one dimension of
+    the render's sequence (0: the camera's jitter; docs/sampling.md has the layout),
+    per_sample points each, as a (samples x per_sample) x 2 float64 array: the numbers
+    `lumis render --sequence NAME --seed SEED --spp SPP` takes there.  name: any sequence
+    ("default" is sobol); spp: the render's spp, which stratified and zsobol plan for (0:
+    2^16, as the library's)."""
+    _need()
+    sink = Sink()
+    q = ffi.new("lumis_sequence *")
+    sink.check(renderlib.lumis_sequence_from_name(cstr(name), q), "sequence '%s'" % name)
+    x, y = pixel
+    n = int(samples) * max(int(per_sample), 1) if int(samples) >= 0 else 0
+    out = np.empty((n, 2), dtype=np.float64)
+    d = ffi.new("lumis_sequence_desc *", {
+        "sequence": q[0], "seed": int(seed), "planned_spp": int(spp), "width": int(width),
+        "x": int(x), "y": int(y), "dimension": int(dimension), "per_sample": int(per_sample),
+        "errors": sink.value})
+    sink.check(renderlib.lumis_sequence_fill(d, int(first_sample), int(samples),
+                                             ffi.cast("double *", ffi.from_buffer(out)) if n
+                                             else ffi.NULL), "sequence '%s'" % name)
+    return out
+
+
 def render(scene="spheres", env=None, method=None, estimator="mis", lights=None, lights_k=0,
            lights_mode="point", lights_params=None, interleave=0, upsample=0, spp=0,
            time_budget=0.0, seed=1, sequence=None, size=None, threads=0, bounces=0,
            light_samples=0, bsdf_samples=0, power_heuristic=False, hide_environment=False,
-           rotation_deg=0.0, scale=1.0):
+           rotation_deg=0.0, scale=1.0, fixtures=None, luminaire=None):
     """Renders a scene as `lumis render` does with the same settings, bit for bit for the same
     seed.  Returns (image H x W x 3 float32, row 0 the top; a dict of what the render chose and
     what it cost).
@@ -70,7 +193,10 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     making included).  seed and sequence ("sobol", "halton", "pcg", ...: where the numbers come from),
     size (W, H) instead of the scene camera's, threads (0: every core), bounces (path
     tracing), light_samples, bsdf_samples, power_heuristic, hide_environment as the tool's
-    options.  Refusals raise lumis.Error with the library's message."""
+    options.  fixtures: a list of lumis.Fixture (or dicts of its fields) lighting the scene
+    instead of its own fixtures, as `--fixture FILE --fixture-at ...` places one; luminaire:
+    a manifest or "preset:NAME" replacing every luminaire the scene places, as
+    `--luminaire`.  Refusals raise lumis.Error with the library's message."""
     _need()
     if estimator not in _ESTIMATORS:
         raise invalid("estimator: unknown '%s' (one of %s)" % (estimator, ", ".join(_ESTIMATORS)))
@@ -79,10 +205,20 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     file = scene_ = envp = smp = None
     own_env = False
     light_set = ffi.NULL
+    repl = None  # luminaire=: destroyed after the scene file that borrows it
+    pfiles = []  # fixtures=: their photometric files
+    given = fixtures
     try:
-        file = _scene_file(scene, sink, skip_env=env is not None)
+        if luminaire is not None:
+            repl = _load_luminaire(luminaire, sink)
+        file = _scene_file(scene, sink, skip_env=env is not None, luminaire=repl)
         lum = file.luminaire_count > 0
-        fixtures = not lum and file.photometric_count > 0
+        if repl is not None and not lum:
+            raise invalid("luminaire %s: the scene places no luminaire (try the scene "
+                          "'headlight')" % luminaire)
+        for k in range(file.luminaire_count if repl is not None else 0):
+            file.luminaires[k].luminaire = repl
+        fixtures = not lum and (file.photometric_count > 0 or given is not None)
         self_lit = lum or fixtures
         if not lum and file.luminaires_listed > 0:
             raise invalid("%s: every luminaire of the scene has intensity 0: nothing lights it"
@@ -146,9 +282,10 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
                                                          "strategy": _LUM_RESTRICTED})
             keep.append(ll)
             rd.lighting.luminaires = ll
-        if fixtures:
-            pl = ffi.new("lumis_photometric_lighting *", {"instances": file.photometrics,
-                                                           "count": file.photometric_count})
+        if fixtures or given is not None:
+            inst, count = (_place_fixtures(given, keep, pfiles) if given is not None
+                           else (file.photometrics, file.photometric_count))
+            pl = ffi.new("lumis_photometric_lighting *", {"instances": inst, "count": count})
             keep.append(pl)
             rd.lighting.photometric = pl
         rd.power_heuristic = int(bool(power_heuristic))
@@ -217,8 +354,12 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
         for m in keep:
             if isinstance(m, Map):
                 m.close()
+        for f in pfiles:
+            f.close()
         if file is not None:
             renderlib.lumis_scene_file_destroy(file)
+        if repl is not None:
+            lib.lumis_luminaire_destroy(repl)
 
 
 _PHOTOMETRIC_TYPES = {"C": 1, "B": 2, "A": 3}

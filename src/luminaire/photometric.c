@@ -688,3 +688,45 @@ double lumis_photometric_flux_within(const lumis_photometric *p, double gamma_de
     if (p->type != LUMIS_PHOTOMETRIC_C) return p->flux; /* A, B: all of it lies in front */
     return flux_below(p, gamma_deg);
 }
+
+/* ---- batches ------------------------------------------------------------------------------ */
+
+lumis_status lumis_photometric_intensity_n(const lumis_photometric *p, const lumis_vec3 *dirs,
+                                           size_t n, double *out)
+{
+    if (!p || (n && (!dirs || !out))) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (size_t k = 0; k < n; k++) out[k] = lumis_photometric_intensity(p, dirs[k]);
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_intensity_at_n(const lumis_photometric *p, const double *h_deg,
+                                              size_t nh, const double *v_deg, size_t nv,
+                                              double *out)
+{
+    if (!p || (nh && nv && (!h_deg || !v_deg || !out))) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (size_t i = 0; i < nh && nv; i++)
+        for (size_t j = 0; j < nv; j++)
+            out[i * nv + j] = lumis_photometric_intensity_at(p, h_deg[i], v_deg[j]);
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_pdf_n(const lumis_photometric *p, const lumis_vec3 *dirs, size_t n,
+                                     double *out)
+{
+    if (!p || (n && (!dirs || !out))) return LUMIS_ERR_INVALID_ARGUMENT;
+    for (size_t k = 0; k < n; k++) out[k] = lumis_photometric_pdf(p, dirs[k]);
+    return LUMIS_OK;
+}
+
+lumis_status lumis_photometric_sample_n(const lumis_photometric *p, const double *u, size_t n,
+                                        lumis_vec3 *dirs, double *pdf)
+{
+    if (!p || (n && (!u || !dirs || !pdf))) return LUMIS_ERR_INVALID_ARGUMENT;
+    lumis_status first = LUMIS_OK;
+    for (size_t k = 0; k < n; k++) {
+        const lumis_status st =
+            lumis_photometric_sample(p, u[2 * k], u[2 * k + 1], dirs + k, pdf + k);
+        if (first == LUMIS_OK) first = st;
+    }
+    return first;
+}

@@ -3,6 +3,8 @@
  * Why each randomisation keeps the estimate unbiased and the nets nets: docs/sampling.md. */
 #include "sequence.h"
 
+#include "lumis/render_job.h"
+
 #include "../core/internal.h"
 
 #include <math.h>
@@ -209,4 +211,45 @@ void lumis__seq_point(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n, in
         u[1] = one_d ? 0.0 : lumis_pcg32_double(&s->rng);
         return;
     }
+}
+
+lumis_status lumis_sequence_fill(const lumis_sequence_desc *d, int first_sample, int samples,
+                                 double *out)
+{
+    if (!d) return LUMIS_ERR_INVALID_ARGUMENT;
+    const lumis_error_sink *e = &d->errors;
+    const int width = d->width ? d->width : 1, n = d->per_sample ? d->per_sample : 1;
+    if (d->width < 0 || d->x < 0 || d->x >= width || d->y < 0)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sequence: pixel (%d, %d) outside an image %d wide", d->x, d->y,
+                           d->width);
+    if (d->planned_spp < 0)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sequence: planned_spp %d (expected >= 0)", d->planned_spp);
+    if (d->dimension < 0)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT, "sequence: dimension %d (expected >= 0)",
+                           d->dimension);
+    if (d->per_sample < 0)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT, "sequence: per_sample %d (expected >= 0)",
+                           d->per_sample);
+    if (first_sample < 0 || samples < 0 || (int64_t)first_sample + samples > INT32_MAX)
+        return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sequence: samples %d from %d (expected counts >= 0 within 2^31)",
+                           samples, first_sample);
+    if (samples && !out) return lumis__fail(e, LUMIS_ERR_INVALID_ARGUMENT, "sequence: out is NULL");
+    lumis__seq q;
+    const lumis_status st = lumis__seq_init(&q, d->sequence, d->seed, d->planned_spp, e);
+    if (st != LUMIS_OK) return st;
+    size_t i = 0;
+    for (int k = first_sample; k < first_sample + samples; k++) {
+        lumis__stream s;
+        lumis__stream_start(&s, &q, d->x, d->y, width, k);
+        if (q.kind == LUMIS_SEQUENCE_PCG) /* the pairs before this dimension's */
+            for (uint64_t skip = 0; skip < 2 * (uint64_t)d->dimension * (uint64_t)n; skip++)
+                (void)lumis_pcg32_double(&s.rng);
+        for (int j = 0; j < n; j++, i++)
+            seq_2d(&s, (uint32_t)d->dimension, (uint32_t)j, (uint32_t)n, out + 2 * i);
+    }
+    lumis__seq_release(&q);
+    return LUMIS_OK;
 }

@@ -32,6 +32,10 @@ import time
 import bpy
 from mathutils import Euler, Matrix, Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import _common  # noqa: E402
+from _common import luminance  # noqa: E402
+
 # Measured (docs/blender.md) on blender-sunrise at 256 x 128, median-cut K = 16, mapping
 # rotation (10, 0, 40) degrees, 24 x 24 views at 128 samples: worst region against the
 # lights' prediction 0.9 % of the mean (Cycles' noise and the pixels' area), against the
@@ -41,64 +45,9 @@ ROTATION_DEG = (10.0, 0.0, 40.0)
 METHOD, K = "median-cut", 16
 
 
-def luminance(r, g, b):
-    return 0.2126 * r + 0.7152 * g + 0.0722 * b
-
-
 def parse(argv):
-    argv = argv[argv.index("--") + 1:] if "--" in argv else []
-    a = {"zip": None, "map": None, "lumis_python": "", "size": 24, "samples": 128}
-    for k, v in zip(argv[::2], argv[1::2]):
-        key = k.lstrip("-").replace("-", "_")
-        if key not in a:
-            sys.exit("addon_test: unknown argument %s" % k)
-        a[key] = int(v) if key in ("size", "samples") else v
-    if not a["zip"] or not a["map"]:
-        sys.exit("usage: blender ... --python addon_test.py -- --zip Z --map M --lumis-python D")
-    return a
-
-
-def setup_render(scene):
-    r = scene.render
-    r.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = 1
-    c.pixel_filter_type = "BOX"
-    c.filter_width = 1.0
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = 0
-    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = 0
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    r.film_transparent = False
-    r.resolution_percentage = 100
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
-    r.image_settings.exr_codec = "NONE"
-    scene.view_settings.view_transform = "Standard"
-
-
-def world_with_hdri(scene, path):
-    world = bpy.data.worlds.new("hdri")
-    world.use_nodes = True
-    nt = world.node_tree
-    nt.nodes.clear()
-    out = nt.nodes.new("ShaderNodeOutputWorld")
-    bg = nt.nodes.new("ShaderNodeBackground")
-    env = nt.nodes.new("ShaderNodeTexEnvironment")
-    env.image = bpy.data.images.load(os.path.abspath(path))
-    env.interpolation = "Closest"
-    mapping = nt.nodes.new("ShaderNodeMapping")
-    mapping.vector_type = "POINT"
-    mapping.inputs["Rotation"].default_value = [math.radians(c) for c in ROTATION_DEG]
-    coord = nt.nodes.new("ShaderNodeTexCoord")
-    nt.links.new(coord.outputs["Generated"], mapping.inputs["Vector"])
-    nt.links.new(mapping.outputs["Vector"], env.inputs["Vector"])
-    nt.links.new(env.outputs["Color"], bg.inputs["Color"])
-    nt.links.new(bg.outputs["Background"], out.inputs["Surface"])
-    scene.world = world
-    return bg
+    return _common.parse(argv, "addon_test", {"zip": "", "map": "", "lumis_python": "",
+                                              "size": 24, "samples": 128}, ("zip", "map"))
 
 
 def to_lumis(n_world):
@@ -109,29 +58,6 @@ def to_lumis(n_world):
     v = 1.0 - math.acos(max(-1.0, min(1.0, b.z))) / math.pi
     p, t = 2 * math.pi * u, math.pi * (1.0 - v)
     return (math.sin(t) * math.cos(p), math.cos(t), math.sin(t) * math.sin(p))
-
-
-def sphere(scene):
-    import bmesh  # noqa: PLC0415
-    mesh = bpy.data.meshes.new("sphere")
-    obj = bpy.data.objects.new("sphere", mesh)
-    scene.collection.objects.link(obj)
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=128, v_segments=64, radius=1.0)
-    bm.to_mesh(mesh)
-    bm.free()
-    for p in mesh.polygons:
-        p.use_smooth = True
-    mat = bpy.data.materials.new("lambert")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (1, 1, 1, 1)
-    d.inputs["Roughness"].default_value = 0.0
-    o = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(d.outputs["BSDF"], o.inputs["Surface"])
-    mesh.materials.append(mat)
 
 
 VIEWS = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
@@ -198,19 +124,18 @@ def main():
     a = parse(sys.argv)
     t0 = time.time()
     tmp = tempfile.mkdtemp(prefix="lumis-addon-")
-    bpy.ops.wm.read_factory_settings(use_empty=True)
     # 1. the add-on installs from its zip and enables (into BLENDER_USER_SCRIPTS)
-    bpy.ops.preferences.addon_install(filepath=os.path.abspath(a["zip"]), overwrite=True)
-    bpy.ops.preferences.addon_enable(module="lumis_lights")
-    import lumis_lights  # noqa: PLC0415
-    prefs = bpy.context.preferences.addons["lumis_lights"].preferences
-    prefs.lumis_path = a["lumis_python"]
+    lumis_lights = _common.install_addon(a["zip"], a["lumis_python"])
     print("add-on lumis_lights %s installed from %s, enabled" % (
         ".".join(map(str, lumis_lights.bl_info["version"])), a["zip"]))
 
     scene = bpy.context.scene
-    setup_render(scene)
-    bg = world_with_hdri(scene, a["map"])
+    _common.setup_cycles(scene)
+    # the world as a user sets it up (the add-on's helper, as the headless script's --hdri),
+    # nearest pixel: the prediction below reads pixels
+    world = lumis_lights.world_with_hdri(scene, a["map"], ROTATION_DEG, interpolation="Closest",
+                                         name="hdri")
+    bg = next(n for n in world.node_tree.nodes if n.type == "BACKGROUND")
     # 2. the operator, as the menu runs it
     res = bpy.ops.lumis.lights_from_world(method=METHOD, count=K, remove_hdri=True)
     lamps = [o for o in scene.objects if o.type == "LIGHT" and o.data.type == "SUN"]
@@ -228,7 +153,7 @@ def main():
     def predict(n):
         return ls.irradiance(to_lumis(n))
 
-    sphere(scene)
+    _common.white_sphere(scene)
     rs = regions(scene, a["size"], a["samples"], tmp, "lit", predict)
     ws, wm = worst(rs, 1), worst(rs, 2)
     ratio = sum(r[0] for r in rs) / sum(r[2] for r in rs)

@@ -24,6 +24,9 @@ import time
 import bpy
 from mathutils import Matrix, Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import _common  # noqa: E402
+
 # Measured (docs/blender.md) on luxcore_asa_15m_r2.ies hung at 2.5 m and tilted, 48 x 48
 # views of 10 m at 64 samples, 4 x 4 blocks: see TOL's line in docs/blender.md.
 TOL = 0.04
@@ -34,36 +37,12 @@ EXTENT, BLOCK = 10.0, 4
 
 
 def parse(argv):
-    argv = argv[argv.index("--") + 1:] if "--" in argv else []
-    a = {"zip": None, "file": None, "lumis_python": "", "size": 48, "samples": 64}
-    for k, v in zip(argv[::2], argv[1::2]):
-        key = k.lstrip("-").replace("-", "_")
-        if key not in a:
-            sys.exit("fixture_test: unknown argument %s" % k)
-        a[key] = int(v) if key in ("size", "samples") else v
-    if not a["zip"] or not a["file"]:
-        sys.exit("usage: blender ... --python fixture_test.py -- --zip Z --file F --lumis-python D")
-    return a
+    return _common.parse(argv, "fixture_test", {"zip": "", "file": "", "lumis_python": "",
+                                                "size": 48, "samples": 64}, ("zip", "file"))
 
 
 def setup(scene):
-    r = scene.render
-    r.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = 1
-    c.pixel_filter_type = "BOX"
-    c.filter_width = 1.0
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = 0
-    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = 0
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    r.resolution_percentage = 100
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
-    r.image_settings.exr_codec = "NONE"
-    scene.view_settings.view_transform = "Standard"
+    _common.setup_cycles(scene)
     world = bpy.data.worlds.new("black")
     world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
@@ -73,16 +52,7 @@ def setup(scene):
     mesh.from_pydata([(-h, -h, 0), (h, -h, 0), (h, h, 0), (-h, h, 0)], [], [(0, 1, 2, 3)])
     floor = bpy.data.objects.new("floor", mesh)
     scene.collection.objects.link(floor)
-    mat = bpy.data.materials.new("white")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (1, 1, 1, 1)
-    d.inputs["Roughness"].default_value = 0.0
-    o = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(d.outputs["BSDF"], o.inputs["Surface"])
-    mesh.materials.append(mat)
+    mesh.materials.append(_common.white_lambert("white"))
     cam = bpy.data.objects.new("top", bpy.data.cameras.new("top"))
     scene.collection.objects.link(cam)
     cam.location = (0, 0, 10)  # looks down -z; image x = world x, image y = world y
@@ -122,11 +92,7 @@ def main():
     a = parse(sys.argv)
     t0 = time.time()
     tmp = tempfile.mkdtemp(prefix="lumis-fixture-")
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    bpy.ops.preferences.addon_install(filepath=os.path.abspath(a["zip"]), overwrite=True)
-    bpy.ops.preferences.addon_enable(module="lumis_lights")
-    import lumis_lights  # noqa: PLC0415
-    bpy.context.preferences.addons["lumis_lights"].preferences.lumis_path = a["lumis_python"]
+    lumis_lights = _common.install_addon(a["zip"], a["lumis_python"])
     scene = bpy.context.scene
     setup(scene)
     scene.cursor.location = LOCATION

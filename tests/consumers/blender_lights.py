@@ -26,6 +26,11 @@ import time
 import bpy
 from mathutils import Matrix, Vector
 
+# the Blender tests' shared set-up (tests/blender/_common.py)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "blender"))
+import _common  # noqa: E402
+from _common import luminance  # noqa: E402
+
 try:  # Blender's glTF importer needs numpy (Debian: python3-numpy, scripts/install-deps.sh --dev)
     import numpy  # noqa: F401
 except ImportError:
@@ -41,62 +46,18 @@ except ImportError:
 SUN_DEG, SUN_SHARE, SPHERE_TOL = 3.0, 0.25, 0.10
 
 
-def luminance(r, g, b):
-    return 0.2126 * r + 0.7152 * g + 0.0722 * b
-
-
 def parse(argv):
-    argv = argv[argv.index("--") + 1:] if "--" in argv else []
-    a = {"hdr": None, "pass": [], "fail": [], "size": 24, "samples": 64, "seed": 1}
-    i = 0
-    while i < len(argv):
-        k, v = argv[i], argv[i + 1] if i + 1 < len(argv) else None
-        if k == "--hdr":
-            a["hdr"] = v
-        elif k == "--expect-pass":
-            a["pass"].append(v)
-        elif k == "--expect-fail":
-            a["fail"].append(v)
-        elif k == "--size":
-            a["size"] = int(v)
-        elif k == "--samples":
-            a["samples"] = int(v)
-        elif k == "--seed":
-            a["seed"] = int(v)
-        else:
-            sys.exit("blender_lights: unknown argument %s" % k)
-        i += 2
-    if not a["hdr"] or not a["pass"]:
-        sys.exit("usage: blender ... --python blender_lights.py -- --hdr MAP --expect-pass A.gltf")
+    a = _common.parse(argv, "blender_lights", {"hdr": "", "expect_pass": [], "expect_fail": [],
+                                               "size": 24, "samples": 64, "seed": 1},
+                      ("hdr", "expect_pass"), lists=("expect_pass", "expect_fail"))
+    a["pass"], a["fail"] = a.pop("expect_pass"), a.pop("expect_fail")
     return a
 
 
 def empty_scene(seed):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
-    r = scene.render
-    r.engine = "CYCLES"
-    c = scene.cycles
-    c.device = "CPU"
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.seed = seed
-    c.pixel_filter_type = "BOX"
-    c.filter_width = 1.0
-    # direct light only: the sphere is convex, the test compares lighting, not bounces
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = 0
-    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = 0
-    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
-    r.film_transparent = False
-    r.resolution_percentage = 100
-    r.image_settings.file_format = "OPEN_EXR"
-    r.image_settings.color_depth = "32"
-    r.image_settings.exr_codec = "NONE"
-    vs = scene.view_settings
-    vs.view_transform = "Standard"
-    vs.look = "None"
-    vs.exposure = 0.0
-    vs.gamma = 1.0
+    _common.setup_cycles(scene, seed)
     scene.world = bpy.data.worlds.new("world")
     scene.world.use_nodes = True
     # the world's importance map at the test map's own size: its default (1024) costs seconds
@@ -243,26 +204,7 @@ def main():
              si, sj, w, h, peak))
 
     # the sphere under the world alone
-    mesh = bpy.data.meshes.new("sphere")
-    sphere = bpy.data.objects.new("sphere", mesh)
-    scene.collection.objects.link(sphere)
-    import bmesh
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=128, v_segments=64, radius=1.0)
-    bm.to_mesh(mesh)
-    bm.free()
-    for p in mesh.polygons:
-        p.use_smooth = True
-    mat = bpy.data.materials.new("lambert")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    nt.nodes.clear()
-    diffuse = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    diffuse.inputs["Color"].default_value = (1, 1, 1, 1)
-    diffuse.inputs["Roughness"].default_value = 0.0
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    nt.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
-    mesh.materials.append(mat)
+    sphere = _common.white_sphere(scene)
 
     set_world(scene, image, 1.0)
     ibl = sphere_regions(scene, a["size"], a["samples"], tmp, "ibl")

@@ -71,3 +71,33 @@ def test_orient_is_the_documented_frame():
             lumis.photometric_orient("C", **bad)
     with pytest.raises(lumis.InvalidArgumentError, match="type"):
         lumis.photometric_orient("D", (0, -1, 0))
+
+
+@pytest.mark.parametrize("name", ["luxcore_asa_15m_r2.ies", "mdl_type_b_test.ies",
+                                  "pv_no_symmetry.ldt"])
+def test_batches_are_the_single_calls(name):
+    """candela, intensity, pdf and sample make one batched C call each: their numbers are the
+    scalar C calls' (bit for bit), called here one by one through the same library."""
+    from lumis._lib import ffi, lib
+    path = os.path.join(HERE, "..", "data", "photometric", name)
+    rng = np.random.default_rng(40)
+    d = rng.normal(size=(500, 3))
+    d = (d / np.linalg.norm(d, axis=1)[:, None]).astype(np.float32)
+    u = lumis.uniform(500, 7)
+    h, v = np.linspace(-200, 360, 29), np.linspace(-190, 190, 31)
+    with lumis.read_photometric(path) as f:
+        m = f.ptr.model
+        vec = [ffi.new("lumis_vec3 *", tuple(map(float, x)))[0] for x in d]
+        assert f.intensity(d).tolist() == [lib.lumis_photometric_intensity(m, x) for x in vec]
+        assert f.pdf(d).tolist() == [lib.lumis_photometric_pdf(m, x) for x in vec]
+        assert f.candela(h, v).tolist() == [[lib.lumis_photometric_intensity_at(m, a, b)
+                                             for b in v.tolist()] for a in h.tolist()]
+        dirs, pdf = f.sample(u)
+        dp, pp = ffi.new("lumis_vec3 *"), ffi.new("double *")
+        for k, (a, b) in enumerate(u.tolist()):
+            assert lib.lumis_photometric_sample(m, a, b, dp, pp) == lib.LUMIS_OK
+            assert (dp.x, dp.y, dp.z) == tuple(dirs[k].tolist()) and pp[0] == pdf[k]
+        # empty batches are empty arrays
+        assert f.intensity(np.zeros((0, 3))).shape == (0,)
+        assert f.sample(np.zeros((0, 2)))[0].shape == (0, 3)
+        assert f.candela([], [0.0]).shape == (0, 1)

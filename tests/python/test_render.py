@@ -123,16 +123,89 @@ def test_no_growth_over_repeated_renders():
 
 
 def test_the_interpreter_exits_cleanly_after_a_render(root):
-    # Embree's TBB loaded after OpenMP's libgomp made every interpreter that built a scene
-    # segfault at exit (lumis/_lib.py, _preload_tbb)
+    """The interpreter's exit frees cffi's lib objects, which closed the libraries: libgomp
+    (and Embree's TBB) were unmapped under their idle worker threads, and the process died
+    of SIGSEGV at exit (lumis/_lib.py, _DLFLAGS).  OMP_WAIT_POLICY=ACTIVE keeps the workers
+    spinning in libgomp's code: every such exit crashed before the fix (10 of 10); the
+    library's default policy crashed 3-5 % of them."""
     import subprocess  # noqa: PLC0415
     import sys  # noqa: PLC0415
     code = ("import lumis; img, r = lumis.render('spheres', env='sky:32x16', size=(16, 12), "
             "spp=1); print(img.shape)")
     env = dict(os.environ, PYTHONPATH=os.path.join(root, "python") + os.pathsep +
                os.environ.get("PYTHONPATH", ""))
-    # and OpenMP's spinning workers crashed 3-5 % of exits (lumis/_lib.py, OMP_WAIT_POLICY):
-    # ten exits see that at least a third of the time
-    for _ in range(10):
-        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
-        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (r.returncode, r.stderr)
+    for policy in ["ACTIVE"] * 4 + [None] * 4:
+        e = dict(env)
+        e.pop("OMP_WAIT_POLICY", None)
+        if policy:
+            e["OMP_WAIT_POLICY"] = policy
+        r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=e)
+        assert r.returncode == 0 and "(12, 16, 3)" in r.stdout, (policy, r.returncode, r.stderr)
+
+
+FIXTURE_CASES = [
+    # (fixtures=, the tool's options): one fixture as --fixture places it (an asymmetric
+    # table, so that the roll and the up show)
+    ([{"path": "road-asymmetric.ies", "at": (-1.0, 3.0, 0.5), "aim": (-0.5, 0, 0.2),
+       "multiplier": 0.05, "roll_deg": 20}],
+     ["--fixture", "road-asymmetric.ies", "--fixture-at", "-1,3,0.5", "--fixture-aim", "-0.5,0,0.2",
+      "--fixture-multiplier", "0.05", "--fixture-roll", "20"]),
+    ([lumis.Fixture("road-asymmetric.ies", at=(0.5, 3.2, 0.0), up=(1, 0, 1), area=True,
+                    multiplier=0.03)],
+     ["--fixture", "road-asymmetric.ies", "--fixture-at", "0.5,3.2,0", "--fixture-up", "1,0,1",
+      "--fixture-area", "--fixture-multiplier", "0.03"]),
+]
+
+
+@pytest.mark.parametrize("fixtures,args", FIXTURE_CASES, ids=["aimed-rolled", "up-area"])
+def test_fixture_placement_equals_the_tool(cli, root, tmp_path, fixtures, args):
+    """fixtures= builds the lighting value --fixture's options build: the same image bit for
+    bit (same seed, spp, one thread), the scene's own map ignored as the tool ignores it."""
+    d = os.path.join(root, "docs", "examples", "photometric")
+    fx = [dict(f, path=os.path.join(d, f["path"])) if isinstance(f, dict)
+          else lumis.Fixture(os.path.join(d, f.path), f.at, f.aim, f.up, f.roll_deg,
+                             f.multiplier, f.area) for f in fixtures]
+    args = [os.path.join(d, a) if a.endswith(".ies") else a for a in args]
+    img, r = lumis.render("spheres", fixtures=fx, size=(40, 30), spp=3, seed=5, threads=1)
+    assert r["lighting"] == "photometric" and img.max() > 0
+    ref = tool_render(cli, tmp_path, "fixture", "--scene", "spheres", *args, "--size", "40x30",
+                      "--spp", "3", "--seed", "5", "--threads", "1")
+    assert np.array_equal(img, ref)
+    # the placement matters: the same fixture elsewhere is another image
+    moved = [dict(vars(f)) if isinstance(f, lumis.Fixture) else dict(f) for f in fx]
+    moved[0]["at"] = (moved[0]["at"][0] + 0.5, moved[0]["at"][1], moved[0]["at"][2])
+    other, _ = lumis.render("spheres", fixtures=moved, size=(40, 30), spp=3, seed=5, threads=1)
+    assert not np.array_equal(img, other)
+
+
+def test_fixture_and_luminaire_refusals(root):
+    ies = os.path.join(root, "docs", "examples", "photometric", "spot-cos10.ies")
+    base = {"scene": "spheres", "size": (16, 12), "spp": 1}
+    for fx, words in [({"path": ies, "at": (0, 3)}, ["fixtures[0].at"]),
+                      ({"path": ies, "at": (0, 3, 0), "aim": (0, 3, 0)}, ["fixtures[0].aim"]),
+                      ({"path": ies, "at": (0, 3, 0), "up": (0, 1, 0)}, ["fixtures[0].up"]),
+                      ({"path": ies, "at": (0, 3, 0), "multiplier": 0}, ["multiplier"]),
+                      ({"path": ies, "at": (0, 3, 0), "colour": 1}, ["fixtures[0]", "colour"]),
+                      ({"path": "/nonexistent.ies", "at": (0, 3, 0)}, ["/nonexistent.ies"])]:
+        with pytest.raises(lumis.Error) as e:
+            lumis.render(fixtures=[fx], **base)
+        for w in words:
+            assert w in str(e.value), (w, str(e.value))
+    with pytest.raises(lumis.InvalidArgumentError, match="places no luminaire"):
+        lumis.render(luminaire="preset:small", **base)
+    with pytest.raises(lumis.InvalidArgumentError, match="preset:nope"):
+        lumis.render(luminaire="preset:nope", **base)
+
+
+def test_luminaire_replacement_equals_the_tool(cli, tmp_path):
+    """luminaire= replaces the scene's luminaires as --luminaire does: the same image."""
+    kw = dict(size=(32, 24), spp=2, seed=4, threads=1)
+    img, r = lumis.render("headlight", luminaire="preset:small", **kw)
+    assert r["lighting"] == "luminaires" and img.max() > 0
+    ref = tool_render(cli, tmp_path, "lum", "--scene", "headlight", "--luminaire", "preset:small",
+                      "--size", "32x24", "--spp", "2", "--seed", "4", "--threads", "1")
+    assert np.array_equal(img, ref)
+    # the scene's own luminaire (the car's; the tool keeps it in its cache) is another image
+    own = tool_render(cli, tmp_path, "own", "--scene", "headlight", "--size", "32x24", "--spp",
+                      "2", "--seed", "4", "--threads", "1")
+    assert not np.array_equal(img, own)

@@ -21,6 +21,10 @@
  *     unbiased (render_streams_are_nets, every_sequence_is_unbiased)
  * lumis_sequence_name — consistency: round trip with lumis_sequence_from_name (names_and_bad_kinds)
  * lumis_sequence_from_name — consistency: round trip with lumis_sequence_name (names_and_bad_kinds)
+ * lumis_sequence_fill — consistency: the renderer's own streams (lumis__stream_start, then the
+ *     draw render.c and the light kinds make) bit for bit, every kind, one and three points per
+ *     sample; brute force: stratified and zsobol fills of the planned count are nets; error
+ *     paths name the field (fill_is_the_renderers_draw)
  */
 #include <math.h>
 #include <setjmp.h>
@@ -526,6 +530,71 @@ static void names_and_bad_kinds(void **state)
     }
 }
 
+/* lumis_sequence_fill (the Python package's lumis.render_sequence) hands out the numbers the
+ * renderer's streams give, bit for bit: n = 1 as point() above draws them, n = 3 through
+ * seq_2d as the light kinds call it. */
+static void fill_is_the_renderers_draw(void **state)
+{
+    (void)state;
+    enum { S = 16, N3 = 3 };
+    double got[2 * S * N3], want[2];
+    for (int kind = 1; kind < LUMIS_SEQUENCE_COUNT; kind++)
+        for (uint32_t dim = 0; dim < 5; dim += 2) {
+            lumis__seq q = make_seq((lumis_sequence)kind, 77, S);
+            lumis_sequence_desc d = {(lumis_sequence)kind, 77, S, 64, 9, 5, (int)dim, 0, {0}};
+            assert_int_equal(lumis_sequence_fill(&d, 3, S, got), LUMIS_OK);
+            for (int i = 0; i < S; i++) {
+                point(&q, 9, 5, 3 + i, dim, 0, want);
+                assert_memory_equal(got + 2 * i, want, sizeof want);
+            }
+            d.per_sample = N3;
+            assert_int_equal(lumis_sequence_fill(&d, 0, S, got), LUMIS_OK);
+            for (int k = 0, i = 0; k < S; k++) {
+                lumis__stream s;
+                lumis__stream_start(&s, &q, 9, 5, 64, k);
+                for (uint32_t skip = 0; kind == LUMIS_SEQUENCE_PCG && skip < 2 * dim * N3; skip++)
+                    (void)lumis_pcg32_double(&s.rng);
+                for (uint32_t j = 0; j < N3; j++, i++) {
+                    seq_2d(&s, dim, j, N3, want);
+                    assert_memory_equal(got + 2 * i, want, sizeof want);
+                }
+            }
+            lumis__seq_release(&q);
+        }
+    /* the planned count of stratified and zsobol points is a net (stratified: a 4 x 4 grid
+     * of 16 holds one in each cell) */
+    uint32_t xy[2 * S];
+    for (int kind = LUMIS_SEQUENCE_STRATIFIED; kind <= LUMIS_SEQUENCE_ZSOBOL; kind += 2) {
+        const lumis_sequence_desc d = {(lumis_sequence)kind, 5, S, 8, 2, 7, 1, 0, {0}};
+        assert_int_equal(lumis_sequence_fill(&d, 0, S, got), LUMIS_OK);
+        for (int i = 0; i < 2 * S; i++) xy[i] = (uint32_t)(got[i] * 4294967296.0);
+        if (kind == LUMIS_SEQUENCE_ZSOBOL)
+            assert_true(is_net(xy, S));
+        else
+            for (int c = 0; c < S; c++) {
+                int in = 0;
+                for (int i = 0; i < S; i++)
+                    in += (xy[2 * i] >> 30) + 4 * (xy[2 * i + 1] >> 30) == (uint32_t)c;
+                assert_int_equal(in, 1);
+            }
+    }
+    /* refusals */
+    const lumis_sequence_desc ok = {LUMIS_SEQUENCE_SOBOL, 1, 4, 4, 3, 0, 0, 0, {0}};
+    lumis_sequence_desc bad = ok;
+    assert_int_equal(lumis_sequence_fill(&ok, 0, 0, NULL), LUMIS_OK);
+    assert_int_equal(lumis_sequence_fill(&ok, 0, 1, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sequence_fill(&ok, -1, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sequence_fill(NULL, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+    bad.x = 4;
+    assert_int_equal(lumis_sequence_fill(&bad, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = ok, bad.dimension = -1;
+    assert_int_equal(lumis_sequence_fill(&bad, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = ok, bad.sequence = LUMIS_SEQUENCE_COUNT;
+    assert_int_equal(lumis_sequence_fill(&bad, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+    bad = ok, bad.per_sample = -2;
+    assert_int_equal(lumis_sequence_fill(&bad, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -538,6 +607,7 @@ int main(void)
         cmocka_unit_test(pairs_of_dimensions_keep_converging),
         cmocka_unit_test(render_streams_are_nets),
         cmocka_unit_test(names_and_bad_kinds),
+        cmocka_unit_test(fill_is_the_renderers_draw),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
