@@ -484,6 +484,8 @@ typedef struct lumis_photometric_instance {
     lumis_rigid placement;
     double multiplier;
     int area;
+    const lumis_luminaire *light_field;
+    const void *light_field_report;
 } lumis_photometric_instance;
 typedef struct lumis_region_sampler lumis_region_sampler;
 typedef int lumis_luminaire_preset;
