@@ -10,6 +10,7 @@
 #include "../app/load.h"
 #include "../app/pipeline.h"
 #include "../args.h"
+#include "optparse.h"
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 #include "lumis/metrics.h"
@@ -40,6 +41,11 @@ int tool_text_width(const char *text, int scale);
 /* Draws text with its top-left corner at (x, y), clipped to the image, in colour c
  * (linear values).  Lower case is drawn as upper case; unknown characters as '?'. */
 void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text, lumis_rgb c);
+
+/* The option tables of the commands (one tool_optspec per command and subcommand), for
+ * lumis help --markdown and docs/options.md, in the order of lumis --help. */
+extern const tool_optspec *const tool_option_specs[];
+extern const tool_optspec tool_sky_spec, tool_studio_spec;
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);

@@ -31,6 +31,35 @@ static const tool_command commands[] = {
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
+const tool_optspec *const tool_option_specs[] = {
+    &tool_sky_spec,
+    &tool_studio_spec,
+    NULL,
+};
+
+/* lumis help --markdown [CMD]: the option tables as Markdown (docs/options.md is all of them). */
+static int markdown_help(const char *cmd)
+{
+    int found = 0;
+    if (!cmd)
+        printf("# lumis's options\n\n"
+               "Generated from the option tables of tools/lumis (`make options-doc`, which runs\n"
+               "`lumis help --markdown`); the test options_documented fails when this file is\n"
+               "stale.  `lumis COMMAND --help` prints the same.\n\n");
+    for (const tool_optspec *const *s = tool_option_specs; *s; s++) {
+        const size_t n = cmd ? strlen(cmd) : 0;
+        /* "luminaire" names luminaire create, info, ... too */
+        if (cmd &&
+            !(strncmp((*s)->cmd, cmd, n) == 0 && ((*s)->cmd[n] == '\0' || (*s)->cmd[n] == ' ')))
+            continue;
+        tool_optmarkdown(*s, stdout);
+        found = 1;
+    }
+    if (found) return EXIT_OK;
+    fprintf(stderr, "lumis help: no option table for '%s' (see 'lumis --help')\n", cmd);
+    return EXIT_USAGE;
+}
+
 static void print_help(FILE *f)
 {
     fprintf(f,
@@ -107,6 +136,8 @@ int main(int argc, char **argv)
         print_help(stderr);
         return EXIT_USAGE;
     }
+    if (strcmp(argv[1], "help") == 0 && argc > 2 && strcmp(argv[2], "--markdown") == 0)
+        return finish(markdown_help(argc > 3 ? argv[3] : NULL));
     if (strcmp(argv[1], "help") == 0 && argc > 2) { /* lumis help COMMAND */
         for (int i = 0; i < NCOMMANDS; i++)
             if (strcmp(argv[2], commands[i].name) == 0) {
