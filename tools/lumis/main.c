@@ -32,6 +32,7 @@ static const tool_command commands[] = {
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
 const tool_optspec *const tool_option_specs[] = {
+    &tool_convert_spec,
     &tool_sky_spec,
     &tool_studio_spec,
     NULL,
