@@ -45,7 +45,7 @@ void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text,
 /* The option tables of the commands (one tool_optspec per command and subcommand), for
  * lumis help --markdown and docs/options.md, in the order of lumis --help. */
 extern const tool_optspec *const tool_option_specs[];
-extern const tool_optspec tool_sky_spec, tool_studio_spec, tool_convert_spec;
+extern const tool_optspec tool_sky_spec, tool_studio_spec, tool_convert_spec, tool_render_spec;
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);

@@ -32,10 +32,7 @@ static const tool_command commands[] = {
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
 const tool_optspec *const tool_option_specs[] = {
-    &tool_convert_spec,
-    &tool_sky_spec,
-    &tool_studio_spec,
-    NULL,
+    &tool_convert_spec, &tool_sky_spec, &tool_studio_spec, &tool_render_spec, NULL,
 };
 
 /* lumis help --markdown [CMD]: the option tables as Markdown (docs/options.md is all of them). */

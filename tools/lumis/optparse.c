@@ -248,13 +248,13 @@ void tool_opthelp(const tool_optspec *spec, FILE *f)
 {
     fprintf(f, "%s\n\n", spec->usage);
     if (spec->intro) fprintf(f, "%s\n\n", spec->intro);
-    /* the help column: after the widest option up to 22 columns (wider ones run into it) */
+    /* the help column: after the widest option up to 20 columns (wider ones run into it) */
     size_t col = 0;
     for (const tool_opt *o = spec->opts; o->kind != TOOL_OPT_END; o++) {
         char left[128];
         if (o->kind == TOOL_OPT_GROUP) continue;
         left_column(o, left, sizeof left);
-        if (strlen(left) > col && strlen(left) <= 22) col = strlen(left);
+        if (strlen(left) > col && strlen(left) <= 20) col = strlen(left);
     }
     if (spec->opts[0].kind != TOOL_OPT_GROUP && spec->opts[0].kind != TOOL_OPT_END)
         fputs("options:\n", f);
