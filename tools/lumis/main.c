@@ -32,7 +32,23 @@ static const tool_command commands[] = {
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
 const tool_optspec *const tool_option_specs[] = {
-    &tool_convert_spec, &tool_sky_spec, &tool_studio_spec, &tool_render_spec, NULL,
+    &tool_info_spec,
+    &tool_convert_spec,
+    &tool_sky_spec,
+    &tool_studio_spec,
+    &tool_sample_spec,
+    &tool_pdf_spec,
+    &tool_bench_samplers_spec,
+    &tool_render_spec,
+    &tool_lights_spec,
+    &tool_luminaire_create_spec,
+    &tool_luminaire_info_spec,
+    &tool_luminaire_predict_spec,
+    &tool_merge_spec,
+    &tool_compare_spec,
+    &tool_bench_spec,
+    &tool_demo_spec,
+    NULL,
 };
 
 /* lumis help --markdown [CMD]: the option tables as Markdown (docs/options.md is all of them). */
@@ -136,6 +152,10 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "help") == 0 && argc > 2 && strcmp(argv[2], "--markdown") == 0)
         return finish(markdown_help(argc > 3 ? argv[3] : NULL));
+    if (strcmp(argv[1], "help") == 0 && argc > 2 && tool_is_help(argv[2])) {
+        print_help(stdout);
+        return finish(EXIT_OK);
+    }
     if (strcmp(argv[1], "help") == 0 && argc > 2) { /* lumis help COMMAND */
         for (int i = 0; i < NCOMMANDS; i++)
             if (strcmp(argv[2], commands[i].name) == 0) {

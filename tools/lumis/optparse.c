@@ -41,7 +41,8 @@ static int bad_number(const char *cmd, const char *name, const tool_opt *o, cons
     } else {
         format_number(lo, sizeof lo, o->lo);
         format_number(hi, sizeof hi, o->hi);
-        snprintf(need, sizeof need, "needs %s in %c%s, %s]", what, o->open_lo ? '(' : '[', lo, hi);
+        snprintf(need, sizeof need, "needs %s in %c%s, %s%c", what, o->open_lo ? '(' : '[', lo, hi,
+                 o->open_hi ? ')' : ']');
     }
     return tool_bad_value(cmd, name, v, need);
 }
@@ -85,7 +86,8 @@ static int take(const char *cmd, const tool_opt *o, const char *name, const char
     case TOOL_OPT_DOUBLE:
     case TOOL_OPT_FLOAT: {
         double x;
-        if (!tool_parse_double(v, &x) || x < o->lo || x > o->hi || (o->open_lo && x == o->lo))
+        if (!tool_parse_double(v, &x) || x < o->lo || x > o->hi || (o->open_lo && x == o->lo) ||
+            (o->open_hi && x == o->hi))
             return bad_number(cmd, name, o, v, "a number");
         if (o->kind == TOOL_OPT_DOUBLE)
             *(double *)field(ctx, o->at) = x;
@@ -240,8 +242,9 @@ int tool_optparse(const tool_optspec *spec, int argc, char **argv, void *ctx)
 /* "-o, --output OUT" */
 static void left_column(const tool_opt *o, char *buf, size_t n)
 {
+    const char *value = o->metavar ? o->metavar : o->then;
     snprintf(buf, n, "%s%s%s%s%s", o->alias ? o->alias : "", o->alias ? ", " : "", o->name,
-             o->metavar ? " " : "", o->metavar ? o->metavar : "");
+             value ? " " : "", value ? value : "");
 }
 
 void tool_opthelp(const tool_optspec *spec, FILE *f)
@@ -297,10 +300,16 @@ void tool_optmarkdown(const tool_optspec *spec, FILE *f)
         if (*p == '\n') fputs("    ", f);
     }
     fputc('\n', f);
-    if (spec->intro) {
+    if (spec->intro) { /* lines joined into paragraphs; an indented line keeps its break */
         fputc('\n', f);
-        for (const char *p = spec->intro; *p; p++)
-            fputc(*p == '\n' && p[1] != '\n' && (p == spec->intro || p[-1] != '\n') ? ' ' : *p, f);
+        for (const char *p = spec->intro; *p; p++) {
+            if (*p != '\n' || p[1] == '\n' || (p > spec->intro && p[-1] == '\n'))
+                fputc(*p, f);
+            else if (p[1] == ' ')
+                fputs("\\\n", f);
+            else
+                fputc(' ', f);
+        }
         fputc('\n', f);
     }
     int table = 0;

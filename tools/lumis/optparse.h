@@ -37,14 +37,15 @@ typedef int (*tool_opt_handler)(const char *cmd, const tool_opt *opt, const char
 
 struct tool_opt {
     tool_opt_kind kind;
-    const char *name;    /* "--size" (GROUP: the heading) */
-    const char *alias;   /* "-o", or NULL */
-    const char *metavar; /* "WxH"; NULL for a flag */
-    const char *help;    /* the help, lines broken with '\n' (joined in Markdown) */
-    size_t at;           /* offsetof the field in the command's context (not CUSTOM) */
-    size_t at2;          /* SIZE: the height's; EXPOSURE: the auto flag's */
-    double lo, hi;       /* INT, LONG, DOUBLE, FLOAT: the range (both +-HUGE_VAL: none) */
-    int open_lo;         /* DOUBLE, FLOAT: lo itself is refused */
+    const char *name;     /* "--size" (GROUP: the heading) */
+    const char *alias;    /* "-o", or NULL */
+    const char *metavar;  /* "WxH"; NULL for a flag */
+    const char *then;     /* FLAG: the arguments after it as the help shows them ("DIR...") */
+    const char *help;     /* the help, lines broken with '\n' (joined in Markdown) */
+    size_t at;            /* offsetof the field in the command's context (not CUSTOM) */
+    size_t at2;           /* SIZE: the height's; EXPOSURE: the auto flag's */
+    double lo, hi;        /* INT, LONG, DOUBLE, FLOAT: the range (both +-HUGE_VAL: none) */
+    int open_lo, open_hi; /* DOUBLE, FLOAT: lo (hi) itself is refused */
     /* What the value must be, in the error "OPTION needs WHAT in [lo, hi], not 'V'": "a
      * count", "degrees" (numbers; default "a count" or "a number"), "a file" (STRING);
      * for PARSE the whole expectation, "must be clamp, reinhard or aces". */
