@@ -2280,10 +2280,21 @@ static void bench_runs_light_sets(void **state)
     static const bad_file bad[] = {
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"median-cut\", \"upsample\": 2}], \"budgets\": [{\"spp\": 1}]}",
-         "only Wu's decomposition"},
+         "methods[0].upsample: session: upsample: applies to Wu's decomposition"},
+        /* which keys a light set takes, in which mode, is the library's check
+         * (lumis_session_check), said with the suite's key */
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"wu\", \"mis\": \"power\"}], \"budgets\": [{\"spp\": 1}]}",
-         "(and mis in stratified mode), not blocks"},
+         "methods[0].mis: render: power_heuristic: does not apply: the scene is lit by a light "
+         "set in point mode"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"median-cut\", \"blocks\": 64}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].blocks: render: lighting.sampler: does not apply"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"median-cut\", \"mode\": \"stratified\", \"bsdf_samples\": 2}], \"budgets\": "
+         "[{\"spp\": 1}]}",
+         "methods[0].bsdf_samples: render: bsdf_samples: does not apply: the scene is lit by a "
+         "light set in stratified mode"},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
          "\"alias\", \"k\": 8}], \"budgets\": [{\"spp\": 1}]}",
          "belong to light sets"},
