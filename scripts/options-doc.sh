@@ -4,7 +4,9 @@
 #
 #   scripts/options-doc.sh LUMIS            writes docs/options.md      (make options-doc)
 #   scripts/options-doc.sh LUMIS --check    exit 1 when docs/options.md is not what the
-#                                           tables give (the test options_documented)
+#                                           tables give, or when README.md's "All options
+#                                           at a glance" names an option no table has
+#                                           (the test options_documented)
 #
 # LUMIS: the lumis binary, e.g. build/lumis.  Exit status 2 on a usage error.
 set -uo pipefail
@@ -24,7 +26,20 @@ if [ "${2:-}" = --check ]; then
             "(run 'make options-doc')" >&2
         exit 1
     fi
-    echo "docs/options.md: as the option tables give it"
+    # the README's synopsis of every command: each option it names is in a table
+    glance="$(awk '/^### All options at a glance/ {on = 1; next} on && /^##/ {exit} on' \
+        "$ROOT/README.md")"
+    [ -n "$glance" ] || { echo "README.md: no \"All options at a glance\" section" >&2; exit 1; }
+    bad=0
+    for opt in $(grep -o -- '--[a-z][a-z0-9-]*' <<<"$glance" | sort -u); do
+        case "$opt" in --help | --version | --markdown) continue ;; esac
+        if ! grep -q -- "\`$opt[ \`]\|, $opt[ \`]" "$tmp"; then
+            echo "README.md names $opt (All options at a glance), which no option table has" >&2
+            bad=1
+        fi
+    done
+    [ "$bad" -eq 0 ] || exit 1
+    echo "docs/options.md: as the option tables give it; README.md's options exist"
     exit 0
 fi
 cp "$tmp" "$DOC" && echo "wrote docs/options.md"
