@@ -31,13 +31,13 @@ if [ "${2:-}" = --check ]; then
         "$ROOT/README.md")"
     [ -n "$glance" ] || { echo "README.md: no \"All options at a glance\" section" >&2; exit 1; }
     bad=0
-    for opt in $(grep -o -- '--[a-z][a-z0-9-]*' <<<"$glance" | sort -u); do
+    while read -r opt; do
         case "$opt" in --help | --version | --markdown) continue ;; esac
-        if ! grep -q -- "\`$opt[ \`]\|, $opt[ \`]" "$tmp"; then
+        if ! grep -q -- "\`${opt}[ \`]\|, ${opt}[ \`]" "$tmp"; then
             echo "README.md names $opt (All options at a glance), which no option table has" >&2
             bad=1
         fi
-    done
+    done < <(grep -o -- '--[a-z][a-z0-9-]*' <<<"$glance" | sort -u)
     [ "$bad" -eq 0 ] || exit 1
     echo "docs/options.md: as the option tables give it; README.md's options exist"
     exit 0
