@@ -22,10 +22,10 @@ FORMAT_FILES  = $(shell find include src tools tests fuzz bench -type f \
                   \( -name '*.c' -o -name '*.h' -o -name '*.cpp' \) 2>/dev/null | sort)
 
 .PHONY: help deps build release run python-dev test sanitize fuzz format format-check bench install blender-addon clean mutate coverage \
-        mutate-diff mutate-gen
+        mutate-diff mutate-gen options-doc
 
 help:
-	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage mutate-diff mutate-gen python-dev blender-addon"
+	@echo "targets: deps build release run test sanitize fuzz format format-check bench install clean mutate coverage mutate-diff mutate-gen python-dev blender-addon options-doc"
 	@echo "  make mutate-diff BASE=auto|last-landing|REV MUTATE_BUDGET=seconds (0: none)"
 	@echo "  make mutate-gen MUTATE_SAMPLE=$(MUTATE_SAMPLE) (0: every mutant of src/, days)"
 	@echo "  make fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_SEED=$(FUZZ_SEED) (0: a new seed each run)"
@@ -133,6 +133,13 @@ format:
 format-check:
 	@echo "clang-format --dry-run --Werror: $(words $(FORMAT_FILES)) files"
 	@clang-format --dry-run --Werror $(FORMAT_FILES)
+
+# docs/options.md from the commands' option tables (tools/lumis; the test
+# options_documented fails when it is stale)
+options-doc:
+	@cmake -S . -B build -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DLUMIS_WERROR=$(WERROR) >/dev/null
+	cmake --build build -j$(JOBS) --target lumis-cli
+	scripts/options-doc.sh build/lumis
 
 bench: build
 	./build/bench/bench_info

@@ -29,13 +29,6 @@ int tool_lights_method_known(const char *name)
     return lumis_lights_method_from_name(name, &method) == LUMIS_OK;
 }
 
-int tool_lights_method_is_wu(const char *name)
-{
-    lumis_lights_method method;
-    return lumis_lights_method_from_name(name, &method) == LUMIS_OK &&
-           method == LUMIS_LIGHTS_DECOMPOSITION;
-}
-
 const char *tool_lights_method_names(void)
 {
     static char list[512];

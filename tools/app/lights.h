@@ -4,11 +4,10 @@
 
 #include "lumis/lights.h"
 
-/* Light-set methods by name (lumis_lights_method_from_name): known, Wu's (any wu...), and
- * the names joined for a message. */
+/* Light-set methods by name (lumis_lights_method_from_name): known, and the names joined
+ * for a message. */
 int tool_lights_method_known(const char *name);
 const char *tool_lights_method_names(void);
-int tool_lights_method_is_wu(const char *name);
 
 /* lumis_light_params_parse of option `opt`'s value `text` (lumis lights --param, lumis render
  * --lights-param): a usage error of command `cmd` (EXIT_USAGE) with the library's message,

@@ -236,6 +236,76 @@ static const char *const method_keys[] = {"method", "label",         "mis",
                                               "light_samples", "bsdf_samples", "spp",      "k",
                                               "params",        "mode",         "sequence", NULL};
 
+/* The library's refusal, kept to be said with the suite file and key. */
+static void keep_refusal(void *user, lumis_status status, const char *message)
+{
+    (void)status;
+    snprintf((char *)user, 512, "%s", message);
+}
+
+/* The render fields lumis_session_check names, and the suite keys that set them. */
+static const struct {
+    const char *field, *key;
+} field_keys[] = {
+    {"lighting.sampler", "blocks"},      {"lighting.estimator", "mis"},
+    {"power_heuristic", "mis"},          {"light_samples", "light_samples"},
+    {"bsdf_samples", "bsdf_samples"},    {"upsample", "upsample"},
+    {"lighting.light_set.mode", "mode"}, {"lights_k", "k"},
+    {"interleave", "interleave"},        {"lights_params", "params"},
+};
+
+/* A light-set method's keys as the library sees them: the session it would run, with a
+ * stand-in map and camera (lumis_session_check reads only whether they are given) and,
+ * with "blocks", a stand-in sampler.  The library says which choices a light set takes
+ * (in which mode); its refusal is printed with the suite file and key.  Exit code. */
+static int check_light_set(const suite_method *m, int blocks, const char *file, const char *where)
+{
+    lumis_image *img = NULL;
+    lumis_envmap *env = NULL;
+    lumis_sampler *smp = NULL;
+    lumis_status st = lumis_image_create(8, 4, &img);
+    if (st == LUMIS_OK) {
+        for (size_t k = 0; k < 3 * 8 * 4; k++) img->pixels[k] = 1.0f;
+        st = lumis_envmap_from_image(img, &env);
+    }
+    if (st == LUMIS_OK && blocks) st = lumis_sampler_create(env, &m->sampler, &smp);
+    int rc = EXIT_OK;
+    if (st != LUMIS_OK) {
+        rc = tool_runtime_error("%s: %s: checking the light set: %s", file, where,
+                                lumis_status_string(st));
+    } else {
+        const lumis_camera cam = {0};
+        char refusal[512] = "";
+        lumis_session_desc d = {0};
+        d.render.camera = &cam;
+        d.render.errors = (lumis_error_sink){keep_refusal, refusal};
+        d.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        d.render.lighting.env = env;
+        d.render.lighting.sampler = smp;
+        d.render.lighting.estimator = m->estimator;
+        d.render.lighting.light_set.mode = m->lights_mode;
+        d.render.power_heuristic = m->power;
+        d.render.light_samples = m->light_samples;
+        d.render.bsdf_samples = m->bsdf_samples;
+        d.lights = m->lights;
+        d.lights_k = m->lights_k;
+        d.interleave = m->interleave;
+        d.upsample = m->upsample;
+        d.lights_params = m->lights_params.given ? &m->lights_params : NULL;
+        if (lumis_session_check(&d) != LUMIS_OK) {
+            const char *key = NULL;
+            for (size_t k = 0; !key && k < sizeof field_keys / sizeof *field_keys; k++)
+                if (strstr(refusal, field_keys[k].field)) key = field_keys[k].key;
+            rc = key ? tool_runtime_error("%s: %s.%s: %s", file, where, key, refusal)
+                     : tool_runtime_error("%s: %s: %s", file, where, refusal);
+        }
+    }
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+    lumis_image_destroy(img);
+    return rc;
+}
+
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
 {
@@ -287,17 +357,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                 tool_light_params_check(&m->lights_params, "bench", opt, name) != EXIT_OK)
                 return EXIT_RUNTIME;
         }
-        if (m->upsample && !tool_lights_method_is_wu(name))
-            return tool_runtime_error("%s: %s.upsample: only Wu's decomposition (wu...) has it",
-                                      file, where);
-        if ((mis && m->lights_mode != LUMIS_LIGHTS_STRATIFIED) ||
-            cJSON_GetObjectItemCaseSensitive(e, "blocks") ||
-            cJSON_GetObjectItemCaseSensitive(e, "light_samples") ||
-            cJSON_GetObjectItemCaseSensitive(e, "bsdf_samples"))
-            return tool_runtime_error("%s: %s: a light set (%s) takes k, interleave, upsample, "
-                                      "params and mode (and mis in stratified mode), not "
-                                      "blocks or sample counts",
-                                      file, where, name);
+        /* which of the other keys a light set takes is the library's to say (check_light_set,
+         * once they are read) */
     } else if (lumis_sampler_method_from_name(name, &m->sampler.method) != LUMIS_OK) {
         return tool_runtime_error("%s: %s.method: unknown method '%s' (a sampler, bsdf, or a "
                                   "light set: %s)",
@@ -322,6 +383,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     rc = opt_count(e, "blocks", file, where, 0, 1 << 30, &m->sampler.kdtree_blocks);
     if (rc == EXIT_OK) rc = opt_count(e, "light_samples", file, where, 0, 4096, &m->light_samples);
     if (rc == EXIT_OK) rc = opt_count(e, "bsdf_samples", file, where, 0, 4096, &m->bsdf_samples);
+    if (rc == EXIT_OK && m->lights[0])
+        rc = check_light_set(m, cJSON_GetObjectItemCaseSensitive(e, "blocks") != NULL, file, where);
     if (rc != EXIT_OK) return rc;
     char tmp[128];
     bench_copy_cut(tmp, sizeof tmp, label ? label : name);

@@ -10,6 +10,7 @@
 #include "../app/load.h"
 #include "../app/pipeline.h"
 #include "../args.h"
+#include "optparse.h"
 #include "lumis/io.h"
 #include "lumis/lumis.h"
 #include "lumis/metrics.h"
@@ -25,9 +26,6 @@ typedef struct tool_command {
     int (*run)(int argc, char **argv);
 } tool_command;
 
-/* Parses --exposure's value: "auto" (is_auto = 1) or stops in [-64, 64].  Exit code. */
-int tool_exposure_option(const char *cmd, const char *v, float *ev, int *is_auto);
-
 /* Usage error when option (NULL: none given) is a PNG-only option (--exposure, --tonemap)
  * and out is not a PNG.  Exit code. */
 int tool_png_only_option(const char *cmd, const char *option, const char *out);
@@ -40,6 +38,14 @@ int tool_text_width(const char *text, int scale);
 /* Draws text with its top-left corner at (x, y), clipped to the image, in colour c
  * (linear values).  Lower case is drawn as upper case; unknown characters as '?'. */
 void tool_draw_text(lumis_image *img, int x, int y, int scale, const char *text, lumis_rgb c);
+
+/* The option tables of the commands (one tool_optspec per command and subcommand), for
+ * lumis help --markdown and docs/options.md, in the order of lumis --help. */
+extern const tool_optspec *const tool_option_specs[];
+extern const tool_optspec tool_sky_spec, tool_studio_spec, tool_convert_spec, tool_render_spec,
+    tool_lights_spec, tool_bench_spec, tool_luminaire_create_spec, tool_luminaire_info_spec,
+    tool_luminaire_predict_spec, tool_compare_spec, tool_merge_spec, tool_info_spec, tool_demo_spec,
+    tool_bench_samplers_spec, tool_sample_spec, tool_pdf_spec;
 
 /* The subcommands. */
 int cmd_info(int argc, char **argv);
@@ -62,12 +68,6 @@ int cmd_compare(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 int cmd_lights(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
-
-/* Parses one sampler option (--method, --blocks, --kdtree-uniform-angles, --compensate,
- * --importance, --rotate) into d; returns -1 if argv[*i] is none of them, else an exit
- * code (0 == parsed). */
-int tool_sampler_option(const char *cmd, int argc, char **argv, int *i, lumis_sampler_desc *d,
-                        float *rotation);
 
 /* lumis info of a photometric file (info_photometric.c): printed, or as JSON; with svg, its
  * polar plot written there.  Exit code. */

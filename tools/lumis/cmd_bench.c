@@ -9,53 +9,19 @@
 #include "../harness/harness.h"
 #include "cli.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
-static const char usage[] =
-    "usage: lumis bench SUITE.json [--out DIR] [--jobs N] [--shard I/N] [--merge DIR...]\n"
-    "                  [--report-only] [--threads N]\n"
-    "       lumis bench SUITE.json --slurm [--out DIR] [--tasks N] [--reference-passes P]\n"
-    "                  [--cpus C] [--reference-cpus C] [--exclusive] [--max-running K]\n"
-    "                  [--partition NAME] [--time-limit T] [--sbatch=OPTION]... [--no-submit]\n\n"
-    "Runs a benchmark suite (docs/bench.md has the format): for every map, scene, method\n"
-    "and budget it renders an image, compares it with a reference of the same map and\n"
-    "scene (rendered once at high spp and cached under DIR/refs by a hash of everything\n"
-    "that makes it), and computes RMSE, relative MSE, PSNR, CIELAB Delta E, LDR-FLIP and\n"
-    "HDR-FLIP.  Then it writes DIR/results.csv, results.json, results.md (means, average\n"
-    "rankings, pairwise comparisons), convergence-*.svg and index.html.\n\n"
-    "options:\n"
-    "  --out DIR        output folder (default: bench-out/SUITE_NAME)\n"
-    "  --jobs N         N render processes at once, each with cores/N threads (default 1;\n"
-    "                   equal-time budgets are fairest with 1)\n"
-    "  --shard I/N      only items I, I+N, I+2N, ... (0 <= I < N), for job arrays; writes no\n"
-    "                   report: join the shards' folders with --merge\n"
-    "  --merge DIR...   copy the results of other runs' folders into DIR, then report\n"
-    "  --report-only    render nothing: report on the results DIR has\n"
-    "  --threads N      render threads (default: all cores, divided by --jobs)\n\n"
-    "An interrupted run resumes where it stopped: finished items are kept.\n\n"
-    "On a Slurm cluster (docs/cluster.md; DIR on a filesystem every node shares):\n"
-    "  --slurm          submit what is not done as job arrays: the references' shares, their\n"
-    "                   merge, one task per shard of items, and a report job after them that\n"
-    "                   writes the tables and DIR/slurm/status.txt (what is missing); the\n"
-    "                   scripts are in DIR/slurm/.  Run it again to resubmit what failed alone\n"
-    "  --tasks N        the items' tasks (shards; default: one per (map, scene) pair)\n"
-    "  --reference-passes P  each reference split into P tasks (default 1), merged\n"
-    "                   as lumis merge does (equal to one render up to float rounding)\n"
-    "  --cpus C         cores of an items task, its render threads (default 1)\n"
-    "  --reference-cpus C  cores of a reference task (default: as --cpus)\n"
-    "  --exclusive      an items task has its node to itself (equal time, no neighbours)\n"
-    "  --max-running K  at most K tasks of an array at once\n"
-    "  --partition NAME, --time-limit T (sbatch's --time), --sbatch=OPTION (any sbatch\n"
-    "                   option, e.g. --sbatch=--account=NAME; repeatable): for every job\n"
-    "  --no-submit      write the scripts and DIR/slurm/submit.sh, submit nothing\n"
-    "The jobs run these (each usable alone):\n"
-    "  --reference-task T    share T % P of the reference of (map, scene) pair T / P\n"
-    "  --merge-references    join the references' shares (with --reference-passes P)\n"
-    "  --items-only     render no reference (a missing one is an error), with --shard\n"
-    "  --report-only --tasks N   the report, then DIR/slurm/status.txt: exit 1 if any item\n"
-    "                   is not done\n";
+/* What lumis bench reads from its arguments: the harness's options, and what the checks
+ * after them need. */
+typedef struct bench_cli {
+    bench_opts bo;
+    const char *slurm_opt; /* the last option that only --slurm takes */
+    const char *shard;     /* --shard, if given */
+    int no_submit, merge_folders;
+} bench_cli;
 
 /* A value that fits an #SBATCH line. */
 static int one_line(const char *v)
@@ -63,122 +29,248 @@ static int one_line(const char *v)
     return v && *v && !strpbrk(v, "\n\r");
 }
 
-/* The options only --slurm takes (--cpus, --reference-cpus, --max-running, --exclusive,
- * --no-submit, --partition, --time-limit, --sbatch) into so; *slurm_opt: the last one given.
- * -1 when argv[*i] is none of them, else an exit code. */
-static int slurm_option(bench_slurm_opts *so, const char **slurm_opt, int argc, char **argv, int *i)
+static int shard_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
 {
-    const char *v;
-    if (tool_option(argc, argv, i, "--cpus", &v)) {
-        if (!tool_parse_int(v, 1, 4096, &so->cpus))
-            return tool_usage_error("bench", "--cpus needs a count in [1, 4096]");
-        *slurm_opt = "--cpus";
-    } else if (tool_option(argc, argv, i, "--reference-cpus", &v)) {
-        if (!tool_parse_int(v, 1, 4096, &so->ref_cpus))
-            return tool_usage_error("bench", "--reference-cpus needs a count in [1, 4096]");
-        *slurm_opt = "--reference-cpus";
-    } else if (tool_option(argc, argv, i, "--max-running", &v)) {
-        if (!tool_parse_int(v, 1, 1 << 20, &so->max_running))
-            return tool_usage_error("bench", "--max-running needs a count >= 1");
-        *slurm_opt = "--max-running";
-    } else if (strcmp(argv[*i], "--exclusive") == 0) {
-        so->exclusive = 1;
-        *slurm_opt = "--exclusive";
-    } else if (strcmp(argv[*i], "--no-submit") == 0) {
-        so->submit = 0;
-        *slurm_opt = "--no-submit";
-    } else if (tool_option(argc, argv, i, "--partition", &v)) {
-        if (!one_line(v)) return tool_usage_error("bench", "--partition needs a name");
-        so->partition = v;
-        *slurm_opt = "--partition";
-    } else if (tool_option(argc, argv, i, "--time-limit", &v)) {
-        if (!one_line(v))
-            return tool_usage_error("bench", "--time-limit needs sbatch's --time, e.g. 2:00:00");
-        so->time_limit = v;
-        *slurm_opt = "--time-limit";
-    } else if (tool_option(argc, argv, i, "--sbatch", &v)) {
-        if (!one_line(v) || v[0] != '-')
-            return tool_usage_error("bench", "--sbatch needs an sbatch option, given as "
-                                             "--sbatch=--account=NAME");
-        if (so->nextra == BENCH_SLURM_EXTRA_MAX)
-            return tool_usage_error("bench", "at most %d --sbatch options", BENCH_SLURM_EXTRA_MAX);
-        so->extra[so->nextra++] = v;
-        *slurm_opt = "--sbatch";
-    } else {
-        return -1;
+    bench_opts *bo = &((bench_cli *)ctx)->bo;
+    char head[32];
+    const char *slash = v ? strchr(v, '/') : NULL;
+    if (!slash) return tool_bad_value(cmd, opt->name, v, "needs I/N, e.g. 0/4");
+    const size_t n = (size_t)(slash - v);
+    if (n < sizeof head) {
+        memcpy(head, v, n);
+        head[n] = '\0';
     }
+    if (n >= sizeof head || !tool_parse_int(head, 0, 1 << 20, &bo->shard_i) ||
+        !tool_parse_int(slash + 1, 1, 1 << 20, &bo->shard_n) || bo->shard_i >= bo->shard_n)
+        return tool_bad_value(cmd, opt->name, v, "needs I/N with 0 <= I < N");
+    bo->sharded = 1;
     return EXIT_OK;
 }
 
+static int one_line_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    if (!one_line(v)) return tool_bad_value(cmd, opt->name, v, opt->what);
+    *(const char **)((char *)ctx + opt->at) = v;
+    return EXIT_OK;
+}
+
+static int sbatch_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    bench_slurm_opts *so = &((bench_cli *)ctx)->bo.so;
+    if (!one_line(v) || v[0] != '-')
+        return tool_usage_error(cmd, "--sbatch needs an sbatch option, given as "
+                                     "--sbatch=--account=NAME");
+    if (so->nextra == BENCH_SLURM_EXTRA_MAX)
+        return tool_usage_error(cmd, "at most %d %s options", BENCH_SLURM_EXTRA_MAX, opt->name);
+    so->extra[so->nextra++] = v;
+    return EXIT_OK;
+}
+
+/* --merge DIR...: the folders are the directories after it (bench_main reads them from
+ * argv); here they are counted. */
+static int bench_positional(const char *cmd, const char *arg, void *ctx)
+{
+    bench_cli *c = ctx;
+    struct stat sb;
+    if (c->bo.merging && c->merge_folders >= 0 && stat(arg, &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        c->merge_folders++;
+        return EXIT_OK;
+    }
+    if (c->bo.merging && c->merge_folders == 0)
+        return tool_usage_error(cmd, "--merge needs folders of earlier runs");
+    c->merge_folders = c->bo.merging ? -1 : c->merge_folders; /* the folders have ended */
+    if (c->bo.suite_path) return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    c->bo.suite_path = arg;
+    return EXIT_OK;
+}
+
+#define AT(f)      offsetof(bench_cli, bo.f)
+#define SLURM_ONLY TOOL_NOTE(bench_cli, slurm_opt)
+static const tool_opt bench_opts_table[] = {
+    {.kind = TOOL_OPT_STRING,
+     .name = "--out",
+     .metavar = "DIR",
+     .help = "output folder (default: bench-out/SUITE_NAME)",
+     .at = AT(out),
+     .what = "a folder"},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--jobs",
+     .metavar = "N",
+     .help = "N render processes at once, each with cores/N threads (default 1;\n"
+             "equal-time budgets are fairest with 1)",
+     .at = AT(jobs),
+     .lo = 1,
+     .hi = 256},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--shard",
+     .metavar = "I/N",
+     .help = "only items I, I+N, I+2N, ... (0 <= I < N), for job arrays; writes no\n"
+             "report: join the shards' folders with --merge",
+     .handle = shard_option},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--merge",
+     .then = "DIR...",
+     .help = "copy the results of other runs' folders into DIR, then report",
+     .at = AT(merging)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--report-only",
+     .help = "render nothing: report on the results DIR has",
+     .at = AT(report_only)},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--threads",
+     .metavar = "N",
+     .help = "render threads (default: all cores, divided by --jobs)",
+     .at = AT(threads),
+     .lo = 1,
+     .hi = 4096},
+
+    {.kind = TOOL_OPT_GROUP,
+     .name = "on a Slurm cluster (docs/cluster.md; DIR on a filesystem every node shares)"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--slurm",
+     .help = "submit what is not done as job arrays: the references' shares, their\n"
+             "merge, one task per shard of items, and a report job after them that\n"
+             "writes the tables and DIR/slurm/status.txt (what is missing); the\n"
+             "scripts are in DIR/slurm/.  Run it again to resubmit what failed alone",
+     .at = AT(slurm)},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--tasks",
+     .metavar = "N",
+     .help = "the items' tasks (shards; default: one per (map, scene) pair)",
+     .at = AT(so.tasks),
+     .lo = 1,
+     .hi = 1 << 20},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--reference-passes",
+     .metavar = "P",
+     .help = "each reference split into P tasks (default 1), merged\n"
+             "as lumis merge does (equal to one render up to float rounding)",
+     .at = AT(so.ref_passes),
+     .lo = 1,
+     .hi = BENCH_REF_PASSES_MAX},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--cpus",
+     .metavar = "C",
+     .help = "cores of an items task, its render threads (default 1)",
+     .at = AT(so.cpus),
+     .lo = 1,
+     .hi = 4096,
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--reference-cpus",
+     .metavar = "C",
+     .help = "cores of a reference task (default: as --cpus)",
+     .at = AT(so.ref_cpus),
+     .lo = 1,
+     .hi = 4096,
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--exclusive",
+     .help = "an items task has its node to itself (equal time, no neighbours)",
+     .at = AT(so.exclusive),
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--max-running",
+     .metavar = "K",
+     .help = "at most K tasks of an array at once",
+     .at = AT(so.max_running),
+     .lo = 1,
+     .hi = 1 << 20,
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--partition",
+     .metavar = "NAME",
+     .help = "the partition of every job",
+     .handle = one_line_option,
+     .at = AT(so.partition),
+     .what = "needs a name",
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--time-limit",
+     .metavar = "T",
+     .help = "sbatch's --time of every job",
+     .handle = one_line_option,
+     .at = AT(so.time_limit),
+     .what = "needs sbatch's --time, e.g. 2:00:00",
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--sbatch",
+     .metavar = "OPTION",
+     .help = "any sbatch option for every job, e.g. --sbatch=--account=NAME\n"
+             "(repeatable)",
+     .handle = sbatch_option,
+     .note = SLURM_ONLY},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--no-submit",
+     .help = "write the scripts and DIR/slurm/submit.sh, submit nothing",
+     .at = offsetof(bench_cli, no_submit),
+     .note = SLURM_ONLY},
+
+    {.kind = TOOL_OPT_GROUP, .name = "what the jobs run (each usable alone)"},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--reference-task",
+     .metavar = "T",
+     .help = "share T % P of the reference of (map, scene) pair T / P",
+     .at = AT(ref_task),
+     .lo = 0,
+     .hi = 1 << 24,
+     .what = "a task number"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--merge-references",
+     .help = "join the references' shares (with --reference-passes P)",
+     .at = AT(merge_refs)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--items-only",
+     .help = "render no reference (a missing one is an error), with --shard",
+     .at = AT(items_only)},
+    {0},
+};
+
+const tool_optspec tool_bench_spec = {
+    .cmd = "bench",
+    .usage =
+        "usage: lumis bench SUITE.json [--out DIR] [--jobs N] [--shard I/N] [--merge DIR...]\n"
+        "                  [--report-only] [--threads N]\n"
+        "       lumis bench SUITE.json --slurm [--out DIR] [--tasks N] [--reference-passes P]\n"
+        "                  [--cpus C] [--reference-cpus C] [--exclusive] [--max-running K]\n"
+        "                  [--partition NAME] [--time-limit T] [--sbatch=OPTION]... [--no-submit]",
+    .intro = "Runs a benchmark suite (docs/bench.md has the format): for every map, scene, method\n"
+             "and budget it renders an image, compares it with a reference of the same map and\n"
+             "scene (rendered once at high spp and cached under DIR/refs by a hash of everything\n"
+             "that makes it), and computes RMSE, relative MSE, PSNR, CIELAB Delta E, LDR-FLIP and\n"
+             "HDR-FLIP.  Then it writes DIR/results.csv, results.json, results.md (means, average\n"
+             "rankings, pairwise comparisons), convergence-*.svg and index.html.  An interrupted\n"
+             "run resumes where it stopped: finished items are kept.",
+    .opts = bench_opts_table,
+    .positional = bench_positional,
+    .outro = "--report-only --tasks N: the report, then DIR/slurm/status.txt: exit 1 if any item\n"
+             "is not done (the Slurm report job).",
+};
+
 int cmd_bench(int argc, char **argv)
 {
-    const char *suite_path = NULL, *out = NULL, *v;
-    long jobs = 1, threads = 0, shard_i = 0, shard_n = 1;
-    int report_only = 0, merging = 0, sharded = 0;
-    int slurm = 0, items_only = 0, merge_refs = 0;
-    long ref_task = -1;
-    int src;                      /* slurm_option's */
-    const char *slurm_opt = NULL; /* the last option that only --slurm takes */
-    bench_slurm_opts so = {0};
-    so.ref_passes = 1;
-    so.cpus = 1;
-    so.submit = 1;
-    for (int i = 1; i < argc; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--out", &v)) {
-            if (!v || !*v) return tool_usage_error("bench", "--out needs a folder");
-            out = v;
-        } else if (tool_option(argc, argv, &i, "--jobs", &v)) {
-            if (!tool_parse_int(v, 1, 256, &jobs))
-                return tool_usage_error("bench", "--jobs needs a count in [1, 256]");
-        } else if (tool_option(argc, argv, &i, "--threads", &v)) {
-            if (!tool_parse_int(v, 1, 4096, &threads))
-                return tool_usage_error("bench", "--threads needs a count in [1, 4096]");
-            threads = tool_cap_threads("bench", (int)threads);
-        } else if (tool_option(argc, argv, &i, "--shard", &v)) {
-            char *slash = v ? strchr(v, '/') : NULL;
-            if (!slash) return tool_usage_error("bench", "--shard needs I/N, e.g. 0/4");
-            *slash = '\0';
-            int ok = tool_parse_int(v, 0, 1 << 20, &shard_i) &&
-                     tool_parse_int(slash + 1, 1, 1 << 20, &shard_n) && shard_i < shard_n;
-            *slash = '/';
-            if (!ok) return tool_usage_error("bench", "--shard needs I/N with 0 <= I < N");
-            sharded = 1;
-        } else if (strcmp(argv[i], "--merge") == 0) {
-            merging = 1;
-            struct stat sb;
-            if (i + 1 >= argc || stat(argv[i + 1], &sb) != 0 || !S_ISDIR(sb.st_mode))
-                return tool_usage_error("bench", "--merge needs folders of earlier runs");
-            while (i + 1 < argc && stat(argv[i + 1], &sb) == 0 && S_ISDIR(sb.st_mode)) i++;
-        } else if (strcmp(argv[i], "--report-only") == 0) {
-            report_only = 1;
-        } else if (strcmp(argv[i], "--slurm") == 0) {
-            slurm = 1;
-        } else if (strcmp(argv[i], "--items-only") == 0) {
-            items_only = 1;
-        } else if (strcmp(argv[i], "--merge-references") == 0) {
-            merge_refs = 1;
-        } else if (tool_option(argc, argv, &i, "--reference-task", &v)) {
-            if (!tool_parse_int(v, 0, 1 << 24, &ref_task))
-                return tool_usage_error("bench", "--reference-task needs a task number >= 0");
-        } else if (tool_option(argc, argv, &i, "--reference-passes", &v)) {
-            if (!tool_parse_int(v, 1, BENCH_REF_PASSES_MAX, &so.ref_passes))
-                return tool_usage_error("bench", "--reference-passes needs a count in [1, %d]",
-                                        BENCH_REF_PASSES_MAX);
-        } else if (tool_option(argc, argv, &i, "--tasks", &v)) {
-            if (!tool_parse_int(v, 1, 1 << 20, &so.tasks))
-                return tool_usage_error("bench", "--tasks needs a count >= 1");
-        } else if ((src = slurm_option(&so, &slurm_opt, argc, argv, &i)) >= 0) {
-            if (src != EXIT_OK) return src;
-        } else if (argv[i][0] != '-' && !suite_path) {
-            suite_path = argv[i];
-        } else {
-            return tool_usage_error("bench", "unknown argument '%s'", argv[i]);
-        }
-    }
-    if (!suite_path) return tool_usage_error("bench", "needs a SUITE.json");
+    bench_cli c = {0};
+    bench_opts *b = &c.bo;
+    b->jobs = 1;
+    b->shard_n = 1;
+    b->ref_task = -1;
+    b->so.ref_passes = 1;
+    b->so.cpus = 1;
+    b->argc = argc;
+    b->argv = argv;
+    const int rc = tool_optparse(&tool_bench_spec, argc, argv, &c);
+    if (rc >= 0) return rc;
+    b->so.submit = !c.no_submit;
+    if (b->threads) b->threads = tool_cap_threads("bench", (int)b->threads);
+    if (b->merging && c.merge_folders == 0)
+        return tool_usage_error("bench", "--merge needs folders of earlier runs");
+    const bench_opts bo = *b;
+    const char *slurm_opt = c.slurm_opt;
+    const bench_slurm_opts so = b->so;
+    const long jobs = bo.jobs, ref_task = bo.ref_task;
+    const int sharded = bo.sharded, merging = bo.merging, report_only = bo.report_only,
+              slurm = bo.slurm, items_only = bo.items_only, merge_refs = bo.merge_refs;
+    if (!bo.suite_path) return tool_usage_error("bench", "needs a SUITE.json");
     if (sharded && (merging || report_only))
         return tool_usage_error("bench", "--shard renders; --merge and --report-only report");
     const int modes = slurm + items_only + merge_refs + (ref_task >= 0) + report_only + merging;
@@ -192,8 +284,5 @@ int cmd_bench(int argc, char **argv)
     if ((slurm || ref_task >= 0 || merge_refs) && (sharded || jobs != 1))
         return tool_usage_error("bench", "--shard and --jobs: not with --slurm, "
                                          "--reference-task or --merge-references");
-    bench_opts bo = {suite_path,  out,     jobs,    threads, shard_i,    shard_n,
-                     report_only, merging, sharded, slurm,   items_only, merge_refs,
-                     ref_task,    so,      argc,    argv};
     return bench_main(&bo);
 }

@@ -7,43 +7,10 @@
 
 #include <cJSON.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static const char usage[] =
-    "usage: lumis bench-samplers MAP... [options]\n\n"
-    "MAP: an image file or sky:WxH / studio:WxH (any size, e.g. sky:8192x4096).\n"
-    "For every map and method: build time (median of --runs builds), table bytes and\n"
-    "compression against inversion's tables, samples per second on one core for the\n"
-    "scalar sample() loop and for sample_n() (medians of --runs runs of --samples), and\n"
-    "rel_stderr_64: the standard deviation of a 64-sample estimate of the irradiance\n"
-    "E(n) = int Y(w) max(0, n.w) dw over its value, averaged over 16 normals, computed\n"
-    "exactly by summing f^2/p and f over every pixel (at its centre), not by sampling.\n\n"
-    "Without --methods, the kd-tree is also run as the paper's literal variant (uniform in\n"
-    "angles inside a block), reported as method kdtree with variant \"uniform-angles\"\n"
-    "(the row \"kdtree-angles\").\n\n"
-    "After each map's rows, a verdict: which method has the lowest rel_stderr_64 (lower\n"
-    "is better: the error of 64 samples) and by how much, and which is best per second\n"
-    "of sampling (rel_stderr_64^2 / samples per second: the error at equal sampling time;\n"
-    "a render spends most of its time elsewhere, docs/results/ergun2012).  To compare two\n"
-    "samplers on your map: lumis bench-samplers MAP --methods inversion,kdtree\n\n"
-    "options:\n"
-    "  --json          print a JSON array of objects (map, method, variant, build_ms, bytes,\n"
-    "                  total_bytes, compression_vs_inversion (null without tables),\n"
-    "                  samples_per_second,\n"
-    "                  batch_samples_per_second, rel_stderr_64, blocks, alpha)\n"
-    "  --methods LIST  comma-separated (default: all seven)\n"
-    "  --samples N     samples per timing run (default 1000000)\n"
-    "  --runs R        timing runs and builds; medians are reported (default 5)\n"
-    "  --blocks K      kd-tree blocks (default 6144)\n"
-    "  --strata LIST   also the light sets' region samplers (the stratified mode of lumis\n"
-    "                  render --lights-mode stratified) of these light-set methods\n"
-    "                  (comma-separated, e.g. median-cut,wu), as method strata:NAME: build\n"
-    "                  = the light set's and the region samplers', a sample = a direction\n"
-    "                  drawn in one region (the regions in turn, as a render draws one in\n"
-    "                  each), rel_stderr_64 of 64 / K draws in every region\n"
-    "  --strata-k K    regions of those light sets (default 32, as lumis render)\n";
 
 enum { NNORMALS = 16, SPP = 64 };
 
@@ -371,59 +338,127 @@ typedef struct samplers_opts {
     const char *strata[16];
 } samplers_opts;
 
+static int strata_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    samplers_opts *o = ctx;
+    snprintf(o->strata_buf, sizeof o->strata_buf, "%s", v ? v : "");
+    for (char *tok = strtok(o->strata_buf, ","); tok; tok = strtok(NULL, ",")) {
+        if (o->nstrata == 16 || !tool_lights_method_known(tok))
+            return tool_usage_error(cmd, "%s: unknown light-set method '%s' (%s)", opt->name, tok,
+                                    tool_lights_method_names());
+        o->strata[o->nstrata++] = tok;
+    }
+    if (!o->nstrata) return tool_usage_error(cmd, "%s needs a list", opt->name);
+    return EXIT_OK;
+}
+
+static int methods_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    samplers_opts *o = ctx;
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", v ? v : "");
+    for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+        if (o->nmethods == LUMIS_METHOD_COUNT ||
+            lumis_sampler_method_from_name(tok, &o->methods[o->nmethods]) != LUMIS_OK)
+            return tool_usage_error(cmd, "unknown method '%s' in %s", tok, opt->name);
+        o->nmethods++;
+    }
+    if (!o->nmethods) return tool_usage_error(cmd, "%s needs a list", opt->name);
+    return EXIT_OK;
+}
+
+static int samplers_positional(const char *cmd, const char *arg, void *ctx)
+{
+    (void)cmd;
+    samplers_opts *o = ctx;
+    if (o->nmaps < 64) o->maps[o->nmaps++] = arg;
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(samplers_opts, f)
+static const tool_opt samplers_table[] = {
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--json",
+     .help = "print a JSON array of objects (map, method, variant, build_ms, bytes,\n"
+             "total_bytes, compression_vs_inversion (null without tables),\n"
+             "samples_per_second, batch_samples_per_second, rel_stderr_64, blocks, alpha)",
+     .at = AT(json)},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--methods",
+     .metavar = "LIST",
+     .help = "comma-separated (default: all seven)",
+     .handle = methods_option},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--samples",
+     .metavar = "N",
+     .help = "samples per timing run (default 1000000)",
+     .at = AT(nsamples),
+     .lo = 1,
+     .hi = 100000000},
+    {.kind = TOOL_OPT_INT,
+     .name = "--runs",
+     .metavar = "R",
+     .help = "timing runs and builds; medians are reported (default 5)",
+     .at = AT(runs),
+     .lo = 1,
+     .hi = 101},
+    {.kind = TOOL_OPT_INT,
+     .name = "--blocks",
+     .metavar = "K",
+     .help = "kd-tree blocks (default 6144)",
+     .at = AT(blocks),
+     .lo = 1,
+     .hi = 1 << 24},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--strata",
+     .metavar = "LIST",
+     .help = "also the light sets' region samplers (the stratified mode of lumis\n"
+             "render --lights-mode stratified) of these light-set methods\n"
+             "(comma-separated, e.g. median-cut,wu), as method strata:NAME: build\n"
+             "= the light set's and the region samplers', a sample = a direction\n"
+             "drawn in one region (the regions in turn, as a render draws one in\n"
+             "each), rel_stderr_64 of 64 / K draws in every region",
+     .handle = strata_option},
+    {.kind = TOOL_OPT_INT,
+     .name = "--strata-k",
+     .metavar = "K",
+     .help = "regions of those light sets (default 32, as lumis render)",
+     .at = AT(strata_k),
+     .lo = 1,
+     .hi = 65536},
+    {0},
+};
+
+const tool_optspec tool_bench_samplers_spec = {
+    .cmd = "bench-samplers",
+    .usage = "usage: lumis bench-samplers MAP... [options]",
+    .intro =
+        "MAP: an image file or sky:WxH / studio:WxH (any size, e.g. sky:8192x4096).\n"
+        "For every map and method: build time (median of --runs builds), table bytes and\n"
+        "compression against inversion's tables, samples per second on one core for the\n"
+        "scalar sample() loop and for sample_n() (medians of --runs runs of --samples), and\n"
+        "rel_stderr_64: the standard deviation of a 64-sample estimate of the irradiance\n"
+        "E(n) = int Y(w) max(0, n.w) dw over its value, averaged over 16 normals, computed\n"
+        "exactly by summing f^2/p and f over every pixel (at its centre), not by sampling.\n\n"
+        "Without --methods, the kd-tree is also run as the paper's literal variant (uniform in\n"
+        "angles inside a block), reported as method kdtree with variant \"uniform-angles\"\n"
+        "(the row \"kdtree-angles\").\n\n"
+        "After each map's rows, a verdict: which method has the lowest rel_stderr_64 (lower\n"
+        "is better: the error of 64 samples) and by how much, and which is best per second\n"
+        "of sampling (rel_stderr_64^2 / samples per second: the error at equal sampling time;\n"
+        "a render spends most of its time elsewhere, docs/results/ergun2012).  To compare two\n"
+        "samplers on your map: lumis bench-samplers MAP --methods inversion,kdtree",
+    .opts = samplers_table,
+    .positional = samplers_positional,
+};
+
 /* The options into *o (*help: --help was given, the usage printed).  Exit code. */
 static int parse_samplers_args(int argc, char **argv, samplers_opts *o, int *help)
 {
-    const char *v;
-    for (int i = 1; i < argc; i++) {
-        long x;
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            *help = 1;
-            return EXIT_OK;
-        } else if (strcmp(argv[i], "--json") == 0) {
-            o->json = 1;
-        } else if (tool_option(argc, argv, &i, "--samples", &v)) {
-            if (!tool_parse_int(v, 1, 100000000L, &o->nsamples))
-                return tool_usage_error("bench-samplers", "--samples needs a count in [1, 10^8]");
-        } else if (tool_option(argc, argv, &i, "--runs", &v)) {
-            if (!tool_parse_int(v, 1, 101, &x))
-                return tool_usage_error("bench-samplers", "--runs needs 1..101");
-            o->runs = (int)x;
-        } else if (tool_option(argc, argv, &i, "--blocks", &v)) {
-            if (!tool_parse_int(v, 1, 1 << 24, &x))
-                return tool_usage_error("bench-samplers", "--blocks needs a count");
-            o->blocks = (int)x;
-        } else if (tool_option(argc, argv, &i, "--strata", &v)) {
-            snprintf(o->strata_buf, sizeof o->strata_buf, "%s", v ? v : "");
-            for (char *tok = strtok(o->strata_buf, ","); tok; tok = strtok(NULL, ",")) {
-                if (o->nstrata == 16 || !tool_lights_method_known(tok))
-                    return tool_usage_error("bench-samplers",
-                                            "--strata: unknown light-set method '%s' (%s)", tok,
-                                            tool_lights_method_names());
-                o->strata[o->nstrata++] = tok;
-            }
-            if (!o->nstrata) return tool_usage_error("bench-samplers", "--strata needs a list");
-        } else if (tool_option(argc, argv, &i, "--strata-k", &v)) {
-            if (!tool_parse_int(v, 1, 65536, &x))
-                return tool_usage_error("bench-samplers", "--strata-k needs a count in [1, 65536]");
-            o->strata_k = (int)x;
-        } else if (tool_option(argc, argv, &i, "--methods", &v)) {
-            char buf[256];
-            snprintf(buf, sizeof buf, "%s", v ? v : "");
-            for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
-                if (o->nmethods == LUMIS_METHOD_COUNT ||
-                    lumis_sampler_method_from_name(tok, &o->methods[o->nmethods]) != LUMIS_OK)
-                    return tool_usage_error("bench-samplers", "unknown method '%s' in --methods",
-                                            tok);
-                o->nmethods++;
-            }
-            if (!o->nmethods) return tool_usage_error("bench-samplers", "--methods needs a list");
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return tool_usage_error("bench-samplers", "unknown option '%s'", argv[i]);
-        } else if (o->nmaps < 64) {
-            o->maps[o->nmaps++] = argv[i];
-        }
+    const int rc = tool_optparse(&tool_bench_samplers_spec, argc, argv, o);
+    if (rc >= 0) {
+        *help = rc == EXIT_OK;
+        return rc;
     }
     if (!o->nmaps) return tool_usage_error("bench-samplers", "no map given");
     o->methods_given = o->nmethods > 0;

@@ -6,33 +6,9 @@
 
 #include <cJSON.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char usage[] =
-    "usage: lumis compare REF TEST [--json] [--map OUT.png] [--diff OUT] [options]\n\n"
-    "Compares a test image with a reference.  EXR, HDR and PFM inputs are linear; PNG\n"
-    "inputs are decoded from sRGB.  Metrics (docs/metrics.md has every definition):\n"
-    "  rmse, relmse    on the linear HDR values, all channels; relmse = mean (t-r)^2/(r^2+0.01)\n"
-    "  psnr            10 log10(peak^2 / mse) dB on the linear HDR values, peak = the\n"
-    "                  reference's largest channel value (printed with it)\n"
-    "  lab_delta_e     mean CIE76 Delta E (D65) of the values x 2^EV clamped to [0, 1]\n"
-    "  flip_ldr        LDR-FLIP of the values x 2^EV clamped to [0, 1]\n"
-    "  flip_hdr        HDR-FLIP with the reference's default exposure range and ACES\n\n"
-    "options:\n"
-    "  --json          print one JSON object (rmse, relmse, psnr, lab_delta_e, flip_ldr,\n"
-    "                  flip_hdr, and the parameters: psnr_peak, exposure_ev, ...)\n"
-    "  --exposure EV   exposure of the display-referred metrics (CIELAB, LDR-FLIP): stops,\n"
-    "                  or auto (the default, as lumis bench's \"auto\"): the stops that bring\n"
-    "                  the reference's mean luminance to 0.18.  EV 0 is how NVIDIA's\n"
-    "                  reference tool treats linear input; a render in cd/m^2 then clamps\n"
-    "                  almost everywhere (a warning says when more than 5 % of the pixels\n"
-    "                  clamp)\n"
-    "  --ppd N         FLIP's pixels per degree (default 67.02: 0.7 m from a 0.7 m wide\n"
-    "                  4K display, as the reference)\n"
-    "  --map OUT.png   FLIP error map (HDR-FLIP; with --no-hdr-flip, LDR-FLIP), magma colours\n"
-    "  --diff OUT      per-pixel |test - ref| (linear; .exr/.pfm/.hdr, or .png)\n"
-    "  --no-hdr-flip   skip HDR-FLIP (it runs LDR-FLIP once per exposure)\n";
 
 /* More than this share of the pixels clamped at the display exposure: a warning. */
 #define CLAMP_WARN 0.05
@@ -55,44 +31,95 @@ static double clamped_fraction(const lumis_image *ref, const lumis_image *test, 
 /* What compare is asked. */
 typedef struct compare_opts {
     const char *ref_path, *test_path, *map_path, *diff_path;
-    int json, hdr_flip, ev_auto;
+    int json, hdr_flip, no_hdr_flip, ev_auto;
     float ev;
     double ppd;
 } compare_opts;
 
+static int compare_positional(const char *cmd, const char *arg, void *ctx)
+{
+    compare_opts *o = ctx;
+    if (!o->ref_path)
+        o->ref_path = arg;
+    else if (!o->test_path)
+        o->test_path = arg;
+    else
+        return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(compare_opts, f)
+static const tool_opt compare_table[] = {
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--json",
+     .help = "print one JSON object (rmse, relmse, psnr, lab_delta_e, flip_ldr,\n"
+             "flip_hdr, and the parameters: psnr_peak, exposure_ev, ...)",
+     .at = AT(json)},
+    {.kind = TOOL_OPT_EXPOSURE,
+     .name = "--exposure",
+     .metavar = "EV",
+     .help = "exposure of the display-referred metrics (CIELAB, LDR-FLIP): stops,\n"
+             "or auto (the default, as lumis bench's \"auto\"): the stops that bring\n"
+             "the reference's mean luminance to 0.18.  EV 0 is how NVIDIA's\n"
+             "reference tool treats linear input; a render in cd/m^2 then clamps\n"
+             "almost everywhere (a warning says when more than 5 % of the pixels\n"
+             "clamp)",
+     .at = AT(ev),
+     .at2 = AT(ev_auto)},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--ppd",
+     .metavar = "N",
+     .help = "FLIP's pixels per degree (default 67.02: 0.7 m from a 0.7 m wide\n"
+             "4K display, as the reference)",
+     .at = AT(ppd),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 10000,
+     .what = "pixels per degree"},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--map",
+     .metavar = "OUT.png",
+     .help = "FLIP error map (HDR-FLIP; with --no-hdr-flip, LDR-FLIP), magma colours",
+     .at = AT(map_path),
+     .what = "a file"},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--diff",
+     .metavar = "OUT",
+     .help = "per-pixel |test - ref| (linear; .exr/.pfm/.hdr, or .png)",
+     .at = AT(diff_path),
+     .what = "a file"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--no-hdr-flip",
+     .help = "skip HDR-FLIP (it runs LDR-FLIP once per exposure)",
+     .at = AT(no_hdr_flip)},
+    {0},
+};
+
+const tool_optspec tool_compare_spec = {
+    .cmd = "compare",
+    .usage = "usage: lumis compare REF TEST [--json] [--map OUT.png] [--diff OUT] [options]",
+    .intro = "Compares a test image with a reference.  EXR, HDR and PFM inputs are linear; PNG\n"
+             "inputs are decoded from sRGB.  Metrics (docs/metrics.md has every definition):\n"
+             "  rmse, relmse    on the linear HDR values, all channels; relmse = mean "
+             "(t-r)^2/(r^2+0.01)\n"
+             "  psnr            10 log10(peak^2 / mse) dB on the linear HDR values, peak = the\n"
+             "                  reference's largest channel value (printed with it)\n"
+             "  lab_delta_e     mean CIE76 Delta E (D65) of the values x 2^EV clamped to [0, 1]\n"
+             "  flip_ldr        LDR-FLIP of the values x 2^EV clamped to [0, 1]\n"
+             "  flip_hdr        HDR-FLIP with the reference's default exposure range and ACES",
+    .opts = compare_table,
+    .positional = compare_positional,
+};
+
 /* The options into *o (*help: --help was given, the usage printed).  Exit code. */
 static int parse_compare_args(int argc, char **argv, compare_opts *o, int *help)
 {
-    const char *v;
-    for (int i = 1; i < argc; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            *help = 1;
-            return EXIT_OK;
-        } else if (strcmp(argv[i], "--json") == 0) {
-            o->json = 1;
-        } else if (strcmp(argv[i], "--no-hdr-flip") == 0) {
-            o->hdr_flip = 0;
-        } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
-            const int erc = tool_exposure_option("compare", v, &o->ev, &o->ev_auto);
-            if (erc != EXIT_OK) return erc;
-        } else if (tool_option(argc, argv, &i, "--ppd", &v)) {
-            if (!tool_parse_double(v, &o->ppd) || !(o->ppd > 0.0) || o->ppd > 10000)
-                return tool_bad_value("compare", "--ppd", v, "needs pixels per degree");
-        } else if (tool_option(argc, argv, &i, "--map", &v)) {
-            if (!v || !*v) return tool_bad_value("compare", "--map", v, "needs a file");
-            o->map_path = v;
-        } else if (tool_option(argc, argv, &i, "--diff", &v)) {
-            if (!v || !*v) return tool_bad_value("compare", "--diff", v, "needs a file");
-            o->diff_path = v;
-        } else if (argv[i][0] != '-' && !o->ref_path) {
-            o->ref_path = argv[i];
-        } else if (argv[i][0] != '-' && !o->test_path) {
-            o->test_path = argv[i];
-        } else {
-            return tool_usage_error("compare", "unknown argument '%s'", argv[i]);
-        }
+    const int rc = tool_optparse(&tool_compare_spec, argc, argv, o);
+    if (rc >= 0) {
+        *help = rc == EXIT_OK;
+        return rc;
     }
+    if (o->no_hdr_flip) o->hdr_flip = 0;
     if (!o->ref_path || !o->test_path)
         return tool_usage_error("compare", "needs REF and TEST images");
     tool_files files = {0};

@@ -1,76 +1,115 @@
 /* lumis convert IN OUT [--exposure EV] [--tonemap T] [--resize WxH] [--half] [--big-endian] */
 #include "cli.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char usage[] =
-    "usage: lumis convert IN OUT [options]\n\n"
-    "Converts an image.  IN is read by its content (.exr .hdr .pfm, and .png decoded from\n"
-    "sRGB to linear) and may also be sky[:WxH] or studio[:WxH]; OUT's format comes from its\n"
-    "extension (.exr .hdr .pfm .png).\n\n"
-    "options:\n"
-    "  --exposure EV   PNG: multiply radiance by 2^EV before tone mapping; 'auto' (default)\n"
-    "                  brings the mean luminance to 0.18\n"
-    "  --tonemap T     PNG: clamp (default), reinhard or aces\n"
-    "  --resize WxH    resample as an equirectangular map, preserving total power\n"
-    "                  (every output pixel is the solid-angle mean of what it covers)\n"
-    "  --half          EXR: write half floats (values above 65504 are clamped)\n"
-    "                  (Radiance HDR holds values below 2^127: larger ones are clamped to\n"
-    "                  its largest, 1.69e38)\n"
-    "  --compression C EXR: zip (default), none, rle, zips, piz, pxr24, b44, b44a, dwaa, dwab\n"
-    "  --tile N        EXR: write a tiled file with N x N tiles\n"
-    "  --big-endian    PFM: write big-endian floats (default little-endian)\n";
+/* What lumis convert reads from its arguments. */
+typedef struct convert_cli {
+    const char *in, *out;
+    const char *png_only, *exr_only, *pfm_only; /* given, for OUT's format */
+    int auto_ev;
+    lumis_write_options wo;
+    int rw, rh;
+} convert_cli;
+
+static int parse_compression(const char *v, void *field)
+{
+    return lumis_exr_compression_from_name(v, field) == LUMIS_OK;
+}
+
+#define AT(f) offsetof(convert_cli, f)
+static const tool_opt convert_opts[] = {
+    {.kind = TOOL_OPT_EXPOSURE,
+     .name = "--exposure",
+     .metavar = "EV",
+     .help = "PNG: multiply radiance by 2^EV before tone mapping; 'auto' (default)\n"
+             "brings the mean luminance to 0.18",
+     .at = AT(wo.exposure_ev),
+     .at2 = AT(auto_ev),
+     .note = TOOL_NOTE(convert_cli, png_only)},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--tonemap",
+     .metavar = "T",
+     .help = "PNG: clamp (default), reinhard or aces",
+     .at = AT(wo.tonemap),
+     .parse = tool_opt_tonemap,
+     .what = TOOL_TONEMAP_WHAT,
+     .note = TOOL_NOTE(convert_cli, png_only)},
+    {.kind = TOOL_OPT_SIZE,
+     .name = "--resize",
+     .metavar = "WxH",
+     .help = "resample as an equirectangular map, preserving total power\n"
+             "(every output pixel is the solid-angle mean of what it covers)",
+     .at = AT(rw),
+     .at2 = AT(rh),
+     .what = "512x256"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--half",
+     .help = "EXR: write half floats (values above 65504 are clamped)\n"
+             "(Radiance HDR holds values below 2^127: larger ones are clamped to\n"
+             "its largest, 1.69e38)",
+     .at = AT(wo.exr_half),
+     .note = TOOL_NOTE(convert_cli, exr_only)},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--compression",
+     .metavar = "C",
+     .help = "EXR: zip (default), none, rle, zips, piz, pxr24, b44, b44a, dwaa, dwab",
+     .at = AT(wo.exr_compression),
+     .parse = parse_compression,
+     .what = "must be one of zip, none, rle, zips, piz, pxr24, b44, b44a, dwaa, dwab",
+     .note = TOOL_NOTE(convert_cli, exr_only)},
+    {.kind = TOOL_OPT_INT,
+     .name = "--tile",
+     .metavar = "N",
+     .help = "EXR: write a tiled file with N x N tiles",
+     .at = AT(wo.exr_tile_size),
+     .lo = 1,
+     .hi = 65536,
+     .what = "a tile size",
+     .note = TOOL_NOTE(convert_cli, exr_only)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--big-endian",
+     .help = "PFM: write big-endian floats (default little-endian)",
+     .at = AT(wo.pfm_big_endian),
+     .note = TOOL_NOTE(convert_cli, pfm_only)},
+    {0},
+};
+
+static int convert_positional(const char *cmd, const char *arg, void *ctx)
+{
+    convert_cli *c = ctx;
+    if (!c->in)
+        c->in = arg;
+    else if (!c->out)
+        c->out = arg;
+    else
+        return tool_usage_error(cmd, "too many arguments ('%s')", arg);
+    return EXIT_OK;
+}
+
+const tool_optspec tool_convert_spec = {
+    .cmd = "convert",
+    .usage = "usage: lumis convert IN OUT [options]",
+    .intro =
+        "Converts an image.  IN is read by its content (.exr .hdr .pfm, and .png decoded from\n"
+        "sRGB to linear) and may also be sky[:WxH] or studio[:WxH]; OUT's format comes from its\n"
+        "extension (.exr .hdr .pfm .png).",
+    .opts = convert_opts,
+    .positional = convert_positional,
+};
 
 int cmd_convert(int argc, char **argv)
 {
-    const char *in = NULL, *out = NULL, *v;
-    const char *png_only = NULL, *exr_only = NULL, *pfm_only = NULL; /* given, for OUT's format */
-    int auto_ev = 1;
-    lumis_write_options wo = {0};
-    int rw = 0, rh = 0;
-    for (int i = 1; i < argc; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--exposure", &v)) {
-            png_only = "--exposure";
-            int rc = tool_exposure_option("convert", v, &wo.exposure_ev, &auto_ev);
-            if (rc != EXIT_OK) return rc;
-        } else if (tool_option(argc, argv, &i, "--tonemap", &v)) {
-            png_only = "--tonemap";
-            if (!v || lumis_tonemap_from_name(v, &wo.tonemap) != LUMIS_OK)
-                return tool_bad_value("convert", "--tonemap", v, "must be clamp, reinhard or aces");
-        } else if (tool_option(argc, argv, &i, "--resize", &v)) {
-            if (!tool_parse_size(v, &rw, &rh))
-                return tool_bad_value("convert", "--resize", v, "needs WxH, e.g. 512x256");
-        } else if (tool_option(argc, argv, &i, "--compression", &v)) {
-            exr_only = "--compression";
-            if (!v || lumis_exr_compression_from_name(v, &wo.exr_compression) != LUMIS_OK)
-                return tool_usage_error("convert", "--compression must be one of zip, none, rle, "
-                                                   "zips, piz, pxr24, b44, b44a, dwaa, dwab");
-        } else if (tool_option(argc, argv, &i, "--tile", &v)) {
-            long t;
-            if (!tool_parse_int(v, 1, 65536, &t))
-                return tool_bad_value("convert", "--tile", v, "needs a tile size in [1, 65536]");
-            wo.exr_tile_size = (int)t;
-            exr_only = "--tile";
-        } else if (strcmp(argv[i], "--half") == 0) {
-            wo.exr_half = 1;
-            exr_only = "--half";
-        } else if (strcmp(argv[i], "--big-endian") == 0) {
-            wo.pfm_big_endian = 1;
-            pfm_only = "--big-endian";
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            return tool_usage_error("convert", "unknown option '%s'", argv[i]);
-        } else if (!in) {
-            in = argv[i];
-        } else if (!out) {
-            out = argv[i];
-        } else {
-            return tool_usage_error("convert", "too many arguments ('%s')", argv[i]);
-        }
-    }
+    convert_cli c = {0};
+    c.auto_ev = 1;
+    int prc = tool_optparse(&tool_convert_spec, argc, argv, &c);
+    if (prc >= 0) return prc;
+    const char *in = c.in, *out = c.out, *png_only = c.png_only, *exr_only = c.exr_only,
+               *pfm_only = c.pfm_only;
+    lumis_write_options wo = c.wo;
+    const int auto_ev = c.auto_ev, rw = c.rw, rh = c.rh;
     if (!in || !out) return tool_usage_error("convert", "needs IN and OUT");
     tool_files files = {0};
     tool_files_input(&files, "input", in);

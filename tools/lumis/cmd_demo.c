@@ -4,20 +4,58 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 #include <sys/stat.h>
 
-static const char usage[] =
-    "usage: lumis demo [--out DIR] [--time S] [--threads N]\n\n"
-    "1. Writes the default procedural sky (sun at 35 degrees elevation, 60 degrees azimuth,\n"
-    "   turbidity 2.5, 1024x512) to DIR/sky.exr and a tone-mapped preview DIR/sky.png\n"
-    "   (default DIR: demo), and prints its statistics as 'lumis info' does.\n"
-    "2. Renders the built-in 'spheres' scene (Lambert, Ward, GGX) under that sky with the\n"
-    "   inversion (CDF) sampler and with the kd-tree sampler, each for S seconds of\n"
-    "   rendering (default 3), and writes DIR/spheres-inversion.exr, DIR/spheres-kdtree.exr\n"
-    "   (with JSON sidecars), a reference with four times the time (DIR/spheres-reference.exr),\n"
-    "   and DIR/spheres-equal-time.png: inversion left, kd-tree right, each labelled with its\n"
-    "   samples and its relMSE against the reference.  'lumis render --help' has every option.\n";
+typedef struct demo_cli {
+    const char *dir;
+    double budget;
+    int threads;
+} demo_cli;
+
+static const tool_opt demo_table[] = {
+    {.kind = TOOL_OPT_STRING,
+     .name = "--out",
+     .metavar = "DIR",
+     .help = "where everything is written (default: demo)",
+     .at = offsetof(demo_cli, dir),
+     .what = "a folder"},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--time",
+     .metavar = "S",
+     .help = "seconds of rendering per sampler (default 3)",
+     .at = offsetof(demo_cli, budget),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 3600,
+     .what = "seconds"},
+    {.kind = TOOL_OPT_INT,
+     .name = "--threads",
+     .metavar = "N",
+     .help = "render threads (default: all cores)",
+     .at = offsetof(demo_cli, threads),
+     .lo = 1,
+     .hi = 4096},
+    {0},
+};
+
+const tool_optspec tool_demo_spec = {
+    .cmd = "demo",
+    .usage = "usage: lumis demo [--out DIR] [--time S] [--threads N]",
+    .intro =
+        "1. Writes the default procedural sky (sun at 35 degrees elevation, 60 degrees azimuth,\n"
+        "   turbidity 2.5, 1024x512) to DIR/sky.exr and a tone-mapped preview DIR/sky.png\n"
+        "   (default DIR: demo), and prints its statistics as 'lumis info' does.\n"
+        "2. Renders the built-in 'spheres' scene (Lambert, Ward, GGX) under that sky with the\n"
+        "   inversion (CDF) sampler and with the kd-tree sampler, each for S seconds of\n"
+        "   rendering (default 3), and writes DIR/spheres-inversion.exr, DIR/spheres-kdtree.exr\n"
+        "   (with JSON sidecars), a reference with four times the time "
+        "(DIR/spheres-reference.exr),\n"
+        "   and DIR/spheres-equal-time.png: inversion left, kd-tree right, each labelled with its\n"
+        "   samples and its relMSE against the reference.  'lumis render --help' has every option.",
+    .opts = demo_table,
+};
 
 /* a | gap | b, black between. */
 static lumis_image *side_by_side(const lumis_image *a, const lumis_image *b, int gap)
@@ -82,27 +120,12 @@ static int write_labelled(const char *path, const tool_render_result *res, const
 
 int cmd_demo(int argc, char **argv)
 {
-    const char *dir = "demo", *v;
-    double budget = 3.0;
-    long threads = 0;
-    for (int i = 1; i < argc; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--out", &v)) {
-            if (!v || !*v) return tool_bad_value("demo", "--out", v, "needs a folder");
-            dir = v;
-        } else if (tool_option(argc, argv, &i, "--time", &v)) {
-            if (!tool_parse_double(v, &budget) || !(budget > 0.0) || budget > 3600.0)
-                return tool_bad_value("demo", "--time", v, "needs seconds in (0, 3600]");
-        } else if (tool_option(argc, argv, &i, "--threads", &v)) {
-            if (!tool_parse_int(v, 1, 4096, &threads))
-                return tool_bad_value("demo", "--threads", v, "needs a count in [1, 4096]");
-            threads = tool_cap_threads("demo", (int)threads);
-        } else {
-            return tool_usage_error("demo", "unknown argument '%s'", argv[i]);
-        }
-    }
+    demo_cli c = {.dir = "demo", .budget = 3.0};
+    const int orc = tool_optparse(&tool_demo_spec, argc, argv, &c);
+    if (orc >= 0) return orc;
+    const char *dir = c.dir;
+    const double budget = c.budget;
+    const long threads = c.threads ? tool_cap_threads("demo", c.threads) : 0;
     if (mkdir(dir, 0755) != 0 && errno != EEXIST)
         return tool_runtime_error("%s: cannot create folder: %s", dir, strerror(errno));
 

@@ -3,62 +3,79 @@
 #include "cli.h"
 
 #include <cJSON.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char usage[] =
-    "usage: lumis info MAP [--json]\n"
-    "       lumis info FILE.ies|FILE.ldt [--json] [--svg OUT.svg]\n\n"
-    "Prints resolution, min/avg/max luminance, dynamic range, the share of power in the\n"
-    "brightest 1 % and 0.1 % of pixels, total power and replaced-value counts.\n"
-    "MAP is an .exr, .hdr or .pfm file, or sky[:WxH] / studio[:WxH].\n\n"
-    "Definitions (as in the data README): Y = 0.2126 R + 0.7152 G + 0.0722 B; pixel (i, j)\n"
-    "of a w x h map subtends Omega_j = (2 pi / w)(cos theta_j - cos theta_j+1), theta_j =\n"
-    "pi j / h; power = sum Y Omega; avg = power / 4 pi; top shares rank pixels by Y Omega\n"
-    "(the top 1 % is floor(n / 100) pixels, at least one); dynamic range = max Y / smallest "
-    "positive Y;\n"
-    "negative and non-finite channel values are replaced by 0 and counted.\n\n"
-    "options:\n"
-    "  --json   print one JSON object (keys: file, format, width, height, min_luminance,\n"
-    "           avg_luminance, max_luminance, dynamic_range, power, power_rgb, top1_share,\n"
-    "           top01_share, replaced, replaced_nan, replaced_inf, replaced_negative)\n\n"
-    "A photometric file (IES LM-63 or EULUMDAT, by its extension; docs/photometric.md):\n"
-    "the fixture, the table, the luminous shape, the flux integrated from the table and the\n"
-    "file's own lumens with their difference, the peak, the beam (50 %) and field (10 %)\n"
-    "angles of the two principal planes (C0-C180 and C90-C270) with their NEMA beam types,\n"
-    "the downward share (types A and B: front), the light output ratio and the efficacy; for\n"
-    "type C the zonal lumens, the CIE flux code, the TM-15-11 BUG rating and the spacing\n"
-    "criterion (spacing / mounting height; not applicable to floodlights and uplights).\n"
-    "  --svg OUT.svg   a polar plot of the two planes (candela; 0 degrees down)\n"
-    "  --json          one object (keys: file, format, standard, manufacturer, luminaire,\n"
-    "                  catalog, lamp, type, symmetry, vertical_angles, horizontal_angles,\n"
-    "                  shape, size_m, flux, lamp_lumens, luminaire_lumens, flux_difference,\n"
-    "                  max_candela, max_at_deg, beam_deg, field_deg, downward_fraction,\n"
-    "                  light_output_ratio, input_watts, efficacy_lm_per_w, nema_type,\n"
-    "                  zonal_lm, cie_flux_code, bug, spacing_criterion,\n"
-    "                  spacing_criterion_not_applicable, tilt_included)\n";
+typedef struct info_cli {
+    const char *file, *svg;
+    int json;
+} info_cli;
+
+static int info_positional(const char *cmd, const char *arg, void *ctx)
+{
+    info_cli *c = ctx;
+    if (c->file)
+        return tool_usage_error(cmd, "one map at a time (got '%s' and '%s')", c->file, arg);
+    c->file = arg;
+    return EXIT_OK;
+}
+
+static const tool_opt info_table[] = {
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--json",
+     .help = "print one JSON object; a map's keys: file, format, width, height,\n"
+             "min_luminance, avg_luminance, max_luminance, dynamic_range, power,\n"
+             "power_rgb, top1_share, top01_share, replaced, replaced_nan, replaced_inf,\n"
+             "replaced_negative; a photometric file's: file, format, standard,\n"
+             "manufacturer, luminaire, catalog, lamp, type, symmetry, vertical_angles,\n"
+             "horizontal_angles, shape, size_m, flux, lamp_lumens, luminaire_lumens,\n"
+             "flux_difference, max_candela, max_at_deg, beam_deg, field_deg,\n"
+             "downward_fraction, light_output_ratio, input_watts, efficacy_lm_per_w,\n"
+             "nema_type, zonal_lm, cie_flux_code, bug, spacing_criterion,\n"
+             "spacing_criterion_not_applicable, tilt_included",
+     .at = offsetof(info_cli, json)},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--svg",
+     .metavar = "OUT.svg",
+     .help = "a photometric file's polar plot of the two planes (candela; 0 degrees\n"
+             "down)",
+     .at = offsetof(info_cli, svg),
+     .what = "a file"},
+    {0},
+};
+
+const tool_optspec tool_info_spec = {
+    .cmd = "info",
+    .usage = "usage: lumis info MAP [--json]\n"
+             "       lumis info FILE.ies|FILE.ldt [--json] [--svg OUT.svg]",
+    .intro =
+        "Prints resolution, min/avg/max luminance, dynamic range, the share of power in the\n"
+        "brightest 1 % and 0.1 % of pixels, total power and replaced-value counts.\n"
+        "MAP is an .exr, .hdr or .pfm file, or sky[:WxH] / studio[:WxH].\n\n"
+        "Definitions (as in the data README): Y = 0.2126 R + 0.7152 G + 0.0722 B; pixel (i, j)\n"
+        "of a w x h map subtends Omega_j = (2 pi / w)(cos theta_j - cos theta_j+1), theta_j =\n"
+        "pi j / h; power = sum Y Omega; avg = power / 4 pi; top shares rank pixels by Y Omega\n"
+        "(the top 1 % is floor(n / 100) pixels, at least one); dynamic range = max Y / smallest\n"
+        "positive Y; negative and non-finite channel values are replaced by 0 and counted.\n\n"
+        "A photometric file (IES LM-63 or EULUMDAT, by its extension; docs/photometric.md):\n"
+        "the fixture, the table, the luminous shape, the flux integrated from the table and the\n"
+        "file's own lumens with their difference, the peak, the beam (50 %) and field (10 %)\n"
+        "angles of the two principal planes (C0-C180 and C90-C270) with their NEMA beam types,\n"
+        "the downward share (types A and B: front), the light output ratio and the efficacy; for\n"
+        "type C the zonal lumens, the CIE flux code, the TM-15-11 BUG rating and the spacing\n"
+        "criterion (spacing / mounting height; not applicable to floodlights and uplights).",
+    .opts = info_table,
+    .positional = info_positional,
+};
 
 int cmd_info(int argc, char **argv)
 {
-    const char *file = NULL, *svg = NULL, *v;
-    int json = 0;
-    for (int i = 1; i < argc; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        } else if (strcmp(argv[i], "--json") == 0) {
-            json = 1;
-        } else if (tool_option(argc, argv, &i, "--svg", &v)) {
-            if (!v || !*v) return tool_usage_error("info", "--svg needs a file");
-            svg = v;
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            return tool_usage_error("info", "unknown option '%s'", argv[i]);
-        } else if (!file) {
-            file = argv[i];
-        } else {
-            return tool_usage_error("info", "one map at a time (got '%s' and '%s')", file, argv[i]);
-        }
-    }
+    info_cli c = {0};
+    const int orc = tool_optparse(&tool_info_spec, argc, argv, &c);
+    if (orc >= 0) return orc;
+    const char *file = c.file, *svg = c.svg;
+    const int json = c.json;
     if (!file) return tool_usage_error("info", "no map given");
     if (tool_is_photometric_path(file)) {
         tool_files files = {0};

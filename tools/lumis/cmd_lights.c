@@ -5,57 +5,9 @@
 #include "cli.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char usage[] =
-    "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
-    "                    [--rotate DEG] [--above-ground]\n"
-    "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
-    "                    [--frame engine|lumis]\n"
-    "                    [--png OUT.png [--png-width W]] [--irradiance]\n\n"
-    "Turns an environment map into K directional lights whose powers add up to the map's\n"
-    "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
-    "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
-    "method and unit; which method for which goal: docs/lights.md, \"Which method\".\n\n"
-    "options:\n"
-    "  --method M      median-cut (the default: the lowest error of the light sets in the\n"
-    "                  project's equal-time renders), variance-min, fhis, tmms (a variant;\n"
-    "                  docs/lights.md), wu (Wu's decomposition: EnvDirects on the emissive\n"
-    "                  pixels, EnvIndirects for the rest), wu-is, wu-is-mask,\n"
-    "                  wu-is-kmeans, wu-original-cut\n"
-    "  -k K            number of lights (default 64)\n"
-    "  --sets N        interleaved sets to build (default 8; files hold the original)\n"
-    "  --param P       the method's parameters, NAME=VALUE[,NAME=VALUE...] (repeatable):\n"
-    "                  every method: jitter (0.1), seed (0); Wu: percentile (98),\n"
-    "                  lambda (3), gamma (0.001), threshold (L_T instead of Eq. 1), a (1),\n"
-    "                  b (0.25), s (0.15), mask (cap|radians), return (2),\n"
-    "                  kmeans-iterations (until no pixel moves), wv (1), wd (5), we (1),\n"
-    "                  min-share (each class's least share of the lights; docs/lights.md);\n"
-    "                  tmms: key (0.18), bandwidth (0.1).  docs/lights.md says what each is\n"
-    "  --rotate DEG    rotate the map about +y first\n"
-    "  --above-ground  keep only lights above the horizon (a scene with a ground plane,\n"
-    "                  y = 0): each light below it is folded into the nearest light above,\n"
-    "                  which takes its power (the total is kept; the folded share is\n"
-    "                  printed)\n"
-    "  --json OUT      directions, power, colour and intensity, solid angle, extent, kind\n"
-    "  --masks         with --json: each light's region as pixel runs [row, column, length]\n"
-    "  --gltf OUT      glTF 2.0 with one KHR_lights_punctual directional light per light\n"
-    "                  (three.js, Babylon.js, Blender, game engines); intensity in lux for a\n"
-    "                  map in cd/m^2.  OUT.gltf is text, OUT.glb a binary container\n"
-    "  --frame F       the files' directions: engine (default; each light comes from where\n"
-    "                  three.js, glTF viewers and Blender show its source on the same map,\n"
-    "                  whose centre u = 1/2 they put along +x) or lumis (lumis's own frame,\n"
-    "                  u = 0 along +x).  Recorded in the files; docs/lights-export.md\n"
-    "  --png OUT       the map (auto exposure) with the regions' borders in cyan, the\n"
-    "                  EnvDirects' (emissive) pixels in orange, emissive pixels given back\n"
-    "                  to the EnvIndirects in magenta, and every light marked (red:\n"
-    "                  EnvDirect, green: EnvIndirect, white: a region of the other methods)\n"
-    "  --png-width W   the picture's width in pixels, height to the map's aspect (default:\n"
-    "                  the map's); borders and markers are drawn at this size\n"
-    "  --irradiance    the diffuse irradiance the lights give a surface facing each\n"
-    "                  elevation (-90 to 90 degrees, 8 azimuths each) against the map's,\n"
-    "                  and the upper hemisphere's share of the power\n";
 
 static void put(lumis_image *img, int x, int y, const float c[3])
 {
@@ -325,69 +277,179 @@ static int export_set(const lumis_envmap *env, const lumis_light_set *set, const
     return EXIT_OK;
 }
 
+/* What lumis lights reads from its arguments. */
+typedef struct lights_cli {
+    const char *map, *method, *json, *gltf, *png, *frame_given;
+    int k, sets, masks, png_width, irradiance, above_ground;
+    lumis_light_params params;
+    lumis_export_frame frame;
+    double rotation;
+} lights_cli;
+
+static int method_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    if (!v || !tool_lights_method_known(v)) {
+        char want[256];
+        snprintf(want, sizeof want, "must be one of %s", tool_lights_method_names());
+        return tool_bad_value(cmd, opt->name, v, want);
+    }
+    ((lights_cli *)ctx)->method = v;
+    return EXIT_OK;
+}
+
+static int param_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    return tool_light_params_parse(&((lights_cli *)ctx)->params, cmd, opt->name, v);
+}
+
+static int parse_frame(const char *v, void *field)
+{
+    return lumis_export_frame_from_name(v, field) == LUMIS_OK;
+}
+
+static int lights_positional(const char *cmd, const char *arg, void *ctx)
+{
+    lights_cli *c = ctx;
+    if (c->map) return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    c->map = arg;
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(lights_cli, f)
+static const tool_opt lights_opts[] = {
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--method",
+     .metavar = "M",
+     .help = "median-cut (the default: the lowest error of the light sets in the\n"
+             "project's equal-time renders), variance-min, fhis, tmms (a variant;\n"
+             "docs/lights.md), wu (Wu's decomposition: EnvDirects on the emissive\n"
+             "pixels, EnvIndirects for the rest), wu-is, wu-is-mask,\n"
+             "wu-is-kmeans, wu-original-cut",
+     .handle = method_option},
+    {.kind = TOOL_OPT_INT,
+     .name = "-k",
+     .metavar = "K",
+     .help = "number of lights (default 64)",
+     .at = AT(k),
+     .lo = 1,
+     .hi = 1 << 20},
+    {.kind = TOOL_OPT_INT,
+     .name = "--sets",
+     .metavar = "N",
+     .help = "interleaved sets to build (default 8; files hold the original)",
+     .at = AT(sets),
+     .lo = 1,
+     .hi = 64},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--param",
+     .metavar = "P",
+     .help = "the method's parameters, NAME=VALUE[,NAME=VALUE...] (repeatable):\n"
+             "every method: jitter (0.1), seed (0); Wu: percentile (98),\n"
+             "lambda (3), gamma (0.001), threshold (L_T instead of Eq. 1), a (1),\n"
+             "b (0.25), s (0.15), mask (cap|radians), return (2),\n"
+             "kmeans-iterations (until no pixel moves), wv (1), wd (5), we (1),\n"
+             "min-share (each class's least share of the lights; docs/lights.md);\n"
+             "tmms: key (0.18), bandwidth (0.1).  docs/lights.md says what each is",
+     .handle = param_option},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--rotate",
+     .metavar = "DEG",
+     .help = "rotate the map about +y first",
+     .at = AT(rotation),
+     .lo = -1e6,
+     .hi = 1e6,
+     .what = "degrees"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--above-ground",
+     .help = "keep only lights above the horizon (a scene with a ground plane,\n"
+             "y = 0): each light below it is folded into the nearest light above,\n"
+             "which takes its power (the total is kept; the folded share is\n"
+             "printed)",
+     .at = AT(above_ground)},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--json",
+     .metavar = "OUT",
+     .help = "directions, power, colour and intensity, solid angle, extent, kind",
+     .at = AT(json),
+     .what = "a file"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--masks",
+     .help = "with --json: each light's region as pixel runs [row, column, length]",
+     .at = AT(masks)},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--gltf",
+     .metavar = "OUT",
+     .help = "glTF 2.0 with one KHR_lights_punctual directional light per light\n"
+             "(three.js, Babylon.js, Blender, game engines); intensity in lux for a\n"
+             "map in cd/m^2.  OUT.gltf is text, OUT.glb a binary container",
+     .at = AT(gltf),
+     .what = "a file"},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--frame",
+     .metavar = "F",
+     .help = "the files' directions: engine (default; each light comes from where\n"
+             "three.js, glTF viewers and Blender show its source on the same map,\n"
+             "whose centre u = 1/2 they put along +x) or lumis (lumis's own frame,\n"
+             "u = 0 along +x).  Recorded in the files; docs/lights-export.md",
+     .at = AT(frame),
+     .parse = parse_frame,
+     .what = "must be engine or lumis",
+     .note = TOOL_NOTE(lights_cli, frame_given)},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--png",
+     .metavar = "OUT",
+     .help = "the map (auto exposure) with the regions' borders in cyan, the\n"
+             "EnvDirects' (emissive) pixels in orange, emissive pixels given back\n"
+             "to the EnvIndirects in magenta, and every light marked (red:\n"
+             "EnvDirect, green: EnvIndirect, white: a region of the other methods)",
+     .at = AT(png),
+     .what = "a file"},
+    {.kind = TOOL_OPT_INT,
+     .name = "--png-width",
+     .metavar = "W",
+     .help = "the picture's width in pixels, height to the map's aspect (default:\n"
+             "the map's); borders and markers are drawn at this size",
+     .at = AT(png_width),
+     .lo = 16,
+     .hi = 16384,
+     .what = "pixels"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--irradiance",
+     .help = "the diffuse irradiance the lights give a surface facing each\n"
+             "elevation (-90 to 90 degrees, 8 azimuths each) against the map's,\n"
+             "and the upper hemisphere's share of the power",
+     .at = AT(irradiance)},
+    {0},
+};
+
+const tool_optspec tool_lights_spec = {
+    .cmd = "lights",
+    .usage = "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
+             "                    [--rotate DEG] [--above-ground]\n"
+             "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
+             "                    [--frame engine|lumis]\n"
+             "                    [--png OUT.png [--png-width W]] [--irradiance]",
+    .intro = "Turns an environment map into K directional lights whose powers add up to the map's\n"
+             "(each light: sum over its region of radiance x solid angle, at the region's energy\n"
+             "centroid), prints them, and writes them for other tools.  docs/lights.md has every\n"
+             "method and unit; which method for which goal: docs/lights.md, \"Which method\".",
+    .opts = lights_opts,
+    .positional = lights_positional,
+};
+
 int cmd_lights(int argc, char **argv)
 {
-    const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
-    int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0, above_ground = 0,
-        frame_given = 0;
-    lumis_light_params params = {0};
-    lumis_export_frame frame = LUMIS_EXPORT_FRAME_ENGINE;
-    double rotation = 0.0;
-    for (int i = 1; i < argc; i++) {
-        long x;
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--method", &v)) {
-            if (!v || !tool_lights_method_known(v)) {
-                char want[256];
-                snprintf(want, sizeof want, "must be one of %s", tool_lights_method_names());
-                return tool_bad_value("lights", "--method", v, want);
-            }
-            method = v;
-        } else if (tool_option(argc, argv, &i, "-k", &v)) {
-            if (!tool_parse_int(v, 1, 1 << 20, &x))
-                return tool_bad_value("lights", "-k", v, "needs a count in [1, 2^20]");
-            k = (int)x;
-        } else if (tool_option(argc, argv, &i, "--sets", &v)) {
-            if (!tool_parse_int(v, 1, 64, &x))
-                return tool_bad_value("lights", "--sets", v, "needs a count in [1, 64]");
-            sets = (int)x;
-        } else if (tool_option(argc, argv, &i, "--param", &v)) {
-            const int prc = tool_light_params_parse(&params, "lights", "--param", v);
-            if (prc != EXIT_OK) return prc;
-        } else if (tool_option(argc, argv, &i, "--rotate", &v)) {
-            if (!tool_parse_double(v, &rotation) || !(fabs(rotation) <= 1e6))
-                return tool_bad_value("lights", "--rotate", v, "needs degrees in [-1e6, 1e6]");
-        } else if (tool_option(argc, argv, &i, "--json", &v)) {
-            if (!v || !*v) return tool_bad_value("lights", "--json", v, "needs a file");
-            json = v;
-        } else if (tool_option(argc, argv, &i, "--gltf", &v)) {
-            if (!v || !*v) return tool_bad_value("lights", "--gltf", v, "needs a file");
-            gltf = v;
-        } else if (tool_option(argc, argv, &i, "--frame", &v)) {
-            if (lumis_export_frame_from_name(v, &frame) != LUMIS_OK)
-                return tool_bad_value("lights", "--frame", v, "must be engine or lumis");
-            frame_given = 1;
-        } else if (tool_option(argc, argv, &i, "--png", &v)) {
-            if (!v || !*v) return tool_bad_value("lights", "--png", v, "needs a file");
-            png = v;
-        } else if (tool_option(argc, argv, &i, "--png-width", &v)) {
-            if (!tool_parse_int(v, 16, 16384, &x))
-                return tool_bad_value("lights", "--png-width", v, "needs pixels in [16, 16384]");
-            png_width = (int)x;
-        } else if (strcmp(argv[i], "--masks") == 0) {
-            masks = 1;
-        } else if (strcmp(argv[i], "--irradiance") == 0) {
-            irradiance = 1;
-        } else if (strcmp(argv[i], "--above-ground") == 0) {
-            above_ground = 1;
-        } else if (argv[i][0] != '-' && !map) {
-            map = argv[i];
-        } else {
-            return tool_usage_error("lights", "unknown argument '%s'", argv[i]);
-        }
-    }
+    lights_cli c = {0};
+    c.frame = LUMIS_EXPORT_FRAME_ENGINE;
+    const int orc = tool_optparse(&tool_lights_spec, argc, argv, &c);
+    if (orc >= 0) return orc;
+    const char *map = c.map, *method = c.method, *json = c.json, *gltf = c.gltf, *png = c.png;
+    const int k = c.k, sets = c.sets, masks = c.masks, png_width = c.png_width,
+              irradiance = c.irradiance, above_ground = c.above_ground;
+    const int frame_given = c.frame_given != NULL;
+    lumis_light_params params = c.params;
+    const lumis_export_frame frame = c.frame;
+    const double rotation = c.rotation;
     if (!map) return tool_usage_error("lights", "no map given");
     if (!method) method = "median-cut";
     const int prc = tool_light_params_check(&params, "lights", "--param", method);

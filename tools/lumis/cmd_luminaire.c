@@ -7,6 +7,7 @@
 #include "lumis/luminaire.h"
 
 #include <cJSON.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,42 +24,13 @@ static const char usage[] =
     "                              -o OUT.exr\n\n"
     "Light-field luminaires (Goesele et al.'s two-plane model, sampled as Lu et al.: docs/\n"
     "luminaire.md).  LUMINAIRE is a manifest written by 'create' (docs/formats.md) or\n"
-    "preset:car, preset:bike, preset:small (acquired on the fly).\n\n"
-    "create   simulates the acquisition of a preset's emitter (a few bright disks behind a\n"
-    "         striped lens, like a headlight) through every basis function and writes the\n"
-    "         manifest OUT.json and its images in OUT.images/\n"
-    "  --preset P     car (11x9 images of 256x256, default) or bike (9x7 of 300x300), the\n"
-    "                 sizes of Lu et al.'s Table 1, or small (5x4 of 24x20, for tests)\n"
-    "  --basis B      quadratic (Goesele et al., default) or bspline\n"
-    "  --format F     exr (default) or pfm images\n"
-    "  --from FILE    instead of a preset: the light field of a photometric file's luminous\n"
-    "                 opening (a disk or a rectangle), every point of which emits the file's\n"
-    "                 distribution (docs/photometric.md, \"Near field\"); in metres\n"
-    "  --grid WxH     its basis functions (default: 10 along the longer side)\n"
-    "  --size WxH     about this many pixels per image (default: from --error)\n"
-    "  --delta D      distance from the opening to the image plane (default twice its size)\n"
-    "  --max-angle A  directions the images cover, in degrees from the aim (default: 99.9 %\n"
-    "                 of the flux + 5, at most 80); the flux beyond is the far-field residual\n"
-    "  --error E      far-field relative error the resolution is chosen for (default 0.005)\n"
+    "preset:car, preset:bike, preset:small (acquired on the fly).  'lumis luminaire ACTION\n"
+    "--help' prints one action's options:\n\n"
+    "create   simulates the acquisition of a preset's emitter, or the light field of a\n"
+    "         photometric file's opening, and writes a manifest and its images\n"
     "info     images, grid, delta, basis, units, total power, memory, and the time to read\n"
-    "         it and to precompute its tables (the median of 3 builds)\n"
-    "  --json         print one JSON object (keys: file, units, images, grid, width, height,\n"
-    "                 delta, basis, pixel, total_power, bytes, replaced, read_seconds,\n"
-    "                 precompute_ms)\n"
-    "predict  which sampling strategy pays (docs/luminaire.md, \"Which strategy pays\"): for\n"
-    "         points lit by the luminaire at distances A to B from it, facing it, the relative\n"
-    "         variance and the predicted time of restricted, uniform and global sampling, and how\n"
-    "         many times less time than global each needs for an equal error (xglob)\n"
-    "  --distance A,B  in the luminaire's units (default 2 to 50 times its delta)\n"
-    "  --bands N       split the range in N bands, evenly in log distance (default 1)\n"
-    "  --budget K      samples per point, restricted and uniform (default 32); --kmax their cap\n"
-    "  --probes N      points per band (default 256); --pilot P pilot samples per image (16)\n"
-    "  --costs ...     the cost model, ns: camera ray, per image (restricted, uniform), per\n"
-    "                  draw (restricted, uniform, global), per shadow ray (default: measured\n"
-    "                  on the headlight scene; docs/luminaire.md)\n"
-    "  --json          one JSON object: file, budget, k_max, probes, and per band: distance,\n"
-    "                  probes_lit, energy_share, images_lit, best, and for restricted, uniform\n"
-    "                  and global: samples, rays, variance, ns, time_ratio, sample_ratio\n"
+    "         it and to precompute its tables\n"
+    "predict  which sampling strategy pays over a range of distances\n"
     "render   'lumis render --luminaire LUMINAIRE', in the built-in scene headlight unless a\n"
     "         scene is given: every luminaire of the scene is replaced by LUMINAIRE, kept\n"
     "         where the scene places it.  Every option of lumis render applies (--lum-*,\n"
@@ -155,62 +127,150 @@ typedef struct create_opts {
     lumis_photometric_light_field lf;
 } create_opts;
 
+static int parse_grid(const char *v, void *field)
+{
+    return parse_wxh(v, 256, field);
+}
+
+static int size_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    create_opts *o = ctx;
+    int wh[2];
+    if (!parse_wxh(v, 16384, wh)) return tool_bad_value(cmd, opt->name, v, opt->what);
+    o->lf.width = wh[0];
+    o->lf.height = wh[1];
+    return EXIT_OK;
+}
+
+static int parse_preset(const char *v, void *field)
+{
+    return lumis_luminaire_preset_from_name(v, field) == LUMIS_OK;
+}
+
+static int parse_basis(const char *v, void *field)
+{
+    return strcmp(v, "default") != 0 && lumis_luminaire_basis_from_name(v, field) == LUMIS_OK;
+}
+
+static int parse_format(const char *v, void *field)
+{
+    lumis_file_format *f = field;
+    if (strcmp(v, "exr") == 0 || strcmp(v, "pfm") == 0) {
+        *f = v[0] == 'e' ? LUMIS_FORMAT_EXR : LUMIS_FORMAT_PFM;
+        return 1;
+    }
+    return 0;
+}
+
+static int create_positional(const char *cmd, const char *arg, void *ctx)
+{
+    create_opts *o = ctx;
+    if (o->out) return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    o->out = arg;
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(create_opts, f)
+static const tool_opt create_table[] = {
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--preset",
+     .metavar = "P",
+     .help = "car (11x9 images of 256x256, default) or bike (9x7 of 300x300), the\n"
+             "sizes of Lu et al.'s Table 1, or small (5x4 of 24x20, for tests)",
+     .at = AT(preset),
+     .parse = parse_preset,
+     .what = "must be car, bike or small",
+     .note = TOOL_NOTE(create_opts, preset_given)},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--basis",
+     .metavar = "B",
+     .help = "quadratic (Goesele et al., default) or bspline",
+     .at = AT(basis),
+     .parse = parse_basis,
+     .what = "must be quadratic or bspline"},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--format",
+     .metavar = "F",
+     .help = "exr (default) or pfm images",
+     .at = AT(wo.image_format),
+     .parse = parse_format,
+     .what = "must be exr or pfm"},
+    {.kind = TOOL_OPT_GROUP, .name = "a photometric file's light field"},
+    {.kind = TOOL_OPT_STRING,
+     .name = "--from",
+     .metavar = "FILE",
+     .help = "instead of a preset: the light field of a photometric file's luminous\n"
+             "opening (a disk or a rectangle), every point of which emits the file's\n"
+             "distribution (docs/photometric.md, \"Near field\"); in metres",
+     .at = AT(from),
+     .what = "a file"},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--grid",
+     .metavar = "WxH",
+     .help = "its basis functions (default: 10 along the longer side)",
+     .at = AT(lf.grid),
+     .parse = parse_grid,
+     .what = "must be WxH, each 1 to 256 (1024 in all)"},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--size",
+     .metavar = "WxH",
+     .help = "about this many pixels per image (default: from --error)",
+     .handle = size_option,
+     .what = "must be WxH, each 1 to 16384"},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--delta",
+     .metavar = "D",
+     .help = "distance from the opening to the image plane (default twice its size)",
+     .at = AT(lf.delta),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 1e6,
+     .what = "a distance"},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--max-angle",
+     .metavar = "A",
+     .help = "directions the images cover, in degrees from the aim (default: 99.9 %\n"
+             "of the flux + 5, at most 80); the flux beyond is the far-field residual",
+     .at = AT(lf.max_angle_deg),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 90,
+     .open_hi = 1,
+     .what = "degrees"},
+    {.kind = TOOL_OPT_DOUBLE,
+     .name = "--error",
+     .metavar = "E",
+     .help = "far-field relative error the resolution is chosen for (default 0.005)",
+     .at = AT(lf.error_target),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 1,
+     .open_hi = 1,
+     .what = "a relative error"},
+    {0},
+};
+#undef AT
+
+const tool_optspec tool_luminaire_create_spec = {
+    .cmd = "luminaire create",
+    .usage = "usage: lumis luminaire create OUT.json [--preset P] [--basis B] [--format F]\n"
+             "       lumis luminaire create OUT.json --from FILE.ies|FILE.ldt [--grid WxH]\n"
+             "                              [--size WxH] [--delta D] [--max-angle DEG]\n"
+             "                              [--error E] [--basis B] [--format F]",
+    .intro = "Simulates the acquisition of a preset's emitter (a few bright disks behind a\n"
+             "striped lens, like a headlight) through every basis function, or takes the light\n"
+             "field of a photometric file's opening (--from), and writes the manifest OUT.json\n"
+             "and its images in OUT.images/.",
+    .opts = create_table,
+    .positional = create_positional,
+};
+
 /* The options into *o, checked together, and the files.  Exit code. */
 static int parse_create_args(int argc, char **argv, create_opts *o)
 {
-    const char *v;
     lumis_photometric_light_field *lf = &o->lf;
-    for (int i = 2; i < argc; i++) {
-        if (tool_option(argc, argv, &i, "--from", &v)) {
-            if (!v || !*v) return tool_bad_value("luminaire create", "--from", v, "needs a file");
-            o->from = v;
-        } else if (tool_option(argc, argv, &i, "--grid", &v)) {
-            if (!parse_wxh(v, 256, lf->grid))
-                return tool_bad_value("luminaire create", "--grid", v,
-                                      "must be WxH, each 1 to 256 (1024 in all)");
-        } else if (tool_option(argc, argv, &i, "--size", &v)) {
-            int wh[2];
-            if (!parse_wxh(v, 16384, wh))
-                return tool_bad_value("luminaire create", "--size", v,
-                                      "must be WxH, each 1 to 16384");
-            lf->width = wh[0];
-            lf->height = wh[1];
-        } else if (tool_option(argc, argv, &i, "--delta", &v)) {
-            if (!tool_parse_double(v, &lf->delta) || !(lf->delta > 0) || lf->delta > 1e6)
-                return tool_bad_value("luminaire create", "--delta", v, "must be a distance > 0");
-        } else if (tool_option(argc, argv, &i, "--max-angle", &v)) {
-            if (!tool_parse_double(v, &lf->max_angle_deg) || !(lf->max_angle_deg > 0) ||
-                !(lf->max_angle_deg < 90))
-                return tool_bad_value("luminaire create", "--max-angle", v,
-                                      "must be degrees between 0 and 90");
-        } else if (tool_option(argc, argv, &i, "--error", &v)) {
-            if (!tool_parse_double(v, &lf->error_target) || !(lf->error_target > 0) ||
-                !(lf->error_target < 1))
-                return tool_bad_value("luminaire create", "--error", v,
-                                      "must be a relative error between 0 and 1");
-        } else if (tool_option(argc, argv, &i, "--preset", &v)) {
-            o->preset_given = v;
-            if (!v || lumis_luminaire_preset_from_name(v, &o->preset) != LUMIS_OK)
-                return tool_bad_value("luminaire create", "--preset", v,
-                                      "must be car, bike or small");
-        } else if (tool_option(argc, argv, &i, "--basis", &v)) {
-            if (!v || strcmp(v, "default") == 0 ||
-                lumis_luminaire_basis_from_name(v, &o->basis) != LUMIS_OK)
-                return tool_bad_value("luminaire create", "--basis", v,
-                                      "must be quadratic or bspline");
-        } else if (tool_option(argc, argv, &i, "--format", &v)) {
-            if (v && strcmp(v, "exr") == 0)
-                o->wo.image_format = LUMIS_FORMAT_EXR;
-            else if (v && strcmp(v, "pfm") == 0)
-                o->wo.image_format = LUMIS_FORMAT_PFM;
-            else
-                return tool_bad_value("luminaire create", "--format", v, "must be exr or pfm");
-        } else if (argv[i][0] != '-' && !o->out) {
-            o->out = argv[i];
-        } else {
-            return tool_usage_error("luminaire create", "unknown argument '%s'", argv[i]);
-        }
-    }
+    const int rc = tool_optparse(&tool_luminaire_create_spec, argc - 1, argv + 1, o);
+    if (rc >= 0) return rc == EXIT_OK ? -1 : rc;
     const char *out = o->out, *from = o->from;
     if (!out) return tool_usage_error("luminaire create", "no output manifest (OUT.json)");
     size_t n = strlen(out);
@@ -298,22 +358,50 @@ static int create(int argc, char **argv)
     create_opts o = {.preset = LUMIS_PRESET_CAR, .basis = LUMIS_BASIS_QUADRATIC};
     o.wo.image_format = LUMIS_FORMAT_EXR;
     const int rc = parse_create_args(argc, argv, &o);
-    if (rc != EXIT_OK) return rc;
+    if (rc != EXIT_OK) return rc < 0 ? EXIT_OK : rc; /* -1: --help */
     return o.from ? create_from_photometric(&o) : create_from_preset(&o);
 }
 
+typedef struct info_cli {
+    const char *file;
+    int json;
+} info_cli;
+
+static int info_positional(const char *cmd, const char *arg, void *ctx)
+{
+    info_cli *c = ctx;
+    if (c->file) return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    c->file = arg;
+    return EXIT_OK;
+}
+
+static const tool_opt info_table[] = {
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--json",
+     .help = "print one JSON object (keys: file, units, images, grid, width, height,\n"
+             "delta, basis, pixel, total_power, bytes, replaced, read_seconds,\n"
+             "precompute_ms)",
+     .at = offsetof(info_cli, json)},
+    {0},
+};
+
+const tool_optspec tool_luminaire_info_spec = {
+    .cmd = "luminaire info",
+    .usage = "usage: lumis luminaire info LUMINAIRE [--json]",
+    .intro =
+        "Prints a luminaire's images, grid, delta, basis, units, total power, memory, and the\n"
+        "time to read it and to precompute its tables (the median of 3 builds).",
+    .opts = info_table,
+    .positional = info_positional,
+};
+
 static int info(int argc, char **argv)
 {
-    const char *file = NULL;
-    int json = 0;
-    for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "--json") == 0)
-            json = 1;
-        else if (argv[i][0] != '-' && !file)
-            file = argv[i];
-        else
-            return tool_usage_error("luminaire info", "unknown argument '%s'", argv[i]);
-    }
+    info_cli c = {0};
+    const int rc = tool_optparse(&tool_luminaire_info_spec, argc - 1, argv + 1, &c);
+    if (rc >= 0) return rc;
+    const char *file = c.file;
+    const int json = c.json;
     if (!file) return tool_usage_error("luminaire info", "no luminaire given");
     double t0 = tool_now_seconds();
     lumis_luminaire *lum = NULL;
@@ -388,19 +476,23 @@ static int info(int argc, char **argv)
 
 int cmd_luminaire(int argc, char **argv)
 {
-    if (argc < 2 || tool_is_help(argv[1])) {
-        fputs(usage, argc < 2 ? stderr : stdout);
-        return argc < 2 ? EXIT_USAGE : EXIT_OK;
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return EXIT_USAGE;
     }
-    for (int i = 2; i < argc; i++)
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            return EXIT_OK;
-        }
+    if (tool_is_help(argv[1])) {
+        fputs(usage, stdout);
+        return EXIT_OK;
+    }
     if (strcmp(argv[1], "create") == 0) return create(argc, argv);
     if (strcmp(argv[1], "info") == 0) return info(argc, argv);
     if (strcmp(argv[1], "predict") == 0) return tool_luminaire_predict(argc, argv);
     if (strcmp(argv[1], "render") == 0) {
+        for (int i = 2; i < argc; i++)
+            if (tool_is_help(argv[i])) {
+                fputs(usage, stdout);
+                return EXIT_OK;
+            }
         if (argc < 3 || argv[2][0] == '-')
             return tool_usage_error("luminaire render", "no luminaire given");
         /* lumis render --luminaire FILE [--scene headlight] REST */

@@ -4,28 +4,9 @@
  * one render must be there, once. */
 #include "cli.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const char usage[] =
-    "usage: lumis merge SHARE.exr... -o OUT.exr [--shares-from LIST] [--no-sidecar]\n"
-    "                   [--allow-replaced]\n\n"
-    "Joins the shares of a render split by passes (lumis render --passes I/N, each on its\n"
-    "own machine) into the image one render of all the samples gives: the shares' means\n"
-    "weighted by their sample counts, in double precision (equal to the whole render's image\n"
-    "up to the order of the floating-point sums: a few units in the last place of a float).\n"
-    "Each share's sidecar (SHARE.json) must say which share it is and carry the render key\n"
-    "(a digest of everything that determines the image); the shares must have one key, and\n"
-    "be every share of the render, each once.  A share's samples follow from its index, the\n"
-    "share count and the total; a sidecar that says otherwise is refused.  Shares are read\n"
-    "one at a time: memory does not grow with their number.  OUT.json gets the first\n"
-    "share's sidecar with the samples and the render times summed.\n\n"
-    "options:\n"
-    "  -o, --output OUT     the merged image (.exr, .pfm or .hdr; required)\n"
-    "  --shares-from LIST   the shares' paths, one a line (for more than a command line holds)\n"
-    "  --allow-replaced     merge a share whose pixels the reader replaced by 0 (NaN, Inf,\n"
-    "                       negative); refused by default, as they would bias the image\n"
-    "  --no-sidecar         no OUT.json\n";
 
 /* Appends the lines of file to *in (a growing array of malloc'ed paths).  Exit code. */
 static int read_list(const char *file, char ***in, int *n, int *cap)
@@ -67,48 +48,87 @@ static int read_list(const char *file, char ***in, int *n, int *cap)
     return rc;
 }
 
+/* What merge reads from its arguments: the shares (malloc'ed paths), the options. */
+typedef struct merge_cli {
+    char **in;
+    int n, cap;
+    const char *out;
+    int no_sidecar, allow;
+} merge_cli;
+
+static int shares_from_option(const char *cmd, const tool_opt *opt, const char *v, void *ctx)
+{
+    merge_cli *c = ctx;
+    if (!v || !*v) return tool_bad_value(cmd, opt->name, v, "needs a file");
+    return read_list(v, &c->in, &c->n, &c->cap);
+}
+
+static int merge_positional(const char *cmd, const char *arg, void *ctx)
+{
+    (void)cmd;
+    merge_cli *c = ctx;
+    if (c->n == c->cap) {
+        const int cap = c->cap ? 2 * c->cap : 64;
+        char **g = realloc(c->in, (size_t)cap * sizeof *g);
+        if (!g) return tool_runtime_error("merge: out of memory");
+        c->in = g;
+        c->cap = cap;
+    }
+    if (!(c->in[c->n] = malloc(strlen(arg) + 1))) return tool_runtime_error("merge: out of memory");
+    strcpy(c->in[c->n++], arg);
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(merge_cli, f)
+static const tool_opt merge_table[] = {
+    {.kind = TOOL_OPT_STRING,
+     .name = "--output",
+     .alias = "-o",
+     .metavar = "OUT",
+     .help = "the merged image (.exr, .pfm or .hdr; required)",
+     .at = AT(out),
+     .what = "a file"},
+    {.kind = TOOL_OPT_CUSTOM,
+     .name = "--shares-from",
+     .metavar = "LIST",
+     .help = "the shares' paths, one a line (for more than a command line holds)",
+     .handle = shares_from_option},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--allow-replaced",
+     .help = "merge a share whose pixels the reader replaced by 0 (NaN, Inf,\n"
+             "negative); refused by default, as they would bias the image",
+     .at = AT(allow)},
+    {.kind = TOOL_OPT_FLAG, .name = "--no-sidecar", .help = "no OUT.json", .at = AT(no_sidecar)},
+    {0},
+};
+
+const tool_optspec tool_merge_spec = {
+    .cmd = "merge",
+    .usage = "usage: lumis merge SHARE.exr... -o OUT.exr [--shares-from LIST] [--no-sidecar]\n"
+             "                   [--allow-replaced]",
+    .intro =
+        "Joins the shares of a render split by passes (lumis render --passes I/N, each on its\n"
+        "own machine) into the image one render of all the samples gives: the shares' means\n"
+        "weighted by their sample counts, in double precision (equal to the whole render's image\n"
+        "up to the order of the floating-point sums: a few units in the last place of a float).\n"
+        "Each share's sidecar (SHARE.json) must say which share it is and carry the render key\n"
+        "(a digest of everything that determines the image); the shares must have one key, and\n"
+        "be every share of the render, each once.  A share's samples follow from its index, the\n"
+        "share count and the total; a sidecar that says otherwise is refused.  Shares are read\n"
+        "one at a time: memory does not grow with their number.  OUT.json gets the first\n"
+        "share's sidecar with the samples and the render times summed.",
+    .opts = merge_table,
+    .positional = merge_positional,
+};
+
 int cmd_merge(int argc, char **argv)
 {
-    const char *out = NULL, *v;
-    int sidecar = 1, allow = 0, n = 0, cap = 0, rc = EXIT_OK;
-    char **in = NULL;
-    for (int i = 1; i < argc && rc == EXIT_OK; i++) {
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            rc = -1;
-        } else if (tool_option(argc, argv, &i, "-o", &v) ||
-                   tool_option(argc, argv, &i, "--output", &v)) {
-            if (!v || !*v) rc = tool_bad_value("merge", "-o", v, "needs a file");
-            out = v;
-        } else if (tool_option(argc, argv, &i, "--shares-from", &v)) {
-            if (!v || !*v)
-                rc = tool_bad_value("merge", "--shares-from", v, "needs a file");
-            else
-                rc = read_list(v, &in, &n, &cap);
-        } else if (strcmp(argv[i], "--no-sidecar") == 0) {
-            sidecar = 0;
-        } else if (strcmp(argv[i], "--allow-replaced") == 0) {
-            allow = 1;
-        } else if (argv[i][0] != '-') {
-            if (n == cap) {
-                cap = cap ? 2 * cap : 64;
-                char **g = realloc(in, (size_t)cap * sizeof *g);
-                if (!g) {
-                    rc = tool_runtime_error("merge: out of memory");
-                    break;
-                }
-                in = g;
-            }
-            in[n] = malloc(strlen(argv[i]) + 1);
-            if (!in[n]) {
-                rc = tool_runtime_error("merge: out of memory");
-                break;
-            }
-            strcpy(in[n++], argv[i]);
-        } else {
-            rc = tool_usage_error("merge", "unknown argument '%s'", argv[i]);
-        }
-    }
+    merge_cli c = {0};
+    int rc = tool_optparse(&tool_merge_spec, argc, argv, &c);
+    rc = rc < 0 ? EXIT_OK : rc == EXIT_OK ? -1 : rc; /* -1: --help printed */
+    char **in = c.in;
+    const char *out = c.out;
+    const int n = c.n, sidecar = !c.no_sidecar, allow = c.allow;
     if (rc == EXIT_OK && !out) rc = tool_usage_error("merge", "no output file (-o OUT.exr)");
     if (rc == EXIT_OK && n < 1) rc = tool_usage_error("merge", "no shares to merge");
     if (rc == EXIT_OK && n > TOOL_MERGE_MAX)

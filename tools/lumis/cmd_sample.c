@@ -3,71 +3,147 @@
 #include "cli.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char sampler_options[] =
-    "sampler options:\n"
-    "  --method M               inversion, inversion-guided (default), alias, kdtree,\n"
-    "                           kdtree-exact, hierarchical, uniform\n"
-    "  --blocks K               kd-tree blocks (default 6144)\n"
-    "  --kdtree-uniform-angles  the paper's literal in-block warp (uniform in angles)\n"
-    "  --compensate             MIS compensation (Karlik et al. 2019)\n"
-    "  --importance I           luminance (default), average or max-channel\n"
-    "  --rotate DEG             rotate the map about +y\n";
+/* What sample and pdf read from their arguments. */
+typedef struct sample_cli {
+    const char *map;
+    lumis_sampler_desc d;
+    float rot;
+    long n;
+    unsigned long long seed;
+} sample_cli;
 
-static const char sample_usage[] =
-    "usage: lumis sample MAP --method M -n N [--seed S] [sampler options]\n\n"
-    "Prints N lines 'x y z pdf r g b': a unit direction, its density per steradian and\n"
-    "the map's radiance there.  Uniform numbers come from PCG32 seeded with S (default 1),\n"
-    "two 53-bit doubles per sample, so the output is reproducible.\n\n";
-
-static const char pdf_usage[] =
-    "usage: lumis pdf MAP --method M [sampler options] < directions\n\n"
-    "Reads lines 'x y z' (need not be normalized) from stdin and prints 'pdf r g b' for each:\n"
-    "the density per steradian of sampling that direction, and the radiance there.\n\n";
-
-static int parse_common(const char *cmd, int argc, char **argv, const char *usage, int is_sample,
-                        const char **map, lumis_sampler_desc *d, float *rot, long *n,
-                        unsigned long long *seed)
+static int parse_method(const char *v, void *field)
 {
-    const char *v;
-    for (int i = 1; i < argc; i++) {
-        int rc = tool_sampler_option(cmd, argc, argv, &i, d, rot);
-        if (rc > 0) return rc;
-        if (rc == 0) continue;
-        if (tool_is_help(argv[i])) {
-            fputs(usage, stdout);
-            fputs(sampler_options, stdout);
-            return -1;
-        } else if (is_sample && tool_option(argc, argv, &i, "-n", &v)) {
-            if (!tool_parse_int(v, 0, 1000000000L, n))
-                return tool_bad_value(cmd, "-n", v, "needs a sample count in [0, 10^9]");
-        } else if (is_sample && tool_option(argc, argv, &i, "--seed", &v)) {
-            if (!tool_parse_u64(v, 10, seed))
-                return tool_bad_value(cmd, "--seed", v, "needs an integer in [0, 2^64 - 1]");
-        } else if (argv[i][0] == '-' && argv[i][1]) {
-            return tool_usage_error(cmd, "unknown option '%s'", argv[i]);
-        } else if (!*map) {
-            *map = argv[i];
-        } else {
-            return tool_usage_error(cmd, "one map at a time (got '%s' and '%s')", *map, argv[i]);
+    return lumis_sampler_method_from_name(v, field) == LUMIS_OK;
+}
+
+static int parse_importance(const char *v, void *field)
+{
+    static const char *const names[] = {"luminance", "average", "max-channel"};
+    static const lumis_importance values[] = {LUMIS_IMPORTANCE_LUMINANCE, LUMIS_IMPORTANCE_AVERAGE,
+                                              LUMIS_IMPORTANCE_MAX_CHANNEL};
+    for (int k = 0; k < 3; k++)
+        if (strcmp(v, names[k]) == 0) {
+            *(lumis_importance *)field = values[k];
+            return 1;
         }
-    }
-    if (!*map) return tool_usage_error(cmd, "no map given");
-    if (is_sample && *n < 0) return tool_usage_error(cmd, "-n N is required");
+    return 0;
+}
+
+static int sample_positional(const char *cmd, const char *arg, void *ctx)
+{
+    sample_cli *c = ctx;
+    if (c->map) return tool_usage_error(cmd, "one map at a time (got '%s' and '%s')", c->map, arg);
+    c->map = arg;
     return EXIT_OK;
+}
+
+#define AT(f) offsetof(sample_cli, f)
+/* The sampler's options, sample's and pdf's alike. */
+#define SAMPLER_OPTIONS                                                                            \
+    {.kind = TOOL_OPT_GROUP, .name = "sampler options"},                                           \
+        {.kind = TOOL_OPT_PARSE,                                                                   \
+         .name = "--method",                                                                       \
+         .metavar = "M",                                                                           \
+         .help = "inversion, inversion-guided (default), alias, kdtree,\n"                         \
+                 "kdtree-exact, hierarchical, uniform",                                            \
+         .at = AT(d.method),                                                                       \
+         .parse = parse_method,                                                                    \
+         .what = "must be one of inversion, inversion-guided, alias, kdtree, kdtree-exact, "       \
+                 "hierarchical, uniform"},                                                         \
+        {.kind = TOOL_OPT_INT,                                                                     \
+         .name = "--blocks",                                                                       \
+         .metavar = "K",                                                                           \
+         .help = "kd-tree blocks (default 6144)",                                                  \
+         .at = AT(d.kdtree_blocks),                                                                \
+         .lo = 1,                                                                                  \
+         .hi = 1 << 24},                                                                           \
+        {.kind = TOOL_OPT_FLAG,                                                                    \
+         .name = "--kdtree-uniform-angles",                                                        \
+         .help = "the paper's literal in-block warp (uniform in angles)",                          \
+         .at = AT(d.kdtree_uniform_angles)},                                                       \
+        {.kind = TOOL_OPT_FLAG,                                                                    \
+         .name = "--compensate",                                                                   \
+         .help = "MIS compensation (Karlik et al. 2019)",                                          \
+         .at = AT(d.compensate)},                                                                  \
+        {.kind = TOOL_OPT_PARSE,                                                                   \
+         .name = "--importance",                                                                   \
+         .metavar = "I",                                                                           \
+         .help = "luminance (default), average or max-channel",                                    \
+         .at = AT(d.importance),                                                                   \
+         .parse = parse_importance,                                                                \
+         .what = "must be luminance, average or max-channel"},                                     \
+    {                                                                                              \
+        .kind = TOOL_OPT_FLOAT, .name = "--rotate", .metavar = "DEG",                              \
+        .help = "rotate the map about +y", .at = AT(rot), .lo = -1e6, .hi = 1e6, .what = "degrees" \
+    }
+
+static const tool_opt sample_table[] = {
+    {.kind = TOOL_OPT_LONG,
+     .name = "-n",
+     .metavar = "N",
+     .help = "samples to draw (required)",
+     .at = AT(n),
+     .lo = 0,
+     .hi = 1000000000,
+     .what = "a sample count"},
+    {.kind = TOOL_OPT_U64,
+     .name = "--seed",
+     .metavar = "S",
+     .help = "PCG32's seed (default 1)",
+     .at = AT(seed)},
+    SAMPLER_OPTIONS,
+    {0},
+};
+
+static const tool_opt pdf_table[] = {SAMPLER_OPTIONS, {0}};
+
+const tool_optspec tool_sample_spec = {
+    .cmd = "sample",
+    .usage = "usage: lumis sample MAP --method M -n N [--seed S] [sampler options]",
+    .intro =
+        "Prints N lines 'x y z pdf r g b': a unit direction, its density per steradian and\n"
+        "the map's radiance there.  Uniform numbers come from PCG32 seeded with S (default 1),\n"
+        "two 53-bit doubles per sample, so the output is reproducible.",
+    .opts = sample_table,
+    .positional = sample_positional,
+};
+
+const tool_optspec tool_pdf_spec = {
+    .cmd = "pdf",
+    .usage = "usage: lumis pdf MAP --method M [sampler options] < directions",
+    .intro =
+        "Reads lines 'x y z' (need not be normalized) from stdin and prints 'pdf r g b' for each:\n"
+        "the density per steradian of sampling that direction, and the radiance there.",
+    .opts = pdf_table,
+    .positional = sample_positional,
+};
+
+/* The arguments into c.  -1 to go on, else an exit code. */
+static int parse_common(const tool_optspec *spec, int argc, char **argv, sample_cli *c)
+{
+    const int rc = tool_optparse(spec, argc, argv, c);
+    if (rc >= 0) return rc;
+    if (!c->map) return tool_usage_error(spec->cmd, "no map given");
+    if (spec == &tool_sample_spec && c->n < 0)
+        return tool_usage_error(spec->cmd, "-n N is required");
+    return -1;
 }
 
 int cmd_sample(int argc, char **argv)
 {
-    const char *map = NULL;
-    lumis_sampler_desc d = {0};
-    float rot = 0.0f;
-    long n = -1;
-    unsigned long long seed = 1;
-    int rc = parse_common("sample", argc, argv, sample_usage, 1, &map, &d, &rot, &n, &seed);
-    if (rc) return rc < 0 ? EXIT_OK : rc;
+    sample_cli c = {.n = -1, .seed = 1};
+    const int rc = parse_common(&tool_sample_spec, argc, argv, &c);
+    if (rc >= 0) return rc;
+    const char *map = c.map;
+    lumis_sampler_desc d = c.d;
+    const float rot = c.rot;
+    const long n = c.n;
+    const unsigned long long seed = c.seed;
     lumis_envmap *env;
     lumis_sampler *s;
     if (tool_make_sampler(map, rot, 1.0f, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;
@@ -87,13 +163,12 @@ int cmd_sample(int argc, char **argv)
 
 int cmd_pdf(int argc, char **argv)
 {
-    const char *map = NULL;
-    lumis_sampler_desc d = {0};
-    float rot = 0.0f;
-    long n = 0;
-    unsigned long long seed = 0;
-    int rc = parse_common("pdf", argc, argv, pdf_usage, 0, &map, &d, &rot, &n, &seed);
-    if (rc) return rc < 0 ? EXIT_OK : rc;
+    sample_cli c = {0};
+    int rc = parse_common(&tool_pdf_spec, argc, argv, &c);
+    if (rc >= 0) return rc;
+    const char *map = c.map;
+    lumis_sampler_desc d = c.d;
+    const float rot = c.rot;
     lumis_envmap *env;
     lumis_sampler *s;
     if (tool_make_sampler(map, rot, 1.0f, &d, &env, &s) != LUMIS_OK) return EXIT_RUNTIME;

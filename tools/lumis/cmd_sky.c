@@ -1,57 +1,120 @@
 /* lumis sky ... -o OUT and lumis studio ... -o OUT: procedural maps written to a file. */
 #include "cli.h"
 
+#include <math.h>
+#include <stddef.h>
 #include <string.h>
 
-static const char sky_usage[] =
-    "usage: lumis sky [options] -o OUT\n\n"
-    "Writes a clear sky after Preetham, Shirley and Smits (1999): Perez sky luminance and\n"
-    "chromaticity, a sun disk (0.53 degrees) attenuated by Rayleigh and aerosol extinction,\n"
-    "and a Lambertian ground lit by both.  Units: kcd/m^2 (the sun holds most of the power).\n\n"
-    "options:\n"
-    "  --sun-elevation DEG  sun above the horizon, 0..90 (default 35)\n"
-    "  --sun-azimuth DEG    0 = +x, 90 = +z, i.e. increasing u (default 60)\n"
-    "  --turbidity T        haze, 1.7..10 (default 2.5, a clear day)\n"
-    "  --ground-albedo A    0..1 (default 0.1)\n"
-    "  --no-sun             the sky without the sun disk\n"
-    "  --size WxH           resolution (default 1024x512)\n"
-    "  --exposure EV|auto, --tonemap T   for PNG output (as in lumis convert; default auto)\n"
-    "  -o, --output OUT     output file (.exr .hdr .pfm .png)\n";
+/* What lumis sky and lumis studio read from their options. */
+typedef struct map_cli {
+    lumis_sky_desc sky;
+    lumis_studio_desc studio;
+    float albedo; /* --ground-albedo, or -1 */
+    lumis_write_options wo;
+    int auto_ev;
+    const char *out, *png_only;
+} map_cli;
 
-static const char studio_usage[] =
-    "usage: lumis studio [options] -o OUT\n\n"
-    "Writes a studio map: a dark surround with key, fill, rim and overhead soft boxes,\n"
-    "anti-aliased exactly, so its power is the same at any resolution.\n\n"
-    "options:\n"
-    "  --intensity K        multiplier of the soft boxes (default 1)\n"
-    "  --size WxH           resolution (default 1024x512)\n"
-    "  --exposure EV|auto, --tonemap T   for PNG output (as in lumis convert; default auto)\n"
-    "  -o, --output OUT     output file (.exr .hdr .pfm .png)\n";
-
-/* Options both commands share; returns -1 if argv[*i] is not one of them. */
-static int common_option(const char *cmd, int argc, char **argv, int *i, int *w, int *h,
-                         const char **out, lumis_write_options *wo, int *auto_ev,
-                         const char **png_only)
-{
-    const char *v;
-    if (tool_option(argc, argv, i, "--size", &v)) {
-        if (!tool_parse_size(v, w, h))
-            return tool_bad_value(cmd, "--size", v, "needs WxH, e.g. 1024x512");
-    } else if (tool_option(argc, argv, i, "--output", &v) || tool_option(argc, argv, i, "-o", &v)) {
-        if (!v) return tool_usage_error(cmd, "-o needs a file name");
-        *out = v;
-    } else if (tool_option(argc, argv, i, "--exposure", &v)) {
-        *png_only = "--exposure";
-        return tool_exposure_option(cmd, v, &wo->exposure_ev, auto_ev);
-    } else if (tool_option(argc, argv, i, "--tonemap", &v)) {
-        *png_only = "--tonemap";
-        if (!v || lumis_tonemap_from_name(v, &wo->tonemap) != LUMIS_OK)
-            return tool_bad_value(cmd, "--tonemap", v, "must be clamp, reinhard or aces");
-    } else {
-        return -1;
+#define AT(f) offsetof(map_cli, f)
+/* The options both commands take; sky's width and height are studio's too (copied). */
+#define MAP_OPTIONS                                                                                \
+    {.kind = TOOL_OPT_SIZE,                                                                        \
+     .name = "--size",                                                                             \
+     .metavar = "WxH",                                                                             \
+     .help = "resolution (default 1024x512)",                                                      \
+     .at = AT(sky.width),                                                                          \
+     .at2 = AT(sky.height)},                                                                       \
+        {.kind = TOOL_OPT_EXPOSURE,                                                                \
+         .name = "--exposure",                                                                     \
+         .metavar = "EV|auto",                                                                     \
+         .help = "for PNG output: stops (as in lumis convert; default auto)",                      \
+         .at = AT(wo.exposure_ev),                                                                 \
+         .at2 = AT(auto_ev),                                                                       \
+         .note = TOOL_NOTE(map_cli, png_only)},                                                    \
+        {.kind = TOOL_OPT_PARSE,                                                                   \
+         .name = "--tonemap",                                                                      \
+         .metavar = "T",                                                                           \
+         .help = "for PNG output: clamp (default), reinhard or aces",                              \
+         .at = AT(wo.tonemap),                                                                     \
+         .parse = tool_opt_tonemap,                                                                \
+         .what = TOOL_TONEMAP_WHAT,                                                                \
+         .note = TOOL_NOTE(map_cli, png_only)},                                                    \
+    {                                                                                              \
+        .kind = TOOL_OPT_STRING, .name = "--output", .alias = "-o", .metavar = "OUT",              \
+        .help = "output file (.exr .hdr .pfm .png)", .at = AT(out), .what = "a file name"          \
     }
-    return EXIT_OK;
-}
+
+static const tool_opt sky_opts[] = {
+    {.kind = TOOL_OPT_FLOAT,
+     .name = "--sun-elevation",
+     .metavar = "DEG",
+     .help = "sun above the horizon, 0..90 (default 35)",
+     .at = AT(sky.sun_elevation_deg),
+     .lo = 0,
+     .hi = 90,
+     .what = "degrees"},
+    {.kind = TOOL_OPT_FLOAT,
+     .name = "--sun-azimuth",
+     .metavar = "DEG",
+     .help = "0 = +x, 90 = +z, i.e. increasing u (default 60)",
+     .at = AT(sky.sun_azimuth_deg),
+     .lo = -HUGE_VAL,
+     .hi = HUGE_VAL,
+     .what = "degrees"},
+    {.kind = TOOL_OPT_FLOAT,
+     .name = "--turbidity",
+     .metavar = "T",
+     .help = "haze, 1.7..10 (default 2.5, a clear day)",
+     .at = AT(sky.turbidity),
+     .lo = 1.7,
+     .hi = 10,
+     .what = "a value"},
+    {.kind = TOOL_OPT_FLOAT,
+     .name = "--ground-albedo",
+     .metavar = "A",
+     .help = "0..1 (default 0.1)",
+     .at = AT(albedo),
+     .lo = 0,
+     .hi = 1,
+     .what = "a value"},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--no-sun",
+     .help = "the sky without the sun disk",
+     .at = AT(sky.no_sun)},
+    MAP_OPTIONS,
+    {0},
+};
+
+const tool_optspec tool_sky_spec = {
+    .cmd = "sky",
+    .usage = "usage: lumis sky [options] -o OUT",
+    .intro =
+        "Writes a clear sky after Preetham, Shirley and Smits (1999): Perez sky luminance and\n"
+        "chromaticity, a sun disk (0.53 degrees) attenuated by Rayleigh and aerosol extinction,\n"
+        "and a Lambertian ground lit by both.  Units: kcd/m^2 (the sun holds most of the power).",
+    .opts = sky_opts,
+};
+
+static const tool_opt studio_opts[] = {
+    {.kind = TOOL_OPT_FLOAT,
+     .name = "--intensity",
+     .metavar = "K",
+     .help = "multiplier of the soft boxes (default 1)",
+     .at = AT(studio.intensity),
+     .lo = 0,
+     .open_lo = 1,
+     .hi = 1e30},
+    MAP_OPTIONS,
+    {0},
+};
+
+const tool_optspec tool_studio_spec = {
+    .cmd = "studio",
+    .usage = "usage: lumis studio [options] -o OUT",
+    .intro = "Writes a studio map: a dark surround with key, fill, rim and overhead soft boxes,\n"
+             "anti-aliased exactly, so its power is the same at any resolution.",
+    .opts = studio_opts,
+};
 
 /* Checked before the map is made. */
 static int check_output(const char *cmd, const char *out, const char *png_only)
@@ -74,81 +137,44 @@ static int finish(lumis_status st, lumis_image *image, const char *out, lumis_wr
     return st == LUMIS_OK ? EXIT_OK : EXIT_RUNTIME;
 }
 
+/* The options into c (sky.width and height are studio's too).  -1 to go on, else an exit
+ * code. */
+static int read_options(const tool_optspec *spec, int argc, char **argv, map_cli *c)
+{
+    c->wo = (lumis_write_options){0};
+    c->auto_ev = 1;
+    c->albedo = -1.0f;
+    int rc = tool_optparse(spec, argc, argv, c);
+    if (rc >= 0) return rc;
+    rc = check_output(spec->cmd, c->out, c->png_only);
+    return rc == EXIT_OK ? -1 : rc;
+}
+
 int cmd_sky(int argc, char **argv)
 {
-    lumis_sky_desc d = {0};
-    d.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
-    d.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
-    d.errors = tool_errors;
-    lumis_write_options wo = {0};
-    int auto_ev = 1;
-    const char *out = NULL, *v, *png_only = NULL;
-    for (int i = 1; i < argc; i++) {
-        double x;
-        int rc = common_option("sky", argc, argv, &i, &d.width, &d.height, &out, &wo, &auto_ev,
-                               &png_only);
-        if (rc > 0) return rc;
-        if (rc == 0) continue;
-        if (tool_is_help(argv[i])) {
-            fputs(sky_usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--sun-elevation", &v)) {
-            if (!tool_parse_double(v, &x) || x < 0 || x > 90)
-                return tool_bad_value("sky", "--sun-elevation", v, "needs degrees in [0, 90]");
-            d.sun_elevation_deg = (float)x;
-            d.sun_at_horizon = x == 0.0; /* 0 in the descriptor means the default */
-        } else if (tool_option(argc, argv, &i, "--sun-azimuth", &v)) {
-            if (!tool_parse_double(v, &x))
-                return tool_bad_value("sky", "--sun-azimuth", v, "needs degrees");
-            d.sun_azimuth_deg = (float)x;
-        } else if (tool_option(argc, argv, &i, "--turbidity", &v)) {
-            if (!tool_parse_double(v, &x) || x < 1.7 || x > 10)
-                return tool_bad_value("sky", "--turbidity", v, "needs a value in [1.7, 10]");
-            d.turbidity = (float)x;
-        } else if (tool_option(argc, argv, &i, "--ground-albedo", &v)) {
-            if (!tool_parse_double(v, &x) || x < 0 || x > 1)
-                return tool_bad_value("sky", "--ground-albedo", v, "needs a value in [0, 1]");
-            d.ground_albedo = x == 0.0 ? -1.0f : (float)x; /* 0 in the descriptor means default */
-        } else if (strcmp(argv[i], "--no-sun") == 0) {
-            d.no_sun = 1;
-        } else {
-            return tool_usage_error("sky", "unknown argument '%s'", argv[i]);
-        }
-    }
-    int rc = check_output("sky", out, png_only);
-    if (rc != EXIT_OK) return rc;
+    map_cli c = {0};
+    c.sky.sun_elevation_deg = (float)TOOL_SKY_ELEVATION_DEG;
+    c.sky.sun_azimuth_deg = (float)TOOL_SKY_AZIMUTH_DEG;
+    c.sky.errors = tool_errors;
+    const int rc = read_options(&tool_sky_spec, argc, argv, &c);
+    if (rc >= 0) return rc;
+    c.sky.sun_at_horizon = c.sky.sun_elevation_deg == 0.0f; /* 0 in the descriptor: default */
+    if (c.albedo >= 0.0f)
+        c.sky.ground_albedo = c.albedo == 0.0f ? -1.0f : c.albedo; /* 0: default */
     lumis_image *image = NULL;
-    lumis_status st = lumis_sky_create(&d, &image);
-    return finish(st, image, out, wo, auto_ev);
+    lumis_status st = lumis_sky_create(&c.sky, &image);
+    return finish(st, image, c.out, c.wo, c.auto_ev);
 }
 
 int cmd_studio(int argc, char **argv)
 {
-    lumis_studio_desc d = {0};
-    d.errors = tool_errors;
-    lumis_write_options wo = {0};
-    int auto_ev = 1;
-    const char *out = NULL, *v, *png_only = NULL;
-    for (int i = 1; i < argc; i++) {
-        double x;
-        int rc = common_option("studio", argc, argv, &i, &d.width, &d.height, &out, &wo, &auto_ev,
-                               &png_only);
-        if (rc > 0) return rc;
-        if (rc == 0) continue;
-        if (tool_is_help(argv[i])) {
-            fputs(studio_usage, stdout);
-            return EXIT_OK;
-        } else if (tool_option(argc, argv, &i, "--intensity", &v)) {
-            if (!tool_parse_double(v, &x) || !(x > 0) || !(x <= 1e30))
-                return tool_bad_value("studio", "--intensity", v, "needs a number in (0, 1e30]");
-            d.intensity = (float)x;
-        } else {
-            return tool_usage_error("studio", "unknown argument '%s'", argv[i]);
-        }
-    }
-    int rc = check_output("studio", out, png_only);
-    if (rc != EXIT_OK) return rc;
+    map_cli c = {0};
+    c.studio.errors = tool_errors;
+    const int rc = read_options(&tool_studio_spec, argc, argv, &c);
+    if (rc >= 0) return rc;
+    c.studio.width = c.sky.width;
+    c.studio.height = c.sky.height;
     lumis_image *image = NULL;
-    lumis_status st = lumis_studio_create(&d, &image);
-    return finish(st, image, out, wo, auto_ev);
+    lumis_status st = lumis_studio_create(&c.studio, &image);
+    return finish(st, image, c.out, c.wo, c.auto_ev);
 }

@@ -6,6 +6,7 @@
 
 #include <cJSON.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -54,44 +55,112 @@ typedef struct predict_opts {
     lumis_luminaire_costs costs;
 } predict_opts;
 
-/* The options into *o.  Exit code. */
+static int parse_distance(const char *v, void *field)
+{
+    return parse_range(v, field);
+}
+
+static int parse_costs(const char *v, void *field)
+{
+    return tool_parse_costs(v, field);
+}
+
+static int predict_positional(const char *cmd, const char *arg, void *ctx)
+{
+    predict_opts *o = ctx;
+    if (o->file) return tool_usage_error(cmd, "unknown argument '%s'", arg);
+    o->file = arg;
+    return EXIT_OK;
+}
+
+#define AT(f) offsetof(predict_opts, f)
+static const tool_opt predict_table[] = {
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--distance",
+     .metavar = "A,B",
+     .help = "in the luminaire's units (default 2 to 50 times its delta)",
+     .at = AT(range),
+     .parse = parse_distance,
+     .what = "needs A,B with 0 < A <= B (luminaire units), or one distance"},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--bands",
+     .metavar = "N",
+     .help = "split the range in N bands, evenly in log distance (default 1)",
+     .at = AT(bands),
+     .lo = 1,
+     .hi = 64},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--budget",
+     .metavar = "K",
+     .help = "samples per point, restricted and uniform (default 32)",
+     .at = AT(budget),
+     .lo = 1,
+     .hi = 65536},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--kmax",
+     .metavar = "K",
+     .help = "their cap per image (default 0: none)",
+     .at = AT(kmax),
+     .lo = 0,
+     .hi = 65536},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--probes",
+     .metavar = "N",
+     .help = "points per band (default 256)",
+     .at = AT(probes),
+     .lo = 1,
+     .hi = 1 << 20},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--pilot",
+     .metavar = "P",
+     .help = "pilot samples per image (default 16)",
+     .at = AT(pilot),
+     .lo = 1,
+     .hi = 4096},
+    {.kind = TOOL_OPT_LONG,
+     .name = "--seed",
+     .metavar = "S",
+     .help = "the probes' seed",
+     .at = AT(seed),
+     .lo = 0,
+     .hi = 2147483647.0,
+     .what = "an integer"},
+    {.kind = TOOL_OPT_PARSE,
+     .name = "--costs",
+     .metavar = "C,IR,IU,R,U,G,RAY",
+     .help = "the cost model, ns: camera ray, per image (restricted, uniform), per\n"
+             "draw (restricted, uniform, global), per shadow ray (default: measured\n"
+             "on the headlight scene; docs/luminaire.md)",
+     .at = AT(costs),
+     .parse = parse_costs,
+     .what = "needs " TOOL_COSTS_HELP},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--json",
+     .help = "one JSON object: file, budget, k_max, probes, and per band: distance,\n"
+             "probes_lit, energy_share, images_lit, best, and for restricted, uniform\n"
+             "and global: samples, rays, variance, ns, time_ratio, sample_ratio",
+     .at = AT(json)},
+    {0},
+};
+
+const tool_optspec tool_luminaire_predict_spec = {
+    .cmd = "luminaire predict",
+    .usage = "usage: lumis luminaire predict LUMINAIRE [--distance A,B] [--bands N] [--budget K]\n"
+             "                              [--kmax K] [--probes N] [--pilot P] [--seed S]\n"
+             "                              [--costs C,IR,IU,R,U,G,RAY] [--json]",
+    .intro = "Which sampling strategy pays (docs/luminaire.md, \"Which strategy pays\"): for\n"
+             "points lit by the luminaire at distances A to B from it, facing it, the relative\n"
+             "variance and the predicted time of restricted, uniform and global sampling, and how\n"
+             "many times less time than global each needs for an equal error (xglob).",
+    .opts = predict_table,
+    .positional = predict_positional,
+};
+
+/* The options into *o.  Exit code; -1 after --help. */
 static int parse_predict_args(int argc, char **argv, predict_opts *o)
 {
-    for (int i = 2; i < argc; i++) {
-        const char *v = NULL;
-        if (strcmp(argv[i], "--json") == 0) {
-            o->json = 1;
-        } else if (tool_option(argc, argv, &i, "--distance", &v)) {
-            if (!parse_range(v, o->range))
-                return tool_bad_value("luminaire predict", "--distance", v,
-                                      "A,B with 0 < A <= B (luminaire units), or one distance");
-        } else if (tool_option(argc, argv, &i, "--budget", &v)) {
-            if (!v || !tool_parse_int(v, 1, 65536, &o->budget))
-                return tool_bad_value("luminaire predict", "--budget", v, "1 to 65536");
-        } else if (tool_option(argc, argv, &i, "--kmax", &v)) {
-            if (!v || !tool_parse_int(v, 0, 65536, &o->kmax))
-                return tool_bad_value("luminaire predict", "--kmax", v, "0 (none) to 65536");
-        } else if (tool_option(argc, argv, &i, "--probes", &v)) {
-            if (!v || !tool_parse_int(v, 1, 1 << 20, &o->probes))
-                return tool_bad_value("luminaire predict", "--probes", v, "1 to 1048576");
-        } else if (tool_option(argc, argv, &i, "--pilot", &v)) {
-            if (!v || !tool_parse_int(v, 1, 4096, &o->pilot))
-                return tool_bad_value("luminaire predict", "--pilot", v, "1 to 4096");
-        } else if (tool_option(argc, argv, &i, "--bands", &v)) {
-            if (!v || !tool_parse_int(v, 1, 64, &o->bands))
-                return tool_bad_value("luminaire predict", "--bands", v, "1 to 64");
-        } else if (tool_option(argc, argv, &i, "--costs", &v)) {
-            if (!v || !tool_parse_costs(v, &o->costs))
-                return tool_bad_value("luminaire predict", "--costs", v, TOOL_COSTS_HELP);
-        } else if (tool_option(argc, argv, &i, "--seed", &v)) {
-            if (!v || !tool_parse_int(v, 0, 2147483647L, &o->seed))
-                return tool_bad_value("luminaire predict", "--seed", v, "0 to 2147483647");
-        } else if (argv[i][0] != '-' && !o->file) {
-            o->file = argv[i];
-        } else {
-            return tool_usage_error("luminaire predict", "unknown argument '%s'", argv[i]);
-        }
-    }
+    const int rc = tool_optparse(&tool_luminaire_predict_spec, argc - 1, argv + 1, o);
+    if (rc >= 0) return rc == EXIT_OK ? -1 : rc; /* -1: --help printed */
     if (!o->file) return tool_usage_error("luminaire predict", "no luminaire given");
     return EXIT_OK;
 }
@@ -177,7 +246,7 @@ int tool_luminaire_predict(int argc, char **argv)
     predict_opts o = {.budget = 32, .probes = 256, .pilot = 16, .bands = 1, .seed = 1};
     o.costs = lumis_luminaire_costs_default();
     int rc = parse_predict_args(argc, argv, &o);
-    if (rc != EXIT_OK) return rc;
+    if (rc != EXIT_OK) return rc < 0 ? EXIT_OK : rc;
     lumis_luminaire *lum = NULL;
     if (tool_load_luminaire(o.file, &lum) != LUMIS_OK) return EXIT_RUNTIME;
     lumis_luminaire_info in;

@@ -31,6 +31,49 @@ static const tool_command commands[] = {
 };
 enum { NCOMMANDS = sizeof commands / sizeof commands[0] };
 
+const tool_optspec *const tool_option_specs[] = {
+    &tool_info_spec,
+    &tool_convert_spec,
+    &tool_sky_spec,
+    &tool_studio_spec,
+    &tool_sample_spec,
+    &tool_pdf_spec,
+    &tool_bench_samplers_spec,
+    &tool_render_spec,
+    &tool_lights_spec,
+    &tool_luminaire_create_spec,
+    &tool_luminaire_info_spec,
+    &tool_luminaire_predict_spec,
+    &tool_merge_spec,
+    &tool_compare_spec,
+    &tool_bench_spec,
+    &tool_demo_spec,
+    NULL,
+};
+
+/* lumis help --markdown [CMD]: the option tables as Markdown (docs/options.md is all of them). */
+static int markdown_help(const char *cmd)
+{
+    int found = 0;
+    if (!cmd)
+        printf("# lumis's options\n\n"
+               "Generated from the option tables of tools/lumis (`make options-doc`, which runs\n"
+               "`lumis help --markdown`); the test options_documented fails when this file is\n"
+               "stale.  `lumis COMMAND --help` prints the same.\n\n");
+    for (const tool_optspec *const *s = tool_option_specs; *s; s++) {
+        const size_t n = cmd ? strlen(cmd) : 0;
+        /* "luminaire" names luminaire create, info, ... too */
+        if (cmd &&
+            !(strncmp((*s)->cmd, cmd, n) == 0 && ((*s)->cmd[n] == '\0' || (*s)->cmd[n] == ' ')))
+            continue;
+        tool_optmarkdown(*s, stdout);
+        found = 1;
+    }
+    if (found) return EXIT_OK;
+    fprintf(stderr, "lumis help: no option table for '%s' (see 'lumis --help')\n", cmd);
+    return EXIT_USAGE;
+}
+
 static void print_help(FILE *f)
 {
     fprintf(f,
@@ -106,6 +149,12 @@ int main(int argc, char **argv)
     if (argc < 2) {
         print_help(stderr);
         return EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "help") == 0 && argc > 2 && strcmp(argv[2], "--markdown") == 0)
+        return finish(markdown_help(argc > 3 ? argv[3] : NULL));
+    if (strcmp(argv[1], "help") == 0 && argc > 2 && tool_is_help(argv[2])) {
+        print_help(stdout);
+        return finish(EXIT_OK);
     }
     if (strcmp(argv[1], "help") == 0 && argc > 2) { /* lumis help COMMAND */
         for (int i = 0; i < NCOMMANDS; i++)
