@@ -3715,6 +3715,42 @@ static void render_places_photometric_fixtures(void **state)
             ->valuestring,
         tu_path("fx.ies"));
     cJSON_Delete(j);
+    { /* --fixture-near-field: its light field made as the render starts, the sidecar says
+       * where it hands over to the table; everything in the scene lies beyond far_from, so
+       * the image is the point fixture's bit for bit.  With --fixture-area: the library's
+       * refusal, naming the field */
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+                 "--size 16x12 --spp 2 --seed 3 --quiet -o '%s'",
+                 tu_path("fx.ies"), tu_path("pt.exr"));
+        expect(a, 0, NULL);
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-aim 0,0,0 "
+                 "--fixture-near-field --size 16x12 --spp 2 --seed 3 -o '%s'",
+                 tu_path("fx.ies"), tu_path("nf.exr"));
+        expect(a, 0, "lumis: near-field fixture: its light field up to ");
+        side = (char *)tu_read_file(tu_path("nf.json"), &sn);
+        j = cJSON_Parse(side);
+        free(side);
+        const cJSON *n0 = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "photometric"), 0);
+        assert_string_equal(cJSON_GetObjectItemCaseSensitive(n0, "model")->valuestring,
+                            "near-field");
+        const double far = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetObjectItemCaseSensitive(n0, "near_field"), "far_from_m"));
+        assert_true(far > 0 && far < 1.0); /* the nearest sphere is over 1 m away */
+        cJSON_Delete(j);
+        lumis_image *pt = NULL, *nf = NULL;
+        assert_int_equal(lumis_image_read(tu_path("pt.exr"), NULL, &pt, NULL), LUMIS_OK);
+        assert_int_equal(lumis_image_read(tu_path("nf.exr"), NULL, &nf, NULL), LUMIS_OK);
+        assert_memory_equal(pt->pixels, nf->pixels, 3 * sizeof(float) * 16 * 12);
+        lumis_image_destroy(pt);
+        lumis_image_destroy(nf);
+        snprintf(a, sizeof a,
+                 "render --scene spheres --fixture '%s' --fixture-at 0,3,1 --fixture-area "
+                 "--fixture-near-field --size 16x12 --spp 1 -o '%s'",
+                 tu_path("fx.ies"), tu_path("x.exr"));
+        expect(a, 2, "light_field");
+    }
     { /* a fixture that lights nothing the camera sees: a black image, with a hint; a lit one
        * has none */
         char *err = NULL;

@@ -41,6 +41,8 @@ typedef struct tool_render_opts {
     const char *fixture;
     double fixture_at[3], fixture_aim[3], fixture_up[3], fixture_roll, fixture_multiplier;
     int fixture_at_given, fixture_aim_given, fixture_up_given, fixture_area;
+    int fixture_near_field; /* --fixture-near-field: its light field near it (made at the
+                               start, spent from a time budget), the table far away */
     const char *luminaire;  /* --luminaire: replaces every luminaire of the scene (a manifest
                                or preset:NAME); NULL: the scene's own */
     double time_budget;     /* > 0: progressive passes until this much render time */

@@ -74,6 +74,9 @@ typedef struct render_state {
     lumis_scene *scene;
     lumis_photometric_file *cli_fixture; /* --fixture */
     lumis_photometric_instance cli_instance;
+    lumis_luminaire *near_field; /* --fixture-near-field: the light field made of the file */
+    lumis_photometric_light_field_report near_report;
+    double near_seconds;            /* its making: spent from a time budget */
     lumis_luminaire_choice *chosen; /* auto: what the render chose, per luminaire */
     lumis_luminaire_lighting lighting;
     lumis_photometric_lighting fixture_lighting;
@@ -268,6 +271,23 @@ static int load_fixture(const tool_render_opts *o, render_state *s)
     in->area = o->fixture_area;
     s->fixture_lighting.instances = in;
     s->fixture_lighting.count = 1;
+    if (o->fixture_near_field) { /* the file's light field near it, the table far away */
+        const double t0 = tool_now_seconds();
+        if (!o->quiet)
+            fprintf(stderr, "lumis: making the light field of %s (--fixture-near-field) ...\n",
+                    o->fixture);
+        if (lumis_luminaire_from_photometric(s->cli_fixture->model, NULL, &tool_errors,
+                                             &s->near_field, &s->near_report) != LUMIS_OK)
+            return EXIT_RUNTIME;
+        s->near_seconds = tool_now_seconds() - t0;
+        in->light_field = s->near_field;
+        in->light_field_report = &s->near_report;
+        if (!o->quiet)
+            fprintf(stderr,
+                    "lumis: near-field fixture: its light field up to %.3g m, the table from "
+                    "%.3g m (%.1f s to make)\n",
+                    s->near_report.near_until, s->near_report.far_from, s->near_seconds);
+    }
     return EXIT_OK;
 }
 
@@ -340,7 +360,7 @@ static int run_session_desc(const tool_render_opts *o, render_state *s)
     sess->lights_params = o->lights_params.given ? &o->lights_params : NULL;
     sess->upsample = o->upsample;
     sess->time_budget = o->time_budget;
-    sess->spent = s->smp ? lumis_sampler_build_ms(s->smp) / 1000.0 : 0.0;
+    sess->spent = (s->smp ? lumis_sampler_build_ms(s->smp) / 1000.0 : 0.0) + s->near_seconds;
     sess->timed_spp = TOOL_LIGHTS_TIMED_SPP;
     if (o->passes) { /* share I of N: the whole render's samples first .. first + n - 1 */
         tool_share_range(o, &sess->render.spp, &sess->render.first_sample, &sess->share_spp);
@@ -610,6 +630,7 @@ static void render_release(render_state *s)
     lumis_scene_destroy(s->scene);
     lumis_scene_file_destroy(s->file);
     lumis_photometric_file_destroy(s->cli_fixture);
+    lumis_luminaire_destroy(s->near_field);
     free(s->chosen);
     lumis_luminaire_destroy(s->replacement);
     lumis_sampler_destroy(s->smp);

@@ -200,7 +200,18 @@ static void side_photometric(cJSON *j, const sidecar_ctx *c)
             cJSON_AddItemToObject(e, "position", cJSON_CreateDoubleArray(in->placement.t, 3));
             cJSON_AddItemToObject(e, "rotation", cJSON_CreateDoubleArray(in->placement.r, 9));
             cJSON_AddNumberToObject(e, "multiplier", in->multiplier == 0 ? 1.0 : in->multiplier);
-            cJSON_AddStringToObject(e, "model", in->area ? "opening" : "point");
+            cJSON_AddStringToObject(e, "model",
+                                    in->area          ? "opening"
+                                    : in->light_field ? "near-field"
+                                                      : "point");
+            if (in->light_field && in->light_field_report) { /* where it changes models */
+                const lumis_photometric_light_field_report *nr = in->light_field_report;
+                cJSON *nf = cJSON_AddObjectToObject(e, "near_field");
+                cJSON_AddNumberToObject(nf, "crossover_sizes", nr->crossover_sizes);
+                cJSON_AddNumberToObject(nf, "near_until_m", nr->near_until);
+                cJSON_AddNumberToObject(nf, "far_from_m", nr->far_from);
+                cJSON_AddNumberToObject(nf, "far_field_error", nr->far_field_error);
+            }
             cJSON_AddStringToObject(e, "shape", lumis_photometric_shape_name(pi.shape));
             cJSON_AddNumberToObject(e, "flux", pi.flux);
             cJSON_AddItemToArray(arr, e);

@@ -268,6 +268,12 @@ static const tool_opt render_opts[] = {
      .name = "--fixture-area",
      .help = "its luminous opening (a disk or rectangle), not a point",
      .at = AT(fixture_area)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--fixture-near-field",
+     .help = "a near-field fixture: the light field of its opening (made as the\n"
+             "render starts) near it, its table far away, blended where the\n"
+             "field's measured error meets the point model's (docs/photometric.md)",
+     .at = AT(fixture_near_field)},
 
     {.kind = TOOL_OPT_GROUP, .name = "luminaires"},
     {.kind = TOOL_OPT_STRING,
@@ -564,10 +570,16 @@ static int render_check(render_cli *c)
                                 "combines nothing",
                                 c->mis);
     const int fixture_opt = o->fixture_at_given || o->fixture_aim_given || o->fixture_up_given ||
-                            o->fixture_area || o->fixture_roll != 0 || o->fixture_multiplier != 0;
+                            o->fixture_area || o->fixture_near_field || o->fixture_roll != 0 ||
+                            o->fixture_multiplier != 0;
     if (fixture_opt && !o->fixture)
-        return tool_usage_error("render", "--fixture-at, -aim, -up, -roll, -multiplier and -area "
-                                          "need --fixture FILE");
+        return tool_usage_error("render", "--fixture-at, -aim, -up, -roll, -multiplier, -area "
+                                          "and -near-field need --fixture FILE");
+    /* before the field is made (seconds): the library refuses the pair too (light_field) */
+    if (o->fixture_near_field && o->fixture_area)
+        return tool_usage_error("render", "--fixture-near-field: a point with a light field near "
+                                          "it (lighting.photometric's light_field), not an "
+                                          "opening: drop --fixture-area");
     if (o->fixture && !o->fixture_at_given)
         return tool_usage_error("render", "--fixture %s needs --fixture-at X,Y,Z", o->fixture);
     return EXIT_OK;
