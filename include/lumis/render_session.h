@@ -42,6 +42,15 @@ typedef struct lumis_session_desc {
      * starting at render.first_sample (no time budget); the shares' images weighted by
      * their counts average to the whole render's (the tool's `lumis merge`). */
     int share_spp;
+    /* Nonzero: the session chooses how the map lights the scene (render.lighting of kind env
+     * with its env and sampler, estimator MIS, and no `lights`): the map sampled with MIS
+     * through render.lighting.sampler, or its median-cut regions (K = 32) as strata
+     * (LUMIS_LIGHTS_STRATIFIED), whichever the pilots find more efficient on this scene
+     * (docs/render.md, "The automatic estimator").  The pilots render a sixteenth of the
+     * pixels twice per candidate, the stratified pair at one sample per pixel each and the
+     * MIS pair for as long; their time and the regions' making are spent from time_budget.
+     * result->auto_* say what was measured and chosen. */
+    int auto_estimator;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);
     void *pass_done_user;
@@ -57,6 +66,19 @@ typedef enum lumis_k_limit {
     LUMIS_K_LIMIT_OVER_BUDGET  /* K = 1 at the fewest samples is predicted to take longer
                                   than the budget: the render overruns it */
 } lumis_k_limit;
+
+/* What the automatic estimator measured of one candidate (lumis_session_result). */
+#define LUMIS_AUTO_CANDIDATES 2 /* 0: the map with MIS; 1: median-cut strata (K = 32) */
+typedef struct lumis_auto_candidate {
+    double error_per_spp; /* its relMSE at one sample per pixel, from the pilot's two halves */
+    double per_spp;       /* seconds a sample per pixel costs at the image's size */
+    double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
+    double once;          /* seconds before its first sample (the regions), spent already */
+    int pilot_spp;        /* samples per pixel in each half of its pilot */
+} lumis_auto_candidate;
+
+/* "mis", "stratified" (the candidate's index), else "unknown". */
+LUMIS_RENDER_API const char *lumis_auto_candidate_name(int candidate);
 
 /* The pilots that fit K: at most this many (the floor, 64, and where the fit lands). */
 #define LUMIS_SESSION_PILOTS 3
@@ -94,6 +116,12 @@ typedef struct lumis_session_result {
     double wall_seconds, cpu_seconds;
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy; /* render threads with work: min(threads, the full layer's tiles) */
+    /* With auto_estimator: every candidate's pilot, the one chosen (the most efficient;
+     * with strata, lights_k and the regions' build are the set's and light_set is it), and
+     * the seconds the choice took (the set and regions made, the pilots: in prep_seconds) */
+    int auto_count, auto_chosen;
+    lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
+    double auto_seconds;
 } lumis_session_result;
 
 /* Whether desc is a session lumis_render_session takes: a finite budget and non-negative

@@ -51,6 +51,11 @@ void lumis__transform_matrix(const float t[3], const float r[3], const float s[3
 /* lumis_lighting_check (lighting.c); set_to_come: a light set will be made (a session's)
  * and given. */
 lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come);
+/* lumis_render_session with desc->auto_estimator (session_auto.c): the pilots, the choice,
+ * then the session with it into *out and *r; keep_set: the caller takes a set made here
+ * (r->light_set), else it is destroyed. */
+lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_desc *s,
+                                 lumis_image **out, lumis_session_result *r, int keep_set);
 /* What lights the scene under lighting kind `kind` (known), for messages: "luminaires". */
 const char *lumis__lighting_lit_by(lumis_lighting_kind kind);
 

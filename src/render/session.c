@@ -472,6 +472,22 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
                            "session: render.lighting.light_set.%s: given, and lights makes the "
                            "set: give one or the other",
                            l->light_set.set ? "set" : "regions");
+    if (s->auto_estimator) {
+        const char *bad = s->lights                             ? "lights"
+                          : l->kind != LUMIS_LIGHTING_ENV       ? "render.lighting.kind"
+                          : !l->env                             ? "render.lighting.env"
+                          : !l->sampler                         ? "render.lighting.sampler"
+                          : l->estimator != LUMIS_ESTIMATOR_MIS ? "render.lighting.estimator"
+                          : !s->render.camera                   ? "render.camera"
+                          : s->share_spp                        ? "share_spp"
+                                                                : NULL;
+        if (bad)
+            return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "session: auto_estimator: chooses how the map lights the scene "
+                               "(render.lighting of kind env with its env and sampler, estimator "
+                               "MIS, a camera, no lights, not a share): %s is not that",
+                               bad);
+    }
     if (s->lights && !s->render.camera)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: render.camera: missing: a light set's session needs it");
@@ -491,6 +507,7 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     const lumis_error_sink *errors = &s->render.errors;
     const lumis_status cst = lumis_session_check(s);
     if (cst != LUMIS_OK) return cst;
+    if (s->auto_estimator) return lumis__session_auto(scene, s, out, r, result != NULL);
     lumis_lights_method method = (lumis_lights_method)0;
     const int wu = s->lights && lumis_lights_method_from_name(s->lights, &method) == LUMIS_OK &&
                    method == LUMIS_LIGHTS_DECOMPOSITION;

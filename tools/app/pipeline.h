@@ -23,7 +23,8 @@ typedef struct tool_render_opts {
     const char *sampler_opt; /* --method (not bsdf) or --blocks, if given: a sampler is built
                                 whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
-    const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
+    int auto_estimator; /* --auto: the session chooses the map with MIS or median-cut strata */
+    const char *lights; /* a light-set method (tool_lights_method_known), or NULL */
     lumis_lights_mode lights_mode;    /* --lights-mode: point (0) or stratified */
     int lights_k, interleave;         /* its K and number of interleaved sets (0: defaults) */
     lumis_light_params lights_params; /* --lights-param (zero: the method's defaults) */
@@ -90,7 +91,16 @@ typedef struct tool_render_result {
     char lum_chosen[640];
     char lum_budgets[320]; /* their K (auto gives a global one more: render.h) */
     lumis_luminaire_choice lum_choice;
+    /* --auto: every candidate's pilot and the one chosen (lumis_session_result) */
+    int auto_count, auto_chosen;
+    lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
+    double auto_seconds;
 } tool_render_result;
+
+/* The light set that lit the render: --lights, or the median-cut strata --auto chose (NULL:
+ * none), and its mode. */
+const char *tool_render_lights(const tool_render_opts *o, const tool_render_result *r,
+                               lumis_lights_mode *mode);
 
 /* Samples per pixel of a light set rendered to a time budget (--lights with --time): the
  * budget goes to the number of lights. */

@@ -28,6 +28,7 @@
 static const struct {
     const char *field, *options;
 } field_options[] = {
+    {"auto_estimator", "--auto"},
     {"lighting.sampler", "--method, --blocks"},
     {"lighting.estimator", "--mis none, --method bsdf"},
     {"lighting.light_set.mode", "--lights-mode"},
@@ -355,6 +356,7 @@ static int run_session_desc(const tool_render_opts *o, render_state *s)
     lumis_session_desc *sess = &s->sess;
     sess->render = s->rd;
     sess->lights = o->lights;
+    sess->auto_estimator = o->auto_estimator;
     sess->lights_k = o->lights_k;
     sess->interleave = o->interleave;
     sess->lights_params = o->lights_params.given ? &o->lights_params : NULL;
@@ -412,6 +414,18 @@ static void run_result(const tool_render_opts *o, const lumis_session_result *sr
     r->prep_heavy =
         o->time_budget > 0.0 && sr->prep_seconds > TOOL_PREP_WARN_SHARE * o->time_budget;
     r->upsample = sr->upsample;
+    r->auto_count = sr->auto_count;
+    r->auto_chosen = sr->auto_chosen;
+    r->auto_seconds = sr->auto_seconds;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) r->auto_candidates[c] = sr->auto_candidates[c];
+}
+
+const char *tool_render_lights(const tool_render_opts *o, const tool_render_result *r,
+                               lumis_lights_mode *mode)
+{
+    const int strata = r->auto_count > 0 && r->auto_chosen == 1;
+    *mode = strata ? LUMIS_LIGHTS_STRATIFIED : o->lights_mode;
+    return o->lights ? o->lights : strata ? "median-cut" : NULL;
 }
 
 /* lumis_render_session, its account in r, the progress bar finished.  Exit code. */
@@ -497,9 +511,11 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
                           const tool_render_result *r)
 {
     const lumis_scene_file *file = s->file;
+    lumis_lights_mode mode;
+    const char *set_name = tool_render_lights(o, r, &mode);
     const char *method = s->lum        ? lumis_luminaire_strategy_name(o->lum.strategy)
                          : s->fixtures ? "photometric"
-                         : o->lights   ? o->lights
+                         : set_name    ? set_name
                          : o->bsdf_only
                              ? "bsdf"
                              : lumis_sampler_method_name(lumis_sampler_get_method(s->smp));
@@ -519,10 +535,10 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
         snprintf(how, sizeof how, "%d photometric fixture%s, %s", s->rd.lighting.photometric->count,
                  s->rd.lighting.photometric->count > 1 ? "s" : "", tool_estimator_name(&s->rd));
     else if (s->lights)
-        snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s", o->lights,
+        snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s", set_name,
                  lumis_light_set_get_info(s->lights)->count, lumis_light_set_sets(s->lights),
                  lumis_light_set_get_info(s->lights)->build_ms,
-                 o->lights_mode == LUMIS_LIGHTS_STRATIFIED ? ", as strata" : "");
+                 mode == LUMIS_LIGHTS_STRATIFIED ? ", as strata" : "");
     else
         snprintf(how, sizeof how, "%s, sampler %s built in %.2f ms", tool_estimator_name(&s->rd),
                  method, r->sampler_build_ms);
@@ -540,6 +556,15 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
                 o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
                 r->budget_used_seconds, r->cpu_seconds, r->wall_seconds, 100.0 * r->cpu_share,
                 r->threads_busy, r->threads_busy == 1 ? "" : "s");
+    if (r->auto_count > 0) {
+        const lumis_auto_candidate *m = &r->auto_candidates[0], *q = &r->auto_candidates[1];
+        fprintf(stderr,
+                "lumis: auto: %s, the more efficient on this scene (relMSE x seconds: mis %.3g, "
+                "stratified median-cut K = 32 %.3g; from pilots of %d and %d spp a half, %.3f "
+                "s)\n",
+                lumis_auto_candidate_name(r->auto_chosen), m->efficiency, q->efficiency,
+                m->pilot_spp, q->pilot_spp, r->auto_seconds);
+    }
     if (r->lights_pilot_count > 0) {
         char why[320] = "";
         tool_k_limit_text(o, r, why, sizeof why);

@@ -170,10 +170,12 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
     const lumis_light_set *lights = c->lights;
     const int lum = c->lum;
     const int fixtures = c->fixtures;
+    lumis_lights_mode mode;
+    const char *set_name = tool_render_lights(o, c->r, &mode);
     cJSON_AddStringToObject(j, "method",
                             lum ? lumis_luminaire_strategy_name(rd->lighting.luminaires->strategy)
-                            : fixtures  ? "photometric"
-                            : o->lights ? o->lights
+                            : fixtures ? "photometric"
+                            : set_name ? set_name
                             : o->bsdf_only
                                 ? "bsdf"
                                 : lumis_sampler_method_name(lumis_sampler_get_method(smp)));
@@ -181,6 +183,26 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
                             lum      ? "luminaire"
                             : lights ? "light set"
                                      : tool_estimator_name(rd));
+    const tool_render_result *r = c->r;
+    if (r->auto_count > 0) { /* --auto: what the pilots measured, and the choice */
+        cJSON *a = cJSON_AddObjectToObject(j, "auto_estimator");
+        cJSON_AddStringToObject(a, "chosen", lumis_auto_candidate_name(r->auto_chosen));
+        cJSON_AddNumberToObject(a, "seconds", r->auto_seconds);
+        cJSON *arr = cJSON_AddArrayToObject(a, "candidates");
+        for (int k = 0; k < r->auto_count; k++) {
+            const lumis_auto_candidate *q = &r->auto_candidates[k];
+            cJSON *e = cJSON_CreateObject();
+            cJSON_AddStringToObject(e, "name", lumis_auto_candidate_name(k));
+            cJSON_AddNumberToObject(e, "relmse_at_1spp", q->error_per_spp);
+            cJSON_AddNumberToObject(e, "seconds_per_spp", q->per_spp);
+            cJSON_AddNumberToObject(e, "relmse_x_seconds", q->efficiency);
+            cJSON_AddNumberToObject(e, "seconds_before", q->once);
+            cJSON_AddNumberToObject(e, "pilot_spp", q->pilot_spp);
+            cJSON_AddItemToArray(arr, e);
+        }
+    } else {
+        cJSON_AddNullToObject(j, "auto_estimator");
+    }
 }
 
 /* Every fixture: its file, placement, multiplier, model and flux. */
@@ -338,8 +360,9 @@ static void side_lights(cJSON *j, const sidecar_ctx *c)
     if (lights) {
         const lumis_light_set_info *li = lumis_light_set_get_info(lights);
         x = cJSON_AddObjectToObject(j, "lights");
-        cJSON_AddStringToObject(x, "method", o->lights);
-        cJSON_AddStringToObject(x, "mode", lumis_lights_mode_name(o->lights_mode));
+        lumis_lights_mode mode;
+        cJSON_AddStringToObject(x, "method", tool_render_lights(o, r, &mode));
+        cJSON_AddStringToObject(x, "mode", lumis_lights_mode_name(mode));
         char params[1024];
         lumis_light_params_format(&o->lights_params, params, sizeof params);
         cJSON_AddStringToObject(x, "params", params);

@@ -158,6 +158,13 @@ static const tool_opt render_opts[] = {
      .lo = 1,
      .hi = 1 << 24,
      .note = TOOL_NOTE(render_cli, sampler_opt)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--auto",
+     .help = "choose how the map lights the scene: sampled with MIS (--method's\n"
+             "sampler) or its median-cut regions as strata (K = 32), whichever\n"
+             "pilot renders of this scene find more efficient (relMSE x time;\n"
+             "their time is spent from --time).  docs/render.md",
+     .at = AT(auto_estimator)},
     {.kind = TOOL_OPT_CUSTOM,
      .name = "--lights",
      .metavar = "M",
