@@ -477,6 +477,22 @@ typedef struct lumis_light_set_lighting {
     lumis_lights_mode mode;
     const lumis_region_sampler *regions;
 } lumis_light_set_lighting;
+typedef struct lumis_sun {
+    int found;
+    lumis_vec3 dir;
+    double radius;
+    double sample_radius;
+    lumis_rgb radiance;
+    double power[3];
+    double solid_angle;
+    double share;
+    double threshold;
+    int pixels;
+} lumis_sun;
+typedef struct lumis_sun_lighting {
+    const lumis_sun *sun;
+    const lumis_envmap *residual;
+} lumis_sun_lighting;
 typedef struct lumis_lighting {
     lumis_lighting_kind kind;
     const lumis_envmap *env;
@@ -484,6 +500,7 @@ typedef struct lumis_lighting {
     lumis_estimator estimator;
     int hide_environment;
     lumis_light_set_lighting light_set;
+    lumis_sun_lighting sun;
     const lumis_luminaire_lighting *luminaires;
     const lumis_photometric_lighting *photometric;
 } lumis_lighting;
@@ -595,8 +612,11 @@ RENDER_STRUCTS = {
                                  "depth", "visibility", "auto_bands", "auto_costs", "chosen"],
     "lumis_photometric_lighting": ["instances", "count"],
     "lumis_light_set_lighting": ["set", "kinds", "mode", "regions"],
+    "lumis_sun": ["found", "dir", "radius", "sample_radius", "radiance", "power", "solid_angle",
+                  "share", "threshold", "pixels"],
+    "lumis_sun_lighting": ["sun", "residual"],
     "lumis_lighting": ["kind", "env", "sampler", "estimator", "hide_environment", "light_set",
-                       "luminaires", "photometric"],
+                       "sun", "luminaires", "photometric"],
     "lumis_render_desc": ["camera", "lighting", "pixel_centers", "power_heuristic", "spp",
                           "light_samples", "bsdf_samples", "seed", "sequence", "first_sample",
                           "threads", "max_bounces", "progress", "progress_user", "shadow_ray",
