@@ -236,11 +236,26 @@ static void info_json_has_the_documented_keys(void **state)
     assert_true(fabs(num(o, "avg_luminance") * 4 * 3.14159265358979 - num(o, "power")) <
                 1e-9 * num(o, "power"));
     cJSON_Delete(o);
+    /* The sun (lumis_sun_find): the default sky's, at its documented direction (35 degrees up,
+     * azimuth 60: lumis/io.h); none in the studio's soft boxes. */
+    o = info_json("sky:1024x512");
+    const cJSON *sun = cJSON_GetObjectItemCaseSensitive(o, "sun");
+    assert_true(cJSON_IsObject(sun));
+    const cJSON *dir = cJSON_GetObjectItemCaseSensitive(sun, "dir");
+    assert_true(cJSON_IsArray(dir) && cJSON_GetArraySize(dir) == 3);
+    assert_true(fabs(cJSON_GetArrayItem(dir, 1)->valuedouble - sin(35.0 * 3.14159265358979 / 180)) <
+                0.005);
+    assert_true(num(sun, "share") > 0.5 && num(sun, "radius_deg") < 1.0);
+    cJSON_Delete(o);
+    o = info_json("studio:256x128");
+    assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(o, "sun")));
+    cJSON_Delete(o);
     /* Text output mentions the same quantities. */
     char *out = NULL;
     assert_int_equal(run("info studio:32x16", &out, NULL), 0);
     assert_non_null(strstr(out, "32 x 16"));
     assert_non_null(strstr(out, "top 0.1% share"));
+    assert_non_null(strstr(out, "sun            none"));
     free(out);
 }
 
