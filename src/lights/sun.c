@@ -147,6 +147,17 @@ lumis_status lumis_sun_invert(const lumis_sun *sun, lumis_vec3 dir, double u[2])
     return LUMIS_OK;
 }
 
+/* The rows that may hold a pixel centre within r of the unit axis a: a centre's polar angle
+ * differs from the axis' by at most their angle (rotation about +y keeps polar angles). */
+static void rows_near(const double a[3], double r, int h, int *j0, int *j1)
+{
+    const double ta = acos(a[1] > 1.0 ? 1.0 : a[1] < -1.0 ? -1.0 : a[1]);
+    const double lo = floor((ta - r) / LUMIS_PI * h) - 1.0,
+                 hi = ceil((ta + r) / LUMIS_PI * h) + 1.0;
+    *j0 = lo < 0.0 ? 0 : (int)lo;
+    *j1 = hi > h - 1 ? h - 1 : (int)hi;
+}
+
 /* ---- detection ----------------------------------------------------------------------- */
 
 /* Scratch of a search: luminance, the region's queue and its marks. */
@@ -254,8 +265,9 @@ static void fit(const search *s, int count, lumis_sun *out)
     out->sample_radius = LUMIS_PI; /* lumis_sun_contains needs a valid sun meanwhile */
     const double cut = cos(fmin(out->radius, LUMIS_PI)) - 1e-6;
     double reach = 0.0, pw[3] = {0, 0, 0}, om = 0.0;
-    int pixels = 0;
-    for (int j = 0; j < h; j++) {
+    int pixels = 0, j0, j1;
+    rows_near(a, out->radius, h, &j0, &j1);
+    for (int j = j0; j <= j1; j++) {
         const double omj = lumis_envmap_pixel_solid_angle(s->env, j), rj = pixel_reach(w, h, j);
         for (int i = 0; i < w; i++) {
             double c[3];
@@ -289,7 +301,11 @@ static lumis_status make_residual(const lumis_envmap *env, const lumis_sun *sun,
     float *px = malloc(3 * n * sizeof *px);
     if (!px) return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "sun: out of memory");
     memcpy(px, lumis_envmap_pixels(env), 3 * n * sizeof *px);
-    for (int j = 0; j < h; j++)
+    double a[3];
+    int j0, j1;
+    axis_of(sun, a);
+    rows_near(a, sun->radius, h, &j0, &j1);
+    for (int j = j0; j <= j1; j++)
         for (int i = 0; i < w; i++)
             if (lumis_sun_contains(sun, env, i, j))
                 memset(px + 3 * ((size_t)j * (size_t)w + (size_t)i), 0, 3 * sizeof *px);
