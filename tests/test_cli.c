@@ -637,6 +637,43 @@ static const cJSON *item(const cJSON *o, const char *key)
     return v;
 }
 
+/* render --sun: the summary and the sidecar say the sun found (the default sky's, 35 degrees
+ * up), or that none was (the studio); without --sun the sidecar's "sun" is null. */
+static void render_sun_is_reported(void **state)
+{
+    (void)state;
+    char cmd[1024], *err = NULL;
+    snprintf(cmd, sizeof cmd,
+             "render --scene spheres --env sky:512x256 --sun --spp 1 --size 32x24 -o %s",
+             tu_path("sun.exr"));
+    assert_int_equal(run(cmd, NULL, &err), 0);
+    assert_non_null(strstr(err, "lumis: sun: dir ("));
+    free(err);
+    cJSON *j = read_json("sun.json");
+    const cJSON *sun = item(j, "sun");
+    assert_true(cJSON_IsTrue(item(sun, "found")));
+    assert_true(fabs(cJSON_GetArrayItem(item(sun, "dir"), 1)->valuedouble -
+                     sin(35.0 * 3.14159265358979 / 180)) < 0.01);
+    assert_true(item(sun, "share")->valuedouble > 0.5);
+    cJSON_Delete(j);
+    snprintf(cmd, sizeof cmd,
+             "render --scene spheres --env studio:128x64 --sun --spp 1 --size 32x24 -o %s",
+             tu_path("nosun.exr"));
+    err = NULL;
+    assert_int_equal(run(cmd, NULL, &err), 0);
+    assert_non_null(strstr(err, "lumis: sun: none found"));
+    free(err);
+    j = read_json("nosun.json");
+    assert_true(cJSON_IsFalse(item(item(j, "sun"), "found")));
+    cJSON_Delete(j);
+    snprintf(cmd, sizeof cmd, "render --scene spheres --env sky:128x64 --spp 1 --size 32x24 -o %s",
+             tu_path("plain.exr"));
+    assert_int_equal(run(cmd, NULL, NULL), 0);
+    j = read_json("plain.json");
+    assert_true(cJSON_IsNull(item(j, "sun")));
+    cJSON_Delete(j);
+}
+
 /* relMSE of the test folder's image `test` against its `ref`, by lumis compare. */
 static double relmse_between(const char *ref, const char *test)
 {
@@ -3787,6 +3824,7 @@ int main(void)
         cmocka_unit_test(runtime_errors_name_file_and_reason),
         cmocka_unit_test(stdout_write_errors_are_errors),
         cmocka_unit_test(info_json_has_the_documented_keys),
+        cmocka_unit_test(render_sun_is_reported),
         cmocka_unit_test(convert_resize_preserves_power_and_writes_every_format),
         cmocka_unit_test(demo_writes_the_sky_and_its_info),
         cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),

@@ -23,6 +23,8 @@ typedef struct tool_render_opts {
     const char *sampler_opt; /* --method (not bsdf) or --blocks, if given: a sampler is built
                                 whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
+    int sun; /* --sun: a sun found in the map (lumis_sun_find) is sampled as a cone, the rest
+                of the map (the residual) by the sampler or light set */
     const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
     lumis_lights_mode lights_mode;    /* --lights-mode: point (0) or stratified */
     int lights_k, interleave;         /* its K and number of interleaved sets (0: defaults) */

@@ -40,6 +40,10 @@ static const char usage[] =
     "                     exports); stratified: each region as a stratum of the map, one\n"
     "                     direction drawn in every region per sample, MIS with the BSDF\n"
     "                     (--mis): unbiased, converges with --time or --spp\n"
+    "  --sun              find a compact bright source in the map (lumis_sun_find) and\n"
+    "                     sample it as a cone, MIS with the BSDF, the rest of the map (the\n"
+    "                     residual) by the sampler or the light set; unbiased (docs/lights.md,\n"
+    "                     \"The image sun\"); no sun found: the whole map as usual\n"
     "  --lights-k K       lights per set (default 64; stratified 32).  Point mode with\n"
     "                     --time and no --lights-k: K is chosen to fill the time at 4\n"
     "                     samples per pixel (or --spp): small pilot renders at K = 4, 64\n"
@@ -158,6 +162,8 @@ static int render_lighting_option(render_cli *c, int argc, char **argv, int *i)
             return tool_bad_value("render", "--lights", v, want);
         }
         o->lights = v;
+    } else if (strcmp(argv[*i], "--sun") == 0) {
+        o->sun = 1;
     } else if (tool_option(argc, argv, i, "--lights-mode", &v)) {
         if (!v || lumis_lights_mode_from_name(v, &o->lights_mode) != LUMIS_OK)
             return tool_bad_value("render", "--lights-mode", v, "must be point or stratified");
