@@ -136,6 +136,7 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
+    if (m->sun) h = fnv_str(h, " sun"); /* keys without the sun stay as they were */
     const lumis_sequence q = lumis_sequence_resolve(m->sequence);
     if (q != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
         snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(q));

@@ -227,11 +227,9 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method", "label",         "mis",
-                                          "blocks", "light_samples", "bsdf_samples",
-                                          "k",      "interleave",    "upsample",
-                                          "params", "mode",          "sequence",
-                                          NULL},
+static const char *const method_keys[] =
+    {"method",     "label",    "mis",    "blocks", "light_samples", "bsdf_samples", "k",
+     "interleave", "upsample", "params", "mode",   "sequence",      "sun",          NULL},
                          *reference_keys[] = {"method",        "label",        "mis",      "blocks",
                                               "light_samples", "bsdf_samples", "spp",      "k",
                                               "params",        "mode",         "sequence", NULL};
@@ -323,6 +321,14 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (rc == EXIT_OK) rc = opt_count(e, "light_samples", file, where, 0, 4096, &m->light_samples);
     if (rc == EXIT_OK) rc = opt_count(e, "bsdf_samples", file, where, 0, 4096, &m->bsdf_samples);
     if (rc != EXIT_OK) return rc;
+    const cJSON *sun = cJSON_GetObjectItemCaseSensitive(e, "sun");
+    if (sun && !cJSON_IsBool(sun))
+        return tool_runtime_error("%s: %s.sun: expected true or false", file, where);
+    m->sun = cJSON_IsTrue(sun);
+    if (m->sun && m->bsdf_only)
+        return tool_runtime_error("%s: %s.sun: the image sun is sampled as a light: not with "
+                                  "\"method\": \"bsdf\"",
+                                  file, where);
     char tmp[128];
     bench_copy_cut(tmp, sizeof tmp, label ? label : name);
     make_label(m->label, sizeof m->label, tmp);
