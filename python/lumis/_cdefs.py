@@ -356,6 +356,7 @@ typedef struct lumis_light_export_options {
     const char *parameters;
     lumis_export_frame frame;
     lumis_gltf_container container;
+    const struct lumis_sun *sun;
 } lumis_light_export_options;
 lumis_status lumis_light_set_write_json(const char *path, const struct lumis_light_set *set,
                                         const lumis_light_export_options *options);
@@ -425,7 +426,7 @@ STRUCTS = {
     "lumis_write_options": ["format", "exr_half", "exr_compression", "exr_tile_size",
                             "pfm_big_endian", "exposure_ev", "tonemap", "errors"],
     "lumis_light_export_options": ["set_index", "masks", "source", "method", "errors",
-                                   "parameters", "frame", "container"],
+                                   "parameters", "frame", "container", "sun"],
     "lumis_photometric_file": ["model", "format", "standard", "manufacturer", "luminaire",
                                "catalog", "lamp", "test", "lamps", "lumens_per_lamp",
                                "input_watts", "lamp_sets", "tilt", "tilt_geometry", "ntilt",
