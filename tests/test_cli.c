@@ -637,6 +637,32 @@ static const cJSON *item(const cJSON *o, const char *key)
     return v;
 }
 
+/* lights --sun: the sun first in the file (kind sun, with its angular radius), then the
+ * residual's K lights; the powers add up to the map's. */
+static void lights_sun_exports_the_sun_first(void **state)
+{
+    (void)state;
+    char cmd[1024], *out = NULL;
+    snprintf(cmd, sizeof cmd, "lights sky:512x256 --sun -k 3 --json %s", tu_path("lsun.json"));
+    assert_int_equal(run(cmd, &out, NULL), 0);
+    assert_non_null(strstr(out, "sun: dir ("));
+    free(out);
+    cJSON *j = read_json("lsun.json");
+    const cJSON *lights = item(j, "lights");
+    assert_int_equal(cJSON_GetArraySize(lights), 4);
+    const cJSON *s0 = cJSON_GetArrayItem(lights, 0);
+    assert_string_equal(item(s0, "kind")->valuestring, "sun");
+    assert_true(item(s0, "angular_radius_rad")->valuedouble > 0.0);
+    double total = 0.0;
+    for (int k = 0; k < 4; k++)
+        total += cJSON_GetArrayItem(item(cJSON_GetArrayItem(lights, k), "power"), 1)->valuedouble;
+    cJSON_Delete(j);
+    cJSON *o = info_json("sky:512x256");
+    assert_true(fabs(total - cJSON_GetArrayItem(item(o, "power_rgb"), 1)->valuedouble) <
+                1e-5 * total);
+    cJSON_Delete(o);
+}
+
 /* render --sun: the summary and the sidecar say the sun found (the default sky's, 35 degrees
  * up), or that none was (the studio); without --sun the sidecar's "sun" is null. */
 static void render_sun_is_reported(void **state)
@@ -3825,6 +3851,7 @@ int main(void)
         cmocka_unit_test(stdout_write_errors_are_errors),
         cmocka_unit_test(info_json_has_the_documented_keys),
         cmocka_unit_test(render_sun_is_reported),
+        cmocka_unit_test(lights_sun_exports_the_sun_first),
         cmocka_unit_test(convert_resize_preserves_power_and_writes_every_format),
         cmocka_unit_test(demo_writes_the_sky_and_its_info),
         cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),

@@ -10,7 +10,7 @@
 
 static const char usage[] =
     "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
-    "                    [--rotate DEG] [--above-ground]\n"
+    "                    [--rotate DEG] [--above-ground] [--sun]\n"
     "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
     "                    [--frame engine|lumis]\n"
     "                    [--png OUT.png [--png-width W]] [--irradiance]\n\n"
@@ -38,6 +38,10 @@ static const char usage[] =
     "                  y = 0): each light below it is folded into the nearest light above,\n"
     "                  which takes its power (the total is kept; the folded share is\n"
     "                  printed)\n"
+    "  --sun           split the map's sun off first (lumis_sun_find: a compact bright\n"
+    "                  source): the lights are the rest of the map's, and the files hold\n"
+    "                  the sun first, a directional light with its angular radius\n"
+    "                  (docs/lights-export.md)\n"
     "  --json OUT      directions, power, colour and intensity, solid angle, extent, kind\n"
     "  --masks         with --json: each light's region as pixel runs [row, column, length]\n"
     "  --gltf OUT      glTF 2.0 with one KHR_lights_punctual directional light per light\n"
@@ -306,9 +310,10 @@ static void print_set(const char *map, const char *method, const lumis_light_set
 static int export_set(const lumis_envmap *env, const lumis_light_set *set, const char *map,
                       const char *method, const char *given, int above_ground, int masks,
                       lumis_export_frame frame, const char *json, const char *gltf, const char *png,
-                      int png_width)
+                      int png_width, const lumis_sun *sun)
 {
     lumis_light_export_options eo = {0};
+    eo.sun = sun && sun->found ? sun : NULL;
     eo.masks = masks;
     eo.source = map;
     eo.method = method;
@@ -329,7 +334,7 @@ int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
     int k = 0, sets = 0, masks = 0, png_width = 0, irradiance = 0, above_ground = 0,
-        frame_given = 0;
+        frame_given = 0, want_sun = 0;
     lumis_light_params params = {0};
     lumis_export_frame frame = LUMIS_EXPORT_FRAME_ENGINE;
     double rotation = 0.0;
@@ -382,6 +387,8 @@ int cmd_lights(int argc, char **argv)
             irradiance = 1;
         } else if (strcmp(argv[i], "--above-ground") == 0) {
             above_ground = 1;
+        } else if (strcmp(argv[i], "--sun") == 0) {
+            want_sun = 1;
         } else if (argv[i][0] != '-' && !map) {
             map = argv[i];
         } else {
@@ -417,7 +424,25 @@ int cmd_lights(int argc, char **argv)
     lumis_image_destroy(img);
     if (est != LUMIS_OK) return EXIT_RUNTIME;
     rc = EXIT_RUNTIME;
-    if (lumis_lights_by_name(env, method, k, sets, &params, &tool_errors, &set) != LUMIS_OK)
+    lumis_sun sun = {0};
+    lumis_envmap *residual = NULL;
+    if (want_sun) {
+        lumis_sun_desc sd = {0};
+        sd.errors = tool_errors;
+        if (lumis_sun_find(env, &sd, &sun, &residual) != LUMIS_OK) goto done;
+        if (sun.found)
+            printf("sun: dir (%.5f, %.5f, %.5f) in lumis's frame, radius %.4f deg (cone %.4f "
+                   "deg), power %.6g %.6g %.6g, share %.4f, %d pixels; the lights below are "
+                   "the rest of the map's\n",
+                   sun.dir.x, sun.dir.y, sun.dir.z, sun.radius * (180.0 / 3.14159265358979),
+                   sun.sample_radius * (180.0 / 3.14159265358979), sun.power[0], sun.power[1],
+                   sun.power[2], sun.share, sun.pixels);
+        else
+            printf("sun: none found (docs/lights.md, \"The image sun\"): the lights are the "
+                   "whole map's\n");
+    }
+    if (lumis_lights_by_name(residual ? residual : env, method, k, sets, &params, &tool_errors,
+                             &set) != LUMIS_OK)
         goto done;
     lumis_light_fold fold = {0};
     if (above_ground) {
@@ -428,12 +453,13 @@ int cmd_lights(int argc, char **argv)
     lumis_light_params_format(&params, given, sizeof given);
     print_set(map, method, set, given, 1e3 * (t_setup - t_read), 1e3 * (t_done - t_setup),
               above_ground ? &fold : NULL, json || gltf, frame);
-    if (irradiance && print_irradiance(env, set) != EXIT_OK) goto done;
-    if (export_set(env, set, map, method, given, above_ground, masks, frame, json, gltf, png,
-                   png_width) != EXIT_OK)
+    if (irradiance && print_irradiance(residual ? residual : env, set) != EXIT_OK) goto done;
+    if (export_set(residual ? residual : env, set, map, method, given, above_ground, masks, frame,
+                   json, gltf, png, png_width, &sun) != EXIT_OK)
         goto done;
     rc = fflush(stdout) == 0 ? EXIT_OK : tool_runtime_error("write error on stdout");
 done:
+    lumis_envmap_destroy(residual);
     lumis_light_set_destroy(set);
     lumis_envmap_destroy(env);
     return rc;
