@@ -330,6 +330,25 @@ static int export_set(const lumis_envmap *env, const lumis_light_set *set, const
     return EXIT_OK;
 }
 
+/* --sun: the map's sun (lumis_sun_find) and the map without it, printed.  Exit code. */
+static int split_sun(const lumis_envmap *env, lumis_sun *sun, lumis_envmap **residual)
+{
+    lumis_sun_desc sd = {0};
+    sd.errors = tool_errors;
+    if (lumis_sun_find(env, &sd, sun, residual) != LUMIS_OK) return EXIT_RUNTIME;
+    if (sun->found)
+        printf("sun: dir (%.5f, %.5f, %.5f) in lumis's frame, radius %.4f deg (cone %.4f "
+               "deg), power %.6g %.6g %.6g, share %.4f, %d pixels; the lights below are the "
+               "rest of the map's\n",
+               sun->dir.x, sun->dir.y, sun->dir.z, sun->radius * (180.0 / 3.14159265358979),
+               sun->sample_radius * (180.0 / 3.14159265358979), sun->power[0], sun->power[1],
+               sun->power[2], sun->share, sun->pixels);
+    else
+        printf("sun: none found (docs/lights.md, \"The image sun\"): the lights are the whole "
+               "map's\n");
+    return EXIT_OK;
+}
+
 int cmd_lights(int argc, char **argv)
 {
     const char *map = NULL, *method = NULL, *json = NULL, *gltf = NULL, *png = NULL, *v;
@@ -426,21 +445,7 @@ int cmd_lights(int argc, char **argv)
     rc = EXIT_RUNTIME;
     lumis_sun sun = {0};
     lumis_envmap *residual = NULL;
-    if (want_sun) {
-        lumis_sun_desc sd = {0};
-        sd.errors = tool_errors;
-        if (lumis_sun_find(env, &sd, &sun, &residual) != LUMIS_OK) goto done;
-        if (sun.found)
-            printf("sun: dir (%.5f, %.5f, %.5f) in lumis's frame, radius %.4f deg (cone %.4f "
-                   "deg), power %.6g %.6g %.6g, share %.4f, %d pixels; the lights below are "
-                   "the rest of the map's\n",
-                   sun.dir.x, sun.dir.y, sun.dir.z, sun.radius * (180.0 / 3.14159265358979),
-                   sun.sample_radius * (180.0 / 3.14159265358979), sun.power[0], sun.power[1],
-                   sun.power[2], sun.share, sun.pixels);
-        else
-            printf("sun: none found (docs/lights.md, \"The image sun\"): the lights are the "
-                   "whole map's\n");
-    }
+    if (want_sun && split_sun(env, &sun, &residual) != EXIT_OK) goto done;
     if (lumis_lights_by_name(residual ? residual : env, method, k, sets, &params, &tool_errors,
                              &set) != LUMIS_OK)
         goto done;
