@@ -227,12 +227,13 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] =
-    {"method",     "label",    "mis",    "blocks", "light_samples", "bsdf_samples", "k",
-     "interleave", "upsample", "params", "mode",   "sequence",      "sun",          NULL},
-                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
-                                              "light_samples", "bsdf_samples", "spp",      "k",
-                                              "params",        "mode",         "sequence", NULL};
+static const char
+    *const method_keys[] = {"method",       "label",    "mis",        "blocks",   "light_samples",
+                            "bsdf_samples", "k",        "interleave", "upsample", "params",
+                            "mode",         "sequence", "sun",        NULL},
+           *reference_keys[] = {"method",       "label", "mis", "blocks", "light_samples",
+                                "bsdf_samples", "spp",   "k",   "params", "mode",
+                                "sequence",     "sun",   NULL};
 
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
