@@ -18,6 +18,15 @@
  * lumis_sun_pdf — closed form: integrates to 1 over the sphere by quadrature, 0 outside the
  *     cone; consistency: equals the sample's pdf (cone_pdf_integrates_to_one, cone_chi_square)
  * lumis_sun_invert — consistency: invert(sample(u)) == u, the round trip (cone_chi_square)
+ * lumis_sun_sampler_create — brute force: the pixels and probabilities the test computes from
+ *     the map's luminance (sun_pixels_by_power)
+ * lumis_sun_sampler_sample — statistical: chi-square over the sun's pixels against Y Omega /
+ *     sum; unbiased power and brute-force irradiance, all channels (sun_pixels_by_power,
+ *     power_is_unbiased, irradiance_matches_brute_force)
+ * lumis_sun_sampler_pdf — brute force: Y / sum(Y Omega) at every pixel, 0 off the sun, sums to
+ *     1 over the map (sun_pixels_by_power)
+ * lumis_sun_sampler_destroy — consistency: frees what create made (every test, under the
+ *     sanitizers' leak check)
  */
 #include "testutil.h"
 
@@ -380,31 +389,42 @@ static void power_is_unbiased(void **state)
     float *px = NULL;
     lumis_envmap *env = sun_map(301, 151, &f, &res, &px);
     lumis_sampler *smp = residual_sampler(res);
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, 11, 2);
     const int n = 400000;
-    double s1[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
-    for (int k = 0; k < n; k++) {
-        double p = 0.0;
-        const lumis_vec3 v =
-            lumis_sun_sample(&f, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng), &p);
-        const lumis_rgb ls = lumis_sun_eval(&f, env, v);
-        const lumis_env_sample e =
-            lumis_sampler_sample(smp, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
-        const double x[3] = {ls.r / p + e.radiance.r / e.pdf, ls.g / p + e.radiance.g / e.pdf,
-                             ls.b / p + e.radiance.b / e.pdf};
-        for (int c = 0; c < 3; c++) {
-            s1[c] += x[c];
-            s2[c] += x[c] * x[c];
-        }
-    }
     const lumis_rgb pm = lumis_envmap_power(env);
     const double want[3] = {pm.r, pm.g, pm.b};
-    for (int c = 0; c < 3; c++) {
-        const double mean = s1[c] / n, var = s2[c] / n - mean * mean, se = sqrt(var / n);
-        assert_true(fabs(mean - want[c]) < 4.0 * se + 1e-6 * want[c]);
-        assert_true(se < 0.01 * want[c]); /* a test that can fail */
+    for (int way = 0; way < 2; way++) { /* the cone, then the sun's pixels by power */
+        double s1[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
+        for (int k = 0; k < n; k++) {
+            double p = 0.0;
+            const double a1 = lumis_pcg32_double(&rng), a2 = lumis_pcg32_double(&rng);
+            lumis_rgb lr = {0.0f, 0.0f, 0.0f};
+            const lumis_vec3 v = way ? lumis_sun_sampler_sample(ss, a1, a2, &p, &lr)
+                                     : lumis_sun_sample(&f, a1, a2, &p);
+            const lumis_rgb ls = lumis_sun_eval(&f, env, v);
+            if (way) {
+                assert_true(ls.r == lr.r && ls.g == lr.g && ls.b == lr.b);
+                assert_true(lumis_sun_sampler_pdf(ss, v, NULL) == p);
+            }
+            const lumis_env_sample e =
+                lumis_sampler_sample(smp, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng));
+            const double x[3] = {ls.r / p + e.radiance.r / e.pdf, ls.g / p + e.radiance.g / e.pdf,
+                                 ls.b / p + e.radiance.b / e.pdf};
+            for (int c = 0; c < 3; c++) {
+                s1[c] += x[c];
+                s2[c] += x[c] * x[c];
+            }
+        }
+        for (int c = 0; c < 3; c++) {
+            const double mean = s1[c] / n, var = s2[c] / n - mean * mean, se = sqrt(var / n);
+            assert_true(fabs(mean - want[c]) < 4.0 * se + 1e-6 * want[c]);
+            assert_true(se < 0.01 * want[c]); /* a test that can fail */
+        }
     }
+    lumis_sun_sampler_destroy(ss);
     lumis_sampler_destroy(smp);
     lumis_envmap_destroy(res);
     lumis_envmap_destroy(env);
@@ -450,11 +470,14 @@ static void irradiance_matches_brute_force(void **state)
     const int w = 181, h = 91;
     lumis_envmap *env = sun_map(w, h, &f, &res, &px);
     lumis_sampler *smp = residual_sampler(res);
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
     const double normals[][3] = {{0, 1, 0}, {-0.6, 0.3, -0.74}, {0.8, -0.5, 0.33}};
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, 5, 9);
-    for (int q = 0; q < 3; q++) {
-        double n[3] = {normals[q][0], normals[q][1], normals[q][2]}, t[3], b[3];
+    for (int q = 0; q < 6; q++) { /* three normals, by the cone then by the sun's pixels */
+        const int by_pixels = q >= 3;
+        double n[3] = {normals[q % 3][0], normals[q % 3][1], normals[q % 3][2]}, t[3], b[3];
         const double nn = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (int k = 0; k < 3; k++) n[k] /= nn;
         test_frame(n, t, b);
@@ -466,8 +489,9 @@ static void irradiance_matches_brute_force(void **state)
             double x[3] = {0, 0, 0};
             /* sun sample */
             double ps = 0.0;
-            lumis_vec3 v =
-                lumis_sun_sample(&f, lumis_pcg32_double(&rng), lumis_pcg32_double(&rng), &ps);
+            const double a1 = lumis_pcg32_double(&rng), a2 = lumis_pcg32_double(&rng);
+            lumis_vec3 v = by_pixels ? lumis_sun_sampler_sample(ss, a1, a2, &ps, NULL)
+                                     : lumis_sun_sample(&f, a1, a2, &ps);
             double c = n[0] * v.x + n[1] * v.y + n[2] * v.z;
             if (c > 0.0) {
                 const lumis_rgb L = lumis_sun_eval(&f, env, v);
@@ -493,8 +517,9 @@ static void irradiance_matches_brute_force(void **state)
                 const lumis_rgb Ls = lumis_sun_eval(&f, env, v);
                 lumis_rgb Lr;
                 const double pr = lumis_sampler_pdf_radiance(smp, v, &Lr);
-                const double wsun = pb / (pb + lumis_sun_pdf(&f, v)) * c / pb,
-                             wres = pb / (pb + pr) * c / pb;
+                const double psun =
+                    by_pixels ? lumis_sun_sampler_pdf(ss, v, NULL) : lumis_sun_pdf(&f, v);
+                const double wsun = pb / (pb + psun) * c / pb, wres = pb / (pb + pr) * c / pb;
                 x[0] += Ls.r * wsun + Lr.r * wres;
                 x[1] += Ls.g * wsun + Lr.g * wres;
                 x[2] += Ls.b * wsun + Lr.b * wres;
@@ -511,8 +536,115 @@ static void irradiance_matches_brute_force(void **state)
             assert_true(se < 0.01 * want[k2]);
         }
     }
+    lumis_sun_sampler_destroy(ss);
     lumis_sampler_destroy(smp);
     lumis_envmap_destroy(res);
+    lumis_envmap_destroy(env);
+    free(px);
+}
+
+/* The sun sampler: every draw lands in a sun pixel, in proportion to its Y Omega (chi-square
+ * over the pixels, the expected counts from the test's own luminance sums), the pdf is Y /
+ * sum(Y Omega) there and 0 off the sun, and sums to 1 over the map's pixels. */
+static void sun_pixels_by_power(void **state)
+{
+    (void)state;
+    const int w = 421, h = 211;
+    /* a sun whose pixels differ: a bright core in a dimmer aureole */
+    float *px = malloc(sizeof(float) * 3 * (size_t)w * (size_t)h);
+    assert_non_null(px);
+    double s0[3], sumY = 0.0;
+    dir_uv(0.3, 0.35, s0);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            double c[3];
+            dir_uv((i + 0.5) / w, (j + 0.5) / h, c);
+            const double a = ang(c, s0) * 180.0 / PI;
+            float *p = px + 3 * ((size_t)j * w + i);
+            const float k = a < 1.0 ? 5.0e4f : a < 4.0 ? (float)(2.0e3 / (a * a)) : 0.0f;
+            p[0] = 0.2f + k;
+            p[1] = 0.3f + 0.7f * k;
+            p[2] = 0.4f + 0.4f * k * (float)(i % 3 + 1);
+        }
+    lumis_envmap *env = env_of(px, w, h, 0.0f, 0.0f);
+    lumis_sun f;
+    assert_int_equal(lumis_sun_find(env, NULL, &f, NULL), LUMIS_OK);
+    assert_int_equal(f.found, 1);
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
+    /* the expected probabilities, from the pixels */
+    double *prob = calloc((size_t)w * (size_t)h, sizeof *prob),
+           *count = calloc((size_t)w * (size_t)h, sizeof *count);
+    assert_non_null(prob);
+    assert_non_null(count);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            if (!lumis_sun_contains(&f, env, i, j)) continue;
+            const float *p = px + 3 * ((size_t)j * w + i);
+            const double y = 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+            prob[(size_t)j * w + i] = y * solid(w, h, j);
+            sumY += y * solid(w, h, j);
+        }
+    double total = 0.0;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            prob[(size_t)j * w + i] /= sumY;
+            const lumis_vec3 c =
+                lumis_envmap_uv_to_dir(env, ((float)i + 0.5f) / w, ((float)j + 0.5f) / h);
+            const double pdf = lumis_sun_sampler_pdf(ss, c, NULL);
+            assert_true(fabs(pdf * solid(w, h, j) - prob[(size_t)j * w + i]) <=
+                        1e-5 * prob[(size_t)j * w + i]);
+            total += pdf * solid(w, h, j);
+        }
+    assert_true(fabs(total - 1.0) < 1e-9);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 17, 3);
+    const int N = 300000;
+    for (int k = 0; k < N; k++) {
+        double p = 0.0;
+        const lumis_vec3 v = lumis_sun_sampler_sample(ss, lumis_pcg32_double(&rng),
+                                                      lumis_pcg32_double(&rng), &p, NULL);
+        double d[3] = {v.x, v.y, v.z}, uu, vv;
+        /* the pixel by the test's own formula */
+        vv = acos(d[1] / sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])) / PI;
+        uu = atan2(d[2], d[0]) / (2.0 * PI);
+        if (uu < 0.0) uu += 1.0;
+        const int i = (int)(uu * w) % w, j = (int)(vv * h) < h ? (int)(vv * h) : h - 1;
+        assert_true(prob[(size_t)j * w + i] > 0.0);
+        assert_true(lumis_sun_sampler_pdf(ss, v, NULL) == p);
+        count[(size_t)j * w + i] += 1.0;
+    }
+    /* chi-square over the pixels expecting 5 or more draws, the rest pooled */
+    double chi2 = 0.0, pooled_o = 0.0, pooled_e = 0.0;
+    int bins = 0;
+    for (size_t q = 0; q < (size_t)w * (size_t)h; q++) {
+        const double e = prob[q] * N;
+        if (e <= 0.0) continue;
+        if (e < 5.0) {
+            pooled_o += count[q];
+            pooled_e += e;
+            continue;
+        }
+        chi2 += (count[q] - e) * (count[q] - e) / e;
+        bins++;
+    }
+    if (pooled_e > 0.0) {
+        chi2 += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
+        bins++;
+    }
+    assert_true(bins > 20);
+    assert_true(chi2 < (bins - 1) + 4.5 * sqrt(2.0 * (bins - 1)));
+    /* off the sun: nothing */
+    lumis_vec3 away = {(float)-s0[0], (float)-s0[1], (float)-s0[2]};
+    lumis_rgb L;
+    assert_true(lumis_sun_sampler_pdf(ss, away, &L) == 0.0 && L.r == 0.0f);
+    lumis_sun none = {0};
+    lumis_sun_sampler *bad = (lumis_sun_sampler *)1;
+    assert_int_equal(lumis_sun_sampler_create(env, &none, NULL, &bad), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(bad);
+    lumis_sun_sampler_destroy(ss);
+    free(prob);
+    free(count);
     lumis_envmap_destroy(env);
     free(px);
 }
@@ -632,6 +764,7 @@ int main(void)
         cmocka_unit_test(cone_pdf_integrates_to_one),
         cmocka_unit_test(power_is_unbiased),
         cmocka_unit_test(irradiance_matches_brute_force),
+        cmocka_unit_test(sun_pixels_by_power),
         cmocka_unit_test(no_sun_where_there_is_none),
         cmocka_unit_test(find_refuses_bad_arguments),
     };

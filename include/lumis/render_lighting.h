@@ -194,15 +194,18 @@ typedef struct lumis_light_set_lighting {
 } lumis_light_set_lighting;
 
 /* A sun split off the map (lumis/sun.h; kinds env and light-set).  At every vertex the sun
- * is drawn as a cone (lumis_sun_sample) and combined by `estimator` with a BSDF sample of
- * its own, each weighted against the sun's pdf alone (MIS: the balance, or the power
- * heuristic); the kind lights the point from the residual.  Since sun + residual == map in
- * every direction, the sum is the map's light, unbiased (docs/lights.md, "The image sun"). */
+ * is drawn once by its sampler (its pixels by their power) and combined by `estimator` with
+ * a BSDF sample of its own, each weighted against the sun's pdf alone (MIS: the balance, or
+ * the power heuristic); the kind lights the point from the residual.  Since sun + residual
+ * == map in every direction, the sum is the map's light, unbiased (docs/lights.md, "The
+ * image sun"). */
 typedef struct lumis_sun_lighting {
     const lumis_sun *sun;         /* NULL == no sun; else found by lumis_sun_find in env */
     const lumis_envmap *residual; /* with a sun, required: the map without it (lumis_sun_find's);
                                      the sampler (env), the light set and regions (light-set)
                                      must be made from it, while env stays the whole map */
+    const lumis_sun_sampler *sampler; /* with a sun, required: lumis_sun_sampler_create(env,
+                                         sun) */
 } lumis_sun_lighting;
 
 /* How a render is lit (the table above says which fields each kind uses; zero-init: the

@@ -88,6 +88,40 @@ LUMIS_API double lumis_sun_pdf(const lumis_sun *sun, lumis_vec3 dir);
  * NULL arguments, no sun, a zero or non-finite dir, or dir outside the cone. */
 LUMIS_API lumis_status lumis_sun_invert(const lumis_sun *sun, lumis_vec3 dir, double u[2]);
 
+/* ---- the sun's pixels by their power ------------------------------------------------------
+ *
+ * A uniform cone wastes nothing only when the sun is uniform; a real sun's pixels span orders
+ * of magnitude (its core, its aureole), and a uniform draw over them is noisy.  The sun
+ * sampler draws the sun's pixels in proportion to their luminance power Y Omega, and a
+ * direction uniform in solid angle inside the pixel drawn:
+ *     p(w) = Y_q / sum over S of Y Omega   per steradian on pixel q of the sun, 0 elsewhere,
+ * so the sun's radiance over its pdf varies with its pixels' colour only.  What a renderer
+ * lighting with a sun uses (lighting.sun.sampler). */
+typedef struct lumis_sun_sampler lumis_sun_sampler;
+
+/* Lists the sun's pixels of env with positive luminance and their cumulative powers.  env is
+ * borrowed: it must outlive the sampler.  LUMIS_ERR_INVALID_ARGUMENT: NULL arguments or a sun
+ * not found; LUMIS_ERR_OUT_OF_MEMORY.  O(pixels of the rows near the sun). */
+LUMIS_API lumis_status lumis_sun_sampler_create(const lumis_envmap *env, const lumis_sun *sun,
+                                                const lumis_error_sink *errors,
+                                                lumis_sun_sampler **out);
+
+/* NULL is accepted. */
+LUMIS_API void lumis_sun_sampler_destroy(lumis_sun_sampler *sampler);
+
+/* A direction from two uniform numbers in [0, 1): u1 chooses the pixel (binary search over
+ * the cumulative powers) and, rescaled, the azimuth inside it; u2 the cosine of the polar
+ * angle inside it.  *pdf (per steradian) and *radiance (env's radiance there; either may be
+ * NULL).  Cost: a binary search over the sun's pixels, an acos, a sin and a cos. */
+LUMIS_API lumis_vec3 lumis_sun_sampler_sample(const lumis_sun_sampler *sampler, double u1,
+                                              double u2, double *pdf, lumis_rgb *radiance);
+
+/* Density per steradian of drawing dir (need not be normalised), and the sun's radiance there
+ * (radiance may be NULL): 0 and black off the sun's pixels.  Cost: a pixel lookup and a
+ * binary search. */
+LUMIS_API double lumis_sun_sampler_pdf(const lumis_sun_sampler *sampler, lumis_vec3 dir,
+                                       lumis_rgb *radiance);
+
 #ifdef __cplusplus
 }
 #endif

@@ -490,9 +490,11 @@ typedef struct lumis_sun {
     double threshold;
     int pixels;
 } lumis_sun;
+typedef struct lumis_sun_sampler lumis_sun_sampler;
 typedef struct lumis_sun_lighting {
     const lumis_sun *sun;
     const lumis_envmap *residual;
+    const lumis_sun_sampler *sampler;
 } lumis_sun_lighting;
 typedef struct lumis_lighting {
     lumis_lighting_kind kind;
@@ -615,7 +617,7 @@ RENDER_STRUCTS = {
     "lumis_light_set_lighting": ["set", "kinds", "mode", "regions"],
     "lumis_sun": ["found", "dir", "radius", "sample_radius", "radiance", "power", "solid_angle",
                   "share", "threshold", "pixels"],
-    "lumis_sun_lighting": ["sun", "residual"],
+    "lumis_sun_lighting": ["sun", "residual", "sampler"],
     "lumis_lighting": ["kind", "env", "sampler", "estimator", "hide_environment", "light_set",
                        "sun", "luminaires", "photometric"],
     "lumis_render_desc": ["camera", "lighting", "pixel_centers", "power_heuristic", "spp",

@@ -399,3 +399,139 @@ done:
     free(s.mark);
     return st;
 }
+
+/* ---- the sun's pixels by their power -------------------------------------------------- */
+
+struct lumis_sun_sampler {
+    const lumis_envmap *env;
+    int w, h, n;
+    int *pixel;   /* the sun's pixels of positive luminance, j w + i, ascending */
+    double *cdf;  /* n + 1 cumulative luminance powers, cdf[0] = 0 */
+    double total; /* cdf[n] */
+};
+
+lumis_status lumis_sun_sampler_create(const lumis_envmap *env, const lumis_sun *sun,
+                                      const lumis_error_sink *errors, lumis_sun_sampler **out)
+{
+    if (out) *out = NULL;
+    if (!env || !out || !sun_valid(sun))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sun sampler: needs a map, a sun found in it and an output");
+    lumis_sun_sampler *s = calloc(1, sizeof *s);
+    if (!s) return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "sun sampler: out of memory");
+    s->env = env;
+    s->w = lumis_envmap_width(env);
+    s->h = lumis_envmap_height(env);
+    double a[3];
+    int j0, j1;
+    axis_of(sun, a);
+    rows_near(a, sun->radius, s->h, &j0, &j1);
+    const size_t cap = (size_t)(j1 - j0 + 1) * (size_t)s->w;
+    s->pixel = malloc(cap * sizeof *s->pixel);
+    s->cdf = malloc((cap + 1) * sizeof *s->cdf);
+    if (!s->pixel || !s->cdf) {
+        lumis_sun_sampler_destroy(s);
+        return lumis__fail(errors, LUMIS_ERR_OUT_OF_MEMORY, "sun sampler: out of memory");
+    }
+    s->cdf[0] = 0.0;
+    for (int j = j0; j <= j1; j++) {
+        const double om = lumis_envmap_pixel_solid_angle(env, j);
+        for (int i = 0; i < s->w; i++) {
+            if (!lumis_sun_contains(sun, env, i, j)) continue;
+            const lumis_rgb L = lumis_envmap_texel(env, i, j);
+            const double y = LUMIS_LUMA_R * L.r + LUMIS_LUMA_G * L.g + LUMIS_LUMA_B * L.b;
+            if (!(y > 0.0)) continue;
+            s->pixel[s->n] = j * s->w + i;
+            s->cdf[s->n + 1] = s->cdf[s->n] + y * om;
+            s->n++;
+        }
+    }
+    s->total = s->cdf[s->n];
+    if (s->n == 0 || !(s->total > 0.0)) {
+        lumis_sun_sampler_destroy(s);
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "sun sampler: the sun's pixels hold no light");
+    }
+    *out = s;
+    return LUMIS_OK;
+}
+
+void lumis_sun_sampler_destroy(lumis_sun_sampler *s)
+{
+    if (!s) return;
+    free(s->pixel);
+    free(s->cdf);
+    free(s);
+}
+
+/* The index of pixel p among the sun's, or -1. */
+static int find_pixel(const lumis_sun_sampler *s, int p)
+{
+    int lo = 0, hi = s->n - 1;
+    while (lo <= hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (s->pixel[mid] == p) return mid;
+        if (s->pixel[mid] < p)
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return -1;
+}
+
+double lumis_sun_sampler_pdf(const lumis_sun_sampler *s, lumis_vec3 dir, lumis_rgb *radiance)
+{
+    const lumis_rgb black = {0.0f, 0.0f, 0.0f};
+    if (radiance) *radiance = black;
+    if (!s || !isfinite(dir.x) || !isfinite(dir.y) || !isfinite(dir.z) ||
+        (dir.x == 0.0f && dir.y == 0.0f && dir.z == 0.0f))
+        return 0.0;
+    int i, j;
+    lumis_envmap_dir_to_pixel(s->env, dir, &i, &j);
+    const int k = find_pixel(s, j * s->w + i);
+    if (k < 0) return 0.0;
+    if (radiance) *radiance = lumis_envmap_texel(s->env, i, j);
+    return (s->cdf[k + 1] - s->cdf[k]) / (s->total * lumis_envmap_pixel_solid_angle(s->env, j));
+}
+
+lumis_vec3 lumis_sun_sampler_sample(const lumis_sun_sampler *s, double u1, double u2, double *pdf,
+                                    lumis_rgb *radiance)
+{
+    lumis_vec3 out = {0.0f, 0.0f, 0.0f};
+    if (pdf) *pdf = 0.0;
+    if (radiance) *radiance = (lumis_rgb){0.0f, 0.0f, 0.0f};
+    if (!s) return out;
+    u1 = u1 >= 0.0 ? (u1 < 1.0 ? u1 : 1.0 - 0x1p-53) : 0.0;
+    u2 = u2 >= 0.0 ? (u2 < 1.0 ? u2 : 1.0 - 0x1p-53) : 0.0;
+    /* the pixel: the first k with cdf[k + 1] > u1 total */
+    const double x = u1 * s->total;
+    int lo = 0, hi = s->n - 1;
+    while (lo < hi) {
+        const int mid = lo + (hi - lo) / 2;
+        if (s->cdf[mid + 1] > x)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    const int k = lo, p = s->pixel[k], i = p % s->w, j = p / s->w;
+    double fu = (x - s->cdf[k]) / (s->cdf[k + 1] - s->cdf[k]);
+    fu = fu < 0.0 ? 0.0 : fu >= 1.0 ? 1.0 - 0x1p-53 : fu;
+    const double z0 = cos(LUMIS_PI * j / s->h), z1 = cos(LUMIS_PI * (j + 1) / s->h);
+    /* uniform in solid angle inside the pixel: uniform in azimuth and in cos theta.  A float
+     * direction may round into a neighbour: draw again a hair nearer the pixel's centre. */
+    double a = fu, b = u2;
+    for (int tries = 0;; tries++) {
+        const double z = z0 + b * (z1 - z0);
+        const float u = (float)((i + a) / s->w), v = (float)(acos(z) / LUMIS_PI);
+        out = lumis_envmap_uv_to_dir(s->env, u, v);
+        int ii, jj;
+        lumis_envmap_dir_to_pixel(s->env, out, &ii, &jj);
+        if ((ii == i && jj == j) || tries == 8) break;
+        a = 0.5 + (a - 0.5) * 0.9;
+        b = 0.5 + (b - 0.5) * 0.9;
+    }
+    if (pdf)
+        *pdf = (s->cdf[k + 1] - s->cdf[k]) / (s->total * lumis_envmap_pixel_solid_angle(s->env, j));
+    if (radiance) *radiance = lumis_envmap_texel(s->env, i, j);
+    return out;
+}

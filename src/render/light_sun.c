@@ -1,8 +1,9 @@
 /* The image sun as a light (lighting.sun, lumis/sun.h): at every vertex one direction drawn
- * in the sun's cone and one BSDF sample, each weighted against the sun's pdf alone by
- * `estimator`, added to what the light kind draws from the residual map.  The sun's radiance
- * is the whole map's on the sun's pixels (lumis_sun_eval) and the residual is zero there, so
- * the two estimates sum to the map's light, unbiased (docs/lights.md, "The image sun"). */
+ * on the sun's pixels by their power (its sampler) and one BSDF sample, each weighted against the
+ * sun's pdf alone by `estimator`, added to what the light kind draws from the residual map.  The
+ * sun's radiance is the whole map's on the sun's pixels (lumis_sun_eval) and the residual is zero
+ * there, so the two estimates sum to the map's light, unbiased (docs/lights.md, "The image sun").
+ */
 #include "lumis/render.h"
 
 #include "shade.h"
@@ -10,10 +11,9 @@
 v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
-    const lumis_sun *sun = d->lighting.sun.sun;
-    const lumis_envmap *env = d->lighting.env;
+    const lumis_sun_sampler *sun = d->lighting.sun.sampler;
     lumis__stream *seq = v->seq;
-    /* the sun's numbers follow the kind's: a point in the cone, a lobe and a point */
+    /* the sun's numbers follow the kind's: a point on the sun, a lobe and a point */
     const uint32_t dl = seq_take(seq), db = seq_take_n(seq, 2);
     const shading_frame fr = shading_frame_at(h, dir);
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
@@ -26,10 +26,10 @@ v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     if (use_light) {
         double u[2], ps = 0.0;
         seq_2d(seq, dl, 0, 1, u);
-        const lumis_vec3 s = lumis_sun_sample(sun, u[0], u[1], &ps);
+        lumis_rgb Le;
+        const lumis_vec3 s = lumis_sun_sampler_sample(sun, u[0], u[1], &ps, &Le);
         const v3 wi = fromf(s);
         const double cosn = dot(wi, n);
-        const lumis_rgb Le = lumis_sun_eval(sun, env, s);
         if (cosn > 0.0 && ps > 0.0 && (Le.r != 0.0f || Le.g != 0.0f || Le.b != 0.0f)) {
             const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
             const lumis_rgb f = lumis_bsdf_eval(m, wo, wil);
@@ -52,11 +52,11 @@ v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     if (!(bs.pdf > 0.0f)) return L;
     const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
     /* only a direction on the sun's pixels is worth a shadow ray (rarely: the sun is small) */
-    const lumis_rgb Le = lumis_sun_eval(sun, env, tof(wi));
+    lumis_rgb Le;
+    const double ps = lumis_sun_sampler_pdf(sun, tof(wi), &Le);
     if (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f) return L;
     *v->shadow_rays += 1.0;
     if (occluded(c->scene, d, org, wi)) return L;
-    const double w =
-        mis ? mis_weight(1, bs.pdf, 1, lumis_sun_pdf(sun, tof(wi)), d->power_heuristic) : 1.0;
+    const double w = mis ? mis_weight(1, bs.pdf, 1, ps, d->power_heuristic) : 1.0;
     return add(L, mk(bs.weight.r * Le.r * w, bs.weight.g * Le.g * w, bs.weight.b * Le.b * w));
 }

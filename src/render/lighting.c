@@ -86,9 +86,10 @@ static lumis_status check_sun(const lumis_render_desc *d)
     const lumis_lighting *l = &d->lighting;
     const lumis_error_sink *errors = &d->errors;
     if (!l->sun.sun) {
-        if (l->sun.residual)
+        if (l->sun.residual || l->sun.sampler)
             return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                               "render: lighting.sun.residual: given without lighting.sun.sun");
+                               "render: lighting.sun.%s: given without lighting.sun.sun",
+                               l->sun.residual ? "residual" : "sampler");
         return LUMIS_OK;
     }
     if (!l->sun.sun->found)

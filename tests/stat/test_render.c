@@ -430,6 +430,8 @@ static void sun_split_converges_to_the_exact_irradiance(void **state)
     smd.method = LUMIS_METHOD_INVERSION;
     lumis_sampler *smp = NULL;
     assert_int_equal(lumis_sampler_create(res, &smd, &smp), LUMIS_OK);
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(env, &sn, NULL, &ss), LUMIS_OK);
     lumis_light_set *set = NULL;
     assert_int_equal(lumis_lights_by_name(res, "median-cut", 8, 0, NULL, NULL, &set), LUMIS_OK);
     lumis_scene *s = one_sphere(0.7f);
@@ -454,6 +456,7 @@ static void sun_split_converges_to_the_exact_irradiance(void **state)
             d.lighting.env = env;
             d.lighting.sun.sun = &sn;
             d.lighting.sun.residual = res;
+            d.lighting.sun.sampler = ss;
             d.lighting.estimator = cases[c].est;
             d.power_heuristic = cases[c].power;
             if (cases[c].kind == LUMIS_LIGHTING_ENV) {
@@ -475,6 +478,7 @@ static void sun_split_converges_to_the_exact_irradiance(void **state)
     d.lighting.env = env;
     d.lighting.sampler = smp;
     d.lighting.sun.sun = &sn;
+    d.lighting.sun.sampler = ss;
     d.spp = 1;
     lumis_image *img = NULL;
     tu_sink k;
@@ -493,6 +497,7 @@ static void sun_split_converges_to_the_exact_irradiance(void **state)
     lumis_scene_destroy(s);
     lumis_light_set_destroy(set);
     lumis_sampler_destroy(smp);
+    lumis_sun_sampler_destroy(ss);
     lumis_envmap_destroy(res);
     lumis_envmap_destroy(env);
 }
