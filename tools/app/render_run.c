@@ -69,9 +69,10 @@ typedef struct render_state {
     char sidecar[4096];           /* "": none */
     lumis_camera cam;             /* rd.camera */
     lumis_envmap *env;
-    lumis_sun sun;          /* --sun: what lumis_sun_find found */
-    lumis_envmap *residual; /* --sun, a sun found: the map without it */
-    double sun_seconds;     /* its detection (spent from the budget) */
+    lumis_sun sun;                  /* --sun: what lumis_sun_find found */
+    lumis_envmap *residual;         /* --sun, a sun found: the map without it */
+    lumis_sun_sampler *sun_sampler; /* and its pixels by their power */
+    double sun_seconds;             /* its detection (spent from the budget) */
     lumis_sampler *smp;
     lumis_light_set *lights; /* the session's */
     lumis_scene *scene;
@@ -226,7 +227,10 @@ static int load_inputs(const tool_render_opts *o, render_state *s, tool_render_r
         const double ts = tool_now_seconds();
         lumis_sun_desc sund = {0};
         sund.errors = tool_errors;
-        if (lumis_sun_find(s->env, &sund, &s->sun, &s->residual) != LUMIS_OK) return EXIT_RUNTIME;
+        if (lumis_sun_find(s->env, &sund, &s->sun, &s->residual) != LUMIS_OK ||
+            (s->residual &&
+             lumis_sun_sampler_create(s->env, &s->sun, &tool_errors, &s->sun_sampler) != LUMIS_OK))
+            return EXIT_RUNTIME;
         s->sun_seconds = tool_now_seconds() - ts;
     }
     lumis_sampler_desc sd = o->sampler;
@@ -310,6 +314,7 @@ static int run_lighting(const tool_render_opts *o, render_state *s)
     if (s->residual) {
         rd->lighting.sun.sun = &s->sun;
         rd->lighting.sun.residual = s->residual;
+        rd->lighting.sun.sampler = s->sun_sampler;
     }
     rd->errors = tool_errors;
     /* --luminaire: every placed luminaire of the scene replaced by that one. */
@@ -644,6 +649,7 @@ static void render_release(render_state *s)
     lumis_light_set_destroy(s->lights);
     lumis_envmap_destroy(s->env);
     lumis_envmap_destroy(s->residual);
+    lumis_sun_sampler_destroy(s->sun_sampler);
 }
 
 int tool_render(const tool_render_opts *o, tool_render_result *r)
