@@ -41,7 +41,7 @@ static const char usage[] =
     "                     direction drawn in every region per sample, MIS with the BSDF\n"
     "                     (--mis): unbiased, converges with --time or --spp\n"
     "  --sun              find a compact bright source in the map (lumis_sun_find) and\n"
-    "                     sample it as a cone, MIS with the BSDF, the rest of the map (the\n"
+    "                     sample its pixels by their power, MIS with the BSDF, the rest (the\n"
     "                     residual) by the sampler or the light set; unbiased (docs/lights.md,\n"
     "                     \"The image sun\"); no sun found: the whole map as usual\n"
     "  --lights-k K       lights per set (default 64; stratified 32).  Point mode with\n"
