@@ -41,7 +41,7 @@ PUBLIC = {
     "envmap.h": "src/envmap", "sampler.h": "src/envmap", "sky.h": "src/envmap",
     "metrics.h": "src/metrics",
     "luminaire.h": "src/luminaire", "photometry.h": "src/luminaire",
-    "lights.h": "src/lights", "lumis.h": "src/lights",  # the core's umbrella header
+    "lights.h": "src/lights", "sun.h": "src/lights", "lumis.h": "src/lights",  # the core's umbrella header
     "io.h": "src/io",
     "render.h": "src/render", "bsdf.h": "src/render",
     # render.h's parts, one per idea

@@ -280,11 +280,26 @@ static void info_json_has_the_documented_keys(void **state)
     assert_true(fabs(num(o, "avg_luminance") * 4 * 3.14159265358979 - num(o, "power")) <
                 1e-9 * num(o, "power"));
     cJSON_Delete(o);
+    /* The sun (lumis_sun_find): the default sky's, at its documented direction (35 degrees up,
+     * azimuth 60: lumis/io.h); none in the studio's soft boxes. */
+    o = info_json("sky:1024x512");
+    const cJSON *sun = cJSON_GetObjectItemCaseSensitive(o, "sun");
+    assert_true(cJSON_IsObject(sun));
+    const cJSON *dir = cJSON_GetObjectItemCaseSensitive(sun, "dir");
+    assert_true(cJSON_IsArray(dir) && cJSON_GetArraySize(dir) == 3);
+    assert_true(fabs(cJSON_GetArrayItem(dir, 1)->valuedouble - sin(35.0 * 3.14159265358979 / 180)) <
+                0.005);
+    assert_true(num(sun, "share") > 0.5 && num(sun, "radius_deg") < 1.0);
+    cJSON_Delete(o);
+    o = info_json("studio:256x128");
+    assert_true(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(o, "sun")));
+    cJSON_Delete(o);
     /* Text output mentions the same quantities. */
     char *out = NULL;
     assert_int_equal(run("info studio:32x16", &out, NULL), 0);
     assert_non_null(strstr(out, "32 x 16"));
     assert_non_null(strstr(out, "top 0.1% share"));
+    assert_non_null(strstr(out, "sun            none"));
     free(out);
 }
 
@@ -664,6 +679,69 @@ static const cJSON *item(const cJSON *o, const char *key)
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
     if (!v) fail_msg("missing key %s", key);
     return v;
+}
+
+/* lights --sun: the sun first in the file (kind sun, with its angular radius), then the
+ * residual's K lights; the powers add up to the map's. */
+static void lights_sun_exports_the_sun_first(void **state)
+{
+    (void)state;
+    char cmd[1024], *out = NULL;
+    snprintf(cmd, sizeof cmd, "lights sky:512x256 --sun -k 3 --json %s", tu_path("lsun.json"));
+    assert_int_equal(run(cmd, &out, NULL), 0);
+    assert_non_null(strstr(out, "sun: dir ("));
+    free(out);
+    cJSON *j = read_json("lsun.json");
+    const cJSON *lights = item(j, "lights");
+    assert_int_equal(cJSON_GetArraySize(lights), 4);
+    const cJSON *s0 = cJSON_GetArrayItem(lights, 0);
+    assert_string_equal(item(s0, "kind")->valuestring, "sun");
+    assert_true(item(s0, "angular_radius_rad")->valuedouble > 0.0);
+    double total = 0.0;
+    for (int k = 0; k < 4; k++)
+        total += cJSON_GetArrayItem(item(cJSON_GetArrayItem(lights, k), "power"), 1)->valuedouble;
+    cJSON_Delete(j);
+    cJSON *o = info_json("sky:512x256");
+    assert_true(fabs(total - cJSON_GetArrayItem(item(o, "power_rgb"), 1)->valuedouble) <
+                1e-5 * total);
+    cJSON_Delete(o);
+}
+
+/* render --sun: the summary and the sidecar say the sun found (the default sky's, 35 degrees
+ * up), or that none was (the studio); without --sun the sidecar's "sun" is null. */
+static void render_sun_is_reported(void **state)
+{
+    (void)state;
+    char cmd[1024], *err = NULL;
+    snprintf(cmd, sizeof cmd,
+             "render --scene spheres --env sky:512x256 --sun --spp 1 --size 32x24 -o %s",
+             tu_path("sun.exr"));
+    assert_int_equal(run(cmd, NULL, &err), 0);
+    assert_non_null(strstr(err, "lumis: sun: dir ("));
+    free(err);
+    cJSON *j = read_json("sun.json");
+    const cJSON *sun = item(j, "sun");
+    assert_true(cJSON_IsTrue(item(sun, "found")));
+    assert_true(fabs(cJSON_GetArrayItem(item(sun, "dir"), 1)->valuedouble -
+                     sin(35.0 * 3.14159265358979 / 180)) < 0.01);
+    assert_true(item(sun, "share")->valuedouble > 0.5);
+    cJSON_Delete(j);
+    snprintf(cmd, sizeof cmd,
+             "render --scene spheres --env studio:128x64 --sun --spp 1 --size 32x24 -o %s",
+             tu_path("nosun.exr"));
+    err = NULL;
+    assert_int_equal(run(cmd, NULL, &err), 0);
+    assert_non_null(strstr(err, "lumis: sun: none found"));
+    free(err);
+    j = read_json("nosun.json");
+    assert_true(cJSON_IsFalse(item(item(j, "sun"), "found")));
+    cJSON_Delete(j);
+    snprintf(cmd, sizeof cmd, "render --scene spheres --env sky:128x64 --spp 1 --size 32x24 -o %s",
+             tu_path("plain.exr"));
+    assert_int_equal(run(cmd, NULL, NULL), 0);
+    j = read_json("plain.json");
+    assert_true(cJSON_IsNull(item(j, "sun")));
+    cJSON_Delete(j);
 }
 
 /* relMSE of the test folder's image `test` against its `ref`, by lumis compare. */
@@ -3876,6 +3954,8 @@ int main(void)
         cmocka_unit_test(runtime_errors_name_file_and_reason),
         cmocka_unit_test(stdout_write_errors_are_errors),
         cmocka_unit_test(info_json_has_the_documented_keys),
+        cmocka_unit_test(render_sun_is_reported),
+        cmocka_unit_test(lights_sun_exports_the_sun_first),
         cmocka_unit_test(convert_resize_preserves_power_and_writes_every_format),
         cmocka_unit_test(demo_writes_the_sky_and_its_info),
         cmocka_unit_test(sample_and_pdf_agree_and_are_reproducible),

@@ -44,7 +44,8 @@
  *     three.js's and Blender's mappings; the GLB container per the glTF 2.0 spec (also
  *     tests/consumers) (exported_sun_lands_on_the_sun_pixel, glb_is_a_binary_gltf_container)
  * lumis_light_set_write_json — external: the sun's light lands on the sun's pixel; the frame is
- *     recorded (exported_sun_lands_on_the_sun_pixel)
+ *     recorded; an image sun first, on its pixel, powers adding up to the map's
+ *     (exported_sun_lands_on_the_sun_pixel, exported_image_sun_and_residual)
  */
 #include "testutil.h"
 
@@ -1433,6 +1434,69 @@ static void exported_sun_lands_on_the_sun_pixel(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* An image sun exported with the residual's lights: it comes first, as a directional light of
+ * kind "sun" where three.js and Blender show the sun's pixel, with its angular radius; the
+ * file's powers add up to the map's (sun + residual == map). */
+static void exported_image_sun_and_residual(void **state)
+{
+    (void)state;
+    lumis_envmap *env = tu_envmap(SUN_W, SUN_H, f_sun, 0.0f, 0.0f);
+    lumis_sun_desc sd = {0};
+    sd.max_radius_deg = 20.0; /* pixels of 10 degrees */
+    lumis_sun sun;
+    lumis_envmap *res = NULL;
+    assert_int_equal(lumis_sun_find(env, &sd, &sun, &res), LUMIS_OK);
+    assert_int_equal(sun.found, 1);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(res, "median-cut", 4, 1, NULL, NULL, &set), LUMIS_OK);
+    lumis_light_export_options o = {0};
+    o.sun = &sun;
+    assert_int_equal(lumis_light_set_write_json(tu_path("isun.json"), set, &o), LUMIS_OK);
+    cJSON *j = read_gltf(tu_path("isun.json"));
+    assert_int_equal((int)at(j, "sun_index")->valuedouble, 0);
+    const cJSON *lights = at(j, "lights");
+    assert_int_equal(cJSON_GetArraySize(lights), 5);
+    const cJSON *first = cJSON_GetArrayItem(lights, 0);
+    assert_string_equal(at(first, "kind")->valuestring, "sun");
+    assert_true(fabs(at(first, "angular_radius_rad")->valuedouble - sun.radius) < 1e-12);
+    double d[3], total[3] = {0, 0, 0};
+    for (int c = 0; c < 3; c++) d[c] = cJSON_GetArrayItem(at(first, "dir"), c)->valuedouble;
+    int ti, tj, bi, bj;
+    threejs_pixel(d, SUN_W, SUN_H, &ti, &tj);
+    blender_pixel(d, SUN_W, SUN_H, &bi, &bj);
+    assert_true(ti == SUN_I && tj == SUN_J && bi == SUN_I && bj == SUN_J);
+    for (int k = 0; k < 5; k++)
+        for (int c = 0; c < 3; c++)
+            total[c] +=
+                cJSON_GetArrayItem(at(cJSON_GetArrayItem(lights, k), "power"), c)->valuedouble;
+    const lumis_rgb pm = lumis_envmap_power(env);
+    assert_true(fabs(total[0] - pm.r) < 1e-5 * pm.r && fabs(total[1] - pm.g) < 1e-5 * pm.g &&
+                fabs(total[2] - pm.b) < 1e-5 * pm.b);
+    cJSON_Delete(j);
+    assert_int_equal(lumis_light_set_write_gltf(tu_path("isun.gltf"), set, &o), LUMIS_OK);
+    cJSON *g = read_gltf(tu_path("isun.gltf"));
+    const cJSON *nodes = at(g, "nodes");
+    assert_int_equal(cJSON_GetArraySize(nodes), 5);
+    const cJSON *n0 = cJSON_GetArrayItem(nodes, 0);
+    assert_string_equal(at(n0, "name")->valuestring, "sun");
+    assert_true(fabs(at(n0, "extras")->child->valuedouble - sun.radius) < 1e-12);
+    for (int k = 0; k < 5; k++)
+        assert_int_equal(
+            (int)at(cJSON_GetArrayItem(nodes, k), "extensions")->child->child->valuedouble, k);
+    double bd[3];
+    brightest_gltf_light(g, bd);
+    threejs_pixel(bd, SUN_W, SUN_H, &ti, &tj);
+    assert_true(ti == SUN_I && tj == SUN_J);
+    cJSON_Delete(g);
+    lumis_sun none = {0};
+    o.sun = &none;
+    assert_int_equal(lumis_light_set_write_json(tu_path("bad.json"), set, &o),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(res);
+    lumis_envmap_destroy(env);
+}
+
 static uint32_t le32(const unsigned char *p)
 {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
@@ -1653,6 +1717,7 @@ int main(void)
         cmocka_unit_test(gltf_rotation_turns_minus_z_into_minus_dir),
         cmocka_unit_test(export_frame_maps_pixels_where_consumers_show_them),
         cmocka_unit_test(exported_sun_lands_on_the_sun_pixel),
+        cmocka_unit_test(exported_image_sun_and_residual),
         cmocka_unit_test(glb_is_a_binary_gltf_container),
         cmocka_unit_test(outputs_get_ordinary_permissions),
         cmocka_unit_test(explicit_format_wins_over_the_extension),

@@ -159,6 +159,7 @@ LUMIS_IO_API void lumis_io_remove_partial_outputs(void);
 /* ---- light sets (lumis/lights.h) as files ------------------------------------------------- */
 
 struct lumis_light_set;
+struct lumis_sun;
 
 /* The frame of the directions a light-set file holds.  lumis's own frame puts column u = 0
  * of an equirectangular map at +x (docs/coordinates.md); three.js and Blender show column
@@ -207,23 +208,30 @@ typedef struct lumis_light_export_options {
     lumis_export_frame frame;
     /* glTF only: text or binary; 0 == from the path's extension */
     lumis_gltf_container container;
+    /* NULL, or a sun split off the map (lumis/sun.h, found): written first, as a
+       directional light of kind "sun" with its angular radius (the disk's and the cone's),
+       before the set's lights, which should then be the residual's */
+    const struct lumis_sun *sun;
 } lumis_light_export_options;
 
 /* JSON: per light its direction (in options->frame), power (RGB, sum of L x solid angle), colour
  * and intensity (colour x intensity == power, colour's largest channel 1), solid angle, directional
  * extent, pixel count and kind; the regions as runs [row, first column, length] on
- * request.  Crash-safe write.  options may be NULL. */
+ * request.  With options->sun, the sun comes first in "lights" (kind "sun", its extent the
+ * sampled cone, plus angular_radius_rad: the disk, and share) and "sun_index" is 0.
+ * Crash-safe write.  options may be NULL. */
 LUMIS_IO_API lumis_status lumis_light_set_write_json(const char *path,
                                                      const struct lumis_light_set *set,
                                                      const lumis_light_export_options *options);
 
 /* glTF 2.0, as JSON text (.gltf) or a binary container (.glb; options->container): one
- * KHR_lights_punctual directional light per light, each on a node whose rotation turns -Z
- * (a glTF light's direction of travel) into -dir, dir in options->frame (default: where
- * three.js and Blender show the light's source on the same map).  Colour and intensity as
- * in the JSON: intensity is the power's largest channel, which for a map calibrated in
- * cd/m^2 is illuminance in lux (docs/lights-export.md).  A path that is neither .gltf nor
- * .glb with no container given: LUMIS_ERR_UNKNOWN_FORMAT.  Crash-safe write. */
+ * KHR_lights_punctual directional light per light (with options->sun, first a light named
+ * "sun" whose node's extras hold angular_radius_rad, extent_rad and share), each on a node whose
+ * rotation turns -Z (a glTF light's direction of travel) into -dir, dir in options->frame (default:
+ * where three.js and Blender show the light's source on the same map).  Colour and intensity as in
+ * the JSON: intensity is the power's largest channel, which for a map calibrated in cd/m^2 is
+ * illuminance in lux (docs/lights-export.md).  A path that is neither .gltf nor .glb with no
+ * container given: LUMIS_ERR_UNKNOWN_FORMAT.  Crash-safe write. */
 LUMIS_IO_API lumis_status lumis_light_set_write_gltf(const char *path,
                                                      const struct lumis_light_set *set,
                                                      const lumis_light_export_options *options);

@@ -13,6 +13,7 @@
 #include "lumis/sampler.h"
 #include "lumis/sky.h"
 #include "lumis/status.h"
+#include "lumis/sun.h"
 #include "lumis/types.h"
 #include "lumis/version.h"
 

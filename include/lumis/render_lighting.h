@@ -12,6 +12,7 @@
 #include "lumis/photometry.h"
 #include "lumis/sampler.h"
 #include "lumis/status.h"
+#include "lumis/sun.h"
 #include "lumis/types.h"
 
 #ifdef __cplusplus
@@ -163,8 +164,8 @@ LUMIS_RENDER_API lumis_status lumis_photometric_orient(lumis_photometric_type ty
  *
  *   kind          needs                          also takes
  *   env           env; sampler (unless the       estimator, hide_environment, power_heuristic,
- *                 estimator is BSDF)             light_samples, bsdf_samples, max_bounces
- *   light-set     env; light_set.set             light_set.kinds, hide_environment; in
+ *                 estimator is BSDF)             light_samples, bsdf_samples, max_bounces, sun
+ *   light-set     env; light_set.set             light_set.kinds, hide_environment, sun; in
  *                                                stratified mode light_set.regions, estimator
  *                                                (light or MIS), power_heuristic, max_bounces
  *   luminaires    luminaires (count >= 1)        -- (camera rays that escape see black)
@@ -202,6 +203,21 @@ typedef struct lumis_light_set_lighting {
                                             the render makes them */
 } lumis_light_set_lighting;
 
+/* A sun split off the map (lumis/sun.h; kinds env and light-set).  At every vertex the sun
+ * is drawn once by its sampler (its pixels by their power) and combined by `estimator` with
+ * a BSDF sample of its own, each weighted against the sun's pdf alone (MIS: the balance, or
+ * the power heuristic); the kind lights the point from the residual.  Since sun + residual
+ * == map in every direction, the sum is the map's light, unbiased (docs/lights.md, "The
+ * image sun"). */
+typedef struct lumis_sun_lighting {
+    const lumis_sun *sun;         /* NULL == no sun; else found by lumis_sun_find in env */
+    const lumis_envmap *residual; /* with a sun, required: the map without it (lumis_sun_find's);
+                                     the sampler (env), the light set and regions (light-set)
+                                     must be made from it, while env stays the whole map */
+    const lumis_sun_sampler *sampler; /* with a sun, required: lumis_sun_sampler_create(env,
+                                         sun) */
+} lumis_sun_lighting;
+
 /* How a render is lit (the table above says which fields each kind uses; zero-init: the
  * environment map, sampled with MIS). */
 typedef struct lumis_lighting {
@@ -214,6 +230,7 @@ typedef struct lumis_lighting {
     int hide_environment;               /* env, light-set: nonzero: camera rays that escape see
                                            black (a layer added to another which shows the map) */
     lumis_light_set_lighting light_set; /* light-set */
+    lumis_sun_lighting sun;             /* env, light-set: a sun split off env; zero == none */
     const lumis_luminaire_lighting *luminaires;    /* luminaires: NULL for another kind */
     const lumis_photometric_lighting *photometric; /* photometric: NULL for another kind */
 } lumis_lighting;

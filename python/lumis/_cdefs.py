@@ -365,6 +365,7 @@ typedef struct lumis_light_export_options {
     const char *parameters;
     lumis_export_frame frame;
     lumis_gltf_container container;
+    const struct lumis_sun *sun;
 } lumis_light_export_options;
 lumis_status lumis_light_set_write_json(const char *path, const struct lumis_light_set *set,
                                         const lumis_light_export_options *options);
@@ -434,7 +435,7 @@ STRUCTS = {
     "lumis_write_options": ["format", "exr_half", "exr_compression", "exr_tile_size",
                             "pfm_big_endian", "exposure_ev", "tonemap", "errors"],
     "lumis_light_export_options": ["set_index", "masks", "source", "method", "errors",
-                                   "parameters", "frame", "container"],
+                                   "parameters", "frame", "container", "sun"],
     "lumis_photometric_file": ["model", "format", "standard", "manufacturer", "luminaire",
                                "catalog", "lamp", "test", "lamps", "lumens_per_lamp",
                                "input_watts", "lamp_sets", "tilt", "tilt_geometry", "ntilt",
@@ -528,6 +529,24 @@ typedef struct lumis_light_set_lighting {
     lumis_lights_mode mode;
     const lumis_region_sampler *regions;
 } lumis_light_set_lighting;
+typedef struct lumis_sun {
+    int found;
+    lumis_vec3 dir;
+    double radius;
+    double sample_radius;
+    lumis_rgb radiance;
+    double power[3];
+    double solid_angle;
+    double share;
+    double threshold;
+    int pixels;
+} lumis_sun;
+typedef struct lumis_sun_sampler lumis_sun_sampler;
+typedef struct lumis_sun_lighting {
+    const lumis_sun *sun;
+    const lumis_envmap *residual;
+    const lumis_sun_sampler *sampler;
+} lumis_sun_lighting;
 typedef struct lumis_lighting {
     lumis_lighting_kind kind;
     const lumis_envmap *env;
@@ -535,6 +554,7 @@ typedef struct lumis_lighting {
     lumis_estimator estimator;
     int hide_environment;
     lumis_light_set_lighting light_set;
+    lumis_sun_lighting sun;
     const lumis_luminaire_lighting *luminaires;
     const lumis_photometric_lighting *photometric;
 } lumis_lighting;
@@ -649,8 +669,11 @@ RENDER_STRUCTS = {
                                  "depth", "visibility", "auto_bands", "auto_costs", "chosen"],
     "lumis_photometric_lighting": ["instances", "count"],
     "lumis_light_set_lighting": ["set", "kinds", "mode", "regions"],
+    "lumis_sun": ["found", "dir", "radius", "sample_radius", "radiance", "power", "solid_angle",
+                  "share", "threshold", "pixels"],
+    "lumis_sun_lighting": ["sun", "residual", "sampler"],
     "lumis_lighting": ["kind", "env", "sampler", "estimator", "hide_environment", "light_set",
-                       "luminaires", "photometric"],
+                       "sun", "luminaires", "photometric"],
     "lumis_render_desc": ["camera", "lighting", "pixel_centers", "power_heuristic", "spp",
                           "light_samples", "bsdf_samples", "seed", "sequence", "first_sample",
                           "threads", "max_bounces", "progress", "progress_user", "shadow_ray",

@@ -6,6 +6,7 @@
 #include "../core/internal.h"
 #include "lumis/io.h"
 #include "lumis/lights.h"
+#include "lumis/sun.h"
 #include "lumis/version.h"
 
 #include <cJSON.h>
@@ -182,7 +183,22 @@ typedef struct export_args {
     int index, count;
     const lumis_light *lights;
     lumis_export_frame frame;
+    const lumis_sun *sun;  /* found, or NULL */
+    lumis_light sun_light; /* the sun as a directional light (extent: its sampled cone) */
 } export_args;
+
+/* The sun as a light: its direction, power, solid angle, the cone that holds its pixels. */
+static lumis_light sun_as_light(const lumis_sun *sun)
+{
+    lumis_light l;
+    memset(&l, 0, sizeof l);
+    l.dir = sun->dir;
+    l.extent = (float)sun->sample_radius;
+    for (int c = 0; c < 3; c++) l.power[c] = sun->power[c];
+    l.solid_angle = sun->solid_angle;
+    l.pixels = sun->pixels;
+    return l;
+}
 
 static lumis_status begin(const char *path, const lumis_light_set *set,
                           const lumis_light_export_options *options, export_args *a)
@@ -192,6 +208,12 @@ static lumis_status begin(const char *path, const lumis_light_set *set,
     a->lights = NULL;
     a->count = 0;
     a->frame = options ? options->frame : LUMIS_EXPORT_FRAME_ENGINE;
+    a->sun = options ? options->sun : NULL;
+    if (a->sun && !a->sun->found)
+        return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "%s: sun: no sun (found 0): leave it NULL",
+                           path ? path : "light export");
+    if (a->sun) a->sun_light = sun_as_light(a->sun);
     if (!path || !set)
         return lumis__fail(a->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "light export: needs a path and a set");
@@ -237,6 +259,24 @@ lumis_status lumis_light_set_write_json(const char *path, const lumis_light_set 
     need(&ok, cJSON_AddNumberToObject(root, "map_width", w));
     need(&ok, cJSON_AddNumberToObject(root, "map_height", h));
     cJSON *arr = need(&ok, cJSON_AddArrayToObject(root, "lights"));
+    if (a.sun) {
+        need(&ok, cJSON_AddNumberToObject(root, "sun_index", 0));
+        cJSON *o = add_item(&ok, arr, NULL, cJSON_CreateObject());
+        const lumis_vec3 f = lumis_export_frame_dir(a.frame, a.sun_light.dir);
+        const double d[3] = {f.x, f.y, f.z};
+        double c[3], intensity;
+        colour_intensity(&a.sun_light, c, &intensity);
+        add_item(&ok, o, "dir", cJSON_CreateDoubleArray(d, 3));
+        add_item(&ok, o, "power", cJSON_CreateDoubleArray(a.sun_light.power, 3));
+        add_item(&ok, o, "color", cJSON_CreateDoubleArray(c, 3));
+        need(&ok, cJSON_AddNumberToObject(o, "intensity", intensity));
+        need(&ok, cJSON_AddNumberToObject(o, "solid_angle", a.sun_light.solid_angle));
+        need(&ok, cJSON_AddNumberToObject(o, "extent_rad", a.sun->sample_radius));
+        need(&ok, cJSON_AddNumberToObject(o, "angular_radius_rad", a.sun->radius));
+        need(&ok, cJSON_AddNumberToObject(o, "share", a.sun->share));
+        need(&ok, cJSON_AddNumberToObject(o, "pixels", a.sun_light.pixels));
+        need(&ok, cJSON_AddStringToObject(o, "kind", "sun"));
+    }
     for (int k = 0; k < count && ok; k++) {
         cJSON *o = add_item(&ok, arr, NULL, cJSON_CreateObject());
         const lumis_vec3 f = lumis_export_frame_dir(a.frame, l[k].dir);
@@ -310,24 +350,36 @@ lumis_status lumis_light_set_write_gltf(const char *path, const lumis_light_set 
                                           "parameters", options->parameters));
     cJSON *scene_nodes = need(&ok, cJSON_AddArrayToObject(scene, "nodes"));
     cJSON *nodes = need(&ok, cJSON_AddArrayToObject(root, "nodes"));
-    for (int k = 0; k < count && ok; k++) {
+    const int first = a.sun ? -1 : 0;
+    for (int k = first; k < count && ok; k++) {
+        const lumis_light *lk = k < 0 ? &a.sun_light : &l[k];
+        const int at = k - first; /* the light's and its node's index */
         char name[64];
-        snprintf(name, sizeof name, "%s %d", kind_name(l[k].kind), k);
+        if (k < 0)
+            snprintf(name, sizeof name, "sun");
+        else
+            snprintf(name, sizeof name, "%s %d", kind_name(l[k].kind), k);
         double c[3], intensity, q[4];
-        colour_intensity(&l[k], c, &intensity);
+        colour_intensity(lk, c, &intensity);
         cJSON *li = add_item(&ok, lights, NULL, cJSON_CreateObject());
         need(&ok, cJSON_AddStringToObject(li, "name", name));
         need(&ok, cJSON_AddStringToObject(li, "type", "directional"));
         add_item(&ok, li, "color", cJSON_CreateDoubleArray(c, 3));
         need(&ok, cJSON_AddNumberToObject(li, "intensity", intensity));
-        lumis__light_quaternion(lumis_export_frame_dir(a.frame, l[k].dir), q);
+        lumis__light_quaternion(lumis_export_frame_dir(a.frame, lk->dir), q);
         cJSON *node = add_item(&ok, nodes, NULL, cJSON_CreateObject());
         need(&ok, cJSON_AddStringToObject(node, "name", name));
         add_item(&ok, node, "rotation", cJSON_CreateDoubleArray(q, 4));
+        if (k < 0) { /* the sun's size, which KHR_lights_punctual has no field for */
+            cJSON *x = need(&ok, cJSON_AddObjectToObject(node, "extras"));
+            need(&ok, cJSON_AddNumberToObject(x, "angular_radius_rad", a.sun->radius));
+            need(&ok, cJSON_AddNumberToObject(x, "extent_rad", a.sun->sample_radius));
+            need(&ok, cJSON_AddNumberToObject(x, "share", a.sun->share));
+        }
         cJSON *ne = need(&ok, cJSON_AddObjectToObject(node, "extensions"));
         cJSON *nk = need(&ok, cJSON_AddObjectToObject(ne, "KHR_lights_punctual"));
-        need(&ok, cJSON_AddNumberToObject(nk, "light", k));
-        add_item(&ok, scene_nodes, NULL, cJSON_CreateNumber(k));
+        need(&ok, cJSON_AddNumberToObject(nk, "light", at));
+        add_item(&ok, scene_nodes, NULL, cJSON_CreateNumber(at));
     }
     return write_json(path, root, ok, container == LUMIS_GLTF_BINARY, errors);
 }

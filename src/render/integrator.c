@@ -25,6 +25,7 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
     for (int depth = 0;; depth++) {
         /* The light interface: the kind of lights decides how the point is lit. */
         v3 Ld = kind->shade(c, &hh, dir, v);
+        if (d->lighting.sun.sun) Ld = add(Ld, lumis__sun_shade(c, &hh, dir, v));
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
         if (depth >= d->max_bounces) break;
         const shading_frame fr = shading_frame_at(&hh, dir);

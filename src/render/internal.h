@@ -48,6 +48,13 @@ void lumis__rotation_deg(const float r[3], double m[9]);
 /* Scale s, then rotation Rz Ry Rx (degrees r), then translation t: a row-major 3x4. */
 void lumis__transform_matrix(const float t[3], const float r[3], const float s[3], float m[12]);
 
+/* The map a light kind lights from: the residual when a sun is split off (lighting.sun),
+ * else env. */
+static inline const lumis_envmap *lumis__light_map(const lumis_render_desc *d)
+{
+    return d->lighting.sun.sun ? d->lighting.sun.residual : d->lighting.env;
+}
+
 /* lumis_lighting_check (lighting.c); set_to_come: a light set will be made (a session's)
  * and given. */
 lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come);

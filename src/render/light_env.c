@@ -66,7 +66,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             float pl = lumis_sampler_pdf_radiance(smp, tof(wi), &Le);
             w = mis_weight(st->nb, bs.pdf, st->nl, pl, d->power_heuristic);
         } else {
-            Le = lumis_envmap_eval(d->lighting.env, tof(wi));
+            Le = lumis_envmap_eval(lumis__light_map(d), tof(wi));
             if (mis)
                 w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(smp, tof(wi)),
                                d->power_heuristic);
@@ -83,7 +83,8 @@ static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
     *needs = LUMIS__IN_ENV | (l->estimator != LUMIS_ESTIMATOR_BSDF ? LUMIS__IN_SAMPLER : 0u);
     *takes = LUMIS__IN_SAMPLER | LUMIS__IN_EST_LIGHT | LUMIS__IN_EST_BSDF | LUMIS__IN_HIDE |
-             LUMIS__IN_POWER | LUMIS__IN_LIGHT_SAMPLES | LUMIS__IN_BSDF_SAMPLES | LUMIS__IN_BOUNCES;
+             LUMIS__IN_POWER | LUMIS__IN_LIGHT_SAMPLES | LUMIS__IN_BSDF_SAMPLES |
+             LUMIS__IN_BOUNCES | LUMIS__IN_SUN;
 }
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
@@ -93,7 +94,8 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
     if (!st) return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY, "render: out of memory");
     st->nl = d->light_samples ? d->light_samples : 1;
     st->nb = d->bsdf_samples ? d->bsdf_samples : 1;
-    st->fused = d->lighting.sampler && lumis_sampler_envmap(d->lighting.sampler) == d->lighting.env;
+    st->fused =
+        d->lighting.sampler && lumis_sampler_envmap(d->lighting.sampler) == lumis__light_map(d);
     *state = st;
     return LUMIS_OK;
 }

@@ -221,7 +221,7 @@ static v3 shade_any(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
 {
     *needs = LUMIS__IN_ENV | LUMIS__IN_SET;
-    *takes = LUMIS__IN_SET_KINDS | LUMIS__IN_SET_MODE | LUMIS__IN_HIDE;
+    *takes = LUMIS__IN_SET_KINDS | LUMIS__IN_SET_MODE | LUMIS__IN_HIDE | LUMIS__IN_SUN;
     if (l->light_set.mode == LUMIS_LIGHTS_STRATIFIED)
         *takes |= LUMIS__IN_REGIONS | LUMIS__IN_EST_LIGHT | LUMIS__IN_POWER | LUMIS__IN_BOUNCES;
 }
@@ -248,7 +248,7 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
         const lumis_status rst =
             d->lighting.light_set.regions
                 ? LUMIS_OK
-                : lumis_region_sampler_create(d->lighting.env, d->lighting.light_set.set,
+                : lumis_region_sampler_create(lumis__light_map(d), d->lighting.light_set.set,
                                               &d->errors, &st->owned);
         if (rst != LUMIS_OK) return rst;
         st->rs = d->lighting.light_set.regions ? d->lighting.light_set.regions : st->owned;

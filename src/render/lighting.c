@@ -56,6 +56,7 @@ static const struct {
     {LUMIS__IN_LIGHT_SAMPLES, "light_samples", "", ""},
     {LUMIS__IN_BSDF_SAMPLES, "bsdf_samples", "", ""},
     {LUMIS__IN_BOUNCES, "max_bounces", "", " (direct illumination only)"},
+    {LUMIS__IN_SUN, "lighting.sun.sun", "", " (a sun is split off an environment map)"},
 };
 
 /* What a render description gives of the inputs. */
@@ -75,7 +76,45 @@ static unsigned given(const lumis_render_desc *d, int set_to_come)
            (d->power_heuristic ? LUMIS__IN_POWER : 0u) |
            (d->light_samples ? LUMIS__IN_LIGHT_SAMPLES : 0u) |
            (d->bsdf_samples ? LUMIS__IN_BSDF_SAMPLES : 0u) |
-           (d->max_bounces > 0 ? LUMIS__IN_BOUNCES : 0u);
+           (d->max_bounces > 0 ? LUMIS__IN_BOUNCES : 0u) | (l->sun.sun ? LUMIS__IN_SUN : 0u);
+}
+
+/* A sun split off the map: found, with its residual, the same size as the map, and (env) the
+ * sampler drawing from that residual. */
+static lumis_status check_sun(const lumis_render_desc *d)
+{
+    const lumis_lighting *l = &d->lighting;
+    const lumis_error_sink *errors = &d->errors;
+    if (!l->sun.sun) {
+        if (l->sun.residual || l->sun.sampler)
+            return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                               "render: lighting.sun.%s: given without lighting.sun.sun",
+                               l->sun.residual ? "residual" : "sampler");
+        return LUMIS_OK;
+    }
+    if (!l->sun.sun->found)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.sun.sun: no sun (found 0): leave it NULL");
+    if (!l->sun.residual)
+        return lumis__fail(
+            errors, LUMIS_ERR_INVALID_ARGUMENT,
+            "render: lighting.sun.residual: missing: a sun needs the map without it");
+    if (lumis_envmap_width(l->sun.residual) != lumis_envmap_width(l->env) ||
+        lumis_envmap_height(l->sun.residual) != lumis_envmap_height(l->env) ||
+        lumis_envmap_rotation_deg(l->sun.residual) != lumis_envmap_rotation_deg(l->env) ||
+        lumis_envmap_scale(l->sun.residual) != lumis_envmap_scale(l->env))
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.sun.residual: %dx%d, not lighting.env's %dx%d with "
+                           "its rotation and scale",
+                           lumis_envmap_width(l->sun.residual),
+                           lumis_envmap_height(l->sun.residual), lumis_envmap_width(l->env),
+                           lumis_envmap_height(l->env));
+    if (l->kind == LUMIS_LIGHTING_ENV && l->sampler &&
+        lumis_sampler_envmap(l->sampler) != l->sun.residual)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.sampler: must sample lighting.sun.residual (the map "
+                           "without its sun), not another map");
+    return LUMIS_OK;
 }
 
 lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come)
@@ -117,7 +156,7 @@ lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come)
                                "render: %s: does not apply: the scene is lit by %s%s%s",
                                inputs[k].field, kind->name, mode, inputs[k].why);
     }
-    return LUMIS_OK;
+    return check_sun(d);
 }
 
 lumis_status lumis_lighting_check(const lumis_render_desc *d)

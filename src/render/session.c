@@ -211,7 +211,7 @@ static lumis_status run_pilot(const lumis_scene *scene, const lumis_session_desc
     lumis_render_desc pd = *rd;
     pd.progress = NULL;
     pd.camera = &cam;
-    lumis_status st = lumis_lights_by_name(rd->lighting.env, s->lights, k, s->interleave,
+    lumis_status st = lumis_lights_by_name(lumis__light_map(rd), s->lights, k, s->interleave,
                                            s->lights_params, &rd->errors, &set);
     const double gen = now() - t0;
     pd.lighting.light_set.set = set;
@@ -543,13 +543,14 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
     memset(&u, 0, sizeof u);
     for (int attempt = 0;; attempt++) {
         const double tg = now(), prep_before = r->prep_seconds;
-        if (s->lights && (st = lumis_lights_by_name(rd.lighting.env, s->lights, k, s->interleave,
-                                                    s->lights_params, errors, &lights)) != LUMIS_OK)
+        if (s->lights &&
+            (st = lumis_lights_by_name(lumis__light_map(&rd), s->lights, k, s->interleave,
+                                       s->lights_params, errors, &lights)) != LUMIS_OK)
             break;
         if (s->lights) { /* the session's own set (and strata): the caller gave none */
             rd.lighting.light_set.set = lights;
-            if (stratified && (st = lumis_region_sampler_create(rd.lighting.env, lights, errors,
-                                                                &regions)) != LUMIS_OK)
+            if (stratified && (st = lumis_region_sampler_create(lumis__light_map(&rd), lights,
+                                                                errors, &regions)) != LUMIS_OK)
                 break;
             rd.lighting.light_set.regions = regions;
         }

@@ -12,6 +12,7 @@
 #include "lumis/render.h"
 #include "lumis/rng.h"
 
+#include "internal.h"
 #include "packet.h"
 #include "sequence.h"
 #include "scene.h"
@@ -83,7 +84,8 @@ enum {
     LUMIS__IN_LIGHT_SAMPLES = 1u << 12, /* light_samples */
     LUMIS__IN_BSDF_SAMPLES = 1u << 13,  /* bsdf_samples */
     LUMIS__IN_BOUNCES = 1u << 14,       /* max_bounces > 0 */
-    LUMIS__IN_COUNT = 15
+    LUMIS__IN_SUN = 1u << 15,           /* lighting.sun.sun */
+    LUMIS__IN_COUNT = 16
 };
 
 /* The renderer's light interface: a kind of light is one file and one entry of render.c's
@@ -150,6 +152,12 @@ static inline void packet_push(packet *p, v3 o, v3 d, float tfar, v3 contrib)
     p->contrib[p->rays.n] = contrib;
     lumis__packet_push(&p->rays, of, df, tfar);
 }
+
+/* ---- the image sun (light_sun.c) ---- */
+
+/* The sun's direct light at h towards -dir (a cone sample and a BSDF sample, by
+ * d->lighting.estimator), added to what the kind gives. */
+v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v);
 
 /* ---- the integrator (integrator.c) ---- */
 

@@ -399,6 +399,113 @@ static void exact_irradiance(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* A sun split off the map (lighting.sun) is exact: the sphere converges to the whole map's
+ * irradiance when the sun is drawn as a cone and the residual by its sampler (light, MIS,
+ * power heuristic) or by a stratified light set made from the residual. */
+static void sun_split_converges_to_the_exact_irradiance(void **state)
+{
+    (void)state;
+    lumis_envmap *studio = studio_map();
+    /* a small, very bright, coloured source at (40, 9) and its neighbour */
+    float *px = malloc(sizeof(float) * 3 * 64 * 32);
+    assert_non_null(px);
+    memcpy(px, lumis_envmap_pixels(studio), sizeof(float) * 3 * 64 * 32);
+    const float sun[2][3] = {{900.0f, 600.0f, 300.0f}, {400.0f, 500.0f, 700.0f}};
+    for (int k = 0; k < 3; k++) {
+        px[3 * (9 * 64 + 40) + k] = sun[0][k];
+        px[3 * (9 * 64 + 41) + k] = sun[1][k];
+    }
+    lumis_envmap_desc ed = {0};
+    ed.pixels = px;
+    ed.width = 64;
+    ed.height = 32;
+    lumis_envmap *env = NULL;
+    assert_int_equal(lumis_envmap_create(&ed, &env), LUMIS_OK);
+    free(px);
+    lumis_envmap_destroy(studio);
+    lumis_sun_desc sdesc = {0};
+    sdesc.max_radius_deg = 20.0; /* pixels of 5.6 degrees */
+    lumis_sun sn;
+    lumis_envmap *res = NULL;
+    assert_int_equal(lumis_sun_find(env, &sdesc, &sn, &res), LUMIS_OK);
+    assert_int_equal(sn.found, 1);
+    assert_true(sn.share > 0.3);
+    lumis_sampler_desc smd = {0};
+    smd.method = LUMIS_METHOD_INVERSION;
+    lumis_sampler *smp = NULL;
+    assert_int_equal(lumis_sampler_create(res, &smd, &smp), LUMIS_OK);
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(env, &sn, NULL, &ss), LUMIS_OK);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(res, "median-cut", 8, 0, NULL, NULL, &set), LUMIS_OK);
+    lumis_scene *s = one_sphere(0.7f);
+    enum { RUNS = 32 };
+    static const struct {
+        lumis_lighting_kind kind;
+        lumis_estimator est;
+        int power;
+        const char *what;
+    } cases[] = {
+        {LUMIS_LIGHTING_ENV, LUMIS_ESTIMATOR_MIS, 0, "sun + residual, MIS"},
+        {LUMIS_LIGHTING_ENV, LUMIS_ESTIMATOR_LIGHT, 0, "sun + residual, light sampling"},
+        {LUMIS_LIGHTING_ENV, LUMIS_ESTIMATOR_MIS, 1, "sun + residual, power heuristic"},
+        {LUMIS_LIGHTING_LIGHT_SET, LUMIS_ESTIMATOR_MIS, 0, "sun + stratified median cut"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        lumis_image *imgs[RUNS];
+        for (int r = 0; r < RUNS; r++) {
+            lumis_render_desc d = {0};
+            d.camera = &cam;
+            d.lighting.kind = cases[c].kind;
+            d.lighting.env = env;
+            d.lighting.sun.sun = &sn;
+            d.lighting.sun.residual = res;
+            d.lighting.sun.sampler = ss;
+            d.lighting.estimator = cases[c].est;
+            d.power_heuristic = cases[c].power;
+            if (cases[c].kind == LUMIS_LIGHTING_ENV) {
+                d.lighting.sampler = smp;
+            } else {
+                d.lighting.light_set.set = set;
+                d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+            }
+            d.spp = 16;
+            d.seed = 900u + (unsigned)r;
+            assert_int_equal(lumis_render(s, &d, &imgs[r], NULL), LUMIS_OK);
+        }
+        check_irradiance(imgs, RUNS, env, 0.7, cases[c].what);
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+    }
+    /* the check's refusals, each naming its field */
+    lumis_render_desc d = {0};
+    d.camera = &cam;
+    d.lighting.env = env;
+    d.lighting.sampler = smp;
+    d.lighting.sun.sun = &sn;
+    d.lighting.sun.sampler = ss;
+    d.spp = 1;
+    lumis_image *img = NULL;
+    tu_sink k;
+    tu_sink_init(&k);
+    d.errors = k.sink;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(k.last, "lighting.sun.residual: missing"));
+    d.lighting.sun.residual = env;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(k.last, "lighting.sampler: must sample lighting.sun.residual"));
+    lumis_sun none = {0};
+    d.lighting.sun.sun = &none;
+    d.lighting.sun.residual = res;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(k.last, "lighting.sun.sun: no sun"));
+    lumis_scene_destroy(s);
+    lumis_light_set_destroy(set);
+    lumis_sampler_destroy(smp);
+    lumis_sun_sampler_destroy(ss);
+    lumis_envmap_destroy(res);
+    lumis_envmap_destroy(env);
+}
+
 /* A light set's stratified mode is unbiased: the same exact irradiance, for median cut,
  * and for Wu's EnvDirects and EnvIndirects rendered as two layers and added (each layer
  * lights only its own regions, MIS included), with light sampling alone and with both
@@ -1955,6 +2062,7 @@ int main(void)
         cmocka_unit_test(shadow_ray_callback),
         cmocka_unit_test(exact_irradiance),
         cmocka_unit_test(stratified_light_sets_converge_to_the_exact_irradiance),
+        cmocka_unit_test(sun_split_converges_to_the_exact_irradiance),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
         cmocka_unit_test(bad_scenes),
         cmocka_unit_test(scene_files_are_strict),

@@ -24,7 +24,9 @@ typedef struct tool_render_opts {
                                 whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
     int auto_estimator; /* --auto: the session chooses the map with MIS or median-cut strata */
-    const char *lights; /* a light-set method (tool_lights_method_known), or NULL */
+    int sun; /* --sun: a sun found in the map (lumis_sun_find) is sampled as a cone, the rest
+                of the map (the residual) by the sampler or light set */
+    const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
     lumis_lights_mode lights_mode;    /* --lights-mode: point (0) or stratified */
     int lights_k, interleave;         /* its K and number of interleaved sets (0: defaults) */
     lumis_light_params lights_params; /* --lights-param (zero: the method's defaults) */

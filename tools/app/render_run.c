@@ -70,6 +70,10 @@ typedef struct render_state {
     char sidecar[4096];           /* "": none */
     lumis_camera cam;             /* rd.camera */
     lumis_envmap *env;
+    lumis_sun sun;                  /* --sun: what lumis_sun_find found */
+    lumis_envmap *residual;         /* --sun, a sun found: the map without it */
+    lumis_sun_sampler *sun_sampler; /* and its pixels by their power */
+    double sun_seconds;             /* its detection (spent from the budget) */
     lumis_sampler *smp;
     lumis_light_set *lights; /* the session's */
     lumis_scene *scene;
@@ -222,12 +226,23 @@ static int load_inputs(const tool_render_opts *o, render_state *s, tool_render_r
     if (s->envspec && tool_make_envmap(s->envspec, preloaded, rotation, scale, &s->env,
                                        &r->env_replaced) != LUMIS_OK)
         return EXIT_RUNTIME;
+    /* --sun: the sun split off the map; the sampler and light sets are the residual's */
+    if (o->sun && s->env && !s->self_lit) {
+        const double ts = tool_now_seconds();
+        lumis_sun_desc sund = {0};
+        sund.errors = tool_errors;
+        if (lumis_sun_find(s->env, &sund, &s->sun, &s->residual) != LUMIS_OK ||
+            (s->residual &&
+             lumis_sun_sampler_create(s->env, &s->sun, &tool_errors, &s->sun_sampler) != LUMIS_OK))
+            return EXIT_RUNTIME;
+        s->sun_seconds = tool_now_seconds() - ts;
+    }
     lumis_sampler_desc sd = o->sampler;
     sd.errors = tool_errors;
     /* A light set, luminaires or fixtures light the scene by themselves: no sampler is
      * built unless asked for. */
     if (((!s->self_lit && !o->lights) || o->sampler_opt) &&
-        lumis_sampler_create(s->env, &sd, &s->smp) != LUMIS_OK)
+        lumis_sampler_create(s->residual ? s->residual : s->env, &sd, &s->smp) != LUMIS_OK)
         return EXIT_RUNTIME;
     /* The map's loading alone: the sampler's build is reported on its own. */
     r->load_seconds =
@@ -317,6 +332,11 @@ static int run_lighting(const tool_render_opts *o, render_state *s)
     rd->lighting.env = s->env;
     rd->lighting.sampler = s->smp;
     rd->lighting.light_set.mode = o->lights_mode;
+    if (s->residual) {
+        rd->lighting.sun.sun = &s->sun;
+        rd->lighting.sun.residual = s->residual;
+        rd->lighting.sun.sampler = s->sun_sampler;
+    }
     rd->errors = tool_errors;
     /* --luminaire: every placed luminaire of the scene replaced by that one. */
     for (int k = 0; s->replacement && k < file->luminaire_count; k++)
@@ -362,7 +382,8 @@ static int run_session_desc(const tool_render_opts *o, render_state *s)
     sess->lights_params = o->lights_params.given ? &o->lights_params : NULL;
     sess->upsample = o->upsample;
     sess->time_budget = o->time_budget;
-    sess->spent = (s->smp ? lumis_sampler_build_ms(s->smp) / 1000.0 : 0.0) + s->near_seconds;
+    sess->spent =
+        (s->smp ? lumis_sampler_build_ms(s->smp) / 1000.0 : 0.0) + s->near_seconds + s->sun_seconds;
     sess->timed_spp = TOOL_LIGHTS_TIMED_SPP;
     if (o->passes) { /* share I of N: the whole render's samples first .. first + n - 1 */
         tool_share_range(o, &sess->render.spp, &sess->render.first_sample, &sess->share_spp);
@@ -548,6 +569,19 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
             s->cam.width, s->cam.height, r->stats.spp,
             o->rd.max_bounces > 0 ? "path traced, " : "direct, ", how, r->stats.seconds,
             rays / r->stats.seconds, r->stats.shadow_rays / r->stats.seconds);
+    if (o->sun && s->sun.found)
+        fprintf(stderr,
+                "lumis: sun: dir (%.4f, %.4f, %.4f), radius %.3f deg (cone %.3f deg), share "
+                "%.3f of the map's power, found in %.1f ms: sampled as a cone, the rest of the "
+                "map as the residual\n",
+                s->sun.dir.x, s->sun.dir.y, s->sun.dir.z,
+                s->sun.radius * (180.0 / 3.14159265358979),
+                s->sun.sample_radius * (180.0 / 3.14159265358979), s->sun.share,
+                1000.0 * s->sun_seconds);
+    else if (o->sun)
+        fprintf(stderr,
+                "lumis: sun: none found in the map (docs/lights.md, \"The image sun\"): the whole "
+                "map sampled\n");
     if (o->time_budget > 0.0)
         fprintf(stderr,
                 "lumis: time budget %.3g s: %.3f s before the first sample (tables, light "
@@ -661,6 +695,8 @@ static void render_release(render_state *s)
     lumis_sampler_destroy(s->smp);
     lumis_light_set_destroy(s->lights);
     lumis_envmap_destroy(s->env);
+    lumis_envmap_destroy(s->residual);
+    lumis_sun_sampler_destroy(s->sun_sampler);
 }
 
 int tool_render(const tool_render_opts *o, tool_render_result *r)

@@ -159,6 +159,23 @@ static void side_environment(cJSON *j, const sidecar_ctx *c)
     } else {
         cJSON_AddNullToObject(j, "environment");
     }
+    /* --sun: the sun split off the map and sampled as a cone (null: not asked for) */
+    const lumis_sun *sun = c->rd->lighting.sun.sun;
+    if (o->sun) {
+        x = cJSON_AddObjectToObject(j, "sun");
+        cJSON_AddBoolToObject(x, "found", sun != NULL);
+        if (sun) {
+            const double d[3] = {sun->dir.x, sun->dir.y, sun->dir.z};
+            cJSON_AddItemToObject(x, "dir", cJSON_CreateDoubleArray(d, 3));
+            cJSON_AddNumberToObject(x, "radius_deg", sun->radius * (180.0 / 3.14159265358979));
+            cJSON_AddNumberToObject(x, "sample_radius_deg",
+                                    sun->sample_radius * (180.0 / 3.14159265358979));
+            cJSON_AddNumberToObject(x, "share", sun->share);
+            cJSON_AddItemToObject(x, "power_rgb", cJSON_CreateDoubleArray(sun->power, 3));
+        }
+    } else {
+        cJSON_AddNullToObject(j, "sun");
+    }
 }
 
 /* The method and the estimator. */

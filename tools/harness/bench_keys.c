@@ -101,6 +101,7 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
         snprintf(buf, sizeof buf, " lights %s %d ", s->reference.lights, s->reference.lights_k);
         h = fnv_str(fnv_str(h, buf), params);
     }
+    if (s->reference.sun) h = fnv_str(h, " sun"); /* keys without the sun stay */
     const lumis_sequence rq = lumis_sequence_resolve(s->reference.sequence);
     if (rq != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
         snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(rq));
@@ -136,6 +137,7 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
+    if (m->sun) h = fnv_str(h, " sun"); /* keys without the sun stay as they were */
     const lumis_sequence q = lumis_sequence_resolve(m->sequence);
     if (q != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
         snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(q));

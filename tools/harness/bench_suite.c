@@ -227,14 +227,13 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method", "label",         "mis",
-                                          "blocks", "light_samples", "bsdf_samples",
-                                          "k",      "interleave",    "upsample",
-                                          "params", "mode",          "sequence",
-                                          NULL},
-                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
-                                              "light_samples", "bsdf_samples", "spp",      "k",
-                                              "params",        "mode",         "sequence", NULL};
+static const char
+    *const method_keys[] = {"method",       "label",    "mis",        "blocks",   "light_samples",
+                            "bsdf_samples", "k",        "interleave", "upsample", "params",
+                            "mode",         "sequence", "sun",        NULL},
+           *reference_keys[] = {"method",       "label", "mis", "blocks", "light_samples",
+                                "bsdf_samples", "spp",   "k",   "params", "mode",
+                                "sequence",     "sun",   NULL};
 
 /* The library's refusal, kept to be said with the suite file and key. */
 static void keep_refusal(void *user, lumis_status status, const char *message)
@@ -386,6 +385,14 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (rc == EXIT_OK && m->lights[0])
         rc = check_light_set(m, cJSON_GetObjectItemCaseSensitive(e, "blocks") != NULL, file, where);
     if (rc != EXIT_OK) return rc;
+    const cJSON *sun = cJSON_GetObjectItemCaseSensitive(e, "sun");
+    if (sun && !cJSON_IsBool(sun))
+        return tool_runtime_error("%s: %s.sun: expected true or false", file, where);
+    m->sun = cJSON_IsTrue(sun);
+    if (m->sun && m->bsdf_only)
+        return tool_runtime_error("%s: %s.sun: the image sun is sampled as a light: not with "
+                                  "\"method\": \"bsdf\"",
+                                  file, where);
     char tmp[128];
     bench_copy_cut(tmp, sizeof tmp, label ? label : name);
     make_label(m->label, sizeof m->label, tmp);

@@ -258,9 +258,10 @@ static void print_set(const char *map, const char *method, const lumis_light_set
 static int export_set(const lumis_envmap *env, const lumis_light_set *set, const char *map,
                       const char *method, const char *given, int above_ground, int masks,
                       lumis_export_frame frame, const char *json, const char *gltf, const char *png,
-                      int png_width)
+                      int png_width, const lumis_sun *sun)
 {
     lumis_light_export_options eo = {0};
+    eo.sun = sun && sun->found ? sun : NULL;
     eo.masks = masks;
     eo.source = map;
     eo.method = method;
@@ -277,10 +278,29 @@ static int export_set(const lumis_envmap *env, const lumis_light_set *set, const
     return EXIT_OK;
 }
 
+/* --sun: the map's sun (lumis_sun_find) and the map without it, printed.  Exit code. */
+static int split_sun(const lumis_envmap *env, lumis_sun *sun, lumis_envmap **residual)
+{
+    lumis_sun_desc sd = {0};
+    sd.errors = tool_errors;
+    if (lumis_sun_find(env, &sd, sun, residual) != LUMIS_OK) return EXIT_RUNTIME;
+    if (sun->found)
+        printf("sun: dir (%.5f, %.5f, %.5f) in lumis's frame, radius %.4f deg (cone %.4f "
+               "deg), power %.6g %.6g %.6g, share %.4f, %d pixels; the lights below are the "
+               "rest of the map's\n",
+               sun->dir.x, sun->dir.y, sun->dir.z, sun->radius * (180.0 / 3.14159265358979),
+               sun->sample_radius * (180.0 / 3.14159265358979), sun->power[0], sun->power[1],
+               sun->power[2], sun->share, sun->pixels);
+    else
+        printf("sun: none found (docs/lights.md, \"The image sun\"): the lights are the whole "
+               "map's\n");
+    return EXIT_OK;
+}
+
 /* What lumis lights reads from its arguments. */
 typedef struct lights_cli {
     const char *map, *method, *json, *gltf, *png, *frame_given;
-    int k, sets, masks, png_width, irradiance, above_ground;
+    int k, sets, masks, png_width, irradiance, above_ground, sun;
     lumis_light_params params;
     lumis_export_frame frame;
     double rotation;
@@ -366,6 +386,13 @@ static const tool_opt lights_opts[] = {
              "which takes its power (the total is kept; the folded share is\n"
              "printed)",
      .at = AT(above_ground)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--sun",
+     .help = "split the map's sun off first (lumis_sun_find: a compact bright\n"
+             "source): the lights are the rest of the map's, and the files hold\n"
+             "the sun first, a directional light with its angular radius\n"
+             "(docs/lights-export.md)",
+     .at = AT(sun)},
     {.kind = TOOL_OPT_STRING,
      .name = "--json",
      .metavar = "OUT",
@@ -425,7 +452,7 @@ static const tool_opt lights_opts[] = {
 const tool_optspec tool_lights_spec = {
     .cmd = "lights",
     .usage = "usage: lumis lights MAP [--method M] [-k K] [--sets N] [--param NAME=VALUE,...]\n"
-             "                    [--rotate DEG] [--above-ground]\n"
+             "                    [--rotate DEG] [--above-ground] [--sun]\n"
              "                    [--json OUT.json [--masks]] [--gltf OUT.gltf|OUT.glb]\n"
              "                    [--frame engine|lumis]\n"
              "                    [--png OUT.png [--png-width W]] [--irradiance]",
@@ -479,7 +506,11 @@ int cmd_lights(int argc, char **argv)
     lumis_image_destroy(img);
     if (est != LUMIS_OK) return EXIT_RUNTIME;
     rc = EXIT_RUNTIME;
-    if (lumis_lights_by_name(env, method, k, sets, &params, &tool_errors, &set) != LUMIS_OK)
+    lumis_sun sun = {0};
+    lumis_envmap *residual = NULL;
+    if (c.sun && split_sun(env, &sun, &residual) != EXIT_OK) goto done;
+    if (lumis_lights_by_name(residual ? residual : env, method, k, sets, &params, &tool_errors,
+                             &set) != LUMIS_OK)
         goto done;
     lumis_light_fold fold = {0};
     if (above_ground) {
@@ -490,12 +521,13 @@ int cmd_lights(int argc, char **argv)
     lumis_light_params_format(&params, given, sizeof given);
     print_set(map, method, set, given, 1e3 * (t_setup - t_read), 1e3 * (t_done - t_setup),
               above_ground ? &fold : NULL, json || gltf, frame);
-    if (irradiance && print_irradiance(env, set) != EXIT_OK) goto done;
-    if (export_set(env, set, map, method, given, above_ground, masks, frame, json, gltf, png,
-                   png_width) != EXIT_OK)
+    if (irradiance && print_irradiance(residual ? residual : env, set) != EXIT_OK) goto done;
+    if (export_set(residual ? residual : env, set, map, method, given, above_ground, masks, frame,
+                   json, gltf, png, png_width, &sun) != EXIT_OK)
         goto done;
     rc = fflush(stdout) == 0 ? EXIT_OK : tool_runtime_error("write error on stdout");
 done:
+    lumis_envmap_destroy(residual);
     lumis_light_set_destroy(set);
     lumis_envmap_destroy(env);
     return rc;

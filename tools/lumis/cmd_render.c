@@ -175,6 +175,13 @@ static const tool_opt render_opts[] = {
              "wu-original-cut; every light of the pixel's set, one shadow ray\n"
              "each (docs/lights.md)",
      .handle = lights_option},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--sun",
+     .help = "find a compact bright source in the map (lumis_sun_find) and\n"
+             "sample its pixels by their power, MIS with the BSDF, the rest (the\n"
+             "residual) by the sampler or the light set; unbiased (docs/lights.md,\n"
+             "\"The image sun\"); no sun found: the whole map as usual",
+     .at = AT(sun)},
     {.kind = TOOL_OPT_PARSE,
      .name = "--lights-mode",
      .metavar = "M",

@@ -17,8 +17,25 @@
 
 /* ---- map statistics (lumis info, lumis demo) ---------------------------------------- */
 
+/* The map's sun (lumis_sun_find with the defaults), as JSON: null when there is none. */
+static cJSON *sun_json(const lumis_sun *sun)
+{
+    if (!sun->found) return cJSON_CreateNull();
+    cJSON *o = cJSON_CreateObject();
+    if (!o) return NULL;
+    const double d[3] = {sun->dir.x, sun->dir.y, sun->dir.z};
+    cJSON_AddItemToObject(o, "dir", cJSON_CreateDoubleArray(d, 3));
+    cJSON_AddNumberToObject(o, "radius_deg", sun->radius * (180.0 / 3.14159265358979323846));
+    cJSON_AddNumberToObject(o, "sample_radius_deg",
+                            sun->sample_radius * (180.0 / 3.14159265358979323846));
+    cJSON_AddNumberToObject(o, "share", sun->share);
+    cJSON_AddItemToObject(o, "power_rgb", cJSON_CreateDoubleArray(sun->power, 3));
+    cJSON_AddNumberToObject(o, "pixels", sun->pixels);
+    return o;
+}
+
 static int print_json(FILE *f, const char *name, const lumis_envmap_stats *s,
-                      const lumis_read_info *info)
+                      const lumis_read_info *info, const lumis_sun *sun)
 {
     cJSON *o = cJSON_CreateObject();
     if (!o) return EXIT_RUNTIME;
@@ -40,6 +57,7 @@ static int print_json(FILE *f, const char *name, const lumis_envmap_stats *s,
     cJSON_AddNumberToObject(o, "replaced_nan", (double)info->replaced.nan);
     cJSON_AddNumberToObject(o, "replaced_inf", (double)info->replaced.inf);
     cJSON_AddNumberToObject(o, "replaced_negative", (double)info->replaced.negative);
+    cJSON_AddItemToObject(o, "sun", sun_json(sun));
     char *text = cJSON_PrintUnformatted(o);
     cJSON_Delete(o);
     if (!text) return EXIT_RUNTIME;
@@ -54,7 +72,15 @@ int tool_print_info(FILE *f, const char *name, const lumis_image *image,
     lumis_envmap_stats s;
     lumis_status st = lumis_equirect_stats(image->pixels, image->width, image->height, 1.0f, &s);
     if (st != LUMIS_OK) return tool_runtime_error("%s: %s", name, lumis_status_string(st));
-    if (json) return print_json(f, name, &s, info);
+    lumis_sun sun;
+    lumis_envmap *env = NULL;
+    if ((st = lumis_envmap_from_image(image, &env)) != LUMIS_OK ||
+        (st = lumis_sun_find(env, NULL, &sun, NULL)) != LUMIS_OK) {
+        lumis_envmap_destroy(env);
+        return tool_runtime_error("%s: %s", name, lumis_status_string(st));
+    }
+    lumis_envmap_destroy(env);
+    if (json) return print_json(f, name, &s, info, &sun);
 
     fprintf(f, "file           %s (%s)\n", name,
             info->format ? lumis_format_name(info->format) : "procedural");
@@ -69,6 +95,14 @@ int tool_print_info(FILE *f, const char *name, const lumis_image *image,
     fprintf(f, "power (RGB)    %.6g %.6g %.6g\n", s.power_rgb[0], s.power_rgb[1], s.power_rgb[2]);
     fprintf(f, "top 1%% share   %.4f\n", s.top1_share);
     fprintf(f, "top 0.1%% share %.4f\n", s.top01_share);
+    if (sun.found)
+        fprintf(f,
+                "sun            dir (%.4f, %.4f, %.4f)  radius %.3f deg  share %.4f  "
+                "(%d pixels)\n",
+                sun.dir.x, sun.dir.y, sun.dir.z, sun.radius * (180.0 / 3.14159265358979323846),
+                sun.share, sun.pixels);
+    else
+        fprintf(f, "sun            none (docs/lights.md, \"The image sun\")\n");
     fprintf(f, "black pixels   %llu\n", (unsigned long long)s.black_pixels);
     fprintf(f, "replaced       %llu channel values (NaN %llu, Inf %llu, negative %llu)\n",
             (unsigned long long)lumis_replaced_total(info->replaced),
