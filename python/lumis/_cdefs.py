@@ -600,9 +600,17 @@ typedef struct lumis_session_desc {
     double spent;
     int timed_spp;
     int share_spp;
+    int auto_estimator;
     void (*pass_done)(void *user, int spp);
     void *pass_done_user;
 } lumis_session_desc;
+typedef struct lumis_auto_candidate {
+    double error_per_spp;
+    double per_spp;
+    double efficiency;
+    double once;
+    int pilot_spp;
+} lumis_auto_candidate;
 typedef struct lumis_session_result {
     lumis_render_stats stats;
     double prep_seconds;
@@ -625,6 +633,9 @@ typedef struct lumis_session_result {
     double wall_seconds, cpu_seconds;
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy;
+    int auto_count, auto_chosen;
+    lumis_auto_candidate auto_candidates[2];
+    double auto_seconds;
 } lumis_session_result;
 lumis_status lumis_session_check(const lumis_session_desc *desc);
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,
