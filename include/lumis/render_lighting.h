@@ -183,14 +183,23 @@ typedef struct lumis_light_set_lighting {
      * camera's jitter; direct illumination only.  Stratified mode: the set's regions are
      * strata instead, one direction in each (the regions of `kinds`) per vertex, combined
      * with the BSDF's by `estimator` (MIS by default: each region's pdf against the
-     * BSDF's), path tracing allowed; interleaving does not apply. */
+     * BSDF's), path tracing allowed; interleaving does not apply.  With draws = N > 0
+     * (stratified mode only) each vertex draws N directions instead, over regions chosen in
+     * proportion to a bound of their contribution there (power x a cosine bound over the
+     * region's cone x a BSDF bound), with the selection probability in the estimator and
+     * in the MIS weights (docs/lights.md, "Selected draws"). */
     const lumis_light_set *set;          /* required */
     unsigned kinds;                      /* lights of the set used: 0 == all, else a mask of bits
                                             1u << lumis_light_kind (e.g. EnvDirects only) */
     lumis_lights_mode mode;              /* 0 == point */
     const lumis_region_sampler *regions; /* stratified: made from this set and env; NULL ==
                                             the render makes them */
+    int draws;                           /* stratified: 0 == one draw in every region; N in
+                                            1 .. LUMIS_LIGHT_SET_MAX_DRAWS: N draws per
+                                            vertex over regions chosen per shading point */
 } lumis_light_set_lighting;
+
+enum { LUMIS_LIGHT_SET_MAX_DRAWS = 4096 };
 
 /* How a render is lit (the table above says which fields each kind uses; zero-init: the
  * environment map, sampled with MIS). */
