@@ -52,6 +52,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     o->lights = m->lights[0] && !self_lit ? m->lights : NULL;
     if (!self_lit) {
         o->lights_mode = m->lights_mode;
+        o->rd.lighting.light_set.draws = m->lights_draws;
         o->lights_k = m->lights_k;
         o->interleave = m->interleave;
         o->lights_params = m->lights_params;

@@ -227,14 +227,13 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method", "label",         "mis",
-                                          "blocks", "light_samples", "bsdf_samples",
-                                          "k",      "interleave",    "upsample",
-                                          "params", "mode",          "sequence",
-                                          NULL},
-                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
-                                              "light_samples", "bsdf_samples", "spp",      "k",
-                                              "params",        "mode",         "sequence", NULL};
+static const char
+    *const method_keys[] = {"method",       "label",    "mis",        "blocks",   "light_samples",
+                            "bsdf_samples", "k",        "interleave", "upsample", "params",
+                            "mode",         "sequence", "draws",      NULL},
+           *reference_keys[] = {"method",       "label", "mis", "blocks", "light_samples",
+                                "bsdf_samples", "spp",   "k",   "params", "mode",
+                                "sequence",     "draws", NULL};
 
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
@@ -275,6 +274,12 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                                       "\"mode\": \"stratified\" (point lights are biased)",
                                       file);
         rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
+        if (rc == EXIT_OK)
+            rc = opt_count(e, "draws", file, where, 1, LUMIS_LIGHT_SET_MAX_DRAWS, &m->lights_draws);
+        if (rc == EXIT_OK && m->lights_draws && m->lights_mode != LUMIS_LIGHTS_STRATIFIED)
+            return tool_runtime_error("%s: %s.draws: chooses regions as strata: needs \"mode\": "
+                                      "\"stratified\"",
+                                      file, where);
         if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
         if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
         const char *params = NULL;
@@ -307,7 +312,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                           cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
                           cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
                           cJSON_GetObjectItemCaseSensitive(e, "params") ||
-                          cJSON_GetObjectItemCaseSensitive(e, "mode")))
+                          cJSON_GetObjectItemCaseSensitive(e, "mode") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "draws")))
         return tool_runtime_error("%s: %s: k, interleave, upsample, params and mode belong to "
                                   "light sets",
                                   file, where);
