@@ -40,6 +40,9 @@ static const char usage[] =
     "                     exports); stratified: each region as a stratum of the map, one\n"
     "                     direction drawn in every region per sample, MIS with the BSDF\n"
     "                     (--mis): unbiased, converges with --time or --spp\n"
+    "  --lights-draws N   stratified: N draws per sample and vertex over regions chosen\n"
+    "                     in proportion to a bound of their light there (power, cosine,\n"
+    "                     BSDF) instead of one in every region (1 .. 4096; docs/lights.md)\n"
     "  --lights-k K       lights per set (default 64; stratified 32).  Point mode with\n"
     "                     --time and no --lights-k: K is chosen to fill the time at 4\n"
     "                     samples per pixel (or --spp): small pilot renders at K = 4, 64\n"
@@ -161,6 +164,10 @@ static int render_lighting_option(render_cli *c, int argc, char **argv, int *i)
     } else if (tool_option(argc, argv, i, "--lights-mode", &v)) {
         if (!v || lumis_lights_mode_from_name(v, &o->lights_mode) != LUMIS_OK)
             return tool_bad_value("render", "--lights-mode", v, "must be point or stratified");
+    } else if (tool_option(argc, argv, i, "--lights-draws", &v)) {
+        if (!tool_parse_int(v, 1, LUMIS_LIGHT_SET_MAX_DRAWS, &x))
+            return tool_bad_value("render", "--lights-draws", v, "needs a count in [1, 4096]");
+        o->rd.lighting.light_set.draws = (int)x;
     } else if (tool_option(argc, argv, i, "--lights-k", &v)) {
         if (!tool_parse_int(v, 1, 1 << 20, &x))
             return tool_bad_value("render", "--lights-k", v, "needs a count in [1, 2^20]");
