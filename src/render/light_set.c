@@ -227,13 +227,16 @@ static inline float cone_cos_bound(float c, float ce, float se)
 /* B_r of every stratum for a shading point of normal n, mirror direction r (world) and
  * material m, as a running sum into cdf (cdf[q] = B_0 + ... + B_q); *last gets the last
  * stratum of positive B.  Selected draws pick stratum q with probability B_q / cdf[last].
- *   B_q = Y(P_q) cosmax_q fmax_q, 0 for a region whose cone lies wholly below the horizon
- * (the test of shade_stratified's draws: it adds exactly nothing), where cosmax_q bounds
- * n . w over the region's cone and fmax_q approximates the BSDF's largest value there:
- * albedo / pi for Lambert (a constant: left out), and for the glossy BSDFs the diffuse
- * part plus a GGX lobe of the BSDF's roughness evaluated at the half-vector angle nearest
- * the mirror direction (half the angle between r and the cone).  Every factor is floored
- * above 0, so every region that can contribute keeps q > 0: how good the bound is moves
+ *   B_q = Y(P_q) (max(0, n . d_q) + 0.2 cosmax_q) fmax_q,
+ * 0 for a region whose cone lies wholly below the horizon (the test of shade_stratified's
+ * draws: it adds exactly nothing), where d_q is the region's light (its centroid), cosmax_q
+ * bounds n . w over the region's cone (floored at 1e-4: a region that straddles the
+ * horizon keeps q > 0) and fmax_q approximates the BSDF's largest value there: albedo / pi
+ * for Lambert (a constant: left out), and for the glossy BSDFs the diffuse part plus a GGX
+ * lobe of the BSDF's roughness evaluated at the half-vector angle nearest the mirror
+ * direction (half the angle between r and the cone).  The cosine at the centroid tracks
+ * the region's mean cosine better than the bound alone (measured: docs/lights.md); the
+ * bound's share keeps every region that can contribute above 0, so the choice of B moves
  * only the variance, never the mean (docs/lights.md, "Selected draws"). */
 static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, float cos_o,
                           double *cdf)
@@ -261,7 +264,7 @@ static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, 
         const float *cone = st->cone + 4 * q, *bd = st->bound + 3 * q;
         const float c = cone[0] * nx + cone[1] * ny + cone[2] * nz;
         if (c > cone[3]) {
-            const float cb = fmaxf(cone_cos_bound(c, bd[0], bd[1]), 1e-4f);
+            const float cb = fmaxf(c, 0.0f) + 0.2f * fmaxf(cone_cos_bound(c, bd[0], bd[1]), 1e-4f);
             float f = 1.0f;
             if (fd > 0.0f || fs > 0.0f) {
                 /* the cone's nearest direction to r, and the half-vector angle to it */
@@ -280,8 +283,10 @@ static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, 
 }
 
 /* Selected draws (light_set.draws = N > 0): N directions per vertex instead of one in every
- * region.  Draw i picks stratum q by inverting the cdf of B (stratum_bounds) at (i + u_i) / N
- * and draws a direction in it; the N draws together have the density
+ * region.  Draw i picks stratum q by inverting the cdf of B (stratum_bounds) at (i + u) / N,
+ * one u for the vertex (systematic sampling: region r gets floor(N q_r) or ceil(N q_r)
+ * draws, in the order of the regions, which the partitions keep spatially coherent), and
+ * draws a direction in it; the N draws together have the density
  *     N p_l(w),   p_l(w) = q_R(w) p_R(w)(w),   q_r = B_r / sum B
  * (each draw is uniform over its N-th of the cdf, so their mixture is q), and the light
  * estimate is (1/N) sum_i f L cos / p_l(w_i).  MIS with the one BSDF sample, the balance
@@ -289,8 +294,8 @@ static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, 
  * N p_l / (N p_l + p_b) and the BSDF sample p_b / (N p_l + p_b) (squares with --mis power),
  * which sum to 1 at every direction, so the sum is unbiased.  The BSDF sample's p_l needs
  * q of the region it lands in: the B of every stratum is kept until then.  Numbers: one
- * dimension for the N choices (point i of N), one for the N directions, two for the BSDF:
- * the layout depends on N only. */
+ * dimension for u, one for the N directions (point i of N), two for the BSDF: the layout
+ * depends on N only. */
 static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
@@ -322,11 +327,12 @@ static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex
     int regions[CHUNK], strat[CHUNK];
     double u[2 * CHUNK];
     lumis_env_sample e[CHUNK];
-    int q = 0; /* the cdf is walked once: the N points (i + u_i) / N increase */
+    int q = 0; /* the cdf is walked once: the N points (i + u) / N increase */
+    const double u0 = use_light && total > 0.0 ? seq_1d(seq, d0, 0, 1) : 0.0;
     for (int i0 = 0; use_light && total > 0.0 && i0 < N; i0 += CHUNK) {
         const int i1 = i0 + CHUNK < N ? i0 + CHUNK : N;
         for (int i = i0; i < i1; i++) {
-            const double x = ((double)i + seq_1d(seq, d0, (uint32_t)i, (uint32_t)N)) / N * total;
+            const double x = ((double)i + u0) / N * total;
             while (q < last && cdf[q] <= x) q++;
             strat[i - i0] = q;
             regions[i - i0] = st->strata[q];
