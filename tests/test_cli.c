@@ -1252,9 +1252,18 @@ static void render_with_stratified_light_sets(void **state)
          " \"methods\": [{\"method\": \"inversion\", \"mode\": \"stratified\"}],\n"
          " \"budgets\": [{\"spp\": 1}]}\n",
          "mode belong to light sets"},
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"median-cut\", \"draws\": 4}],\n"
+         " \"budgets\": [{\"spp\": 1}]}\n",
+         "methods[0].draws: chooses regions as strata: needs \"mode\": \"stratified\""},
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"median-cut\", \"mode\": \"stratified\", \"draws\": "
+         "0}],\n"
+         " \"budgets\": [{\"spp\": 1}]}\n",
+         "draws"},
     };
     snprintf(a, sizeof a, "--out '%s'", tu_path("mode-out"));
-    expect_bad_files("bench", "mode-suite.json", a, suites, 2);
+    expect_bad_files("bench", "mode-suite.json", a, suites, 4);
 }
 
 static void render_with_light_sets(void **state)
