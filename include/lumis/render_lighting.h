@@ -185,9 +185,10 @@ typedef struct lumis_light_set_lighting {
      * with the BSDF's by `estimator` (MIS by default: each region's pdf against the
      * BSDF's), path tracing allowed; interleaving does not apply.  With draws = N > 0
      * (stratified mode only) each vertex draws N directions instead, over regions chosen in
-     * proportion to a bound of their contribution there (power x a cosine bound over the
-     * region's cone x a BSDF bound), with the selection probability in the estimator and
-     * in the MIS weights (docs/lights.md, "Selected draws"). */
+     * proportion to a weight of their contribution there (power x the cosine at the
+     * region's centroid plus a fifth of a bound over its cone x a BSDF weight), with the
+     * selection probability in the estimator and in the MIS weights; regions wholly below
+     * the horizon are never chosen (docs/lights.md, "Selected draws"). */
     const lumis_light_set *set;          /* required */
     unsigned kinds;                      /* lights of the set used: 0 == all, else a mask of bits
                                             1u << lumis_light_kind (e.g. EnvDirects only) */

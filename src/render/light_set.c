@@ -1,7 +1,8 @@
 /* A light set as the renderer's light.  Point mode: every light of the pixel's interleaved
  * set, one shadow ray each, traced 16 at a time.  Stratified mode: the set's regions as
  * strata of the map, one direction drawn in each, combined with a BSDF sample by MIS per
- * region (docs/lights.md, "Stratified mode"). */
+ * region (docs/lights.md, "Stratified mode"); or, with light_set.draws = N, N draws over
+ * regions chosen per shading point (shade_selected; "Selected draws"). */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
