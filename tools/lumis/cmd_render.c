@@ -41,7 +41,7 @@ static const char usage[] =
     "                     direction drawn in every region per sample, MIS with the BSDF\n"
     "                     (--mis): unbiased, converges with --time or --spp\n"
     "  --lights-draws N   stratified: N draws per sample and vertex over regions chosen\n"
-    "                     in proportion to a bound of their light there (power, cosine,\n"
+    "                     in proportion to a weight of their light there (power, cosine,\n"
     "                     BSDF) instead of one in every region (1 .. 4096; docs/lights.md)\n"
     "  --lights-k K       lights per set (default 64; stratified 32).  Point mode with\n"
     "                     --time and no --lights-k: K is chosen to fill the time at 4\n"
