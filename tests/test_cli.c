@@ -1339,6 +1339,21 @@ static void render_with_stratified_light_sets(void **state)
            "[--lights-mode]");
     expect("render --scene spheres --lights median-cut --lights-mode planar -o x.exr", 2,
            "must be point or stratified");
+    /* draws chosen per shading point: stratified only, 1 .. 4096, said in the sidecar */
+    expect("render --scene spheres --lights median-cut --lights-draws 4 -o x.exr", 2,
+           "lighting.light_set.draws: does not apply: the scene is lit by a light set in point "
+           "mode");
+    expect("render --scene spheres --lights median-cut --lights-mode stratified --lights-draws 0 "
+           "-o x.exr",
+           2, "--lights-draws needs a count in [1, 4096], not '0'");
+    snprintf(a, sizeof a,
+             "render --scene spheres --env sky:32x16 --lights median-cut --lights-mode stratified "
+             "--lights-k 8 --lights-draws 3 --spp 2 --size 16x12 -o '%s'",
+             tu_path("sel.exr"));
+    expect(a, 0, "as strata chosen per vertex");
+    j = read_json("sel.json");
+    assert_true(num(item(j, "lights"), "draws") == 3);
+    cJSON_Delete(j);
     expect("render --scene spheres --lights median-cut --lights-mode stratified --time 1 --spp 4 "
            "-o x.exr",
            2, "not both");
@@ -1359,9 +1374,18 @@ static void render_with_stratified_light_sets(void **state)
          " \"methods\": [{\"method\": \"inversion\", \"mode\": \"stratified\"}],\n"
          " \"budgets\": [{\"spp\": 1}]}\n",
          "mode belong to light sets"},
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"median-cut\", \"draws\": 4}],\n"
+         " \"budgets\": [{\"spp\": 1}]}\n",
+         "methods[0].draws: chooses regions as strata: needs \"mode\": \"stratified\""},
+        {"{\"name\": \"m\", \"maps\": [\"sky:16x8\"], \"scenes\": [\"spheres\"],\n"
+         " \"methods\": [{\"method\": \"median-cut\", \"mode\": \"stratified\", \"draws\": "
+         "0}],\n"
+         " \"budgets\": [{\"spp\": 1}]}\n",
+         "draws"},
     };
     snprintf(a, sizeof a, "--out '%s'", tu_path("mode-out"));
-    expect_bad_files("bench", "mode-suite.json", a, suites, 2);
+    expect_bad_files("bench", "mode-suite.json", a, suites, 4);
 }
 
 static void render_with_light_sets(void **state)

@@ -194,14 +194,24 @@ typedef struct lumis_light_set_lighting {
      * camera's jitter; direct illumination only.  Stratified mode: the set's regions are
      * strata instead, one direction in each (the regions of `kinds`) per vertex, combined
      * with the BSDF's by `estimator` (MIS by default: each region's pdf against the
-     * BSDF's), path tracing allowed; interleaving does not apply. */
+     * BSDF's), path tracing allowed; interleaving does not apply.  With draws = N > 0
+     * (stratified mode only) each vertex draws N directions instead, over regions chosen in
+     * proportion to a weight of their contribution there (power x the cosine at the
+     * region's centroid plus a fifth of a bound over its cone x a BSDF weight), with the
+     * selection probability in the estimator and in the MIS weights; regions wholly below
+     * the horizon are never chosen (docs/lights.md, "Selected draws"). */
     const lumis_light_set *set;          /* required */
     unsigned kinds;                      /* lights of the set used: 0 == all, else a mask of bits
                                             1u << lumis_light_kind (e.g. EnvDirects only) */
     lumis_lights_mode mode;              /* 0 == point */
     const lumis_region_sampler *regions; /* stratified: made from this set and env; NULL ==
                                             the render makes them */
+    int draws;                           /* stratified: 0 == one draw in every region; N in
+                                            1 .. LUMIS_LIGHT_SET_MAX_DRAWS: N draws per
+                                            vertex over regions chosen per shading point */
 } lumis_light_set_lighting;
+
+enum { LUMIS_LIGHT_SET_MAX_DRAWS = 4096 };
 
 /* A sun split off the map (lumis/sun.h; kinds env and light-set).  At every vertex the sun
  * is drawn once by its sampler (its pixels by their power) and combined by `estimator` with

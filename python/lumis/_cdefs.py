@@ -528,6 +528,7 @@ typedef struct lumis_light_set_lighting {
     unsigned kinds;
     lumis_lights_mode mode;
     const lumis_region_sampler *regions;
+    int draws;
 } lumis_light_set_lighting;
 typedef struct lumis_sun {
     int found;

@@ -178,7 +178,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
            lights_mode="point", lights_params=None, interleave=0, upsample=0, spp=0,
            time_budget=0.0, seed=1, sequence=None, size=None, threads=0, bounces=0,
            light_samples=0, bsdf_samples=0, power_heuristic=False, hide_environment=False,
-           rotation_deg=0.0, scale=1.0, fixtures=None, luminaire=None):
+           rotation_deg=0.0, scale=1.0, fixtures=None, luminaire=None, lights_draws=0):
     """Renders a scene as `lumis render` does with the same settings, bit for bit for the same
     seed.  Returns (image H x W x 3 float32, row 0 the top; a dict of what the render chose and
     what it cost).
@@ -188,7 +188,9 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     lumis.Map; None: the scene file's map, else "sky") with rotation_deg and scale, through
     the sampler `method` (None: the library's default) and `estimator` ("mis", "light",
     "bsdf": no sampler), or, with `lights` (a light-set method), by lights_k lights in
-    lights_mode ("point", "stratified") with lights_params (a dict or "NAME=VALUE,...").
+    lights_mode ("point", "stratified") with lights_params (a dict or "NAME=VALUE,...");
+    lights_draws N > 0 (stratified): N draws per vertex over regions chosen per shading point,
+    as --lights-draws.
     spp samples per pixel (0: 16), or time_budget seconds of wall time (the light set's
     making included).  seed and sequence ("sobol", "halton", "pcg", ...: where the numbers come from),
     size (W, H) instead of the scene camera's, threads (0: every core), bounces (path
@@ -276,6 +278,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
         rd.lighting.estimator = _ESTIMATORS[estimator]
         rd.lighting.hide_environment = int(bool(hide_environment))
         rd.lighting.light_set.mode = mode[0]
+        rd.lighting.light_set.draws = int(lights_draws)
         if lum:
             ll = ffi.new("lumis_luminaire_lighting *", {"instances": file.luminaires,
                                                          "count": file.luminaire_count,
@@ -330,6 +333,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
             if smp is not None else None,
             "estimator": estimator, "lights": lights, "lights_k": r.lights_k,
             "lights_mode": lights_mode if lights is not None else None,
+            "lights_draws": int(lights_draws) if lights is not None else None,
             "upsample": r.upsample, "seed": seed, "sequence": sequence or "sobol",
             "spp": st.spp, "passes": st.passes, "threads": st.threads,
             "seconds": st.seconds, "camera_rays": st.camera_rays, "shadow_rays": st.shadow_rays,

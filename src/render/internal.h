@@ -66,6 +66,13 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
 /* What lights the scene under lighting kind `kind` (known), for messages: "luminaires". */
 const char *lumis__lighting_lit_by(lumis_lighting_kind kind);
 
+/* Selected draws (light_set.c), for tests: the probability q[k] with which a shading point
+ * of normal `normal`, seen along `view` (towards the point), of material m picks light k of
+ * d's light set (d in stratified mode; q has a slot per light: 0 for a light that is no
+ * stratum or whose region is below the horizon). */
+lumis_status lumis__light_set_selection(const lumis_render_desc *d, lumis_vec3 normal,
+                                        lumis_vec3 view, const lumis_bsdf *m, double *q);
+
 /* lumis_render_gbuffer on `threads` threads (0: OpenMP's default): a session renders on
  * the threads its caller gave. */
 lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,

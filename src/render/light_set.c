@@ -1,7 +1,8 @@
 /* A light set as the renderer's light.  Point mode: every light of the pixel's interleaved
  * set, one shadow ray each, traced 16 at a time.  Stratified mode: the set's regions as
  * strata of the map, one direction drawn in each, combined with a BSDF sample by MIS per
- * region (docs/lights.md, "Stratified mode"). */
+ * region (docs/lights.md, "Stratified mode"); or, with light_set.draws = N, N draws over
+ * regions chosen per shading point (shade_selected; "Selected draws"). */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
@@ -28,6 +29,10 @@ typedef struct set_state {
     lumis_region_sampler *owned; /* made here when the render desc gave none */
     int *strata, nstrata;
     float *cone; /* per stratum: its light's direction and -sin(extent) (-2: never below) */
+    /* selected draws: per stratum cos and sin of its light's extent and the luminance of its
+     * power (the terms of its bound B_r), and per light its stratum (-1: none) */
+    float *bound;
+    int *stratum_of;
     unsigned kinds;
 } set_state;
 
@@ -210,10 +215,194 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     return add(L, mk(bs.weight.r * Le.r * w, bs.weight.g * Le.g * w, bs.weight.b * Le.b * w));
 }
 
+/* cos(theta - e) for cos theta = c, e the half-angle of a cone (cos e, sin e): the largest
+ * cosine between a direction at angle theta from the cone's axis and one inside the cone
+ * (1 when the direction is inside). */
+static inline float cone_cos_bound(float c, float ce, float se)
+{
+    if (c >= ce) return 1.0f;
+    const float s = sqrtf(fmaxf(0.0f, 1.0f - c * c));
+    return c * ce + s * se;
+}
+
+/* B_r of every stratum for a shading point of normal n, mirror direction r (world) and
+ * material m, as a running sum into cdf (cdf[q] = B_0 + ... + B_q); *last gets the last
+ * stratum of positive B.  Selected draws pick stratum q with probability B_q / cdf[last].
+ *   B_q = Y(P_q) (max(0, n . d_q) + 0.2 cosmax_q) fmax_q,
+ * 0 for a region whose cone lies wholly below the horizon (the test of shade_stratified's
+ * draws: it adds exactly nothing), where d_q is the region's light (its centroid), cosmax_q
+ * bounds n . w over the region's cone (floored at 1e-4: a region that straddles the
+ * horizon keeps q > 0) and fmax_q approximates the BSDF's largest value there: albedo / pi
+ * for Lambert (a constant: left out), and for the glossy BSDFs the diffuse part plus a GGX
+ * lobe of the BSDF's roughness evaluated at the half-vector angle nearest the mirror
+ * direction (half the angle between r and the cone).  The cosine at the centroid tracks
+ * the region's mean cosine better than the bound alone (measured: docs/lights.md); the
+ * bound's share keeps every region that can contribute above 0, so the choice of B moves
+ * only the variance, never the mean (docs/lights.md, "Selected draws"). */
+static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, float cos_o,
+                          double *cdf)
+{
+    const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
+    const float rx = (float)r.x, ry = (float)r.y, rz = (float)r.z;
+    float fd = 0.0f, fs = 0.0f, a2 = 0.01f;
+    if (m->type != LUMIS_BSDF_LAMBERT) {
+        const float ax = m->alpha_x > 0.0f ? m->alpha_x : 0.1f,
+                    ay = m->alpha_y > 0.0f ? m->alpha_y : 0.1f;
+        a2 = ax * ay;
+        const lumis_rgb kd = m->diffuse, ks = m->specular;
+        fd = m->type == LUMIS_BSDF_GGX_CONDUCTOR
+                 ? 0.0f
+                 : (0.2126f * kd.r + 0.7152f * kd.g + 0.0722f * kd.b) * (float)(1.0 / LUMIS_PI);
+        float f0 = 0.2126f * ks.r + 0.7152f * ks.g + 0.0722f * ks.b;
+        if (m->type == LUMIS_BSDF_GGX_PLASTIC) f0 = 0.04f;
+        /* the lobe's f = F D G / (4 cos_o cos_i) at its peak, G and cos_i left to the cosine
+         * bound; cos_o floored so that grazing views stay finite */
+        fs = fmaxf(f0, 0.01f) / (4.0f * fmaxf(cos_o, 0.05f) * (float)LUMIS_PI);
+    }
+    double acc = 0.0;
+    int last = -1;
+    for (int q = 0; q < st->nstrata; q++) {
+        const float *cone = st->cone + 4 * q, *bd = st->bound + 3 * q;
+        const float c = cone[0] * nx + cone[1] * ny + cone[2] * nz;
+        if (c > cone[3]) {
+            const float cb = fmaxf(c, 0.0f) + 0.2f * fmaxf(cone_cos_bound(c, bd[0], bd[1]), 1e-4f);
+            float f = 1.0f;
+            if (fd > 0.0f || fs > 0.0f) {
+                /* the cone's nearest direction to r, and the half-vector angle to it */
+                const float cr = fminf(
+                    cone_cos_bound(cone[0] * rx + cone[1] * ry + cone[2] * rz, bd[0], bd[1]), 1.0f);
+                const float c2 = 0.5f * (1.0f + cr), s2 = 0.5f * (1.0f - cr), den = a2 * c2 + s2;
+                /* GGX's D = a2 / (pi (a2 cos^2 + sin^2)^2), the pi in fs */
+                f = fd + fs * a2 / fmaxf(den * den, 1e-12f);
+            }
+            acc += (double)(bd[2] * cb * fmaxf(f, 1e-6f));
+            last = q;
+        }
+        cdf[q] = acc;
+    }
+    return last;
+}
+
+/* Selected draws (light_set.draws = N > 0): N directions per vertex instead of one in every
+ * region.  Draw i picks stratum q by inverting the cdf of B (stratum_bounds) at (i + u) / N,
+ * one u for the vertex (systematic sampling: region r gets floor(N q_r) or ceil(N q_r)
+ * draws, in the order of the regions, which the partitions keep spatially coherent), and
+ * draws a direction in it; the N draws together have the density
+ *     N p_l(w),   p_l(w) = q_R(w) p_R(w)(w),   q_r = B_r / sum B
+ * (each draw is uniform over its N-th of the cdf, so their mixture is q), and the light
+ * estimate is (1/N) sum_i f L cos / p_l(w_i).  MIS with the one BSDF sample, the balance
+ * heuristic for N + 1 samples (Veach's multi-sample form): a light draw weighs
+ * N p_l / (N p_l + p_b) and the BSDF sample p_b / (N p_l + p_b) (squares with --mis power),
+ * which sum to 1 at every direction, so the sum is unbiased.  The BSDF sample's p_l needs
+ * q of the region it lands in: the B of every stratum is kept until then.  Numbers: one
+ * dimension for u, one for the N directions (point i of N), two for the BSDF: the layout
+ * depends on N only. */
+static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
+{
+    const lumis_render_desc *d = c->d;
+    const set_state *st = c->state;
+    lumis__stream *seq = v->seq;
+    const int N = d->lighting.light_set.draws;
+    const uint32_t d0 = seq_take_n(seq, 2), db = seq_take_n(seq, 2);
+    const shading_frame fr = shading_frame_at(h, dir);
+    const v3 t = fr.t, b = fr.b, n = fr.n, o = fr.org;
+    const lumis_vec3 wo = fr.wo;
+    v3 L = mk(0, 0, 0);
+    const lumis_bsdf *m = &h->prim->material;
+    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
+              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
+              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    if (!(wo.z > 0.0f)) return L;
+    const int lambert = m->type == LUMIS_BSDF_LAMBERT;
+    const lumis_rgb kd = {(float)(m->diffuse.r * (1.0 / LUMIS_PI)),
+                          (float)(m->diffuse.g * (1.0 / LUMIS_PI)),
+                          (float)(m->diffuse.b * (1.0 / LUMIS_PI))};
+    /* the mirror direction of -dir about n */
+    const v3 r = add(dir, mul(n, -2.0 * dot(dir, n)));
+    double *cdf = v->scratch;
+    const int last = stratum_bounds(st, m, n, r, wo.z, cdf);
+    const double total = last >= 0 ? cdf[last] : 0.0;
+    packet p;
+    p.rays.n = p.flushed = 0;
+    enum { CHUNK = 64 };
+    int regions[CHUNK], strat[CHUNK];
+    double u[2 * CHUNK];
+    lumis_env_sample e[CHUNK];
+    int q = 0; /* the cdf is walked once: the N points (i + u) / N increase */
+    const double u0 = use_light && total > 0.0 ? seq_1d(seq, d0, 0, 1) : 0.0;
+    for (int i0 = 0; use_light && total > 0.0 && i0 < N; i0 += CHUNK) {
+        const int i1 = i0 + CHUNK < N ? i0 + CHUNK : N;
+        for (int i = i0; i < i1; i++) {
+            const double x = ((double)i + u0) / N * total;
+            while (q < last && cdf[q] <= x) q++;
+            strat[i - i0] = q;
+            regions[i - i0] = st->strata[q];
+            seq_2d(seq, d0 + 1, (uint32_t)i, (uint32_t)N, u + 2 * (i - i0));
+        }
+        lumis_region_sampler_sample_n(st->rs, regions, u, (size_t)(i1 - i0), e);
+        for (int k = 0; k < i1 - i0; k++) {
+            const v3 wi = fromf(e[k].dir);
+            const double cosn = dot(wi, n);
+            if (!(cosn > 0.0) || !(e[k].pdf > 0.0f)) continue;
+            const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
+            if (lambert && !(wil.z > 0.0f)) continue;
+            const lumis_rgb f = lambert ? kd : lumis_bsdf_eval(m, wo, wil);
+            if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
+            const int s = strat[k];
+            const double pl = (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total * e[k].pdf;
+            float pb = 0.0f; /* the BSDF's pdf there (Lambert's: cos / pi) */
+            if (mis) pb = lambert ? (float)(wil.z / LUMIS_PI) : lumis_bsdf_pdf(m, wo, wil);
+            const double w = mis ? mis_weight(N, pl, 1, pb, d->power_heuristic) : 1.0;
+            const double k2 = w * cosn / (N * pl);
+            packet_push(&p, o, wi, INFINITY,
+                        mk(f.r * e[k].radiance.r * k2, f.g * e[k].radiance.g * k2,
+                           f.b * e[k].radiance.b * k2));
+            if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
+        }
+    }
+    *v->shadow_rays += (double)(p.rays.n + p.flushed);
+    packet_flush(c->scene, d, &p, &L);
+    if (!use_bsdf) return L;
+    double ub[3];
+    seq_bsdf(seq, m, db, 0, 1, ub);
+    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, ub[0], ub[1], ub[2]);
+    if (!(bs.pdf > 0.0f)) return L;
+    const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+    int region = -1;
+    lumis_rgb Le;
+    const float dens = lumis_region_sampler_lookup(st->rs, tof(wi), &region, &Le);
+    /* a region of another layer (Wu's split) or one without light adds nothing here */
+    const int s = region >= 0 ? st->stratum_of[region] : -1;
+    if (s < 0 || (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f)) return L;
+    *v->shadow_rays += 1.0;
+    if (occluded(c->scene, d, o, wi)) return L;
+    /* q of the region it lands in: 0 below the horizon (no draw could land there) */
+    const double pl =
+        total > 0.0 ? (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total * (double)dens : 0.0;
+    const double w = mis ? mis_weight(1, bs.pdf, N, pl, d->power_heuristic) : 1.0;
+    const v3 Lb = mk(w * bs.weight.r * Le.r, w * bs.weight.g * Le.g, w * bs.weight.b * Le.b);
+    return add(L, Lb);
+}
+
 static v3 shade_any(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const set_state *st = c->state;
-    return st->rs ? shade_stratified(c, h, dir, v) : shade(c, h, dir, v);
+    if (!st->rs) return shade(c, h, dir, v);
+    return c->d->lighting.light_set.draws > 0 ? shade_selected(c, h, dir, v)
+                                              : shade_stratified(c, h, dir, v);
+}
+
+/* Per thread: the running sums of the strata's bounds (selected draws). */
+static void *thread_begin(const void *state)
+{
+    const set_state *st = state;
+    return malloc((size_t)(st->nstrata > 0 ? st->nstrata : 1) * sizeof(double));
+}
+
+static void thread_end(void *scratch, double *light_samples)
+{
+    (void)light_samples;
+    free(scratch);
 }
 
 /* The set and the map it was made from.  Point lights: every light summed, direct
@@ -223,7 +412,8 @@ static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
     *needs = LUMIS__IN_ENV | LUMIS__IN_SET;
     *takes = LUMIS__IN_SET_KINDS | LUMIS__IN_SET_MODE | LUMIS__IN_HIDE | LUMIS__IN_SUN;
     if (l->light_set.mode == LUMIS_LIGHTS_STRATIFIED)
-        *takes |= LUMIS__IN_REGIONS | LUMIS__IN_EST_LIGHT | LUMIS__IN_POWER | LUMIS__IN_BOUNCES;
+        *takes |= LUMIS__IN_REGIONS | LUMIS__IN_EST_LIGHT | LUMIS__IN_POWER | LUMIS__IN_BOUNCES |
+                  LUMIS__IN_SET_DRAWS;
 }
 
 static void release(void *state)
@@ -234,6 +424,8 @@ static void release(void *state)
         lumis_region_sampler_destroy(st->owned);
         free(st->strata);
         free(st->cone);
+        free(st->bound);
+        free(st->stratum_of);
     }
     free(st);
 }
@@ -263,13 +455,25 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
         st->kinds = d->lighting.light_set.kinds ? d->lighting.light_set.kinds : ~0u;
         st->strata = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->strata);
         st->cone = malloc((size_t)(count > 0 ? count : 1) * 4 * sizeof *st->cone);
-        if (!st->strata || !st->cone)
+        st->bound = malloc((size_t)(count > 0 ? count : 1) * 3 * sizeof *st->bound);
+        st->stratum_of = malloc((size_t)(count > 0 ? count : 1) * sizeof *st->stratum_of);
+        if (!st->strata || !st->cone || !st->bound || !st->stratum_of)
             return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                                "render: light set: out of memory");
         for (int k = 0; k < count; k++) {
+            st->stratum_of[k] = -1;
             if (!(st->kinds & (1u << lumis_region_sampler_kind(st->rs, k))) ||
                 lumis_region_sampler_empty(st->rs, k))
                 continue;
+            float *bd = st->bound + 3 * st->nstrata;
+            bd[0] = l[k].extent < (float)LUMIS_PI ? cosf(l[k].extent) : -1.0f;
+            bd[1] = l[k].extent < (float)LUMIS_PI ? sinf(l[k].extent) : 0.0f;
+            double pw[3];
+            lumis_region_sampler_power(st->rs, k, pw);
+            /* floored: an empty region is left out, so the power of one kept is positive
+             * but may round below a float's range */
+            bd[2] = fmaxf((float)(0.2126 * pw[0] + 0.7152 * pw[1] + 0.0722 * pw[2]), 1e-30f);
+            st->stratum_of[k] = st->nstrata;
             float *cone = st->cone + 4 * st->nstrata;
             cone[0] = l[k].dir.x;
             cone[1] = l[k].dir.y;
@@ -289,6 +493,31 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
     return LUMIS_OK;
 }
 
+lumis_status lumis__light_set_selection(const lumis_render_desc *d, lumis_vec3 normal,
+                                        lumis_vec3 view, const lumis_bsdf *m, double *q)
+{
+    if (!d || !m || !q || d->lighting.light_set.mode != LUMIS_LIGHTS_STRATIFIED)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    void *state = NULL;
+    lumis_status st = prepare(NULL, d, &state);
+    set_state *ss = state;
+    double *cdf = st == LUMIS_OK ? thread_begin(ss) : NULL;
+    if (st == LUMIS_OK && !cdf) st = LUMIS_ERR_OUT_OF_MEMORY;
+    if (st == LUMIS_OK) {
+        const v3 n = norm(fromf(normal)), dir = norm(fromf(view));
+        const v3 r = add(dir, mul(n, -2.0 * dot(dir, n)));
+        const int last = stratum_bounds(ss, m, n, r, (float)-dot(dir, n), cdf);
+        const double total = last >= 0 ? cdf[last] : 0.0;
+        for (int k = 0; k < lumis_region_sampler_count(ss->rs); k++) {
+            const int s = ss->stratum_of[k];
+            q[k] = s < 0 || total <= 0.0 ? 0.0 : (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total;
+        }
+    }
+    free(cdf);
+    release(state);
+    return st;
+}
+
 const lumis__light_kind lumis__light_set_kind = {
-    "a light set", inputs, prepare, release, NULL, NULL, NULL, NULL, NULL, shade_any,
+    "a light set", inputs, prepare, release, NULL, NULL, NULL, thread_begin, thread_end, shade_any,
 };

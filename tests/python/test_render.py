@@ -35,11 +35,16 @@ CASES = [
       "lights_mode": "stratified", "size": (40, 30), "spp": 2, "seed": 7},
      ["--scene", "spheres", "--env", "sky:64x32", "--lights", "variance-min", "--lights-k", "8",
       "--lights-mode", "stratified", "--size", "40x30", "--spp", "2", "--seed", "7"]),
+    ({"scene": "spheres", "env": "sky:64x32", "lights": "median-cut", "lights_k": 16,
+      "lights_mode": "stratified", "lights_draws": 3, "size": (40, 30), "spp": 2, "seed": 7},
+     ["--scene", "spheres", "--env", "sky:64x32", "--lights", "median-cut", "--lights-k", "16",
+      "--lights-mode", "stratified", "--lights-draws", "3", "--size", "40x30", "--spp", "2",
+      "--seed", "7"]),
 ]
 
 
 @pytest.mark.parametrize("kw,args", CASES, ids=["env", "kdtree-light-halton", "light-set",
-                                                "stratified"])
+                                                "stratified", "selected-draws"])
 def test_render_equals_the_tool_bit_for_bit(cli, tmp_path, kw, args):
     img, r = lumis.render(**kw)
     ref = tool_render(cli, tmp_path, "ref", *args)
@@ -84,6 +89,7 @@ def test_time_budget_reports_what_it_spent():
     ({"lights": "no-such-method"}, ["no-such-method"]),
     ({"lights": "median-cut", "lights_params": "nonsense=1"}, ["nonsense"]),
     ({"lights_mode": "sometimes"}, ["sometimes"]),
+    ({"lights": "median-cut", "lights_draws": 4}, ["lighting.light_set.draws"]),  # point mode
     ({"upsample": 2}, ["upsample"]),                         # only with Wu's light sets
     ({"bounces": 1, "lights": "median-cut"}, ["max_bounces"]),  # point lights: direct only
     ({"sequence": "no-such-sequence"}, ["no-such-sequence"]),

@@ -48,6 +48,7 @@
 #include "lumis/render.h"
 #include "render/internal.h"
 #include "render/packet.h"
+#include "stat.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -578,6 +579,364 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
         lumis_light_set_destroy(set);
     }
     lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+/* Renders of `s` lit by `set`'s regions in stratified mode with draws chosen per shading
+ * point (light_set.draws = N), seeds 700 + r. */
+static void render_selected(const lumis_scene *s, const lumis_envmap *env,
+                            const lumis_light_set *set, const lumis_region_sampler *rs, int draws,
+                            lumis_estimator est, int power, lumis_sequence seq, unsigned kinds,
+                            int spp, int runs, lumis_image **imgs)
+{
+    for (int r = 0; r < runs; r++) {
+        lumis_render_desc d = {0};
+        d.camera = &cam;
+        d.lighting.env = env;
+        d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        d.lighting.light_set.set = set;
+        d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+        d.lighting.light_set.regions = r % 2 ? rs : NULL;
+        d.lighting.light_set.draws = draws;
+        d.lighting.light_set.kinds = kinds;
+        d.lighting.estimator = est;
+        d.power_heuristic = power;
+        d.sequence = seq;
+        d.spp = spp;
+        d.seed = 700u + (unsigned)r;
+        lumis_render_stats st;
+        assert_int_equal(lumis_render(s, &d, &imgs[r], &st), LUMIS_OK);
+        assert_true(st.shadow_rays > 0.0);
+        if (kinds == 1u << LUMIS_LIGHT_ENV_DIRECT) { /* Wu's split: the other layer added */
+            lumis_image *other = NULL;
+            d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+            d.lighting.hide_environment = 1;
+            assert_int_equal(lumis_render(s, &d, &other, NULL), LUMIS_OK);
+            for (int k = 0; k < 3 * 24 * 24; k++) imgs[r]->pixels[k] += other->pixels[k];
+            lumis_image_destroy(other);
+        }
+    }
+}
+
+/* Selected draws (N draws per vertex over regions picked in proportion to a bound of their
+ * contribution) are unbiased: every pixel of the Lambertian sphere converges to the exact
+ * irradiance summed over the map's pixels, in all three channels of the coloured map, for
+ * one draw and for several, light sampling alone and MIS with both heuristics, Wu's two
+ * layers added, and several sequences (the draws' choices and directions are their own
+ * dimensions). */
+static void selected_draws_converge_to_the_exact_irradiance(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    lumis_scene *s = one_sphere(0.7f);
+    enum { RUNS = 32 };
+    static const struct {
+        const char *method;
+        int k, draws, split;
+        lumis_estimator est;
+        int power;
+        lumis_sequence seq;
+    } cases[] = {
+        {"median-cut", 8, 1, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PCG},
+        {"median-cut", 16, 3, 0, LUMIS_ESTIMATOR_LIGHT, 0, LUMIS_SEQUENCE_SOBOL},
+        {"wu", 12, 4, 1, LUMIS_ESTIMATOR_MIS, 1, LUMIS_SEQUENCE_ZSOBOL},
+        {"fhis", 32, 8, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PMJ02},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(
+            lumis_lights_by_name(env, cases[c].method, cases[c].k, 0, NULL, NULL, &set), LUMIS_OK);
+        lumis_region_sampler *rs = NULL;
+        assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+        lumis_image *imgs[RUNS];
+        render_selected(s, env, set, rs, cases[c].draws, cases[c].est, cases[c].power, cases[c].seq,
+                        cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u, 16, RUNS, imgs);
+        char what[96];
+        snprintf(what, sizeof what, "selected draws %s K %d N %d (estimator %d, %s)",
+                 cases[c].method, cases[c].k, cases[c].draws, (int)cases[c].est,
+                 lumis_sequence_name(cases[c].seq));
+        check_irradiance(imgs, RUNS, env, 0.7, what);
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+        lumis_region_sampler_destroy(rs);
+        lumis_light_set_destroy(set);
+    }
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+/* A glossy sphere (GGX plastic, coloured base) under the coloured map: each checked pixel
+ * converges to the integral of f(wo, wi) L(wi) cos over the map, summed here over every map
+ * pixel (4 x 4 sub-cells, the BSDF evaluated at each) and averaged over the pixel's
+ * footprint (4 x 4 positions), within 4.5 standard errors of `runs` renders, with no shared
+ * bias (the sum of the z scores).  Today's stratified mode (draws 0) passes it too, which
+ * checks the quadrature. */
+static void check_glossy(lumis_image *const *imgs, int runs, const lumis_envmap *env,
+                         const lumis_bsdf *m, const char *what)
+{
+    enum { CELLS = 64 * 32 * 16 };
+    static double cell[CELLS][6];
+    for (int j = 0, q = 0; j < 32; j++)
+        for (int i = 0; i < 64; i++) {
+            const lumis_rgb tx = lumis_envmap_texel(env, i, j);
+            const double om = lumis_envmap_pixel_solid_angle(env, j) / 16;
+            for (int b = 0; b < 4; b++)
+                for (int a = 0; a < 4; a++, q++) {
+                    double c0 = cos(PI * j / 32), c1 = cos(PI * (j + 1) / 32);
+                    float v = (float)(acos(c0 + (b + 0.5) / 4 * (c1 - c0)) / PI);
+                    lumis_vec3 d =
+                        lumis_envmap_uv_to_dir(env, (float)((i + (a + 0.5) / 4) / 64), v);
+                    cell[q][0] = d.x;
+                    cell[q][1] = d.y;
+                    cell[q][2] = d.z;
+                    cell[q][3] = tx.r * om;
+                    cell[q][4] = tx.g * om;
+                    cell[q][5] = tx.b * om;
+                }
+        }
+    int checked = 0;
+    double zsum[3] = {0, 0, 0};
+    for (int y = 2; y < 24; y += 4)
+        for (int x = 2; x < 24; x += 4) {
+            if (!on_sphere(x, y)) continue;
+            double E[3] = {0, 0, 0};
+            for (int sub = 0; sub < 16; sub++) {
+                double n[3];
+                assert_true(sphere_normal(x + (sub % 4 + 0.5) / 4, y + (sub / 4 + 0.5) / 4, n));
+                /* the frame: any tangents (the BSDF is isotropic); wo towards the eye */
+                double t[3] = {0, 0, 0}, b[3];
+                t[fabs(n[0]) < 0.6 ? 0 : 1] = 1;
+                double tn = t[0] * n[0] + t[1] * n[1] + t[2] * n[2];
+                for (int k = 0; k < 3; k++) t[k] -= tn * n[k];
+                double tl = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+                for (int k = 0; k < 3; k++) t[k] /= tl;
+                b[0] = n[1] * t[2] - n[2] * t[1];
+                b[1] = n[2] * t[0] - n[0] * t[2];
+                b[2] = n[0] * t[1] - n[1] * t[0];
+                double e[3] = {-n[0], -n[1], 4 - n[2]}; /* to the eye at (0, 0, 4) */
+                double el = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+                const lumis_vec3 wo = {(float)((e[0] * t[0] + e[1] * t[1] + e[2] * t[2]) / el),
+                                       (float)((e[0] * b[0] + e[1] * b[1] + e[2] * b[2]) / el),
+                                       (float)((e[0] * n[0] + e[1] * n[1] + e[2] * n[2]) / el)};
+                for (int q = 0; q < CELLS; q++) {
+                    const double *w = cell[q];
+                    double c = w[0] * n[0] + w[1] * n[1] + w[2] * n[2];
+                    if (!(c > 0)) continue;
+                    const lumis_vec3 wi = {(float)(w[0] * t[0] + w[1] * t[1] + w[2] * t[2]),
+                                           (float)(w[0] * b[0] + w[1] * b[1] + w[2] * b[2]),
+                                           (float)c};
+                    const lumis_rgb f = lumis_bsdf_eval(m, wo, wi);
+                    E[0] += f.r * w[3] * c / 16;
+                    E[1] += f.g * w[4] * c / 16;
+                    E[2] += f.b * w[5] * c / 16;
+                }
+            }
+            for (int ch = 0; ch < 3; ch++) {
+                double sum = 0, sum2 = 0;
+                for (int r = 0; r < runs; r++) {
+                    double v = imgs[r]->pixels[3 * (y * 24 + x) + ch];
+                    sum += v;
+                    sum2 += v * v;
+                }
+                double mean = sum / runs,
+                       se = sqrt(fmax(sum2 / runs - mean * mean, 0) / (runs - 1));
+                double z = (mean - E[ch]) / fmax(se, 2e-3 * E[ch]);
+                if (fabs(z) > 4.5)
+                    fail_msg("%s: pixel (%d, %d) channel %d: %g +- %g, exact %g (z = %.2f)", what,
+                             x, y, ch, mean, se, E[ch], z);
+                zsum[ch] += z;
+            }
+            checked++;
+        }
+    assert_true(checked > 10);
+    for (int ch = 0; ch < 3; ch++)
+        if (fabs(zsum[ch]) > 3.5 * sqrt(checked))
+            fail_msg("%s: pixels share a bias in channel %d: sum of z = %.2f over %d pixels", what,
+                     ch, zsum[ch], checked);
+}
+
+/* Selected draws on a glossy sphere: the BSDF's bound chooses the regions and the BSDF's
+ * pdf enters the MIS weights; each pixel converges to the brute-force integral of the GGX
+ * plastic's f L cos over the map's pixels, like today's stratified mode (draws 0). */
+static void selected_draws_shade_glossy_surfaces_exactly(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    lumis_object o = {0};
+    o.type = LUMIS_OBJECT_SPHERE;
+    o.radius = 1.0f;
+    o.material = (lumis_bsdf){LUMIS_BSDF_GGX_PLASTIC, {0.6f, 0.35f, 0.15f}, {0, 0, 0}, 0.3f, 0.3f};
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(&o, 1, NULL, &s), LUMIS_OK);
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", 32, 0, NULL, NULL, &set), LUMIS_OK);
+    enum { RUNS = 24 };
+    static const struct {
+        int draws, power;
+    } cases[] = {{0, 0}, {4, 0}, {2, 1}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        lumis_image *imgs[RUNS];
+        render_selected(s, env, set, NULL, cases[c].draws, LUMIS_ESTIMATOR_MIS, cases[c].power,
+                        LUMIS_SEQUENCE_SOBOL, 0, 32, RUNS, imgs);
+        char what[64];
+        snprintf(what, sizeof what, "glossy, draws %d, %s heuristic", cases[c].draws,
+                 cases[c].power ? "power" : "balance");
+        check_glossy(imgs, RUNS, env, &o.material, what);
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+    }
+    lumis_light_set_destroy(set);
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+typedef struct region_hits {
+    const lumis_region_sampler *rs;
+    double *count; /* per region */
+    long rays;
+} region_hits;
+
+static void count_region(void *user, const float org[3], const float dir[3])
+{
+    region_hits *h = user;
+    (void)org;
+    int r = -1;
+    lumis_region_sampler_lookup(h->rs, (lumis_vec3){dir[0], dir[1], dir[2]}, &r, NULL);
+    if (r >= 0) h->count[r] += 1.0;
+    h->rays++;
+}
+
+/* How selected draws choose regions.  (1) The probabilities are the documented weights for a
+ * Lambertian surface, q_k proportional to Y(P_k) (max(0, n . dir_k) + 0.2 cosmax_k), cosmax_k
+ * = max(cos(angle(n, dir_k) - extent_k), 1e-4) (1 inside the cone), computed here from the
+ * set's lights, and exactly 0 for a region whose cone lies below the horizon (n . dir_k <=
+ * -sin extent_k): such a region is never picked.  (2) The draws
+ * follow q: a floor facing the zenith, light sampling alone, N = 4; each shadow ray's region
+ * counted against q_k times the share of region k's power above the horizon (the equator is a
+ * row boundary of the map, so every pixel is wholly on one side), the draws below it in one
+ * more bin: chi-square (the four draws of a vertex are systematic, so their counts vary less
+ * than a multinomial's: the test is conservative, and still sees a choice off by a region). */
+static void selected_draws_choose_regions_by_their_bound(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    const int w = lumis_envmap_width(env), h = lumis_envmap_height(env);
+    enum { K = 24 };
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", K, 0, NULL, NULL, &set), LUMIS_OK);
+    const lumis_light *l = NULL;
+    int count = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &count), LUMIS_OK);
+    assert_int_equal(count, K);
+    lumis_render_desc d = {0};
+    d.lighting.env = env;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    d.lighting.light_set.set = set;
+    d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+    d.lighting.light_set.draws = 4;
+    const lumis_bsdf lambert = {LUMIS_BSDF_LAMBERT, {0.5f, 0.5f, 0.5f}, {0, 0, 0}, 0, 0};
+    const lumis_vec3 zenith = lumis_envmap_uv_to_dir(env, 0.5f, 0.0f);
+    const lumis_vec3 normals[4] = {
+        zenith, {0.6f, -0.64f, 0.48f}, {-0.8f, 0.0f, 0.6f}, {0.0f, -1.0f, 0.0f}};
+    double q[K];
+    int below = 0;
+    for (int c = 0; c < 4; c++) {
+        const lumis_vec3 n = normals[c];
+        const lumis_vec3 view = {-n.x, -n.y, -n.z};
+        assert_int_equal(lumis__light_set_selection(&d, n, view, &lambert, q), LUMIS_OK);
+        double want[K], sum = 0;
+        for (int k = 0; k < K; k++) {
+            const double cn = l[k].dir.x * n.x + l[k].dir.y * n.y + l[k].dir.z * n.z;
+            const double th = acos(fmax(-1.0, fmin(1.0, cn)));
+            const double cb = th <= l[k].extent ? 1.0 : cos(th - l[k].extent);
+            const double y =
+                0.2126 * l[k].power[0] + 0.7152 * l[k].power[1] + 0.0722 * l[k].power[2];
+            want[k] = cn <= -sin(l[k].extent) - 1e-4 && l[k].extent < 1.5f
+                          ? 0.0
+                          : y * (fmax(cn, 0.0) + 0.2 * fmax(cb, 1e-4));
+            sum += want[k];
+        }
+        double qs = 0;
+        for (int k = 0; k < K; k++) {
+            want[k] /= sum;
+            qs += q[k];
+            if (want[k] == 0.0) {
+                below++;
+                if (q[k] != 0.0)
+                    fail_msg("normal %d: region %d below the horizon: q %g", c, k, q[k]);
+            } else if (fabs(q[k] - want[k]) > 1e-4 * want[k] + 1e-12) {
+                fail_msg("normal %d: region %d: q %.9g, the bound gives %.9g", c, k, q[k], want[k]);
+            }
+        }
+        assert_true(fabs(qs - 1.0) < 1e-9);
+    }
+    assert_true(below >= 8); /* the test saw regions below the horizon */
+
+    /* (2) the draws of a floor facing the zenith */
+    lumis_region_sampler *rs = NULL;
+    assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+    lumis_object floor_ = {0};
+    floor_.type = LUMIS_OBJECT_PLANE;
+    floor_.normal = zenith;
+    floor_.size = 100.0f;
+    floor_.material = lambert;
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(&floor_, 1, NULL, &s), LUMIS_OK);
+    const lumis_camera top = {{3 * zenith.x, 3 * zenith.y, 3 * zenith.z},
+                              {0, 0, 0},
+                              {zenith.y, zenith.z, zenith.x},
+                              30.0f,
+                              16,
+                              16};
+    assert_int_equal(lumis__light_set_selection(
+                         &d, zenith, (lumis_vec3){-zenith.x, -zenith.y, -zenith.z}, &lambert, q),
+                     LUMIS_OK);
+    /* each region's share of its power above the horizon (rows 0 .. h/2 - 1) */
+    double above[K] = {0}, all[K] = {0};
+    int lw = 0, lh = 0;
+    const int32_t *labels = lumis_light_set_labels(set, &lw, &lh);
+    assert_true(lw == w && lh == h);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            const lumis_rgb t = lumis_envmap_texel(env, i, j);
+            const double y = (0.2126 * t.r + 0.7152 * t.g + 0.0722 * t.b) *
+                             lumis_envmap_pixel_solid_angle(env, j);
+            const int r = labels[j * w + i];
+            all[r] += y;
+            if (j < h / 2) above[r] += y;
+        }
+    double hits[K + 1] = {0};
+    region_hits rh = {rs, hits, 0};
+    d.camera = &top;
+    d.lighting.light_set.regions = rs;
+    d.lighting.estimator = LUMIS_ESTIMATOR_LIGHT;
+    d.spp = 64;
+    d.seed = 5;
+    d.threads = 1;
+    d.shadow_ray = count_region;
+    d.shadow_ray_user = &rh;
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    lumis_image_destroy(img);
+    const double draws = 16.0 * 16.0 * 64.0 * 4.0; /* every camera ray meets the floor */
+    double expected[K + 1], traced = 0;
+    expected[K] = 0;
+    for (int k = 0; k < K; k++) {
+        const double a = all[k] > 0 ? above[k] / all[k] : 0.0;
+        expected[k] = draws * q[k] * a;
+        expected[K] += draws * q[k] * (1.0 - a);
+        traced += hits[k];
+    }
+    hits[K] = draws - traced;
+    assert_true((double)rh.rays == traced);
+    int dof = 0;
+    const double p = stat_chi2_test(hits, expected, K + 1, &dof);
+    if (p < 1e-4) {
+        for (int k = 0; k <= K; k++)
+            print_message("bin %d: %g drawn, %g expected\n", k, hits[k], expected[k]);
+        fail_msg("region choices against q: p = %g (%d degrees of freedom)", p, dof);
+    }
+    lumis_scene_destroy(s);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
     lumis_envmap_destroy(env);
 }
 
@@ -2063,6 +2422,9 @@ int main(void)
         cmocka_unit_test(exact_irradiance),
         cmocka_unit_test(stratified_light_sets_converge_to_the_exact_irradiance),
         cmocka_unit_test(sun_split_converges_to_the_exact_irradiance),
+        cmocka_unit_test(selected_draws_converge_to_the_exact_irradiance),
+        cmocka_unit_test(selected_draws_shade_glossy_surfaces_exactly),
+        cmocka_unit_test(selected_draws_choose_regions_by_their_bound),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
         cmocka_unit_test(bad_scenes),
         cmocka_unit_test(scene_files_are_strict),

@@ -380,6 +380,8 @@ static void side_lights(cJSON *j, const sidecar_ctx *c)
         lumis_lights_mode mode;
         cJSON_AddStringToObject(x, "method", tool_render_lights(o, r, &mode));
         cJSON_AddStringToObject(x, "mode", lumis_lights_mode_name(mode));
+        if (o->rd.lighting.light_set.draws)
+            cJSON_AddNumberToObject(x, "draws", o->rd.lighting.light_set.draws);
         char params[1024];
         lumis_light_params_format(&o->lights_params, params, sizeof params);
         cJSON_AddStringToObject(x, "params", params);

@@ -100,6 +100,10 @@ void bench_reference_key(const suite *s, int m, int sc, char *out, size_t cap)
         lumis_light_params_format(&s->reference.lights_params, params, sizeof params);
         snprintf(buf, sizeof buf, " lights %s %d ", s->reference.lights, s->reference.lights_k);
         h = fnv_str(fnv_str(h, buf), params);
+        if (s->reference.lights_draws) {
+            snprintf(buf, sizeof buf, " draws %d", s->reference.lights_draws);
+            h = fnv_str(h, buf);
+        }
     }
     if (s->reference.sun) h = fnv_str(h, " sun"); /* keys without the sun stay */
     const lumis_sequence rq = lumis_sequence_resolve(s->reference.sequence);
@@ -133,6 +137,10 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
                  m->upsample);
         h = fnv_str(h, buf);
         if (m->lights_mode) h = fnv_str(h, " stratified"); /* point mode's keys stay */
+        if (m->lights_draws) { /* and those of one draw in every region */
+            snprintf(buf, sizeof buf, " draws %d", m->lights_draws);
+            h = fnv_str(h, buf);
+        }
         char params[1024];
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */

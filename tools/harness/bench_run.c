@@ -53,6 +53,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     if (!self_lit) {
         o->lights_mode = m->lights_mode;
         o->sun = m->sun;
+        o->rd.lighting.light_set.draws = m->lights_draws;
         o->lights_k = m->lights_k;
         o->interleave = m->interleave;
         o->lights_params = m->lights_params;

@@ -227,13 +227,14 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char
-    *const method_keys[] = {"method",       "label",    "mis",        "blocks",   "light_samples",
-                            "bsdf_samples", "k",        "interleave", "upsample", "params",
-                            "mode",         "sequence", "sun",        NULL},
-           *reference_keys[] = {"method",       "label", "mis", "blocks", "light_samples",
-                                "bsdf_samples", "spp",   "k",   "params", "mode",
-                                "sequence",     "sun",   NULL};
+static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
+                                          "light_samples", "bsdf_samples", "k",    "interleave",
+                                          "upsample",      "params",       "mode", "sequence",
+                                          "sun",           "draws",        NULL},
+                         *reference_keys[] = {
+                             "method",       "label", "mis",   "blocks", "light_samples",
+                             "bsdf_samples", "spp",   "k",     "params", "mode",
+                             "sequence",     "sun",   "draws", NULL};
 
 /* The library's refusal, kept to be said with the suite file and key. */
 static void keep_refusal(void *user, lumis_status status, const char *message)
@@ -246,11 +247,17 @@ static void keep_refusal(void *user, lumis_status status, const char *message)
 static const struct {
     const char *field, *key;
 } field_keys[] = {
-    {"lighting.sampler", "blocks"},      {"lighting.estimator", "mis"},
-    {"power_heuristic", "mis"},          {"light_samples", "light_samples"},
-    {"bsdf_samples", "bsdf_samples"},    {"upsample", "upsample"},
-    {"lighting.light_set.mode", "mode"}, {"lights_k", "k"},
-    {"interleave", "interleave"},        {"lights_params", "params"},
+    {"lighting.sampler", "blocks"},
+    {"lighting.estimator", "mis"},
+    {"power_heuristic", "mis"},
+    {"light_samples", "light_samples"},
+    {"bsdf_samples", "bsdf_samples"},
+    {"upsample", "upsample"},
+    {"lighting.light_set.mode", "mode"},
+    {"lights_k", "k"},
+    {"interleave", "interleave"},
+    {"lights_params", "params"},
+    {"lighting.light_set.draws", "draws"},
 };
 
 /* A light-set method's keys as the library sees them: the session it would run, with a
@@ -283,6 +290,7 @@ static int check_light_set(const suite_method *m, int blocks, const char *file, 
         d.render.lighting.sampler = smp;
         d.render.lighting.estimator = m->estimator;
         d.render.lighting.light_set.mode = m->lights_mode;
+        d.render.lighting.light_set.draws = m->lights_draws;
         d.render.power_heuristic = m->power;
         d.render.light_samples = m->light_samples;
         d.render.bsdf_samples = m->bsdf_samples;
@@ -344,6 +352,12 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                                       "\"mode\": \"stratified\" (point lights are biased)",
                                       file);
         rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
+        if (rc == EXIT_OK)
+            rc = opt_count(e, "draws", file, where, 1, LUMIS_LIGHT_SET_MAX_DRAWS, &m->lights_draws);
+        if (rc == EXIT_OK && m->lights_draws && m->lights_mode != LUMIS_LIGHTS_STRATIFIED)
+            return tool_runtime_error("%s: %s.draws: chooses regions as strata: needs \"mode\": "
+                                      "\"stratified\"",
+                                      file, where);
         if (rc == EXIT_OK) rc = opt_count(e, "interleave", file, where, 1, 64, &m->interleave);
         if (rc == EXIT_OK) rc = opt_count(e, "upsample", file, where, 1, 16, &m->upsample);
         const char *params = NULL;
@@ -367,7 +381,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                           cJSON_GetObjectItemCaseSensitive(e, "interleave") ||
                           cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
                           cJSON_GetObjectItemCaseSensitive(e, "params") ||
-                          cJSON_GetObjectItemCaseSensitive(e, "mode")))
+                          cJSON_GetObjectItemCaseSensitive(e, "mode") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "draws")))
         return tool_runtime_error("%s: %s: k, interleave, upsample, params and mode belong to "
                                   "light sets",
                                   file, where);

@@ -276,8 +276,10 @@ void bench_method_words(const suite_method *m, char *out, size_t cap)
     } else if (m->lights[0]) {
         const int strata = m->lights_mode == LUMIS_LIGHTS_STRATIFIED;
         const int k = m->lights_k ? m->lights_k : strata ? 32 : 64;
-        snprintf(out, cap, "light set %s, %s, K = %d", m->lights, strata ? "stratified" : "point",
-                 k);
+        char draws[48] = "";
+        if (m->lights_draws) snprintf(draws, sizeof draws, ", %d draws chosen", m->lights_draws);
+        snprintf(out, cap, "light set %s, %s, K = %d%s", m->lights, strata ? "stratified" : "point",
+                 k, draws);
     } else {
         /* the sampler the render builds: "default" is inversion-guided (sampler.h) */
         const lumis_sampler_method sm =

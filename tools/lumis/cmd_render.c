@@ -194,6 +194,15 @@ static const tool_opt render_opts[] = {
      .parse = parse_lights_mode,
      .what = "must be point or stratified"},
     {.kind = TOOL_OPT_INT,
+     .name = "--lights-draws",
+     .metavar = "N",
+     .help = "stratified: N draws per sample and vertex over regions chosen\n"
+             "in proportion to a weight of their light there (power, cosine,\n"
+             "BSDF) instead of one in every region (docs/lights.md)",
+     .at = AT(rd.lighting.light_set.draws),
+     .lo = 1,
+     .hi = LUMIS_LIGHT_SET_MAX_DRAWS},
+    {.kind = TOOL_OPT_INT,
      .name = "--lights-k",
      .metavar = "K",
      .help = "lights per set (default 64; stratified 32).  Point mode with\n"
