@@ -125,8 +125,10 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     memset(pp, 0, sizeof pp);
     /* the stratified candidate's set and strata: made once, kept if it is chosen */
     lumis_status st =
-        lumis_lights_by_name(ud->lighting.env, "median-cut", AUTO_K, 0, NULL, errors, &set);
-    if (st == LUMIS_OK) st = lumis_region_sampler_create(ud->lighting.env, set, errors, &regions);
+        lumis_lights_by_name(lumis__light_map(ud), "median-cut", AUTO_K, 0, NULL, errors, &set);
+    /* (with a sun split off, both candidates light from the residual and add the sun) */
+    if (st == LUMIS_OK)
+        st = lumis_region_sampler_create(lumis__light_map(ud), set, errors, &regions);
     const double once = omp_get_wtime() - t0;
     /* the pilots' camera: a sixteenth of the pixels (at least AUTO_PIXELS) */
     lumis_camera cam = *ud->camera;

@@ -1899,6 +1899,9 @@ static void scene_files_are_strict(void **state)
         {"{\"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,1,0], "
          "\"sise\": 3, \"material\": {\"type\": \"lambert\"}}]}",
          "did you mean \"size\""},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, "
+         "\"material\": {\"type\": \"ward\", \"alpha_x\": 0.0007}}]}",
+         "material.alpha_x"}, /* below the 1e-3 the BSDFs are specified down to */
     };
     lumis_scene_file *f = NULL;
     assert_int_equal(lumis__scene_file_parse(ok, sizeof ok - 1, "ok.json", "", 0, NULL, &f),
@@ -1915,6 +1918,13 @@ static void scene_files_are_strict(void **state)
             fail_msg("case %zu: status %d, message \"%s\", want \"%s\"", k, (int)st, sink.last,
                      cases[k].msg);
     }
+    /* A luminaire file that cannot be read, with no error sink: refused, no message */
+    static const char nolum[] = "{\"objects\": [], \"luminaires\": [{\"file\": "
+                                "\"no-such-luminaire.json\"}]}";
+    f = (lumis_scene_file *)1;
+    assert_int_not_equal(
+        lumis__scene_file_parse(nolum, sizeof nolum - 1, "s.json", "", 1, NULL, &f), LUMIS_OK);
+    assert_null(f);
     /* A mesh with a vertex past float's range (infinite once read) or past 1e30: refused,
      * with the vertex (assimp's OBJ reader takes "nan" for 0, so NaN cannot come this way). */
     const char *const objs[] = {"v 0 0 0\nv 1 0 0\nv 0 -1e35 0\nf 1 2 3\n",
