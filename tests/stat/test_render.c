@@ -2140,9 +2140,9 @@ static lumis_envmap *gradient_map(int w, int h, float base, float peak)
 /* The automatic estimator: the session's image is, bit for bit, the image of the candidate
  * it reports it chose, rendered by hand (MIS through the caller's sampler; median cut K = 32
  * as strata), and the choice is the least relMSE x seconds of the candidates it reports.
- * Against a uniform "sampler" of a map with a compact bright source the strata win by far
- * (the pilots see MIS's variance 60x theirs).  Refused, naming the field, wherever it cannot
- * choose. */
+ * Against a uniform "sampler" of a map with a compact bright source the pilots see MIS's
+ * variance at one sample some 60x the strata's.  Refused, naming the field, wherever it
+ * cannot choose. */
 static void auto_estimator_renders_what_it_chose(void **state)
 {
     (void)state;
@@ -2172,9 +2172,10 @@ static void auto_estimator_renders_what_it_chose(void **state)
             assert_true(c[k].error_per_spp > 0 && c[k].per_spp > 0 && c[k].pilot_spp >= 1 &&
                         c[k].efficiency == c[k].error_per_spp * c[k].per_spp);
         assert_int_equal(r.auto_chosen, c[1].efficiency < c[0].efficiency ? 1 : 0);
-        if (map == 1) /* a compact source drawn uniformly: the strata win by far (the choice
-                       * on the smooth map is close, and depends on the machine's timing) */
-            assert_true(c[1].efficiency < 0.3 * c[0].efficiency && r.auto_chosen == 1);
+        /* a compact source drawn uniformly: the strata's error at one sample is far below
+         * (about 1/60 of) MIS's; which wins in error x time depends on the machine's timing
+         * (a loaded CI machine, another instruction set), so only the errors are pinned */
+        if (map == 1) assert_true(c[1].error_per_spp < 0.1 * c[0].error_per_spp);
         assert_string_equal(lumis_auto_candidate_name(r.auto_chosen),
                             r.auto_chosen ? "stratified" : "mis");
         assert_int_equal(r.stats.spp, 4);
