@@ -33,7 +33,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def parse_args():
     argv = sys.argv[sys.argv.index("--") + 1 :] if "--" in sys.argv else []
     a = {"map": None, "spp": 16, "out": None, "seed": 0, "map_alone": False, "size": "160x120",
-         "mesh": os.path.join(HERE, "bunny-assimp.obj"), "no_env_rotation": False}
+         "mesh": os.path.join(HERE, "bunny-assimp.obj"), "no_env_rotation": False,
+         "lumis_scene": None, "bounces": 0}
     i = 0
     while i < len(argv):
         k = argv[i]
@@ -41,9 +42,10 @@ def parse_args():
             a["map_alone"] = True
         elif k == "--no-env-rotation":  # for the orientation check only
             a["no_env_rotation"] = True
-        elif k in ("--map", "--spp", "--out", "--seed", "--size", "--mesh"):
+        elif k in ("--map", "--spp", "--out", "--seed", "--size", "--mesh", "--lumis-scene",
+                   "--bounces"):
             i += 1
-            a[k[2:]] = argv[i]
+            a[k[2:].replace("-", "_")] = argv[i]
         else:
             sys.exit("scene.py: unknown argument %r" % k)
         i += 1
@@ -51,6 +53,7 @@ def parse_args():
         sys.exit("scene.py: --map and --out are required")
     a["spp"] = int(a["spp"])
     a["seed"] = int(a["seed"])
+    a["bounces"] = int(a["bounces"])
     return a
 
 
@@ -114,6 +117,83 @@ def add_mesh(name, verts_lumis, faces, material):
     return ob
 
 
+def glossy(name, color, alpha):
+    """Cycles' Glossy BSDF, GGX: lumis's `glossy` material (docs/bsdf.md) term for term;
+    Cycles squares the node's roughness, so roughness = sqrt(alpha)."""
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    nt = m.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    g = nt.nodes.new("ShaderNodeBsdfGlossy")
+    g.distribution = "GGX"
+    g.inputs["Color"].default_value = (color[0], color[1], color[2], 1.0)
+    g.inputs["Roughness"].default_value = math.sqrt(alpha)
+    nt.links.new(g.outputs["BSDF"], out.inputs["Surface"])
+    return m
+
+
+def lumis_transform(tr):
+    """A lumis scene file's transform (scale, then Rz Ry Rx, then translate) as a function
+    of a lumis point."""
+    if not tr:
+        return lambda p: p
+    s = tr.get("scale", 1.0)
+    s = (s, s, s) if isinstance(s, (int, float)) else tuple(s)
+    rx, ry, rz = (math.radians(d) for d in tr.get("rotate_deg", (0, 0, 0)))
+    t = tr.get("translate", (0, 0, 0))
+
+    def rot(p):
+        x, y, z = p
+        y, z = math.cos(rx) * y - math.sin(rx) * z, math.sin(rx) * y + math.cos(rx) * z
+        x, z = math.cos(ry) * x + math.sin(ry) * z, -math.sin(ry) * x + math.cos(ry) * z
+        x, y = math.cos(rz) * x - math.sin(rz) * y, math.sin(rz) * x + math.cos(rz) * y
+        return (x, y, z)
+
+    return lambda p: tuple(a + b for a, b in zip(rot(tuple(q * k for q, k in zip(p, s))), t))
+
+
+def lumis_material(name, m):
+    if m["type"] == "lambert":
+        a = m.get("albedo", (0.8, 0.8, 0.8))
+        if not a[0] == a[1] == a[2]:
+            sys.exit("scene.py: %s: grey albedos only" % name)
+        return lambert(name, a[0])
+    if m["type"] == "glossy":
+        if "alpha_x" in m or "alpha_y" in m:
+            sys.exit("scene.py: %s: isotropic glossy only" % name)
+        return glossy(name, m.get("color", (0.9, 0.9, 0.9)), m.get("alpha", 0.1))
+    sys.exit("scene.py: %s: material %r has no exact Cycles counterpart" % (name, m["type"]))
+
+
+def load_lumis_scene(path):
+    """The camera and objects of a lumis scene file (meshes and +y planes; materials
+    lambert and glossy), built in Blender.  The bunny's glb is read as bunny-assimp.obj
+    (the same triangles, decoded by assimp as lumis does)."""
+    import json
+
+    with open(path) as f:
+        sc = json.load(f)
+    base = os.path.dirname(os.path.abspath(path))
+    for k, o in enumerate(sc["objects"]):
+        name = "obj%d" % k
+        mat = lumis_material(name, o["material"])
+        if o["type"] == "mesh":
+            file = o["file"]
+            file = (os.path.join(HERE, "bunny-assimp.obj") if file.endswith("bunny.glb")
+                    else os.path.join(base, file))
+            verts, faces = read_obj(file)
+            x = lumis_transform(o.get("transform"))
+            add_mesh(name, [x(v) for v in verts], faces, mat)
+        elif o["type"] == "plane" and tuple(o["normal"]) == (0, 1, 0):
+            g, (px, py, pz) = o["size"] / 2.0, o["point"]
+            add_mesh(name, [(px - g, py, pz + g), (px + g, py, pz + g), (px + g, py, pz - g),
+                            (px - g, py, pz - g)], [(0, 1, 2, 3)], mat)
+        else:
+            sys.exit("scene.py: objects[%d]: only meshes and +y planes" % k)
+    return sc["camera"]
+
+
 def look_at_matrix(eye, target, up):
     """Blender camera matrix_world: local -z along the view, +y up, +x right."""
     from mathutils import Matrix, Vector
@@ -156,9 +236,16 @@ def main():
     c.use_animated_seed = False
     c.pixel_filter_type = "BOX"
     c.filter_width = 1.0
-    c.max_bounces = 0
-    c.diffuse_bounces = 0
-    c.glossy_bounces = 0
+    # Path tracing with --bounces N: total, diffuse and glossy N (lumis --bounces N: direct
+    # light at the camera's hit and at N further vertices); the others 0.
+    c.max_bounces = a["bounces"]
+    c.diffuse_bounces = a["bounces"]
+    c.glossy_bounces = a["bounces"]
+    # Filter Glossy (default 1) widens glossy lobes after a diffuse bounce: off, so the
+    # glossy material stays the same BSDF on every path; caustics stay on (the default).
+    c.blur_glossy = 0.0
+    c.caustics_reflective = True
+    c.caustics_refractive = True
     c.transmission_bounces = 0
     c.volume_bounces = 0
     c.transparent_max_bounces = 0
@@ -184,23 +271,27 @@ def main():
     im.color_depth = "32"
     im.exr_codec = "ZIP"
 
-    # --- camera: lumis (eye (0, 1.3, 4), look at (0.1, 0.45, 0), up +y, vertical fov 35) ---
+    cam_l = {"eye": (0, 1.3, 4.0), "look_at": (0.1, 0.45, 0.0), "up": (0, 1, 0), "fov_deg": 35.0}
+    if a["lumis_scene"] and not a["map_alone"]:
+        cam_l = load_lumis_scene(a["lumis_scene"])
+    # --- camera: lumis (eye (0, 1.3, 4), look at (0.1, 0.45, 0), up +y, vertical fov 35,
+    # or the scene file's) ---
     cd = bpy.data.cameras.new("cam")
     cd.type = "PERSP"
     cd.sensor_fit = "VERTICAL"
-    cd.angle_y = math.radians(35.0)
+    cd.angle_y = math.radians(cam_l.get("fov_deg", 40.0))
     cd.shift_x = cd.shift_y = 0.0
     cd.clip_start = 1e-4
     cd.clip_end = 1e6  # the ground is 200 wide: the default 100 would cut it
     cd.dof.use_dof = False
     cam = bpy.data.objects.new("cam", cd)
     scene.collection.objects.link(cam)
-    cam.matrix_world = look_at_matrix(to_blender((0, 1.3, 4.0)), to_blender((0.1, 0.45, 0.0)),
-                                      to_blender((0, 1, 0)))
+    cam.matrix_world = look_at_matrix(to_blender(cam_l["eye"]), to_blender(cam_l["look_at"]),
+                                      to_blender(cam_l.get("up", (0, 1, 0))))
     scene.camera = cam
 
     # --- objects ---
-    if not a["map_alone"]:
+    if not a["map_alone"] and not a["lumis_scene"]:
         verts, faces = read_obj(a["mesh"])
         add_mesh("bunny", bunny_vertices(verts), faces, lambert("bunny", 0.75))
         # lumis's ground_plane: a square of side 200 about the origin, normal +y, edges

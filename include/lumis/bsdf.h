@@ -24,13 +24,16 @@ typedef enum lumis_bsdf_type {
     LUMIS_BSDF_GGX_CONDUCTOR, /* GGX microfacets, Schlick Fresnel from `specular` as F0,
                                  height-correlated Smith masking, visible-normal sampling */
     LUMIS_BSDF_GGX_PLASTIC,   /* a dielectric GGX coat (F0 0.04) over a Lambertian base */
+    LUMIS_BSDF_GGX_GLOSSY,    /* Cycles 3.x's Glossy BSDF (GGX): `specular` as a constant colour
+                                 (no Fresnel), separable Smith masking G1(wo) G1(wi),
+                                 visible-normal sampling; Cycles' roughness r is alpha = r^2 */
     LUMIS_BSDF_TYPE_COUNT
 } lumis_bsdf_type;
 
 typedef struct lumis_bsdf {
     lumis_bsdf_type type;
     lumis_rgb diffuse;      /* Lambert albedo; Ward's and plastic's diffuse part */
-    lumis_rgb specular;     /* Ward's specular albedo; GGX conductor's F0 */
+    lumis_rgb specular;     /* Ward's specular albedo; GGX conductor's F0; glossy's colour */
     float alpha_x, alpha_y; /* roughness along x and y (Ward, GGX); 0 == 0.1 */
 } lumis_bsdf;
 

@@ -26,7 +26,8 @@ extern "C" {
  *               "material": {...}}]}
  * Materials: {"type": "lambert", "albedo": [r,g,b]}, {"type": "ward", "diffuse": ...,
  * "specular": ..., "alpha_x": a, "alpha_y": a}, {"type": "conductor", "f0": [r,g,b],
- * "alpha" (or alpha_x/alpha_y)}, {"type": "plastic", "diffuse": ..., "alpha": a}.
+ * "alpha" (or alpha_x/alpha_y)}, {"type": "plastic", "diffuse": ..., "alpha": a},
+ * {"type": "glossy", "color": [r,g,b], "alpha": a} (Cycles' Glossy BSDF, GGX).
  * A mesh may give "instances": [{"translate": ..., "rotate_deg": ..., "scale": ...}, ...]
  * instead of one "transform": one object per entry, sharing the mesh (Embree instances).
  * Rotation is Rz Ry Rx in degrees, applied after the scale and before the translation.

@@ -64,7 +64,10 @@ lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera 
             nn[1] = (float)hh.n.y;
             nn[2] = (float)hh.n.z;
             const lumis_bsdf *m = &hh.prim->material;
-            const lumis_rgb c = m->type == LUMIS_BSDF_GGX_CONDUCTOR ? m->specular : m->diffuse;
+            const lumis_rgb c =
+                m->type == LUMIS_BSDF_GGX_CONDUCTOR || m->type == LUMIS_BSDF_GGX_GLOSSY
+                    ? m->specular
+                    : m->diffuse;
             a[0] = c.r;
             a[1] = c.g;
             a[2] = c.b;

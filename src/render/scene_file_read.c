@@ -174,7 +174,8 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
     const cJSON *t = cJSON_GetObjectItemCaseSensitive(m, "type");
     char at[256];
     join(at, sizeof at, path, "type");
-    if (!cJSON_IsString(t)) return bad(p, at, "a string: lambert, ward, conductor or plastic");
+    if (!cJSON_IsString(t))
+        return bad(p, at, "a string: lambert, ward, conductor, plastic or glossy");
     memset(b, 0, sizeof *b);
     double ax = 0.1, ay = -1.0, a = -1.0;
     lumis_status st = LUMIS_OK;
@@ -182,6 +183,8 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
     static const char *const ward_keys[] = {"type",    "diffuse", "specular", "alpha",
                                             "alpha_x", "alpha_y", NULL};
     static const char *const ggx_keys[] = {"type", "f0", "alpha", "alpha_x", "alpha_y", NULL};
+    /* Cycles' Glossy BSDF (GGX): a colour, no Fresnel, separable masking */
+    static const char *const glossy_keys[] = {"type", "color", "alpha", "alpha_x", "alpha_y", NULL};
     /* plastic's coat has F0 = 0.04: no f0 key (it would be read and never used) */
     static const char *const plastic_keys[] = {"type",    "diffuse", "alpha",
                                                "alpha_x", "alpha_y", NULL};
@@ -191,21 +194,27 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
         b->diffuse = (lumis_rgb){0.8f, 0.8f, 0.8f};
         st = get_rgb(p, m, "albedo", path, &b->diffuse);
     } else if (strcmp(t->valuestring, "ward") == 0 || strcmp(t->valuestring, "conductor") == 0 ||
-               strcmp(t->valuestring, "ggx") == 0 || strcmp(t->valuestring, "plastic") == 0) {
-        int ward = t->valuestring[0] == 'w', plastic = t->valuestring[0] == 'p';
+               strcmp(t->valuestring, "ggx") == 0 || strcmp(t->valuestring, "plastic") == 0 ||
+               strcmp(t->valuestring, "glossy") == 0) {
+        int ward = t->valuestring[0] == 'w', plastic = t->valuestring[0] == 'p',
+            glossy = strcmp(t->valuestring, "glossy") == 0;
         if ((st = check_keys(p, m, path,
                              ward      ? ward_keys
                              : plastic ? plastic_keys
+                             : glossy  ? glossy_keys
                                        : ggx_keys)) != LUMIS_OK)
             return st;
-        b->type =
-            ward ? LUMIS_BSDF_WARD : (plastic ? LUMIS_BSDF_GGX_PLASTIC : LUMIS_BSDF_GGX_CONDUCTOR);
+        b->type = ward      ? LUMIS_BSDF_WARD
+                  : plastic ? LUMIS_BSDF_GGX_PLASTIC
+                  : glossy  ? LUMIS_BSDF_GGX_GLOSSY
+                            : LUMIS_BSDF_GGX_CONDUCTOR;
         b->diffuse = (lumis_rgb){ward ? 0.1f : (plastic ? 0.5f : 0.0f),
                                  ward ? 0.1f : (plastic ? 0.5f : 0.0f),
                                  ward ? 0.1f : (plastic ? 0.5f : 0.0f)};
         b->specular = (lumis_rgb){ward ? 0.3f : 0.9f, ward ? 0.3f : 0.9f, ward ? 0.3f : 0.9f};
         if (st == LUMIS_OK) st = get_rgb(p, m, "diffuse", path, &b->diffuse);
-        if (st == LUMIS_OK) st = get_rgb(p, m, ward ? "specular" : "f0", path, &b->specular);
+        if (st == LUMIS_OK)
+            st = get_rgb(p, m, ward ? "specular" : (glossy ? "color" : "f0"), path, &b->specular);
         if (st == LUMIS_OK) st = get_number(p, m, "alpha", path, 1e-3, 1.0, &a);
         if (a > 0.0) ax = a;
         if (st == LUMIS_OK) st = get_number(p, m, "alpha_x", path, 1e-3, 1.0, &ax);
@@ -213,7 +222,7 @@ static lumis_status parse_material(const parser *p, const cJSON *m, const char *
         b->alpha_x = (float)ax;
         b->alpha_y = (float)(ay > 0.0 ? ay : (a > 0.0 ? a : ax));
     } else {
-        return bad(p, at, "lambert, ward, conductor or plastic");
+        return bad(p, at, "lambert, ward, conductor, plastic or glossy");
     }
     return st;
 }

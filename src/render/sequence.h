@@ -136,12 +136,13 @@ static inline uint32_t seq_take_n(lumis__stream *s, uint32_t n)
 
 /* Point j of n of a BSDF sample's three numbers (lobe choice, then the direction's 2D
  * point), in the two dimensions from dim (seq_take_n(s, 2)).  A BSDF of one lobe
- * (Lambert's, a conductor's) reads no lobe number: unless the numbers come in order
+ * (Lambert's, a conductor's, glossy's) reads no lobe number: unless the numbers come in order
  * (PCG32), none is made (0.5). */
 static inline void seq_bsdf(lumis__stream *s, const lumis_bsdf *b, uint32_t dim, uint32_t j,
                             uint32_t n, double u[3])
 {
-    const int one_lobe = b->type == LUMIS_BSDF_LAMBERT || b->type == LUMIS_BSDF_GGX_CONDUCTOR;
+    const int one_lobe = b->type == LUMIS_BSDF_LAMBERT || b->type == LUMIS_BSDF_GGX_CONDUCTOR ||
+                         b->type == LUMIS_BSDF_GGX_GLOSSY;
     u[0] = one_lobe && s->q->kind != LUMIS_SEQUENCE_PCG ? 0.5 : seq_1d(s, dim, j, n);
     seq_2d(s, dim + 1, j, n, u + 1);
 }

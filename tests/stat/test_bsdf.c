@@ -4,6 +4,7 @@
  * grid, the sample weight equals f cos / pdf, and white furnaces (albedo at most one). */
 /* Oracles:
  * lumis_bsdf_eval — closed form: GGX conductor (anisotropic D, height-correlated G2, Schlick F),
+ *     Cycles' glossy (the same D, separable G1 G1, a constant colour),
  *     Ward, the GGX plastic, written in the test; reciprocity; zero below the horizon
  *     (ggx_matches_its_closed_form, ward_and_plastic_match_their_closed_forms,
  *     below_the_surface_is_black)
@@ -36,6 +37,8 @@ static const material materials[] = {
     {"ggx conductor 0.2", {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.95f, 0.64f, 0.54f}, 0.2f, 0.2f}},
     {"ggx aniso 0.1/0.4", {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {0.9f, 0.9f, 0.9f}, 0.1f, 0.4f}},
     {"ggx plastic 0.3", {LUMIS_BSDF_GGX_PLASTIC, {0.5f, 0.2f, 0.1f}, {0, 0, 0}, 0.3f, 0.3f}},
+    {"ggx glossy 0.25", {LUMIS_BSDF_GGX_GLOSSY, {0, 0, 0}, {0.8f, 0.6f, 0.4f}, 0.25f, 0.25f}},
+    {"ggx glossy aniso 0.5/0.1", {LUMIS_BSDF_GGX_GLOSSY, {0, 0, 0}, {1, 1, 1}, 0.5f, 0.1f}},
 };
 enum { NMAT = sizeof materials / sizeof materials[0] };
 static const double thetas_deg[] = {5.0, 40.0, 75.0};
@@ -129,10 +132,12 @@ static void white_furnace(void **state)
         {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {1, 1, 1}, 0.05f, 0.05f},
         {LUMIS_BSDF_GGX_CONDUCTOR, {0, 0, 0}, {1, 1, 1}, 0.8f, 0.8f},
         {LUMIS_BSDF_GGX_PLASTIC, {1, 1, 1}, {0, 0, 0}, 0.3f, 0.3f},
+        {LUMIS_BSDF_GGX_GLOSSY, {0, 0, 0}, {1, 1, 1}, 0.05f, 0.05f},
+        {LUMIS_BSDF_GGX_GLOSSY, {0, 0, 0}, {1, 1, 1}, 0.8f, 0.8f},
     };
     lumis_pcg32 rng;
     lumis_pcg32_seed(&rng, 8, 8);
-    for (int m = 0; m < 6; m++)
+    for (int m = 0; m < (int)(sizeof white / sizeof white[0]); m++)
         for (int t = 0; t < 3; t++) {
             lumis_vec3 wo = dir_of(thetas_deg[t] * PI / 180.0, 2.0);
             double sum = 0.0, sum2 = 0.0;
@@ -209,6 +214,20 @@ static void ggx_matches_its_closed_form(void **state)
                 if (!(fabs(got[ch] - want) <= 2e-5 * want))
                     fail_msg("alpha (%g, %g), pair %d, channel %d: f = %.8g, closed form %.8g", ax,
                              ay, q, ch, got[ch], want);
+            }
+            /* Cycles' Glossy BSDF: colour x D G1(wo) G1(wi) / (4 cos o cos i), no Fresnel
+             * (Cycles 3.4, bsdf_microfacet_ggx_eval_reflect); reciprocal. */
+            b.type = LUMIS_BSDF_GGX_GLOSSY;
+            const double G11 =
+                1.0 / ((1.0 + ggx_lambda(ax, ay, o)) * (1.0 + ggx_lambda(ax, ay, i)));
+            const lumis_rgb fg = lumis_bsdf_eval(&b, wo, wi), fr = lumis_bsdf_eval(&b, wi, wo);
+            const float gg[3] = {fg.r, fg.g, fg.b}, gr[3] = {fr.r, fr.g, fr.b};
+            for (int ch = 0; ch < 3; ch++) {
+                const double want = f0[ch] * D * G11 / (4.0 * o[2] * i[2]);
+                if (!(fabs(gg[ch] - want) <= 2e-5 * want) || !(fabs(gr[ch] - want) <= 2e-5 * want))
+                    fail_msg("glossy alpha (%g, %g), pair %d, channel %d: f = %.8g / %.8g "
+                             "(reversed), closed form %.8g",
+                             ax, ay, q, ch, gg[ch], gr[ch], want);
             }
         }
 }

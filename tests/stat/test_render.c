@@ -1984,6 +1984,24 @@ static void scene_file_defaults_and_refusals(void **state)
     assert_true(f->env_scale == 1.0f && f->env_rotation_deg == 0.0f);
     lumis_scene_file_destroy(f);
 
+    /* glossy (Cycles' Glossy BSDF): "color" is its constant colour, "f0" is refused */
+    static const char glossy[] =
+        "{\"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+        "\"material\": {\"type\": \"glossy\", \"color\": [0.8, 0.6, 0.4], \"alpha\": 0.09}}]}";
+    assert_int_equal(lumis__scene_file_parse(glossy, sizeof glossy - 1, "g.json", "", 0, NULL, &f),
+                     LUMIS_OK);
+    b = &f->objects[0].material;
+    assert_int_equal(b->type, LUMIS_BSDF_GGX_GLOSSY);
+    assert_true(b->specular.r == 0.8f && b->specular.g == 0.6f && b->specular.b == 0.4f);
+    assert_true(b->diffuse.r == 0.0f && b->alpha_x == 0.09f && b->alpha_y == 0.09f);
+    lumis_scene_file_destroy(f);
+    static const char glossy_f0[] =
+        "{\"objects\": [{\"type\": \"sphere\", \"center\": [0, 0, 0], \"radius\": 1, "
+        "\"material\": {\"type\": \"glossy\", \"f0\": [1, 1, 1]}}]}";
+    assert_int_equal(
+        lumis__scene_file_parse(glossy_f0, sizeof glossy_f0 - 1, "g.json", "", 0, NULL, &f),
+        LUMIS_ERR_BAD_HEADER);
+
     /* a luminaire keeps its path ("preset:small", loaded by the caller's loader) */
     static const char lum[] =
         "{\"objects\": [], \"luminaires\": [{\"file\": \"preset:small\", \"intensity\": 2}]}";
