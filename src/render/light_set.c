@@ -250,8 +250,8 @@ static int stratum_bounds(const set_state *st, const lumis_bsdf *m, v3 n, v3 r, 
                     ay = m->alpha_y > 0.0f ? m->alpha_y : 0.1f;
         a2 = ax * ay;
         const lumis_rgb kd = m->diffuse, ks = m->specular;
-        fd = m->type == LUMIS_BSDF_GGX_CONDUCTOR
-                 ? 0.0f
+        fd = m->type == LUMIS_BSDF_GGX_CONDUCTOR || m->type == LUMIS_BSDF_GGX_GLOSSY
+                 ? 0.0f /* one specular lobe, no diffuse part */
                  : (0.2126f * kd.r + 0.7152f * kd.g + 0.0722f * kd.b) * (float)(1.0 / LUMIS_PI);
         float f0 = 0.2126f * ks.r + 0.7152f * ks.g + 0.0722f * ks.b;
         if (m->type == LUMIS_BSDF_GGX_PLASTIC) f0 = 0.04f;
