@@ -51,6 +51,10 @@ typedef struct lumis_session_desc {
      * MIS pair for as long; their time and the regions' making are spent from time_budget.
      * result->auto_* say what was measured and chosen. */
     int auto_estimator;
+    /* With auto_estimator: samples per pixel in each half of the MIS pilot; 0: as many as
+     * take the strata's time (equal time).  Given, the pilots' errors depend on the seed
+     * alone (their times, and so the choice, still on the machine). */
+    int auto_pilot_spp;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);
     void *pass_done_user;

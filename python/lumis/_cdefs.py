@@ -602,6 +602,7 @@ typedef struct lumis_session_desc {
     int timed_spp;
     int share_spp;
     int auto_estimator;
+    int auto_pilot_spp;
     void (*pass_done)(void *user, int spp);
     void *pass_done_user;
 } lumis_session_desc;

@@ -436,7 +436,8 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
     const lumis_error_sink *errors = &s->render.errors;
     const lumis_lighting *l = &s->render.lighting;
     if (!isfinite(s->time_budget) || s->time_budget < 0.0 || !isfinite(s->spent) ||
-        s->lights_k < 0 || s->interleave < 0 || s->upsample < 0 || s->timed_spp < 0)
+        s->lights_k < 0 || s->interleave < 0 || s->upsample < 0 || s->timed_spp < 0 ||
+        s->auto_pilot_spp < 0 || s->auto_pilot_spp > 4096)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: needs a finite budget >= 0 and non-negative counts");
     if (s->share_spp < 0 || (s->share_spp > 0 && s->time_budget > 0.0))
@@ -472,6 +473,9 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
                            "session: render.lighting.light_set.%s: given, and lights makes the "
                            "set: give one or the other",
                            l->light_set.set ? "set" : "regions");
+    if (s->auto_pilot_spp && !s->auto_estimator)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "session: auto_pilot_spp: applies with auto_estimator");
     if (s->auto_estimator) {
         const char *bad = s->lights                             ? "lights"
                           : l->kind != LUMIS_LIGHTING_ENV       ? "render.lighting.kind"

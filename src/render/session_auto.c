@@ -155,9 +155,10 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     rd[1].light_samples = rd[1].bsdf_samples = 0;
     /* stratified at one sample per pixel a half; MIS for as long */
     if (st == LUMIS_OK) st = run_pair(scene, &rd[1], 1, 0.0, &pp[1]);
-    if (st == LUMIS_OK) st = run_pair(scene, &rd[0], 0, pp[1].seconds / 2.0, &pp[0]);
+    if (st == LUMIS_OK)
+        st = run_pair(scene, &rd[0], s->auto_pilot_spp, pp[1].seconds / 2.0, &pp[0]);
     lumis_session_desc fin = *s;
-    fin.auto_estimator = 0;
+    fin.auto_estimator = fin.auto_pilot_spp = 0;
     if (st == LUMIS_OK) {
         double v[LUMIS_AUTO_CANDIDATES];
         variances(pp, LUMIS_AUTO_CANDIDATES, v);
