@@ -52,9 +52,9 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), '..'))
 MODULE_TESTS = {
     'src/core': ['test_core', 'test_sequence'],
     'src/envmap': ['test_envmap', 'test_sky', 'test_samplers'],
-    'src/lights': ['test_lights', 'test_regions'],
+    'src/lights': ['test_lights', 'test_regions', 'test_sun'],
     'src/luminaire': ['test_luminaire', 'test_photometric', 'test_photometric_files',
-                      'test_photometric_sampling'],
+                      'test_photometric_sampling', 'test_photometric_corpus'],
     'src/metrics': ['test_metrics', 'test_metrics_flip'],
     'src/io': ['test_io', 'test_luminaire_io', 'test_photometric_files', 'test_photometric'],
     'src/render': ['test_render', 'test_bsdf', 'test_sequence', 'test_render_luminaire',
