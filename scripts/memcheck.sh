@@ -27,8 +27,11 @@ vg() { # NAME ARGS...: one run under memcheck
     fi
 }
 R=(--size 12x9 --spp 1 --threads 2 --quiet --no-sidecar)
-echo "memcheck: renders (environment map with MIS, every light set, Wu with upsampling, strata)"
-vg env-mis render --scene spheres --env sky:64x32 "${R[@]}" -o "$tmp/a.exr"
+echo "memcheck: renders (environment map with MIS, the automatic estimator, every light set, Wu with upsampling, strata)"
+vg env-mis render --scene spheres --env sky:64x32 --no-auto "${R[@]}" -o "$tmp/a.exr"
+# the default: the automatic estimator, its pilots (32 spp: a render big enough for them)
+vg env-auto render --scene spheres --env sky:64x32 --size 12x9 --spp 32 --threads 2 --quiet \
+    --no-sidecar -o "$tmp/a.exr"
 vg env-mis-power render --scene bunny-plane --env sky:64x32 --mis power "${R[@]}" -o "$tmp/a.exr"
 for q in pcg halton stratified zsobol pmj02; do # (sobol: the default, every other run)
     vg "sequence-$q" render --scene bunny-plane --env sky:64x32 --bounces 1 --sequence "$q" \

@@ -17,7 +17,7 @@ for m in "$@"; do
     map="$WORK/$m.exr"
     "$LUMIS" convert "$ROOT/data/hdri/$m.exr" "$map" --compression none 2>/dev/null
     nice -n 10 "$LUMIS" render "$HERE/lumis-map-alone.json" --env "$map" --spp "$SPP" \
-        --threads 1 -o "$WORK/$m-lumis.exr" 2>/dev/null
+        --threads 1 --no-auto -o "$WORK/$m-lumis.exr" 2>/dev/null
     nice -n 10 blender -b --factory-startup -t 1 -P "$HERE/scene.py" -- --map "$map" \
         --spp "$SPP" --map-alone --out "$WORK/$m-cycles.exr" >/dev/null 2>&1
     nice -n 10 blender -b --factory-startup -t 1 -P "$HERE/scene.py" -- --map "$map" \

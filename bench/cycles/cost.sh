@@ -23,7 +23,7 @@ map="$WORK/$name.exr"
 ratios=()
 for r in $(seq 1 "$RUNS"); do
     taskset -c "$CPU" "$LUMIS" render "$HERE/lumis-bunny-plane-noball.json" --env "$map" \
-        --spp "$SPP" --threads 1 --sequence "$seq" --quiet -o "$WORK/l.exr" 2>/dev/null
+        --spp "$SPP" --threads 1 --sequence "$seq" --no-auto --quiet -o "$WORK/l.exr" 2>/dev/null
     l=$(sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "$WORK/l.json" | head -1)
     taskset -c "$CPU" blender -b --factory-startup -t 1 --debug-cycles -P "$HERE/scene.py" -- \
         --map "$map" --spp "$SPP" --seed 1 --out "$WORK/c.exr" >"$WORK/c.log" 2>&1

@@ -29,7 +29,7 @@ for sc in "$@"; do
             extra=()
             [ $est = strat ] && extra=(--lights median-cut --lights-mode stratified)
             nice -n 10 "$LUMIS" render "$f" --env "$map" --spp "$SPP" --seed 1 --bounces 4 \
-                --threads 1 --quiet -o "$WORK/l.exr" "${extra[@]}" 2>/dev/null
+                --threads 1 --no-auto --quiet -o "$WORK/l.exr" "${extra[@]}" 2>/dev/null
             t=$(sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "$WORK/l.json" | head -1)
             echo "$sc lumis-$est $r $t $(echo "$t / $SPP" | bc -l | cut -c1-7)"
         done

@@ -31,7 +31,7 @@ VERSION=$("$LUMIS" --version | awk '{print $2}')
 
 render() { # map spp threads seed sequence out
     "$LUMIS" render "$SCENE" --env "$1" --spp "$2" --threads "$3" --seed "$4" \
-        --sequence "$5" --quiet -o "$6" 2>/dev/null
+        --sequence "$5" --no-auto --quiet -o "$6" 2>/dev/null
 }
 seconds() { sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "${1%.exr}.json" | head -1; }
 relmse() { "$LUMIS" compare "$1" "$2" --json --no-hdr-flip |

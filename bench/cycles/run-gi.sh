@@ -57,7 +57,7 @@ lumis() { # scene.json map spp seed bounces out [options] -> render seconds
     local sc=$1 map=$2 spp=$3 seed=$4 b=$5 out=$6
     shift 6
     nice -n "$NICE" "$LUMIS" render "$sc" --env "$map" --spp "$spp" --seed "$seed" \
-        --bounces "$b" --threads 1 --quiet -o "$out" "$@" 2>/dev/null
+        --bounces "$b" --threads 1 --no-auto --quiet -o "$out" "$@" 2>/dev/null
     sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "${out%.exr}.json" | head -1
 }
 relmse() { "$LUMIS" compare "$1" "$2" --json --no-hdr-flip | sed -n 's/.*"relmse":\([^,}]*\).*/\1/p'; }

@@ -10,6 +10,7 @@
 #include "lumis/render_job.h"
 #include "lumis/render_scene.h"
 #include "lumis/status.h"
+#include "lumis/sun.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,17 +44,24 @@ typedef struct lumis_session_desc {
      * their counts average to the whole render's (the tool's `lumis merge`). */
     int share_spp;
     /* Nonzero: the session chooses how the map lights the scene (render.lighting of kind env
-     * with its env and sampler, estimator MIS, and no `lights`): the map sampled with MIS
-     * through render.lighting.sampler, or its median-cut regions (K = 32) as strata
-     * (LUMIS_LIGHTS_STRATIFIED), whichever the pilots find more efficient on this scene
-     * (docs/render.md, "The automatic estimator").  The pilots render a sixteenth of the
-     * pixels twice per candidate, the stratified pair at one sample per pixel each and the
-     * MIS pair for as long; their time and the regions' making are spent from time_budget.
-     * result->auto_* say what was measured and chosen. */
+     * with its env and sampler, estimator MIS, and no `lights`) among the candidates of
+     * lumis_auto_candidate: the map sampled with MIS through render.lighting.sampler, its
+     * median-cut regions as strata (K = 16, 32, 64), and on a sun-dominated map (>= 50 % of
+     * the power in <= 0.1 % of the pixels; not when render.lighting.sun is given) the image
+     * sun split off with MIS or strata on the residual, whichever the pilots find most
+     * efficient on this scene (docs/render.md, "The automatic estimator").  The pilots render
+     * a sixteenth of the pixels (1200 to 4800) twice per candidate, a stratified pair at one
+     * sample per pixel each and an MIS pair for as long; they take at most 15 % of
+     * time_budget, or without one of the render's predicted time at the prior (strata,
+     * K = 32), which is chosen when no pilot fits (a render of fewer than 4 / 0.15 pilot
+     * halves' samples skips them).  Their time and the regions' making are spent from
+     * time_budget.  render.spp counts the chosen estimator's samples.  result->auto_* say
+     * what was measured and chosen.  Zero (the default): render.lighting as given. */
     int auto_estimator;
-    /* With auto_estimator: samples per pixel in each half of the MIS pilot; 0: as many as
-     * take the strata's time (equal time).  Given, the pilots' errors depend on the seed
-     * alone (their times, and so the choice, still on the machine). */
+    /* With auto_estimator: samples per pixel in each half of the MIS pilots; 0: as many as
+     * take the strata's time (equal time).  Given, every candidate's pilot runs, uncapped,
+     * and the pilots' errors depend on the seed alone (their times, and so the choice, still
+     * on the machine). */
     int auto_pilot_spp;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);
@@ -71,17 +79,24 @@ typedef enum lumis_k_limit {
                                   than the budget: the render overruns it */
 } lumis_k_limit;
 
-/* What the automatic estimator measured of one candidate (lumis_session_result). */
-#define LUMIS_AUTO_CANDIDATES 2 /* 0: the map with MIS; 1: median-cut strata (K = 32) */
+/* What the automatic estimator measured of one candidate (lumis_session_result).  The
+ * candidates: 0 "mis" (the map with MIS through render.lighting.sampler), 1 "stratified-32"
+ * (median-cut regions as strata, K = 32: the prior), 2 "sun+mis" and 3 "sun+stratified-32"
+ * (a sun-dominated map: the image sun split off, MIS or strata K = 32 on the residual),
+ * 4 "stratified-16", 5 "stratified-64". */
+#define LUMIS_AUTO_CANDIDATES 6
 typedef struct lumis_auto_candidate {
     double error_per_spp; /* its relMSE at one sample per pixel, from the pilot's two halves */
     double per_spp;       /* seconds a sample per pixel costs at the image's size */
     double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
-    double once;          /* seconds before its first sample (the regions), spent already */
-    int pilot_spp;        /* samples per pixel in each half of its pilot */
+    double once;          /* seconds before its first sample (its regions, the sun), spent */
+    int pilot_spp;        /* samples per pixel in each half of its pilot; 0: not measured
+                             (capped, or no sun-dominated map), the fields above but once 0 */
+    int lights_k;         /* its regions as strata (0: the map with MIS) */
+    int sun;              /* nonzero: the image sun split off, the candidate on the residual */
 } lumis_auto_candidate;
 
-/* "mis", "stratified" (the candidate's index), else "unknown". */
+/* The candidate's name (above), else "unknown". */
 LUMIS_RENDER_API const char *lumis_auto_candidate_name(int candidate);
 
 /* The pilots that fit K: at most this many (the floor, 64, and where the fit lands). */
@@ -120,12 +135,19 @@ typedef struct lumis_session_result {
     double wall_seconds, cpu_seconds;
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy; /* render threads with work: min(threads, the full layer's tiles) */
-    /* With auto_estimator: every candidate's pilot, the one chosen (the most efficient;
-     * with strata, lights_k and the regions' build are the set's and light_set is it), and
-     * the seconds the choice took (the set and regions made, the pilots: in prep_seconds) */
-    int auto_count, auto_chosen;
+    /* With auto_estimator: every candidate's pilot, the one chosen (the most efficient
+     * measured; with strata, lights_k and the regions' build are the set's and light_set is
+     * it), and the seconds the choice took (the sets, regions and sun made, the pilots: in
+     * prep_seconds).  auto_prior: no pilot pair ran and the prior, "stratified-32", was
+     * chosen: 1, the render too small for them (no time budget: its samples x pixels under
+     * 4 pilot halves' / 0.15); 2, the pilots' cap passed after the first half; 0 pilots ran.
+     * auto_cap: the seconds the pilots could
+     * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took.
+     * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for). */
+    int auto_count, auto_chosen, auto_prior;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
-    double auto_seconds;
+    double auto_seconds, auto_cap, auto_pilot_seconds;
+    lumis_sun auto_sun;
 } lumis_session_result;
 
 /* Whether desc is a session lumis_render_session takes: a finite budget and non-negative

@@ -612,6 +612,8 @@ typedef struct lumis_auto_candidate {
     double efficiency;
     double once;
     int pilot_spp;
+    int lights_k;
+    int sun;
 } lumis_auto_candidate;
 typedef struct lumis_session_result {
     lumis_render_stats stats;
@@ -635,13 +637,15 @@ typedef struct lumis_session_result {
     double wall_seconds, cpu_seconds;
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy;
-    int auto_count, auto_chosen;
-    lumis_auto_candidate auto_candidates[2];
-    double auto_seconds;
+    int auto_count, auto_chosen, auto_prior;
+    lumis_auto_candidate auto_candidates[6];
+    double auto_seconds, auto_cap, auto_pilot_seconds;
+    lumis_sun auto_sun;
 } lumis_session_result;
 lumis_status lumis_session_check(const lumis_session_desc *desc);
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,
                                   lumis_image **out, lumis_session_result *result);
+const char *lumis_auto_candidate_name(int candidate);
 typedef struct lumis_scene_file {
     lumis_camera camera;
     char env_map[4096];

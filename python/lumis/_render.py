@@ -174,11 +174,30 @@ def render_sequence(name, samples, seed=1, spp=0, width=1, pixel=(0, 0), dimensi
     return out
 
 
-def render(scene="spheres", env=None, method=None, estimator="mis", lights=None, lights_k=0,
+def _auto_result(r):
+    """The automatic estimator's choice and pilots, as the sidecar's auto_estimator."""
+    def name(k):
+        return pystr(renderlib.lumis_auto_candidate_name(k))
+    cands = []
+    for k in range(r.auto_count):
+        c = r.auto_candidates[k]
+        cands.append({"name": name(k), "lights_k": c.lights_k, "sun": bool(c.sun),
+                      "measured": c.pilot_spp > 0, "pilot_spp": c.pilot_spp,
+                      "relmse_at_1spp": c.error_per_spp if c.pilot_spp else None,
+                      "seconds_per_spp": c.per_spp if c.pilot_spp else None,
+                      "relmse_x_seconds": c.efficiency if c.pilot_spp else None,
+                      "seconds_before": c.once})
+    return {"chosen": name(r.auto_chosen), "prior": r.auto_prior, "seconds": r.auto_seconds,
+            "pilot_seconds": r.auto_pilot_seconds, "pilot_cap_seconds": r.auto_cap or None,
+            "sun_share": r.auto_sun.share if r.auto_sun.found else None, "candidates": cands}
+
+
+def render(scene="spheres", env=None, method=None, estimator=None, lights=None, lights_k=0,
            lights_mode="point", lights_params=None, interleave=0, upsample=0, spp=0,
            time_budget=0.0, seed=1, sequence=None, size=None, threads=0, bounces=0,
            light_samples=0, bsdf_samples=0, power_heuristic=False, hide_environment=False,
-           rotation_deg=0.0, scale=1.0, fixtures=None, luminaire=None, lights_draws=0):
+           rotation_deg=0.0, scale=1.0, fixtures=None, luminaire=None, lights_draws=0,
+           auto=None):
     """Renders a scene as `lumis render` does with the same settings, bit for bit for the same
     seed.  Returns (image H x W x 3 float32, row 0 the top; a dict of what the render chose and
     what it cost).
@@ -187,7 +206,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     or photometric fixtures is lit by them; otherwise by env (a map file or spec, or a
     lumis.Map; None: the scene file's map, else "sky") with rotation_deg and scale, through
     the sampler `method` (None: the library's default) and `estimator` ("mis", "light",
-    "bsdf": no sampler), or, with `lights` (a light-set method), by lights_k lights in
+    "bsdf": no sampler; None: "mis"), or, with `lights` (a light-set method), by lights_k lights in
     lights_mode ("point", "stratified") with lights_params (a dict or "NAME=VALUE,...");
     lights_draws N > 0 (stratified): N draws per vertex over regions chosen per shading point,
     as --lights-draws.
@@ -198,8 +217,20 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
     options.  fixtures: a list of lumis.Fixture (or dicts of its fields) lighting the scene
     instead of its own fixtures, as `--fixture FILE --fixture-at ...` places one; luminaire:
     a manifest or "preset:NAME" replacing every luminaire the scene places, as
-    `--luminaire`.  Refusals raise lumis.Error with the library's message."""
+    `--luminaire`.
+    auto: the automatic estimator (docs/render.md), as `lumis render`: None (the default)
+    uses it when the map lights the scene and no argument fixes the estimator (method,
+    estimator, lights and its options, light_samples, bsdf_samples, power_heuristic); True
+    asks for it (method then chooses the MIS candidate's sampler), False is --no-auto.  The
+    result's "auto" says what it chose and why (None: not used).
+    Refusals raise lumis.Error with the library's message."""
     _need()
+    fixed = (method is not None or estimator is not None or lights is not None or lights_k
+             or lights_params is not None or interleave or upsample or lights_draws
+             or light_samples or bsdf_samples or power_heuristic or lights_mode != "point")
+    if auto not in (None, True, False):
+        raise invalid("auto: None, True or False, not %r" % (auto,))
+    estimator = "mis" if estimator is None else estimator
     if estimator not in _ESTIMATORS:
         raise invalid("estimator: unknown '%s' (one of %s)" % (estimator, ", ".join(_ESTIMATORS)))
     keep = []  # cdata the C structs point into, alive until the render returns
@@ -317,6 +348,8 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
         sess.time_budget = time_budget
         sess.spent = lib.lumis_sampler_build_ms(smp) / 1000.0 if smp is not None else 0.0
         sess.timed_spp = _TIMED_SPP
+        sess.auto_estimator = int(bool(auto) or (auto is None and not fixed and kind == "env"
+                                                 and smp is not None))
         sink.check(renderlib.lumis_session_check(sess), "render")
         img = ffi.new("lumis_image **")
         r = ffi.new("lumis_session_result *")
@@ -344,6 +377,7 @@ def render(scene="spheres", env=None, method=None, estimator="mis", lights=None,
             "k_limit": _K_LIMITS.get(r.k_limit, str(r.k_limit)), "spp_planned": r.spp_planned,
             "wall_seconds": r.wall_seconds, "cpu_seconds": r.cpu_seconds,
             "cpu_share": r.cpu_share, "threads_busy": r.threads_busy,
+            "auto": _auto_result(r) if r.auto_count > 0 else None,
         }
         return image, result
     finally:

@@ -1,22 +1,29 @@
-/* A session's automatic estimator (lumis_session_desc.auto_estimator): the map sampled with
- * MIS, or its median-cut regions as strata, chosen by pilot renders of the scene itself.
+/* A session's automatic estimator (lumis_session_desc.auto_estimator): how the map lights the
+ * scene -- sampled with MIS, its median-cut regions as strata (K = 16, 32, 64), and, on a
+ * sun-dominated map, the image sun split off with MIS or strata on the residual -- chosen by
+ * pilot renders of the scene itself.
  *
- * Each candidate renders a small copy of the image (about a sixteenth of its pixels) twice,
- * independently; the two halves' difference estimates each pixel's variance without a
- * reference, (A - B)^2 / 2 for one half.  Over the pixels, relative to a common mean image
- * (every candidate's pilots together) as the relMSE weighs them:
+ * Each candidate renders a small copy of the image (a sixteenth of its pixels, between
+ * AUTO_MIN_PIXELS and AUTO_MAX_PIXELS) twice, independently; the two halves' difference
+ * estimates each pixel's variance without a reference, (A - B)^2 / 2 for one half.  Over the
+ * pixels, relative to a common mean image (every measured candidate's pilots together) as the
+ * relMSE weighs them:
  *
  *     v_c = mean_p n_c (A_p - B_p)^2 / 2 / (m_p^2 + eps)     (eps = 0.01, lumis_compare's)
  *
  * is candidate c's relMSE at one sample per pixel (n_c samples in each half).  Its cost,
  * t_c seconds a sample per pixel at the image's size, is the pilot's time scaled by the
  * pixels.  With a time budget the render has L seconds left after the pilots, so c would
- * reach relMSE v_c t_c / L (its light set is made already, and kept); without one, c
- * reaches relMSE e in v_c t_c / e seconds.  Either way the smallest v_c t_c wins: the
- * prediction is the estimators' efficiency, measured where it counts, on this scene, map,
- * camera and materials.  The halves of the MIS pilot take as long as the stratified ones
- * (equal time), so both variances are measured at the same cost. */
+ * reach relMSE v_c t_c / L; without one, c reaches relMSE e in v_c t_c / e seconds.  Either
+ * way the smallest v_c t_c wins.
+ *
+ * The pilots are capped (AUTO_CAP): they run in a fixed order (strata K = 32, then MIS, the
+ * sun's two, K = 16, K = 64), each only if the pilots' time so far and its predicted cost stay
+ * within AUTO_CAP of the budget (--time) or of the render's predicted time at the prior
+ * (--spp); with --spp a render smaller than AUTO_SPP_RULE pilots' samples skips them.  No
+ * pilot pair measured: the prior, strata K = 32 (the convergence suite's best on average). */
 #include "lumis/render.h"
+#include "lumis/sun.h"
 
 #include "../core/internal.h"
 #include "internal.h"
@@ -26,16 +33,32 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define AUTO_K        32   /* the stratified candidate's regions (docs/results/convergence) */
-#define AUTO_PIXELS   4800 /* the pilots' pixels at least (80 x 60) */
-#define AUTO_MAX_HALF 64   /* most samples per pixel in a pilot's half */
+#define AUTO_MIN_PIXELS 1200 /* the pilots' pixels at least (40 x 30), unless the image's */
+#define AUTO_MAX_PIXELS 4800 /* and at most (80 x 60) */
+#define AUTO_MAX_HALF   64   /* most samples per pixel in a pilot's half */
+#define AUTO_CAP        0.15 /* the pilots' share of the budget (or of the render) at most */
+#define AUTO_SUN_SHARE  0.5  /* sun-dominated: >= half the power ... */
+#define AUTO_SUN_PIXELS 1e-3 /* ... in <= 0.1 % of the pixels (issue 39) */
+#define AUTO_PRIOR      1    /* strata K = 32: chosen when no pilot pair ran */
 
-static const char *const candidate_names[LUMIS_AUTO_CANDIDATES] = {"mis", "stratified"};
+/* The candidates (lumis_auto_candidate_name), in the order their pilots run after the
+ * prior's. */
+static const struct {
+    const char *name;
+    int k;   /* regions as strata; 0: the map with MIS */
+    int sun; /* the image sun split off, the candidate on the residual */
+} cands[LUMIS_AUTO_CANDIDATES] = {
+    {"mis", 0, 0},
+    {"stratified-32", 32, 0},
+    {"sun+mis", 0, 1},
+    {"sun+stratified-32", 32, 1},
+    {"stratified-16", 16, 0},
+    {"stratified-64", 64, 0},
+};
 
 const char *lumis_auto_candidate_name(int candidate)
 {
-    return candidate >= 0 && candidate < LUMIS_AUTO_CANDIDATES ? candidate_names[candidate]
-                                                               : "unknown";
+    return candidate >= 0 && candidate < LUMIS_AUTO_CANDIDATES ? cands[candidate].name : "unknown";
 }
 
 /* One pilot half: n more samples per pixel in job j; the image of those n alone (from the
@@ -61,7 +84,7 @@ static double lum(const float *p)
 }
 
 typedef struct pilot_pair {
-    lumis_image *a, *b; /* the two halves */
+    lumis_image *a, *b; /* the two halves (NULL: not measured) */
     int n;              /* samples per pixel in each */
     double seconds;     /* what the two took */
 } pilot_pair;
@@ -72,7 +95,6 @@ static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *
                              double seconds, pilot_pair *p)
 {
     lumis_render_job *j = NULL;
-    memset(p, 0, sizeof *p);
     lumis_status st = lumis_render_job_create(scene, rd, &j);
     if (st != LUMIS_OK) return st;
     if (n <= 0) { /* time one sample, then fill the half's time */
@@ -86,7 +108,7 @@ static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *
         if (st == LUMIS_OK) st = lumis_render_job_create(scene, rd, &j);
     }
     p->n = n;
-    if (st == LUMIS_OK) st = half(j, n, NULL, &p->a);
+    if (st == LUMIS_OK && !p->a) st = half(j, n, NULL, &p->a);
     if (st == LUMIS_OK) st = half(j, n, p->a, &p->b);
     lumis_render_stats s;
     lumis_render_job_stats(j, &s);
@@ -95,50 +117,138 @@ static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *
     return st;
 }
 
-/* v_c of every candidate from its pair, against the mean of all pairs. */
-static void variances(const pilot_pair *p, int count, double *v)
+/* v_c of every measured candidate from its pair, against the mean of all measured pairs. */
+static void variances(const pilot_pair *p, double *v)
 {
-    const size_t px = (size_t)p[0].a->width * (size_t)p[0].a->height;
-    for (int c = 0; c < count; c++) v[c] = 0.0;
+    int first = -1, count = 0;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        v[c] = 0.0;
+        if (p[c].b) count++, first = first < 0 ? c : first;
+    }
+    if (!count) return;
+    const size_t px = (size_t)p[first].a->width * (size_t)p[first].a->height;
     for (size_t k = 0; k < px; k++) {
         double m = 0.0;
-        for (int c = 0; c < count; c++)
-            m += lum(p[c].a->pixels + 3 * k) + lum(p[c].b->pixels + 3 * k);
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+            if (p[c].b) m += lum(p[c].a->pixels + 3 * k) + lum(p[c].b->pixels + 3 * k);
         m /= 2.0 * count;
-        for (int c = 0; c < count; c++) {
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+            if (!p[c].b) continue;
             const double d = lum(p[c].a->pixels + 3 * k) - lum(p[c].b->pixels + 3 * k);
             v[c] += p[c].n * d * d / 2.0 / (m * m + 1e-2);
         }
     }
-    for (int c = 0; c < count; c++) v[c] /= (double)px;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) v[c] /= (double)px;
+}
+
+/* What the candidates need, made as their pilots come (and the chosen one's kept). */
+typedef struct auto_state {
+    lumis_light_set *set[LUMIS_AUTO_CANDIDATES];
+    lumis_region_sampler *regions[LUMIS_AUTO_CANDIDATES];
+    double once[LUMIS_AUTO_CANDIDATES]; /* seconds its making took */
+    lumis_sun sun;                      /* the image sun (sun.found: one, sun-dominated) */
+    lumis_envmap *residual;
+    lumis_sun_sampler *sun_sampler;
+    lumis_sampler *residual_sampler; /* sun+mis: the caller's method on the residual */
+    double sun_seconds;              /* the sun's finding and its samplers */
+    int sun_looked;
+} auto_state;
+
+/* The lighting of candidate c (its set, regions, sun made on first use). */
+static lumis_status candidate_lighting(const lumis_render_desc *ud, int c, auto_state *as,
+                                       lumis_render_desc *rd)
+{
+    const lumis_error_sink *errors = &ud->errors;
+    lumis_status st = LUMIS_OK;
+    if (cands[c].sun && !as->residual_sampler && cands[c].k == 0) {
+        const double t = omp_get_wtime();
+        lumis_sampler_desc sd = {0};
+        sd.method = lumis_sampler_get_method(ud->lighting.sampler);
+        sd.errors = *errors;
+        st = lumis_sampler_create(as->residual, &sd, &as->residual_sampler);
+        as->sun_seconds += omp_get_wtime() - t;
+    }
+    if (st == LUMIS_OK && cands[c].k && !as->set[c]) {
+        const double t = omp_get_wtime();
+        const lumis_envmap *map = cands[c].sun ? as->residual : lumis__light_map(ud);
+        st = lumis_lights_by_name(map, "median-cut", cands[c].k, 0, NULL, errors, &as->set[c]);
+        if (st == LUMIS_OK)
+            st = lumis_region_sampler_create(map, as->set[c], errors, &as->regions[c]);
+        as->once[c] = omp_get_wtime() - t;
+    }
+    if (st != LUMIS_OK) return st;
+    if (cands[c].sun) {
+        rd->lighting.sun.sun = &as->sun;
+        rd->lighting.sun.residual = as->residual;
+        rd->lighting.sun.sampler = as->sun_sampler;
+        if (!cands[c].k) rd->lighting.sampler = as->residual_sampler;
+    }
+    if (cands[c].k) {
+        rd->lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        rd->lighting.sampler = NULL;
+        rd->lighting.light_set.set = as->set[c];
+        rd->lighting.light_set.regions = as->regions[c];
+        rd->lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+        rd->lighting.light_set.draws = 0;
+        rd->light_samples = rd->bsdf_samples = 0;
+    }
+    return LUMIS_OK;
+}
+
+/* The image sun, looked for once: a sun holding AUTO_SUN_SHARE of the power in at most
+ * AUTO_SUN_PIXELS of the pixels makes the sun candidates (not when the caller split one). */
+static lumis_status find_sun(const lumis_render_desc *ud, auto_state *as)
+{
+    as->sun_looked = 1;
+    if (ud->lighting.sun.sun) return LUMIS_OK;
+    const double t = omp_get_wtime();
+    lumis_sun_desc sd = {0};
+    sd.min_share = AUTO_SUN_SHARE;
+    sd.errors = ud->errors;
+    const lumis_envmap *env = ud->lighting.env;
+    lumis_status st = lumis_sun_find(env, &sd, &as->sun, &as->residual);
+    const double pixels = (double)lumis_envmap_width(env) * lumis_envmap_height(env);
+    if (st == LUMIS_OK && as->sun.found && as->sun.pixels > AUTO_SUN_PIXELS * pixels) {
+        as->sun.found = 0; /* a sun, not a dominating one: the candidates are the map's */
+        lumis_envmap_destroy(as->residual);
+        as->residual = NULL;
+    }
+    if (st == LUMIS_OK && as->sun.found)
+        st = lumis_sun_sampler_create(env, &as->sun, &ud->errors, &as->sun_sampler);
+    as->sun_seconds += omp_get_wtime() - t;
+    return st;
+}
+
+static void state_free(auto_state *as)
+{
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        lumis_region_sampler_destroy(as->regions[c]);
+        lumis_light_set_destroy(as->set[c]);
+    }
+    lumis_sampler_destroy(as->residual_sampler);
+    lumis_sun_sampler_destroy(as->sun_sampler);
+    lumis_envmap_destroy(as->residual);
 }
 
 lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_desc *s,
                                  lumis_image **out, lumis_session_result *r, int keep_set)
 {
     const double t0 = omp_get_wtime();
-    const lumis_error_sink *errors = &s->render.errors;
     const lumis_render_desc *ud = &s->render;
-    lumis_light_set *set = NULL;
-    lumis_region_sampler *regions = NULL;
+    auto_state as;
+    memset(&as, 0, sizeof as);
     pilot_pair pp[LUMIS_AUTO_CANDIDATES];
     memset(pp, 0, sizeof pp);
-    /* the stratified candidate's set and strata: made once, kept if it is chosen */
-    lumis_status st =
-        lumis_lights_by_name(lumis__light_map(ud), "median-cut", AUTO_K, 0, NULL, errors, &set);
-    /* (with a sun split off, both candidates light from the residual and add the sun) */
-    if (st == LUMIS_OK)
-        st = lumis_region_sampler_create(lumis__light_map(ud), set, errors, &regions);
-    const double once = omp_get_wtime() - t0;
-    /* the pilots' camera: a sixteenth of the pixels (at least AUTO_PIXELS) */
+    lumis_render_desc rd[LUMIS_AUTO_CANDIDATES];
+    /* the pilots' camera: a sixteenth of the pixels, within [AUTO_MIN_PIXELS, _MAX_] */
     lumis_camera cam = *ud->camera;
     const int cw = cam.width ? cam.width : 640, ch = cam.width ? cam.height : 480;
-    const double px = (double)cw * ch, target = fmax(AUTO_PIXELS, px / 16.0);
+    const double px = (double)cw * ch;
+    const double target = fmin(AUTO_MAX_PIXELS, fmax(AUTO_MIN_PIXELS, px / 16.0));
     const int d = px > target ? (int)floor(sqrt(px / target)) : 1;
     cam.width = cw / d > 0 ? cw / d : 1;
     cam.height = ch / d > 0 ? ch / d : 1;
-    const double scale = (double)cw * ch / ((double)cam.width * cam.height);
-    lumis_render_desc rd[LUMIS_AUTO_CANDIDATES];
+    const double ppx = (double)cam.width * cam.height, scale = px / ppx;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
         rd[c] = *ud;
         rd[c].camera = &cam;
@@ -147,39 +257,101 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         rd[c].seed = ud->seed ^ 0x5eedau; /* the pilots' numbers are not the render's */
         rd[c].spp = 2 * AUTO_MAX_HALF;
     }
-    rd[1].lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
-    rd[1].lighting.sampler = NULL;
-    rd[1].lighting.light_set.set = set;
-    rd[1].lighting.light_set.regions = regions;
-    rd[1].lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
-    rd[1].light_samples = rd[1].bsdf_samples = 0;
-    /* stratified at one sample per pixel a half; MIS for as long */
-    if (st == LUMIS_OK) st = run_pair(scene, &rd[1], 1, 0.0, &pp[1]);
-    if (st == LUMIS_OK)
-        st = run_pair(scene, &rd[0], s->auto_pilot_spp, pp[1].seconds / 2.0, &pp[0]);
+    /* the prior's set and strata, made first (kept if chosen) */
+    lumis_status st = candidate_lighting(ud, AUTO_PRIOR, &as, &rd[AUTO_PRIOR]);
+    const double tp = omp_get_wtime(); /* the pilots' clock starts */
+    const int spp = ud->spp ? ud->spp : 16;
+    const int fixed = s->auto_pilot_spp > 0; /* every candidate, uncapped */
+    /* the cap: a share of the budget, or (--spp) of the prior's render, known after a half;
+     * a render of fewer samples than AUTO_SPP_RULE pilot halves at the prior skips them */
+    double cap = fixed ? INFINITY : s->time_budget > 0.0 ? AUTO_CAP * s->time_budget : 0.0;
+    const int small = !fixed && !(s->time_budget > 0.0) && 4.0 * ppx > AUTO_CAP * spp * px;
+    int run = !small;
+    int measured = 0;
+    double u = 0.0;              /* seconds of a half of the prior's pilot */
+    if (st == LUMIS_OK && run) { /* the prior's pair, its first half the probe of the cost */
+        pilot_pair *p = &pp[AUTO_PRIOR];
+        lumis_render_job *j = NULL;
+        lumis_render_stats js;
+        memset(&js, 0, sizeof js);
+        p->n = 1;
+        st = lumis_render_job_create(scene, &rd[AUTO_PRIOR], &j);
+        if (st == LUMIS_OK) st = half(j, 1, NULL, &p->a);
+        if (j) lumis_render_job_stats(j, &js);
+        u = js.seconds;
+        if (!(s->time_budget > 0.0) && !fixed) cap = AUTO_CAP * spp * u * scale;
+        /* the rest of the pair and MIS's for as long: 3.5 halves more (as below) */
+        run = st == LUMIS_OK && (fixed || (omp_get_wtime() - tp) + 3.5 * u <= cap);
+        if (run) {
+            st = half(j, 1, p->a, &p->b);
+            lumis_render_job_stats(j, &js);
+            p->seconds = js.seconds;
+            measured += st == LUMIS_OK;
+        }
+        lumis_render_job_destroy(j);
+    }
+    /* then MIS, the sun's two, K = 16, 64 (their indices' order) */
+    for (int q = 0; st == LUMIS_OK && run && q < LUMIS_AUTO_CANDIDATES; q++) {
+        if (q == AUTO_PRIOR) continue;
+        if (cands[q].sun) {
+            if (!as.sun_looked) {
+                const double pred = as.once[AUTO_PRIOR]; /* a scan of the map, as the set's */
+                if (!fixed && (omp_get_wtime() - tp) + pred > cap) break;
+                st = find_sun(ud, &as);
+                if (st != LUMIS_OK) break;
+            }
+            if (!as.sun.found) continue;
+        }
+        /* its predicted cost: the making (as the prior's, by K) and a pair of halves, a
+         * stratified sample's cost growing with its draws (K + 4 rays' worth); MIS's pair
+         * as long as the prior's, and the sample that times it, rounding up: 2.5 halves */
+        const double make = cands[q].k && !as.set[q] ? as.once[AUTO_PRIOR] * cands[q].k / 32.0
+                            : cands[q].sun && !as.residual_sampler
+                                ? lumis_sampler_build_ms(ud->lighting.sampler) / 1000.0
+                                : 0.0;
+        const double pair = u * (cands[q].k ? 2.0 * (cands[q].k + 4.0) / 36.0 : 2.5);
+        if (!fixed && q != 0 && (omp_get_wtime() - tp) + make + pair > cap) continue;
+        st = candidate_lighting(ud, q, &as, &rd[q]);
+        if (st != LUMIS_OK) break;
+        /* strata at one sample per pixel a half; MIS for as long as the prior's */
+        if (cands[q].k)
+            st = run_pair(scene, &rd[q], 1, 0.0, &pp[q]);
+        else
+            st = run_pair(scene, &rd[q], s->auto_pilot_spp, pp[AUTO_PRIOR].seconds / 2.0, &pp[q]);
+        if (st == LUMIS_OK) measured++;
+    }
     lumis_session_desc fin = *s;
     fin.auto_estimator = fin.auto_pilot_spp = 0;
+    int best = AUTO_PRIOR;
     if (st == LUMIS_OK) {
         double v[LUMIS_AUTO_CANDIDATES];
-        variances(pp, LUMIS_AUTO_CANDIDATES, v);
-        int best = 0;
+        variances(pp, v);
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             lumis_auto_candidate *a = &r->auto_candidates[c];
+            a->lights_k = cands[c].k;
+            a->sun = cands[c].sun;
+            a->once = as.once[c] + (cands[c].sun ? as.sun_seconds : 0.0);
+            if (!pp[c].b) continue; /* not measured: zeros */
             a->error_per_spp = v[c];
             a->per_spp = scale * pp[c].seconds / (2.0 * pp[c].n);
-            a->once = c == 1 ? once : 0.0;
             a->pilot_spp = pp[c].n;
             a->efficiency = v[c] * a->per_spp; /* relMSE x seconds */
-            if (a->efficiency < r->auto_candidates[best].efficiency) best = c;
         }
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) /* the least, of those measured */
+            if (pp[c].b && (!pp[best].b ||
+                            r->auto_candidates[c].efficiency < r->auto_candidates[best].efficiency))
+                best = c;
         r->auto_count = LUMIS_AUTO_CANDIDATES;
         r->auto_chosen = best;
+        r->auto_prior = measured > 0 ? 0 : small ? 1 : 2;
+        r->auto_cap = isfinite(cap) ? cap : 0.0;
+        r->auto_pilot_seconds = omp_get_wtime() - tp;
+        r->auto_sun = as.sun;
         r->auto_seconds = omp_get_wtime() - t0;
         fin.spent = s->spent + r->auto_seconds;
-        if (best == 1) {
-            fin.render.lighting = rd[1].lighting;
-            fin.render.light_samples = fin.render.bsdf_samples = 0;
-        }
+        fin.render.lighting = rd[best].lighting;
+        fin.render.light_samples = rd[best].light_samples;
+        fin.render.bsdf_samples = rd[best].bsdf_samples;
     }
     lumis_session_result keep = *r;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
@@ -191,22 +363,25 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         /* the render's own result, with the choice and what it cost */
         r->auto_count = keep.auto_count;
         r->auto_chosen = keep.auto_chosen;
+        r->auto_prior = keep.auto_prior;
+        r->auto_cap = keep.auto_cap;
+        r->auto_pilot_seconds = keep.auto_pilot_seconds;
+        r->auto_sun = keep.auto_sun;
         r->auto_seconds = keep.auto_seconds;
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
             r->auto_candidates[c] = keep.auto_candidates[c];
-        if (r->auto_chosen == 1) {
-            r->lights_k = AUTO_K;
-            r->lights_build_ms = lumis_light_set_get_info(set)->build_ms;
-            r->regions_build_ms = lumis_region_sampler_build_ms(regions);
-            r->regions_bytes = lumis_region_sampler_bytes(regions);
+        if (cands[best].k) {
+            r->lights_k = cands[best].k;
+            r->lights_build_ms = lumis_light_set_get_info(as.set[best])->build_ms;
+            r->regions_build_ms = lumis_region_sampler_build_ms(as.regions[best]);
+            r->regions_bytes = lumis_region_sampler_bytes(as.regions[best]);
         }
     }
-    lumis_region_sampler_destroy(regions);
-    if (st == LUMIS_OK && r->auto_chosen == 1 && keep_set) {
-        r->light_set = set; /* the caller's now, as a session's own set is */
-        set = NULL;
+    if (st == LUMIS_OK && cands[best].k && keep_set) {
+        r->light_set = as.set[best]; /* the caller's now, as a session's own set is */
+        as.set[best] = NULL;
     }
-    lumis_light_set_destroy(set);
+    state_free(&as);
     if (st != LUMIS_OK) {
         lumis_image_destroy(*out);
         *out = NULL;

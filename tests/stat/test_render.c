@@ -21,7 +21,7 @@
  *     accounting; its automatic estimator's image is the chosen candidate's by hand, the choice the
  *     least relMSE x seconds it reports (render_session_equals_its_parts,
  *     render_session_budget_holds, auto_estimator_renders_what_it_chose)
- * lumis_auto_candidate_name — hand-worked: "mis", "stratified", "unknown"
+ * lumis_auto_candidate_name — hand-worked: "mis", "stratified-32", "sun+mis", ..., "unknown"
  *     (auto_estimator_renders_what_it_chose)
  * lumis_render_gbuffer — hand-worked: depth 3.0015, normal and albedo at the sphere's centre pixel,
  *     infinite depth off it (upsampling_keeps_constants_and_depth_edges)
@@ -2146,12 +2146,61 @@ static lumis_envmap *gradient_map(int w, int h, float base, float peak)
     return env_of(img);
 }
 
+/* Candidate c of the automatic estimator rendered by hand, as session_auto.c makes it: the
+ * map with MIS through the caller's sampler; median cut K as strata; the image sun (found at
+ * a 0.5 share) split off, the caller's sampler method on the residual or strata of it. */
+static lumis_image *auto_by_hand(const lumis_scene *s, const lumis_render_desc *rd,
+                                 const lumis_auto_candidate *c)
+{
+    lumis_render_desc d = *rd;
+    const lumis_envmap *map = d.lighting.env;
+    lumis_sun sun;
+    lumis_envmap *res = NULL;
+    lumis_sun_sampler *ss = NULL;
+    lumis_sampler *smp = NULL;
+    lumis_light_set *set = NULL;
+    lumis_region_sampler *rs = NULL;
+    if (c->sun) {
+        lumis_sun_desc sd = {0};
+        sd.min_share = 0.5;
+        assert_int_equal(lumis_sun_find(map, &sd, &sun, &res), LUMIS_OK);
+        assert_true(sun.found);
+        assert_int_equal(lumis_sun_sampler_create(map, &sun, NULL, &ss), LUMIS_OK);
+        d.lighting.sun.sun = &sun;
+        d.lighting.sun.residual = res;
+        d.lighting.sun.sampler = ss;
+        map = res;
+        lumis_sampler_desc sdesc = {0};
+        sdesc.method = lumis_sampler_get_method(rd->lighting.sampler);
+        assert_int_equal(lumis_sampler_create(res, &sdesc, &smp), LUMIS_OK);
+        d.lighting.sampler = smp;
+    }
+    if (c->lights_k) {
+        assert_int_equal(lumis_lights_by_name(map, "median-cut", c->lights_k, 0, NULL, NULL, &set),
+                         LUMIS_OK);
+        assert_int_equal(lumis_region_sampler_create(map, set, NULL, &rs), LUMIS_OK);
+        d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        d.lighting.sampler = NULL;
+        d.lighting.light_set.set = set;
+        d.lighting.light_set.regions = rs;
+        d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+    }
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    lumis_sampler_destroy(smp);
+    lumis_sun_sampler_destroy(ss);
+    lumis_envmap_destroy(res);
+    return img;
+}
+
 /* The automatic estimator: the session's image is, bit for bit, the image of the candidate
- * it reports it chose, rendered by hand (MIS through the caller's sampler; median cut K = 32
- * as strata), and the choice is the least relMSE x seconds of the candidates it reports.
- * Against a uniform "sampler" of a map with a compact bright source the pilots see MIS's
- * variance at one sample some 60x the strata's.  Refused, naming the field, wherever it
- * cannot choose. */
+ * it reports it chose, rendered by hand, and the choice is the least relMSE x seconds of the
+ * candidates it measured (with auto_pilot_spp, all of them: the sun's two only on the map
+ * with a dominating compact source).  Against a uniform "sampler" of a map with a compact
+ * bright source the pilots see MIS's variance at one sample some 60x the strata's, and MIS
+ * is not chosen.  Refused, naming the field, wherever it cannot choose. */
 static void auto_estimator_renders_what_it_chose(void **state)
 {
     (void)state;
@@ -2172,49 +2221,51 @@ static void auto_estimator_renders_what_it_chose(void **state)
         sess.render.seed = 5;
         sess.render.threads = 1;
         sess.auto_estimator = 1;
-        sess.auto_pilot_spp = 16; /* the pilots' errors from the seed alone */
+        sess.auto_pilot_spp = 16; /* every pilot, their errors from the seed alone */
         lumis_session_result r;
         lumis_image *a = NULL, *b = NULL;
         assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
         assert_int_equal(r.auto_count, LUMIS_AUTO_CANDIDATES);
+        assert_int_equal(r.auto_prior, 0);
+        assert_int_equal(r.auto_sun.found, map);
         const lumis_auto_candidate *c = r.auto_candidates;
-        for (int k = 0; k < r.auto_count; k++)
-            assert_true(c[k].error_per_spp > 0 && c[k].per_spp > 0 && c[k].pilot_spp >= 1 &&
+        int least = -1;
+        for (int k = 0; k < r.auto_count; k++) {
+            const int measured = !c[k].sun || map; /* the sun's: only with a sun */
+            assert_int_equal(c[k].pilot_spp > 0, measured);
+            if (!measured) continue;
+            assert_true(c[k].error_per_spp > 0 && c[k].per_spp > 0 &&
                         c[k].efficiency == c[k].error_per_spp * c[k].per_spp);
-        assert_int_equal(r.auto_chosen, c[1].efficiency < c[0].efficiency ? 1 : 0);
+            if (least < 0 || c[k].efficiency < c[least].efficiency) least = k;
+        }
+        assert_int_equal(r.auto_chosen, least);
+        assert_int_equal(c[0].lights_k, 0);
+        assert_int_equal(c[1].lights_k, 32);
+        assert_int_equal(c[4].lights_k, 16);
+        assert_int_equal(c[5].lights_k, 64);
+        assert_true(c[2].sun && c[3].sun && !c[0].sun && !c[1].sun);
         /* a compact source drawn uniformly: the strata's error at one sample is far below
          * MIS's; which wins in error x time depends on the machine's timing (a loaded CI
          * machine, another instruction set), so only the errors are pinned, and with a fixed
          * pilot (16 samples a half) they depend on the seed alone */
         assert_int_equal(c[0].pilot_spp, 16);
-        if (map == 1) assert_true(c[1].error_per_spp < 0.1 * c[0].error_per_spp);
-        assert_string_equal(lumis_auto_candidate_name(r.auto_chosen),
-                            r.auto_chosen ? "stratified" : "mis");
-        assert_int_equal(r.stats.spp, 4);
-        lumis_render_desc d = sess.render;
-        lumis_light_set *set = NULL;
-        lumis_region_sampler *rs = NULL;
-        if (r.auto_chosen == 1) {
-            assert_int_equal(r.lights_k, 32);
-            assert_non_null(r.light_set);
-            assert_int_equal(lumis_lights_by_name(env, "median-cut", 32, 0, NULL, NULL, &set),
-                             LUMIS_OK);
-            assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
-            d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
-            d.lighting.sampler = NULL;
-            d.lighting.light_set.set = set;
-            d.lighting.light_set.regions = rs;
-            d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
-        } else {
-            assert_null(r.light_set);
+        if (map == 1) {
+            assert_true(c[1].error_per_spp < 0.1 * c[0].error_per_spp);
+            /* the sun split off: MIS on the residual far better than the whole map's */
+            assert_true(c[2].error_per_spp < 0.1 * c[0].error_per_spp);
+            assert_int_not_equal(r.auto_chosen, 0);
         }
-        assert_int_equal(lumis_render(s, &d, &b, NULL), LUMIS_OK);
+        assert_int_equal(r.stats.spp, 4);
+        assert_int_equal(r.lights_k, c[r.auto_chosen].lights_k);
+        if (c[r.auto_chosen].lights_k)
+            assert_non_null(r.light_set);
+        else
+            assert_null(r.light_set);
+        b = auto_by_hand(s, &sess.render, &c[r.auto_chosen]);
         assert_memory_equal(a->pixels, b->pixels, bytes);
         lumis_image_destroy(a);
         lumis_image_destroy(b);
         lumis_light_set_destroy(r.light_set);
-        lumis_region_sampler_destroy(rs);
-        lumis_light_set_destroy(set);
         /* refused, naming what is not a map sampled with MIS */
         tu_sink sink;
         tu_sink_init(&sink);
@@ -2242,7 +2293,111 @@ static void auto_estimator_renders_what_it_chose(void **state)
         lumis_sampler_destroy(smp);
         lumis_envmap_destroy(env);
     }
-    assert_string_equal(lumis_auto_candidate_name(7), "unknown");
+    assert_string_equal(lumis_auto_candidate_name(0), "mis");
+    assert_string_equal(lumis_auto_candidate_name(1), "stratified-32");
+    assert_string_equal(lumis_auto_candidate_name(2), "sun+mis");
+    assert_string_equal(lumis_auto_candidate_name(3), "sun+stratified-32");
+    assert_string_equal(lumis_auto_candidate_name(4), "stratified-16");
+    assert_string_equal(lumis_auto_candidate_name(5), "stratified-64");
+    assert_string_equal(lumis_auto_candidate_name(6), "unknown");
+    assert_string_equal(lumis_auto_candidate_name(-1), "unknown");
+    lumis_scene_destroy(s);
+}
+
+/* The sun's candidates only on a sun-dominated map (>= 50 % of the power in <= 0.1 % of the
+ * pixels): a compact source holding a third of the power (a sun lumis_sun_find accepts at
+ * its default 0.1 share) makes none, one holding most of it makes both. */
+static void auto_estimator_sun_only_when_dominated(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    const float peaks[2] = {2e2f, 2e3f};
+    for (int m = 0; m < 2; m++) {
+        lumis_envmap *env = gradient_map(63, 31, 0.5f, peaks[m]);
+        lumis_sun sun;
+        lumis_sun_desc sd = {0};
+        assert_int_equal(lumis_sun_find(env, &sd, &sun, NULL), LUMIS_OK);
+        assert_true(sun.found); /* a sun either way, at the default share */
+        assert_true(m ? sun.share > 0.5 : sun.share > 0.1 && sun.share < 0.5);
+        lumis_sampler *smp = NULL;
+        lumis_sampler_desc sdesc = {0};
+        assert_int_equal(lumis_sampler_create(env, &sdesc, &smp), LUMIS_OK);
+        lumis_session_desc sess = {0};
+        sess.render.camera = &cam;
+        sess.render.lighting.env = env;
+        sess.render.lighting.sampler = smp;
+        sess.render.spp = 1;
+        sess.render.threads = 1;
+        sess.auto_estimator = 1;
+        sess.auto_pilot_spp = 2;
+        lumis_session_result r;
+        lumis_image *a = NULL;
+        assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+        assert_int_equal(r.auto_sun.found, m);
+        assert_int_equal(r.auto_candidates[2].pilot_spp > 0, m);
+        assert_int_equal(r.auto_candidates[3].pilot_spp > 0, m);
+        assert_int_equal(r.auto_candidates[4].pilot_spp > 0, 1);
+        lumis_image_destroy(a);
+        lumis_light_set_destroy(r.light_set);
+        lumis_sampler_destroy(smp);
+        lumis_envmap_destroy(env);
+    }
+    lumis_scene_destroy(s);
+}
+
+/* The pilots' bounds.  A render smaller than the pilots (24 x 24 at 4 spp, no budget) runs
+ * none and renders the prior, strata K = 32 (auto_prior 1); a budget whose 15 % cannot hold
+ * the first pair and MIS's runs one half and renders the prior (auto_prior 2); a budget that
+ * holds some runs pilots within 15 % of it (the last one's prediction may miss by its own
+ * time: at most 1.5 x the cap), and the cap is 0.15 x the budget. */
+static void auto_estimator_pilots_capped(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    lumis_envmap *env = gradient_map(63, 31, 0.5f, 2e3f);
+    lumis_sampler *smp = NULL;
+    lumis_sampler_desc sdesc = {0};
+    assert_int_equal(lumis_sampler_create(env, &sdesc, &smp), LUMIS_OK);
+    lumis_session_desc sess = {0};
+    sess.render.camera = &cam;
+    sess.render.lighting.env = env;
+    sess.render.lighting.sampler = smp;
+    sess.render.spp = 4;
+    sess.render.threads = 1;
+    sess.auto_estimator = 1;
+    lumis_session_result r;
+    lumis_image *a = NULL, *b = NULL;
+    assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+    assert_int_equal(r.auto_prior, 1);
+    assert_int_equal(r.auto_chosen, 1);
+    for (int k = 0; k < LUMIS_AUTO_CANDIDATES; k++)
+        assert_int_equal(r.auto_candidates[k].pilot_spp, 0);
+    b = auto_by_hand(s, &sess.render, &r.auto_candidates[1]);
+    assert_memory_equal(a->pixels, b->pixels, 24 * 24 * 3 * sizeof(float));
+    lumis_image_destroy(a);
+    lumis_image_destroy(b);
+    lumis_light_set_destroy(r.light_set);
+    /* 64 x 64: the pilots render all 4096 pixels; a stratified half there (32 shadow rays
+     * a pixel) takes far more than 15 % of 2 ms */
+    lumis_camera big = cam;
+    big.width = big.height = 64;
+    sess.render.camera = &big;
+    sess.render.spp = 0;
+    sess.time_budget = 0.002;
+    assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+    assert_int_equal(r.auto_prior, 2);
+    assert_int_equal(r.auto_chosen, 1);
+    assert_true(fabs(r.auto_cap - 0.15 * 0.002) < 1e-12);
+    lumis_image_destroy(a);
+    lumis_light_set_destroy(r.light_set);
+    sess.time_budget = 0.5;
+    assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+    assert_true(fabs(r.auto_cap - 0.15 * 0.5) < 1e-12);
+    assert_true(r.auto_pilot_seconds <= 1.5 * r.auto_cap);
+    lumis_image_destroy(a);
+    lumis_light_set_destroy(r.light_set);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
     lumis_scene_destroy(s);
 }
 
@@ -2459,6 +2614,8 @@ int main(void)
         cmocka_unit_test(scene_file_defaults_and_refusals),
         cmocka_unit_test(passes_do_not_change_the_image),
         cmocka_unit_test(auto_estimator_renders_what_it_chose),
+        cmocka_unit_test(auto_estimator_sun_only_when_dominated),
+        cmocka_unit_test(auto_estimator_pilots_capped),
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),
     };

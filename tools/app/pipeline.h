@@ -23,7 +23,10 @@ typedef struct tool_render_opts {
     const char *sampler_opt; /* --method (not bsdf) or --blocks, if given: a sampler is built
                                 whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
-    int auto_estimator; /* --auto: the session chooses the map with MIS or median-cut strata */
+    int auto_estimator;        /* --auto: the session chooses how the map lights the scene */
+    int auto_default;          /* lumis render with no option fixing the estimator: auto_estimator
+                                  when the map lights the scene (not luminaires or fixtures) */
+    const char *auto_fixed_by; /* the option that turned the default off, or NULL */
     int sun; /* --sun: a sun found in the map (lumis_sun_find) is sampled as a cone, the rest
                 of the map (the residual) by the sampler or light set */
     const char *lights;               /* a light-set method (tool_lights_method_known), or NULL */
@@ -93,14 +96,16 @@ typedef struct tool_render_result {
     char lum_chosen[640];
     char lum_budgets[320]; /* their K (auto gives a global one more: render.h) */
     lumis_luminaire_choice lum_choice;
-    /* --auto: every candidate's pilot and the one chosen (lumis_session_result) */
-    int auto_count, auto_chosen;
+    /* the automatic estimator: every candidate's pilot and the one chosen
+     * (lumis_session_result) */
+    int auto_count, auto_chosen, auto_prior;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
-    double auto_seconds;
+    double auto_seconds, auto_cap, auto_pilot_seconds;
+    lumis_sun auto_sun;
 } tool_render_result;
 
-/* The light set that lit the render: --lights, or the median-cut strata --auto chose (NULL:
- * none), and its mode. */
+/* The light set that lit the render: --lights, or the median-cut strata the automatic
+ * estimator chose (NULL: none), and its mode. */
 const char *tool_render_lights(const tool_render_opts *o, const tool_render_result *r,
                                lumis_lights_mode *mode);
 

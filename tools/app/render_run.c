@@ -28,7 +28,7 @@
 static const struct {
     const char *field, *options;
 } field_options[] = {
-    {"auto_estimator", "--auto"},
+    {"auto_estimator", "--auto (--no-auto: off)"},
     {"lighting.sampler", "--method, --blocks"},
     {"lighting.estimator", "--mis none, --method bsdf"},
     {"lighting.light_set.mode", "--lights-mode"},
@@ -377,7 +377,12 @@ static int run_session_desc(const tool_render_opts *o, render_state *s)
     lumis_session_desc *sess = &s->sess;
     sess->render = s->rd;
     sess->lights = o->lights;
-    sess->auto_estimator = o->auto_estimator;
+    /* the default for a map's light (lumis render with no option fixing the estimator) */
+    const lumis_lighting *l = &s->rd.lighting;
+    sess->auto_estimator =
+        o->auto_estimator || (o->auto_default && l->kind == LUMIS_LIGHTING_ENV && l->env &&
+                              l->sampler && l->estimator == LUMIS_ESTIMATOR_MIS &&
+                              !l->photometric && !l->luminaires && !l->sun.sun && !o->passes);
     sess->lights_k = o->lights_k;
     sess->interleave = o->interleave;
     sess->lights_params = o->lights_params.given ? &o->lights_params : NULL;
@@ -438,14 +443,18 @@ static void run_result(const tool_render_opts *o, const lumis_session_result *sr
     r->upsample = sr->upsample;
     r->auto_count = sr->auto_count;
     r->auto_chosen = sr->auto_chosen;
+    r->auto_prior = sr->auto_prior;
     r->auto_seconds = sr->auto_seconds;
+    r->auto_cap = sr->auto_cap;
+    r->auto_pilot_seconds = sr->auto_pilot_seconds;
+    r->auto_sun = sr->auto_sun;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) r->auto_candidates[c] = sr->auto_candidates[c];
 }
 
 const char *tool_render_lights(const tool_render_opts *o, const tool_render_result *r,
                                lumis_lights_mode *mode)
 {
-    const int strata = r->auto_count > 0 && r->auto_chosen == 1;
+    const int strata = r->auto_count > 0 && r->auto_candidates[r->auto_chosen].lights_k > 0;
     *mode = strata ? LUMIS_LIGHTS_STRATIFIED : o->lights_mode;
     return o->lights ? o->lights : strata ? "median-cut" : NULL;
 }
@@ -528,6 +537,40 @@ static void write_costs(const render_state *s, tool_render_result *r)
     }
 }
 
+/* The automatic estimator's line: what it chose, why (every measured candidate's relMSE x
+ * seconds), what the pilots cost against their cap, and what --spp counts. */
+static void tool_auto_summary(const tool_render_opts *o, const tool_render_result *r)
+{
+    char why[900] = "";
+    size_t used = 0;
+    for (int k = 0; k < r->auto_count && used < sizeof why; k++) {
+        const lumis_auto_candidate *q = &r->auto_candidates[k];
+        if (q->pilot_spp > 0)
+            used += (size_t)snprintf(why + used, sizeof why - used, "%s%s %.3g", used ? ", " : "",
+                                     lumis_auto_candidate_name(k), q->efficiency);
+    }
+    const char *chosen = lumis_auto_candidate_name(r->auto_chosen);
+    char cap[64] = "uncapped";
+    if (r->auto_cap > 0.0)
+        snprintf(cap, sizeof cap, "%s %.3f s", r->auto_prior ? "over their cap" : "cap",
+                 r->auto_cap);
+    if (r->auto_prior)
+        fprintf(stderr, "lumis: auto: %s, the prior (no pilots: %s; docs/render.md)", chosen,
+                r->auto_prior == 1 ? "the render is too small for them" : cap);
+    else
+        fprintf(stderr,
+                "lumis: auto: %s, the most efficient of the pilots on this scene (relMSE x "
+                "seconds: %s; pilots %.3f s, %s)",
+                chosen, why, r->auto_pilot_seconds, cap);
+    if (r->auto_sun.found)
+        fprintf(stderr, "; a sun-dominated map (sun share %.3f in %d pixels)", r->auto_sun.share,
+                r->auto_sun.pixels);
+    if (o->time_budget > 0.0)
+        fprintf(stderr, "; %.3f s of the budget before the render\n", r->auto_seconds);
+    else
+        fprintf(stderr, "; the %d spp are %s's samples\n", r->stats.spp, chosen);
+}
+
 /* The summary line (and, with --time, the budget's account and K's pilots). */
 static void write_summary(const tool_render_opts *o, const render_state *s,
                           const tool_render_result *r)
@@ -593,15 +636,7 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
                 o->time_budget, r->prep_seconds, r->budget_used_seconds - r->prep_seconds,
                 r->budget_used_seconds, r->cpu_seconds, r->wall_seconds, 100.0 * r->cpu_share,
                 r->threads_busy, r->threads_busy == 1 ? "" : "s");
-    if (r->auto_count > 0) {
-        const lumis_auto_candidate *m = &r->auto_candidates[0], *q = &r->auto_candidates[1];
-        fprintf(stderr,
-                "lumis: auto: %s, the more efficient on this scene (relMSE x seconds: mis %.3g, "
-                "stratified median-cut K = 32 %.3g; from pilots of %d and %d spp a half, %.3f "
-                "s)\n",
-                lumis_auto_candidate_name(r->auto_chosen), m->efficiency, q->efficiency,
-                m->pilot_spp, q->pilot_spp, r->auto_seconds);
-    }
+    if (r->auto_count > 0) tool_auto_summary(o, r);
     if (r->lights_pilot_count > 0) {
         char why[320] = "";
         tool_k_limit_text(o, r, why, sizeof why);

@@ -201,24 +201,54 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
                             : lights ? "light set"
                                      : tool_estimator_name(rd));
     const tool_render_result *r = c->r;
-    if (r->auto_count > 0) { /* --auto: what the pilots measured, and the choice */
+    if (r->auto_count > 0) { /* what the pilots measured, and the choice */
         cJSON *a = cJSON_AddObjectToObject(j, "auto_estimator");
         cJSON_AddStringToObject(a, "chosen", lumis_auto_candidate_name(r->auto_chosen));
+        cJSON_AddStringToObject(a, "why",
+                                r->auto_prior == 1   ? "prior: the render too small for pilots"
+                                : r->auto_prior == 2 ? "prior: the pilots over their cap"
+                                                     : "least relmse_x_seconds of the pilots");
+        cJSON_AddBoolToObject(a, "default", !o->auto_estimator);
+        cJSON_AddStringToObject(a, "spp_counts", "samples of the chosen estimator");
         cJSON_AddNumberToObject(a, "seconds", r->auto_seconds);
+        cJSON_AddNumberToObject(a, "pilot_seconds", r->auto_pilot_seconds);
+        if (r->auto_cap > 0.0)
+            cJSON_AddNumberToObject(a, "pilot_cap_seconds", r->auto_cap);
+        else
+            cJSON_AddNullToObject(a, "pilot_cap_seconds");
+        if (r->auto_sun.found) {
+            cJSON *sun = cJSON_AddObjectToObject(a, "sun");
+            cJSON_AddNumberToObject(sun, "share", r->auto_sun.share);
+            cJSON_AddNumberToObject(sun, "pixels", r->auto_sun.pixels);
+            cJSON_AddNumberToObject(sun, "radius_deg",
+                                    r->auto_sun.radius * (180.0 / 3.14159265358979));
+        } else {
+            cJSON_AddNullToObject(a, "sun");
+        }
         cJSON *arr = cJSON_AddArrayToObject(a, "candidates");
         for (int k = 0; k < r->auto_count; k++) {
             const lumis_auto_candidate *q = &r->auto_candidates[k];
             cJSON *e = cJSON_CreateObject();
             cJSON_AddStringToObject(e, "name", lumis_auto_candidate_name(k));
-            cJSON_AddNumberToObject(e, "relmse_at_1spp", q->error_per_spp);
-            cJSON_AddNumberToObject(e, "seconds_per_spp", q->per_spp);
-            cJSON_AddNumberToObject(e, "relmse_x_seconds", q->efficiency);
+            cJSON_AddNumberToObject(e, "lights_k", q->lights_k);
+            cJSON_AddBoolToObject(e, "sun", q->sun != 0);
+            cJSON_AddBoolToObject(e, "measured", q->pilot_spp > 0);
+            if (q->pilot_spp > 0) {
+                cJSON_AddNumberToObject(e, "relmse_at_1spp", q->error_per_spp);
+                cJSON_AddNumberToObject(e, "seconds_per_spp", q->per_spp);
+                cJSON_AddNumberToObject(e, "relmse_x_seconds", q->efficiency);
+            }
             cJSON_AddNumberToObject(e, "seconds_before", q->once);
             cJSON_AddNumberToObject(e, "pilot_spp", q->pilot_spp);
             cJSON_AddItemToArray(arr, e);
         }
+        cJSON_AddNullToObject(j, "auto_off_by");
     } else {
         cJSON_AddNullToObject(j, "auto_estimator");
+        if (o->auto_fixed_by)
+            cJSON_AddStringToObject(j, "auto_off_by", o->auto_fixed_by);
+        else
+            cJSON_AddNullToObject(j, "auto_off_by");
     }
 }
 

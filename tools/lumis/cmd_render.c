@@ -16,6 +16,8 @@ typedef struct render_cli {
     const char *mis;         /* --mis, if given */
     const char *sampler_opt; /* --method or --blocks, if given */
     const char *spp_given;   /* --spp, if given */
+    const char *fixed_opt;   /* an option that fixes the estimator (the automatic one's off) */
+    int no_auto;             /* --no-auto */
 } render_cli;
 
 /* --fixture-at, -aim, -up: "X,Y,Z", three finite numbers within [-1e30, 1e30], into the
@@ -160,11 +162,22 @@ static const tool_opt render_opts[] = {
      .note = TOOL_NOTE(render_cli, sampler_opt)},
     {.kind = TOOL_OPT_FLAG,
      .name = "--auto",
-     .help = "choose how the map lights the scene: sampled with MIS (--method's\n"
-             "sampler) or its median-cut regions as strata (K = 32), whichever\n"
-             "pilot renders of this scene find more efficient (relMSE x time;\n"
-             "their time is spent from --time).  docs/render.md",
+     .help = "the automatic estimator (the default for a map's light when no\n"
+             "option below fixes one): the map sampled with MIS, its median-cut\n"
+             "regions as strata (K = 16, 32, 64) or, on a sun-dominated map, the\n"
+             "image sun split off with MIS or strata on the rest, whichever pilot\n"
+             "renders of this scene find most efficient (relMSE x time; at most\n"
+             "15 % of --time, or of the render).  Given, --method and --blocks\n"
+             "choose the MIS candidate's sampler.  docs/render.md",
      .at = AT(auto_estimator)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--no-auto",
+     .help = "no automatic estimator: the map sampled with MIS (inversion-guided),\n"
+             "as before 2026-11-28.  Any of --method, --blocks, --lights, --sun,\n"
+             "--lights-mode, --lights-draws, --lights-k, --interleave,\n"
+             "--lights-param, --upsample, --mis, --light-samples, --bsdf-samples\n"
+             "or --passes fixes the estimator too",
+     .at = offsetof(render_cli, no_auto)},
     {.kind = TOOL_OPT_CUSTOM,
      .name = "--lights",
      .metavar = "M",
@@ -174,14 +187,16 @@ static const tool_opt render_opts[] = {
              "ablations wu-is, wu-is-mask, wu-is-kmeans,\n"
              "wu-original-cut; every light of the pixel's set, one shadow ray\n"
              "each (docs/lights.md)",
-     .handle = lights_option},
+     .handle = lights_option,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_FLAG,
      .name = "--sun",
      .help = "find a compact bright source in the map (lumis_sun_find) and\n"
              "sample its pixels by their power, MIS with the BSDF, the rest (the\n"
              "residual) by the sampler or the light set; unbiased (docs/lights.md,\n"
              "\"The image sun\"); no sun found: the whole map as usual",
-     .at = AT(sun)},
+     .at = AT(sun),
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_PARSE,
      .name = "--lights-mode",
      .metavar = "M",
@@ -192,7 +207,8 @@ static const tool_opt render_opts[] = {
              "(--mis): unbiased, converges with --time or --spp",
      .at = AT(lights_mode),
      .parse = parse_lights_mode,
-     .what = "must be point or stratified"},
+     .what = "must be point or stratified",
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--lights-draws",
      .metavar = "N",
@@ -201,7 +217,8 @@ static const tool_opt render_opts[] = {
              "BSDF) instead of one in every region (docs/lights.md)",
      .at = AT(rd.lighting.light_set.draws),
      .lo = 1,
-     .hi = LUMIS_LIGHT_SET_MAX_DRAWS},
+     .hi = LUMIS_LIGHT_SET_MAX_DRAWS,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--lights-k",
      .metavar = "K",
@@ -215,20 +232,23 @@ static const tool_opt render_opts[] = {
              "fills the time with passes",
      .at = AT(lights_k),
      .lo = 1,
-     .hi = 1 << 20},
+     .hi = 1 << 20,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--interleave",
      .metavar = "N",
      .help = "interleaved light sets, the original and N-1 jittered (default 8)",
      .at = AT(interleave),
      .lo = 1,
-     .hi = 64},
+     .hi = 64,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_CUSTOM,
      .name = "--lights-param",
      .metavar = "P",
      .help = "the light-set method's parameters, NAME=VALUE[,NAME=VALUE...]\n"
              "(repeatable; names as in lumis lights --param, docs/lights.md)",
-     .handle = lights_param_option},
+     .handle = lights_param_option,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--upsample",
      .metavar = "F",
@@ -238,7 +258,8 @@ static const tool_opt render_opts[] = {
      .at = AT(upsample),
      .lo = 1,
      .hi = 16,
-     .what = "a factor"},
+     .what = "a factor",
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
 
     {.kind = TOOL_OPT_GROUP, .name = "photometric fixtures"},
     {.kind = TOOL_OPT_STRING,
@@ -393,21 +414,24 @@ static const tool_opt render_opts[] = {
      .name = "--mis",
      .metavar = "H",
      .help = "balance (default), power, or none (light sampling only)",
-     .handle = mis_option},
+     .handle = mis_option,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--light-samples",
      .metavar = "N",
      .help = "light samples per camera sample (default 1)",
      .at = AT(rd.light_samples),
      .lo = 1,
-     .hi = 4096},
+     .hi = 4096,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--bsdf-samples",
      .metavar = "N",
      .help = "BSDF samples per camera sample (default 1)",
      .at = AT(rd.bsdf_samples),
      .lo = 1,
-     .hi = 4096},
+     .hi = 4096,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
      .name = "--spp",
      .metavar = "N",
@@ -427,7 +451,8 @@ static const tool_opt render_opts[] = {
      .help = "render share I (0 to N - 1) of the --spp samples split in N: the\n"
              "whole render's samples k = I spp/N ... (I+1) spp/N - 1, the same\n"
              "whichever machine draws them; lumis merge joins the shares",
-     .handle = passes_option},
+     .handle = passes_option,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_DOUBLE,
      .name = "--time",
      .metavar = "S",
@@ -625,6 +650,13 @@ int cmd_render(int argc, char **argv)
     rc = render_check(&c);
     if (rc != EXIT_OK) return rc;
     o->sampler_opt = o->bsdf_only ? NULL : c.sampler_opt;
+    /* The automatic estimator is the default for a map's light: an option that fixes the
+     * estimator, or --no-auto, turns it off (tool_render applies it when the map lights the
+     * scene; luminaires and fixtures are not its). */
+    if (o->auto_estimator && c.no_auto)
+        return tool_usage_error("render", "--auto and --no-auto: give one");
+    o->auto_fixed_by = c.no_auto ? "--no-auto" : c.fixed_opt ? c.fixed_opt : c.sampler_opt;
+    o->auto_default = !o->auto_estimator && !o->auto_fixed_by;
     tool_render_result r;
     rc = tool_render(o, &r);
     lumis_image_destroy(r.image);
