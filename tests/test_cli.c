@@ -758,6 +758,62 @@ static double relmse_between(const char *ref, const char *test)
     return v;
 }
 
+/* The automatic estimator is lumis render's default for a map's light (issue 39): with no
+ * option fixing the estimator the sidecar's auto_estimator says what was chosen and why, and
+ * the summary that --spp counts the chosen one's samples; an option that fixes it (--method,
+ * --mis, --lights ...) or --no-auto turns it off and the sidecar names that option; --no-auto
+ * is the map with MIS through the default sampler, bit for bit; luminaires are not its. */
+static void render_default_is_automatic(void **state)
+{
+    (void)state;
+    const char *base = "render --scene spheres --env sky:64x32 --size 40x30 --threads 1";
+    expectf(0, "are ", "%s --spp 32 -o '%s'", base, tu_path("auto.exr"));
+    cJSON *j = read_json("auto.json");
+    const cJSON *a = item(j, "auto_estimator");
+    assert_true(cJSON_IsObject(a));
+    assert_true(cJSON_IsTrue(item(a, "default")));
+    assert_true(cJSON_IsString(item(a, "chosen")));
+    assert_string_equal(item(a, "spp_counts")->valuestring, "samples of the chosen estimator");
+    assert_string_equal(item(a, "why")->valuestring, "least relmse_x_seconds of the pilots");
+    assert_true(cJSON_IsNull(item(j, "auto_off_by")));
+    assert_true(num(j, "spp") == 32);
+    assert_int_equal(cJSON_GetArraySize(item(a, "candidates")), 6);
+    cJSON_Delete(j);
+    /* 1 spp: a render smaller than its pilots takes the prior */
+    expectf(0, "the prior (no pilots: the render is too small for them", "%s --spp 1 -o '%s'", base,
+            tu_path("auto1.exr"));
+    j = read_json("auto1.json");
+    assert_string_equal(item(item(j, "auto_estimator"), "chosen")->valuestring, "stratified-32");
+    cJSON_Delete(j);
+    /* fixed: by an estimator option, or --no-auto */
+    static const char *const fixing[][2] = {{"--method inversion-guided", "--method"},
+                                            {"--mis balance", "--mis"},
+                                            {"--light-samples 1", "--light-samples"},
+                                            {"--no-auto", "--no-auto"}};
+    for (int k = 0; k < 4; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "fixed%d.exr", k);
+        expectf(0, "rendered 40x30", "%s --spp 4 %s -o '%s'", base, fixing[k][0], tu_path(name));
+        snprintf(name, sizeof name, "fixed%d.json", k);
+        j = read_json(name);
+        assert_true(cJSON_IsNull(item(j, "auto_estimator")));
+        assert_string_equal(item(j, "auto_off_by")->valuestring, fixing[k][1]);
+        assert_string_equal(item(j, "estimator")->valuestring, "mis");
+        cJSON_Delete(j);
+    }
+    /* --no-auto is the map with MIS as before: the image of --method inversion-guided */
+    assert_true(relmse_between("fixed0.exr", "fixed3.exr") == 0.0);
+    expectf(2, "--auto and --no-auto: give one", "%s --auto --no-auto -o '%s'", base,
+            tu_path("x.exr"));
+    /* luminaires light the headlight scene: no automatic estimator, nothing turned it off */
+    expectf(0, "rendered", "render --scene headlight --size 16x12 --spp 1 --threads 1 -o '%s'",
+            tu_path("lum.exr"));
+    j = read_json("lum.json");
+    assert_true(cJSON_IsNull(item(j, "auto_estimator")));
+    assert_true(cJSON_IsNull(item(j, "auto_off_by")));
+    cJSON_Delete(j);
+}
+
 /* A render split by passes: each share renders the whole render's samples of its range
  * (with zsobol too, whose sequence is planned for the whole count), and lumis merge joins
  * them into the whole render's image (up to float rounding), with the samples, passes and
@@ -3994,6 +4050,7 @@ int main(void)
         cmocka_unit_test(render_with_stratified_light_sets),
         cmocka_unit_test(simd_variants_render_the_same_image),
         cmocka_unit_test(render_with_luminaires),
+        cmocka_unit_test(render_default_is_automatic),
         cmocka_unit_test(render_passes_and_merge),
         cmocka_unit_test(merged_shares_equal_one_render_for_every_light_kind),
         cmocka_unit_test(merge_refuses_doctored_shares),

@@ -34,6 +34,7 @@ static const char *const may_differ[] = {
     "luminaires.samples",           /* this share's samples */
     "luminaires.samples_per_pixel", /* the same per pixel */
     "merged_from",                  /* a merged render's */
+    "auto_off_by", /* which option fixed the estimator (the estimator itself is keyed) */
     NULL};
 
 int tool_render_key_may_differ(const char *path)
