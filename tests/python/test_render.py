@@ -21,6 +21,12 @@ def tool_render(cli, tmp_path, name, *args):
 
 CASES = [
     # (lumis.render keywords, the tool's options)
+    ({"scene": "spheres", "env": "sky:64x32", "size": (48, 32), "spp": 4, "seed": 3,
+      "auto": False},
+     ["--scene", "spheres", "--env", "sky:64x32", "--size", "48x32", "--spp", "4", "--seed", "3",
+      "--no-auto"]),
+    # the default: the automatic estimator; a render this small takes the prior (no pilots,
+    # no timing: the same choice on both sides)
     ({"scene": "spheres", "env": "sky:64x32", "size": (48, 32), "spp": 4, "seed": 3},
      ["--scene", "spheres", "--env", "sky:64x32", "--size", "48x32", "--spp", "4", "--seed", "3"]),
     ({"scene": "ward-aniso", "env": "studio:64x32", "method": "kdtree", "estimator": "light",
@@ -43,8 +49,8 @@ CASES = [
 ]
 
 
-@pytest.mark.parametrize("kw,args", CASES, ids=["env", "kdtree-light-halton", "light-set",
-                                                "stratified", "selected-draws"])
+@pytest.mark.parametrize("kw,args", CASES, ids=["env", "auto-default", "kdtree-light-halton",
+                                                "light-set", "stratified", "selected-draws"])
 def test_render_equals_the_tool_bit_for_bit(cli, tmp_path, kw, args):
     img, r = lumis.render(**kw)
     ref = tool_render(cli, tmp_path, "ref", *args)
@@ -55,6 +61,26 @@ def test_render_equals_the_tool_bit_for_bit(cli, tmp_path, kw, args):
     assert r["lighting"] == ("light-set" if "lights" in kw else "env")
     if "lights" in kw:
         assert r["lights_k"] == kw["lights_k"]
+    # the automatic estimator when no argument fixes the estimator (the tool's default)
+    fixed = "auto" in kw or any(k in kw for k in ("method", "estimator", "lights"))
+    assert (r["auto"] is None) == fixed
+    if not fixed:
+        assert r["auto"]["chosen"] == "stratified-32" and r["auto"]["prior"] == 1
+        assert r["lights_k"] == 32 and len(r["auto"]["candidates"]) == 6
+
+
+def test_auto_runs_its_pilots_and_reports_them():
+    img, r = lumis.render("spheres", env="sky:64x32", size=(32, 24), spp=64, threads=1)
+    a = r["auto"]
+    assert a["prior"] == 0 and a["pilot_cap_seconds"] > 0
+    measured = [c for c in a["candidates"] if c["measured"]]
+    assert len(measured) >= 2 and a["chosen"] in [c["name"] for c in measured]
+    best = min(measured, key=lambda c: c["relmse_x_seconds"])
+    assert a["chosen"] == best["name"]
+    _, off = lumis.render("spheres", env="sky:64x32", size=(32, 24), spp=2, auto=False)
+    assert off["auto"] is None
+    with pytest.raises(lumis.Error):
+        lumis.render("spheres", env="sky:64x32", size=(32, 24), spp=2, auto="yes")
 
 
 def test_photometric_scene_file_equals_the_tool(cli, root, tmp_path):
