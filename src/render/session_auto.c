@@ -20,8 +20,9 @@
  * The pilots are capped (AUTO_CAP): they run in a fixed order (strata K = 32, then MIS, the
  * sun's two, K = 16, K = 64), each only if the pilots' time so far and its predicted cost stay
  * within AUTO_CAP of the budget (--time) or of the render's predicted time at the prior
- * (--spp); with --spp a render smaller than AUTO_SPP_RULE pilots' samples skips them.  No
- * pilot pair measured: the prior, strata K = 32 (the convergence suite's best on average). */
+ * (--spp); without a budget a render of fewer samples than 4 / AUTO_CAP pilot halves skips
+ * them.  No pilot pair measured: the prior, strata K = 32 (the convergence suite's best on
+ * average). */
 #include "lumis/render.h"
 #include "lumis/sun.h"
 
@@ -263,7 +264,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     const int spp = ud->spp ? ud->spp : 16;
     const int fixed = s->auto_pilot_spp > 0; /* every candidate, uncapped */
     /* the cap: a share of the budget, or (--spp) of the prior's render, known after a half;
-     * a render of fewer samples than AUTO_SPP_RULE pilot halves at the prior skips them */
+     * a render of fewer samples than 4 / AUTO_CAP pilot halves at the prior skips them */
     double cap = fixed ? INFINITY : s->time_budget > 0.0 ? AUTO_CAP * s->time_budget : 0.0;
     const int small = !fixed && !(s->time_budget > 0.0) && 4.0 * ppx > AUTO_CAP * spp * px;
     int run = !small;
