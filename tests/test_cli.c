@@ -653,7 +653,8 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
     /* every built-in named, as lumis_scene_builtin_names lists them (the last one too) */
     expect("render --scene bunny -o x.exr", 2, "(built in: spheres, bunny-plane, ");
-    expect("render --scene bunny -o x.exr", 2, ", wu-mixed, headlight, headlight-close)");
+    expect("render --scene bunny -o x.exr", 2,
+           ", wu-mixed, headlight, headlight-close, glossy-only, window, open-sky)");
     snprintf(a, sizeof a, "render --scene ward-aniso --env sky:32x16 --spp 1 --size 16x16 -o '%s'",
              tu_path("w.exr"));
     expect(a, 0, "rendered 16x16");
