@@ -653,7 +653,8 @@ static void render_writes_the_same_image_on_any_thread_count(void **state)
     expect("render --scene bunny -o x.exr", 2, "unknown scene 'bunny'");
     /* every built-in named, as lumis_scene_builtin_names lists them (the last one too) */
     expect("render --scene bunny -o x.exr", 2, "(built in: spheres, bunny-plane, ");
-    expect("render --scene bunny -o x.exr", 2, ", wu-mixed, headlight, headlight-close)");
+    expect("render --scene bunny -o x.exr", 2,
+           ", wu-mixed, headlight, headlight-close, glossy-only, window, open-sky)");
     snprintf(a, sizeof a, "render --scene ward-aniso --env sky:32x16 --spp 1 --size 16x16 -o '%s'",
              tu_path("w.exr"));
     expect(a, 0, "rendered 16x16");
@@ -2397,7 +2398,7 @@ static void bench_runs_light_sets(void **state)
      * renders twice), its attempts, and contention: wall and CPU seconds, the CPU share. */
     assert_non_null(strstr(csv,
                            ",flip_hdr,used_seconds,attempts,wall_seconds,cpu_seconds,cpu_share,"
-                           "contention\n"));
+                           "contention,auto_chosen\n"));
     int contended = 0;
     {
         char *save = NULL, *line = strtok_r(csv, "\n", &save);
@@ -2471,6 +2472,159 @@ static void bench_runs_light_sets(void **state)
     };
     snprintf(a, sizeof a, "--out '%s'", tu_path("bl-bad"));
     expect_bad_files("bench", "bad-lights.json", a, bad, sizeof bad / sizeof bad[0]);
+}
+
+/* A suite method {"auto": true} renders with the automatic estimator (render --auto) inside
+ * its budget, and its results say what it chose: each item's result file (the candidates
+ * the pilots measured), results.csv's auto_chosen column (empty for the fixed methods),
+ * results.md's table of auto against the best fixed method per (map, scene, budget) with
+ * its summary, results.json's "auto".  A scene may list the maps it is paired with: the
+ * other pairs are neither rendered nor counted.  Bad values are refused with the file and
+ * the key. */
+static void bench_runs_auto(void **state)
+{
+    (void)state;
+    static const char suite[] =
+        "{\"name\": \"auto\", \"maps\": [\"sky:64x32\", \"studio:64x32\"],\n"
+        " \"scenes\": [\"wu-glossy\", {\"scene\": \"window\", \"maps\": [\"studio-64x32\"]}],\n"
+        " \"methods\": [{\"label\": \"mis\", \"method\": \"inversion\"},\n"
+        "             {\"label\": \"strat\", \"method\": \"median-cut\", \"mode\": "
+        "\"stratified\", \"k\": 8},\n"
+        "             {\"label\": \"auto\", \"auto\": true}],\n"
+        " \"budgets\": [{\"time\": 0.3}],\n"
+        " \"reference\": {\"spp\": 16, \"method\": \"median-cut\", \"mode\": "
+        "\"stratified\", \"k\": 8},\n \"size\": [32, 24]}\n";
+    tu_write_file(tu_path("auto-suite.json"), suite, sizeof suite - 1);
+    char a[4096], p[4096], *err = NULL;
+    snprintf(a, sizeof a, "bench '%s' --out '%s' --jobs 2", tu_path("auto-suite.json"),
+             tu_path("ba"));
+    assert_int_equal(run(a, NULL, &err), 0);
+    /* three pairs (window with the studio alone) of three methods */
+    if (!strstr(err, "9 items (9 in this shard, 9 to render)")) fail_msg("%s", err);
+    assert_null(strstr(err, "sky-64x32__window"));
+    free(err);
+    snprintf(p, sizeof p, "%s/results/sky-64x32__window__auto__t0.3s.json", tu_path("ba"));
+    assert_int_equal(access(p, F_OK), -1);
+    /* each auto item's result: its choice, one of the candidates its pilots measured */
+    const char *pairs[3] = {"sky-64x32__wu-glossy", "studio-64x32__wu-glossy",
+                            "studio-64x32__window"};
+    char chosen[3][32];
+    for (int k = 0; k < 3; k++) {
+        snprintf(p, sizeof p, "%s/results/%s__auto__t0.3s.json", tu_path("ba"), pairs[k]);
+        size_t n;
+        char *text = (char *)tu_read_file(p, &n);
+        cJSON *j = cJSON_Parse(text);
+        free(text);
+        const cJSON *c = item(j, "auto_chosen"), *cands = item(j, "auto_candidates");
+        assert_true(cJSON_IsString(c) && cJSON_IsArray(cands));
+        assert_true(cJSON_GetArraySize(cands) >= 2);
+        int named = 0;
+        for (const cJSON *q = cands->child; q; q = q->next) {
+            named += strcmp(item(q, "name")->valuestring, c->valuestring) == 0;
+            assert_true(item(q, "efficiency")->valuedouble > 0.0);
+        }
+        assert_int_equal(named, 1);
+        snprintf(chosen[k], sizeof chosen[k], "%s", c->valuestring);
+        /* a fixed method's result has none */
+        snprintf(p, sizeof p, "%s/results/%s__mis__t0.3s.json", tu_path("ba"), pairs[k]);
+        text = (char *)tu_read_file(p, &n);
+        cJSON *jm = cJSON_Parse(text);
+        free(text);
+        assert_null(cJSON_GetObjectItemCaseSensitive(jm, "auto_chosen"));
+        cJSON_Delete(jm);
+        cJSON_Delete(j);
+    }
+    /* results.csv: the choice in its last column, for auto's rows only */
+    snprintf(p, sizeof p, "%s/results.csv", tu_path("ba"));
+    assert_int_equal(count_lines(p), 10);
+    size_t n;
+    char *csv = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(csv, ",contention,auto_chosen\n"));
+    for (int k = 0; k < 3; k++) {
+        char row_start[128];
+        snprintf(row_start, sizeof row_start, "\n%.*s,%s,auto,t0.3s,", (int)strcspn(pairs[k], "_"),
+                 pairs[k], strstr(pairs[k], "__") + 2);
+        const char *row = strstr(csv, row_start);
+        if (!row) fail_msg("no row %s in %s", row_start + 1, csv);
+        const char *end = strchr(row + 1, '\n'), *last = end;
+        while (last[-1] != ',') last--;
+        if ((size_t)(end - last) != strlen(chosen[k]) ||
+            strncmp(last, chosen[k], strlen(chosen[k])))
+            fail_msg("row %.*s: expected the choice %s", (int)(end - row - 1), row + 1, chosen[k]);
+        snprintf(row_start, sizeof row_start, "\n%.*s,%s,mis,t0.3s,", (int)strcspn(pairs[k], "_"),
+                 pairs[k], strstr(pairs[k], "__") + 2);
+        row = strstr(csv, row_start);
+        assert_non_null(row);
+        end = strchr(row + 1, '\n');
+        assert_true(end[-1] == ','); /* a fixed method: empty */
+    }
+    free(csv);
+    /* results.md: the summary and a row per case, auto against the better of mis and strat */
+    snprintf(p, sizeof p, "%s/results.md", tu_path("ba"));
+    char *md = (char *)tu_read_file(p, &n);
+    assert_non_null(strstr(md, "## auto's choice against the best fixed method"));
+    assert_non_null(strstr(md, "| budget | pairs | auto / best fixed (geometric mean) | beyond "
+                               "1.10× | chosen |"));
+    assert_non_null(strstr(md, "| t0.3s | 3 | "));
+    assert_non_null(strstr(md, "9 of 9 items (2 maps × 2 scenes, the pairs the scenes list"));
+    free(md);
+    /* results.json: the same, per case, with the ratio the table shows */
+    snprintf(p, sizeof p, "%s/results.json", tu_path("ba"));
+    char *text = (char *)tu_read_file(p, &n);
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    const cJSON *au = cJSON_GetArrayItem(item(j, "auto"), 0);
+    assert_string_equal(item(au, "method")->valuestring, "auto");
+    const cJSON *cases = item(au, "cases");
+    assert_int_equal(cJSON_GetArraySize(cases), 3);
+    double logsum = 0.0;
+    for (const cJSON *c = cases->child; c; c = c->next) {
+        const double rel = item(c, "relmse")->valuedouble,
+                     best = item(c, "best_fixed_relmse")->valuedouble;
+        assert_true(rel > 0.0 && best > 0.0);
+        assert_true(fabs(item(c, "ratio")->valuedouble - rel / best) <= 1e-12 * rel / best);
+        logsum += log(rel / best);
+        const char *bf = item(c, "best_fixed")->valuestring;
+        assert_true(strcmp(bf, "mis") == 0 || strcmp(bf, "strat") == 0);
+    }
+    const cJSON *b0 = cJSON_GetArrayItem(item(au, "budgets"), 0);
+    assert_int_equal(item(b0, "pairs")->valueint, 3);
+    assert_true(fabs(item(b0, "geomean_ratio")->valuedouble - exp(logsum / 3)) <= 1e-9);
+    cJSON_Delete(j);
+    /* Malformed: said with the file and the key. */
+    static const bad_file bad[] = {
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": 1}], "
+         "\"budgets\": [{\"spp\": 1}]}",
+         "methods[0].auto: expected true or false"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": true, "
+         "\"method\": \"median-cut\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].auto: the session chooses"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": true, "
+         "\"method\": \"bsdf\"}], \"budgets\": [{\"spp\": 1}]}",
+         "not 'bsdf'"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": true, "
+         "\"sun\": true}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].auto: chooses the estimator itself: not with \"sun\""},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": true, "
+         "\"mis\": \"none\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].auto: chooses the estimator itself: not with \"mis\": \"none\""},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"method\": "
+         "\"inversion\"}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"auto\": true}}",
+         "reference.auto: unknown key"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [{\"scene\": \"spheres\", \"maps\": "
+         "[\"sky\"]}], \"methods\": [{\"method\": \"inversion\"}], \"budgets\": [{\"spp\": 1}]}",
+         "scenes[0].maps[0]: expected the label of one of the suite's maps (none is labelled "
+         "'sky')"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [{\"scene\": \"spheres\", \"maps\": []}], "
+         "\"methods\": [{\"method\": \"inversion\"}], \"budgets\": [{\"spp\": 1}]}",
+         "scenes[0].maps: expected a non-empty array of map labels"},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [{\"scene\": \"spheres\", \"map\": "
+         "[\"sky-8x4\"]}], \"methods\": [{\"method\": \"inversion\"}], \"budgets\": [{\"spp\": "
+         "1}]}",
+         "scenes[0].map: unknown key"},
+    };
+    snprintf(a, sizeof a, "--out '%s'", tu_path("ba-bad"));
+    expect_bad_files("bench", "bad-auto.json", a, bad, sizeof bad / sizeof bad[0]);
 }
 
 /* A bench survives its items: one that fails (here its output path is a folder) is
@@ -4063,6 +4217,7 @@ int main(void)
         cmocka_unit_test(replaced_values_are_reported),
         cmocka_unit_test(replaced_noise_is_a_note_and_spikes_are_named),
         cmocka_unit_test(bench_runs_light_sets),
+        cmocka_unit_test(bench_runs_auto),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),
         cmocka_unit_test(slurm_scripts_survive_hostile_names),

@@ -92,6 +92,12 @@ LUMIS_RENDER_API lumis_status lumis_scene_file_read(const char *path,
  *               acquired from its emitter in about 2 s) lighting a floor and a wall past
  *               the bunny and a sphere, which cast shadows (Lu et al., Fig. 13): a far view
  *               of the scene, and a close-up of the floor just in front of the lamp
+ *   glossy-only Wu's three objects and the ground, every surface glossy GGX (no diffuse
+ *               part) at alpha 0.05, 0.15, 0.3 and 0.4
+ *   window      a closed room (4 x 2.5 x 5) lit only through a small window (0.8 x 0.6),
+ *               a Lambertian and a plastic sphere inside
+ *   open-sky    the bunny and three spheres spread over an open ground plane, seen from
+ *               above, nothing overhead
  * They name no map (env_map is ""). */
 LUMIS_RENDER_API lumis_status lumis_scene_builtin(const char *name, const lumis_error_sink *errors,
                                                   lumis_scene_file **out);

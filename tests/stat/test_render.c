@@ -35,7 +35,7 @@
  * lumis_scene_destroy — external: leaks seen by ASan and valgrind (bad_scenes)
  * lumis_scene_builtin — hand-worked: the meshes' heights as given, every object standing on y = 0
  *     (builtin_scenes_build, upsampling_builtins_and_scene_values)
- * lumis_scene_builtin_names — hand-worked: 9 names, each builds (builtin_scenes_build)
+ * lumis_scene_builtin_names — hand-worked: 12 names, each builds (builtin_scenes_build)
  * lumis_scene_file_read — hand-worked: the map read beside the scene or from a spec; error paths:
  *     misspelt and repeated keys, trailing text, NaN vertices named by JSON path
  *     (scene_file_reads_its_map, scene_files_are_strict)
@@ -48,6 +48,7 @@
 #include "lumis/render.h"
 #include "render/internal.h"
 #include "render/packet.h"
+#include "render/scene.h"
 #include "stat.h"
 
 #include <math.h>
@@ -1705,6 +1706,141 @@ static void upsampling_builtins_and_scene_values(void **state)
         }
 }
 
+/* The solid angle of the rectangle x = d (d > 0), y in [y0, y1], z in [z0, z1], seen from
+ * the origin: the signed sum over its corners of atan(y z / (d r)), r the corner's distance. */
+static double rect_solid_angle(double d, double y0, double y1, double z0, double z1)
+{
+    const double y[2] = {y0, y1}, z[2] = {z0, z1};
+    double om = 0.0;
+    for (int a = 0; a < 2; a++)
+        for (int b = 0; b < 2; b++)
+            om += (a == b ? 1.0 : -1.0) *
+                  atan(y[a] * z[b] / (d * sqrt(d * d + y[a] * y[a] + z[b] * z[b])));
+    return om;
+}
+
+/* The window scene's room is closed but for its window (builtin.c, window_room: 0.8 x 0.6 in
+ * the wall x = 2, sill at 1.2, z from -0.4 to 0.4): from points inside, the share of
+ * directions whose ray escapes is the window's solid angle over 4 pi (a gap at an edge, a
+ * missing wall or a window of another size would change it), and every ray that hits, hits
+ * inside the room.  Directions: a Fibonacci sphere of 40000 (low discrepancy, so the
+ * tolerance is a few hundred-thousandths of the sphere plus the window's rim). */
+static void window_room_is_closed(void **state)
+{
+    (void)state;
+    lumis_scene_file *f = NULL;
+    assert_int_equal(lumis_scene_builtin("window", NULL, &f), LUMIS_OK);
+    lumis_scene *s = NULL;
+    assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
+    static const double pts[3][3] = {{0.0, 1.25, 0.0}, {-1.5, 0.3, 1.8}, {1.0, 2.2, -2.0}};
+    const int n = 40000;
+    for (int k = 0; k < 3; k++) {
+        const double *o = pts[k];
+        const double om =
+            rect_solid_angle(2.0 - o[0], 1.2 - o[1], 1.8 - o[1], -0.4 - o[2], 0.4 - o[2]);
+        int escaped = 0;
+        for (int i = 0; i < n; i++) {
+            const double z = 1.0 - (2.0 * i + 1.0) / n, r = sqrt(1.0 - z * z),
+                         phi = 2.399963229728653 * i;
+            const v3 d = {r * cos(phi), r * sin(phi), z};
+            hit h;
+            if (!intersect(s, (v3){o[0], o[1], o[2]}, d, &h)) {
+                escaped++;
+                continue;
+            }
+            if (!(fabs(h.p.x) <= 2.011 && h.p.y >= -1e-3 && h.p.y <= 2.511 && fabs(h.p.z) <= 2.511))
+                fail_msg("from (%g, %g, %g) a ray hit (%g, %g, %g), outside the room", o[0], o[1],
+                         o[2], h.p.x, h.p.y, h.p.z);
+        }
+        const double share = (double)escaped / n, expect = om / (4.0 * PI);
+        /* the rim: directions within a thousandth of a radian of its edges */
+        const double tol = 2e-4 + 0.02 * expect;
+        if (!(fabs(share - expect) <= tol))
+            fail_msg("from (%g, %g, %g): %.5f of the directions escape, the window subtends %.5f",
+                     o[0], o[1], o[2], share, expect);
+    }
+    lumis_scene_destroy(s);
+    lumis_scene_file_destroy(f);
+}
+
+/* The scenes made for the automatic estimator's suite (glossy-only, window, open-sky): each
+ * renders finite, non-black pixels under a uniform map (the share of pixels lit: most of
+ * them; in the window's room, the surfaces that see the window), and equals a reference in
+ * its expectation: inversion + MIS against BSDF sampling alone with an independent seed, on
+ * a map of bands with a bright spot.  Their difference, pixel by pixel, has mean zero: the
+ * mean over the image of the difference is within 4 standard errors of 0 (its spread
+ * measured from the pixels). */
+static void new_builtin_scenes_render(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *name;
+        double lit; /* the least share of pixels lit by the uniform map */
+    } scenes[] = {{"glossy-only", 0.99}, {"window", 0.6}, {"open-sky", 0.99}};
+    lumis_envmap *flat = env_of(tu_image(32, 16, f_const));
+    lumis_envmap *bands = env_of(tu_image(32, 16, f_bands));
+    for (int k = 0; k < 3; k++) {
+        lumis_scene_file *f = NULL;
+        assert_int_equal(lumis_scene_builtin(scenes[k].name, NULL, &f), LUMIS_OK);
+        lumis_scene *s = NULL;
+        assert_int_equal(lumis_scene_create(f->objects, f->object_count, NULL, &s), LUMIS_OK);
+        lumis_camera c = f->camera;
+        c.width = 32;
+        c.height = 24;
+        lumis_image *img[3] = {NULL, NULL, NULL};
+        for (int r = 0; r < 3; r++) {
+            lumis_sampler_desc sd = {0};
+            sd.method = LUMIS_METHOD_INVERSION;
+            lumis_sampler *smp = NULL;
+            const lumis_envmap *env = r == 0 ? flat : bands;
+            assert_int_equal(lumis_sampler_create(env, &sd, &smp), LUMIS_OK);
+            lumis_render_desc d = {0};
+            d.camera = &c;
+            d.lighting.env = env;
+            d.lighting.sampler = smp;
+            d.lighting.estimator = r == 2 ? LUMIS_ESTIMATOR_BSDF : LUMIS_ESTIMATOR_MIS;
+            d.spp = r == 0 ? 256 : r == 1 ? 64 : 256;
+            d.seed = 7 + (unsigned long long)r;
+            d.threads = 2;
+            assert_int_equal(lumis_render(s, &d, &img[r], NULL), LUMIS_OK);
+            lumis_sampler_destroy(smp);
+        }
+        const int np = c.width * c.height;
+        int lit = 0;
+        double sum = 0.0, sum2 = 0.0, mean_ref = 0.0;
+        for (int i = 0; i < np; i++) {
+            const float *px = img[0]->pixels + 3 * i;
+            for (int ch = 0; ch < 3; ch++)
+                if (!isfinite(px[ch]) || px[ch] < 0.0f)
+                    fail_msg("%s: pixel %d channel %d is %g", scenes[k].name, i, ch, px[ch]);
+            lit += px[0] + px[1] + px[2] > 0.0f;
+            double dl = 0.0;
+            for (int ch = 0; ch < 3; ch++) {
+                const float a = img[1]->pixels[3 * i + ch], b = img[2]->pixels[3 * i + ch];
+                if (!isfinite(a) || !isfinite(b)) fail_msg("%s: pixel %d", scenes[k].name, i);
+                dl += (double)a - (double)b;
+                mean_ref += b / (3.0 * np);
+            }
+            sum += dl;
+            sum2 += dl * dl;
+        }
+        if (!((double)lit >= scenes[k].lit * np))
+            fail_msg("%s: %d of %d pixels lit by a uniform map", scenes[k].name, lit, np);
+        assert_true(mean_ref > 0.0);
+        const double mean = sum / np, var = (sum2 - np * mean * mean) / (np - 1.0),
+                     z = mean / sqrt(var / np);
+        if (!(fabs(z) < 4.0))
+            fail_msg("%s: MIS and BSDF sampling differ by %g per pixel (z = %.2f; the reference's "
+                     "mean %g)",
+                     scenes[k].name, mean / 3.0, z, mean_ref);
+        for (int r = 0; r < 3; r++) lumis_image_destroy(img[r]);
+        lumis_scene_destroy(s);
+        lumis_scene_file_destroy(f);
+    }
+    lumis_envmap_destroy(flat);
+    lumis_envmap_destroy(bands);
+}
+
 /* Every built-in scene builds, with its objects standing on (not sinking into or floating
  * above) the ground: the lowest vertex of each mesh is at y = 0 to float rounding. */
 static void builtin_scenes_build(void **state)
@@ -1735,7 +1871,7 @@ static void builtin_scenes_build(void **state)
         lumis_scene_destroy(s);
         lumis_scene_file_destroy(f);
     }
-    assert_int_equal(n, 9);
+    assert_int_equal(n, 12);
     lumis_scene_file *f = NULL;
     /* ward-aniso: its one sphere in the middle of the view (the camera's centre ray passes
      * within a tenth of its radius of its centre) */
@@ -1758,6 +1894,33 @@ static void builtin_scenes_build(void **state)
     assert_int_equal(lumis_scene_builtin("wu-mixed", NULL, &f), LUMIS_OK);
     assert_int_equal(f->object_count, 5); /* bunny, Suzanne, two spheres, the ground */
     assert_int_equal(f->luminaire_count, 0);
+    lumis_scene_file_destroy(f);
+    /* glossy-only: every surface, the ground too, glossy GGX (no diffuse part), at four
+     * roughnesses */
+    assert_int_equal(lumis_scene_builtin("glossy-only", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->object_count, 4);
+    for (int k = 0; k < f->object_count; k++) {
+        const lumis_bsdf *b = &f->objects[k].material;
+        assert_int_equal(b->type, LUMIS_BSDF_GGX_GLOSSY);
+        for (int j = 0; j < k; j++) assert_true(f->objects[j].material.alpha_x != b->alpha_x);
+    }
+    lumis_scene_file_destroy(f);
+    /* open-sky: a ground and objects on it, nothing above them (every object's top under 1
+     * unit, the camera above it all) */
+    assert_int_equal(lumis_scene_builtin("open-sky", NULL, &f), LUMIS_OK);
+    assert_int_equal(f->object_count, 5);
+    for (int k = 0; k < f->object_count; k++) {
+        const lumis_object *o = &f->objects[k];
+        if (o->type == LUMIS_OBJECT_SPHERE) assert_true(o->center.y + o->radius <= 1.0f);
+        if (o->type == LUMIS_OBJECT_PLANE) assert_true(o->normal.y == 1.0f && o->center.y == 0.0f);
+        if (o->type != LUMIS_OBJECT_MESH) continue;
+        const float *m = o->transform;
+        for (int v = 0; v < o->vertex_count; v++) {
+            const float *q = o->vertices + 3 * v;
+            assert_true(m[4] * q[0] + m[5] * q[1] + m[6] * q[2] + m[7] <= 1.0f);
+        }
+    }
+    assert_true(f->camera.eye.y > 1.0f);
     lumis_scene_file_destroy(f);
     /* The headlight lights its scene by itself: a lit floor, and black where rays escape. */
     assert_int_equal(lumis_scene_builtin("headlight", NULL, &f), LUMIS_OK);
@@ -2590,6 +2753,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(furnace),
         cmocka_unit_test(builtin_scenes_build),
+        cmocka_unit_test(window_room_is_closed),
+        cmocka_unit_test(new_builtin_scenes_render),
         cmocka_unit_test(timed_passes_end_within_the_budget),
         cmocka_unit_test(pilots_predict_with_a_floor_on_the_slope),
         cmocka_unit_test(render_session_equals_its_parts),

@@ -65,7 +65,7 @@ static void html_head(FILE *h, const bench_report *r)
             "against the reference; lower is better except PSNR. Details: "
             "<a href=\"results.md\">results.md</a>, <a href=\"results.csv\">results.csv</a>, "
             "<a href=\"results.json\">results.json</a>.</p>\n",
-            LUMIS_VERSION_STRING, r->date, r->machine, r->found, r->n, s->ref_spp);
+            LUMIS_VERSION_STRING, r->date, r->machine, r->found, bench_nlisted(s), s->ref_spp);
     bench_write_failures(h, BENCH_HTML, r);
     int contended = 0;
     for (int k = 0; k < r->n; k++) contended += r->res[k].present && r->res[k].contended;
@@ -123,6 +123,7 @@ int bench_write_html(const bench_report *r, const char *path)
         fprintf(h, "</table>\n");
     }
     bench_write_comparisons(h, BENCH_HTML, s, res);
+    bench_write_auto(h, BENCH_HTML, r);
     for (int axis = 0; axis < BENCH_NAXES; axis++)
         bench_write_convergence(h, BENCH_HTML, r, &r->conv[axis]);
     bench_write_per_map(h, BENCH_HTML, s, res);

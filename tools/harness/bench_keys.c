@@ -14,6 +14,19 @@ int bench_nitems(const suite *s)
     return s->nmaps * s->nscenes * s->nmethods * s->nbudgets;
 }
 
+int bench_pair_listed(const suite *s, int m, int sc)
+{
+    return !s->scenes[sc].maps || s->scenes[sc].maps[m];
+}
+
+int bench_nlisted(const suite *s)
+{
+    int pairs = 0;
+    for (int m = 0; m < s->nmaps; m++)
+        for (int sc = 0; sc < s->nscenes; sc++) pairs += bench_pair_listed(s, m, sc);
+    return pairs * s->nmethods * s->nbudgets;
+}
+
 item bench_item_at(const suite *s, int index)
 {
     item it;
@@ -145,7 +158,8 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
-    if (m->sun) h = fnv_str(h, " sun"); /* keys without the sun stay as they were */
+    if (m->sun) h = fnv_str(h, " sun");             /* keys without the sun stay as they were */
+    if (m->auto_estimator) h = fnv_str(h, " auto"); /* and those without auto */
     const lumis_sequence q = lumis_sequence_resolve(m->sequence);
     if (q != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
         snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(q));
@@ -191,6 +205,8 @@ int bench_item_done(const suite *s, const char *out, const item *it)
  * reference is rendered by one shard only; otherwise the items. */
 int bench_in_shard(const suite *s, int k, long shard_i, long shard_n)
 {
+    const item it = bench_item_at(s, k);
+    if (!bench_pair_listed(s, it.map, it.scene)) return 0;
     const int pairs = s->nmaps * s->nscenes;
     if (pairs >= shard_n) return (k / (s->nmethods * s->nbudgets)) % shard_n == shard_i;
     return k % shard_n == shard_i;
@@ -198,6 +214,7 @@ int bench_in_shard(const suite *s, int k, long shard_i, long shard_n)
 
 int bench_pair_needed(const suite *s, const char *out, int m, int sc)
 {
+    if (!bench_pair_listed(s, m, sc)) return 0;
     for (int me = 0; me < s->nmethods; me++)
         for (int b = 0; b < s->nbudgets; b++) {
             item it = bench_item_at(s, bench_idx(s, m, sc, me, b));

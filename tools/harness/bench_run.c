@@ -53,6 +53,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
     if (!self_lit) {
         o->lights_mode = m->lights_mode;
         o->sun = m->sun;
+        o->auto_estimator = m->auto_estimator;
         o->rd.lighting.light_set.draws = m->lights_draws;
         o->lights_k = m->lights_k;
         o->interleave = m->interleave;
@@ -197,6 +198,21 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
                                 bsdf ? 0.0 : (double)r.sampler_table_bytes);
         cJSON_AddNumberToObject(j, "shadow_rays", r.stats.shadow_rays);
         cJSON_AddNumberToObject(j, "threads", r.stats.threads);
+        if (r.auto_count > 0) { /* "auto": what its pilots measured, and what it chose */
+            cJSON_AddStringToObject(j, "auto_chosen", lumis_auto_candidate_name(r.auto_chosen));
+            cJSON_AddNumberToObject(j, "auto_seconds", r.auto_seconds);
+            cJSON *cands = cJSON_AddArrayToObject(j, "auto_candidates");
+            for (int c = 0; c < r.auto_count && c < LUMIS_AUTO_CANDIDATES; c++) {
+                const lumis_auto_candidate *q = &r.auto_candidates[c];
+                cJSON *jc = cJSON_CreateObject();
+                cJSON_AddStringToObject(jc, "name", lumis_auto_candidate_name(c));
+                cJSON_AddNumberToObject(jc, "error_per_spp", q->error_per_spp);
+                cJSON_AddNumberToObject(jc, "per_spp", q->per_spp);
+                cJSON_AddNumberToObject(jc, "efficiency", q->efficiency);
+                cJSON_AddNumberToObject(jc, "pilot_spp", q->pilot_spp);
+                cJSON_AddItemToArray(cands, jc);
+            }
+        }
         tool_metrics_json(&m, j);
         rc = tool_write_json(result, j); /* last: its existence marks the item done */
         cJSON_Delete(j);
@@ -307,7 +323,7 @@ static void plan_items(const suite *s, const bench_run_opts *o, unsigned char *n
             }
         }
     fprintf(stderr, "lumis bench: suite %s, %d items (%d in this shard, %d to render)\n", s->name,
-            total, mine, todo);
+            bench_nlisted(s), mine, todo);
 }
 
 /* Every scene file read once before anything renders (in a child: reading a scene may

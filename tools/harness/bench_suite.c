@@ -15,7 +15,10 @@
 void bench_suite_free(suite *s)
 {
     for (int m = 0; m < s->nmaps; m++) free(s->maps[m].bytes);
-    for (int k = 0; k < s->nscenes; k++) free(s->scenes[k].bytes);
+    for (int k = 0; k < s->nscenes; k++) {
+        free(s->scenes[k].bytes);
+        free(s->scenes[k].maps);
+    }
     free(s->maps);
     free(s->scenes);
     free(s->methods);
@@ -230,7 +233,7 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
 static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
                                           "light_samples", "bsdf_samples", "k",    "interleave",
                                           "upsample",      "params",       "mode", "sequence",
-                                          "sun",           "draws",        NULL},
+                                          "sun",           "draws",        "auto", NULL},
                          *reference_keys[] = {
                              "method",       "label", "mis",   "blocks", "light_samples",
                              "bsdf_samples", "spp",   "k",     "params", "mode",
@@ -331,9 +334,21 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         return tool_runtime_error("%s: %s.sequence: expected sobol, zsobol, pmj02, halton, "
                                   "stratified, pcg or default",
                                   file, where);
+    /* "auto": true: the session chooses the estimator (lumis_session_desc.auto_estimator);
+     * "method", if given, is the sampler of its MIS candidate (default inversion) */
+    const cJSON *aut = cJSON_GetObjectItemCaseSensitive(e, "auto");
+    if (aut && !cJSON_IsBool(aut))
+        return tool_runtime_error("%s: %s.auto: expected true or false", file, where);
+    m->auto_estimator = cJSON_IsTrue(aut);
+    if (m->auto_estimator && !name) name = "inversion";
     if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,
                                   where);
+    if (m->auto_estimator && (strcmp(name, "bsdf") == 0 || tool_lights_method_known(name)))
+        return tool_runtime_error("%s: %s.auto: the session chooses between the map with MIS "
+                                  "and its median-cut strata: \"method\" may only name the "
+                                  "MIS candidate's sampler, not '%s'",
+                                  file, where, name);
     if (strcmp(name, "bsdf") == 0) {
         m->bsdf_only = 1;
         m->estimator = LUMIS_ESTIMATOR_BSDF;
@@ -404,12 +419,15 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
     if (sun && !cJSON_IsBool(sun))
         return tool_runtime_error("%s: %s.sun: expected true or false", file, where);
     m->sun = cJSON_IsTrue(sun);
+    if (m->auto_estimator && (m->sun || m->estimator != LUMIS_ESTIMATOR_MIS))
+        return tool_runtime_error("%s: %s.auto: chooses the estimator itself: not with %s", file,
+                                  where, m->sun ? "\"sun\"" : "\"mis\": \"none\"");
     if (m->sun && m->bsdf_only)
         return tool_runtime_error("%s: %s.sun: the image sun is sampled as a light: not with "
                                   "\"method\": \"bsdf\"",
                                   file, where);
     char tmp[128];
-    bench_copy_cut(tmp, sizeof tmp, label ? label : name);
+    bench_copy_cut(tmp, sizeof tmp, label ? label : m->auto_estimator ? "auto" : name);
     make_label(m->label, sizeof m->label, tmp);
     return EXIT_OK;
 }
@@ -514,7 +532,41 @@ static int parse_maps(const cJSON *root, const char *path, suite *s, int rc)
     return rc;
 }
 
-/* scenes: built-in names or files, labelled by their names. */
+/* {"scene": NAME, "maps": [LABEL...]}: the scene with those maps alone (sc->maps); the
+ * scene's name in *e. */
+static int parse_scene_maps(const cJSON **e, const char *path, suite *s, int k, suite_scene *sc)
+{
+    static const char *const keys[] = {"scene", "maps", NULL};
+    char where[32];
+    snprintf(where, sizeof where, "scenes[%d]", k);
+    int rc = check_keys(*e, keys, path, where);
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(*e, "scene"),
+                *maps = cJSON_GetObjectItemCaseSensitive(*e, "maps");
+    if (rc == EXIT_OK && (!cJSON_IsArray(maps) || cJSON_GetArraySize(maps) == 0))
+        rc = tool_runtime_error("%s: scenes[%d].maps: expected a non-empty array of map labels",
+                                path, k);
+    if (rc == EXIT_OK && !(sc->maps = calloc((size_t)s->nmaps, 1)))
+        rc = tool_runtime_error("bench: out of memory");
+    int j = 0;
+    for (const cJSON *m = maps ? maps->child : NULL; m && rc == EXIT_OK; m = m->next, j++) {
+        int found = -1;
+        for (int i = 0; i < s->nmaps && cJSON_IsString(m); i++)
+            if (strcmp(s->maps[i].label, m->valuestring) == 0) found = i;
+        if (found < 0)
+            rc = tool_runtime_error("%s: scenes[%d].maps[%d]: expected the label of one of the "
+                                    "suite's maps%s%s%s",
+                                    path, k, j, cJSON_IsString(m) ? " (none is labelled '" : "",
+                                    cJSON_IsString(m) ? m->valuestring : "",
+                                    cJSON_IsString(m) ? "')" : "");
+        else
+            sc->maps[found] = 1;
+    }
+    *e = name;
+    return rc;
+}
+
+/* scenes: built-in names or files, labelled by their names; or {"scene": ..., "maps": [...]},
+ * a scene with some of the maps only. */
 static int parse_scenes(const cJSON *root, const char *path, suite *s, int rc)
 {
     const cJSON *scenes = NULL;
@@ -522,8 +574,12 @@ static int parse_scenes(const cJSON *root, const char *path, suite *s, int rc)
     for (int k = 0; rc == EXIT_OK && k < s->nscenes; k++) {
         const cJSON *e = cJSON_GetArrayItem(scenes, k);
         suite_scene *sc = &s->scenes[k];
+        if (cJSON_IsObject(e)) rc = parse_scene_maps(&e, path, s, k, sc);
+        if (rc != EXIT_OK) break;
         if (!cJSON_IsString(e) || !*e->valuestring) {
-            rc = tool_runtime_error("%s: scenes[%d]: expected a built-in name or a file", path, k);
+            rc = tool_runtime_error("%s: scenes[%d]: expected a built-in name or a file, or "
+                                    "{\"scene\": ..., \"maps\": [...]}",
+                                    path, k);
             break;
         }
         int builtin = 0;

@@ -29,6 +29,7 @@ static int load_results(const suite *s, const char *out, result *res)
     for (int k = 0; k < bench_nitems(s); k++) {
         item it = bench_item_at(s, k);
         res[k].present = 0;
+        if (!bench_pair_listed(s, it.map, it.scene)) continue; /* the suite leaves it out */
         cJSON *j = bench_load_item(s, out, &it); /* stale results (other settings) are left out */
         if (!j) continue;
         for (int m = 0; m < NMETRICS; m++) res[k].v[m] = jnum(j, bench_metric_key[m]);
@@ -44,6 +45,9 @@ static int load_results(const suite *s, const char *out, result *res)
         res[k].share = jnum(j, "cpu_share");
         res[k].attempts = isnan(jnum(j, "attempts")) ? 0 : (int)jnum(j, "attempts");
         res[k].contended = cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(j, "contention"));
+        const cJSON *chosen = cJSON_GetObjectItemCaseSensitive(j, "auto_chosen");
+        bench_copy_cut(res[k].auto_chosen, sizeof res[k].auto_chosen,
+                       cJSON_IsString(chosen) ? chosen->valuestring : "");
         res[k].present = 1;
         found++;
         cJSON_Delete(j);
@@ -388,6 +392,7 @@ void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result 
     bench_table_row(f, mk, 1, s->nmethods + 2, cells);
     for (int m = 0; m < s->nmaps; m++)
         for (int sc = 0; sc < s->nscenes; sc++) {
+            if (!bench_pair_listed(s, m, sc)) continue;
             snprintf(cells[0], sizeof cells[0], "%s", s->maps[m].label);
             snprintf(cells[1], sizeof cells[1], "%s", s->scenes[sc].label);
             for (int me = 0; me < s->nmethods; me++) {
@@ -450,7 +455,9 @@ int bench_write_csv(const bench_report *r, const char *path)
     for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%s", bench_metric_key[m]);
     /* used_seconds: prep and every attempt (render_seconds is the image's attempt alone);
      * contention: the render threads got under 80 % of their wall time as CPU time */
-    fprintf(f, ",used_seconds,attempts,wall_seconds,cpu_seconds,cpu_share,contention\n");
+    /* auto_chosen: what an "auto" method chose (empty for the others) */
+    fprintf(f, ",used_seconds,attempts,wall_seconds,cpu_seconds,cpu_share,contention,"
+               "auto_chosen\n");
     for (int k = 0; k < r->n; k++) {
         if (!res[k].present) continue;
         item it = bench_item_at(s, k);
@@ -458,8 +465,8 @@ int bench_write_csv(const bench_report *r, const char *path)
                 s->scenes[it.scene].label, s->methods[it.method].label, s->budgets[it.budget].label,
                 res[k].spp, res[k].seconds, res[k].prep, res[k].build_ms, res[k].table_bytes);
         for (int m = 0; m < NMETRICS; m++) fprintf(f, ",%.9g", res[k].v[m]);
-        fprintf(f, ",%.6g,%d,%.6g,%.6g,%.4g,%d\n", res[k].used, res[k].attempts, res[k].wall,
-                res[k].cpu, res[k].share, res[k].contended);
+        fprintf(f, ",%.6g,%d,%.6g,%.6g,%.4g,%d,%s\n", res[k].used, res[k].attempts, res[k].wall,
+                res[k].cpu, res[k].share, res[k].contended, res[k].auto_chosen);
     }
     return tool_commit_tmp(f, path);
 }
@@ -475,7 +482,7 @@ int bench_write_json(const bench_report *r, const char *path)
     cJSON_AddStringToObject(j, "lumis_version", LUMIS_VERSION_STRING);
     cJSON_AddStringToObject(j, "machine", r->machine);
     cJSON_AddStringToObject(j, "date", r->date);
-    cJSON_AddNumberToObject(j, "items", r->n);
+    cJSON_AddNumberToObject(j, "items", bench_nlisted(s));
     cJSON_AddNumberToObject(j, "items_done", r->found);
     if (s->exposure_auto)
         cJSON_AddStringToObject(j, "exposure_ev", "auto");
@@ -518,6 +525,7 @@ int bench_write_json(const bench_report *r, const char *path)
             cJSON_AddItemToArray(jsum, o);
         }
     for (int axis = 0; axis < BENCH_NAXES; axis++) bench_json_convergence(j, r, &r->conv[axis]);
+    bench_json_auto(j, r);
     int rc = tool_write_json(path, j);
     cJSON_Delete(j);
     return rc;
@@ -528,7 +536,7 @@ int bench_write_md(const bench_report *r, const char *path)
     const suite *s = r->s;
     const result *res = r->res;
     const summary *sum = r->sum;
-    const int n = r->n, found = r->found;
+    const int n = bench_nlisted(s), found = r->found;
     const char *cmd = r->cmd, *date = r->date, *machine = r->machine;
     FILE *md = tmpfile();
     if (!md) return tool_runtime_error("bench: cannot write a temporary file");
@@ -543,14 +551,15 @@ int bench_write_md(const bench_report *r, const char *path)
         snprintf(expo, sizeof expo, "2^%g", s->exposure_ev);
     fprintf(md,
             "- command: `%s`\n- lumis %s, %s\n- machine: %s\n- %d of %d items (%d maps × %d "
-            "scenes × %d methods × %d budgets)%s\n- reference: %d spp, %s; errors against "
+            "scenes%s × %d methods × %d budgets)%s\n- reference: %d spp, %s; errors against "
             "it, lower is better except PSNR\n- RMSE, relMSE (ε = 0.01), PSNR: linear HDR "
             "values, PSNR peak = the reference's largest value; Lab ΔE (CIE76, D65) and "
             "FLIP-LDR on values × %s, clamped to [0, 1]; FLIP-HDR with the reference's "
             "exposure range and ACES; 67.02 pixels per degree\n",
-            cmd, LUMIS_VERSION_STRING, date, machine, found, n, s->nmaps, s->nscenes, s->nmethods,
-            s->nbudgets, found < n ? " — **incomplete**: run the remaining shards" : "", s->ref_spp,
-            ref_words, expo);
+            cmd, LUMIS_VERSION_STRING, date, machine, found, n, s->nmaps, s->nscenes,
+            n < bench_nitems(s) ? ", the pairs the scenes list" : "", s->nmethods, s->nbudgets,
+            found < n ? " — **incomplete**: run the remaining shards" : "", s->ref_spp, ref_words,
+            expo);
     bench_write_failures(md, BENCH_MD, r);
     bench_write_contention_warning(md, BENCH_MD, r);
     bench_write_reference_warning(md, BENCH_MD, r);
@@ -593,6 +602,7 @@ int bench_write_md(const bench_report *r, const char *path)
         }
     }
     bench_write_comparisons(md, BENCH_MD, s, res);
+    bench_write_auto(md, BENCH_MD, r);
     for (int axis = 0; axis < BENCH_NAXES; axis++)
         bench_write_convergence(md, BENCH_MD, r, &r->conv[axis]);
     bench_write_per_map(md, BENCH_MD, s, res);

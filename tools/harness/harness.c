@@ -67,7 +67,7 @@ static int write_report(const suite *s, const char *out, int argc, char **argv)
         fprintf(stderr,
                 "lumis bench: %d of %d items; wrote %s/results.{csv,json,md}, "
                 "convergence-*.svg and index.html\n",
-                r.found, r.n, out);
+                r.found, bench_nlisted(r.s), out);
     bench_report_free(&r);
     return rc;
 }

@@ -38,6 +38,8 @@ typedef struct suite_scene {
     int is_file;
     unsigned char *bytes; /* a file's bytes, for its hash (bench_read_inputs); NULL: missing */
     size_t nbytes;
+    unsigned char *maps; /* {"scene": ..., "maps": [...]}: per map, 1 if the pair is in the
+                            suite (NULL: every map) */
 } suite_scene;
 
 typedef struct suite_method {
@@ -46,11 +48,12 @@ typedef struct suite_method {
     int bsdf_only;
     lumis_estimator estimator;
     int power, light_samples, bsdf_samples;
-    char lights[32];                    /* a light-set method, or "" */
-    lumis_lights_mode lights_mode;      /* "mode": point (default) or stratified */
-    int sun;                            /* "sun": true: render --sun (the image sun) */
-    int lights_draws;                   /* "draws": stratified, N draws chosen per vertex (0:
-                                           one in every region) */
+    char lights[32];               /* a light-set method, or "" */
+    lumis_lights_mode lights_mode; /* "mode": point (default) or stratified */
+    int sun;                       /* "sun": true: render --sun (the image sun) */
+    int auto_estimator; /* "auto": true: render --auto (the session chooses the estimator) */
+    int lights_draws;   /* "draws": stratified, N draws chosen per vertex (0:
+                           one in every region) */
     int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
     lumis_light_params lights_params;   /* "params": the light-set method's parameters */
     lumis_sequence sequence;            /* "sequence": the render's numbers (default sobol) */
@@ -98,6 +101,11 @@ typedef struct item {
 } item;
 
 int bench_nitems(const suite *s);
+/* Whether the pair (map m, scene sc) is in the suite (a scene may list its maps): the
+ * items of a pair that is not are never rendered, needed or counted. */
+int bench_pair_listed(const suite *s, int m, int sc);
+/* The items of the listed pairs (bench_nitems counts every pair: the items' indices). */
+int bench_nlisted(const suite *s);
 /* Items are ordered map, scene, method, budget (the budget varies fastest). */
 item bench_item_at(const suite *s, int index);
 /* The index of an item. */
@@ -110,7 +118,7 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap);
 /* The item's result file, parsed, if it exists and belongs to the suite as it is now. */
 struct cJSON *bench_load_item(const suite *s, const char *out, const item *it);
 int bench_item_done(const suite *s, const char *out, const item *it);
-/* Whether item k belongs to shard shard_i of shard_n. */
+/* Whether item k belongs to shard shard_i of shard_n (never when its pair is not listed). */
 int bench_in_shard(const suite *s, int k, long shard_i, long shard_n);
 /* Whether any item of the (map, scene) pair is not done: the pair needs its reference. */
 int bench_pair_needed(const suite *s, const char *out, int m, int sc);
@@ -169,6 +177,7 @@ typedef struct result {
      * threads' CPU share (NaN, 0: results made before 2026-12) */
     double used, wall, cpu, share;
     int attempts, contended;
+    char auto_chosen[32]; /* "auto": the candidate it chose ("" for other methods) */
 } result;
 
 typedef struct summary {
@@ -260,6 +269,18 @@ int bench_write_contention_warning(FILE *f, bench_markup mk, const bench_report 
 void bench_method_words(const suite_method *m, char *out, size_t cap);
 /* The items whose process failed (DIR/failures/ID.txt): a list; returns their number. */
 int bench_write_failures(FILE *f, bench_markup mk, const bench_report *r);
+
+/* The automatic estimator (bench_auto.c): methods with "auto": true against the best of the
+ * suite's other methods at each (map, scene, budget).  A case misses when auto's relMSE is
+ * more than BENCH_AUTO_MISS times the best fixed one's (issue 39: within 10 %). */
+#define BENCH_AUTO_MISS 1.10
+/* How many of the suite's methods are "auto". */
+int bench_auto_methods(const suite *s);
+/* Per auto method: a summary per budget (pairs, geometric mean of auto / best fixed, the
+ * misses, the choices made) and a table of every case (nothing without an auto method). */
+void bench_write_auto(FILE *f, bench_markup mk, const bench_report *r);
+/* results.json's "auto" array: the same per auto method (nothing without one). */
+void bench_json_auto(struct cJSON *j, const bench_report *r);
 
 /* relMSE per (map, scene) and method at the last budget: a heading and a table. */
 void bench_write_per_map(FILE *f, bench_markup mk, const suite *s, const result *res);
