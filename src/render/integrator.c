@@ -9,8 +9,12 @@
 
 /* One camera sample: direct illumination at the first hit, and with max_bounces > 0 the
  * direct illumination at every further vertex of a BSDF-sampled path.  The environment
- * seen by a continuation ray is not added: the direct estimator at the vertex it left
- * already accounts for it, so each light path is counted once. */
+ * seen by a continuation ray is only added as the share of the direct estimator at the
+ * vertex it left: when the kind hands its BSDF sample over as the continuation
+ * (shade_next), the map that ray sees on escaping is that sample's MIS-weighted share
+ * (escape); a continuation drawn here is not a direct sample and adds nothing.  So each
+ * light path is counted once.  The last vertex traces its BSDF sample as a shadow ray
+ * (shade): an occlusion test is cheaper than a hit. */
 v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 dir,
                        const lumis__vertex *v, double *bounce)
 {
@@ -23,23 +27,34 @@ v3 lumis__trace_sample(const ctx *c, const lumis__light_kind *kind, v3 eye, v3 d
     }
     v3 L = mk(0, 0, 0), beta = mk(1, 1, 1);
     for (int depth = 0;; depth++) {
+        const int last = depth >= d->max_bounces, handed = !last && kind->shade_next;
         /* The light interface: the kind of lights decides how the point is lit. */
-        v3 Ld = kind->shade(c, &hh, dir, v);
+        lumis__next nx;
+        v3 Ld = handed ? kind->shade_next(c, &hh, dir, v, &nx) : kind->shade(c, &hh, dir, v);
         if (d->lighting.sun.sun) Ld = add(Ld, lumis__sun_shade(c, &hh, dir, v));
         L = add(L, mk(beta.x * Ld.x, beta.y * Ld.y, beta.z * Ld.z));
-        if (depth >= d->max_bounces) break;
-        const shading_frame fr = shading_frame_at(&hh, dir);
-        const v3 t = fr.t, b = fr.b, n = fr.n;
-        const lumis_vec3 wo = fr.wo;
-        double u[3];
-        seq_bsdf(v->seq, &hh.prim->material, seq_take_n(v->seq, 2), 0, 1, u);
-        lumis_bsdf_sample bs = lumis_bsdf_sample_wi(&hh.prim->material, wo, u[0], u[1], u[2]);
-        if (!(bs.pdf > 0.0f)) break;
-        beta = mk(beta.x * bs.weight.r, beta.y * bs.weight.g, beta.z * bs.weight.b);
+        if (last) break;
+        if (!handed) {
+            const shading_frame fr = shading_frame_at(&hh, dir);
+            double u[3];
+            seq_bsdf(v->seq, &hh.prim->material, seq_take_n(v->seq, 2), 0, 1, u);
+            nx.bs = lumis_bsdf_sample_wi(&hh.prim->material, fr.wo, u[0], u[1], u[2]);
+            nx.wi =
+                norm(add(add(mul(fr.t, nx.bs.wi.x), mul(fr.b, nx.bs.wi.y)), mul(fr.n, nx.bs.wi.z)));
+            nx.org = fr.org;
+        }
+        if (!(nx.bs.pdf > 0.0f)) break;
+        beta = mk(beta.x * nx.bs.weight.r, beta.y * nx.bs.weight.g, beta.z * nx.bs.weight.b);
         if (beta.x == 0.0 && beta.y == 0.0 && beta.z == 0.0) break;
-        dir = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+        dir = nx.wi;
         *bounce += 1.0;
-        if (!intersect(c->scene, fr.org, dir, &hh)) break;
+        if (!intersect(c->scene, nx.org, dir, &hh)) {
+            if (handed) {
+                const v3 Le = kind->escape(c, &nx);
+                L = add(L, mk(beta.x * Le.x, beta.y * Le.y, beta.z * Le.z));
+            }
+            break;
+        }
     }
     return L;
 }

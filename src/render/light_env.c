@@ -16,8 +16,34 @@ typedef struct env_state {
     int fused;
 } env_state;
 
-/* Direct light from the environment reflected at h towards -dir. */
-static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
+/* The map's radiance along the unoccluded BSDF sample bs (world direction wi) of a vertex,
+ * and in *k2 its weight against the light samples by the estimator over the number of
+ * BSDF samples: bs.weight Le k2 is the sample's share of the direct light. */
+static lumis_rgb bsdf_sample_light(const ctx *c, const lumis_bsdf_sample *bs, v3 wi, double *k2)
+{
+    const lumis_render_desc *d = c->d;
+    const env_state *st = c->state;
+    const lumis_sampler *smp = d->lighting.sampler;
+    const int mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    lumis_rgb Le;
+    double w = 1.0;
+    if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
+        float pl = lumis_sampler_pdf_radiance(smp, tof(wi), &Le);
+        w = mis_weight(st->nb, bs->pdf, st->nl, pl, d->power_heuristic);
+    } else {
+        Le = lumis_envmap_eval(lumis__light_map(d), tof(wi));
+        if (mis)
+            w = mis_weight(st->nb, bs->pdf, st->nl, lumis_sampler_pdf(smp, tof(wi)),
+                           d->power_heuristic);
+    }
+    *k2 = w / st->nb;
+    return Le;
+}
+
+/* Direct light from the environment reflected at h towards -dir.  With next, the first
+ * BSDF sample is not traced here but handed to the integrator as the path's continuation
+ * (shade_next), whatever the estimator: its numbers are drawn either way. */
+static v3 shade_at(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, lumis__next *next)
 {
     const lumis_render_desc *d = c->d;
     const env_state *st = c->state;
@@ -52,29 +78,49 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         double k2 = w * cosn / ((double)e.pdf * st->nl);
         L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
     }
-    for (int k = 0; use_bsdf && k < st->nb; k++) {
+    if (next) {
+        next->org = org;
+        next->bs.pdf = 0.0f;
+    }
+    const int nb = use_bsdf ? st->nb : next ? 1 : 0;
+    for (int k = 0; k < nb; k++) {
         double u[3];
         seq_bsdf(seq, m, db, (uint32_t)k, (uint32_t)st->nb, u);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
         if (!(bs.pdf > 0.0f)) continue;
         v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
+        if (next && k == 0) { /* the continuation: its light is escape()'s */
+            next->bs = bs;
+            next->wi = wi;
+            continue;
+        }
         *shadow_rays += 1.0;
         if (occluded(c->scene, d, org, wi)) continue;
-        lumis_rgb Le;
-        double w = 1.0;
-        if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
-            float pl = lumis_sampler_pdf_radiance(smp, tof(wi), &Le);
-            w = mis_weight(st->nb, bs.pdf, st->nl, pl, d->power_heuristic);
-        } else {
-            Le = lumis_envmap_eval(lumis__light_map(d), tof(wi));
-            if (mis)
-                w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(smp, tof(wi)),
-                               d->power_heuristic);
-        }
-        double k2 = w / st->nb;
+        double k2;
+        const lumis_rgb Le = bsdf_sample_light(c, &bs, wi, &k2);
         L = add(L, mk(bs.weight.r * Le.r * k2, bs.weight.g * Le.g * k2, bs.weight.b * Le.b * k2));
     }
     return L;
+}
+
+static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
+{
+    return shade_at(c, h, dir, v, NULL);
+}
+
+static v3 shade_next(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, lumis__next *next)
+{
+    return shade_at(c, h, dir, v, next);
+}
+
+/* The continuation left the scene along next->wi: the map it sees is the first BSDF
+ * sample's share of the direct light (none with the light estimator). */
+static v3 escape(const ctx *c, const lumis__next *next)
+{
+    if (c->d->lighting.estimator == LUMIS_ESTIMATOR_LIGHT) return mk(0, 0, 0);
+    double k2;
+    const lumis_rgb Le = bsdf_sample_light(c, &next->bs, next->wi, &k2);
+    return mk(Le.r * k2, Le.g * k2, Le.b * k2);
 }
 
 /* The map and, for light or MIS sampling, its sampler; direct light by any estimator, and
@@ -101,5 +147,16 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
 }
 
 const lumis__light_kind lumis__light_env = {
-    "the environment map", inputs, prepare, free, NULL, NULL, NULL, NULL, NULL, shade,
+    "the environment map",
+    inputs,
+    prepare,
+    free,
+    NULL,
+    NULL,
+    NULL,
+    NULL,
+    NULL,
+    shade,
+    shade_next,
+    escape,
 };

@@ -583,6 +583,6 @@ static void *thread_begin(const void *state)
 }
 
 const lumis__light_kind lumis__light_luminaires = {
-    "luminaires", inputs,  prepare,      release,     run_begin,
-    chunk_begin,  run_end, thread_begin, thread_end_, shade,
+    "luminaires", inputs,       prepare,     release, run_begin, chunk_begin,
+    run_end,      thread_begin, thread_end_, shade,   NULL,      NULL,
 };

@@ -603,7 +603,7 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
 
 const lumis__light_kind lumis__light_photometric = {
     "photometric fixtures", inputs,     prepare, release, NULL, NULL, NULL,
-    thread_begin,           thread_end, shade,
+    thread_begin,           thread_end, shade,   NULL,    NULL,
 };
 
 /* The frame docs/photometric.md ("Aiming a fixture") states: local -z along the aim; local

@@ -519,5 +519,6 @@ lumis_status lumis__light_set_selection(const lumis_render_desc *d, lumis_vec3 n
 }
 
 const lumis__light_kind lumis__light_set_kind = {
-    "a light set", inputs, prepare, release, NULL, NULL, NULL, thread_begin, thread_end, shade_any,
+    "a light set", inputs,       prepare,    release,   NULL, NULL,
+    NULL,          thread_begin, thread_end, shade_any, NULL, NULL,
 };

@@ -67,6 +67,13 @@ typedef struct lumis__vertex {
     double *shadow_rays; /* add the shadow rays traced */
 } lumis__vertex;
 
+/* A vertex's BSDF sample that continues its path (shade_next): its origin, world direction
+ * and the sample (bs.pdf 0: the path ends). */
+typedef struct lumis__next {
+    v3 org, wi;
+    lumis_bsdf_sample bs;
+} lumis__next;
+
 /* What a light kind may use of a render description (lighting.c checks them). */
 enum {
     LUMIS__IN_SAMPLER = 1u << 0,        /* lighting.sampler */
@@ -111,6 +118,13 @@ typedef struct lumis__light_kind {
     void (*thread_end)(void *scratch, double *light_samples);
     /* The light reflected at h towards -dir. */
     v3 (*shade)(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v);
+    /* Optional, for paths: shade() with its (first) BSDF sample not traced but handed back
+     * in *next as the path's continuation (the integrator then draws none of its own), and
+     * the light that sample's ray brings when it leaves the scene, per unit of the sample's
+     * weight (its share of shade()'s light: the map seen, weighed by MIS).  One ray per
+     * vertex fewer than a separate continuation; the same expectation. */
+    v3 (*shade_next)(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, lumis__next *next);
+    v3 (*escape)(const ctx *c, const lumis__next *next);
 } lumis__light_kind;
 
 extern const lumis__light_kind lumis__light_env;         /* light_env.c */

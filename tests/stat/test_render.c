@@ -1194,16 +1194,25 @@ static void integrating_sphere(void **state)
     assert_int_equal(lumis_sampler_create(env, &sd, &smp), LUMIS_OK);
     /* From the centre, looking down at the wall below the hole. */
     const lumis_camera inside = {{0, 0.3f, 0}, {0, -1, 0.2f}, {0, 1, 0}, 60.0f, 16, 16};
-    const int depths[3] = {0, 1, 4};
-    const lumis_estimator ests[3] = {LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_LIGHT,
-                                     LUMIS_ESTIMATOR_BSDF};
-    for (int t = 0; t < 3; t++) {
+    /* Every estimator at every depth: with MIS or BSDF sampling the map a continuation sees
+     * when it escapes is its vertex's BSDF sample's share (integrator.c), so those paths
+     * must count it once, weighed as the direct estimator weighs it; 2 BSDF samples: the
+     * first continues the path, the second is a shadow ray. */
+    enum { CASES = 10 };
+    const int depths[CASES] = {0, 1, 4, 1, 4, 4, 1, 0, 4, 4};
+    const int bsdf_samples[CASES] = {1, 1, 1, 1, 1, 1, 1, 1, 2, 2};
+    const lumis_estimator ests[CASES] = {
+        LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_LIGHT, LUMIS_ESTIMATOR_BSDF, LUMIS_ESTIMATOR_MIS,
+        LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_LIGHT, LUMIS_ESTIMATOR_BSDF, LUMIS_ESTIMATOR_BSDF,
+        LUMIS_ESTIMATOR_MIS, LUMIS_ESTIMATOR_BSDF};
+    for (int t = 0; t < CASES; t++) {
         lumis_render_desc d = {0};
         d.camera = &inside;
         d.lighting.env = env;
         d.lighting.sampler = smp;
         d.lighting.estimator = ests[t];
         d.max_bounces = depths[t];
+        d.bsdf_samples = bsdf_samples[t];
         d.spp = 256;
         d.seed = 11u + (unsigned)t;
         lumis_image *img = NULL;
@@ -1222,8 +1231,8 @@ static void integrating_sphere(void **state)
         }
         double mean = sum / n, se = sqrt(fmax(sum2 / n - mean * mean, 0) / (n - 1));
         if (fabs(mean - want) > 4 * se + 3e-3 * want)
-            fail_msg("%d bounces, estimator %d: %g +- %g, exact %g", depths[t], (int)ests[t], mean,
-                     se, want);
+            fail_msg("%d bounces, estimator %d, %d BSDF samples: %g +- %g, exact %g", depths[t],
+                     (int)ests[t], bsdf_samples[t], mean, se, want);
         lumis_image_destroy(img);
     }
     lumis_sampler_destroy(smp);
