@@ -1,12 +1,14 @@
 /* The image sun (lumis/sun.h): detection, the exact split, and the cone's sampling. */
 /* Oracles:
  * lumis_sun_find — closed form: a disk of known direction, radius and radiance drawn on a
- *     coloured asymmetric background at odd sizes (rotated too), and the Preetham sky's sun of
+ *     coloured asymmetric background at odd sizes (rotated too; over either pole and with its
+ *     rim across one, where the fit's rows end at the map's edge), and the Preetham sky's sun of
  *     docs/sky.md (direction from its elevation and azimuth, power from its transmittance);
  *     brute force: the residual + the sun's pixels == the map, pixel by pixel and in power;
  *     hand-worked: no sun in a uniform, black, NaN, 1 x 1, too coarse, sunless-sky or
- *     pmndrs-venice map (synthetic_disk_is_recovered, sky_sun_is_recovered,
- *     split_is_exact, no_sun_where_there_is_none, find_refuses_bad_arguments)
+ *     pmndrs-venice map (synthetic_disk_is_recovered, suns_at_the_poles_are_recovered,
+ *     sky_sun_is_recovered, split_is_exact, no_sun_where_there_is_none,
+ *     find_refuses_bad_arguments)
  * lumis_sun_eval — brute force: eval + the residual's eval == the map's eval, bit for bit, in
  *     random directions and at every pixel centre (split_is_exact)
  * lumis_sun_contains — brute force: the pixels the test's own centre formula puts within the
@@ -154,6 +156,86 @@ static void synthetic_disk_is_recovered(void **state)
             assert_true(fabs(f.radiance.g * f.solid_angle - f.power[1]) < 1e-6 * f.power[1]);
             assert_true(f.radiance.g <= sun[1] * scale && f.radiance.g > 0.8 * sun[1] * scale);
             lumis_envmap_destroy(res);
+            lumis_envmap_destroy(env);
+            free(px);
+        }
+}
+
+/* A disk over a pole, and one whose rim crosses it: the rows the fit, the residual and the
+ * sampler visit run from the top row or to the bottom one (where the padding row about the
+ * disk is clamped away), so the power, direction and radius must still be the disk's, the
+ * residual zero on all its pixels and the sampler's pdf Y / sum(Y Omega) on each.  The nadir's disk
+ * holds whole rows (the bottom row is a quarter of its power at 151 rows), the zenith's is its
+ * mirror image. */
+static void suns_at_the_poles_are_recovered(void **state)
+{
+    (void)state;
+    static const int sizes[][2] = {{301, 151}, {512, 256}};
+    /* the disk's centre, degrees from the zenith: nadir, zenith, 1.5 degrees off each */
+    static const double theta[] = {180.0, 0.0, 178.5, 1.5};
+    const float sun[3] = {4.0e4f, 2.0e4f, 1.0e4f};
+    const double rad = 2.5, ph0 = 77.0 * PI / 180.0;
+    for (int s = 0; s < 2; s++)
+        for (int t = 0; t < 4; t++) {
+            const int w = sizes[s][0], h = sizes[s][1];
+            const double th0 = theta[t] * PI / 180.0, pix = 180.0 / h; /* degrees */
+            double pw[3];
+            float *px = disk_map(w, h, th0, ph0, rad, sun, pw);
+            lumis_envmap *env = env_of(px, w, h, 0.0f, 1.0f);
+            lumis_sun f;
+            lumis_envmap *res = NULL;
+            assert_int_equal(lumis_sun_find(env, NULL, &f, &res), LUMIS_OK);
+            assert_int_equal(f.found, 1);
+            lumis_sun_sampler *ss = NULL;
+            assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
+            /* the residual is zero on the sun's pixels and the map elsewhere; the sampler
+             * draws every sun pixel by its Y Omega, the first and last rows included */
+            double sumY = 0.0;
+            int inside = 0;
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++)
+                    if (lumis_sun_contains(&f, env, i, j)) {
+                        const float *q = px + 3 * ((size_t)j * w + i);
+                        sumY += (0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2]) * solid(w, h, j);
+                    }
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++) {
+                    const int in = lumis_sun_contains(&f, env, i, j);
+                    const lumis_rgb m = lumis_envmap_texel(env, i, j),
+                                    r = lumis_envmap_texel(res, i, j);
+                    if (in)
+                        assert_true(r.r == 0.0f && r.g == 0.0f && r.b == 0.0f);
+                    else
+                        assert_true(r.r == m.r && r.g == m.g && r.b == m.b);
+                    inside += in;
+                    const float *q = px + 3 * ((size_t)j * w + i);
+                    const double want_pdf =
+                        in ? (0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2]) / sumY : 0.0;
+                    const lumis_vec3 c =
+                        lumis_envmap_uv_to_dir(env, ((float)i + 0.5f) / w, ((float)j + 0.5f) / h);
+                    const double pdf = lumis_sun_sampler_pdf(ss, c, NULL);
+                    if (!(fabs(pdf - want_pdf) <= 1e-5 * want_pdf))
+                        fail_msg("%d x %d, disk at %g degrees: pixel (%d, %d): pdf %g, want %g", w,
+                                 h, theta[t], i, j, pdf, want_pdf);
+                }
+            assert_int_equal(inside, f.pixels);
+            lumis_sun_sampler_destroy(ss);
+            lumis_envmap_destroy(res);
+            double want[3];
+            dir_uv(ph0 / (2.0 * PI), th0 / PI, want);
+            const double got[3] = {f.dir.x, f.dir.y, f.dir.z};
+            const double off = ang(got, want) * 180.0 / PI;
+            /* over the pole the disk's pixels are symmetric about its centre; off it, a
+             * row's pixels are not, by up to a pixel's width there */
+            if (!(off < (t < 2 ? 1e-4 : 0.25) * pix))
+                fail_msg("%d x %d, disk at %g degrees: direction %g degrees off", w, h, theta[t],
+                         off);
+            assert_true(f.radius * 180.0 / PI <= rad + 0.25 * pix);
+            assert_true(f.radius * 180.0 / PI >= rad - pix);
+            for (int k = 0; k < 3; k++)
+                if (!(f.power[k] >= pw[k] * (1.0 - 1e-6) && f.power[k] <= pw[k] * (1.0 + 2e-3)))
+                    fail_msg("%d x %d, disk at %g degrees: channel %d power %.9g, the disk's %.9g",
+                             w, h, theta[t], k, f.power[k], pw[k]);
             lumis_envmap_destroy(env);
             free(px);
         }
@@ -758,6 +840,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(synthetic_disk_is_recovered),
+        cmocka_unit_test(suns_at_the_poles_are_recovered),
         cmocka_unit_test(sky_sun_is_recovered),
         cmocka_unit_test(split_is_exact),
         cmocka_unit_test(cone_chi_square),
