@@ -31,10 +31,8 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
     const lumis_sampler *smp = d->lighting.sampler;
-    int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-        use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT;
-    int mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
-    for (int k = 0; use_light && k < st->nl; k++) {
+    const estimator_use use = estimator_use_of(d);
+    for (int k = 0; use.light && k < st->nl; k++) {
         double u[2];
         seq_2d(seq, dl, (uint32_t)k, (uint32_t)st->nl, u);
         lumis_env_sample e = lumis_sampler_sample(smp, u[0], u[1]);
@@ -46,13 +44,13 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
         *shadow_rays += 1.0;
         if (occluded(c->scene, d, org, wi)) continue;
-        double w =
-            mis ? mis_weight(st->nl, e.pdf, st->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
-                : 1.0;
+        double w = use.mis ? mis_weight(st->nl, e.pdf, st->nb, lumis_bsdf_pdf(m, wo, wil),
+                                        d->power_heuristic)
+                           : 1.0;
         double k2 = w * cosn / ((double)e.pdf * st->nl);
         L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
     }
-    for (int k = 0; use_bsdf && k < st->nb; k++) {
+    for (int k = 0; use.bsdf && k < st->nb; k++) {
         double u[3];
         seq_bsdf(seq, m, db, (uint32_t)k, (uint32_t)st->nb, u);
         lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
@@ -62,12 +60,12 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         if (occluded(c->scene, d, org, wi)) continue;
         lumis_rgb Le;
         double w = 1.0;
-        if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
+        if (use.mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
             float pl = lumis_sampler_pdf_radiance(smp, tof(wi), &Le);
             w = mis_weight(st->nb, bs.pdf, st->nl, pl, d->power_heuristic);
         } else {
             Le = lumis_envmap_eval(lumis__light_map(d), tof(wi));
-            if (mis)
+            if (use.mis)
                 w = mis_weight(st->nb, bs.pdf, st->nl, lumis_sampler_pdf(smp, tof(wi)),
                                d->power_heuristic);
         }
