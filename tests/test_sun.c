@@ -10,23 +10,32 @@
  *     sky_sun_is_recovered, split_is_exact, no_sun_where_there_is_none,
  *     find_refuses_bad_arguments)
  * lumis_sun_eval — brute force: eval + the residual's eval == the map's eval, bit for bit, in
- *     random directions and at every pixel centre (split_is_exact)
+ *     random directions and at every pixel centre (split_is_exact,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_contains — brute force: the pixels the test's own centre formula puts within the
- *     radius (split_is_exact)
+ *     radius; hand-worked: nothing for a sun no find returns (not found, a cone of no or too
+ *     wide an angle, an axis zero or not finite), no map, a pixel off the map, a direction
+ *     zero or not finite, and the same of every function below (split_is_exact,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sample — statistical: chi-square over equal-area bins of a frame built by the
  *     test; unbiased estimates of the map's power and of the irradiance on planes against a
  *     brute-force sum over sub-pixels, with the residual's sampler, on all three channels
- *     (cone_chi_square, power_is_unbiased, irradiance_matches_brute_force)
+ *     (cone_chi_square, power_is_unbiased, irradiance_matches_brute_force,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_pdf — closed form: integrates to 1 over the sphere by quadrature, 0 outside the
- *     cone; consistency: equals the sample's pdf (cone_pdf_integrates_to_one, cone_chi_square)
- * lumis_sun_invert — consistency: invert(sample(u)) == u, the round trip (cone_chi_square)
+ *     cone; consistency: equals the sample's pdf (cone_pdf_integrates_to_one, cone_chi_square,
+ *     sun_functions_refuse_bad_input)
+ * lumis_sun_invert — consistency: invert(sample(u)) == u, the round trip (cone_chi_square,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_create — brute force: the pixels and probabilities the test computes from
- *     the map's luminance (sun_pixels_by_power)
+ *     the map's luminance (sun_pixels_by_power, suns_at_the_poles_are_recovered,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_sample — statistical: chi-square over the sun's pixels against Y Omega /
  *     sum; unbiased power and brute-force irradiance, all channels (sun_pixels_by_power,
- *     power_is_unbiased, irradiance_matches_brute_force)
+ *     power_is_unbiased, irradiance_matches_brute_force, sun_functions_refuse_bad_input)
  * lumis_sun_sampler_pdf — brute force: Y / sum(Y Omega) at every pixel, 0 off the sun, sums to
- *     1 over the map (sun_pixels_by_power)
+ *     1 over the map (sun_pixels_by_power, suns_at_the_poles_are_recovered,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_destroy — consistency: frees what create made (every test, under the
  *     sanitizers' leak check)
  */
@@ -823,7 +832,13 @@ static void find_refuses_bad_arguments(void **state)
     d.max_radius_deg = 30.0;
     assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(s.last, "max_radius_deg 30"));
+    d.max_radius_deg = -1.0;
+    assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(s.last, "max_radius_deg -1"));
     d.max_radius_deg = 0.0;
+    d.min_share = 2.0;
+    assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(s.last, "min_share 2"));
     d.min_share = -0.5;
     assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(s.last, "min_share -0.5"));
@@ -834,6 +849,131 @@ static void find_refuses_bad_arguments(void **state)
     d.threshold = NAN;
     assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     lumis_envmap_destroy(env);
+}
+
+/* The sun's functions given what no find returns (no sun, a cone of no or too wide an angle,
+ * an axis not finite or zero), no map, pixels off the map, directions zero or not finite, and
+ * numbers outside [0, 1): nothing, never a crash, and failures said. */
+static void sun_functions_refuse_bad_input(void **state)
+{
+    (void)state;
+    const int w = 301, h = 151;
+    const float sun[3] = {3.0e4f, 3.0e4f, 3.0e4f};
+    double pw[3];
+    float *px = disk_map(w, h, 60.0 * PI / 180.0, 200.0 * PI / 180.0, 2.0, sun, pw);
+    lumis_envmap *env = env_of(px, w, h, 0.0f, 1.0f);
+    lumis_sun f;
+    assert_int_equal(lumis_sun_find(env, NULL, &f, NULL), LUMIS_OK);
+    assert_int_equal(f.found, 1);
+    int si = -1, sj = -1; /* a pixel of the sun */
+    for (int j = 0; j < h && si < 0; j++)
+        for (int i = 0; i < w && si < 0; i++)
+            if (lumis_sun_contains(&f, env, i, j)) si = i, sj = j;
+    assert_true(si >= 0);
+    const lumis_vec3 at = f.dir, zero = {0.0f, 0.0f, 0.0f};
+    tu_sink sink;
+    tu_sink_init(&sink);
+    /* suns no find returns */
+    lumis_sun bad[9];
+    for (int k = 0; k < 9; k++) bad[k] = f;
+    bad[0].found = 0;
+    bad[1].sample_radius = 0.0;
+    bad[2].sample_radius = 4.0;
+    bad[3].sample_radius = NAN;
+    bad[4].dir.x = NAN;
+    bad[5].dir.y = INFINITY;
+    bad[6].dir.z = NAN;
+    bad[7].dir = zero;
+    for (int k = 0; k < 9; k++) {
+        const lumis_sun *b = k < 8 ? &bad[k] : NULL; /* and no sun at all */
+        assert_int_equal(lumis_sun_contains(b, env, si, sj), 0);
+        const lumis_rgb e = lumis_sun_eval(b, env, at);
+        assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+        assert_true(lumis_sun_pdf(b, at) == 0.0);
+        double pdf = 1.0, u[2];
+        const lumis_vec3 d = lumis_sun_sample(b, 0.5, 0.5, &pdf);
+        assert_true(d.x == 0.0f && d.y == 0.0f && d.z == 0.0f && pdf == 0.0);
+        assert_int_equal(lumis_sun_invert(b, at, u), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_sun_sampler *ss = (lumis_sun_sampler *)&sink;
+        assert_int_equal(lumis_sun_sampler_create(env, b, &sink.sink, &ss),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(ss);
+        assert_non_null(strstr(sink.last, "needs a map, a sun found in it"));
+    }
+    /* the sun, with no map, pixels off the map, directions zero or not finite */
+    assert_int_equal(lumis_sun_contains(&f, env, si, sj), 1);
+    assert_int_equal(lumis_sun_contains(&f, NULL, si, sj), 0);
+    const int off[4][2] = {{-1, sj}, {si, -1}, {w, sj}, {si, h}};
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(lumis_sun_contains(&f, env, off[k][0], off[k][1]), 0);
+    const lumis_vec3 odd[] = {zero, {NAN, 0.0f, 1.0f}, {0.0f, INFINITY, 0.0f}, {0.0f, 0.0f, NAN}};
+    for (int k = 0; k < 4; k++) {
+        const lumis_rgb e = lumis_sun_eval(&f, env, odd[k]);
+        assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+        double u[2];
+        assert_int_equal(lumis_sun_invert(&f, odd[k], u), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_rgb L = {1.0f, 1.0f, 1.0f};
+        assert_true(lumis_sun_sampler_pdf(NULL, at, &L) == 0.0);
+        assert_true(L.r == 0.0f && L.g == 0.0f && L.b == 0.0f);
+    }
+    const lumis_rgb e = lumis_sun_eval(&f, NULL, at);
+    assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+    assert_true(lumis_sun_pdf(&f, zero) == 0.0);
+    /* on the axes, away from the sun: no density */
+    const lumis_vec3 ax[] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+    for (int k = 0; k < 3; k++) assert_true(lumis_sun_pdf(&f, ax[k]) == 0.0);
+    assert_true(lumis_sun_pdf(&f, at) > 0.0);
+    double u[2];
+    assert_int_equal(lumis_sun_invert(&f, at, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    const lumis_vec3 away = {-at.x, -at.y, -at.z};
+    assert_int_equal(lumis_sun_invert(&f, away, u), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sun_invert(&f, at, u), LUMIS_OK);
+    /* numbers outside [0, 1) are clamped into it: a direction in the cone, of the cone's pdf */
+    const double us[][2] = {{-1.0, 0.5}, {2.0, 0.5}, {0.5, -3.0}, {0.5, 1.0}, {NAN, NAN}};
+    for (int k = 0; k < 5; k++) {
+        double pdf = 0.0;
+        const lumis_vec3 d = lumis_sun_sample(&f, us[k][0], us[k][1], &pdf);
+        const double dd[3] = {d.x, d.y, d.z}, a[3] = {at.x, at.y, at.z};
+        assert_true(ang(dd, a) <= f.sample_radius);
+        assert_true(pdf > 0.0 && pdf == lumis_sun_pdf(&f, d));
+        assert_true(lumis_sun_sample(&f, us[k][0], us[k][1], NULL).x == d.x);
+    }
+    /* the sampler: no map, no output, a map whose sun pixels are black */
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(NULL, &f, NULL, &ss), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(ss);
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    float *dark = calloc(3 * (size_t)w * (size_t)h, sizeof *dark);
+    assert_non_null(dark);
+    lumis_envmap *black = env_of(dark, w, h, 0.0f, 1.0f);
+    assert_int_equal(lumis_sun_sampler_create(black, &f, &sink.sink, &ss),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(ss);
+    assert_non_null(strstr(sink.last, "the sun's pixels hold no light"));
+    lumis_envmap_destroy(black);
+    free(dark);
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
+    for (int k = 0; k < 4; k++) {
+        lumis_rgb L = {1.0f, 1.0f, 1.0f};
+        assert_true(lumis_sun_sampler_pdf(ss, odd[k], &L) == 0.0);
+        assert_true(L.r == 0.0f && L.g == 0.0f && L.b == 0.0f);
+    }
+    for (int k = 0; k < 5; k++) {
+        double pdf = 0.0;
+        lumis_rgb L;
+        const lumis_vec3 d = lumis_sun_sampler_sample(ss, us[k][0], us[k][1], &pdf, &L);
+        assert_true(pdf > 0.0 && pdf == lumis_sun_sampler_pdf(ss, d, NULL));
+        assert_true(L.r == sun[0]);
+        assert_true(lumis_sun_sampler_sample(ss, us[k][0], us[k][1], NULL, NULL).y == d.y);
+    }
+    double pdf = 1.0;
+    lumis_rgb L = {1.0f, 1.0f, 1.0f};
+    const lumis_vec3 d = lumis_sun_sampler_sample(NULL, 0.5, 0.5, &pdf, &L);
+    assert_true(d.x == 0.0f && d.y == 0.0f && d.z == 0.0f && pdf == 0.0 && L.g == 0.0f);
+    lumis_sun_sampler_destroy(ss);
+    lumis_sun_sampler_destroy(NULL);
+    lumis_envmap_destroy(env);
+    free(px);
 }
 
 int main(void)
@@ -850,6 +990,7 @@ int main(void)
         cmocka_unit_test(sun_pixels_by_power),
         cmocka_unit_test(no_sun_where_there_is_none),
         cmocka_unit_test(find_refuses_bad_arguments),
+        cmocka_unit_test(sun_functions_refuse_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
