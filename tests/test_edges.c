@@ -51,7 +51,9 @@
  * lumis_luminaire_global_draw — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_global_finish — error paths only: missing and absurd arguments refused
  *     (luminaires)
- * lumis_luminaire_invert — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_invert — consistency: inverts lumis_luminaire_sample_image's draw, restricted
+ *     and uniform; error paths: missing and absurd arguments, a point behind U, of S outside
+ *     the box or p on S refused (luminaires, luminaire_images_refuse_what_they_cannot_sample)
  * lumis_luminaire_irradiance — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_manifest_parse — error paths only: missing and absurd arguments refused
  *     (files_and_metrics)
@@ -60,8 +62,12 @@
  * lumis_luminaire_preset_create — error paths only: missing and absurd arguments refused
  *     (luminaires)
  * lumis_luminaire_read — error paths only: missing and absurd arguments refused (files_and_metrics)
- * lumis_luminaire_sample_image — error paths only: missing and absurd arguments refused
- *     (luminaires)
+ * lumis_luminaire_sample_image — consistency: its pdf lumis_luminaire_pdf's, every strategy, p
+ *     in front and on S; error paths: missing and absurd arguments, the automatic strategy, p
+ *     behind U or on S off the image refused (luminaires,
+ *     luminaire_images_refuse_what_they_cannot_sample)
+ * lumis_luminaire_pdf — consistency: the sample's pdf; 0 outside the box and for what
+ *     sample_image refuses (luminaire_images_refuse_what_they_cannot_sample)
  * lumis_luminaire_sample_point — error paths only: missing and absurd arguments refused
  *     (luminaires)
  * lumis_luminaire_write — error paths only: missing and absurd arguments refused
@@ -358,6 +364,113 @@ static void luminaires(void **state)
     assert_int_not_equal(
         lumis_luminaire_irradiance(NULL, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 2, &e),
         LUMIS_OK);
+}
+
+/* A 2 x 2 luminaire of 2 x 2 grey images on S = [-1, 1]^2 at delta 1. */
+static lumis_luminaire *tiny_luminaire(void)
+{
+    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const float *ptrs[4] = {px, px, px, px};
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.grid[0] = d.grid[1] = 2;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
+    d.width = d.height = 2;
+    d.image_origin[0] = d.image_origin[1] = -1.0;
+    d.image_size[0] = d.image_size[1] = 2.0;
+    d.pixels = ptrs;
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(lumis_luminaire_create(&d, &lum), LUMIS_OK);
+    return lum;
+}
+
+/* One image's sampler, density and inverse (restricted.c) on a real luminaire: refused or 0
+ * for a missing argument, an image out of range, the automatic strategy (renders only), a
+ * point behind U, and a point of S or of U outside what the image can draw; accepted, each
+ * the other's inverse, for what it can. */
+static void luminaire_images_refuse_what_they_cannot_sample(void **state)
+{
+    (void)state;
+    lumis_luminaire *lum = tiny_luminaire();
+    lumis_luminaire_sample smp;
+    double u1, u2;
+    for (int strat = LUMIS_LUM_RESTRICTED; strat <= LUMIS_LUM_GLOBAL; strat++) {
+        lumis_luminaire_query q = {0};
+        q.p = (lumis_vec3){0.1f, -0.2f, 3.0f};
+        q.strategy = (lumis_luminaire_strategy)strat;
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.3, 0.6, &smp), LUMIS_OK);
+        const double pdf = lumis_luminaire_pdf(lum, &q, 1, smp.s[0], smp.s[1]);
+        assert_true(pdf > 0.0 && fabs(pdf - smp.pdf) <= 1e-5 * pdf);
+        if (strat != LUMIS_LUM_GLOBAL) { /* the inverse of the restricted and uniform draws */
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, smp.s[0], smp.s[1], &u1, &u2),
+                             LUMIS_OK);
+            assert_true(fabs(u1 - 0.3) < 1e-6 && fabs(u2 - 0.6) < 1e-6);
+        }
+        /* a point of S outside the image's box */
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 50.0, 0.0) == 0.0);
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, -50.0) == 0.0);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 50.0, 0.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, -50.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        /* no luminaire, query or output; images -1 and M */
+        assert_int_equal(lumis_luminaire_sample_image(lum, NULL, 1, 0.5, 0.5, &smp),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(lumis_luminaire_pdf(NULL, &q, 1, 0.0, 0.0) == 0.0);
+        assert_true(lumis_luminaire_pdf(lum, NULL, 1, 0.0, 0.0) == 0.0);
+        assert_int_equal(lumis_luminaire_invert(lum, NULL, 1, 0.0, 0.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, NULL, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        for (int m = -1; m <= 4; m += 5) {
+            assert_int_equal(lumis_luminaire_sample_image(lum, &q, m, 0.5, 0.5, &smp),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            assert_true(lumis_luminaire_pdf(lum, &q, m, 0.0, 0.0) == 0.0);
+            assert_int_equal(lumis_luminaire_invert(lum, &q, m, 0.0, 0.0, &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+        }
+        /* behind U (z <= 0): the light travels towards +z */
+        q.p.z = -0.5f;
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+        if (strat != LUMIS_LUM_GLOBAL)
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+        /* on S: uniform over Phi_m's support on U (the global strategy ignores p); off the
+         * image, refused */
+        q.p = (lumis_vec3){0.25f, 0.25f, 1.0f};
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp), LUMIS_OK);
+        const double *at = strat == LUMIS_LUM_GLOBAL ? smp.s : smp.u;
+        const double on = lumis_luminaire_pdf(lum, &q, 1, at[0], at[1]);
+        if (!(on > 0.0 && fabs(on - smp.pdf) <= 1e-5 * on))
+            fail_msg("strategy %d on S: pdf %g, the sample's %g", strat, on, (double)smp.pdf);
+        if (strat != LUMIS_LUM_GLOBAL) {
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, 50.0, smp.u[1]) == 0.0);
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, smp.u[0], -50.0) == 0.0);
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, smp.u[0], smp.u[1], &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            q.p.x = 5.0f; /* on S's plane, off the image */
+            assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+        }
+    }
+    /* the automatic strategy is the renderer's choice, not a sampler */
+    lumis_luminaire_query q = {0};
+    q.p = (lumis_vec3){0.0f, 0.0f, 3.0f};
+    q.strategy = LUMIS_LUM_AUTO;
+    assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+    assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, &u2),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_luminaire_destroy(lum);
 }
 
 static void renderer(void **state)
@@ -700,6 +813,7 @@ int main(void)
         cmocka_unit_test(samplers_and_light_sets),
         cmocka_unit_test(files_and_metrics),
         cmocka_unit_test(luminaires),
+        cmocka_unit_test(luminaire_images_refuse_what_they_cannot_sample),
         cmocka_unit_test(renderer),
         cmocka_unit_test(bsdfs_below_the_horizon),
         cmocka_unit_test(lighting_check_names_the_field),
