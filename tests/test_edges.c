@@ -263,6 +263,33 @@ static void samplers_and_light_sets(void **state)
                          LUMIS_OK);
     assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 1, 0}, NULL, &me),
                          LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, NULL, (lumis_vec3){0, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 1, 0}, &se, NULL),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){NAN, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(
+        lumis_light_set_irradiance(env, set, (lumis_vec3){0, INFINITY, 0}, &se, &me), LUMIS_OK);
+    /* a map of another size than the set's */
+    lumis_image *other_img = small_image(16, 8, 1.0f);
+    lumis_envmap *other = NULL;
+    assert_int_equal(lumis_envmap_from_image(other_img, &other), LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(other, set, (lumis_vec3){0, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    lumis_envmap_destroy(other);
+    lumis_image_destroy(other_img);
+    /* the accessors: nothing of no set, no place to put the lights */
+    assert_int_equal(lumis_light_set_sets(NULL), 0);
+    assert_null(lumis_light_set_get_info(NULL));
+    int lw = -1, lh = -1;
+    assert_null(lumis_light_set_labels(NULL, &lw, &lh));
+    assert_true(lw == -1 && lh == -1);
+    assert_non_null(lumis_light_set_labels(set, NULL, NULL));
+    assert_int_equal(lumis_light_set_get(set, 0, NULL, &n), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_light_set_get(set, 0, &l, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &n), LUMIS_OK);
+    assert_int_equal(n, 4);
     lumis_region_sampler *rs = NULL;
     REFUSED(lumis_region_sampler_create(env, NULL, NULL, &rs), rs);
     assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
