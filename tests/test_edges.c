@@ -5,8 +5,10 @@
 /* Oracles:
  * lumis_lighting_check — hand-worked: 32 incompatible or missing fields, one per condition, each
  *     refused with its own message naming the field (lighting_check_names_the_field)
- * lumis_session_check — hand-worked: the session's own options refused by name, then the
- *     lighting's (lighting_check_names_the_field)
+ * lumis_session_check — hand-worked: the session's own options refused by name (each count,
+ *     budget and share out of range, light-set options without lights, the automatic
+ *     estimator with what it does not choose from), then the lighting's
+ *     (lighting_check_names_the_field)
  * lumis_lighting_kind_name — hand-worked: "light-set" for its kind; round trip of every kind
  *     (lighting_check_names_the_field)
  * lumis_lighting_kind_from_name — hand-worked: "sun" refused; round trip of every kind
@@ -673,6 +675,157 @@ static void renderer(void **state)
 /* How a render is lit is one value: lumis_lighting_check alone refuses what a kind lacks or
  * does not take, one message per condition naming the field (the check reads pointers for
  * NULL only, so stand-ins do here). */
+/* One field of a session given wrong, and the words its refusal must hold. */
+typedef struct session_case {
+    int field;
+    const char *msg;
+} session_case;
+
+/* A map's session (MIS, no lights) with case k's field set; kind light-set for the cases
+ * of lights. */
+static void session_with(lumis_session_desc *s, int field)
+{
+    static const lumis_light_params params = {0};
+    switch (field) {
+    case 0:
+        s->time_budget = NAN;
+        break;
+    case 1:
+        s->time_budget = -1.0;
+        break;
+    case 2:
+        s->spent = INFINITY;
+        break;
+    case 3:
+        s->lights_k = -1;
+        break;
+    case 4:
+        s->interleave = -1;
+        break;
+    case 5:
+        s->upsample = -1;
+        break;
+    case 6:
+        s->timed_spp = -1;
+        break;
+    case 7:
+        s->auto_pilot_spp = -1;
+        break;
+    case 8:
+        s->auto_pilot_spp = 5000;
+        break;
+    case 9:
+        s->share_spp = -1;
+        break;
+    case 10:
+        s->share_spp = 4, s->time_budget = 1.0;
+        break;
+    case 11:
+        s->lights = "bogus";
+        break;
+    case 12:
+        s->lights_k = 8;
+        break;
+    case 13:
+        s->lights_params = &params;
+        break;
+    case 14:
+        s->upsample = 2;
+        break;
+    case 15:
+        s->auto_pilot_spp = 16;
+        break;
+    case 16:
+        s->auto_estimator = 1, s->render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        break;
+    case 17:
+        s->auto_estimator = 1, s->render.lighting.env = NULL;
+        break;
+    case 18:
+        s->auto_estimator = 1, s->render.lighting.sampler = NULL;
+        break;
+    case 19:
+        s->auto_estimator = 1, s->render.lighting.estimator = LUMIS_ESTIMATOR_LIGHT;
+        break;
+    case 20:
+        s->auto_estimator = 1, s->render.camera = NULL;
+        break;
+    case 21:
+        s->auto_estimator = 1, s->share_spp = 4;
+        break;
+    default:
+        break;
+    }
+}
+
+/* The session's own fields, each refused with its message (lumis_session_check; it reads
+ * no map, sampler or regions: the caller's stand-ins do). */
+static void session_refusals(const lumis_camera *cam, const lumis_envmap *env,
+                             const lumis_sampler *smp, const lumis_region_sampler *rs)
+{
+    static const session_case cases[] = {
+        {0, "needs a finite budget >= 0 and non-negative counts"},
+        {1, "needs a finite budget >= 0"},
+        {2, "needs a finite budget >= 0"},
+        {3, "non-negative counts"},
+        {4, "non-negative counts"},
+        {5, "non-negative counts"},
+        {6, "non-negative counts"},
+        {7, "non-negative counts"},
+        {8, "non-negative counts"},
+        {9, "a share of a render is a number of samples (share_spp >= 0)"},
+        {10, "not a time budget"},
+        {11, "lights 'bogus': unknown light-set method"},
+        {12, "lights_k: does not apply without lights"},
+        {13, "lights_params: does not apply without lights"},
+        {14, "upsample: does not apply without lights"},
+        {15, "auto_pilot_spp: applies with auto_estimator"},
+        {16, "render.lighting.kind is not that"},
+        {17, "render.lighting.env is not that"},
+        {18, "render.lighting.sampler is not that"},
+        {19, "render.lighting.estimator is not that"},
+        {20, "render.camera is not that"},
+        {21, "share_spp is not that"},
+    };
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_session_desc base = {0};
+    base.render.camera = cam;
+    base.render.errors = sink.sink;
+    base.render.lighting.env = env;
+    base.render.lighting.sampler = smp;
+    assert_int_equal(lumis_session_check(&base), LUMIS_OK);
+    assert_int_equal(lumis_session_check(NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        lumis_session_desc s = base;
+        session_with(&s, cases[k].field);
+        sink.last[0] = '\0';
+        const lumis_status st = lumis_session_check(&s);
+        if (st != LUMIS_ERR_INVALID_ARGUMENT || !strstr(sink.last, cases[k].msg))
+            fail_msg("session case %d: status %d, \"%s\", want \"%s\"", cases[k].field, (int)st,
+                     sink.last, cases[k].msg);
+    }
+    /* a light set's session: the automatic estimator and the caller's regions are not its,
+     * and it needs a camera */
+    lumis_session_desc s = base;
+    s.lights = "median-cut";
+    s.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    s.render.lighting.sampler = NULL;
+    assert_int_equal(lumis_session_check(&s), LUMIS_OK);
+    s.auto_estimator = 1;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "auto_estimator: chooses how the map lights the scene"));
+    assert_non_null(strstr(sink.last, ": lights is not that"));
+    s.auto_estimator = 0;
+    s.render.camera = NULL;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "render.camera: missing: a light set's session needs it"));
+    s.render.camera = cam;
+    s.render.lighting.light_set.regions = rs;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "render.lighting.light_set.regions: given"));
+}
+
 static void lighting_check_names_the_field(void **state)
 {
     (void)state;
@@ -806,6 +959,7 @@ static void lighting_check_names_the_field(void **state)
     s.interleave = 4;
     assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "interleave: does not apply without lights"));
+    session_refusals(&cam, env, smp, rs);
 }
 
 static void bsdfs_below_the_horizon(void **state)
