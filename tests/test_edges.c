@@ -13,7 +13,8 @@
  *     (lighting_check_names_the_field)
  * lumis_lighting_kind_from_name — hand-worked: "sun" refused; round trip of every kind
  *     (lighting_check_names_the_field)
- * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused; 0 behind
+ *     U (luminaires, emitters_refuse_what_they_cannot_be)
  * lumis_envmap_create — error paths only: missing and absurd arguments refused (core_and_maps)
  * lumis_envmap_stats_compute — error paths only: missing and absurd arguments refused
  *     (core_and_maps)
@@ -48,7 +49,8 @@
  *     (samplers_and_light_sets)
  * lumis_lights_variance_min — error paths only: missing and absurd arguments refused
  *     (samplers_and_light_sets)
- * lumis_luminaire_acquire — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_acquire — error paths only: missing and absurd arguments refused, each
+ *     emitter condition by its message (luminaires, emitters_refuse_what_they_cannot_be)
  * lumis_luminaire_create — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_global_draw — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_global_finish — error paths only: missing and absurd arguments refused
@@ -393,6 +395,130 @@ static void luminaires(void **state)
     assert_int_not_equal(
         lumis_luminaire_irradiance(NULL, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 2, &e),
         LUMIS_OK);
+}
+
+/* An emitter the acquisition and the true irradiance cannot take: refused with what it
+ * must be (no disks, a disk not behind U or of no size, a plate not between the disks and
+ * U, an unknown pattern, a pattern's period or contrast), and their own numbers out of
+ * range. */
+static void emitters_refuse_what_they_cannot_be(void **state)
+{
+    (void)state;
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc em;
+    lumis_emitter_disk disks[16];
+    assert_int_equal(lumis_luminaire_preset_get(LUMIS_PRESET_SMALL, &layout, &em, disks), LUMIS_OK);
+    assert_true(em.pattern != LUMIS_PATTERN_NONE && em.disk_count >= 1);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_acquire_desc acq = {0};
+    acq.errors = sink.sink;
+    enum { CASES = 15 };
+    static const char *const msgs[CASES] = {
+        "needs at least one disk",
+        "needs at least one disk",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "must lie between disk 0",
+        "unknown pattern 3",
+        "a pattern needs plate_z < 0, periods > 0 and contrast in [0, 1]",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z"};
+    for (int k = 0; k < CASES; k++) {
+        lumis_emitter_desc e = em;
+        lumis_emitter_disk d[16];
+        memcpy(d, disks, sizeof d);
+        e.disks = d;
+        switch (k) {
+        case 0:
+            e.disk_count = 0;
+            break;
+        case 1:
+            e.disks = NULL;
+            break;
+        case 2:
+            d[0].center[2] = 1.0;
+            break;
+        case 3:
+            d[0].radius = 0.0;
+            break;
+        case 4:
+            d[0].radius = INFINITY;
+            break;
+        case 5:
+            d[0].exponent = -1.0;
+            break;
+        case 6:
+            d[0].center[0] = NAN;
+            break;
+        case 7:
+            d[0].center[1] = INFINITY;
+            break;
+        case 8:
+            e.plate_z = d[0].center[2] - 1.0;
+            break;
+        case 9:
+            e.pattern = LUMIS_PATTERN_COUNT;
+            break;
+        case 10:
+            e.plate_z = 0.5, d[0].center[2] = -1.0;
+            break;
+        case 11:
+            e.period[0] = 0.0;
+            break;
+        case 12:
+            e.pattern = LUMIS_PATTERN_CHECKER, e.period[1] = 0.0;
+            break;
+        case 13:
+            e.contrast = 1.5;
+            break;
+        default:
+            e.contrast = -0.1;
+            break;
+        }
+        if (k == 10) /* every disk behind the plate */
+            for (int q = 1; q < e.disk_count; q++) d[q].center[2] = -1.0;
+        lumis_luminaire *lum = (lumis_luminaire *)&sink;
+        const lumis_status st = lumis_luminaire_acquire(&layout, &e, &acq, &lum);
+        if (st != LUMIS_ERR_INVALID_ARGUMENT || lum || !strstr(sink.last, msgs[k]))
+            fail_msg("emitter case %d: status %d, \"%s\", want \"%s\"", k, (int)st, sink.last,
+                     msgs[k]);
+        lumis_rgb out;
+        assert_int_equal(
+            lumis_emitter_irradiance(&e, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 4, 8, &out),
+            LUMIS_ERR_INVALID_ARGUMENT);
+    }
+    lumis_luminaire *lum = NULL;
+    REFUSED(lumis_luminaire_acquire(&layout, NULL, &acq, &lum), lum);
+    REFUSED(lumis_luminaire_acquire(NULL, &em, &acq, &lum), lum);
+    assert_int_equal(lumis_luminaire_acquire(&layout, &em, &acq, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* more quadrature nodes than a sample may take */
+    acq.samples_s = 65;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    acq.samples_s = 0;
+    acq.samples_radial = 65;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    acq.samples_radial = 64;
+    acq.samples_angular = 1000;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    assert_non_null(strstr(sink.last, "at most 64 sensor samples per axis and 4096 nodes"));
+    /* the true irradiance: no output, too many nodes, no normal; nothing behind U */
+    const lumis_vec3 p = {0, 0, 1}, n = {0, 0, -1}, zero = {0, 0, 0};
+    lumis_rgb e = {1, 1, 1};
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 4, 8, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 65, 8, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 64, 2000, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, zero, 4, 8, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, (lumis_vec3){0, 0, -1}, n, 4, 8, &e), LUMIS_OK);
+    assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 0, 0, &e), LUMIS_OK);
+    assert_true(e.r > 0.0f && e.g > 0.0f && e.b > 0.0f);
 }
 
 /* A 2 x 2 luminaire of 2 x 2 grey images on S = [-1, 1]^2 at delta 1. */
@@ -995,6 +1121,7 @@ int main(void)
         cmocka_unit_test(files_and_metrics),
         cmocka_unit_test(luminaires),
         cmocka_unit_test(luminaire_images_refuse_what_they_cannot_sample),
+        cmocka_unit_test(emitters_refuse_what_they_cannot_be),
         cmocka_unit_test(renderer),
         cmocka_unit_test(bsdfs_below_the_horizon),
         cmocka_unit_test(lighting_check_names_the_field),
