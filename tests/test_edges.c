@@ -29,7 +29,8 @@
  * lumis_image_read — error paths only: missing and absurd arguments refused (files_and_metrics)
  * lumis_image_read_memory — error paths only: missing and absurd arguments refused
  *     (files_and_metrics)
- * lumis_image_write — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_image_write — error paths only: missing and absurd arguments refused, each option by
+ *     its message, nothing written (files_and_metrics)
  * lumis_joint_bilateral_upsample — error paths only: missing and absurd arguments refused
  *     (renderer)
  * lumis_lab_delta_e — error paths only: missing and absurd arguments refused (files_and_metrics)
@@ -310,6 +311,48 @@ static void samplers_and_light_sets(void **state)
     lumis_image_destroy(img);
 }
 
+/* lumis_image_write's refusals, each by its message, before anything is written; and
+ * lumis_image_read_memory's of no data or no output. */
+static void image_write_refusals(const lumis_image *a)
+{
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_write_options o = {0};
+    o.errors = sink.sink;
+    lumis_image hollow = *a;
+    hollow.pixels = NULL;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), &hollow, &o), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "write: no path or image given"));
+    lumis_image flat = *a;
+    flat.width = 0;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), &flat, &o), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_non_null(strstr(sink.last, "image has bad dimensions"));
+    o.format = LUMIS_FORMAT_COUNT;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), a, &o), LUMIS_ERR_UNKNOWN_FORMAT);
+    assert_non_null(strstr(sink.last, "unknown output format"));
+    o.format = LUMIS_FORMAT_AUTO;
+    for (int k = 0; k < 4; k++) {
+        lumis_write_options b = o;
+        if (k == 0) b.exposure_ev = NAN;
+        if (k == 1) b.tonemap = LUMIS_TONEMAP_COUNT;
+        if (k == 2) b.exr_compression = LUMIS_EXR_COMPRESSION_COUNT;
+        if (k == 3) b.exr_tile_size = -1;
+        sink.last[0] = '\0';
+        assert_int_equal(lumis_image_write(tu_path("w.exr"), a, &b), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(sink.last, "w.exr: bad exposure or tone map"));
+    }
+    assert_int_equal(tu_count_entries(tu_tmpdir(), "w.exr"), 0); /* nothing written */
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    lumis_image *img = (lumis_image *)&sink;
+    assert_int_equal(lumis_image_read_memory(NULL, 10, LUMIS_FORMAT_EXR, NULL, &ro, &img, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    assert_non_null(strstr(sink.last, "no data given"));
+    assert_int_equal(lumis_image_read_memory("PF\n", 3, LUMIS_FORMAT_AUTO, NULL, NULL, NULL, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+}
+
 static void files_and_metrics(void **state)
 {
     (void)state;
@@ -323,6 +366,7 @@ static void files_and_metrics(void **state)
     assert_int_not_equal(lumis_image_write(NULL, a, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_image_write(tu_path("x.exr"), NULL, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_image_write(tu_path("x.unknown"), a, NULL), LUMIS_OK);
+    image_write_refusals(a);
     assert_int_not_equal(lumis_write_text(NULL, "x", 1, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_write_text("", "x", 1, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_write_text(tu_path("t.txt"), NULL, 3, NULL), LUMIS_OK);

@@ -19,8 +19,8 @@
  *     (png_applies_exposure_tonemap_and_srgb)
  * lumis_format_from_path — hand-worked: .EXR in any case, .pic, a directory named .exr, NULL
  *     (format_names_and_detection)
- * lumis_format_from_magic — hand-worked: the magic bytes of HDR, PFM, EXR
- *     (format_names_and_detection)
+ * lumis_format_from_magic — hand-worked: the magic bytes of HDR, PFM, EXR, PNG; one byte off or
+ *     one short of each, not a format (format_names_and_detection)
  * lumis_format_name — hand-worked: "pfm" (format_names_and_detection)
  * lumis_exr_compression_from_name — hand-worked: "dwab"; "lzma" refused
  *     (format_names_and_detection)
@@ -1040,6 +1040,36 @@ static void format_names_and_detection(void **state)
     assert_int_equal(lumis_format_from_magic("#?RADIANCE", 10), LUMIS_FORMAT_HDR);
     assert_int_equal(lumis_format_from_magic("Pf\n", 3), LUMIS_FORMAT_PFM);
     assert_int_equal(lumis_format_from_magic("v/1\x01", 4), LUMIS_FORMAT_EXR);
+    /* every byte of each magic matters, and so does its length */
+    static const struct {
+        const char *bytes;
+        size_t n;
+        lumis_file_format want;
+    } magic[] = {
+        {"v/1\x02", 4, LUMIS_FORMAT_AUTO},
+        {"v/2\x01", 4, LUMIS_FORMAT_AUTO},
+        {"v.1\x01", 4, LUMIS_FORMAT_AUTO},
+        {"w/1\x01", 4, LUMIS_FORMAT_AUTO},
+        {"v/1\x01", 3, LUMIS_FORMAT_AUTO},
+        {"#!", 2, LUMIS_FORMAT_AUTO},
+        {"#?", 1, LUMIS_FORMAT_AUTO},
+        {"x?", 2, LUMIS_FORMAT_AUTO},
+        {"#?", 2, LUMIS_FORMAT_HDR},
+        {"PF\r", 3, LUMIS_FORMAT_PFM},
+        {"PF ", 3, LUMIS_FORMAT_PFM},
+        {"Pf\t", 3, LUMIS_FORMAT_PFM},
+        {"PF5", 3, LUMIS_FORMAT_AUTO},
+        {"PG\n", 3, LUMIS_FORMAT_AUTO},
+        {"QF\n", 3, LUMIS_FORMAT_AUTO},
+        {"PF\n", 2, LUMIS_FORMAT_AUTO},
+        {"\x89PNG\r\n\x1a\n", 8, LUMIS_FORMAT_PNG},
+        {"\x89PNG\r\n\x1a\n", 7, LUMIS_FORMAT_AUTO},
+        {"", 0, LUMIS_FORMAT_AUTO},
+    };
+    for (size_t k = 0; k < sizeof magic / sizeof magic[0]; k++)
+        if (lumis_format_from_magic(magic[k].bytes, magic[k].n) != magic[k].want)
+            fail_msg("magic %zu: %d, want %d", k,
+                     (int)lumis_format_from_magic(magic[k].bytes, magic[k].n), (int)magic[k].want);
     lumis_exr_compression c;
     assert_int_equal(lumis_exr_compression_from_name("dwab", &c), LUMIS_OK);
     assert_int_equal(c, LUMIS_EXR_DWAB);
