@@ -565,25 +565,6 @@ static void emitters_refuse_what_they_cannot_be(void **state)
     assert_true(e.r > 0.0f && e.g > 0.0f && e.b > 0.0f);
 }
 
-/* A 2 x 2 luminaire of 2 x 2 grey images on S = [-1, 1]^2 at delta 1. */
-static lumis_luminaire *tiny_luminaire(void)
-{
-    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-    const float *ptrs[4] = {px, px, px, px};
-    lumis_luminaire_desc d = {0};
-    d.delta = 1.0;
-    d.grid[0] = d.grid[1] = 2;
-    d.grid_origin[0] = d.grid_origin[1] = -0.5;
-    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
-    d.width = d.height = 2;
-    d.image_origin[0] = d.image_origin[1] = -1.0;
-    d.image_size[0] = d.image_size[1] = 2.0;
-    d.pixels = ptrs;
-    lumis_luminaire *lum = NULL;
-    assert_int_equal(lumis_luminaire_create(&d, &lum), LUMIS_OK);
-    return lum;
-}
-
 /* One image's sampler, density and inverse (restricted.c) on a real luminaire: refused or 0
  * for a missing argument, an image out of range, the automatic strategy (renders only), a
  * point behind U, and a point of S or of U outside what the image can draw; accepted, each
@@ -591,7 +572,8 @@ static lumis_luminaire *tiny_luminaire(void)
 static void luminaire_images_refuse_what_they_cannot_sample(void **state)
 {
     (void)state;
-    lumis_luminaire *lum = tiny_luminaire();
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(tu_tiny_luminaire(&lum), LUMIS_OK);
     lumis_luminaire_sample smp;
     double u1, u2;
     for (int strat = LUMIS_LUM_RESTRICTED; strat <= LUMIS_LUM_GLOBAL; strat++) {

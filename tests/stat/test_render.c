@@ -2113,18 +2113,7 @@ static void scene_files_are_strict(void **state)
 static lumis_status tiny_preset(void *user, const char *spec, lumis_luminaire **out)
 {
     (void)user, (void)spec;
-    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-    const float *ptrs[4] = {px, px, px, px};
-    lumis_luminaire_desc d = {0};
-    d.delta = 1.0;
-    d.grid[0] = d.grid[1] = 2;
-    d.grid_origin[0] = d.grid_origin[1] = -0.5;
-    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
-    d.width = d.height = 2;
-    d.image_origin[0] = d.image_origin[1] = -1.0;
-    d.image_size[0] = d.image_size[1] = 2.0;
-    d.pixels = ptrs;
-    return lumis_luminaire_create(&d, out);
+    return tu_tiny_luminaire(out);
 }
 
 /* A scene file's defaults and refusals, each as render.h and docs/render.md give them: a
