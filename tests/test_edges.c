@@ -5,13 +5,16 @@
 /* Oracles:
  * lumis_lighting_check — hand-worked: 32 incompatible or missing fields, one per condition, each
  *     refused with its own message naming the field (lighting_check_names_the_field)
- * lumis_session_check — hand-worked: the session's own options refused by name, then the
- *     lighting's (lighting_check_names_the_field)
+ * lumis_session_check — hand-worked: the session's own options refused by name (each count,
+ *     budget and share out of range, light-set options without lights, the automatic
+ *     estimator with what it does not choose from), then the lighting's
+ *     (lighting_check_names_the_field)
  * lumis_lighting_kind_name — hand-worked: "light-set" for its kind; round trip of every kind
  *     (lighting_check_names_the_field)
  * lumis_lighting_kind_from_name — hand-worked: "sun" refused; round trip of every kind
  *     (lighting_check_names_the_field)
- * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_emitter_irradiance — error paths only: missing and absurd arguments refused; 0 behind
+ *     U (luminaires, emitters_refuse_what_they_cannot_be)
  * lumis_envmap_create — error paths only: missing and absurd arguments refused (core_and_maps)
  * lumis_envmap_stats_compute — error paths only: missing and absurd arguments refused
  *     (core_and_maps)
@@ -26,7 +29,8 @@
  * lumis_image_read — error paths only: missing and absurd arguments refused (files_and_metrics)
  * lumis_image_read_memory — error paths only: missing and absurd arguments refused
  *     (files_and_metrics)
- * lumis_image_write — error paths only: missing and absurd arguments refused (files_and_metrics)
+ * lumis_image_write — error paths only: missing and absurd arguments refused, each option by
+ *     its message, nothing written (files_and_metrics)
  * lumis_joint_bilateral_upsample — error paths only: missing and absurd arguments refused
  *     (renderer)
  * lumis_lab_delta_e — error paths only: missing and absurd arguments refused (files_and_metrics)
@@ -46,12 +50,15 @@
  *     (samplers_and_light_sets)
  * lumis_lights_variance_min — error paths only: missing and absurd arguments refused
  *     (samplers_and_light_sets)
- * lumis_luminaire_acquire — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_acquire — error paths only: missing and absurd arguments refused, each
+ *     emitter condition by its message (luminaires, emitters_refuse_what_they_cannot_be)
  * lumis_luminaire_create — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_global_draw — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_global_finish — error paths only: missing and absurd arguments refused
  *     (luminaires)
- * lumis_luminaire_invert — error paths only: missing and absurd arguments refused (luminaires)
+ * lumis_luminaire_invert — consistency: inverts lumis_luminaire_sample_image's draw, restricted
+ *     and uniform; error paths: missing and absurd arguments, a point behind U, of S outside
+ *     the box or p on S refused (luminaires, luminaire_images_refuse_what_they_cannot_sample)
  * lumis_luminaire_irradiance — error paths only: missing and absurd arguments refused (luminaires)
  * lumis_luminaire_manifest_parse — error paths only: missing and absurd arguments refused
  *     (files_and_metrics)
@@ -60,8 +67,12 @@
  * lumis_luminaire_preset_create — error paths only: missing and absurd arguments refused
  *     (luminaires)
  * lumis_luminaire_read — error paths only: missing and absurd arguments refused (files_and_metrics)
- * lumis_luminaire_sample_image — error paths only: missing and absurd arguments refused
- *     (luminaires)
+ * lumis_luminaire_sample_image — consistency: its pdf lumis_luminaire_pdf's, every strategy, p
+ *     in front and on S; error paths: missing and absurd arguments, the automatic strategy, p
+ *     behind U or on S off the image refused (luminaires,
+ *     luminaire_images_refuse_what_they_cannot_sample)
+ * lumis_luminaire_pdf — consistency: the sample's pdf; 0 outside the box and for what
+ *     sample_image refuses (luminaire_images_refuse_what_they_cannot_sample)
  * lumis_luminaire_sample_point — error paths only: missing and absurd arguments refused
  *     (luminaires)
  * lumis_luminaire_write — error paths only: missing and absurd arguments refused
@@ -257,6 +268,33 @@ static void samplers_and_light_sets(void **state)
                          LUMIS_OK);
     assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 1, 0}, NULL, &me),
                          LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, NULL, (lumis_vec3){0, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){0, 1, 0}, &se, NULL),
+                         LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(env, set, (lumis_vec3){NAN, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    assert_int_not_equal(
+        lumis_light_set_irradiance(env, set, (lumis_vec3){0, INFINITY, 0}, &se, &me), LUMIS_OK);
+    /* a map of another size than the set's */
+    lumis_image *other_img = small_image(16, 8, 1.0f);
+    lumis_envmap *other = NULL;
+    assert_int_equal(lumis_envmap_from_image(other_img, &other), LUMIS_OK);
+    assert_int_not_equal(lumis_light_set_irradiance(other, set, (lumis_vec3){0, 1, 0}, &se, &me),
+                         LUMIS_OK);
+    lumis_envmap_destroy(other);
+    lumis_image_destroy(other_img);
+    /* the accessors: nothing of no set, no place to put the lights */
+    assert_int_equal(lumis_light_set_sets(NULL), 0);
+    assert_null(lumis_light_set_get_info(NULL));
+    int lw = -1, lh = -1;
+    assert_null(lumis_light_set_labels(NULL, &lw, &lh));
+    assert_true(lw == -1 && lh == -1);
+    assert_non_null(lumis_light_set_labels(set, NULL, NULL));
+    assert_int_equal(lumis_light_set_get(set, 0, NULL, &n), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_light_set_get(set, 0, &l, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &n), LUMIS_OK);
+    assert_int_equal(n, 4);
     lumis_region_sampler *rs = NULL;
     REFUSED(lumis_region_sampler_create(env, NULL, NULL, &rs), rs);
     assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
@@ -273,6 +311,48 @@ static void samplers_and_light_sets(void **state)
     lumis_image_destroy(img);
 }
 
+/* lumis_image_write's refusals, each by its message, before anything is written; and
+ * lumis_image_read_memory's of no data or no output. */
+static void image_write_refusals(const lumis_image *a)
+{
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_write_options o = {0};
+    o.errors = sink.sink;
+    lumis_image hollow = *a;
+    hollow.pixels = NULL;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), &hollow, &o), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "write: no path or image given"));
+    lumis_image flat = *a;
+    flat.width = 0;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), &flat, &o), LUMIS_ERR_BAD_DIMENSIONS);
+    assert_non_null(strstr(sink.last, "image has bad dimensions"));
+    o.format = LUMIS_FORMAT_COUNT;
+    assert_int_equal(lumis_image_write(tu_path("w.exr"), a, &o), LUMIS_ERR_UNKNOWN_FORMAT);
+    assert_non_null(strstr(sink.last, "unknown output format"));
+    o.format = LUMIS_FORMAT_AUTO;
+    for (int k = 0; k < 4; k++) {
+        lumis_write_options b = o;
+        if (k == 0) b.exposure_ev = NAN;
+        if (k == 1) b.tonemap = LUMIS_TONEMAP_COUNT;
+        if (k == 2) b.exr_compression = LUMIS_EXR_COMPRESSION_COUNT;
+        if (k == 3) b.exr_tile_size = -1;
+        sink.last[0] = '\0';
+        assert_int_equal(lumis_image_write(tu_path("w.exr"), a, &b), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(sink.last, "w.exr: bad exposure or tone map"));
+    }
+    assert_int_equal(tu_count_entries(tu_tmpdir(), "w.exr"), 0); /* nothing written */
+    lumis_read_options ro = {0};
+    ro.errors = sink.sink;
+    lumis_image *img = (lumis_image *)&sink;
+    assert_int_equal(lumis_image_read_memory(NULL, 10, LUMIS_FORMAT_EXR, NULL, &ro, &img, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    assert_non_null(strstr(sink.last, "no data given"));
+    assert_int_equal(lumis_image_read_memory("PF\n", 3, LUMIS_FORMAT_AUTO, NULL, NULL, NULL, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+}
+
 static void files_and_metrics(void **state)
 {
     (void)state;
@@ -286,6 +366,7 @@ static void files_and_metrics(void **state)
     assert_int_not_equal(lumis_image_write(NULL, a, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_image_write(tu_path("x.exr"), NULL, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_image_write(tu_path("x.unknown"), a, NULL), LUMIS_OK);
+    image_write_refusals(a);
     assert_int_not_equal(lumis_write_text(NULL, "x", 1, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_write_text("", "x", 1, NULL), LUMIS_OK);
     assert_int_not_equal(lumis_write_text(tu_path("t.txt"), NULL, 3, NULL), LUMIS_OK);
@@ -358,6 +439,219 @@ static void luminaires(void **state)
     assert_int_not_equal(
         lumis_luminaire_irradiance(NULL, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 2, &e),
         LUMIS_OK);
+}
+
+/* An emitter the acquisition and the true irradiance cannot take: refused with what it
+ * must be (no disks, a disk not behind U or of no size, a plate not between the disks and
+ * U, an unknown pattern, a pattern's period or contrast), and their own numbers out of
+ * range. */
+static void emitters_refuse_what_they_cannot_be(void **state)
+{
+    (void)state;
+    lumis_luminaire_desc layout;
+    lumis_emitter_desc em;
+    lumis_emitter_disk disks[16];
+    assert_int_equal(lumis_luminaire_preset_get(LUMIS_PRESET_SMALL, &layout, &em, disks), LUMIS_OK);
+    assert_true(em.pattern != LUMIS_PATTERN_NONE && em.disk_count >= 1);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_acquire_desc acq = {0};
+    acq.errors = sink.sink;
+    enum { CASES = 15 };
+    static const char *const msgs[CASES] = {
+        "needs at least one disk",
+        "needs at least one disk",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "disk 0 must lie behind U",
+        "must lie between disk 0",
+        "unknown pattern 3",
+        "a pattern needs plate_z < 0, periods > 0 and contrast in [0, 1]",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z",
+        "a pattern needs plate_z"};
+    for (int k = 0; k < CASES; k++) {
+        lumis_emitter_desc e = em;
+        lumis_emitter_disk d[16];
+        memcpy(d, disks, sizeof d);
+        e.disks = d;
+        switch (k) {
+        case 0:
+            e.disk_count = 0;
+            break;
+        case 1:
+            e.disks = NULL;
+            break;
+        case 2:
+            d[0].center[2] = 1.0;
+            break;
+        case 3:
+            d[0].radius = 0.0;
+            break;
+        case 4:
+            d[0].radius = INFINITY;
+            break;
+        case 5:
+            d[0].exponent = -1.0;
+            break;
+        case 6:
+            d[0].center[0] = NAN;
+            break;
+        case 7:
+            d[0].center[1] = INFINITY;
+            break;
+        case 8:
+            e.plate_z = d[0].center[2] - 1.0;
+            break;
+        case 9:
+            e.pattern = LUMIS_PATTERN_COUNT;
+            break;
+        case 10:
+            e.plate_z = 0.5, d[0].center[2] = -1.0;
+            break;
+        case 11:
+            e.period[0] = 0.0;
+            break;
+        case 12:
+            e.pattern = LUMIS_PATTERN_CHECKER, e.period[1] = 0.0;
+            break;
+        case 13:
+            e.contrast = 1.5;
+            break;
+        default:
+            e.contrast = -0.1;
+            break;
+        }
+        if (k == 10) /* every disk behind the plate */
+            for (int q = 1; q < e.disk_count; q++) d[q].center[2] = -1.0;
+        lumis_luminaire *lum = (lumis_luminaire *)&sink;
+        const lumis_status st = lumis_luminaire_acquire(&layout, &e, &acq, &lum);
+        if (st != LUMIS_ERR_INVALID_ARGUMENT || lum || !strstr(sink.last, msgs[k]))
+            fail_msg("emitter case %d: status %d, \"%s\", want \"%s\"", k, (int)st, sink.last,
+                     msgs[k]);
+        lumis_rgb out;
+        assert_int_equal(
+            lumis_emitter_irradiance(&e, (lumis_vec3){0, 0, 1}, (lumis_vec3){0, 0, -1}, 4, 8, &out),
+            LUMIS_ERR_INVALID_ARGUMENT);
+    }
+    lumis_luminaire *lum = NULL;
+    REFUSED(lumis_luminaire_acquire(&layout, NULL, &acq, &lum), lum);
+    REFUSED(lumis_luminaire_acquire(NULL, &em, &acq, &lum), lum);
+    assert_int_equal(lumis_luminaire_acquire(&layout, &em, &acq, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    /* more quadrature nodes than a sample may take */
+    acq.samples_s = 65;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    acq.samples_s = 0;
+    acq.samples_radial = 65;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    acq.samples_radial = 64;
+    acq.samples_angular = 1000;
+    REFUSED(lumis_luminaire_acquire(&layout, &em, &acq, &lum), lum);
+    assert_non_null(strstr(sink.last, "at most 64 sensor samples per axis and 4096 nodes"));
+    /* the true irradiance: no output, too many nodes, no normal; nothing behind U */
+    const lumis_vec3 p = {0, 0, 1}, n = {0, 0, -1}, zero = {0, 0, 0};
+    lumis_rgb e = {1, 1, 1};
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 4, 8, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 65, 8, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 64, 2000, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, zero, 4, 8, &e), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_emitter_irradiance(&em, (lumis_vec3){0, 0, -1}, n, 4, 8, &e), LUMIS_OK);
+    assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+    assert_int_equal(lumis_emitter_irradiance(&em, p, n, 0, 0, &e), LUMIS_OK);
+    assert_true(e.r > 0.0f && e.g > 0.0f && e.b > 0.0f);
+}
+
+/* One image's sampler, density and inverse (restricted.c) on a real luminaire: refused or 0
+ * for a missing argument, an image out of range, the automatic strategy (renders only), a
+ * point behind U, and a point of S or of U outside what the image can draw; accepted, each
+ * the other's inverse, for what it can. */
+static void luminaire_images_refuse_what_they_cannot_sample(void **state)
+{
+    (void)state;
+    lumis_luminaire *lum = NULL;
+    assert_int_equal(tu_tiny_luminaire(&lum), LUMIS_OK);
+    lumis_luminaire_sample smp;
+    double u1, u2;
+    for (int strat = LUMIS_LUM_RESTRICTED; strat <= LUMIS_LUM_GLOBAL; strat++) {
+        lumis_luminaire_query q = {0};
+        q.p = (lumis_vec3){0.1f, -0.2f, 3.0f};
+        q.strategy = (lumis_luminaire_strategy)strat;
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.3, 0.6, &smp), LUMIS_OK);
+        const double pdf = lumis_luminaire_pdf(lum, &q, 1, smp.s[0], smp.s[1]);
+        assert_true(pdf > 0.0 && fabs(pdf - smp.pdf) <= 1e-5 * pdf);
+        if (strat != LUMIS_LUM_GLOBAL) { /* the inverse of the restricted and uniform draws */
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, smp.s[0], smp.s[1], &u1, &u2),
+                             LUMIS_OK);
+            assert_true(fabs(u1 - 0.3) < 1e-6 && fabs(u2 - 0.6) < 1e-6);
+        }
+        /* a point of S outside the image's box */
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 50.0, 0.0) == 0.0);
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, -50.0) == 0.0);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 50.0, 0.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, -50.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        /* no luminaire, query or output; images -1 and M */
+        assert_int_equal(lumis_luminaire_sample_image(lum, NULL, 1, 0.5, 0.5, &smp),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(lumis_luminaire_pdf(NULL, &q, 1, 0.0, 0.0) == 0.0);
+        assert_true(lumis_luminaire_pdf(lum, NULL, 1, 0.0, 0.0) == 0.0);
+        assert_int_equal(lumis_luminaire_invert(lum, NULL, 1, 0.0, 0.0, &u1, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, NULL, &u2),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, NULL),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        for (int m = -1; m <= 4; m += 5) {
+            assert_int_equal(lumis_luminaire_sample_image(lum, &q, m, 0.5, 0.5, &smp),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            assert_true(lumis_luminaire_pdf(lum, &q, m, 0.0, 0.0) == 0.0);
+            assert_int_equal(lumis_luminaire_invert(lum, &q, m, 0.0, 0.0, &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+        }
+        /* behind U (z <= 0): the light travels towards +z */
+        q.p.z = -0.5f;
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+        if (strat != LUMIS_LUM_GLOBAL)
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+        /* on S: uniform over Phi_m's support on U (the global strategy ignores p); off the
+         * image, refused */
+        q.p = (lumis_vec3){0.25f, 0.25f, 1.0f};
+        assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp), LUMIS_OK);
+        const double *at = strat == LUMIS_LUM_GLOBAL ? smp.s : smp.u;
+        const double on = lumis_luminaire_pdf(lum, &q, 1, at[0], at[1]);
+        if (!(on > 0.0 && fabs(on - smp.pdf) <= 1e-5 * on))
+            fail_msg("strategy %d on S: pdf %g, the sample's %g", strat, on, (double)smp.pdf);
+        if (strat != LUMIS_LUM_GLOBAL) {
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, 50.0, smp.u[1]) == 0.0);
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, smp.u[0], -50.0) == 0.0);
+            assert_int_equal(lumis_luminaire_invert(lum, &q, 1, smp.u[0], smp.u[1], &u1, &u2),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            q.p.x = 5.0f; /* on S's plane, off the image */
+            assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                             LUMIS_ERR_INVALID_ARGUMENT);
+            assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+        }
+    }
+    /* the automatic strategy is the renderer's choice, not a sampler */
+    lumis_luminaire_query q = {0};
+    q.p = (lumis_vec3){0.0f, 0.0f, 3.0f};
+    q.strategy = LUMIS_LUM_AUTO;
+    assert_int_equal(lumis_luminaire_sample_image(lum, &q, 1, 0.5, 0.5, &smp),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_true(lumis_luminaire_pdf(lum, &q, 1, 0.0, 0.0) == 0.0);
+    assert_int_equal(lumis_luminaire_invert(lum, &q, 1, 0.0, 0.0, &u1, &u2),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    lumis_luminaire_destroy(lum);
 }
 
 static void renderer(void **state)
@@ -533,6 +827,157 @@ static void renderer(void **state)
 /* How a render is lit is one value: lumis_lighting_check alone refuses what a kind lacks or
  * does not take, one message per condition naming the field (the check reads pointers for
  * NULL only, so stand-ins do here). */
+/* One field of a session given wrong, and the words its refusal must hold. */
+typedef struct session_case {
+    int field;
+    const char *msg;
+} session_case;
+
+/* A map's session (MIS, no lights) with case k's field set; kind light-set for the cases
+ * of lights. */
+static void session_with(lumis_session_desc *s, int field)
+{
+    static const lumis_light_params params = {0};
+    switch (field) {
+    case 0:
+        s->time_budget = NAN;
+        break;
+    case 1:
+        s->time_budget = -1.0;
+        break;
+    case 2:
+        s->spent = INFINITY;
+        break;
+    case 3:
+        s->lights_k = -1;
+        break;
+    case 4:
+        s->interleave = -1;
+        break;
+    case 5:
+        s->upsample = -1;
+        break;
+    case 6:
+        s->timed_spp = -1;
+        break;
+    case 7:
+        s->auto_pilot_spp = -1;
+        break;
+    case 8:
+        s->auto_pilot_spp = 5000;
+        break;
+    case 9:
+        s->share_spp = -1;
+        break;
+    case 10:
+        s->share_spp = 4, s->time_budget = 1.0;
+        break;
+    case 11:
+        s->lights = "bogus";
+        break;
+    case 12:
+        s->lights_k = 8;
+        break;
+    case 13:
+        s->lights_params = &params;
+        break;
+    case 14:
+        s->upsample = 2;
+        break;
+    case 15:
+        s->auto_pilot_spp = 16;
+        break;
+    case 16:
+        s->auto_estimator = 1, s->render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+        break;
+    case 17:
+        s->auto_estimator = 1, s->render.lighting.env = NULL;
+        break;
+    case 18:
+        s->auto_estimator = 1, s->render.lighting.sampler = NULL;
+        break;
+    case 19:
+        s->auto_estimator = 1, s->render.lighting.estimator = LUMIS_ESTIMATOR_LIGHT;
+        break;
+    case 20:
+        s->auto_estimator = 1, s->render.camera = NULL;
+        break;
+    case 21:
+        s->auto_estimator = 1, s->share_spp = 4;
+        break;
+    default:
+        break;
+    }
+}
+
+/* The session's own fields, each refused with its message (lumis_session_check; it reads
+ * no map, sampler or regions: the caller's stand-ins do). */
+static void session_refusals(const lumis_camera *cam, const lumis_envmap *env,
+                             const lumis_sampler *smp, const lumis_region_sampler *rs)
+{
+    static const session_case cases[] = {
+        {0, "needs a finite budget >= 0 and non-negative counts"},
+        {1, "needs a finite budget >= 0"},
+        {2, "needs a finite budget >= 0"},
+        {3, "non-negative counts"},
+        {4, "non-negative counts"},
+        {5, "non-negative counts"},
+        {6, "non-negative counts"},
+        {7, "non-negative counts"},
+        {8, "non-negative counts"},
+        {9, "a share of a render is a number of samples (share_spp >= 0)"},
+        {10, "not a time budget"},
+        {11, "lights 'bogus': unknown light-set method"},
+        {12, "lights_k: does not apply without lights"},
+        {13, "lights_params: does not apply without lights"},
+        {14, "upsample: does not apply without lights"},
+        {15, "auto_pilot_spp: applies with auto_estimator"},
+        {16, "render.lighting.kind is not that"},
+        {17, "render.lighting.env is not that"},
+        {18, "render.lighting.sampler is not that"},
+        {19, "render.lighting.estimator is not that"},
+        {20, "render.camera is not that"},
+        {21, "share_spp is not that"},
+    };
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_session_desc base = {0};
+    base.render.camera = cam;
+    base.render.errors = sink.sink;
+    base.render.lighting.env = env;
+    base.render.lighting.sampler = smp;
+    assert_int_equal(lumis_session_check(&base), LUMIS_OK);
+    assert_int_equal(lumis_session_check(NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        lumis_session_desc s = base;
+        session_with(&s, cases[k].field);
+        sink.last[0] = '\0';
+        const lumis_status st = lumis_session_check(&s);
+        if (st != LUMIS_ERR_INVALID_ARGUMENT || !strstr(sink.last, cases[k].msg))
+            fail_msg("session case %d: status %d, \"%s\", want \"%s\"", cases[k].field, (int)st,
+                     sink.last, cases[k].msg);
+    }
+    /* a light set's session: the automatic estimator and the caller's regions are not its,
+     * and it needs a camera */
+    lumis_session_desc s = base;
+    s.lights = "median-cut";
+    s.render.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    s.render.lighting.sampler = NULL;
+    assert_int_equal(lumis_session_check(&s), LUMIS_OK);
+    s.auto_estimator = 1;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "auto_estimator: chooses how the map lights the scene"));
+    assert_non_null(strstr(sink.last, ": lights is not that"));
+    s.auto_estimator = 0;
+    s.render.camera = NULL;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "render.camera: missing: a light set's session needs it"));
+    s.render.camera = cam;
+    s.render.lighting.light_set.regions = rs;
+    assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "render.lighting.light_set.regions: given"));
+}
+
 static void lighting_check_names_the_field(void **state)
 {
     (void)state;
@@ -666,6 +1111,7 @@ static void lighting_check_names_the_field(void **state)
     s.interleave = 4;
     assert_int_equal(lumis_session_check(&s), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(sink.last, "interleave: does not apply without lights"));
+    session_refusals(&cam, env, smp, rs);
 }
 
 static void bsdfs_below_the_horizon(void **state)
@@ -700,6 +1146,8 @@ int main(void)
         cmocka_unit_test(samplers_and_light_sets),
         cmocka_unit_test(files_and_metrics),
         cmocka_unit_test(luminaires),
+        cmocka_unit_test(luminaire_images_refuse_what_they_cannot_sample),
+        cmocka_unit_test(emitters_refuse_what_they_cannot_be),
         cmocka_unit_test(renderer),
         cmocka_unit_test(bsdfs_below_the_horizon),
         cmocka_unit_test(lighting_check_names_the_field),

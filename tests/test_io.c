@@ -19,8 +19,8 @@
  *     (png_applies_exposure_tonemap_and_srgb)
  * lumis_format_from_path — hand-worked: .EXR in any case, .pic, a directory named .exr, NULL
  *     (format_names_and_detection)
- * lumis_format_from_magic — hand-worked: the magic bytes of HDR, PFM, EXR
- *     (format_names_and_detection)
+ * lumis_format_from_magic — hand-worked: the magic bytes of HDR, PFM, EXR, PNG; one byte off or
+ *     one short of each, not a format (format_names_and_detection)
  * lumis_format_name — hand-worked: "pfm" (format_names_and_detection)
  * lumis_exr_compression_from_name — hand-worked: "dwab"; "lzma" refused
  *     (format_names_and_detection)
@@ -29,8 +29,8 @@
  *     as a file (map_specs_name_sizes_and_files)
  * lumis_write_text — hand-worked: FIFOs, links, descriptors and directories written in place or
  *     refused (outputs_to_fifos_links_and_directories, outputs_through_descriptors_and_links)
- * lumis_output_target — hand-worked: /dev/fd/N, /proc/self/fd/N, dangling links and chains resolved
- *     (outputs_through_descriptors_and_links)
+ * lumis_output_target — hand-worked: /dev/fd/N, /proc/self/fd/N, /dev/stderr, dangling links,
+ *     chains and loops resolved (outputs_through_descriptors_and_links)
  * lumis_io_remove_partial_outputs — hand-worked: a write in progress loses its temporary file and
  *     then fails (partial_outputs_are_removed_on_request)
  * lumis_export_frame_dir — external: every pixel centre lands on its pixel under three.js's and
@@ -1040,6 +1040,36 @@ static void format_names_and_detection(void **state)
     assert_int_equal(lumis_format_from_magic("#?RADIANCE", 10), LUMIS_FORMAT_HDR);
     assert_int_equal(lumis_format_from_magic("Pf\n", 3), LUMIS_FORMAT_PFM);
     assert_int_equal(lumis_format_from_magic("v/1\x01", 4), LUMIS_FORMAT_EXR);
+    /* every byte of each magic matters, and so does its length */
+    static const struct {
+        const char *bytes;
+        size_t n;
+        lumis_file_format want;
+    } magic[] = {
+        {"v/1\x02", 4, LUMIS_FORMAT_AUTO},
+        {"v/2\x01", 4, LUMIS_FORMAT_AUTO},
+        {"v.1\x01", 4, LUMIS_FORMAT_AUTO},
+        {"w/1\x01", 4, LUMIS_FORMAT_AUTO},
+        {"v/1\x01", 3, LUMIS_FORMAT_AUTO},
+        {"#!", 2, LUMIS_FORMAT_AUTO},
+        {"#?", 1, LUMIS_FORMAT_AUTO},
+        {"x?", 2, LUMIS_FORMAT_AUTO},
+        {"#?", 2, LUMIS_FORMAT_HDR},
+        {"PF\r", 3, LUMIS_FORMAT_PFM},
+        {"PF ", 3, LUMIS_FORMAT_PFM},
+        {"Pf\t", 3, LUMIS_FORMAT_PFM},
+        {"PF5", 3, LUMIS_FORMAT_AUTO},
+        {"PG\n", 3, LUMIS_FORMAT_AUTO},
+        {"QF\n", 3, LUMIS_FORMAT_AUTO},
+        {"PF\n", 2, LUMIS_FORMAT_AUTO},
+        {"\x89PNG\r\n\x1a\n", 8, LUMIS_FORMAT_PNG},
+        {"\x89PNG\r\n\x1a\n", 7, LUMIS_FORMAT_AUTO},
+        {"", 0, LUMIS_FORMAT_AUTO},
+    };
+    for (size_t k = 0; k < sizeof magic / sizeof magic[0]; k++)
+        if (lumis_format_from_magic(magic[k].bytes, magic[k].n) != magic[k].want)
+            fail_msg("magic %zu: %d, want %d", k,
+                     (int)lumis_format_from_magic(magic[k].bytes, magic[k].n), (int)magic[k].want);
     lumis_exr_compression c;
     assert_int_equal(lumis_exr_compression_from_name("dwab", &c), LUMIS_OK);
     assert_int_equal(c, LUMIS_EXR_DWAB);
@@ -1675,6 +1705,60 @@ static void outputs_through_descriptors_and_links(void **state)
     assert_true(S_ISLNK(sb.st_mode));
     /* a folder is refused, by name or through a link */
     assert_int_not_equal(lumis_write_text(tu_tmpdir(), "x", 1, NULL), LUMIS_OK);
+    /* no path, buffer or room; no text */
+    assert_int_equal(lumis_output_target(NULL, where, sizeof where), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_output_target(link2, NULL, sizeof where), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_output_target(link2, where, 0), LUMIS_ERR_INVALID_ARGUMENT);
+    tu_sink sink;
+    tu_sink_init(&sink);
+    assert_int_equal(lumis_write_text(target, NULL, 3, &sink.sink), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(sink.last, "no text to write"));
+    /* stderr, and a link to it by an absolute path: a descriptor, the path as given */
+    assert_int_equal(lumis_output_target("/dev/stderr", where, sizeof where), LUMIS_OK);
+    assert_string_equal(where, "/dev/stderr");
+    char to_err[600];
+    snprintf(to_err, sizeof to_err, "%s", tu_path("to-stderr"));
+    assert_int_equal(symlink("/dev/stderr", to_err), 0);
+    assert_int_equal(lumis_output_target(to_err, where, sizeof where), LUMIS_OK);
+    assert_string_equal(where, to_err);
+    /* descriptor numbers no int holds, or not numbers: paths like any other */
+    static const char *const not_fds[] = {"/dev/fd/99999999999", "/dev/fd/-3", "/dev/fd/"};
+    for (int k = 0; k < 3; k++) {
+        assert_int_equal(lumis_output_target(not_fds[k], where, sizeof where), LUMIS_OK);
+        assert_string_equal(where, not_fds[k]);
+    }
+    /* a loop of links ends after 40 hops on one of its two names */
+    char loop_a[600], loop_b[600];
+    snprintf(loop_a, sizeof loop_a, "%s", tu_path("loop-a"));
+    snprintf(loop_b, sizeof loop_b, "%s", tu_path("loop-b"));
+    assert_int_equal(symlink("loop-b", loop_a), 0);
+    assert_int_equal(symlink("loop-a", loop_b), 0);
+    assert_int_equal(lumis_output_target(loop_a, where, sizeof where), LUMIS_OK);
+    assert_true(strcmp(where, loop_a) == 0 || strcmp(where, loop_b) == 0);
+    /* a name without a folder (its folder, ".", is synced), and without syncing at all */
+    char cwd[4096];
+    assert_non_null(getcwd(cwd, sizeof cwd));
+    assert_int_equal(chdir(tu_tmpdir()), 0);
+    const char *was = getenv("LUMIS_NO_FSYNC");
+    char kept[64];
+    snprintf(kept, sizeof kept, "%s", was ? was : "");
+    setenv("LUMIS_NO_FSYNC", "0", 1);
+    const lumis_status rel = lumis_write_text("relative.txt", "here", 4, NULL);
+    setenv("LUMIS_NO_FSYNC", "1", 1);
+    const lumis_status nosync = lumis_write_text("unsynced.txt", "fast", 4, NULL);
+    if (was)
+        setenv("LUMIS_NO_FSYNC", kept, 1);
+    else
+        unsetenv("LUMIS_NO_FSYNC");
+    assert_int_equal(chdir(cwd), 0);
+    assert_int_equal(rel, LUMIS_OK);
+    assert_int_equal(nosync, LUMIS_OK);
+    got = tu_read_file(tu_path("relative.txt"), &n);
+    assert_true(got && n == 4 && memcmp(got, "here", 4) == 0);
+    free(got);
+    got = tu_read_file(tu_path("unsynced.txt"), &n);
+    assert_true(got && n == 4 && memcmp(got, "fast", 4) == 0);
+    free(got);
 }
 
 int main(void)

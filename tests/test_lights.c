@@ -12,9 +12,11 @@
  *     (variance_min_splits_minimise_the_summed_variance,
  *     every_method_is_invariant_to_the_maps_brightness)
  * lumis_lights_decompose — brute force: emissive threshold a sorted percentile, Eq. 2's budget and
- *     min_share recomputed from the pixels, exactly K lights, power conserved; statistical: seeds
- *     by energy (binomial bounds); invariance: Eq. 3 under 2^10 scale
+ *     min_share recomputed from the pixels, exactly K lights, power conserved, k-means's fixed
+ *     point (every member nearest its own centroid, recomputed from exact pixel moments);
+ *     statistical: seeds by energy (binomial bounds); invariance: Eq. 3 under 2^10 scale
  *     (emissive_threshold_is_a_brute_force_percentile, eq2_budget_from_the_pixels,
+ *     kmeans_stops_at_a_fixed_point,
  *     min_share_on_one_map, the_cut_yields_exactly_k_lights, envdirect_seeds_follow_energy,
  *     eq3_is_invariant_to_the_maps_scale)
  * lumis_lights_fhis — statistical: points follow importance (2:1 halves), uniform per solid angle
@@ -1257,6 +1259,85 @@ static void wu_indirect_lights_point_at_their_regions_centroid(void **state)
     }
 }
 
+/* Lloyd's fixed point, brute force: with nothing returned (return_factor far over pi), every
+ * EnvDirect's region is its k-means cluster, so after convergence each member's nearest
+ * centre, by the chord between unit vectors that k-means minimises, is its own cluster's,
+ * and each centre is its cluster's energy centroid normalize(sum Y m_p) over the exact pixel
+ * moments m_p, summed here.  The light's direction must be that centroid too. */
+static void kmeans_stops_at_a_fixed_point(void **state)
+{
+    (void)state;
+    const int w = 256, h = 128;
+    lumis_envmap *env = make_env(w, h, speckle_pixel, 0.0f, 0.0f);
+    static const lumis_decomp_variant vars[] = {LUMIS_DECOMP_IS_KMEANS, LUMIS_DECOMP_FULL};
+    int iterated = 0;
+    for (int v = 0; v < 2; v++)
+        for (uint64_t seed = 0; seed < 4; seed++) {
+            lumis_decomp_desc d = {0};
+            d.count = 64;
+            d.seed = seed;
+            d.variant = vars[v];
+            d.threshold = 10.0f;    /* the speckles */
+            d.return_factor = 1e6f; /* return no pixel */
+            lumis_light_set *set = NULL;
+            assert_int_equal(lumis_lights_decompose(env, &d, &set), LUMIS_OK);
+            const lumis_light_set_info *info = lumis_light_set_get_info(set);
+            assert_true(info->kmeans_converged);
+            iterated += info->kmeans_iterations > 2;
+            const lumis_light *L;
+            int n, lw, lh;
+            assert_int_equal(lumis_light_set_get(set, 0, &L, &n), LUMIS_OK);
+            const int32_t *lab = lumis_light_set_labels(set, &lw, &lh);
+            double(*c)[3] = calloc((size_t)n, sizeof *c);
+            double(*x)[3] = calloc((size_t)w * (size_t)h, sizeof *x);
+            assert_true(c && x);
+            int members = 0;
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++) {
+                    const int k = lab[j * w + i];
+                    const double y = pixel_y(env, i, j);
+                    /* every emissive pixel stays in its cluster, and only those are in one */
+                    assert_int_equal(L[k].kind == LUMIS_LIGHT_ENV_DIRECT, y > d.threshold);
+                    if (L[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+                    double *m = x[j * w + i];
+                    pixel_moment(w, h, i, j, m);
+                    for (int q = 0; q < 3; q++) c[k][q] += y * m[q];
+                    const double len = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                    for (int q = 0; q < 3; q++) m[q] /= len;
+                    members++;
+                }
+            assert_true(members > 500);
+            for (int k = 0; k < n; k++) {
+                if (L[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+                const double len = sqrt(c[k][0] * c[k][0] + c[k][1] * c[k][1] + c[k][2] * c[k][2]);
+                for (int q = 0; q < 3; q++) c[k][q] /= len;
+                const double a = angle(L[k].dir, c[k]);
+                if (!(a < 1e-6))
+                    fail_msg("seed %d: light %d is %g rad off its centroid", (int)seed, k, a);
+            }
+            for (int p = 0; p < w * h; p++) {
+                const int k = lab[p];
+                if (L[k].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+                const double *e = x[p];
+                const double own = e[0] * c[k][0] + e[1] * c[k][1] + e[2] * c[k][2];
+                for (int o = 0; o < n; o++) {
+                    if (o == k || L[o].kind != LUMIS_LIGHT_ENV_DIRECT) continue;
+                    /* |x - c|^2 = 2 - 2 x.c: nearer is a larger dot product */
+                    const double other = e[0] * c[o][0] + e[1] * c[o][1] + e[2] * c[o][2];
+                    if (!(other <= own + 1e-12))
+                        fail_msg("variant %d, seed %d: pixel %d of cluster %d is nearer to %d's "
+                                 "centre (dot %.15f, its own %.15f)",
+                                 v, (int)seed, p, k, o, other, own);
+                }
+            }
+            free(c);
+            free(x);
+            lumis_light_set_destroy(set);
+        }
+    assert_true(iterated > 0); /* real iterations, not only the seeds' assignment */
+    lumis_envmap_destroy(env);
+}
+
 static void fhis_and_tmms_are_deterministic_and_refuse_bad_options(void **state)
 {
     (void)state;
@@ -2252,6 +2333,7 @@ int main(void)
         cmocka_unit_test(one_light_per_pixel_is_exact),
         cmocka_unit_test(emissive_threshold_is_a_brute_force_percentile),
         cmocka_unit_test(kmeans_terminates_and_never_increases_its_objective),
+        cmocka_unit_test(kmeans_stops_at_a_fixed_point),
         cmocka_unit_test(the_cut_yields_exactly_k_lights),
         cmocka_unit_test(wu_parts_and_ablations),
         cmocka_unit_test(deterministic_with_fixed_seeds),

@@ -17,10 +17,12 @@
  *     (lamp_lumens_count_every_lamp)
  * lumis_photometric_tilt_factor — hand-worked: the generator's TILT table gives 1, 0.95, 0.9 at 0,
  *     45, 90 degrees; type C from hanging, A and B from level (tilt_factors_by_aim)
- * lumis_photometric_read_memory — hand-worked: the file's own text (Latin-1 to UTF-8, declared flux
- *     warning); error paths: BOM alone, hex and inf numbers, factors ≤ 0, zero tables
+ * lumis_photometric_read_memory — hand-worked: the file's own text (Latin-1 to UTF-8, byte by
+ *     byte where it only looks like UTF-8; declared flux warning); error paths: no output or
+ *     data, empty, too large, BOM alone, hex and inf numbers, factors ≤ 0, zero tables
  *     (latin1_headers_become_utf8, ldt_declared_flux_is_checked, bad_inputs_are_refused)
- * lumis_photometric_read — error paths only: a FIFO refused at once (fifo_is_refused)
+ * lumis_photometric_read — error paths only: a FIFO refused at once, no output (fifo_is_refused,
+ *     bad_inputs_are_refused)
  * lumis_photometric_create — closed form: tables of the analytic distributions above
  *     (symmetry_forms_with_exactly_their_symmetry)
  */
@@ -161,6 +163,29 @@ static void latin1_headers_become_utf8(void **state)
     assert_string_equal(f->luminaire, "Spot 30\xc2\xb0 continued here");
     lumis_photometric_file_destroy(f);
     free(u8);
+    /* what only looks like UTF-8 (overlong, a surrogate, past U+10FFFF, a lead byte without
+     * its continuation, a byte no sequence starts with) is Latin-1, byte by byte: C1 bytes
+     * U+FFFD; three- and four-byte sequences that are valid are kept */
+    static const char *const fields[][2] = {
+        {"A\xe0\x80\x80", "A\xc3\xa0\xef\xbf\xbd\xef\xbf\xbd"},
+        {"\xed\xa0\x80", "\xc3\xad\xc2\xa0\xef\xbf\xbd"},
+        {"\xf0\x80\x80\x80", "\xc3\xb0\xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd"},
+        {"\xf4\x90\x80\x80", "\xc3\xb4\xef\xbf\xbd\xef\xbf\xbd\xef\xbf\xbd"},
+        {"\xc3(", "\xc3\x83("},
+        {"\xf8x", "\xc3\xb8x"},
+        {"\xe2\x82\xac 5", "\xe2\x82\xac 5"},
+        {"\xf0\x9f\x98\x80\xed\x9f\xbf", "\xf0\x9f\x98\x80\xed\x9f\xbf"},
+    };
+    for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+        char from[64], want[96];
+        snprintf(from, sizeof from, "[LUMINAIRE] %s", fields[k][0]);
+        snprintf(want, sizeof want, "%s continued here", fields[k][1]);
+        char *b = replaced(text, "[LUMINAIRE] analytic 0", from);
+        assert_int_equal(try_read(b, strlen(b), &sink, &f), LUMIS_OK);
+        if (strcmp(f->luminaire, want) != 0) fail_msg("field %zu: '%s'", k, f->luminaire);
+        lumis_photometric_file_destroy(f);
+        free(b);
+    }
     free(l1);
     free(text);
 }
@@ -252,6 +277,25 @@ static void beam_and_field_over_the_whole_circle(void **state)
 static void bad_inputs_are_refused(void **state)
 {
     (void)state;
+    /* no output, no data, nothing, too much (refused before a byte is read) */
+    tu_sink as;
+    tu_sink_init(&as);
+    lumis_photometric_file *none = (lumis_photometric_file *)&as;
+    assert_int_equal(lumis_photometric_read_memory("IES", 3, "t.ies", &as.sink, NULL),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_photometric_read_memory(NULL, 3, NULL, &as.sink, &none),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(none);
+    assert_non_null(strstr(as.last, "<memory>: no data"));
+    assert_int_equal(lumis_photometric_read_memory("", 0, "t.ies", &as.sink, &none),
+                     LUMIS_ERR_EMPTY_FILE);
+    assert_non_null(strstr(as.last, "t.ies: the file is empty"));
+    assert_int_equal(
+        lumis_photometric_read_memory("IES", (size_t)1 << 40, "t.ies", &as.sink, &none),
+        LUMIS_ERR_TOO_LARGE);
+    assert_non_null(strstr(as.last, "are not read"));
+    assert_int_equal(lumis_photometric_read("t.ies", &as.sink, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(as.last, "no output"));
     /* a lone byte-order mark, and with line ends after it */
     const char *boms[] = {"\xef\xbb\xbf", "\xef\xbb\xbf\r", "\xef\xbb\xbf\r\n", "\xef\xbb\xbf\n\n"};
     for (size_t k = 0; k < 4; k++) refused(boms[k], LUMIS_ERR_UNKNOWN_FORMAT, "not a photometric");
@@ -358,6 +402,8 @@ static void tilt_factors_by_aim(void **state)
         {LUMIS_PHOTOMETRIC_B, {0, r, r}, 0.95},
         {LUMIS_PHOTOMETRIC_A, {0, -1, 0}, 0.9},
         {LUMIS_PHOTOMETRIC_C, {0, 0, 0}, 1.0},
+        {LUMIS_PHOTOMETRIC_C, {NAN, -1, 0}, 1.0},
+        {LUMIS_PHOTOMETRIC_C, {0, INFINITY, 0}, 1.0},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         const double got = lumis_photometric_tilt_factor(f, cases[k].type, cases[k].aim);
@@ -371,6 +417,7 @@ static void tilt_factors_by_aim(void **state)
     assert_int_equal(try_read(text, strlen(text), &sink, &f), LUMIS_OK);
     const lumis_vec3 side = {1, 0, 0};
     assert_true(lumis_photometric_tilt_factor(f, LUMIS_PHOTOMETRIC_C, side) == 1.0);
+    assert_true(lumis_photometric_tilt_factor(NULL, LUMIS_PHOTOMETRIC_C, side) == 1.0);
     lumis_photometric_file_destroy(f);
     free(text);
 }

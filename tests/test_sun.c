@@ -1,30 +1,41 @@
 /* The image sun (lumis/sun.h): detection, the exact split, and the cone's sampling. */
 /* Oracles:
  * lumis_sun_find — closed form: a disk of known direction, radius and radiance drawn on a
- *     coloured asymmetric background at odd sizes (rotated too), and the Preetham sky's sun of
+ *     coloured asymmetric background at odd sizes (rotated too; over either pole and with its
+ *     rim across one, where the fit's rows end at the map's edge), and the Preetham sky's sun of
  *     docs/sky.md (direction from its elevation and azimuth, power from its transmittance);
  *     brute force: the residual + the sun's pixels == the map, pixel by pixel and in power;
  *     hand-worked: no sun in a uniform, black, NaN, 1 x 1, too coarse, sunless-sky or
- *     pmndrs-venice map (synthetic_disk_is_recovered, sky_sun_is_recovered,
- *     split_is_exact, no_sun_where_there_is_none, find_refuses_bad_arguments)
+ *     pmndrs-venice map (synthetic_disk_is_recovered, suns_at_the_poles_are_recovered,
+ *     sky_sun_is_recovered, split_is_exact, no_sun_where_there_is_none,
+ *     find_refuses_bad_arguments)
  * lumis_sun_eval — brute force: eval + the residual's eval == the map's eval, bit for bit, in
- *     random directions and at every pixel centre (split_is_exact)
+ *     random directions and at every pixel centre (split_is_exact,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_contains — brute force: the pixels the test's own centre formula puts within the
- *     radius (split_is_exact)
+ *     radius; hand-worked: nothing for a sun no find returns (not found, a cone of no or too
+ *     wide an angle, an axis zero or not finite), no map, a pixel off the map, a direction
+ *     zero or not finite, and the same of every function below (split_is_exact,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sample — statistical: chi-square over equal-area bins of a frame built by the
  *     test; unbiased estimates of the map's power and of the irradiance on planes against a
  *     brute-force sum over sub-pixels, with the residual's sampler, on all three channels
- *     (cone_chi_square, power_is_unbiased, irradiance_matches_brute_force)
+ *     (cone_chi_square, power_is_unbiased, irradiance_matches_brute_force,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_pdf — closed form: integrates to 1 over the sphere by quadrature, 0 outside the
- *     cone; consistency: equals the sample's pdf (cone_pdf_integrates_to_one, cone_chi_square)
- * lumis_sun_invert — consistency: invert(sample(u)) == u, the round trip (cone_chi_square)
+ *     cone; consistency: equals the sample's pdf (cone_pdf_integrates_to_one, cone_chi_square,
+ *     sun_functions_refuse_bad_input)
+ * lumis_sun_invert — consistency: invert(sample(u)) == u, the round trip (cone_chi_square,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_create — brute force: the pixels and probabilities the test computes from
- *     the map's luminance (sun_pixels_by_power)
+ *     the map's luminance (sun_pixels_by_power, suns_at_the_poles_are_recovered,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_sample — statistical: chi-square over the sun's pixels against Y Omega /
  *     sum; unbiased power and brute-force irradiance, all channels (sun_pixels_by_power,
- *     power_is_unbiased, irradiance_matches_brute_force)
+ *     power_is_unbiased, irradiance_matches_brute_force, sun_functions_refuse_bad_input)
  * lumis_sun_sampler_pdf — brute force: Y / sum(Y Omega) at every pixel, 0 off the sun, sums to
- *     1 over the map (sun_pixels_by_power)
+ *     1 over the map (sun_pixels_by_power, suns_at_the_poles_are_recovered,
+ *     sun_functions_refuse_bad_input)
  * lumis_sun_sampler_destroy — consistency: frees what create made (every test, under the
  *     sanitizers' leak check)
  */
@@ -154,6 +165,86 @@ static void synthetic_disk_is_recovered(void **state)
             assert_true(fabs(f.radiance.g * f.solid_angle - f.power[1]) < 1e-6 * f.power[1]);
             assert_true(f.radiance.g <= sun[1] * scale && f.radiance.g > 0.8 * sun[1] * scale);
             lumis_envmap_destroy(res);
+            lumis_envmap_destroy(env);
+            free(px);
+        }
+}
+
+/* A disk over a pole, and one whose rim crosses it: the rows the fit, the residual and the
+ * sampler visit run from the top row or to the bottom one (where the padding row about the
+ * disk is clamped away), so the power, direction and radius must still be the disk's, the
+ * residual zero on all its pixels and the sampler's pdf Y / sum(Y Omega) on each.  The nadir's disk
+ * holds whole rows (the bottom row is a quarter of its power at 151 rows), the zenith's is its
+ * mirror image. */
+static void suns_at_the_poles_are_recovered(void **state)
+{
+    (void)state;
+    static const int sizes[][2] = {{301, 151}, {512, 256}};
+    /* the disk's centre, degrees from the zenith: nadir, zenith, 1.5 degrees off each */
+    static const double theta[] = {180.0, 0.0, 178.5, 1.5};
+    const float sun[3] = {4.0e4f, 2.0e4f, 1.0e4f};
+    const double rad = 2.5, ph0 = 77.0 * PI / 180.0;
+    for (int s = 0; s < 2; s++)
+        for (int t = 0; t < 4; t++) {
+            const int w = sizes[s][0], h = sizes[s][1];
+            const double th0 = theta[t] * PI / 180.0, pix = 180.0 / h; /* degrees */
+            double pw[3];
+            float *px = disk_map(w, h, th0, ph0, rad, sun, pw);
+            lumis_envmap *env = env_of(px, w, h, 0.0f, 1.0f);
+            lumis_sun f;
+            lumis_envmap *res = NULL;
+            assert_int_equal(lumis_sun_find(env, NULL, &f, &res), LUMIS_OK);
+            assert_int_equal(f.found, 1);
+            lumis_sun_sampler *ss = NULL;
+            assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
+            /* the residual is zero on the sun's pixels and the map elsewhere; the sampler
+             * draws every sun pixel by its Y Omega, the first and last rows included */
+            double sumY = 0.0;
+            int inside = 0;
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++)
+                    if (lumis_sun_contains(&f, env, i, j)) {
+                        const float *q = px + 3 * ((size_t)j * w + i);
+                        sumY += (0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2]) * solid(w, h, j);
+                    }
+            for (int j = 0; j < h; j++)
+                for (int i = 0; i < w; i++) {
+                    const int in = lumis_sun_contains(&f, env, i, j);
+                    const lumis_rgb m = lumis_envmap_texel(env, i, j),
+                                    r = lumis_envmap_texel(res, i, j);
+                    if (in)
+                        assert_true(r.r == 0.0f && r.g == 0.0f && r.b == 0.0f);
+                    else
+                        assert_true(r.r == m.r && r.g == m.g && r.b == m.b);
+                    inside += in;
+                    const float *q = px + 3 * ((size_t)j * w + i);
+                    const double want_pdf =
+                        in ? (0.2126 * q[0] + 0.7152 * q[1] + 0.0722 * q[2]) / sumY : 0.0;
+                    const lumis_vec3 c =
+                        lumis_envmap_uv_to_dir(env, ((float)i + 0.5f) / w, ((float)j + 0.5f) / h);
+                    const double pdf = lumis_sun_sampler_pdf(ss, c, NULL);
+                    if (!(fabs(pdf - want_pdf) <= 1e-5 * want_pdf))
+                        fail_msg("%d x %d, disk at %g degrees: pixel (%d, %d): pdf %g, want %g", w,
+                                 h, theta[t], i, j, pdf, want_pdf);
+                }
+            assert_int_equal(inside, f.pixels);
+            lumis_sun_sampler_destroy(ss);
+            lumis_envmap_destroy(res);
+            double want[3];
+            dir_uv(ph0 / (2.0 * PI), th0 / PI, want);
+            const double got[3] = {f.dir.x, f.dir.y, f.dir.z};
+            const double off = ang(got, want) * 180.0 / PI;
+            /* over the pole the disk's pixels are symmetric about its centre; off it, a
+             * row's pixels are not, by up to a pixel's width there */
+            if (!(off < (t < 2 ? 1e-4 : 0.25) * pix))
+                fail_msg("%d x %d, disk at %g degrees: direction %g degrees off", w, h, theta[t],
+                         off);
+            assert_true(f.radius * 180.0 / PI <= rad + 0.25 * pix);
+            assert_true(f.radius * 180.0 / PI >= rad - pix);
+            for (int k = 0; k < 3; k++)
+                if (!(f.power[k] >= pw[k] * (1.0 - 1e-6) && f.power[k] <= pw[k] * (1.0 + 2e-3)))
+                    fail_msg("%d x %d, disk at %g degrees: channel %d power %.9g, the disk's %.9g",
+                             w, h, theta[t], k, f.power[k], pw[k]);
             lumis_envmap_destroy(env);
             free(px);
         }
@@ -741,7 +832,13 @@ static void find_refuses_bad_arguments(void **state)
     d.max_radius_deg = 30.0;
     assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(s.last, "max_radius_deg 30"));
+    d.max_radius_deg = -1.0;
+    assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(s.last, "max_radius_deg -1"));
     d.max_radius_deg = 0.0;
+    d.min_share = 2.0;
+    assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(s.last, "min_share 2"));
     d.min_share = -0.5;
     assert_int_equal(lumis_sun_find(env, &d, &f, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_non_null(strstr(s.last, "min_share -0.5"));
@@ -754,10 +851,136 @@ static void find_refuses_bad_arguments(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* The sun's functions given what no find returns (no sun, a cone of no or too wide an angle,
+ * an axis not finite or zero), no map, pixels off the map, directions zero or not finite, and
+ * numbers outside [0, 1): nothing, never a crash, and failures said. */
+static void sun_functions_refuse_bad_input(void **state)
+{
+    (void)state;
+    const int w = 301, h = 151;
+    const float sun[3] = {3.0e4f, 3.0e4f, 3.0e4f};
+    double pw[3];
+    float *px = disk_map(w, h, 60.0 * PI / 180.0, 200.0 * PI / 180.0, 2.0, sun, pw);
+    lumis_envmap *env = env_of(px, w, h, 0.0f, 1.0f);
+    lumis_sun f;
+    assert_int_equal(lumis_sun_find(env, NULL, &f, NULL), LUMIS_OK);
+    assert_int_equal(f.found, 1);
+    int si = -1, sj = -1; /* a pixel of the sun */
+    for (int j = 0; j < h && si < 0; j++)
+        for (int i = 0; i < w && si < 0; i++)
+            if (lumis_sun_contains(&f, env, i, j)) si = i, sj = j;
+    assert_true(si >= 0);
+    const lumis_vec3 at = f.dir, zero = {0.0f, 0.0f, 0.0f};
+    tu_sink sink;
+    tu_sink_init(&sink);
+    /* suns no find returns */
+    lumis_sun bad[9];
+    for (int k = 0; k < 9; k++) bad[k] = f;
+    bad[0].found = 0;
+    bad[1].sample_radius = 0.0;
+    bad[2].sample_radius = 4.0;
+    bad[3].sample_radius = NAN;
+    bad[4].dir.x = NAN;
+    bad[5].dir.y = INFINITY;
+    bad[6].dir.z = NAN;
+    bad[7].dir = zero;
+    for (int k = 0; k < 9; k++) {
+        const lumis_sun *b = k < 8 ? &bad[k] : NULL; /* and no sun at all */
+        assert_int_equal(lumis_sun_contains(b, env, si, sj), 0);
+        const lumis_rgb e = lumis_sun_eval(b, env, at);
+        assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+        assert_true(lumis_sun_pdf(b, at) == 0.0);
+        double pdf = 1.0, u[2];
+        const lumis_vec3 d = lumis_sun_sample(b, 0.5, 0.5, &pdf);
+        assert_true(d.x == 0.0f && d.y == 0.0f && d.z == 0.0f && pdf == 0.0);
+        assert_int_equal(lumis_sun_invert(b, at, u), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_sun_sampler *ss = (lumis_sun_sampler *)&sink;
+        assert_int_equal(lumis_sun_sampler_create(env, b, &sink.sink, &ss),
+                         LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(ss);
+        assert_non_null(strstr(sink.last, "needs a map, a sun found in it"));
+    }
+    /* the sun, with no map, pixels off the map, directions zero or not finite */
+    assert_int_equal(lumis_sun_contains(&f, env, si, sj), 1);
+    assert_int_equal(lumis_sun_contains(&f, NULL, si, sj), 0);
+    const int off[4][2] = {{-1, sj}, {si, -1}, {w, sj}, {si, h}};
+    for (int k = 0; k < 4; k++)
+        assert_int_equal(lumis_sun_contains(&f, env, off[k][0], off[k][1]), 0);
+    const lumis_vec3 odd[] = {zero, {NAN, 0.0f, 1.0f}, {0.0f, INFINITY, 0.0f}, {0.0f, 0.0f, NAN}};
+    for (int k = 0; k < 4; k++) {
+        const lumis_rgb e = lumis_sun_eval(&f, env, odd[k]);
+        assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+        double u[2];
+        assert_int_equal(lumis_sun_invert(&f, odd[k], u), LUMIS_ERR_INVALID_ARGUMENT);
+        lumis_rgb L = {1.0f, 1.0f, 1.0f};
+        assert_true(lumis_sun_sampler_pdf(NULL, at, &L) == 0.0);
+        assert_true(L.r == 0.0f && L.g == 0.0f && L.b == 0.0f);
+    }
+    const lumis_rgb e = lumis_sun_eval(&f, NULL, at);
+    assert_true(e.r == 0.0f && e.g == 0.0f && e.b == 0.0f);
+    assert_true(lumis_sun_pdf(&f, zero) == 0.0);
+    /* on the axes, away from the sun: no density */
+    const lumis_vec3 ax[] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+    for (int k = 0; k < 3; k++) assert_true(lumis_sun_pdf(&f, ax[k]) == 0.0);
+    assert_true(lumis_sun_pdf(&f, at) > 0.0);
+    double u[2];
+    assert_int_equal(lumis_sun_invert(&f, at, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    const lumis_vec3 away = {-at.x, -at.y, -at.z};
+    assert_int_equal(lumis_sun_invert(&f, away, u), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_sun_invert(&f, at, u), LUMIS_OK);
+    /* numbers outside [0, 1) are clamped into it: a direction in the cone, of the cone's pdf */
+    const double us[][2] = {{-1.0, 0.5}, {2.0, 0.5}, {0.5, -3.0}, {0.5, 1.0}, {NAN, NAN}};
+    for (int k = 0; k < 5; k++) {
+        double pdf = 0.0;
+        const lumis_vec3 d = lumis_sun_sample(&f, us[k][0], us[k][1], &pdf);
+        const double dd[3] = {d.x, d.y, d.z}, a[3] = {at.x, at.y, at.z};
+        assert_true(ang(dd, a) <= f.sample_radius);
+        assert_true(pdf > 0.0 && pdf == lumis_sun_pdf(&f, d));
+        assert_true(lumis_sun_sample(&f, us[k][0], us[k][1], NULL).x == d.x);
+    }
+    /* the sampler: no map, no output, a map whose sun pixels are black */
+    lumis_sun_sampler *ss = NULL;
+    assert_int_equal(lumis_sun_sampler_create(NULL, &f, NULL, &ss), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(ss);
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    float *dark = calloc(3 * (size_t)w * (size_t)h, sizeof *dark);
+    assert_non_null(dark);
+    lumis_envmap *black = env_of(dark, w, h, 0.0f, 1.0f);
+    assert_int_equal(lumis_sun_sampler_create(black, &f, &sink.sink, &ss),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(ss);
+    assert_non_null(strstr(sink.last, "the sun's pixels hold no light"));
+    lumis_envmap_destroy(black);
+    free(dark);
+    assert_int_equal(lumis_sun_sampler_create(env, &f, NULL, &ss), LUMIS_OK);
+    for (int k = 0; k < 4; k++) {
+        lumis_rgb L = {1.0f, 1.0f, 1.0f};
+        assert_true(lumis_sun_sampler_pdf(ss, odd[k], &L) == 0.0);
+        assert_true(L.r == 0.0f && L.g == 0.0f && L.b == 0.0f);
+    }
+    for (int k = 0; k < 5; k++) {
+        double pdf = 0.0;
+        lumis_rgb L;
+        const lumis_vec3 d = lumis_sun_sampler_sample(ss, us[k][0], us[k][1], &pdf, &L);
+        assert_true(pdf > 0.0 && pdf == lumis_sun_sampler_pdf(ss, d, NULL));
+        assert_true(L.r == sun[0]);
+        assert_true(lumis_sun_sampler_sample(ss, us[k][0], us[k][1], NULL, NULL).y == d.y);
+    }
+    double pdf = 1.0;
+    lumis_rgb L = {1.0f, 1.0f, 1.0f};
+    const lumis_vec3 d = lumis_sun_sampler_sample(NULL, 0.5, 0.5, &pdf, &L);
+    assert_true(d.x == 0.0f && d.y == 0.0f && d.z == 0.0f && pdf == 0.0 && L.g == 0.0f);
+    lumis_sun_sampler_destroy(ss);
+    lumis_sun_sampler_destroy(NULL);
+    lumis_envmap_destroy(env);
+    free(px);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(synthetic_disk_is_recovered),
+        cmocka_unit_test(suns_at_the_poles_are_recovered),
         cmocka_unit_test(sky_sun_is_recovered),
         cmocka_unit_test(split_is_exact),
         cmocka_unit_test(cone_chi_square),
@@ -767,6 +990,7 @@ int main(void)
         cmocka_unit_test(sun_pixels_by_power),
         cmocka_unit_test(no_sun_where_there_is_none),
         cmocka_unit_test(find_refuses_bad_arguments),
+        cmocka_unit_test(sun_functions_refuse_bad_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

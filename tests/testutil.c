@@ -164,3 +164,19 @@ int tu_count_entries(const char *dir, const char *prefix)
     closedir(d);
     return n;
 }
+
+lumis_status tu_tiny_luminaire(lumis_luminaire **out)
+{
+    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+    const float *ptrs[4] = {px, px, px, px};
+    lumis_luminaire_desc d = {0};
+    d.delta = 1.0;
+    d.grid[0] = d.grid[1] = 2;
+    d.grid_origin[0] = d.grid_origin[1] = -0.5;
+    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
+    d.width = d.height = 2;
+    d.image_origin[0] = d.image_origin[1] = -1.0;
+    d.image_size[0] = d.image_size[1] = 2.0;
+    d.pixels = ptrs;
+    return lumis_luminaire_create(&d, out);
+}

@@ -49,4 +49,7 @@ int tu_run(const char *cmd, char **out, char **err);
 /* Number of entries in a folder whose name starts with prefix. */
 int tu_count_entries(const char *dir, const char *prefix);
 
+/* A 2 x 2 luminaire of 2 x 2 grey images (radiance 1) on S = [-1, 1]^2 at delta 1. */
+lumis_status tu_tiny_luminaire(lumis_luminaire **out);
+
 #endif

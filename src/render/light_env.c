@@ -24,7 +24,7 @@ static lumis_rgb bsdf_sample_light(const ctx *c, const lumis_bsdf_sample *bs, v3
     const lumis_render_desc *d = c->d;
     const env_state *st = c->state;
     const lumis_sampler *smp = d->lighting.sampler;
-    const int mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    const int mis = estimator_use_of(d).mis;
     lumis_rgb Le;
     double w = 1.0;
     if (mis && st->fused) { /* one pixel lookup for the radiance and the light pdf */
@@ -57,10 +57,8 @@ static v3 shade_at(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, l
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
     const lumis_sampler *smp = d->lighting.sampler;
-    int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-        use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT;
-    int mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
-    for (int k = 0; use_light && k < st->nl; k++) {
+    const estimator_use use = estimator_use_of(d);
+    for (int k = 0; use.light && k < st->nl; k++) {
         double u[2];
         seq_2d(seq, dl, (uint32_t)k, (uint32_t)st->nl, u);
         lumis_env_sample e = lumis_sampler_sample(smp, u[0], u[1]);
@@ -72,9 +70,9 @@ static v3 shade_at(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, l
         if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
         *shadow_rays += 1.0;
         if (occluded(c->scene, d, org, wi)) continue;
-        double w =
-            mis ? mis_weight(st->nl, e.pdf, st->nb, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
-                : 1.0;
+        double w = use.mis ? mis_weight(st->nl, e.pdf, st->nb, lumis_bsdf_pdf(m, wo, wil),
+                                        d->power_heuristic)
+                           : 1.0;
         double k2 = w * cosn / ((double)e.pdf * st->nl);
         L = add(L, mk(f.r * e.radiance.r * k2, f.g * e.radiance.g * k2, f.b * e.radiance.b * k2));
     }
@@ -82,7 +80,7 @@ static v3 shade_at(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v, l
         next->org = org;
         next->bs.pdf = 0.0f;
     }
-    const int nb = use_bsdf ? st->nb : next ? 1 : 0;
+    const int nb = use.bsdf ? st->nb : next ? 1 : 0;
     for (int k = 0; k < nb; k++) {
         double u[3];
         seq_bsdf(seq, m, db, (uint32_t)k, (uint32_t)st->nb, u);

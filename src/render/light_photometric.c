@@ -360,9 +360,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
     const lumis_vec3 wo = fr.wo;
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    const estimator_use use = estimator_use_of(d);
     v3 L = mk(0, 0, 0);
     packet p;
     p.rays.n = p.flushed = 0;
@@ -377,7 +375,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
         if (wn > 0.0)
             near_field_samples(c, f, wn, h, &fr, seq, dn, q, st->capacity, v->scratch, &p, &L);
         /* a point is found by its light sample alone, whatever the estimator */
-        const int nl = f->area ? (use_light ? st->nl : 0) : st->nl;
+        const int nl = f->area ? (use.light ? st->nl : 0) : st->nl;
         for (int k = 0; k < nl; k++) {
             double u[2] = {0.5, 0.5}, pdf_area = 0.0;
             seq_2d(seq, dl, (uint32_t)(q * st->nl + k), total, u);
@@ -399,7 +397,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
                 const double cos_l = dot(el, nrm);
                 if (!(cos_l > 0.0)) continue;
                 I = radiance(f, el, nrm) * cos_l / pdf_area;
-                if (mis && st->nb > 0)
+                if (use.mis && st->nb > 0)
                     weight = mis_weight(st->nl, pdf_area * d2 / cos_l, st->nb,
                                         lumis_bsdf_pdf(m, wo, wil), d->power_heuristic);
             } else {
@@ -415,7 +413,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
                         mk(fb.r * k2, fb.g * k2, fb.b * k2));
             if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
         }
-        if (!f->area || !use_bsdf) continue;
+        if (!f->area || !use.bsdf) continue;
         const v3 ol = to_local(f, sub(org, centre));
         for (int k = 0; k < st->nb; k++) { /* BSDF samples that find the opening */
             double u[3];
@@ -431,7 +429,7 @@ static v3 shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             const double cos_l = dot(el, nrm), Le = radiance(f, el, nrm);
             if (!(Le > 0.0) || !(cos_l > 0.0)) continue;
             double weight = 1.0;
-            if (mis && st->nl > 0)
+            if (use.mis && st->nl > 0)
                 weight =
                     mis_weight(st->nb, bs.pdf, st->nl, opening_pdf_area(f, xl, nrm) * s * s / cos_l,
                                d->power_heuristic);

@@ -126,6 +126,56 @@ static const char *const mode_names[] = {"point", "stratified"};
 LUMIS__ENUM_NAMES(lumis_lights_mode, LUMIS_LIGHTS_MODE_COUNT, mode_names, lumis_lights_mode_name,
                   lumis_lights_mode_from_name);
 
+/* The BSDF sample of a vertex lit by drawing in the regions, after the light draws: their
+ * last shadow rays are traced into *L first.  The sample (dimensions db) is lit by the region
+ * it lands in when that region is drawn from, weighed by MIS against n_light light draws of
+ * density q_R p_R: q_R from the strata's running sums cdf over total (selected draws), or
+ * 1 (cdf NULL: one draw in every region of the kinds).  Its light is weight Le w; lit 0 when it
+ * adds none (light sampling only, no sample, a region of another layer, not drawn from or
+ * dark there, occluded). */
+typedef struct bsdf_light {
+    int lit;
+    lumis_rgb weight, Le; /* the sample's f cos / pdf, and the radiance it meets */
+    double w;             /* its MIS weight */
+} bsdf_light;
+
+static bsdf_light bsdf_sample_regions(const ctx *c, const lumis__vertex *v, const shading_frame *fr,
+                                      const lumis_bsdf *m, uint32_t db, int n_light,
+                                      const double *cdf, double total, packet *p, v3 *L)
+{
+    const lumis_render_desc *d = c->d;
+    const set_state *st = c->state;
+    bsdf_light out = {0};
+    *v->shadow_rays += (double)(p->rays.n + p->flushed);
+    packet_flush(c->scene, d, p, L);
+    const estimator_use use = estimator_use_of(d);
+    if (!use.bsdf) return out;
+    double ub[3];
+    seq_bsdf(v->seq, m, db, 0, 1, ub);
+    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, fr->wo, ub[0], ub[1], ub[2]);
+    if (!(bs.pdf > 0.0f)) return out;
+    const v3 wi = norm(add(add(mul(fr->t, bs.wi.x), mul(fr->b, bs.wi.y)), mul(fr->n, bs.wi.z)));
+    int region = -1;
+    lumis_rgb Le;
+    const float dens = lumis_region_sampler_lookup(st->rs, tof(wi), &region, &Le);
+    /* a region of another layer (Wu's split), or one the draws leave out, adds nothing here */
+    const int s = region >= 0 ? st->stratum_of[region] : -1;
+    const int drawn =
+        cdf ? s >= 0
+            : region >= 0 && (st->kinds & (1u << lumis_region_sampler_kind(st->rs, region)));
+    if (!drawn || (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f)) return out;
+    *v->shadow_rays += 1.0;
+    if (occluded(c->scene, d, fr->org, wi)) return out;
+    /* q of the region it lands in: 0 below the horizon (no draw could land there) */
+    const double q = !cdf ? 1.0 : total > 0.0 ? (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total : 0.0;
+    const double pl = q * (double)dens;
+    out.lit = 1;
+    out.weight = bs.weight;
+    out.Le = Le;
+    out.w = use.mis ? mis_weight(1, bs.pdf, n_light, pl, d->power_heuristic) : 1.0;
+    return out;
+}
+
 /* Stratified mode: one direction in every region lit, weighted by radiance over the
  * region's pdf, and one BSDF sample; with MIS each region is its own two-technique
  * estimator (its pdf against the BSDF's), so the sum over regions is the direct light,
@@ -144,9 +194,7 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     const lumis_vec3 wo = fr.wo;
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    const estimator_use use = estimator_use_of(d);
     /* Seen from below its surface a BSDF reflects nothing, and its sampling draws nothing. */
     if (!(wo.z > 0.0f)) return L;
     /* A Lambertian surface: f and the BSDF's pdf without a call per draw (the values
@@ -162,7 +210,7 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     double u[2 * CHUNK];
     lumis_env_sample e[CHUNK];
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
-    for (int q0 = 0; use_light && q0 < st->nstrata; q0 += CHUNK) {
+    for (int q0 = 0; use.light && q0 < st->nstrata; q0 += CHUNK) {
         const int q1 = q0 + CHUNK < st->nstrata ? q0 + CHUNK : st->nstrata;
         int cnt = 0;
         for (int q = q0; q < q1; q++) {
@@ -183,10 +231,10 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             if (lambert && !(wil.z > 0.0f)) continue;
             const lumis_rgb f = lambert ? kd : lumis_bsdf_eval(m, wo, wil);
             if (f.r == 0.0f && f.g == 0.0f && f.b == 0.0f) continue;
-            const float pb = !mis      ? 0.0f
+            const float pb = !use.mis  ? 0.0f
                              : lambert ? (float)(wil.z / LUMIS_PI)
                                        : lumis_bsdf_pdf(m, wo, wil);
-            const double w = mis ? mis_weight(1, e[q].pdf, 1, pb, d->power_heuristic) : 1.0;
+            const double w = use.mis ? mis_weight(1, e[q].pdf, 1, pb, d->power_heuristic) : 1.0;
             const double k2 = w * cosn / e[q].pdf;
             packet_push(&p, o, wi, INFINITY,
                         mk(f.r * e[q].radiance.r * k2, f.g * e[q].radiance.g * k2,
@@ -194,25 +242,10 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
         }
     }
-    *v->shadow_rays += (double)(p.rays.n + p.flushed);
-    packet_flush(c->scene, d, &p, &L);
-    if (!use_bsdf) return L;
-    double ub[3];
-    seq_bsdf(seq, m, db, 0, 1, ub);
-    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, ub[0], ub[1], ub[2]);
-    if (!(bs.pdf > 0.0f)) return L;
-    const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
-    int region = -1;
-    lumis_rgb Le;
-    const float pl = lumis_region_sampler_lookup(st->rs, tof(wi), &region, &Le);
-    /* a region of another layer (Wu's split) or one without light adds nothing here */
-    if (region < 0 || !(st->kinds & (1u << lumis_region_sampler_kind(st->rs, region))) ||
-        (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f))
-        return L;
-    *v->shadow_rays += 1.0;
-    if (occluded(c->scene, d, o, wi)) return L;
-    const double w = mis ? mis_weight(1, bs.pdf, 1, pl, d->power_heuristic) : 1.0;
-    return add(L, mk(bs.weight.r * Le.r * w, bs.weight.g * Le.g * w, bs.weight.b * Le.b * w));
+    const bsdf_light bl = bsdf_sample_regions(c, v, &fr, m, db, 1, NULL, 0.0, &p, &L);
+    if (!bl.lit) return L;
+    return add(L, mk(bl.weight.r * bl.Le.r * bl.w, bl.weight.g * bl.Le.g * bl.w,
+                     bl.weight.b * bl.Le.b * bl.w));
 }
 
 /* cos(theta - e) for cos theta = c, e the half-angle of a cone (cos e, sin e): the largest
@@ -309,9 +342,7 @@ static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex
     const lumis_vec3 wo = fr.wo;
     v3 L = mk(0, 0, 0);
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    const estimator_use use = estimator_use_of(d);
     if (!(wo.z > 0.0f)) return L;
     const int lambert = m->type == LUMIS_BSDF_LAMBERT;
     const lumis_rgb kd = {(float)(m->diffuse.r * (1.0 / LUMIS_PI)),
@@ -329,8 +360,8 @@ static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex
     double u[2 * CHUNK];
     lumis_env_sample e[CHUNK];
     int q = 0; /* the cdf is walked once: the N points (i + u) / N increase */
-    const double u0 = use_light && total > 0.0 ? seq_1d(seq, d0, 0, 1) : 0.0;
-    for (int i0 = 0; use_light && total > 0.0 && i0 < N; i0 += CHUNK) {
+    const double u0 = use.light && total > 0.0 ? seq_1d(seq, d0, 0, 1) : 0.0;
+    for (int i0 = 0; use.light && total > 0.0 && i0 < N; i0 += CHUNK) {
         const int i1 = i0 + CHUNK < N ? i0 + CHUNK : N;
         for (int i = i0; i < i1; i++) {
             const double x = ((double)i + u0) / N * total;
@@ -351,8 +382,8 @@ static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex
             const int s = strat[k];
             const double pl = (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total * e[k].pdf;
             float pb = 0.0f; /* the BSDF's pdf there (Lambert's: cos / pi) */
-            if (mis) pb = lambert ? (float)(wil.z / LUMIS_PI) : lumis_bsdf_pdf(m, wo, wil);
-            const double w = mis ? mis_weight(N, pl, 1, pb, d->power_heuristic) : 1.0;
+            if (use.mis) pb = lambert ? (float)(wil.z / LUMIS_PI) : lumis_bsdf_pdf(m, wo, wil);
+            const double w = use.mis ? mis_weight(N, pl, 1, pb, d->power_heuristic) : 1.0;
             const double k2 = w * cosn / (N * pl);
             packet_push(&p, o, wi, INFINITY,
                         mk(f.r * e[k].radiance.r * k2, f.g * e[k].radiance.g * k2,
@@ -360,28 +391,10 @@ static v3 shade_selected(const ctx *c, const hit *h, v3 dir, const lumis__vertex
             if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
         }
     }
-    *v->shadow_rays += (double)(p.rays.n + p.flushed);
-    packet_flush(c->scene, d, &p, &L);
-    if (!use_bsdf) return L;
-    double ub[3];
-    seq_bsdf(seq, m, db, 0, 1, ub);
-    const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, ub[0], ub[1], ub[2]);
-    if (!(bs.pdf > 0.0f)) return L;
-    const v3 wi = norm(add(add(mul(t, bs.wi.x), mul(b, bs.wi.y)), mul(n, bs.wi.z)));
-    int region = -1;
-    lumis_rgb Le;
-    const float dens = lumis_region_sampler_lookup(st->rs, tof(wi), &region, &Le);
-    /* a region of another layer (Wu's split) or one without light adds nothing here */
-    const int s = region >= 0 ? st->stratum_of[region] : -1;
-    if (s < 0 || (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f)) return L;
-    *v->shadow_rays += 1.0;
-    if (occluded(c->scene, d, o, wi)) return L;
-    /* q of the region it lands in: 0 below the horizon (no draw could land there) */
-    const double pl =
-        total > 0.0 ? (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total * (double)dens : 0.0;
-    const double w = mis ? mis_weight(1, bs.pdf, N, pl, d->power_heuristic) : 1.0;
-    const v3 Lb = mk(w * bs.weight.r * Le.r, w * bs.weight.g * Le.g, w * bs.weight.b * Le.b);
-    return add(L, Lb);
+    const bsdf_light bl = bsdf_sample_regions(c, v, &fr, m, db, N, cdf, total, &p, &L);
+    if (!bl.lit) return L;
+    return add(L, mk(bl.w * bl.weight.r * bl.Le.r, bl.w * bl.weight.g * bl.Le.g,
+                     bl.w * bl.weight.b * bl.Le.b));
 }
 
 static v3 shade_any(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)

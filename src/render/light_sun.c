@@ -19,11 +19,9 @@ v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     const v3 t = fr.t, b = fr.b, n = fr.n, org = fr.org;
     const lumis_vec3 wo = fr.wo;
     const lumis_bsdf *m = &h->prim->material;
-    const int use_light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF,
-              use_bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT,
-              mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    const estimator_use use = estimator_use_of(d);
     v3 L = mk(0, 0, 0);
-    if (use_light) {
+    if (use.light) {
         double u[2], ps = 0.0;
         seq_2d(seq, dl, 0, 1, u);
         lumis_rgb Le;
@@ -36,16 +34,16 @@ v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
             if (f.r != 0.0f || f.g != 0.0f || f.b != 0.0f) {
                 *v->shadow_rays += 1.0;
                 if (!occluded(c->scene, d, org, wi)) {
-                    const double w =
-                        mis ? mis_weight(1, ps, 1, lumis_bsdf_pdf(m, wo, wil), d->power_heuristic)
-                            : 1.0;
+                    const double w = use.mis ? mis_weight(1, ps, 1, lumis_bsdf_pdf(m, wo, wil),
+                                                          d->power_heuristic)
+                                             : 1.0;
                     const double k2 = w * cosn / ps;
                     L = add(L, mk(f.r * Le.r * k2, f.g * Le.g * k2, f.b * Le.b * k2));
                 }
             }
         }
     }
-    if (!use_bsdf) return L;
+    if (!use.bsdf) return L;
     double u[3];
     seq_bsdf(seq, m, db, 0, 1, u);
     const lumis_bsdf_sample bs = lumis_bsdf_sample_wi(m, wo, u[0], u[1], u[2]);
@@ -57,6 +55,6 @@ v3 lumis__sun_shade(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
     if (Le.r == 0.0f && Le.g == 0.0f && Le.b == 0.0f) return L;
     *v->shadow_rays += 1.0;
     if (occluded(c->scene, d, org, wi)) return L;
-    const double w = mis ? mis_weight(1, bs.pdf, 1, ps, d->power_heuristic) : 1.0;
+    const double w = use.mis ? mis_weight(1, bs.pdf, 1, ps, d->power_heuristic) : 1.0;
     return add(L, mk(bs.weight.r * Le.r * w, bs.weight.g * Le.g * w, bs.weight.b * Le.b * w));
 }

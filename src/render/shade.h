@@ -31,6 +31,21 @@ static inline double mis_weight(double nf, double pf, double ng, double pg, int 
     return a + b > 0.0 ? a / (a + b) : 0.0;
 }
 
+/* The techniques lighting.estimator asks a light kind for: light samples, BSDF samples, and
+ * whether the two are weighed by MIS (else each counts in full). */
+typedef struct estimator_use {
+    int light, bsdf, mis;
+} estimator_use;
+
+static inline estimator_use estimator_use_of(const lumis_render_desc *d)
+{
+    estimator_use e;
+    e.light = d->lighting.estimator != LUMIS_ESTIMATOR_BSDF;
+    e.bsdf = d->lighting.estimator != LUMIS_ESTIMATOR_LIGHT;
+    e.mis = d->lighting.estimator == LUMIS_ESTIMATOR_MIS;
+    return e;
+}
+
 /* The frame a point is shaded in: its normal n and tangents t, b, the direction towards
  * the eye in that frame (what the BSDFs take), the world direction of the frame's local
  * direction (x, y, z) is x t + y b + z n, and the origin of its shadow and continuation

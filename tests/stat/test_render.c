@@ -37,7 +37,9 @@
  *     (builtin_scenes_build, upsampling_builtins_and_scene_values)
  * lumis_scene_builtin_names — hand-worked: 12 names, each builds (builtin_scenes_build)
  * lumis_scene_file_read — hand-worked: the map read beside the scene or from a spec; error paths:
- *     misspelt and repeated keys, trailing text, NaN vertices named by JSON path
+ *     misspelt and repeated keys, trailing text, NaN vertices, and a value of the wrong kind
+ *     or range at every level (camera, environment, objects, materials, transforms,
+ *     luminaires, fixtures), each named by JSON path; no path, no output, a folder
  *     (scene_file_reads_its_map, scene_files_are_strict)
  * lumis_scene_file_destroy — external: leaks seen by ASan and valgrind (scene_files_are_strict)
  * lumis_envmap_from_image — indirect: the map of every render test, its radiance checked by the
@@ -2030,6 +2032,26 @@ static void scene_file_reads_its_map(void **state)
  * the closing brace, a fractional width, or a NaN / huge mesh vertex each used to be
  * ignored or to change the scene without a word.  Each is now an error that names the
  * JSON path (and the nearest known key). */
+/* A scene file's text and the message its refusal must hold. */
+typedef struct scene_refusal {
+    const char *text, *msg;
+} scene_refusal;
+
+/* Each text refused (not LUMIS_OK, no output) with its message, as "s.json", files not read. */
+static void expect_scene_refusals(const scene_refusal *cases, size_t n)
+{
+    for (size_t k = 0; k < n; k++) {
+        tu_sink sink;
+        tu_sink_init(&sink);
+        lumis_scene_file *f = (lumis_scene_file *)1;
+        const lumis_status st = lumis__scene_file_parse(cases[k].text, strlen(cases[k].text),
+                                                        "s.json", "", 0, &sink.sink, &f);
+        if (st == LUMIS_OK || f != NULL || !strstr(sink.last, cases[k].msg))
+            fail_msg("case %zu: status %d, message \"%s\", want \"%s\"", k, (int)st, sink.last,
+                     cases[k].msg);
+    }
+}
+
 static void scene_files_are_strict(void **state)
 {
     (void)state;
@@ -2037,9 +2059,7 @@ static void scene_files_are_strict(void **state)
         "{\"camera\": {\"width\": 24, \"height\": 16}, \"objects\": [{\"type\": \"sphere\", "
         "\"center\": [0, 0, 0], \"radius\": 1, \"material\": {\"type\": \"lambert\", \"albedo\": "
         "[0.5, 0.5, 0.5]}}]}";
-    static const struct {
-        const char *text, *msg;
-    } cases[] = {
+    static const scene_refusal cases[] = {
         {"{\"objects\": [], \"lumnaires\": []}", "did you mean \"luminaires\""},
         {"{\"objects\": [], \"frobnicate\": 1}", "\"frobnicate\": unknown key (known:"},
         {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, "
@@ -2066,21 +2086,173 @@ static void scene_files_are_strict(void **state)
          "\"material\": {\"type\": \"ward\", \"alpha_x\": 0.0007}}]}",
          "material.alpha_x"}, /* below the 1e-3 the BSDFs are specified down to */
     };
+    /* each value of the wrong kind or range, at every level, refused by its path */
+#define SPHERE_WITH(mat)                                                                           \
+    "{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1, \"material\": " mat \
+    "}]}"
+#define MESH_WITH(keys)                                                                            \
+    "{\"objects\": [{\"type\": \"mesh\", \"file\": \"m.obj\", " keys                               \
+    "\"material\": {\"type\": \"lambert\"}}]}"
+#define LUMINAIRE(body) "{\"objects\": [], \"luminaires\": [" body "]}"
+#define FIXTURE(body)   "{\"objects\": [], \"photometric\": [" body "]}"
+    static const scene_refusal refusals[] = {
+        {"[1, 2]", "s.json: (top level): expected an object"},
+        {"{\"objects\": [", "s.json:1: malformed JSON"},
+        {"{\"objects\": []}\n\n  x", "s.json:3: text after the scene's closing brace"},
+        {"{\"objects\": {}}", "objects: expected an array of objects"},
+        {"{\"objects\": [], \"camera\": 5}", "camera: expected an object"},
+        {"{\"objects\": [], \"camera\": {\"eye\": [1, 2]}}", "camera.eye: expected an array of 3"},
+        {"{\"objects\": [], \"camera\": {\"look_at\": [0, \"a\", 0]}}",
+         "camera.look_at: expected an array of 3 numbers within"},
+        {"{\"objects\": [], \"camera\": {\"up\": 1}}", "camera.up: expected an array of 3"},
+        {"{\"objects\": [], \"camera\": {\"fov_deg\": 180}}",
+         "camera.fov_deg: expected a number in [0.001, 179]"},
+        {"{\"objects\": [], \"environment\": []}", "environment: expected an object"},
+        {"{\"objects\": [], \"environment\": {\"map\": 3}}",
+         "environment.map: expected a file name or sky/studio spec"},
+        {"{\"objects\": [], \"environment\": {\"rotation_deg\": \"x\"}}",
+         "environment.rotation_deg: expected a number"},
+        {"{\"objects\": [], \"environment\": {\"scale\": -1}}",
+         "environment.scale: expected a number in [0, 1e+30]"},
+        {"{\"objects\": [3]}", "objects[0]: expected an object"},
+        {"{\"objects\": [{\"type\": 3}]}", "objects[0].type: expected a string: sphere, plane"},
+        {"{\"objects\": [{\"type\": \"cube\"}]}",
+         "objects[0].type: expected sphere, plane or mesh"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0]}]}",
+         "objects[0].radius: expected a positive number (missing)"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"radius\": 1}]}",
+         "objects[0].center: expected an array of 3 numbers (missing)"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 0}]}",
+         "objects[0].radius: expected a number in [1e-06, 1e+09]"},
+        {"{\"objects\": [{\"type\": \"sphere\", \"center\": [0,0,0], \"radius\": 1}]}",
+         "objects[0].material: expected a material object (missing)"},
+        {SPHERE_WITH("5"), "objects[0].material: expected a material object"},
+        {SPHERE_WITH("{\"type\": 1}"), "objects[0].material.type: expected a string: lambert"},
+        {SPHERE_WITH("{\"type\": \"velvet\"}"),
+         "objects[0].material.type: expected lambert, ward, conductor, plastic or glossy"},
+        {SPHERE_WITH("{\"type\": \"lambert\", \"albedo\": [2, 0, 0]}"),
+         "objects[0].material.albedo: expected reflectances in [0, 1]"},
+        {SPHERE_WITH("{\"type\": \"lambert\", \"albedo\": [0, -0.1, 0]}"),
+         "objects[0].material.albedo: expected reflectances in [0, 1]"},
+        {SPHERE_WITH("{\"type\": \"plastic\", \"diffuse\": [0.5, 0.5, 1.5]}"),
+         "objects[0].material.diffuse: expected reflectances in [0, 1]"},
+        {SPHERE_WITH("{\"type\": \"ward\", \"specular\": [0.5, 0.5]}"),
+         "objects[0].material.specular: expected an array of 3 numbers"},
+        {SPHERE_WITH("{\"type\": \"glossy\", \"color\": [1, 1, 3]}"),
+         "objects[0].material.color: expected reflectances in [0, 1]"},
+        {SPHERE_WITH("{\"type\": \"ggx\", \"alpha\": 2}"),
+         "objects[0].material.alpha: expected a number in [0.001, 1]"},
+        {SPHERE_WITH("{\"type\": \"conductor\", \"f0\": [1, 1, 1], \"alpha_x\": \"a\"}"),
+         "objects[0].material.alpha_x: expected a number"},
+        {SPHERE_WITH("{\"type\": \"ward\", \"alpha_y\": 5}"),
+         "objects[0].material.alpha_y: expected a number in [0.001, 1]"},
+        {"{\"objects\": [{\"type\": \"plane\", \"normal\": [0,1,0]}]}",
+         "objects[0].point: expected an array of 3 numbers (missing)"},
+        {"{\"objects\": [{\"type\": \"plane\", \"point\": [0,0,0]}]}",
+         "objects[0].normal: expected an array of 3 numbers (missing)"},
+        {"{\"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,0,0]}]}",
+         "objects[0].normal: expected a non-zero vector"},
+        {"{\"objects\": [{\"type\": \"plane\", \"point\": [0,0,0], \"normal\": [0,1,0], "
+         "\"size\": 0}]}",
+         "objects[0].size: expected a number in [1e-06, 1e+09]"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": \"\"}]}",
+         "objects[0].file: expected a mesh file name"},
+        {"{\"objects\": [{\"type\": \"mesh\", \"file\": 3}]}",
+         "objects[0].file: expected a mesh file name"},
+        {MESH_WITH("\"transform\": {}, \"instances\": [{}], "),
+         "objects[0]: expected either \"transform\" or \"instances\", not both"},
+        {MESH_WITH("\"instances\": [], "),
+         "objects[0].instances: expected a non-empty array of transforms"},
+        {MESH_WITH("\"instances\": {}, "),
+         "objects[0].instances: expected a non-empty array of transforms"},
+        {MESH_WITH("\"transform\": 3, "),
+         "objects[0].transform: expected an object with translate, rotate_deg, scale"},
+        {MESH_WITH("\"transform\": {\"scale\": 0}, "),
+         "objects[0].transform.scale: expected a non-zero finite scale"},
+        {MESH_WITH("\"transform\": {\"scale\": [1, 0, 1]}, "),
+         "objects[0].transform.scale: expected a non-zero finite scale"},
+        {MESH_WITH("\"transform\": {\"scale\": [1e30, 1e30, 1e30]}, "),
+         "objects[0].transform.scale: expected a non-zero finite scale"},
+        {MESH_WITH("\"transform\": {\"scale\": \"big\"}, "),
+         "objects[0].transform.scale: expected an array of 3 numbers"},
+        {MESH_WITH("\"transform\": {\"translate\": [1]}, "),
+         "objects[0].transform.translate: expected an array of 3 numbers"},
+        {MESH_WITH("\"transform\": {\"rotate_deg\": \"x\"}, "),
+         "objects[0].transform.rotate_deg: expected an array of 3 numbers"},
+        {MESH_WITH(""), "objects[0].file: mesh files are not loaded here"},
+        {"{\"objects\": [], \"luminaires\": 3}", "luminaires: expected an array of luminaires"},
+        {LUMINAIRE("3"), "luminaires[0]: expected an object with file, transform, intensity"},
+        {LUMINAIRE("{\"file\": \"\"}"), "luminaires[0].file: expected a luminaire manifest"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": 3}"),
+         "luminaires[0].transform: expected an object with translate, rotate_deg, scale"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": {\"sclae\": 2}}"),
+         "luminaires[0].transform.sclae\": unknown key (did you mean \"scale\""},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": {\"translate\": \"x\"}}"),
+         "luminaires[0].transform.translate: expected an array of 3 numbers"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": {\"rotate_deg\": [1, 2]}}"),
+         "luminaires[0].transform.rotate_deg: expected an array of 3 numbers"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": {\"scale\": [1, 1, 1]}}"),
+         "luminaires[0].transform.scale: expected a positive number (a luminaire scales "
+         "uniformly"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"transform\": {\"scale\": 0}}"),
+         "luminaires[0].transform.scale: expected a number in [1e-12, 1e+12]"},
+        {LUMINAIRE("{\"file\": \"preset:car\", \"intensity\": -1}"),
+         "luminaires[0].intensity: expected a number in [0, 1e+30]"},
+        {"{\"objects\": [], \"photometric\": 3}",
+         "photometric: expected an array of photometric fixtures"},
+        {"{\"objects\": [], \"photometric\": []}", "photometric: expected at least one fixture"},
+        {FIXTURE("3"), "photometric[0]: expected an object with file, position"},
+        {FIXTURE("{\"file\": \"\"}"), "photometric[0].file: expected a photometric file"},
+        {FIXTURE("{\"file\": \"a.ies\"}"),
+         "photometric[0].position: expected an array of 3 numbers (missing)"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"aim\": [0]}"),
+         "photometric[0].aim: expected an array of 3 numbers"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"aim\": [0,2,0]}"),
+         "photometric[0].aim: expected a point other than the position"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"up\": [1,0,0], \"c0\": [1,0,0]}"),
+         "photometric[0].c0: expected up or c0, not both"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"up\": \"x\"}"),
+         "photometric[0].up: expected an array of 3 numbers"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"c0\": [0,-1,0]}"),
+         "photometric[0].c0: expected a direction not along the aim"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"roll_deg\": 1e9}"),
+         "photometric[0].roll_deg: expected a number in [-36000, 36000]"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"multiplier\": -1}"),
+         "photometric[0].multiplier: expected a number in [0, 1e+30]"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"multiplier\": 0}"),
+         "photometric[0].multiplier: expected a number > 0"},
+        {FIXTURE("{\"file\": \"a.ies\", \"position\": [0,2,0], \"area\": 1}"),
+         "photometric[0].area: expected true or false"},
+    };
+#undef SPHERE_WITH
+#undef MESH_WITH
+#undef LUMINAIRE
+#undef FIXTURE
     lumis_scene_file *f = NULL;
     assert_int_equal(lumis__scene_file_parse(ok, sizeof ok - 1, "ok.json", "", 0, NULL, &f),
                      LUMIS_OK);
     assert_int_equal(f->camera.width, 24);
     lumis_scene_file_destroy(f);
-    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
-        tu_sink sink;
-        tu_sink_init(&sink);
-        f = (lumis_scene_file *)1;
-        const lumis_status st = lumis__scene_file_parse(cases[k].text, strlen(cases[k].text),
-                                                        "s.json", "", 0, &sink.sink, &f);
-        if (st == LUMIS_OK || f != NULL || !strstr(sink.last, cases[k].msg))
-            fail_msg("case %zu: status %d, message \"%s\", want \"%s\"", k, (int)st, sink.last,
-                     cases[k].msg);
-    }
+    expect_scene_refusals(cases, sizeof cases / sizeof *cases);
+    expect_scene_refusals(refusals, sizeof refusals / sizeof *refusals);
+    /* no file, no output, a folder: refused, the folder said */
+    tu_sink sink;
+    tu_sink_init(&sink);
+    lumis_scene_read_options so = {0};
+    so.errors = sink.sink;
+    assert_int_equal(lumis_scene_file_read(NULL, &so, &f), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis_scene_file_read("s.json", &so, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    f = (lumis_scene_file *)1;
+    assert_int_not_equal(lumis_scene_file_read(tu_tmpdir(), &so, &f), LUMIS_OK);
+    assert_null(f);
+    assert_non_null(strstr(sink.last, tu_tmpdir()));
+    f = (lumis_scene_file *)1;
+    assert_int_equal(lumis__scene_file_parse(NULL, 1, "s.json", "", 0, NULL, &f),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis__scene_file_parse(ok, sizeof ok - 1, NULL, "", 0, NULL, &f),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_int_equal(lumis__scene_file_parse(ok, sizeof ok - 1, "s.json", NULL, 0, NULL, &f),
+                     LUMIS_ERR_INVALID_ARGUMENT);
     /* A luminaire file that cannot be read, with no error sink: refused, no message */
     static const char nolum[] = "{\"objects\": [], \"luminaires\": [{\"file\": "
                                 "\"no-such-luminaire.json\"}]}";
@@ -2113,18 +2285,7 @@ static void scene_files_are_strict(void **state)
 static lumis_status tiny_preset(void *user, const char *spec, lumis_luminaire **out)
 {
     (void)user, (void)spec;
-    static const float px[12] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-    const float *ptrs[4] = {px, px, px, px};
-    lumis_luminaire_desc d = {0};
-    d.delta = 1.0;
-    d.grid[0] = d.grid[1] = 2;
-    d.grid_origin[0] = d.grid_origin[1] = -0.5;
-    d.grid_spacing[0] = d.grid_spacing[1] = 1.0;
-    d.width = d.height = 2;
-    d.image_origin[0] = d.image_origin[1] = -1.0;
-    d.image_size[0] = d.image_size[1] = 2.0;
-    d.pixels = ptrs;
-    return lumis_luminaire_create(&d, out);
+    return tu_tiny_luminaire(out);
 }
 
 /* A scene file's defaults and refusals, each as render.h and docs/render.md give them: a
