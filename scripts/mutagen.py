@@ -79,6 +79,24 @@ COMMUTATIVE = {'fmin', 'fmax', 'fminf', 'fmaxf', 'fminl', 'fmaxl', 'hypot', 'hyp
 TABLE = 16  # initializer lists longer than this are tables: their numbers are not mutated
 
 
+def restore_devices():
+    """A mutant of the output guard (src/io/atomic.c: never rename over a device) lets a
+    test that writes to /dev/null, run as root, replace it with a regular file: the test
+    kills the mutant, but leaves the machine without /dev/null.  Put the devices back."""
+    for name, minor in (('null', 3), ('full', 7)):
+        path = '/dev/' + name
+        if os.path.exists(path) and not os.path.isfile(path):
+            continue
+        print(f'mutagen: {path} was replaced by a mutant; restoring it', file=sys.stderr)
+        try:
+            if os.path.lexists(path):
+                os.remove(path)
+            os.mknod(path, 0o666 | 0o020000, os.makedev(1, minor))
+            os.chmod(path, 0o666)
+        except OSError:
+            pass
+
+
 def die(msg, code=2):
     print('mutagen: ' + msg, file=sys.stderr)
     sys.exit(code)
@@ -634,6 +652,8 @@ class Runner:
             os.killpg(p.pid, 9)
             p.wait()
             return 'timeout', time.monotonic() - t0
+        finally:
+            restore_devices()
         return ('pass' if rc == 0 else 'fail'), time.monotonic() - t0
 
     def baseline(self, tests):

@@ -139,6 +139,9 @@ end() {
             for(p in a) if(!(p in b)) print "new\t"p"\t-"}' "$LOGS/$N.before" "$LOGS/$N.after")
     [ -c /dev/full ] || fail "/dev/full is no longer a character device"
     [ -c /dev/null ] || fail "/dev/null is no longer a character device"
+    for d in null:3 full:7; do # put them back, or every later step (and the machine) suffers
+        [ -c /dev/${d%%:*} ] || { rm -f /dev/${d%%:*} && mknod -m 666 /dev/${d%%:*} c 1 ${d##*:}; } 2>/dev/null || true
+    done
     report
 }
 
