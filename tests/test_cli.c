@@ -2521,7 +2521,9 @@ static void bench_runs_auto(void **state)
         int named = 0;
         for (const cJSON *q = cands->child; q; q = q->next) {
             named += strcmp(item(q, "name")->valuestring, c->valuestring) == 0;
-            assert_true(item(q, "efficiency")->valuedouble > 0.0);
+            /* measured (pilot_spp > 0): a positive efficiency; not (capped, no sun): 0 */
+            const int measured = item(q, "pilot_spp")->valueint > 0;
+            assert_int_equal(item(q, "efficiency")->valuedouble > 0.0, measured);
         }
         assert_int_equal(named, 1);
         snprintf(chosen[k], sizeof chosen[k], "%s", c->valuestring);
