@@ -5,6 +5,10 @@
 # with lumis's own reference (relMSE of `lumis compare`), rows appended to the same CSV
 # format as Cycles' (map,renderer,sequence,spp,seconds,relmse; seconds: the sidecar's
 # render time, sampling only, as Cycles' "without synchronization").
+# The sequence "default" is `lumis render` with no estimator option and no --sequence: the
+# automatic estimator (docs/render.md); its seconds add the sidecar's auto_estimator.seconds
+# (the pilots and the prior's regions, which are in prep_seconds) to render_seconds.
+# default.sh runs that series side by side with Cycles.
 #
 #   bench/cycles/lumis.sh MAP...      (MAP: a name in data/hdri/)
 #
@@ -30,10 +34,17 @@ mkdir -p "$WORK"
 VERSION=$("$LUMIS" --version | awk '{print $2}')
 
 render() { # map spp threads seed sequence out
+    local estimator=(--sequence "$5" --no-auto)
+    [ "$5" = default ] && estimator=()
     "$LUMIS" render "$SCENE" --env "$1" --spp "$2" --threads "$3" --seed "$4" \
-        --sequence "$5" --no-auto --quiet -o "$6" 2>/dev/null
+        "${estimator[@]}" --quiet -o "$6" 2>/dev/null
 }
-seconds() { sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "${1%.exr}.json" | head -1; }
+seconds() {
+    local r a
+    r=$(sed -n 's/.*"render_seconds":[[:space:]]*\([0-9.e+-]*\).*/\1/p' "${1%.exr}.json" | head -1)
+    a=$(python3 -c 'import json, sys; print((json.load(open(sys.argv[1])).get("auto_estimator") or {}).get("seconds", 0))' "${1%.exr}.json")
+    echo "$r $a" | awk '{printf "%.17g", $1 + $2}'
+}
 relmse() { "$LUMIS" compare "$1" "$2" --json --no-hdr-flip |
     sed -n 's/.*"relmse":\([^,}]*\).*/\1/p'; }
 
