@@ -115,7 +115,7 @@ static v3 shade_next(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v,
  * sample's share of the direct light (none with the light estimator). */
 static v3 escape(const ctx *c, const lumis__next *next)
 {
-    if (c->d->lighting.estimator == LUMIS_ESTIMATOR_LIGHT) return mk(0, 0, 0);
+    if (!estimator_use_of(c->d).bsdf) return mk(0, 0, 0);
     double k2;
     const lumis_rgb Le = bsdf_sample_light(c, &next->bs, next->wi, &k2);
     return mk(Le.r * k2, Le.g * k2, Le.b * k2);
