@@ -18,6 +18,10 @@ static void set_bin(lumis__alias *a, uint32_t k, uint32_t thresh, uint32_t alias
     a->bin[k].alias_value = a->bin[alias].value;
 }
 
+/* The build into n bins (16-byte aligned), with scratch for n units and n work entries. */
+static void build_in(lumis__alias_bin *bin, uint64_t *units, uint32_t *work, const double *w,
+                     uint32_t n, lumis__alias_value_fn value, const void *ctx);
+
 lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
                                 lumis__alias_value_fn value, const void *ctx)
 {
@@ -32,14 +36,14 @@ lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
         lumis__alias_free(a);
         return LUMIS_ERR_OUT_OF_MEMORY;
     }
-    lumis__alias_build_in(a->bin, units, work, w, n, value, ctx);
+    build_in(a->bin, units, work, w, n, value, ctx);
     free(units);
     free(work);
     return LUMIS_OK;
 }
 
-void lumis__alias_build_in(lumis__alias_bin *bin, uint64_t *units, uint32_t *work, const double *w,
-                           uint32_t n, lumis__alias_value_fn value, const void *ctx)
+static void build_in(lumis__alias_bin *bin, uint64_t *units, uint32_t *work, const double *w,
+                     uint32_t n, lumis__alias_value_fn value, const void *ctx)
 {
     const uint64_t one = (uint64_t)1 << 32;
     lumis__alias view = {bin, n}, *a = &view;

@@ -126,10 +126,6 @@ typedef float (*lumis__alias_value_fn)(const void *ctx, uint32_t entry, double p
 lumis_status lumis__alias_build(lumis__alias *a, const double *w, uint32_t n,
                                 lumis__alias_value_fn value, const void *ctx);
 void lumis__alias_free(lumis__alias *a);
-/* The same build into the caller's n bins (16-byte aligned), with scratch for n units and
- * n work entries: many small tables (a light set's regions) from one allocation. */
-void lumis__alias_build_in(lumis__alias_bin *bin, uint64_t *units, uint32_t *work, const double *w,
-                           uint32_t n, lumis__alias_value_fn value, const void *ctx);
 
 /* The value stored for entry k (what a draw of k reports). */
 static inline float lumis__alias_value(const lumis__alias *a, uint32_t k)

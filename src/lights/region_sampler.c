@@ -2,12 +2,27 @@
  * in proportion to luminance times solid angle inside it (docs/lights.md, "Stratified
  * mode").
  *
- * Layout: the pixels of nonzero luminance, grouped by region (scan order inside a region),
- * with one alias table per region over them, all in one array of 16-byte bins; and per
- * pixel of the map its region and its density in that region's sampler, so pdf() and the
- * lookup of a BSDF-sampled direction read 8 bytes.  Every region's probabilities are
- * quantised exactly as the alias sampler's (src/core/alias.c), and sample() and pdf() read
- * the same stored float. */
+ * A draw inverts the region's distribution in two dimensions: u1 picks a row of the
+ * region by its marginal CDF, u2 a pixel of that row by the row's conditional CDF, and
+ * where each fell inside the share it picked places the direction inside the pixel (u1
+ * along cos theta, u2 along the azimuth).  The map is monotone in each coordinate, so a
+ * stratified (low-discrepancy) set of 2-D points stays stratified over the region and
+ * inside its pixels; an alias table (one lookup, no search) scattered it
+ * (docs/results/tenth).  Guide tables (the cutpoint method: for each of n equal slices of
+ * a CDF of n cells, the cell the slice starts in) make both searches a lookup and about
+ * one step on average.
+ *
+ * Layout: the pixels of nonzero luminance ("entries"), grouped by region and in scan order
+ * inside one, so that a region's rows are consecutive runs of entries: 16 bytes each (the
+ * region's units before the entry, its column) and a 4-byte guide slot each (the row's
+ * slice whose number is the entry's position in the row).  The rows of all regions, 40
+ * bytes each with their guide slot (small: a few thousand rows at K = 32).  Per pixel of
+ * the map, its region and its density in that region's sampler, so pdf() and the lookup
+ * of a BSDF-sampled direction read 8 bytes.  Every region's probabilities are quantised
+ * as the alias sampler's (integer units, 2^32 per pixel on average, each pixel that shines
+ * at least one, src/core/distrib.h), and a draw computes its density from its entry's
+ * units by the very operations that stored the pixel's, so sample() and pdf() give the
+ * same float. */
 #include "lumis/lights.h"
 
 #include "../core/distrib.h"
@@ -22,45 +37,84 @@ typedef struct region_px {
     float density;
 } region_px;
 
+/* A pixel that shines, in its region.  cum: the region's units before it (integers below
+ * 2^53, exact, while the region holds fewer than 2^21 pixels; a larger region's round, in
+ * order, and the densities follow the rounded units). */
+typedef struct region_entry {
+    double cum;
+    uint32_t col; /* its column (its row is the row's) */
+    uint32_t unused;
+} region_entry;
+
+/* A row of a region: its entries are [first, the next row's first). */
+typedef struct region_row {
+    double cum;     /* the region's units before the row */
+    double inv;     /* 1 / the row's units */
+    double scale;   /* an entry's density per unit: density_scale() */
+    uint32_t first; /* its first entry */
+    uint32_t j;     /* the map's row */
+    uint32_t guide; /* for the row at position q of its region: slice q of the region's
+                       units starts in the region's row number guide */
+    uint32_t unused;
+} region_row;
+
 struct lumis_region_sampler {
     const lumis_envmap *env; /* retained */
     int w, h, count;
-    double inv_w;
     region_px *px;          /* w * h */
     uint32_t *start;        /* count + 1: region k's entries are [start[k], start[k + 1]) */
-    uint32_t *member;       /* the pixel of each entry */
-    lumis__alias_bin *bin;  /* one alias table per region, entries local to it */
+    uint32_t *rstart;       /* count + 1: region k's rows are [rstart[k], rstart[k + 1]) */
+    region_entry *entry;    /* by region, scan order inside one; and one spare */
+    uint32_t *guide;        /* per entry: for the entry at position q of its row, slice q of
+                               the row's units starts in the row's entry number guide[] */
+    region_row *row;        /* the regions' rows; and one spare (first: the entries' count) */
     double (*power)[3];     /* count: sum over the region of L Omega (scale applied) */
     lumis_light_kind *kind; /* count: what the region's light stands for */
     double build_ms;
     size_t bytes;
 };
 
-/* The alias build's density callback: probability over the entry's pixel solid angle. */
-typedef struct density_ctx {
-    const lumis_region_sampler *rs;
-    uint32_t first; /* the region's first entry */
-} density_ctx;
-
-static float entry_density(const void *ctx, uint32_t e, double prob)
-{
-    const density_ctx *c = ctx;
-    const uint32_t pixel = c->rs->member[c->first + e];
-    return (float)(prob / c->rs->env->row_solid_angle[pixel / (uint32_t)c->rs->w]);
-}
-
 void lumis_region_sampler_destroy(lumis_region_sampler *rs)
 {
     if (!rs) return;
     free(rs->px);
     free(rs->start);
-    free(rs->member);
-    free(rs->bin);
+    free(rs->rstart);
+    free(rs->entry);
+    free(rs->guide);
+    free(rs->row);
     free(rs->power);
     free(rs->kind);
     lumis_envmap_destroy((lumis_envmap *)rs->env);
     free(rs);
 }
+
+/* A region's units as a double: its pixels' count times 2^32. */
+static inline double region_total(const lumis_region_sampler *rs, int k)
+{
+    return (double)(rs->start[k + 1] - rs->start[k]) * LUMIS__ONE32;
+}
+
+/* An entry's density per unit, in map row j of a region of `total` units: probability
+ * over solid angle.  Its density is its units times this, at build and draw alike. */
+static inline double density_scale(const lumis_envmap *env, double total, uint32_t j)
+{
+    return 1.0 / (total * env->row_solid_angle[j]);
+}
+
+/* The guide of n consecutive cells whose lower ends cum(0) < cum(1) < ... lie in [lo, hi):
+ * slot q gets the last cell whose lower end is at most lo + (hi - lo) q / n (the start of
+ * slice q).  A draw computes its point with other rounding, so it also steps back if the
+ * slot's cell lies past it (lumis_region_sampler_sample_n). */
+#define BUILD_GUIDE(n, lo, hi, cum, slot)                                                          \
+    do {                                                                                           \
+        uint32_t c_ = 0;                                                                           \
+        for (uint32_t q_ = 0; q_ < (n); q_++) {                                                    \
+            const double x_ = (lo) + ((hi) - (lo)) * ((double)q_ / (double)(n));                   \
+            while (c_ + 1 < (n) && (cum(c_ + 1)) <= x_) c_++;                                      \
+            slot(q_) = c_;                                                                         \
+        }                                                                                          \
+    } while (0)
 
 lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_light_set *set,
                                          const lumis_error_sink *errors, lumis_region_sampler **out)
@@ -80,26 +134,28 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     rs->w = w;
     rs->h = h;
     rs->count = K;
-    rs->inv_w = 1.0 / w;
     rs->px = malloc(n * sizeof *rs->px);
     rs->start = calloc((size_t)K + 1, sizeof *rs->start);
+    rs->rstart = calloc((size_t)K + 1, sizeof *rs->rstart);
     rs->power = calloc((size_t)K, sizeof *rs->power);
     rs->kind = malloc((size_t)K * sizeof *rs->kind);
     double *weight = NULL;
     uint64_t *units = NULL;
-    uint32_t *work = NULL, *cursor = NULL;
+    uint32_t *cursor = NULL;
+    /* per region: the last row seen (pass 1), then the next row's slot (pass 2) */
+    int64_t *row_at = malloc(((size_t)K + 1) * sizeof *row_at);
     lumis_status st = LUMIS_ERR_OUT_OF_MEMORY;
-    if (!rs->px || !rs->start || !rs->power || !rs->kind) goto fail;
+    if (!rs->px || !rs->start || !rs->rstart || !rs->power || !rs->kind || !row_at) goto fail;
     /* a region's power is its light's (the set's sum of L Omega over the region) */
     for (int k = 0; k < K; k++) {
         rs->kind[k] = set->lights[k].kind;
         for (int c = 0; c < 3; c++) rs->power[k][c] = set->lights[k].power[c];
+        row_at[k] = -1;
     }
 
-    /* Pass 1: each pixel's region, and the regions' sizes (pixels that shine). */
+    /* Pass 1: each pixel's region, and the regions' sizes (pixels that shine) and rows. */
     const float *pix = env->pixels;
     const double scale = env->scale;
-    size_t members = 0;
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * (size_t)w + (size_t)i;
@@ -109,6 +165,7 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
             rs->px[p].density = 0.0f;
             if (r >= 0 && r < K) {
                 rs->start[r + 1] += (uint32_t)shines;
+                if (shines && row_at[r] != j) rs->rstart[r + 1]++, row_at[r] = j;
                 continue;
             }
             if (shines) {
@@ -119,54 +176,101 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
             }
             rs->px[p].region = -1;
         }
-    for (int k = 0; k < K; k++) members += rs->start[k + 1];
     uint32_t largest = 0;
     for (int k = 0; k < K; k++) {
         const uint32_t size = rs->start[k + 1];
         if (size > largest) largest = size;
         rs->start[k + 1] = rs->start[k] + size;
+        rs->rstart[k + 1] += rs->rstart[k];
     }
+    const uint32_t members = rs->start[K], rows = rs->rstart[K];
 
-    /* Pass 2: the entries, region by region (scan order inside one). */
-    const size_t m1 = members > 0 ? members : 1, l1 = largest > 0 ? largest : 1u;
-    rs->member = malloc(m1 * sizeof *rs->member);
-    rs->bin = aligned_alloc(16, m1 * sizeof *rs->bin);
+    /* Pass 2: the entries, region by region (scan order inside one), and their rows.  The
+     * spares: a search reads the cell after a row's last (its test discards it), and the
+     * last row's entries end at the spare row's first. */
+    const size_t l1 = largest > 0 ? largest : 1u;
+    rs->entry = malloc(((size_t)members + 1) * sizeof *rs->entry);
+    rs->row = malloc(((size_t)rows + 1) * sizeof *rs->row);
+    rs->guide = malloc(((size_t)members + 1) * sizeof *rs->guide);
     cursor = malloc(((size_t)K + 1) * sizeof *cursor);
-    /* scratch for one region at a time: the weights, the alias build's units and work */
+    /* scratch for one region at a time: the weights and their units */
     weight = malloc(l1 * sizeof *weight);
     units = malloc(l1 * sizeof *units);
-    work = malloc(l1 * sizeof *work);
-    if (!rs->member || !rs->bin || !weight || !cursor || !units || !work) goto fail;
+    if (!rs->entry || !rs->row || !rs->guide || !weight || !cursor || !units) goto fail;
+    memset(rs->entry + members, 0, sizeof *rs->entry);
+    memset(rs->guide + members, 0, sizeof *rs->guide);
+    memset(rs->row + rows, 0, sizeof *rs->row);
+    rs->row[rows].first = members;
     memcpy(cursor, rs->start, ((size_t)K + 1) * sizeof *cursor);
+    for (int k = 0; k < K; k++) row_at[k] = rs->rstart[k];
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * (size_t)w + (size_t)i;
             const int32_t r = rs->px[p].region;
             if (r < 0 || !(lumis__pixel_y(pix + 3 * p, scale) > 0.0f)) continue;
-            rs->member[cursor[r]++] = (uint32_t)p;
+            const uint32_t e = cursor[r]++;
+            /* the region's first entry in row j opens a row */
+            if (e == rs->start[r] || rs->row[row_at[r] - 1].j != (uint32_t)j) {
+                rs->row[row_at[r]].first = e;
+                rs->row[row_at[r]++].j = (uint32_t)j;
+            }
+            rs->entry[e].col = (uint32_t)i;
         }
 
-    /* One alias table per region over the weights Y Omega of its entries; each pixel keeps
-     * the density its entry stores. */
+    /* Per region: the units of Y Omega (quantised as the alias sampler's), the entries'
+     * and rows' cumulative units, the densities, and the guides. */
     for (int k = 0; k < K; k++) {
         const uint32_t first = rs->start[k], size = rs->start[k + 1] - first;
         if (size == 0) continue;
-        for (uint32_t e = 0; e < size; e++) {
-            const uint32_t p = rs->member[first + e];
-            weight[e] = (double)lumis__pixel_y(pix + 3 * (size_t)p, scale) *
-                        env->row_solid_angle[p / (uint32_t)w];
+        const uint32_t r0 = rs->rstart[k], nr = rs->rstart[k + 1] - r0;
+        for (uint32_t s = r0; s < r0 + nr; s++) {
+            const uint32_t j = rs->row[s].j;
+            for (uint32_t e = rs->row[s].first; e < rs->row[s + 1].first; e++)
+                weight[e - first] =
+                    (double)lumis__pixel_y(pix + 3 * ((size_t)j * (size_t)w + rs->entry[e].col),
+                                           scale) *
+                    env->row_solid_angle[j];
         }
-        const density_ctx ctx = {rs, first};
-        lumis__alias_build_in(rs->bin + first, units, work, weight, size, entry_density, &ctx);
-        for (uint32_t e = 0; e < size; e++)
-            rs->px[rs->member[first + e]].density = rs->bin[first + e].value;
+        lumis__quantize(weight, size, (uint64_t)size << 32, units);
+        uint64_t acc = 0;
+        for (uint32_t e = first; e < first + size; e++) {
+            rs->entry[e].cum = (double)acc;
+            acc += units[e - first];
+        }
+        const double total = region_total(rs, k);
+        for (uint32_t s = r0; s < r0 + nr; s++) {
+            const uint32_t j = rs->row[s].j, e0 = rs->row[s].first, ne = rs->row[s + 1].first - e0;
+            /* the row's units: from its first entry's to the next row's first entry's */
+            const double lo = rs->entry[e0].cum,
+                         up = s + 1 < r0 + nr ? rs->entry[e0 + ne].cum : total;
+            const double ds = density_scale(env, total, j);
+            rs->row[s].cum = lo;
+            rs->row[s].inv = 1.0 / (up - lo);
+            rs->row[s].scale = ds;
+            for (uint32_t e = e0; e < e0 + ne; e++) {
+                const double c1 = e + 1 < e0 + ne ? rs->entry[e + 1].cum : up;
+                rs->px[(size_t)j * (size_t)w + rs->entry[e].col].density =
+                    (float)((c1 - rs->entry[e].cum) * ds);
+            }
+#define ENTRY_CUM(c)  rs->entry[e0 + (c)].cum
+#define ENTRY_SLOT(q) rs->guide[e0 + (q)]
+            BUILD_GUIDE(ne, lo, up, ENTRY_CUM, ENTRY_SLOT);
+#undef ENTRY_CUM
+#undef ENTRY_SLOT
+        }
+#define ROW_CUM(c)  rs->row[r0 + (c)].cum
+#define ROW_SLOT(q) rs->row[r0 + (q)].guide
+        BUILD_GUIDE(nr, 0.0, total, ROW_CUM, ROW_SLOT);
+#undef ROW_CUM
+#undef ROW_SLOT
     }
     free(weight);
     free(cursor);
     free(units);
-    free(work);
-    rs->bytes = sizeof *rs + n * sizeof *rs->px + ((size_t)K + 1) * sizeof *rs->start +
-                m1 * (sizeof *rs->member + sizeof *rs->bin) +
+    free(row_at);
+    rs->bytes = sizeof *rs + n * sizeof *rs->px + 2 * ((size_t)K + 1) * sizeof *rs->start +
+                ((size_t)members + 1) * (sizeof *rs->entry + sizeof *rs->guide) +
+                ((size_t)rows + 1) * sizeof *rs->row +
                 (size_t)K * (sizeof *rs->power + sizeof *rs->kind);
     rs->build_ms = lumis__now_ms() - t0;
     *out = rs;
@@ -176,7 +280,7 @@ fail:
     free(weight);
     free(cursor);
     free(units);
-    free(work);
+    free(row_at);
     lumis_region_sampler_destroy(rs);
     return st == LUMIS_ERR_OUT_OF_MEMORY
                ? lumis__fail(errors, st, "region sampler: %d x %d: out of memory", w, h)
@@ -204,59 +308,117 @@ int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region)
     return !rs || region < 0 || region >= rs->count || rs->start[region] == rs->start[region + 1];
 }
 
+/* f clamped to [0, 1) (rounding may put a point's position in its cell just outside). */
+static inline double clamp_fraction(double f)
+{
+    return f >= 0.0 ? (f < 1.0 ? f : 0x1.fffffffffffffp-1) : 0.0;
+}
+
+/* The slice of n equal slices of [0, 1) that u falls in. */
+static inline uint32_t slice(double u, uint32_t n)
+{
+    const uint32_t q = (uint32_t)(u * n);
+    return q < n ? q : n - 1;
+}
+
 /* A batch, in stages so that the cache misses of a batch overlap instead of following one
- * another: every bin is requested, then every draw reads its bin and requests its entry,
- * then every direction is placed (its pixel's radiance requested), then the radiance is
- * read.  Each result is what a draw alone gives. */
+ * another: every draw requests its row slot; reads it and requests the row; finds its row
+ * (the slot's, then usually no step or one) and requests its entry slot; reads that and
+ * requests the entry; finds its entry and requests its pixel's radiance; places its
+ * direction; reads the radiance.  Each result is what a draw alone gives. */
 void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *regions,
                                    const double *u, size_t n, lumis_env_sample *out)
 {
     enum { BATCH = 32 };
-    uint32_t entry[BATCH];
+    uint32_t cell[BATCH], first[BATCH], end[BATCH], j[BATCH];
+    double x[BATCH], hi[BATCH], t[BATCH], ds[BATCH];
     size_t pixel[BATCH];
-    double st[BATCH][2];
-    float density[BATCH];
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         const size_t m = n - k0 < BATCH ? n - k0 : BATCH;
+        /* u1's slice of the region's rows */
         for (size_t k = 0; k < m; k++) {
             const int r = regions[k0 + k];
-            if (lumis_region_sampler_empty(rs, r)) continue;
-            const uint32_t first = rs->start[r], cnt = rs->start[r + 1] - first;
-            uint32_t i = (uint32_t)(lumis__clamp_u(u[2 * (k0 + k)]) * cnt);
-            if (i >= cnt) i = cnt - 1;
+            if (lumis_region_sampler_empty(rs, r)) {
+                cell[k] = UINT32_MAX;
+                continue;
+            }
+            const uint32_t r0 = rs->rstart[r];
+            cell[k] = r0 + slice(lumis__clamp_u(u[2 * (k0 + k)]), rs->rstart[r + 1] - r0);
 #if defined(__GNUC__) || defined(__clang__)
-            __builtin_prefetch(rs->bin + first + i);
+            __builtin_prefetch(rs->row + cell[k]);
 #endif
         }
         for (size_t k = 0; k < m; k++) {
-            const int r = regions[k0 + k];
-            entry[k] = UINT32_MAX;
-            if (lumis_region_sampler_empty(rs, r)) continue;
-            const uint32_t first = rs->start[r];
-            const lumis__alias table = {rs->bin + first, rs->start[r + 1] - first};
-            entry[k] = first + lumis__alias_sample(&table, lumis__clamp_u(u[2 * (k0 + k)]),
-                                                   lumis__clamp_u(u[2 * (k0 + k) + 1]), &st[k][0],
-                                                   &st[k][1], &density[k]);
+            if (cell[k] == UINT32_MAX) continue;
+            cell[k] = rs->rstart[regions[k0 + k]] + rs->row[cell[k]].guide;
 #if defined(__GNUC__) || defined(__clang__)
-            __builtin_prefetch(rs->member + entry[k]);
+            __builtin_prefetch(rs->row + cell[k]);
+            __builtin_prefetch(rs->row + cell[k] + 1);
+#endif
+        }
+        /* the row: the last whose units before it are at most u1 times the region's */
+        for (size_t k = 0; k < m; k++) {
+            if (cell[k] == UINT32_MAX) continue;
+            const int r = regions[k0 + k];
+            const uint32_t r0 = rs->rstart[r], r1 = rs->rstart[r + 1];
+            const double total = region_total(rs, r);
+            const double v = lumis__clamp_u(u[2 * (k0 + k)]) * total;
+            uint32_t s = cell[k];
+            /* two steps without branches (a mispredicted exit costs more), any more by the
+             * loop, and back if the slot's row starts past v (rounding: BUILD_GUIDE) */
+            s += (s + 1 < r1) & (rs->row[s + 1].cum <= v);
+            s += (s + 1 < r1) & (rs->row[s + 1].cum <= v);
+            while (s + 1 < r1 && rs->row[s + 1].cum <= v) s++;
+            while (s > r0 && rs->row[s].cum > v) s--;
+            const double lo = rs->row[s].cum, up = s + 1 < r1 ? rs->row[s + 1].cum : total;
+            t[k] = clamp_fraction((v - lo) * rs->row[s].inv);
+            /* u2 inverts the row's conditional: a point of the row's units [lo, up) */
+            const double u2 = lumis__clamp_u(u[2 * (k0 + k) + 1]);
+            first[k] = rs->row[s].first;
+            end[k] = rs->row[s + 1].first;
+            j[k] = rs->row[s].j;
+            hi[k] = up;
+            ds[k] = rs->row[s].scale;
+            x[k] = lo + u2 * (up - lo);
+            cell[k] = first[k] + slice(u2, end[k] - first[k]);
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(rs->guide + cell[k]);
+#endif
+        }
+        for (size_t k = 0; k < m; k++) {
+            if (cell[k] == UINT32_MAX) continue;
+            cell[k] = first[k] + rs->guide[cell[k]];
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(rs->entry + cell[k]);
+#endif
+        }
+        /* the entry: the last of the row whose units before it are at most x */
+        for (size_t k = 0; k < m; k++) {
+            if (cell[k] == UINT32_MAX) continue;
+            uint32_t e = cell[k];
+            e += (e + 1 < end[k]) & (rs->entry[e + 1].cum <= x[k]);
+            e += (e + 1 < end[k]) & (rs->entry[e + 1].cum <= x[k]);
+            while (e + 1 < end[k] && rs->entry[e + 1].cum <= x[k]) e++;
+            while (e > first[k] && rs->entry[e].cum > x[k]) e--;
+            const double lo = rs->entry[e].cum, up = e + 1 < end[k] ? rs->entry[e + 1].cum : hi[k];
+            x[k] = clamp_fraction((x[k] - lo) / (up - lo)); /* along the azimuth */
+            out[k0 + k].pdf = (float)((up - lo) * ds[k]);
+            cell[k] = rs->entry[e].col;
+            pixel[k] = (size_t)j[k] * (size_t)rs->w + cell[k];
+#if defined(__GNUC__) || defined(__clang__)
+            __builtin_prefetch(rs->env->pixels + 3 * pixel[k]);
 #endif
         }
         for (size_t k = 0; k < m; k++) {
             lumis_env_sample *o = &out[k0 + k];
-            if (entry[k] == UINT32_MAX) {
+            if (cell[k] == UINT32_MAX) {
                 memset(o, 0, sizeof *o);
                 continue;
             }
-            const uint32_t p = rs->member[entry[k]];
-            /* p / w by a multiplication; the estimate is off by at most one either way */
-            int64_t j = (int64_t)((double)p * rs->inv_w), i = (int64_t)p - j * rs->w;
-            if (i < 0) j--, i += rs->w;
-            if (i >= rs->w) j++, i -= rs->w;
-            pixel[k] = lumis__envmap_place(rs->env, (int)i, (int)j, st[k][0], st[k][1], &o->dir);
-            o->pdf = density[k];
+            lumis__envmap_place(rs->env, (int)cell[k], (int)j[k], x[k], t[k], &o->dir);
         }
         for (size_t k = 0; k < m; k++)
-            if (entry[k] != UINT32_MAX)
+            if (cell[k] != UINT32_MAX)
                 out[k0 + k].radiance = lumis__envmap_radiance(rs->env, pixel[k]);
     }
 }

@@ -437,6 +437,72 @@ static void samples_land_in_their_pixel_at_awkward_widths(void **state)
     }
 }
 
+/* A region's draw inverts its distribution (rows by u1, then the row's pixels by u2, the
+ * rest of each inside the pixel), so it is monotone in each coordinate: sweeping u1 at a
+ * fixed u2, the rows never go up the map and cos theta never rises (inside a row, along
+ * cos theta), and the row's pixel and azimuth stay put; sweeping u2 at a fixed u1, the row
+ * and cos theta stay put and the pixels go left to right, the azimuth inside one rising.
+ * This is what keeps a stratified (Sobol') set of points stratified over the region and
+ * inside its pixels; an alias table, which scatters the points over the region with the
+ * same distribution (every test above passes with it), fails it. */
+static void region_draws_are_monotone_in_u(void **state)
+{
+    (void)state;
+    enum { N = 193 };
+    static const double fixed[] = {0.0, 0.137, 0.5, 0.861, 0x1.fffffffffffffp-1};
+    /* float directions: cos theta to 2e-4, the azimuth to 2e-3 pixels (a direction that
+     * rounding would put across its pixel's edge is pulled inside, and near a pole the
+     * azimuth is coarse); a pixel's height in cos theta is 0.06 or more here */
+    const double tol = 2e-4, tol_az = 2e-3;
+    for (int m = 0; m < NMAPS; m++) {
+        lumis_envmap *env = make_map(&maps[m]);
+        const int w = maps[m].w;
+        for (int c = 0; c < NMETHODS; c++) {
+            lumis_light_set *set = make_set(env, &methods[c]);
+            lumis_region_sampler *rs = make_regions(env, set);
+            for (int k = 0; k < lumis_region_sampler_count(rs); k++) {
+                if (lumis_region_sampler_empty(rs, k)) continue;
+                for (size_t f = 0; f < sizeof fixed / sizeof fixed[0]; f++)
+                    for (int axis = 0; axis < 2; axis++) {
+                        int pi = -1, pj = -1;
+                        double py = 0.0, paz = 0.0;
+                        for (int q = 0; q < N; q++) {
+                            const double sweep = (q + 0.5) / N;
+                            const double u1 = axis ? fixed[f] : sweep, u2 = axis ? sweep : fixed[f];
+                            const lumis_env_sample e = lumis_region_sampler_sample(rs, k, u1, u2);
+                            int i, j;
+                            float uu, vv;
+                            lumis_envmap_dir_to_pixel(env, e.dir, &i, &j);
+                            lumis_envmap_dir_to_uv(env, e.dir, &uu, &vv);
+                            const double y = e.dir.y;
+                            /* the azimuth inside the pixel, in pixels (rotation-proof) */
+                            double az = (double)uu * w - i;
+                            if (az > w / 2.0) az -= w;
+                            if (az < -w / 2.0) az += w;
+                            int bad = 0;
+                            if (q > 0 && !axis) /* u1 sweeps: rows down, cos theta down */
+                                bad = j < pj || y > py + tol ||
+                                      (j == pj && (i != pi || fabs(az - paz) > tol_az));
+                            if (q > 0 && axis) /* u2 sweeps: the row and cos theta stay */
+                                bad = j != pj || fabs(y - py) > tol || i < pi ||
+                                      (i == pi && az < paz - tol_az);
+                            if (bad)
+                                fail_msg("%s on %s, region %d, u%d sweeps (u%d = %g), step %d: "
+                                         "pixel (%d, %d) after (%d, %d), cos theta %.7f after "
+                                         "%.7f, azimuth %.6f after %.6f",
+                                         methods[c].method, maps[m].name, k, axis ? 2 : 1,
+                                         axis ? 1 : 2, fixed[f], q, i, j, pi, pj, y, py, az, paz);
+                            pi = i, pj = j, py = y, paz = az;
+                        }
+                    }
+            }
+            lumis_region_sampler_destroy(rs);
+            lumis_light_set_destroy(set);
+        }
+        lumis_envmap_destroy(env);
+    }
+}
+
 static void region_sampler_refuses_mismatches(void **state)
 {
     (void)state;
@@ -466,6 +532,7 @@ int main(void)
         cmocka_unit_test(wu_cases_cover_both_kinds_and_returns),
         cmocka_unit_test(region_sampler_refuses_mismatches),
         cmocka_unit_test(samples_land_in_their_pixel_at_awkward_widths),
+        cmocka_unit_test(region_draws_are_monotone_in_u),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
