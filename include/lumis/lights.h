@@ -316,8 +316,9 @@ typedef struct lumis_region_sampler lumis_region_sampler;
 /* One sampler per region (light) of set 0 of `set`, which must have been made from a map of
  * env's size (env itself is retained).  Pixels of zero luminance are never drawn; a pixel
  * that shines but belongs to no region is refused (LUMIS_ERR_INVALID_ARGUMENT: the strata
- * must cover the map).  Cost: two passes over the pixels and one alias build per region,
- * O(pixels); 8 bytes per pixel plus 20 per pixel of nonzero luminance. */
+ * must cover the map).  Cost: two passes over the pixels and one CDF and guide build per
+ * region, O(pixels); 8 bytes per pixel, 20 per pixel of nonzero luminance and 40 per row of
+ * a region. */
 LUMIS_API lumis_status lumis_region_sampler_create(const lumis_envmap *env,
                                                    const lumis_light_set *set,
                                                    const lumis_error_sink *errors,
@@ -335,10 +336,14 @@ LUMIS_API void lumis_region_sampler_power(const lumis_region_sampler *rs, int re
 LUMIS_API int lumis_region_sampler_empty(const lumis_region_sampler *rs, int region);
 
 /* A direction in region `region` from two uniform numbers in [0, 1): a pixel of the region
- * with probability Y Omega / (its sum over the region) (an alias table: one lookup), then
- * uniform in solid angle inside it.  pdf is per steradian within the region; radiance is
- * the map's there.  An empty region or an index out of range gives pdf 0 (and a zero
- * direction).  Cost: O(1), three lookups (bin, entry, radiance). */
+ * with probability Y Omega / (its sum over the region), then uniform in solid angle inside
+ * it, by inversion: u1 picks the region's row (marginal CDF), u2 the pixel in the row
+ * (conditional CDF), and where each fell inside its share places the direction inside the
+ * pixel (u1 along cos theta, u2 along the azimuth), so the draw is monotone in each of u1
+ * and u2 and a stratified set of points gives stratified directions.  pdf is per steradian
+ * within the region; radiance is the map's there.  An empty region or an index out of
+ * range gives pdf 0 (and a zero direction).  Cost: O(1) on average (guide tables): the
+ * row's slot and row (small, cached), the entry's slot and entry, the radiance. */
 LUMIS_API lumis_env_sample lumis_region_sampler_sample(const lumis_region_sampler *rs, int region,
                                                        double u1, double u2);
 /* n draws, draw k in region regions[k] from u[2k], u[2k + 1]: the same results as n calls

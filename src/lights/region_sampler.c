@@ -103,14 +103,17 @@ static inline double density_scale(const lumis_envmap *env, double total, uint32
 }
 
 /* The guide of n consecutive cells whose lower ends cum(0) < cum(1) < ... lie in [lo, hi):
- * slot q gets the last cell whose lower end is at most lo + (hi - lo) q / n (the start of
- * slice q).  A draw computes its point with other rounding, so it also steps back if the
- * slot's cell lies past it (lumis_region_sampler_sample_n). */
+ * slot q gets the last cell whose lower end is at most the start of slice q,
+ * lo + (hi - lo) q / n, less hi 2^-48.  A draw whose u falls in slice q (q = floor(u n))
+ * looks for its point lo + u (hi - lo) from there, forward only: computed with at most
+ * three roundings of under hi 2^-53 each (u n, u (hi - lo), the sum), the point is never
+ * below the slot's start by more than that, and the margin covers it many times, so the
+ * slot's cell never lies past the point. */
 #define BUILD_GUIDE(n, lo, hi, cum, slot)                                                          \
     do {                                                                                           \
         uint32_t c_ = 0;                                                                           \
         for (uint32_t q_ = 0; q_ < (n); q_++) {                                                    \
-            const double x_ = (lo) + ((hi) - (lo)) * ((double)q_ / (double)(n));                   \
+            const double x_ = (lo) + ((hi) - (lo)) * ((double)q_ / (double)(n)) - (hi)*0x1p-48;    \
             while (c_ + 1 < (n) && (cum(c_ + 1)) <= x_) c_++;                                      \
             slot(q_) = c_;                                                                         \
         }                                                                                          \
@@ -189,18 +192,18 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
      * spares: a search reads the cell after a row's last (its test discards it), and the
      * last row's entries end at the spare row's first. */
     const size_t l1 = largest > 0 ? largest : 1u;
-    rs->entry = malloc(((size_t)members + 1) * sizeof *rs->entry);
-    rs->row = malloc(((size_t)rows + 1) * sizeof *rs->row);
+    rs->entry = malloc(((size_t)members + 2) * sizeof *rs->entry);
+    rs->row = malloc(((size_t)rows + 2) * sizeof *rs->row);
     rs->guide = malloc(((size_t)members + 1) * sizeof *rs->guide);
     cursor = malloc(((size_t)K + 1) * sizeof *cursor);
     /* scratch for one region at a time: the weights and their units */
     weight = malloc(l1 * sizeof *weight);
     units = malloc(l1 * sizeof *units);
     if (!rs->entry || !rs->row || !rs->guide || !weight || !cursor || !units) goto fail;
-    memset(rs->entry + members, 0, sizeof *rs->entry);
+    memset(rs->entry + members, 0, 2 * sizeof *rs->entry);
     memset(rs->guide + members, 0, sizeof *rs->guide);
-    memset(rs->row + rows, 0, sizeof *rs->row);
-    rs->row[rows].first = members;
+    memset(rs->row + rows, 0, 2 * sizeof *rs->row);
+    rs->row[rows].first = rs->row[rows + 1].first = members;
     memcpy(cursor, rs->start, ((size_t)K + 1) * sizeof *cursor);
     for (int k = 0; k < K; k++) row_at[k] = rs->rstart[k];
     for (int j = 0; j < h; j++)
@@ -269,8 +272,8 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     free(units);
     free(row_at);
     rs->bytes = sizeof *rs + n * sizeof *rs->px + 2 * ((size_t)K + 1) * sizeof *rs->start +
-                ((size_t)members + 1) * (sizeof *rs->entry + sizeof *rs->guide) +
-                ((size_t)rows + 1) * sizeof *rs->row +
+                ((size_t)members + 2) * sizeof *rs->entry +
+                ((size_t)members + 1) * sizeof *rs->guide + ((size_t)rows + 2) * sizeof *rs->row +
                 (size_t)K * (sizeof *rs->power + sizeof *rs->kind);
     rs->build_ms = lumis__now_ms() - t0;
     *out = rs;
@@ -333,43 +336,29 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
     uint32_t cell[BATCH], first[BATCH], end[BATCH], j[BATCH];
     double x[BATCH], hi[BATCH], t[BATCH], ds[BATCH];
     size_t pixel[BATCH];
+    if (!rs) {
+        memset(out, 0, n * sizeof *out);
+        return;
+    }
     for (size_t k0 = 0; k0 < n; k0 += BATCH) {
         const size_t m = n - k0 < BATCH ? n - k0 : BATCH;
-        /* u1's slice of the region's rows */
+        /* the row: the last whose units before it are at most u1 times the region's (the
+         * rows are few, so their slots are cached: no stage of their own) */
         for (size_t k = 0; k < m; k++) {
             const int r = regions[k0 + k];
-            if (lumis_region_sampler_empty(rs, r)) {
+            if (r < 0 || r >= rs->count || rs->start[r] == rs->start[r + 1]) {
                 cell[k] = UINT32_MAX;
                 continue;
             }
-            const uint32_t r0 = rs->rstart[r];
-            cell[k] = r0 + slice(lumis__clamp_u(u[2 * (k0 + k)]), rs->rstart[r + 1] - r0);
-#if defined(__GNUC__) || defined(__clang__)
-            __builtin_prefetch(rs->row + cell[k]);
-#endif
-        }
-        for (size_t k = 0; k < m; k++) {
-            if (cell[k] == UINT32_MAX) continue;
-            cell[k] = rs->rstart[regions[k0 + k]] + rs->row[cell[k]].guide;
-#if defined(__GNUC__) || defined(__clang__)
-            __builtin_prefetch(rs->row + cell[k]);
-            __builtin_prefetch(rs->row + cell[k] + 1);
-#endif
-        }
-        /* the row: the last whose units before it are at most u1 times the region's */
-        for (size_t k = 0; k < m; k++) {
-            if (cell[k] == UINT32_MAX) continue;
-            const int r = regions[k0 + k];
             const uint32_t r0 = rs->rstart[r], r1 = rs->rstart[r + 1];
-            const double total = region_total(rs, r);
-            const double v = lumis__clamp_u(u[2 * (k0 + k)]) * total;
-            uint32_t s = cell[k];
+            const double total = region_total(rs, r), u1 = lumis__clamp_u(u[2 * (k0 + k)]);
+            const double v = u1 * total;
+            uint32_t s = r0 + rs->row[r0 + slice(u1, r1 - r0)].guide;
             /* two steps without branches (a mispredicted exit costs more), any more by the
-             * loop, and back if the slot's row starts past v (rounding: BUILD_GUIDE) */
-            s += (s + 1 < r1) & (rs->row[s + 1].cum <= v);
-            s += (s + 1 < r1) & (rs->row[s + 1].cum <= v);
+             * loop (the slot's row never lies past v: BUILD_GUIDE) */
+            s += (uint32_t)((s + 1 < r1) & (rs->row[s + 1].cum <= v)) +
+                 (uint32_t)((s + 2 < r1) & (rs->row[s + 2].cum <= v));
             while (s + 1 < r1 && rs->row[s + 1].cum <= v) s++;
-            while (s > r0 && rs->row[s].cum > v) s--;
             const double lo = rs->row[s].cum, up = s + 1 < r1 ? rs->row[s + 1].cum : total;
             t[k] = clamp_fraction((v - lo) * rs->row[s].inv);
             /* u2 inverts the row's conditional: a point of the row's units [lo, up) */
@@ -396,10 +385,9 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
         for (size_t k = 0; k < m; k++) {
             if (cell[k] == UINT32_MAX) continue;
             uint32_t e = cell[k];
-            e += (e + 1 < end[k]) & (rs->entry[e + 1].cum <= x[k]);
-            e += (e + 1 < end[k]) & (rs->entry[e + 1].cum <= x[k]);
+            e += (uint32_t)((e + 1 < end[k]) & (rs->entry[e + 1].cum <= x[k])) +
+                 (uint32_t)((e + 2 < end[k]) & (rs->entry[e + 2].cum <= x[k]));
             while (e + 1 < end[k] && rs->entry[e + 1].cum <= x[k]) e++;
-            while (e > first[k] && rs->entry[e].cum > x[k]) e--;
             const double lo = rs->entry[e].cum, up = e + 1 < end[k] ? rs->entry[e + 1].cum : hi[k];
             x[k] = clamp_fraction((x[k] - lo) / (up - lo)); /* along the azimuth */
             out[k0 + k].pdf = (float)((up - lo) * ds[k]);
