@@ -6,6 +6,8 @@
 # As measure.sh: each configuration twice at a fixed spp, seeds 11 and 12, one thread; the
 # relMSE between the two images is twice each image's (no reference needed), and the
 # sidecars' cpu_seconds (both seeds') is the cost.  Default sequence (Sobol').
+#   COST=1 OLD=... measure-inv.sh OUT_DIR     the cost per stratified sample instead: the
+# two builds' strata renders at 16 spp alternated 4 times per pair, medians of CPU seconds.
 set -e
 OUT=${1:?usage: OLD=old/lumis measure-inv.sh OUT_DIR [SPP_STRATA SPP_MIS]}
 NEW=${LUMIS:-./build/lumis}
@@ -25,6 +27,25 @@ pair() { # BIN MAP SCENE SPP LABEL ARGS...
 }
 S="--lights median-cut --lights-mode stratified --lights-k 32"
 M="--method inversion --mis balance"
+if [ -n "$COST" ]; then
+    for mp in "blender-courtyard wu-diffuse" "pmndrs-lobby wu-glossy" "blender-sunrise wu-diffuse"; do
+        set -- $mp
+        for i in 1 2 3 4; do
+            for B in "$OLD" "$NEW"; do
+                "$B" render --scene $2 --env "data/hdri/$1.exr" --spp 16 --size 160x120 \
+                    --threads 1 --seed 11 $S -o "$OUT/cost.exr" >/dev/null 2>&1
+                python3 -c "import json;print('$B', json.load(open('$OUT/cost.json'))['timings']['cpu_seconds'])"
+            done
+        done | python3 -c "
+import sys, statistics as st
+d = {}
+for l in sys.stdin:
+    b, c = l.split(); d.setdefault(b, []).append(float(c))
+o, n = d['$OLD'], d['$NEW']
+print('$1 $2 16 spp: alias %.3f s, inversion %.3f s (medians of %d), ratio %.3f' % (st.median(o), st.median(n), len(o), st.median(n) / st.median(o)))"
+    done
+    exit 0
+fi
 for mp in "blender-courtyard wu-diffuse cd" "pmndrs-lobby wu-glossy lg" "blender-sunrise wu-diffuse sd"; do
     set -- $mp
     pair "$OLD" $1 $2 $SS $3-strat-alias-$SS $S
