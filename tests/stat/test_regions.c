@@ -7,7 +7,9 @@
  *     its region and carries the map's radiance there,
  *   - a chi-square test of each region's samples against its own pdf,
  *   - the stratified estimate sum_k L(w_k) / p_k(w_k) of the map's power is unbiased (within
- *     4 standard errors of the exact pixel sum), and the regions' powers add up to it. */
+ *     4 standard errors of the exact pixel sum), and the regions' powers add up to it,
+ *   - a draw is monotone in each of u1 and u2 (2-D inversion: what keeps a stratified set of
+ *     points stratified). */
 /* Oracles:
  * lumis_region_sampler_create — statistical: region samplers of every light-set method (below);
  *     error paths: no map, no set, another map's set (region_sampler_refuses_mismatches)
@@ -17,8 +19,9 @@
  *     pixels, 0 outside; density x region power = Y (region_pdf_integrates_to_one)
  * lumis_region_sampler_sample — statistical: chi-square per region against its pdf; the stratified
  *     power estimate within 4 sigma of lumis_envmap_power; draws land in their own pixel at widths
- *     49, 97, 98, 196, 255 (region_chi_square, stratified_power_is_unbiased,
- *     samples_land_in_their_pixel_at_awkward_widths)
+ *     49, 97, 98, 196, 255; property: monotone in u1 (rows, then cos theta) and in u2 (pixels of
+ *     the row, then azimuth), as an inversion is (region_chi_square, stratified_power_is_unbiased,
+ *     samples_land_in_their_pixel_at_awkward_widths, region_draws_are_monotone_in_u)
  * lumis_region_sampler_sample_n — consistency: the very samples of lumis_region_sampler_sample
  *     (region_pdf_of_sample_matches)
  * lumis_region_sampler_power — brute force: the regions' powers add to the map's exact pixel sum
