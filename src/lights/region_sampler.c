@@ -42,8 +42,8 @@ typedef struct region_px {
  * order, and the densities follow the rounded units). */
 typedef struct region_entry {
     double cum;
-    uint32_t col; /* its column (its row is the row's) */
-    uint32_t unused;
+    uint32_t col;    /* its column (its row is the row's) */
+    uint32_t unused; /* (16 bytes: four to a cache line) */
 } region_entry;
 
 /* A row of a region: its entries are [first, the next row's first). */
@@ -64,10 +64,10 @@ struct lumis_region_sampler {
     region_px *px;          /* w * h */
     uint32_t *start;        /* count + 1: region k's entries are [start[k], start[k + 1]) */
     uint32_t *rstart;       /* count + 1: region k's rows are [rstart[k], rstart[k + 1]) */
-    region_entry *entry;    /* by region, scan order inside one; and one spare */
+    region_entry *entry;    /* by region, scan order inside one; and two spare */
     uint32_t *guide;        /* per entry: for the entry at position q of its row, slice q of
                                the row's units starts in the row's entry number guide[] */
-    region_row *row;        /* the regions' rows; and one spare (first: the entries' count) */
+    region_row *row;        /* the regions' rows; and two spare (first: the entries' count) */
     double (*power)[3];     /* count: sum over the region of L Omega (scale applied) */
     lumis_light_kind *kind; /* count: what the region's light stands for */
     double build_ms;
@@ -189,8 +189,8 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     const uint32_t members = rs->start[K], rows = rs->rstart[K];
 
     /* Pass 2: the entries, region by region (scan order inside one), and their rows.  The
-     * spares: a search reads the cell after a row's last (its test discards it), and the
-     * last row's entries end at the spare row's first. */
+     * spares: a search reads up to two cells after a row's last (its tests discard them),
+     * and the last row's entries end at the first spare row's first. */
     const size_t l1 = largest > 0 ? largest : 1u;
     rs->entry = malloc(((size_t)members + 2) * sizeof *rs->entry);
     rs->row = malloc(((size_t)rows + 2) * sizeof *rs->row);
