@@ -501,9 +501,10 @@ def main_ref():
 
 def resolve_base(base):
     """auto: the merge base with main, or HEAD~1 when HEAD is on main.
-    last-landing: what CI tests on a clone of main: the first parent of HEAD if HEAD is a
-    merge; else back along the first parents to the newest merge (the previous branch's
-    landing), at most 20 commits."""
+    last-landing: what CI tests on a clone of main: the commit named in .ci/landed (main as
+    the previous stop landed it, written at the start of each stop's work) when it is an
+    ancestor of HEAD; else the first parent of HEAD if HEAD is a merge, else back along the
+    first parents to the newest merge, at most 20 commits."""
     if base == 'auto':
         m = main_ref()
         if m:
@@ -513,6 +514,14 @@ def resolve_base(base):
                 return mb
         return 'HEAD~1'
     if base == 'last-landing':
+        landed = os.path.join(ROOT, '.ci', 'landed')
+        if os.path.exists(landed):
+            with open(landed) as f:
+                rev = f.read().split('#')[0].strip()
+            if rev and git('merge-base', '--is-ancestor', rev, 'HEAD').returncode == 0:
+                return rev
+            print('mutagen: .ci/landed (%s) is not an ancestor of HEAD; back to the newest merge'
+                  % (rev or 'empty'), file=sys.stderr)
         revs = git('rev-list', '--first-parent', '--parents', '-n', '21', 'HEAD').stdout.split('\n')
         revs = [r.split() for r in revs if r.strip()]
         if not revs:

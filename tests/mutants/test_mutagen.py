@@ -97,6 +97,32 @@ def main():
     check(max(per.values()) <= 2, 'at most 2 a line')
     check([m['id'] for m in mutagen.sample(fake, 2, 12, 8)] != [m['id'] for m in s1],
           'another seed, another sample')
+
+    # last-landing: .ci/landed when it names an ancestor of HEAD, else back to the newest merge
+    with tempfile.TemporaryDirectory() as repo:
+        def g(*a):
+            return subprocess.run(['git', '-C', repo, '-c', 'user.name=t', '-c', 'user.email=t@t']
+                                  + list(a), capture_output=True, text=True, check=True).stdout.strip()
+        g('init', '-q')
+        shas = []
+        for i in range(4):
+            g('commit', '-q', '--allow-empty', '-m', 'c%d' % i)
+            shas.append(g('rev-parse', 'HEAD'))
+        saved = mutagen.ROOT
+        mutagen.ROOT = repo
+        try:
+            check(mutagen.resolve_base('last-landing') == shas[0],
+                  'last-landing without .ci/landed and no merge: the oldest of the 20')
+            os.makedirs(os.path.join(repo, '.ci'))
+            with open(os.path.join(repo, '.ci', 'landed'), 'w') as f:
+                f.write(shas[1] + ' # a comment\n')
+            check(mutagen.resolve_base('last-landing') == shas[1], 'last-landing: .ci/landed')
+            with open(os.path.join(repo, '.ci', 'landed'), 'w') as f:
+                f.write('0' * 40 + '\n')
+            check(mutagen.resolve_base('last-landing') == shas[0],
+                  'last-landing: a .ci/landed naming no ancestor is not taken')
+        finally:
+            mutagen.ROOT = saved
     print(json.dumps({'mutants': len(muts), 'failures': fails}))
     return 1 if fails else 0
 
