@@ -2245,6 +2245,15 @@ static void replaced_noise_is_a_note_and_spikes_are_named(void **state)
     snprintf(a, sizeof a, "info '%s'", m);
     expect(a, 0, "the worst -2300 at pixel (11, 6)");
     expect(a, 0, "pixel (12, 6) = (0, 0, 1.5e+04) is a saturated spike");
+    /* compared as renders, the same file's spike is no map's: not named (a dark reference's
+     * firefly is its estimator's), while what was replaced still is */
+    snprintf(cmd, sizeof cmd, "'%s' compare '%s' '%s'", LUMIS_CLI, m, m);
+    assert_int_equal(tu_run(cmd, &out, &err), 0);
+    if (strstr(err, "saturated spike")) fail_msg("compare names a render's spike: %s", err);
+    if (!strstr(err, "the worst -2300 at pixel (11, 6)"))
+        fail_msg("compare no longer warns of negatives: %s", err);
+    free(out);
+    free(err);
 }
 
 static void compare_prints_every_metric(void **state)

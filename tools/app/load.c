@@ -24,7 +24,7 @@
 /* Tiny negatives (compression noise, in most real HDRIs) are a one-line note that
  * LUMIS_NOTES=0 silences; NaN, Inf and negatives of consequence are a warning naming the
  * worst pixel; saturated spikes (lumis_image_spikes) are named one by one. */
-void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *img)
+static void warn(const char *what, lumis_replaced r, const lumis_image *img, int spikes)
 {
     double mean = 0.0;
     if (img) {
@@ -59,7 +59,7 @@ void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *i
                     (double)r.negative_min, px % (unsigned long long)w, px / (unsigned long long)w,
                     -r.negative_sum / (total > 0 ? total : 1));
     }
-    if (!img) return;
+    if (!img || !spikes) return;
     lumis_spike sp[3];
     const int n = lumis_image_spikes(img, sp, 3);
     for (int k = 0; k < n && k < 3; k++) {
@@ -74,16 +74,33 @@ void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *i
     if (n > 3) fprintf(stderr, "lumis: warning: %s: %d more such spikes\n", what, n - 3);
 }
 
-lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
+void tool_warn_replaced(const char *what, lumis_replaced r, const lumis_image *img)
+{
+    warn(what, r, img, 1);
+}
+
+static lumis_status load(const char *spec, lumis_image **out, lumis_read_info *info, int is_map)
 {
     lumis_read_options opt = {0};
     opt.errors = tool_errors;
     lumis_read_info local;
     if (!info) info = &local;
     const lumis_status st = lumis_map_read(spec, &opt, out, info);
-    /* every command says what it replaced: a NaN read as 0 changes a render or a score */
-    if (st == LUMIS_OK) tool_warn_replaced(spec, info->replaced, *out);
+    /* every command says what it replaced: a NaN read as 0 changes a render or a score; a
+     * spike is named only in a map, where it would draw samples (a render's fireflies are
+     * its estimator's, and a dark reference's bright pixel is no camera's fault) */
+    if (st == LUMIS_OK) warn(spec, info->replaced, *out, is_map);
     return st;
+}
+
+lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info)
+{
+    return load(spec, out, info, 1);
+}
+
+lumis_status tool_load_render(const char *path, lumis_image **out, lumis_read_info *info)
+{
+    return load(path, out, info, 0);
 }
 
 lumis_status tool_make_envmap(const char *spec, const lumis_image *preloaded, float rotation,

@@ -15,6 +15,9 @@
  * procedural spec "sky", "sky:WxH", "studio", "studio:WxH".  Prints errors itself; returns a
  * lumis_status. */
 lumis_status tool_load_image(const char *spec, lumis_image **out, lumis_read_info *info);
+/* Loads a rendered image (compare, merge, the bench's renders and references): as
+ * tool_load_image, but without the spike warning, which is about maps. */
+lumis_status tool_load_render(const char *path, lumis_image **out, lumis_read_info *info);
 /* Prints what was replaced in the map what (a file or spec): tiny negatives as a note
  * (LUMIS_NOTES=0 silences it), the rest as a warning naming the worst pixel; and img's
  * saturated spikes, by pixel (img may be NULL). */

@@ -162,7 +162,7 @@ int tool_merge_shares(const char *const *in, int n, const char *out, const char 
         lumis_image *img = NULL;
         lumis_read_info info;
         memset(&info, 0, sizeof info);
-        if (tool_load_image(in[k], &img, &info) != LUMIS_OK) {
+        if (tool_load_render(in[k], &img, &info) != LUMIS_OK) {
             rc = EXIT_RUNTIME;
             break;
         }

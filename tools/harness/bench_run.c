@@ -124,7 +124,7 @@ static int ensure_reference(const run_ctx *c, int m, int sc)
      * preview follows the suite's current settings */
     if (bench_reference_ok(s, c->out, m, sc)) {
         lumis_image *img = NULL;
-        if (tool_load_image(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+        if (tool_load_render(exr, &img, NULL) != LUMIS_OK) return EXIT_RUNTIME;
         const int rc = write_reference_preview(s, png, img);
         lumis_image_destroy(img);
         return rc;
@@ -146,7 +146,7 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
     snprintf(flip_png, sizeof flip_png, "%s/previews/%s-flip.png", c->out, it->id);
     const suite_budget *b = &s->budgets[it->budget];
     lumis_image *ref = NULL;
-    if (tool_load_image(ref_exr, &ref, NULL) != LUMIS_OK) return EXIT_RUNTIME;
+    if (tool_load_render(ref_exr, &ref, NULL) != LUMIS_OK) return EXIT_RUNTIME;
     const float ref_ev = tool_auto_exposure(ref), ev = s->exposure_auto ? ref_ev : s->exposure_ev;
     tool_render_opts o;
     fill_render_opts(c, it, &s->methods[it->method], &o);
@@ -614,7 +614,7 @@ int bench_merge_references(suite *s, const char *out, long passes)
             snprintf(png, sizeof png, "%.*s.png", (int)strlen(exr) - 4, exr);
             int mrc = tool_merge_shares(in, (int)passes, exr, side, 1, 0);
             lumis_image *img = NULL;
-            if (mrc == EXIT_OK && tool_load_image(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
+            if (mrc == EXIT_OK && tool_load_render(exr, &img, NULL) != LUMIS_OK) mrc = EXIT_RUNTIME;
             if (mrc == EXIT_OK) mrc = write_reference_preview(s, png, img);
             lumis_image_destroy(img);
             if (mrc != EXIT_OK) {

@@ -213,8 +213,8 @@ int cmd_compare(int argc, char **argv)
      * the result, since a test image with NaNs would otherwise score as if it were black
      * there. */
     lumis_read_info ref_info, test_info;
-    if (tool_load_image(ref_path, &ref, &ref_info) != LUMIS_OK ||
-        tool_load_image(test_path, &test, &test_info) != LUMIS_OK)
+    if (tool_load_render(ref_path, &ref, &ref_info) != LUMIS_OK ||
+        tool_load_render(test_path, &test, &test_info) != LUMIS_OK)
         goto done;
     if (ref->width != test->width || ref->height != test->height) {
         rc = tool_runtime_error("%s is %d x %d but %s is %d x %d", ref_path, ref->width,
