@@ -207,6 +207,7 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     p.rays.n = p.flushed = 0;
     enum { CHUNK = 64 };
     int regions[CHUNK];
+    uint32_t dims[CHUNK];
     double u[2 * CHUNK];
     lumis_env_sample e[CHUNK];
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
@@ -219,9 +220,9 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             const float *cone = st->cone + 4 * q;
             if (cone[0] * nx + cone[1] * ny + cone[2] * nz <= cone[3]) continue;
             regions[cnt] = st->strata[q];
-            seq_2d(seq, d0 + (uint32_t)q, 0, 1, u + 2 * cnt);
-            cnt++;
+            dims[cnt++] = d0 + (uint32_t)q;
         }
+        seq_2d_dims(seq, dims, cnt, u);
         lumis_region_sampler_sample_n(st->rs, regions, u, (size_t)cnt, e);
         for (int q = 0; q < cnt; q++) {
             const v3 wi = fromf(e[q].dir);

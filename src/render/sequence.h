@@ -115,6 +115,54 @@ static inline void seq_2d(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n
     }
 }
 
+/* Point 0 of 1 in each of m dimensions dims[0 .. m) of the camera sample, into u[2 q] and
+ * u[2 q + 1]: what seq_2d(s, dims[q], 0, 1, u + 2 q) gives, called in order (PCG32 takes
+ * its numbers in that order).  For sobol the points are the same bit for bit, computed in
+ * loops over the dimensions instead of one call each (a stratified vertex asks for one
+ * point in each of K dimensions): the index's reversal is the same for every dimension
+ * and is done once, and the loops carry no dependence from one dimension to the next. */
+static inline void seq_2d_dims(lumis__stream *s, const uint32_t *dims, int m, double *u)
+{
+    if (s->q->kind != LUMIS_SEQUENCE_SOBOL) {
+        for (int q = 0; q < m; q++) seq_2d(s, dims[q], 0, 1, u + 2 * q);
+        return;
+    }
+    enum { B = 64 };
+    uint32_t a[B], r[B], s1[B];
+    uint64_t low[B];
+    const lumis__seq *sq = s->q;
+    const uint32_t idx = s->k, ridx = lumis_reverse_bits32(idx);
+    for (int q0 = 0; q0 < m; q0 += B) {
+        const int n = m - q0 < B ? m - q0 : B;
+        /* the dimension's hash, its shuffled index (dimension 0 keeps its order, as in
+         * lumis__seq_sobol), and the first coordinate's scrambled bits */
+        for (int q = 0; q < n; q++) {
+            const uint32_t dim = dims[q0 + q];
+            const uint64_t h =
+                lumis__mix64(s->pixel ^ ((uint64_t)dim * 0x9e3779b97f4a7c15ull + 0x50b0));
+            const uint32_t i =
+                dim == 0 ? idx
+                         : lumis_reverse_bits32(lumis_owen_permute_reversed(ridx, (uint32_t)h));
+            a[q] = lumis_reverse_bits32(lumis_owen_permute_reversed(i, (uint32_t)(h >> 32)));
+            s1[q] = (uint32_t)((h * 0xd6e8feb86659fd93ull) >> 32);
+            low[q] = (h + idx) * 0x9e3779b97f4a7c15ull;
+            r[q] = i;
+        }
+        /* Sobol's dimension 1 of the shuffled index, reversed (the byte tables) */
+        for (int q = 0; q < n; q++) {
+            const uint32_t i = r[q];
+            r[q] = sq->sobol1[0][i & 255u] ^ sq->sobol1[1][(i >> 8) & 255u] ^
+                   sq->sobol1[2][(i >> 16) & 255u] ^ sq->sobol1[3][i >> 24];
+        }
+        for (int q = 0; q < n; q++) {
+            double *o = u + 2 * (q0 + q);
+            o[0] = lumis__seq_frac53(a[q], low[q]);
+            o[1] = lumis__seq_frac53(lumis_reverse_bits32(lumis_owen_permute_reversed(r[q], s1[q])),
+                                     low[q] << 21);
+        }
+    }
+}
+
 static inline double seq_1d(lumis__stream *s, uint32_t dim, uint32_t j, uint32_t n)
 {
     if (s->q->kind == LUMIS_SEQUENCE_PCG) return lumis_pcg32_double(&s->rng);

@@ -25,6 +25,8 @@
  *     draw render.c and the light kinds make) bit for bit, every kind, one and three points per
  *     sample; brute force: stratified and zsobol fills of the planned count are nets; error
  *     paths name the field (fill_is_the_renderers_draw)
+ * seq_2d_dims (src/render/sequence.h) — consistency: seq_2d for each dimension in turn, bit for
+ *     bit, every kind, dimension 0 and repeats, two batches (dims_batch_is_seq_2d)
  */
 #include <math.h>
 #include <setjmp.h>
@@ -595,6 +597,39 @@ static void fill_is_the_renderers_draw(void **state)
     assert_int_equal(lumis_sequence_fill(&bad, 0, 1, got), LUMIS_ERR_INVALID_ARGUMENT);
 }
 
+/* seq_2d_dims (a stratified vertex's K points at once) gives what seq_2d gives for each
+ * dimension in turn, bit for bit, for every kind: with dimension 0 among them, dimensions
+ * out of order and repeated, more than one batch (70 > 64), at camera samples whose index
+ * reversed has high bits set, and the streams left where seq_2d leaves them (PCG32). */
+static void dims_batch_is_seq_2d(void **state)
+{
+    (void)state;
+    enum { M = 70 };
+    uint32_t dims[M];
+    double got[2 * M], want[2];
+    for (int q = 0; q < M; q++) dims[q] = (uint32_t)((q * 7 + 3) % 61);
+    dims[5] = 0;
+    dims[9] = dims[8];
+    for (int kind = 1; kind < LUMIS_SEQUENCE_COUNT; kind++) {
+        lumis__seq sq = make_seq((lumis_sequence)kind, 91, 64);
+        for (int k = 0; k < 64; k += 13)
+            for (int m = 0; m <= M; m += M / 2) {
+                lumis__stream a, b;
+                lumis__stream_start(&a, &sq, 5, 3, 16, k);
+                lumis__stream_start(&b, &sq, 5, 3, 16, k);
+                seq_2d_dims(&a, dims, m, got);
+                for (int q = 0; q < m; q++) {
+                    seq_2d(&b, dims[q], 0, 1, want);
+                    assert_memory_equal(got + 2 * q, want, sizeof want);
+                }
+                seq_2d(&a, 4, 0, 1, got);
+                seq_2d(&b, 4, 0, 1, want);
+                assert_memory_equal(got, want, sizeof want);
+            }
+        lumis__seq_release(&sq);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -608,6 +643,7 @@ int main(void)
         cmocka_unit_test(render_streams_are_nets),
         cmocka_unit_test(names_and_bad_kinds),
         cmocka_unit_test(fill_is_the_renderers_draw),
+        cmocka_unit_test(dims_batch_is_seq_2d),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
