@@ -163,30 +163,6 @@ void lumis_sampler_destroy(lumis_sampler *s)
 #define LUMIS__NOINLINE static
 #endif
 
-/* sin and cos of 2 pi a for a >= 0 (a in turns), to about 2e-9: far below the float
- * rounding of the direction, and a fraction of libm's cost.  The argument is reduced to
- * the nearest quarter turn in double (exact to 1e-16), then truncated Taylor series on
- * |r| <= pi/4 (remainders r^11/11! < 1.8e-9 and r^12/12! < 1.2e-10). */
-static inline void sincos_turns(double a, double *sn, double *cs)
-{
-    int q = (int)(a * 4.0 + 0.5);
-    double r = (a - 0.25 * q) * (2.0 * LUMIS_PI), r2 = r * r;
-    double s =
-        r + r * r2 * (-1.0 / 6 + r2 * (1.0 / 120 + r2 * (-1.0 / 5040 + r2 * (1.0 / 362880))));
-    double c =
-        1.0 + r2 * (-0.5 + r2 * (1.0 / 24 +
-                                 r2 * (-1.0 / 720 + r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800)))));
-    /* Quadrant q: swap for odd q and flip signs, on the bits: the quadrant is random, and
-     * a mispredicted branch here would discard the work of the samples after it. */
-    uint64_t sb, cb, swap = 0 - (uint64_t)(q & 1);
-    memcpy(&sb, &s, sizeof s);
-    memcpy(&cb, &c, sizeof c);
-    uint64_t a1 = ((cb & swap) | (sb & ~swap)) ^ ((uint64_t)(q & 2) << 62);
-    uint64_t a2 = ((sb & swap) | (cb & ~swap)) ^ ((uint64_t)((q + 1) & 2) << 62);
-    memcpy(sn, &a1, sizeof a1);
-    memcpy(cs, &a2, sizeof a2);
-}
-
 /* The row holding cos theta = c within rows [y0, y1): the largest j with cos_row[j] >= c.
  * theta from Abramowitz and Stegun's 4.4.46 (error below 2e-8 rad, a row is pi / h)
  * names the row or a neighbour; two comparisons settle it.  No table, no search. */
@@ -228,11 +204,6 @@ LUMIS__INLINE float final_pdf(const lumis_sampler *s, double density, lumis_vec3
     return density < FLT_MAX ? (float)density : FLT_MAX;
 }
 
-/* Rounding a direction to float moves it by about 1e-7 radians (the warp's own error is
- * 2e-9); a point at least this far (in radians, or in cos theta, which changes no faster)
- * from every edge of its pixel is certain to look up that pixel again. */
-#define EDGE_MARGIN 1e-6
-
 /* Point (s, t) of the rectangle -> map-frame direction m, uniform in solid angle (or in
  * angles), and the pixel holding it; returns whether the point is clear of that pixel's
  * edges.  A one-pixel rectangle (inversion, alias, hierarchical) is its own pixel. */
@@ -248,7 +219,7 @@ LUMIS__INLINE int warp(const lumis_sampler *smp, const lumis__pick *p, double s,
     double c, st;
     if (smp->m->uniform_angles) {
         /* theta / 2 pi = v / 2 */
-        sincos_turns((p->y0 + t * (p->y1 - p->y0)) * (0.5 / env->height), &st, &c);
+        lumis__sincos_turns((p->y0 + t * (p->y1 - p->y0)) * (0.5 / env->height), &st, &c);
     } else {
         double c0 = env->cos_row[p->y0], c1 = env->cos_row[p->y1];
         c = c0 + t * (c1 - c0);
@@ -263,7 +234,7 @@ LUMIS__INLINE int warp(const lumis_sampler *smp, const lumis__pick *p, double s,
     __builtin_prefetch(env->pixels + 3 * ((size_t)j * (size_t)env->width + (size_t)*pi));
 #endif
     double sp, cp;
-    sincos_turns((p->x0 + x) * smp->inv_w, &sp, &cp);
+    lumis__sincos_turns((p->x0 + x) * smp->inv_w, &sp, &cp);
     m[0] = st * cp;
     m[1] = c;
     m[2] = st * sp;
@@ -274,7 +245,7 @@ LUMIS__INLINE int warp(const lumis_sampler *smp, const lumis__pick *p, double s,
     double up = env->cos_row[j] - c, down = c - env->cos_row[j + 1];
     double d = up < down ? up : down;
     d = dphi < d ? dphi : d;
-    return d >= EDGE_MARGIN;
+    return d >= LUMIS__EDGE_MARGIN;
 }
 
 static void to_world(const lumis_envmap *env, const double m[3], lumis_vec3 *dir)
@@ -330,15 +301,20 @@ static const lumis__method pixel_method = {no_pick, NULL, NULL, 0, NULL, NULL};
 size_t lumis__envmap_place(const lumis_envmap *env, int i, int j, double s, double t,
                            lumis_vec3 *dir)
 {
+    s = lumis__clamp_u(s);
+    t = lumis__clamp_u(t);
+    const double inv_w = 1.0 / env->width;
+    if (lumis__envmap_place_clear(env, inv_w, i, j, s, t, dir))
+        return (size_t)j * (size_t)env->width + (size_t)i;
     lumis_sampler one;
     memset(&one, 0, sizeof one);
     one.m = &pixel_method;
     one.env = env;
     one.w = env->width;
     one.h = env->height;
-    one.inv_w = 1.0 / env->width;
-    const lumis__pick p = {i, j, i + 1, j + 1, lumis__clamp_u(s), lumis__clamp_u(t), 0.0};
-    return place(&one, &p, dir);
+    one.inv_w = inv_w;
+    const lumis__pick p = {i, j, i + 1, j + 1, s, t, 0.0};
+    return place_near_edge(&one, &p, dir); /* what place() does with a point not clear */
 }
 
 lumis_env_sample lumis_sampler_sample(const lumis_sampler *s, double u1, double u2)

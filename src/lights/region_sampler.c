@@ -61,6 +61,7 @@ typedef struct region_row {
 struct lumis_region_sampler {
     const lumis_envmap *env; /* retained */
     int w, h, count;
+    double inv_w;           /* 1 / w */
     region_px *px;          /* w * h */
     uint32_t *start;        /* count + 1: region k's entries are [start[k], start[k + 1]) */
     uint32_t *rstart;       /* count + 1: region k's rows are [rstart[k], rstart[k + 1]) */
@@ -136,6 +137,7 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
     rs->env = lumis__envmap_retain(env);
     rs->w = w;
     rs->h = h;
+    rs->inv_w = 1.0 / w;
     rs->count = K;
     rs->px = malloc(n * sizeof *rs->px);
     rs->start = calloc((size_t)K + 1, sizeof *rs->start);
@@ -403,7 +405,11 @@ void lumis_region_sampler_sample_n(const lumis_region_sampler *rs, const int *re
                 memset(o, 0, sizeof *o);
                 continue;
             }
-            lumis__envmap_place(rs->env, (int)cell[k], (int)j[k], x[k], t[k], &o->dir);
+            /* x and t are in [0, 1) (clamp_fraction); a point near its pixel's edges
+             * (about one in 10^3) goes the long way, which keeps it inside */
+            if (!lumis__envmap_place_clear(rs->env, rs->inv_w, (int)cell[k], (int)j[k], x[k], t[k],
+                                           &o->dir))
+                lumis__envmap_place(rs->env, (int)cell[k], (int)j[k], x[k], t[k], &o->dir);
         }
         for (size_t k = 0; k < m; k++)
             if (cell[k] != UINT32_MAX)
