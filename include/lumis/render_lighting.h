@@ -199,7 +199,11 @@ typedef struct lumis_light_set_lighting {
      * proportion to a weight of their contribution there (power x the cosine at the
      * region's centroid plus a fifth of a bound over its cone x a BSDF weight), with the
      * selection probability in the estimator and in the MIS weights; regions wholly below
-     * the horizon are never chosen (docs/lights.md, "Selected draws"). */
+     * the horizon are never chosen (docs/lights.md, "Selected draws").  With region_draws =
+     * N instead, every region keeps its draws and its place in the sum, but gets n_r >= 1
+     * of them (averaged; n_r stratified points of its dimension), the N split before the
+     * render in proportion to a bound of each region's noise (docs/lights.md, "Allocated
+     * draws"). */
     const lumis_light_set *set;          /* required */
     unsigned kinds;                      /* lights of the set used: 0 == all, else a mask of bits
                                             1u << lumis_light_kind (e.g. EnvDirects only) */
@@ -209,6 +213,11 @@ typedef struct lumis_light_set_lighting {
     int draws;                           /* stratified: 0 == one draw in every region; N in
                                             1 .. LUMIS_LIGHT_SET_MAX_DRAWS: N draws per
                                             vertex over regions chosen per shading point */
+    int region_draws;                    /* stratified, draws 0: 0 == one draw in every
+                                            region; N (regions lit .. LUMIS_LIGHT_SET_MAX_DRAWS):
+                                            N draws per vertex, n_r >= 1 in region r, fixed
+                                            before the render by Neyman allocation (the
+                                            regions' luminous power x solid angle^(1/4)) */
 } lumis_light_set_lighting;
 
 enum { LUMIS_LIGHT_SET_MAX_DRAWS = 4096 };

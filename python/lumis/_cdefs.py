@@ -529,6 +529,7 @@ typedef struct lumis_light_set_lighting {
     lumis_lights_mode mode;
     const lumis_region_sampler *regions;
     int draws;
+    int region_draws;
 } lumis_light_set_lighting;
 typedef struct lumis_sun {
     int found;

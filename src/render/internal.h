@@ -73,6 +73,10 @@ const char *lumis__lighting_lit_by(lumis_lighting_kind kind);
 lumis_status lumis__light_set_selection(const lumis_render_desc *d, lumis_vec3 normal,
                                         lumis_vec3 view, const lumis_bsdf *m, double *q);
 
+/* Allocated draws (light_set.c), for tests: n[k] the draws light k's region gets per vertex
+ * with d's light_set.region_draws (d in stratified mode; 0 for a light that is no stratum). */
+lumis_status lumis__light_set_allocation(const lumis_render_desc *d, int *n);
+
 /* lumis_render_gbuffer on `threads` threads (0: OpenMP's default): a session renders on
  * the threads its caller gave. */
 lumis_status lumis__render_gbuffer(const lumis_scene *scene, const lumis_camera *camera,

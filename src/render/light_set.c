@@ -1,8 +1,10 @@
 /* A light set as the renderer's light.  Point mode: every light of the pixel's interleaved
  * set, one shadow ray each, traced 16 at a time.  Stratified mode: the set's regions as
  * strata of the map, one direction drawn in each, combined with a BSDF sample by MIS per
- * region (docs/lights.md, "Stratified mode"); or, with light_set.draws = N, N draws over
- * regions chosen per shading point (shade_selected; "Selected draws"). */
+ * region (docs/lights.md, "Stratified mode"), or n_r >= 1 in region r fixed before the
+ * render (light_set.region_draws, allocate_draws; "Allocated draws"); or, with
+ * light_set.draws = N, N draws over regions chosen per shading point (shade_selected;
+ * "Selected draws"). */
 #include "lumis/render.h"
 
 #include "../core/internal.h"
@@ -33,6 +35,7 @@ typedef struct set_state {
      * power (the terms of its bound B_r), and per light its stratum (-1: none) */
     float *bound;
     int *stratum_of;
+    int *nd; /* allocated draws: per stratum its draw count n_q >= 1; NULL: one each */
     unsigned kinds;
 } set_state;
 
@@ -130,9 +133,9 @@ LUMIS__ENUM_NAMES(lumis_lights_mode, LUMIS_LIGHTS_MODE_COUNT, mode_names, lumis_
  * last shadow rays are traced into *L first.  The sample (dimensions db) is lit by the region
  * it lands in when that region is drawn from, weighed by MIS against n_light light draws of
  * density q_R p_R: q_R from the strata's running sums cdf over total (selected draws), or
- * 1 (cdf NULL: one draw in every region of the kinds).  Its light is weight Le w; lit 0 when it
- * adds none (light sampling only, no sample, a region of another layer, not drawn from or
- * dark there, occluded). */
+ * 1 (cdf NULL: draws in every region of the kinds, n_light = that region's n_q).  Its light is
+ * weight Le w; lit 0 when it adds none (light sampling only, no sample, a region of another layer,
+ * not drawn from or dark there, occluded). */
 typedef struct bsdf_light {
     int lit;
     lumis_rgb weight, Le; /* the sample's f cos / pdf, and the radiance it meets */
@@ -169,6 +172,7 @@ static bsdf_light bsdf_sample_regions(const ctx *c, const lumis__vertex *v, cons
     /* q of the region it lands in: 0 below the horizon (no draw could land there) */
     const double q = !cdf ? 1.0 : total > 0.0 ? (cdf[s] - (s > 0 ? cdf[s - 1] : 0.0)) / total : 0.0;
     const double pl = q * (double)dens;
+    if (!cdf && st->nd && s >= 0) n_light = st->nd[s];
     out.lit = 1;
     out.weight = bs.weight;
     out.Le = Le;
@@ -176,11 +180,12 @@ static bsdf_light bsdf_sample_regions(const ctx *c, const lumis__vertex *v, cons
     return out;
 }
 
-/* Stratified mode: one direction in every region lit, weighted by radiance over the
- * region's pdf, and one BSDF sample; with MIS each region is its own two-technique
- * estimator (its pdf against the BSDF's), so the sum over regions is the direct light,
- * unbiased.  Two numbers are drawn for each region above the horizon, three for the
- * BSDF. */
+/* Stratified mode: n_q directions in every region q lit (n_q = 1, or allocated draws: the
+ * counts of allocate_draws), each weighted by radiance over n_q times the region's pdf, and
+ * one BSDF sample; with MIS each region is its own multi-sample estimator (n_q draws of its
+ * pdf against one of the BSDF's, balance or power heuristic), so the sum over regions is the
+ * direct light, unbiased.  Region q's draws are points 0 .. n_q - 1 of its dimension (two
+ * numbers each, above the horizon), then three numbers for the BSDF. */
 static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vertex *v)
 {
     const lumis_render_desc *d = c->d;
@@ -206,26 +211,37 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
     packet p;
     p.rays.n = p.flushed = 0;
     enum { CHUNK = 64 };
-    int regions[CHUNK];
+    int regions[CHUNK], nds[CHUNK];
     uint32_t dims[CHUNK];
     double u[2 * CHUNK];
     lumis_env_sample e[CHUNK];
     const float nx = (float)n.x, ny = (float)n.y, nz = (float)n.z;
-    for (int q0 = 0; use.light && q0 < st->nstrata; q0 += CHUNK) {
-        const int q1 = q0 + CHUNK < st->nstrata ? q0 + CHUNK : st->nstrata;
+    int q = 0, j = 0; /* the next draw: point j of stratum q's n_q */
+    while (use.light && q < st->nstrata) {
         int cnt = 0;
-        for (int q = q0; q < q1; q++) {
+        for (; q < st->nstrata && cnt < CHUNK; q++, j = 0) {
             /* A region whose cone lies wholly below the horizon adds exactly nothing (no
              * BSDF here transmits): no draw. */
             const float *cone = st->cone + 4 * q;
             if (cone[0] * nx + cone[1] * ny + cone[2] * nz <= cone[3]) continue;
-            regions[cnt] = st->strata[q];
-            dims[cnt++] = d0 + (uint32_t)q;
+            if (!st->nd) { /* one draw a region: the vertex's points in one batch */
+                regions[cnt] = st->strata[q];
+                nds[cnt] = 1;
+                dims[cnt++] = d0 + (uint32_t)q;
+                continue;
+            }
+            const int nq = st->nd[q];
+            for (; j < nq && cnt < CHUNK; j++, cnt++) {
+                regions[cnt] = st->strata[q];
+                nds[cnt] = nq;
+                seq_2d(seq, d0 + (uint32_t)q, (uint32_t)j, (uint32_t)nq, u + 2 * cnt);
+            }
+            if (j < nq) break; /* the chunk is full: the stratum's next draws in the next */
         }
-        seq_2d_dims(seq, dims, cnt, u);
+        if (!st->nd) seq_2d_dims(seq, dims, cnt, u);
         lumis_region_sampler_sample_n(st->rs, regions, u, (size_t)cnt, e);
-        for (int q = 0; q < cnt; q++) {
-            const v3 wi = fromf(e[q].dir);
+        for (int k = 0; k < cnt; k++) {
+            const v3 wi = fromf(e[k].dir);
             const double cosn = dot(wi, n);
             if (!(cosn > 0.0)) continue;
             const lumis_vec3 wil = tof(mk(dot(wi, t), dot(wi, b), cosn));
@@ -235,11 +251,12 @@ static v3 shade_stratified(const ctx *c, const hit *h, v3 dir, const lumis__vert
             const float pb = !use.mis  ? 0.0f
                              : lambert ? (float)(wil.z / LUMIS_PI)
                                        : lumis_bsdf_pdf(m, wo, wil);
-            const double w = use.mis ? mis_weight(1, e[q].pdf, 1, pb, d->power_heuristic) : 1.0;
-            const double k2 = w * cosn / e[q].pdf;
+            const double w =
+                use.mis ? mis_weight(nds[k], e[k].pdf, 1, pb, d->power_heuristic) : 1.0;
+            const double k2 = w * cosn / ((double)nds[k] * e[k].pdf);
             packet_push(&p, o, wi, INFINITY,
-                        mk(f.r * e[q].radiance.r * k2, f.g * e[q].radiance.g * k2,
-                           f.b * e[q].radiance.b * k2));
+                        mk(f.r * e[k].radiance.r * k2, f.g * e[k].radiance.g * k2,
+                           f.b * e[k].radiance.b * k2));
             if (p.rays.n == PACKET) packet_flush(c->scene, d, &p, &L);
         }
     }
@@ -427,7 +444,7 @@ static void inputs(const lumis_lighting *l, unsigned *needs, unsigned *takes)
     *takes = LUMIS__IN_SET_KINDS | LUMIS__IN_SET_MODE | LUMIS__IN_HIDE | LUMIS__IN_SUN;
     if (l->light_set.mode == LUMIS_LIGHTS_STRATIFIED)
         *takes |= LUMIS__IN_REGIONS | LUMIS__IN_EST_LIGHT | LUMIS__IN_POWER | LUMIS__IN_BOUNCES |
-                  LUMIS__IN_SET_DRAWS;
+                  LUMIS__IN_SET_DRAWS | LUMIS__IN_SET_ALLOC;
 }
 
 static void release(void *state)
@@ -440,8 +457,45 @@ static void release(void *state)
         free(st->cone);
         free(st->bound);
         free(st->stratum_of);
+        free(st->nd);
     }
     free(st);
+}
+
+/* Allocated draws: the n draws of a vertex split over the strata before the render, n_q >= 1,
+ * by Neyman allocation (the variance sum_q s_q^2 / n_q least for the total n) against a bound
+ * of each region's standard deviation known from the set alone,
+ *     s_q = Y(P_q) Omega_q^(1/4),
+ * luminous power times the square root of the region's angular size: a region's noise is its
+ * visibility's (the chance that a shadow edge crosses a region grows with its size; a sun's
+ * one-pixel regions barely vary), measured per region on blender-sunrise
+ * (docs/results/sun/README.md, "Where the strata's error comes from").  The draws beyond one
+ * a stratum go one at a time to the stratum whose term s_q^2 / n_q falls most (greedy:
+ * exact for this convex sum).  The counts change the variance only: each region's draws
+ * average to its own estimate whatever n_q is. */
+static int allocate_draws(set_state *st, const lumis_light *l, int n)
+{
+    double *s2 = malloc((size_t)(st->nstrata > 0 ? st->nstrata : 1) * sizeof *s2);
+    if (!s2) return 0;
+    for (int q = 0; q < st->nstrata; q++) {
+        st->nd[q] = 1;
+        const double s = (double)st->bound[3 * q + 2] * pow(l[st->strata[q]].solid_angle, 0.25);
+        s2[q] = s * s;
+    }
+    for (int left = n - st->nstrata; left > 0; left--) {
+        int best = 0;
+        double gain = -1.0;
+        for (int q = 0; q < st->nstrata; q++) {
+            const double g = s2[q] / ((double)st->nd[q] * (st->nd[q] + 1));
+            if (g > gain) {
+                gain = g;
+                best = q;
+            }
+        }
+        st->nd[best]++;
+    }
+    free(s2);
+    return 1;
 }
 
 static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d, void **state)
@@ -497,6 +551,18 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
             cone[3] = l[k].extent < 1.5f ? -sinf(l[k].extent) - 1e-4f : -2.0f;
             st->strata[st->nstrata++] = k;
         }
+        const int nd = d->lighting.light_set.region_draws;
+        if (nd > 0) {
+            if (nd < st->nstrata)
+                return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                                   "render: lighting.light_set.region_draws %d: under the %d "
+                                   "regions lit (each draws at least once)",
+                                   nd, st->nstrata);
+            st->nd = malloc((size_t)(st->nstrata > 0 ? st->nstrata : 1) * sizeof *st->nd);
+            if (!st->nd || !allocate_draws(st, l, nd))
+                return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
+                                   "render: light set: out of memory");
+        }
     }
     /* the point lights' arrays: point mode only */
     if (!st || (!stratified &&
@@ -528,6 +594,21 @@ lumis_status lumis__light_set_selection(const lumis_render_desc *d, lumis_vec3 n
         }
     }
     free(cdf);
+    release(state);
+    return st;
+}
+
+lumis_status lumis__light_set_allocation(const lumis_render_desc *d, int *n)
+{
+    if (!d || !n || d->lighting.light_set.mode != LUMIS_LIGHTS_STRATIFIED)
+        return LUMIS_ERR_INVALID_ARGUMENT;
+    void *state = NULL;
+    const lumis_status st = prepare(NULL, d, &state);
+    const set_state *ss = state;
+    for (int k = 0; st == LUMIS_OK && k < lumis_region_sampler_count(ss->rs); k++) {
+        const int s = ss->stratum_of[k];
+        n[k] = s < 0 ? 0 : ss->nd ? ss->nd[s] : 1;
+    }
     release(state);
     return st;
 }

@@ -59,6 +59,9 @@ static const struct {
     {LUMIS__IN_SUN, "lighting.sun.sun", "", " (a sun is split off an environment map)"},
     {LUMIS__IN_SET_DRAWS, "lighting.light_set.draws", "",
      " (the point lights are all evaluated; draws chooses regions as strata)"},
+    {LUMIS__IN_SET_ALLOC, "lighting.light_set.region_draws", "",
+     " (the point lights are all evaluated; region_draws splits draws over regions as "
+     "strata)"},
 };
 
 /* What a render description gives of the inputs. */
@@ -79,7 +82,8 @@ static unsigned given(const lumis_render_desc *d, int set_to_come)
            (d->light_samples ? LUMIS__IN_LIGHT_SAMPLES : 0u) |
            (d->bsdf_samples ? LUMIS__IN_BSDF_SAMPLES : 0u) |
            (d->max_bounces > 0 ? LUMIS__IN_BOUNCES : 0u) | (l->sun.sun ? LUMIS__IN_SUN : 0u) |
-           (l->light_set.draws ? LUMIS__IN_SET_DRAWS : 0u);
+           (l->light_set.draws ? LUMIS__IN_SET_DRAWS : 0u) |
+           (l->light_set.region_draws ? LUMIS__IN_SET_ALLOC : 0u);
 }
 
 /* A sun split off the map: found, with its residual, the same size as the map, and (env) the
@@ -139,6 +143,17 @@ lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come)
                            "render: lighting.light_set.draws %d: out of range (0: one draw in "
                            "every region, 1 .. %d draws chosen per shading point)",
                            l->light_set.draws, LUMIS_LIGHT_SET_MAX_DRAWS);
+    if (l->light_set.region_draws < 0 || l->light_set.region_draws > LUMIS_LIGHT_SET_MAX_DRAWS)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.light_set.region_draws %d: out of range (0: one "
+                           "draw in every region, else at least one per region, at most %d)",
+                           l->light_set.region_draws, LUMIS_LIGHT_SET_MAX_DRAWS);
+    if (l->light_set.region_draws && l->light_set.draws)
+        return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.light_set.region_draws %d with draws %d: one or the "
+                           "other (draws chooses regions per vertex, region_draws draws in "
+                           "every region)",
+                           l->light_set.region_draws, l->light_set.draws);
     if ((unsigned)l->estimator > LUMIS_ESTIMATOR_BSDF)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: lighting.estimator %d: unknown (MIS, light or BSDF)",

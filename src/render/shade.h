@@ -108,7 +108,8 @@ enum {
     LUMIS__IN_BOUNCES = 1u << 14,       /* max_bounces > 0 */
     LUMIS__IN_SUN = 1u << 15,           /* lighting.sun.sun */
     LUMIS__IN_SET_DRAWS = 1u << 16,     /* lighting.light_set.draws */
-    LUMIS__IN_COUNT = 17
+    LUMIS__IN_SET_ALLOC = 1u << 17,     /* lighting.light_set.region_draws */
+    LUMIS__IN_COUNT = 18
 };
 
 /* The renderer's light interface: a kind of light is one file and one entry of render.c's

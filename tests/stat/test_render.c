@@ -675,6 +675,171 @@ static void selected_draws_converge_to_the_exact_irradiance(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Allocated draws (light_set.region_draws = N: n_r >= 1 draws in every region r, N in all,
+ * each region's draws averaged, MIS as n_r light samples against one BSDF sample) are
+ * unbiased: every pixel of the Lambertian sphere converges to the exact irradiance summed over
+ * the map's pixels, in all three channels of the coloured map, with N at the regions' count
+ * (one each), odd and larger, light sampling alone and MIS with both heuristics, Wu's two
+ * layers added, and several sequences (a region's n_r points of its own dimension). */
+static void allocated_draws_converge_to_the_exact_irradiance(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    lumis_scene *s = one_sphere(0.7f);
+    enum { RUNS = 32 };
+    static const struct {
+        const char *method;
+        int k, draws, split;
+        lumis_estimator est;
+        int power;
+        lumis_sequence seq;
+    } cases[] = {
+        {"median-cut", 8, 8, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_PCG},
+        {"median-cut", 8, 21, 0, LUMIS_ESTIMATOR_MIS, 0, LUMIS_SEQUENCE_SOBOL},
+        {"median-cut", 16, 37, 0, LUMIS_ESTIMATOR_LIGHT, 0, LUMIS_SEQUENCE_SOBOL},
+        {"wu", 12, 40, 1, LUMIS_ESTIMATOR_MIS, 1, LUMIS_SEQUENCE_ZSOBOL},
+        {"fhis", 16, 64, 0, LUMIS_ESTIMATOR_MIS, 1, LUMIS_SEQUENCE_PMJ02},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        lumis_light_set *set = NULL;
+        assert_int_equal(
+            lumis_lights_by_name(env, cases[c].method, cases[c].k, 0, NULL, NULL, &set), LUMIS_OK);
+        lumis_region_sampler *rs = NULL;
+        assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+        lumis_image *imgs[RUNS];
+        for (int r = 0; r < RUNS; r++) {
+            lumis_render_desc d = {0};
+            d.camera = &cam;
+            d.lighting.env = env;
+            d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+            d.lighting.light_set.set = set;
+            d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+            d.lighting.light_set.regions = r % 2 ? rs : NULL;
+            d.lighting.light_set.region_draws = cases[c].draws;
+            d.lighting.light_set.kinds = cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u;
+            d.lighting.estimator = cases[c].est;
+            d.power_heuristic = cases[c].power;
+            d.sequence = cases[c].seq;
+            d.spp = 16;
+            d.seed = 900u + (unsigned)r;
+            lumis_render_stats st;
+            assert_int_equal(lumis_render(s, &d, &imgs[r], &st), LUMIS_OK);
+            assert_true(st.shadow_rays > 0.0);
+            if (cases[c].split) { /* Wu's split: the other layer added */
+                lumis_image *other = NULL;
+                d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
+                d.lighting.hide_environment = 1;
+                assert_int_equal(lumis_render(s, &d, &other, NULL), LUMIS_OK);
+                for (int k = 0; k < 3 * 24 * 24; k++) imgs[r]->pixels[k] += other->pixels[k];
+                lumis_image_destroy(other);
+            }
+        }
+        char what[96];
+        snprintf(what, sizeof what, "allocated draws %s K %d N %d (estimator %d, %s)",
+                 cases[c].method, cases[c].k, cases[c].draws, (int)cases[c].est,
+                 lumis_sequence_name(cases[c].seq));
+        check_irradiance(imgs, RUNS, env, 0.7, what);
+        for (int r = 0; r < RUNS; r++) lumis_image_destroy(imgs[r]);
+        lumis_region_sampler_destroy(rs);
+        lumis_light_set_destroy(set);
+    }
+    lumis_scene_destroy(s);
+    lumis_envmap_destroy(env);
+}
+
+/* The least of sum_k s2[k] / n_k over every n_k >= 1 with sum n_k = left + (K - k) (brute
+ * force over the compositions, for the test alone). */
+static double neyman_brute(const double *s2, int K, int k, int left)
+{
+    if (k == K - 1) return s2[k] / (double)(1 + left);
+    double best = INFINITY;
+    for (int e = 0; e <= left; e++) {
+        const double v = s2[k] / (double)(1 + e) + neyman_brute(s2, K, k + 1, left - e);
+        if (v < best) best = v;
+    }
+    return best;
+}
+
+/* Allocated draws are Neyman's allocation against s_r = Y(P_r) Omega_r^(1/4): for several
+ * N the counts are at least one a region, add up to N, and reach the least variance term
+ * sum s_r^2 / n_r that a brute-force search over every split of N finds (ties may split
+ * differently, the sum may not); a larger s never gets fewer draws.  Refused: N under the
+ * regions lit, N with draws, N in point mode, a negative N, each naming the field. */
+static void allocated_draws_follow_neyman(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    enum { K = 7 };
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", K, 0, NULL, NULL, &set), LUMIS_OK);
+    const lumis_light *l = NULL;
+    int count = 0;
+    assert_int_equal(lumis_light_set_get(set, 0, &l, &count), LUMIS_OK);
+    assert_int_equal(count, K);
+    double s2[K];
+    for (int k = 0; k < K; k++) {
+        const double y = 0.2126 * l[k].power[0] + 0.7152 * l[k].power[1] + 0.0722 * l[k].power[2];
+        s2[k] = y * y * sqrt(l[k].solid_angle);
+    }
+    lumis_render_desc d = {0};
+    d.lighting.env = env;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    d.lighting.light_set.set = set;
+    d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+    int spread = 0;
+    for (int N = K; N <= 40; N += 3) {
+        d.lighting.light_set.region_draws = N;
+        int n[K];
+        assert_int_equal(lumis__light_set_allocation(&d, n), LUMIS_OK);
+        int sum = 0;
+        double v = 0;
+        for (int k = 0; k < K; k++) {
+            if (n[k] < 1) fail_msg("N %d: region %d gets %d draws", N, k, n[k]);
+            sum += n[k];
+            v += s2[k] / n[k];
+            for (int j = 0; j < K; j++)
+                if (s2[j] > s2[k] * (1 + 1e-9) && n[j] < n[k])
+                    fail_msg("N %d: region %d (s2 %g) gets %d draws, region %d (s2 %g) %d", N, j,
+                             s2[j], n[j], k, s2[k], n[k]);
+            if (n[k] > n[0] + 1 || n[k] < n[0] - 1) spread = 1;
+        }
+        assert_int_equal(sum, N);
+        const double best = neyman_brute(s2, K, 0, N - K);
+        if (v > best * (1 + 1e-12)) fail_msg("N %d: sum s2 / n %.12g, the least %.12g", N, v, best);
+    }
+    assert_true(spread); /* the map's regions differ enough that the counts are not all equal */
+    int n[K];
+    d.lighting.light_set.region_draws = K - 1;
+    assert_int_equal(lumis__light_set_allocation(&d, n), LUMIS_ERR_INVALID_ARGUMENT);
+    static const lumis_camera one = {{0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 40.0f, 4, 4};
+    lumis_scene *s = one_sphere(0.5f);
+    lumis_image *img = NULL;
+    const struct {
+        int region_draws, draws;
+        lumis_lights_mode mode;
+    } bad[] = {{K - 1, 0, LUMIS_LIGHTS_STRATIFIED},
+               {2 * K, 3, LUMIS_LIGHTS_STRATIFIED},
+               {2 * K, 0, LUMIS_LIGHTS_POINT},
+               {-1, 0, LUMIS_LIGHTS_STRATIFIED}};
+    for (size_t b = 0; b < sizeof bad / sizeof bad[0]; b++) {
+        tu_sink k;
+        tu_sink_init(&k);
+        d.camera = &one;
+        d.spp = 1;
+        d.errors = k.sink;
+        d.lighting.light_set.region_draws = bad[b].region_draws;
+        d.lighting.light_set.draws = bad[b].draws;
+        d.lighting.light_set.mode = bad[b].mode;
+        assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+        assert_null(img);
+        if (!strstr(k.last, "lighting.light_set.region_draws"))
+            fail_msg("case %zu: the message names no field: %s", b, k.last);
+    }
+    lumis_scene_destroy(s);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 /* A glossy sphere (GGX plastic, coloured base) under the coloured map: each checked pixel
  * converges to the integral of f(wo, wi) L(wi) cos over the map, summed here over every map
  * pixel (4 x 4 sub-cells, the BSDF evaluated at each) and averaged over the pixel's
@@ -2941,6 +3106,8 @@ int main(void)
         cmocka_unit_test(stratified_light_sets_converge_to_the_exact_irradiance),
         cmocka_unit_test(sun_split_converges_to_the_exact_irradiance),
         cmocka_unit_test(selected_draws_converge_to_the_exact_irradiance),
+        cmocka_unit_test(allocated_draws_converge_to_the_exact_irradiance),
+        cmocka_unit_test(allocated_draws_follow_neyman),
         cmocka_unit_test(selected_draws_shade_glossy_surfaces_exactly),
         cmocka_unit_test(selected_draws_choose_regions_by_their_bound),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),

@@ -33,6 +33,7 @@ static const struct {
     {"lighting.estimator", "--mis none, --method bsdf"},
     {"lighting.light_set.mode", "--lights-mode"},
     {"lighting.light_set.draws", "--lights-draws"},
+    {"lighting.light_set.region_draws", "--lights-region-draws"},
     {"lighting.luminaires", "--luminaire, --lum-*, --visibility"},
     {"lighting.photometric", "--fixture"},
     {"lighting.env", "--env"},
@@ -603,9 +604,10 @@ static void write_summary(const tool_render_opts *o, const render_state *s,
         snprintf(how, sizeof how, "light set %s, %d lights x %d sets built in %.2f ms%s", set_name,
                  lumis_light_set_get_info(s->lights)->count, lumis_light_set_sets(s->lights),
                  lumis_light_set_get_info(s->lights)->build_ms,
-                 mode != LUMIS_LIGHTS_STRATIFIED  ? ""
-                 : s->rd.lighting.light_set.draws ? ", as strata chosen per vertex"
-                                                  : ", as strata");
+                 mode != LUMIS_LIGHTS_STRATIFIED         ? ""
+                 : s->rd.lighting.light_set.draws        ? ", as strata chosen per vertex"
+                 : s->rd.lighting.light_set.region_draws ? ", as strata with allocated draws"
+                                                         : ", as strata");
     else
         snprintf(how, sizeof how, "%s, sampler %s built in %.2f ms", tool_estimator_name(&s->rd),
                  method, r->sampler_build_ms);

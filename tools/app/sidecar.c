@@ -412,6 +412,8 @@ static void side_lights(cJSON *j, const sidecar_ctx *c)
         cJSON_AddStringToObject(x, "mode", lumis_lights_mode_name(mode));
         if (o->rd.lighting.light_set.draws)
             cJSON_AddNumberToObject(x, "draws", o->rd.lighting.light_set.draws);
+        if (o->rd.lighting.light_set.region_draws)
+            cJSON_AddNumberToObject(x, "region_draws", o->rd.lighting.light_set.region_draws);
         char params[1024];
         lumis_light_params_format(&o->lights_params, params, sizeof params);
         cJSON_AddStringToObject(x, "params", params);

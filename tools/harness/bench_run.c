@@ -55,6 +55,7 @@ static void fill_render_opts(const run_ctx *c, const item *it, const suite_metho
         o->sun = m->sun;
         o->auto_estimator = m->auto_estimator;
         o->rd.lighting.light_set.draws = m->lights_draws;
+        o->rd.lighting.light_set.region_draws = m->lights_region_draws;
         o->lights_k = m->lights_k;
         o->interleave = m->interleave;
         o->lights_params = m->lights_params;

@@ -230,14 +230,14 @@ static int opt_count(const cJSON *obj, const char *key, const char *file, const 
     return EXIT_OK;
 }
 
-static const char *const method_keys[] = {"method",        "label",        "mis",  "blocks",
-                                          "light_samples", "bsdf_samples", "k",    "interleave",
-                                          "upsample",      "params",       "mode", "sequence",
-                                          "sun",           "draws",        "auto", NULL},
-                         *reference_keys[] = {
-                             "method",       "label", "mis",   "blocks", "light_samples",
-                             "bsdf_samples", "spp",   "k",     "params", "mode",
-                             "sequence",     "sun",   "draws", NULL};
+static const char *const method_keys[] =
+    {"method",     "label",        "mis",    "blocks", "light_samples", "bsdf_samples", "k",
+     "interleave", "upsample",     "params", "mode",   "sequence",      "sun",          "draws",
+     "auto",       "region_draws", NULL},
+                         *reference_keys[] = {"method",        "label",        "mis",      "blocks",
+                                              "light_samples", "bsdf_samples", "spp",      "k",
+                                              "params",        "mode",         "sequence", "sun",
+                                              "draws",         "region_draws", NULL};
 
 /* The library's refusal, kept to be said with the suite file and key. */
 static void keep_refusal(void *user, lumis_status status, const char *message)
@@ -261,6 +261,7 @@ static const struct {
     {"interleave", "interleave"},
     {"lights_params", "params"},
     {"lighting.light_set.draws", "draws"},
+    {"lighting.light_set.region_draws", "region_draws"},
 };
 
 /* A light-set method's keys as the library sees them: the session it would run, with a
@@ -294,6 +295,7 @@ static int check_light_set(const suite_method *m, int blocks, const char *file, 
         d.render.lighting.estimator = m->estimator;
         d.render.lighting.light_set.mode = m->lights_mode;
         d.render.lighting.light_set.draws = m->lights_draws;
+        d.render.lighting.light_set.region_draws = m->lights_region_draws;
         d.render.power_heuristic = m->power;
         d.render.light_samples = m->light_samples;
         d.render.bsdf_samples = m->bsdf_samples;
@@ -369,6 +371,9 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         rc = opt_count(e, "k", file, where, 1, 1 << 20, &m->lights_k);
         if (rc == EXIT_OK)
             rc = opt_count(e, "draws", file, where, 1, LUMIS_LIGHT_SET_MAX_DRAWS, &m->lights_draws);
+        if (rc == EXIT_OK)
+            rc = opt_count(e, "region_draws", file, where, 1, LUMIS_LIGHT_SET_MAX_DRAWS,
+                           &m->lights_region_draws);
         if (rc == EXIT_OK && m->lights_draws && m->lights_mode != LUMIS_LIGHTS_STRATIFIED)
             return tool_runtime_error("%s: %s.draws: chooses regions as strata: needs \"mode\": "
                                       "\"stratified\"",
@@ -397,9 +402,10 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                           cJSON_GetObjectItemCaseSensitive(e, "upsample") ||
                           cJSON_GetObjectItemCaseSensitive(e, "params") ||
                           cJSON_GetObjectItemCaseSensitive(e, "mode") ||
-                          cJSON_GetObjectItemCaseSensitive(e, "draws")))
-        return tool_runtime_error("%s: %s: k, interleave, upsample, params and mode belong to "
-                                  "light sets",
+                          cJSON_GetObjectItemCaseSensitive(e, "draws") ||
+                          cJSON_GetObjectItemCaseSensitive(e, "region_draws")))
+        return tool_runtime_error("%s: %s: k, interleave, upsample, params, mode, draws and "
+                                  "region_draws belong to light sets",
                                   file, where);
     if (mis) {
         if (strcmp(mis, "power") == 0)

@@ -220,6 +220,16 @@ static const tool_opt render_opts[] = {
      .hi = LUMIS_LIGHT_SET_MAX_DRAWS,
      .note = TOOL_NOTE(render_cli, fixed_opt)},
     {.kind = TOOL_OPT_INT,
+     .name = "--lights-region-draws",
+     .metavar = "N",
+     .help = "stratified: N draws per sample and vertex in all, at least one\n"
+             "in every region, the rest to the regions of most noise (power x\n"
+             "solid angle^1/4), fixed before the render (docs/lights.md)",
+     .at = AT(rd.lighting.light_set.region_draws),
+     .lo = 1,
+     .hi = LUMIS_LIGHT_SET_MAX_DRAWS,
+     .note = TOOL_NOTE(render_cli, fixed_opt)},
+    {.kind = TOOL_OPT_INT,
      .name = "--lights-k",
      .metavar = "K",
      .help = "lights per set (default 64; stratified 32).  Point mode with\n"
