@@ -404,8 +404,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
                           cJSON_GetObjectItemCaseSensitive(e, "mode") ||
                           cJSON_GetObjectItemCaseSensitive(e, "draws") ||
                           cJSON_GetObjectItemCaseSensitive(e, "region_draws")))
-        return tool_runtime_error("%s: %s: k, interleave, upsample, params, mode, draws and "
-                                  "region_draws belong to light sets",
+        return tool_runtime_error("%s: %s: k, interleave, upsample, params, draws, region_draws "
+                                  "and mode belong to light sets",
                                   file, where);
     if (mis) {
         if (strcmp(mis, "power") == 0)
