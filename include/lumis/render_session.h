@@ -90,6 +90,7 @@ typedef struct lumis_auto_candidate {
     double per_spp;       /* seconds a sample per pixel costs at the image's size */
     double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
     double once;          /* seconds before its first sample (its regions, the sun), spent */
+    double error_se;      /* error_per_spp's standard error (the pixels' scatter / sqrt(n)) */
     int pilot_spp;        /* samples per pixel in each half of its pilot; 0: not measured
                              (capped, or no sun-dominated map), the fields above but once 0 */
     int lights_k;         /* its regions as strata (0: the map with MIS) */
@@ -141,10 +142,12 @@ typedef struct lumis_session_result {
      * prep_seconds).  auto_prior: no pilot pair ran and the prior, "stratified-32", was
      * chosen: 1, the render too small for them (no time budget: its samples x pixels under
      * 4 pilot halves' / 0.15); 2, the pilots' cap passed after the first half; 0 pilots ran.
-     * auto_cap: the seconds the pilots could
+     * auto_held: 1 when a measured candidate was more efficient than the prior, but not
+     * beyond the pilots' noise (2 standard errors of the log ratio: the errors' own and
+     * a tenth of each time), so the prior was kept.  auto_cap: the seconds the pilots could
      * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took.
      * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for). */
-    int auto_count, auto_chosen, auto_prior;
+    int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
     double auto_seconds, auto_cap, auto_pilot_seconds;
     lumis_sun auto_sun;

@@ -612,6 +612,7 @@ typedef struct lumis_auto_candidate {
     double per_spp;
     double efficiency;
     double once;
+    double error_se;
     int pilot_spp;
     int lights_k;
     int sun;
@@ -638,7 +639,7 @@ typedef struct lumis_session_result {
     double wall_seconds, cpu_seconds;
     double render_wall_seconds, render_cpu_seconds, cpu_share;
     int threads_busy;
-    int auto_count, auto_chosen, auto_prior;
+    int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[6];
     double auto_seconds, auto_cap, auto_pilot_seconds;
     lumis_sun auto_sun;

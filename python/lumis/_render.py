@@ -184,10 +184,12 @@ def _auto_result(r):
         cands.append({"name": name(k), "lights_k": c.lights_k, "sun": bool(c.sun),
                       "measured": c.pilot_spp > 0, "pilot_spp": c.pilot_spp,
                       "relmse_at_1spp": c.error_per_spp if c.pilot_spp else None,
+                      "relmse_at_1spp_se": c.error_se if c.pilot_spp else None,
                       "seconds_per_spp": c.per_spp if c.pilot_spp else None,
                       "relmse_x_seconds": c.efficiency if c.pilot_spp else None,
                       "seconds_before": c.once})
-    return {"chosen": name(r.auto_chosen), "prior": r.auto_prior, "seconds": r.auto_seconds,
+    return {"chosen": name(r.auto_chosen), "prior": r.auto_prior, "held": bool(r.auto_held),
+            "seconds": r.auto_seconds,
             "pilot_seconds": r.auto_pilot_seconds, "pilot_cap_seconds": r.auto_cap or None,
             "sun_share": r.auto_sun.share if r.auto_sun.found else None, "candidates": cands}
 

@@ -10,6 +10,9 @@
 struct aiScene;
 
 /* An empty scene file (default camera, no map, no objects), or NULL. */
+/* The process's CPU time, every thread's, in seconds (0 where the clock is missing). */
+double lumis__cpu_now(void);
+
 lumis_scene_file *lumis__scene_file_new(void);
 /* Appends a copy of o (its mesh arrays must belong to f). */
 lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o);

@@ -22,7 +22,7 @@ static double now(void)
 
 /* The process's CPU time, every thread's (0 where the clock is missing: no contention is
  * then ever seen, cpu_share reads 0 and says so). */
-static double cpu_now(void)
+double lumis__cpu_now(void)
 {
     struct timespec ts;
     if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0.0;
@@ -90,14 +90,14 @@ static lumis_status unit_create(const lumis_scene *scene, const lumis_render_des
 
 static lumis_status unit_run(unit *u, int n)
 {
-    const double w0 = now(), c0 = cpu_now();
+    const double w0 = now(), c0 = lumis__cpu_now();
     lumis_status st = lumis_render_job_run(u->full, n);
     lumis_render_stats s;
     if (u->low) lumis_render_job_stats(u->low, &s);
     if (st == LUMIS_OK && u->low && (s.spp == 0 || u->low_every_pass))
         st = lumis_render_job_run(u->low, u->low_every_pass ? n : 1);
     u->run_wall += now() - w0;
-    u->run_cpu += cpu_now() - c0;
+    u->run_cpu += lumis__cpu_now() - c0;
     return st;
 }
 
@@ -501,7 +501,7 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *s,
                                   lumis_image **out, lumis_session_result *result)
 {
-    const double wall0 = now(), cpu0 = cpu_now();
+    const double wall0 = now(), cpu0 = lumis__cpu_now();
     lumis_session_result scratch;
     lumis_session_result *r = result ? result : &scratch;
     memset(r, 0, sizeof *r);
@@ -631,6 +631,6 @@ lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_
         *out = NULL;
     }
     r->wall_seconds = now() - wall0;
-    r->cpu_seconds = cpu_now() - cpu0;
+    r->cpu_seconds = lumis__cpu_now() - cpu0;
     return st;
 }

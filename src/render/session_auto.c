@@ -41,6 +41,8 @@
 #define AUTO_SUN_SHARE  0.5  /* sun-dominated: >= half the power ... */
 #define AUTO_SUN_PIXELS 1e-3 /* ... in <= 0.1 % of the pixels (issue 39) */
 #define AUTO_PRIOR      1    /* strata K = 32: chosen when no pilot pair ran */
+#define AUTO_Z          2.0  /* standard errors a candidate must beat the prior by */
+#define AUTO_TIME_NOISE 0.1  /* a pilot time's relative scatter on a shared machine */
 
 /* The candidates (lumis_auto_candidate_name), in the order their pilots run after the
  * prior's. */
@@ -87,7 +89,8 @@ static double lum(const float *p)
 typedef struct pilot_pair {
     lumis_image *a, *b; /* the two halves (NULL: not measured) */
     int n;              /* samples per pixel in each */
-    double seconds;     /* what the two took */
+    double seconds;     /* what the two took (wall) */
+    double cpu;         /* the CPU seconds of the two, at the warm (second) half's rate */
 } pilot_pair;
 
 /* Candidate rd's two halves at n samples per pixel each, or (n == 0) as many as take about
@@ -110,7 +113,9 @@ static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *
     }
     p->n = n;
     if (st == LUMIS_OK && !p->a) st = half(j, n, NULL, &p->a);
+    const double c1 = lumis__cpu_now();
     if (st == LUMIS_OK) st = half(j, n, p->a, &p->b);
+    p->cpu = 2.0 * (lumis__cpu_now() - c1); /* the warm half's, for both */
     lumis_render_stats s;
     lumis_render_job_stats(j, &s);
     p->seconds = s.seconds;
@@ -118,9 +123,11 @@ static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *
     return st;
 }
 
-/* v_c of every measured candidate from its pair, against the mean of all measured pairs. */
-static void variances(const pilot_pair *p, double *v)
+/* v_c of every measured candidate from its pair, against the mean of all measured pairs,
+ * and in se[c] its standard error (of the mean over the pixels). */
+static void variances(const pilot_pair *p, double *v, double *se)
 {
+    double v2[LUMIS_AUTO_CANDIDATES] = {0};
     int first = -1, count = 0;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
         v[c] = 0.0;
@@ -136,10 +143,45 @@ static void variances(const pilot_pair *p, double *v)
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             if (!p[c].b) continue;
             const double d = lum(p[c].a->pixels + 3 * k) - lum(p[c].b->pixels + 3 * k);
-            v[c] += p[c].n * d * d / 2.0 / (m * m + 1e-2);
+            const double x = p[c].n * d * d / 2.0 / (m * m + 1e-2);
+            v[c] += x;
+            v2[c] += x * x;
         }
     }
-    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) v[c] /= (double)px;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        v[c] /= (double)px;
+        se[c] = sqrt(fmax(0.0, v2[c] / (double)px - v[c] * v[c]) / (double)px);
+    }
+}
+
+/* The choice among the measured candidates a (pilot_spp > 0): the least efficiency, but
+ * another than the prior only when it beats the prior's beyond the pilots' noise -- by more
+ * than AUTO_Z standard errors of the log of their efficiencies' ratio, the errors' own
+ * (error_se) and AUTO_TIME_NOISE of each time.  Near-ties (strata at K = 16, 32 and 64 are
+ * often within 10 % of each other, the pilots' noise 30-40 %) then keep the prior, the
+ * convergence suite's best on average, instead of the luckiest pilot.  *held: 1 when the
+ * least was another's, kept back by the rule.  Without the prior measured: the least. */
+static int choose(const lumis_auto_candidate *a, int prior_measured, int *held)
+{
+    int least = -1;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+        if (a[c].pilot_spp > 0 && (least < 0 || a[c].efficiency < a[least].efficiency)) least = c;
+    *held = 0;
+    if (least < 0) return AUTO_PRIOR;
+    if (!prior_measured || least == AUTO_PRIOR) return least;
+    const lumis_auto_candidate *p = &a[AUTO_PRIOR];
+    int pick = AUTO_PRIOR;
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        if (c == AUTO_PRIOR || a[c].pilot_spp <= 0 || !(a[c].efficiency > 0.0)) continue;
+        const double rc = a[c].error_se / fmax(a[c].error_per_spp, 1e-300);
+        const double rp = p->error_se / fmax(p->error_per_spp, 1e-300);
+        const double sd = sqrt(rc * rc + rp * rp + 2.0 * AUTO_TIME_NOISE * AUTO_TIME_NOISE);
+        if (log(p->efficiency / a[c].efficiency) > AUTO_Z * sd &&
+            a[c].efficiency < a[pick].efficiency)
+            pick = c;
+    }
+    *held = pick != least;
+    return pick;
 }
 
 /* What the candidates need, made as their pilots come (and the chosen one's kept). */
@@ -284,7 +326,9 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         /* the rest of the pair and MIS's for as long: 3.5 halves more (as below) */
         run = st == LUMIS_OK && (fixed || (omp_get_wtime() - tp) + 3.5 * u <= cap);
         if (run) {
+            const double c1 = lumis__cpu_now();
             st = half(j, 1, p->a, &p->b);
+            p->cpu = 2.0 * (lumis__cpu_now() - c1); /* the warm half's, as run_pair's */
             lumis_render_job_stats(j, &js);
             p->seconds = js.seconds;
             measured += st == LUMIS_OK;
@@ -325,8 +369,8 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     fin.auto_estimator = fin.auto_pilot_spp = 0;
     int best = AUTO_PRIOR;
     if (st == LUMIS_OK) {
-        double v[LUMIS_AUTO_CANDIDATES];
-        variances(pp, v);
+        double v[LUMIS_AUTO_CANDIDATES], se[LUMIS_AUTO_CANDIDATES];
+        variances(pp, v, se);
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             lumis_auto_candidate *a = &r->auto_candidates[c];
             a->lights_k = cands[c].k;
@@ -334,16 +378,16 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
             a->once = as.once[c] + (cands[c].sun ? as.sun_seconds : 0.0);
             if (!pp[c].b) continue; /* not measured: zeros */
             a->error_per_spp = v[c];
-            a->per_spp = scale * pp[c].seconds / (2.0 * pp[c].n);
+            a->error_se = se[c];
+            a->per_spp = scale * (pp[c].cpu > 0.0 ? pp[c].cpu : pp[c].seconds) / (2.0 * pp[c].n);
             a->pilot_spp = pp[c].n;
             a->efficiency = v[c] * a->per_spp; /* relMSE x seconds */
         }
-        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) /* the least, of those measured */
-            if (pp[c].b && (!pp[best].b ||
-                            r->auto_candidates[c].efficiency < r->auto_candidates[best].efficiency))
-                best = c;
+        int held = 0;
+        best = choose(r->auto_candidates, pp[AUTO_PRIOR].b != NULL, &held);
         r->auto_count = LUMIS_AUTO_CANDIDATES;
         r->auto_chosen = best;
+        r->auto_held = held;
         r->auto_prior = measured > 0 ? 0 : small ? 1 : 2;
         r->auto_cap = isfinite(cap) ? cap : 0.0;
         r->auto_pilot_seconds = omp_get_wtime() - tp;
@@ -365,6 +409,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         r->auto_count = keep.auto_count;
         r->auto_chosen = keep.auto_chosen;
         r->auto_prior = keep.auto_prior;
+        r->auto_held = keep.auto_held;
         r->auto_cap = keep.auto_cap;
         r->auto_pilot_seconds = keep.auto_pilot_seconds;
         r->auto_sun = keep.auto_sun;

@@ -98,7 +98,7 @@ typedef struct tool_render_result {
     lumis_luminaire_choice lum_choice;
     /* the automatic estimator: every candidate's pilot and the one chosen
      * (lumis_session_result) */
-    int auto_count, auto_chosen, auto_prior;
+    int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
     double auto_seconds, auto_cap, auto_pilot_seconds;
     lumis_sun auto_sun;

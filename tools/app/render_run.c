@@ -445,6 +445,7 @@ static void run_result(const tool_render_opts *o, const lumis_session_result *sr
     r->auto_count = sr->auto_count;
     r->auto_chosen = sr->auto_chosen;
     r->auto_prior = sr->auto_prior;
+    r->auto_held = sr->auto_held;
     r->auto_seconds = sr->auto_seconds;
     r->auto_cap = sr->auto_cap;
     r->auto_pilot_seconds = sr->auto_pilot_seconds;
@@ -559,10 +560,10 @@ static void tool_auto_summary(const tool_render_opts *o, const tool_render_resul
         fprintf(stderr, "lumis: auto: %s, the prior (no pilots: %s; docs/render.md)", chosen,
                 r->auto_prior == 1 ? "the render is too small for them" : cap);
     else
-        fprintf(stderr,
-                "lumis: auto: %s, the most efficient of the pilots on this scene (relMSE x "
-                "seconds: %s; pilots %.3f s, %s)",
-                chosen, why, r->auto_pilot_seconds, cap);
+        fprintf(stderr, "lumis: auto: %s, %s (relMSE x seconds: %s; pilots %.3f s, %s)", chosen,
+                r->auto_held ? "the prior: no other beat it beyond the pilots' noise"
+                             : "the most efficient of the pilots on this scene",
+                why, r->auto_pilot_seconds, cap);
     if (r->auto_sun.found)
         fprintf(stderr, "; a sun-dominated map (sun share %.3f in %d pixels)", r->auto_sun.share,
                 r->auto_sun.pixels);

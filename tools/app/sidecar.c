@@ -207,7 +207,9 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
         cJSON_AddStringToObject(a, "why",
                                 r->auto_prior == 1   ? "prior: the render too small for pilots"
                                 : r->auto_prior == 2 ? "prior: the pilots over their cap"
-                                                     : "least relmse_x_seconds of the pilots");
+                                : r->auto_held
+                                    ? "prior: no candidate beat it beyond the pilots' noise"
+                                    : "least relmse_x_seconds of the pilots");
         cJSON_AddBoolToObject(a, "default", !o->auto_estimator);
         cJSON_AddStringToObject(a, "spp_counts", "samples of the chosen estimator");
         cJSON_AddNumberToObject(a, "seconds", r->auto_seconds);
@@ -235,6 +237,7 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
             cJSON_AddBoolToObject(e, "measured", q->pilot_spp > 0);
             if (q->pilot_spp > 0) {
                 cJSON_AddNumberToObject(e, "relmse_at_1spp", q->error_per_spp);
+                cJSON_AddNumberToObject(e, "relmse_at_1spp_se", q->error_se);
                 cJSON_AddNumberToObject(e, "seconds_per_spp", q->per_spp);
                 cJSON_AddNumberToObject(e, "relmse_x_seconds", q->efficiency);
             }
