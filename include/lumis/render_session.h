@@ -91,7 +91,8 @@ typedef struct lumis_auto_candidate {
     double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
     double once;          /* seconds before its first sample (its regions, the sun), spent */
     double error_se;      /* error_per_spp's standard error (the pixels' scatter / sqrt(n)) */
-    int pilot_spp;        /* samples per pixel in each half of its pilot; 0: not measured
+    int pilot_spp;        /* samples per pixel in its pilot's first half (the second has
+                             twice as many); 0: not measured
                              (capped, or no sun-dominated map), the fields above but once 0 */
     int lights_k;         /* its regions as strata (0: the map with MIS) */
     int sun;              /* nonzero: the image sun split off, the candidate on the residual */
@@ -145,11 +146,13 @@ typedef struct lumis_session_result {
      * auto_held: 1 when a measured candidate was more efficient than the prior, but not
      * beyond the pilots' noise (2 standard errors of the log ratio: the errors' own and
      * a tenth of each time), so the prior was kept.  auto_cap: the seconds the pilots could
-     * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took.
+     * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took,
+     * auto_pilot_cpu: the CPU seconds of their render passes (every thread's; not the
+     * making of their regions or the sun's; 0 without the clock).
      * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for). */
     int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
-    double auto_seconds, auto_cap, auto_pilot_seconds;
+    double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
     lumis_sun auto_sun;
 } lumis_session_result;
 

@@ -641,7 +641,7 @@ typedef struct lumis_session_result {
     int threads_busy;
     int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[6];
-    double auto_seconds, auto_cap, auto_pilot_seconds;
+    double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
     lumis_sun auto_sun;
 } lumis_session_result;
 lumis_status lumis_session_check(const lumis_session_desc *desc);

@@ -190,7 +190,8 @@ def _auto_result(r):
                       "seconds_before": c.once})
     return {"chosen": name(r.auto_chosen), "prior": r.auto_prior, "held": bool(r.auto_held),
             "seconds": r.auto_seconds,
-            "pilot_seconds": r.auto_pilot_seconds, "pilot_cap_seconds": r.auto_cap or None,
+            "pilot_seconds": r.auto_pilot_seconds, "pilot_cpu_seconds": r.auto_pilot_cpu,
+            "pilot_cap_seconds": r.auto_cap or None,
             "sun_share": r.auto_sun.share if r.auto_sun.found else None, "candidates": cands}
 
 

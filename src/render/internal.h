@@ -9,10 +9,20 @@
 
 struct aiScene;
 
-/* An empty scene file (default camera, no map, no objects), or NULL. */
 /* The process's CPU time, every thread's, in seconds (0 where the clock is missing). */
 double lumis__cpu_now(void);
 
+/* The automatic estimator's price of a sample (session_auto.c): from two passes of one job,
+ * n_a samples taking t_a seconds then n_b > n_a taking t_b, the slope (t_b - t_a) / (n_b -
+ * n_a), what a pass costs whatever its samples cancelling; kept within [AUTO_SLOPE_MIN, 1]
+ * of the second pass's average t_b / n_b (that average when n_b <= n_a; 0 when t_b <= 0). */
+double lumis__auto_price(double t_a, int n_a, double t_b, int n_b);
+/* Its choice among the candidates a (LUMIS_AUTO_CANDIDATES of them, measured where
+ * pilot_spp > 0): the least efficiency, another than the prior only beyond the pilots'
+ * noise (docs/render.md); *held: 1 when that rule kept the prior. */
+int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held);
+
+/* An empty scene file (default camera, no map, no objects), or NULL. */
 lumis_scene_file *lumis__scene_file_new(void);
 /* Appends a copy of o (its mesh arrays must belong to f). */
 lumis_status lumis__scene_file_push(lumis_scene_file *f, const lumis_object *o);

@@ -42,7 +42,8 @@
 #define AUTO_SUN_PIXELS 1e-3 /* ... in <= 0.1 % of the pixels (issue 39) */
 #define AUTO_PRIOR      1    /* strata K = 32: chosen when no pilot pair ran */
 #define AUTO_Z          2.0  /* standard errors a candidate must beat the prior by */
-#define AUTO_TIME_NOISE 0.1  /* a pilot time's relative scatter on a shared machine */
+#define AUTO_TIME_NOISE 0.1  /* a pilot price's relative scatter on a shared machine */
+#define AUTO_SLOPE_MIN  0.25 /* the price at least this share of the second pass's average */
 
 /* The candidates (lumis_auto_candidate_name), in the order their pilots run after the
  * prior's. */
@@ -87,38 +88,56 @@ static double lum(const float *p)
 }
 
 typedef struct pilot_pair {
-    lumis_image *a, *b; /* the two halves (NULL: not measured) */
-    int n;              /* samples per pixel in each */
-    double seconds;     /* what the two took (wall) */
-    double cpu;         /* the CPU seconds of the two, at the warm (second) half's rate */
+    lumis_image *a, *b;   /* the two halves (NULL: not measured) */
+    int n;                /* samples per pixel in the first half; the second has 2n */
+    double cpu_a, wall_a; /* the first half's CPU and wall seconds */
+    double cpu_b;         /* the second's CPU seconds */
+    double seconds;       /* what the two took (wall) */
+    double price;         /* seconds a sample per pixel costs at the pilots' size: the slope */
 } pilot_pair;
 
-/* Candidate rd's two halves at n samples per pixel each, or (n == 0) as many as take about
- * `seconds` each (doubling from 1).  The job is made and dropped here. */
+double lumis__auto_price(double t_a, int n_a, double t_b, int n_b)
+{
+    if (!(t_b > 0.0) || n_b <= 0) return 0.0;
+    const double mean = t_b / n_b; /* the second pass's average, overhead and all */
+    if (n_b <= n_a) return mean;
+    const double slope = (t_b - t_a) / (n_b - n_a);
+    return fmin(mean, fmax(AUTO_SLOPE_MIN * mean, slope));
+}
+
+/* The first half of a pair: n samples per pixel in job j, timed. */
+static lumis_status first_half(lumis_render_job *j, int n, pilot_pair *p)
+{
+    p->n = n;
+    const double w0 = omp_get_wtime(), c0 = lumis__cpu_now();
+    const lumis_status st = half(j, n, NULL, &p->a);
+    p->cpu_a = lumis__cpu_now() - c0;
+    p->wall_a = omp_get_wtime() - w0;
+    return st;
+}
+
+/* The second: 2n samples more, and the price, the slope between the two passes' CPU times
+ * (wall where the CPU clock is missing): what a pass costs whatever its samples cancels. */
+static lumis_status second_half(lumis_render_job *j, pilot_pair *p)
+{
+    const double w0 = omp_get_wtime(), c0 = lumis__cpu_now();
+    const lumis_status st = half(j, 2 * p->n, p->a, &p->b);
+    const double cpu = lumis__cpu_now() - c0, wall = omp_get_wtime() - w0;
+    p->cpu_b = cpu;
+    p->price = c0 > 0.0 ? lumis__auto_price(p->cpu_a, p->n, cpu, 2 * p->n)
+                        : lumis__auto_price(p->wall_a, p->n, wall, 2 * p->n);
+    p->seconds = p->wall_a + wall;
+    return st;
+}
+
+/* Candidate rd's pair, n and 2n samples per pixel, in a job made and dropped here. */
 static lumis_status run_pair(const lumis_scene *scene, const lumis_render_desc *rd, int n,
-                             double seconds, pilot_pair *p)
+                             pilot_pair *p)
 {
     lumis_render_job *j = NULL;
     lumis_status st = lumis_render_job_create(scene, rd, &j);
-    if (st != LUMIS_OK) return st;
-    if (n <= 0) { /* time one sample, then fill the half's time */
-        lumis_render_stats s0;
-        st = lumis_render_job_run(j, 1);
-        lumis_render_job_stats(j, &s0);
-        const double per = s0.seconds > 1e-9 ? s0.seconds : 1e-9;
-        n = (int)fmin(AUTO_MAX_HALF, fmax(1.0, floor(seconds / per + 0.5)));
-        lumis_render_job_destroy(j); /* a fresh job: the halves start at sample 0 */
-        j = NULL;
-        if (st == LUMIS_OK) st = lumis_render_job_create(scene, rd, &j);
-    }
-    p->n = n;
-    if (st == LUMIS_OK && !p->a) st = half(j, n, NULL, &p->a);
-    const double c1 = lumis__cpu_now();
-    if (st == LUMIS_OK) st = half(j, n, p->a, &p->b);
-    p->cpu = 2.0 * (lumis__cpu_now() - c1); /* the warm half's, for both */
-    lumis_render_stats s;
-    lumis_render_job_stats(j, &s);
-    p->seconds = s.seconds;
+    if (st == LUMIS_OK) st = first_half(j, n, p);
+    if (st == LUMIS_OK) st = second_half(j, p);
     lumis_render_job_destroy(j);
     return st;
 }
@@ -143,7 +162,7 @@ static void variances(const pilot_pair *p, double *v, double *se)
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             if (!p[c].b) continue;
             const double d = lum(p[c].a->pixels + 3 * k) - lum(p[c].b->pixels + 3 * k);
-            const double x = p[c].n * d * d / 2.0 / (m * m + 1e-2);
+            const double x = d * d * (2.0 * p[c].n / 3.0) / (m * m + 1e-2);
             v[c] += x;
             v2[c] += x * x;
         }
@@ -161,7 +180,7 @@ static void variances(const pilot_pair *p, double *v, double *se)
  * often within 10 % of each other, the pilots' noise 30-40 %) then keep the prior, the
  * convergence suite's best on average, instead of the luckiest pilot.  *held: 1 when the
  * least was another's, kept back by the rule.  Without the prior measured: the least. */
-static int choose(const lumis_auto_candidate *a, int prior_measured, int *held)
+int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held)
 {
     int least = -1;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
@@ -298,7 +317,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         rd[c].progress = NULL;
         rd[c].first_sample = 0;
         rd[c].seed = ud->seed ^ 0x5eedau; /* the pilots' numbers are not the render's */
-        rd[c].spp = 2 * AUTO_MAX_HALF;
+        rd[c].spp = 3 * AUTO_MAX_HALF;
     }
     /* the prior's set and strata, made first (kept if chosen) */
     lumis_status st = candidate_lighting(ud, AUTO_PRIOR, &as, &rd[AUTO_PRIOR]);
@@ -311,30 +330,36 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     const int small = !fixed && !(s->time_budget > 0.0) && 4.0 * ppx > AUTO_CAP * spp * px;
     int run = !small;
     int measured = 0;
-    double u = 0.0;              /* seconds of a half of the prior's pilot */
+    double u = 0.0;              /* seconds of the prior's first half (one sample per pixel) */
+    double mis1 = 0.0, w1 = 0.0; /* one sample of MIS: CPU seconds (0 without the clock), wall */
+    if (st == LUMIS_OK && run) { /* one MIS sample: warms the scene up, and times MIS */
+        lumis_render_job *j = NULL;
+        st = lumis_render_job_create(scene, &rd[0], &j);
+        const double w0 = omp_get_wtime(), c0 = lumis__cpu_now();
+        if (st == LUMIS_OK) st = lumis_render_job_run(j, 1);
+        mis1 = c0 > 0.0 ? lumis__cpu_now() - c0 : 0.0;
+        w1 = omp_get_wtime() - w0;
+        lumis_render_job_destroy(j);
+    }
     if (st == LUMIS_OK && run) { /* the prior's pair, its first half the probe of the cost */
         pilot_pair *p = &pp[AUTO_PRIOR];
         lumis_render_job *j = NULL;
-        lumis_render_stats js;
-        memset(&js, 0, sizeof js);
-        p->n = 1;
         st = lumis_render_job_create(scene, &rd[AUTO_PRIOR], &j);
-        if (st == LUMIS_OK) st = half(j, 1, NULL, &p->a);
-        if (j) lumis_render_job_stats(j, &js);
-        u = js.seconds;
+        if (st == LUMIS_OK) st = first_half(j, 1, p);
+        u = p->wall_a;
         if (!(s->time_budget > 0.0) && !fixed) cap = AUTO_CAP * spp * u * scale;
-        /* the rest of the pair and MIS's for as long: 3.5 halves more (as below) */
-        run = st == LUMIS_OK && (fixed || (omp_get_wtime() - tp) + 3.5 * u <= cap);
+        /* the rest of the pair and MIS's for as long: 5 halves' worth more (as below) */
+        run = st == LUMIS_OK && (fixed || (omp_get_wtime() - tp) + 5.0 * u <= cap);
         if (run) {
-            const double c1 = lumis__cpu_now();
-            st = half(j, 1, p->a, &p->b);
-            p->cpu = 2.0 * (lumis__cpu_now() - c1); /* the warm half's, as run_pair's */
-            lumis_render_job_stats(j, &js);
-            p->seconds = js.seconds;
+            st = second_half(j, p);
             measured += st == LUMIS_OK;
         }
         lumis_render_job_destroy(j);
     }
+    /* MIS's first half as long as the prior's (by CPU time; the sun's with the same n) */
+    const double ratio = mis1 > 0.0 ? pp[AUTO_PRIOR].cpu_a / mis1 : u / fmax(w1, 1e-9);
+    const int mis_n =
+        fixed ? s->auto_pilot_spp : (int)fmin(AUTO_MAX_HALF, fmax(1.0, floor(ratio + 0.5)));
     /* then MIS, the sun's two, K = 16, 64 (their indices' order) */
     for (int q = 0; st == LUMIS_OK && run && q < LUMIS_AUTO_CANDIDATES; q++) {
         if (q == AUTO_PRIOR) continue;
@@ -347,22 +372,19 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
             }
             if (!as.sun.found) continue;
         }
-        /* its predicted cost: the making (as the prior's, by K) and a pair of halves, a
-         * stratified sample's cost growing with its draws (K + 4 rays' worth); MIS's pair
-         * as long as the prior's, and the sample that times it, rounding up: 2.5 halves */
+        /* its predicted cost: the making (as the prior's, by K) and a pair (3 halves of the
+         * first's size), a stratified sample's cost growing with its draws (K + 4 rays'
+         * worth); MIS's first half as long as the prior's: 3 halves */
         const double make = cands[q].k && !as.set[q] ? as.once[AUTO_PRIOR] * cands[q].k / 32.0
                             : cands[q].sun && !as.residual_sampler
                                 ? lumis_sampler_build_ms(ud->lighting.sampler) / 1000.0
                                 : 0.0;
-        const double pair = u * (cands[q].k ? 2.0 * (cands[q].k + 4.0) / 36.0 : 2.5);
+        const double pair = u * (cands[q].k ? 3.0 * (cands[q].k + 4.0) / 36.0 : 3.0);
         if (!fixed && q != 0 && (omp_get_wtime() - tp) + make + pair > cap) continue;
         st = candidate_lighting(ud, q, &as, &rd[q]);
         if (st != LUMIS_OK) break;
-        /* strata at one sample per pixel a half; MIS for as long as the prior's */
-        if (cands[q].k)
-            st = run_pair(scene, &rd[q], 1, 0.0, &pp[q]);
-        else
-            st = run_pair(scene, &rd[q], s->auto_pilot_spp, pp[AUTO_PRIOR].seconds / 2.0, &pp[q]);
+        /* strata at one sample per pixel in the first half; MIS as long as the prior's */
+        st = run_pair(scene, &rd[q], cands[q].k ? 1 : mis_n, &pp[q]);
         if (st == LUMIS_OK) measured++;
     }
     lumis_session_desc fin = *s;
@@ -379,18 +401,21 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
             if (!pp[c].b) continue; /* not measured: zeros */
             a->error_per_spp = v[c];
             a->error_se = se[c];
-            a->per_spp = scale * (pp[c].cpu > 0.0 ? pp[c].cpu : pp[c].seconds) / (2.0 * pp[c].n);
+            a->per_spp = scale * pp[c].price;
             a->pilot_spp = pp[c].n;
             a->efficiency = v[c] * a->per_spp; /* relMSE x seconds */
         }
         int held = 0;
-        best = choose(r->auto_candidates, pp[AUTO_PRIOR].b != NULL, &held);
+        best = lumis__auto_choose(r->auto_candidates, pp[AUTO_PRIOR].b != NULL, &held);
         r->auto_count = LUMIS_AUTO_CANDIDATES;
         r->auto_chosen = best;
         r->auto_held = held;
         r->auto_prior = measured > 0 ? 0 : small ? 1 : 2;
         r->auto_cap = isfinite(cap) ? cap : 0.0;
         r->auto_pilot_seconds = omp_get_wtime() - tp;
+        r->auto_pilot_cpu = mis1;
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+            r->auto_pilot_cpu += pp[c].cpu_a + pp[c].cpu_b;
         r->auto_sun = as.sun;
         r->auto_seconds = omp_get_wtime() - t0;
         fin.spent = s->spent + r->auto_seconds;
@@ -412,6 +437,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         r->auto_held = keep.auto_held;
         r->auto_cap = keep.auto_cap;
         r->auto_pilot_seconds = keep.auto_pilot_seconds;
+        r->auto_pilot_cpu = keep.auto_pilot_cpu;
         r->auto_sun = keep.auto_sun;
         r->auto_seconds = keep.auto_seconds;
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)

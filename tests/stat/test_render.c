@@ -2858,6 +2858,134 @@ static void auto_estimator_sun_only_when_dominated(void **state)
     lumis_scene_destroy(s);
 }
 
+/* The pilots' price of a sample is its marginal cost.  Oracle, written apart from the code:
+ * a fake cost model, a pass of n samples taking o + n m seconds (o what a pass costs
+ * whatever its samples, m a sample's), priced from passes of n and 2n samples, must come
+ * out m whatever o (the second pass's average, o / 2n + m, would not), up to o = 6 n m,
+ * beyond which the price is held at a quarter of that average; a negative o (noise) gives
+ * the average.  Then two candidates under that model: the prior (strata, one sample a pass,
+ * dear samples, large o) and MIS (8 samples a pass, cheap ones, the same o).  By the rule
+ * in docs/render.md MIS is chosen exactly when log(e_prior / e_mis) > 2 sqrt(r_mis^2 +
+ * r_prior^2 + 2 x 0.1^2) (r: the errors' relative standard errors, e: error x price);
+ * computed here for MIS's marginal cost at the flip, the choice must flip between 0.98 and
+ * 1.02 of it -- where pricing by the average would still pick the prior. */
+static void auto_estimator_prices_the_marginal_sample(void **state)
+{
+    (void)state;
+    const double os[3] = {0.0, 2e-3, 0.05}, ms[2] = {1e-3, 0.02};
+    const int ns[3] = {1, 4, 16};
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 2; k++)
+            for (int q = 0; q < 3; q++) {
+                const double o = os[i], m = ms[k];
+                const int n = ns[q];
+                const double price = lumis__auto_price(o + n * m, n, o + 2 * n * m, 2 * n);
+                const double avg = (o + 2 * n * m) / (2 * n);
+                if (o <= 6.0 * n * m)
+                    assert_true(fabs(price - m) <= 1e-9 * m);
+                else
+                    assert_true(fabs(price - 0.25 * avg) <= 1e-9 * avg);
+            }
+    /* a first pass dearer per sample than... the second cheaper than the first (noise): */
+    assert_true(fabs(lumis__auto_price(0.010, 1, 0.008, 2) - 0.25 * 0.004) < 1e-15);
+    /* negative overhead (the first pass cheap): the average */
+    assert_true(fabs(lumis__auto_price(0.001, 1, 0.010, 2) - 0.005) < 1e-15);
+    assert_true(lumis__auto_price(0.01, 1, 0.0, 2) == 0.0);
+    assert_true(fabs(lumis__auto_price(0.01, 2, 0.01, 2) - 0.005) < 1e-15);
+
+    /* the choice under the fake model */
+    const double o = 4e-3;                  /* per pass, both */
+    const double v_p = 0.05, se_p = 2.5e-3; /* the prior: strata K = 32, n = 1 */
+    const double m_p = 6e-3;
+    const double v_c = 0.6, se_c = 0.03; /* MIS, n = 8 */
+    const double r_p = se_p / v_p, r_c = se_c / v_c;
+    const double sd = sqrt(r_c * r_c + r_p * r_p + 2 * 0.1 * 0.1);
+    const double m_star = v_p * m_p * exp(-2.0 * sd) / v_c; /* MIS's m at the flip */
+    const double fs[4] = {0.5, 0.98, 1.02, 1.5};
+    for (int f = 0; f < 4; f++) {
+        lumis_auto_candidate a[LUMIS_AUTO_CANDIDATES];
+        memset(a, 0, sizeof a);
+        const double m_c = fs[f] * m_star;
+        a[1].pilot_spp = 1;
+        a[1].error_per_spp = v_p;
+        a[1].error_se = se_p;
+        a[1].per_spp = lumis__auto_price(o + m_p, 1, o + 2 * m_p, 2);
+        a[1].efficiency = v_p * a[1].per_spp;
+        a[0].pilot_spp = 8;
+        a[0].error_per_spp = v_c;
+        a[0].error_se = se_c;
+        a[0].per_spp = lumis__auto_price(o + 8 * m_c, 8, o + 16 * m_c, 16);
+        a[0].efficiency = v_c * a[0].per_spp;
+        int held = -1;
+        const int pick = lumis__auto_choose(a, 1, &held);
+        assert_int_equal(pick, fs[f] < 1.0 ? 0 : 1);
+        /* held: MIS the more efficient (m_c < v_p m_p / v_c = m_star e^{2 sd}) yet kept back */
+        assert_int_equal(held, fs[f] > 1.0 && m_c < v_p * m_p / v_c);
+        /* priced by the second pass's average instead (o / 16 + m_c against o / 2 + m_p:
+         * MIS's 16 samples share o, the strata's 2 do not), 0.98 would keep the prior: the
+         * flip above is the slope's */
+        if (f == 1) {
+            const double avg_p = (o + 2 * m_p) / 2, avg_c = (o + 16 * m_c) / 16;
+            assert_true(log(v_p * avg_p / (v_c * avg_c)) < 2.0 * sd);
+        }
+    }
+    /* without the prior measured: the least */
+    lumis_auto_candidate a[LUMIS_AUTO_CANDIDATES];
+    memset(a, 0, sizeof a);
+    a[4].pilot_spp = a[5].pilot_spp = 1;
+    a[4].efficiency = 2.0;
+    a[5].efficiency = 1.0;
+    int held = -1;
+    assert_int_equal(lumis__auto_choose(a, 0, &held), 5);
+    assert_int_equal(held, 0);
+    memset(a, 0, sizeof a);
+    assert_int_equal(lumis__auto_choose(a, 0, &held), 1); /* none measured: the prior */
+}
+
+/* The pilots' error of an image without noise: a constant map seen straight (the camera
+ * looks away from the sphere), every pixel the map's radiance whatever the sample, so every
+ * candidate's two halves agree and its relMSE at one sample is 0 (up to the halves'
+ * rounding, far below one part in the pixels' count, 1 / 576 here). */
+static void auto_estimator_error_of_a_noiseless_image(void **state)
+{
+    (void)state;
+    lumis_scene *s = one_sphere(0.7f);
+    lumis_image *img = NULL;
+    assert_int_equal(lumis_image_create(32, 16, &img), LUMIS_OK);
+    for (size_t k = 0; k < 3 * 32 * 16; k++) img->pixels[k] = 0.75f;
+    lumis_envmap *env = env_of(img);
+    lumis_sampler *smp = NULL;
+    assert_int_equal(lumis_sampler_create(env, NULL, &smp), LUMIS_OK);
+    lumis_camera away = cam; /* at (0, 0, 4), looking further away from the sphere */
+    away.look_at.z = 8.0f;
+    lumis_session_desc sess = {0};
+    sess.render.camera = &away;
+    sess.render.lighting.env = env;
+    sess.render.lighting.sampler = smp;
+    sess.render.spp = 2;
+    sess.render.threads = 1;
+    sess.auto_estimator = 1;
+    sess.auto_pilot_spp = 3;
+    lumis_session_result r;
+    lumis_image *a = NULL;
+    assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+    int measured = 0;
+    for (int k = 0; k < r.auto_count; k++) {
+        const lumis_auto_candidate *c = &r.auto_candidates[k];
+        if (c->pilot_spp <= 0) continue;
+        measured++;
+        assert_true(c->error_per_spp >= 0.0 && c->error_per_spp < 1e-3 / 576.0);
+        assert_true(c->error_se >= 0.0 && c->error_se < 1e-3 / 576.0);
+    }
+    assert_int_equal(measured, 4); /* MIS, strata 16, 32, 64: no sun */
+    for (size_t k = 0; k < 3 * 24 * 24; k++) assert_true(fabsf(a->pixels[k] - 0.75f) < 1e-5f);
+    lumis_image_destroy(a);
+    lumis_light_set_destroy(r.light_set);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+    lumis_scene_destroy(s);
+}
+
 /* The pilots' bounds.  A render smaller than the pilots (24 x 24 at 4 spp, no budget) runs
  * none and renders the prior, strata K = 32 (auto_prior 1); a budget whose 15 % cannot hold
  * the first pair and MIS's runs one half and renders the prior (auto_prior 2); a budget that
@@ -2906,7 +3034,22 @@ static void auto_estimator_pilots_capped(void **state)
     sess.time_budget = 0.5;
     assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
     assert_true(fabs(r.auto_cap - 0.15 * 0.5) < 1e-12);
-    assert_true(r.auto_pilot_seconds <= 1.5 * r.auto_cap);
+    /* in CPU time: the pilots' wall time is the machine's (a loaded one stretched it past
+     * 1.5 x the cap), their CPU time is what the cap bounds: a pilot starts only while the
+     * wall time so far and its prediction stay within the cap, and CPU time runs no faster */
+    assert_true(r.auto_pilot_cpu > 0.0 && r.auto_pilot_cpu <= 1.5 * r.auto_cap);
+    lumis_image_destroy(a);
+    lumis_light_set_destroy(r.light_set);
+    /* without a budget (48 spp) the cap is 0.15 x the prior's render, 7.2 of its first
+     * pilot halves (u): the warm-up, the prior's pair and MIS's fit (6.2 u), all six pairs
+     * (some 19.5 u, the wall times and the cap alike in u whatever the load) do not */
+    sess.time_budget = 0.0;
+    sess.render.spp = 48;
+    assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+    int measured = 0;
+    for (int k = 0; k < LUMIS_AUTO_CANDIDATES; k++) measured += r.auto_candidates[k].pilot_spp > 0;
+    assert_true(measured < LUMIS_AUTO_CANDIDATES);
+    assert_true(r.auto_pilot_cpu > 0.0 && r.auto_pilot_cpu <= 1.5 * r.auto_cap);
     lumis_image_destroy(a);
     lumis_light_set_destroy(r.light_set);
     lumis_sampler_destroy(smp);
@@ -3133,6 +3276,8 @@ int main(void)
         cmocka_unit_test(auto_estimator_renders_what_it_chose),
         cmocka_unit_test(auto_estimator_sun_only_when_dominated),
         cmocka_unit_test(auto_estimator_pilots_capped),
+        cmocka_unit_test(auto_estimator_prices_the_marginal_sample),
+        cmocka_unit_test(auto_estimator_error_of_a_noiseless_image),
         cmocka_unit_test(instances_match_baked_copies),
         cmocka_unit_test(integrating_sphere),
     };

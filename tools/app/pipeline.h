@@ -100,7 +100,7 @@ typedef struct tool_render_result {
      * (lumis_session_result) */
     int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
-    double auto_seconds, auto_cap, auto_pilot_seconds;
+    double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
     lumis_sun auto_sun;
 } tool_render_result;
 

@@ -449,6 +449,7 @@ static void run_result(const tool_render_opts *o, const lumis_session_result *sr
     r->auto_seconds = sr->auto_seconds;
     r->auto_cap = sr->auto_cap;
     r->auto_pilot_seconds = sr->auto_pilot_seconds;
+    r->auto_pilot_cpu = sr->auto_pilot_cpu;
     r->auto_sun = sr->auto_sun;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) r->auto_candidates[c] = sr->auto_candidates[c];
 }

@@ -214,6 +214,7 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
         cJSON_AddStringToObject(a, "spp_counts", "samples of the chosen estimator");
         cJSON_AddNumberToObject(a, "seconds", r->auto_seconds);
         cJSON_AddNumberToObject(a, "pilot_seconds", r->auto_pilot_seconds);
+        cJSON_AddNumberToObject(a, "pilot_cpu_seconds", r->auto_pilot_cpu);
         if (r->auto_cap > 0.0)
             cJSON_AddNumberToObject(a, "pilot_cap_seconds", r->auto_cap);
         else
