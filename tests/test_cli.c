@@ -768,16 +768,20 @@ static void render_default_is_automatic(void **state)
 {
     (void)state;
     const char *base = "render --scene spheres --env sky:64x32 --size 40x30 --threads 1";
-    expectf(0, "are ", "%s --spp 32 -o '%s'", base, tu_path("auto.exr"));
+    /* 64 spp: a cap (0.15 x the render) of 9.6 of the prior's first pilot halves holds the
+     * prior's pair and MIS's (5 more after the first and MIS's warm-up sample) */
+    expectf(0, "are ", "%s --spp 64 -o '%s'", base, tu_path("auto.exr"));
     cJSON *j = read_json("auto.json");
     const cJSON *a = item(j, "auto_estimator");
     assert_true(cJSON_IsObject(a));
     assert_true(cJSON_IsTrue(item(a, "default")));
     assert_true(cJSON_IsString(item(a, "chosen")));
     assert_string_equal(item(a, "spp_counts")->valuestring, "samples of the chosen estimator");
-    assert_string_equal(item(a, "why")->valuestring, "least relmse_x_seconds of the pilots");
+    const char *why = item(a, "why")->valuestring;
+    assert_true(!strcmp(why, "least relmse_x_seconds of the pilots") ||
+                !strcmp(why, "prior: no candidate beat it beyond the pilots' noise"));
     assert_true(cJSON_IsNull(item(j, "auto_off_by")));
-    assert_true(num(j, "spp") == 32);
+    assert_true(num(j, "spp") == 64);
     assert_int_equal(cJSON_GetArraySize(item(a, "candidates")), 6);
     cJSON_Delete(j);
     /* 1 spp: a render smaller than its pilots takes the prior */
