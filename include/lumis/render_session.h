@@ -58,10 +58,10 @@ typedef struct lumis_session_desc {
      * time_budget.  render.spp counts the chosen estimator's samples.  result->auto_* say
      * what was measured and chosen.  Zero (the default): render.lighting as given. */
     int auto_estimator;
-    /* With auto_estimator: samples per pixel in each half of the MIS pilots; 0: as many as
-     * take the strata's time (equal time).  Given, every candidate's pilot runs, uncapped,
-     * and the pilots' errors depend on the seed alone (their times, and so the choice, still
-     * on the machine). */
+    /* With auto_estimator: samples per pixel in the first half of the MIS pilots (the
+     * second has twice as many); 0: as many as take the strata's time (equal time).  Given, every
+     * candidate's pilot runs, uncapped, and the pilots' errors depend on the seed alone (their
+     * times, and so the choice, still on the machine). */
     int auto_pilot_spp;
     /* Optional: called after every pass with the samples per pixel so far. */
     void (*pass_done)(void *user, int spp);
@@ -87,7 +87,9 @@ typedef enum lumis_k_limit {
 #define LUMIS_AUTO_CANDIDATES 6
 typedef struct lumis_auto_candidate {
     double error_per_spp; /* its relMSE at one sample per pixel, from the pilot's two halves */
-    double per_spp;       /* seconds a sample per pixel costs at the image's size */
+    double per_spp;       /* CPU seconds (all threads') a sample per pixel costs at the
+                           * image's size: the pilots' marginal price (wall seconds where
+                           * the CPU clock is missing); compared between candidates only */
     double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
     double once;          /* seconds before its first sample (its regions, the sun), spent */
     double error_se;      /* error_per_spp's standard error (the pixels' scatter / sqrt(n)) */
