@@ -593,12 +593,13 @@ static void stratified_light_sets_converge_to_the_exact_irradiance(void **state)
     lumis_envmap_destroy(env);
 }
 
-/* Renders of `s` lit by `set`'s regions in stratified mode with draws chosen per shading
- * point (light_set.draws = N), seeds 700 + r. */
-static void render_selected(const lumis_scene *s, const lumis_envmap *env,
-                            const lumis_light_set *set, const lumis_region_sampler *rs, int draws,
-                            lumis_estimator est, int power, lumis_sequence seq, unsigned kinds,
-                            int spp, int runs, lumis_image **imgs)
+/* Renders of `s` lit by `set`'s regions in stratified mode, with draws chosen per shading
+ * point (light_set.draws) or allocated over the regions (light_set.region_draws), seeds
+ * seed0 + r. */
+static void render_strata(const lumis_scene *s, const lumis_envmap *env, const lumis_light_set *set,
+                          const lumis_region_sampler *rs, int draws, int region_draws,
+                          lumis_estimator est, int power, lumis_sequence seq, unsigned kinds,
+                          int spp, unsigned seed0, int runs, lumis_image **imgs)
 {
     for (int r = 0; r < runs; r++) {
         lumis_render_desc d = {0};
@@ -609,12 +610,13 @@ static void render_selected(const lumis_scene *s, const lumis_envmap *env,
         d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
         d.lighting.light_set.regions = r % 2 ? rs : NULL;
         d.lighting.light_set.draws = draws;
+        d.lighting.light_set.region_draws = region_draws;
         d.lighting.light_set.kinds = kinds;
         d.lighting.estimator = est;
         d.power_heuristic = power;
         d.sequence = seq;
         d.spp = spp;
-        d.seed = 700u + (unsigned)r;
+        d.seed = seed0 + (unsigned)r;
         lumis_render_stats st;
         assert_int_equal(lumis_render(s, &d, &imgs[r], &st), LUMIS_OK);
         assert_true(st.shadow_rays > 0.0);
@@ -660,8 +662,9 @@ static void selected_draws_converge_to_the_exact_irradiance(void **state)
         lumis_region_sampler *rs = NULL;
         assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
         lumis_image *imgs[RUNS];
-        render_selected(s, env, set, rs, cases[c].draws, cases[c].est, cases[c].power, cases[c].seq,
-                        cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u, 16, RUNS, imgs);
+        render_strata(s, env, set, rs, cases[c].draws, 0, cases[c].est, cases[c].power,
+                      cases[c].seq, cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u, 16, 700u,
+                      RUNS, imgs);
         char what[96];
         snprintf(what, sizeof what, "selected draws %s K %d N %d (estimator %d, %s)",
                  cases[c].method, cases[c].k, cases[c].draws, (int)cases[c].est,
@@ -707,33 +710,9 @@ static void allocated_draws_converge_to_the_exact_irradiance(void **state)
         lumis_region_sampler *rs = NULL;
         assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
         lumis_image *imgs[RUNS];
-        for (int r = 0; r < RUNS; r++) {
-            lumis_render_desc d = {0};
-            d.camera = &cam;
-            d.lighting.env = env;
-            d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
-            d.lighting.light_set.set = set;
-            d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
-            d.lighting.light_set.regions = r % 2 ? rs : NULL;
-            d.lighting.light_set.region_draws = cases[c].draws;
-            d.lighting.light_set.kinds = cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u;
-            d.lighting.estimator = cases[c].est;
-            d.power_heuristic = cases[c].power;
-            d.sequence = cases[c].seq;
-            d.spp = 16;
-            d.seed = 900u + (unsigned)r;
-            lumis_render_stats st;
-            assert_int_equal(lumis_render(s, &d, &imgs[r], &st), LUMIS_OK);
-            assert_true(st.shadow_rays > 0.0);
-            if (cases[c].split) { /* Wu's split: the other layer added */
-                lumis_image *other = NULL;
-                d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT;
-                d.lighting.hide_environment = 1;
-                assert_int_equal(lumis_render(s, &d, &other, NULL), LUMIS_OK);
-                for (int k = 0; k < 3 * 24 * 24; k++) imgs[r]->pixels[k] += other->pixels[k];
-                lumis_image_destroy(other);
-            }
-        }
+        render_strata(s, env, set, rs, 0, cases[c].draws, cases[c].est, cases[c].power,
+                      cases[c].seq, cases[c].split ? 1u << LUMIS_LIGHT_ENV_DIRECT : 0u, 16, 900u,
+                      RUNS, imgs);
         char what[96];
         snprintf(what, sizeof what, "allocated draws %s K %d N %d (estimator %d, %s)",
                  cases[c].method, cases[c].k, cases[c].draws, (int)cases[c].est,
@@ -934,8 +913,8 @@ static void selected_draws_shade_glossy_surfaces_exactly(void **state)
     } cases[] = {{0, 0}, {4, 0}, {2, 1}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         lumis_image *imgs[RUNS];
-        render_selected(s, env, set, NULL, cases[c].draws, LUMIS_ESTIMATOR_MIS, cases[c].power,
-                        LUMIS_SEQUENCE_SOBOL, 0, 32, RUNS, imgs);
+        render_strata(s, env, set, NULL, cases[c].draws, 0, LUMIS_ESTIMATOR_MIS, cases[c].power,
+                      LUMIS_SEQUENCE_SOBOL, 0, 32, 700u, RUNS, imgs);
         char what[64];
         snprintf(what, sizeof what, "glossy, draws %d, %s heuristic", cases[c].draws,
                  cases[c].power ? "power" : "balance");
