@@ -760,33 +760,50 @@ static double relmse_between(const char *ref, const char *test)
 }
 
 /* The automatic estimator is lumis render's default for a map's light (issue 39): with no
- * option fixing the estimator the sidecar's auto_estimator says what was chosen and why, and
- * the summary that --spp counts the chosen one's samples; an option that fixes it (--method,
+ * option fixing the estimator the sidecar's auto_estimator says what was chosen and why (by
+ * the prediction from the scene; --auto-pilots by pilots), and the summary that --spp counts
+ * the chosen one's samples; an option that fixes it (--method,
  * --mis, --lights ...) or --no-auto turns it off and the sidecar names that option; --no-auto
  * is the map with MIS through the default sampler, bit for bit; luminaires are not its. */
 static void render_default_is_automatic(void **state)
 {
     (void)state;
     const char *base = "render --scene spheres --env sky:64x32 --size 40x30 --threads 1";
-    /* 64 spp: a cap (0.15 x the render) of 9.6 of the prior's first pilot halves holds the
-     * prior's pair and MIS's (5 more after the first and MIS's warm-up sample) */
-    expectf(0, "are ", "%s --spp 64 -o '%s'", base, tu_path("auto.exr"));
+    /* the default predicts from the scene: the spheres reflect 47 % diffusely (mirror and
+     * glossy spheres on a diffuse ground), under the strata's 50 %: MIS, no pilots */
+    expectf(0, "predicted from the scene", "%s --spp 4 -o '%s'", base, tu_path("auto.exr"));
     cJSON *j = read_json("auto.json");
     const cJSON *a = item(j, "auto_estimator");
     assert_true(cJSON_IsObject(a));
     assert_true(cJSON_IsTrue(item(a, "default")));
-    assert_true(cJSON_IsString(item(a, "chosen")));
+    assert_string_equal(item(a, "mode")->valuestring, "predict");
+    assert_string_equal(item(a, "chosen")->valuestring, "mis");
+    assert_string_equal(item(a, "why")->valuestring,
+                        "predicted: the diffuse share of the surfaces seen");
+    const double share = num(a, "diffuse_share");
+    assert_true(share > 0.3 && share < 0.5);
+    assert_true(num(a, "diffuse_share_min") == 0.5);
+    assert_true(num(a, "rays_met") > 0 && num(a, "pilot_seconds") == 0.0);
     assert_string_equal(item(a, "spp_counts")->valuestring, "samples of the chosen estimator");
+    assert_true(cJSON_IsNull(item(j, "auto_off_by")));
+    cJSON_Delete(j);
+    /* --auto-pilots: 64 spp, a cap (0.15 x the render) of 9.6 of the prior's first pilot
+     * halves holds the prior's pair and MIS's (5 more after the first and MIS's warm-up) */
+    expectf(0, "are ", "%s --spp 64 --auto-pilots -o '%s'", base, tu_path("pilots.exr"));
+    j = read_json("pilots.json");
+    a = item(j, "auto_estimator");
+    assert_true(cJSON_IsFalse(item(a, "default")));
+    assert_string_equal(item(a, "mode")->valuestring, "pilots");
+    assert_true(cJSON_IsNull(item(a, "diffuse_share")));
     const char *why = item(a, "why")->valuestring;
     assert_true(!strcmp(why, "least relmse_x_seconds of the pilots") ||
                 !strcmp(why, "prior: no candidate beat it beyond the pilots' noise"));
-    assert_true(cJSON_IsNull(item(j, "auto_off_by")));
     assert_true(num(j, "spp") == 64);
     assert_int_equal(cJSON_GetArraySize(item(a, "candidates")), 6);
     cJSON_Delete(j);
     /* 1 spp: a render smaller than its pilots takes the prior */
-    expectf(0, "the prior (no pilots: the render is too small for them", "%s --spp 1 -o '%s'", base,
-            tu_path("auto1.exr"));
+    expectf(0, "the prior (no pilots: the render is too small for them",
+            "%s --spp 1 --auto-pilots -o '%s'", base, tu_path("auto1.exr"));
     j = read_json("auto1.json");
     assert_string_equal(item(item(j, "auto_estimator"), "chosen")->valuestring, "stratified-32");
     cJSON_Delete(j);
@@ -809,6 +826,10 @@ static void render_default_is_automatic(void **state)
     /* --no-auto is the map with MIS as before: the image of --method inversion-guided */
     assert_true(relmse_between("fixed0.exr", "fixed3.exr") == 0.0);
     expectf(2, "--auto and --no-auto: give one", "%s --auto --no-auto -o '%s'", base,
+            tu_path("x.exr"));
+    expectf(2, "--auto-pilots and --no-auto: give one", "%s --auto-pilots --no-auto -o '%s'", base,
+            tu_path("x.exr"));
+    expectf(2, "--auto and --auto-pilots: give one", "%s --auto --auto-pilots -o '%s'", base,
             tu_path("x.exr"));
     /* luminaires light the headlight scene: no automatic estimator, nothing turned it off */
     expectf(0, "rendered", "render --scene headlight --size 16x12 --spp 1 --threads 1 -o '%s'",
@@ -2503,7 +2524,7 @@ static void bench_runs_auto(void **state)
         " \"methods\": [{\"label\": \"mis\", \"method\": \"inversion\"},\n"
         "             {\"label\": \"strat\", \"method\": \"median-cut\", \"mode\": "
         "\"stratified\", \"k\": 8},\n"
-        "             {\"label\": \"auto\", \"auto\": true}],\n"
+        "             {\"label\": \"auto\", \"auto\": \"pilots\"}],\n"
         " \"budgets\": [{\"time\": 0.3}],\n"
         " \"reference\": {\"spp\": 16, \"method\": \"median-cut\", \"mode\": "
         "\"stratified\", \"k\": 8},\n \"size\": [32, 24]}\n";
@@ -2529,6 +2550,7 @@ static void bench_runs_auto(void **state)
         cJSON *j = cJSON_Parse(text);
         free(text);
         const cJSON *c = item(j, "auto_chosen"), *cands = item(j, "auto_candidates");
+        assert_string_equal(item(j, "auto_mode")->valuestring, "pilots");
         assert_true(cJSON_IsString(c) && cJSON_IsArray(cands));
         assert_true(cJSON_GetArraySize(cands) >= 2);
         int named = 0;
@@ -2606,11 +2628,34 @@ static void bench_runs_auto(void **state)
     assert_int_equal(item(b0, "pairs")->valueint, 3);
     assert_true(fabs(item(b0, "geomean_ratio")->valuedouble - exp(logsum / 3)) <= 1e-9);
     cJSON_Delete(j);
+    /* {"auto": true}: the prediction (lumis render's default), no pilots: its mode and the
+     * diffuse share in the item's result (wu-diffuse: Lambertian everywhere, strata) */
+    static const char predict[] =
+        "{\"name\": \"predict\", \"maps\": [\"sky:64x32\"], \"scenes\": [\"wu-diffuse\"],\n"
+        " \"methods\": [{\"label\": \"auto\", \"auto\": true}], \"budgets\": [{\"spp\": 1}],\n"
+        " \"reference\": {\"spp\": 2, \"method\": \"inversion\"}, \"size\": [32, 24]}\n";
+    tu_write_file(tu_path("predict-suite.json"), predict, sizeof predict - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", tu_path("predict-suite.json"), tu_path("bp"));
+    assert_int_equal(run(a, NULL, NULL), 0);
+    snprintf(p, sizeof p, "%s/results/sky-64x32__wu-diffuse__auto__spp1.json", tu_path("bp"));
+    {
+        size_t np;
+        char *tp = (char *)tu_read_file(p, &np);
+        cJSON *jp = cJSON_Parse(tp);
+        free(tp);
+        assert_string_equal(item(jp, "auto_mode")->valuestring, "predict");
+        assert_true(item(jp, "auto_diffuse_share")->valuedouble == 1.0);
+        assert_string_equal(item(jp, "auto_chosen")->valuestring, "stratified-32");
+        cJSON_Delete(jp);
+    }
     /* Malformed: said with the file and the key. */
     static const bad_file bad[] = {
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": 1}], "
          "\"budgets\": [{\"spp\": 1}]}",
-         "methods[0].auto: expected true or false"},
+         "methods[0].auto: expected true, false or \"pilots\""},
+        {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": "
+         "\"yes\"}], \"budgets\": [{\"spp\": 1}]}",
+         "methods[0].auto: expected true, false or \"pilots\""},
         {"{\"maps\": [\"sky:8x4\"], \"scenes\": [\"spheres\"], \"methods\": [{\"auto\": true, "
          "\"method\": \"median-cut\"}], \"budgets\": [{\"spp\": 1}]}",
          "methods[0].auto: the session chooses"},

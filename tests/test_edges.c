@@ -905,6 +905,15 @@ static void session_with(lumis_session_desc *s, int field)
     case 21:
         s->auto_estimator = 1, s->share_spp = 4;
         break;
+    case 22:
+        s->auto_estimator = LUMIS_AUTO_PILOTS + 1; /* neither predict nor pilots */
+        break;
+    case 23:
+        s->auto_estimator = -1;
+        break;
+    case 24:
+        s->auto_estimator = LUMIS_AUTO_PREDICT, s->auto_pilot_spp = 16; /* no pilots to size */
+        break;
     default:
         break;
     }
@@ -916,7 +925,7 @@ static void session_refusals(const lumis_camera *cam, const lumis_envmap *env,
                              const lumis_sampler *smp, const lumis_region_sampler *rs)
 {
     static const session_case cases[] = {
-        {0, "needs a finite budget >= 0 and non-negative counts"},
+        {0, "needs a finite budget >= 0, non-negative counts"},
         {1, "needs a finite budget >= 0"},
         {2, "needs a finite budget >= 0"},
         {3, "non-negative counts"},
@@ -931,13 +940,16 @@ static void session_refusals(const lumis_camera *cam, const lumis_envmap *env,
         {12, "lights_k: does not apply without lights"},
         {13, "lights_params: does not apply without lights"},
         {14, "upsample: does not apply without lights"},
-        {15, "auto_pilot_spp: applies with auto_estimator"},
+        {15, "auto_pilot_spp: applies with auto_estimator LUMIS_AUTO_PILOTS"},
         {16, "render.lighting.kind is not that"},
         {17, "render.lighting.env is not that"},
         {18, "render.lighting.sampler is not that"},
         {19, "render.lighting.estimator is not that"},
         {20, "render.camera is not that"},
         {21, "share_spp is not that"},
+        {22, "auto_estimator 0, LUMIS_AUTO_PREDICT or LUMIS_AUTO_PILOTS"},
+        {23, "auto_estimator 0, LUMIS_AUTO_PREDICT or LUMIS_AUTO_PILOTS"},
+        {24, "auto_pilot_spp: applies with auto_estimator LUMIS_AUTO_PILOTS"},
     };
     tu_sink sink;
     tu_sink_init(&sink);

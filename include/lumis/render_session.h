@@ -23,6 +23,14 @@ extern "C" {
  * the budget as wall time: the light set's generation, and the pilot renders that fit K
  * when none is given, count inside it; otherwise progressive passes fill it. */
 
+/* lumis_session_desc.auto_estimator: how the automatic estimator chooses. */
+#define LUMIS_AUTO_PREDICT 1 /* from the surfaces the camera sees, no pilots */
+#define LUMIS_AUTO_PILOTS  2 /* from pilot renders of the scene */
+/* LUMIS_AUTO_PREDICT: the strata when at least this share of the reflectance the camera
+ * sees is diffuse, else MIS; the rays' grid (at most this many per axis). */
+#define LUMIS_AUTO_DIFFUSE_MIN 0.5
+#define LUMIS_AUTO_GRID        32
+
 typedef struct lumis_session_desc {
     /* camera, lighting, counts, seed, threads, progress ...: as lumis_render.  With
      * `lights`, render.lighting is of kind light-set with its set and regions NULL (the
@@ -45,20 +53,30 @@ typedef struct lumis_session_desc {
     int share_spp;
     /* Nonzero: the session chooses how the map lights the scene (render.lighting of kind env
      * with its env and sampler, estimator MIS, and no `lights`) among the candidates of
-     * lumis_auto_candidate: the map sampled with MIS through render.lighting.sampler, its
-     * median-cut regions as strata (K = 16, 32, 64), and on a sun-dominated map (>= 50 % of
-     * the power in <= 0.1 % of the pixels; not when render.lighting.sun is given) the image
-     * sun split off with MIS or strata on the residual, whichever the pilots find most
-     * efficient on this scene (docs/render.md, "The automatic estimator").  The pilots render
+     * lumis_auto_candidate (docs/render.md, "The automatic estimator"):
+     *
+     * LUMIS_AUTO_PREDICT: by a prediction from the scene, without pilots: primary rays on a
+     * grid of LUMIS_AUTO_GRID pixels find the surfaces the camera sees, and the share of their
+     * reflectance that is diffuse (result->auto_diffuse_share) picks the median-cut regions
+     * as strata (K = 32) at LUMIS_AUTO_DIFFUSE_MIN or more, else the map with MIS.  The rule
+     * is fitted to measured renders (docs/results/default); it costs a few hundred rays.
+     *
+     * LUMIS_AUTO_PILOTS: by pilot renders of the scene: the map sampled with MIS through
+     * render.lighting.sampler, its median-cut regions as strata (K = 16, 32, 64), and on a
+     * sun-dominated map (>= 50 % of the power in <= 0.1 % of the pixels; not when
+     * render.lighting.sun is given) the image sun split off with MIS or strata on the
+     * residual, whichever the pilots find most efficient on this scene.  The pilots render
      * a sixteenth of the pixels (1200 to 4800) twice per candidate, a stratified pair at one
      * sample per pixel each and an MIS pair for as long; they take at most 15 % of
      * time_budget, or without one of the render's predicted time at the prior (strata,
      * K = 32), which is chosen when no pilot fits (a render of fewer than 4 / 0.15 pilot
-     * halves' samples skips them).  Their time and the regions' making are spent from
-     * time_budget.  render.spp counts the chosen estimator's samples.  result->auto_* say
-     * what was measured and chosen.  Zero (the default): render.lighting as given. */
+     * halves' samples skips them).
+     *
+     * Either way what the choice took (the rays or pilots, the regions' making) is spent
+     * from time_budget, render.spp counts the chosen estimator's samples, and result->auto_*
+     * say what was measured and chosen.  Zero (the default): render.lighting as given. */
     int auto_estimator;
-    /* With auto_estimator: samples per pixel in the first half of the MIS pilots (the
+    /* With LUMIS_AUTO_PILOTS: samples per pixel in the first half of the MIS pilots (the
      * second has twice as many); 0: as many as take the strata's time (equal time).  Given, every
      * candidate's pilot runs, uncapped, and the pilots' errors depend on the seed alone (their
      * times, and so the choice, still on the machine). */
@@ -151,11 +169,17 @@ typedef struct lumis_session_result {
      * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took,
      * auto_pilot_cpu: the CPU seconds of their render passes (every thread's; not the
      * making of their regions or the sun's; 0 without the clock).
-     * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for). */
+     * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for).
+     * auto_mode: the desc's auto_estimator (LUMIS_AUTO_PREDICT: no pilots ran, auto_prior
+     * and auto_held are 0 and no candidate is measured).  auto_diffuse_share: with
+     * LUMIS_AUTO_PREDICT, the diffuse share of the reflectance the camera's rays met (1
+     * when they met no surface); auto_rays: how many met one. */
     int auto_count, auto_chosen, auto_prior, auto_held;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
     double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
     lumis_sun auto_sun;
+    int auto_mode, auto_rays;
+    double auto_diffuse_share;
 } lumis_session_result;
 
 /* Whether desc is a session lumis_render_session takes: a finite budget and non-negative

@@ -643,6 +643,8 @@ typedef struct lumis_session_result {
     lumis_auto_candidate auto_candidates[6];
     double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
     lumis_sun auto_sun;
+    int auto_mode, auto_rays;
+    double auto_diffuse_share;
 } lumis_session_result;
 lumis_status lumis_session_check(const lumis_session_desc *desc);
 lumis_status lumis_render_session(const lumis_scene *scene, const lumis_session_desc *desc,

@@ -188,7 +188,11 @@ def _auto_result(r):
                       "seconds_per_spp": c.per_spp if c.pilot_spp else None,
                       "relmse_x_seconds": c.efficiency if c.pilot_spp else None,
                       "seconds_before": c.once})
-    return {"chosen": name(r.auto_chosen), "prior": r.auto_prior, "held": bool(r.auto_held),
+    predict = r.auto_mode == 1
+    return {"chosen": name(r.auto_chosen), "mode": "predict" if predict else "pilots",
+            "diffuse_share": r.auto_diffuse_share if predict else None,
+            "rays_met": r.auto_rays if predict else None,
+            "prior": r.auto_prior, "held": bool(r.auto_held),
             "seconds": r.auto_seconds,
             "pilot_seconds": r.auto_pilot_seconds, "pilot_cpu_seconds": r.auto_pilot_cpu,
             "pilot_cap_seconds": r.auto_cap or None,
@@ -224,15 +228,16 @@ def render(scene="spheres", env=None, method=None, estimator=None, lights=None, 
     auto: the automatic estimator (docs/render.md), as `lumis render`: None (the default)
     uses it when the map lights the scene and no argument fixes the estimator (method,
     estimator, lights and its options, light_samples, bsdf_samples, power_heuristic); True
-    asks for it (method then chooses the MIS candidate's sampler), False is --no-auto.  The
+    asks for it (method then chooses the MIS candidate's sampler), "pilots" is
+    --auto-pilots (chosen by pilot renders instead of the prediction), False is --no-auto.  The
     result's "auto" says what it chose and why (None: not used).
     Refusals raise lumis.Error with the library's message."""
     _need()
     fixed = (method is not None or estimator is not None or lights is not None or lights_k
              or lights_params is not None or interleave or upsample or lights_draws
              or light_samples or bsdf_samples or power_heuristic or lights_mode != "point")
-    if auto not in (None, True, False):
-        raise invalid("auto: None, True or False, not %r" % (auto,))
+    if auto not in (None, True, False, "pilots"):
+        raise invalid("auto: None, True, False or 'pilots', not %r" % (auto,))
     estimator = "mis" if estimator is None else estimator
     if estimator not in _ESTIMATORS:
         raise invalid("estimator: unknown '%s' (one of %s)" % (estimator, ", ".join(_ESTIMATORS)))
@@ -351,8 +356,9 @@ def render(scene="spheres", env=None, method=None, estimator=None, lights=None, 
         sess.time_budget = time_budget
         sess.spent = lib.lumis_sampler_build_ms(smp) / 1000.0 if smp is not None else 0.0
         sess.timed_spp = _TIMED_SPP
-        sess.auto_estimator = int(bool(auto) or (auto is None and not fixed and kind == "env"
-                                                 and smp is not None))
+        sess.auto_estimator = (2 if auto == "pilots" else
+                               1 if auto is True or (auto is None and not fixed and kind == "env"
+                                                     and smp is not None) else 0)
         sink.check(renderlib.lumis_session_check(sess), "render")
         img = ffi.new("lumis_image **")
         r = ffi.new("lumis_session_result *")

@@ -21,6 +21,12 @@ double lumis__auto_price(double t_a, int n_a, double t_b, int n_b);
  * pilot_spp > 0): the least efficiency, another than the prior only beyond the pilots'
  * noise (docs/render.md); *held: 1 when that rule kept the prior. */
 int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held);
+/* The prediction's measure (LUMIS_AUTO_PREDICT): rays through a grid of at most
+ * LUMIS_AUTO_GRID cells per axis of camera's image; *share: of the reflectance they met
+ * (the luminance of each surface's diffuse and glossy albedos), the diffuse part's share
+ * (1 when they met nothing, or nothing that reflects); *rays: how many met a surface. */
+lumis_status lumis__auto_diffuse_share(const lumis_scene *scene, const lumis_camera *camera,
+                                       const lumis_error_sink *errors, double *share, int *rays);
 
 /* An empty scene file (default camera, no map, no objects), or NULL. */
 lumis_scene_file *lumis__scene_file_new(void);

@@ -437,9 +437,11 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
     const lumis_lighting *l = &s->render.lighting;
     if (!isfinite(s->time_budget) || s->time_budget < 0.0 || !isfinite(s->spent) ||
         s->lights_k < 0 || s->interleave < 0 || s->upsample < 0 || s->timed_spp < 0 ||
-        s->auto_pilot_spp < 0 || s->auto_pilot_spp > 4096)
+        s->auto_pilot_spp < 0 || s->auto_pilot_spp > 4096 || s->auto_estimator < 0 ||
+        s->auto_estimator > LUMIS_AUTO_PILOTS)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "session: needs a finite budget >= 0 and non-negative counts");
+                           "session: needs a finite budget >= 0, non-negative counts and "
+                           "auto_estimator 0, LUMIS_AUTO_PREDICT or LUMIS_AUTO_PILOTS");
     if (s->share_spp < 0 || (s->share_spp > 0 && s->time_budget > 0.0))
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "session: a share of a render is a number of samples (share_spp "
@@ -473,9 +475,10 @@ lumis_status lumis_session_check(const lumis_session_desc *s)
                            "session: render.lighting.light_set.%s: given, and lights makes the "
                            "set: give one or the other",
                            l->light_set.set ? "set" : "regions");
-    if (s->auto_pilot_spp && !s->auto_estimator)
+    if (s->auto_pilot_spp && s->auto_estimator != LUMIS_AUTO_PILOTS)
         return lumis__fail(errors, LUMIS_ERR_INVALID_ARGUMENT,
-                           "session: auto_pilot_spp: applies with auto_estimator");
+                           "session: auto_pilot_spp: applies with auto_estimator "
+                           "LUMIS_AUTO_PILOTS");
     if (s->auto_estimator) {
         const char *bad = s->lights                             ? "lights"
                           : l->kind != LUMIS_LIGHTING_ENV       ? "render.lighting.kind"

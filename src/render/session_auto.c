@@ -27,7 +27,9 @@
 #include "lumis/sun.h"
 
 #include "../core/internal.h"
+#include "camera.h"
 #include "internal.h"
+#include "scene.h"
 
 #include <math.h>
 #include <omp.h>
@@ -292,16 +294,82 @@ static void state_free(auto_state *as)
     lumis_envmap_destroy(as->residual);
 }
 
-lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_desc *s,
-                                 lumis_image **out, lumis_session_result *r, int keep_set)
+/* ---- the prediction (LUMIS_AUTO_PREDICT) ----------------------------------------------- */
+
+/* What a surface reflects diffusely and by its glossy lobe (luminance of the albedos). */
+static void reflectance(const lumis_bsdf *b, double *diffuse, double *glossy)
 {
-    const double t0 = omp_get_wtime();
+    const float *d = &b->diffuse.r, *g = &b->specular.r;
+    *diffuse = *glossy = 0.0;
+    switch (b->type) {
+    case LUMIS_BSDF_LAMBERT:
+        *diffuse = lum(d);
+        break;
+    case LUMIS_BSDF_WARD:
+    case LUMIS_BSDF_GGX_PLASTIC:
+        *diffuse = lum(d);
+        *glossy = lum(g);
+        break;
+    default: /* GGX conductor and glossy: no diffuse part */
+        *glossy = lum(g);
+        break;
+    }
+}
+
+lumis_status lumis__auto_diffuse_share(const lumis_scene *scene, const lumis_camera *camera,
+                                       const lumis_error_sink *errors, double *share, int *rays)
+{
+    cam_frame cf;
+    const lumis_status st = lumis__camera_frame(camera, errors, &cf);
+    if (st != LUMIS_OK) return st;
+    /* a grid of at most LUMIS_AUTO_GRID per axis, the image's aspect, a ray per cell centre */
+    const int w = cf.cam.width, h = cf.cam.height;
+    const int gw = w >= h ? (w < LUMIS_AUTO_GRID ? w : LUMIS_AUTO_GRID)
+                          : (int)fmax(1.0, floor((double)LUMIS_AUTO_GRID * w / h));
+    const int gh = h > w ? (h < LUMIS_AUTO_GRID ? h : LUMIS_AUTO_GRID)
+                         : (int)fmax(1.0, floor((double)gw * h / w));
+    double sd = 0.0, sg = 0.0;
+    int met = 0;
+    for (int y = 0; y < gh; y++)
+        for (int x = 0; x < gw; x++) {
+            const double sx = (x + 0.5) / gw * 2.0 - 1.0, sy = 1.0 - (y + 0.5) / gh * 2.0;
+            hit hh;
+            if (!intersect(scene, cf.eye, camera_dir(&cf, sx, sy), &hh)) continue;
+            double d, g;
+            reflectance(&hh.prim->material, &d, &g);
+            sd += d;
+            sg += g;
+            met++;
+        }
+    *rays = met;
+    *share = sd + sg > 0.0 ? sd / (sd + sg) : 1.0; /* black or no surface: the strata */
+    return LUMIS_OK;
+}
+
+/* The candidate the prediction takes: strata K = 32 on mostly diffuse surfaces, else MIS. */
+static lumis_status predict(const lumis_scene *scene, const lumis_session_desc *s,
+                            lumis_session_result *r, int *best)
+{
+    double share = 1.0;
+    int rays = 0;
+    const lumis_status st =
+        lumis__auto_diffuse_share(scene, s->render.camera, &s->render.errors, &share, &rays);
+    r->auto_diffuse_share = share;
+    r->auto_rays = rays;
+    *best = share >= LUMIS_AUTO_DIFFUSE_MIN ? AUTO_PRIOR : 0;
+    return st;
+}
+
+/* ---- the pilots (LUMIS_AUTO_PILOTS) ------------------------------------------------------- */
+
+/* Every pilot that fits its cap, and the choice among those measured (*best; the prior when
+ * none).  rd: the candidates' descriptions, their lighting made here. */
+static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s, auto_state *as,
+                           lumis_render_desc *rd, lumis_session_result *r, int *best)
+{
     const lumis_render_desc *ud = &s->render;
-    auto_state as;
-    memset(&as, 0, sizeof as);
     pilot_pair pp[LUMIS_AUTO_CANDIDATES];
     memset(pp, 0, sizeof pp);
-    lumis_render_desc rd[LUMIS_AUTO_CANDIDATES];
     /* the pilots' camera: a sixteenth of the pixels, within [AUTO_MIN_PIXELS, _MAX_] */
     lumis_camera cam = *ud->camera;
     const int cw = cam.width ? cam.width : 640, ch = cam.width ? cam.height : 480;
@@ -312,7 +380,6 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     cam.height = ch / d > 0 ? ch / d : 1;
     const double ppx = (double)cam.width * cam.height, scale = px / ppx;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
-        rd[c] = *ud;
         rd[c].camera = &cam;
         rd[c].progress = NULL;
         rd[c].first_sample = 0;
@@ -320,7 +387,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         rd[c].spp = 3 * AUTO_MAX_HALF;
     }
     /* the prior's set and strata, made first (kept if chosen) */
-    lumis_status st = candidate_lighting(ud, AUTO_PRIOR, &as, &rd[AUTO_PRIOR]);
+    lumis_status st = candidate_lighting(ud, AUTO_PRIOR, as, &rd[AUTO_PRIOR]);
     const double tp = omp_get_wtime(); /* the pilots' clock starts */
     const int spp = ud->spp ? ud->spp : 16;
     const int fixed = s->auto_pilot_spp > 0; /* every candidate, uncapped */
@@ -364,40 +431,34 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
     for (int q = 0; st == LUMIS_OK && run && q < LUMIS_AUTO_CANDIDATES; q++) {
         if (q == AUTO_PRIOR) continue;
         if (cands[q].sun) {
-            if (!as.sun_looked) {
-                const double pred = as.once[AUTO_PRIOR]; /* a scan of the map, as the set's */
+            if (!as->sun_looked) {
+                const double pred = as->once[AUTO_PRIOR]; /* a scan of the map, as the set's */
                 if (!fixed && (omp_get_wtime() - tp) + pred > cap) break;
-                st = find_sun(ud, &as);
+                st = find_sun(ud, as);
                 if (st != LUMIS_OK) break;
             }
-            if (!as.sun.found) continue;
+            if (!as->sun.found) continue;
         }
         /* its predicted cost: the making (as the prior's, by K) and a pair (3 halves of the
          * first's size), a stratified sample's cost growing with its draws (K + 4 rays'
          * worth); MIS's first half as long as the prior's: 3 halves */
-        const double make = cands[q].k && !as.set[q] ? as.once[AUTO_PRIOR] * cands[q].k / 32.0
-                            : cands[q].sun && !as.residual_sampler
+        const double make = cands[q].k && !as->set[q] ? as->once[AUTO_PRIOR] * cands[q].k / 32.0
+                            : cands[q].sun && !as->residual_sampler
                                 ? lumis_sampler_build_ms(ud->lighting.sampler) / 1000.0
                                 : 0.0;
         const double pair = u * (cands[q].k ? 3.0 * (cands[q].k + 4.0) / 36.0 : 3.0);
         if (!fixed && q != 0 && (omp_get_wtime() - tp) + make + pair > cap) continue;
-        st = candidate_lighting(ud, q, &as, &rd[q]);
+        st = candidate_lighting(ud, q, as, &rd[q]);
         if (st != LUMIS_OK) break;
         /* strata at one sample per pixel in the first half; MIS as long as the prior's */
         st = run_pair(scene, &rd[q], cands[q].k ? 1 : mis_n, &pp[q]);
         if (st == LUMIS_OK) measured++;
     }
-    lumis_session_desc fin = *s;
-    fin.auto_estimator = fin.auto_pilot_spp = 0;
-    int best = AUTO_PRIOR;
     if (st == LUMIS_OK) {
         double v[LUMIS_AUTO_CANDIDATES], se[LUMIS_AUTO_CANDIDATES];
         variances(pp, v, se);
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             lumis_auto_candidate *a = &r->auto_candidates[c];
-            a->lights_k = cands[c].k;
-            a->sun = cands[c].sun;
-            a->once = as.once[c] + (cands[c].sun ? as.sun_seconds : 0.0);
             if (!pp[c].b) continue; /* not measured: zeros */
             a->error_per_spp = v[c];
             a->error_se = se[c];
@@ -406,9 +467,7 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
             a->efficiency = v[c] * a->per_spp; /* relMSE x seconds */
         }
         int held = 0;
-        best = lumis__auto_choose(r->auto_candidates, pp[AUTO_PRIOR].b != NULL, &held);
-        r->auto_count = LUMIS_AUTO_CANDIDATES;
-        r->auto_chosen = best;
+        *best = lumis__auto_choose(r->auto_candidates, pp[AUTO_PRIOR].b != NULL, &held);
         r->auto_held = held;
         r->auto_prior = measured > 0 ? 0 : small ? 1 : 2;
         r->auto_cap = isfinite(cap) ? cap : 0.0;
@@ -416,18 +475,49 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         r->auto_pilot_cpu = mis1;
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
             r->auto_pilot_cpu += pp[c].cpu_a + pp[c].cpu_b;
-        r->auto_sun = as.sun;
+        r->auto_sun = as->sun;
+    }
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        lumis_image_destroy(pp[c].a);
+        lumis_image_destroy(pp[c].b);
+    }
+    return st;
+}
+
+/* ---- the session ------------------------------------------------------------------------ */
+
+lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_desc *s,
+                                 lumis_image **out, lumis_session_result *r, int keep_set)
+{
+    const double t0 = omp_get_wtime();
+    const lumis_render_desc *ud = &s->render;
+    auto_state as;
+    memset(&as, 0, sizeof as);
+    lumis_render_desc rd[LUMIS_AUTO_CANDIDATES];
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) rd[c] = *ud;
+    int best = AUTO_PRIOR;
+    lumis_status st = s->auto_estimator == LUMIS_AUTO_PREDICT ? predict(scene, s, r, &best)
+                                                              : pilots(scene, s, &as, rd, r, &best);
+    if (st == LUMIS_OK) st = candidate_lighting(ud, best, &as, &rd[best]); /* made: kept */
+    lumis_session_desc fin = *s;
+    fin.auto_estimator = fin.auto_pilot_spp = 0;
+    if (st == LUMIS_OK) {
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+            lumis_auto_candidate *a = &r->auto_candidates[c];
+            a->lights_k = cands[c].k;
+            a->sun = cands[c].sun;
+            a->once = as.once[c] + (cands[c].sun ? as.sun_seconds : 0.0);
+        }
+        r->auto_count = LUMIS_AUTO_CANDIDATES;
+        r->auto_chosen = best;
+        r->auto_mode = s->auto_estimator;
         r->auto_seconds = omp_get_wtime() - t0;
         fin.spent = s->spent + r->auto_seconds;
         fin.render.lighting = rd[best].lighting;
         fin.render.light_samples = rd[best].light_samples;
         fin.render.bsdf_samples = rd[best].bsdf_samples;
     }
-    lumis_session_result keep = *r;
-    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
-        lumis_image_destroy(pp[c].a);
-        lumis_image_destroy(pp[c].b);
-    }
+    const lumis_session_result keep = *r;
     if (st == LUMIS_OK) {
         st = lumis_render_session(scene, &fin, out, r);
         /* the render's own result, with the choice and what it cost */
@@ -435,6 +525,9 @@ lumis_status lumis__session_auto(const lumis_scene *scene, const lumis_session_d
         r->auto_chosen = keep.auto_chosen;
         r->auto_prior = keep.auto_prior;
         r->auto_held = keep.auto_held;
+        r->auto_mode = keep.auto_mode;
+        r->auto_rays = keep.auto_rays;
+        r->auto_diffuse_share = keep.auto_diffuse_share;
         r->auto_cap = keep.auto_cap;
         r->auto_pilot_seconds = keep.auto_pilot_seconds;
         r->auto_pilot_cpu = keep.auto_pilot_cpu;

@@ -25,8 +25,8 @@ CASES = [
       "auto": False},
      ["--scene", "spheres", "--env", "sky:64x32", "--size", "48x32", "--spp", "4", "--seed", "3",
       "--no-auto"]),
-    # the default: the automatic estimator; a render this small takes the prior (no pilots,
-    # no timing: the same choice on both sides)
+    # the default: the automatic estimator, predicted from the surfaces the camera sees (no
+    # pilots, no timing: the same choice on both sides)
     ({"scene": "spheres", "env": "sky:64x32", "size": (48, 32), "spp": 4, "seed": 3},
      ["--scene", "spheres", "--env", "sky:64x32", "--size", "48x32", "--spp", "4", "--seed", "3"]),
     ({"scene": "ward-aniso", "env": "studio:64x32", "method": "kdtree", "estimator": "light",
@@ -65,13 +65,18 @@ def test_render_equals_the_tool_bit_for_bit(cli, tmp_path, kw, args):
     fixed = "auto" in kw or any(k in kw for k in ("method", "estimator", "lights"))
     assert (r["auto"] is None) == fixed
     if not fixed:
-        assert r["auto"]["chosen"] == "stratified-32" and r["auto"]["prior"] == 1
-        assert r["lights_k"] == 32 and len(r["auto"]["candidates"]) == 6
+        # the spheres reflect 47 % diffusely, under the strata's 50 %: MIS
+        a = r["auto"]
+        assert a["mode"] == "predict" and a["chosen"] == "mis" and a["prior"] == 0
+        assert 0.3 < a["diffuse_share"] < 0.5 and a["rays_met"] > 0
+        assert r["lights_k"] == 0 and len(a["candidates"]) == 6
 
 
 def test_auto_runs_its_pilots_and_reports_them():
-    img, r = lumis.render("spheres", env="sky:64x32", size=(32, 24), spp=64, threads=1)
+    img, r = lumis.render("spheres", env="sky:64x32", size=(32, 24), spp=64, threads=1,
+                          auto="pilots")
     a = r["auto"]
+    assert a["mode"] == "pilots" and a["diffuse_share"] is None
     assert a["prior"] == 0 and a["pilot_cap_seconds"] > 0
     measured = [c for c in a["candidates"] if c["measured"]]
     assert len(measured) >= 2 and a["chosen"] in [c["name"] for c in measured]

@@ -2697,7 +2697,7 @@ static void auto_estimator_renders_what_it_chose(void **state)
         sess.render.spp = 4;
         sess.render.seed = 5;
         sess.render.threads = 1;
-        sess.auto_estimator = 1;
+        sess.auto_estimator = LUMIS_AUTO_PILOTS;
         sess.auto_pilot_spp = 16; /* every pilot, their errors from the seed alone */
         lumis_session_result r;
         lumis_image *a = NULL, *b = NULL;
@@ -2796,6 +2796,102 @@ static void auto_estimator_renders_what_it_chose(void **state)
     lumis_scene_destroy(s);
 }
 
+/* The prediction (LUMIS_AUTO_PREDICT): no pilot, the share of the reflectance the camera's
+ * grid of rays meets that is diffuse decides -- strata (K = 32) from 0.5, else MIS -- and the
+ * image is, bit for bit, the chosen candidate's rendered by hand.  The oracle: one sphere of
+ * one material, whose diffuse share is d / (d + g) of the albedos' luminances wherever the
+ * rays meet it, and whose hits are counted apart (sphere_normal at the 24 x 24 grid's cell
+ * centres, the image's own pixels: fewer than LUMIS_AUTO_GRID per axis). */
+static void auto_estimator_predicts_from_the_surfaces(void **state)
+{
+    (void)state;
+    static const struct {
+        lumis_bsdf m;
+        double share; /* d / (d + g), by hand; -1: none reflects (1 then) */
+        int chosen;   /* 1: strata K = 32, 0: MIS */
+    } cases[] = {
+        {{LUMIS_BSDF_LAMBERT, {0.7f, 0.7f, 0.7f}, {0, 0, 0}, 0, 0}, 1.0, 1},
+        {{LUMIS_BSDF_WARD, {0.6f, 0.6f, 0.6f}, {0.2f, 0.2f, 0.2f}, 0.3f, 0.3f}, 0.75, 1},
+        {{LUMIS_BSDF_WARD, {0.3f, 0.3f, 0.3f}, {0.3f, 0.3f, 0.3f}, 0.3f, 0.3f}, 0.5, 1},
+        {{LUMIS_BSDF_WARD, {0.2f, 0.2f, 0.2f}, {0.6f, 0.6f, 0.6f}, 0.3f, 0.3f}, 0.25, 0},
+        {{LUMIS_BSDF_GGX_GLOSSY, {0, 0, 0}, {0.8f, 0.8f, 0.8f}, 0.1f, 0.1f}, 0.0, 0},
+        {{LUMIS_BSDF_GGX_CONDUCTOR, {0.9f, 0.9f, 0.9f}, {0.9f, 0.6f, 0.5f}, 0.3f, 0.3f}, 0.0, 0},
+        /* coloured: red diffuse (luminance 0.27008), blue gloss (0.15776) */
+        {{LUMIS_BSDF_GGX_PLASTIC, {0.9f, 0.1f, 0.1f}, {0.1f, 0.1f, 0.9f}, 0.2f, 0.2f},
+         0.27008 / (0.27008 + 0.15776),
+         1},
+        {{LUMIS_BSDF_LAMBERT, {0, 0, 0}, {0, 0, 0}, 0, 0}, -1.0, 1},
+    };
+    int hits = 0; /* the grid's cell centres on the sphere */
+    for (int y = 0; y < 24; y++)
+        for (int x = 0; x < 24; x++) {
+            double n[3];
+            hits += sphere_normal(x + 0.5, y + 0.5, n);
+        }
+    lumis_envmap *env = gradient_map(63, 31, 0.5f, 2e3f);
+    lumis_sampler *smp = NULL;
+    lumis_sampler_desc sdesc = {0};
+    assert_int_equal(lumis_sampler_create(env, &sdesc, &smp), LUMIS_OK);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        lumis_object o = {0};
+        o.type = LUMIS_OBJECT_SPHERE;
+        o.radius = 1.0f;
+        o.material = cases[k].m;
+        lumis_scene *s = NULL;
+        assert_int_equal(lumis_scene_create(&o, 1, NULL, &s), LUMIS_OK);
+        lumis_session_desc sess = {0};
+        sess.render.camera = &cam;
+        sess.render.lighting.env = env;
+        sess.render.lighting.sampler = smp;
+        sess.render.spp = 4;
+        sess.render.seed = 9;
+        sess.render.threads = 1;
+        sess.auto_estimator = LUMIS_AUTO_PREDICT;
+        lumis_session_result r;
+        lumis_image *a = NULL, *b = NULL;
+        assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
+        assert_int_equal(r.auto_mode, LUMIS_AUTO_PREDICT);
+        assert_int_equal(r.auto_count, LUMIS_AUTO_CANDIDATES);
+        const double want = cases[k].share < 0.0 ? 1.0 : cases[k].share;
+        if (fabs(r.auto_diffuse_share - want) > 1e-4)
+            fail_msg("case %zu: diffuse share %.6f, want %.6f", k, r.auto_diffuse_share, want);
+        assert_true(abs(r.auto_rays - hits) <= 2); /* grazing cells aside */
+        assert_int_equal(r.auto_chosen, cases[k].chosen);
+        /* no pilot ran: nothing measured, no prior's rule, no sun looked for */
+        assert_int_equal(r.auto_prior, 0);
+        assert_int_equal(r.auto_held, 0);
+        assert_true(r.auto_pilot_seconds == 0.0 && r.auto_pilot_cpu == 0.0);
+        assert_int_equal(r.auto_sun.found, 0);
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+            assert_int_equal(r.auto_candidates[c].pilot_spp, 0);
+        assert_int_equal(r.stats.spp, 4);
+        assert_int_equal(r.lights_k, cases[k].chosen ? 32 : 0);
+        b = auto_by_hand(s, &sess.render, &r.auto_candidates[r.auto_chosen]);
+        assert_memory_equal(a->pixels, b->pixels, 24 * 24 * 3 * sizeof(float));
+        lumis_image_destroy(a);
+        lumis_image_destroy(b);
+        lumis_light_set_destroy(r.light_set);
+        lumis_scene_destroy(s);
+    }
+    /* nothing in view (the camera looks away from the sphere): no ray meets a surface */
+    lumis_scene *s = one_sphere(0.7f);
+    const lumis_camera away = {{0, 0, 4}, {0, 0, 8}, {0, 1, 0}, 30.0f, 40, 20};
+    double share = 0.0;
+    int rays = -1;
+    assert_int_equal(lumis__auto_diffuse_share(s, &away, NULL, &share, &rays), LUMIS_OK);
+    assert_true(share == 1.0 && rays == 0);
+    /* a wide image: a grid of 32 x 16 cells, every one on a sphere that fills the view */
+    const lumis_camera inside = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 30.0f, 400, 200};
+    assert_int_equal(lumis__auto_diffuse_share(s, &inside, NULL, &share, &rays), LUMIS_OK);
+    assert_true(share == 1.0 && rays == LUMIS_AUTO_GRID * LUMIS_AUTO_GRID / 2);
+    const lumis_camera tall = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 30.0f, 100, 300};
+    assert_int_equal(lumis__auto_diffuse_share(s, &tall, NULL, &share, &rays), LUMIS_OK);
+    assert_int_equal(rays, 10 * LUMIS_AUTO_GRID); /* 32 rows of floor(32 / 3) */
+    lumis_scene_destroy(s);
+    lumis_sampler_destroy(smp);
+    lumis_envmap_destroy(env);
+}
+
 /* The sun's candidates only on a sun-dominated map (>= 50 % of the power in <= 0.1 % of the
  * pixels): a compact source holding a third of the power (a sun lumis_sun_find accepts at
  * its default 0.1 share) makes none, one holding most of it makes both. */
@@ -2820,7 +2916,7 @@ static void auto_estimator_sun_only_when_dominated(void **state)
         sess.render.lighting.sampler = smp;
         sess.render.spp = 1;
         sess.render.threads = 1;
-        sess.auto_estimator = 1;
+        sess.auto_estimator = LUMIS_AUTO_PILOTS;
         sess.auto_pilot_spp = 2;
         lumis_session_result r;
         lumis_image *a = NULL;
@@ -2943,7 +3039,7 @@ static void auto_estimator_error_of_a_noiseless_image(void **state)
     sess.render.lighting.sampler = smp;
     sess.render.spp = 2;
     sess.render.threads = 1;
-    sess.auto_estimator = 1;
+    sess.auto_estimator = LUMIS_AUTO_PILOTS;
     sess.auto_pilot_spp = 3;
     lumis_session_result r;
     lumis_image *a = NULL;
@@ -2984,7 +3080,7 @@ static void auto_estimator_pilots_capped(void **state)
     sess.render.lighting.sampler = smp;
     sess.render.spp = 4;
     sess.render.threads = 1;
-    sess.auto_estimator = 1;
+    sess.auto_estimator = LUMIS_AUTO_PILOTS;
     lumis_session_result r;
     lumis_image *a = NULL, *b = NULL;
     assert_int_equal(lumis_render_session(s, &sess, &a, &r), LUMIS_OK);
@@ -3253,6 +3349,7 @@ int main(void)
         cmocka_unit_test(scene_file_defaults_and_refusals),
         cmocka_unit_test(passes_do_not_change_the_image),
         cmocka_unit_test(auto_estimator_renders_what_it_chose),
+        cmocka_unit_test(auto_estimator_predicts_from_the_surfaces),
         cmocka_unit_test(auto_estimator_sun_only_when_dominated),
         cmocka_unit_test(auto_estimator_pilots_capped),
         cmocka_unit_test(auto_estimator_prices_the_marginal_sample),

@@ -23,7 +23,8 @@ typedef struct tool_render_opts {
     const char *sampler_opt; /* --method (not bsdf) or --blocks, if given: a sampler is built
                                 whatever lights the scene (the library refuses it by name) */
     int bsdf_only;
-    int auto_estimator;        /* --auto: the session chooses how the map lights the scene */
+    int auto_estimator;        /* --auto (LUMIS_AUTO_PREDICT) or --auto-pilots (_PILOTS): the
+                                  session chooses how the map lights the scene */
     int auto_default;          /* lumis render with no option fixing the estimator: auto_estimator
                                   when the map lights the scene (not luminaires or fixtures) */
     const char *auto_fixed_by; /* the option that turned the default off, or NULL */
@@ -98,9 +99,9 @@ typedef struct tool_render_result {
     lumis_luminaire_choice lum_choice;
     /* the automatic estimator: every candidate's pilot and the one chosen
      * (lumis_session_result) */
-    int auto_count, auto_chosen, auto_prior, auto_held;
+    int auto_count, auto_chosen, auto_prior, auto_held, auto_mode, auto_rays;
     lumis_auto_candidate auto_candidates[LUMIS_AUTO_CANDIDATES];
-    double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu;
+    double auto_seconds, auto_cap, auto_pilot_seconds, auto_pilot_cpu, auto_diffuse_share;
     lumis_sun auto_sun;
 } tool_render_result;
 

@@ -28,7 +28,7 @@
 static const struct {
     const char *field, *options;
 } field_options[] = {
-    {"auto_estimator", "--auto (--no-auto: off)"},
+    {"auto_estimator", "--auto or --auto-pilots (--no-auto: off)"},
     {"lighting.sampler", "--method, --blocks"},
     {"lighting.estimator", "--mis none, --method bsdf"},
     {"lighting.light_set.mode", "--lights-mode"},
@@ -380,10 +380,12 @@ static int run_session_desc(const tool_render_opts *o, render_state *s)
     sess->lights = o->lights;
     /* the default for a map's light (lumis render with no option fixing the estimator) */
     const lumis_lighting *l = &s->rd.lighting;
-    sess->auto_estimator =
-        o->auto_estimator || (o->auto_default && l->kind == LUMIS_LIGHTING_ENV && l->env &&
-                              l->sampler && l->estimator == LUMIS_ESTIMATOR_MIS &&
-                              !l->photometric && !l->luminaires && !l->sun.sun && !o->passes);
+    sess->auto_estimator = o->auto_estimator ? o->auto_estimator
+                           : o->auto_default && l->kind == LUMIS_LIGHTING_ENV && l->env &&
+                                   l->sampler && l->estimator == LUMIS_ESTIMATOR_MIS &&
+                                   !l->photometric && !l->luminaires && !l->sun.sun && !o->passes
+                               ? LUMIS_AUTO_PREDICT
+                               : 0;
     sess->lights_k = o->lights_k;
     sess->interleave = o->interleave;
     sess->lights_params = o->lights_params.given ? &o->lights_params : NULL;
@@ -446,6 +448,9 @@ static void run_result(const tool_render_opts *o, const lumis_session_result *sr
     r->auto_chosen = sr->auto_chosen;
     r->auto_prior = sr->auto_prior;
     r->auto_held = sr->auto_held;
+    r->auto_mode = sr->auto_mode;
+    r->auto_rays = sr->auto_rays;
+    r->auto_diffuse_share = sr->auto_diffuse_share;
     r->auto_seconds = sr->auto_seconds;
     r->auto_cap = sr->auto_cap;
     r->auto_pilot_seconds = sr->auto_pilot_seconds;
@@ -557,7 +562,13 @@ static void tool_auto_summary(const tool_render_opts *o, const tool_render_resul
     if (r->auto_cap > 0.0)
         snprintf(cap, sizeof cap, "%s %.3f s", r->auto_prior ? "over their cap" : "cap",
                  r->auto_cap);
-    if (r->auto_prior)
+    if (r->auto_mode == LUMIS_AUTO_PREDICT)
+        fprintf(stderr,
+                "lumis: auto: %s, predicted from the scene (the surfaces %d camera rays met "
+                "reflect %.0f %% diffusely: strata from %.0f %%, else MIS; docs/render.md)",
+                chosen, r->auto_rays, 100.0 * r->auto_diffuse_share,
+                100.0 * LUMIS_AUTO_DIFFUSE_MIN);
+    else if (r->auto_prior)
         fprintf(stderr, "lumis: auto: %s, the prior (no pilots: %s; docs/render.md)", chosen,
                 r->auto_prior == 1 ? "the render is too small for them" : cap);
     else

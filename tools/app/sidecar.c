@@ -204,13 +204,25 @@ static void side_method(cJSON *j, const sidecar_ctx *c)
     if (r->auto_count > 0) { /* what the pilots measured, and the choice */
         cJSON *a = cJSON_AddObjectToObject(j, "auto_estimator");
         cJSON_AddStringToObject(a, "chosen", lumis_auto_candidate_name(r->auto_chosen));
-        cJSON_AddStringToObject(a, "why",
-                                r->auto_prior == 1   ? "prior: the render too small for pilots"
-                                : r->auto_prior == 2 ? "prior: the pilots over their cap"
-                                : r->auto_held
-                                    ? "prior: no candidate beat it beyond the pilots' noise"
-                                    : "least relmse_x_seconds of the pilots");
+        cJSON_AddStringToObject(
+            a, "why",
+            r->auto_mode == LUMIS_AUTO_PREDICT ? "predicted: the diffuse share of the surfaces seen"
+            : r->auto_prior == 1               ? "prior: the render too small for pilots"
+            : r->auto_prior == 2               ? "prior: the pilots over their cap"
+            : r->auto_held ? "prior: no candidate beat it beyond the pilots' noise"
+                           : "least relmse_x_seconds of the pilots");
         cJSON_AddBoolToObject(a, "default", !o->auto_estimator);
+        cJSON_AddStringToObject(a, "mode",
+                                r->auto_mode == LUMIS_AUTO_PREDICT ? "predict" : "pilots");
+        if (r->auto_mode == LUMIS_AUTO_PREDICT) {
+            cJSON_AddNumberToObject(a, "diffuse_share", r->auto_diffuse_share);
+            cJSON_AddNumberToObject(a, "diffuse_share_min", LUMIS_AUTO_DIFFUSE_MIN);
+            cJSON_AddNumberToObject(a, "rays_met", r->auto_rays);
+        } else {
+            cJSON_AddNullToObject(a, "diffuse_share");
+            cJSON_AddNullToObject(a, "diffuse_share_min");
+            cJSON_AddNullToObject(a, "rays_met");
+        }
         cJSON_AddStringToObject(a, "spp_counts", "samples of the chosen estimator");
         cJSON_AddNumberToObject(a, "seconds", r->auto_seconds);
         cJSON_AddNumberToObject(a, "pilot_seconds", r->auto_pilot_seconds);

@@ -158,8 +158,10 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
     }
-    if (m->sun) h = fnv_str(h, " sun");             /* keys without the sun stay as they were */
-    if (m->auto_estimator) h = fnv_str(h, " auto"); /* and those without auto */
+    if (m->sun) h = fnv_str(h, " sun"); /* keys without the sun stay as they were */
+    /* and those without auto; the pilots keep their key of before the prediction existed */
+    if (m->auto_estimator)
+        h = fnv_str(h, m->auto_estimator == LUMIS_AUTO_PILOTS ? " auto" : " auto-predict");
     const lumis_sequence q = lumis_sequence_resolve(m->sequence);
     if (q != LUMIS_SEQUENCE_PCG) { /* PCG32's keys stay as they were before sequences */
         snprintf(buf, sizeof buf, " sequence %s", lumis_sequence_name(q));

@@ -202,6 +202,10 @@ static int run_item(const run_ctx *c, const item *it, int index, int total)
         if (r.auto_count > 0) { /* "auto": what its pilots measured, and what it chose */
             cJSON_AddStringToObject(j, "auto_chosen", lumis_auto_candidate_name(r.auto_chosen));
             cJSON_AddNumberToObject(j, "auto_seconds", r.auto_seconds);
+            cJSON_AddStringToObject(j, "auto_mode",
+                                    r.auto_mode == LUMIS_AUTO_PREDICT ? "predict" : "pilots");
+            if (r.auto_mode == LUMIS_AUTO_PREDICT)
+                cJSON_AddNumberToObject(j, "auto_diffuse_share", r.auto_diffuse_share);
             cJSON *cands = cJSON_AddArrayToObject(j, "auto_candidates");
             for (int c = 0; c < r.auto_count && c < LUMIS_AUTO_CANDIDATES; c++) {
                 const lumis_auto_candidate *q = &r.auto_candidates[c];

@@ -336,12 +336,15 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         return tool_runtime_error("%s: %s.sequence: expected sobol, zsobol, pmj02, halton, "
                                   "stratified, pcg or default",
                                   file, where);
-    /* "auto": true: the session chooses the estimator (lumis_session_desc.auto_estimator);
-     * "method", if given, is the sampler of its MIS candidate (default inversion) */
+    /* "auto": true: the session chooses the estimator by its prediction from the scene
+     * (LUMIS_AUTO_PREDICT, lumis render's default), "pilots": by pilot renders
+     * (LUMIS_AUTO_PILOTS); "method", if given, is the sampler of its MIS candidate (default
+     * inversion) */
     const cJSON *aut = cJSON_GetObjectItemCaseSensitive(e, "auto");
-    if (aut && !cJSON_IsBool(aut))
-        return tool_runtime_error("%s: %s.auto: expected true or false", file, where);
-    m->auto_estimator = cJSON_IsTrue(aut);
+    const int pilots = cJSON_IsString(aut) && strcmp(aut->valuestring, "pilots") == 0;
+    if (aut && !cJSON_IsBool(aut) && !pilots)
+        return tool_runtime_error("%s: %s.auto: expected true, false or \"pilots\"", file, where);
+    m->auto_estimator = pilots ? LUMIS_AUTO_PILOTS : cJSON_IsTrue(aut) ? LUMIS_AUTO_PREDICT : 0;
     if (m->auto_estimator && !name) name = "inversion";
     if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,

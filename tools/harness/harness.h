@@ -51,11 +51,12 @@ typedef struct suite_method {
     char lights[32];               /* a light-set method, or "" */
     lumis_lights_mode lights_mode; /* "mode": point (default) or stratified */
     int sun;                       /* "sun": true: render --sun (the image sun) */
-    int auto_estimator;      /* "auto": true: render --auto (the session chooses the estimator) */
-    int lights_draws;        /* "draws": stratified, N draws chosen per vertex (0:
-                                one in every region) */
-    int lights_region_draws; /* "region_draws": stratified, N draws split over every region
-                                before the render (0: one in every region) */
+    int auto_estimator;            /* "auto": true: render --auto (LUMIS_AUTO_PREDICT); "pilots":
+                                      --auto-pilots (LUMIS_AUTO_PILOTS) */
+    int lights_draws;              /* "draws": stratified, N draws chosen per vertex (0:
+                                      one in every region) */
+    int lights_region_draws;       /* "region_draws": stratified, N draws split over every region
+                                      before the render (0: one in every region) */
     int lights_k, interleave, upsample; /* 0: defaults (with a time budget K fills the time) */
     lumis_light_params lights_params;   /* "params": the light-set method's parameters */
     lumis_sequence sequence;            /* "sequence": the render's numbers (default sobol) */

@@ -18,6 +18,7 @@ typedef struct render_cli {
     const char *spp_given;   /* --spp, if given */
     const char *fixed_opt;   /* an option that fixes the estimator (the automatic one's off) */
     int no_auto;             /* --no-auto */
+    int auto_pilots;         /* --auto-pilots */
 } render_cli;
 
 /* --fixture-at, -aim, -up: "X,Y,Z", three finite numbers within [-1e30, 1e30], into the
@@ -163,13 +164,19 @@ static const tool_opt render_opts[] = {
     {.kind = TOOL_OPT_FLAG,
      .name = "--auto",
      .help = "the automatic estimator (the default for a map's light when no\n"
-             "option below fixes one): the map sampled with MIS, its median-cut\n"
-             "regions as strata (K = 16, 32, 64) or, on a sun-dominated map, the\n"
-             "image sun split off with MIS or strata on the rest, whichever pilot\n"
-             "renders of this scene find most efficient (relMSE x time; at most\n"
-             "15 % of --time, or of the render).  Given, --method and --blocks\n"
-             "choose the MIS candidate's sampler.  docs/render.md",
+             "option below fixes one), predicted from the scene: the surfaces the\n"
+             "camera sees (a grid of rays) reflecting mostly diffusely (a diffuse\n"
+             "share >= 0.5) get the map's median-cut regions as strata (K = 32),\n"
+             "mostly glossy ones the map sampled with MIS.  Given, --method and\n"
+             "--blocks choose the MIS candidate's sampler.  docs/render.md",
      .at = AT(auto_estimator)},
+    {.kind = TOOL_OPT_FLAG,
+     .name = "--auto-pilots",
+     .help = "the automatic estimator, chosen by pilot renders of the scene instead:\n"
+             "MIS, strata at K = 16, 32, 64 and, on a sun-dominated map, the image\n"
+             "sun split off, whichever the pilots find most efficient (relMSE x\n"
+             "time; at most 15 % of --time, or of the render).  docs/render.md",
+     .at = offsetof(render_cli, auto_pilots)},
     {.kind = TOOL_OPT_FLAG,
      .name = "--no-auto",
      .help = "no automatic estimator: the map sampled with MIS (inversion-guided),\n"
@@ -663,8 +670,15 @@ int cmd_render(int argc, char **argv)
     /* The automatic estimator is the default for a map's light: an option that fixes the
      * estimator, or --no-auto, turns it off (tool_render applies it when the map lights the
      * scene; luminaires and fixtures are not its). */
-    if (o->auto_estimator && c.no_auto)
-        return tool_usage_error("render", "--auto and --no-auto: give one");
+    if ((o->auto_estimator || c.auto_pilots) && c.no_auto)
+        return tool_usage_error("render", "--%s and --no-auto: give one",
+                                c.auto_pilots ? "auto-pilots" : "auto");
+    if (o->auto_estimator && c.auto_pilots)
+        return tool_usage_error("render", "--auto and --auto-pilots: give one");
+    if (c.auto_pilots)
+        o->auto_estimator = LUMIS_AUTO_PILOTS;
+    else if (o->auto_estimator)
+        o->auto_estimator = LUMIS_AUTO_PREDICT;
     o->auto_fixed_by = c.no_auto ? "--no-auto" : c.fixed_opt ? c.fixed_opt : c.sampler_opt;
     o->auto_default = !o->auto_estimator && !o->auto_fixed_by;
     tool_render_result r;
