@@ -308,7 +308,7 @@ static void reflectance(const lumis_bsdf *b, double *diffuse, double *glossy)
     case LUMIS_BSDF_WARD:
     case LUMIS_BSDF_GGX_PLASTIC:
         *diffuse = lum(d);
-        *glossy = lum(g);
+        *glossy = lum(g); /* Ward's lobe, the plastic's coat */
         break;
     default: /* GGX conductor and glossy: no diffuse part */
         *glossy = lum(g);
