@@ -318,6 +318,19 @@ static int check_light_set(const suite_method *m, int blocks, const char *file, 
     return rc;
 }
 
+/* A method's "auto": true, the session chooses the estimator by its prediction from the scene
+ * (LUMIS_AUTO_PREDICT, lumis render's default); "pilots", by pilot renders
+ * (LUMIS_AUTO_PILOTS); absent or false, 0.  Exit code. */
+static int parse_auto(const cJSON *e, const char *file, const char *where, int *mode)
+{
+    const cJSON *aut = cJSON_GetObjectItemCaseSensitive(e, "auto");
+    const int pilots = cJSON_IsString(aut) && strcmp(aut->valuestring, "pilots") == 0;
+    if (aut && !cJSON_IsBool(aut) && !pilots)
+        return tool_runtime_error("%s: %s.auto: expected true, false or \"pilots\"", file, where);
+    *mode = pilots ? LUMIS_AUTO_PILOTS : cJSON_IsTrue(aut) ? LUMIS_AUTO_PREDICT : 0;
+    return EXIT_OK;
+}
+
 /* A method (where: "methods[K]" or "reference", whose "spp" is read by the caller). */
 static int parse_method(const cJSON *e, suite_method *m, const char *file, const char *where)
 {
@@ -336,15 +349,8 @@ static int parse_method(const cJSON *e, suite_method *m, const char *file, const
         return tool_runtime_error("%s: %s.sequence: expected sobol, zsobol, pmj02, halton, "
                                   "stratified, pcg or default",
                                   file, where);
-    /* "auto": true: the session chooses the estimator by its prediction from the scene
-     * (LUMIS_AUTO_PREDICT, lumis render's default), "pilots": by pilot renders
-     * (LUMIS_AUTO_PILOTS); "method", if given, is the sampler of its MIS candidate (default
-     * inversion) */
-    const cJSON *aut = cJSON_GetObjectItemCaseSensitive(e, "auto");
-    const int pilots = cJSON_IsString(aut) && strcmp(aut->valuestring, "pilots") == 0;
-    if (aut && !cJSON_IsBool(aut) && !pilots)
-        return tool_runtime_error("%s: %s.auto: expected true, false or \"pilots\"", file, where);
-    m->auto_estimator = pilots ? LUMIS_AUTO_PILOTS : cJSON_IsTrue(aut) ? LUMIS_AUTO_PREDICT : 0;
+    /* "method", with "auto", is the sampler of its MIS candidate (default inversion) */
+    if (parse_auto(e, file, where, &m->auto_estimator) != EXIT_OK) return EXIT_RUNTIME;
     if (m->auto_estimator && !name) name = "inversion";
     if (!name)
         return tool_runtime_error("%s: %s: needs \"method\": a sampler name or \"bsdf\"", file,
