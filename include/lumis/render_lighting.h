@@ -217,7 +217,9 @@ typedef struct lumis_light_set_lighting {
                                             region; N (regions lit .. LUMIS_LIGHT_SET_MAX_DRAWS):
                                             N draws per vertex, n_r >= 1 in region r, fixed
                                             before the render by Neyman allocation (the
-                                            regions' luminous power x solid angle^(1/4)) */
+                                            regions' luminous power x solid angle^(1/4));
+                                            no region lit: nothing to allocate, rendered as
+                                            with 0 */
 } lumis_light_set_lighting;
 
 enum { LUMIS_LIGHT_SET_MAX_DRAWS = 4096 };

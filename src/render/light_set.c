@@ -475,7 +475,8 @@ static void release(void *state)
  * average to its own estimate whatever n_q is. */
 static int allocate_draws(set_state *st, const lumis_light *l, int n)
 {
-    double *s2 = malloc((size_t)(st->nstrata > 0 ? st->nstrata : 1) * sizeof *s2);
+    if (st->nstrata <= 0) return 1; /* no stratum: nothing to allocate (prepare never asks) */
+    double *s2 = malloc((size_t)st->nstrata * sizeof *s2);
     if (!s2) return 0;
     for (int q = 0; q < st->nstrata; q++) {
         st->nd[q] = 1;
@@ -551,14 +552,18 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
             cone[3] = l[k].extent < 1.5f ? -sinf(l[k].extent) - 1e-4f : -2.0f;
             st->strata[st->nstrata++] = k;
         }
+        /* Allocated draws: at least one in every region lit.  With no region lit (kinds
+         * that select none, or only empty regions) there is nothing to draw and nothing to
+         * allocate: the render goes as with region_draws 0, which draws nothing either
+         * (the set adds no light; the BSDF's samples find no region drawn from). */
         const int nd = d->lighting.light_set.region_draws;
-        if (nd > 0) {
+        if (nd > 0 && st->nstrata > 0) {
             if (nd < st->nstrata)
                 return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                                    "render: lighting.light_set.region_draws %d: under the %d "
                                    "regions lit (each draws at least once)",
                                    nd, st->nstrata);
-            st->nd = malloc((size_t)(st->nstrata > 0 ? st->nstrata : 1) * sizeof *st->nd);
+            st->nd = malloc((size_t)st->nstrata * sizeof *st->nd);
             if (!st->nd || !allocate_draws(st, l, nd))
                 return lumis__fail(&d->errors, LUMIS_ERR_OUT_OF_MEMORY,
                                    "render: light set: out of memory");

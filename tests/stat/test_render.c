@@ -819,6 +819,59 @@ static void allocated_draws_follow_neyman(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* Allocated draws with no region lit (kinds that select none of the set's regions: a median
+ * cut's are all LUMIS_LIGHT_REGION): nothing to allocate, so region_draws N is accepted
+ * whatever N (at least the zero regions lit) and the render is the one of region_draws 0,
+ * bit for bit, black with the map hidden (the set adds no light, the BSDF samples find no
+ * region drawn from); every region gets 0 draws.  prepare once ran allocate_draws' loop N
+ * times on a one-slot array it never set (an increment of an uninitialised int, which
+ * nothing read: valgrind --error-exitcode=1 passes this test with and without the fix). */
+static void allocated_draws_with_no_region_lit(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    enum { K = 6 };
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", K, 0, NULL, NULL, &set), LUMIS_OK);
+    lumis_region_sampler *rs = NULL;
+    assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+    static const lumis_camera small = {{0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 40.0f, 6, 6};
+    lumis_scene *s = one_sphere(0.5f);
+    lumis_render_desc d = {0};
+    d.camera = &small;
+    d.spp = 2;
+    d.seed = 5;
+    d.lighting.env = env;
+    d.lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    d.lighting.light_set.set = set;
+    d.lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+    d.lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_INDIRECT; /* none of the set's */
+    d.lighting.hide_environment = 1;
+    lumis_image *ref = NULL;
+    assert_int_equal(lumis_render(s, &d, &ref, NULL), LUMIS_OK);
+    const size_t m = 3 * (size_t)small.width * (size_t)small.height;
+    for (size_t k = 0; k < m; k++) assert_true(ref->pixels[k] == 0.0f);
+    const int ns[3] = {1, K, LUMIS_LIGHT_SET_MAX_DRAWS};
+    for (int c = 0; c < 3; c++)
+        for (int given = 0; given < 2; given++) {
+            d.lighting.light_set.region_draws = ns[c];
+            d.lighting.light_set.regions = given ? rs : NULL;
+            int n[K];
+            for (int k = 0; k < K; k++) n[k] = -1;
+            assert_int_equal(lumis__light_set_allocation(&d, n), LUMIS_OK);
+            for (int k = 0; k < K; k++) assert_int_equal(n[k], 0);
+            lumis_image *img = NULL;
+            assert_int_equal(lumis_render(s, &d, &img, NULL), LUMIS_OK);
+            assert_memory_equal(img->pixels, ref->pixels, m * sizeof(float));
+            lumis_image_destroy(img);
+        }
+    lumis_image_destroy(ref);
+    lumis_scene_destroy(s);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 /* A glossy sphere (GGX plastic, coloured base) under the coloured map: each checked pixel
  * converges to the integral of f(wo, wi) L(wi) cos over the map, summed here over every map
  * pixel (4 x 4 sub-cells, the BSDF evaluated at each) and averaged over the pixel's
@@ -3341,6 +3394,7 @@ int main(void)
         cmocka_unit_test(selected_draws_converge_to_the_exact_irradiance),
         cmocka_unit_test(allocated_draws_converge_to_the_exact_irradiance),
         cmocka_unit_test(allocated_draws_follow_neyman),
+        cmocka_unit_test(allocated_draws_with_no_region_lit),
         cmocka_unit_test(selected_draws_shade_glossy_surfaces_exactly),
         cmocka_unit_test(selected_draws_choose_regions_by_their_bound),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
