@@ -106,8 +106,10 @@ typedef enum lumis_k_limit {
 typedef struct lumis_auto_candidate {
     double error_per_spp; /* its relMSE at one sample per pixel, from the pilot's two halves */
     double per_spp;       /* CPU seconds (all threads') a sample per pixel costs at the
-                           * image's size: the pilots' marginal price (wall seconds where
-                           * the CPU clock is missing); compared between candidates only */
+                           * image's size: the pilots' marginal price (wall seconds, for
+                           * every candidate, where the CPU clock is missing or saw
+                           * nothing of some pilot's pass); compared between candidates
+                           * only */
     double efficiency;    /* error_per_spp x per_spp: relMSE x seconds (lower is better) */
     double once;          /* seconds before its first sample (its regions, the sun), spent */
     double error_se;      /* error_per_spp's standard error (the pixels' scatter / sqrt(n)) */
@@ -167,8 +169,13 @@ typedef struct lumis_session_result {
      * beyond the pilots' noise (2 standard errors of the log ratio: the errors' own and
      * a tenth of each time), so the prior was kept.  auto_cap: the seconds the pilots could
      * take (0: uncapped, auto_pilot_spp given); auto_pilot_seconds: what they took,
-     * auto_pilot_cpu: the CPU seconds of their render passes (every thread's; not the
-     * making of their regions or the sun's; 0 without the clock).
+     * auto_pilot_cpu: the CPU seconds of their render passes (not the making of their
+     * regions or the sun's; 0 without the clock).  The clock is the process's
+     * (CLOCK_PROCESS_CPUTIME_ID), every thread's: a host's own threads working beside the
+     * session (a UI, another render) are counted in it, and in the pilots' prices
+     * (per_spp), which then favour the candidates whose passes they overlapped least; a
+     * session that cannot keep its process otherwise idle should read the prices as
+     * noisy.  A pass the clock saw nothing of prices every candidate by wall time.
      * auto_sun: the sun looked for (found: sun-dominated; zero when not looked for).
      * auto_mode: the desc's auto_estimator (LUMIS_AUTO_PREDICT: no pilots ran, auto_prior
      * and auto_held are 0 and no candidate is measured).  auto_diffuse_share: with

@@ -17,9 +17,22 @@ double lumis__cpu_now(void);
  * n_a), what a pass costs whatever its samples cancelling; kept within [AUTO_SLOPE_MIN, 1]
  * of the second pass's average t_b / n_b (that average when n_b <= n_a; 0 when t_b <= 0). */
 double lumis__auto_price(double t_a, int n_a, double t_b, int n_b);
-/* Its choice among the candidates a (LUMIS_AUTO_CANDIDATES of them, measured where
- * pilot_spp > 0): the least efficiency, another than the prior only beyond the pilots'
- * noise (docs/render.md); *held: 1 when that rule kept the prior. */
+/* A candidate's pilot pair: n samples per pixel in the first half (0: not measured), 2n in
+ * the second; the halves' CPU seconds (0 without the clock) and wall seconds. */
+typedef struct lumis__pilot_times {
+    int n;
+    double cpu[2], wall[2];
+} lumis__pilot_times;
+/* The prices of `count` candidates' pairs t (lumis__auto_price of each, 0 where not
+ * measured): by CPU time, or by wall time for every one when the CPU time priced some
+ * measured pair at nothing (the clock missing, or a pass shorter than a coarse clock's
+ * tick): they are compared with each other, so one clock for all (CPU seconds over all
+ * threads are about the threads' count times the wall's).  Returns 1 when the wall priced
+ * them. */
+int lumis__auto_prices(const lumis__pilot_times *t, int count, double *price);
+/* Its choice among the candidates a (LUMIS_AUTO_CANDIDATES of them, ranked where measured
+ * and priced: pilot_spp > 0 and per_spp > 0): the least efficiency, another than the prior
+ * only beyond the pilots' noise (docs/render.md); *held: 1 when that rule kept the prior. */
 int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held);
 /* The prediction's measure (LUMIS_AUTO_PREDICT): rays through a grid of at most
  * LUMIS_AUTO_GRID cells per axis of camera's image; *share: of the reflectance they met

@@ -91,11 +91,9 @@ static double lum(const float *p)
 
 typedef struct pilot_pair {
     lumis_image *a, *b;   /* the two halves (NULL: not measured) */
-    int n;                /* samples per pixel in the first half; the second has 2n */
-    double cpu_a, wall_a; /* the first half's CPU and wall seconds */
-    double cpu_b;         /* the second's CPU seconds */
+    lumis__pilot_times t; /* n (samples per pixel in the first half; the second has 2n) and
+                             the halves' CPU and wall seconds */
     double seconds;       /* what the two took (wall) */
-    double price;         /* seconds a sample per pixel costs at the pilots' size: the slope */
 } pilot_pair;
 
 double lumis__auto_price(double t_a, int n_a, double t_b, int n_b)
@@ -107,28 +105,42 @@ double lumis__auto_price(double t_a, int n_a, double t_b, int n_b)
     return fmin(mean, fmax(AUTO_SLOPE_MIN * mean, slope));
 }
 
+int lumis__auto_prices(const lumis__pilot_times *t, int count, double *price)
+{
+    int by_wall = 0;
+    for (int c = 0; c < count; c++) {
+        price[c] = 0.0;
+        if (t[c].n <= 0) continue;
+        price[c] = lumis__auto_price(t[c].cpu[0], t[c].n, t[c].cpu[1], 2 * t[c].n);
+        if (!(price[c] > 0.0)) by_wall = 1;
+    }
+    for (int c = 0; by_wall && c < count; c++)
+        price[c] =
+            t[c].n > 0 ? lumis__auto_price(t[c].wall[0], t[c].n, t[c].wall[1], 2 * t[c].n) : 0.0;
+    return by_wall;
+}
+
 /* The first half of a pair: n samples per pixel in job j, timed. */
 static lumis_status first_half(lumis_render_job *j, int n, pilot_pair *p)
 {
-    p->n = n;
+    p->t.n = n;
     const double w0 = omp_get_wtime(), c0 = lumis__cpu_now();
     const lumis_status st = half(j, n, NULL, &p->a);
-    p->cpu_a = lumis__cpu_now() - c0;
-    p->wall_a = omp_get_wtime() - w0;
+    p->t.cpu[0] = c0 > 0.0 ? lumis__cpu_now() - c0 : 0.0;
+    p->t.wall[0] = omp_get_wtime() - w0;
     return st;
 }
 
-/* The second: 2n samples more, and the price, the slope between the two passes' CPU times
- * (wall where the CPU clock is missing): what a pass costs whatever its samples cancels. */
+/* The second: 2n samples more, timed; the price, the slope between the two passes' times
+ * (what a pass costs whatever its samples cancels), is lumis__auto_prices' once every pair
+ * has run. */
 static lumis_status second_half(lumis_render_job *j, pilot_pair *p)
 {
     const double w0 = omp_get_wtime(), c0 = lumis__cpu_now();
-    const lumis_status st = half(j, 2 * p->n, p->a, &p->b);
-    const double cpu = lumis__cpu_now() - c0, wall = omp_get_wtime() - w0;
-    p->cpu_b = cpu;
-    p->price = c0 > 0.0 ? lumis__auto_price(p->cpu_a, p->n, cpu, 2 * p->n)
-                        : lumis__auto_price(p->wall_a, p->n, wall, 2 * p->n);
-    p->seconds = p->wall_a + wall;
+    const lumis_status st = half(j, 2 * p->t.n, p->a, &p->b);
+    p->t.cpu[1] = c0 > 0.0 ? lumis__cpu_now() - c0 : 0.0;
+    p->t.wall[1] = omp_get_wtime() - w0;
+    p->seconds = p->t.wall[0] + p->t.wall[1];
     return st;
 }
 
@@ -164,7 +176,7 @@ static void variances(const pilot_pair *p, double *v, double *se)
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             if (!p[c].b) continue;
             const double d = lum(p[c].a->pixels + 3 * k) - lum(p[c].b->pixels + 3 * k);
-            const double x = d * d * (2.0 * p[c].n / 3.0) / (m * m + 1e-2);
+            const double x = d * d * (2.0 * p[c].t.n / 3.0) / (m * m + 1e-2);
             v[c] += x;
             v2[c] += x * x;
         }
@@ -182,18 +194,23 @@ static void variances(const pilot_pair *p, double *v, double *se)
  * often within 10 % of each other, the pilots' noise 30-40 %) then keep the prior, the
  * convergence suite's best on average, instead of the luckiest pilot.  *held: 1 when the
  * least was another's, kept back by the rule.  Without the prior measured: the least. */
+static int priced(const lumis_auto_candidate *a)
+{
+    return a->pilot_spp > 0 && a->per_spp > 0.0;
+}
+
 int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held)
 {
     int least = -1;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
-        if (a[c].pilot_spp > 0 && (least < 0 || a[c].efficiency < a[least].efficiency)) least = c;
+        if (priced(&a[c]) && (least < 0 || a[c].efficiency < a[least].efficiency)) least = c;
     *held = 0;
     if (least < 0) return AUTO_PRIOR;
-    if (!prior_measured || least == AUTO_PRIOR) return least;
+    if (!prior_measured || !priced(&a[AUTO_PRIOR]) || least == AUTO_PRIOR) return least;
     const lumis_auto_candidate *p = &a[AUTO_PRIOR];
     int pick = AUTO_PRIOR;
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
-        if (c == AUTO_PRIOR || a[c].pilot_spp <= 0 || !(a[c].efficiency > 0.0)) continue;
+        if (c == AUTO_PRIOR || !priced(&a[c]) || !(a[c].efficiency > 0.0)) continue;
         const double rc = a[c].error_se / fmax(a[c].error_per_spp, 1e-300);
         const double rp = p->error_se / fmax(p->error_per_spp, 1e-300);
         const double sd = sqrt(rc * rc + rp * rp + 2.0 * AUTO_TIME_NOISE * AUTO_TIME_NOISE);
@@ -413,7 +430,7 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
         lumis_render_job *j = NULL;
         st = lumis_render_job_create(scene, &rd[AUTO_PRIOR], &j);
         if (st == LUMIS_OK) st = first_half(j, 1, p);
-        u = p->wall_a;
+        u = p->t.wall[0];
         if (!(s->time_budget > 0.0) && !fixed) cap = AUTO_CAP * spp * u * scale;
         /* the rest of the pair and MIS's for as long: 5 halves' worth more (as below) */
         run = st == LUMIS_OK && (fixed || (omp_get_wtime() - tp) + 5.0 * u <= cap);
@@ -424,7 +441,9 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
         lumis_render_job_destroy(j);
     }
     /* MIS's first half as long as the prior's (by CPU time; the sun's with the same n) */
-    const double ratio = mis1 > 0.0 ? pp[AUTO_PRIOR].cpu_a / mis1 : u / fmax(w1, 1e-9);
+    const double ratio = mis1 > 0.0 && pp[AUTO_PRIOR].t.cpu[0] > 0.0
+                             ? pp[AUTO_PRIOR].t.cpu[0] / mis1
+                             : u / fmax(w1, 1e-9);
     const int mis_n =
         fixed ? s->auto_pilot_spp : (int)fmin(AUTO_MAX_HALF, fmax(1.0, floor(ratio + 0.5)));
     /* then MIS, the sun's two, K = 16, 64 (their indices' order) */
@@ -457,13 +476,20 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
     if (st == LUMIS_OK) {
         double v[LUMIS_AUTO_CANDIDATES], se[LUMIS_AUTO_CANDIDATES];
         variances(pp, v, se);
+        lumis__pilot_times t[LUMIS_AUTO_CANDIDATES];
+        double price[LUMIS_AUTO_CANDIDATES];
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+            t[c] = pp[c].t;
+            if (!pp[c].b) t[c].n = 0; /* a first half alone is no measure */
+        }
+        lumis__auto_prices(t, LUMIS_AUTO_CANDIDATES, price);
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
             lumis_auto_candidate *a = &r->auto_candidates[c];
             if (!pp[c].b) continue; /* not measured: zeros */
             a->error_per_spp = v[c];
             a->error_se = se[c];
-            a->per_spp = scale * pp[c].price;
-            a->pilot_spp = pp[c].n;
+            a->per_spp = scale * price[c];
+            a->pilot_spp = pp[c].t.n;
             a->efficiency = v[c] * a->per_spp; /* relMSE x seconds */
         }
         int held = 0;
@@ -474,7 +500,7 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
         r->auto_pilot_seconds = omp_get_wtime() - tp;
         r->auto_pilot_cpu = mis1;
         for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
-            r->auto_pilot_cpu += pp[c].cpu_a + pp[c].cpu_b;
+            r->auto_pilot_cpu += pp[c].t.cpu[0] + pp[c].t.cpu[1];
         r->auto_sun = as->sun;
     }
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {

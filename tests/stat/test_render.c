@@ -3061,6 +3061,7 @@ static void auto_estimator_prices_the_marginal_sample(void **state)
     lumis_auto_candidate a[LUMIS_AUTO_CANDIDATES];
     memset(a, 0, sizeof a);
     a[4].pilot_spp = a[5].pilot_spp = 1;
+    a[4].per_spp = a[5].per_spp = 1e-3;
     a[4].efficiency = 2.0;
     a[5].efficiency = 1.0;
     int held = -1;
@@ -3068,6 +3069,56 @@ static void auto_estimator_prices_the_marginal_sample(void **state)
     assert_int_equal(held, 0);
     memset(a, 0, sizeof a);
     assert_int_equal(lumis__auto_choose(a, 0, &held), 1); /* none measured: the prior */
+
+    /* A pass the CPU clock saw nothing of (the clock missing, or a pass shorter than a
+     * coarse clock's tick) prices a sample at 0, its efficiency 0: every candidate is then
+     * priced by wall time (one clock for all: CPU seconds over 4 threads are 4x the wall's
+     * here), never one at 0 beside the others' CPU prices. */
+    lumis__pilot_times t[LUMIS_AUTO_CANDIDATES];
+    memset(t, 0, sizeof t);
+    const int tn[LUMIS_AUTO_CANDIDATES] = {8, 1, 0, 0, 1, 1};
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+        const double m = 1e-3 * (c + 1), o = 2e-3; /* a pass: o + n m wall seconds */
+        t[c].n = tn[c];
+        t[c].wall[0] = o + tn[c] * m;
+        t[c].wall[1] = o + 2 * tn[c] * m;
+        t[c].cpu[0] = 4.0 * t[c].wall[0];
+        t[c].cpu[1] = 4.0 * t[c].wall[1];
+    }
+    double price[LUMIS_AUTO_CANDIDATES];
+    assert_int_equal(lumis__auto_prices(t, LUMIS_AUTO_CANDIDATES, price), 0);
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+        assert_true(tn[c] ? fabs(price[c] - 4e-3 * (c + 1)) < 1e-12 : price[c] == 0.0);
+    t[5].cpu[0] = t[5].cpu[1] = 0.0; /* K = 64's passes under a tick */
+    assert_int_equal(lumis__auto_prices(t, LUMIS_AUTO_CANDIDATES, price), 1);
+    for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++)
+        assert_true(tn[c] ? fabs(price[c] - 1e-3 * (c + 1)) < 1e-12 : price[c] == 0.0);
+    t[5].cpu[0] = 4.0 * t[5].wall[0]; /* the first half seen, the second not */
+    assert_int_equal(lumis__auto_prices(t, LUMIS_AUTO_CANDIDATES, price), 1);
+    t[5].cpu[1] = 4.0 * t[5].wall[1];
+    t[2].cpu[1] = 0.0; /* a candidate not measured (n 0) does not count */
+    assert_int_equal(lumis__auto_prices(t, LUMIS_AUTO_CANDIDATES, price), 0);
+
+    /* A candidate priced at 0 all the same is not ranked: it neither wins nor makes the rule
+     * hold the prior back (auto_held); priced, the prior is kept by the least efficiency. */
+    for (int prior = 0; prior < 2; prior++) {
+        memset(a, 0, sizeof a);
+        for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
+            if (c == 2 || c == 3) continue;
+            a[c].pilot_spp = 1;
+            a[c].error_per_spp = 0.1 * (c + 1);
+            a[c].error_se = 1e-3;
+            a[c].per_spp = 1e-3;
+            a[c].efficiency = a[c].error_per_spp * a[c].per_spp;
+        }
+        a[0].per_spp = 5e-3; /* MIS: 5e-4 against the prior's 2e-4 */
+        a[0].efficiency = a[0].error_per_spp * a[0].per_spp;
+        a[4].per_spp = a[4].efficiency = 0.0;
+        if (!prior) a[1].pilot_spp = 0, a[1].per_spp = a[1].efficiency = 0.0;
+        held = -1;
+        assert_int_equal(lumis__auto_choose(a, prior, &held), prior ? 1 : 0);
+        assert_int_equal(held, 0);
+    }
 }
 
 /* The pilots' error of an image without noise: a constant map seen straight (the camera
