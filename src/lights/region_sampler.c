@@ -20,9 +20,10 @@
  * the map, its region and its density in that region's sampler, so pdf() and the lookup
  * of a BSDF-sampled direction read 8 bytes.  Every region's probabilities are quantised
  * as the alias sampler's (integer units, 2^32 per pixel on average, each pixel that shines
- * at least one, src/core/distrib.h), and a draw computes its density from its entry's
- * units by the very operations that stored the pixel's, so sample() and pdf() give the
- * same float. */
+ * at least one, src/core/distrib.h; fewer a pixel in a region of more than 2^21 pixels, so
+ * that its cumulative units stay integers a double holds exactly), and a draw computes its density
+ * from its entry's units by the very operations that stored the pixel's, so sample() and pdf() give
+ * the same float. */
 #include "lumis/lights.h"
 
 #include "../core/distrib.h"
@@ -38,9 +39,8 @@ typedef struct region_px {
     float density;
 } region_px;
 
-/* A pixel that shines, in its region.  cum: the region's units before it (integers below
- * 2^53, exact, while the region holds fewer than 2^21 pixels; a larger region's round, in
- * order, and the densities follow the rounded units). */
+/* A pixel that shines, in its region.  cum: the region's units before it, integers of at
+ * most 2^53 (unit_shift), so exact: every entry keeps its units >= 1 and its density > 0. */
 typedef struct region_entry {
     double cum;
     uint32_t col;    /* its column (its row is the row's) */
@@ -95,10 +95,23 @@ void lumis_region_sampler_destroy(lumis_region_sampler *rs)
     free(rs);
 }
 
-/* A region's units as a double: its pixels' count times 2^32. */
+/* The units a pixel of a region of `size` pixels gets on average, 2^shift: 2^32, or fewer
+ * where size x 2^32 would pass 2^53 (a region of more than 2^21 pixels), so that the
+ * region's cumulative units are integers a double holds exactly.  At 2^32 units the
+ * rounding had merged a dim pixel's one unit with its neighbour's: a pixel that shines at
+ * density 0, and draws of pdf 0 (test_regions, region_of_more_than_2p21_pixels). */
+static inline int unit_shift(uint32_t size)
+{
+    int s = 32;
+    while (s > 0 && ((uint64_t)size << s) > ((uint64_t)1 << 53)) s--;
+    return s;
+}
+
+/* A region's units as a double: its pixels' count times 2^unit_shift. */
 static inline double region_total(const lumis_region_sampler *rs, int k)
 {
-    return (double)(rs->start[k + 1] - rs->start[k]) * LUMIS__ONE32;
+    const uint32_t size = rs->start[k + 1] - rs->start[k];
+    return (double)((uint64_t)size << unit_shift(size));
 }
 
 /* An entry's density per unit, in map row j of a region of `total` units: probability
@@ -257,7 +270,7 @@ lumis_status lumis_region_sampler_create(const lumis_envmap *env, const lumis_li
                                            scale) *
                     env->row_solid_angle[j];
         }
-        lumis__quantize(weight, size, (uint64_t)size << 32, units);
+        lumis__quantize(weight, size, (uint64_t)size << unit_shift(size), units);
         uint64_t acc = 0;
         for (uint32_t e = first; e < first + size; e++) {
             rs->entry[e].cum = (double)acc;

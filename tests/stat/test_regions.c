@@ -20,8 +20,10 @@
  * lumis_region_sampler_sample — statistical: chi-square per region against its pdf; the stratified
  *     power estimate within 4 sigma of lumis_envmap_power; draws land in their own pixel at widths
  *     49, 97, 98, 196, 255; property: monotone in u1 (rows, then cos theta) and in u2 (pixels of
- *     the row, then azimuth), as an inversion is (region_chi_square, stratified_power_is_unbiased,
- *     samples_land_in_their_pixel_at_awkward_widths, region_draws_are_monotone_in_u)
+ *     the row, then azimuth), as an inversion is; a region of 2^22 pixels: every draw's pdf > 0
+ *     and pdf(dir) (region_chi_square, stratified_power_is_unbiased,
+ *     samples_land_in_their_pixel_at_awkward_widths, region_draws_are_monotone_in_u,
+ *     region_of_more_than_2p21_pixels)
  * lumis_region_sampler_sample_n — consistency: the very samples of lumis_region_sampler_sample
  *     (region_pdf_of_sample_matches)
  * lumis_region_sampler_power — brute force: the regions' powers add to the map's exact pixel sum
@@ -506,6 +508,82 @@ static void region_draws_are_monotone_in_u(void **state)
     }
 }
 
+/* One region of more than 2^21 shining pixels, whose units (2^32 a pixel on average)
+ * would pass 2^53, where a double no longer holds every integer: a 4096 x 1024 map, all of
+ * it one region (median cut, K = 1), bright but for dim pixels of one unit each (the least
+ * the quantisation gives what shines) spread over the map and at the end of every row
+ * (where a draw of u2 -> 1 ends).  Every pixel that shines keeps a density > 0 (nothing
+ * that shines is drawn with probability 0: src/core/distrib.h), the densities integrate to
+ * one, and draws over the whole region (u1 on a fine grid, u2 random, 0 and the largest
+ * double below 1) all have pdf > 0, equal to pdf(dir), in the region, with the map's
+ * radiance.  With 2^32 units a pixel whatever the region's size, 10659 of its pixels had
+ * density 0 and 36114 of the 393216 draws pdf 0 (u2 -> 1 at a row whose last pixel's
+ * units had rounded away): a render dividing by it. */
+static float f_big(int i, int j, int c)
+{
+    (void)c;
+    return i == 4095 || (i * 7 + j * 13) % 101 == 0 ? 1e-30f : 1.0f + 0.25f * (float)(j & 3);
+}
+
+static void region_of_more_than_2p21_pixels(void **state)
+{
+    (void)state;
+    enum { W = 4096, H = 1024 };
+    lumis_envmap *env = tu_envmap(W, H, f_big, 0, 0);
+    const method_case mc = {"median-cut", NULL, 1};
+    lumis_light_set *set = make_set(env, &mc);
+    lumis_region_sampler *rs = make_regions(env, set);
+    assert_int_equal(lumis_region_sampler_count(rs), 1);
+    double total = 0.0;
+    long zero = 0;
+    for (int j = 0; j < H; j++) {
+        const double om = lumis_envmap_pixel_solid_angle(env, j);
+        for (int i = 0; i < W; i++) {
+            const lumis_vec3 d =
+                lumis_envmap_uv_to_dir(env, (float)((i + 0.5) / W), (float)((j + 0.5) / H));
+            int r = -2;
+            const float dens = lumis_region_sampler_lookup(rs, d, &r, NULL);
+            assert_int_equal(r, 0);
+            if (!(dens > 0.0f)) zero++;
+            total += dens * om;
+        }
+    }
+    if (zero || fabs(total - 1.0) > 1e-4)
+        fail_msg("%ld of %d shining pixels of density 0; integral %.9f", zero, W * H, total);
+    lumis_pcg32 rng;
+    lumis_pcg32_seed(&rng, 41, 0);
+    enum { NB = 1 << 17 };
+    long bad = 0;
+    double u[2 * 64];
+    int reg[64] = {0};
+    lumis_env_sample e[64];
+    for (int b0 = 0; b0 < NB; b0 += 64)
+        for (int side = 0; side < 3; side++) {
+            for (int b = 0; b < 64; b++) {
+                u[2 * b] = (b0 + b + 0.5) / NB;
+                u[2 * b + 1] = side == 0   ? lumis_pcg32_double(&rng)
+                               : side == 1 ? 0.0
+                                           : 0x1.fffffffffffffp-1;
+            }
+            lumis_region_sampler_sample_n(rs, reg, u, 64, e);
+            for (int b = 0; b < 64; b++) {
+                int r = -2;
+                lumis_rgb L;
+                const float p = lumis_region_sampler_lookup(rs, e[b].dir, &r, &L);
+                if (!(e[b].pdf > 0.0f) || p != e[b].pdf || r != 0 ||
+                    memcmp(&L, &e[b].radiance, sizeof L) != 0) {
+                    if (bad++ < 5)
+                        print_message("u (%.17g, %.17g): pdf %g, pdf(dir) %g, region %d\n",
+                                      u[2 * b], u[2 * b + 1], e[b].pdf, p, r);
+                }
+            }
+        }
+    if (bad) fail_msg("%ld of %d draws with pdf 0 or not pdf(dir)", bad, 3 * NB);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 static void region_sampler_refuses_mismatches(void **state)
 {
     (void)state;
@@ -536,6 +614,9 @@ int main(void)
         cmocka_unit_test(region_sampler_refuses_mismatches),
         cmocka_unit_test(samples_land_in_their_pixel_at_awkward_widths),
         cmocka_unit_test(region_draws_are_monotone_in_u),
+        cmocka_unit_test(region_of_more_than_2p21_pixels),
     };
+    /* LUMIS_TEST_FILTER=region_of* runs the tests of that name alone */
+    if (getenv("LUMIS_TEST_FILTER")) cmocka_set_test_filter(getenv("LUMIS_TEST_FILTER"));
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
