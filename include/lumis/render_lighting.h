@@ -219,7 +219,15 @@ typedef struct lumis_light_set_lighting {
                                             before the render by Neyman allocation (the
                                             regions' luminous power x solid angle^(1/4));
                                             no region lit: nothing to allocate, rendered as
-                                            with 0 */
+                                            with 0.  Refused: N < 0 or over the maximum, N
+                                            with draws, N in point mode (all by
+                                            lumis_lighting_check / lumis_session_check,
+                                            before anything is built); N under the regions
+                                            lit -- by the checks too when `regions` is
+                                            given, else only once the render (or a
+                                            session, which makes the set) has built its
+                                            region samplers, which know which regions are
+                                            empty: the lit count is not known before */
 } lumis_light_set_lighting;
 
 enum { LUMIS_LIGHT_SET_MAX_DRAWS = 4096 };

@@ -124,6 +124,30 @@ static lumis_status check_sun(const lumis_render_desc *d)
     return LUMIS_OK;
 }
 
+/* Allocated draws (light_set.region_draws N > 0) need N >= the regions lit (those of `kinds`
+ * that hold light: at least one draw each).  With the caller's region samplers that count
+ * is known here, in O(K), before anything is built; without them it is not (a region's
+ * emptiness is the samplers', and a session's set is made later), and the render's prepare
+ * checks it once they exist (light_set.c), with the same message. */
+static lumis_status check_region_draws(const lumis_render_desc *d)
+{
+    const lumis_light_set_lighting *ls = &d->lighting.light_set;
+    if (d->lighting.kind != LUMIS_LIGHTING_LIGHT_SET || ls->mode != LUMIS_LIGHTS_STRATIFIED ||
+        ls->region_draws <= 0 || !ls->regions)
+        return LUMIS_OK;
+    const unsigned mask = ls->kinds ? ls->kinds : ~0u;
+    int lit = 0;
+    for (int k = 0; k < lumis_region_sampler_count(ls->regions); k++)
+        lit += (mask & (1u << lumis_region_sampler_kind(ls->regions, k))) &&
+               !lumis_region_sampler_empty(ls->regions, k);
+    if (ls->region_draws < lit)
+        return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
+                           "render: lighting.light_set.region_draws %d: under the %d regions lit "
+                           "(each draws at least once)",
+                           ls->region_draws, lit);
+    return LUMIS_OK;
+}
+
 lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come)
 {
     if (!d) return LUMIS_ERR_INVALID_ARGUMENT;
@@ -179,7 +203,8 @@ lumis_status lumis__lighting_check(const lumis_render_desc *d, int set_to_come)
                                "render: %s: does not apply: the scene is lit by %s%s%s",
                                inputs[k].field, kind->name, mode, inputs[k].why);
     }
-    return check_sun(d);
+    const lumis_status ast = check_region_draws(d);
+    return ast != LUMIS_OK ? ast : check_sun(d);
 }
 
 lumis_status lumis_lighting_check(const lumis_render_desc *d)

@@ -872,6 +872,64 @@ static void allocated_draws_with_no_region_lit(void **state)
     lumis_envmap_destroy(env);
 }
 
+/* region_draws under the regions lit is refused by lumis_lighting_check and
+ * lumis_session_check, before anything is built, when the caller gives the region samplers
+ * (the lit count is theirs, O(K)); without them the checks cannot know it (a region's
+ * emptiness is the samplers') and the render refuses it once it has made them.  N at the
+ * regions lit passes, and so does any N when kinds select no region. */
+static void allocated_draws_refused_before_the_render(void **state)
+{
+    (void)state;
+    lumis_envmap *env = studio_map();
+    enum { K = 7 };
+    lumis_light_set *set = NULL;
+    assert_int_equal(lumis_lights_by_name(env, "median-cut", K, 0, NULL, NULL, &set), LUMIS_OK);
+    lumis_region_sampler *rs = NULL;
+    assert_int_equal(lumis_region_sampler_create(env, set, NULL, &rs), LUMIS_OK);
+    static const lumis_camera one = {{0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 40.0f, 4, 4};
+    tu_sink k;
+    tu_sink_init(&k);
+    lumis_session_desc sd;
+    memset(&sd, 0, sizeof sd);
+    lumis_render_desc *d = &sd.render;
+    d->camera = &one;
+    d->spp = 1;
+    d->errors = k.sink;
+    d->lighting.env = env;
+    d->lighting.kind = LUMIS_LIGHTING_LIGHT_SET;
+    d->lighting.light_set.set = set;
+    d->lighting.light_set.regions = rs;
+    d->lighting.light_set.mode = LUMIS_LIGHTS_STRATIFIED;
+    d->lighting.light_set.region_draws = K - 1;
+    assert_int_equal(lumis_lighting_check(d), LUMIS_ERR_INVALID_ARGUMENT);
+    if (!strstr(k.last, "lighting.light_set.region_draws 6: under the 7 regions lit"))
+        fail_msg("the message: %s", k.last);
+    k.last[0] = '\0';
+    assert_int_equal(lumis_session_check(&sd), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(k.last, "lighting.light_set.region_draws"));
+    d->lighting.light_set.region_draws = K;
+    assert_int_equal(lumis_lighting_check(d), LUMIS_OK);
+    assert_int_equal(lumis_session_check(&sd), LUMIS_OK);
+    d->lighting.light_set.region_draws = 1;
+    d->lighting.light_set.kinds = 1u << LUMIS_LIGHT_ENV_DIRECT; /* none of a median cut's */
+    assert_int_equal(lumis_session_check(&sd), LUMIS_OK);
+    /* the render makes the samplers: the checks cannot count, the render refuses */
+    d->lighting.light_set.kinds = 0;
+    d->lighting.light_set.region_draws = K - 1;
+    d->lighting.light_set.regions = NULL;
+    assert_int_equal(lumis_session_check(&sd), LUMIS_OK);
+    lumis_scene *s = one_sphere(0.5f);
+    lumis_image *img = NULL;
+    k.last[0] = '\0';
+    assert_int_equal(lumis_render(s, d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    assert_non_null(strstr(k.last, "lighting.light_set.region_draws 6: under the 7 regions lit"));
+    lumis_scene_destroy(s);
+    lumis_region_sampler_destroy(rs);
+    lumis_light_set_destroy(set);
+    lumis_envmap_destroy(env);
+}
+
 /* A glossy sphere (GGX plastic, coloured base) under the coloured map: each checked pixel
  * converges to the integral of f(wo, wi) L(wi) cos over the map, summed here over every map
  * pixel (4 x 4 sub-cells, the BSDF evaluated at each) and averaged over the pixel's
@@ -3446,6 +3504,7 @@ int main(void)
         cmocka_unit_test(allocated_draws_converge_to_the_exact_irradiance),
         cmocka_unit_test(allocated_draws_follow_neyman),
         cmocka_unit_test(allocated_draws_with_no_region_lit),
+        cmocka_unit_test(allocated_draws_refused_before_the_render),
         cmocka_unit_test(selected_draws_shade_glossy_surfaces_exactly),
         cmocka_unit_test(selected_draws_choose_regions_by_their_bound),
         cmocka_unit_test(estimators_agree_and_threads_do_not_matter),
