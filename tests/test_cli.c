@@ -2508,6 +2508,35 @@ static void bench_runs_light_sets(void **state)
     expect_bad_files("bench", "bad-lights.json", a, bad, sizeof bad / sizeof bad[0]);
 }
 
+/* The stratified mode's allocated draws (region_draws) are part of an item's key: changing
+ * the count re-renders that method's items and no other (a result of another count was
+ * taken as this one's). */
+static void bench_region_draws_in_the_key(void **state)
+{
+    (void)state;
+    static const char text[] =
+        "{\"maps\": [\"sky:32x16\"], \"scenes\": [\"spheres\"], \"methods\": [{\"label\": "
+        "\"plain\", \"method\": \"median-cut\", \"mode\": \"stratified\", \"k\": 4}, {\"label\": "
+        "\"alloc\", \"method\": \"median-cut\", \"mode\": \"stratified\", \"k\": 4, "
+        "\"region_draws\": 8}], \"budgets\": [{\"spp\": 1}], \"reference\": {\"spp\": 2}, "
+        "\"size\": [8, 6]}";
+    char suite[1024], a[2600], *err = NULL;
+    snprintf(suite, sizeof suite, "%s", tu_path("rd-suite.json"));
+    tu_write_file(suite, text, sizeof text - 1);
+    snprintf(a, sizeof a, "bench '%s' --out '%s'", suite, tu_path("rd-out"));
+    assert_int_equal(run(a, NULL, &err), 0);
+    if (!strstr(err, "(2 in this shard, 2 to render)")) fail_msg("first run: %s", err);
+    free(err);
+    char *edited = strdup(text);
+    memcpy(strstr(edited, "\"region_draws\": 8"), "\"region_draws\": 9", 17);
+    tu_write_file(suite, edited, strlen(edited));
+    free(edited);
+    err = NULL;
+    assert_int_equal(run(a, NULL, &err), 0);
+    if (!strstr(err, "(2 in this shard, 1 to render)")) fail_msg("re-run: %s", err);
+    free(err);
+}
+
 /* A suite method {"auto": true} renders with the automatic estimator (render --auto) inside
  * its budget, and its results say what it chose: each item's result file (the candidates
  * the pilots measured), results.csv's auto_chosen column (empty for the fixed methods),
@@ -4278,6 +4307,7 @@ int main(void)
         cmocka_unit_test(replaced_noise_is_a_note_and_spikes_are_named),
         cmocka_unit_test(bench_runs_light_sets),
         cmocka_unit_test(bench_runs_auto),
+        cmocka_unit_test(bench_region_draws_in_the_key),
         cmocka_unit_test(bench_runs_resumes_shards_and_reports),
         cmocka_unit_test(bench_runs_as_slurm_job_arrays),
         cmocka_unit_test(slurm_scripts_survive_hostile_names),

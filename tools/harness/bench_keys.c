@@ -154,6 +154,10 @@ void bench_item_key(const suite *s, const item *it, char *out, size_t cap)
             snprintf(buf, sizeof buf, " draws %d", m->lights_draws);
             h = fnv_str(h, buf);
         }
+        if (m->lights_region_draws) { /* allocated draws: their count, as the draws' */
+            snprintf(buf, sizeof buf, " region_draws %d", m->lights_region_draws);
+            h = fnv_str(h, buf);
+        }
         char params[1024];
         lumis_light_params_format(&m->lights_params, params, sizeof params);
         if (*params) h = fnv_str(h, params); /* parameters extend only the keys that have them */
