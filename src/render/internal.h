@@ -34,6 +34,10 @@ int lumis__auto_prices(const lumis__pilot_times *t, int count, double *price);
  * and priced: pilot_spp > 0 and per_spp > 0): the least efficiency, another than the prior
  * only beyond the pilots' noise (docs/render.md); *held: 1 when that rule kept the prior. */
 int lumis__auto_choose(const lumis_auto_candidate *a, int prior_measured, int *held);
+/* The MIS pilot's samples per pixel a half: as many as take the prior's first half's time,
+ * from one MIS sample's time -- CPU seconds when both are measured (> 0), else wall --
+ * rounded, within [1, 64]. */
+int lumis__auto_mis_n(double prior_cpu, double mis_cpu, double prior_wall, double mis_wall);
 /* The prediction's measure (LUMIS_AUTO_PREDICT): rays through a grid of at most
  * LUMIS_AUTO_GRID cells per axis of camera's image; *share: of the reflectance they met
  * (the luminance of each surface's diffuse and glossy albedos), the diffuse part's share

@@ -120,6 +120,13 @@ int lumis__auto_prices(const lumis__pilot_times *t, int count, double *price)
     return by_wall;
 }
 
+int lumis__auto_mis_n(double prior_cpu, double mis_cpu, double prior_wall, double mis_wall)
+{
+    const double ratio =
+        mis_cpu > 0.0 && prior_cpu > 0.0 ? prior_cpu / mis_cpu : prior_wall / fmax(mis_wall, 1e-9);
+    return (int)fmin(AUTO_MAX_HALF, fmax(1.0, floor(ratio + 0.5)));
+}
+
 /* The first half of a pair: n samples per pixel in job j, timed. */
 static lumis_status first_half(lumis_render_job *j, int n, pilot_pair *p)
 {
@@ -441,11 +448,8 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
         lumis_render_job_destroy(j);
     }
     /* MIS's first half as long as the prior's (by CPU time; the sun's with the same n) */
-    const double ratio = mis1 > 0.0 && pp[AUTO_PRIOR].t.cpu[0] > 0.0
-                             ? pp[AUTO_PRIOR].t.cpu[0] / mis1
-                             : u / fmax(w1, 1e-9);
     const int mis_n =
-        fixed ? s->auto_pilot_spp : (int)fmin(AUTO_MAX_HALF, fmax(1.0, floor(ratio + 0.5)));
+        fixed ? s->auto_pilot_spp : lumis__auto_mis_n(pp[AUTO_PRIOR].t.cpu[0], mis1, u, w1);
     /* then MIS, the sun's two, K = 16, 64 (their indices' order) */
     for (int q = 0; st == LUMIS_OK && run && q < LUMIS_AUTO_CANDIDATES; q++) {
         if (q == AUTO_PRIOR) continue;

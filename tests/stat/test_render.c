@@ -3058,6 +3058,16 @@ static void auto_estimator_sun_only_when_dominated(void **state)
 static void auto_estimator_prices_the_marginal_sample(void **state)
 {
     (void)state;
+    /* the MIS pilot's size: as long as the prior's first half, by CPU time when both
+     * clocks saw something, else by wall time; rounded, within [1, 64] */
+    assert_int_equal(lumis__auto_mis_n(0.06, 0.01, 1.0, 1.0), 6);  /* CPU: 6 MIS samples */
+    assert_int_equal(lumis__auto_mis_n(0.064, 0.01, 1.0, 1.0), 6); /* 6.4 rounds to 6 */
+    assert_int_equal(lumis__auto_mis_n(0.066, 0.01, 1.0, 1.0), 7); /* 6.6 to 7 */
+    assert_int_equal(lumis__auto_mis_n(0.0, 0.01, 0.09, 0.03), 3); /* no CPU time: wall */
+    assert_int_equal(lumis__auto_mis_n(0.06, 0.0, 0.09, 0.03), 3); /* no CPU clock: wall */
+    assert_int_equal(lumis__auto_mis_n(0.001, 0.01, 1.0, 1.0), 1); /* at least one */
+    assert_int_equal(lumis__auto_mis_n(10.0, 0.01, 1.0, 1.0), 64); /* at most 64 */
+    assert_int_equal(lumis__auto_mis_n(0.0, 0.0, 0.05, 0.0), 64);  /* no MIS time: the cap */
     const double os[3] = {0.0, 2e-3, 0.05}, ms[2] = {1e-3, 0.02};
     const int ns[3] = {1, 4, 16};
     for (int i = 0; i < 3; i++)
