@@ -473,9 +473,9 @@ static void release(void *state)
  * a stratum go one at a time to the stratum whose term s_q^2 / n_q falls most (greedy:
  * exact for this convex sum).  The counts change the variance only: each region's draws
  * average to its own estimate whatever n_q is. */
+/* (With st->nstrata > 0: prepare asks only then.) */
 static int allocate_draws(set_state *st, const lumis_light *l, int n)
 {
-    if (st->nstrata <= 0) return 1; /* no stratum: nothing to allocate (prepare never asks) */
     double *s2 = malloc((size_t)st->nstrata * sizeof *s2);
     if (!s2) return 0;
     for (int q = 0; q < st->nstrata; q++) {
@@ -531,9 +531,7 @@ static lumis_status prepare(const lumis_scene *scene, const lumis_render_desc *d
                                "render: light set: out of memory");
         for (int k = 0; k < count; k++) {
             st->stratum_of[k] = -1;
-            if (!(st->kinds & (1u << lumis_region_sampler_kind(st->rs, k))) ||
-                lumis_region_sampler_empty(st->rs, k))
-                continue;
+            if (!lumis__region_lit(st->rs, k, st->kinds)) continue;
             float *bd = st->bound + 3 * st->nstrata;
             bd[0] = l[k].extent < (float)LUMIS_PI ? cosf(l[k].extent) : -1.0f;
             bd[1] = l[k].extent < (float)LUMIS_PI ? sinf(l[k].extent) : 0.0f;

@@ -135,11 +135,9 @@ static lumis_status check_region_draws(const lumis_render_desc *d)
     if (d->lighting.kind != LUMIS_LIGHTING_LIGHT_SET || ls->mode != LUMIS_LIGHTS_STRATIFIED ||
         ls->region_draws <= 0 || !ls->regions)
         return LUMIS_OK;
-    const unsigned mask = ls->kinds ? ls->kinds : ~0u;
     int lit = 0;
     for (int k = 0; k < lumis_region_sampler_count(ls->regions); k++)
-        lit += (mask & (1u << lumis_region_sampler_kind(ls->regions, k))) &&
-               !lumis_region_sampler_empty(ls->regions, k);
+        lit += lumis__region_lit(ls->regions, k, ls->kinds);
     if (ls->region_draws < lit)
         return lumis__fail(&d->errors, LUMIS_ERR_INVALID_ARGUMENT,
                            "render: lighting.light_set.region_draws %d: under the %d regions lit "

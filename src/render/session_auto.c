@@ -510,6 +510,7 @@ static lumis_status pilots(const lumis_scene *scene, const lumis_session_desc *s
     for (int c = 0; c < LUMIS_AUTO_CANDIDATES; c++) {
         lumis_image_destroy(pp[c].a);
         lumis_image_destroy(pp[c].b);
+        rd[c].camera = ud->camera; /* not this function's pilot camera, gone on return */
     }
     return st;
 }

@@ -148,6 +148,15 @@ extern const lumis__light_kind lumis__light_set_kind;    /* light_set.c */
 extern const lumis__light_kind lumis__light_luminaires;  /* light_luminaire.c */
 extern const lumis__light_kind lumis__light_photometric; /* light_photometric.c */
 
+/* Whether region k of rs is one the stratified mode draws from: of a kind in `kinds` (0:
+ * every kind) and holding light.  The lit regions are the strata (light_set.c) and the
+ * floor of light_set.region_draws (lighting.c). */
+static inline int lumis__region_lit(const lumis_region_sampler *rs, int k, unsigned kinds)
+{
+    const unsigned mask = kinds ? kinds : ~0u;
+    return (mask & (1u << lumis_region_sampler_kind(rs, k))) && !lumis_region_sampler_empty(rs, k);
+}
+
 /* The kind of d->lighting (d checked). */
 const lumis__light_kind *lumis__light_kind_of(const lumis_render_desc *d);
 
