@@ -188,7 +188,7 @@ def _auto_result(r):
                       "seconds_per_spp": c.per_spp if c.pilot_spp else None,
                       "relmse_x_seconds": c.efficiency if c.pilot_spp else None,
                       "seconds_before": c.once})
-    predict = r.auto_mode == 1
+    predict = r.auto_mode == 1  # LUMIS_AUTO_PREDICT (2: LUMIS_AUTO_PILOTS)
     return {"chosen": name(r.auto_chosen), "mode": "predict" if predict else "pilots",
             "diffuse_share": r.auto_diffuse_share if predict else None,
             "rays_met": r.auto_rays if predict else None,
