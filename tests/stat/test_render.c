@@ -924,6 +924,12 @@ static void allocated_draws_refused_before_the_render(void **state)
     assert_int_equal(lumis_render(s, d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
     assert_null(img);
     assert_non_null(strstr(k.last, "lighting.light_set.region_draws 6: under the 7 regions lit"));
+    /* and one draw in all, the least N: refused the same way (N = 1 is no special case) */
+    d->lighting.light_set.region_draws = 1;
+    k.last[0] = '\0';
+    assert_int_equal(lumis_render(s, d, &img, NULL), LUMIS_ERR_INVALID_ARGUMENT);
+    assert_null(img);
+    assert_non_null(strstr(k.last, "lighting.light_set.region_draws 1: under the 7 regions lit"));
     lumis_scene_destroy(s);
     lumis_region_sampler_destroy(rs);
     lumis_light_set_destroy(set);
@@ -2998,6 +3004,12 @@ static void auto_estimator_predicts_from_the_surfaces(void **state)
     const lumis_camera tall = {{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 30.0f, 100, 300};
     assert_int_equal(lumis__auto_diffuse_share(s, &tall, NULL, &share, &rays), LUMIS_OK);
     assert_int_equal(rays, 10 * LUMIS_AUTO_GRID); /* 32 rows of floor(32 / 3) */
+    /* a camera that frames nothing (its eye on its target) is refused, nothing measured */
+    const lumis_camera blind = {{0, 0, 0}, {0, 0, 0}, {0, 1, 0}, 30.0f, 40, 30};
+    share = -1.0, rays = -1;
+    assert_int_equal(lumis__auto_diffuse_share(s, &blind, NULL, &share, &rays),
+                     LUMIS_ERR_INVALID_ARGUMENT);
+    assert_true(share == -1.0 && rays == -1);
     lumis_scene_destroy(s);
     lumis_sampler_destroy(smp);
     lumis_envmap_destroy(env);
